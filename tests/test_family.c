@@ -1,0 +1,240 @@
+/* Family tables and matcher: published codes, orientation algebra, matching
+ * in all 8 orientations with bit flips, rejection beyond the limit. */
+#include "unity.h"
+#include "test_util.h"
+
+#include "actag/family.h"
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static const char *const names[4] = {"AcTag24h4", "AcTag24h6", "AcTag24h8", "AcTag24h10"};
+static const int sizes[4] = {6261, 453, 45, 7};
+
+/* Brute-force references written independently of the library. */
+static uint32_t ref_seq_rot(uint32_t w, int bits) /* sequence index i -> i+k */
+{
+    int k = bits / 4, i;
+    uint32_t r = 0;
+    for (i = 0; i < bits; i++) {
+        int src = (i + k) % bits; /* rot90(w) sequence[i] = w sequence[i+k] */
+        uint32_t bit = (w >> (bits - 1 - src)) & 1u;
+        r |= bit << (bits - 1 - i);
+    }
+    return r;
+}
+static uint32_t ref_rev(uint32_t w, int bits)
+{
+    uint32_t r = 0;
+    int i;
+    for (i = 0; i < bits; i++)
+        if (w & (1u << i))
+            r |= 1u << (bits - 1 - i);
+    return r;
+}
+static int ref_pop(uint32_t v)
+{
+    int n = 0;
+    for (; v; v >>= 1)
+        n += (int)(v & 1u);
+    return n;
+}
+
+static void test_builtin_families_match_published(void)
+{
+    static uint32_t pub[7000];
+    char path[512];
+    int f, i;
+    TEST_ASSERT_GREATER_OR_EQUAL(4, actag_family_count());
+    for (f = 0; f < 4; f++) {
+        actag_family fam;
+        int n;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
+        TEST_ASSERT_EQUAL_STRING(names[f], fam.name);
+        TEST_ASSERT_EQUAL_INT(24, fam.bits);
+        TEST_ASSERT_EQUAL_INT(sizes[f], fam.ncodes);
+        TEST_ASSERT_EQUAL_HEX32(0xd35f2a, fam.codes[0]);
+        snprintf(path, sizeof path, "%s/data/families/%s.txt", ACTAG_SHARED_DIR, names[f]);
+        n = tu_read_codes(path, pub, 7000);
+        TEST_ASSERT_EQUAL_INT(sizes[f], n);
+        for (i = 0; i < n; i++)
+            TEST_ASSERT_EQUAL_HEX32(pub[i], fam.codes[i]);
+    }
+}
+
+static void test_family_lookup_errors(void)
+{
+    actag_family fam;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_get("AcTag24h5", &fam));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_get("", &fam));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_get(NULL, &fam));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_get("AcTag24h10", NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_get_at(-1, &fam));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_get_at(actag_family_count(), &fam));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get_at(actag_family_count() - 1, &fam));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_max_corrections(NULL));
+}
+
+static void test_max_corrections(void)
+{
+    actag_family fam = {"x", 24, 4, 1, NULL};
+    int h;
+    for (h = 1; h <= 12; h++) {
+        fam.hamming = h;
+        TEST_ASSERT_EQUAL_INT(h % 2 == 0 ? h / 2 - 1 : h / 2, actag_family_max_corrections(&fam));
+    }
+}
+
+static void test_rotation_reverse_algebra(void)
+{
+    int bits, t;
+    tu_seed(1);
+    for (bits = 16; bits <= 32; bits += 4) {
+        uint32_t mask = actag_code_mask(bits);
+        for (t = 0; t < 2000; t++) {
+            uint32_t w = tu_rand() & mask, r = w;
+            int j;
+            for (j = 0; j < 4; j++) {
+                TEST_ASSERT_EQUAL_HEX32(ref_seq_rot(r, bits), actag_code_rot90(r, bits));
+                r = actag_code_rot90(r, bits);
+            }
+            TEST_ASSERT_EQUAL_HEX32(w, r); /* rot90^4 == id */
+            TEST_ASSERT_EQUAL_HEX32(ref_rev(w, bits), actag_code_reverse(w, bits));
+            TEST_ASSERT_EQUAL_HEX32(w, actag_code_reverse(actag_code_reverse(w, bits), bits));
+            /* reverse o rot90 == rot90^-1 o reverse (rot90^-1 == rot90^3) */
+            {
+                uint32_t lhs = actag_code_reverse(actag_code_rot90(w, bits), bits);
+                uint32_t rhs = actag_code_reverse(w, bits);
+                for (j = 0; j < 3; j++)
+                    rhs = actag_code_rot90(rhs, bits);
+                TEST_ASSERT_EQUAL_HEX32(lhs, rhs);
+            }
+            TEST_ASSERT_EQUAL_INT(ref_pop(w), actag_popcount32(w));
+        }
+    }
+    TEST_ASSERT_EQUAL_HEX32(0xffffffffu, actag_code_mask(32));
+    TEST_ASSERT_EQUAL_INT(32, actag_popcount32(0xffffffffu));
+}
+
+static uint32_t orient(uint32_t c, int rot, int mir, int bits)
+{
+    int j;
+    for (j = 0; j < rot; j++)
+        c = ref_seq_rot(c, bits);
+    return mir ? ref_rev(c, bits) : c;
+}
+
+static uint32_t flip_bits(uint32_t w, int nflips, int bits)
+{
+    uint32_t flipped = 0;
+    while (nflips > 0) {
+        uint32_t b = 1u << (tu_rand() % (uint32_t)bits);
+        if (flipped & b)
+            continue;
+        flipped |= b;
+        nflips--;
+    }
+    return w ^ flipped;
+}
+
+static void test_every_code_every_orientation(void)
+{
+    int f, id, o;
+    tu_seed(2);
+    for (f = 0; f < 4; f++) {
+        actag_family fam;
+        int maxc;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
+        maxc = actag_family_max_corrections(&fam);
+        for (id = 0; id < fam.ncodes; id++) {
+            for (o = 0; o < 8; o++) {
+                actag_match m;
+                int nflips = tu_range(0, maxc);
+                uint32_t w = flip_bits(orient(fam.codes[id], o & 3, o >> 2, 24), nflips, 24);
+                TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match(&fam, w, maxc, &m));
+                TEST_ASSERT_EQUAL_INT(id, m.id);
+                TEST_ASSERT_EQUAL_INT(o & 3, m.rotation);
+                TEST_ASSERT_EQUAL_INT(o >> 2, m.mirrored);
+                TEST_ASSERT_EQUAL_INT(nflips, m.hamming);
+                if (o < 4) {
+                    TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                                          actag_family_match_rotations(&fam, w, maxc, &m));
+                    TEST_ASSERT_EQUAL_INT(id, m.id);
+                    TEST_ASSERT_EQUAL_INT(o, m.rotation);
+                    TEST_ASSERT_EQUAL_INT(0, m.mirrored);
+                }
+            }
+        }
+    }
+}
+
+/* Random words: the matcher agrees with a brute-force minimum distance. */
+static void test_random_words_against_brute_force(void)
+{
+    int f, t;
+    tu_seed(3);
+    for (f = 1; f < 4; f++) { /* h6, h8, h10: brute force stays fast */
+        actag_family fam;
+        int maxc, rejected = 0, accepted = 0;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
+        maxc = actag_family_max_corrections(&fam);
+        for (t = 0; t < 3000; t++) {
+            uint32_t w;
+            int best = 99, id, o, rc;
+            actag_match m;
+            if (t % 2 == 0) /* near a code: exercises the boundary at maxc and maxc+1 */
+                w = flip_bits(orient(fam.codes[tu_range(0, fam.ncodes - 1)], tu_range(0, 3),
+                                     tu_range(0, 1), 24), tu_range(0, maxc + 2), 24);
+            else
+                w = tu_rand() & 0xffffffu;
+            for (id = 0; id < fam.ncodes; id++)
+                for (o = 0; o < 8; o++) {
+                    int d = ref_pop(w ^ orient(fam.codes[id], o & 3, o >> 2, 24));
+                    if (d < best)
+                        best = d;
+                }
+            rc = actag_family_match(&fam, w, maxc, &m);
+            if (best > maxc) {
+                TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, rc);
+                rejected++;
+            } else {
+                TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc);
+                TEST_ASSERT_EQUAL_INT(best, m.hamming);
+                TEST_ASSERT_EQUAL_INT(m.hamming, ref_pop(w ^ orient(fam.codes[m.id], m.rotation,
+                                                                    m.mirrored, 24)));
+                accepted++;
+            }
+        }
+        TEST_ASSERT_GREATER_THAN(100, rejected);
+        TEST_ASSERT_GREATER_THAN(100, accepted);
+    }
+}
+
+static void test_match_errors(void)
+{
+    actag_family fam;
+    actag_match m;
+    actag_family bad = {"bad", 24, 4, 0, NULL};
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_family_match(&fam, 0, 5, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_family_match(&fam, 0, -1, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match(&fam, fam.codes[3], 4, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match(NULL, 0, 0, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match(&fam, 0, 0, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_match(&bad, 0, 0, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_validate(&bad));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_family_match(&fam, 0, 0, &m));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_builtin_families_match_published);
+    RUN_TEST(test_family_lookup_errors);
+    RUN_TEST(test_max_corrections);
+    RUN_TEST(test_rotation_reverse_algebra);
+    RUN_TEST(test_every_code_every_orientation);
+    RUN_TEST(test_random_words_against_brute_force);
+    RUN_TEST(test_match_errors);
+    return UNITY_END();
+}
