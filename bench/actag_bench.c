@@ -1,0 +1,178 @@
+/*
+ * actag_bench: per-stage and whole-pipeline time per frame over a set of
+ * sonar frames (default: the 58 pool frames in ../shared/data/sonar/pool-video),
+ * printed as a table (ms per frame, ns per pixel), plus the workspace bytes.
+ *
+ *   actag_bench [--repeat N] [--family NAME] [FRAME.pgm...]
+ *
+ * Geometry is the pool recording's: 0.1-1.5 m, 60 degrees; Table I parameters.
+ * Single-threaded; run on an idle machine. Host-only (stdio, malloc).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "actag/actag.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#ifndef ACTAG_SHARED_DIR
+#define ACTAG_SHARED_DIR "../shared"
+#endif
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static uint8_t *read_pgm(const char *path, int *rows, int *cols)
+{
+    FILE *f = fopen(path, "rb");
+    int w, h, m;
+    uint8_t *px;
+    if (!f)
+        return NULL;
+    if (fscanf(f, "P5 %d %d %d", &w, &h, &m) != 3 || m > 255 || w < 1 || h < 1) {
+        fclose(f);
+        return NULL;
+    }
+    fgetc(f);
+    px = (uint8_t *)malloc((size_t)w * (size_t)h);
+    if (px && fread(px, 1, (size_t)w * (size_t)h, f) != (size_t)w * (size_t)h) {
+        free(px);
+        px = NULL;
+    }
+    fclose(f);
+    *rows = h;
+    *cols = w;
+    return px;
+}
+
+enum { S_MEDIAN, S_THRESH, S_CONTOUR, S_QUAD_DECODE, S_TOTAL, S_N };
+static const char *const stage_names[S_N] = {"median filter (R=4)", "adaptive threshold (R=8)",
+                                             "contours + size filter", "quads + decode (rest)",
+                                             "whole pipeline (actag_detect)"};
+
+int main(int argc, char **argv)
+{
+    const char *files[1024];
+    char pathbuf[64][512];
+    int nfiles = 0, repeat = 5, i, r, s;
+    const char *family_name = "AcTag24h10";
+    actag_family fam;
+    actag_params p;
+    actag_sonar_geometry g = {0.1f, 1.5f, 1.0471976f, NULL, 0u};
+    double best[S_N], sum[S_N];
+    long pixels = 0;
+    int frames = 0, found = 0;
+
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
+            repeat = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--family") == 0 && i + 1 < argc)
+            family_name = argv[++i];
+        else if (argv[i][0] == '-') {
+            fprintf(stderr, "actag_bench: unknown option %s\n", argv[i]);
+            return 2;
+        } else if (nfiles < 1024)
+            files[nfiles++] = argv[i];
+    }
+    if (repeat < 1) {
+        fprintf(stderr, "actag_bench: --repeat must be >= 1\n");
+        return 2;
+    }
+    if (nfiles == 0) {
+        for (i = 0; i < 58; i++) {
+            snprintf(pathbuf[i % 64], sizeof pathbuf[0], "%s/data/sonar/pool-video/f_%04d.pgm",
+                     ACTAG_SHARED_DIR, 1 + 10 * i);
+            files[nfiles++] = strdup(pathbuf[i % 64]);
+        }
+    }
+    if (actag_family_get(family_name, &fam) != ACTAG_OK) {
+        fprintf(stderr, "actag_bench: unknown family %s\n", family_name);
+        return 2;
+    }
+    actag_params_default(&p);
+    p.family = &fam;
+    for (s = 0; s < S_N; s++)
+        sum[s] = 0;
+
+    for (i = 0; i < nfiles; i++) {
+        int rows, cols;
+        uint8_t *img = read_pgm(files[i], &rows, &cols), *filt, *bin, *scratch;
+        size_t wsize, ssize;
+        void *ws;
+        actag_frame fr;
+        actag_detection det[16];
+        if (!img) {
+            fprintf(stderr, "actag_bench: cannot read %s\n", files[i]);
+            return 2;
+        }
+        wsize = actag_workspace_size(rows, cols);
+        ssize = ACTAG__STAGE_SCRATCH(rows, cols);
+        ws = malloc(wsize);
+        filt = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+        bin = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+        scratch = (uint8_t *)malloc(ssize);
+        if (!ws || !filt || !bin || !scratch)
+            return 2;
+        fr.data = img;
+        fr.rows = rows;
+        fr.cols = cols;
+        fr.stride = cols;
+        fr.depth = 8;
+        for (s = 0; s < S_N; s++)
+            best[s] = 1e30;
+        for (r = 0; r < repeat; r++) {
+            double t0, t1, t2, t3;
+            actag_contour_scanner sc;
+            actag_contour_info ci;
+            actag_ipoint *pts = (actag_ipoint *)(void *)scratch;
+            int n;
+            t0 = now_ms();
+            actag_median_filter(img, rows, cols, cols, filt, cols, p.median_radius, scratch, ssize);
+            t1 = now_ms();
+            actag_adaptive_threshold(filt, rows, cols, cols, bin, cols, p.threshold_radius,
+                                     p.threshold_offset, scratch, ssize);
+            t2 = now_ms();
+            actag_contour_scanner_init(&sc, bin, rows, cols, cols);
+            while (actag_contour_next(&sc, pts, (int)ACTAG_CONTOUR_CAP(rows, cols), &ci) == 1)
+                ;
+            t3 = now_ms();
+            if (t1 - t0 < best[S_MEDIAN]) best[S_MEDIAN] = t1 - t0;
+            if (t2 - t1 < best[S_THRESH]) best[S_THRESH] = t2 - t1;
+            if (t3 - t2 < best[S_CONTOUR]) best[S_CONTOUR] = t3 - t2;
+            t0 = now_ms();
+            n = actag_detect(&fr, &g, &p, ws, wsize, det, 16, NULL);
+            t1 = now_ms();
+            if (t1 - t0 < best[S_TOTAL]) best[S_TOTAL] = t1 - t0;
+            if (r == 0 && n > 0)
+                found++;
+        }
+        best[S_QUAD_DECODE] = best[S_TOTAL] - best[S_MEDIAN] - best[S_THRESH] - best[S_CONTOUR];
+        if (best[S_QUAD_DECODE] < 0)
+            best[S_QUAD_DECODE] = 0;
+        for (s = 0; s < S_N; s++)
+            sum[s] += best[s];
+        pixels += (long)rows * cols;
+        frames++;
+        free(img);
+        free(ws);
+        free(filt);
+        free(bin);
+        free(scratch);
+    }
+    printf("actag_bench: %d frames, best of %d runs each, family %s, Table I parameters\n",
+           frames, repeat, fam.name);
+    printf("%-32s %12s %12s\n", "stage", "ms/frame", "ns/pixel");
+    for (s = 0; s < S_N; s++)
+        printf("%-32s %12.3f %12.2f\n", stage_names[s], sum[s] / frames,
+               sum[s] * 1e6 / (double)pixels);
+    printf("frames with a detection: %d of %d\n", found, frames);
+    printf("workspace bytes: 530x512 %lu, 1024x1024 %lu (ACTAG_WORKSPACE_SIZE)\n",
+           (unsigned long)ACTAG_WORKSPACE_SIZE(530, 512),
+           (unsigned long)ACTAG_WORKSPACE_SIZE(1024, 1024));
+    return 0;
+}

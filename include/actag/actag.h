@@ -1,0 +1,173 @@
+/*
+ * actag/actag.h -- AcTag detection in imaging-sonar frames, without a heap.
+ *
+ * MANUAL
+ *   actag finds AcTag fiducial markers in a polar sonar frame (rows = range
+ *   bins, columns = beams) and reports, for every tag, its ID and the four
+ *   corners of its inner white square with sub-pixel image coordinates and
+ *   (range m, azimuth rad).
+ *
+ *   Pipeline (one source file per stage, each public on its own):
+ *     median filter (median.h) -> adaptive threshold (threshold.h) ->
+ *     contours (contours.h) -> physical size filter (geometry.h) ->
+ *     RANSAC quadrilateral (quad.h) -> decode (decode.h).
+ *
+ *   Memory: the caller hands in one workspace; the library never allocates.
+ *   ACTAG_WORKSPACE_SIZE(rows, cols) is a constant expression, so firmware can
+ *   write
+ *       static uint8_t ws[ACTAG_WORKSPACE_SIZE(530, 512)];
+ *   and a workspace sized for the largest frame serves every smaller frame.
+ *   actag_workspace_size() returns the same number at run time.
+ *
+ *   Typical use:
+ *       actag_family fam;
+ *       actag_params p;
+ *       actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0};
+ *       actag_frame f = {pixels, 530, 512, 512, 8};
+ *       actag_detection det[8];
+ *       int n;
+ *       actag_family_get("AcTag24h10", &fam);
+ *       actag_params_default(&p);
+ *       p.family = &fam;
+ *       p.tag_size = 0.130628571f;
+ *       n = actag_detect(&f, &g, &p, ws, sizeof ws, det, 8, NULL);
+ *       if (n < 0) fprintf(stderr, "%s\n", actag_strerror(n));
+ *
+ *   Image orientation, range/azimuth mapping and the bearing table: see
+ *   geometry.h (SPEC section 4). Coordinates: x = column, y = row (pixels).
+ *
+ *   Corners: corners[0..3] are the inner white square's top-left, top-right,
+ *   bottom-right and bottom-left corners AS PRINTED on the tag, wherever the
+ *   tag appears in the image; `mirrored` says the sonar showed the tag
+ *   mirrored (relative to the reference image orientation), which tells on
+ *   which side of the sonar's horizontal plane the tag lies.
+ *
+ *   Determinism: the RANSAC stage draws from a small PRNG seeded with
+ *   params.seed on every call; identical input and seed give identical output
+ *   on every platform. The call keeps no state between calls; it is
+ *   re-entrant (use one workspace per concurrent call).
+ *
+ *   16-bit frames (depth 16) are first scaled to 8 bits by the frame's own
+ *   maximum: v8 = (v * 255 + max/2) / max; the stages then run on 8 bits.
+ *
+ * ERRORS (negative return values of actag_detect)
+ *   ACTAG_ERR_NULL         frame, frame->data, geometry, params, params->family,
+ *                          workspace or out (when max_out > 0) is NULL
+ *   ACTAG_ERR_SIZE         rows/cols < 1 or > ACTAG_MAX_DIM, stride < cols,
+ *                          depth not 8 or 16
+ *   ACTAG_ERR_PARAM        a pipeline parameter is out of range (radii, ratios,
+ *                          tag_size <= 0, max_out < 0, ...)
+ *   ACTAG_ERR_GEOMETRY     invalid sonar geometry (see geometry.h)
+ *   ACTAG_ERR_FAMILY       invalid family
+ *   ACTAG_ERR_CORRECTIONS  max_bit_corrections above the family's limit
+ *   ACTAG_ERR_WORKSPACE    workspace_size < actag_workspace_size(rows, cols)
+ *   When more tags are found than max_out, the first max_out (in scan order)
+ *   are written and stats->dropped counts the rest.
+ */
+#ifndef ACTAG_ACTAG_H
+#define ACTAG_ACTAG_H
+
+#include "actag/common.h"
+#include "actag/contours.h"
+#include "actag/decode.h"
+#include "actag/family.h"
+#include "actag/geometry.h"
+#include "actag/median.h"
+#include "actag/quad.h"
+#include "actag/rng.h"
+#include "actag/threshold.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* An input frame: 8- or 16-bit unsigned pixels, row-major. */
+typedef struct actag_frame {
+    const void *data; /* const uint8_t * (depth 8) or const uint16_t * (depth 16) */
+    int rows;         /* range bins */
+    int cols;         /* beams */
+    int stride;       /* elements (not bytes) from one row to the next, >= cols */
+    int depth;        /* 8 or 16 */
+} actag_frame;
+
+/* Detection parameters. actag_params_default() gives the paper's Table I. */
+typedef struct actag_params {
+    const actag_family *family; /* required: e.g. from actag_family_get() */
+    float tag_size;             /* metres: side of the inner white square (default 3/7 ft) */
+    int max_bit_corrections;    /* 0 .. actag_family_max_corrections(family) (default 0) */
+    int median_radius;          /* pixels (default 4); 0 disables the filter */
+    int threshold_radius;       /* pixels (default 8) */
+    int threshold_offset;       /* grey levels (default 1) */
+    float size_tolerance;       /* contour size filter slack (default 0.2) */
+    float min_area_fraction;    /* contour area >= this * diag_r_px * diag_az_px * (1 - tol) (0.1) */
+    float max_area_fraction;    /* contour area <= this * diag_r_px * diag_az_px * (1 + tol) (1.0) */
+    actag_quad_params quad;     /* RANSAC (default 500 iterations, 0.1, 0.85, 2.5 px, 0.9) */
+    uint32_t seed;              /* RANSAC seed (default 1) */
+} actag_params;
+
+/* One detected tag. */
+typedef struct actag_detection {
+    int id;                    /* tag ID in the family */
+    int hamming;               /* corrected bits */
+    int mirrored;              /* 1 when the sonar shows the tag mirrored */
+    actag_point corners[4];    /* image position (x = column, y = row), tag order TL TR BR BL */
+    float range[4];            /* metres, per corner */
+    float azimuth[4];          /* radians, per corner */
+    float inlier_ratio;        /* RANSAC support of the quadrilateral */
+} actag_detection;
+
+/* Optional counters of one call. */
+typedef struct actag_stats {
+    int contours;        /* outer borders traced */
+    int size_ok;         /* contours that passed the physical size filter */
+    int overflowed;      /* contours longer than the point buffer (skipped) */
+    int quads;           /* quadrilaterals fitted */
+    int decoded;         /* quads that decoded to a family member */
+    int duplicates;      /* decodes dropped as the same tag seen twice */
+    int dropped;         /* detections beyond max_out */
+} actag_stats;
+
+/* Points buffered for one contour: no contour that could be a tag is longer. */
+#define ACTAG_CONTOUR_CAP(rows, cols) (4 * ((size_t)(rows) + (size_t)(cols)) + 64u)
+
+#define ACTAG__ALIGN16(n) ((((size_t)(n)) + 15u) & ~(size_t)15u)
+#define ACTAG__MAX(a, b) ((a) > (b) ? (a) : (b))
+#define ACTAG__STAGE_SCRATCH(rows, cols)                                                     \
+    ACTAG__MAX(ACTAG__MAX(ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols),                            \
+                          ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols)),                        \
+               ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint)) +       \
+                   ACTAG_QUAD_SCRATCH_SIZE(ACTAG_CONTOUR_CAP(rows, cols)))
+
+/* Workspace bytes for frames of up to rows x cols pixels (a constant
+ * expression): the binary image, the filtered image and the largest stage
+ * scratch, each 16-byte aligned, plus 16 bytes to align the start. */
+#define ACTAG_WORKSPACE_SIZE(rows, cols)                                                     \
+    (16u + 2u * ACTAG__ALIGN16((size_t)(rows) * (size_t)(cols)) +                           \
+     ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols)))
+
+/* ACTAG_WORKSPACE_SIZE at run time; 0 for sizes outside 1..ACTAG_MAX_DIM. */
+size_t actag_workspace_size(int rows, int cols);
+
+/* Fill *p with the defaults (paper Table I; family NULL: set it). */
+void actag_params_default(actag_params *p);
+
+/* Checks parameters; returns ACTAG_OK or ACTAG_ERR_NULL / _PARAM / _FAMILY / _CORRECTIONS. */
+int actag_params_validate(const actag_params *p);
+
+/* Detect tags. Writes at most max_out detections to out and returns their
+ * number (>= 0), or a negative ACTAG_ERR_* code. stats may be NULL. */
+int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                 const actag_params *params, void *workspace, size_t workspace_size,
+                 actag_detection *out, int max_out, actag_stats *stats);
+
+/* After a successful actag_detect() on a rows x cols frame, these point at
+ * the stage images inside the workspace (row stride = cols): the median
+ * filtered frame, and the binary frame (0 = black, nonzero = white). They
+ * return NULL for a NULL workspace or bad size. For debugging/overlays. */
+const uint8_t *actag_workspace_filtered(const void *workspace, int rows, int cols);
+const uint8_t *actag_workspace_binary(const void *workspace, int rows, int cols);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_ACTAG_H */

@@ -1,0 +1,211 @@
+/*
+ * actag/decode.h -- from a quadrilateral to a tag: ID, orientation, corners.
+ *
+ * MANUAL
+ *   The quad stage hands over the 4 corners of a candidate tag's inner WHITE
+ *   square (image pixels, x = column, y = row). This stage maps the tag's cell
+ *   grid into the image (least-squares affine map by default, or the 4-point
+ *   homography), samples the data ring in the binary image (0 = black =
+ *   aluminium, nonzero = white = foam), and matches the bits against a family.
+ *
+ *   Tag grid coordinates (u, v): a family of 4k bits uses (k+1) x (k+1) cells;
+ *   u runs to the right, v down, as printed, both in cells, 0 .. k+1 on the
+ *   grid lines, so cell (cx, cy) has its centre at (cx + 0.5, cy + 0.5). The
+ *   outer ring holds the data bits, the next ring is black, the rest white:
+ *   the white square spans [2, k-1] x [2, k-1]. Data bit i (i = 0 is the
+ *   code's MSB) lies in cell
+ *       i = 0   .. k-1 : (i, 0)              top row, left to right
+ *       i = k   .. 2k-1: (k, i-k)            right column, downwards
+ *       i = 2k  .. 3k-1: (3k-i, k)           bottom row, right to left
+ *       i = 3k  .. 4k-1: (0, 4k-i)           left column, upwards
+ *   (SPEC section 2; for 24 bits these are the AprilTag 3 bit_x/bit_y.)
+ *   Corner n of the white square: 0 = top-left (2,2), 1 = top-right (k-1,2),
+ *   2 = bottom-right (k-1,k-1), 3 = bottom-left (2,k-1), as printed.
+ *
+ *   Grid -> image maps. Both take quad[0..3] as white-square corners 0..3 in
+ *   the order given (no reordering) and fill a 3x3 matrix H (row-major):
+ *   x = (H0 u + H1 v + H2) / w, y = (H3 u + H4 v + H5) / w, w = H6 u + H7 v + H8.
+ *   actag_tag_affine(quad, bits, H)       ACTAG_DECODE_AFFINE (the default)
+ *       The least-squares affine map of the 4 corners (H6 = H7 = 0, H8 = 1):
+ *       exact for a parallelogram, otherwise the corners' mean fit.
+ *   actag_tag_homography(quad, bits, H)   ACTAG_DECODE_PROJECTIVE
+ *       The exact 4-point homography (quad[n] lands on corner n).
+ *   Why affine by default: a sonar image has no perspective (range and
+ *   azimuth are not a central projection), so the projective part of a
+ *   4-point fit is corner noise, and the data ring lies outside the white
+ *   square, where that noise is extrapolated. On the 58 pool frames plus the
+ *   example frame (our pipeline's quads, inlier ratio 0.75) the affine map
+ *   read tag 0 in 23 quads with 4 corrections (1 wrong ID) against 10
+ *   (4 wrong IDs) for the homography; at 2 corrections 6 against 2. The
+ *   reference decoder also fits an affine map (a pseudo-inverse). Use
+ *   ACTAG_DECODE_PROJECTIVE for camera-like images with real perspective.
+ *   actag_homography_apply(H, u, v, &p)
+ *       Applies H. No checks; w > 0 everywhere on the tag grid for any H
+ *       produced by the functions above.
+ *   actag_decode_bit_positions(quad, bits, out)
+ *       Image positions of the 4k data-cell centres, in bit order, through
+ *       the default map (pass a tag-order corner list, e.g. a result's
+ *       corners[], to get the tag's own bit order).
+ *   actag_decode_read_word(binary, ..., quad, bits, model, &word)
+ *       The raw 4k-bit word read in quad order: bit i of the sequence (word
+ *       bit 4k-1-i) is the vote of data cell i with quad[n] taken as corner n.
+ *   actag_decode_mirror(word, bits)
+ *       The reflection P of a word read from a corner: sequence position s
+ *       takes sequence position (-s) mod 4k (position 0 stays, the rest is
+ *       reversed; as a code: keep the MSB, reverse the low 4k-1 bits).
+ *       P is its own inverse.
+ *   actag_decode_quad(binary, ..., quad, family, max_corrections, &res)
+ *       The decoder proper (default map); see below.
+ *   actag_decode_quad_ex(..., max_corrections, model, &res)
+ *       The same with a chosen map, ACTAG_DECODE_AFFINE or _PROJECTIVE.
+ *
+ *   Sampling: each cell is read at a 3x3 pattern of points, the cell centre
+ *   +-0.25 cell in u and v, each mapped through the homography to the
+ *   nearest pixel (pixels outside the image count as black); the majority of
+ *   the 9 votes decides the bit (5 or more white -> 1).
+ *
+ *   Orientation and mirroring. The quad's corners are taken to be
+ *   consecutive; the decoder does not assume which one is the tag's top-left.
+ *   A quad given counter-clockwise on screen (x right, y down) is first
+ *   reordered to clockwise, quad[0] staying first, so res.observed is always
+ *   read clockwise ON SCREEN from quad[0]. For a tag shown as printed
+ *   (rotated, perspective-warped), that word is rot90^r(code). For a tag shown
+ *   mirrored (any geometric reflection of the printed layout, as the sonar's
+ *   elevation projection can produce), reading clockwise on screen is
+ *   reading the tag counter-clockwise from one of its corners, which gives
+ *       P(observed) == rot90^r(code)
+ *   and NOT reverse(rot90^r(code)): a reflection pivots on a corner cell
+ *   (sequence position s <-> jk - s), whereas the SPEC's full-word reversal
+ *   pivots between cells 0 and 4k-1 (s <-> -1 - s), which no reflection of
+ *   the square does. (The reference decoder agrees with P: its
+ *   "counter-clockwise" table swaps positions j and 4k-j, keeping 0 and 2k,
+ *   and its corner order for those matches is the one below; SPEC section 2's
+ *   "rev" misdescribes it.) The decoder therefore calls
+ *   actag_family_match_rotations() on observed and on P(observed) and keeps
+ *   the one with fewer corrected bits; on a tie, the unmirrored reading.
+ *
+ *   CAUTION: the family generator guarantees the minimum distance h between
+ *   rotations and full reversals, not between rotations and reflections P.
+ *   For the published 24-bit families the smallest distance between an
+ *   unmirrored and a mirrored reading (same or other code) is 6 (h10), 2 (h8),
+ *   2 (h6) and 0 (h4: 11 pairs of codes are each other's mirror images, e.g.
+ *   IDs 402 and 2046, whose IDs cannot be told apart when mirroring is
+ *   possible, and 7 codes are mirror-symmetric, e.g. ID 291, whose
+ *   handedness cannot be told).
+ *   So bit corrections can confuse a mirrored tag with an unmirrored one (or
+ *   another ID) sooner than max_corrections suggests; use few corrections
+ *   when mirrored tags are expected, and res.mirror_margin to judge.
+ *
+ *   Results (actag_decode_result):
+ *     id, hamming  tag ID and number of corrected bits.
+ *     mirrored     1 when the tag appears mirrored on screen.
+ *     rotation     which printed corner (0 TL, 1 TR, 2 BR, 3 BL) of the white
+ *                  square lies at quad[0] (unmirrored: observed ==
+ *                  rot90^rotation(code); mirrored: P(observed) ==
+ *                  rot90^rotation(code)).
+ *     observed     the raw word read clockwise on screen from quad[0].
+ *     corners[n]   the white square's printed corner n (TL, TR, BR, BL) in
+ *                  the image: one of the input quad points, copied exactly.
+ *                  Unmirrored: corners[n] = quad[(n - rotation) mod 4];
+ *                  mirrored:   corners[n] = quad[(rotation - n) mod 4]
+ *                  (quad here in its clockwise-on-screen order).
+ *     mirror_margin  d_other - hamming (>= 0), where d_other is the best
+ *                  distance of the OTHER handedness (mirrored if this reading
+ *                  is unmirrored and vice versa); 0 means both fit equally
+ *                  well (the unmirrored one was taken). When the other
+ *                  handedness has nothing within the family's maximum
+ *                  corrections m, d_other counts as m + 1 (a lower bound).
+ *     ring_black   fraction (0..1) of the samples on the black ring (the ring
+ *                  inside the data bits) that read black;
+ *     interior_white  fraction of the white-square samples that read white.
+ *                  Both are informative only: the decoder does not reject on
+ *                  them (the reference does not check either; real sonar
+ *                  frames are speckled). A pipeline may threshold them to cut
+ *                  false positives (clean renders give 1.0).
+ *
+ *   Memory: no scratch buffer (ACTAG_DECODE_SCRATCH_BYTES is 0), a few
+ *   hundred bytes of stack. Cost: (4k + 4(k-2) + (k-3)^2) cells x 9 samples,
+ *   each one map evaluation (one division), then two family scans (about
+ *   5 us per quad for AcTag24h10 on a desktop x86 core).
+ *
+ * ERRORS
+ *   ACTAG_ERR_NULL         a pointer argument is NULL
+ *   ACTAG_ERR_SIZE         rows or cols < 1 or > ACTAG_MAX_DIM, or stride < cols
+ *   ACTAG_ERR_PARAM        bits not one of 16, 20, 24, 28, 32; unknown model;
+ *                          degenerate quad: non-finite, not strictly convex
+ *                          (each corner's turn must have |sin| > 1e-3, all the
+ *                          same way), or (projective only) the homography
+ *                          sends part of the (k+1)^2 tag grid through
+ *                          infinity (extreme perspective)
+ *   ACTAG_ERR_FAMILY       the family fails actag_family_validate()
+ *   ACTAG_ERR_CORRECTIONS  max_corrections < 0 or above
+ *                          actag_family_max_corrections(family)
+ *   ACTAG_ERR_NO_MATCH     no code within max_corrections, either handedness
+ */
+#ifndef ACTAG_DECODE_H
+#define ACTAG_DECODE_H
+
+#include "actag/common.h"
+#include "actag/family.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The decoder needs no workspace. */
+#define ACTAG_DECODE_SCRATCH_BYTES(rows, cols) 0
+
+/* Offset (cells) of the outer sample points from a cell centre. */
+#define ACTAG_DECODE_SAMPLE_OFFSET 0.25f
+
+/* Grid -> image map models. */
+#define ACTAG_DECODE_AFFINE 0     /* least-squares affine fit of the 4 corners */
+#define ACTAG_DECODE_PROJECTIVE 1 /* exact 4-point homography */
+#define ACTAG_DECODE_DEFAULT_MODEL ACTAG_DECODE_AFFINE
+
+typedef struct actag_decode_result {
+    int id;                 /* tag ID in the family */
+    int hamming;            /* corrected bits */
+    int mirrored;           /* 1: the tag appears mirrored on screen */
+    int rotation;           /* printed corner (0 TL .. 3 BL) at quad[0] */
+    uint32_t observed;      /* word read clockwise on screen from quad[0] */
+    actag_point corners[4]; /* white-square corners in the tag's order: TL, TR, BR, BL */
+    int mirror_margin;      /* best other-handedness distance minus hamming */
+    float ring_black;       /* fraction of black-ring samples read black */
+    float interior_white;   /* fraction of white-square samples read white */
+} actag_decode_result;
+
+/* Homography from tag grid (u,v) to image (x,y), quad[n] at white-square corner n. */
+int actag_tag_homography(const actag_point quad[4], int bits, float H[9]);
+
+/* Least-squares affine map from tag grid (u,v) to image (x,y) (H6 = H7 = 0, H8 = 1). */
+int actag_tag_affine(const actag_point quad[4], int bits, float H[9]);
+
+/* out = H applied to (u, v). */
+void actag_homography_apply(const float H[9], float u, float v, actag_point *out);
+
+/* Image positions of the `bits` data-cell centres in bit order (out has `bits`
+ * entries), through the default map. */
+int actag_decode_bit_positions(const actag_point quad[4], int bits, actag_point *out);
+
+/* Reads the raw word in quad order (quad[n] = corner n, no reordering). */
+int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride,
+                           const actag_point quad[4], int bits, int model, uint32_t *word);
+
+/* The corner reflection P (see the manual); bits in 16..32, multiple of 4. */
+uint32_t actag_decode_mirror(uint32_t word, int bits);
+
+/* Decodes one quad with the default map; fills *out on ACTAG_OK only. */
+int actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
+                      const actag_point quad[4], const actag_family *family,
+                      int max_corrections, actag_decode_result *out);
+
+/* The same with a chosen map model (ACTAG_DECODE_AFFINE / _PROJECTIVE). */
+int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
+                         const actag_point quad[4], const actag_family *family,
+                         int max_corrections, int model, actag_decode_result *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_DECODE_H */

@@ -1,0 +1,70 @@
+/*
+ * actag/geometry.h -- the sonar's polar image: pixel <-> (range, azimuth).
+ *
+ * MANUAL
+ *   A sonar frame is a polar image: rows are range bins, columns are beams.
+ *   Default orientation (SPEC section 4, the reference's): row 0 is the
+ *   maximum range, the last row the minimum range; column 0 is the largest
+ *   (positive) azimuth +aperture/2, the last column -aperture/2. Pixel centres
+ *   map linearly:
+ *       range(row)   = max_range - row * (max_range - min_range) / (rows - 1)
+ *       azimuth(col) = +aperture/2 - col * aperture / (cols - 1)
+ *   Flags select the other orientation real drivers emit:
+ *       ACTAG_RANGE_ASCENDING    row 0 is the minimum (nearest) range
+ *       ACTAG_AZIMUTH_ASCENDING  column 0 is the most negative bearing
+ *   Instead of a uniform aperture, `bearings` may point to one azimuth per
+ *   column (radians, in column order, strictly monotonic), as published by
+ *   sonars such as the Blueprint Subsea Oculus; it then overrides `aperture`
+ *   and ACTAG_AZIMUTH_ASCENDING. Sub-pixel columns interpolate linearly
+ *   between neighbouring beams (extrapolating past the first/last beam).
+ *
+ *   Units: ranges in metres, angles in radians, positions in pixels
+ *   (x = column, y = row, pixel centres at integers).
+ *
+ * ERRORS
+ *   ACTAG_ERR_NULL      geometry pointer NULL
+ *   ACTAG_ERR_SIZE      rows or cols < 1 or > ACTAG_MAX_DIM
+ *   ACTAG_ERR_GEOMETRY  non-finite values, min_range < 0, max_range <= min_range,
+ *                       aperture <= 0 or >= 2*pi (without a table), a bearing
+ *                       table that is not strictly monotonic or not finite,
+ *                       unknown flags
+ */
+#ifndef ACTAG_GEOMETRY_H
+#define ACTAG_GEOMETRY_H
+
+#include "actag/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ACTAG_RANGE_ASCENDING 1u
+#define ACTAG_AZIMUTH_ASCENDING 2u
+
+typedef struct actag_sonar_geometry {
+    float min_range;       /* metres, range of the nearest row's centre */
+    float max_range;       /* metres, range of the farthest row's centre */
+    float aperture;        /* radians, horizontal field of view (ignored with bearings) */
+    const float *bearings; /* optional per-column azimuth table (cols entries), or NULL */
+    unsigned flags;        /* ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING */
+} actag_sonar_geometry;
+
+/* Checks the geometry for a rows x cols frame. Returns ACTAG_OK or an error. */
+int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols);
+
+/* Range (m) at a sub-pixel row y. Assumes a validated geometry. */
+float actag_geometry_range(const actag_sonar_geometry *geo, int rows, float y);
+
+/* Azimuth (rad) at a sub-pixel column x. Assumes a validated geometry. */
+float actag_geometry_azimuth(const actag_sonar_geometry *geo, int cols, float x);
+
+/* Metres per row (always >= 0). */
+float actag_geometry_range_step(const actag_sonar_geometry *geo, int rows);
+
+/* Radians per column near sub-pixel column x (always >= 0). */
+float actag_geometry_azimuth_step(const actag_sonar_geometry *geo, int cols, float x);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

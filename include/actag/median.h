@@ -1,0 +1,74 @@
+/*
+ * actag/median.h -- constant-time square median filter for 8-bit images.
+ *
+ * MANUAL
+ *   actag_median_filter() replaces every pixel by the median of the
+ *   (2R+1) x (2R+1) window centred on it (R = radius, in pixels). Pixels
+ *   outside the image are replaced by the nearest edge pixel (edge
+ *   replication: row and column indices are clamped into the image), so the
+ *   window always holds exactly (2R+1)^2 samples and the result is its exact
+ *   middle element. R = 0 copies the image. R may exceed the image size.
+ *
+ *     static uint8_t scratch[ACTAG_MEDIAN_SCRATCH_SIZE(530, 512)];
+ *     int rc = actag_median_filter(img, 530, 512, 512, out, 512, 4,
+ *                                  scratch, sizeof scratch);
+ *
+ *   Images are row-major, one byte per pixel; the stride is the distance in
+ *   bytes between the starts of two rows (>= cols). Bytes between cols and
+ *   the stride are never read in src and never written in dst.
+ *
+ *   Algorithm: Perreault & Hebert, "Median filtering in constant time"
+ *   (IEEE TIP 2007): one histogram per image column, slid down one row at a
+ *   time, and a kernel histogram slid along the row by adding one column
+ *   histogram and removing another. Histograms have two levels (16 coarse
+ *   bins of 16 grey levels, 256 fine bins); the fine level of the kernel is
+ *   only brought up to date, lazily, for the coarse bin that holds the
+ *   median. Integer arithmetic only; the work per pixel does not depend on R.
+ *
+ *   src and dst must not overlap (src == dst is rejected with
+ *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
+ *
+ * MEMORY
+ *   The caller provides `scratch` of at least
+ *   ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) bytes (272 bytes per image column:
+ *   8-bit column histograms; 139,264 bytes for 512 columns, whatever the
+ *   number of rows or the radius). No alignment is required. About 600
+ *   bytes of stack are used for the kernel histogram.
+ *
+ * LIMITS
+ *   0 <= radius <= ACTAG_MEDIAN_MAX_RADIUS (127): column histogram counters
+ *   are 8-bit (a column holds 2R+1 <= 255 samples) and kernel counters are
+ *   16-bit ((2R+1)^2 <= 65025).
+ *
+ * ERRORS
+ *   ACTAG_ERR_NULL       src, dst or scratch is NULL
+ *   ACTAG_ERR_SIZE       rows or cols < 1 or > ACTAG_MAX_DIM, or a stride < cols
+ *   ACTAG_ERR_PARAM      radius < 0 or > ACTAG_MEDIAN_MAX_RADIUS, or src == dst
+ *   ACTAG_ERR_WORKSPACE  scratch_size < ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols)
+ *   Returns ACTAG_OK on success. On error dst is left untouched.
+ */
+#ifndef ACTAG_MEDIAN_H
+#define ACTAG_MEDIAN_H
+
+#include "actag/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Largest radius: column histograms count up to 2R+1 samples in 8 bits. */
+#define ACTAG_MEDIAN_MAX_RADIUS 127
+
+/* Scratch bytes for any radius <= ACTAG_MEDIAN_MAX_RADIUS: per column, a
+ * 16-bin coarse and a 256-bin fine 8-bit histogram. rows is unused but kept
+ * so that every stage's macro has the same shape. */
+#define ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) ((size_t)(cols) * 272u)
+
+int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
+                        uint8_t *dst, int dst_stride, int radius,
+                        void *scratch, size_t scratch_size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_MEDIAN_H */

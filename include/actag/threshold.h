@@ -1,0 +1,77 @@
+/*
+ * actag/threshold.h -- adaptive (local min/max) threshold of 8-bit images.
+ *
+ * MANUAL
+ *   actag_adaptive_threshold() writes a binary image: for every pixel x,
+ *   with mn and mx the minimum and maximum of the (2R+1) x (2R+1) window
+ *   centred on it (R = radius, in pixels),
+ *
+ *       dst = 1  if  x >= (mn + mx) / 2 - offset   (exact real arithmetic,
+ *                                                  i.e. 2x >= mn + mx - 2 offset)
+ *       dst = 0  otherwise.
+ *
+ *   Output bytes are exactly 0 or 1. Pixels outside the image are replaced
+ *   by the nearest edge pixel (edge replication), which for a min/max simply
+ *   means the window is cut at the image border. offset may be any int,
+ *   negative included; R may exceed the image size (the window then spans
+ *   the whole image in that direction).
+ *
+ *     uint8_t scratch[ACTAG_THRESHOLD_SCRATCH_SIZE_R(530, 512, 8)];  (20,480 B)
+ *     int rc = actag_adaptive_threshold(med, 530, 512, 512, bin, 512, 8, 1,
+ *                                       scratch, sizeof scratch);
+ *
+ *   Images are row-major, one byte per pixel; the stride is the distance in
+ *   bytes between the starts of two rows (>= cols). Bytes between cols and
+ *   the stride are never read in src and never written in dst.
+ *
+ *   Algorithm: the window min and max are separable. A vertical pass and
+ *   then a horizontal pass each use the van Herk / Gil-Werman scheme (block
+ *   prefix and suffix extrema over blocks of 2R+1 samples, one comparison
+ *   of a prefix and a suffix per output), so the work per pixel does not
+ *   depend on R. The vertical pass works on whole rows at a time and only
+ *   keeps the suffix extrema of one block of 2R+1 rows.
+ *
+ *   src and dst must not overlap (src == dst is rejected with
+ *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
+ *
+ * MEMORY
+ *   scratch must hold ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, radius)
+ *   bytes: (2 * min(2R+1, rows) + 6) * cols. ACTAG_THRESHOLD_SCRATCH_SIZE
+ *   (rows, cols) = (2 * rows + 6) * cols is enough for every radius. For
+ *   530 x 512: 20,480 bytes at R = 8, 545,792 bytes for any R. No alignment
+ *   is required. Stack use is a few dozen bytes.
+ *
+ * ERRORS
+ *   ACTAG_ERR_NULL       src, dst or scratch is NULL
+ *   ACTAG_ERR_SIZE       rows or cols < 1 or > ACTAG_MAX_DIM, or a stride < cols
+ *   ACTAG_ERR_PARAM      radius < 0, or src == dst
+ *   ACTAG_ERR_WORKSPACE  scratch_size < ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, radius)
+ *   Returns ACTAG_OK on success. On error dst is left untouched.
+ */
+#ifndef ACTAG_THRESHOLD_H
+#define ACTAG_THRESHOLD_H
+
+#include "actag/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scratch bytes for one radius (radius >= 0): the suffix extrema of one
+ * block of min(2R+1, rows) rows for the min and the max, plus six lines. */
+#define ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, radius)                               \
+    ((2u * ((size_t)(radius) * 2u + 1u < (size_t)(rows) ? (size_t)(radius) * 2u + 1u     \
+                                                         : (size_t)(rows)) + 6u) *       \
+     (size_t)(cols))
+
+/* Scratch bytes that suffice for every radius. */
+#define ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols) ((2u * (size_t)(rows) + 6u) * (size_t)(cols))
+
+int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
+                             uint8_t *dst, int dst_stride, int radius, int offset,
+                             void *scratch, size_t scratch_size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_THRESHOLD_H */

@@ -1,0 +1,156 @@
+/* actag_apriltag.c -- AcTag families for AprilTag 3 (see actag/actag_apriltag.h). */
+#include "actag/actag_apriltag.h"
+
+#include <apriltag/apriltag_pose.h>
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* actag_apriltag_families.h is written by optical/CMakeLists.txt into the
+ * build tree: one X(<name>) per entry of ACTAG_FAMILIES. Each name has a
+ * generated actag_apriltag_family_<name>() (actag-familygen --format apriltag). */
+#define X(n) apriltag_family_t *actag_apriltag_family_##n(void);
+#include "actag_apriltag_families.h"
+#undef X
+
+typedef apriltag_family_t *(*actag_apriltag_getter)(void);
+
+static const actag_apriltag_getter actag_apriltag_getters[] = {
+#define X(n) actag_apriltag_family_##n,
+#include "actag_apriltag_families.h"
+#undef X
+};
+
+#define ACTAG_APRILTAG_NFAM \
+    ((int)(sizeof(actag_apriltag_getters) / sizeof(actag_apriltag_getters[0])))
+
+int actag_apriltag_family_count(void)
+{
+    return ACTAG_APRILTAG_NFAM;
+}
+
+const char *actag_apriltag_family_name(int i)
+{
+    if (i < 0 || i >= ACTAG_APRILTAG_NFAM)
+        return NULL;
+    return actag_apriltag_getters[i]()->name;
+}
+
+apriltag_family_t *actag_apriltag_family(const char *name)
+{
+    int i;
+    if (name == NULL)
+        return NULL;
+    for (i = 0; i < ACTAG_APRILTAG_NFAM; i++) {
+        apriltag_family_t *f = actag_apriltag_getters[i]();
+        if (strcmp(f->name, name) == 0)
+            return f;
+    }
+    return NULL;
+}
+
+apriltag_family_t *actag_apriltag_family_create(const char *name)
+{
+    const apriltag_family_t *src = actag_apriltag_family(name);
+    apriltag_family_t *f;
+    if (src == NULL)
+        return NULL;
+    f = (apriltag_family_t *)malloc(sizeof(*f));
+    if (f == NULL)
+        return NULL;
+    /* Shallow copy: AprilTag only reads codes, bit_x, bit_y and name; the one
+     * field it writes is impl, which must be private to each copy. */
+    *f = *src;
+    f->impl = NULL;
+    return f;
+}
+
+void actag_apriltag_family_destroy(apriltag_family_t *fam)
+{
+    int i;
+    if (fam == NULL)
+        return;
+    for (i = 0; i < ACTAG_APRILTAG_NFAM; i++)
+        if (fam == actag_apriltag_getters[i]())
+            return; /* static object: never freed */
+    free(fam);
+}
+
+int actag_apriltag_max_bits_corrected(const apriltag_family_t *fam)
+{
+    int h, m;
+    if (fam == NULL)
+        return -1;
+    h = (int)fam->h;
+    m = (h % 2 == 0) ? h / 2 - 1 : h / 2; /* SPEC section 3 */
+    if (m > 3)
+        m = 3; /* AprilTag's quick-decode table stops at 3 */
+    if (m < 0)
+        m = 0;
+    return m;
+}
+
+void actag_apriltag_invert(image_u8_t *im)
+{
+    int x, y;
+    if (im == NULL || im->buf == NULL)
+        return;
+    for (y = 0; y < im->height; y++) {
+        uint8_t *row = im->buf + (size_t)y * (size_t)im->stride;
+        for (x = 0; x < im->width; x++)
+            row[x] = (uint8_t)(255 - row[x]);
+    }
+}
+
+void actag_apriltag_corners_to_actag(const apriltag_detection_t *det, double out[4][2])
+{
+    int i;
+    if (det == NULL || out == NULL)
+        return;
+    /* AprilTag: p[0..3] = tag points (-1,1) (1,1) (1,-1) (-1,-1), with tag y
+     * pointing to the printed bottom: bottom-left, bottom-right, top-right,
+     * top-left. AcTag: top-left first, clockwise as printed -> p[3], p[2],
+     * p[1], p[0]. AprilTag puts pixel centres at +0.5, actag at integers. */
+    for (i = 0; i < 4; i++) {
+        out[i][0] = det->p[3 - i][0] - 0.5;
+        out[i][1] = det->p[3 - i][1] - 0.5;
+    }
+}
+
+double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
+                          double fx, double fy, double cx, double cy,
+                          double R[9], double t[3])
+{
+    apriltag_detection_info_t info;
+    apriltag_pose_t pose;
+    double err;
+    unsigned r, q;
+    if (det == NULL || R == NULL || t == NULL || !(tag_size > 0) || !(fx > 0) || !(fy > 0))
+        return -1.0;
+    /* estimate_tag_pose() only reads the detection. */
+    info.det = (apriltag_detection_t *)(uintptr_t)det;
+    info.tagsize = tag_size;
+    info.fx = fx;
+    info.fy = fy;
+    info.cx = cx + 0.5; /* AprilTag's pixel centres are at +0.5 */
+    info.cy = cy + 0.5;
+    pose.R = NULL;
+    pose.t = NULL;
+    err = estimate_tag_pose(&info, &pose);
+    if (pose.R != NULL && pose.t != NULL && pose.R->nrows == 3 && pose.R->ncols == 3 &&
+        pose.t->nrows == 3 && pose.t->ncols == 1 && err >= 0) {
+        for (r = 0; r < 3; r++) {
+            for (q = 0; q < 3; q++)
+                R[3 * r + q] = MATD_EL(pose.R, r, q);
+            t[r] = MATD_EL(pose.t, r, 0);
+        }
+    } else {
+        err = -1.0;
+    }
+    /* matd_t is one calloc'ed block (flexible array member), so free() is
+     * what matd_destroy() does; Debian's libraries do not export the latter. */
+    free(pose.R);
+    free(pose.t);
+    return err;
+}

@@ -1,0 +1,158 @@
+/*
+ * actag/actag_apriltag.h -- read AcTags in camera images with AprilTag 3.
+ *
+ * MANUAL
+ *   AcTags are built so that an ordinary camera can read them too: the AcTag
+ *   families are valid AprilTag 3 "reversed border" families. This optional
+ *   library (libactag_apriltag, CMake target actag::actag_apriltag) hands the
+ *   AcTag families built into actag (CMake variable ACTAG_FAMILIES) to
+ *   AprilTag 3 as apriltag_family_t objects, plus a few helpers. It is
+ *   built only when libapriltag is found. Unlike the actag core it allocates
+ *   (AprilTag does) and it is host-only.
+ *
+ *     #include <actag/actag_apriltag.h>
+ *
+ *     apriltag_family_t *fam = actag_apriltag_family("AcTag24h10");
+ *     apriltag_detector_t *td = apriltag_detector_create();
+ *     apriltag_detector_add_family_bits(td, fam,
+ *                                       actag_apriltag_max_bits_corrected(fam));
+ *     actag_apriltag_invert(im);             // camera: aluminium light, foam dark
+ *     zarray_t *dets = apriltag_detector_detect(td, im);
+ *     for (int i = 0; i < zarray_size(dets); i++) {
+ *         apriltag_detection_t *det;
+ *         double c[4][2];
+ *         zarray_get(dets, i, &det);
+ *         actag_apriltag_corners_to_actag(det, c);
+ *         printf("id %d top-left corner (%.2f, %.2f)\n", det->id, c[0][0], c[0][1]);
+ *     }
+ *     apriltag_detections_destroy(dets);
+ *     apriltag_detector_destroy(td);         // also frees fam's decode table
+ *
+ *   Link with -lactag_apriltag -lapriltag; on Debian add -lapriltag-utils
+ *   for AprilTag's image helpers (image_u8_create, image_u8_create_from_pnm),
+ *   which its apriltag.pc omits. (CMake: actag::actag_apriltag.)
+ *
+ * IMAGE POLARITY
+ *   Acoustically foam is bright and aluminium dark; optically aluminium is the
+ *   lighter one, so a camera image must be inverted (actag_apriltag_invert)
+ *   before AprilTag sees it. Then bit 1 (foam) is white, the black ring is
+ *   black and the inner square is white, as the family describes.
+ *
+ * FAMILY OBJECTS AND AprilTag's DECODE TABLE
+ *   apriltag_detector_add_family_bits() builds a quick-decode hash table for
+ *   the family and stores it in family->impl, *only if impl is NULL*; the
+ *   detector frees it (and resets impl to NULL) in
+ *   apriltag_detector_remove_family(), _clear_families() and _destroy().
+ *   AprilTag 3.3 offers no other way to free it. Therefore:
+ *   - actag_apriltag_family(name) returns one static object per family. Add it
+ *     to at most ONE detector at a time, and destroy or remove it from that
+ *     detector before adding it to another one. (A second detector would share
+ *     the first one's table, built for the first one's bits_corrected, and
+ *     crash once the first detector frees it.) Not thread-safe for the same
+ *     reason.
+ *   - actag_apriltag_family_create(name) returns a fresh heap copy (the code
+ *     and bit-position arrays are shared, read-only) for programs that run
+ *     several detectors at once; each copy may be added to one detector.
+ *     Release it with actag_apriltag_family_destroy() AFTER the detector that
+ *     used it has been destroyed (or the family removed from it), exactly like
+ *     AprilTag's own tag36h11_create()/tag36h11_destroy().
+ *   bits_corrected: AprilTag supports 0..3; AcTag families can correct at most
+ *   h/2-1 bits (even h) or floor(h/2) (odd h). actag_apriltag_max_bits_corrected()
+ *   gives the smaller of the two. AprilTag's table has
+ *   3 * ncodes * (1 + n + n(n-1) + n(n-1)(n-2)) entries of 16 bytes (terms up
+ *   to bits_corrected, n = nbits): AcTag24h4 with 1 bit 7.5 MB (with 2 bits,
+ *   beyond that family's limit, 173 MB); AcTag24h10 with 3 bits 4.3 MB.
+ *
+ * GEOMETRY
+ *   The family is laid out exactly as the printed AcTag (SPEC section 2):
+ *   width_at_border = k-3, total_width = k+1, reversed_border = true, where the
+ *   tag has 4k data bits. AprilTag's quad is the edge between the black ring and
+ *   the inner white square, so
+ *   - detection corners (det->p) are the corners of the inner white square;
+ *   - the tagsize of AprilTag's pose estimation (estimate_tag_pose) is the side
+ *     of the inner white square, which is exactly AcTag's tag_size
+ *     (e.g. 3/7 ft = 0.130628571 m for a 1 ft, 24-bit tag).
+ *   AprilTag returns det->p as bottom-left, bottom-right, top-right, top-left
+ *   of the tag as printed (counter-clockwise in the image), and its pixel
+ *   coordinates put the centre of pixel (row r, column c) at (c+0.5, r+0.5).
+ *   actag_apriltag_corners_to_actag() converts both to the actag conventions.
+ *   AprilTag's pose: R, t map tag coordinates to camera coordinates; the tag
+ *   frame has its origin at the tag centre, x towards the printed right edge,
+ *   y towards the printed bottom edge, z into the tag; camera x right, y down,
+ *   z forward. AprilTag's estimate_tag_pose() wants cx, cy in its own pixel
+ *   convention (0.5 more than a principal point calibrated with pixel centres
+ *   at integers, e.g. by OpenCV) and returns matd_t matrices; Debian's
+ *   packages do not export matd_destroy(), so use actag_apriltag_pose().
+ *   Mirrored tags (seen through a mirror or from behind) are not decoded by
+ *   AprilTag.
+ *   Accuracy on synthetic renders (tests): corners within 0.2 px, with a
+ *   bias of about -0.05 to -0.13 px from AprilTag's edge refinement.
+ *
+ * FALSE DETECTIONS
+ *   With bits_corrected at the family's limit AprilTag now and then reads a
+ *   slim bogus quad inside a tag's data ring as another ID with corrected
+ *   bits (3 of 3624 clean AcTag24h6 renders with 2 bits; none with h8/h10 at
+ *   2 bits or h4 at 1 bit). Prefer hamming 0 and a high decision_margin, or
+ *   use fewer corrections, where false IDs are costly.
+ *
+ * FUNCTIONS
+ *   apriltag_family_t *actag_apriltag_family(const char *name)
+ *       The static family of that exact name ("AcTag24h10"); NULL if the name
+ *       is NULL or not among the built-in families. See the rules above.
+ *   int actag_apriltag_family_count(void)
+ *       Number of built-in families (the entries of ACTAG_FAMILIES).
+ *   const char *actag_apriltag_family_name(int i)
+ *       Name of the i-th family, 0 <= i < count; NULL when out of range.
+ *   apriltag_family_t *actag_apriltag_family_create(const char *name)
+ *       A new heap copy of the family with impl = NULL; NULL if the name is
+ *       unknown or memory runs out.
+ *   void actag_apriltag_family_destroy(apriltag_family_t *fam)
+ *       Frees a copy made by actag_apriltag_family_create(). Ignores NULL and
+ *       the static families. fam->impl must already be NULL (detector gone).
+ *   int actag_apriltag_max_bits_corrected(const apriltag_family_t *fam)
+ *       min(3, AcTag's correction limit for fam->h); -1 for NULL.
+ *   double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
+ *                              double fx, double fy, double cx, double cy,
+ *                              double R[9], double t[3])
+ *       The tag's pose by AprilTag's estimate_tag_pose(). tag_size: AcTag's
+ *       tag_size (side of the inner white square), metres; fx, fy: focal
+ *       lengths in pixels; cx, cy: principal point in pixels with the centre of
+ *       the top-left pixel at (0,0) (the 0.5 shift is added here). R: row-major
+ *       rotation tag -> camera; t: tag centre in camera coordinates, metres.
+ *       Returns AprilTag's object-space error (>= 0), or -1 (R, t untouched)
+ *       for NULL arguments, tag_size/fx/fy <= 0 or a failed estimate.
+ *   void actag_apriltag_invert(image_u8_t *im)
+ *       In place: v -> 255 - v over width x height (stride respected). NULL ok.
+ *   void actag_apriltag_corners_to_actag(const apriltag_detection_t *det,
+ *                                        double out[4][2])
+ *       The four corners of the inner white square in AcTag order: top-left
+ *       of the printed tag first, then clockwise as printed (top-right,
+ *       bottom-right, bottom-left). out[i][0] = x (column), out[i][1] = y
+ *       (row), pixels, with the centre of pixel (row r, column c) at (c, r) as
+ *       everywhere in actag (i.e. AprilTag's coordinates minus 0.5).
+ */
+#ifndef ACTAG_APRILTAG_H
+#define ACTAG_APRILTAG_H
+
+#include <apriltag/apriltag.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+apriltag_family_t *actag_apriltag_family(const char *name);
+int actag_apriltag_family_count(void);
+const char *actag_apriltag_family_name(int i);
+apriltag_family_t *actag_apriltag_family_create(const char *name);
+void actag_apriltag_family_destroy(apriltag_family_t *fam);
+int actag_apriltag_max_bits_corrected(const apriltag_family_t *fam);
+double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
+                          double fx, double fy, double cx, double cy,
+                          double R[9], double t[3]);
+void actag_apriltag_invert(image_u8_t *im);
+void actag_apriltag_corners_to_actag(const apriltag_detection_t *det, double out[4][2]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_APRILTAG_H */

@@ -1,0 +1,81 @@
+/* Pixel <-> (range, azimuth) for polar sonar frames (SPEC section 4). */
+#include "actag/geometry.h"
+
+static int finite_f(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
+
+int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols)
+{
+    if (geo == NULL)
+        return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM)
+        return ACTAG_ERR_SIZE;
+    if ((geo->flags & ~(ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING)) != 0u)
+        return ACTAG_ERR_GEOMETRY;
+    if (!finite_f(geo->min_range) || !finite_f(geo->max_range) || geo->min_range < 0.0f ||
+        !(geo->max_range > geo->min_range))
+        return ACTAG_ERR_GEOMETRY;
+    if (geo->bearings != NULL) {
+        int c, dir = 0;
+        for (c = 0; c < cols; c++)
+            if (!finite_f(geo->bearings[c]))
+                return ACTAG_ERR_GEOMETRY;
+        for (c = 1; c < cols; c++) {
+            int d = geo->bearings[c] > geo->bearings[c - 1] ? 1
+                    : geo->bearings[c] < geo->bearings[c - 1] ? -1 : 0;
+            if (d == 0 || (dir != 0 && d != dir))
+                return ACTAG_ERR_GEOMETRY;
+            dir = d;
+        }
+    } else if (!finite_f(geo->aperture) || !(geo->aperture > 0.0f) ||
+               !(geo->aperture < 6.2831853f)) {
+        return ACTAG_ERR_GEOMETRY;
+    }
+    return ACTAG_OK;
+}
+
+float actag_geometry_range_step(const actag_sonar_geometry *geo, int rows)
+{
+    return rows > 1 ? (geo->max_range - geo->min_range) / (float)(rows - 1) : 0.0f;
+}
+
+float actag_geometry_range(const actag_sonar_geometry *geo, int rows, float y)
+{
+    float step = actag_geometry_range_step(geo, rows);
+    if (geo->flags & ACTAG_RANGE_ASCENDING)
+        return geo->min_range + y * step;
+    return geo->max_range - y * step;
+}
+
+float actag_geometry_azimuth(const actag_sonar_geometry *geo, int cols, float x)
+{
+    if (geo->bearings != NULL) {
+        int c0;
+        float t;
+        if (cols == 1)
+            return geo->bearings[0];
+        /* interpolate in the beam interval containing x (extrapolate at the ends) */
+        c0 = x <= 0.0f ? 0 : (x >= (float)(cols - 1) ? cols - 2 : (int)x);
+        t = x - (float)c0;
+        return geo->bearings[c0] + t * (geo->bearings[c0 + 1] - geo->bearings[c0]);
+    } else {
+        float half = 0.5f * geo->aperture;
+        float step = cols > 1 ? geo->aperture / (float)(cols - 1) : 0.0f;
+        if (geo->flags & ACTAG_AZIMUTH_ASCENDING)
+            return -half + x * step;
+        return half - x * step;
+    }
+}
+
+float actag_geometry_azimuth_step(const actag_sonar_geometry *geo, int cols, float x)
+{
+    float d;
+    if (cols < 2)
+        return 0.0f;
+    if (geo->bearings != NULL) {
+        int c0 = x <= 0.0f ? 0 : (x >= (float)(cols - 1) ? cols - 2 : (int)x);
+        d = geo->bearings[c0 + 1] - geo->bearings[c0];
+    } else {
+        d = geo->aperture / (float)(cols - 1);
+    }
+    return d < 0.0f ? -d : d;
+}

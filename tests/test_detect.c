@@ -1,0 +1,281 @@
+/* End-to-end sonar detection on the real frames in ../shared/data, plus the
+ * API contract: errors, workspace bounds, strides, 16-bit input, orientation
+ * flags, bearing tables and determinism. */
+#include "unity.h"
+#include "test_util.h"
+
+#include "actag/actag.h"
+
+#include <math.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+/* Compile-time workspace, as firmware would declare it. */
+static uint8_t g_ws[ACTAG_WORKSPACE_SIZE(463, 620)];
+
+static uint8_t *g_img;
+static int g_rows, g_cols;
+static actag_family g_fam;
+static actag_params g_p;
+static const actag_sonar_geometry g_geo = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+
+/* SPEC section 6: the reference's corners, (row, col), tag order. */
+static const float ref_rc[4][2] = {{145, 314}, {113, 339}, {103, 280}, {133, 244}};
+static const float ref_polar[4][2] = {
+    {1.0606f, -0.0076f}, {1.1576f, -0.0499f}, {1.1879f, 0.0499f}, {1.0970f, 0.1108f}};
+
+static void load_example(void)
+{
+    if (g_img)
+        return;
+    g_img = tu_read_pgm(ACTAG_SHARED_DIR "/data/sonar/example/exampleSonarImage.pgm", &g_rows,
+                        &g_cols);
+    TEST_ASSERT_NOT_NULL_MESSAGE(g_img, "cannot read exampleSonarImage.pgm");
+    TEST_ASSERT_EQUAL_INT(463, g_rows);
+    TEST_ASSERT_EQUAL_INT(620, g_cols);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &g_fam));
+    actag_params_default(&g_p);
+    g_p.family = &g_fam;
+}
+
+static int detect8(const uint8_t *px, int stride, const actag_sonar_geometry *geo,
+                   actag_detection *det, int max_out)
+{
+    actag_frame f;
+    f.data = px;
+    f.rows = g_rows;
+    f.cols = g_cols;
+    f.stride = stride;
+    f.depth = 8;
+    return actag_detect(&f, geo, &g_p, g_ws, sizeof g_ws, det, max_out, NULL);
+}
+
+static void test_example_frame_gives_tag0_at_reference_corners(void)
+{
+    actag_detection det[8];
+    int n, c;
+    load_example();
+    n = detect8(g_img, g_cols, &g_geo, det, 8);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(0, det[0].id);
+    for (c = 0; c < 4; c++) {
+        TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[c][0], det[0].corners[c].y);
+        TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[c][1], det[0].corners[c].x);
+        TEST_ASSERT_FLOAT_WITHIN(0.01f, ref_polar[c][0], det[0].range[c]);
+        TEST_ASSERT_FLOAT_WITHIN(0.01f, ref_polar[c][1], det[0].azimuth[c]);
+    }
+}
+
+static void test_deterministic_and_seed_owned_by_call(void)
+{
+    actag_detection a[8], b[8];
+    int na, nb;
+    load_example();
+    memset(a, 0, sizeof a);
+    memset(b, 0, sizeof b);
+    na = detect8(g_img, g_cols, &g_geo, a, 8);
+    nb = detect8(g_img, g_cols, &g_geo, b, 8);
+    TEST_ASSERT_EQUAL_INT(na, nb);
+    TEST_ASSERT_EQUAL_MEMORY(a, b, sizeof a);
+}
+
+static void test_stride_with_garbage_padding(void)
+{
+    actag_detection a[8], b[8];
+    int stride = g_cols + 37, r, na, nb;
+    uint8_t *big;
+    load_example();
+    big = (uint8_t *)malloc((size_t)stride * (size_t)g_rows);
+    TEST_ASSERT_NOT_NULL(big);
+    tu_seed(11);
+    for (r = 0; r < stride * g_rows; r++)
+        big[r] = (uint8_t)tu_rand();
+    for (r = 0; r < g_rows; r++)
+        memcpy(big + (size_t)r * (size_t)stride, g_img + (size_t)r * (size_t)g_cols, (size_t)g_cols);
+    memset(a, 0, sizeof a);
+    memset(b, 0, sizeof b);
+    na = detect8(g_img, g_cols, &g_geo, a, 8);
+    nb = detect8(big, stride, &g_geo, b, 8);
+    free(big);
+    TEST_ASSERT_EQUAL_INT(na, nb);
+    TEST_ASSERT_EQUAL_MEMORY(a, b, sizeof a);
+}
+
+static void test_16bit_frame_matches_8bit(void)
+{
+    actag_detection a[8], b[8];
+    actag_frame f;
+    uint16_t *px16;
+    int i, na, nb, n = g_rows * g_cols;
+    uint8_t mx = 0;
+    load_example();
+    px16 = (uint16_t *)malloc((size_t)n * 2u);
+    TEST_ASSERT_NOT_NULL(px16);
+    for (i = 0; i < n; i++)
+        if (g_img[i] > mx)
+            mx = g_img[i];
+    /* scale so that the library's max-normalisation restores the 8-bit values */
+    for (i = 0; i < n; i++)
+        px16[i] = (uint16_t)(g_img[i] * 257u);
+    memset(a, 0, sizeof a);
+    memset(b, 0, sizeof b);
+    if (mx == 255) {
+        na = detect8(g_img, g_cols, &g_geo, a, 8);
+        f.data = px16;
+        f.rows = g_rows;
+        f.cols = g_cols;
+        f.stride = g_cols;
+        f.depth = 16;
+        nb = actag_detect(&f, &g_geo, &g_p, g_ws, sizeof g_ws, b, 8, NULL);
+        TEST_ASSERT_EQUAL_INT(na, nb);
+        TEST_ASSERT_EQUAL_MEMORY(a, b, sizeof a);
+    } else {
+        free(px16);
+        TEST_IGNORE_MESSAGE("example frame does not reach 255");
+    }
+    free(px16);
+}
+
+/* Flipping the frame and saying so with the flags gives the same tag, the
+ * same polar corners and the same mirrored flag. */
+static void test_orientation_flags(void)
+{
+    actag_detection a[8], b[8];
+    actag_sonar_geometry g2 = g_geo;
+    uint8_t *flip;
+    int r, c, k, na, nb, mode;
+    load_example();
+    flip = (uint8_t *)malloc((size_t)g_rows * (size_t)g_cols);
+    TEST_ASSERT_NOT_NULL(flip);
+    na = detect8(g_img, g_cols, &g_geo, a, 8);
+    TEST_ASSERT_EQUAL_INT(1, na);
+    for (mode = 1; mode <= 3; mode++) {
+        int fr = mode & 1, fc = mode >> 1;
+        for (r = 0; r < g_rows; r++)
+            for (c = 0; c < g_cols; c++)
+                flip[(size_t)(fr ? g_rows - 1 - r : r) * (size_t)g_cols +
+                     (size_t)(fc ? g_cols - 1 - c : c)] = g_img[(size_t)r * (size_t)g_cols + (size_t)c];
+        g2.flags = (fr ? ACTAG_RANGE_ASCENDING : 0u) | (fc ? ACTAG_AZIMUTH_ASCENDING : 0u);
+        nb = detect8(flip, g_cols, &g2, b, 8);
+        TEST_ASSERT_EQUAL_INT(1, nb);
+        TEST_ASSERT_EQUAL_INT(a[0].id, b[0].id);
+        TEST_ASSERT_EQUAL_INT(a[0].mirrored, b[0].mirrored);
+        for (k = 0; k < 4; k++) {
+            TEST_ASSERT_FLOAT_WITHIN(0.006f, a[0].range[k], b[0].range[k]);
+            TEST_ASSERT_FLOAT_WITHIN(0.006f, a[0].azimuth[k], b[0].azimuth[k]);
+        }
+    }
+    free(flip);
+}
+
+static void test_bearing_table_equivalent_to_aperture(void)
+{
+    actag_detection a[8], b[8];
+    actag_sonar_geometry g2 = g_geo;
+    static float bearings[620];
+    int c, na, nb;
+    load_example();
+    for (c = 0; c < g_cols; c++)
+        bearings[c] = 0.5f * 1.0472f - (float)c * 1.0472f / 619.0f;
+    g2.bearings = bearings;
+    na = detect8(g_img, g_cols, &g_geo, a, 8);
+    nb = detect8(g_img, g_cols, &g2, b, 8);
+    TEST_ASSERT_EQUAL_INT(na, nb);
+    TEST_ASSERT_EQUAL_INT(1, nb);
+    for (c = 0; c < 4; c++)
+        TEST_ASSERT_FLOAT_WITHIN(1e-5f, a[0].azimuth[c], b[0].azimuth[c]);
+}
+
+static void test_errors_and_workspace_bounds(void)
+{
+    actag_detection det[4];
+    actag_frame f;
+    actag_stats st;
+    actag_params p;
+    actag_sonar_geometry bad = g_geo;
+    size_t need;
+    load_example();
+    f.data = g_img;
+    f.rows = g_rows;
+    f.cols = g_cols;
+    f.stride = g_cols;
+    f.depth = 8;
+    need = actag_workspace_size(g_rows, g_cols);
+    TEST_ASSERT_EQUAL_UINT(ACTAG_WORKSPACE_SIZE(463, 620), need);
+    TEST_ASSERT_EQUAL_UINT(sizeof g_ws, need);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_detect(&f, &g_geo, &g_p, g_ws, need - 1, det, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(1, actag_detect(&f, &g_geo, &g_p, g_ws, need, det, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(NULL, &g_geo, &g_p, g_ws, need, det, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, NULL, &g_p, g_ws, need, det, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g_geo, NULL, g_ws, need, det, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g_geo, &g_p, NULL, need, det, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g_geo, &g_p, g_ws, need, NULL, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &g_p, g_ws, need, det, -1, NULL));
+    /* max_out 0: nothing written, the tag is counted as dropped */
+    TEST_ASSERT_EQUAL_INT(0, actag_detect(&f, &g_geo, &g_p, g_ws, need, NULL, 0, &st));
+    TEST_ASSERT_EQUAL_INT(1, st.dropped);
+    f.stride = g_cols - 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_detect(&f, &g_geo, &g_p, g_ws, need, det, 4, NULL));
+    f.stride = g_cols;
+    f.depth = 12;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_detect(&f, &g_geo, &g_p, g_ws, need, det, 4, NULL));
+    f.depth = 8;
+    f.rows = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_detect(&f, &g_geo, &g_p, g_ws, need, det, 4, NULL));
+    f.rows = g_rows;
+    bad.max_range = 0.05f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_detect(&f, &bad, &g_p, g_ws, need, det, 4, NULL));
+    p = g_p;
+    p.max_bit_corrections = 5; /* h10 allows 4 */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
+    p = g_p;
+    p.family = NULL;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
+    p = g_p;
+    p.tag_size = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
+    p = g_p;
+    p.median_radius = -1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
+    p = g_p;
+    p.quad.inlier_ratio = 1.5f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
+    TEST_ASSERT_EQUAL_UINT(0, actag_workspace_size(0, 5));
+    TEST_ASSERT_NULL(actag_workspace_binary(NULL, 5, 5));
+}
+
+static void test_tiny_and_constant_frames(void)
+{
+    static const int sizes[][2] = {{1, 1}, {1, 7}, {9, 1}, {2, 2}, {40, 3}};
+    uint8_t px[400];
+    actag_detection det[4];
+    actag_frame f;
+    int i, v;
+    load_example();
+    for (i = 0; i < 5; i++)
+        for (v = 0; v < 256; v += 255) {
+            memset(px, v, sizeof px);
+            f.data = px;
+            f.rows = sizes[i][0];
+            f.cols = sizes[i][1];
+            f.stride = f.cols;
+            f.depth = 8;
+            TEST_ASSERT_EQUAL_INT(0, actag_detect(&f, &g_geo, &g_p, g_ws, sizeof g_ws, det, 4, NULL));
+        }
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_example_frame_gives_tag0_at_reference_corners);
+    RUN_TEST(test_deterministic_and_seed_owned_by_call);
+    RUN_TEST(test_stride_with_garbage_padding);
+    RUN_TEST(test_16bit_frame_matches_8bit);
+    RUN_TEST(test_orientation_flags);
+    RUN_TEST(test_bearing_table_equivalent_to_aperture);
+    RUN_TEST(test_errors_and_workspace_bounds);
+    RUN_TEST(test_tiny_and_constant_frames);
+    free(g_img);
+    return UNITY_END();
+}

@@ -1,0 +1,101 @@
+/* Sonar geometry: SPEC section 4 mapping, orientation flags, bearing tables, errors. */
+#include "unity.h"
+#include "test_util.h"
+
+#include "actag/geometry.h"
+
+#include <math.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static void test_reference_mapping(void)
+{
+    /* SPEC section 6: (row 145, col 314) of the 463 x 620 example -> (1.0606 m, -0.0076 rad) */
+    actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 463, 620));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 1.0606f, actag_geometry_range(&g, 463, 145.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, -0.0076f, actag_geometry_azimuth(&g, 620, 314.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 1.1576f, actag_geometry_range(&g, 463, 113.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 0.1108f, actag_geometry_azimuth(&g, 620, 244.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.5f, actag_geometry_range(&g, 463, 0.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.1f, actag_geometry_range(&g, 463, 462.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.5236f, actag_geometry_azimuth(&g, 620, 0.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.5236f, actag_geometry_azimuth(&g, 620, 619.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-7f, 1.4f / 462.0f, actag_geometry_range_step(&g, 463));
+    TEST_ASSERT_FLOAT_WITHIN(1e-7f, 1.0472f / 619.0f, actag_geometry_azimuth_step(&g, 620, 3.0f));
+}
+
+static void test_orientation_flags_mirror_the_axes(void)
+{
+    actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+    actag_sonar_geometry a = g;
+    int t;
+    a.flags = ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&a, 530, 512));
+    tu_seed(5);
+    for (t = 0; t < 1000; t++) {
+        float y = (float)tu_range(0, 52900) / 100.0f, x = (float)tu_range(0, 51100) / 100.0f;
+        TEST_ASSERT_FLOAT_WITHIN(1e-5f, actag_geometry_range(&g, 530, y),
+                                 actag_geometry_range(&a, 530, 529.0f - y));
+        TEST_ASSERT_FLOAT_WITHIN(1e-5f, actag_geometry_azimuth(&g, 512, x),
+                                 actag_geometry_azimuth(&a, 512, 511.0f - x));
+    }
+}
+
+static void test_bearing_table(void)
+{
+    float b[6] = {0.3f, 0.2f, 0.15f, 0.0f, -0.1f, -0.3f};
+    actag_sonar_geometry g = {0.5f, 20.0f, 0.0f, b, 0u};
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 10, 6));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.15f, actag_geometry_azimuth(&g, 6, 2.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.175f, actag_geometry_azimuth(&g, 6, 1.5f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.2f, actag_geometry_azimuth(&g, 6, 4.5f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.35f, actag_geometry_azimuth(&g, 6, -0.5f)); /* extrapolated */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.4f, actag_geometry_azimuth(&g, 6, 5.5f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.1f, actag_geometry_azimuth_step(&g, 6, 3.2f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.15f, actag_geometry_azimuth_step(&g, 6, 2.9f));
+    b[3] = 0.15f; /* not strictly monotonic */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6));
+    b[3] = 0.4f; /* changes direction */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6));
+    b[3] = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6));
+}
+
+static void test_errors(void)
+{
+    actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_geometry_validate(NULL, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_geometry_validate(&g, 0, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_geometry_validate(&g, 10, ACTAG_MAX_DIM + 1));
+    g.max_range = 0.1f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    g.max_range = 1.5f;
+    g.min_range = -1.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    g.min_range = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 1, 1));
+    g.aperture = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    g.aperture = 7.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    g.aperture = INFINITY;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    g.aperture = 1.0f;
+    g.flags = 4u;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    g.flags = 0u;
+    g.max_range = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_reference_mapping);
+    RUN_TEST(test_orientation_flags_mirror_the_axes);
+    RUN_TEST(test_bearing_table);
+    RUN_TEST(test_errors);
+    return UNITY_END();
+}

@@ -1,0 +1,357 @@
+/* Tests for actag_median_filter against a brute-force reference. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "actag/median.h"
+#include "unity.h"
+
+/* The portable (non-SIMD) code path, compiled into this test under another
+ * name so that both paths are checked on any machine. */
+int actag_median_filter_portable(const uint8_t *src, int rows, int cols, int src_stride,
+                                 uint8_t *dst, int dst_stride, int radius,
+                                 void *scratch, size_t scratch_size);
+#define ACTAG_NO_SIMD 1
+#define actag_median_filter actag_median_filter_portable
+#include "../src/median.c"
+#undef actag_median_filter
+
+typedef int (*median_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, void *, size_t);
+
+static const median_fn FNS[2] = {actag_median_filter, actag_median_filter_portable};
+static const char *const FN_NAMES[2] = {"library", "portable"};
+
+void setUp(void) {}
+void tearDown(void) {}
+
+/* ------------------------------------------------------------ helpers */
+
+static uint32_t rng_state;
+
+static uint32_t rnd(void)
+{
+    /* xorshift32: deterministic on every platform. */
+    uint32_t x = rng_state;
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    rng_state = x;
+    return x;
+}
+
+static int rnd_range(int lo, int hi) /* inclusive */
+{
+    return lo + (int)(rnd() % (uint32_t)(hi - lo + 1));
+}
+
+static int clamp(int v, int lo, int hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+/* Reference: histogram of the clamped window, then the middle element. */
+static void brute_median(const uint8_t *src, int rows, int cols, int stride, int R, uint8_t *out,
+                         int ostride)
+{
+    int i, j, a, b;
+    long n = (long)(2 * R + 1) * (2 * R + 1);
+    for (i = 0; i < rows; i++) {
+        for (j = 0; j < cols; j++) {
+            long hist[256];
+            long cum = 0;
+            int v;
+            memset(hist, 0, sizeof hist);
+            for (a = -R; a <= R; a++) {
+                const uint8_t *row = src + (size_t)clamp(i + a, 0, rows - 1) * (size_t)stride;
+                for (b = -R; b <= R; b++)
+                    hist[row[clamp(j + b, 0, cols - 1)]]++;
+            }
+            for (v = 0; v < 256; v++) {
+                cum += hist[v];
+                if (cum > n / 2)
+                    break;
+            }
+            out[(size_t)i * (size_t)ostride + (size_t)j] = (uint8_t)v;
+        }
+    }
+}
+
+enum { FILL_UNIFORM, FILL_CONST, FILL_BINARY, FILL_ONEBIN, FILL_TWOBINS, FILL_GRADIENT, FILL_BLOBS, FILL_N };
+
+static void fill_image(uint8_t *img, int rows, int cols, int stride, int kind)
+{
+    int i, j;
+    uint8_t c = (uint8_t)rnd();
+    int base = rnd_range(0, 15) * 16;
+    int lo = rnd_range(0, 255), hi = rnd_range(0, 255);
+    for (i = 0; i < rows; i++) {
+        for (j = 0; j < stride; j++) {
+            uint8_t v;
+            if (j >= cols) {
+                v = (uint8_t)rnd(); /* padding garbage: must be ignored */
+            } else {
+                switch (kind) {
+                case FILL_CONST: v = c; break;
+                case FILL_BINARY: v = (rnd() & 1u) ? 255 : 0; break;
+                case FILL_ONEBIN: v = (uint8_t)(base + (int)(rnd() & 15u)); break;
+                case FILL_TWOBINS: v = (uint8_t)((rnd() & 1u) ? lo : hi); break;
+                case FILL_GRADIENT: v = (uint8_t)((i * 7 + j * 3 + (int)(rnd() % 5u)) & 255); break;
+                case FILL_BLOBS:
+                    /* Dark speckle with bright patches: sonar-like. */
+                    v = (uint8_t)(((i / 5 + j / 7) % 3 == 0) ? 150 + (int)(rnd() % 100u) : (int)(rnd() % 40u));
+                    break;
+                default: v = (uint8_t)rnd(); break;
+                }
+            }
+            img[(size_t)i * (size_t)stride + (size_t)j] = v;
+        }
+    }
+}
+
+/* Runs one case through both code paths and checks every pixel and that
+ * the destination padding is untouched. */
+static void check_case(int rows, int cols, int R, int kind, int sextra, int dextra)
+{
+    int sstride = cols + sextra, dstride = cols + dextra, f;
+    size_t ssize = (size_t)rows * (size_t)sstride, dsize = (size_t)rows * (size_t)dstride;
+    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+    uint8_t *src = (uint8_t *)malloc(ssize);
+    uint8_t *want = (uint8_t *)malloc(dsize);
+    uint8_t *out = (uint8_t *)malloc(dsize);
+    uint8_t *scratch = (uint8_t *)malloc(scr);
+    char msg[160];
+    int i, j;
+
+    TEST_ASSERT_NOT_NULL(src);
+    TEST_ASSERT_NOT_NULL(want);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_NOT_NULL(scratch);
+    fill_image(src, rows, cols, sstride, kind);
+    brute_median(src, rows, cols, sstride, R, want, dstride);
+    for (f = 0; f < 2; f++) {
+        memset(out, 0xA5, dsize);
+        memset(scratch, 0x5A, scr); /* the filter must not rely on zeroed scratch */
+        snprintf(msg, sizeof msg, "%s: %dx%d R=%d kind=%d sstride=%d dstride=%d", FN_NAMES[f], rows,
+                 cols, R, kind, sstride, dstride);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, scratch, scr),
+                                      msg);
+        for (i = 0; i < rows; i++) {
+            for (j = 0; j < dstride; j++) {
+                size_t k = (size_t)i * (size_t)dstride + (size_t)j;
+                if (j < cols) {
+                    if (out[k] != want[k]) {
+                        snprintf(msg, sizeof msg, "%s: %dx%d R=%d kind=%d at (%d,%d): got %d want %d",
+                                 FN_NAMES[f], rows, cols, R, kind, i, j, out[k], want[k]);
+                        TEST_FAIL_MESSAGE(msg);
+                    }
+                } else if (out[k] != 0xA5) {
+                    snprintf(msg, sizeof msg, "%s: %dx%d R=%d padding written at (%d,%d)", FN_NAMES[f],
+                             rows, cols, R, i, j);
+                    TEST_FAIL_MESSAGE(msg);
+                }
+            }
+        }
+    }
+    free(src);
+    free(want);
+    free(out);
+    free(scratch);
+}
+
+/* ------------------------------------------------------------ tests */
+
+static void test_random_images(void)
+{
+    static const int radii[] = {0, 1, 2, 3, 4, 5, 8};
+    int t;
+    rng_state = 0x12345678u;
+    for (t = 0; t < 300; t++) {
+        int rows = rnd_range(1, 40), cols = rnd_range(1, 40);
+        int R = (t % 4 == 3) ? rnd_range(0, 20) : radii[rnd() % 7u];
+        int kind = (t % 3 == 0) ? (int)(rnd() % FILL_N) : FILL_UNIFORM;
+        int sextra = (t & 1) ? rnd_range(1, 9) : 0;
+        int dextra = (t & 2) ? rnd_range(1, 9) : 0;
+        check_case(rows, cols, R, kind, sextra, dextra);
+    }
+}
+
+static void test_value_patterns(void)
+{
+    /* Every fill (constant, only 0/255, one coarse bin, two levels, ...) at
+     * the radii the detector uses; these steer the median through the
+     * lazy fine-histogram paths (same bin, catch-up, rebuild). */
+    int kind, R;
+    rng_state = 0xBEEFu;
+    for (kind = 0; kind < FILL_N; kind++)
+        for (R = 0; R <= 9; R++)
+            check_case(rnd_range(10, 30), rnd_range(10, 60), R, kind, 3, 5);
+}
+
+static void test_thin_images(void)
+{
+    static const int radii[] = {0, 1, 2, 4, 8, 33, 127};
+    int r, n;
+    rng_state = 777u;
+    for (r = 0; r < 7; r++) {
+        check_case(1, 1, radii[r], FILL_UNIFORM, 0, 0);
+        check_case(1, 1, radii[r], FILL_UNIFORM, 5, 5);
+        for (n = 2; n <= 40; n += 19) {
+            check_case(1, n, radii[r], FILL_UNIFORM, 2, 1);
+            check_case(n, 1, radii[r], FILL_UNIFORM, 1, 2);
+            check_case(2, n, radii[r], (int)(rnd() % FILL_N), 0, 0);
+            check_case(n, 2, radii[r], (int)(rnd() % FILL_N), 0, 0);
+        }
+    }
+}
+
+static void test_radius_beyond_image(void)
+{
+    int t;
+    rng_state = 4242u;
+    for (t = 0; t < 12; t++) {
+        int rows = rnd_range(1, 9), cols = rnd_range(1, 9);
+        int R = rnd_range(10, ACTAG_MEDIAN_MAX_RADIUS);
+        check_case(rows, cols, R, (int)(rnd() % FILL_N), t & 3, (t >> 2) & 3);
+    }
+    check_case(3, 4, ACTAG_MEDIAN_MAX_RADIUS, FILL_UNIFORM, 1, 1);
+    check_case(5, 5, ACTAG_MEDIAN_MAX_RADIUS, FILL_BINARY, 0, 0);
+}
+
+static void test_wide_and_tall(void)
+{
+    /* Long rows: many kernel steps per row, so parked fine histograms get
+     * caught up over long and short gaps; large radii on wider images. */
+    rng_state = 99u;
+    check_case(6, 700, 4, FILL_BLOBS, 3, 0);
+    check_case(6, 700, 4, FILL_TWOBINS, 0, 3);
+    check_case(5, 600, 40, FILL_UNIFORM, 0, 0);
+    check_case(4, 300, ACTAG_MEDIAN_MAX_RADIUS, FILL_BLOBS, 1, 1);
+    check_case(300, 5, 40, FILL_GRADIENT, 1, 1);
+    check_case(60, 70, 16, FILL_BLOBS, 7, 9);
+}
+
+static void test_max_counts(void)
+{
+    /* R = 127 on a constant image: every column counter reaches 255 and the
+     * kernel counters 65025, the documented limits. */
+    int t;
+    rng_state = 31337u;
+    for (t = 0; t < 3; t++)
+        check_case(rnd_range(1, 6), rnd_range(1, 6), ACTAG_MEDIAN_MAX_RADIUS, FILL_CONST, 0, 0);
+    check_case(1, 1, ACTAG_MEDIAN_MAX_RADIUS, FILL_CONST, 0, 0);
+}
+
+static uint8_t *read_pgm(const char *path, int *rows, int *cols)
+{
+    FILE *f = fopen(path, "rb");
+    int w, h, mx;
+    uint8_t *img;
+    if (f == NULL)
+        return NULL;
+    if (fscanf(f, "P5 %d %d %d", &w, &h, &mx) != 3 || mx != 255 || fgetc(f) == EOF) {
+        fclose(f);
+        return NULL;
+    }
+    img = (uint8_t *)malloc((size_t)w * (size_t)h);
+    if (img == NULL || fread(img, 1, (size_t)w * (size_t)h, f) != (size_t)w * (size_t)h) {
+        free(img);
+        fclose(f);
+        return NULL;
+    }
+    fclose(f);
+    *rows = h;
+    *cols = w;
+    return img;
+}
+
+static void test_real_sonar_frame(void)
+{
+    /* A full 530 x 512 pool frame at the paper's radius 4. */
+    int rows, cols, f;
+    uint8_t *img = read_pgm(ACTAG_SHARED_DIR "/data/sonar/pool-video/f_0001.pgm", &rows, &cols);
+    uint8_t *want, *out, *scratch;
+    size_t n, scr;
+    if (img == NULL) {
+        TEST_IGNORE_MESSAGE("sonar frame not found");
+        return;
+    }
+    n = (size_t)rows * (size_t)cols;
+    scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+    want = (uint8_t *)malloc(n);
+    out = (uint8_t *)malloc(n);
+    scratch = (uint8_t *)malloc(scr);
+    TEST_ASSERT_NOT_NULL(want);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_NOT_NULL(scratch);
+    brute_median(img, rows, cols, cols, 4, want, cols);
+    for (f = 0; f < 2; f++) {
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](img, rows, cols, cols, out, cols, 4, scratch, scr));
+        TEST_ASSERT_EQUAL_MEMORY_MESSAGE(want, out, n, FN_NAMES[f]);
+    }
+    free(img);
+    free(want);
+    free(out);
+    free(scratch);
+}
+
+static void test_errors(void)
+{
+    uint8_t src[6 * 7], dst[6 * 7], dst_before[6 * 7];
+    uint8_t scratch[ACTAG_MEDIAN_SCRATCH_SIZE(6, 7)];
+    size_t scr = sizeof scratch;
+    int f;
+
+    TEST_ASSERT_EQUAL_size_t(7u * 272u, scr);
+    rng_state = 5u;
+    fill_image(src, 6, 7, 7, FILL_UNIFORM);
+    for (f = 0; f < 2; f++) {
+        median_fn fn = FNS[f];
+        memset(dst, 0x77, sizeof dst);
+        memcpy(dst_before, dst, sizeof dst);
+
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(NULL, 6, 7, 7, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(src, 6, 7, 7, NULL, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(src, 6, 7, 7, dst, 7, 1, NULL, scr));
+
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 0, 7, 7, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 6, 0, 7, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, -1, 7, 7, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 6, -3, 7, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, ACTAG_MAX_DIM + 1, 7, 7, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE,
+                              fn(src, 6, ACTAG_MAX_DIM + 1, ACTAG_MAX_DIM + 1, dst, ACTAG_MAX_DIM + 1, 1,
+                                 scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 6, 7, 6, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 6, 7, 7, dst, 6, 1, scratch, scr));
+
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, fn(src, 6, 7, 7, dst, 7, -1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              fn(src, 6, 7, 7, dst, 7, ACTAG_MEDIAN_MAX_RADIUS + 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, fn(dst, 6, 7, 7, dst, 7, 1, scratch, scr));
+
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, fn(src, 6, 7, 7, dst, 7, 1, scratch, scr - 1));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, fn(src, 6, 7, 7, dst, 7, 0, scratch, 0));
+        /* Nothing was written by the failing calls. */
+        TEST_ASSERT_EQUAL_MEMORY(dst_before, dst, sizeof dst);
+
+        /* Exact size works, for the smallest and the largest radius. */
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, fn(src, 6, 7, 7, dst, 7, 1, scratch, scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, fn(src, 6, 7, 7, dst, 7, 0, scratch, scr));
+        TEST_ASSERT_EQUAL_MEMORY(src, dst, sizeof dst); /* R = 0 copies */
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, fn(src, 6, 7, 7, dst, 7, ACTAG_MEDIAN_MAX_RADIUS, scratch, scr));
+    }
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_random_images);
+    RUN_TEST(test_value_patterns);
+    RUN_TEST(test_thin_images);
+    RUN_TEST(test_radius_beyond_image);
+    RUN_TEST(test_wide_and_tall);
+    RUN_TEST(test_max_counts);
+    RUN_TEST(test_real_sonar_frame);
+    RUN_TEST(test_errors);
+    return UNITY_END();
+}

@@ -1,0 +1,1064 @@
+/* actag-render end to end: runs the tool and checks its PGM images pixel by
+ * pixel against actag_layout_cell(), its DXF cut files with an AutoCAD R12
+ * structure checker and geometry checks written here (areas, positions,
+ * holes, tabs), its SVG files with a tag-balance checker (and Python's
+ * minidom when python3 is there), its sheets, --list-tabs for every code of
+ * every family, and its error exits. */
+#define _POSIX_C_SOURCE 200809L
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include "unity.h"
+#include "test_util.h"
+
+#include "actag/render.h"
+
+#ifndef ACTAG_RENDER_PATH
+#error "ACTAG_RENDER_PATH must name the actag-render executable"
+#endif
+
+#define TAG_SIZE 0.130628571
+#define MAXP 512
+
+static char dir[1024];
+static char errtext[4096];
+
+void setUp(void) {}
+void tearDown(void) {}
+
+/* ------------------------------------------------------------------ running the tool */
+
+static void path_of(char *buf, size_t n, const char *name)
+{
+    snprintf(buf, n, "%s/%s", dir, name);
+}
+
+/* Runs actag-render with args (stdout to dir/stdout.bin); returns the exit
+ * status and keeps stderr in errtext. */
+static int run(const char *args)
+{
+    char cmd[8192], errf[1200], outf[1200];
+    FILE *f;
+    size_t n;
+    int st;
+    path_of(errf, sizeof errf, "stderr.txt");
+    path_of(outf, sizeof outf, "stdout.bin");
+    snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2> '%s'", ACTAG_RENDER_PATH, args, outf, errf);
+    st = system(cmd);
+    errtext[0] = '\0';
+    f = fopen(errf, "r");
+    if (f) {
+        n = fread(errtext, 1, sizeof errtext - 1, f);
+        errtext[n] = '\0';
+        fclose(f);
+    }
+    if (st == -1 || !WIFEXITED(st))
+        return -1;
+    return WEXITSTATUS(st);
+}
+
+static int count_lines(const char *s)
+{
+    int n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+static int file_exists(const char *name)
+{
+    char p[1200];
+    struct stat st;
+    path_of(p, sizeof p, name);
+    return stat(p, &st) == 0;
+}
+
+static char *slurp(const char *name, size_t *len)
+{
+    char p[1200];
+    FILE *f;
+    long n;
+    char *b;
+    path_of(p, sizeof p, name);
+    f = fopen(p, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    b = (char *)malloc((size_t)n + 1);
+    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
+        free(b);
+        b = NULL;
+    }
+    if (b)
+        b[n] = '\0';
+    if (len)
+        *len = (size_t)n;
+    fclose(f);
+    return b;
+}
+
+/* ------------------------------------------------------------------ geometry helpers */
+
+static double cell_mm(double tag_size, int bits) { return tag_size * 1000.0 / (double)(bits / 4 - 3); }
+
+typedef struct {
+    char layer[32];
+    int n, closed;
+    double x[MAXP], y[MAXP];
+} poly_t;
+
+static double poly_area(const poly_t *p) /* signed */
+{
+    double a = 0;
+    int i;
+    for (i = 0; i < p->n; i++) {
+        int j = (i + 1) % p->n;
+        a += p->x[i] * p->y[j] - p->x[j] * p->y[i];
+    }
+    return 0.5 * a;
+}
+
+/* even-odd point in polygon */
+static int inside(const poly_t *p, double x, double y)
+{
+    int i, c = 0;
+    for (i = 0; i < p->n; i++) {
+        int j = (i + 1) % p->n;
+        if ((p->y[i] > y) != (p->y[j] > y) &&
+            x < p->x[i] + (y - p->y[i]) * (p->x[j] - p->x[i]) / (p->y[j] - p->y[i]))
+            c = !c;
+    }
+    return c;
+}
+
+/* ------------------------------------------------------------------ DXF R12 checker */
+
+typedef struct {
+    int npolys, ncircles, npoints, ntexts, nlines;
+    poly_t *polys;
+    double cx[256], cy[256], cr[256];
+    double px[64], py[64];
+    char texts[64][80];
+    char acadver[16];
+    int insunits;
+    double extmax_x, extmax_y;
+    char layers[16][32];
+    int nlayers;
+} dxf_t;
+
+static const char *const r12_entities[] = {"LINE",  "POINT",  "CIRCLE", "ARC",    "TRACE",
+                                           "SOLID", "TEXT",   "SHAPE",  "INSERT", "ATTDEF",
+                                           "ATTRIB", "POLYLINE", "VERTEX", "SEQEND", "3DFACE",
+                                           "VIEWPORT", "DIMENSION", NULL};
+
+static int is_r12_entity(const char *s)
+{
+    int i;
+    for (i = 0; r12_entities[i]; i++)
+        if (strcmp(s, r12_entities[i]) == 0)
+            return 1;
+    return 0;
+}
+
+/* Reads group code / value pairs. Returns 1 and fills code/val, 0 at end,
+ * -1 on a malformed group code line. */
+static int next_pair(char **cur, int *code, char *val, size_t valn)
+{
+    char *p = *cur, *nl, *end;
+    long c;
+    size_t len;
+    if (*p == '\0')
+        return 0;
+    nl = strchr(p, '\n');
+    if (!nl)
+        return -1;
+    *nl = '\0';
+    errno = 0;
+    c = strtol(p, &end, 10);
+    while (*end == ' ' || *end == '\r')
+        end++;
+    if (end == p || *end != '\0' || errno || c < 0 || c > 1071)
+        return -1;
+    p = nl + 1;
+    nl = strchr(p, '\n');
+    if (!nl)
+        return -1; /* a code without a value line */
+    *nl = '\0';
+    len = strlen(p);
+    if (len && p[len - 1] == '\r')
+        p[--len] = '\0';
+    while (*p == ' ' && c != 1 && c != 999) /* numeric values may be right aligned */
+        p++;
+    snprintf(val, valn, "%s", p);
+    *code = (int)c;
+    *cur = nl + 1;
+    return 1;
+}
+
+static int is_number(const char *s)
+{
+    char *end;
+    errno = 0;
+    strtod(s, &end);
+    return end != s && *end == '\0' && errno == 0;
+}
+
+/* Parses and checks an R12 DXF; returns NULL on success or an error text. */
+static const char *check_dxf(const char *name, dxf_t *d)
+{
+    static char msg[256];
+    size_t len;
+    char *text = slurp(name, &len), *cur, val[256];
+    int code, r, section_seen[4] = {0, 0, 0, 0}, last_section = -1, in_poly = 0, saw_eof = 0;
+    poly_t *poly = NULL;
+    char ent[32] = "", hvar[64] = "";
+    memset(d, 0, sizeof *d);
+    d->insunits = -1;
+    d->polys = (poly_t *)calloc(256, sizeof(poly_t));
+    if (!text)
+        return "cannot read file";
+    cur = text;
+#define FAIL(m)                                                                \
+    do {                                                                       \
+        snprintf(msg, sizeof msg, "%s (near '%s')", (m), val);                 \
+        free(text);                                                            \
+        return msg;                                                            \
+    } while (0)
+    val[0] = '\0';
+    for (;;) {
+        int sec;
+        r = next_pair(&cur, &code, val, sizeof val);
+        if (r < 0)
+            FAIL("group code / value pairs do not alternate");
+        if (r == 0)
+            break;
+        if (saw_eof)
+            FAIL("data after EOF");
+        if (code == 999)
+            continue;
+        if (code != 0)
+            FAIL("expected group 0 at top level");
+        if (strcmp(val, "EOF") == 0) {
+            saw_eof = 1;
+            continue;
+        }
+        if (strcmp(val, "SECTION") != 0)
+            FAIL("expected SECTION");
+        if (next_pair(&cur, &code, val, sizeof val) != 1 || code != 2)
+            FAIL("SECTION without a name");
+        sec = strcmp(val, "HEADER") == 0     ? 0
+              : strcmp(val, "TABLES") == 0   ? 1
+              : strcmp(val, "BLOCKS") == 0   ? 2
+              : strcmp(val, "ENTITIES") == 0 ? 3
+                                             : -1;
+        if (sec < 0 || section_seen[sec] || sec <= last_section)
+            FAIL("unknown, repeated or out-of-order section");
+        section_seen[sec] = 1;
+        last_section = sec;
+        /* section body up to ENDSEC */
+        for (;;) {
+            r = next_pair(&cur, &code, val, sizeof val);
+            if (r != 1)
+                FAIL("section not closed by ENDSEC");
+            if (code == 0 && strcmp(val, "ENDSEC") == 0) {
+                if (in_poly)
+                    FAIL("POLYLINE without SEQEND");
+                break;
+            }
+            if (sec == 0) {
+                if (code == 9)
+                    snprintf(hvar, sizeof hvar, "%s", val);
+                else if (strcmp(hvar, "$ACADVER") == 0 && code == 1)
+                    snprintf(d->acadver, sizeof d->acadver, "%s", val);
+                else if (strcmp(hvar, "$INSUNITS") == 0 && code == 70)
+                    d->insunits = atoi(val);
+                else if (strcmp(hvar, "$EXTMAX") == 0 && code == 10)
+                    d->extmax_x = atof(val);
+                else if (strcmp(hvar, "$EXTMAX") == 0 && code == 20)
+                    d->extmax_y = atof(val);
+                else if (code == 0)
+                    FAIL("entity in HEADER");
+            } else if (sec == 1) {
+                if (code == 0)
+                    snprintf(ent, sizeof ent, "%s", val);
+                else if (code == 2 && strcmp(ent, "LAYER") == 0 && d->nlayers < 16)
+                    snprintf(d->layers[d->nlayers++], 32, "%s", val);
+            } else if (sec == 3) {
+                if (code == 0) {
+                    if (!is_r12_entity(val))
+                        FAIL("entity type not in AutoCAD R12");
+                    if (in_poly && strcmp(val, "VERTEX") != 0 && strcmp(val, "SEQEND") != 0)
+                        FAIL("POLYLINE interrupted");
+                    if (!in_poly && (strcmp(val, "VERTEX") == 0 || strcmp(val, "SEQEND") == 0))
+                        FAIL("VERTEX/SEQEND outside a POLYLINE");
+                    if (in_poly && strcmp(val, "SEQEND") == 0) {
+                        in_poly = 0;
+                        if (poly->n < 3)
+                            FAIL("POLYLINE with fewer than 3 vertices");
+                        d->npolys++;
+                    }
+                    snprintf(ent, sizeof ent, "%s", val);
+                    if (strcmp(ent, "POLYLINE") == 0) {
+                        if (d->npolys >= 256)
+                            FAIL("too many polylines for the checker");
+                        in_poly = 1;
+                        poly = &d->polys[d->npolys];
+                        memset(poly, 0, sizeof *poly);
+                        poly->closed = -1;
+                    } else if (strcmp(ent, "VERTEX") == 0) {
+                        if (poly->n >= MAXP)
+                            FAIL("too many vertices for the checker");
+                        poly->n++;
+                    } else if (strcmp(ent, "CIRCLE") == 0) {
+                        d->ncircles++;
+                    } else if (strcmp(ent, "POINT") == 0) {
+                        d->npoints++;
+                    } else if (strcmp(ent, "TEXT") == 0) {
+                        d->ntexts++;
+                    } else if (strcmp(ent, "LINE") == 0) {
+                        d->nlines++;
+                    }
+                    continue;
+                }
+                if ((code >= 10 && code <= 40) || code == 70 || code == 66) {
+                    if (!is_number(val))
+                        FAIL("non-numeric coordinate");
+                }
+                if (code == 8) {
+                    int i, ok = 0;
+                    for (i = 0; i < d->nlayers; i++)
+                        ok |= strcmp(d->layers[i], val) == 0;
+                    if (!ok)
+                        FAIL("entity on an undefined layer");
+                    if (strcmp(ent, "POLYLINE") == 0)
+                        snprintf(poly->layer, sizeof poly->layer, "%s", val);
+                    else if (strcmp(ent, "VERTEX") == 0 && strcmp(poly->layer, val) != 0)
+                        FAIL("VERTEX on another layer than its POLYLINE");
+                }
+                if (strcmp(ent, "POLYLINE") == 0 && code == 70)
+                    poly->closed = atoi(val) & 1;
+                if (strcmp(ent, "POLYLINE") == 0 && code == 66 && atoi(val) != 1)
+                    FAIL("POLYLINE without vertices-follow flag");
+                if (strcmp(ent, "VERTEX") == 0 && code == 10)
+                    poly->x[poly->n - 1] = atof(val);
+                if (strcmp(ent, "VERTEX") == 0 && code == 20)
+                    poly->y[poly->n - 1] = atof(val);
+                if (strcmp(ent, "CIRCLE") == 0 && d->ncircles <= 256) {
+                    if (code == 10)
+                        d->cx[d->ncircles - 1] = atof(val);
+                    if (code == 20)
+                        d->cy[d->ncircles - 1] = atof(val);
+                    if (code == 40)
+                        d->cr[d->ncircles - 1] = atof(val);
+                }
+                if (strcmp(ent, "POINT") == 0 && d->npoints <= 64) {
+                    if (code == 10)
+                        d->px[d->npoints - 1] = atof(val);
+                    if (code == 20)
+                        d->py[d->npoints - 1] = atof(val);
+                }
+                if (strcmp(ent, "TEXT") == 0 && code == 1 && d->ntexts <= 64)
+                    snprintf(d->texts[d->ntexts - 1], 80, "%s", val);
+            }
+        }
+    }
+    if (!saw_eof)
+        FAIL("no EOF");
+    if (!section_seen[0] || !section_seen[3])
+        FAIL("HEADER or ENTITIES section missing");
+    {
+        int i;
+        for (i = 0; i < d->npolys; i++)
+            if (d->polys[i].closed != 1)
+                FAIL("POLYLINE not closed (group 70 bit 1)");
+    }
+#undef FAIL
+    free(text);
+    return NULL;
+}
+
+static void free_dxf(dxf_t *d) { free(d->polys); }
+
+/* Is (x, y) metal in the DXF: inside an odd number of OUTLINE/CUTOUT loops? */
+static int dxf_metal(const dxf_t *d, double x, double y)
+{
+    int i, c = 0;
+    for (i = 0; i < d->npolys; i++)
+        c ^= inside(&d->polys[i], x, y);
+    return c;
+}
+
+/* Full geometric check of one face plate DXF (single plate at the origin).
+ * margin in cells, tab width w in mm, holes: 1 = default corner holes of
+ * diameter hole_d. */
+static void check_face_plate(const char *name, const actag_family *fam, int id, double tag_size,
+                             double margin_cells, double w, double hole_d)
+{
+    dxf_t d;
+    const char *err = check_dxf(name, &d);
+    int k = fam->bits / 4, x, y, i, white = 0, nout = 0, ntabs = 0, tabs, c;
+    double cell = cell_mm(tag_size, fam->bits), m = margin_cells * cell, W = (k + 1) * cell + 2 * m;
+    double out_area = 0, cut_area = 0, expect_white;
+    char msg[300];
+    const char *mp = msg;
+    snprintf(msg, sizeof msg, "%s: %s", name, err ? err : "");
+    TEST_ASSERT_NULL_MESSAGE(err, mp);
+    TEST_ASSERT_EQUAL_STRING("AC1009", d.acadver);
+    TEST_ASSERT_EQUAL_INT(4, d.insunits);
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, (float)W, (float)d.extmax_x);
+    tabs = actag_layout_corner_tabs(fam, id);
+    TEST_ASSERT_GREATER_OR_EQUAL(0, tabs);
+    if (w > 0)
+        for (c = 0; c < 4; c++)
+            ntabs += (tabs >> c) & 1;
+
+    for (i = 0; i < d.npolys; i++) {
+        const poly_t *p = &d.polys[i];
+        int v;
+        double a = poly_area(p);
+        for (v = 0; v < p->n; v++) {
+            int nv = (v + 1) % p->n;
+            TEST_ASSERT_TRUE_MESSAGE(p->x[v] >= -1e-6 && p->x[v] <= W + 1e-6 && p->y[v] >= -1e-6 &&
+                                         p->y[v] <= W + 1e-6,
+                                     "vertex outside the plate");
+            /* rectilinear: every edge is horizontal or vertical */
+            TEST_ASSERT_TRUE(fabs(p->x[v] - p->x[nv]) < 1e-9 || fabs(p->y[v] - p->y[nv]) < 1e-9);
+        }
+        if (strcmp(p->layer, "OUTLINE") == 0) {
+            nout++;
+            out_area += fabs(a);
+        } else {
+            TEST_ASSERT_EQUAL_STRING("CUTOUT", p->layer);
+            cut_area += fabs(a);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(1, nout); /* one piece of metal */
+
+    /* the foam area the layout asks for, less the tabs' corners in white cells */
+    for (y = 0; y <= k; y++)
+        for (x = 0; x <= k; x++)
+            white += actag_layout_cell(fam, id, x, y);
+    expect_white = white * cell * cell - ntabs * w * w / 2;
+    if (margin_cells > 0) {
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, (float)(out_area / (W * W)));
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, (float)(cut_area / expect_white));
+    } else {
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, (float)((W * W - (out_area - cut_area)) / expect_white));
+    }
+
+    /* every cell centre (and points near cell corners) is metal exactly when the layout says
+     * black; DXF y is up */
+    for (y = 0; y <= k; y++)
+        for (x = 0; x <= k; x++) {
+            int black = actag_layout_cell(fam, id, x, y) == 0, q;
+            static const double off[5][2] = {{0.5, 0.5}, {0.1, 0.1}, {0.9, 0.1}, {0.1, 0.9}, {0.9, 0.9}};
+            for (q = 0; q < 5; q++) {
+                double px = m + (x + off[q][0]) * cell, py = W - (m + (y + off[q][1]) * cell);
+                snprintf(msg, sizeof msg, "%s: cell (%d,%d) sample %d", name, x, y, q);
+                /* sample points closer than w/2 to a tab centre may be metal */
+                if (q > 0 && ntabs > 0 && !black) {
+                    int t, neartab = 0;
+                    for (t = 0; t < d.npoints; t++)
+                        neartab |= fabs(px - d.px[t]) < w && fabs(py - d.py[t]) < w;
+                    if (neartab)
+                        continue;
+                }
+                TEST_ASSERT_EQUAL_INT_MESSAGE(black, dxf_metal(&d, px, py), msg);
+            }
+        }
+    /* margin is metal */
+    if (margin_cells > 0) {
+        TEST_ASSERT_TRUE(dxf_metal(&d, m / 2, m / 2));
+        TEST_ASSERT_TRUE(dxf_metal(&d, W - m / 2, W / 2));
+    }
+
+    /* tabs: one POINT at each, at the contact corner of the black ring, and metal there */
+    TEST_ASSERT_EQUAL_INT(ntabs, d.npoints);
+    for (i = 0; i < d.npoints; i++) {
+        double tx = d.px[i] - m, ty = (W - d.py[i]) - m;
+        int gx = (int)lround(tx / cell), gy = (int)lround(ty / cell), corner;
+        TEST_ASSERT_FLOAT_WITHIN(1e-4f, (float)(gx * cell), (float)tx);
+        TEST_ASSERT_FLOAT_WITHIN(1e-4f, (float)(gy * cell), (float)ty);
+        TEST_ASSERT_TRUE((gx == 1 || gx == k) && (gy == 1 || gy == k));
+        corner = gy == 1 ? (gx == 1 ? ACTAG_CORNER_TOP_LEFT : ACTAG_CORNER_TOP_RIGHT)
+                         : (gx == k ? ACTAG_CORNER_BOTTOM_RIGHT : ACTAG_CORNER_BOTTOM_LEFT);
+        TEST_ASSERT_TRUE(tabs & corner);
+        /* the bridge: metal just off the contact point inside both white neighbours */
+        TEST_ASSERT_TRUE(dxf_metal(&d, d.px[i] + w / 4, d.py[i] + w / 4));
+        TEST_ASSERT_TRUE(dxf_metal(&d, d.px[i] - w / 4, d.py[i] - w / 4));
+        TEST_ASSERT_TRUE(dxf_metal(&d, d.px[i] + w / 4, d.py[i] - w / 4));
+        TEST_ASSERT_TRUE(dxf_metal(&d, d.px[i] - w / 4, d.py[i] + w / 4));
+        TEST_ASSERT_FALSE(dxf_metal(&d, d.px[i] + w, d.py[i] + w) && dxf_metal(&d, d.px[i] - w, d.py[i] + w) &&
+                          dxf_metal(&d, d.px[i] + w, d.py[i] - w) && dxf_metal(&d, d.px[i] - w, d.py[i] - w));
+    }
+
+    /* holes: the four corner cells of the black ring */
+    if (hole_d > 0) {
+        TEST_ASSERT_EQUAL_INT(4, d.ncircles);
+        for (i = 0; i < 4; i++) {
+            double ex = m + ((i == 1 || i == 2) ? k - 0.5 : 1.5) * cell;
+            double ey = W - (m + (i >= 2 ? k - 0.5 : 1.5) * cell);
+            int j, found = 0;
+            for (j = 0; j < 4; j++)
+                found |= fabs(d.cx[j] - ex) < 1e-4 && fabs(d.cy[j] - ey) < 1e-4 &&
+                         fabs(d.cr[j] - hole_d / 2) < 1e-6;
+            TEST_ASSERT_TRUE_MESSAGE(found, "screw hole missing");
+            TEST_ASSERT_TRUE(dxf_metal(&d, ex, ey));
+        }
+    } else {
+        TEST_ASSERT_EQUAL_INT(0, d.ncircles);
+    }
+    free_dxf(&d);
+}
+
+/* ------------------------------------------------------------------ SVG checker */
+
+/* Tag balance: every start tag closed in order, one root <svg> with
+ * width/height in mm and a viewBox. Accumulates the absolute area of path
+ * loops in groups OUTLINE and CUTOUT. Returns NULL when well formed. */
+static const char *check_svg(const char *name, double *outline_area, double *cutout_area,
+                             int *ntext, int *ncircle)
+{
+    static char stack[64][32];
+    size_t len;
+    char *s = slurp(name, &len), *p;
+    int depth = 0, roots = 0;
+    char group[32] = "";
+    *outline_area = *cutout_area = 0;
+    *ntext = *ncircle = 0;
+    if (!s)
+        return "cannot read";
+    p = s;
+    while ((p = strchr(p, '<')) != NULL) {
+        char nm[32];
+        char *end;
+        size_t n = 0;
+        int closing = 0, selfclose;
+        if (strncmp(p, "<?", 2) == 0) {
+            end = strstr(p, "?>");
+            if (!end)
+                return "unterminated <?";
+            p = end + 2;
+            continue;
+        }
+        if (strncmp(p, "<!--", 4) == 0) {
+            end = strstr(p, "-->");
+            if (!end)
+                return "unterminated comment";
+            p = end + 3;
+            continue;
+        }
+        end = strchr(p, '>');
+        if (!end)
+            return "unterminated tag";
+        p++;
+        if (*p == '/') {
+            closing = 1;
+            p++;
+        }
+        while ((isalnum((unsigned char)p[n]) || p[n] == ':' || p[n] == '-') && n < sizeof nm - 1)
+            n++;
+        if (n == 0)
+            return "tag without a name";
+        memcpy(nm, p, n);
+        nm[n] = '\0';
+        selfclose = end[-1] == '/';
+        /* attributes: quotes balanced */
+        {
+            char *q;
+            int quotes = 0;
+            for (q = p; q < end; q++)
+                quotes += *q == '"';
+            if (quotes % 2)
+                return "unbalanced quotes";
+        }
+        if (closing) {
+            if (depth == 0 || strcmp(stack[depth - 1], nm) != 0)
+                return "closing tag does not match";
+            depth--;
+            if (strcmp(nm, "g") == 0)
+                group[0] = '\0';
+        } else {
+            *end = '\0';
+            if (strcmp(nm, "svg") == 0) {
+                roots++;
+                if (depth != 0 || !strstr(p, "viewBox=\"") || !strstr(p, "mm\" height=\"") ||
+                    !strstr(p, "width=\""))
+                    return "svg root without mm size or viewBox";
+            } else if (depth == 0) {
+                return "content outside the root";
+            }
+            if (strcmp(nm, "g") == 0) {
+                char *id = strstr(p, "id=\"");
+                if (id)
+                    sscanf(id + 4, "%31[^\"]", group);
+            }
+            if (strcmp(nm, "text") == 0)
+                (*ntext)++;
+            if (strcmp(nm, "circle") == 0)
+                (*ncircle)++;
+            if (strcmp(nm, "path") == 0 &&
+                (strcmp(group, "OUTLINE") == 0 || strcmp(group, "CUTOUT") == 0)) {
+                char *dd = strstr(p, " d=\"");
+                poly_t *poly = (poly_t *)calloc(1, sizeof(poly_t));
+                char *t;
+                if (!dd || !poly)
+                    return "path without d";
+                t = dd + 4;
+                for (;;) {
+                    double x, y;
+                    int used = 0;
+                    while (*t == ' ')
+                        t++;
+                    if (*t == 'M' || *t == 'L') {
+                        if (*t == 'M')
+                            poly->n = 0;
+                        if (sscanf(t + 1, "%lf %lf%n", &x, &y, &used) != 2 || poly->n >= MAXP)
+                            return "bad path data";
+                        poly->x[poly->n] = x;
+                        poly->y[poly->n++] = y;
+                        t += 1 + used;
+                    } else if (*t == 'Z') {
+                        double a = fabs(poly_area(poly));
+                        if (group[0] == 'O')
+                            *outline_area += a;
+                        else
+                            *cutout_area += a;
+                        t++;
+                    } else {
+                        break;
+                    }
+                }
+                free(poly);
+            }
+            if (!selfclose) {
+                if (depth >= 64)
+                    return "too deep";
+                snprintf(stack[depth++], 32, "%s", nm);
+            }
+            *end = '>';
+        }
+        p = end + 1;
+    }
+    free(s);
+    if (depth != 0)
+        return "unclosed element";
+    if (roots != 1)
+        return "not exactly one <svg> root";
+    return NULL;
+}
+
+static int have_python_minidom(void)
+{
+    return system("python3 -c 'import xml.dom.minidom' >/dev/null 2>&1") == 0;
+}
+
+static void minidom_check(const char *name)
+{
+    char cmd[2048], p[1200];
+    if (!have_python_minidom())
+        return;
+    path_of(p, sizeof p, name);
+    snprintf(cmd, sizeof cmd,
+             "python3 -c 'import sys, xml.dom.minidom; xml.dom.minidom.parse(sys.argv[1])' '%s'", p);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, system(cmd), "python3 xml.dom.minidom rejects the SVG");
+}
+
+/* ------------------------------------------------------------------ tests */
+
+static void check_pgm_against_layout(const char *name, const actag_family *fam, int id, int cell,
+                                     int margin, int margin_val, int camera)
+{
+    char p[1200];
+    int rows = 0, cols = 0, r, c, k = fam->bits / 4;
+    uint8_t *img;
+    path_of(p, sizeof p, name);
+    img = tu_read_pgm(p, &rows, &cols);
+    TEST_ASSERT_NOT_NULL_MESSAGE(img, "PGM does not parse");
+    TEST_ASSERT_EQUAL_INT((k + 1) * cell + 2 * margin, rows);
+    TEST_ASSERT_EQUAL_INT(rows, cols);
+    for (r = 0; r < rows; r++)
+        for (c = 0; c < cols; c++) {
+            int e;
+            if (r < margin || c < margin || r >= rows - margin || c >= cols - margin)
+                e = margin_val;
+            else
+                e = actag_layout_cell(fam, id, (c - margin) / cell, (r - margin) / cell) ? 255 : 0;
+            if (camera)
+                e = 255 - e;
+            TEST_ASSERT_EQUAL_INT(e, img[r * cols + c]);
+        }
+    free(img);
+}
+
+static void test_pgm_6000(void)
+{
+    actag_family fam;
+    char args[2048];
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h4", &fam));
+    snprintf(args, sizeof args, "--family AcTag24h4 --id 6000 --cell-px 7 --margin-cells 2 --out '%s/a.pgm'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    check_pgm_against_layout("a.pgm", &fam, 6000, 7, 14, 0, 0);
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --id 6000 --camera --margin-colour foam --out '%s/b.pgm'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    check_pgm_against_layout("b.pgm", &fam, 6000, 20, 20, 255, 1);
+    /* to stdout, defaults, fractional margin */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run("--family AcTag24h10 --id 3 --cell-px 4 --margin-cells 0.5"), errtext);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    check_pgm_against_layout("stdout.bin", &fam, 3, 4, 2, 0, 0);
+    TEST_ASSERT_EQUAL_STRING("", errtext);
+}
+
+static void test_dxf_6000(void)
+{
+    actag_family fam;
+    char args[2048];
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h4", &fam));
+    /* ID 6000 has a black bottom-left corner bit with white neighbours */
+    TEST_ASSERT_EQUAL_INT(ACTAG_CORNER_BOTTOM_LEFT, actag_layout_corner_tabs(&fam, 6000));
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --id 6000 --cut --tab-width 5 --hole-diameter 4 --out '%s/c.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    TEST_ASSERT_EQUAL_STRING("", errtext);
+    check_face_plate("c.dxf", &fam, 6000, TAG_SIZE, 0, 5, 4);
+    /* default format is DXF, default tab 0.15 cell; with a one-cell metal margin every
+     * white cell is a window */
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --id 6000 --cut --margin-cells 1 --tag-size 0.05 --tab-width 2 "
+             "--out '%s/d.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    check_face_plate("d.dxf", &fam, 6000, 0.05, 1, 2, 3.4);
+    /* no tab: the plate falls apart; the tool warns but writes it */
+    snprintf(args, sizeof args, "--family AcTag24h4 --id 6000 --cut --tab-width 0 --out '%s/e.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT(0, run(args));
+    TEST_ASSERT_NOT_NULL(strstr(errtext, "warning"));
+    {
+        dxf_t d;
+        int i, nout = 0;
+        TEST_ASSERT_NULL(check_dxf("e.dxf", &d));
+        for (i = 0; i < d.npolys; i++)
+            nout += strcmp(d.polys[i].layer, "OUTLINE") == 0;
+        TEST_ASSERT_EQUAL_INT(2, nout);
+        TEST_ASSERT_EQUAL_INT(0, d.npoints);
+        free_dxf(&d);
+    }
+    /* back plate: a square and four holes */
+    snprintf(args, sizeof args, "--family AcTag24h4 --id 6000 --back-plate --out '%s/f.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    {
+        dxf_t d;
+        TEST_ASSERT_NULL(check_dxf("f.dxf", &d));
+        TEST_ASSERT_EQUAL_INT(1, d.npolys);
+        TEST_ASSERT_EQUAL_INT(4, d.polys[0].n);
+        TEST_ASSERT_FLOAT_WITHIN(1e-3f, 304.8f, (float)sqrt(fabs(poly_area(&d.polys[0]))));
+        TEST_ASSERT_EQUAL_INT(4, d.ncircles);
+        free_dxf(&d);
+    }
+    /* custom holes in mm from the tag's top-left corner, no holes */
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --id 6000 --cut --screw-holes 65,65,152.4,239 --out '%s/g.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    {
+        dxf_t d;
+        TEST_ASSERT_NULL(check_dxf("g.dxf", &d));
+        TEST_ASSERT_EQUAL_INT(2, d.ncircles);
+        TEST_ASSERT_FLOAT_WITHIN(1e-4f, 152.4f, (float)d.cx[1]);
+        TEST_ASSERT_FLOAT_WITHIN(1e-4f, (float)(304.799999 - 239), (float)d.cy[1]);
+        free_dxf(&d);
+    }
+    snprintf(args, sizeof args, "--family AcTag24h4 --id 6000 --cut --screw-holes none --out '%s/h.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    check_face_plate("h.dxf", &fam, 6000, TAG_SIZE, 0, 0.15 * cell_mm(TAG_SIZE, 24), 0);
+}
+
+static void test_dxf_many_tags_and_tabs(void)
+{
+    /* Every tag of AcTag24h10 and AcTag24h8 and a sample of the others: one
+     * piece of metal, right areas, tabs exactly where actag_layout_corner_tabs says. */
+    static const char *const names[4] = {"AcTag24h10", "AcTag24h8", "AcTag24h6", "AcTag24h4"};
+    int f, tabbed = 0;
+    for (f = 0; f < 4; f++) {
+        actag_family fam;
+        char args[2048], ids[4096], name[128];
+        int n = 0, i, list[64];
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
+        if (fam.ncodes <= 45) {
+            for (i = 0; i < fam.ncodes; i++)
+                list[n++] = i;
+        } else {
+            /* the first 30 IDs and the last one */
+            for (i = 0; i < 30; i++)
+                list[n++] = i;
+            list[n++] = fam.ncodes - 1;
+        }
+        ids[0] = '\0';
+        for (i = 0; i < n; i++)
+            snprintf(ids + strlen(ids), sizeof ids - strlen(ids), "%s%d", i ? "," : "", list[i]);
+        snprintf(args, sizeof args,
+                 "--family %s --ids %s --cut --tab-width 3 --hole-diameter 5 --out-dir '%s'",
+                 names[f], ids, dir);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+        TEST_ASSERT_EQUAL_STRING("", errtext);
+        for (i = 0; i < n; i++) {
+            snprintf(name, sizeof name, "%s-%d-face.dxf", names[f], list[i]);
+            check_face_plate(name, &fam, list[i], TAG_SIZE, 0, 3, 5);
+            tabbed += actag_layout_corner_tabs(&fam, list[i]) != 0;
+        }
+    }
+    TEST_ASSERT_GREATER_THAN(10, tabbed);
+}
+
+static void test_list_tabs_all_families(void)
+{
+    /* --list-tabs over every code of every built-in family equals
+     * actag_layout_corner_tabs() (itself checked against a flood fill in
+     * tests/test_render.c). */
+    int f, nf = actag_family_count();
+    for (f = 0; f < nf; f++) {
+        actag_family fam;
+        char args[256], *text, *line;
+        int id, listed = 0;
+        int *mask;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get_at(f, &fam));
+        snprintf(args, sizeof args, "--family %s --all --list-tabs", fam.name);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+        text = slurp("stdout.bin", NULL);
+        TEST_ASSERT_NOT_NULL(text);
+        mask = (int *)calloc((size_t)fam.ncodes, sizeof(int));
+        for (line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+            char corners[32];
+            TEST_ASSERT_EQUAL_INT(2, sscanf(line, "%d %31s", &id, corners));
+            TEST_ASSERT_TRUE(id >= 0 && id < fam.ncodes);
+            mask[id] = (strstr(corners, "TL") ? ACTAG_CORNER_TOP_LEFT : 0) |
+                       (strstr(corners, "TR") ? ACTAG_CORNER_TOP_RIGHT : 0) |
+                       (strstr(corners, "BR") ? ACTAG_CORNER_BOTTOM_RIGHT : 0) |
+                       (strstr(corners, "BL") ? ACTAG_CORNER_BOTTOM_LEFT : 0);
+            listed++;
+        }
+        for (id = 0; id < fam.ncodes; id++)
+            TEST_ASSERT_EQUAL_INT(actag_layout_corner_tabs(&fam, id), mask[id]);
+        printf("%s: %d of %d face plates need corner tabs\n", fam.name, listed, fam.ncodes);
+        free(mask);
+        free(text);
+    }
+}
+
+static void test_svg(void)
+{
+    char args[2048];
+    double oa, ca;
+    int nt, nc, x, y, white = 0;
+    const char *err;
+    actag_family fam;
+    double cell = cell_mm(TAG_SIZE, 24), expect;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h4", &fam));
+    /* cut SVG: same geometry as the DXF */
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --id 6000 --cut --format svg --tab-width 5 --margin-cells 1 --out '%s/c.svg'",
+             dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    err = check_svg("c.svg", &oa, &ca, &nt, &nc);
+    TEST_ASSERT_NULL_MESSAGE(err, err);
+    minidom_check("c.svg");
+    for (y = 0; y <= 6; y++)
+        for (x = 0; x <= 6; x++)
+            white += actag_layout_cell(&fam, 6000, x, y);
+    expect = white * cell * cell - 25.0 / 2;
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, (float)(ca / expect));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, (float)(oa / (81 * cell * cell)));
+    TEST_ASSERT_EQUAL_INT(4, nc);
+    /* image SVG (camera colours) */
+    snprintf(args, sizeof args, "--family AcTag24h4 --id 6000 --format svg --camera --out '%s/i.svg'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    err = check_svg("i.svg", &oa, &ca, &nt, &nc);
+    TEST_ASSERT_NULL_MESSAGE(err, err);
+    minidom_check("i.svg");
+    /* the checker itself rejects broken XML */
+    {
+        char p[1200];
+        FILE *f;
+        path_of(p, sizeof p, "broken.svg");
+        f = fopen(p, "w");
+        TEST_ASSERT_NOT_NULL(f);
+        fputs("<svg width=\"1mm\" height=\"1mm\" viewBox=\"0 0 1 1\"><g></svg></g>\n", f);
+        fclose(f);
+        TEST_ASSERT_NOT_NULL(check_svg("broken.svg", &oa, &ca, &nt, &nc));
+    }
+}
+
+/* Does the page contain the tag image exactly, at some position? */
+static int find_block(const uint8_t *page, int pw, int ph, const uint8_t *blk, int bs)
+{
+    int x, y, r;
+    for (y = 0; y + bs <= ph; y++)
+        for (x = 0; x + bs <= pw; x++) {
+            for (r = 0; r < bs; r++)
+                if (memcmp(page + (size_t)(y + r) * (size_t)pw + x, blk + (size_t)r * (size_t)bs,
+                           (size_t)bs) != 0)
+                    break;
+            if (r == bs)
+                return 1;
+        }
+    return 0;
+}
+
+static void test_sheets(void)
+{
+    char args[2048], p[1200];
+    actag_family fam;
+    int side = actag_render_side(24, 6, 6), rows = 0, cols = 0, t;
+    uint8_t *blk = (uint8_t *)malloc((size_t)side * (size_t)side), *page;
+    static const int ids[3] = {0, 5, 6000};
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h4", &fam));
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --ids 0,5,6000 --sheet --columns 2 --rows 1 --cell-px 6 --out '%s/s.pgm'",
+             dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    TEST_ASSERT_TRUE(file_exists("s-p1.pgm"));
+    TEST_ASSERT_TRUE(file_exists("s-p2.pgm"));
+    TEST_ASSERT_FALSE(file_exists("s-p3.pgm"));
+    for (t = 0; t < 3; t++) {
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(&fam, ids[t], 6, 6, 0, 0, blk, side,
+                                                         (size_t)side * (size_t)side));
+        path_of(p, sizeof p, t < 2 ? "s-p1.pgm" : "s-p2.pgm");
+        page = tu_read_pgm(p, &rows, &cols);
+        TEST_ASSERT_NOT_NULL(page);
+        TEST_ASSERT_TRUE_MESSAGE(find_block(page, cols, rows, blk, side), "tag not on its page");
+        free(page);
+    }
+    free(blk);
+
+    /* SVG sheet of small paper tags, each labelled */
+    snprintf(args, sizeof args,
+             "--family AcTag24h10 --all --sheet --format svg --tag-size 0.03 --page-width 400 "
+             "--page-height 400 --out '%s/s.svg'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    {
+        double oa, ca;
+        int nt, nc;
+        const char *err = check_svg("s.svg", &oa, &ca, &nt, &nc);
+        char *s;
+        TEST_ASSERT_NULL_MESSAGE(err, err);
+        TEST_ASSERT_EQUAL_INT(7, nt);
+        s = slurp("s.svg", NULL);
+        TEST_ASSERT_NOT_NULL(strstr(s, ">AcTag24h10 ID 6</text>"));
+        free(s);
+        minidom_check("s.svg");
+    }
+
+    /* DXF cut sheet on a 1000 x 700 mm metal sheet: 7 plates of 304.8 mm -> 2 pages */
+    snprintf(args, sizeof args,
+             "--family AcTag24h10 --all --cut --sheet --page-width 1000 --page-height 700 --out-dir '%s'",
+             dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    {
+        dxf_t d;
+        int i, v, total = 0;
+        for (t = 1; t <= 2; t++) {
+            char name[64];
+            snprintf(name, sizeof name, "AcTag24h10-face-sheet-p%d.dxf", t);
+            TEST_ASSERT_NULL(check_dxf(name, &d));
+            TEST_ASSERT_EQUAL_INT(4 * d.ntexts, d.ncircles);
+            for (i = 0; i < d.npolys; i++)
+                for (v = 0; v < d.polys[i].n; v++)
+                    TEST_ASSERT_TRUE(d.polys[i].x[v] >= 0 && d.polys[i].x[v] <= 1000 &&
+                                     d.polys[i].y[v] >= 0 && d.polys[i].y[v] <= 700);
+            total += d.ntexts;
+            free_dxf(&d);
+        }
+        TEST_ASSERT_EQUAL_INT(7, total);
+        TEST_ASSERT_FALSE(file_exists("AcTag24h10-face-sheet-p3.dxf"));
+    }
+}
+
+static void test_errors(void)
+{
+    static const char *const bad[] = {
+        "",
+        "--family Nope --id 0",
+        "--family AcTag24h4 --id 6261",
+        "--family AcTag24h4 --id -1",
+        "--family AcTag24h4 --id 12x",
+        "--family AcTag24h4",
+        "--family AcTag24h4 --id 1 --all",
+        "--family AcTag24h4 --id 1 --cell-px 0",
+        "--family AcTag24h4 --id 1 --cell-px abc",
+        "--family AcTag24h4 --id 1 --tag-size -1",
+        "--family AcTag24h4 --id 1 --tag-size nan",
+        "--family AcTag24h4 --id 1 --margin-cells 1e999",
+        "--family AcTag24h4 --id 1 --format png",
+        "--family AcTag24h4 --id 1 --cut --format pgm",
+        "--family AcTag24h4 --id 1 --cut --camera",
+        "--family AcTag24h4 --id 1 --cut --hole-diameter 60",
+        "--family AcTag24h4 --id 1 --cut --screw-holes 1,2,3",
+        "--family AcTag24h4 --id 1 --cut --screw-holes 0,0",
+        "--family AcTag24h4 --id 1 --cut --tab-width 50",
+        "--family AcTag24h4 --ids 3-1",
+        "--family AcTag24h4 --ids 1,,2",
+        "--family AcTag24h4 --ids 0-2",
+        "--family AcTag24h4 --id 1 --columns 3",
+        "--family AcTag24h4 --id 1 --out /nonexistent-dir/x.pgm",
+        "--family AcTag24h4 --id 1 --out-dir /nonexistent-dir",
+        "--family AcTag24h4 --id 1 --frobnicate",
+        "--family AcTag24h4 --id",
+        "--family AcTag24h10 --all --sheet --format svg",
+        NULL};
+    int i;
+    for (i = 0; bad[i]; i++) {
+        char msg[700];
+        int st = run(bad[i]);
+        snprintf(msg, sizeof msg, "args '%s': status %d, stderr '%.400s'", bad[i], st, errtext);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(errtext), msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
+    }
+    TEST_ASSERT_EQUAL_INT(0, run("--help"));
+}
+
+static void test_dxf_checker_rejects(void)
+{
+    /* The checker must be able to fail. */
+    static const char *const bad[] = {
+        "  0\nSECTION\n  2\nENTITIES\n  0\nENDSEC\n",                                /* no EOF */
+        "  0\nSECTION\n  2\nENTITIES\n  0\nLWPOLYLINE\n  8\n0\n  0\nENDSEC\n  0\nEOF\n", /* R14 */
+        "  0\nSECTION\n  2\nENTITIES\nx\n  0\nENDSEC\n  0\nEOF\n",                     /* pairs */
+        NULL};
+    int i;
+    for (i = 0; bad[i]; i++) {
+        char p[1200];
+        FILE *f;
+        dxf_t d;
+        path_of(p, sizeof p, "bad.dxf");
+        f = fopen(p, "w");
+        TEST_ASSERT_NOT_NULL(f);
+        fputs(bad[i], f);
+        fclose(f);
+        TEST_ASSERT_NOT_NULL(check_dxf("bad.dxf", &d));
+        free_dxf(&d);
+    }
+}
+
+int main(void)
+{
+    snprintf(dir, sizeof dir, "%s/render_tool_test", ACTAG_BINARY_DIR);
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        fprintf(stderr, "cannot create %s\n", dir);
+        return 1;
+    }
+    UNITY_BEGIN();
+    RUN_TEST(test_pgm_6000);
+    RUN_TEST(test_dxf_6000);
+    RUN_TEST(test_dxf_many_tags_and_tabs);
+    RUN_TEST(test_list_tabs_all_families);
+    RUN_TEST(test_svg);
+    RUN_TEST(test_sheets);
+    RUN_TEST(test_errors);
+    RUN_TEST(test_dxf_checker_rejects);
+    return UNITY_END();
+}
