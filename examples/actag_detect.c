@@ -42,6 +42,9 @@ static void usage(FILE *f)
             "  --tag-size M           side of the inner white square, metres (default 0.130628571)\n"
             "  --bit-corrections N    allowed corrected bits (default 0)\n"
             "  --seed N               RANSAC seed (default 1)\n"
+            "  --decode grey|binary   read bits from the filtered frame against the tag's own\n"
+            "                         black/white levels (default), or from the binary frame\n"
+            "  --min-contrast N       grey decoding: interior minus ring, grey levels (default 5)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.85)\n"
             "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 500)\n"
@@ -490,6 +493,19 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--bit-corrections") == 0) {
             NEEDV();
             params.max_bit_corrections = (int)parse_long(a, v, 0, 64);
+        } else if (strcmp(a, "--decode") == 0) {
+            NEEDV();
+            if (strcmp(v, "grey") == 0)
+                params.decode_mode = ACTAG_DECODE_GREY;
+            else if (strcmp(v, "binary") == 0)
+                params.decode_mode = ACTAG_DECODE_BINARY;
+            else if (strcmp(v, "aligned") == 0)
+                params.decode_mode = ACTAG_DECODE_ALIGNED;
+            else
+                opt_error("--decode takes grey or binary", v);
+        } else if (strcmp(a, "--min-contrast") == 0) {
+            NEEDV();
+            params.min_contrast = (int)parse_long(a, v, 0, 255);
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
             params.seed = (uint32_t)parse_long(a, v, 0, 4294967295L);

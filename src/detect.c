@@ -69,6 +69,8 @@ void actag_params_default(actag_params *p)
     p->min_area_fraction = 0.1f;
     p->max_area_fraction = 1.0f;
     actag_quad_params_default(&p->quad);
+    p->decode_mode = ACTAG_DECODE_GREY;
+    p->min_contrast = 5;
     p->seed = 1u;
 }
 
@@ -93,6 +95,9 @@ int actag_params_validate(const actag_params *p)
     if (!(p->size_tolerance >= 0.0f && p->size_tolerance < 10.0f) ||
         !(p->min_area_fraction >= 0.0f) || !(p->max_area_fraction >= p->min_area_fraction) ||
         !(p->max_area_fraction < 1.0e6f))
+        return ACTAG_ERR_PARAM;
+    if (p->decode_mode < ACTAG_DECODE_GREY || p->decode_mode > ACTAG_DECODE_ALIGNED ||
+        p->min_contrast < 0 || p->min_contrast > 255)
         return ACTAG_ERR_PARAM;
     if (p->quad.max_iterations < 1 || !(p->quad.sample_fraction > 0.0f) ||
         !(p->quad.sample_fraction <= 1.0f) || !(p->quad.inlier_ratio > 0.0f) ||
@@ -274,8 +279,16 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
             ACTAG_OK)
             continue;
         st.quads++;
-        if (actag_decode_quad(w.a, rows, cols, cols, q.corners, params->family,
-                              params->max_bit_corrections, &dr) != ACTAG_OK)
+        rc = params->decode_mode == ACTAG_DECODE_GREY
+                 ? actag_decode_quad_grey(w.b, rows, cols, cols, q.corners, params->family,
+                                          params->max_bit_corrections, params->min_contrast, &dr)
+                 : params->decode_mode == ACTAG_DECODE_ALIGNED
+                       ? actag_decode_quad_aligned(w.a, w.b, rows, cols, cols, q.corners,
+                                                   params->family, params->max_bit_corrections,
+                                                   &dr)
+                       : actag_decode_quad(w.a, rows, cols, cols, q.corners, params->family,
+                                           params->max_bit_corrections, &dr);
+        if (rc != ACTAG_OK)
             continue;
         st.decoded++;
         for (k = 0; k < nout && k < max_out; k++)

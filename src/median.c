@@ -1,21 +1,31 @@
-/* Constant-time median filter (Perreault & Hebert 2007), see actag/median.h. */
-#include "actag/median.h"
-
-#include <string.h>
-
-/* Scratch layout (all uint8_t, no alignment needed), 272 bytes per column:
- *   colc[c*16 + k]             cumulative coarse histogram of column c: the
- *                              number of its samples v with (v >> 4) <= k
- *   colf[(c*16 + b)*16 + k]    cumulative fine histogram of column c inside
- *                              coarse bin b: samples v with 16b <= v <= 16b+k
+/* Constant-time median filter (Perreault & Hebert 2007), see actag/median.h.
+ *
+ * Scratch layout (all uint8_t, no alignment needed), 272 bytes per column:
+ *   colc[c*16 + k]           cumulative coarse histogram of column c: the
+ *                            number of its samples v with (v >> 4) <= k
+ *   colf[(c*16 + b)*16 + k]  cumulative fine histogram of column c inside
+ *                            coarse bin b: samples v with 16b <= v <= 16b+k
  * Cumulative (rather than plain) histograms make both median searches a
  * branch-free count of the lanes <= a rank (the lanes are nondecreasing),
  * and a column update a 16-lane add of a step mask. The fine histograms of
  * one column are contiguous, so sliding a column down touches one 256-byte
  * block (storing them bin-major instead was slower: 4 KiB aliasing).
  *
- * Speed (x86-64 SSE2, one core): about 1.7 ms for a 530 x 512 frame at any
- * radius up to 16, about 3 ms at R = 127 (per-row set-up is O(R)). */
+ * Work per pixel: one column update, one 16-lane slide of the coarse kernel
+ * histogram, one of the fine kernel histogram of the median's coarse bin,
+ * and two lane counts. When the median changes coarse bin, that bin's fine
+ * histogram is caught up lazily from the column where it was last valid,
+ * or rebuilt from its 2R+1 columns when that is cheaper; either way at most
+ * 2 min(gap, R+1) column reads, so over a row each bin costs O(cols) and
+ * the total per pixel is bounded independently of R.
+ *
+ * Speed (x86-64, SSE2 path, gcc -O2/-O3, one core): about 1.7 ms for a
+ * 530 x 512 sonar frame at R = 4 (the same up to R = 16; 3 ms at R = 127,
+ * where the O(R) set-up per row shows). The portable path computes the
+ * same bytes (tests check both). */
+#include "actag/median.h"
+
+#include <string.h>
 
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define MEDIAN_SSE2 1
@@ -50,12 +60,105 @@ static const uint8_t step_mask[16][16] = {
     {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1},
     {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1}};
 
-/* The 16-lane operations below have an SSE2 version and a portable one;
- * both compute exactly the same integers. */
+/* Adds one sample of level t (0..15) to a 16-lane cumulative histogram
+ * (set-up only). */
+static void step_add(uint8_t *cnt, unsigned t)
+{
+    int k;
+    for (k = 0; k < 16; k++)
+        cnt[k] = (uint8_t)(cnt[k] + step_mask[t][k]);
+}
 
-#ifndef MEDIAN_SSE2
-/* 16-byte row operations, mod 256. Separate functions (each with restrict)
- * because fin and fout in col_update may be the same block. */
+/* ----------------------------------------------------------------------
+ * 16-lane primitives: an SSE2 version and a portable one that compute the
+ * same integers.
+ *
+ * col_update(cc, fin, fout, vin, vout): remove value vout and add value vin
+ *   in one column's histograms (cc its coarse histogram, fin/fout its fine
+ *   histograms for the coarse bins of vin and vout, possibly the same
+ *   block). The 8-bit lanes wrap modulo 256, but every final count is
+ *   <= 2R+1 <= 255, so the result is exact.
+ * h16: a kernel histogram, 16 lanes of 16-bit counts (<= 65025).
+ *   h16_zero, h16_add (h += a), h16_slide (d = h + a - r, never leaves
+ *   0..65025), h16_count_le (number of lanes <= rank of a nondecreasing
+ *   histogram whose last lane exceeds rank: the bin holding the sample of
+ *   that rank), h16_get (lane k).
+ * ---------------------------------------------------------------------- */
+#ifdef MEDIAN_SSE2
+
+static __m128i load16(const uint8_t *p)
+{
+    return _mm_loadu_si128((const __m128i *)(const void *)p);
+}
+
+static void store16(uint8_t *p, __m128i v)
+{
+    _mm_storeu_si128((__m128i *)(void *)p, v);
+}
+
+static void col_update(uint8_t *cc, uint8_t *fin, uint8_t *fout, unsigned vin, unsigned vout)
+{
+    store16(cc, _mm_sub_epi8(_mm_add_epi8(load16(cc), load16(step_mask[vin >> 4])),
+                             load16(step_mask[vout >> 4])));
+    store16(fin, _mm_add_epi8(load16(fin), load16(step_mask[vin & 15u])));
+    store16(fout, _mm_sub_epi8(load16(fout), load16(step_mask[vout & 15u])));
+}
+
+/* Every lane is biased by 0x8000 so that signed compares order the counts
+ * as unsigned; additions are unaffected by the bias (mod 2^16). */
+typedef struct {
+    __m128i lo, hi;
+} h16;
+
+static void h16_zero(h16 *h)
+{
+    h->lo = h->hi = _mm_set1_epi16((short)-32768);
+}
+
+static void h16_add(h16 *h, const uint8_t *a)
+{
+    const __m128i z = _mm_setzero_si128();
+    __m128i va = load16(a);
+    h->lo = _mm_add_epi16(h->lo, _mm_unpacklo_epi8(va, z));
+    h->hi = _mm_add_epi16(h->hi, _mm_unpackhi_epi8(va, z));
+}
+
+static void h16_slide(h16 *d, const h16 *h, const uint8_t *a, const uint8_t *r)
+{
+    const __m128i z = _mm_setzero_si128();
+    __m128i va = load16(a), vr = load16(r);
+    d->lo = _mm_sub_epi16(_mm_add_epi16(h->lo, _mm_unpacklo_epi8(va, z)), _mm_unpacklo_epi8(vr, z));
+    d->hi = _mm_sub_epi16(_mm_add_epi16(h->hi, _mm_unpackhi_epi8(va, z)), _mm_unpackhi_epi8(vr, z));
+}
+
+static unsigned h16_count_le(const h16 *h, unsigned rank)
+{
+    const __m128i r = _mm_set1_epi16((short)((int)rank - 32768));
+    /* The lanes > rank form a suffix: count the zero bits below it. */
+    unsigned m = (unsigned)_mm_movemask_epi8(
+        _mm_packs_epi16(_mm_cmpgt_epi16(h->lo, r), _mm_cmpgt_epi16(h->hi, r)));
+#if defined(__GNUC__)
+    return (unsigned)__builtin_ctz(m | 0x10000u);
+#else
+    unsigned n = 0;
+    while (n < 16u && !(m & (1u << n)))
+        n++;
+    return n;
+#endif
+}
+
+static unsigned h16_get(const h16 *h, unsigned k)
+{
+    uint16_t t[16];
+    _mm_storeu_si128((__m128i *)(void *)t, h->lo);
+    _mm_storeu_si128((__m128i *)(void *)(t + 8), h->hi);
+    return (unsigned)t[k] ^ 0x8000u;
+}
+
+#else /* portable */
+
+/* Separate functions, each with restrict, because fin and fout may be the
+ * same block. */
 static void bytes_addsub(uint8_t *restrict d, const uint8_t *restrict a, const uint8_t *restrict b)
 {
     int k;
@@ -76,103 +179,14 @@ static void bytes_sub(uint8_t *restrict d, const uint8_t *restrict a)
     for (k = 0; k < 16; k++)
         d[k] = (uint8_t)(d[k] - a[k]);
 }
-#endif
 
-/* Remove value vout and add value vin in one column's histograms (cc: its
- * coarse histogram, fin/fout: its fine histograms for the coarse bins of vin
- * and vout, possibly the same). 8-bit lanes wrap modulo 256, but every final
- * count is <= 2R+1 <= 255, so the result is exact. */
 static void col_update(uint8_t *cc, uint8_t *fin, uint8_t *fout, unsigned vin, unsigned vout)
 {
-#ifdef MEDIAN_SSE2
-    __m128i c = _mm_loadu_si128((const __m128i *)(const void *)cc);
-    c = _mm_add_epi8(c, _mm_loadu_si128((const __m128i *)(const void *)step_mask[vin >> 4]));
-    c = _mm_sub_epi8(c, _mm_loadu_si128((const __m128i *)(const void *)step_mask[vout >> 4]));
-    _mm_storeu_si128((__m128i *)(void *)cc, c);
-    _mm_storeu_si128((__m128i *)(void *)fin,
-                     _mm_add_epi8(_mm_loadu_si128((const __m128i *)(const void *)fin),
-                                  _mm_loadu_si128((const __m128i *)(const void *)step_mask[vin & 15u])));
-    _mm_storeu_si128((__m128i *)(void *)fout,
-                     _mm_sub_epi8(_mm_loadu_si128((const __m128i *)(const void *)fout),
-                                  _mm_loadu_si128((const __m128i *)(const void *)step_mask[vout & 15u])));
-#else
     bytes_addsub(cc, step_mask[vin >> 4], step_mask[vout >> 4]);
     bytes_add(fin, step_mask[vin & 15u]);
     bytes_sub(fout, step_mask[vout & 15u]);
-#endif
 }
 
-/* Adds one sample of level t (0..15) to a 16-lane cumulative histogram. */
-static void step_add(uint8_t *cnt, unsigned t)
-{
-    int k;
-    for (k = 0; k < 16; k++)
-        cnt[k] = (uint8_t)(cnt[k] + step_mask[t][k]);
-}
-
-/* h16: a kernel histogram, 16 lanes of 16-bit counts (<= 65025). The SSE2
- * version keeps every lane biased by 0x8000 so that signed compares order
- * them as unsigned; additions are unaffected by the bias (mod 2^16). */
-#ifdef MEDIAN_SSE2
-typedef struct {
-    __m128i lo, hi;
-} h16;
-
-static __m128i load16(const uint8_t *p)
-{
-    return _mm_loadu_si128((const __m128i *)(const void *)p);
-}
-
-static void h16_zero(h16 *h)
-{
-    h->lo = h->hi = _mm_set1_epi16((short)-32768);
-}
-
-/* h += a (8-bit lanes widened). */
-static void h16_add(h16 *h, const uint8_t *a)
-{
-    const __m128i z = _mm_setzero_si128();
-    __m128i va = load16(a);
-    h->lo = _mm_add_epi16(h->lo, _mm_unpacklo_epi8(va, z));
-    h->hi = _mm_add_epi16(h->hi, _mm_unpackhi_epi8(va, z));
-}
-
-/* d = h + a - r: slides a kernel histogram by one column. */
-static void h16_slide(h16 *d, const h16 *h, const uint8_t *a, const uint8_t *r)
-{
-    const __m128i z = _mm_setzero_si128();
-    __m128i va = load16(a), vr = load16(r);
-    d->lo = _mm_sub_epi16(_mm_add_epi16(h->lo, _mm_unpacklo_epi8(va, z)), _mm_unpacklo_epi8(vr, z));
-    d->hi = _mm_sub_epi16(_mm_add_epi16(h->hi, _mm_unpackhi_epi8(va, z)), _mm_unpackhi_epi8(vr, z));
-}
-
-/* Number of lanes <= rank of a nondecreasing (cumulative) histogram whose
- * last lane exceeds rank: the bin that holds the sample of that rank. */
-static unsigned h16_count_le(const h16 *h, unsigned rank)
-{
-    const __m128i r = _mm_set1_epi16((short)((int)rank - 32768));
-    /* Lanes > rank form a suffix: count the zero bits below it. */
-    unsigned m = (unsigned)_mm_movemask_epi8(
-        _mm_packs_epi16(_mm_cmpgt_epi16(h->lo, r), _mm_cmpgt_epi16(h->hi, r)));
-#if defined(__GNUC__)
-    return (unsigned)__builtin_ctz(m | 0x10000u);
-#else
-    unsigned n = 0;
-    while (n < 16u && !(m & (1u << n)))
-        n++;
-    return n;
-#endif
-}
-
-/* Lane k (0..15), unbiased. */
-static unsigned h16_get(const h16 *h, unsigned k)
-{
-    uint16_t t[16];
-    _mm_storeu_si128((__m128i *)(void *)t, h->lo);
-    _mm_storeu_si128((__m128i *)(void *)(t + 8), h->hi);
-    return (unsigned)t[k] ^ 0x8000u;
-}
-#else
 typedef struct {
     uint16_t v[16];
 } h16;
@@ -200,8 +214,7 @@ static void h16_slide(h16 *d, const h16 *h, const uint8_t *restrict a, const uin
 
 static unsigned h16_count_le(const h16 *h, unsigned rank)
 {
-    /* h is nondecreasing: branch-free binary search for the first lane
-     * > rank (lane 15 always is). */
+    /* Branch-free binary search for the first lane > rank (lane 15 is). */
     unsigned n = 0;
     n += (unsigned)((unsigned)h->v[n + 7] <= rank) << 3;
     n += (unsigned)((unsigned)h->v[n + 3] <= rank) << 2;
@@ -214,6 +227,7 @@ static unsigned h16_get(const h16 *h, unsigned k)
 {
     return h->v[k];
 }
+
 #endif
 
 int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
@@ -221,10 +235,11 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
                         void *scratch, size_t scratch_size)
 {
     uint8_t *colc, *colf;
-    h16 hf[16];   /* kernel cumulative fine histogram, per coarse bin */
-    int last[16]; /* column at which hf[b] was last brought up to date */
-    h16 cur;      /* fine histogram of bin curb, up to date at the last pixel */
-    unsigned curb;
+    h16 hf[16];    /* parked fine kernel histograms, per coarse bin */
+    int last[16];  /* column at which hf[b] was valid */
+    h16 hc;        /* coarse kernel histogram */
+    h16 cur;       /* fine kernel histogram of coarse bin curb */
+    unsigned curb; /* coarse bin of the previous pixel's median */
     size_t ucols, sstride, dstride;
     int i, j, k, R = radius;
     unsigned half;
@@ -267,10 +282,10 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
 
     for (i = 0; i < rows; i++) {
         uint8_t *d = dst + (size_t)i * dstride;
-        h16 hc;
 
         if (i > 0) {
-            /* Slide every column histogram down one row. */
+            /* Slide every column histogram down one row. (A separate pass:
+             * doing it as the kernel reaches each column was slower.) */
             int rout = clampi(i - R - 1, 0, rows - 1);
             int rin = clampi(i + R, 0, rows - 1);
             if (rout != rin) {
@@ -286,8 +301,8 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
         }
 
         /* Kernel histograms start at column -1 (columns clamp(-R-1..R-1)),
-         * so that the first slide gives column 0. cur is the fine
-         * histogram of coarse bin curb; the other bins are rebuilt on use. */
+         * so that the first slide gives column 0. cur starts as bin 0's fine
+         * histogram; the other bins are rebuilt on first use. */
         h16_zero(&hc);
         h16_zero(&cur);
         curb = 0;
@@ -297,7 +312,7 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
             h16_add(&cur, FINE(colf, c, 0));
         }
         for (k = 0; k < 16; k++)
-            last[k] = -2 * R - 2; /* forces a rebuild on first use */
+            last[k] = -2 * R - 2;
 
         for (j = 0; j < cols; j++) {
             unsigned b, f, below;
@@ -307,17 +322,17 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
 
             h16_slide(&hc, &hc, colc + (size_t)ca * 16u, colc + (size_t)cr * 16u);
             /* Speculate that the median stays in coarse bin curb (it nearly
-             * always does): sliding cur now does not wait for the coarse
-             * search, which keeps the dependency chain per pixel short. */
+             * always does): sliding cur now, before the coarse search is
+             * done, keeps the dependency chain per pixel short. */
             h16_slide(&spec, &cur, FINE(colf, ca, curb), FINE(colf, cr, curb));
 
-            /* Coarse bin b holding the median. */
             b = h16_count_le(&hc, half);
             if (b == curb) {
                 cur = spec;
             } else {
-                /* Park cur; bring the fine histogram of bin b up to column j
-                 * lazily (Perreault-Hebert), or rebuild it when cheaper. */
+                /* Park cur (valid at j-1); bring bin b's fine histogram up
+                 * to column j from where it was parked, or rebuild it from
+                 * its 2R+1 columns when that is cheaper. */
                 int gap = j - last[b];
                 hf[curb] = cur;
                 last[curb] = j - 1;

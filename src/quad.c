@@ -15,7 +15,9 @@
 /* Unrefined quads below min_inlier_ratio minus this are not worth refining. */
 #define QUAD_PROMISE 0.1f
 /* Refinement passes (re-assign points to sides, refit, re-intersect). */
-#define QUAD_REFINE_PASSES 3
+#define QUAD_REFINE_PASSES 8
+/* Refinement stops once no corner moves by more than this (px). */
+#define QUAD_CONVERGED 0.01f
 /* Smallest band (px) around a side used for refitting it. */
 #define QUAD_MIN_BAND 1.5f
 /* Each side's nearest inliers must spread over this fraction of it. */
@@ -152,7 +154,7 @@ static int quad_from_lines(qquad *q)
 
 /* Shape tests that need no contour points: convex and clockwise on screen,
  * sides long enough, corners near the contour, opposite sides parallel. */
-static int quad_shape_ok(const qctx *k, const qquad *q)
+static int quad_shape_ok(const qctx *k, const qquad *q, int parallel)
 {
     float margin = k->d + 0.25f * (k->bw > k->bh ? k->bw : k->bh);
     int j;
@@ -168,7 +170,7 @@ static int quad_shape_ok(const qctx *k, const qquad *q)
               q->y[j] <= k->bh + margin))
             return 0;
     }
-    for (j = 0; j < 2; j++) {
+    for (j = 0; j < 2 && parallel; j++) {
         const qline *a = &q->line[j], *b = &q->line[j + 2];
         if (!(fabsf(a->nx * b->nx + a->ny * b->ny) >= k->pcos))
             return 0;
@@ -242,27 +244,41 @@ static int quad_inliers(const qctx *k, const qquad *q, qstats *st)
 
 static float ratio_of(int count, int n) { return (float)count / (float)n; }
 
-/* Inlier ratio reached, and every side supported by nearby points over at
- * least QUAD_MIN_SPAN of its length (a line fitted to stray points can
- * otherwise close a quad whose inlier count passes while most of a short
- * side is missed). */
-static int quad_supported(const qctx *k, const qquad *q, float *ratio)
+/* Inlier ratio of the quad, or -1 unless every side is supported by its
+ * nearest inliers over at least QUAD_MIN_SPAN of its length (a line fitted
+ * to stray points can otherwise close a quad whose inlier count passes while
+ * most of a short side is missed). */
+static float quad_support(const qctx *k, const qquad *q)
 {
     qstats st;
     float r = ratio_of(quad_inliers(k, q, &st), k->n);
     int j;
-    if (!(r >= k->min_ratio))
-        return 0;
     for (j = 0; j < 4; j++)
         if (!(st.tmax[j] - st.tmin[j] >= QUAD_MIN_SPAN * st.len[j]))
-            return 0;
-    *ratio = r;
-    return 1;
+            return -1.0f;
+    return r;
 }
 
+/* Final acceptance: shape including parallel sides, support, inlier ratio. */
 static int quad_accept(const qctx *k, const qquad *q, float *ratio)
 {
-    return quad_shape_ok(k, q) && quad_supported(k, q, ratio);
+    float r;
+    if (!quad_shape_ok(k, q, 1))
+        return 0;
+    r = quad_support(k, q);
+    if (!(r >= k->min_ratio))
+        return 0;
+    *ratio = r;
+#ifdef QUAD_DEBUG
+    {
+        qstats st; int j; float ms = 1e9f, ex = 0, e;
+        (void)quad_inliers(k, q, &st);
+        for (j = 0; j < 4; j++) { float f = (st.tmax[j] - st.tmin[j]) / st.len[j]; ms = f < ms ? f : ms;
+            e = -q->x[j]; ex = e > ex ? e : ex; e = q->x[j] - k->bw; ex = e > ex ? e : ex; e = -q->y[j]; ex = e > ex ? e : ex; e = q->y[j] - k->bh; ex = e > ex ? e : ex; }
+        fprintf(stderr, "ACCEPT ratio %.3f minspan %.3f bbox_excess %.2f px (%.3f of extent)\n", r, ms, ex, ex / (k->bw > k->bh ? k->bw : k->bh));
+    }
+#endif
+    return 1;
 }
 
 /* Moments of each side's stretch of the contour, for refitting its line.
@@ -352,7 +368,7 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
 static int refine_and_accept(const qctx *k, const qquad *q0, qquad *best, float *best_ratio)
 {
     qquad cur = *q0;
-    float band2[4];
+    float band2[4], moved;
     int pass, j, refined = 0;
     for (j = 0; j < 4; j++)
         band2[j] = 4.0f * k->d2; /* first pass: the guess may be tilted */
@@ -378,11 +394,18 @@ static int refine_and_accept(const qctx *k, const qquad *q0, qquad *best, float 
         }
         if (!quad_from_lines(&nq))
             break;
+        moved = 0.0f;
+        for (j = 0; j < 4; j++) {
+            float dx = nq.x[j] - cur.x[j], dy = nq.y[j] - cur.y[j];
+            moved = dx * dx + dy * dy > moved ? dx * dx + dy * dy : moved;
+        }
 #ifdef QUAD_DEBUG
         for (j = 0; j < 4; j++) fprintf(stderr, " pass %d side %d n %d band %.2f corner %.2f %.2f\n", pass, j, (int)sums[(j+1)&3].n, sqrtf(band2[j]), nq.x[j]+(float)k->ox, nq.y[j]+(float)k->oy);
 #endif
         cur = nq;
         refined = 1;
+        if (moved < QUAD_CONVERGED * QUAD_CONVERGED)
+            break;
     }
 #ifdef QUAD_DEBUG
     for (j = 0; j < 4; j++) fprintf(stderr, "q0 %.3f %.3f   cur %.3f %.3f\n", q0->x[j] + (float)k->ox, q0->y[j] + (float)k->oy, cur.x[j] + (float)k->ox, cur.y[j] + (float)k->oy);
@@ -426,20 +449,28 @@ static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
 
 /* Line through a run of m unclaimed points from a random start: fitted, then
  * refitted without the run's points farther than d from the first fit (a
- * spike in the run would tilt it). Returns 0 if the run is not straight:
- * fewer than inlier_ratio of it within d of its line (it wraps a corner or
- * the border is ragged), or the kept points' RMS residual above d/2. */
-static int sample_line(const qctx *k, const unsigned char *lab, int start, int m, qline *l)
+ * spike in the run would tilt it); (*mx, *my) is the refit points' centroid.
+ * Returns 0 if fewer than half of the run lie within d of its first fit (it
+ * wraps a corner or the border is ragged there). */
+static int sample_line(const qctx *k, const unsigned char *lab, int start, int m, qline *l,
+                       float *mx, float *my)
 {
     qsums s;
-    qline l0;
+    float msr;
     walk_sums(k, lab, start, m, NULL, &s);
-    if (!line_fit(&s, &l0, NULL))
+    if (!line_fit(&s, l, &msr))
         return 0;
-    walk_sums(k, lab, start, m, &l0, &s);
-    if (2 * s.n < m)
-        return 0;
-    return line_fit(&s, l, NULL);
+    /* If the squared residuals sum to under d^2, every point is within d
+     * and the refit would change nothing (1 % margin for rounding). */
+    if (msr * (float)s.n > 0.99f * k->d2) {
+        qline l0 = *l;
+        walk_sums(k, lab, start, m, &l0, &s);
+        if (2 * s.n < m || !line_fit(&s, l, NULL))
+            return 0;
+    }
+    *mx = (float)s.sx / (float)s.n;
+    *my = (float)s.sy / (float)s.n;
+    return 1;
 }
 
 int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
@@ -447,6 +478,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
 {
     qctx k;
     unsigned char *lab;
+    float *fx, *fy;
     int n, m, i, it, minx, miny, maxx, maxy;
     int64_t sx = 0, sy = 0;
     int have = 0;
@@ -505,7 +537,18 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     if (m > n)
         m = n;
 
-    lab = (unsigned char *)scratch;
+    /* Scratch: x and y relative to the origin as floats (aligned), then one
+     * claim label per point. */
+    {
+        size_t mis = (size_t)((uintptr_t)scratch & 3u);
+        fx = (float *)(void *)((unsigned char *)scratch + (mis ? 4u - mis : 0u));
+    }
+    fy = fx + n;
+    lab = (unsigned char *)(fy + n);
+    for (i = 0; i < n; i++) {
+        fx[i] = (float)(pts[i].x - k.ox);
+        fy[i] = (float)(pts[i].y - k.oy);
+    }
     for (it = 0; it < params->max_iterations; it++) {
         qquad q, cand;
         qline lines[4];
@@ -515,7 +558,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         memset(lab, 0, (size_t)n);
         for (line = 0; line < 4 && ok; line++) {
             qline l;
-            int64_t csx = 0, csy = 0;
+            float mx, my, lnx, lny, lc;
             int cnt = 0;
             unsigned char tag = (unsigned char)(line + 1);
             if (nfree < m) {
@@ -523,21 +566,20 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
                 break;
             }
             /* A run along the border: on a quad it usually lies on one side. */
-            if (!sample_line(&k, lab, (int)actag_rng_below(rng, (uint32_t)n), m, &l)) {
+            if (!sample_line(&k, lab, (int)actag_rng_below(rng, (uint32_t)n), m, &l, &mx, &my)) {
                 ok = 0;
                 break;
             }
+            /* Claim the free points within d of the line (branch-free so
+             * the compiler can vectorise it: this loop is most of the time). */
+            lnx = l.nx;
+            lny = l.ny;
+            lc = l.c;
             for (i = 0; i < n; i++) {
-                if (!lab[i]) {
-                    int x = pts[i].x - k.ox, y = pts[i].y - k.oy;
-                    float dist = l.nx * (float)x + l.ny * (float)y - l.c;
-                    if (dist <= d && dist >= -d) {
-                        lab[i] = tag;
-                        cnt++;
-                        csx += x;
-                        csy += y;
-                    }
-                }
+                float dist = lnx * fx[i] + lny * fy[i] - lc;
+                int in = (lab[i] == 0) & (dist <= d) & (dist >= -d);
+                lab[i] = (unsigned char)(lab[i] | (in ? tag : 0u));
+                cnt += in;
             }
             if (cnt < 2) {
                 ok = 0;
@@ -546,7 +588,9 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
             nfree -= cnt;
             claimed += cnt;
             lines[line] = l;
-            key[line] = pseudo_angle((float)csx / (float)cnt - k.cx, (float)csy / (float)cnt - k.cy);
+            /* Any point on each side orders the sides around an interior
+             * point; the run's centroid will do. */
+            key[line] = pseudo_angle(mx - k.cx, my - k.cy);
         }
         /* A quad's side inliers are a subset of the points its lines
          * claimed: too few claimed points cannot make a promising quad or
@@ -570,9 +614,9 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         }
         for (i = 0; i < 4; i++)
             q.line[i] = lines[order[i]];
-        if (!quad_from_lines(&q))
+        if (!quad_from_lines(&q) || !quad_shape_ok(&k, &q, 0))
             continue;
-        r0 = ratio_of(quad_inliers(&k, &q, NULL), n);
+        r0 = quad_support(&k, &q);
         if (r0 < promise || r0 <= best_r0)
             continue;
         /* A new best unrefined quad: refine and test it. */

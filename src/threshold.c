@@ -94,7 +94,8 @@ static void threshold_run(uint8_t *restrict d, const uint8_t *restrict x,
 
 /* Horizontal pass in place: on entry xmin/xmax hold one line of vertical
  * extrema; on exit they hold the block prefix extrema P, and smin/smax the
- * block suffix extrema S (blocks of w samples). */
+ * block suffix extrema S (blocks of w samples, the last one possibly
+ * shorter). S is computed first, while xmin/xmax still hold the input. */
 static void block_prefix_suffix(uint8_t *restrict xmin, uint8_t *restrict xmax,
                                 uint8_t *restrict smin, uint8_t *restrict smax, int n, int w)
 {
@@ -151,6 +152,12 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
     ucols = (size_t)cols;
     sstride = (size_t)src_stride;
     dstride = (size_t)dst_stride;
+    if (rv == 0 && rh == 0) {
+        /* 1 x 1 windows: mn = mx = x, so the answer is offset >= 0. */
+        for (i = 0; i < rows; i++)
+            memset(dst + (size_t)i * dstride, offset >= 0, ucols);
+        return ACTAG_OK;
+    }
     nblk = (size_t)(wv < rows ? wv : rows);
     sbuf_min = (uint8_t *)scratch;
     sbuf_max = sbuf_min + nblk * ucols;

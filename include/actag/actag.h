@@ -102,8 +102,17 @@ typedef struct actag_params {
     float min_area_fraction;    /* contour area >= this * diag_r_px * diag_az_px * (1 - tol) (0.1) */
     float max_area_fraction;    /* contour area <= this * diag_r_px * diag_az_px * (1 + tol) (1.0) */
     actag_quad_params quad;     /* RANSAC (default 500 iterations, 0.1, 0.85, 2.5 px, 0.9) */
+    int decode_mode;            /* ACTAG_DECODE_GREY (default) or ACTAG_DECODE_BINARY (paper) */
+    int min_contrast;           /* grey decoding: interior - ring contrast, grey levels (5) */
     uint32_t seed;              /* RANSAC seed (default 1) */
 } actag_params;
+
+/* decode_mode: read the bits from the median-filtered frame against each
+ * tag's own black/white levels (actag_decode_quad_grey), or, as the paper
+ * does, from the binary frame (actag_decode_quad). */
+#define ACTAG_DECODE_GREY 0
+#define ACTAG_DECODE_BINARY 1
+#define ACTAG_DECODE_ALIGNED 2
 
 /* One detected tag. */
 typedef struct actag_detection {

@@ -23,7 +23,11 @@
  *   histogram and removing another. Histograms have two levels (16 coarse
  *   bins of 16 grey levels, 256 fine bins); the fine level of the kernel is
  *   only brought up to date, lazily, for the coarse bin that holds the
- *   median. Integer arithmetic only; the work per pixel does not depend on R.
+ *   median. Integer arithmetic only; the work per pixel does not depend on R
+ *   (the set-up per row is O(R)). On x86-64 an SSE2 path is used (about
+ *   1.7-1.8 ms for a 530 x 512 frame at R = 4 on one core); defining
+ *   ACTAG_NO_SIMD when building the library selects the portable C path,
+ *   which gives identical output.
  *
  *   src and dst must not overlap (src == dst is rejected with
  *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
@@ -32,8 +36,9 @@
  *   The caller provides `scratch` of at least
  *   ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) bytes (272 bytes per image column:
  *   8-bit column histograms; 139,264 bytes for 512 columns, whatever the
- *   number of rows or the radius). No alignment is required. About 600
- *   bytes of stack are used for the kernel histogram.
+ *   number of rows or the radius). No alignment is required. The kernel
+ *   histograms live on the stack (under 1 KiB). scratch is checked for
+ *   every radius, R = 0 included.
  *
  * LIMITS
  *   0 <= radius <= ACTAG_MEDIAN_MAX_RADIUS (127): column histogram counters

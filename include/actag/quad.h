@@ -99,7 +99,7 @@ extern "C" {
 #define ACTAG_QUAD_MAX_POINTS 32767
 
 /* Scratch bytes actag_quad_fit() needs for npoints contour points. */
-#define ACTAG_QUAD_SCRATCH_SIZE(npoints) ((size_t)(npoints))
+#define ACTAG_QUAD_SCRATCH_SIZE(npoints) ((size_t)(npoints) * 9u + 4u)
 
 typedef struct actag_quad_params {
     int max_iterations;     /* RANSAC iterations, default 500 */

@@ -1,0 +1,15 @@
+# Toolchain file: Cortex-M7 with single-precision FPU (e.g. STM32H7), bare metal.
+# cmake -S . -B build-arm -DCMAKE_TOOLCHAIN_FILE=cmake/arm-none-eabi.cmake \
+#       -DACTAG_FAMILYGEN=$PWD/build/actag-familygen     (or -DACTAG_GENERATE_FAMILIES=OFF)
+set(CMAKE_SYSTEM_NAME Generic)
+set(CMAKE_SYSTEM_PROCESSOR arm)
+set(CMAKE_C_COMPILER arm-none-eabi-gcc)
+set(CMAKE_AR arm-none-eabi-ar)
+set(CMAKE_NM arm-none-eabi-nm)
+set(CMAKE_RANLIB arm-none-eabi-ranlib)
+set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
+set(ACTAG_CPU_FLAGS "-mcpu=cortex-m7 -mthumb -mfloat-abi=hard -mfpu=fpv5-sp-d16" CACHE STRING "CPU flags")
+set(CMAKE_C_FLAGS_INIT "${ACTAG_CPU_FLAGS} -ffunction-sections -fdata-sections")
+set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
+set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
