@@ -89,7 +89,7 @@ int actag_params_validate(const actag_params *p)
         return ACTAG_ERR_CORRECTIONS;
     if (!finite_pos(p->tag_size) || p->median_radius < 0 ||
         p->median_radius > ACTAG_MEDIAN_MAX_RADIUS || p->threshold_radius < 0 ||
-        p->threshold_radius > ACTAG_MAX_DIM || p->threshold_offset < -255 ||
+        p->threshold_radius > ACTAG_MAX_THRESHOLD_RADIUS || p->threshold_offset < -255 ||
         p->threshold_offset > 255)
         return ACTAG_ERR_PARAM;
     if (!(p->size_tolerance >= 0.0f && p->size_tolerance < 10.0f) ||

@@ -12,19 +12,16 @@
 
 /* Adjacent sides must differ by at least asin(0.2) (11.5 degrees). */
 #define QUAD_MIN_ADJ_SIN 0.2f
-/* Unrefined quads below min_inlier_ratio minus this are not worth refining. */
+/* Unrefined quads below min_inlier_ratio minus this are not refined. */
 #define QUAD_PROMISE 0.1f
-/* Refinement passes (re-assign points to sides, refit, re-intersect). */
+/* At most this many refinement passes ... */
 #define QUAD_REFINE_PASSES 8
-/* Refinement stops once no corner moves by more than this (px). */
+/* ... stopping once no corner moves by more than this (px). */
 #define QUAD_CONVERGED 0.01f
-/* Smallest band (px) around a side used for refitting it. */
+/* Smallest band (px) around a side within which points refit it. */
 #define QUAD_MIN_BAND 1.5f
-/* Each side's nearest inliers must spread over this fraction of it. */
+/* Each side's nearest inliers must spread over this fraction of its length. */
 #define QUAD_MIN_SPAN 0.5f
-#ifndef QUAD_TRIM
-#define QUAD_TRIM 0.0f
-#endif
 
 /* Exact moment sums of integer points (relative to the contour origin). */
 typedef struct qsums {
@@ -36,24 +33,27 @@ typedef struct qline {
     float nx, ny, c;
 } qline;
 
-/* A quad: line[j] and line[j+1] meet at corner j, so the side from corner j
- * to corner j+1 lies on line[j+1]. */
+/* A quad: line[j] and line[j+1] meet at corner j, so side j, from corner j
+ * to corner j+1, lies on line[j+1]. */
 typedef struct qquad {
     qline line[4];
     float x[4], y[4];
 } qquad;
 
-/* Everything that stays fixed during one call. */
+/* Everything that stays fixed during one call. Coordinates are relative to
+ * the contour's bounding-box minimum (ox, oy): small, so float keeps them
+ * exact and results do not depend on where the contour is in the image. */
 typedef struct qctx {
     const actag_ipoint *pts;
+    const float *fx, *fy; /* relative coordinates as floats */
     int n;
-    int ox, oy;       /* origin: bounding-box minimum */
-    float bw, bh;     /* bounding-box extent (max - min) */
-    float cx, cy;     /* centroid, relative to the origin */
-    float d, d2;      /* inlier distance and its square */
-    float ratio;      /* inlier fraction that ends the search at once */
-    float min_ratio;  /* inlier fraction required of the best quad found */
-    float pcos;       /* min |cos| between opposite sides */
+    int ox, oy;      /* origin: bounding-box minimum */
+    float bw, bh;    /* bounding-box extent (max - min) */
+    float cx, cy;    /* centroid */
+    float d, d2;     /* inlier distance and its square */
+    float ratio;     /* inlier fraction that ends the search at once */
+    float min_ratio; /* inlier fraction required of the best quad found */
+    float pcos;      /* min |cos| between opposite sides */
 } qctx;
 
 void actag_quad_params_default(actag_quad_params *p)
@@ -63,9 +63,9 @@ void actag_quad_params_default(actag_quad_params *p)
     p->max_iterations = 500;
     p->sample_fraction = 0.10f;
     p->inlier_ratio = 0.85f;
-    p->min_inlier_ratio = 0.80f;
     p->inlier_distance = 2.5f;
     p->min_parallel_cos = 0.9f;
+    p->min_inlier_ratio = 0.80f;
 }
 
 static void sums_add(qsums *s, int64_t x, int64_t y)
@@ -78,11 +78,13 @@ static void sums_add(qsums *s, int64_t x, int64_t y)
     s->syy += y * y;
 }
 
-/* Total-least-squares line through the summed points. *msr receives the mean
- * squared perpendicular residual. Returns 0 when the points have no
- * direction (fewer than 2, all equal, or isotropic). The centred moments are
- * formed exactly in 64-bit integers: coordinates are < 2^16 and n < 2^15, so
- * n*sxx and sx*sx stay below 2^62. */
+static float ratio_of(int count, int n) { return (float)count / (float)n; }
+
+/* Total-least-squares line through the summed points. *msr (if not NULL)
+ * receives the mean squared perpendicular residual. Returns 0 when the
+ * points have no direction (fewer than 2, all equal, or isotropic). The
+ * centred moments are exact 64-bit integers: coordinates are < 2^16 and
+ * n < 2^15, so n*sxx and sx*sx stay below 2^62. */
 static int line_fit(const qsums *s, qline *l, float *msr)
 {
     int64_t a64, b64, c64;
@@ -121,8 +123,8 @@ static int line_fit(const qsums *s, qline *l, float *msr)
     return 1;
 }
 
-/* Monotone stand-in for the angle of (dx, dy) in [0, 4): increases clockwise
- * on screen (y down). Only a division, so it is exact across platforms. */
+/* Monotone stand-in for the angle of (dx, dy), in [0, 4): it increases
+ * clockwise on screen (y down). Only a division, so exact on every platform. */
 static float pseudo_angle(float dx, float dy)
 {
     float s = fabsf(dx) + fabsf(dy), p;
@@ -153,7 +155,8 @@ static int quad_from_lines(qquad *q)
 }
 
 /* Shape tests that need no contour points: convex and clockwise on screen,
- * sides long enough, corners near the contour, opposite sides parallel. */
+ * sides at least d long, corners near the contour's bounding box, and (if
+ * parallel) opposite sides parallel. */
 static int quad_shape_ok(const qctx *k, const qquad *q, int parallel)
 {
     float margin = k->d + 0.25f * (k->bw > k->bh ? k->bw : k->bh);
@@ -178,18 +181,13 @@ static int quad_shape_ok(const qctx *k, const qquad *q, int parallel)
     return 1;
 }
 
-/* Per-side extents from quad_inliers(). */
-typedef struct qstats {
-    float tmin[4], tmax[4]; /* extent along side j of the inliers nearest it */
-    float len[4];           /* length of side j */
-} qstats;
-
-/* Counts the points within d of the quad's sides (side j runs from corner j
- * to corner j+1). With st non-NULL, also records how far along its nearest
- * side each inlier lies. */
-static int quad_inliers(const qctx *k, const qquad *q, qstats *st)
+/* Counts the points within d of the quad's sides (segments). With span
+ * non-NULL, also assigns each inlier to its nearest side and returns 1 in
+ * *span only if on every side those inliers spread over at least
+ * QUAD_MIN_SPAN of its length. */
+static int quad_inliers(const qctx *k, const qquad *q, int *span)
 {
-    float ax[4], ay[4], ux[4], uy[4], len[4];
+    float ax[4], ay[4], ux[4], uy[4], len[4], tmin[4], tmax[4];
     int j, i, count = 0;
     for (j = 0; j < 4; j++) {
         int j1 = (j + 1) & 3;
@@ -200,15 +198,11 @@ static int quad_inliers(const qctx *k, const qquad *q, qstats *st)
         ux[j] = l > 0.0f ? ex / l : 0.0f;
         uy[j] = l > 0.0f ? ey / l : 0.0f;
         len[j] = l;
-        if (st) {
-            st->tmin[j] = l;
-            st->tmax[j] = 0.0f;
-            st->len[j] = l;
-        }
+        tmin[j] = l;
+        tmax[j] = 0.0f;
     }
     for (i = 0; i < k->n; i++) {
-        float px = (float)(k->pts[i].x - k->ox), py = (float)(k->pts[i].y - k->oy);
-        float best = k->d2, bt = 0.0f;
+        float px = k->fx[i], py = k->fy[i], best = k->d2, bt = 0.0f;
         int bj = -1;
         for (j = 0; j < 4; j++) {
             float vx = px - ax[j], vy = py - ay[j];
@@ -225,24 +219,27 @@ static int quad_inliers(const qctx *k, const qquad *q, qstats *st)
             if (e2 < best || (bj < 0 && e2 == best)) {
                 best = e2;
                 bj = j;
-                bt = t;
-                if (!st)
+                bt = t < 0.0f ? 0.0f : (t > len[j] ? len[j] : t);
+                if (!span)
                     break; /* counting only: one side is enough */
             }
         }
         if (bj < 0)
             continue;
         count++;
-        if (st) {
-            float tc = bt < 0.0f ? 0.0f : (bt > len[bj] ? len[bj] : bt);
-            st->tmin[bj] = tc < st->tmin[bj] ? tc : st->tmin[bj];
-            st->tmax[bj] = tc > st->tmax[bj] ? tc : st->tmax[bj];
+        if (span) {
+            tmin[bj] = bt < tmin[bj] ? bt : tmin[bj];
+            tmax[bj] = bt > tmax[bj] ? bt : tmax[bj];
         }
+    }
+    if (span) {
+        *span = 1;
+        for (j = 0; j < 4; j++)
+            if (!(tmax[j] - tmin[j] >= QUAD_MIN_SPAN * len[j]))
+                *span = 0;
     }
     return count;
 }
-
-static float ratio_of(int count, int n) { return (float)count / (float)n; }
 
 /* Inlier ratio of the quad, or -1 unless every side is supported by its
  * nearest inliers over at least QUAD_MIN_SPAN of its length (a line fitted
@@ -250,16 +247,12 @@ static float ratio_of(int count, int n) { return (float)count / (float)n; }
  * most of a short side is missed). */
 static float quad_support(const qctx *k, const qquad *q)
 {
-    qstats st;
-    float r = ratio_of(quad_inliers(k, q, &st), k->n);
-    int j;
-    for (j = 0; j < 4; j++)
-        if (!(st.tmax[j] - st.tmin[j] >= QUAD_MIN_SPAN * st.len[j]))
-            return -1.0f;
-    return r;
+    int span;
+    float r = ratio_of(quad_inliers(k, q, &span), k->n);
+    return span ? r : -1.0f;
 }
 
-/* Final acceptance: shape including parallel sides, support, inlier ratio. */
+/* Final acceptance: shape with parallel sides, support, inlier ratio. */
 static int quad_accept(const qctx *k, const qquad *q, float *ratio)
 {
     float r;
@@ -269,26 +262,19 @@ static int quad_accept(const qctx *k, const qquad *q, float *ratio)
     if (!(r >= k->min_ratio))
         return 0;
     *ratio = r;
-#ifdef QUAD_DEBUG
-    {
-        qstats st; int j; float ms = 1e9f, ex = 0, e;
-        (void)quad_inliers(k, q, &st);
-        for (j = 0; j < 4; j++) { float f = (st.tmax[j] - st.tmin[j]) / st.len[j]; ms = f < ms ? f : ms;
-            e = -q->x[j]; ex = e > ex ? e : ex; e = q->x[j] - k->bw; ex = e > ex ? e : ex; e = -q->y[j]; ex = e > ex ? e : ex; e = q->y[j] - k->bh; ex = e > ex ? e : ex; }
-        fprintf(stderr, "ACCEPT ratio %.3f minspan %.3f bbox_excess %.2f px (%.3f of extent)\n", r, ms, ex, ex / (k->bw > k->bh ? k->bw : k->bh));
-    }
-#endif
     return 1;
 }
 
-/* Moments of each side's stretch of the contour, for refitting its line.
- * Each corner is tied to its nearest contour point; side j is the run of
- * contour points between the points of corners j and j+1 (in the contour's
- * own direction), less QUAD_TRIM * d at either end (corner rounding), less
- * points farther than sqrt(band2[j]) from the side's current line. Using the
- * contour order, not distances, keeps a short side's points on that side even
- * when a poor first guess tilts it. Returns 0 if the corners' contour points
- * are not distinct and in cyclic order. */
+/* Moments of each side's stretch of the contour, for refitting its line
+ * (sums[i] belongs to line i). Each corner is tied to its nearest contour
+ * point; side j is the run of contour points from corner j's point up to
+ * (not including) corner j+1's, in the contour's own direction, keeping
+ * those that project inside the side, lie within sqrt(band2[j]) of its
+ * current line, and are no closer to either adjacent side's line (near a
+ * corner such points belong to the other side). Using the contour order
+ * rather than distances keeps a short side's points on that side even when a
+ * poor first guess tilts it. Returns 0 if the corners' contour points are not
+ * distinct and in cyclic order. */
 static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *sums)
 {
     int ci[4], j, i, fwd = 1, bwd = 1, tf = 0, tb = 0;
@@ -298,9 +284,8 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
         ci[j] = 0;
     }
     for (i = 0; i < k->n; i++) {
-        float px = (float)(k->pts[i].x - k->ox), py = (float)(k->pts[i].y - k->oy);
         for (j = 0; j < 4; j++) {
-            float dx = px - q->x[j], dy = py - q->y[j], e2 = dx * dx + dy * dy;
+            float dx = k->fx[i] - q->x[j], dy = k->fy[i] - q->y[j], e2 = dx * dx + dy * dy;
             if (e2 < bd[j]) {
                 bd[j] = e2;
                 ci[j] = i;
@@ -309,7 +294,7 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
     }
     for (j = 0; j < 4; j++) {
         int a = ci[j], b = ci[(j + 1) & 3];
-        int f = b - a < 0 ? b - a + k->n : b - a, g = a - b < 0 ? a - b + k->n : a - b;
+        int f = b >= a ? b - a : b - a + k->n, g = a >= b ? a - b : a - b + k->n;
         fwd &= f > 0;
         bwd &= g > 0;
         tf += f;
@@ -319,71 +304,59 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
     bwd &= tb == k->n;
     if (!fwd && !bwd)
         return 0;
-#ifdef QUAD_DEBUG
-    fprintf(stderr, "ci %d %d %d %d fwd %d\n", ci[0], ci[1], ci[2], ci[3], fwd);
-#endif
     for (j = 0; j < 4; j++) {
-        int a = ci[j], b = ci[(j + 1) & 3], step = fwd ? 1 : -1;
+        int a = ci[j], b = ci[(j + 1) & 3], cnt, left;
         const qline *l = &q->line[(j + 1) & 3], *la = &q->line[j], *lb = &q->line[(j + 2) & 3];
         float ex = q->x[(j + 1) & 3] - q->x[j], ey = q->y[(j + 1) & 3] - q->y[j];
-        float len = sqrtf(ex * ex + ey * ey), ux, uy, trim = QUAD_TRIM * k->d;
+        float len = sqrtf(ex * ex + ey * ey), ux, uy;
         qsums *s = &sums[(j + 1) & 3];
         if (!(len > 0.0f))
             return 0;
         ux = ex / len;
         uy = ey / len;
-        if (trim > 0.2f * len)
-            trim = 0.2f * len;
         memset(s, 0, sizeof *s);
-        for (i = a; i != b; i += step) {
-            int x, y;
-            float px, py, t, e, ea, eb;
-            if (i < 0)
-                i += k->n;
-            else if (i >= k->n)
-                i -= k->n;
-            if (i == b)
-                break;
-            x = k->pts[i].x - k->ox;
-            y = k->pts[i].y - k->oy;
-            px = (float)x;
-            py = (float)y;
-            t = (px - q->x[j]) * ux + (py - q->y[j]) * uy;
-            e = fabsf(l->nx * px + l->ny * py - l->c);
-            /* Near a corner, leave out points that the adjacent side's
-             * line explains better: they belong to that side. */
-            ea = fabsf(la->nx * px + la->ny * py - la->c);
-            eb = fabsf(lb->nx * px + lb->ny * py - lb->c);
-            if (t >= trim && t <= len - trim && e * e <= band2[j] && e <= ea && e <= eb)
-                sums_add(s, x, y);
+        cnt = fwd ? (b >= a ? b - a : b - a + k->n) : (a >= b ? a - b : a - b + k->n);
+        for (i = a, left = cnt; left > 0; left--) {
+            float px = k->fx[i], py = k->fy[i];
+            float t = (px - q->x[j]) * ux + (py - q->y[j]) * uy;
+            float e = fabsf(l->nx * px + l->ny * py - l->c);
+            float ea = fabsf(la->nx * px + la->ny * py - la->c);
+            float eb = fabsf(lb->nx * px + lb->ny * py - lb->c);
+            if (t >= 0.0f && t <= len && e * e <= band2[j] && e <= ea && e <= eb)
+                sums_add(s, k->pts[i].x - k->ox, k->pts[i].y - k->oy);
+            if (fwd)
+                i = i + 1 == k->n ? 0 : i + 1;
+            else
+                i = i == 0 ? k->n - 1 : i - 1;
         }
     }
     return 1;
 }
 
-/* Refines a quad whose unrefined inlier ratio passed: each side's line is
- * refitted (total least squares) to its stretch of the contour, the lines
- * are re-intersected, QUAD_REFINE_PASSES times. Writes the accepted quad
- * (refined, else unrefined) and its inlier ratio, or returns 0. */
-static int refine_and_accept(const qctx *k, const qquad *q0, qquad *best, float *best_ratio)
+/* Refines a quad whose unrefined inlier ratio was promising: each side's
+ * line is refitted (total least squares) to its stretch of the contour and
+ * the lines are re-intersected, until the corners settle. The first pass
+ * takes points within 2d of the guess, later ones within 2.5 sigma of the
+ * side's last fit (at least QUAD_MIN_BAND, at most d px) so outliers just
+ * inside d stop tilting it. Writes the accepted quad (refined, else the
+ * unrefined one) and its inlier ratio, or returns 0. */
+static int refine_and_accept(const qctx *k, const qquad *q0, qquad *out, float *out_ratio)
 {
     qquad cur = *q0;
-    float band2[4], moved;
+    float band2[4];
     int pass, j, refined = 0;
     for (j = 0; j < 4; j++)
-        band2[j] = 4.0f * k->d2; /* first pass: the guess may be tilted */
+        band2[j] = 4.0f * k->d2;
     for (pass = 0; pass < QUAD_REFINE_PASSES; pass++) {
         qsums sums[4];
         qquad nq = cur;
+        float moved = 0.0f;
         if (!side_sums(k, &cur, band2, sums))
             break;
         for (j = 0; j < 4; j++) {
             qline l;
             float msr;
             if (sums[(j + 1) & 3].n >= 3 && line_fit(&sums[(j + 1) & 3], &l, &msr)) {
-                /* Next pass keeps points within 2.5 sigma of the side (at
-                 * least QUAD_MIN_BAND px, at most d), so outliers just inside
-                 * d stop tilting it. */
                 float b2 = 6.25f * msr, lo = QUAD_MIN_BAND * QUAD_MIN_BAND;
                 b2 = b2 < lo ? lo : b2;
                 band2[j] = b2 < k->d2 ? b2 : k->d2;
@@ -394,37 +367,28 @@ static int refine_and_accept(const qctx *k, const qquad *q0, qquad *best, float 
         }
         if (!quad_from_lines(&nq))
             break;
-        moved = 0.0f;
         for (j = 0; j < 4; j++) {
             float dx = nq.x[j] - cur.x[j], dy = nq.y[j] - cur.y[j];
             moved = dx * dx + dy * dy > moved ? dx * dx + dy * dy : moved;
         }
-#ifdef QUAD_DEBUG
-        for (j = 0; j < 4; j++) fprintf(stderr, " pass %d side %d n %d band %.2f corner %.2f %.2f\n", pass, j, (int)sums[(j+1)&3].n, sqrtf(band2[j]), nq.x[j]+(float)k->ox, nq.y[j]+(float)k->oy);
-#endif
         cur = nq;
         refined = 1;
         if (moved < QUAD_CONVERGED * QUAD_CONVERGED)
             break;
     }
-#ifdef QUAD_DEBUG
-    for (j = 0; j < 4; j++) fprintf(stderr, "q0 %.3f %.3f   cur %.3f %.3f\n", q0->x[j] + (float)k->ox, q0->y[j] + (float)k->oy, cur.x[j] + (float)k->ox, cur.y[j] + (float)k->oy);
-#endif
-    if (refined && quad_accept(k, &cur, best_ratio)) {
-        *best = cur;
+    if (refined && quad_accept(k, &cur, out_ratio)) {
+        *out = cur;
         return 1;
     }
-    /* Acceptance test of the
-     * full shape (its ratio and support passed already). */
-    if (quad_accept(k, q0, best_ratio)) {
-        *best = *q0;
+    if (quad_accept(k, q0, out_ratio)) {
+        *out = *q0;
         return 1;
     }
     return 0;
 }
 
-/* Sums of the unclaimed points met walking from index *i until m of them are
- * taken (cyclic); with line non-NULL, only those within d of it. */
+/* Sums of the unclaimed points met walking from index start until m of them
+ * are taken (cyclic); with line non-NULL, only those within d of it. */
 static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
                       const qline *line, qsums *s)
 {
@@ -432,14 +396,13 @@ static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
     memset(s, 0, sizeof *s);
     while (got < m) {
         if (!lab[i]) {
-            int x = k->pts[i].x - k->ox, y = k->pts[i].y - k->oy;
             got++;
             if (!line) {
-                sums_add(s, x, y);
+                sums_add(s, k->pts[i].x - k->ox, k->pts[i].y - k->oy);
             } else {
-                float dist = line->nx * (float)x + line->ny * (float)y - line->c;
+                float dist = line->nx * k->fx[i] + line->ny * k->fy[i] - line->c;
                 if (dist <= k->d && dist >= -k->d)
-                    sums_add(s, x, y);
+                    sums_add(s, k->pts[i].x - k->ox, k->pts[i].y - k->oy);
             }
         }
         if (++i == k->n)
@@ -447,9 +410,9 @@ static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
     }
 }
 
-/* Line through a run of m unclaimed points from a random start: fitted, then
+/* Line through a run of m unclaimed points from index start: fitted, then
  * refitted without the run's points farther than d from the first fit (a
- * spike in the run would tilt it); (*mx, *my) is the refit points' centroid.
+ * spike in the run would tilt it); (*mx, *my) is the kept points' centroid.
  * Returns 0 if fewer than half of the run lie within d of its first fit (it
  * wraps a corner or the border is ragged there). */
 static int sample_line(const qctx *k, const unsigned char *lab, int start, int m, qline *l,
@@ -477,13 +440,12 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
                    actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out)
 {
     qctx k;
+    qquad best;
     unsigned char *lab;
     float *fx, *fy;
-    int n, m, i, it, minx, miny, maxx, maxy;
+    int n, m, i, it, minx, miny, maxx, maxy, have = 0;
     int64_t sx = 0, sy = 0;
-    int have = 0;
     float d, promise, best_r0 = 0.0f, best_ratio = 0.0f;
-    qquad best;
 
     if (!pts || !params || !rng || !scratch || !out)
         return ACTAG_ERR_NULL;
@@ -492,7 +454,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         !(params->sample_fraction > 0.0f && params->sample_fraction <= 1.0f) ||
         !(params->inlier_ratio > 0.0f && params->inlier_ratio <= 1.0f) ||
         !(params->min_inlier_ratio > 0.0f && params->min_inlier_ratio <= 1.0f) ||
-        !(d > 0.0f && d < 1e18f) ||
+        !(d > 0.0f && d <= 1e6f) ||
         !(params->min_parallel_cos >= 0.0f && params->min_parallel_cos <= 1.0f))
         return ACTAG_ERR_PARAM;
     if (npoints > ACTAG_QUAD_MAX_POINTS)
@@ -516,7 +478,21 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         sx += x;
         sy += y;
     }
+    /* Scratch: x and y relative to the origin as floats (4-byte aligned),
+     * then one claim label per point. */
+    {
+        size_t mis = (size_t)((uintptr_t)scratch & 3u);
+        fx = (float *)(void *)((unsigned char *)scratch + (mis ? 4u - mis : 0u));
+    }
+    fy = fx + n;
+    lab = (unsigned char *)(fy + n);
+    for (i = 0; i < n; i++) {
+        fx[i] = (float)(pts[i].x - minx);
+        fy[i] = (float)(pts[i].y - miny);
+    }
     k.pts = pts;
+    k.fx = fx;
+    k.fy = fy;
     k.n = n;
     k.ox = minx;
     k.oy = miny;
@@ -528,8 +504,8 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     k.d2 = d * d;
     k.ratio = params->inlier_ratio;
     k.min_ratio = params->min_inlier_ratio < k.ratio ? params->min_inlier_ratio : k.ratio;
-    promise = k.min_ratio - QUAD_PROMISE;
     k.pcos = params->min_parallel_cos;
+    promise = k.min_ratio - QUAD_PROMISE;
 
     m = (int)(params->sample_fraction * (float)n + 0.5f);
     if (m < 3)
@@ -537,41 +513,27 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     if (m > n)
         m = n;
 
-    /* Scratch: x and y relative to the origin as floats (aligned), then one
-     * claim label per point. */
-    {
-        size_t mis = (size_t)((uintptr_t)scratch & 3u);
-        fx = (float *)(void *)((unsigned char *)scratch + (mis ? 4u - mis : 0u));
-    }
-    fy = fx + n;
-    lab = (unsigned char *)(fy + n);
-    for (i = 0; i < n; i++) {
-        fx[i] = (float)(pts[i].x - k.ox);
-        fy[i] = (float)(pts[i].y - k.oy);
-    }
     for (it = 0; it < params->max_iterations; it++) {
         qquad q, cand;
         qline lines[4];
-        float key[4], r0, r;
+        float key[4], r;
         int nfree = n, claimed = 0, line, ok = 1, order[4];
 
+        /* 1. Four lines, each from a run of still unclaimed points; each
+         * claims the unclaimed points within d of it. */
         memset(lab, 0, (size_t)n);
         for (line = 0; line < 4 && ok; line++) {
             qline l;
             float mx, my, lnx, lny, lc;
             int cnt = 0;
             unsigned char tag = (unsigned char)(line + 1);
-            if (nfree < m) {
+            if (nfree < m ||
+                !sample_line(&k, lab, (int)actag_rng_below(rng, (uint32_t)n), m, &l, &mx, &my)) {
                 ok = 0;
                 break;
             }
-            /* A run along the border: on a quad it usually lies on one side. */
-            if (!sample_line(&k, lab, (int)actag_rng_below(rng, (uint32_t)n), m, &l, &mx, &my)) {
-                ok = 0;
-                break;
-            }
-            /* Claim the free points within d of the line (branch-free so
-             * the compiler can vectorise it: this loop is most of the time). */
+            /* Branch-free so that compilers vectorise it: with the sampling
+             * walks, this loop is most of the time spent. */
             lnx = l.nx;
             lny = l.ny;
             lc = l.c;
@@ -588,20 +550,20 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
             nfree -= cnt;
             claimed += cnt;
             lines[line] = l;
-            /* Any point on each side orders the sides around an interior
+            /* Any point of each side orders the sides around an interior
              * point; the run's centroid will do. */
             key[line] = pseudo_angle(mx - k.cx, my - k.cy);
         }
-        /* A quad's side inliers are a subset of the points its lines
-         * claimed: too few claimed points cannot make a promising quad or
-         * beat the best one so far. */
         if (!ok)
             continue;
+        /* 2. A quad's inliers are a subset of the points its lines
+         * claimed: too few claimed points can neither promise a quad nor
+         * beat the best unrefined quad so far. */
         r = ratio_of(claimed, n);
         if (r < promise || r <= best_r0)
             continue;
 
-        /* Order the lines clockwise around the centroid (insertion sort). */
+        /* 3. Order the lines clockwise around the centroid, intersect. */
         for (i = 0; i < 4; i++)
             order[i] = i;
         for (i = 1; i < 4; i++) {
@@ -616,30 +578,30 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
             q.line[i] = lines[order[i]];
         if (!quad_from_lines(&q) || !quad_shape_ok(&k, &q, 0))
             continue;
-        r0 = quad_support(&k, &q);
-        if (r0 < promise || r0 <= best_r0)
+
+        /* 4. Refine each new best unrefined quad and test it. */
+        r = quad_support(&k, &q);
+        if (r < promise || r <= best_r0)
             continue;
-        /* A new best unrefined quad: refine and test it. */
-        best_r0 = r0;
+        best_r0 = r;
         if (!refine_and_accept(&k, &q, &cand, &r))
             continue;
-        if (r >= k.ratio) { /* good enough: stop here */
-            best = cand;
-            best_ratio = r;
-            have = 1;
-            it++;
-            break;
-        }
         if (!have || r > best_ratio) {
             best = cand;
             best_ratio = r;
             have = 1;
         }
+        if (r >= k.ratio) { /* good enough: stop here */
+            it++;
+            break;
+        }
     }
     out->iterations = it;
-    if (have) {
+    if (!have)
+        return ACTAG_ERR_NO_QUAD;
+    {
         /* Start at the topmost corner (then leftmost), judged on the
-         * returned coordinates so the rule holds exactly for them. */
+         * returned coordinates so that the rule holds exactly for them. */
         actag_point c[4];
         int s0 = 0;
         for (i = 0; i < 4; i++) {
@@ -652,7 +614,6 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         for (i = 0; i < 4; i++)
             out->corners[i] = c[(s0 + i) & 3];
         out->inlier_ratio = best_ratio;
-        return ACTAG_OK;
     }
-    return ACTAG_ERR_NO_QUAD;
+    return ACTAG_OK;
 }

@@ -96,7 +96,7 @@ typedef struct actag_params {
     float tag_size;             /* metres: side of the inner white square (default 3/7 ft) */
     int max_bit_corrections;    /* 0 .. actag_family_max_corrections(family) (default 0) */
     int median_radius;          /* pixels (default 4); 0 disables the filter */
-    int threshold_radius;       /* pixels (default 8) */
+    int threshold_radius;       /* pixels (default 8), at most ACTAG_MAX_THRESHOLD_RADIUS */
     int threshold_offset;       /* grey levels (default 1) */
     float size_tolerance;       /* contour size filter slack (default 0.2) */
     float min_area_fraction;    /* contour area >= this * diag_r_px * diag_az_px * (1 - tol) (0.1) */
@@ -136,6 +136,13 @@ typedef struct actag_stats {
     int dropped;         /* detections beyond max_out */
 } actag_stats;
 
+/* Largest threshold_radius the workspace is sized for (stb-style
+ * configuration: define it before including actag.h, and build the library
+ * with the same value). The paper uses 8. */
+#ifndef ACTAG_MAX_THRESHOLD_RADIUS
+#define ACTAG_MAX_THRESHOLD_RADIUS 32
+#endif
+
 /* Points buffered for one contour: no contour that could be a tag is longer. */
 #define ACTAG_CONTOUR_CAP(rows, cols) (4 * ((size_t)(rows) + (size_t)(cols)) + 64u)
 
@@ -143,7 +150,8 @@ typedef struct actag_stats {
 #define ACTAG__MAX(a, b) ((a) > (b) ? (a) : (b))
 #define ACTAG__STAGE_SCRATCH(rows, cols)                                                     \
     ACTAG__MAX(ACTAG__MAX(ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols),                            \
-                          ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols)),                        \
+                          ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols,                         \
+                                                         ACTAG_MAX_THRESHOLD_RADIUS)),      \
                ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint)) +       \
                    ACTAG_QUAD_SCRATCH_SIZE(ACTAG_CONTOUR_CAP(rows, cols)))
 
