@@ -12,6 +12,8 @@ if(UNITY_ROOT)
   endif()
   add_library(actag_unity_impl STATIC ${UNITY_ROOT}/src/unity.c)
   target_include_directories(actag_unity_impl PUBLIC ${UNITY_ROOT}/src)
+  # Flush after every test so a crashing test keeps the lines before it.
+  target_compile_definitions(actag_unity_impl PUBLIC UNITY_USE_FLUSH_STDOUT)
   target_link_libraries(actag_unity INTERFACE actag_unity_impl)
   message(STATUS "actag tests: Unity from ${UNITY_ROOT}")
 else()

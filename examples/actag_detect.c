@@ -94,9 +94,13 @@ typedef struct {
     int rows, cols, stride, depth;
 } image;
 
+/* The last per-file error, for the --json error line. */
+static char last_error[256];
+
 static int fail(const char *file, const char *what)
 {
     fprintf(stderr, PROG ": %s: %s\n", file, what);
+    snprintf(last_error, sizeof last_error, "%s", what);
     return -1;
 }
 
@@ -271,6 +275,19 @@ static void json_string(FILE *f, const char *s)
             fputc(c, f);
     }
     fputc('"', f);
+}
+
+/* In --json mode every input file gets exactly one line, errors included. */
+static void json_error(int json, const char *file)
+{
+    if (!json)
+        return;
+    printf("{\"file\": ");
+    json_string(stdout, file);
+    printf(", \"error\": ");
+    json_string(stdout, last_error);
+    printf("}\n");
+    fflush(stdout);
 }
 
 static uint8_t grey8(const image *im, int r, int c, uint32_t maxv)
@@ -588,6 +605,7 @@ int main(int argc, char **argv)
         const char *file = files[i];
 
         if (load_image(file, raw_rows, raw_cols, raw_depth, raw_stride, &im) != 0) {
+            json_error(json, file);
             status = 2;
             continue;
         }
@@ -595,6 +613,7 @@ int main(int argc, char **argv)
         if (bearings_path) {
             bearings = (float *)malloc((size_t)im.cols * sizeof(float));
             if (!bearings || load_bearings(bearings_path, im.cols, bearings) != 0) {
+                json_error(json, file);
                 free(bearings);
                 free(im.data);
                 status = 2;
@@ -606,6 +625,7 @@ int main(int argc, char **argv)
         ws = malloc(wsize);
         if (!ws) {
             fail(file, "out of memory for the workspace");
+            json_error(json, file);
             free(bearings);
             free(im.data);
             status = 2;
@@ -621,6 +641,7 @@ int main(int argc, char **argv)
         t1 = now_ms();
         if (n < 0) {
             fail(file, actag_strerror(n));
+            json_error(json, file);
             status = 2;
         } else if (json) {
             printf("{\"file\": ");

@@ -1,6 +1,12 @@
 /* Decode stage: quad -> homography -> sampled data ring -> family match. */
 #include "actag/decode.h"
 
+#include <math.h>
+
+#ifdef ACTAG_DEBUG_SEEK
+#include <stdio.h>
+#endif
+
 /* 1 for 16, 20, 24, 28, 32 data bits. */
 static int bits_ok(int bits) { return bits >= 16 && bits <= 32 && bits % 4 == 0; }
 
@@ -437,6 +443,9 @@ static int decode_quad(const uint8_t *binary, const uint8_t *align, int rows, in
         return ACTAG_ERR_NO_MATCH;
 
     out->observed = w;
+    out->contrast = 0.0f;
+    out->flip_weight = 0.0f;
+    out->min_confidence = 0.0f;
     out->ring_black = ring_n ? (float)ring_black / (float)ring_n : 1.0f;
     out->interior_white = in_n ? (float)in_white / (float)in_n : 1.0f;
     if (du <= dm) {
@@ -491,4 +500,547 @@ int actag_decode_quad_aligned(const uint8_t *binary, const uint8_t *grey, int ro
         return ACTAG_ERR_NULL;
     return decode_quad(binary, grey, rows, cols, stride, quad, family, max_corrections,
                        ACTAG_DECODE_DEFAULT_MODEL, 0, 0, out);
+}
+
+/* ------------------------------------------------------------------------
+ * Grid-fitting soft decoder (actag_decode_quad_fit). */
+
+/* The affine tag grid: image point of grid point (u, v) is
+ * m + a (u - g) + b (v - g), g the grid centre. */
+typedef struct fgrid {
+    float mx, my, ax, ay, bx, by;
+} fgrid;
+
+typedef struct fimg {
+    const uint8_t *img;
+    int rows, cols, stride;
+    float so; /* sample offset, cells */
+} fimg;
+
+/* Bilinear grey level at (x, y), pixel centres on integers; edge pixels
+ * are replicated outside the image. Only + - * decide it. */
+static float fsample(const fimg *im, float x, float y)
+{
+    int x0, y0, x1, y1;
+    float fx, fy, v00, v01, v10, v11;
+    const uint8_t *r0, *r1;
+    if (!(x >= 0.0f))
+        x = 0.0f;
+    if (!(y >= 0.0f))
+        y = 0.0f;
+    if (x > (float)(im->cols - 1))
+        x = (float)(im->cols - 1);
+    if (y > (float)(im->rows - 1))
+        y = (float)(im->rows - 1);
+    x0 = (int)x;
+    y0 = (int)y;
+    fx = x - (float)x0;
+    fy = y - (float)y0;
+    x1 = x0 + 1 < im->cols ? x0 + 1 : x0;
+    y1 = y0 + 1 < im->rows ? y0 + 1 : y0;
+    r0 = im->img + (size_t)y0 * (size_t)im->stride;
+    r1 = im->img + (size_t)y1 * (size_t)im->stride;
+    v00 = (float)r0[x0];
+    v01 = (float)r0[x1];
+    v10 = (float)r1[x0];
+    v11 = (float)r1[x1];
+    v00 += (v01 - v00) * fx;
+    v10 += (v11 - v10) * fx;
+    return v00 + (v10 - v00) * fy;
+}
+
+/* Mean grey level of every cell of the (k+1)^2 grid over a 3x3 sample
+ * pattern (+-ACTAG_DECODE_SAMPLE_OFFSET cell), m[cy * (k+1) + cx]. */
+static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
+{
+    int cx, cy, a, b, n = k + 1;
+    float g = 0.5f * (float)n;
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++) {
+            float s = 0.0f;
+            for (b = -1; b <= 1; b++) {
+                float v = (float)cy + 0.5f + (float)b * im->so - g;
+                for (a = -1; a <= 1; a++) {
+                    float u = (float)cx + 0.5f + (float)a * im->so - g;
+                    s += fsample(im, gr->mx + gr->ax * u + gr->bx * v,
+                                 gr->my + gr->ay * u + gr->by * v);
+                }
+            }
+            m[cy * n + cx] = s * (1.0f / 9.0f);
+        }
+}
+
+static int is_ring(int cx, int cy, int k)
+{
+    return (cx == 1 || cy == 1 || cx == k - 1 || cy == k - 1) && cx >= 1 && cy >= 1 &&
+           cx <= k - 1 && cy <= k - 1;
+}
+
+/* Black ring mean and white interior mean of the cell means. */
+static void flevels(const float *m, int k, float *black, float *white)
+{
+    int cx, cy, n = k + 1, nr = 0, ni = 0;
+    float sr = 0.0f, si = 0.0f;
+    for (cy = 1; cy < k; cy++)
+        for (cx = 1; cx < k; cx++) {
+            if (is_ring(cx, cy, k)) {
+                sr += m[cy * n + cx];
+                nr++;
+            } else {
+                si += m[cy * n + cx];
+                ni++;
+            }
+        }
+    *black = sr / (float)nr;
+    *white = si / (float)ni;
+}
+
+#ifndef ACTAG_FIT_RING_LEVEL
+#define ACTAG_FIT_RING_LEVEL 0.5f
+#endif
+#ifndef ACTAG_FIT_INTERIOR_LEVEL
+#define ACTAG_FIT_INTERIOR_LEVEL 0.5f
+#endif
+#ifndef ACTAG_FIT_DATA_LEVEL
+#define ACTAG_FIT_DATA_LEVEL 0.5f
+#endif
+
+/* Code-agnostic crispness of a grid: black ring cells below, interior
+ * cells above the mid level, data cells far from it (either side, capped
+ * at half the contrast so bright clutter cannot pull the grid). */
+static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
+{
+    int cx, cy, n = k + 1;
+    float black, white, t, half, s = 0.0f;
+    fcells(im, gr, k, m);
+    flevels(m, k, &black, &white);
+    t = black + ACTAG_FIT_DATA_LEVEL * (white - black);
+    half = ACTAG_FIT_DATA_LEVEL * (white - black);
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++) {
+            float v = m[cy * n + cx] - t;
+            if (cx == 0 || cy == 0 || cx == k || cy == k) {
+                v = v < 0.0f ? -v : v;
+                s += v < half ? v : half;
+            }
+        }
+    return s + (white - black) * (float)((k - 1) * (k - 1));
+}
+
+/* Coarse translation search (+-1 cell, quarter-cell steps) by fscore. */
+static void fshift(const fimg *im, fgrid *gr, int k, float *m)
+{
+    /* Shears of the grid (sonar images show tags as parallelograms):
+     * b += h a (lb / la) or a += h b (la / lb); then a half-cell lattice
+     * of shifts. */
+    static const float hb[7] = {0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 0.0f, 0.0f};
+    static const float ha[7] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.5f, -0.5f};
+    fgrid g0 = *gr, t;
+    float best = -1e30f;
+    float la = sqrtf(g0.ax * g0.ax + g0.ay * g0.ay), lb = sqrtf(g0.bx * g0.bx + g0.by * g0.by);
+    float q = la > 0.0f ? lb / la : 1.0f;
+    int i, j, o;
+    for (o = 0; o < 7; o++) {
+        fgrid gro = g0;
+        gro.bx = g0.bx + hb[o] * q * g0.ax;
+        gro.by = g0.by + hb[o] * q * g0.ay;
+        gro.ax = g0.ax + ha[o] / q * g0.bx;
+        gro.ay = g0.ay + ha[o] / q * g0.by;
+        for (j = -2; j <= 2; j++)
+            for (i = -2; i <= 2; i++) {
+                float sc;
+                t = gro;
+                t.mx += 0.5f * ((float)i * g0.ax + (float)j * g0.bx);
+                t.my += 0.5f * ((float)i * g0.ay + (float)j * g0.by);
+                sc = fscore(im, &t, k, m);
+                if (sc > best) {
+                    best = sc;
+                    *gr = t;
+                }
+            }
+    }
+}
+
+/* Coordinate ascent of fscore over the 6 affine parameters. */
+static void ffit(const fimg *im, fgrid *gr, int k, float *m)
+{
+    static const float scales[3] = {1.0f, 0.5f, 0.25f};
+    fgrid g0 = *gr;
+    float la = sqrtf(gr->ax * gr->ax + gr->ay * gr->ay);
+    float lb = sqrtf(gr->bx * gr->bx + gr->by * gr->by);
+    float best = fscore(im, gr, k, m);
+    int lvl, it, p, sgn;
+    for (lvl = 0; lvl < 3; lvl++) {
+        for (it = 0; it < 8; it++) {
+            int improved = 0;
+            for (p = 0; p < 6; p++)
+                for (sgn = -1; sgn <= 1; sgn += 2) {
+                    fgrid t = *gr;
+                    float d, s;
+                    float *f = p == 0 ? &t.mx : p == 1 ? &t.my : p == 2 ? &t.ax
+                             : p == 3 ? &t.ay : p == 4 ? &t.bx : &t.by;
+                    d = (p < 2 ? 0.15f * (la < lb ? la : lb) : 0.05f * (p < 4 ? la : lb)) *
+                        scales[lvl] * (float)sgn;
+                    *f += d;
+                    /* stay within half a cell and +-35 % of the quad's grid */
+                    if ((t.mx - g0.mx) * (t.mx - g0.mx) + (t.my - g0.my) * (t.my - g0.my) >
+                            0.25f * la * lb ||
+                        t.ax * t.ax + t.ay * t.ay > 1.8f * la * la ||
+                        t.ax * t.ax + t.ay * t.ay < 0.42f * la * la ||
+                        t.bx * t.bx + t.by * t.by > 1.8f * lb * lb ||
+                        t.bx * t.bx + t.by * t.by < 0.42f * lb * lb)
+                        continue;
+                    s = fscore(im, &t, k, m);
+                    if (s > best) {
+                        best = s;
+                        *gr = t;
+                        improved = 1;
+                        break;
+                    }
+                }
+            if (!improved)
+                break;
+        }
+    }
+    fcells(im, gr, k, m);
+}
+
+/* Data cell i's reference cells: the black-ring cell next to it (towards the
+ * tag centre; the ring corner for the data ring's corners) and the interior
+ * cell next to that one. */
+static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
+{
+    int cx, cy;
+    bit_cell(i, k, &cx, &cy);
+    *rx = cx < 1 ? 1 : cx > k - 1 ? k - 1 : cx;
+    *ry = cy < 1 ? 1 : cy > k - 1 ? k - 1 : cy;
+    *wx = *rx < 2 ? 2 : *rx > k - 2 ? k - 2 : *rx;
+    *wy = *ry < 2 ? 2 : *ry > k - 2 ? k - 2 : *ry;
+}
+
+/* actag_family_match_rotations() counting only the bits in keep (a set of
+ * sequence positions closed under rotation and reflection, e.g. all but
+ * the four corner cells). */
+static int match_rot_masked(const actag_family *family, uint32_t observed, uint32_t keep,
+                            int max_corrections, actag_match *out)
+{
+    uint32_t obs[4];
+    int o, i, best = 33;
+    if (keep == actag_code_mask(family->bits))
+        return actag_family_match_rotations(family, observed, max_corrections, out);
+    obs[0] = observed & actag_code_mask(family->bits);
+    for (o = 1; o < 4; o++) /* obs[o] = rot^-o(observed) = rot^(4-o) */
+        obs[o] = actag_code_rot90(actag_code_rot90(actag_code_rot90(obs[o - 1], family->bits),
+                                                   family->bits),
+                                  family->bits);
+    for (i = 0; i < family->ncodes; i++) {
+        uint32_t c = family->codes[i];
+        for (o = 0; o < 4; o++) {
+            int d = actag_popcount32((c ^ obs[o]) & keep);
+            if (d < best) {
+                best = d;
+                out->id = i;
+                out->rotation = o;
+                out->mirrored = 0;
+                out->hamming = d;
+            }
+        }
+        if (best == 0)
+            break;
+    }
+    return best > max_corrections ? ACTAG_ERR_NO_MATCH : ACTAG_OK;
+}
+
+void actag_fit_params_default(actag_fit_params *fp)
+{
+    if (fp == NULL)
+        return;
+    fp->flags = ACTAG_FIT_DEFAULT_FLAGS;
+    fp->level = 0.5f;
+    fp->min_contrast = 5;
+    fp->sample_offset = 0.2f;
+}
+
+int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
+                          const actag_point quad[4], const actag_family *family,
+                          int max_corrections, const actag_fit_params *fp,
+                          actag_decode_result *out)
+{
+    int flags, min_contrast;
+    float level;
+    fimg im;
+    fgrid gr;
+    float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+    float conf[32], black, white, contrast, flips = 0.0f, minc = 1e30f, px = 0.0f, py = 0.0f;
+    actag_point q[4];
+    actag_match mu, mm;
+    uint32_t w = 0, e, diff, keep;
+    int rc, rcu, rcm, maxc, bits, k, n, du, dm, i, orient, ring_ok = 0, in_ok = 0, cx, cy;
+    if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    rc = check_image(grey, rows, cols, stride);
+    if (rc != ACTAG_OK)
+        return rc;
+    rc = actag_family_validate(family);
+    if (rc != ACTAG_OK)
+        return rc;
+    flags = fp->flags;
+    min_contrast = fp->min_contrast;
+    level = fp->level;
+    if (min_contrast < 0 || min_contrast > 255 || !(level >= 0.0f) || !(level <= 1.0f) ||
+        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f))
+        return ACTAG_ERR_PARAM;
+    maxc = actag_family_max_corrections(family);
+    if (max_corrections < 0 || max_corrections > maxc)
+        return ACTAG_ERR_CORRECTIONS;
+    bits = family->bits;
+    k = bits / 4;
+    n = k + 1;
+    keep = actag_code_mask(bits);
+    if (flags & ACTAG_FIT_ERASE_CORNERS)
+        for (i = 0; i < 4; i++) /* sequence positions 0, k, 2k, 3k */
+            keep &= ~((uint32_t)1u << (bits - 1 - i * k));
+    orient = quad_orientation(quad);
+    if (orient == 0)
+        return ACTAG_ERR_PARAM;
+    q[0] = quad[0];
+    for (i = 1; i < 4; i++)
+        q[i] = quad[orient > 0 ? i : 4 - i];
+    rc = actag_tag_affine(q, bits, H);
+    if (rc != ACTAG_OK)
+        return rc;
+    im.img = grey;
+    im.rows = rows;
+    im.cols = cols;
+    im.stride = stride;
+    im.so = fp->sample_offset;
+    gr.ax = H[0];
+    gr.bx = H[1];
+    gr.ay = H[3];
+    gr.by = H[4];
+    gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
+    gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
+    if (flags & ACTAG_FIT_WIDE)
+        fshift(&im, &gr, k, m);
+    if (flags & ACTAG_FIT_NO_SEARCH)
+        fcells(&im, &gr, k, m);
+    else
+        ffit(&im, &gr, k, m);
+    /* The whole grid must lie in the image: a tag cut by the frame edge
+     * cannot be read (edge replication would invent its data cells). */
+    {
+        float ex = (gr.ax < 0.0f ? -gr.ax : gr.ax) + (gr.bx < 0.0f ? -gr.bx : gr.bx);
+        float ey = (gr.ay < 0.0f ? -gr.ay : gr.ay) + (gr.by < 0.0f ? -gr.by : gr.by);
+        float hw = 0.5f * (float)k; /* centre to the data cells' centres, cells */
+        if (gr.mx - ex * hw < 0.0f || gr.mx + ex * hw > (float)(cols - 1) ||
+            gr.my - ey * hw < 0.0f || gr.my + ey * hw > (float)(rows - 1))
+            return ACTAG_ERR_NO_MATCH;
+    }
+    flevels(m, k, &black, &white);
+    contrast = white - black;
+    if (!(contrast >= (float)min_contrast) || !(contrast > 0.0f))
+        return ACTAG_ERR_NO_MATCH;
+    for (cy = 1; cy < k; cy++)
+        for (cx = 1; cx < k; cx++) {
+            float v = m[cy * n + cx];
+            if (is_ring(cx, cy, k))
+                ring_ok += v < black + ACTAG_FIT_RING_LEVEL * contrast;
+            else
+                in_ok += v > black + ACTAG_FIT_INTERIOR_LEVEL * contrast;
+        }
+    if (flags & ACTAG_FIT_PLANE) {
+        float sxm = 0.0f, sym = 0.0f, sxx = 0.0f, syy = 0.0f;
+        for (cy = 1; cy < k; cy++)
+            for (cx = 1; cx < k; cx++)
+                if (is_ring(cx, cy, k)) {
+                    float gx = (float)cx - 0.5f * (float)k, gy = (float)cy - 0.5f * (float)k;
+                    sxm += gx * m[cy * n + cx];
+                    sym += gy * m[cy * n + cx];
+                    sxx += gx * gx;
+                    syy += gy * gy;
+                }
+        px = sxm / sxx;
+        py = sym / syy;
+    }
+    if (flags & ACTAG_FIT_OTSU) {
+        /* Otsu split of the data-cell means (code-agnostic, one word). */
+        float sv[32], tot = 0.0f, cum = 0.0f, bestv = -1.0f;
+        int j, a2;
+        for (i = 0; i < bits; i++) {
+            bit_cell(i, k, &cx, &cy);
+            sv[i] = m[cy * n + cx];
+            tot += sv[i];
+        }
+        for (i = 1; i < bits; i++)
+            for (j = i; j > 0 && sv[j - 1] > sv[j]; j--) {
+                float t = sv[j];
+                sv[j] = sv[j - 1];
+                sv[j - 1] = t;
+            }
+        for (a2 = 1; a2 < bits; a2++) {
+            float m0, m1, v;
+            cum += sv[a2 - 1];
+            m0 = cum / (float)a2;
+            m1 = (tot - cum) / (float)(bits - a2);
+            v = (float)a2 * (float)(bits - a2) * (m1 - m0) * (m1 - m0);
+            if (v > bestv) {
+                bestv = v;
+                level = (0.5f * (sv[a2 - 1] + sv[a2]) - black) / contrast;
+            }
+        }
+    }
+    for (i = 0; i < bits; i++) {
+        float t, c;
+        bit_cell(i, k, &cx, &cy);
+        if (flags & ACTAG_FIT_PLANE) {
+            /* black level as a plane through the ring cells (the ring is
+             * symmetric about the centre, so the fit is three sums) */
+            float gx = (float)cx - 0.5f * (float)k, gy = (float)cy - 0.5f * (float)k;
+            t = black + px * gx + py * gy + level * contrast;
+        } else if (flags & ACTAG_FIT_LOCAL) {
+            int rx, ry, wx, wy;
+            fref_cells(i, k, &rx, &ry, &wx, &wy);
+            t = 0.5f * (m[ry * n + rx] + m[wy * n + wx]);
+        } else {
+            t = black + level * contrast;
+        }
+        c = (m[cy * n + cx] - t) / contrast;
+        conf[i] = c;
+        w = (w << 1) | (c > 0.0f ? 1u : 0u);
+        c = c < 0.0f ? -c : c;
+        if (c < minc)
+            minc = c;
+    }
+
+    if (flags & ACTAG_FIT_SPLIT) {
+        /* Code-aware threshold: try every split of the sorted data-cell
+         * values below the mid level and keep the word closest to a code. */
+        float sv[32];
+        int j, a, best = 2 * maxc + 3;
+        long key = -1;
+        for (i = 0; i < bits; i++)
+            sv[i] = conf[i];
+        for (i = 1; i < bits; i++)
+            for (j = i; j > 0 && sv[j - 1] > sv[j]; j--) {
+                float t = sv[j];
+                sv[j] = sv[j - 1];
+                sv[j - 1] = t;
+            }
+        for (j = 0; j < bits; j++) {
+            float t = j == 0 ? sv[0] - 1.0f : 0.5f * (sv[j - 1] + sv[j]);
+            uint32_t ww = 0;
+            actag_match a1, a2;
+            int r1, r2, d1, d2;
+            if (t > ACTAG_FIT_SPLIT_HI - level)
+                break;
+            if (t < ACTAG_FIT_SPLIT_LO - level)
+                continue;
+            for (a = 0; a < bits; a++)
+                ww = (ww << 1) | (conf[a] > t ? 1u : 0u);
+            r1 = match_rot_masked(family, ww, keep, maxc, &a1);
+            r2 = match_rot_masked(family, actag_decode_mirror(ww, bits), keep, maxc, &a2);
+            d1 = r1 == ACTAG_OK ? a1.hamming : maxc + 1;
+            d2 = r2 == ACTAG_OK ? a2.hamming : maxc + 1;
+            /* Every split that reads as a tag must read as the same tag in
+             * the same pose; otherwise the threshold decides the ID and the
+             * reading is ambiguous. */
+            if (d1 <= max_corrections) {
+                long key1 = (long)a1.id * 8L + (long)a1.rotation;
+                if (key >= 0 && key != key1)
+                    return ACTAG_ERR_NO_MATCH;
+                key = key1;
+            }
+            if (d2 <= max_corrections) {
+                long key2 = (long)a2.id * 8L + 4L + (long)a2.rotation;
+                if (key >= 0 && key != key2)
+                    return ACTAG_ERR_NO_MATCH;
+                key = key2;
+            }
+            if ((d1 < d2 ? d1 : d2) < best) {
+                best = d1 < d2 ? d1 : d2;
+                w = ww;
+            }
+        }
+        for (i = 0; i < bits; i++) /* confidences relative to the chosen split */
+            conf[i] = ((w >> (bits - 1 - i)) & 1u) ? (conf[i] > 0.0f ? conf[i] : 0.01f)
+                                                   : (conf[i] < 0.0f ? conf[i] : -0.01f);
+    }
+    rcu = match_rot_masked(family, w, keep, maxc, &mu);
+    rcm = match_rot_masked(family, actag_decode_mirror(w, bits), keep, maxc, &mm);
+    if ((rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH) ||
+        (rcm != ACTAG_OK && rcm != ACTAG_ERR_NO_MATCH))
+        return rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH ? rcu : rcm;
+    du = rcu == ACTAG_OK ? mu.hamming : maxc + 1;
+    dm = rcm == ACTAG_OK ? mm.hamming : maxc + 1;
+#ifdef ACTAG_DEBUG_SEEK
+    fprintf(stderr, "  fit: centre r%.1f c%.1f a(%.1f,%.1f) b(%.1f,%.1f) contrast %.0f ring %d/%d in %d/%d du %d dm %d\n",
+            gr.my, gr.mx, gr.ax, gr.ay, gr.bx, gr.by, contrast, ring_ok, 4 * (k - 2), in_ok,
+            (k - 3) * (k - 3), du, dm);
+#endif
+    if (du > max_corrections && dm > max_corrections)
+        return ACTAG_ERR_NO_MATCH;
+
+    out->observed = w;
+    out->ring_black = (float)ring_ok / (float)(4 * (k - 2));
+    out->interior_white = (float)in_ok / (float)((k - 3) * (k - 3));
+    if (du <= dm) {
+        int r = mu.rotation;
+        out->id = mu.id;
+        out->hamming = du;
+        out->mirrored = 0;
+        out->rotation = r;
+        out->mirror_margin = dm - du;
+        for (i = 0; i < 4; i++)
+            out->corners[i] = q[(i - r + 4) & 3];
+        e = family->codes[mu.id];
+        for (i = 0; i < r; i++)
+            e = actag_code_rot90(e, bits);
+    } else {
+        int r = mm.rotation;
+        out->id = mm.id;
+        out->hamming = dm;
+        out->mirrored = 1;
+        out->rotation = r;
+        out->mirror_margin = du - dm;
+        for (i = 0; i < 4; i++)
+            out->corners[i] = q[(r - i + 4) & 3];
+        e = family->codes[mm.id];
+        for (i = 0; i < r; i++)
+            e = actag_code_rot90(e, bits);
+        e = actag_decode_mirror(e, bits);
+    }
+    {
+        /* the fitted grid's white-square corners, in the same tag order */
+        actag_point fq[4];
+        float lo = 2.0f - 0.5f * (float)n, hi = (float)(k - 1) - 0.5f * (float)n;
+        static const int su[4] = {0, 1, 1, 0}, sv[4] = {0, 0, 1, 1};
+        for (i = 0; i < 4; i++) {
+            float u = su[i] ? hi : lo, v = sv[i] ? hi : lo;
+            fq[i].x = gr.mx + gr.ax * u + gr.bx * v;
+            fq[i].y = gr.my + gr.ay * u + gr.by * v;
+        }
+        for (i = 0; i < 4; i++)
+            out->fit_corners[i] = out->mirrored ? fq[(out->rotation - i + 4) & 3]
+                                                : fq[(i - out->rotation + 4) & 3];
+    }
+    diff = (w ^ e) & keep;
+#ifdef ACTAG_DEBUG_SEEK
+    {
+        char buf[40];
+        int r = out->rotation;
+        for (i = 0; i < bits; i++) {
+            int cpos = out->mirrored ? ((r * k - i) % bits + bits) % bits : (i + r * k) % bits;
+            buf[cpos] = (diff >> (bits - 1 - i)) & 1u ? 'X' : '.';
+        }
+        buf[bits] = 0;
+        fprintf(stderr, "  errs %s id %d\n", buf, out->id);
+    }
+#endif
+    for (i = 0; i < bits; i++)
+        if (diff & ((uint32_t)1u << (bits - 1 - i)))
+            flips += conf[i] < 0.0f ? -conf[i] : conf[i];
+    out->contrast = contrast;
+    out->flip_weight = flips;
+    out->min_confidence = minc;
+    return ACTAG_OK;
 }

@@ -5,6 +5,9 @@
 #include "actag/actag.h"
 
 #include <string.h>
+#ifdef ACTAG_DEBUG_SEEK
+#include <stdio.h>
+#endif
 
 /* Workspace layout (see ACTAG_WORKSPACE_SIZE):
  *   [0..15 alignment][A: binary (16-bit input is converted here first)]
@@ -72,6 +75,18 @@ void actag_params_default(actag_params *p)
     p->decode_mode = ACTAG_DECODE_GREY;
     p->min_contrast = 5;
     p->seed = 1u;
+    actag_fit_params_default(&p->fit);
+    p->fit_offset2 = 0.0f;
+    p->max_flip_weight = 1.0e30f;
+    p->extra_passes = 0;
+    p->search_candidates = 0;
+    p->search_min_score = 15;
+    p->search_range_scale = 0.75f;
+    p->search_max_corrections = 3;
+    p->pass_offset = 0;
+    p->min_structure = 0.0f;
+    p->min_side_fraction = 0.0f;
+    p->max_side_fraction = 1.0e30f;
 }
 
 static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
@@ -96,7 +111,18 @@ int actag_params_validate(const actag_params *p)
         !(p->min_area_fraction >= 0.0f) || !(p->max_area_fraction >= p->min_area_fraction) ||
         !(p->max_area_fraction < 1.0e6f))
         return ACTAG_ERR_PARAM;
-    if (p->decode_mode < ACTAG_DECODE_GREY || p->decode_mode > ACTAG_DECODE_ALIGNED ||
+    if (p->decode_mode < ACTAG_DECODE_GREY || p->decode_mode > ACTAG_DECODE_FIT ||
+        !(p->max_flip_weight >= 0.0f) || !(p->min_structure >= 0.0f) ||
+        !(p->fit.level >= 0.0f) || !(p->fit.level <= 1.0f) || p->fit.min_contrast < 0 ||
+        p->fit.min_contrast > 255 || !(p->fit.sample_offset >= 0.0f) ||
+        !(p->fit.sample_offset <= 0.5f) || !(p->fit_offset2 >= 0.0f) ||
+        !(p->fit_offset2 <= 0.5f) || p->extra_passes < 0 || p->extra_passes > 4 ||
+        p->search_candidates < 0 || p->search_candidates > 64 || p->search_min_score < 0 ||
+        p->search_min_score > 255 || !(p->search_range_scale > 0.05f) ||
+        !(p->search_range_scale <= 4.0f) || p->search_max_corrections < 0 ||
+        p->pass_offset < -255 || p->pass_offset > 255 ||
+        !(p->min_structure <= 1.0f) || !(p->min_side_fraction >= 0.0f) ||
+        !(p->max_side_fraction >= p->min_side_fraction) ||
         p->min_contrast < 0 || p->min_contrast > 255)
         return ACTAG_ERR_PARAM;
     if (p->quad.max_iterations < 1 || !(p->quad.sample_fraction > 0.0f) ||
@@ -154,6 +180,223 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
     return 1;
 }
 
+/* Physical plausibility of a fitted quad: every side, measured in metres
+ * through the sonar geometry, within [min, max] * tag_size. */
+static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g,
+                           const actag_params *p, int rows, int cols)
+{
+    float rg[4], az[4], lo = p->min_side_fraction * p->tag_size,
+                        hi = p->max_side_fraction * p->tag_size;
+    int i;
+    for (i = 0; i < 4; i++) {
+        rg[i] = actag_geometry_range(g, rows, c[i].y);
+        az[i] = actag_geometry_azimuth(g, cols, c[i].x);
+    }
+    for (i = 0; i < 4; i++) {
+        int j = (i + 1) & 3;
+        float dr = rg[i] - rg[j];
+        float da = (az[i] - az[j]) * 0.5f * (rg[i] + rg[j]);
+        float l2 = dr * dr + da * da;
+        if (!(l2 >= lo * lo) || !(l2 <= hi * hi))
+            return 0;
+    }
+    return 1;
+}
+
+/* ---- structure search: candidates that contours miss -------------------
+ * A tag's white square inside its black ring is a bright box in a dark
+ * frame at a known physical size. Box sums over a 2x2-averaged copy of the
+ * filtered frame (integral image in the stage scratch) score every
+ * position by (mean of the 3x3-cell box) - (mean of the ring of cells
+ * around it); the best separated maxima are handed to the decoder as
+ * axis-aligned quads, and the decoder's grid fit does the rest. */
+
+/* Resolution reduction of the search (F x F blocks averaged). */
+#define SEEK_F 4
+
+typedef struct seek_ctx {
+    uint32_t *ii; /* (hr + 1) x (hc + 1) integral of the half-resolution image */
+    int16_t *map; /* hr x hc scores (grey levels x 8) */
+    int hr, hc;
+} seek_ctx;
+
+static uint32_t box_sum(const seek_ctx *z, int r0, int c0, int r1, int c1)
+{
+    /* rows r0..r1-1, cols c0..c1-1, clamped */
+    size_t w = (size_t)z->hc + 1u;
+    if (r0 < 0) r0 = 0;
+    if (c0 < 0) c0 = 0;
+    if (r1 > z->hr) r1 = z->hr;
+    if (c1 > z->hc) c1 = z->hc;
+    if (r1 <= r0 || c1 <= c0)
+        return 0u;
+    return z->ii[(size_t)r1 * w + (size_t)c1] - z->ii[(size_t)r0 * w + (size_t)c1] -
+           z->ii[(size_t)r1 * w + (size_t)c0] + z->ii[(size_t)r0 * w + (size_t)c0];
+}
+
+/* Fills the score map; returns 0 when the scratch is too small. */
+static int seek_map(seek_ctx *z, const uint8_t *img, int rows, int cols, uint8_t *mapmem,
+                    size_t mapmem_size, uint8_t *scratch, size_t scratch_size,
+                    const actag_sonar_geometry *g, const actag_params *p)
+{
+    int r, c, hr = rows / SEEK_F, hc = cols / SEEK_F;
+    size_t w = (size_t)hc + 1u;
+    float dr = actag_geometry_range_step(g, rows);
+    if (hr < 4 || hc < 4 || (size_t)(hr + 1) * w * 4u + 16u > scratch_size ||
+        (size_t)hr * (size_t)hc * 2u + 16u > mapmem_size || !(dr > 0.0f))
+        return 0;
+    z->hr = hr;
+    z->hc = hc;
+    z->ii = (uint32_t *)(void *)scratch;
+    z->map = (int16_t *)(void *)mapmem;
+    for (c = 0; c <= hc; c++)
+        z->ii[c] = 0u;
+    for (r = 0; r < hr; r++) {
+        uint32_t run = 0u;
+        uint32_t *prev = z->ii + (size_t)r * w, *cur = prev + w;
+        cur[0] = 0u;
+        for (c = 0; c < hc; c++) {
+            int i, j;
+            for (i = 0; i < SEEK_F; i++) {
+                const uint8_t *a = img + (size_t)(SEEK_F * r + i) * (size_t)cols + SEEK_F * c;
+                for (j = 0; j < SEEK_F; j++)
+                    run += a[j];
+            }
+            cur[c + 1] = prev[c + 1] + run;
+        }
+    }
+    for (r = 0; r < hr; r++) {
+        float y = (float)(SEEK_F * r) + 0.5f * (float)(SEEK_F - 1);
+        float range = actag_geometry_range(g, rows, y);
+        float daz = actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range;
+        float cell = p->tag_size / 3.0f;
+        int ir, ic, orr, oc;
+        float cr, cc;
+        if (!(daz > 0.0f)) {
+            for (c = 0; c < hc; c++)
+                z->map[(size_t)r * (size_t)hc + (size_t)c] = INT16_MIN;
+            continue;
+        }
+        cr = cell * p->search_range_scale / dr / (float)SEEK_F;  /* low-res pixels per cell along range */
+        cc = cell / daz / (float)SEEK_F;  /* ... along azimuth */
+        ir = (int)(1.5f * cr + 0.5f);
+        ic = (int)(1.5f * cc + 0.5f);
+        orr = (int)(2.5f * cr + 0.5f);
+        oc = (int)(2.5f * cc + 0.5f);
+        if (ir < 1) ir = 1;
+        if (ic < 1) ic = 1;
+        if (orr <= ir) orr = ir + 1;
+        if (oc <= ic) oc = ic + 1;
+        for (c = 0; c < hc; c++) {
+            int16_t v = INT16_MIN;
+            if (r - orr >= 0 && r + orr < hr && c - oc >= 0 && c + oc < hc) {
+                uint32_t si = box_sum(z, r - ir, c - ic, r + ir + 1, c + ic + 1);
+                uint32_t so = box_sum(z, r - orr, c - oc, r + orr + 1, c + oc + 1);
+                int32_t ni = (2 * ir + 1) * (2 * ic + 1), no = (2 * orr + 1) * (2 * oc + 1);
+                /* 8 * (mean_in - mean_ring) in grey levels; sums are of F^2 pixels */
+                int64_t num = (int64_t)si * (no - ni) - (int64_t)(so - si) * ni;
+                int64_t den = (int64_t)ni * (no - ni) * SEEK_F * SEEK_F;
+                int64_t q = num * 8 / den;
+                v = (int16_t)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
+            }
+            z->map[(size_t)r * (size_t)hc + (size_t)c] = v;
+        }
+    }
+    return 1;
+}
+
+/* Takes the best remaining position (score >= min), suppresses its
+ * neighbourhood, and returns the axis-aligned white-square quad (full
+ * resolution). Returns 0 when nothing is left. */
+static int seek_next(seek_ctx *z, int min_score, const actag_sonar_geometry *g,
+                     const actag_params *p, int rows, int cols, actag_point quad[4])
+{
+    int r, c, br = -1, bc = -1, best = min_score - 1;
+    float y, x, range, daz, hr_px, hc_px;
+    for (r = 0; r < z->hr; r++) {
+        const int16_t *m = z->map + (size_t)r * (size_t)z->hc;
+        for (c = 0; c < z->hc; c++)
+            if (m[c] > best) {
+                best = m[c];
+                br = r;
+                bc = c;
+            }
+    }
+    if (br < 0)
+        return 0;
+    y = (float)(SEEK_F * br) + 0.5f * (float)(SEEK_F - 1);
+    x = (float)(SEEK_F * bc) + 0.5f * (float)(SEEK_F - 1);
+    range = actag_geometry_range(g, rows, y);
+    daz = actag_geometry_azimuth_step(g, cols, x) * range;
+    hr_px = 0.5f * p->tag_size * p->search_range_scale / actag_geometry_range_step(g, rows);
+    hc_px = 0.5f * p->tag_size / daz;
+    {
+        int sr = (int)(hr_px * 1.5f / (float)SEEK_F) + 1, sc = (int)(hc_px * 1.5f / (float)SEEK_F) + 1;
+        int r0 = br - sr, r1 = br + sr, c0 = bc - sc, c1 = bc + sc;
+        if (r0 < 0) r0 = 0;
+        if (c0 < 0) c0 = 0;
+        if (r1 >= z->hr) r1 = z->hr - 1;
+        if (c1 >= z->hc) c1 = z->hc - 1;
+        for (r = r0; r <= r1; r++)
+            for (c = c0; c <= c1; c++)
+                z->map[(size_t)r * (size_t)z->hc + (size_t)c] = INT16_MIN;
+    }
+    quad[0].x = x - hc_px; quad[0].y = y - hr_px;
+    quad[1].x = x + hc_px; quad[1].y = y - hr_px;
+    quad[2].x = x + hc_px; quad[2].y = y + hr_px;
+    quad[3].x = x - hc_px; quad[3].y = y + hr_px;
+    return 1;
+}
+
+/* The grid-fitting decoder with the pipeline's options; with fit_offset2
+ * set, a failed reading is retried with that sample offset. */
+static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
+                      const actag_params *p, int max_corrections, int extra_flags,
+                      actag_decode_result *dr)
+{
+    actag_fit_params fp = p->fit;
+    int rc;
+    fp.flags |= extra_flags;
+    rc = actag_decode_quad_fit(grey, rows, cols, cols, quad, p->family, max_corrections, &fp, dr);
+    if (rc == ACTAG_ERR_NO_MATCH && p->fit_offset2 > 0.0f) {
+        fp.sample_offset = p->fit_offset2;
+        rc = actag_decode_quad_fit(grey, rows, cols, cols, quad, p->family, max_corrections, &fp,
+                                   dr);
+    }
+    return rc;
+}
+
+/* In-place 3x3 binary erosion (white survives only if its 8 neighbours
+ * are white; outside the image counts as black). tmp holds 2 * cols bytes. */
+static void erode3(uint8_t *img, int rows, int cols, uint8_t *tmp)
+{
+    uint8_t *prev = tmp, *cur = tmp + cols;
+    int r, c;
+    for (c = 0; c < cols; c++)
+        prev[c] = 0;
+    for (r = 0; r < rows; r++) {
+        uint8_t *row = img + (size_t)r * (size_t)cols;
+        const uint8_t *next = r + 1 < rows ? row + cols : NULL;
+        uint8_t *t;
+        for (c = 0; c < cols; c++)
+            cur[c] = row[c] != 0;
+        for (c = 0; c < cols; c++) {
+            int ok = cur[c];
+            if (ok) {
+                int a, lo = c > 0 ? c - 1 : 0, hi = c + 1 < cols ? c + 1 : c;
+                if (c == 0 || c + 1 == cols || next == NULL)
+                    ok = 0;
+                for (a = lo; ok && a <= hi; a++)
+                    ok = prev[a] && cur[a] && next[a];
+            }
+            row[c] = (uint8_t)ok;
+        }
+        t = prev;
+        prev = cur;
+        cur = t;
+    }
+}
+
 static float dist2(actag_point a, actag_point b)
 {
     float dx = a.x - b.x, dy = a.y - b.y;
@@ -168,17 +411,56 @@ static actag_point centre(const actag_point c[4])
     return m;
 }
 
-/* Same ID and centre inside the other quad's circumcircle: the same tag. */
-static int same_tag(const actag_detection *d, int id, const actag_point c[4])
+/* Centre inside the other quad's circumcircle (either way round). */
+static int same_place(const actag_detection *d, const actag_point c[4])
 {
     actag_point a = centre(d->corners), b = centre(c);
     float r2 = dist2(d->corners[0], d->corners[2]) * 0.25f;
-    return d->id == id && dist2(a, b) <= r2;
+    float r2b = dist2(c[0], c[2]) * 0.25f;
+    return dist2(a, b) <= (r2 > r2b ? r2 : r2b);
 }
 
 static int better(int hamming, float ratio, const actag_detection *d)
 {
     return hamming < d->hamming || (hamming == d->hamming && ratio > d->inlier_ratio);
+}
+
+/* Adds a decoded tag to out[], or replaces the same tag seen before when
+ * this reading is better. */
+static void record(actag_detection *out, int max_out, int *nout, actag_stats *st,
+                   const actag_decode_result *dr, const actag_point corners[4], float ratio,
+                   const actag_sonar_geometry *geometry, int rows, int cols, int flip_mirror)
+{
+    int k, c, dup = -1;
+    /* Two tags cannot overlap: a reading at the place of an earlier one is
+     * the same tag (same ID) or a misreading of one of the two (other ID);
+     * either way only the better reading survives. */
+    for (k = 0; k < *nout && k < max_out; k++)
+        if (same_place(&out[k], corners)) {
+            dup = k;
+            break;
+        }
+    if (dup >= 0) {
+        st->duplicates++;
+        if (!better(dr->hamming, ratio, &out[dup]))
+            return;
+        k = dup;
+    } else {
+        if (*nout >= max_out) {
+            st->dropped++;
+            return;
+        }
+        k = (*nout)++;
+    }
+    out[k].id = dr->id;
+    out[k].hamming = dr->hamming;
+    out[k].mirrored = dr->mirrored ^ flip_mirror;
+    out[k].inlier_ratio = ratio;
+    for (c = 0; c < 4; c++) {
+        out[k].corners[c] = corners[c];
+        out[k].range[c] = actag_geometry_range(geometry, rows, corners[c].y);
+        out[k].azimuth[c] = actag_geometry_azimuth(geometry, cols, corners[c].x);
+    }
 }
 
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
@@ -188,7 +470,7 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
     actag_stats st;
     ws_layout w;
     const uint8_t *src;
-    int src_stride, rc, rows, cols, nout = 0, flip_mirror;
+    int src_stride, rc, rows, cols, nout = 0, flip_mirror, pass;
     actag_contour_scanner scan;
     actag_ipoint *pts;
     void *qscratch;
@@ -257,67 +539,111 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
         flip_mirror = az_asc ^ r_asc;
     }
 
-    for (;;) {
-        actag_contour_info ci;
-        actag_quad q;
-        actag_decode_result dr;
-        int k, dup = -1;
-        rc = actag_contour_next(&scan, pts, (int)cap, &ci);
-        if (rc < 0)
-            return rc;
-        if (rc == 0)
-            break;
-        st.contours++;
-        if (ci.overflow) {
-            st.overflowed++;
-            continue;
+    for (pass = 0; pass <= params->extra_passes; pass++) {
+        if (pass > 0) {
+            /* Extra candidate pass: a tag's white square often touches
+             * bright data cells or clutter in the binary image, so its
+             * contour is not a quadrilateral. A stricter binarisation
+             * (higher threshold) or an eroded one separates them. */
+            if (params->pass_offset != 0) {
+                rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols,
+                                              params->threshold_radius,
+                                              params->threshold_offset -
+                                                  pass * params->pass_offset,
+                                              w.s, w.s_size);
+                if (rc != ACTAG_OK)
+                    return rc;
+            } else {
+                erode3(w.a, rows, cols, w.s);
+            }
+            rc = actag_contour_scanner_init(&scan, w.a, rows, cols, cols);
+            if (rc != ACTAG_OK)
+                return rc;
         }
-        if (!size_plausible(&ci, geometry, params, rows, cols))
-            continue;
-        st.size_ok++;
-        if (actag_quad_fit(pts, ci.stored, &params->quad, &rng, qscratch, qscratch_size, &q) !=
-            ACTAG_OK)
-            continue;
-        st.quads++;
-        rc = params->decode_mode == ACTAG_DECODE_GREY
-                 ? actag_decode_quad_grey(w.b, rows, cols, cols, q.corners, params->family,
-                                          params->max_bit_corrections, params->min_contrast, &dr)
-                 : params->decode_mode == ACTAG_DECODE_ALIGNED
-                       ? actag_decode_quad_aligned(w.a, w.b, rows, cols, cols, q.corners,
-                                                   params->family, params->max_bit_corrections,
-                                                   &dr)
-                       : actag_decode_quad(w.a, rows, cols, cols, q.corners, params->family,
-                                           params->max_bit_corrections, &dr);
-        if (rc != ACTAG_OK)
-            continue;
-        st.decoded++;
-        for (k = 0; k < nout && k < max_out; k++)
-            if (same_tag(&out[k], dr.id, dr.corners)) {
-                dup = k;
+        for (;;) {
+            actag_contour_info ci;
+            actag_quad q;
+            actag_decode_result dr;
+
+            rc = actag_contour_next(&scan, pts, (int)cap, &ci);
+            if (rc < 0)
+                return rc;
+            if (rc == 0)
                 break;
-            }
-        if (dup >= 0) {
-            st.duplicates++;
-            if (!better(dr.hamming, q.inlier_ratio, &out[dup]))
-                continue;
-            k = dup;
-        } else {
-            if (nout >= max_out) {
-                st.dropped++;
+            st.contours++;
+            if (ci.overflow) {
+                st.overflowed++;
                 continue;
             }
-            k = nout++;
+            if (!size_plausible(&ci, geometry, params, rows, cols))
+                continue;
+            st.size_ok++;
+            if (actag_quad_fit(pts, ci.stored, &params->quad, &rng, qscratch, qscratch_size, &q) !=
+                ACTAG_OK)
+                continue;
+            st.quads++;
+            if (!sides_plausible(q.corners, geometry, params, rows, cols))
+                continue;
+            rc = params->decode_mode == ACTAG_DECODE_FIT
+                     ? decode_fit(w.b, rows, cols, q.corners, params,
+                                  params->max_bit_corrections, 0, &dr)
+                     : params->decode_mode == ACTAG_DECODE_GREY
+                     ? actag_decode_quad_grey(w.b, rows, cols, cols, q.corners, params->family,
+                                              params->max_bit_corrections, params->min_contrast, &dr)
+                     : params->decode_mode == ACTAG_DECODE_ALIGNED
+                           ? actag_decode_quad_aligned(w.a, w.b, rows, cols, cols, q.corners,
+                                                       params->family, params->max_bit_corrections,
+                                                       &dr)
+                           : actag_decode_quad(w.a, rows, cols, cols, q.corners, params->family,
+                                               params->max_bit_corrections, &dr);
+            if (rc != ACTAG_OK)
+                continue;
+            if (params->decode_mode == ACTAG_DECODE_FIT &&
+                (dr.flip_weight > params->max_flip_weight || dr.ring_black < params->min_structure ||
+                 dr.interior_white < params->min_structure))
+                continue;
+            st.decoded++;
+            record(out, max_out, &nout, &st, &dr, dr.corners, q.inlier_ratio, geometry, rows,
+                   cols, flip_mirror);
         }
-        out[k].id = dr.id;
-        out[k].hamming = dr.hamming;
-        out[k].mirrored = dr.mirrored ^ flip_mirror;
-        out[k].inlier_ratio = q.inlier_ratio;
-        {
-            int c;
-            for (c = 0; c < 4; c++) {
-                out[k].corners[c] = dr.corners[c];
-                out[k].range[c] = actag_geometry_range(geometry, rows, dr.corners[c].y);
-                out[k].azimuth[c] = actag_geometry_azimuth(geometry, cols, dr.corners[c].x);
+    }
+
+    /* 6. structure search: candidates the contours missed */
+    if (params->search_candidates > 0) {
+        seek_ctx z;
+        int ncand = 0;
+        if (seek_map(&z, w.b, rows, cols, w.a, ACTAG__ALIGN16((size_t)rows * (size_t)cols), w.s,
+                     w.s_size, geometry, params)) {
+            actag_point quad[4];
+            while (ncand < params->search_candidates &&
+                   seek_next(&z, params->search_min_score * 8, geometry, params, rows, cols,
+                             quad)) {
+                actag_decode_result dr;
+                int drc;
+                ncand++;
+                st.searched++;
+                drc = decode_fit(w.b, rows, cols, quad, params,
+                                 params->search_max_corrections < params->max_bit_corrections
+                                     ? params->search_max_corrections
+                                     : params->max_bit_corrections,
+                                 ACTAG_FIT_WIDE, &dr);
+#ifdef ACTAG_DEBUG_SEEK
+                fprintf(stderr, "seek cand centre r%.0f c%.0f half %.0fx%.0f rc %d id %d h %d rb %.2f iw %.2f\n",
+                        0.5f * (quad[0].y + quad[2].y), 0.5f * (quad[0].x + quad[2].x),
+                        0.5f * (quad[2].y - quad[0].y), 0.5f * (quad[2].x - quad[0].x), drc,
+                        drc ? -1 : dr.id, drc ? -1 : dr.hamming, drc ? 0.0f : dr.ring_black,
+                        drc ? 0.0f : dr.interior_white);
+#endif
+                if (drc != ACTAG_OK)
+                    continue;
+                if (dr.flip_weight > params->max_flip_weight ||
+                    dr.ring_black < params->min_structure ||
+                    dr.interior_white < params->min_structure ||
+                    !sides_plausible(dr.fit_corners, geometry, params, rows, cols))
+                    continue;
+                st.decoded++;
+                record(out, max_out, &nout, &st, &dr, dr.fit_corners, 0.0f, geometry, rows,
+                       cols, flip_mirror);
             }
         }
     }

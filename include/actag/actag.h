@@ -105,6 +105,18 @@ typedef struct actag_params {
     int decode_mode;            /* ACTAG_DECODE_GREY (default) or ACTAG_DECODE_BINARY (paper) */
     int min_contrast;           /* grey decoding: interior - ring contrast, grey levels (5) */
     uint32_t seed;              /* RANSAC seed (default 1) */
+    actag_fit_params fit;       /* ACTAG_DECODE_FIT: decoder options (see decode.h) */
+    float fit_offset2;          /* ACTAG_DECODE_FIT: second sample offset tried (0: none) */
+    float max_flip_weight;      /* ACTAG_DECODE_FIT: corrected bits' confidence sum limit */
+    int extra_passes;           /* candidate passes after the first (0..4) */
+    int pass_offset;            /* extra pass i thresholds with offset - i * this; 0: erode instead */
+    int search_candidates;      /* structure search: best positions decoded (0: off) */
+    int search_min_score;       /* ... interior minus ring mean, grey levels */
+    int search_max_corrections; /* ... bit corrections (at most max_bit_corrections) */
+    float search_range_scale;   /* ... expected range extent / tag_size (tilted tags look shorter) */
+    float min_structure;        /* ACTAG_DECODE_FIT: ring_black and interior_white must reach this */
+    float min_side_fraction;    /* quad sides (metres) must be >= this * tag_size */
+    float max_side_fraction;    /* ... and <= this * tag_size */
 } actag_params;
 
 /* decode_mode: read the bits from the median-filtered frame against each
@@ -113,6 +125,7 @@ typedef struct actag_params {
 #define ACTAG_DECODE_GREY 0
 #define ACTAG_DECODE_BINARY 1
 #define ACTAG_DECODE_ALIGNED 2
+#define ACTAG_DECODE_FIT 3
 
 /* One detected tag. */
 typedef struct actag_detection {
@@ -134,6 +147,7 @@ typedef struct actag_stats {
     int decoded;         /* quads that decoded to a family member */
     int duplicates;      /* decodes dropped as the same tag seen twice */
     int dropped;         /* detections beyond max_out */
+    int searched;        /* structure-search candidates decoded */
 } actag_stats;
 
 /* Largest threshold_radius the workspace is sized for (stb-style

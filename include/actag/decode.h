@@ -180,6 +180,11 @@ typedef struct actag_decode_result {
     int mirror_margin;      /* best other-handedness distance minus hamming */
     float ring_black;       /* fraction of black-ring samples read black */
     float interior_white;   /* fraction of white-square samples read white */
+    /* Filled by actag_decode_quad_fit() only (0 from the other decoders): */
+    float contrast;         /* white-interior minus black-ring mean, grey levels */
+    float flip_weight;      /* sum of the corrected bits' confidences (see fit decoder) */
+    float min_confidence;   /* smallest data-bit confidence */
+    actag_point fit_corners[4]; /* the fitted grid's white-square corners, tag order */
 } actag_decode_result;
 
 /* Homography from tag grid (u,v) to image (x,y), quad[n] at white-square corner n. */
@@ -237,6 +242,42 @@ int actag_decode_quad_grey(const uint8_t *grey, int rows, int cols, int stride,
 int actag_decode_quad_aligned(const uint8_t *binary, const uint8_t *grey, int rows, int cols,
                               int stride, const actag_point quad[4], const actag_family *family,
                               int max_corrections, actag_decode_result *out);
+
+/* Largest k (bits / 4) the decoders handle. */
+#define ACTAG_DECODE_MAX_K 8
+
+/* Flags of actag_decode_quad_fit(). */
+#define ACTAG_FIT_NO_SEARCH 1 /* use the quad's grid as is */
+#define ACTAG_FIT_LOCAL 2     /* per-bit thresholds from the neighbouring ring/interior cells */
+#ifndef ACTAG_FIT_SPLIT_LO
+#define ACTAG_FIT_SPLIT_LO 0.1f
+#endif
+#ifndef ACTAG_FIT_SPLIT_HI
+#define ACTAG_FIT_SPLIT_HI 0.5f
+#endif
+#define ACTAG_FIT_ERASE_CORNERS 64 /* the data ring's 4 corner cells do not count */
+#define ACTAG_FIT_PLANE 32    /* data threshold follows a plane fitted to the black ring */
+#define ACTAG_FIT_WIDE 16     /* first search the grid position +-1 cell */
+#define ACTAG_FIT_OTSU 8      /* data threshold: Otsu split of the data cells */
+#define ACTAG_FIT_SPLIT 4     /* code-aware data threshold (best split below the mid level) */
+
+#define ACTAG_FIT_DEFAULT_FLAGS (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS)
+
+/* Options of actag_decode_quad_fit(). */
+typedef struct actag_fit_params {
+    int flags;           /* ACTAG_FIT_* (default ACTAG_FIT_DEFAULT_FLAGS) */
+    float level;         /* data threshold between ring black (0) and interior white (1), 0.5 */
+    int min_contrast;    /* interior minus ring mean must reach this, grey levels (5) */
+    float sample_offset; /* cells from a cell centre to its outer sample points (0.2) */
+} actag_fit_params;
+
+void actag_fit_params_default(actag_fit_params *fp);
+
+/* Grid-fitting decoder on a grey image (e.g. the median-filtered frame). */
+int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
+                          const actag_point quad[4], const actag_family *family,
+                          int max_corrections, const actag_fit_params *fp,
+                          actag_decode_result *out);
 
 #ifdef __cplusplus
 }

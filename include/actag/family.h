@@ -18,10 +18,18 @@
  *         printf("id %d rot %d mirrored %d hamming %d\n",
  *                m.id, m.rotation, m.mirrored, m.hamming);
  *
- *   Orientation model: an observation w of tag code c satisfies
+ *   Orientation model of actag_family_match(): the 8 orientations the family
+ *   generator guarantees distances for (SPEC sections 2-3):
  *       w == rot90^rotation(c)                 (mirrored == 0), or
  *       w == reverse(rot90^rotation(c))        (mirrored == 1),
- *   up to m.hamming flipped bits.
+ *   up to m.hamming flipped bits. rot90 is the printed tag turned 90 degrees
+ *   counter-clockwise (cell (x,y) moves to (y, k-x)).
+ *   Note: a physically mirrored tag read clockwise from a corner is NOT
+ *   reverse(...) of a rotation (a reflection keeps a corner cell fixed; the
+ *   full-word reversal does not); it is P(w) with sequence position s taking
+ *   position -s mod 4k. The sonar decoder (decode.h) therefore matches w and
+ *   P(w) with actag_family_match_rotations(); see decode.h for what this
+ *   means for the guaranteed distances.
  *
  *   actag_family is a small value the caller owns; it points into the const
  *   code tables. (The tables are reached through functions rather than const
