@@ -72,12 +72,10 @@ static uint64_t reverse_bits(const layout *L, uint64_t w)
 
 static int popcount64(uint64_t v)
 {
-    int n = 0;
-    while (v) {
-        v &= v - 1;
-        n++;
-    }
-    return n;
+    v = v - ((v >> 1) & 0x5555555555555555ull);
+    v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+    v = (v + (v >> 4)) & 0x0f0f0f0f0f0f0f0full;
+    return (int)((v * 0x0101010101010101ull) >> 56);
 }
 
 /* Grid cell (x, y) in 0..k of data bit i (i = 0 is the MSB), SPEC section 2. */
@@ -114,6 +112,32 @@ static int layout_energy(const layout *L, uint64_t code)
             if (y + 1 < n && grid[y][x] != grid[y + 1][x]) e++;
         }
     return e;
+}
+
+/* The same energy in closed form: the data ring is a cycle of 4k cells, each
+ * 4-adjacent only to its ring neighbours and (except the 4 corners) to one
+ * black-ring cell; everything else is the same for every code. So
+ * energy(code) = energy(0) + transitions around the ring + white non-corner
+ * bits. Checked against layout_energy() at start-up. */
+typedef struct {
+    int base;
+    uint64_t noncorner;
+} energy_model;
+
+static void energy_init(const layout *L, energy_model *m)
+{
+    int i;
+    m->base = layout_energy(L, 0);
+    m->noncorner = 0;
+    for (i = 0; i < L->bits; i++)
+        if (i % L->k != 0)
+            m->noncorner |= 1ull << (L->bits - 1 - i);
+}
+
+static int fast_energy(const layout *L, const energy_model *m, uint64_t code)
+{
+    uint64_t rotl1 = ((code << 1) | (code >> (L->bits - 1))) & L->mask;
+    return m->base + popcount64(code ^ rotl1) + popcount64(code & m->noncorner);
 }
 
 typedef struct {
@@ -221,9 +245,11 @@ int main(int argc, char **argv)
     uint64_t *codes = NULL, v, iter, total;
     size_t ncodes = 0, capcodes = 0;
     forbid_map F;
+    energy_model em;
     double min_energy;
     clock_t t0 = clock(), last_report;
     int reported = 0;
+    size_t codes_at_report = 0; /* codes at the last progress check */
 
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -288,6 +314,16 @@ int main(int argc, char **argv)
     if (!F.bitmap)
         die(1, "out of memory for the %s bitmap", bits >= 32 ? "512 MiB" : "forbidden-word");
     min_energy = 0.3333 * 2.0 * (L.k + 1) * (L.k + 1);
+    energy_init(&L, &em);
+    {
+        /* the closed form must agree with the rendered layout */
+        uint64_t t = 0x9e3779b97f4a7c15ull;
+        for (i = 0; i < 4096; i++) {
+            t = t * 6364136223846793005ull + 1442695040888963407ull;
+            if (fast_energy(&L, &em, (t >> 17) & L.mask) != layout_energy(&L, (t >> 17) & L.mask))
+                die(1, "%s", "internal error: energy model mismatch");
+        }
+    }
 
     v = SEED & L.mask;
     last_report = t0;
@@ -295,8 +331,9 @@ int main(int argc, char **argv)
         uint64_t o[8];
         int a, b, ok = 1;
         v = (v + PRIME) & L.mask;
-        if ((iter & 0xfffff) == 0 && iter) {
+        if ((iter & 0xffff) == 0 || ncodes != codes_at_report) {
             clock_t now = clock();
+            codes_at_report = ncodes; /* next check: after 2^16 more or a new code */
             if ((double)(now - last_report) / CLOCKS_PER_SEC >= 2.0) {
                 fprintf(stderr, "\r" PROG ": %s: %5.1f%% searched, %lu codes", name,
                         100.0 * (double)iter / (double)total, (unsigned long)ncodes);
@@ -307,7 +344,7 @@ int main(int argc, char **argv)
         }
         if (F.bitmap[v >> 6] & (1ull << (v & 63)))
             continue; /* too close to an accepted code */
-        if (layout_energy(&L, v) < min_energy)
+        if (fast_energy(&L, &em, v) < min_energy)
             continue;
         o[0] = v;
         for (a = 1; a < 4; a++)
