@@ -16,6 +16,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "../tests/test_util.h" /* the PGM reader shared with the tests */
+
 #ifndef ACTAG_SHARED_DIR
 #define ACTAG_SHARED_DIR "../shared"
 #endif
@@ -27,28 +29,6 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-static uint8_t *read_pgm(const char *path, int *rows, int *cols)
-{
-    FILE *f = fopen(path, "rb");
-    int w, h, m;
-    uint8_t *px;
-    if (!f)
-        return NULL;
-    if (fscanf(f, "P5 %d %d %d", &w, &h, &m) != 3 || m > 255 || w < 1 || h < 1) {
-        fclose(f);
-        return NULL;
-    }
-    fgetc(f);
-    px = (uint8_t *)malloc((size_t)w * (size_t)h);
-    if (px && fread(px, 1, (size_t)w * (size_t)h, f) != (size_t)w * (size_t)h) {
-        free(px);
-        px = NULL;
-    }
-    fclose(f);
-    *rows = h;
-    *cols = w;
-    return px;
-}
 
 enum { S_MEDIAN, S_THRESH, S_CONTOUR, S_QUAD_DECODE, S_TOTAL, S_N };
 static const char *const stage_names[S_N] = {"median filter (R=4)", "adaptive threshold (R=8)",
@@ -101,7 +81,7 @@ int main(int argc, char **argv)
 
     for (i = 0; i < nfiles; i++) {
         int rows, cols;
-        uint8_t *img = read_pgm(files[i], &rows, &cols), *filt, *bin, *scratch;
+        uint8_t *img = tu_read_pgm(files[i], &rows, &cols), *filt, *bin, *scratch;
         size_t wsize, ssize;
         void *ws;
         actag_frame fr;

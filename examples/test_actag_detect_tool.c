@@ -29,25 +29,6 @@ static int run(const char *args)
     return (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
 }
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    long n;
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    buf = (char *)calloc((size_t)n + 1, 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    return buf;
-}
-
 static int count_lines(const char *s)
 {
     int n = 0;
@@ -96,7 +77,7 @@ static void test_json_on_example(void)
 {
     char *o;
     TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " " EXAMPLE));
-    o = slurp(out_path);
+    o = tu_slurp(out_path, NULL);
     TEST_ASSERT_NOT_NULL(o);
     TEST_ASSERT_EQUAL_INT(1, count_lines(o));
     TEST_ASSERT_EQUAL_INT(0, strncmp(o, "{\"file\": \"", 10));
@@ -135,7 +116,7 @@ static void test_raw_and_16bit_inputs(void)
     snprintf(args, sizeof args, "--json " GEO " --rows %d --cols %d --stride %d %s", rows, cols,
              stride, path);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    o = slurp(out_path);
+    o = tu_slurp(out_path, NULL);
     assert_reference_tag(o);
     free(o);
     /* the same frame, rows and columns reversed, said so with the flags:
@@ -150,7 +131,7 @@ static void test_raw_and_16bit_inputs(void)
              "--json " GEO " --range-ascending --azimuth-ascending --rows %d --cols %d %s", rows,
              cols, path);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    o = slurp(out_path);
+    o = tu_slurp(out_path, NULL);
     {
         float rc[4][2];
         TEST_ASSERT_EQUAL_INT(0, parse_first(o, rc));
@@ -173,7 +154,7 @@ static void test_raw_and_16bit_inputs(void)
     write_file(path, raw16, (size_t)rows * (size_t)cols * 2u);
     snprintf(args, sizeof args, "--json " GEO " --depth 16 --rows %d --cols %d %s", rows, cols, path);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    o = slurp(out_path);
+    o = tu_slurp(out_path, NULL);
     TEST_ASSERT_NOT_NULL(strstr(o, "\"id\": 0"));
     free(o);
     /* 16-bit PGM (big-endian samples) */
@@ -191,7 +172,7 @@ static void test_raw_and_16bit_inputs(void)
         fclose(f);
         snprintf(args, sizeof args, "--json " GEO " %s", path);
         TEST_ASSERT_EQUAL_INT(0, run(args));
-        o = slurp(out_path);
+        o = tu_slurp(out_path, NULL);
         TEST_ASSERT_NOT_NULL(strstr(o, "\"id\": 0"));
         free(o);
     }
@@ -208,17 +189,17 @@ static void test_overlay_and_stages(void)
     snprintf(args, sizeof args, GEO " --overlay %s/ov.ppm --stages %s " EXAMPLE, ACTAG_BINARY_DIR,
              ACTAG_BINARY_DIR);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    s = slurp(out_path);
+    s = tu_slurp(out_path, NULL);
     TEST_ASSERT_NOT_NULL(strstr(s, "id 0"));
     free(s);
     snprintf(path, sizeof path, "%s/ov.ppm", ACTAG_BINARY_DIR);
-    s = slurp(path);
+    s = tu_slurp(path, NULL);
     TEST_ASSERT_NOT_NULL(s);
     TEST_ASSERT_EQUAL_INT(0, strncmp(s, "P6\n620 463\n255\n", 15));
     free(s);
     for (i = 0; i < 3; i++) {
         snprintf(path, sizeof path, "%s/exampleSonarImage.pgm-%s.pgm", ACTAG_BINARY_DIR, stage[i]);
-        s = slurp(path);
+        s = tu_slurp(path, NULL);
         TEST_ASSERT_NOT_NULL_MESSAGE(s, path);
         TEST_ASSERT_EQUAL_INT(0, strncmp(s, "P5\n620 463\n255\n", 15));
         free(s);
@@ -237,8 +218,8 @@ static void test_bad_files_are_reported_and_the_rest_processed(void)
     write_file(p3, "hello", 5);
     snprintf(args, sizeof args, "--json " GEO " %s /nonexistent/x.pgm %s %s " EXAMPLE, p1, p2, p3);
     TEST_ASSERT_EQUAL_INT(2, run(args));
-    o = slurp(out_path);
-    e = slurp(err_path);
+    o = tu_slurp(out_path, NULL);
+    e = tu_slurp(err_path, NULL);
     TEST_ASSERT_EQUAL_INT(5, count_lines(o)); /* one JSON line per input file */
     TEST_ASSERT_EQUAL_INT(4, count_lines(e)); /* one message per bad file */
     TEST_ASSERT_NOT_NULL(strstr(e, "truncated.pgm: "));
@@ -252,7 +233,7 @@ static void test_bad_files_are_reported_and_the_rest_processed(void)
     /* raw frame of the wrong size */
     snprintf(args, sizeof args, GEO " --rows 10 --cols 10 %s", p3);
     TEST_ASSERT_EQUAL_INT(2, run(args));
-    e = slurp(err_path);
+    e = tu_slurp(err_path, NULL);
     TEST_ASSERT_NOT_NULL(strstr(e, "raw frame is 5 bytes"));
     free(e);
 }

@@ -5,9 +5,6 @@
 #include "actag/actag.h"
 
 #include <string.h>
-#ifdef ACTAG_DEBUG_SEEK
-#include <stdio.h>
-#endif
 
 /* Workspace layout (see ACTAG_WORKSPACE_SIZE):
  *   [0..15 alignment][A: binary (16-bit input is converted here first)]
@@ -64,7 +61,7 @@ void actag_params_default(actag_params *p)
     memset(p, 0, sizeof *p);
     p->family = NULL;
     p->tag_size = 0.130628571f; /* 3/7 ft: inner square of a 1 ft, 24-bit tag */
-    p->max_bit_corrections = 0;
+    p->max_bit_corrections = ACTAG_CORRECTIONS_AUTO;
     p->median_radius = 4;
     p->threshold_radius = 8;
     p->threshold_offset = 1;
@@ -72,21 +69,24 @@ void actag_params_default(actag_params *p)
     p->min_area_fraction = 0.1f;
     p->max_area_fraction = 1.0f;
     actag_quad_params_default(&p->quad);
-    p->decode_mode = ACTAG_DECODE_GREY;
+    /* Measured on the pool frames (see the manual in actag.h): RANSAC's
+     * early exit at 0.8 and acceptance down to 0.6 let ragged sonar
+     * contours through (the decoder judges them); 100 iterations suffice
+     * because the structure search covers what RANSAC misses. */
+    p->quad.inlier_ratio = 0.8f;
+    p->quad.min_inlier_ratio = 0.6f;
+    p->quad.max_iterations = 100;
+    p->decode_mode = ACTAG_DECODE_FIT;
     p->min_contrast = 5;
     p->seed = 1u;
     actag_fit_params_default(&p->fit);
-    p->fit_offset2 = 0.0f;
-    p->max_flip_weight = 1.0e30f;
-    p->extra_passes = 0;
-    p->search_candidates = 0;
+    p->min_structure = 1.0f;
+    p->min_side_fraction = 0.5f;
+    p->max_side_fraction = 1.6f;
+    p->search_candidates = 2;
     p->search_min_score = 15;
     p->search_range_scale = 0.75f;
     p->search_max_corrections = 3;
-    p->pass_offset = 0;
-    p->min_structure = 0.0f;
-    p->min_side_fraction = 0.0f;
-    p->max_side_fraction = 1.0e30f;
 }
 
 static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
@@ -100,7 +100,8 @@ int actag_params_validate(const actag_params *p)
     if (rc != ACTAG_OK)
         return rc;
     maxc = actag_family_max_corrections(p->family);
-    if (p->max_bit_corrections < 0 || p->max_bit_corrections > maxc)
+    if ((p->max_bit_corrections < 0 && p->max_bit_corrections != ACTAG_CORRECTIONS_AUTO) ||
+        p->max_bit_corrections > maxc)
         return ACTAG_ERR_CORRECTIONS;
     if (!finite_pos(p->tag_size) || p->median_radius < 0 ||
         p->median_radius > ACTAG_MEDIAN_MAX_RADIUS || p->threshold_radius < 0 ||
@@ -112,15 +113,13 @@ int actag_params_validate(const actag_params *p)
         !(p->max_area_fraction < 1.0e6f))
         return ACTAG_ERR_PARAM;
     if (p->decode_mode < ACTAG_DECODE_GREY || p->decode_mode > ACTAG_DECODE_FIT ||
-        !(p->max_flip_weight >= 0.0f) || !(p->min_structure >= 0.0f) ||
+        !(p->min_structure >= 0.0f) ||
         !(p->fit.level >= 0.0f) || !(p->fit.level <= 1.0f) || p->fit.min_contrast < 0 ||
         p->fit.min_contrast > 255 || !(p->fit.sample_offset >= 0.0f) ||
-        !(p->fit.sample_offset <= 0.5f) || !(p->fit_offset2 >= 0.0f) ||
-        !(p->fit_offset2 <= 0.5f) || p->extra_passes < 0 || p->extra_passes > 4 ||
-        p->search_candidates < 0 || p->search_candidates > 64 || p->search_min_score < 0 ||
+        !(p->fit.sample_offset <= 0.5f) ||
+        p->search_candidates < 0 || p->search_candidates > ACTAG_SEARCH_MAX || p->search_min_score < 0 ||
         p->search_min_score > 255 || !(p->search_range_scale > 0.05f) ||
         !(p->search_range_scale <= 4.0f) || p->search_max_corrections < 0 ||
-        p->pass_offset < -255 || p->pass_offset > 255 ||
         !(p->min_structure <= 1.0f) || !(p->min_side_fraction >= 0.0f) ||
         !(p->max_side_fraction >= p->min_side_fraction) ||
         p->min_contrast < 0 || p->min_contrast > 255)
@@ -210,6 +209,9 @@ static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g
  * position by (mean of the 3x3-cell box) - (mean of the ring of cells
  * around it); the best separated maxima are handed to the decoder as
  * axis-aligned quads, and the decoder's grid fit does the rest. */
+
+/* RANSAC iterations multiplier for contours at a tag the search found. */
+#define ACTAG_SEEK_QUAD_EFFORT 10
 
 /* Resolution reduction of the search (F x F blocks averaged). */
 #define SEEK_F 4
@@ -348,52 +350,33 @@ static int seek_next(seek_ctx *z, int min_score, const actag_sonar_geometry *g,
     return 1;
 }
 
-/* The grid-fitting decoder with the pipeline's options; with fit_offset2
- * set, a failed reading is retried with that sample offset. */
+/* The grid-fitting decoder with the pipeline's options. */
 static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
                       const actag_params *p, int max_corrections, int extra_flags,
                       actag_decode_result *dr)
 {
     actag_fit_params fp = p->fit;
-    int rc;
     fp.flags |= extra_flags;
-    rc = actag_decode_quad_fit(grey, rows, cols, cols, quad, p->family, max_corrections, &fp, dr);
-    if (rc == ACTAG_ERR_NO_MATCH && p->fit_offset2 > 0.0f) {
-        fp.sample_offset = p->fit_offset2;
-        rc = actag_decode_quad_fit(grey, rows, cols, cols, quad, p->family, max_corrections, &fp,
-                                   dr);
-    }
-    return rc;
+    return actag_decode_quad_fit(grey, rows, cols, cols, quad, p->family, max_corrections, &fp,
+                                 dr);
 }
 
-/* In-place 3x3 binary erosion (white survives only if its 8 neighbours
- * are white; outside the image counts as black). tmp holds 2 * cols bytes. */
-static void erode3(uint8_t *img, int rows, int cols, uint8_t *tmp)
+/* The configured decoder on one quad. */
+static int decode_any(const ws_layout *w, int rows, int cols, const actag_point quad[4],
+                      const actag_params *params, actag_decode_result *dr)
 {
-    uint8_t *prev = tmp, *cur = tmp + cols;
-    int r, c;
-    for (c = 0; c < cols; c++)
-        prev[c] = 0;
-    for (r = 0; r < rows; r++) {
-        uint8_t *row = img + (size_t)r * (size_t)cols;
-        const uint8_t *next = r + 1 < rows ? row + cols : NULL;
-        uint8_t *t;
-        for (c = 0; c < cols; c++)
-            cur[c] = row[c] != 0;
-        for (c = 0; c < cols; c++) {
-            int ok = cur[c];
-            if (ok) {
-                int a, lo = c > 0 ? c - 1 : 0, hi = c + 1 < cols ? c + 1 : c;
-                if (c == 0 || c + 1 == cols || next == NULL)
-                    ok = 0;
-                for (a = lo; ok && a <= hi; a++)
-                    ok = prev[a] && cur[a] && next[a];
-            }
-            row[c] = (uint8_t)ok;
-        }
-        t = prev;
-        prev = cur;
-        cur = t;
+    switch (params->decode_mode) {
+    case ACTAG_DECODE_FIT:
+        return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, dr);
+    case ACTAG_DECODE_GREY:
+        return actag_decode_quad_grey(w->b, rows, cols, cols, quad, params->family,
+                                      params->max_bit_corrections, params->min_contrast, dr);
+    case ACTAG_DECODE_ALIGNED:
+        return actag_decode_quad_aligned(w->a, w->b, rows, cols, cols, quad, params->family,
+                                         params->max_bit_corrections, dr);
+    default:
+        return actag_decode_quad(w->a, rows, cols, cols, quad, params->family,
+                                 params->max_bit_corrections, dr);
     }
 }
 
@@ -425,24 +408,40 @@ static int better(int hamming, float ratio, const actag_detection *d)
     return hamming < d->hamming || (hamming == d->hamming && ratio > d->inlier_ratio);
 }
 
-/* Adds a decoded tag to out[], or replaces the same tag seen before when
- * this reading is better. */
-static void record(actag_detection *out, int max_out, int *nout, actag_stats *st,
-                   const actag_decode_result *dr, const actag_point corners[4], float ratio,
-                   const actag_sonar_geometry *geometry, int rows, int cols, int flip_mirror)
+/* A detection from a decoder result, its corners and quad support. */
+static void fill_det(actag_detection *d, const actag_decode_result *dr,
+                     const actag_point corners[4], float ratio,
+                     const actag_sonar_geometry *geometry, int rows, int cols, int flip_mirror)
 {
-    int k, c, dup = -1;
+    int c;
+    d->id = dr->id;
+    d->hamming = dr->hamming;
+    d->mirrored = dr->mirrored ^ flip_mirror;
+    d->inlier_ratio = ratio;
+    for (c = 0; c < 4; c++) {
+        d->corners[c] = corners[c];
+        d->range[c] = actag_geometry_range(geometry, rows, corners[c].y);
+        d->azimuth[c] = actag_geometry_azimuth(geometry, cols, corners[c].x);
+    }
+}
+
+/* Adds a detection to out[], or replaces the reading at the same place
+ * when this one is better. */
+static void record(actag_detection *out, int max_out, int *nout, actag_stats *st,
+                   const actag_detection *d)
+{
+    int k, dup = -1;
     /* Two tags cannot overlap: a reading at the place of an earlier one is
      * the same tag (same ID) or a misreading of one of the two (other ID);
      * either way only the better reading survives. */
     for (k = 0; k < *nout && k < max_out; k++)
-        if (same_place(&out[k], corners)) {
+        if (same_place(&out[k], d->corners)) {
             dup = k;
             break;
         }
     if (dup >= 0) {
         st->duplicates++;
-        if (!better(dr->hamming, ratio, &out[dup]))
+        if (!better(d->hamming, d->inlier_ratio, &out[dup]))
             return;
         k = dup;
     } else {
@@ -452,15 +451,7 @@ static void record(actag_detection *out, int max_out, int *nout, actag_stats *st
         }
         k = (*nout)++;
     }
-    out[k].id = dr->id;
-    out[k].hamming = dr->hamming;
-    out[k].mirrored = dr->mirrored ^ flip_mirror;
-    out[k].inlier_ratio = ratio;
-    for (c = 0; c < 4; c++) {
-        out[k].corners[c] = corners[c];
-        out[k].range[c] = actag_geometry_range(geometry, rows, corners[c].y);
-        out[k].azimuth[c] = actag_geometry_azimuth(geometry, cols, corners[c].x);
-    }
+    out[k] = *d;
 }
 
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
@@ -468,9 +459,12 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  actag_detection *out, int max_out, actag_stats *stats)
 {
     actag_stats st;
+    actag_params pe;
     ws_layout w;
     const uint8_t *src;
-    int src_stride, rc, rows, cols, nout = 0, flip_mirror, pass;
+    int src_stride, rc, rows, cols, nout = 0, flip_mirror, nsk = 0, k;
+    actag_detection sk[ACTAG_SEARCH_MAX];
+    int sk_used[ACTAG_SEARCH_MAX] = {0};
     actag_contour_scanner scan;
     actag_ipoint *pts;
     void *qscratch;
@@ -493,6 +487,13 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
     rc = actag_params_validate(params);
     if (rc != ACTAG_OK)
         return rc;
+    /* Resolve ACTAG_CORRECTIONS_AUTO on a copy. */
+    pe = *params;
+    if (pe.max_bit_corrections == ACTAG_CORRECTIONS_AUTO) {
+        int maxc = actag_family_max_corrections(pe.family);
+        pe.max_bit_corrections = maxc < ACTAG_AUTO_CORRECTIONS ? maxc : ACTAG_AUTO_CORRECTIONS;
+    }
+    params = &pe;
     rc = actag_geometry_validate(geometry, rows, cols);
     if (rc != ACTAG_OK)
         return rc;
@@ -514,21 +515,6 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                              w.s_size);
     if (rc != ACTAG_OK)
         return rc;
-    /* 2. adaptive threshold: B -> A (A's 16-bit copy is no longer needed) */
-    rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols, params->threshold_radius,
-                                  params->threshold_offset, w.s, w.s_size);
-    if (rc != ACTAG_OK)
-        return rc;
-
-    /* 3.-5. contours, one at a time, each through size filter, quad, decode */
-    cap = ACTAG_CONTOUR_CAP(rows, cols);
-    pts = (actag_ipoint *)(void *)w.s;
-    qscratch = w.s + ACTAG__ALIGN16(cap * sizeof(actag_ipoint));
-    qscratch_size = w.s_size - ACTAG__ALIGN16(cap * sizeof(actag_ipoint));
-    rc = actag_contour_scanner_init(&scan, w.a, rows, cols, cols);
-    if (rc != ACTAG_OK)
-        return rc;
-    actag_rng_seed(&rng, params->seed);
     /* The decoder reports mirroring relative to the image; flipping exactly
      * one image axis relative to the reference orientation mirrors it again. */
     {
@@ -539,76 +525,9 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
         flip_mirror = az_asc ^ r_asc;
     }
 
-    for (pass = 0; pass <= params->extra_passes; pass++) {
-        if (pass > 0) {
-            /* Extra candidate pass: a tag's white square often touches
-             * bright data cells or clutter in the binary image, so its
-             * contour is not a quadrilateral. A stricter binarisation
-             * (higher threshold) or an eroded one separates them. */
-            if (params->pass_offset != 0) {
-                rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols,
-                                              params->threshold_radius,
-                                              params->threshold_offset -
-                                                  pass * params->pass_offset,
-                                              w.s, w.s_size);
-                if (rc != ACTAG_OK)
-                    return rc;
-            } else {
-                erode3(w.a, rows, cols, w.s);
-            }
-            rc = actag_contour_scanner_init(&scan, w.a, rows, cols, cols);
-            if (rc != ACTAG_OK)
-                return rc;
-        }
-        for (;;) {
-            actag_contour_info ci;
-            actag_quad q;
-            actag_decode_result dr;
-
-            rc = actag_contour_next(&scan, pts, (int)cap, &ci);
-            if (rc < 0)
-                return rc;
-            if (rc == 0)
-                break;
-            st.contours++;
-            if (ci.overflow) {
-                st.overflowed++;
-                continue;
-            }
-            if (!size_plausible(&ci, geometry, params, rows, cols))
-                continue;
-            st.size_ok++;
-            if (actag_quad_fit(pts, ci.stored, &params->quad, &rng, qscratch, qscratch_size, &q) !=
-                ACTAG_OK)
-                continue;
-            st.quads++;
-            if (!sides_plausible(q.corners, geometry, params, rows, cols))
-                continue;
-            rc = params->decode_mode == ACTAG_DECODE_FIT
-                     ? decode_fit(w.b, rows, cols, q.corners, params,
-                                  params->max_bit_corrections, 0, &dr)
-                     : params->decode_mode == ACTAG_DECODE_GREY
-                     ? actag_decode_quad_grey(w.b, rows, cols, cols, q.corners, params->family,
-                                              params->max_bit_corrections, params->min_contrast, &dr)
-                     : params->decode_mode == ACTAG_DECODE_ALIGNED
-                           ? actag_decode_quad_aligned(w.a, w.b, rows, cols, cols, q.corners,
-                                                       params->family, params->max_bit_corrections,
-                                                       &dr)
-                           : actag_decode_quad(w.a, rows, cols, cols, q.corners, params->family,
-                                               params->max_bit_corrections, &dr);
-            if (rc != ACTAG_OK)
-                continue;
-            if (params->decode_mode == ACTAG_DECODE_FIT &&
-                (dr.flip_weight > params->max_flip_weight || dr.ring_black < params->min_structure ||
-                 dr.interior_white < params->min_structure))
-                continue;
-            st.decoded++;
-            record(out, max_out, &nout, &st, &dr, dr.corners, q.inlier_ratio, geometry, rows,
-                   cols, flip_mirror);
-        }
-    }
-
-    /* 6. structure search: candidates the contours missed */
+    /* 2. structure search (before the threshold overwrites A): candidates
+     * the contours may miss. Contours at a tag found here get more RANSAC
+     * iterations below, so a tag seen by both reports the quad's corners. */
     if (params->search_candidates > 0) {
         seek_ctx z;
         int ncand = 0;
@@ -627,26 +546,114 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                                      ? params->search_max_corrections
                                      : params->max_bit_corrections,
                                  ACTAG_FIT_WIDE, &dr);
-#ifdef ACTAG_DEBUG_SEEK
-                fprintf(stderr, "seek cand centre r%.0f c%.0f half %.0fx%.0f rc %d id %d h %d rb %.2f iw %.2f\n",
-                        0.5f * (quad[0].y + quad[2].y), 0.5f * (quad[0].x + quad[2].x),
-                        0.5f * (quad[2].y - quad[0].y), 0.5f * (quad[2].x - quad[0].x), drc,
-                        drc ? -1 : dr.id, drc ? -1 : dr.hamming, drc ? 0.0f : dr.ring_black,
-                        drc ? 0.0f : dr.interior_white);
-#endif
                 if (drc != ACTAG_OK)
                     continue;
-                if (dr.flip_weight > params->max_flip_weight ||
-                    dr.ring_black < params->min_structure ||
+                if (dr.ring_black < params->min_structure ||
                     dr.interior_white < params->min_structure ||
                     !sides_plausible(dr.fit_corners, geometry, params, rows, cols))
                     continue;
                 st.decoded++;
-                record(out, max_out, &nout, &st, &dr, dr.fit_corners, 0.0f, geometry, rows,
-                       cols, flip_mirror);
+                fill_det(&sk[nsk], &dr, dr.fit_corners, 0.0f, geometry, rows, cols,
+                         flip_mirror);
+                {
+                    int j, dup = -1;
+                    for (j = 0; j < nsk; j++)
+                        if (same_place(&sk[j], sk[nsk].corners))
+                            dup = j;
+                    if (dup < 0)
+                        nsk++;
+                    else if (better(sk[nsk].hamming, 0.0f, &sk[dup]))
+                        sk[dup] = sk[nsk];
+                }
             }
         }
     }
+    /* 3. adaptive threshold: B -> A (A's 16-bit copy is no longer needed) */
+    rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols, params->threshold_radius,
+                                  params->threshold_offset, w.s, w.s_size);
+    if (rc != ACTAG_OK)
+        return rc;
+
+    /* 4.-6. contours, one at a time, each through size filter, quad, decode */
+    cap = ACTAG_CONTOUR_CAP(rows, cols);
+    pts = (actag_ipoint *)(void *)w.s;
+    qscratch = w.s + ACTAG__ALIGN16(cap * sizeof(actag_ipoint));
+    qscratch_size = w.s_size - ACTAG__ALIGN16(cap * sizeof(actag_ipoint));
+    rc = actag_contour_scanner_init(&scan, w.a, rows, cols, cols);
+    if (rc != ACTAG_OK)
+        return rc;
+    actag_rng_seed(&rng, params->seed);
+    {
+        for (;;) {
+            actag_contour_info ci;
+            actag_quad q;
+            actag_decode_result dr;
+            int tries;
+
+            rc = actag_contour_next(&scan, pts, (int)cap, &ci);
+            if (rc < 0)
+                return rc;
+            if (rc == 0)
+                break;
+            st.contours++;
+            if (ci.overflow) {
+                st.overflowed++;
+                continue;
+            }
+            if (!size_plausible(&ci, geometry, params, rows, cols))
+                continue;
+            st.size_ok++;
+            /* A contour at a tag the search found gets several RANSAC
+             * quads (each the first acceptable one) until one decodes, so
+             * the tag is reported with a quad's corners. */
+            tries = 1;
+            for (k = 0; k < nsk; k++) {
+                actag_point m = centre(sk[k].corners);
+                if (m.x >= (float)ci.min_x && m.x <= (float)ci.max_x && m.y >= (float)ci.min_y &&
+                    m.y <= (float)ci.max_y) {
+                    tries = ACTAG_SEEK_QUAD_EFFORT;
+                    break;
+                }
+            }
+            for (k = 0; k < tries; k++) {
+                rc = actag_quad_fit(pts, ci.stored, &params->quad, &rng, qscratch,
+                                    qscratch_size, &q);
+                if (rc != ACTAG_OK)
+                    continue; /* another try draws other samples */
+                st.quads++;
+                if (!sides_plausible(q.corners, geometry, params, rows, cols)) {
+                    rc = ACTAG_ERR_NO_QUAD;
+                    continue;
+                }
+                rc = decode_any(&w, rows, cols, q.corners, params, &dr);
+                /* the fit decoder's structure gate: black ring and white
+                 * interior cells on the right side of the mid level */
+                if (rc == ACTAG_OK && params->decode_mode == ACTAG_DECODE_FIT &&
+                    (dr.ring_black < params->min_structure ||
+                     dr.interior_white < params->min_structure))
+                    rc = ACTAG_ERR_NO_MATCH;
+                if (rc == ACTAG_OK)
+                    break;
+            }
+            if (rc != ACTAG_OK)
+                continue;
+            st.decoded++;
+            {
+                actag_detection d;
+                fill_det(&d, &dr, dr.corners, q.inlier_ratio, geometry, rows, cols, flip_mirror);
+                /* a search reading at this place is superseded by the quad's */
+                for (k = 0; k < nsk; k++)
+                    if (same_place(&sk[k], d.corners))
+                        sk_used[k] = 1;
+                record(out, max_out, &nout, &st, &d);
+            }
+        }
+    }
+
+    /* search readings that no quad confirmed */
+    for (k = 0; k < nsk; k++)
+        if (!sk_used[k])
+            record(out, max_out, &nout, &st, &sk[k]);
     if (stats)
         *stats = st;
     return nout;

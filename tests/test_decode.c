@@ -1358,6 +1358,226 @@ static void test_h4_mirror_ambiguity(void)
     }
 }
 
+/* ------------------------------------------------------------------ grid-fitting decoder */
+
+/* Clean renders (no perspective) through actag_decode_quad_fit: every ID of
+ * AcTag24h10 and a hand-made 16- and 32-bit family, all 8 orientations,
+ * with the exact quad and with a quad off by up to a third of a cell and
+ * 15 % in scale (the grid fit must recover). */
+static void run_fit_renders(test_family *tf, int reps)
+{
+    static uint8_t img[260 * 280];
+    int k = tf->fam.bits / 4, id, d, rep, n;
+    int maxc = actag_family_max_corrections(&tf->fam);
+    actag_fit_params fp;
+    actag_fit_params_default(&fp);
+    for (id = 0; id < tf->fam.ncodes; id++) {
+        for (d = 0; d < 8; d++) {
+            for (rep = 0; rep < reps; rep++) {
+                render_case rc;
+                actag_decode_result res;
+                actag_point q[4], c0;
+                double cs;
+                uint8_t white = (uint8_t)tu_range(60, 255);
+                int perturb = rep & 1;
+                setup_case(&rc, k, d & 3, d >> 2, rep % 3 == 2 ? 1 : 0, 1);
+                TEST_ASSERT_TRUE(rc.rows * rc.stride <= (int)sizeof img);
+                render(img, rc.rows, rc.cols, rc.stride, rc.T, k, tf->codes[id], white);
+                cs = sqrt((rc.quad[1].x - rc.quad[0].x) * (rc.quad[1].x - rc.quad[0].x) +
+                          (rc.quad[1].y - rc.quad[0].y) * (rc.quad[1].y - rc.quad[0].y)) /
+                     (k - 3);
+                c0.x = 0.25f * (rc.quad[0].x + rc.quad[1].x + rc.quad[2].x + rc.quad[3].x);
+                c0.y = 0.25f * (rc.quad[0].y + rc.quad[1].y + rc.quad[2].y + rc.quad[3].y);
+                {
+                    float sc = perturb ? (float)frand(0.87, 1.15) : 1.0f;
+                    float dx = perturb ? (float)(frand(-0.33, 0.33) * cs) : 0.0f;
+                    float dy = perturb ? (float)(frand(-0.33, 0.33) * cs) : 0.0f;
+                    for (n = 0; n < 4; n++) {
+                        q[n].x = c0.x + sc * (rc.quad[n].x - c0.x) + dx;
+                        q[n].y = c0.y + sc * (rc.quad[n].y - c0.y) + dy;
+                    }
+                }
+                memset(&res, 0, sizeof res);
+                fp.flags = ACTAG_FIT_DEFAULT_FLAGS | (rep % 4 == 3 ? ACTAG_FIT_WIDE : 0);
+                TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_decode_quad_fit(img, rc.rows, rc.cols,
+                                                                      rc.stride, q, &tf->fam,
+                                                                      perturb ? maxc : 0, &fp,
+                                                                      &res));
+                TEST_ASSERT_EQUAL_INT(id, res.id);
+                TEST_ASSERT_EQUAL_INT(0, res.hamming);
+                TEST_ASSERT_EQUAL_INT(d >> 2, res.mirrored);
+                TEST_ASSERT_EQUAL_FLOAT(1.0f, res.ring_black);
+                TEST_ASSERT_EQUAL_FLOAT(1.0f, res.interior_white);
+                TEST_ASSERT_FLOAT_WITHIN(1.0f, (float)white, res.contrast + 0.5f);
+                TEST_ASSERT_EQUAL_FLOAT(0.0f, res.flip_weight);
+                for (n = 0; n < 4; n++) {
+                    /* corners[] are the given quad's points in tag order;
+                     * the fitted grid lands on the printed corners */
+                    TEST_ASSERT_FLOAT_WITHIN((float)(0.3 * cs) + 0.6f, rc.printed[n].x,
+                                             res.fit_corners[n].x);
+                    TEST_ASSERT_FLOAT_WITHIN((float)(0.3 * cs) + 0.6f, rc.printed[n].y,
+                                             res.fit_corners[n].y);
+                    if (!perturb) {
+                        TEST_ASSERT_FLOAT_WITHIN(0.01f, rc.printed[n].x, res.corners[n].x);
+                        TEST_ASSERT_FLOAT_WITHIN(0.01f, rc.printed[n].y, res.corners[n].y);
+                    }
+                }
+            }
+        }
+    }
+}
+
+static void test_fit_renders(void)
+{
+    test_family tf;
+    tu_seed(71);
+    load_h10(&tf);
+    run_fit_renders(&tf, 8);
+    make_family(&tf, 16, 5, 6, "hand16");
+    run_fit_renders(&tf, 3);
+    make_family(&tf, 32, 11, 6, "hand32");
+    run_fit_renders(&tf, 3);
+}
+
+/* Brute-force reference of the fit decoder's matching on noise-free
+ * two-level grids: the data ring painted from a random word, the quad
+ * exact (no grid search). The reference: masked distance (the 4 corner
+ * cells do not count) to every code in all 8 physical orientations; the
+ * decoder must agree on acceptance, ID, distance and handedness whenever
+ * the best reading is unique. */
+static void test_fit_matching_vs_brute_force(void)
+{
+    enum { CS = 9, MG = 6 };
+    static uint8_t img[(8 * CS + 2 * MG) * (8 * CS + 2 * MG + 5)];
+    test_family tf;
+    int bits = 24, k = 6, side = (k + 1) * CS + 2 * MG, stride = side + 5, t;
+    int checked = 0, accepted = 0;
+    uint32_t keep = 0xffffffu & ~((1u << 23) | (1u << 17) | (1u << 11) | (1u << 5));
+    actag_fit_params fp;
+    actag_point q[4];
+    tu_seed(72);
+    load_h10(&tf);
+    actag_fit_params_default(&fp);
+    fp.flags |= ACTAG_FIT_NO_SEARCH;
+    q[0].x = (float)(MG + 2 * CS) - 0.5f;
+    q[0].y = (float)(MG + 2 * CS) - 0.5f;
+    q[1].x = (float)(MG + 5 * CS) - 0.5f;
+    q[1].y = q[0].y;
+    q[2].x = q[1].x;
+    q[2].y = (float)(MG + 5 * CS) - 0.5f;
+    q[3].x = q[0].x;
+    q[3].y = q[2].y;
+    for (t = 0; t < 3000; t++) {
+        uint32_t w;
+        int r, c, maxc = tu_range(0, 4), best[2] = {99, 99}, bid[2] = {0, 0}, nbest[2] = {0, 0};
+        int h, i, rot, rcode;
+        actag_decode_result res;
+        uint8_t lo = (uint8_t)tu_range(0, 100), hi = (uint8_t)tu_range(lo + 30, 255);
+        /* a random word near a random code (so that many cases decode) */
+        w = tf.codes[tu_range(0, 6)];
+        for (rot = tu_range(0, 3); rot > 0; rot--)
+            w = ref_rot(w, bits);
+        if (tu_range(0, 1))
+            w = ref_mirror(w, bits);
+        for (i = tu_range(0, 7); i > 0; i--)
+            w ^= 1u << tu_range(0, 23);
+        memset(img, 0xee, sizeof img);
+        for (r = 0; r < side; r++)
+            for (c = 0; c < side; c++) {
+                int cx = (c - MG) / CS, cy = (r - MG) / CS, v = 0;
+                if (c >= MG && r >= MG && cx <= k && cy <= k) {
+                    if (cx == 0 || cy == 0 || cx == k || cy == k)
+                        v = seq_get(w, bits, ring_index(k, cx, cy));
+                    else
+                        v = (cx >= 2 && cx <= k - 2 && cy >= 2 && cy <= k - 2);
+                }
+                img[(size_t)r * (size_t)stride + (size_t)c] = v ? hi : lo;
+            }
+        for (h = 0; h < 2; h++)
+            for (i = 0; i < 7; i++) {
+                uint32_t cw = tf.codes[i];
+                for (rot = 0; rot < 4; rot++) {
+                    uint32_t o = h ? ref_mirror(cw, bits) : cw;
+                    int d = ref_pop((o ^ w) & keep);
+                    if (d < best[h]) {
+                        best[h] = d;
+                        bid[h] = i;
+                        nbest[h] = 1;
+                    } else if (d == best[h] && i != bid[h]) {
+                        nbest[h]++;
+                    }
+                    cw = ref_rot(cw, bits);
+                }
+            }
+        h = best[1] < best[0];
+        rcode = actag_decode_quad_fit(img, side, side, stride, q, &tf.fam, maxc, &fp, &res);
+        if (best[0] == best[1] || nbest[h] > 1) {
+            /* ambiguous: the decoder must not claim a different tag */
+            if (rcode == ACTAG_OK)
+                TEST_ASSERT_TRUE(res.hamming == best[h]);
+            continue;
+        }
+        checked++;
+        if (best[h] <= maxc) {
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, rcode);
+            TEST_ASSERT_EQUAL_INT(bid[h], res.id);
+            TEST_ASSERT_EQUAL_INT(best[h], res.hamming);
+            TEST_ASSERT_EQUAL_INT(h, res.mirrored);
+            TEST_ASSERT_EQUAL_HEX32(w, res.observed);
+            accepted++;
+        } else {
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, rcode);
+        }
+    }
+    TEST_ASSERT_GREATER_THAN_INT(2000, checked);
+    TEST_ASSERT_GREATER_THAN_INT(500, accepted);
+    TEST_ASSERT_LESS_THAN_INT(checked, accepted);
+}
+
+static void test_fit_errors_and_edges(void)
+{
+    static uint8_t img[64 * 64];
+    test_family tf;
+    actag_fit_params fp, bad;
+    actag_decode_result res;
+    actag_point q[4] = {{20, 20}, {40, 20}, {40, 40}, {20, 40}};
+    actag_point deg[4] = {{20, 20}, {40, 20}, {60, 20}, {20, 40}};
+    load_h10(&tf);
+    actag_fit_params_default(&fp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_FIT_DEFAULT_FLAGS, fp.flags);
+    TEST_ASSERT_EQUAL_FLOAT(0.5f, fp.level);
+    actag_fit_params_default(NULL); /* no crash */
+    memset(img, 128, sizeof img);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_decode_quad_fit(NULL, 64, 64, 64, q, &tf.fam, 0, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_decode_quad_fit(img, 64, 64, 64, NULL, &tf.fam, 0, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_decode_quad_fit(img, 64, 64, 64, q, NULL, 0, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 0, NULL, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 0, &fp, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_decode_quad_fit(img, 64, 64, 63, q, &tf.fam, 0, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_decode_quad_fit(img, 0, 64, 64, q, &tf.fam, 0, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 5, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, -1, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_decode_quad_fit(img, 64, 64, 64, deg, &tf.fam, 0, &fp, &res));
+    bad = fp;
+    bad.sample_offset = 0.6f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 0, &bad, &res));
+    bad = fp;
+    bad.level = -0.1f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 0, &bad, &res));
+    bad = fp;
+    bad.min_contrast = 256;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 0, &bad, &res));
+    /* constant image: no contrast, no tag (with and without the searches) */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 4, &fp, &res));
+    bad = fp;
+    bad.flags |= ACTAG_FIT_WIDE;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_decode_quad_fit(img, 64, 64, 64, q, &tf.fam, 4, &bad, &res));
+    /* grid outside a tiny image: 1x1, 1xN, Nx1 */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_decode_quad_fit(img, 1, 1, 1, q, &tf.fam, 4, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_decode_quad_fit(img, 1, 64, 64, q, &tf.fam, 4, &fp, &res));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_decode_quad_fit(img, 64, 1, 1, q, &tf.fam, 4, &fp, &res));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1378,5 +1598,8 @@ int main(void)
     RUN_TEST(test_scale_extremes);
     RUN_TEST(test_real_example_frame);
     RUN_TEST(test_h4_mirror_ambiguity);
+    RUN_TEST(test_fit_renders);
+    RUN_TEST(test_fit_matching_vs_brute_force);
+    RUN_TEST(test_fit_errors_and_edges);
     return UNITY_END();
 }

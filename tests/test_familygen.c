@@ -9,28 +9,6 @@
 void setUp(void) {}
 void tearDown(void) {}
 
-static char *slurp(const char *path, long *len)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    long n;
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    buf = (char *)malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    if (buf)
-        buf[n] = '\0';
-    fclose(f);
-    *len = n;
-    return buf;
-}
-
 /* Runs the generator with args; returns its exit status (or -1). */
 static int run_gen(const char *args)
 {
@@ -79,14 +57,14 @@ static void test_checked_in_tables_equal_generator(void)
     int i;
     for (i = 0; i < 4; i++) {
         char args[1024], a[256], b[256];
-        long la, lb;
+        long la = 0, lb = 0;
         char *ca, *cb;
         snprintf(a, sizeof a, "%s/gen_h%d.c", ACTAG_BINARY_DIR, hs[i]);
         snprintf(args, sizeof args, "--bits 24 --hamming %d --format c --out %s", hs[i], a);
         TEST_ASSERT_EQUAL_INT(0, run_gen(args));
         snprintf(b, sizeof b, "%s/families/AcTag24h%d.c", ACTAG_SOURCE_DIR, hs[i]);
-        ca = slurp(a, &la);
-        cb = slurp(b, &lb);
+        ca = tu_slurp(a, &la);
+        cb = tu_slurp(b, &lb);
         TEST_ASSERT_NOT_NULL(ca);
         TEST_ASSERT_NOT_NULL_MESSAGE(cb, "checked-in family table missing");
         TEST_ASSERT_EQUAL_INT(la, lb);
@@ -99,12 +77,12 @@ static void test_checked_in_tables_equal_generator(void)
 static void test_apriltag_format_is_static(void)
 {
     char path[256], args[1024];
-    long n;
+    long n = 0;
     char *s;
     snprintf(path, sizeof path, "%s/gen_at.c", ACTAG_BINARY_DIR);
     snprintf(args, sizeof args, "--bits 24 --hamming 10 --format apriltag --out %s", path);
     TEST_ASSERT_EQUAL_INT(0, run_gen(args));
-    s = slurp(path, &n);
+    s = tu_slurp(path, &n);
     TEST_ASSERT_NOT_NULL(s);
     TEST_ASSERT_NOT_NULL(strstr(s, "apriltag_family_t *actag_apriltag_family_AcTag24h10(void)"));
     TEST_ASSERT_NOT_NULL(strstr(s, ".width_at_border = 3"));
@@ -158,10 +136,10 @@ static void test_argument_errors(void)
     TEST_ASSERT_EQUAL_INT(2, run_gen(args));
     {
         char path[256];
-        long n;
+        long n = 0;
         char *s;
         snprintf(path, sizeof path, "%s/gen_err.txt", ACTAG_BINARY_DIR);
-        s = slurp(path, &n);
+        s = tu_slurp(path, &n);
         TEST_ASSERT_NOT_NULL(s);
         TEST_ASSERT_GREATER_THAN(10, n);
         TEST_ASSERT_NOT_NULL(strstr(s, "multiple of 4"));

@@ -6,6 +6,7 @@
 
 #include "actag/threshold.h"
 #include "unity.h"
+#include "test_util.h"
 
 /* The portable (non-SIMD) code path, compiled into this test under another
  * name so that both paths are checked on any machine. */
@@ -282,34 +283,12 @@ static void test_output_is_binary(void)
     }
 }
 
-static uint8_t *read_pgm(const char *path, int *rows, int *cols)
-{
-    FILE *f = fopen(path, "rb");
-    int w, h, mx;
-    uint8_t *img;
-    if (f == NULL)
-        return NULL;
-    if (fscanf(f, "P5 %d %d %d", &w, &h, &mx) != 3 || mx != 255 || fgetc(f) == EOF) {
-        fclose(f);
-        return NULL;
-    }
-    img = (uint8_t *)malloc((size_t)w * (size_t)h);
-    if (img == NULL || fread(img, 1, (size_t)w * (size_t)h, f) != (size_t)w * (size_t)h) {
-        free(img);
-        fclose(f);
-        return NULL;
-    }
-    fclose(f);
-    *rows = h;
-    *cols = w;
-    return img;
-}
 
 static void test_real_sonar_frame(void)
 {
     /* A full 530 x 512 pool frame at the paper's radius 8, offset 1. */
     int rows, cols, f;
-    uint8_t *img = read_pgm(ACTAG_SHARED_DIR "/data/sonar/pool-video/f_0011.pgm", &rows, &cols);
+    uint8_t *img = tu_read_pgm(ACTAG_SHARED_DIR "/data/sonar/pool-video/f_0011.pgm", &rows, &cols);
     uint8_t *want, *out, *scratch;
     size_t n, scr;
     if (img == NULL) {

@@ -65,4 +65,26 @@ static inline uint8_t *tu_read_pgm(const char *path, int *rows, int *cols)
     return px;
 }
 
+/* Whole file as a NUL-terminated malloc'd string (len may be NULL), or NULL. */
+static inline char *tu_slurp(const char *path, long *len)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf;
+    long n;
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    buf = (char *)calloc((size_t)n + 1, 1);
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(f);
+    if (len)
+        *len = n;
+    return buf;
+}
+
 #endif

@@ -106,10 +106,6 @@ typedef struct actag_params {
     int min_contrast;           /* grey decoding: interior - ring contrast, grey levels (5) */
     uint32_t seed;              /* RANSAC seed (default 1) */
     actag_fit_params fit;       /* ACTAG_DECODE_FIT: decoder options (see decode.h) */
-    float fit_offset2;          /* ACTAG_DECODE_FIT: second sample offset tried (0: none) */
-    float max_flip_weight;      /* ACTAG_DECODE_FIT: corrected bits' confidence sum limit */
-    int extra_passes;           /* candidate passes after the first (0..4) */
-    int pass_offset;            /* extra pass i thresholds with offset - i * this; 0: erode instead */
     int search_candidates;      /* structure search: best positions decoded (0: off) */
     int search_min_score;       /* ... interior minus ring mean, grey levels */
     int search_max_corrections; /* ... bit corrections (at most max_bit_corrections) */
@@ -126,6 +122,14 @@ typedef struct actag_params {
 #define ACTAG_DECODE_BINARY 1
 #define ACTAG_DECODE_ALIGNED 2
 #define ACTAG_DECODE_FIT 3
+
+/* max_bit_corrections = ACTAG_CORRECTIONS_AUTO (the default): the family's
+ * maximum, capped at ACTAG_AUTO_CORRECTIONS (3). */
+/* Most structure-search candidates per frame (search_candidates). */
+#define ACTAG_SEARCH_MAX 8
+
+#define ACTAG_CORRECTIONS_AUTO (-1)
+#define ACTAG_AUTO_CORRECTIONS 3
 
 /* One detected tag. */
 typedef struct actag_detection {

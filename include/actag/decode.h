@@ -180,7 +180,8 @@ typedef struct actag_decode_result {
     int mirror_margin;      /* best other-handedness distance minus hamming */
     float ring_black;       /* fraction of black-ring samples read black */
     float interior_white;   /* fraction of white-square samples read white */
-    /* Filled by actag_decode_quad_fit() only (0 from the other decoders): */
+    /* Filled by actag_decode_quad_fit() only (0 from the other decoders,
+     * fit_corners then undefined): */
     float contrast;         /* white-interior minus black-ring mean, grey levels */
     float flip_weight;      /* sum of the corrected bits' confidences (see fit decoder) */
     float min_confidence;   /* smallest data-bit confidence */
@@ -247,33 +248,84 @@ int actag_decode_quad_aligned(const uint8_t *binary, const uint8_t *grey, int ro
 #define ACTAG_DECODE_MAX_K 8
 
 /* Flags of actag_decode_quad_fit(). */
-#define ACTAG_FIT_NO_SEARCH 1 /* use the quad's grid as is */
-#define ACTAG_FIT_LOCAL 2     /* per-bit thresholds from the neighbouring ring/interior cells */
+#define ACTAG_FIT_NO_SEARCH 1     /* read the quad's grid as given (no grid fit) */
+#define ACTAG_FIT_LOCAL 2         /* per-bit mid level from the bit's own ring/interior neighbours */
+#define ACTAG_FIT_SPLIT 4         /* code-aware data threshold (see the manual below) */
+#define ACTAG_FIT_WIDE 16         /* start with a +-1 cell position / rotation / shear search */
+#define ACTAG_FIT_ERASE_CORNERS 64 /* the data ring's 4 corner cells do not count */
+#define ACTAG_FIT_DEFAULT_FLAGS (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS)
+
+/* ACTAG_FIT_SPLIT tries data thresholds from LO to HI of the tag's contrast
+ * above its black ring (compile-time constants). */
 #ifndef ACTAG_FIT_SPLIT_LO
 #define ACTAG_FIT_SPLIT_LO 0.1f
 #endif
 #ifndef ACTAG_FIT_SPLIT_HI
 #define ACTAG_FIT_SPLIT_HI 0.5f
 #endif
-#define ACTAG_FIT_ERASE_CORNERS 64 /* the data ring's 4 corner cells do not count */
-#define ACTAG_FIT_PLANE 32    /* data threshold follows a plane fitted to the black ring */
-#define ACTAG_FIT_WIDE 16     /* first search the grid position +-1 cell */
-#define ACTAG_FIT_OTSU 8      /* data threshold: Otsu split of the data cells */
-#define ACTAG_FIT_SPLIT 4     /* code-aware data threshold (best split below the mid level) */
-
-#define ACTAG_FIT_DEFAULT_FLAGS (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS)
 
 /* Options of actag_decode_quad_fit(). */
 typedef struct actag_fit_params {
     int flags;           /* ACTAG_FIT_* (default ACTAG_FIT_DEFAULT_FLAGS) */
-    float level;         /* data threshold between ring black (0) and interior white (1), 0.5 */
+    float level;         /* mid level between ring black (0) and interior white (1), 0.5 */
     int min_contrast;    /* interior minus ring mean must reach this, grey levels (5) */
-    float sample_offset; /* cells from a cell centre to its outer sample points (0.2) */
+    float sample_offset; /* cells from a cell centre to its outer sample points, 0..0.5 (0.2) */
 } actag_fit_params;
 
+/* Fills *fp with the defaults above (no-op for NULL). */
 void actag_fit_params_default(actag_fit_params *fp);
 
-/* Grid-fitting decoder on a grey image (e.g. the median-filtered frame). */
+/*
+ * actag_decode_quad_fit(grey, rows, cols, stride, quad, family, max_corrections, fp, &res)
+ *   The sonar decoder (ACTAG_DECODE_FIT in actag.h). Reads a GREY image (the
+ *   median-filtered frame), not the binary one, and treats the quad only as
+ *   a first guess of the tag's cell grid:
+ *   1. Grid: the least-squares affine map of the quad (as actag_tag_affine),
+ *      written as centre + a (u - g) + b (v - g). With ACTAG_FIT_WIDE, first
+ *      the best of 5 starting grids (as given, rotated +-30 degrees, sheared
+ *      b += +-a lb/la) on a half-cell lattice of shifts within +-1 cell, then
+ *      its quarter-cell neighbours. Then (unless ACTAG_FIT_NO_SEARCH) an
+ *      ascent over the 6 affine numbers (steps 0.15 cell in position, 5 % of
+ *      a side vector, halved twice), kept within half a cell of the start
+ *      and 65-134 % of its side lengths. The objective is code-agnostic:
+ *      (white - black) * (k-1)^2 plus, for every data cell,
+ *      min(|cell - mid|, half the contrast), where black / white are the
+ *      mean black-ring / white-interior cell levels and mid = (black+white)/2.
+ *      Sonar blooms (bright areas spread, most along the beams), so the
+ *      white square of a quad is larger than printed; the fit pulls the
+ *      grid back onto the ring and the data cells.
+ *   2. Cells: bilinear samples at the centre and +-sample_offset cell (3x3)
+ *      averaged. The whole grid must lie inside the image, and white - black
+ *      must reach min_contrast, else ACTAG_ERR_NO_MATCH.
+ *   3. Bits: confidence c_i = (cell_i - t_i) / (white - black) with
+ *      t_i = black + level * contrast, or with ACTAG_FIT_LOCAL the mean of
+ *      the black-ring cell next to bit i and the interior cell next to that
+ *      (data bits at the tag's edges return less than its interior).
+ *      ACTAG_FIT_SPLIT: instead of a single threshold 0, every split of the
+ *      sorted c_i between ACTAG_FIT_SPLIT_LO - level and ACTAG_FIT_SPLIT_HI -
+ *      level is read and matched; the word closest to a code wins. If splits
+ *      read as different tags or poses the closest must win by at least one
+ *      bit, and a tie between the two handednesses is no reading; else
+ *      ACTAG_ERR_NO_MATCH (the threshold would decide the ID).
+ *      ACTAG_FIT_ERASE_CORNERS: the 4 corner cells of the data ring are not
+ *      counted (on the pool frames they held 39 of the 124 bit errors of
+ *      correctly read tags, 3 times their share); the distance then runs
+ *      over 4k-4 bits and a family's guaranteed distance drops by up to 4.
+ *   4. Matching as in actag_decode_quad (both handednesses, reflection P).
+ *   Results as for actag_decode_quad (corners[] are the given quad's points
+ *   in tag order), plus: ring_black / interior_white = fractions of the
+ *   ring / interior CELLS on the right side of mid (the pipeline requires
+ *   1.0), contrast, flip_weight = sum of |c_i| of the corrected bits,
+ *   min_confidence = min |c_i|, fit_corners = the fitted grid's white-square
+ *   corners in tag order.
+ *   Deterministic: + - * / and sqrtf only. No memory beyond ~1 KB of stack.
+ *   Cost: one fit is ~100-200 evaluations of 49 cells x 9 (5 during the
+ *   ACTAG_FIT_WIDE search) bilinear samples, 0.1-0.4 ms on a desktop core.
+ *   Errors: ACTAG_ERR_NULL (any pointer NULL), ACTAG_ERR_SIZE, ACTAG_ERR_FAMILY,
+ *   ACTAG_ERR_CORRECTIONS, ACTAG_ERR_PARAM (degenerate quad, level outside
+ *   0..1, sample_offset outside 0..0.5, min_contrast outside 0..255),
+ *   ACTAG_ERR_NO_MATCH.
+ */
 int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                           const actag_point quad[4], const actag_family *family,
                           int max_corrections, const actag_fit_params *fp,
