@@ -94,42 +94,71 @@ typedef struct actag_frame {
 typedef struct actag_params {
     const actag_family *family; /* required: e.g. from actag_family_get() */
     float tag_size;             /* metres: side of the inner white square (default 3/7 ft) */
-    int max_bit_corrections;    /* 0 .. actag_family_max_corrections(family) (default 0) */
+    int max_bit_corrections;    /* 0 .. actag_family_max_corrections(family), or
+                                   ACTAG_CORRECTIONS_AUTO (default): min(3, family maximum) */
     int median_radius;          /* pixels (default 4); 0 disables the filter */
     int threshold_radius;       /* pixels (default 8), at most ACTAG_MAX_THRESHOLD_RADIUS */
     int threshold_offset;       /* grey levels (default 1) */
     float size_tolerance;       /* contour size filter slack (default 0.2) */
     float min_area_fraction;    /* contour area >= this * diag_r_px * diag_az_px * (1 - tol) (0.1) */
     float max_area_fraction;    /* contour area <= this * diag_r_px * diag_az_px * (1 + tol) (1.0) */
-    actag_quad_params quad;     /* RANSAC (default 500 iterations, 0.1, 0.85, 2.5 px, 0.9) */
-    int decode_mode;            /* ACTAG_DECODE_GREY (default) or ACTAG_DECODE_BINARY (paper) */
-    int min_contrast;           /* grey decoding: interior - ring contrast, grey levels (5) */
+    actag_quad_params quad;     /* RANSAC (default 100 iterations, 0.1, 0.8 early exit,
+                                   0.6 required, 2.5 px, 0.9) */
+    int decode_mode;            /* ACTAG_DECODE_FIT (default), _GREY, _BINARY (paper), _ALIGNED */
+    int min_contrast;           /* _GREY decoding: interior - ring contrast, grey levels (5) */
     uint32_t seed;              /* RANSAC seed (default 1) */
-    actag_fit_params fit;       /* ACTAG_DECODE_FIT: decoder options (see decode.h) */
-    int search_candidates;      /* structure search: best positions decoded (0: off) */
-    int search_min_score;       /* ... interior minus ring mean, grey levels */
-    int search_max_corrections; /* ... bit corrections (at most max_bit_corrections) */
-    float search_range_scale;   /* ... expected range extent / tag_size (tilted tags look shorter) */
-    float min_structure;        /* ACTAG_DECODE_FIT: ring_black and interior_white must reach this */
-    float min_side_fraction;    /* quad sides (metres) must be >= this * tag_size */
-    float max_side_fraction;    /* ... and <= this * tag_size */
+    actag_fit_params fit;       /* _FIT decoding: options (decode.h; actag_fit_params_default) */
+    float min_structure;        /* _FIT: ring_black and interior_white must reach this (1.0) */
+    float min_side_fraction;    /* each quad side, in metres, >= this * tag_size (0.5) */
+    float max_side_fraction;    /* ... and <= this * tag_size (1.6) */
+    int search_candidates;      /* structure search: positions decoded per frame, 0..8 (2; 0 off) */
+    int search_min_score;       /* ... least interior-minus-ring box contrast, grey levels (15) */
+    int search_max_corrections; /* ... bit corrections, capped by max_bit_corrections (3) */
+    float search_range_scale;   /* ... expected range extent / tag_size (0.75: tilted tags
+                                   look shorter in range) */
 } actag_params;
 
-/* decode_mode: read the bits from the median-filtered frame against each
- * tag's own black/white levels (actag_decode_quad_grey), or, as the paper
- * does, from the binary frame (actag_decode_quad). */
+/* decode_mode:
+ *   ACTAG_DECODE_FIT     the grid-fitting grey decoder, actag_decode_quad_fit()
+ *                        on the median-filtered frame (default; see below)
+ *   ACTAG_DECODE_GREY    actag_decode_quad_grey() on the filtered frame
+ *   ACTAG_DECODE_BINARY  actag_decode_quad() on the binary frame (the paper's)
+ *   ACTAG_DECODE_ALIGNED actag_decode_quad_aligned()                          */
 #define ACTAG_DECODE_GREY 0
 #define ACTAG_DECODE_BINARY 1
 #define ACTAG_DECODE_ALIGNED 2
 #define ACTAG_DECODE_FIT 3
 
 /* max_bit_corrections = ACTAG_CORRECTIONS_AUTO (the default): the family's
- * maximum, capped at ACTAG_AUTO_CORRECTIONS (3). */
+ * maximum, capped at ACTAG_AUTO_CORRECTIONS. */
+#define ACTAG_CORRECTIONS_AUTO (-1)
+#define ACTAG_AUTO_CORRECTIONS 3
+
 /* Most structure-search candidates per frame (search_candidates). */
 #define ACTAG_SEARCH_MAX 8
 
-#define ACTAG_CORRECTIONS_AUTO (-1)
-#define ACTAG_AUTO_CORRECTIONS 3
+/* DEFAULTS AND WHY (measured on the 58 pool frames + the example frame, see
+ * the decode.h manual for the decoder):
+ *   - Pipeline order: median -> structure search -> threshold -> contours ->
+ *     size filter -> RANSAC quad -> side-length check -> decode -> merge.
+ *   - Structure search: box sums over a 4x4-averaged copy of the filtered
+ *     frame score every position by mean(3x3-cell box) - mean(ring of cells
+ *     around it) at the tag's physical size (range extent scaled by
+ *     search_range_scale); the best search_candidates separated maxima are
+ *     decoded with ACTAG_FIT_WIDE. It finds tags whose white square merged
+ *     with data cells or clutter in the binary frame (no quad). A contour
+ *     containing a search hit gets up to 10 RANSAC quads until one decodes,
+ *     and a quad reading replaces the search reading at the same place, so
+ *     corners come from quads whenever one decodes (fitted-grid corners
+ *     otherwise).
+ *   - Two readings at the same place (centre inside the other's
+ *     circumcircle) are one tag: the lower hamming wins (then the higher
+ *     inlier ratio); this also drops misreadings with another ID.
+ *   - Table I values kept: median radius 4, threshold radius 8, offset 1,
+ *     inlier distance 2.5. Changed: RANSAC early exit 0.85 -> 0.8 with
+ *     0.6 required (ragged sonar contours; the decoder judges), 500 -> 100
+ *     iterations (the search covers RANSAC misses; same recall, ~2 ms less).
+ */
 
 /* One detected tag. */
 typedef struct actag_detection {

@@ -308,8 +308,8 @@ void actag_fit_params_default(actag_fit_params *fp);
  *      bit, and a tie between the two handednesses is no reading; else
  *      ACTAG_ERR_NO_MATCH (the threshold would decide the ID).
  *      ACTAG_FIT_ERASE_CORNERS: the 4 corner cells of the data ring are not
- *      counted (on the pool frames they held 39 of the 124 bit errors of
- *      correctly read tags, 3 times their share); the distance then runs
+ *      counted (on the pool frames they held 39 of the 100 bit errors of
+ *      39 correct readings, 2.3 times their share); the distance then runs
  *      over 4k-4 bits and a family's guaranteed distance drops by up to 4.
  *   4. Matching as in actag_decode_quad (both handednesses, reflection P).
  *   Results as for actag_decode_quad (corners[] are the given quad's points
