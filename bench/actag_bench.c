@@ -5,7 +5,8 @@
  *
  *   actag_bench [--repeat N] [--family NAME] [FRAME.pgm...]
  *
- * Geometry is the pool recording's: 0.1-1.5 m, 60 degrees; Table I parameters.
+ * Geometry is the pool recording's: 0.1-1.5 m, 60 degrees; default parameters
+ * (the paper's Table I median/threshold radii and offset).
  * Single-threaded; run on an idle machine. Host-only (stdio, malloc).
  */
 #define _POSIX_C_SOURCE 200809L
@@ -32,7 +33,7 @@ static double now_ms(void)
 
 enum { S_MEDIAN, S_THRESH, S_CONTOUR, S_QUAD_DECODE, S_TOTAL, S_N };
 static const char *const stage_names[S_N] = {"median filter (R=4)", "adaptive threshold (R=8)",
-                                             "contours + size filter", "quads + decode (rest)",
+                                             "contours + size filter", "search + quads + decode (rest)",
                                              "whole pipeline (actag_detect)"};
 
 int main(int argc, char **argv)
@@ -144,7 +145,7 @@ int main(int argc, char **argv)
         free(bin);
         free(scratch);
     }
-    printf("actag_bench: %d frames, best of %d runs each, family %s, Table I parameters\n",
+    printf("actag_bench: %d frames, best of %d runs each, family %s, default parameters (Table I radii)\n",
            frames, repeat, fam.name);
     printf("%-32s %12s %12s\n", "stage", "ms/frame", "ns/pixel");
     for (s = 0; s < S_N; s++)

@@ -40,14 +40,17 @@ static void usage(FILE *f)
             "Tags and pipeline:\n"
             "  --family NAME          tag family (default AcTag24h10)\n"
             "  --tag-size M           side of the inner white square, metres (default 0.130628571)\n"
-            "  --bit-corrections N    allowed corrected bits (default 0)\n"
+            "  --bit-corrections N    allowed corrected bits (default: min(3, family maximum))\n"
             "  --seed N               RANSAC seed (default 1)\n"
-            "  --decode grey|binary   read bits from the filtered frame against the tag's own\n"
-            "                         black/white levels (default), or from the binary frame\n"
+            "  --decode MODE          fit (default): fit the cell grid to the filtered frame and\n"
+            "                         read each bit against its neighbours; grey: tag-wide grey\n"
+            "                         threshold; aligned: binary frame after a grid-scale search;\n"
+            "                         binary: the paper's reading of the binary frame\n"
             "  --min-contrast N       grey decoding: interior minus ring, grey levels (default 5)\n"
+            "  --search N             structure-search candidates per frame, 0 (off) to 8 (default 2)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
-            "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.85)\n"
-            "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 500)\n"
+            "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
+            "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
             "Output:\n"
             "  --json                 one JSON line per file\n"
             "  --overlay OUT.ppm      draw corners, corner numbers, IDs and sampled bits\n"
@@ -518,11 +521,16 @@ int main(int argc, char **argv)
                 params.decode_mode = ACTAG_DECODE_BINARY;
             else if (strcmp(v, "aligned") == 0)
                 params.decode_mode = ACTAG_DECODE_ALIGNED;
+            else if (strcmp(v, "fit") == 0)
+                params.decode_mode = ACTAG_DECODE_FIT;
             else
-                opt_error("--decode takes grey or binary", v);
+                opt_error("--decode takes fit, grey, aligned or binary", v);
         } else if (strcmp(a, "--min-contrast") == 0) {
             NEEDV();
             params.min_contrast = (int)parse_long(a, v, 0, 255);
+        } else if (strcmp(a, "--search") == 0) {
+            NEEDV();
+            params.search_candidates = (int)parse_long(a, v, 0, ACTAG_SEARCH_MAX);
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
             params.seed = (uint32_t)parse_long(a, v, 0, 4294967295L);
