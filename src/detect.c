@@ -202,153 +202,8 @@ static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g
     return 1;
 }
 
-/* ---- structure search: candidates that contours miss -------------------
- * A tag's white square inside its black ring is a bright box in a dark
- * frame at a known physical size. Box sums over a 2x2-averaged copy of the
- * filtered frame (integral image in the stage scratch) score every
- * position by (mean of the 3x3-cell box) - (mean of the ring of cells
- * around it); the best separated maxima are handed to the decoder as
- * axis-aligned quads, and the decoder's grid fit does the rest. */
-
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
-
-/* Resolution reduction of the search (F x F blocks averaged). */
-#define SEEK_F 4
-
-typedef struct seek_ctx {
-    uint32_t *ii; /* (hr + 1) x (hc + 1) integral of the half-resolution image */
-    int16_t *map; /* hr x hc scores (grey levels x 8) */
-    int hr, hc;
-} seek_ctx;
-
-static uint32_t box_sum(const seek_ctx *z, int r0, int c0, int r1, int c1)
-{
-    /* rows r0..r1-1, cols c0..c1-1, clamped */
-    size_t w = (size_t)z->hc + 1u;
-    if (r0 < 0) r0 = 0;
-    if (c0 < 0) c0 = 0;
-    if (r1 > z->hr) r1 = z->hr;
-    if (c1 > z->hc) c1 = z->hc;
-    if (r1 <= r0 || c1 <= c0)
-        return 0u;
-    return z->ii[(size_t)r1 * w + (size_t)c1] - z->ii[(size_t)r0 * w + (size_t)c1] -
-           z->ii[(size_t)r1 * w + (size_t)c0] + z->ii[(size_t)r0 * w + (size_t)c0];
-}
-
-/* Fills the score map; returns 0 when the scratch is too small. */
-static int seek_map(seek_ctx *z, const uint8_t *img, int rows, int cols, uint8_t *mapmem,
-                    size_t mapmem_size, uint8_t *scratch, size_t scratch_size,
-                    const actag_sonar_geometry *g, const actag_params *p)
-{
-    int r, c, hr = rows / SEEK_F, hc = cols / SEEK_F;
-    size_t w = (size_t)hc + 1u;
-    float dr = actag_geometry_range_step(g, rows);
-    if (hr < 4 || hc < 4 || (size_t)(hr + 1) * w * 4u + 16u > scratch_size ||
-        (size_t)hr * (size_t)hc * 2u + 16u > mapmem_size || !(dr > 0.0f))
-        return 0;
-    z->hr = hr;
-    z->hc = hc;
-    z->ii = (uint32_t *)(void *)scratch;
-    z->map = (int16_t *)(void *)mapmem;
-    for (c = 0; c <= hc; c++)
-        z->ii[c] = 0u;
-    for (r = 0; r < hr; r++) {
-        uint32_t run = 0u;
-        uint32_t *prev = z->ii + (size_t)r * w, *cur = prev + w;
-        cur[0] = 0u;
-        for (c = 0; c < hc; c++) {
-            int i, j;
-            for (i = 0; i < SEEK_F; i++) {
-                const uint8_t *a = img + (size_t)(SEEK_F * r + i) * (size_t)cols + SEEK_F * c;
-                for (j = 0; j < SEEK_F; j++)
-                    run += a[j];
-            }
-            cur[c + 1] = prev[c + 1] + run;
-        }
-    }
-    for (r = 0; r < hr; r++) {
-        float y = (float)(SEEK_F * r) + 0.5f * (float)(SEEK_F - 1);
-        float range = actag_geometry_range(g, rows, y);
-        float daz = actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range;
-        float cell = p->tag_size / 3.0f;
-        int ir, ic, orr, oc;
-        float cr, cc;
-        if (!(daz > 0.0f)) {
-            for (c = 0; c < hc; c++)
-                z->map[(size_t)r * (size_t)hc + (size_t)c] = INT16_MIN;
-            continue;
-        }
-        cr = cell * p->search_range_scale / dr / (float)SEEK_F;  /* low-res pixels per cell along range */
-        cc = cell / daz / (float)SEEK_F;  /* ... along azimuth */
-        ir = (int)(1.5f * cr + 0.5f);
-        ic = (int)(1.5f * cc + 0.5f);
-        orr = (int)(2.5f * cr + 0.5f);
-        oc = (int)(2.5f * cc + 0.5f);
-        if (ir < 1) ir = 1;
-        if (ic < 1) ic = 1;
-        if (orr <= ir) orr = ir + 1;
-        if (oc <= ic) oc = ic + 1;
-        for (c = 0; c < hc; c++) {
-            int16_t v = INT16_MIN;
-            if (r - orr >= 0 && r + orr < hr && c - oc >= 0 && c + oc < hc) {
-                uint32_t si = box_sum(z, r - ir, c - ic, r + ir + 1, c + ic + 1);
-                uint32_t so = box_sum(z, r - orr, c - oc, r + orr + 1, c + oc + 1);
-                int32_t ni = (2 * ir + 1) * (2 * ic + 1), no = (2 * orr + 1) * (2 * oc + 1);
-                /* 8 * (mean_in - mean_ring) in grey levels; sums are of F^2 pixels */
-                int64_t num = (int64_t)si * (no - ni) - (int64_t)(so - si) * ni;
-                int64_t den = (int64_t)ni * (no - ni) * SEEK_F * SEEK_F;
-                int64_t q = num * 8 / den;
-                v = (int16_t)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
-            }
-            z->map[(size_t)r * (size_t)hc + (size_t)c] = v;
-        }
-    }
-    return 1;
-}
-
-/* Takes the best remaining position (score >= min), suppresses its
- * neighbourhood, and returns the axis-aligned white-square quad (full
- * resolution). Returns 0 when nothing is left. */
-static int seek_next(seek_ctx *z, int min_score, const actag_sonar_geometry *g,
-                     const actag_params *p, int rows, int cols, actag_point quad[4])
-{
-    int r, c, br = -1, bc = -1, best = min_score - 1;
-    float y, x, range, daz, hr_px, hc_px;
-    for (r = 0; r < z->hr; r++) {
-        const int16_t *m = z->map + (size_t)r * (size_t)z->hc;
-        for (c = 0; c < z->hc; c++)
-            if (m[c] > best) {
-                best = m[c];
-                br = r;
-                bc = c;
-            }
-    }
-    if (br < 0)
-        return 0;
-    y = (float)(SEEK_F * br) + 0.5f * (float)(SEEK_F - 1);
-    x = (float)(SEEK_F * bc) + 0.5f * (float)(SEEK_F - 1);
-    range = actag_geometry_range(g, rows, y);
-    daz = actag_geometry_azimuth_step(g, cols, x) * range;
-    hr_px = 0.5f * p->tag_size * p->search_range_scale / actag_geometry_range_step(g, rows);
-    hc_px = 0.5f * p->tag_size / daz;
-    {
-        int sr = (int)(hr_px * 1.5f / (float)SEEK_F) + 1, sc = (int)(hc_px * 1.5f / (float)SEEK_F) + 1;
-        int r0 = br - sr, r1 = br + sr, c0 = bc - sc, c1 = bc + sc;
-        if (r0 < 0) r0 = 0;
-        if (c0 < 0) c0 = 0;
-        if (r1 >= z->hr) r1 = z->hr - 1;
-        if (c1 >= z->hc) c1 = z->hc - 1;
-        for (r = r0; r <= r1; r++)
-            for (c = c0; c <= c1; c++)
-                z->map[(size_t)r * (size_t)z->hc + (size_t)c] = INT16_MIN;
-    }
-    quad[0].x = x - hc_px; quad[0].y = y - hr_px;
-    quad[1].x = x + hc_px; quad[1].y = y - hr_px;
-    quad[2].x = x + hc_px; quad[2].y = y + hr_px;
-    quad[3].x = x - hc_px; quad[3].y = y + hr_px;
-    return 1;
-}
 
 /* The grid-fitting decoder with the pipeline's options. */
 static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
@@ -529,14 +384,19 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
      * the contours may miss. Contours at a tag found here get more RANSAC
      * iterations below, so a tag seen by both reports the quad's corners. */
     if (params->search_candidates > 0) {
-        seek_ctx z;
+        actag_search z;
         int ncand = 0;
-        if (seek_map(&z, w.b, rows, cols, w.a, ACTAG__ALIGN16((size_t)rows * (size_t)cols), w.s,
-                     w.s_size, geometry, params)) {
+        /* the map uses A (free until the threshold), the integral image S;
+         * a frame too small or too tall for them is simply not searched */
+        if (actag_search_map(&z, w.b, rows, cols, cols, geometry, params->tag_size,
+                             params->search_range_scale, w.a,
+                             ACTAG__ALIGN16((size_t)rows * (size_t)cols), w.s,
+                             w.s_size) == ACTAG_OK) {
             actag_point quad[4];
             while (ncand < params->search_candidates &&
-                   seek_next(&z, params->search_min_score * 8, geometry, params, rows, cols,
-                             quad)) {
+                   actag_search_next(&z, params->search_min_score * 8, geometry,
+                                     params->tag_size, params->search_range_scale, rows, cols,
+                                     quad)) {
                 actag_decode_result dr;
                 int drc;
                 ncand++;

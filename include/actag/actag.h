@@ -8,7 +8,7 @@
  *   (range m, azimuth rad).
  *
  *   Pipeline (one source file per stage, each public on its own):
- *     median filter (median.h) -> [structure search, detect.c] ->
+ *     median filter (median.h) -> structure search (search.h) ->
  *     adaptive threshold (threshold.h) -> contours (contours.h) ->
  *     physical size filter (geometry.h) -> RANSAC quadrilateral (quad.h) ->
  *     decode (decode.h, grid-fitting grey decoder by default).
@@ -77,6 +77,7 @@
 #include "actag/median.h"
 #include "actag/quad.h"
 #include "actag/rng.h"
+#include "actag/search.h"
 #include "actag/threshold.h"
 
 #ifdef __cplusplus
@@ -154,9 +155,10 @@ typedef struct actag_params {
  *     corners come from quads whenever one decodes (fitted-grid corners
  *     otherwise). Memory: the score map (int16, rows/4 x cols/4) uses the
  *     binary image's place before the threshold fills it, the integral
- *     image (uint32, (rows/4+1) x (cols/4+1)) the stage scratch; when that
- *     scratch is too small (frames much taller than wide) the search is
- *     skipped. Cost: ~1.5 ms per 530 x 512 frame (desktop core).
+ *     image (uint32, (rows/4+1) x (cols/4+1)) the stage scratch (both
+ *     counted in ACTAG_WORKSPACE_SIZE); frames under 16 pixels in either
+ *     direction are not searched. Cost: ~1.5 ms per 530 x 512 frame
+ *     (desktop core).
  *   - Two readings at the same place (centre inside the other's
  *     circumcircle) are one tag: the lower hamming wins (then the higher
  *     inlier ratio); this also drops misreadings with another ID.
@@ -202,7 +204,8 @@ typedef struct actag_stats {
 #define ACTAG__ALIGN16(n) ((((size_t)(n)) + 15u) & ~(size_t)15u)
 #define ACTAG__MAX(a, b) ((a) > (b) ? (a) : (b))
 #define ACTAG__STAGE_SCRATCH(rows, cols)                                                     \
-    ACTAG__MAX(ACTAG__MAX(ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols),                            \
+    ACTAG__MAX(ACTAG__MAX(ACTAG__MAX(ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols),                 \
+                                     ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols)),               \
                           ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols,                         \
                                                          ACTAG_MAX_THRESHOLD_RADIUS)),      \
                ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint)) +       \

@@ -1,0 +1,76 @@
+/*
+ * actag/search.h -- structure search: where a tag's white square may be,
+ * without contours.
+ *
+ * MANUAL
+ *   A tag's white square inside its black ring is a bright box in a dark
+ *   frame, at a size known from the sonar geometry. When the white square
+ *   merges with neighbouring data cells in the binary frame, no contour
+ *   isolates it; this stage finds such places directly in the (median-
+ *   filtered) grey frame, for the decoder's grid fit to examine.
+ *
+ *   actag_search_map() averages the frame over ACTAG_SEARCH_FACTOR^2 blocks
+ *   (integral image in caller scratch) and scores every block position by
+ *       8 * (mean of the inner box - mean of the ring between inner and outer box)
+ *   in grey levels x 8, where at the block's range the inner box spans 1.5
+ *   cells either side of the centre and the outer box 2.5 cells (cell =
+ *   tag_size / 3; along the range axis the cell is scaled by range_scale,
+ *   because tilted tags look shorter in range). Rows whose geometry gives no
+ *   azimuth step, and positions whose outer box leaves the frame, score
+ *   INT16_MIN. Scores are clamped to +-2040.
+ *
+ *   actag_search_next() takes the best remaining position with a score >=
+ *   min_score, blanks a 1.5-tag neighbourhood around it, and returns the
+ *   axis-aligned white-square quad it implies (full-resolution pixels,
+ *   clockwise on screen from the top-left). Returns 1, or 0 when nothing is
+ *   left.
+ *
+ *   Memory: ACTAG_SEARCH_MAP_SIZE bytes for the score map and
+ *   ACTAG_SEARCH_INTEGRAL_SIZE bytes of scratch, both caller-owned; the
+ *   actag_search struct only points into them.
+ *
+ * ERRORS (actag_search_map)
+ *   ACTAG_ERR_NULL       a pointer is NULL
+ *   ACTAG_ERR_SIZE       stride < cols, or the frame is smaller than
+ *                        4 blocks in either direction (nothing to search)
+ *   ACTAG_ERR_PARAM      tag_size or range_scale not positive and finite
+ *   ACTAG_ERR_GEOMETRY   invalid geometry for this frame (geometry.h)
+ *   ACTAG_ERR_WORKSPACE  map or scratch smaller than the sizes below
+ */
+#ifndef ACTAG_SEARCH_H
+#define ACTAG_SEARCH_H
+
+#include "actag/common.h"
+#include "actag/geometry.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Resolution reduction of the search (F x F blocks averaged). */
+#define ACTAG_SEARCH_FACTOR 4
+
+/* Bytes of the int16 score map, and of the uint32 integral-image scratch. */
+#define ACTAG_SEARCH_MAP_SIZE(rows, cols)                                                    \
+    ((size_t)(rows) / ACTAG_SEARCH_FACTOR * ((size_t)(cols) / ACTAG_SEARCH_FACTOR) * 2u)
+#define ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols)                                               \
+    (((size_t)(rows) / ACTAG_SEARCH_FACTOR + 1u) * ((size_t)(cols) / ACTAG_SEARCH_FACTOR + 1u) * 4u)
+
+typedef struct actag_search {
+    uint32_t *ii; /* (hr + 1) x (hc + 1) integral of the block-averaged frame */
+    int16_t *map; /* hr x hc scores */
+    int hr, hc;   /* block rows and columns */
+} actag_search;
+
+int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
+                     const actag_sonar_geometry *g, float tag_size, float range_scale,
+                     void *map, size_t map_size, void *scratch, size_t scratch_size);
+
+int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
+                      float tag_size, float range_scale, int rows, int cols,
+                      actag_point quad[4]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,151 @@
+/* Structure search (see search.h): box contrast of a bright square inside a
+ * dark ring at the tag's physical size, on a block-averaged frame. */
+#include "actag/search.h"
+
+
+static uint32_t box_sum(const actag_search *z, int r0, int c0, int r1, int c1)
+{
+    /* rows r0..r1-1, cols c0..c1-1, clamped */
+    size_t w = (size_t)z->hc + 1u;
+    if (r0 < 0) r0 = 0;
+    if (c0 < 0) c0 = 0;
+    if (r1 > z->hr) r1 = z->hr;
+    if (c1 > z->hc) c1 = z->hc;
+    if (r1 <= r0 || c1 <= c0)
+        return 0u;
+    return z->ii[(size_t)r1 * w + (size_t)c1] - z->ii[(size_t)r0 * w + (size_t)c1] -
+           z->ii[(size_t)r1 * w + (size_t)c0] + z->ii[(size_t)r0 * w + (size_t)c0];
+}
+
+static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
+
+int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
+                     const actag_sonar_geometry *g, float tag_size, float range_scale,
+                     void *mapmem, size_t mapmem_size, void *scratch, size_t scratch_size)
+{
+    int r, c, hr, hc, rc;
+    size_t w;
+    float dr;
+    if (z == NULL || img == NULL || g == NULL || mapmem == NULL || scratch == NULL)
+        return ACTAG_ERR_NULL;
+    rc = actag_geometry_validate(g, rows, cols);
+    if (rc != ACTAG_OK)
+        return rc;
+    if (stride < cols)
+        return ACTAG_ERR_SIZE;
+    if (!finite_pos(tag_size) || !finite_pos(range_scale))
+        return ACTAG_ERR_PARAM;
+    hr = rows / ACTAG_SEARCH_FACTOR;
+    hc = cols / ACTAG_SEARCH_FACTOR;
+    if (hr < 4 || hc < 4)
+        return ACTAG_ERR_SIZE;
+    if (scratch_size < ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols) ||
+        mapmem_size < ACTAG_SEARCH_MAP_SIZE(rows, cols))
+        return ACTAG_ERR_WORKSPACE;
+    w = (size_t)hc + 1u;
+    dr = actag_geometry_range_step(g, rows);
+    z->hr = hr;
+    z->hc = hc;
+    z->ii = (uint32_t *)scratch;
+    z->map = (int16_t *)mapmem;
+    for (c = 0; c <= hc; c++)
+        z->ii[c] = 0u;
+    for (r = 0; r < hr; r++) {
+        uint32_t run = 0u;
+        uint32_t *prev = z->ii + (size_t)r * w, *cur = prev + w;
+        cur[0] = 0u;
+        for (c = 0; c < hc; c++) {
+            int i, j;
+            for (i = 0; i < ACTAG_SEARCH_FACTOR; i++) {
+                const uint8_t *a = img + (size_t)(ACTAG_SEARCH_FACTOR * r + i) * (size_t)stride +
+                                   (size_t)(ACTAG_SEARCH_FACTOR * c);
+                for (j = 0; j < ACTAG_SEARCH_FACTOR; j++)
+                    run += a[j];
+            }
+            cur[c + 1] = prev[c + 1] + run;
+        }
+    }
+    for (r = 0; r < hr; r++) {
+        float y = (float)(ACTAG_SEARCH_FACTOR * r) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
+        float range = actag_geometry_range(g, rows, y);
+        float daz = actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range;
+        float cell = tag_size / 3.0f;
+        int ir, ic, orr, oc;
+        float cr, cc;
+        if (!(daz > 0.0f)) {
+            for (c = 0; c < hc; c++)
+                z->map[(size_t)r * (size_t)hc + (size_t)c] = INT16_MIN;
+            continue;
+        }
+        cr = cell * range_scale / dr / (float)ACTAG_SEARCH_FACTOR;  /* low-res pixels per cell along range */
+        cc = cell / daz / (float)ACTAG_SEARCH_FACTOR;  /* ... along azimuth */
+        ir = (int)(1.5f * cr + 0.5f);
+        ic = (int)(1.5f * cc + 0.5f);
+        orr = (int)(2.5f * cr + 0.5f);
+        oc = (int)(2.5f * cc + 0.5f);
+        if (ir < 1) ir = 1;
+        if (ic < 1) ic = 1;
+        if (orr <= ir) orr = ir + 1;
+        if (oc <= ic) oc = ic + 1;
+        for (c = 0; c < hc; c++) {
+            int16_t v = INT16_MIN;
+            if (r - orr >= 0 && r + orr < hr && c - oc >= 0 && c + oc < hc) {
+                uint32_t si = box_sum(z, r - ir, c - ic, r + ir + 1, c + ic + 1);
+                uint32_t so = box_sum(z, r - orr, c - oc, r + orr + 1, c + oc + 1);
+                int32_t ni = (2 * ir + 1) * (2 * ic + 1), no = (2 * orr + 1) * (2 * oc + 1);
+                /* 8 * (mean_in - mean_ring) in grey levels; sums are of F^2 pixels */
+                int64_t num = (int64_t)si * (no - ni) - (int64_t)(so - si) * ni;
+                int64_t den = (int64_t)ni * (no - ni) * ACTAG_SEARCH_FACTOR * ACTAG_SEARCH_FACTOR;
+                int64_t q = num * 8 / den;
+                v = (int16_t)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
+            }
+            z->map[(size_t)r * (size_t)hc + (size_t)c] = v;
+        }
+    }
+    return ACTAG_OK;
+}
+
+/* Takes the best remaining position (score >= min), suppresses its
+ * neighbourhood, and returns the axis-aligned white-square quad (full
+ * resolution). Returns 0 when nothing is left. */
+int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
+                      float tag_size, float range_scale, int rows, int cols,
+                      actag_point quad[4])
+{
+    int r, c, br = -1, bc = -1, best = min_score - 1;
+    float y, x, range, daz, hr_px, hc_px;
+    for (r = 0; r < z->hr; r++) {
+        const int16_t *m = z->map + (size_t)r * (size_t)z->hc;
+        for (c = 0; c < z->hc; c++)
+            if (m[c] > best) {
+                best = m[c];
+                br = r;
+                bc = c;
+            }
+    }
+    if (br < 0)
+        return 0;
+    y = (float)(ACTAG_SEARCH_FACTOR * br) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
+    x = (float)(ACTAG_SEARCH_FACTOR * bc) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
+    range = actag_geometry_range(g, rows, y);
+    daz = actag_geometry_azimuth_step(g, cols, x) * range;
+    hr_px = 0.5f * tag_size * range_scale / actag_geometry_range_step(g, rows);
+    hc_px = 0.5f * tag_size / daz;
+    {
+        int sr = (int)(hr_px * 1.5f / (float)ACTAG_SEARCH_FACTOR) + 1, sc = (int)(hc_px * 1.5f / (float)ACTAG_SEARCH_FACTOR) + 1;
+        int r0 = br - sr, r1 = br + sr, c0 = bc - sc, c1 = bc + sc;
+        if (r0 < 0) r0 = 0;
+        if (c0 < 0) c0 = 0;
+        if (r1 >= z->hr) r1 = z->hr - 1;
+        if (c1 >= z->hc) c1 = z->hc - 1;
+        for (r = r0; r <= r1; r++)
+            for (c = c0; c <= c1; c++)
+                z->map[(size_t)r * (size_t)z->hc + (size_t)c] = INT16_MIN;
+    }
+    quad[0].x = x - hc_px; quad[0].y = y - hr_px;
+    quad[1].x = x + hc_px; quad[1].y = y - hr_px;
+    quad[2].x = x + hc_px; quad[2].y = y + hr_px;
+    quad[3].x = x - hc_px; quad[3].y = y + hr_px;
+    return 1;
+}
+
