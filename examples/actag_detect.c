@@ -42,11 +42,9 @@ static void usage(FILE *f)
             "  --tag-size M           side of the inner white square, metres (default 0.130628571)\n"
             "  --bit-corrections N    allowed corrected bits (default: min(3, family maximum))\n"
             "  --seed N               RANSAC seed (default 1)\n"
-            "  --decode MODE          fit (default): fit the cell grid to the filtered frame and\n"
-            "                         read each bit against its neighbours; grey: tag-wide grey\n"
-            "                         threshold; aligned: binary frame after a grid-scale search;\n"
-            "                         binary: the paper's reading of the binary frame\n"
-            "  --min-contrast N       grey decoding: interior minus ring, grey levels (default 5)\n"
+            "  --decode fit|binary    fit (default): fit the cell grid to the filtered frame and\n"
+            "                         read each bit against its neighbours; binary: the paper's\n"
+            "                         reading of the binary frame\n"
             "  --search N             structure-search candidates per frame, 0 (off) to 8 (default 2)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
@@ -515,19 +513,12 @@ int main(int argc, char **argv)
             params.max_bit_corrections = (int)parse_long(a, v, 0, 64);
         } else if (strcmp(a, "--decode") == 0) {
             NEEDV();
-            if (strcmp(v, "grey") == 0)
-                params.decode_mode = ACTAG_DECODE_GREY;
-            else if (strcmp(v, "binary") == 0)
+            if (strcmp(v, "binary") == 0)
                 params.decode_mode = ACTAG_DECODE_BINARY;
-            else if (strcmp(v, "aligned") == 0)
-                params.decode_mode = ACTAG_DECODE_ALIGNED;
             else if (strcmp(v, "fit") == 0)
                 params.decode_mode = ACTAG_DECODE_FIT;
             else
-                opt_error("--decode takes fit, grey, aligned or binary", v);
-        } else if (strcmp(a, "--min-contrast") == 0) {
-            NEEDV();
-            params.min_contrast = (int)parse_long(a, v, 0, 255);
+                opt_error("--decode takes fit or binary", v);
         } else if (strcmp(a, "--search") == 0) {
             NEEDV();
             params.search_candidates = (int)parse_long(a, v, 0, ACTAG_SEARCH_MAX);

@@ -3,7 +3,6 @@
 
 #include <math.h>
 
-
 /* 1 for 16, 20, 24, 28, 32 data bits. */
 static int bits_ok(int bits) { return bits >= 16 && bits <= 32 && bits % 4 == 0; }
 
@@ -154,18 +153,15 @@ int actag_decode_bit_positions(const actag_point quad[4], int bits, actag_point 
 typedef struct sampler {
     const uint8_t *img;
     int rows, cols, stride;
-    int grey; /* 1: return grey levels (0..255); 0: binary (0/1) */
     float H[9];
-    float su, sv, c; /* grid scale about the tag centre c (1, 1: none) */
 } sampler;
 
-/* Nearest pixel of grid point (u,v); outside the image counts as black.
- * Binary images give 0/1, grey images their grey level. */
+/* Nearest pixel of grid point (u,v); outside the image counts as black. */
 static int sample_px(const sampler *s, float u, float v)
 {
     actag_point p;
     int r, c;
-    actag_homography_apply(s->H, s->c + (u - s->c) * s->su, s->c + (v - s->c) * s->sv, &p);
+    actag_homography_apply(s->H, u, v, &p);
     if (!(p.x >= -0.5f && p.x < (float)s->cols - 0.5f && p.y >= -0.5f &&
           p.y < (float)s->rows - 0.5f))
         return 0;
@@ -175,13 +171,10 @@ static int sample_px(const sampler *s, float u, float v)
         c = s->cols - 1;
     if (r >= s->rows)
         r = s->rows - 1;
-    if (s->grey)
-        return s->img[(size_t)r * (size_t)s->stride + (size_t)c];
     return s->img[(size_t)r * (size_t)s->stride + (size_t)c] != 0;
 }
 
-/* White votes (0..9) of cell (cx, cy) over the 3x3 sample pattern; for a
- * grey image the sum of the 9 grey levels (0..2295). */
+/* White votes (0..9) of cell (cx, cy) over the 3x3 sample pattern. */
 static int cell_votes(const sampler *s, int cx, int cy)
 {
     int a, b, n = 0;
@@ -201,51 +194,6 @@ static uint32_t read_word(const sampler *s, int bits)
         w = (w << 1) | (cell_votes(s, cx, cy) >= 5 ? 1u : 0u);
     }
     return w;
-}
-
-/* Grey-level reading: each cell's summed samples against a threshold half
- * way between this tag's own black ring and white interior, so the bits
- * follow the tag's local contrast rather than a window-wide threshold. Also
- * gives the structure fractions. Returns 0 when the tag has no contrast. */
-static int read_word_grey(const sampler *s, int bits, int min_contrast, uint32_t *word,
-                          float *ring_black, float *interior_white)
-{
-    int k = bits / 4, cx, cy, i, ring_n = 0, in_n = 0, ring_ok = 0, in_ok = 0;
-    long ring_sum = 0, in_sum = 0;
-    int thr;
-    uint32_t w = 0;
-    for (cy = 1; cy < k; cy++)
-        for (cx = 1; cx < k; cx++) {
-            int v = cell_votes(s, cx, cy);
-            if (cx == 1 || cy == 1 || cx == k - 1 || cy == k - 1) {
-                ring_sum += v;
-                ring_n++;
-            } else {
-                in_sum += v;
-                in_n++;
-            }
-        }
-    if (ring_n == 0 || in_n == 0)
-        return 0;
-    if (in_sum * ring_n - ring_sum * in_n < (long)min_contrast * 9L * ring_n * in_n)
-        return 0;
-    thr = (int)((ring_sum * in_n + in_sum * ring_n) / (2L * ring_n * in_n));
-    for (cy = 1; cy < k; cy++)
-        for (cx = 1; cx < k; cx++) {
-            int v = cell_votes(s, cx, cy);
-            if (cx == 1 || cy == 1 || cx == k - 1 || cy == k - 1)
-                ring_ok += v <= thr;
-            else
-                in_ok += v > thr;
-        }
-    for (i = 0; i < bits; i++) {
-        bit_cell(i, k, &cx, &cy);
-        w = (w << 1) | (cell_votes(s, cx, cy) > thr ? 1u : 0u);
-    }
-    *word = w;
-    *ring_black = (float)ring_ok / (float)ring_n;
-    *interior_white = (float)in_ok / (float)in_n;
-    return 1;
 }
 
 static int check_image(const uint8_t *binary, int rows, int cols, int stride)
@@ -274,9 +222,6 @@ int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride
     s.rows = rows;
     s.cols = cols;
     s.stride = stride;
-    s.grey = 0;
-    s.su = s.sv = 1.0f;
-    s.c = 0.5f * (float)(bits / 4 + 1);
     *word = read_word(&s, bits);
     return ACTAG_OK;
 }
@@ -304,38 +249,9 @@ int actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
                                 ACTAG_DECODE_DEFAULT_MODEL, out);
 }
 
-/* Mean grey of the white interior minus mean grey of the black ring, from
- * 5 samples (centre and +-0.25 cell) per cell. */
-static float structure_contrast(const sampler *s, int k)
-{
-    int cx, cy, j;
-    long ring = 0, in = 0;
-    int nr = 0, ni = 0;
-    static const float du[5] = {0.0f, -0.25f, 0.25f, 0.0f, 0.0f};
-    static const float dv[5] = {0.0f, 0.0f, 0.0f, -0.25f, 0.25f};
-    for (cy = 1; cy < k; cy++)
-        for (cx = 1; cx < k; cx++) {
-            int v = 0;
-            for (j = 0; j < 5; j++)
-                v += sample_px(s, (float)cx + 0.5f + du[j], (float)cy + 0.5f + dv[j]);
-            if (cx == 1 || cy == 1 || cx == k - 1 || cy == k - 1) {
-                ring += v;
-                nr++;
-            } else {
-                in += v;
-                ni++;
-            }
-        }
-    return (float)in / (float)(5 * ni) - (float)ring / (float)(5 * nr);
-}
-
-/* The decoder proper; grey selects grey-level reading (min_contrast in grey
- * levels) instead of binary votes; align (a grey image, or NULL) enables the
- * grid scale search. */
-static int decode_quad(const uint8_t *binary, const uint8_t *align, int rows, int cols,
-                       int stride, const actag_point quad[4], const actag_family *family,
-                       int max_corrections, int model, int grey, int min_contrast,
-                       actag_decode_result *out)
+int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
+                         const actag_point quad[4], const actag_family *family,
+                         int max_corrections, int model, actag_decode_result *out)
 {
     sampler s;
     actag_point q[4];
@@ -372,49 +288,11 @@ static int decode_quad(const uint8_t *binary, const uint8_t *align, int rows, in
     s.rows = rows;
     s.cols = cols;
     s.stride = stride;
-    s.grey = grey;
-    s.su = s.sv = 1.0f;
-    s.c = 0.5f * (float)(k + 1);
-    if (align != NULL) {
-        /* Sonar returns bloom: white areas grow, so the white square seen by
-         * the quad stage is larger than printed and extrapolating to the
-         * data ring overshoots. Shrink (or grow) the sampling grid about the
-         * tag centre along each tag axis and keep the scale at which the
-         * black ring is darkest relative to the white interior. */
-        float best = -1e30f;
-        int a, b2;
-        sampler t = s;
-        t.img = align;
-        t.grey = 1;
-        for (a = 0; a < ACTAG_DECODE_ALIGN_STEPS; a++)
-            for (b2 = 0; b2 < ACTAG_DECODE_ALIGN_STEPS; b2++) {
-                float sc;
-                t.su = 1.0f - ACTAG_DECODE_ALIGN_STEP * (float)(a - ACTAG_DECODE_ALIGN_GROW);
-                t.sv = 1.0f - ACTAG_DECODE_ALIGN_STEP * (float)(b2 - ACTAG_DECODE_ALIGN_GROW);
-                sc = structure_contrast(&t, k);
-                if (sc > best) {
-                    best = sc;
-                    s.su = t.su;
-                    s.sv = t.sv;
-                }
-            }
-    }
 
-    if (grey) {
-        float rb, iw;
-        if (!read_word_grey(&s, bits, min_contrast, &w, &rb, &iw))
-            return ACTAG_ERR_NO_MATCH;
-        ring_n = in_n = 1000;
-        ring_black = (int)(rb * 1000.0f + 0.5f);
-        in_white = (int)(iw * 1000.0f + 0.5f);
-        cy = k; /* skip the binary statistics below */
-    } else {
-        w = read_word(&s, bits);
-        cy = 1;
-    }
+    w = read_word(&s, bits);
     /* Structure statistics (informative): black ring at distance 1, white
      * square inside. */
-    for (; cy < k; cy++) {
+    for (cy = 1; cy < k; cy++) {
         for (cx = 1; cx < k; cx++) {
             int v = cell_votes(&s, cx, cy);
             if (cx == 1 || cy == 1 || cx == k - 1 || cy == k - 1) {
@@ -469,34 +347,6 @@ static int decode_quad(const uint8_t *binary, const uint8_t *align, int rows, in
             out->corners[i] = q[(r - i + 4) & 3];
     }
     return ACTAG_OK;
-}
-
-int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
-                         const actag_point quad[4], const actag_family *family,
-                         int max_corrections, int model, actag_decode_result *out)
-{
-    return decode_quad(binary, NULL, rows, cols, stride, quad, family, max_corrections, model, 0,
-                       0, out);
-}
-
-int actag_decode_quad_grey(const uint8_t *grey, int rows, int cols, int stride,
-                           const actag_point quad[4], const actag_family *family,
-                           int max_corrections, int min_contrast, actag_decode_result *out)
-{
-    if (min_contrast < 0 || min_contrast > 255)
-        return ACTAG_ERR_PARAM;
-    return decode_quad(grey, grey, rows, cols, stride, quad, family, max_corrections,
-                       ACTAG_DECODE_DEFAULT_MODEL, 1, min_contrast, out);
-}
-
-int actag_decode_quad_aligned(const uint8_t *binary, const uint8_t *grey, int rows, int cols,
-                              int stride, const actag_point quad[4], const actag_family *family,
-                              int max_corrections, actag_decode_result *out)
-{
-    if (grey == NULL)
-        return ACTAG_ERR_NULL;
-    return decode_quad(binary, grey, rows, cols, stride, quad, family, max_corrections,
-                       ACTAG_DECODE_DEFAULT_MODEL, 0, 0, out);
 }
 
 /* ------------------------------------------------------------------------

@@ -77,7 +77,6 @@ void actag_params_default(actag_params *p)
     p->quad.min_inlier_ratio = 0.6f;
     p->quad.max_iterations = 100;
     p->decode_mode = ACTAG_DECODE_FIT;
-    p->min_contrast = 5;
     p->seed = 1u;
     actag_fit_params_default(&p->fit);
     p->min_structure = 1.0f;
@@ -112,7 +111,7 @@ int actag_params_validate(const actag_params *p)
         !(p->min_area_fraction >= 0.0f) || !(p->max_area_fraction >= p->min_area_fraction) ||
         !(p->max_area_fraction < 1.0e6f))
         return ACTAG_ERR_PARAM;
-    if (p->decode_mode < ACTAG_DECODE_GREY || p->decode_mode > ACTAG_DECODE_FIT ||
+    if ((p->decode_mode != ACTAG_DECODE_FIT && p->decode_mode != ACTAG_DECODE_BINARY) ||
         !(p->min_structure >= 0.0f) ||
         !(p->fit.level >= 0.0f) || !(p->fit.level <= 1.0f) || p->fit.min_contrast < 0 ||
         p->fit.min_contrast > 255 || !(p->fit.sample_offset >= 0.0f) ||
@@ -121,8 +120,7 @@ int actag_params_validate(const actag_params *p)
         p->search_min_score > 255 || !(p->search_range_scale > 0.05f) ||
         !(p->search_range_scale <= 4.0f) || p->search_max_corrections < 0 ||
         !(p->min_structure <= 1.0f) || !(p->min_side_fraction >= 0.0f) ||
-        !(p->max_side_fraction >= p->min_side_fraction) ||
-        p->min_contrast < 0 || p->min_contrast > 255)
+        !(p->max_side_fraction >= p->min_side_fraction))
         return ACTAG_ERR_PARAM;
     if (p->quad.max_iterations < 1 || !(p->quad.sample_fraction > 0.0f) ||
         !(p->quad.sample_fraction <= 1.0f) || !(p->quad.inlier_ratio > 0.0f) ||
@@ -223,12 +221,6 @@ static int decode_any(const ws_layout *w, int rows, int cols, const actag_point 
     switch (params->decode_mode) {
     case ACTAG_DECODE_FIT:
         return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, dr);
-    case ACTAG_DECODE_GREY:
-        return actag_decode_quad_grey(w->b, rows, cols, cols, quad, params->family,
-                                      params->max_bit_corrections, params->min_contrast, dr);
-    case ACTAG_DECODE_ALIGNED:
-        return actag_decode_quad_aligned(w->a, w->b, rows, cols, cols, quad, params->family,
-                                         params->max_bit_corrections, dr);
     default:
         return actag_decode_quad(w->a, rows, cols, cols, quad, params->family,
                                  params->max_bit_corrections, dr);

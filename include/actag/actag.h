@@ -107,8 +107,7 @@ typedef struct actag_params {
     float max_area_fraction;    /* contour area <= this * diag_r_px * diag_az_px * (1 + tol) (1.0) */
     actag_quad_params quad;     /* RANSAC (default 100 iterations, 0.1, 0.8 early exit,
                                    0.6 required, 2.5 px, 0.9) */
-    int decode_mode;            /* ACTAG_DECODE_FIT (default), _GREY, _BINARY (paper), _ALIGNED */
-    int min_contrast;           /* _GREY decoding: interior - ring contrast, grey levels (5) */
+    int decode_mode;            /* ACTAG_DECODE_FIT (default) or ACTAG_DECODE_BINARY (paper) */
     uint32_t seed;              /* RANSAC seed (default 1) */
     actag_fit_params fit;       /* _FIT decoding: options (decode.h; actag_fit_params_default) */
     float min_structure;        /* _FIT: ring_black and interior_white must reach this (1.0) */
@@ -124,13 +123,9 @@ typedef struct actag_params {
 /* decode_mode:
  *   ACTAG_DECODE_FIT     the grid-fitting grey decoder, actag_decode_quad_fit()
  *                        on the median-filtered frame (default; see below)
- *   ACTAG_DECODE_GREY    actag_decode_quad_grey() on the filtered frame
- *   ACTAG_DECODE_BINARY  actag_decode_quad() on the binary frame (the paper's)
- *   ACTAG_DECODE_ALIGNED actag_decode_quad_aligned()                          */
-#define ACTAG_DECODE_GREY 0
+ *   ACTAG_DECODE_BINARY  actag_decode_quad() on the binary frame (the paper's) */
+#define ACTAG_DECODE_FIT 0
 #define ACTAG_DECODE_BINARY 1
-#define ACTAG_DECODE_ALIGNED 2
-#define ACTAG_DECODE_FIT 3
 
 /* max_bit_corrections = ACTAG_CORRECTIONS_AUTO (the default): the family's
  * maximum, capped at ACTAG_AUTO_CORRECTIONS. */

@@ -156,12 +156,6 @@ extern "C" {
 /* The decoder needs no workspace. */
 #define ACTAG_DECODE_SCRATCH_BYTES(rows, cols) ((size_t)0)
 
-/* Grid scale search of actag_decode_quad_aligned(): scales 1 - STEP * (i - GROW)
- * for i = 0 .. STEPS-1 along each tag axis (so from 1 + GROW*STEP down). */
-#define ACTAG_DECODE_ALIGN_STEPS 9
-#define ACTAG_DECODE_ALIGN_STEP 0.04f
-#define ACTAG_DECODE_ALIGN_GROW 2
-
 /* Offset (cells) of the outer sample points from a cell centre. */
 #define ACTAG_DECODE_SAMPLE_OFFSET 0.25f
 
@@ -218,31 +212,6 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
                          const actag_point quad[4], const actag_family *family,
                          int max_corrections, int model, actag_decode_result *out);
 
-/* Grey-level decoder: the same as actag_decode_quad() (default map) but reads
- * a grey image (e.g. the median-filtered frame): each cell's 3x3 samples are
- * summed and compared with a threshold half way between the mean of this
- * tag's black-ring cells and the mean of its white-interior cells, so each
- * bit follows the tag's own contrast instead of a window-wide binarisation.
- * A candidate whose interior is not at least min_contrast grey levels
- * brighter than its black ring (means of the samples) is ACTAG_ERR_NO_MATCH.
- * ring_black / interior_white report the fractions of those cells on the
- * right side of the threshold. min_contrast outside 0..255: ACTAG_ERR_PARAM. */
-int actag_decode_quad_grey(const uint8_t *grey, int rows, int cols, int stride,
-                           const actag_point quad[4], const actag_family *family,
-                           int max_corrections, int min_contrast, actag_decode_result *out);
-
-/* Bloom-compensating decoder: like actag_decode_quad() on the binary image,
- * but first searches a scale of the sampling grid about the tag centre,
- * independently along both tag axes (ACTAG_DECODE_ALIGN_* scales), and
- * keeps the one at which the grey image (same size and stride, e.g. the
- * median-filtered frame) shows the largest contrast between the white
- * interior and the black ring. Sonar returns bloom (bright areas spread,
- * mostly along the beams), so the white square the quad stage sees is
- * larger than printed and the data ring, extrapolated 1.5 cells out,
- * would be sampled too far out. The corners reported stay the quad's. */
-int actag_decode_quad_aligned(const uint8_t *binary, const uint8_t *grey, int rows, int cols,
-                              int stride, const actag_point quad[4], const actag_family *family,
-                              int max_corrections, actag_decode_result *out);
 
 /* Largest k (bits / 4) the decoders handle. */
 #define ACTAG_DECODE_MAX_K 8
