@@ -241,6 +241,28 @@ uint32_t actag_decode_mirror(uint32_t word, int bits)
     return r | (word & msb);
 }
 
+/* Picks the handedness with fewer corrected bits (unmirrored on a tie) and
+ * fills id, hamming, mirrored, rotation, mirror_margin and the corners in
+ * tag order from the clockwise-on-screen quad q:
+ *   unmirrored, observed == rot^r(code): screen cell s shows code cell
+ *     s + rk, so q[n] is printed corner n + r;
+ *   mirrored, P(observed) == rot^r(code): screen cell s shows code cell
+ *     rk - s, so q[n] is printed corner r - n. */
+static void set_orientation(actag_decode_result *out, const actag_point q[4],
+                            const actag_match *mu, int du, const actag_match *mm, int dm)
+{
+    int i, mirrored = dm < du;
+    const actag_match *m = mirrored ? mm : mu;
+    int r = m->rotation;
+    out->id = m->id;
+    out->hamming = mirrored ? dm : du;
+    out->mirrored = mirrored;
+    out->rotation = r;
+    out->mirror_margin = mirrored ? du - dm : dm - du;
+    for (i = 0; i < 4; i++)
+        out->corners[i] = mirrored ? q[(r - i + 4) & 3] : q[(i - r + 4) & 3];
+}
+
 int actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
                       const actag_point quad[4], const actag_family *family,
                       int max_corrections, actag_decode_result *out)
@@ -323,29 +345,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     out->min_confidence = 0.0f;
     out->ring_black = ring_n ? (float)ring_black / (float)ring_n : 1.0f;
     out->interior_white = in_n ? (float)in_white / (float)in_n : 1.0f;
-    if (du <= dm) {
-        /* observed == rot^r(code): screen cell s shows code cell s + rk, so
-         * q[n] is printed corner n + r. */
-        int r = mu.rotation;
-        out->id = mu.id;
-        out->hamming = du;
-        out->mirrored = 0;
-        out->rotation = r;
-        out->mirror_margin = dm - du;
-        for (i = 0; i < 4; i++)
-            out->corners[i] = q[(i - r + 4) & 3];
-    } else {
-        /* P(observed) == rot^r(code): screen cell s shows code cell rk - s,
-         * so q[n] is printed corner r - n. */
-        int r = mm.rotation;
-        out->id = mm.id;
-        out->hamming = dm;
-        out->mirrored = 1;
-        out->rotation = r;
-        out->mirror_margin = du - dm;
-        for (i = 0; i < 4; i++)
-            out->corners[i] = q[(r - i + 4) & 3];
-    }
+    set_orientation(out, q, &mu, du, &mm, dm);
     return ACTAG_OK;
 }
 
@@ -859,32 +859,13 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     out->observed = w;
     out->ring_black = (float)ring_ok / (float)(4 * (k - 2));
     out->interior_white = (float)in_ok / (float)((k - 3) * (k - 3));
-    if (du <= dm) {
-        int r = mu.rotation;
-        out->id = mu.id;
-        out->hamming = du;
-        out->mirrored = 0;
-        out->rotation = r;
-        out->mirror_margin = dm - du;
-        for (i = 0; i < 4; i++)
-            out->corners[i] = q[(i - r + 4) & 3];
-        e = family->codes[mu.id];
-        for (i = 0; i < r; i++)
-            e = actag_code_rot90(e, bits);
-    } else {
-        int r = mm.rotation;
-        out->id = mm.id;
-        out->hamming = dm;
-        out->mirrored = 1;
-        out->rotation = r;
-        out->mirror_margin = du - dm;
-        for (i = 0; i < 4; i++)
-            out->corners[i] = q[(r - i + 4) & 3];
-        e = family->codes[mm.id];
-        for (i = 0; i < r; i++)
-            e = actag_code_rot90(e, bits);
+    set_orientation(out, q, &mu, du, &mm, dm);
+    /* the word a perfect reading would have given */
+    e = family->codes[out->id];
+    for (i = 0; i < out->rotation; i++)
+        e = actag_code_rot90(e, bits);
+    if (out->mirrored)
         e = actag_decode_mirror(e, bits);
-    }
     {
         /* the fitted grid's white-square corners, in the same tag order */
         actag_point fq[4];
