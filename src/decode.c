@@ -241,6 +241,57 @@ uint32_t actag_decode_mirror(uint32_t word, int bits)
     return r | (word & msb);
 }
 
+/* actag_family_match_rotations() counting only the bits in keep (a set of
+ * sequence positions closed under rotation and reflection, e.g. all but
+ * the four corner cells). */
+static int match_rot_masked(const actag_family *family, uint32_t observed, uint32_t keep,
+                            int max_corrections, actag_match *out)
+{
+    uint32_t obs[4];
+    int o, i, best = 33;
+    if (keep == actag_code_mask(family->bits))
+        return actag_family_match_rotations(family, observed, max_corrections, out);
+    obs[0] = observed & actag_code_mask(family->bits);
+    for (o = 1; o < 4; o++) /* obs[o] = rot^-o(observed) = rot^(4-o) */
+        obs[o] = actag_code_rot90(actag_code_rot90(actag_code_rot90(obs[o - 1], family->bits),
+                                                   family->bits),
+                                  family->bits);
+    for (i = 0; i < family->ncodes; i++) {
+        uint32_t c = family->codes[i];
+        for (o = 0; o < 4; o++) {
+            int d = actag_popcount32((c ^ obs[o]) & keep);
+            if (d < best) {
+                best = d;
+                out->id = i;
+                out->rotation = o;
+                out->mirrored = 0;
+                out->hamming = d;
+            }
+        }
+        if (best == 0)
+            break;
+    }
+    return best > max_corrections ? ACTAG_ERR_NO_MATCH : ACTAG_OK;
+}
+
+/* Matches the word read clockwise on screen (unmirrored) and its reflection
+ * P (mirrored) up to the family limit, so the margin between them is known;
+ * the caller's limit applies to the better one. Returns ACTAG_OK,
+ * ACTAG_ERR_NO_MATCH, or the matcher's error. */
+static int match_both(const actag_family *family, uint32_t w, uint32_t keep, int maxc,
+                      int max_corrections, actag_match *mu, int *du, actag_match *mm, int *dm)
+{
+    int rcu = match_rot_masked(family, w, keep, maxc, mu);
+    int rcm = match_rot_masked(family, actag_decode_mirror(w, family->bits), keep, maxc, mm);
+    if (rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH)
+        return rcu;
+    if (rcm != ACTAG_OK && rcm != ACTAG_ERR_NO_MATCH)
+        return rcm;
+    *du = rcu == ACTAG_OK ? mu->hamming : maxc + 1;
+    *dm = rcm == ACTAG_OK ? mm->hamming : maxc + 1;
+    return (*du > max_corrections && *dm > max_corrections) ? ACTAG_ERR_NO_MATCH : ACTAG_OK;
+}
+
 /* Picks the handedness with fewer corrected bits (unmirrored on a tie) and
  * fills id, hamming, mirrored, rotation, mirror_margin and the corners in
  * tag order from the clockwise-on-screen quad q:
@@ -279,7 +330,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     actag_point q[4];
     actag_match mu, mm;
     uint32_t w;
-    int rc, rcu, rcm, maxc, bits, k, du, dm, i, orient, cx, cy;
+    int rc, maxc, bits, k, du, dm, i, orient, cx, cy;
     int ring_n = 0, ring_black = 0, in_n = 0, in_white = 0;
     if (binary == NULL || quad == NULL || family == NULL || out == NULL)
         return ACTAG_ERR_NULL;
@@ -327,17 +378,9 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
         }
     }
 
-    /* Match both handednesses up to the family limit, so the margin between
-     * them is known; the caller's limit is applied to the winner. */
-    rcu = actag_family_match_rotations(family, w, maxc, &mu);
-    rcm = actag_family_match_rotations(family, actag_decode_mirror(w, bits), maxc, &mm);
-    if ((rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH) ||
-        (rcm != ACTAG_OK && rcm != ACTAG_ERR_NO_MATCH))
-        return rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH ? rcu : rcm;
-    du = rcu == ACTAG_OK ? mu.hamming : maxc + 1;
-    dm = rcm == ACTAG_OK ? mm.hamming : maxc + 1;
-    if (du > max_corrections && dm > max_corrections)
-        return ACTAG_ERR_NO_MATCH;
+    rc = match_both(family, w, actag_code_mask(bits), maxc, max_corrections, &mu, &du, &mm, &dm);
+    if (rc != ACTAG_OK)
+        return rc;
 
     out->observed = w;
     out->contrast = 0.0f;
@@ -626,38 +669,6 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
     *wy = *ry < 2 ? 2 : *ry > k - 2 ? k - 2 : *ry;
 }
 
-/* actag_family_match_rotations() counting only the bits in keep (a set of
- * sequence positions closed under rotation and reflection, e.g. all but
- * the four corner cells). */
-static int match_rot_masked(const actag_family *family, uint32_t observed, uint32_t keep,
-                            int max_corrections, actag_match *out)
-{
-    uint32_t obs[4];
-    int o, i, best = 33;
-    if (keep == actag_code_mask(family->bits))
-        return actag_family_match_rotations(family, observed, max_corrections, out);
-    obs[0] = observed & actag_code_mask(family->bits);
-    for (o = 1; o < 4; o++) /* obs[o] = rot^-o(observed) = rot^(4-o) */
-        obs[o] = actag_code_rot90(actag_code_rot90(actag_code_rot90(obs[o - 1], family->bits),
-                                                   family->bits),
-                                  family->bits);
-    for (i = 0; i < family->ncodes; i++) {
-        uint32_t c = family->codes[i];
-        for (o = 0; o < 4; o++) {
-            int d = actag_popcount32((c ^ obs[o]) & keep);
-            if (d < best) {
-                best = d;
-                out->id = i;
-                out->rotation = o;
-                out->mirrored = 0;
-                out->hamming = d;
-            }
-        }
-        if (best == 0)
-            break;
-    }
-    return best > max_corrections ? ACTAG_ERR_NO_MATCH : ACTAG_OK;
-}
 
 void actag_fit_params_default(actag_fit_params *fp)
 {
@@ -683,7 +694,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     actag_point q[4];
     actag_match mu, mm;
     uint32_t w = 0, e, diff, keep;
-    int rc, rcu, rcm, maxc, bits, k, n, du, dm, i, orient, ring_ok = 0, in_ok = 0, cx, cy;
+    int rc, maxc, bits, k, n, du, dm, i, orient, ring_ok = 0, in_ok = 0, cx, cy;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = check_image(grey, rows, cols, stride);
@@ -846,15 +857,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             conf[i] = ((w >> (bits - 1 - i)) & 1u) ? (conf[i] > 0.0f ? conf[i] : 0.01f)
                                                    : (conf[i] < 0.0f ? conf[i] : -0.01f);
     }
-    rcu = match_rot_masked(family, w, keep, maxc, &mu);
-    rcm = match_rot_masked(family, actag_decode_mirror(w, bits), keep, maxc, &mm);
-    if ((rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH) ||
-        (rcm != ACTAG_OK && rcm != ACTAG_ERR_NO_MATCH))
-        return rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH ? rcu : rcm;
-    du = rcu == ACTAG_OK ? mu.hamming : maxc + 1;
-    dm = rcm == ACTAG_OK ? mm.hamming : maxc + 1;
-    if (du > max_corrections && dm > max_corrections)
-        return ACTAG_ERR_NO_MATCH;
+    rc = match_both(family, w, keep, maxc, max_corrections, &mu, &du, &mm, &dm);
+    if (rc != ACTAG_OK)
+        return rc;
 
     out->observed = w;
     out->ring_black = (float)ring_ok / (float)(4 * (k - 2));
