@@ -1,0 +1,270 @@
+/* The host tools' shared I/O (see hostio.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "hostio.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int fail(char *err, const char *fmt, ...)
+{
+    if (err) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err, HOSTIO_ERRLEN, fmt, ap);
+        va_end(ap);
+    }
+    return -1;
+}
+
+uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
+{
+    FILE *f = fopen(path, "rb");
+    uint8_t *buf = NULL;
+    size_t cap = 0, n = 0;
+    if (!f) {
+        fail(err, "%s: %s", path, strerror(errno));
+        return NULL;
+    }
+    for (;;) { /* read in chunks: works for pipes and /dev/stdin too */
+        size_t got;
+        if (n + 65536 + 1 > cap) {
+            size_t ncap = cap ? cap * 2 : 65536 * 2;
+            uint8_t *nb = (uint8_t *)realloc(buf, ncap);
+            if (!nb) {
+                free(buf);
+                fclose(f);
+                fail(err, "%s: out of memory", path);
+                return NULL;
+            }
+            buf = nb;
+            cap = ncap;
+        }
+        got = fread(buf + n, 1, cap - n - 1, f);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    if (ferror(f)) {
+        free(buf);
+        fclose(f);
+        fail(err, "%s: read error", path);
+        return NULL;
+    }
+    fclose(f);
+    buf[n] = 0;
+    if (len)
+        *len = n;
+    return buf;
+}
+
+int hostio_write_file(const char *path, const void *data, size_t n, char *err)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return fail(err, "%s: cannot write: %s", path, strerror(errno));
+    if (fwrite(data, 1, n, f) != n) {
+        fclose(f);
+        return fail(err, "%s: write error", path);
+    }
+    if (fclose(f) != 0)
+        return fail(err, "%s: write error", path);
+    return HOSTIO_OK;
+}
+
+/* Next header integer, skipping whitespace and comments; -1 when absent. */
+static long pgm_int(const uint8_t *b, size_t len, size_t *pos)
+{
+    long v = 0;
+    int digits = 0;
+    while (*pos < len) {
+        if (b[*pos] == '#') {
+            while (*pos < len && b[*pos] != '\n')
+                (*pos)++;
+        } else if (b[*pos] == ' ' || b[*pos] == '\t' || b[*pos] == '\n' || b[*pos] == '\r') {
+            (*pos)++;
+        } else {
+            break;
+        }
+    }
+    while (*pos < len && b[*pos] >= '0' && b[*pos] <= '9') {
+        if (digits < 9)
+            v = v * 10 + (b[*pos] - '0');
+        else
+            v = 1000000000L; /* too long: report as huge */
+        (*pos)++;
+        digits++;
+    }
+    return digits ? v : -1;
+}
+
+int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pgm_view *out,
+                     char *err)
+{
+    size_t pos = 2, need;
+    long w, h, maxv;
+    const char *nm = name ? name : "PGM";
+    if (!buf || !out)
+        return fail(err, "%s: no buffer", nm);
+    if (len < 2 || buf[0] != 'P' || buf[1] != '5')
+        return fail(err, "%s: not a binary PGM (no P5 magic)", nm);
+    w = pgm_int(buf, len, &pos);
+    h = pgm_int(buf, len, &pos);
+    maxv = pgm_int(buf, len, &pos);
+    if (w < 1 || w > 32767)
+        return fail(err, "%s: PGM width %ld outside 1..32767", nm, w);
+    if (h < 1 || h > 32767)
+        return fail(err, "%s: PGM height %ld outside 1..32767", nm, h);
+    if (maxv < 1 || maxv > 65535)
+        return fail(err, "%s: PGM maxval %ld outside 1..65535", nm, maxv);
+    if (pos >= len)
+        return fail(err, "%s: PGM header ends without pixel data", nm);
+    pos++; /* the single whitespace after maxval */
+    out->bytes_per_sample = maxv > 255 ? 2 : 1;
+    need = (size_t)w * (size_t)h * (size_t)out->bytes_per_sample;
+    if (len - pos < need)
+        return fail(err, "%s: PGM has %lu pixel bytes, its header needs %lu", nm,
+                    (unsigned long)(len - pos), (unsigned long)need);
+    out->pixels = buf + pos;
+    out->rows = (int)h;
+    out->cols = (int)w;
+    out->maxval = (int)maxv;
+    return HOSTIO_OK;
+}
+
+int hostio_pgm_read(const char *path, hostio_image *out, char *err)
+{
+    size_t len, n, i;
+    hostio_pgm_view v;
+    uint8_t *b = hostio_slurp(path, &len, err);
+    memset(out, 0, sizeof *out);
+    if (!b)
+        return -1;
+    if (hostio_pgm_parse(b, len, path, &v, err) != HOSTIO_OK) {
+        free(b);
+        return -1;
+    }
+    n = (size_t)v.rows * (size_t)v.cols;
+    out->data = malloc(n * (size_t)v.bytes_per_sample);
+    if (!out->data) {
+        free(b);
+        return fail(err, "%s: out of memory", path);
+    }
+    if (v.bytes_per_sample == 1) {
+        memcpy(out->data, v.pixels, n);
+    } else {
+        uint16_t *d = (uint16_t *)out->data;
+        for (i = 0; i < n; i++)
+            d[i] = (uint16_t)((v.pixels[2 * i] << 8) | v.pixels[2 * i + 1]);
+    }
+    out->rows = v.rows;
+    out->cols = v.cols;
+    out->stride = v.cols;
+    out->depth = 8 * v.bytes_per_sample;
+    out->maxval = v.maxval;
+    free(b);
+    return HOSTIO_OK;
+}
+
+int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
+{
+    FILE *f;
+    int r, c, maxv;
+    if (!img || !img->data || img->rows < 1 || img->cols < 1 || img->stride < img->cols ||
+        (img->depth != 8 && img->depth != 16))
+        return fail(err, "%s: bad image to write", path);
+    maxv = img->maxval > 0 ? img->maxval : (img->depth == 8 ? 255 : 65535);
+    f = fopen(path, "wb");
+    if (!f)
+        return fail(err, "%s: cannot write: %s", path, strerror(errno));
+    fprintf(f, "P5\n%d %d\n%d\n", img->cols, img->rows, maxv);
+    for (r = 0; r < img->rows; r++) {
+        if (img->depth == 8) {
+            const uint8_t *row = (const uint8_t *)img->data + (size_t)r * (size_t)img->stride;
+            if (fwrite(row, 1, (size_t)img->cols, f) != (size_t)img->cols)
+                break;
+        } else {
+            const uint16_t *row = (const uint16_t *)img->data + (size_t)r * (size_t)img->stride;
+            for (c = 0; c < img->cols; c++) {
+                fputc(row[c] >> 8, f);
+                fputc(row[c] & 0xff, f);
+            }
+        }
+    }
+    if (ferror(f) || fclose(f) != 0)
+        return fail(err, "%s: write error", path);
+    return HOSTIO_OK;
+}
+
+void hostio_image_free(hostio_image *img)
+{
+    if (img) {
+        free(img->data);
+        img->data = NULL;
+    }
+}
+
+int hostio_parse_double(const char *name, const char *s, double lo, double hi, double *v,
+                        char *err)
+{
+    char *end;
+    double x;
+    if (!s)
+        return fail(err, "%s: missing value", name);
+    errno = 0;
+    x = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(x))
+        return fail(err, "%s: must be a finite number (got '%s')", name, s);
+    if (x < lo || x > hi)
+        return fail(err, "%s: must be from %g to %g (got %s)", name, lo, hi, s);
+    *v = x;
+    return HOSTIO_OK;
+}
+
+int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v, char *err)
+{
+    char *end;
+    long x;
+    if (!s)
+        return fail(err, "%s: missing value", name);
+    errno = 0;
+    x = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE)
+        return fail(err, "%s: must be an integer (got '%s')", name, s);
+    if (x < lo || x > hi)
+        return fail(err, "%s: must be an integer from %ld to %ld (got %s)", name, lo, hi, s);
+    *v = x;
+    return HOSTIO_OK;
+}
+
+int hostio_parse_doubles(const char *name, const char *s, char sep, double *out, int n,
+                         char *err)
+{
+    int i;
+    const char *p = s;
+    if (!s)
+        return fail(err, "%s: missing value", name);
+    for (i = 0; i < n; i++) {
+        char *end;
+        double x;
+        errno = 0;
+        x = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(x))
+            return fail(err, "%s: expected %d numbers separated by '%c' (got '%s')", name, n,
+                        sep, s);
+        out[i] = x;
+        p = end;
+        if (i < n - 1) {
+            if (*p != sep)
+                return fail(err, "%s: expected %d numbers separated by '%c' (got '%s')", name,
+                            n, sep, s);
+            p++;
+        }
+    }
+    if (*p != '\0')
+        return fail(err, "%s: expected exactly %d numbers (got '%s')", name, n, s);
+    return HOSTIO_OK;
+}

@@ -1,0 +1,85 @@
+/*
+ * hostio.h -- the host tools' shared I/O: files, PGM frames, numbers.
+ *
+ * MANUAL
+ *   Host-only helpers (stdio, malloc) for actag's command-line tools, tests
+ *   and benchmarks, so that every tool reads and writes frames and parses
+ *   numbers the same way and reports errors the same way. Not part of the
+ *   core library (which never allocates).
+ *
+ *   Errors: every function that can fail returns HOSTIO_OK (0) or -1 and
+ *   then writes a one-line message into the caller's `err` buffer (which may
+ *   be NULL), naming the file or option and the value at fault, e.g.
+ *       "f.pgm: PGM maxval 0 outside 1..65535"
+ *       "--max-range: must be a finite number > 0 (got -1)"
+ *
+ *   Files
+ *     hostio_slurp(path, &len, err)        whole file, malloc'd, NUL-terminated
+ *     hostio_write_file(path, data, n, err)
+ *   PGM (binary P5, 8 or 16 bit; 16-bit samples big-endian as the format says)
+ *     hostio_pgm_parse(buf, len, &view, err)  parses a buffer in place, no
+ *                                           allocation (usable on bare metal):
+ *                                           view.pixels points into buf
+ *     hostio_pgm_read(path, &img, err)     reads a file into a malloc'd image
+ *                                           (16-bit samples in host order)
+ *     hostio_pgm_write(path, &img, err)    writes an image (depth 8 or 16)
+ *     hostio_image_free(&img)
+ *   Numbers (the whole string must be the number; ranges are inclusive)
+ *     hostio_parse_double(name, s, lo, hi, &v, err)
+ *     hostio_parse_long(name, s, lo, hi, &v, err)
+ *     hostio_parse_doubles(name, s, sep, out, n, err)  exactly n numbers
+ */
+#ifndef ACTAG_HOSTIO_H
+#define ACTAG_HOSTIO_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HOSTIO_OK 0
+#define HOSTIO_ERRLEN 256 /* a good size for err buffers */
+
+/* A frame in memory: rows x cols pixels, row stride in pixels. */
+typedef struct hostio_image {
+    void *data;   /* uint8_t (depth 8) or uint16_t (depth 16), owned when from _read */
+    int rows;
+    int cols;
+    int stride;   /* pixels */
+    int depth;    /* 8 or 16 */
+    int maxval;   /* PGM maxval (255 or 65535 for images written by us) */
+} hostio_image;
+
+/* A parsed PGM inside the caller's buffer. */
+typedef struct hostio_pgm_view {
+    const uint8_t *pixels; /* first sample byte inside the buffer */
+    int rows, cols;
+    int maxval;            /* 1..65535 */
+    int bytes_per_sample;  /* 1 (maxval <= 255) or 2 */
+} hostio_pgm_view;
+
+/* Whole file, malloc'd with a terminating NUL (not counted in *len). */
+uint8_t *hostio_slurp(const char *path, size_t *len, char *err);
+int hostio_write_file(const char *path, const void *data, size_t n, char *err);
+
+/* `name` labels messages (usually the file name; NULL for "PGM"). */
+int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pgm_view *out,
+                     char *err);
+int hostio_pgm_read(const char *path, hostio_image *out, char *err);
+int hostio_pgm_write(const char *path, const hostio_image *img, char *err);
+void hostio_image_free(hostio_image *img);
+
+/* Number parsing: name is the option (e.g. "--max-range") shown in messages. */
+int hostio_parse_double(const char *name, const char *s, double lo, double hi, double *v,
+                        char *err);
+int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v, char *err);
+/* Exactly n finite numbers separated by `sep` (e.g. ','). */
+int hostio_parse_doubles(const char *name, const char *s, char sep, double *out, int n,
+                         char *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

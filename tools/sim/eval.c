@@ -1,0 +1,871 @@
+/*
+ * actag-eval: the AcTag paper's evaluation protocol (section VI-B) on
+ * simulated frames with ground truth, plus a tag-free false-positive run
+ * (paper Table II).
+ *
+ *   actag-eval [--frames N] [--tag-free N] [--family NAME] [--json] [--svg DIR] ...
+ *
+ * For each frame: a random sonar pose within the distance limits of one tag
+ * whose face is toward the sonar and which is wholly in view, a simulated
+ * frame (sim.h), actag_detect() with default parameters, and a comparison
+ * with the truth. Tag-free frames (seabed and clutter only) are run through
+ * every chosen family with 0, the default and the maximal bit corrections.
+ * Frames are independent streams of the seed, so the figures do not depend
+ * on --threads. Progress on stderr. Exit status 0, 2 on bad options.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "sim.h"
+#include "simio.h"
+#include "../hostio/hostio.h"
+
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#define PROG "actag-eval"
+#define DEG (3.14159265358979 / 180.0)
+#define MAX_FAM 32
+#define NCORR 3 /* 0, default, maximal corrections */
+#define MAX_BINS 64
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: " PROG " [options]\n"
+        "The AcTag paper's simulated evaluation: detection rate, wrong IDs, corner-order and\n"
+        "mirrored-flag errors, range/azimuth error per corner, and false detections on\n"
+        "tag-free frames (paper Table II).\n"
+        "  --frames N             frames with one tag (default 1000; 0 skips)\n"
+        "  --tag-free N           tag-free frames (default 0; the acceptance run uses 10000)\n"
+        "  --family NAME          family of the tagged frames (default AcTag24h10)\n"
+        "  --tag-free-families all|NAME[,NAME...]  families run on tag-free frames (all)\n"
+        "  --corrections N        bit corrections for the tagged frames (default: the\n"
+        "                         library's default for the family)\n"
+        "  --seed S (default 1)   --threads N (default 2)\n"
+        "Views and sonar (defaults: the paper's: 0.1-5 m, 60 x 12 degrees, 1024 x 512,\n"
+        "sonar within 0.5-5 m of the tag, 30-80 degrees incidence):\n"
+        "  --min-distance M --max-distance M --min-incidence-deg D --max-incidence-deg D\n"
+        "  --mirror-fraction F --clutter N --rows R --cols C --min-range M --max-range M\n"
+        "  --aperture-deg D --vertical-aperture-deg D --range-ascending --azimuth-ascending\n"
+        "  --pool                 the pool recording's sonar and views (see actag-sim)\n"
+        "Output:\n"
+        "  --json                 one JSON summary object on stdout (instead of text)\n"
+        "  --svg DIR              error histograms and rate-versus-distance/incidence curves\n"
+        "  --failures FILE        JSON lines of frames with a wrong ID, false tag, order or\n"
+        "                         mirror error (seed and pose, to reproduce with actag-sim)\n"
+        "  --quiet                no progress on stderr\n"
+        "  --help  --version\n");
+}
+
+static void die(const char *msg)
+{
+    fprintf(stderr, PROG ": %s\n", msg);
+    exit(2);
+}
+
+static double num(const char *opt, const char *s, double lo, double hi)
+{
+    char err[HOSTIO_ERRLEN];
+    double v;
+    if (hostio_parse_double(opt, s, lo, hi, &v, err) != HOSTIO_OK)
+        die(err);
+    return v;
+}
+
+static long inum(const char *opt, const char *s, long lo, long hi)
+{
+    char err[HOSTIO_ERRLEN];
+    long v;
+    if (hostio_parse_long(opt, s, lo, hi, &v, err) != HOSTIO_OK)
+        die(err);
+    return v;
+}
+
+/* ------------------------------------------------------------ per frame */
+
+typedef struct {
+    int sampled;      /* a visible view was found */
+    float distance, incidence;
+    int mirrored;     /* truth */
+    int found;        /* right ID at the tag */
+    int wrong_id;     /* other IDs at the tag */
+    int false_tags;   /* detections away from the tag (or a second right ID) */
+    int mirror_err, order_err;
+    int hamming;
+    float range_err[4], az_err[4], px_err;
+    uint32_t seed;
+} tag_result;
+
+typedef struct {
+    int det[MAX_FAM][NCORR]; /* detections per family and corrections setting */
+} free_result;
+
+typedef struct {
+    sim_sonar sonar;
+    sim_view_params view;
+    sim_appearance app;
+    actag_family fam;
+    int corrections;
+    actag_family free_fam[MAX_FAM];
+    int nfree_fam;
+    int frames, tag_free;
+    uint32_t seed;
+    tag_result *tres;
+    free_result *fres;
+    /* work queue */
+    pthread_mutex_t lock;
+    int next;
+    int done;
+    int quiet;
+    double t0;
+} eval_ctx;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static const float tag_size_default = 0.130628571f;
+
+static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t wss)
+{
+    tag_result *R = &c->tres[i];
+    sim_tag tag;
+    sim_scene sc;
+    sim_truth tr;
+    actag_params p;
+    actag_frame fr;
+    actag_detection det[16];
+    actag_rng g;
+    uint32_t fs = sim_frame_seed(c->seed, (uint32_t)i);
+    int nd, d, n;
+    float cx = 0.0f, cy = 0.0f, diag;
+    char err[HOSTIO_ERRLEN];
+    memset(R, 0, sizeof *R);
+    R->seed = fs;
+    memset(&tag, 0, sizeof tag);
+    tag.family = c->fam;
+    tag.tag_size = tag_size_default;
+    actag_rng_seed(&g, fs ^ 0x5bd1e995u);
+    tag.id = (int)actag_rng_below(&g, (uint32_t)c->fam.ncodes);
+    if (sim_sample_view(&c->sonar, &c->view, fs, &tag, &sc) != 0)
+        return;
+    if (sim_render(&c->sonar, &sc, &c->app, fs, img, NULL, c->sonar.cols, err) != 0)
+        die(err);
+    sim_truth_of(&c->sonar, &tag, &tr);
+    R->sampled = 1;
+    R->distance = tr.distance;
+    R->incidence = tr.incidence;
+    R->mirrored = tr.mirrored;
+    actag_params_default(&p);
+    p.family = &c->fam;
+    p.tag_size = tag_size_default;
+    p.max_bit_corrections = c->corrections;
+    fr.data = img;
+    fr.rows = c->sonar.rows;
+    fr.cols = c->sonar.cols;
+    fr.stride = c->sonar.cols;
+    fr.depth = 8;
+    nd = actag_detect(&fr, &c->sonar.geo, &p, ws, wss, det, 16, NULL);
+    if (nd < 0) {
+        char m[200];
+        snprintf(m, sizeof m, "actag_detect failed: %s", actag_strerror(nd));
+        die(m);
+    }
+    for (n = 0; n < 4; n++) {
+        cx += 0.25f * tr.px[n].x;
+        cy += 0.25f * tr.px[n].y;
+    }
+    diag = hypotf(tr.px[0].x - tr.px[2].x, tr.px[0].y - tr.px[2].y) +
+           hypotf(tr.px[1].x - tr.px[3].x, tr.px[1].y - tr.px[3].y);
+    for (d = 0; d < nd; d++) {
+        float dx = 0.0f, dy = 0.0f;
+        int at_tag;
+        for (n = 0; n < 4; n++) {
+            dx += 0.25f * det[d].corners[n].x;
+            dy += 0.25f * det[d].corners[n].y;
+        }
+        at_tag = hypotf(dx - cx, dy - cy) < 0.5f * diag + 3.0f;
+        if (at_tag && det[d].id == tag.id && !R->found) {
+            /* corner order: the best of the 8 dihedral assignments */
+            float best = 1e30f, ident = 0.0f;
+            int j, m, bestp = 0;
+            for (j = 0; j < 8; j++) {
+                float cost = 0.0f;
+                for (n = 0; n < 4; n++) {
+                    int src = j < 4 ? (n + j) & 3 : (j - n + 8) & 3;
+                    cost += hypotf(det[d].corners[src].x - tr.px[n].x,
+                                   det[d].corners[src].y - tr.px[n].y);
+                }
+                if (j == 0)
+                    ident = cost;
+                if (cost < best) {
+                    best = cost;
+                    bestp = j;
+                }
+            }
+            R->found = 1;
+            R->hamming = det[d].hamming;
+            R->mirror_err = det[d].mirrored != tr.mirrored;
+            R->order_err = bestp != 0 && ident > best + 4.0f;
+            R->px_err = 0.25f * ident;
+            for (m = 0; m < 4; m++) {
+                R->range_err[m] = det[d].range[m] - tr.range[m];
+                R->az_err[m] = det[d].azimuth[m] - tr.azimuth[m];
+            }
+        } else if (at_tag && det[d].id != tag.id) {
+            R->wrong_id++;
+        } else {
+            R->false_tags++;
+        }
+    }
+}
+
+static void eval_free_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t wss)
+{
+    free_result *R = &c->fres[i];
+    sim_scene sc;
+    actag_frame fr;
+    actag_detection det[16];
+    uint32_t fs = sim_frame_seed(c->seed ^ 0xa5a5a5a5u, (uint32_t)i);
+    int f, k;
+    char err[HOSTIO_ERRLEN];
+    memset(R, 0, sizeof *R);
+    sim_sample_empty(&c->sonar, &c->view, fs, &sc);
+    if (sim_render(&c->sonar, &sc, &c->app, fs, img, NULL, c->sonar.cols, err) != 0)
+        die(err);
+    fr.data = img;
+    fr.rows = c->sonar.rows;
+    fr.cols = c->sonar.cols;
+    fr.stride = c->sonar.cols;
+    fr.depth = 8;
+    for (f = 0; f < c->nfree_fam; f++)
+        for (k = 0; k < NCORR; k++) {
+            actag_params p;
+            int nd;
+            actag_params_default(&p);
+            p.family = &c->free_fam[f];
+            p.tag_size = tag_size_default;
+            p.max_bit_corrections = k == 0 ? 0
+                                    : k == 1 ? ACTAG_CORRECTIONS_AUTO
+                                             : actag_family_max_corrections(&c->free_fam[f]);
+            nd = actag_detect(&fr, &c->sonar.geo, &p, ws, wss, det, 16, NULL);
+            if (nd < 0) {
+                char m[200];
+                snprintf(m, sizeof m, "actag_detect failed: %s", actag_strerror(nd));
+                die(m);
+            }
+            R->det[f][k] = nd;
+        }
+}
+
+static void *worker(void *arg)
+{
+    eval_ctx *c = (eval_ctx *)arg;
+    size_t wss = actag_workspace_size(c->sonar.rows, c->sonar.cols);
+    void *ws = malloc(wss);
+    uint8_t *img = (uint8_t *)malloc((size_t)c->sonar.rows * (size_t)c->sonar.cols);
+    int total = c->frames + c->tag_free;
+    if (!ws || !img)
+        die("out of memory");
+    for (;;) {
+        int i;
+        pthread_mutex_lock(&c->lock);
+        i = c->next++;
+        pthread_mutex_unlock(&c->lock);
+        if (i >= total)
+            break;
+        if (i < c->frames)
+            eval_tag_frame(c, i, img, ws, wss);
+        else
+            eval_free_frame(c, i - c->frames, img, ws, wss);
+        pthread_mutex_lock(&c->lock);
+        c->done++;
+        if (!c->quiet && (c->done % 250 == 0 || c->done == total)) {
+            double el = now_s() - c->t0;
+            fprintf(stderr, PROG ": %d/%d frames, %.0f s, about %.0f s left\n", c->done, total,
+                    el, el / c->done * (total - c->done));
+        }
+        pthread_mutex_unlock(&c->lock);
+    }
+    free(ws);
+    free(img);
+    return NULL;
+}
+
+/* ------------------------------------------------------------ statistics */
+
+typedef struct {
+    double mean, sd, p95, abs_mean;
+    int n;
+} err_stats;
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static err_stats stats_of(const double *v, int n)
+{
+    err_stats s;
+    double *a = (double *)malloc((size_t)(n > 0 ? n : 1) * sizeof *a);
+    int i;
+    memset(&s, 0, sizeof s);
+    s.n = n;
+    for (i = 0; i < n; i++) {
+        s.mean += v[i];
+        s.abs_mean += fabs(v[i]);
+        a[i] = fabs(v[i]);
+    }
+    if (n > 0) {
+        s.mean /= n;
+        s.abs_mean /= n;
+        for (i = 0; i < n; i++)
+            s.sd += (v[i] - s.mean) * (v[i] - s.mean);
+        s.sd = n > 1 ? sqrt(s.sd / (n - 1)) : 0.0;
+        qsort(a, (size_t)n, sizeof *a, cmp_d);
+        s.p95 = a[(int)(0.95 * (n - 1) + 0.5)];
+    }
+    free(a);
+    return s;
+}
+
+/* ------------------------------------------------------------ SVG */
+
+static FILE *svg_open(const char *dir, const char *name, const char *title, int w, int h)
+{
+    char path[1200];
+    FILE *f;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    f = fopen(path, "w");
+    if (!f) {
+        char m[1300];
+        snprintf(m, sizeof m, "%s: cannot write: %s", path, strerror(errno));
+        die(m);
+    }
+    fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
+               "font-family=\"sans-serif\" font-size=\"12\">\n"
+               "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
+               "<text x=\"%d\" y=\"18\" text-anchor=\"middle\" font-size=\"14\">%s</text>\n",
+            w, h, w / 2, title);
+    return f;
+}
+
+/* Histogram of v (n values) over [lo, hi] in nb bins. */
+static void svg_histogram(const char *dir, const char *name, const char *title, const char *xlabel,
+                          const double *v, int n, double lo, double hi, int nb)
+{
+    int W = 520, H = 340, L = 60, Rm = 20, T = 30, B = 50, i, cnt[200] = {0}, maxc = 1;
+    FILE *f = svg_open(dir, name, title, W, H);
+    double bw = (hi - lo) / nb;
+    for (i = 0; i < n; i++) {
+        int b = (int)floor((v[i] - lo) / bw);
+        if (b >= 0 && b < nb)
+            cnt[b]++;
+    }
+    for (i = 0; i < nb; i++)
+        if (cnt[i] > maxc)
+            maxc = cnt[i];
+    for (i = 0; i < nb; i++) {
+        double x = L + (double)i * (W - L - Rm) / nb, w = (double)(W - L - Rm) / nb;
+        double h = (double)cnt[i] / maxc * (H - T - B);
+        fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"#4a7ab5\" "
+                   "stroke=\"white\" stroke-width=\"0.5\"/>\n",
+                x, H - B - h, w, h);
+    }
+    fprintf(f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, H - B,
+            W - Rm, H - B);
+    fprintf(f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, T, L, H - B);
+    for (i = 0; i <= 4; i++) {
+        double xv = lo + (hi - lo) * i / 4, x = L + (double)(W - L - Rm) * i / 4;
+        fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.3g</text>\n", x, H - B + 16,
+                xv);
+        fprintf(f, "<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%d</text>\n", L - 4,
+                H - B - (double)(H - T - B) * i / 4 + 4, (int)(maxc * i / 4));
+    }
+    fprintf(f, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", (W + L) / 2, H - 12,
+            xlabel);
+    fprintf(f, "<text x=\"14\" y=\"%d\" transform=\"rotate(-90 14 %d)\" text-anchor=\"middle\">"
+               "corners</text>\n</svg>\n",
+            H / 2, H / 2);
+    fclose(f);
+}
+
+/* Detection rate (0..1) per bin, with the number of frames per bin. */
+static void svg_rate(const char *dir, const char *name, const char *title, const char *xlabel,
+                     const double *centres, const double *rate, const int *count, int nb)
+{
+    int W = 520, H = 340, L = 60, Rm = 20, T = 30, B = 50, i;
+    double lo = centres[0], hi = centres[nb - 1];
+    FILE *f = svg_open(dir, name, title, W, H);
+    if (hi <= lo)
+        hi = lo + 1.0;
+    fprintf(f, "<polyline fill=\"none\" stroke=\"#c0392b\" stroke-width=\"2\" points=\"");
+    for (i = 0; i < nb; i++)
+        if (count[i] > 0)
+            fprintf(f, "%.1f,%.1f ", L + (centres[i] - lo) / (hi - lo) * (W - L - Rm),
+                    H - B - rate[i] * (H - T - B));
+    fprintf(f, "\"/>\n");
+    for (i = 0; i < nb; i++)
+        if (count[i] > 0) {
+            double x = L + (centres[i] - lo) / (hi - lo) * (W - L - Rm);
+            double y = H - B - rate[i] * (H - T - B);
+            fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"#c0392b\"/>\n", x, y);
+            fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" font-size=\"9\" "
+                       "fill=\"gray\">n=%d</text>\n", x, y - 6, count[i]);
+            fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.3g</text>\n", x,
+                    H - B + 16, centres[i]);
+        }
+    fprintf(f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, H - B,
+            W - Rm, H - B);
+    fprintf(f, "<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", L, T, L, H - B);
+    for (i = 0; i <= 4; i++)
+        fprintf(f, "<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%d%%</text>\n", L - 4,
+                H - B - (double)(H - T - B) * i / 4 + 4, 25 * i);
+    fprintf(f, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", (W + L) / 2, H - 12,
+            xlabel);
+    fprintf(f, "<text x=\"14\" y=\"%d\" transform=\"rotate(-90 14 %d)\" text-anchor=\"middle\">"
+               "detection rate</text>\n</svg>\n",
+            H / 2, H / 2);
+    fclose(f);
+}
+
+/* ------------------------------------------------------------ main */
+
+static void parse_free_families(eval_ctx *c, const char *list)
+{
+    if (!strcmp(list, "all")) {
+        int i, n = actag_family_count();
+        for (i = 0; i < n && c->nfree_fam < MAX_FAM; i++)
+            actag_family_get_at(i, &c->free_fam[c->nfree_fam++]);
+        return;
+    }
+    {
+        char buf[1024], *tok, *save = NULL;
+        if (strlen(list) >= sizeof buf)
+            die("--tag-free-families: list too long");
+        strcpy(buf, list);
+        for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+            if (c->nfree_fam >= MAX_FAM)
+                die("--tag-free-families: too many families");
+            if (actag_family_get(tok, &c->free_fam[c->nfree_fam]) != ACTAG_OK) {
+                char m[1100];
+                snprintf(m, sizeof m, "--tag-free-families: unknown family '%s'", tok);
+                die(m);
+            }
+            c->nfree_fam++;
+        }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    static eval_ctx c;
+    int i, threads = 2, json = 0, pool = 0, corrections_set = 0;
+    const char *family = "AcTag24h10", *svg = NULL, *free_list = "all", *failures = NULL;
+    double aperture_deg = 60.0, elapsed;
+    pthread_t th[16];
+
+    memset(&c, 0, sizeof c);
+    c.frames = 1000;
+    c.seed = 1;
+    c.sonar.rows = 1024;
+    c.sonar.cols = 512;
+    c.sonar.geo.min_range = 0.1f;
+    c.sonar.geo.max_range = 5.0f;
+    c.sonar.vertical_aperture = (float)(12.0 * DEG);
+    sim_appearance_default(&c.app);
+    sim_view_params_default(&c.view);
+    for (i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--pool"))
+            pool = 1;
+    if (pool)
+        simio_pool_settings(&c.sonar, &c.view);
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED() do { if (!v) { char m_[128]; snprintf(m_, sizeof m_, "%s: missing value", o); die(m_); } i++; } while (0)
+        if (!strcmp(o, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(o, "--version")) {
+            printf(PROG " %s\n", ACTAG_VERSION_STRING);
+            return 0;
+        } else if (!strcmp(o, "--pool")) {
+        } else if (!strcmp(o, "--frames")) {
+            NEED();
+            c.frames = (int)inum(o, v, 0, 10000000);
+        } else if (!strcmp(o, "--tag-free")) {
+            NEED();
+            c.tag_free = (int)inum(o, v, 0, 10000000);
+        } else if (!strcmp(o, "--family")) {
+            NEED();
+            family = v;
+        } else if (!strcmp(o, "--tag-free-families")) {
+            NEED();
+            free_list = v;
+        } else if (!strcmp(o, "--corrections")) {
+            NEED();
+            c.corrections = (int)inum(o, v, 0, 16);
+            corrections_set = 1;
+        } else if (!strcmp(o, "--seed")) {
+            NEED();
+            c.seed = (uint32_t)inum(o, v, 0, 4294967295L);
+        } else if (!strcmp(o, "--threads")) {
+            NEED();
+            threads = (int)inum(o, v, 1, 16);
+        } else if (!strcmp(o, "--min-distance")) {
+            NEED();
+            c.view.min_distance = (float)num(o, v, 0.01, 1000.0);
+        } else if (!strcmp(o, "--max-distance")) {
+            NEED();
+            c.view.max_distance = (float)num(o, v, 0.01, 1000.0);
+        } else if (!strcmp(o, "--min-incidence-deg")) {
+            NEED();
+            c.view.min_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
+        } else if (!strcmp(o, "--max-incidence-deg")) {
+            NEED();
+            c.view.max_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
+        } else if (!strcmp(o, "--mirror-fraction")) {
+            NEED();
+            c.view.mirror_fraction = (float)num(o, v, 0.0, 1.0);
+        } else if (!strcmp(o, "--clutter")) {
+            NEED();
+            c.view.clutter = (int)inum(o, v, 0, SIM_MAX_PATCHES / 2);
+        } else if (!strcmp(o, "--rows")) {
+            NEED();
+            c.sonar.rows = (int)inum(o, v, 16, 8192);
+        } else if (!strcmp(o, "--cols")) {
+            NEED();
+            c.sonar.cols = (int)inum(o, v, 16, 8192);
+        } else if (!strcmp(o, "--min-range")) {
+            NEED();
+            c.sonar.geo.min_range = (float)num(o, v, 0.0, 10000.0);
+        } else if (!strcmp(o, "--max-range")) {
+            NEED();
+            c.sonar.geo.max_range = (float)num(o, v, 0.0, 10000.0);
+        } else if (!strcmp(o, "--aperture-deg")) {
+            NEED();
+            aperture_deg = num(o, v, 0.01, 359.9);
+        } else if (!strcmp(o, "--vertical-aperture-deg")) {
+            NEED();
+            c.sonar.vertical_aperture = (float)(num(o, v, 0.1, 90.0) * DEG);
+        } else if (!strcmp(o, "--range-ascending")) {
+            c.sonar.geo.flags |= ACTAG_RANGE_ASCENDING;
+        } else if (!strcmp(o, "--azimuth-ascending")) {
+            c.sonar.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
+        } else if (!strcmp(o, "--json")) {
+            json = 1;
+        } else if (!strcmp(o, "--svg")) {
+            NEED();
+            svg = v;
+        } else if (!strcmp(o, "--failures")) {
+            NEED();
+            failures = v;
+        } else if (!strcmp(o, "--quiet")) {
+            c.quiet = 1;
+        } else {
+            char m[300];
+            snprintf(m, sizeof m, "unknown option '%s' (see --help)", o);
+            die(m);
+        }
+#undef NEED
+    }
+    if (!pool || aperture_deg != 60.0)
+        c.sonar.geo.aperture = (float)(aperture_deg * DEG);
+    if (!(c.sonar.geo.max_range > c.sonar.geo.min_range))
+        die("--max-range: must be above --min-range");
+    if (c.view.max_distance < c.view.min_distance)
+        die("--max-distance: must be at least --min-distance");
+    if (c.view.max_incidence < c.view.min_incidence)
+        die("--max-incidence-deg: must be at least --min-incidence-deg");
+    if (actag_family_get(family, &c.fam) != ACTAG_OK) {
+        char m[300];
+        snprintf(m, sizeof m, "--family: unknown family '%s'", family);
+        die(m);
+    }
+    if (!corrections_set)
+        c.corrections = ACTAG_CORRECTIONS_AUTO;
+    else if (c.corrections > actag_family_max_corrections(&c.fam)) {
+        char m[300];
+        snprintf(m, sizeof m, "--corrections: %s allows at most %d (got %d)", family,
+                 actag_family_max_corrections(&c.fam), c.corrections);
+        die(m);
+    }
+    parse_free_families(&c, free_list);
+    if (c.frames + c.tag_free == 0)
+        die("--frames and --tag-free are both 0: nothing to do");
+    if (svg && mkdir(svg, 0777) != 0 && errno != EEXIST) {
+        char m[600];
+        snprintf(m, sizeof m, "--svg: cannot create '%s': %s", svg, strerror(errno));
+        die(m);
+    }
+    c.tres = (tag_result *)calloc((size_t)(c.frames > 0 ? c.frames : 1), sizeof *c.tres);
+    c.fres = (free_result *)calloc((size_t)(c.tag_free > 0 ? c.tag_free : 1), sizeof *c.fres);
+    if (!c.tres || !c.fres)
+        die("out of memory");
+    pthread_mutex_init(&c.lock, NULL);
+    c.t0 = now_s();
+    for (i = 0; i < threads; i++)
+        pthread_create(&th[i], NULL, worker, &c);
+    for (i = 0; i < threads; i++)
+        pthread_join(th[i], NULL);
+    elapsed = now_s() - c.t0;
+
+    /* ---- aggregate the tagged frames */
+    {
+        int sampled = 0, found = 0, wrong = 0, falset = 0, merr = 0, oerr = 0, nerr = 0;
+        int mirrored_views = 0, found_mirrored = 0, hcount[17] = {0};
+        double *re = (double *)malloc((size_t)(4 * c.frames + 1) * sizeof(double));
+        double *ae = (double *)malloc((size_t)(4 * c.frames + 1) * sizeof(double));
+        int nbd, nbi, bd_cnt[MAX_BINS] = {0}, bd_hit[MAX_BINS] = {0}, bi_cnt[MAX_BINS] = {0},
+                       bi_hit[MAX_BINS] = {0};
+        double bd_c[MAX_BINS], bi_c[MAX_BINS], bd_r[MAX_BINS], bi_r[MAX_BINS];
+        double bd_rsd[MAX_BINS], bd_asd[MAX_BINS];
+        double dstep = 0.5, istep = 10.0, dlo = floor(c.view.min_distance / 0.5) * 0.5;
+        double ilo = floor(c.view.min_incidence / DEG / 10.0) * 10.0;
+        err_stats rs, as;
+        int fam_total[MAX_FAM][NCORR], fam_frames[MAX_FAM][NCORR];
+        FILE *ff = NULL;
+        nbd = (int)ceil((c.view.max_distance - dlo) / dstep);
+        nbi = (int)ceil((c.view.max_incidence / DEG - ilo) / istep);
+        if (nbd < 1) nbd = 1;
+        if (nbi < 1) nbi = 1;
+        if (nbd > MAX_BINS) nbd = MAX_BINS;
+        if (nbi > MAX_BINS) nbi = MAX_BINS;
+        if (failures) {
+            ff = fopen(failures, "w");
+            if (!ff) {
+                char m[600];
+                snprintf(m, sizeof m, "--failures: cannot write '%s': %s", failures,
+                         strerror(errno));
+                die(m);
+            }
+        }
+        {
+            /* per distance bin error spread (range, azimuth) */
+            double *tmpr = (double *)malloc((size_t)(4 * c.frames + 1) * sizeof(double));
+            double *tmpa = (double *)malloc((size_t)(4 * c.frames + 1) * sizeof(double));
+            int b;
+            for (b = 0; b < nbd; b++) {
+                int m = 0;
+                for (i = 0; i < c.frames; i++) {
+                    const tag_result *R = &c.tres[i];
+                    int bb, n;
+                    if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+                        continue;
+                    bb = (int)floor((R->distance - dlo) / dstep);
+                    if (bb != b)
+                        continue;
+                    for (n = 0; n < 4; n++) {
+                        tmpr[m] = R->range_err[n];
+                        tmpa[m++] = R->az_err[n];
+                    }
+                }
+                bd_rsd[b] = stats_of(tmpr, m).sd;
+                bd_asd[b] = stats_of(tmpa, m).sd;
+            }
+            free(tmpr);
+            free(tmpa);
+        }
+        for (i = 0; i < c.frames; i++) {
+            const tag_result *R = &c.tres[i];
+            int bd, bi, n;
+            if (!R->sampled)
+                continue;
+            sampled++;
+            mirrored_views += R->mirrored;
+            bd = (int)floor((R->distance - dlo) / dstep);
+            bi = (int)floor((R->incidence / DEG - ilo) / istep);
+            if (bd < 0) bd = 0;
+            if (bd >= nbd) bd = nbd - 1;
+            if (bi < 0) bi = 0;
+            if (bi >= nbi) bi = nbi - 1;
+            bd_cnt[bd]++;
+            bi_cnt[bi]++;
+            wrong += R->wrong_id;
+            falset += R->false_tags;
+            if (ff && (R->wrong_id || R->false_tags || (R->found && (R->mirror_err || R->order_err))))
+                fprintf(ff, "{\"frame\": %d, \"seed\": %u, \"distance\": %.4f, \"incidence_deg\": "
+                            "%.2f, \"mirrored\": %d, \"found\": %d, \"wrong_id\": %d, "
+                            "\"false_tags\": %d, \"mirror_error\": %d, \"order_error\": %d}\n",
+                        i, (unsigned)R->seed, (double)R->distance, R->incidence / DEG,
+                        R->mirrored, R->found, R->wrong_id, R->false_tags, R->mirror_err,
+                        R->order_err);
+            if (!R->found)
+                continue;
+            found++;
+            found_mirrored += R->mirrored;
+            bd_hit[bd]++;
+            bi_hit[bi]++;
+            if (R->hamming >= 0 && R->hamming < 17)
+                hcount[R->hamming]++;
+            merr += R->mirror_err;
+            oerr += R->order_err;
+            if (R->mirror_err || R->order_err)
+                continue;
+            for (n = 0; n < 4; n++) {
+                re[nerr] = R->range_err[n];
+                ae[nerr++] = R->az_err[n];
+            }
+        }
+        if (ff)
+            fclose(ff);
+        rs = stats_of(re, nerr);
+        as = stats_of(ae, nerr);
+        for (i = 0; i < nbd; i++) {
+            bd_c[i] = dlo + (i + 0.5) * dstep;
+            bd_r[i] = bd_cnt[i] ? (double)bd_hit[i] / bd_cnt[i] : 0.0;
+        }
+        for (i = 0; i < nbi; i++) {
+            bi_c[i] = ilo + (i + 0.5) * istep;
+            bi_r[i] = bi_cnt[i] ? (double)bi_hit[i] / bi_cnt[i] : 0.0;
+        }
+        {
+            int f, k, j;
+            for (f = 0; f < c.nfree_fam; f++)
+                for (k = 0; k < NCORR; k++) {
+                    fam_total[f][k] = 0;
+                    fam_frames[f][k] = 0;
+                    for (j = 0; j < c.tag_free; j++) {
+                        fam_total[f][k] += c.fres[j].det[f][k];
+                        fam_frames[f][k] += c.fres[j].det[f][k] > 0;
+                    }
+                }
+        }
+        if (json) {
+            int f, k;
+            printf("{\"family\": \"%s\", \"seed\": %u, \"rows\": %d, \"cols\": %d, "
+                   "\"min_range\": %g, \"max_range\": %g, \"aperture_deg\": %g, "
+                   "\"vertical_aperture_deg\": %g, \"min_distance\": %g, \"max_distance\": %g, "
+                   "\"frames\": %d, \"views\": %d, \"mirrored_views\": %d, \"detected\": %d, "
+                   "\"detection_rate\": %.4f, \"detected_mirrored\": %d, \"wrong_ids\": %d, "
+                   "\"false_tags\": %d, \"mirror_errors\": %d, \"corner_order_errors\": %d, "
+                   "\"hamming\": [",
+                   c.fam.name, (unsigned)c.seed, c.sonar.rows, c.sonar.cols,
+                   (double)c.sonar.geo.min_range, (double)c.sonar.geo.max_range,
+                   c.sonar.geo.bearings ? 0.0 : c.sonar.geo.aperture / DEG,
+                   c.sonar.vertical_aperture / DEG, (double)c.view.min_distance,
+                   (double)c.view.max_distance, c.frames, sampled, mirrored_views, found,
+                   sampled ? (double)found / sampled : 0.0, found_mirrored, wrong, falset, merr,
+                   oerr);
+            for (k = 0; k <= actag_family_max_corrections(&c.fam) && k < 17; k++)
+                printf("%s%d", k ? ", " : "", hcount[k]);
+            printf("], \"range_error_m\": {\"mean\": %.6f, \"sd\": %.6f, \"p95_abs\": %.6f, "
+                   "\"corners\": %d}, \"azimuth_error_rad\": {\"mean\": %.6f, \"sd\": %.6f, "
+                   "\"p95_abs\": %.6f, \"corners\": %d}, \"by_distance\": [",
+                   rs.mean, rs.sd, rs.p95, rs.n, as.mean, as.sd, as.p95, as.n);
+            for (i = 0; i < nbd; i++)
+                printf("%s{\"distance_m\": %.2f, \"views\": %d, \"detected\": %d, \"rate\": %.4f, "
+                       "\"range_sd_m\": %.6f, \"azimuth_sd_rad\": %.6f}",
+                       i ? ", " : "", bd_c[i], bd_cnt[i], bd_hit[i], bd_r[i], bd_rsd[i],
+                       bd_asd[i]);
+            printf("], \"by_incidence\": [");
+            for (i = 0; i < nbi; i++)
+                printf("%s{\"incidence_deg\": %.1f, \"views\": %d, \"detected\": %d, \"rate\": %.4f}",
+                       i ? ", " : "", bi_c[i], bi_cnt[i], bi_hit[i], bi_r[i]);
+            printf("], \"tag_free\": {\"frames\": %d, \"families\": [", c.tag_free);
+            for (f = 0; f < c.nfree_fam; f++) {
+                printf("%s{\"family\": \"%s\", \"codes\": %d", f ? ", " : "", c.free_fam[f].name,
+                       c.free_fam[f].ncodes);
+                for (k = 0; k < NCORR; k++) {
+                    static const char *kn[NCORR] = {"zero", "default", "maximal"};
+                    printf(", \"%s\": {\"corrections\": %d, \"detections\": %d, \"frames_with_"
+                           "detections\": %d, \"rate\": %.6f}",
+                           kn[k],
+                           k == 0 ? 0
+                           : k == 1
+                               ? (actag_family_max_corrections(&c.free_fam[f]) < ACTAG_AUTO_CORRECTIONS
+                                      ? actag_family_max_corrections(&c.free_fam[f])
+                                      : ACTAG_AUTO_CORRECTIONS)
+                               : actag_family_max_corrections(&c.free_fam[f]),
+                           fam_total[f][k], fam_frames[f][k],
+                           c.tag_free ? (double)fam_frames[f][k] / c.tag_free : 0.0);
+                }
+                printf("}");
+            }
+            printf("]}, \"seconds\": %.1f, \"threads\": %d}\n", elapsed, threads);
+        } else {
+            int f, k;
+            if (c.frames > 0) {
+                printf("tagged frames: %d (%s, %d x %d, %.2f-%.2f m, sonar %.2f-%.2f m from the "
+                       "tag, %.0f-%.0f deg incidence)\n",
+                       c.frames, c.fam.name, c.sonar.rows, c.sonar.cols,
+                       (double)c.sonar.geo.min_range, (double)c.sonar.geo.max_range,
+                       (double)c.view.min_distance, (double)c.view.max_distance,
+                       c.view.min_incidence / DEG, c.view.max_incidence / DEG);
+                printf("  views with the whole tag in the field of view: %d (%d mirrored)\n",
+                       sampled, mirrored_views);
+                printf("  detected (right ID at the tag): %d = %.1f %% (%d of them mirrored)\n",
+                       found, sampled ? 100.0 * found / sampled : 0.0, found_mirrored);
+                printf("  wrong IDs: %d   false tags: %d   mirrored-flag errors: %d   "
+                       "corner-order errors: %d\n",
+                       wrong, falset, merr, oerr);
+                printf("  hamming of the detections:");
+                for (k = 0; k <= actag_family_max_corrections(&c.fam) && k < 17; k++)
+                    printf(" %d:%d", k, hcount[k]);
+                printf("\n  range error per corner (m):     mean %+.5f  sd %.5f  95%% |e| %.5f  "
+                       "(%d corners)\n",
+                       rs.mean, rs.sd, rs.p95, rs.n);
+                printf("  azimuth error per corner (rad): mean %+.5f  sd %.5f  95%% |e| %.5f\n",
+                       as.mean, as.sd, as.p95);
+                printf("  by distance (m):   ");
+                for (i = 0; i < nbd; i++)
+                    printf(" %.2f: %d/%d", bd_c[i], bd_hit[i], bd_cnt[i]);
+                printf("\n  by incidence (deg):");
+                for (i = 0; i < nbi; i++)
+                    printf(" %.0f: %d/%d", bi_c[i], bi_hit[i], bi_cnt[i]);
+                printf("\n");
+            }
+            if (c.tag_free > 0) {
+                printf("tag-free frames: %d; frames with false detections (detections), by bit "
+                       "corrections\n",
+                       c.tag_free);
+                printf("  %-12s %6s  %-22s %-22s %-22s\n", "family", "codes", "zero", "default",
+                       "maximal");
+                for (f = 0; f < c.nfree_fam; f++) {
+                    int mx = actag_family_max_corrections(&c.free_fam[f]);
+                    int df = mx < ACTAG_AUTO_CORRECTIONS ? mx : ACTAG_AUTO_CORRECTIONS;
+                    char b0[64], b1[64], b2[64];
+                    snprintf(b0, sizeof b0, "0: %d (%d) %.3f%%", fam_frames[f][0], fam_total[f][0],
+                             100.0 * fam_frames[f][0] / c.tag_free);
+                    snprintf(b1, sizeof b1, "%d: %d (%d) %.3f%%", df, fam_frames[f][1],
+                             fam_total[f][1], 100.0 * fam_frames[f][1] / c.tag_free);
+                    snprintf(b2, sizeof b2, "%d: %d (%d) %.3f%%", mx, fam_frames[f][2],
+                             fam_total[f][2], 100.0 * fam_frames[f][2] / c.tag_free);
+                    printf("  %-12s %6d  %-22s %-22s %-22s\n", c.free_fam[f].name,
+                           c.free_fam[f].ncodes, b0, b1, b2);
+                }
+            }
+            printf("time: %.1f s with %d threads\n", elapsed, threads);
+        }
+        if (svg) {
+            double *rcm = (double *)malloc((size_t)(nerr + 1) * sizeof(double));
+            int n2;
+            for (n2 = 0; n2 < nerr; n2++)
+                rcm[n2] = re[n2] * 100.0;
+            svg_histogram(svg, "range_error.svg", "Range error per corner", "range error (cm)",
+                          rcm, nerr, -4.0, 4.0, 40);
+            svg_histogram(svg, "azimuth_error.svg", "Azimuth error per corner",
+                          "azimuth error (rad)", ae, nerr, -0.02, 0.02, 40);
+            svg_rate(svg, "rate_vs_distance.svg", "Detection rate versus distance",
+                     "sonar to tag distance (m)", bd_c, bd_r, bd_cnt, nbd);
+            svg_rate(svg, "rate_vs_incidence.svg", "Detection rate versus incidence",
+                     "incidence angle (deg)", bi_c, bi_r, bi_cnt, nbi);
+            free(rcm);
+        }
+        free(re);
+        free(ae);
+    }
+    free(c.tres);
+    free(c.fres);
+    return 0;
+}

@@ -1,0 +1,515 @@
+/*
+ * actag-sim: simulated imaging-sonar frames of AcTags, with ground truth.
+ *
+ *   actag-sim [sonar options] (--tag SPEC ... | --random N | --tag-free N)
+ *             --out-dir DIR [--seed S] [...]
+ *
+ * Writes DIR/<prefix>_NNNN.pgm (or .raw) and DIR/truth.jsonl, one JSON line
+ * per frame. See usage(). Exit status 0, or 2 with a message naming the bad
+ * option or file.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "sim.h"
+#include "simio.h"
+#include "../hostio/hostio.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define PROG "actag-sim"
+#define DEG (3.14159265358979 / 180.0)
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: " PROG " [options] --out-dir DIR\n"
+        "Renders polar sonar frames (rows = range bins, columns = beams) of AcTags at given or\n"
+        "random 6-DOF poses, with ground truth as JSON lines (DIR/truth.jsonl).\n"
+        "Scene (one of):\n"
+        "  --tag FAMILY:ID:X,Y,Z,ROLL,PITCH,YAW[:SIZE]\n"
+        "                         a tag at this pose in the sonar frame (x forward, y left,\n"
+        "                         z up; metres; degrees, R = Rz(yaw) Ry(pitch) Rx(roll);\n"
+        "                         tag frame x right, y down as printed, z into the tag);\n"
+        "                         repeat for several tags (SIZE default 0.130628571 m)\n"
+        "  --random N             N frames of one tag (--family, --id) at random views of the\n"
+        "                         evaluation protocol (tag face toward the sonar, fully in view)\n"
+        "  --tag-free N           N frames of seabed and clutter only\n"
+        "  --sequence N           N frames of a sonar moving past one tag (--family, --id):\n"
+        "                         a straight pass at constant height (tracking tests)\n"
+        "  --frames N             with --tag: N frames (new noise each), default 1\n"
+        "  --seabed none|tag|NX,NY,NZ,D  with --tag: no seabed, the first tag's plane 14 mm\n"
+        "                         behind its face (default), or the plane n.p = D\n"
+        "Random views:\n"
+        "  --family NAME (default AcTag24h10)  --id N (default: random per frame)\n"
+        "  --tag-size M (default 0.130628571)\n"
+        "  --min-distance M --max-distance M   sonar to tag centre (default 0.5, 5)\n"
+        "  --min-incidence-deg D --max-incidence-deg D  line of sight vs face normal (30, 80)\n"
+        "  --mirror-fraction F    share of views from the other side of the sonar's\n"
+        "                         horizontal plane (mirrored images), default 0.5\n"
+        "  --clutter N            mean clutter patches per frame (default 4)\n"
+        "Sonar (defaults: the paper's settings, 1024 x 512):\n"
+        "  --rows R --cols C      range bins, beams\n"
+        "  --min-range M --max-range M   (default 0.1, 5)\n"
+        "  --aperture-deg D       horizontal aperture (default 60) or\n"
+        "  --bearings FILE        one azimuth per column in radians\n"
+        "  --vertical-aperture-deg D  (default 12)\n"
+        "  --range-ascending --azimuth-ascending   orientation flags (see geometry.h)\n"
+        "  --pool                 the pool recording's sonar: 530 x 512, 0.1-1.5 m, and views\n"
+        "                         at 0.9-1.4 m, 55-75 degrees incidence\n"
+        "Appearance (defaults tuned to the pool frames):\n"
+        "  --gain G --noise N --bands RATE --psf-azimuth PX --psf-range PX\n"
+        "  --foam F --seabed-level S --metal-specular M --metal-diffuse D --spreading P --looks N\n"
+        "Output:\n"
+        "  --out-dir DIR (created)  --prefix NAME (default sim)  --raw  --depth 8|16\n"
+        "  --seed S (default 1)   --quiet\n"
+        "Comparison with real frames:\n"
+        "  --compare-real DIR     print background and foam/metal statistics of DIR's real\n"
+        "                         frames (tag found by actag_detect, pool settings) beside\n"
+        "                         simulated pool frames (N = --random, default 60);\n"
+        "                         --montage FILE.pgm writes 4 real and 4 simulated frames\n"
+        "  --help  --version\n");
+}
+
+static void die(const char *msg)
+{
+    fprintf(stderr, PROG ": %s\n", msg);
+    exit(2);
+}
+
+static double num(const char *opt, const char *s, double lo, double hi)
+{
+    char err[HOSTIO_ERRLEN];
+    double v;
+    if (hostio_parse_double(opt, s, lo, hi, &v, err) != HOSTIO_OK)
+        die(err);
+    return v;
+}
+
+static long inum(const char *opt, const char *s, long lo, long hi)
+{
+    char err[HOSTIO_ERRLEN];
+    long v;
+    if (hostio_parse_long(opt, s, lo, hi, &v, err) != HOSTIO_OK)
+        die(err);
+    return v;
+}
+
+static void parse_tag(const char *spec, sim_tag *t)
+{
+    char buf[512], *fam, *id, *pose, *size, msg[700];
+    double p[6];
+    long idv;
+    char err[HOSTIO_ERRLEN];
+    if (strlen(spec) >= sizeof buf)
+        die("--tag: specification too long");
+    strcpy(buf, spec);
+    fam = buf;
+    id = strchr(fam, ':');
+    if (!id)
+        goto bad;
+    *id++ = 0;
+    pose = strchr(id, ':');
+    if (!pose)
+        goto bad;
+    *pose++ = 0;
+    size = strchr(pose, ':');
+    if (size)
+        *size++ = 0;
+    if (actag_family_get(fam, &t->family) != ACTAG_OK) {
+        snprintf(msg, sizeof msg, "--tag: unknown family '%s'", fam);
+        die(msg);
+    }
+    if (hostio_parse_long("--tag ID", id, 0, t->family.ncodes - 1, &idv, err) != HOSTIO_OK)
+        die(err);
+    t->id = (int)idv;
+    if (hostio_parse_doubles("--tag pose", pose, ',', p, 6, err) != HOSTIO_OK)
+        die(err);
+    t->tag_size = size ? (float)num("--tag SIZE", size, 1e-3, 100.0) : 0.130628571f;
+    sim_pose_from_rpy((float)p[0], (float)p[1], (float)p[2], (float)(p[3] * DEG),
+                      (float)(p[4] * DEG), (float)(p[5] * DEG), &t->pose);
+    return;
+bad:
+    snprintf(msg, sizeof msg, "--tag: expected FAMILY:ID:X,Y,Z,ROLL,PITCH,YAW[:SIZE] (got '%s')",
+             spec);
+    die(msg);
+}
+
+static float *load_bearings(const char *path, int cols)
+{
+    char err[HOSTIO_ERRLEN], msg[400];
+    size_t len;
+    char *txt = (char *)hostio_slurp(path, &len, err), *p, *end;
+    float *b;
+    int n = 0;
+    if (!txt)
+        die(err);
+    b = (float *)malloc((size_t)cols * sizeof *b);
+    if (!b)
+        die("out of memory");
+    p = txt;
+    for (;;) {
+        double v = strtod(p, &end);
+        if (end == p)
+            break;
+        if (n < cols)
+            b[n] = (float)v;
+        n++;
+        p = end;
+    }
+    while (*p == ' ' || *p == '\n' || *p == '\t' || *p == '\r')
+        p++;
+    if (*p != '\0') {
+        snprintf(msg, sizeof msg, "%s: not a number: '%.20s'", path, p);
+        free(txt);
+        die(msg);
+    }
+    free(txt);
+    if (n != cols) {
+        snprintf(msg, sizeof msg, "%s: bearing table has %d values, --cols is %d", path, n, cols);
+        die(msg);
+    }
+    return b;
+}
+
+int main(int argc, char **argv)
+{
+    sim_sonar sonar;
+    sim_appearance app;
+    sim_view_params view;
+    sim_scene scene;
+    static sim_tag tags[SIM_MAX_TAGS];
+    int ntags = 0, i, nrandom = -1, nfree = -1, nseq = -1, frames = 1, raw = 0, depth = 8;
+    int quiet = 0, fixed_id = -1, seabed_mode = 1, pool = 0;
+    double seabed_plane[4] = {0, 0, 1, 0};
+    uint32_t seed = 1;
+    const char *out_dir = NULL, *prefix = "sim", *bearings = NULL, *compare = NULL;
+    const char *montage = NULL, *family = "AcTag24h10";
+    float tag_size = 0.130628571f, *btab = NULL;
+    double aperture_deg = 60.0;
+    char err[HOSTIO_ERRLEN];
+    FILE *truth = NULL;
+    uint8_t *img8 = NULL;
+    uint16_t *img16 = NULL;
+
+    memset(&sonar, 0, sizeof sonar);
+    sonar.rows = 1024;
+    sonar.cols = 512;
+    sonar.geo.min_range = 0.1f;
+    sonar.geo.max_range = 5.0f;
+    sonar.vertical_aperture = (float)(12.0 * DEG);
+    sim_appearance_default(&app);
+    sim_view_params_default(&view);
+    /* --pool first: later options override it */
+    for (i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--pool"))
+            pool = 1;
+    if (pool)
+        simio_pool_settings(&sonar, &view);
+
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEED() do { if (!v) { char m_[128]; snprintf(m_, sizeof m_, "%s: missing value", o); die(m_); } i++; } while (0)
+        if (!strcmp(o, "--help")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(o, "--version")) {
+            printf(PROG " %s\n", ACTAG_VERSION_STRING);
+            return 0;
+        } else if (!strcmp(o, "--pool")) {
+        } else if (!strcmp(o, "--tag")) {
+            NEED();
+            if (ntags >= SIM_MAX_TAGS)
+                die("--tag: at most 16 tags");
+            parse_tag(v, &tags[ntags++]);
+        } else if (!strcmp(o, "--random")) {
+            NEED();
+            nrandom = (int)inum(o, v, 1, 10000000);
+        } else if (!strcmp(o, "--tag-free")) {
+            NEED();
+            nfree = (int)inum(o, v, 1, 10000000);
+        } else if (!strcmp(o, "--sequence")) {
+            NEED();
+            nseq = (int)inum(o, v, 2, 1000000);
+        } else if (!strcmp(o, "--frames")) {
+            NEED();
+            frames = (int)inum(o, v, 1, 10000000);
+        } else if (!strcmp(o, "--seabed")) {
+            NEED();
+            if (!strcmp(v, "none"))
+                seabed_mode = 0;
+            else if (!strcmp(v, "tag"))
+                seabed_mode = 1;
+            else {
+                if (hostio_parse_doubles(o, v, ',', seabed_plane, 4, err) != HOSTIO_OK)
+                    die(err);
+                seabed_mode = 2;
+            }
+        } else if (!strcmp(o, "--family")) {
+            NEED();
+            family = v;
+        } else if (!strcmp(o, "--id")) {
+            NEED();
+            fixed_id = (int)inum(o, v, 0, 1000000);
+        } else if (!strcmp(o, "--tag-size")) {
+            NEED();
+            tag_size = (float)num(o, v, 1e-3, 100.0);
+        } else if (!strcmp(o, "--min-distance")) {
+            NEED();
+            view.min_distance = (float)num(o, v, 0.01, 1000.0);
+        } else if (!strcmp(o, "--max-distance")) {
+            NEED();
+            view.max_distance = (float)num(o, v, 0.01, 1000.0);
+        } else if (!strcmp(o, "--min-incidence-deg")) {
+            NEED();
+            view.min_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
+        } else if (!strcmp(o, "--max-incidence-deg")) {
+            NEED();
+            view.max_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
+        } else if (!strcmp(o, "--mirror-fraction")) {
+            NEED();
+            view.mirror_fraction = (float)num(o, v, 0.0, 1.0);
+        } else if (!strcmp(o, "--clutter")) {
+            NEED();
+            view.clutter = (int)inum(o, v, 0, SIM_MAX_PATCHES / 2);
+        } else if (!strcmp(o, "--rows")) {
+            NEED();
+            sonar.rows = (int)inum(o, v, 2, ACTAG_MAX_DIM);
+        } else if (!strcmp(o, "--cols")) {
+            NEED();
+            sonar.cols = (int)inum(o, v, 2, ACTAG_MAX_DIM);
+        } else if (!strcmp(o, "--min-range")) {
+            NEED();
+            sonar.geo.min_range = (float)num(o, v, 0.0, 10000.0);
+        } else if (!strcmp(o, "--max-range")) {
+            NEED();
+            sonar.geo.max_range = (float)num(o, v, 0.0, 10000.0);
+        } else if (!strcmp(o, "--aperture-deg")) {
+            NEED();
+            aperture_deg = num(o, v, 0.01, 359.9);
+        } else if (!strcmp(o, "--bearings")) {
+            NEED();
+            bearings = v;
+        } else if (!strcmp(o, "--vertical-aperture-deg")) {
+            NEED();
+            sonar.vertical_aperture = (float)(num(o, v, 0.1, 90.0) * DEG);
+        } else if (!strcmp(o, "--range-ascending")) {
+            sonar.geo.flags |= ACTAG_RANGE_ASCENDING;
+        } else if (!strcmp(o, "--azimuth-ascending")) {
+            sonar.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
+        } else if (!strcmp(o, "--gain")) {
+            NEED();
+            app.gain = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--noise")) {
+            NEED();
+            app.noise = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--bands")) {
+            NEED();
+            app.band_rate = (float)num(o, v, 0.0, 20.0);
+        } else if (!strcmp(o, "--psf-azimuth")) {
+            NEED();
+            app.psf_azimuth = (float)num(o, v, 0.0, 10.0);
+        } else if (!strcmp(o, "--psf-range")) {
+            NEED();
+            app.psf_range = (float)num(o, v, 0.0, 10.0);
+        } else if (!strcmp(o, "--foam")) {
+            NEED();
+            app.foam = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--seabed-level")) {
+            NEED();
+            app.seabed = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--metal-specular")) {
+            NEED();
+            app.metal_specular = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--looks")) {
+            NEED();
+            app.looks = (int)inum(o, v, 1, 8);
+        } else if (!strcmp(o, "--metal-diffuse")) {
+            NEED();
+            app.metal_diffuse = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--spreading")) {
+            NEED();
+            app.spreading = (float)num(o, v, -4.0, 4.0);
+        } else if (!strcmp(o, "--out-dir")) {
+            NEED();
+            out_dir = v;
+        } else if (!strcmp(o, "--prefix")) {
+            NEED();
+            prefix = v;
+        } else if (!strcmp(o, "--raw")) {
+            raw = 1;
+        } else if (!strcmp(o, "--depth")) {
+            NEED();
+            depth = (int)inum(o, v, 8, 16);
+            if (depth != 8 && depth != 16)
+                die("--depth: must be 8 or 16");
+        } else if (!strcmp(o, "--seed")) {
+            NEED();
+            seed = (uint32_t)inum(o, v, 0, 4294967295L);
+        } else if (!strcmp(o, "--quiet")) {
+            quiet = 1;
+        } else if (!strcmp(o, "--compare-real")) {
+            NEED();
+            compare = v;
+        } else if (!strcmp(o, "--montage")) {
+            NEED();
+            montage = v;
+        } else {
+            char m[300];
+            snprintf(m, sizeof m, "unknown option '%s' (see --help)", o);
+            die(m);
+        }
+#undef NEED
+    }
+    if (!(sonar.geo.max_range > sonar.geo.min_range)) {
+        char m[200];
+        snprintf(m, sizeof m, "--max-range: must be above --min-range %g (got %g)",
+                 (double)sonar.geo.min_range, (double)sonar.geo.max_range);
+        die(m);
+    }
+    if (view.max_distance < view.min_distance)
+        die("--max-distance: must be at least --min-distance");
+    if (view.max_incidence < view.min_incidence)
+        die("--max-incidence-deg: must be at least --min-incidence-deg");
+    if (bearings) {
+        btab = load_bearings(bearings, sonar.cols);
+        sonar.geo.bearings = btab;
+    } else {
+        sonar.geo.aperture = (float)(aperture_deg * DEG);
+    }
+    if (actag_geometry_validate(&sonar.geo, sonar.rows, sonar.cols) != ACTAG_OK)
+        die(bearings ? "--bearings: the table must be finite and strictly monotonic"
+                     : "--aperture-deg: invalid sonar geometry");
+
+    if (compare) {
+        int n = nrandom > 0 ? nrandom : 60;
+        int rc = simio_compare_real(compare, n, seed, &app, montage, stdout, err);
+        if (rc != 0)
+            die(err);
+        return 0;
+    }
+    if ((ntags > 0) + (nrandom > 0) + (nfree > 0) + (nseq > 0) != 1)
+        die("give exactly one of --tag, --random, --tag-free, --sequence (see --help)");
+    if (!out_dir)
+        die("--out-dir: required");
+    if (mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
+        char m[600];
+        snprintf(m, sizeof m, "--out-dir: cannot create '%s': %s", out_dir, strerror(errno));
+        die(m);
+    }
+    {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/truth.jsonl", out_dir);
+        truth = fopen(path, "w");
+        if (!truth) {
+            char m[1300];
+            snprintf(m, sizeof m, "%s: cannot write: %s", path, strerror(errno));
+            die(m);
+        }
+    }
+    if (depth == 16)
+        img16 = (uint16_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols * 2);
+    else
+        img8 = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+    if (!img8 && !img16)
+        die("out of memory");
+
+    {
+        int total = ntags > 0 ? frames : (nrandom > 0 ? nrandom : (nfree > 0 ? nfree : nseq));
+        actag_family fam;
+        sim_tag base;
+        memset(&base, 0, sizeof base);
+        if (ntags == 0 && nfree <= 0) {
+            if (actag_family_get(family, &fam) != ACTAG_OK) {
+                char m[300];
+                snprintf(m, sizeof m, "--family: unknown family '%s'", family);
+                die(m);
+            }
+            if (fixed_id >= fam.ncodes) {
+                char m[300];
+                snprintf(m, sizeof m, "--id: %s has IDs 0..%d (got %d)", family, fam.ncodes - 1,
+                         fixed_id);
+                die(m);
+            }
+            base.family = fam;
+            base.tag_size = tag_size;
+        }
+        for (i = 0; i < total; i++) {
+            uint32_t fs = sim_frame_seed(seed, (uint32_t)i);
+            char path[1200];
+            int t;
+            memset(&scene, 0, sizeof scene);
+            if (ntags > 0) {
+                for (t = 0; t < ntags; t++)
+                    scene.tags[t] = tags[t];
+                scene.ntags = ntags;
+                if (seabed_mode == 1) {
+                    /* the first tag's plane, 14 mm behind its face */
+                    const sim_tag *t0 = &tags[0];
+                    scene.has_seabed = 1;
+                    scene.seabed_n[0] = -t0->pose.R[2];
+                    scene.seabed_n[1] = -t0->pose.R[5];
+                    scene.seabed_n[2] = -t0->pose.R[8];
+                    scene.seabed_d = -(t0->pose.R[2] * t0->pose.t[0] + t0->pose.R[5] * t0->pose.t[1] +
+                                       t0->pose.R[8] * t0->pose.t[2]) - 0.014f;
+                } else if (seabed_mode == 2) {
+                    double nn = sqrt(seabed_plane[0] * seabed_plane[0] +
+                                     seabed_plane[1] * seabed_plane[1] +
+                                     seabed_plane[2] * seabed_plane[2]);
+                    if (nn <= 0.0)
+                        die("--seabed: the normal must not be zero");
+                    scene.has_seabed = 1;
+                    for (t = 0; t < 3; t++)
+                        scene.seabed_n[t] = (float)(seabed_plane[t] / nn);
+                    scene.seabed_d = (float)(seabed_plane[3] / nn);
+                }
+            } else if (nrandom > 0) {
+                sim_tag tg = base;
+                actag_rng g;
+                actag_rng_seed(&g, fs ^ 0x5bd1e995u);
+                tg.id = fixed_id >= 0 ? fixed_id : (int)actag_rng_below(&g, (uint32_t)fam.ncodes);
+                if (sim_sample_view(&sonar, &view, fs, &tg, &scene) != 0)
+                    die("--random: no view keeps the whole tag in the field of view; widen "
+                        "--min-distance/--max-distance or the apertures");
+            } else if (nfree > 0) {
+                sim_sample_empty(&sonar, &view, fs, &scene);
+            } else {
+                sim_tag tg = base;
+                tg.id = fixed_id >= 0 ? fixed_id : 0;
+                sim_sequence_view(&sonar, &view, seed, i, total, &tg, &scene);
+            }
+            if (sim_render(&sonar, &scene, &app, fs, img8, img16, sonar.cols, err) != 0)
+                die(err);
+            snprintf(path, sizeof path, "%s/%s_%04d.%s", out_dir, prefix, i, raw ? "raw" : "pgm");
+            if (raw) {
+                if (hostio_write_file(path, img8 ? (const void *)img8 : (const void *)img16,
+                                      (size_t)sonar.rows * (size_t)sonar.cols * (size_t)(depth / 8),
+                                      err) != HOSTIO_OK)
+                    die(err);
+            } else {
+                hostio_image im;
+                im.data = img8 ? (void *)img8 : (void *)img16;
+                im.rows = sonar.rows;
+                im.cols = sonar.cols;
+                im.stride = sonar.cols;
+                im.depth = depth;
+                im.maxval = depth == 8 ? 255 : 65535;
+                if (hostio_pgm_write(path, &im, err) != HOSTIO_OK)
+                    die(err);
+            }
+            simio_truth_line(truth, path, i, fs, &sonar, &scene);
+            if (!quiet && (i + 1) % 100 == 0)
+                fprintf(stderr, PROG ": %d/%d frames\n", i + 1, total);
+        }
+    }
+    if (fclose(truth) != 0)
+        die("truth.jsonl: write error");
+    free(img8);
+    free(img16);
+    free(btab);
+    return 0;
+}
