@@ -2,6 +2,7 @@
 #include "actag/decode.h"
 
 #include <math.h>
+#include <string.h>
 
 /* 1 for 16, 20, 24, 28, 32 data bits. */
 static int bits_ok(int bits) { return bits >= 16 && bits <= 32 && bits % 4 == 0; }
@@ -314,6 +315,22 @@ static void set_orientation(actag_decode_result *out, const actag_point q[4],
         out->corners[i] = mirrored ? q[(r - i + 4) & 3] : q[(i - r + 4) & 3];
 }
 
+/* set_orientation() with the handedness given (the ML decoder's choice);
+ * mirror_margin = the other handedness' distance minus this one's (it may
+ * be negative when likelihood prefers the reading with more flipped bits). */
+static void set_orientation_as(actag_decode_result *out, const actag_point q[4],
+                               const actag_match *m, int mirrored, int dm, int du)
+{
+    int i, r = m->rotation;
+    out->id = m->id;
+    out->hamming = m->hamming;
+    out->mirrored = mirrored;
+    out->rotation = r;
+    out->mirror_margin = mirrored ? du - dm : dm - du;
+    for (i = 0; i < 4; i++)
+        out->corners[i] = mirrored ? q[(r - i + 4) & 3] : q[(i - r + 4) & 3];
+}
+
 int actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
                       const actag_point quad[4], const actag_family *family,
                       int max_corrections, actag_decode_result *out)
@@ -389,6 +406,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     out->ring_black = ring_n ? (float)ring_black / (float)ring_n : 1.0f;
     out->interior_white = in_n ? (float)in_white / (float)in_n : 1.0f;
     set_orientation(out, q, &mu, du, &mm, dm);
+    out->decision_margin = (float)out->mirror_margin; /* the hard decoder: other handedness */
     return ACTAG_OK;
 }
 
@@ -670,6 +688,104 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
 }
 
 
+/* Soft maximum-likelihood matching (the fit decoder's matcher).
+ * Every code in each of the 8 physical views (rotations, and reflections P
+ * of the reading) is scored by its soft distance to the reading: the sum of
+ * |c_i| over the bits where the code disagrees with the sign of the bit's
+ * confidence c_i (clamped to 1 = the tag's black-to-white contrast).
+ * Under independent Gaussian cell noise this ranks codes by likelihood, and
+ * the soft distance of the runner-up minus the best's is twice the log
+ * likelihood ratio between them in units of contrast^2 / sigma^2: the
+ * decision margin. Confidences are quantised to 1/16 so that a distance is
+ * five masked popcounts; candidates whose hard distance alone bounds their
+ * soft distance above the runner-up's are skipped (exact pruning). */
+#define ML_Q 16
+typedef struct {
+    actag_match best; /* ML best: id, rotation, mirrored, hamming (hard, kept bits) */
+    int d1, d2;       /* soft distances of the best and the runner-up, 1/ML_Q units */
+    int other;        /* best hard distance of the other handedness */
+} ml_result;
+
+static uint32_t rot_inv(uint32_t w, int o, int bits) /* rot^-o(w) */
+{
+    int s;
+    for (s = 0; s < (4 - o) % 4; s++)
+        w = actag_code_rot90(w, bits);
+    return w;
+}
+
+static void ml_match(const actag_family *family, const float *conf, uint32_t keep, ml_result *res)
+{
+    int bits = family->bits, i, b, v, nk = 0, q[32], lb[33];
+    uint32_t w = 0, plane[5] = {0, 0, 0, 0, 0}, obs[8], pl[8][5];
+    res->d1 = res->d2 = 1 << 28;
+    res->other = 33;
+    res->best.id = res->best.rotation = res->best.mirrored = 0;
+    res->best.hamming = 33;
+    for (i = 0; i < bits; i++) {
+        float a = conf[i] < 0.0f ? -conf[i] : conf[i];
+        int qi = a >= 1.0f ? ML_Q : (int)(a * (float)ML_Q + 0.5f);
+        uint32_t bit = (uint32_t)1u << (bits - 1 - i);
+        if (conf[i] > 0.0f)
+            w |= bit;
+        for (b = 0; b < 5; b++)
+            if (qi & (1 << b))
+                plane[b] |= bit;
+        if (keep & bit)
+            q[nk++] = qi;
+    }
+    /* lb[h]: the least soft distance of h disagreeing kept bits */
+    for (i = 1; i < nk; i++) {
+        int j, t = q[i];
+        for (j = i; j > 0 && q[j - 1] > t; j--)
+            q[j] = q[j - 1];
+        q[j] = t;
+    }
+    lb[0] = 0;
+    for (i = 0; i < nk; i++)
+        lb[i + 1] = lb[i] + q[i];
+    for (v = 0; v < 8; v++) {
+        int o = v & 3, m = v >> 2;
+        obs[v] = rot_inv(m ? actag_decode_mirror(w, bits) : w, o, bits);
+        for (b = 0; b < 5; b++)
+            pl[v][b] = rot_inv(m ? actag_decode_mirror(plane[b], bits) : plane[b], o, bits);
+    }
+    for (i = 0; i < family->ncodes; i++) {
+        uint32_t c = family->codes[i];
+        for (v = 0; v < 8; v++) {
+            uint32_t mis = (c ^ obs[v]) & keep;
+            int h = actag_popcount32(mis), d;
+            if (lb[h] >= res->d2)
+                continue;
+            d = 0;
+            for (b = 0; b < 5; b++)
+                d += actag_popcount32(mis & pl[v][b]) << b;
+            if (d < res->d1 || (d == res->d1 && h < res->best.hamming)) {
+                res->d2 = res->d1;
+                res->d1 = d;
+                res->best.id = i;
+                res->best.rotation = (v & 3);
+                res->best.mirrored = v >> 2;
+                res->best.hamming = h;
+            } else if (d < res->d2) {
+                res->d2 = d;
+            }
+        }
+    }
+    /* the other handedness' best hard distance (mirror_margin) */
+    for (i = 0; i < family->ncodes; i++) {
+        uint32_t c = family->codes[i];
+        for (v = 0; v < 8; v++) {
+            int h;
+            if ((v >> 2) == res->best.mirrored)
+                continue;
+            h = actag_popcount32((c ^ obs[v]) & keep);
+            if (h < res->other)
+                res->other = h;
+        }
+    }
+}
+
 void actag_fit_params_default(actag_fit_params *fp)
 {
     if (fp == NULL)
@@ -678,6 +794,7 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->level = 0.5f;
     fp->min_contrast = 5;
     fp->sample_offset = 0.2f;
+    fp->min_margin = ACTAG_FIT_MIN_MARGIN;
 }
 
 int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
@@ -693,6 +810,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     float conf[32], black, white, contrast, flips = 0.0f, minc = 1e30f;
     actag_point q[4];
     actag_match mu, mm;
+    ml_result ml;
+    float margin = 0.0f;
+    memset(&ml, 0, sizeof ml);
     uint32_t w = 0, e, diff, keep;
     int rc, maxc, bits, k, n, du, dm, i, orient, ring_ok = 0, in_ok = 0, cx, cy;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
@@ -707,7 +827,8 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     min_contrast = fp->min_contrast;
     level = fp->level;
     if (min_contrast < 0 || min_contrast > 255 || !(level >= 0.0f) || !(level <= 1.0f) ||
-        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f))
+        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f) || !(fp->min_margin >= 0.0f) ||
+        !(fp->min_margin <= 64.0f))
         return ACTAG_ERR_PARAM;
     maxc = actag_family_max_corrections(family);
     if (max_corrections < 0 || max_corrections > maxc)
@@ -791,80 +912,104 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             minc = c;
     }
 
-    if (flags & ACTAG_FIT_SPLIT) {
-        /* Code-aware threshold: try every split of the sorted data-cell
-         * values below the mid level and keep the word closest to a code. */
-        float sv[32];
-        int j, a, best = 2 * maxc + 3;
+    {
+        /* Thresholds: with ACTAG_FIT_SPLIT every split of the sorted data
+         * confidences between ACTAG_FIT_SPLIT_LO and _HI (relative to the
+         * mid level) is read; otherwise the single threshold 0. Each reading
+         * is matched by likelihood (ml_match); the split whose best code
+         * needs the fewest corrections wins (then the larger margin). */
+        float sv[32], tbest = 0.0f;
+        int j, a, nsplit = 0, have = 0;
         long key = -1;
         int kd = 99, od = 99; /* best distance of the kept key, of any other */
-        for (i = 0; i < bits; i++)
-            sv[i] = conf[i];
-        for (i = 1; i < bits; i++)
-            for (j = i; j > 0 && sv[j - 1] > sv[j]; j--) {
-                float t = sv[j];
-                sv[j] = sv[j - 1];
-                sv[j - 1] = t;
-            }
-        for (j = 0; j < bits; j++) {
-            float t = j == 0 ? sv[0] - 1.0f : 0.5f * (sv[j - 1] + sv[j]);
-            uint32_t ww = 0;
-            actag_match a1, a2;
-            int r1, r2, d1, d2;
-            if (t > ACTAG_FIT_SPLIT_HI - level)
-                break;
-            if (t < ACTAG_FIT_SPLIT_LO - level)
-                continue;
-            for (a = 0; a < bits; a++)
-                ww = (ww << 1) | (conf[a] > t ? 1u : 0u);
-            r1 = match_rot_masked(family, ww, keep, maxc, &a1);
-            r2 = match_rot_masked(family, actag_decode_mirror(ww, bits), keep, maxc, &a2);
-            d1 = r1 == ACTAG_OK ? a1.hamming : maxc + 1;
-            d2 = r2 == ACTAG_OK ? a2.hamming : maxc + 1;
-            /* Splits that read as different tags (or poses): the
-             * threshold decides the ID, so the reading is ambiguous unless
-             * one reading is closer than every other by ACTAG_FIT_MARGIN
-             * bits. A tie between the two handednesses is no reading. */
-            if ((d1 < d2 ? d1 : d2) <= max_corrections) {
-                int dk = d1 < d2 ? d1 : d2;
-                long key1 = d1 < d2 ? (long)a1.id * 8L + (long)a1.rotation
-                                    : (long)a2.id * 8L + 4L + (long)a2.rotation;
-                if (d1 == d2)
-                    return ACTAG_ERR_NO_MATCH;
-                if (key < 0 || key == key1) {
-                    if (key < 0 || dk < kd)
-                        kd = dk;
-                    key = key1;
-                } else {
-                    /* conflict: keep the closer reading, remember the other */
-                    if (dk < kd) {
-                        od = kd < od ? kd : od;
-                        kd = dk;
-                        key = key1;
-                    } else if (dk < od) {
-                        od = dk;
-                    }
+        if (flags & ACTAG_FIT_SPLIT) {
+            for (i = 0; i < bits; i++)
+                sv[i] = conf[i];
+            for (i = 1; i < bits; i++)
+                for (j = i; j > 0 && sv[j - 1] > sv[j]; j--) {
+                    float t = sv[j];
+                    sv[j] = sv[j - 1];
+                    sv[j - 1] = t;
                 }
+            nsplit = bits;
+        } else {
+            nsplit = 1;
+        }
+        for (j = 0; j < nsplit; j++) {
+            float t, ct[32];
+            ml_result r;
+            int dk;
+            long key1;
+            if (flags & ACTAG_FIT_SPLIT) {
+                t = j == 0 ? sv[0] - 1.0f : 0.5f * (sv[j - 1] + sv[j]);
+                if (t > ACTAG_FIT_SPLIT_HI - level)
+                    break;
+                if (t < ACTAG_FIT_SPLIT_LO - level)
+                    continue;
+            } else {
+                t = 0.0f;
             }
-            if ((d1 < d2 ? d1 : d2) < best) {
-                best = d1 < d2 ? d1 : d2;
-                w = ww;
+            for (a = 0; a < bits; a++)
+                ct[a] = conf[a] - t;
+            ml_match(family, ct, keep, &r);
+            dk = r.best.hamming;
+            if (dk > max_corrections)
+                continue;
+            /* A tie between the two handednesses is no reading. */
+            if (r.other == dk)
+                return ACTAG_ERR_NO_MATCH;
+            /* Splits that read as different tags (or poses): the threshold
+             * decides the ID, so the reading is ambiguous unless one is
+             * closer than every other by ACTAG_FIT_MARGIN bits. */
+            key1 = (long)r.best.id * 8L + (long)r.best.mirrored * 4L + (long)r.best.rotation;
+            if (key < 0 || key == key1) {
+                if (key < 0 || dk < kd)
+                    kd = dk;
+                key = key1;
+            } else if (dk < kd) {
+                od = kd < od ? kd : od;
+                kd = dk;
+                key = key1;
+            } else if (dk < od) {
+                od = dk;
+            }
+            if (!have || dk < ml.best.hamming ||
+                (dk == ml.best.hamming && r.d2 - r.d1 > ml.d2 - ml.d1)) {
+                ml = r;
+                tbest = t;
+                have = 1;
             }
         }
+        if (!have)
+            return ACTAG_ERR_NO_MATCH;
         if (od < 99 && od - kd < ACTAG_FIT_MARGIN)
             return ACTAG_ERR_NO_MATCH;
-        for (i = 0; i < bits; i++) /* confidences relative to the chosen split */
-            conf[i] = ((w >> (bits - 1 - i)) & 1u) ? (conf[i] > 0.0f ? conf[i] : 0.01f)
-                                                   : (conf[i] < 0.0f ? conf[i] : -0.01f);
+        w = 0;
+        for (i = 0; i < bits; i++) { /* confidences relative to the chosen threshold */
+            conf[i] -= tbest;
+            if (conf[i] == 0.0f)
+                conf[i] = -0.01f;
+            w = (w << 1) | (conf[i] > 0.0f ? 1u : 0u);
+        }
+        margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ML_Q);
+        if (margin < fp->min_margin)
+            return ACTAG_ERR_NO_MATCH;
     }
-    rc = match_both(family, w, keep, maxc, max_corrections, &mu, &du, &mm, &dm);
-    if (rc != ACTAG_OK)
-        return rc;
 
     out->observed = w;
     out->ring_black = (float)ring_ok / (float)(4 * (k - 2));
     out->interior_white = (float)in_ok / (float)((k - 3) * (k - 3));
-    set_orientation(out, q, &mu, du, &mm, dm);
+    if (ml.best.mirrored) {
+        mm = ml.best;
+        dm = ml.best.hamming;
+        du = ml.other;
+    } else {
+        mu = ml.best;
+        du = ml.best.hamming;
+        dm = ml.other;
+    }
+    set_orientation_as(out, q, ml.best.mirrored ? &mm : &mu, ml.best.mirrored, dm, du);
+    out->decision_margin = margin;
     /* the word a perfect reading would have given */
     e = family->codes[out->id];
     for (i = 0; i < out->rotation; i++)

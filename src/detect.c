@@ -265,6 +265,7 @@ static void fill_det(actag_detection *d, const actag_decode_result *dr,
     d->hamming = dr->hamming;
     d->mirrored = dr->mirrored ^ flip_mirror;
     d->inlier_ratio = ratio;
+    d->decision_margin = dr->decision_margin;
     for (c = 0; c < 4; c++) {
         d->corners[c] = corners[c];
         d->range[c] = actag_geometry_range(geometry, rows, corners[c].y);

@@ -172,6 +172,10 @@ typedef struct actag_detection {
     float range[4];            /* metres, per corner */
     float azimuth[4];          /* radians, per corner */
     float inlier_ratio;        /* RANSAC support of the quadrilateral */
+    float decision_margin;     /* how much better the reported code and orientation explain
+                                  the cells than the runner-up (another ID, orientation or
+                                  handedness), in units of the tag's black-white contrast;
+                                  see decode.h (binary decoder: extra bits of the runner-up) */
 } actag_detection;
 
 /* Optional counters of one call. */

@@ -179,6 +179,9 @@ typedef struct actag_decode_result {
     float contrast;         /* white-interior minus black-ring mean, grey levels */
     float flip_weight;      /* sum of the corrected bits' confidences (see fit decoder) */
     float min_confidence;   /* smallest data-bit confidence */
+    float decision_margin;  /* fit decoder: runner-up's soft distance minus the best's
+                               (contrast units; see actag_decode_quad_fit); binary
+                               decoders: the runner-up's extra bits */
     actag_point fit_corners[4]; /* the fitted grid's white-square corners, tag order */
 } actag_decode_result;
 
@@ -233,12 +236,18 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
 #define ACTAG_FIT_SPLIT_HI 0.5f
 #endif
 
+/* Default least decision margin of the fit decoder (contrast units). */
+#ifndef ACTAG_FIT_MIN_MARGIN
+#define ACTAG_FIT_MIN_MARGIN 1.0f
+#endif
+
 /* Options of actag_decode_quad_fit(). */
 typedef struct actag_fit_params {
     int flags;           /* ACTAG_FIT_* (default ACTAG_FIT_DEFAULT_FLAGS) */
     float level;         /* mid level between ring black (0) and interior white (1), 0.5 */
     int min_contrast;    /* interior minus ring mean must reach this, grey levels (5) */
     float sample_offset; /* cells from a cell centre to its outer sample points, 0..0.5 (0.2) */
+    float min_margin;    /* least decision margin accepted, contrast units (see below) */
 } actag_fit_params;
 
 /* Fills *fp with the defaults above (no-op for NULL). */

@@ -50,7 +50,7 @@ static void usage(FILE *f)
         "Views and sonar (defaults: the paper's: 0.1-5 m, 60 x 12 degrees, 1024 x 512,\n"
         "sonar within 0.5-5 m of the tag, 30-80 degrees incidence):\n"
         "  --min-distance M --max-distance M --min-incidence-deg D --max-incidence-deg D\n"
-        "  --mirror-fraction F --clutter N --rows R --cols C --min-range M --max-range M\n"
+        "  --max-yaw-deg D --mirror-fraction F --clutter N --rows R --cols C --min-range M --max-range M\n"
         "  --aperture-deg D --vertical-aperture-deg D --range-ascending --azimuth-ascending\n"
         "  --pool                 the pool recording's sonar and views (see actag-sim)\n"
         "Output:\n"
@@ -97,6 +97,8 @@ typedef struct {
     int false_tags;   /* detections away from the tag (or a second right ID) */
     int mirror_err, order_err;
     int hamming;
+    float margin, wrong_margin; /* decision margin of the right reading, largest of the wrong */
+    int wrong_hamming, wrong_search;
     float range_err[4], az_err[4], px_err;
     uint32_t seed;
 } tag_result;
@@ -213,6 +215,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
             }
             R->found = 1;
             R->hamming = det[d].hamming;
+            R->margin = det[d].decision_margin;
             R->mirror_err = det[d].mirrored != tr.mirrored;
             R->order_err = bestp != 0 && ident > best + 4.0f;
             R->px_err = 0.25f * ident;
@@ -222,8 +225,18 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
             }
         } else if (at_tag && det[d].id != tag.id) {
             R->wrong_id++;
+            if (det[d].decision_margin > R->wrong_margin) {
+                R->wrong_margin = det[d].decision_margin;
+                R->wrong_hamming = det[d].hamming;
+                R->wrong_search = det[d].inlier_ratio == 0.0f;
+            }
         } else {
             R->false_tags++;
+            if (det[d].decision_margin > R->wrong_margin) {
+                R->wrong_margin = det[d].decision_margin;
+                R->wrong_hamming = det[d].hamming;
+                R->wrong_search = det[d].inlier_ratio == 0.0f;
+            }
         }
     }
 }
@@ -534,6 +547,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--max-incidence-deg")) {
             NEED();
             c.view.max_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
+        } else if (!strcmp(o, "--max-yaw-deg")) {
+            NEED();
+            c.view.max_yaw = (float)(num(o, v, 0.0, 180.0) * DEG);
         } else if (!strcmp(o, "--mirror-fraction")) {
             NEED();
             c.view.mirror_fraction = (float)num(o, v, 0.0, 1.0);
@@ -696,10 +712,13 @@ int main(int argc, char **argv)
             if (ff && (R->wrong_id || R->false_tags || (R->found && (R->mirror_err || R->order_err))))
                 fprintf(ff, "{\"frame\": %d, \"seed\": %u, \"distance\": %.4f, \"incidence_deg\": "
                             "%.2f, \"mirrored\": %d, \"found\": %d, \"wrong_id\": %d, "
-                            "\"false_tags\": %d, \"mirror_error\": %d, \"order_error\": %d}\n",
+                            "\"false_tags\": %d, \"mirror_error\": %d, \"order_error\": %d, "
+                            "\"margin\": %.3f, \"wrong_margin\": %.3f, \"wrong_hamming\": %d, "
+                            "\"wrong_from_search\": %d}\n",
                         i, (unsigned)R->seed, (double)R->distance, R->incidence / DEG,
                         R->mirrored, R->found, R->wrong_id, R->false_tags, R->mirror_err,
-                        R->order_err);
+                        R->order_err, (double)R->margin, (double)R->wrong_margin,
+                        R->wrong_hamming, R->wrong_search);
             if (!R->found)
                 continue;
             found++;

@@ -49,6 +49,7 @@ void sim_view_params_default(sim_view_params *v)
     v->max_roll = 10.0f * SIM_PI / 180.0f;
     v->mirror_fraction = 0.5f;
     v->clutter = 4;
+    v->max_yaw = SIM_PI;
 }
 
 /* ------------------------------------------------------------ small maths */
@@ -377,11 +378,25 @@ static float patch_gain(const render_ctx *c, const float *p, float r, float az)
     return g;
 }
 
-/* Returned intensity density at range r along the beam at azimuth az. */
-static float intensity_at(const render_ctx *c, float r, float az)
+static float pow_fast(float x, float e)
+{
+    if (e == 1.0f)
+        return x;
+    if (e == 0.5f)
+        return sqrtf(x);
+    if (e == 2.0f)
+        return x * x;
+    if (e == 0.0f)
+        return 1.0f;
+    return powf(x, e);
+}
+
+/* Returned intensity density at range r along the beam at azimuth az
+ * (ca, sa = its cosine and sine), before the spreading loss. */
+static float intensity_at(const render_ctx *c, float r, float az, float ca, float sa)
 {
     const sim_appearance *a = c->a;
-    float ca = cosf(az), sa = sinf(az), total = 0.0f;
+    float total = 0.0f;
     float jmax = 2.0f * sqrtf(2.0f / (r * c->dr));
     int i, b;
     for (i = 0; i < c->nsurf; i++) {
@@ -405,7 +420,7 @@ static float intensity_at(const render_ctx *c, float r, float az)
                 break; /* tangent: one solution */
             if (ce <= 0.0f)
                 continue; /* behind the sonar */
-            e = asinf(fmaxf(-1.0f, fminf(1.0f, se)));
+            e = se * (1.0f + se * se * (1.0f / 6.0f)); /* asin, |e| small */
             if (fabsf(e) > 2.0f * c->half_v)
                 continue;
             beam = expf(-SIM_LN2 * (e / c->half_v) * (e / c->half_v));
@@ -434,7 +449,7 @@ static float intensity_at(const render_ctx *c, float r, float az)
                 if (cyi > S->k) cyi = S->k;
                 white = S->front && S->layout[cyi][cxi];
                 if (white) {
-                    sigma = a->foam * powf(cinc, a->foam_exp);
+                    sigma = a->foam * pow_fast(cinc, a->foam_exp);
                 } else {
                     float inc = acosf(fminf(1.0f, cinc));
                     sigma = a->metal_specular * expf(-(inc / a->metal_lobe) * (inc / a->metal_lobe)) +
@@ -447,22 +462,20 @@ static float intensity_at(const render_ctx *c, float r, float az)
                 p[0] = u[0] * r;
                 p[1] = u[1] * r;
                 p[2] = u[2] * r;
-                sigma = a->seabed * powf(cinc, a->seabed_exp);
+                sigma = a->seabed * pow_fast(cinc, a->seabed_exp);
                 if (c->sc->npatches)
                     sigma *= patch_gain(c, p, r, az);
             }
             total += sigma * beam * J;
         }
     }
-    if (a->spreading != 0.0f)
-        total *= powf(a->spreading_r0 / r, a->spreading);
     return total;
 }
 
 /* Gaussian kernel with sum of squares 1 (keeps the speckle's mean power). */
 static int psf_kernel(float sigma, float *k, int maxr)
 {
-    int r = (int)ceilf(3.0f * sigma), i;
+    int r = (int)ceilf(2.5f * sigma), i;
     float s2 = 0.0f;
     if (sigma <= 0.0f)
         r = 0;
@@ -478,32 +491,42 @@ static int psf_kernel(float sigma, float *k, int maxr)
     return r;
 }
 
-static void convolve(float *re, float *im, float *tmp, int rows, int cols, const float *k, int kr,
-                     int along_cols)
+/* Along each row (azimuth): out[c] = sum_i k[i] in[c+i-kr], zero outside;
+ * tap by tap so the inner loop vectorises. */
+static void convolve_rows(float *v, float *tmp, int rows, int cols, const float *k, int kr)
 {
-    int r, c, i, n = along_cols ? cols : rows, m = along_cols ? rows : cols;
-    float *tr = tmp, *ti = tmp + (n > 0 ? n : 1);
-    for (r = 0; r < m; r++) {
-        for (c = 0; c < n; c++) {
-            float sr = 0.0f, si = 0.0f;
-            for (i = -kr; i <= kr; i++) {
-                int cc = c + i;
-                size_t idx;
-                if (cc < 0 || cc >= n)
-                    continue;
-                idx = along_cols ? (size_t)r * (size_t)cols + (size_t)cc
-                                 : (size_t)cc * (size_t)cols + (size_t)r;
-                sr += k[i + kr] * re[idx];
-                si += k[i + kr] * im[idx];
-            }
-            tr[c] = sr;
-            ti[c] = si;
+    int r, c, i;
+    for (r = 0; r < rows; r++) {
+        float *row = v + (size_t)r * (size_t)cols;
+        for (c = 0; c < cols; c++)
+            tmp[c] = 0.0f;
+        for (i = -kr; i <= kr; i++) {
+            float w = k[i + kr];
+            int c0 = i < 0 ? -i : 0, c1 = i > 0 ? cols - i : cols;
+            for (c = c0; c < c1; c++)
+                tmp[c] += w * row[c + i];
         }
-        for (c = 0; c < n; c++) {
-            size_t idx = along_cols ? (size_t)r * (size_t)cols + (size_t)c
-                                    : (size_t)c * (size_t)cols + (size_t)r;
-            re[idx] = tr[c];
-            im[idx] = ti[c];
+        memcpy(row, tmp, (size_t)cols * sizeof *row);
+    }
+}
+
+/* Along each column (range), row by row so memory is read in order; out is
+ * a rows x cols buffer. */
+static void convolve_cols(const float *v, float *out, int rows, int cols, const float *k, int kr)
+{
+    int r, c, i;
+    for (r = 0; r < rows; r++) {
+        float *o = out + (size_t)r * (size_t)cols;
+        for (c = 0; c < cols; c++)
+            o[c] = 0.0f;
+        for (i = -kr; i <= kr; i++) {
+            const float *src;
+            float w = k[i + kr];
+            if (r + i < 0 || r + i >= rows)
+                continue;
+            src = v + (size_t)(r + i) * (size_t)cols;
+            for (c = 0; c < cols; c++)
+                o[c] += w * src[c];
         }
     }
 }
@@ -521,7 +544,7 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
 {
     render_ctx c;
     int rows, cols, i, r, col, ss;
-    float *re, *im, *tmp, *rowgain, kern[64], *mean, *acc;
+    float *re, *im, *tmp, *rowgain, kern[64], *mean, *acc, *col_tmp, *caz, *saz;
     int look, nlooks = a->looks < 1 ? 1 : (a->looks > 8 ? 8 : a->looks);
     float *raz, *rr;
     uint8_t *super;
@@ -599,14 +622,17 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
     re = (float *)malloc(n * sizeof *re);
     mean = (float *)malloc(n * sizeof *mean);
     acc = (float *)malloc(n * sizeof *acc);
+    col_tmp = (float *)malloc(n * sizeof *col_tmp);
     im = (float *)malloc(n * sizeof *im);
     tmp = (float *)malloc(2 * (size_t)(rows > cols ? rows : cols) * sizeof *tmp + 16);
     rowgain = (float *)malloc((size_t)rows * sizeof *rowgain);
     super = (uint8_t *)calloc(n, 1);
     raz = (float *)malloc((size_t)cols * 4 * sizeof *raz);
+    caz = (float *)malloc((size_t)cols * 5 * 2 * sizeof *caz);
+    saz = caz ? caz + (size_t)cols * 5 : NULL;
     rr = (float *)malloc((size_t)rows * 4 * sizeof *rr);
-    if (!re || !im || !tmp || !rowgain || !super || !raz || !rr || !mean || !acc) {
-        free(mean); free(acc); free(re); free(im); free(tmp); free(rowgain); free(super); free(raz); free(rr);
+    if (!re || !im || !tmp || !rowgain || !super || !raz || !rr || !mean || !acc || !col_tmp || !caz) {
+        free(caz); free(col_tmp); free(mean); free(acc); free(re); free(im); free(tmp); free(rowgain); free(super); free(raz); free(rr);
         return fail(err, "sim_render: out of memory");
     }
     ss = a->supersample < 1 ? 1 : (a->supersample > 4 ? 4 : a->supersample);
@@ -640,6 +666,15 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
             raz[4 * col + i] = actag_geometry_azimuth(
                 &s->geo, cols, (float)col + ((float)i + 0.5f) / (float)ss - 0.5f);
     }
+    for (col = 0; col < cols; col++) {
+        float az0 = actag_geometry_azimuth(&s->geo, cols, (float)col);
+        caz[5 * col] = cosf(az0);
+        saz[5 * col] = sinf(az0);
+        for (i = 0; i < ss; i++) {
+            caz[5 * col + 1 + i] = cosf(raz[4 * col + i]);
+            saz[5 * col + 1 + i] = sinf(raz[4 * col + i]);
+        }
+    }
     for (r = 0; r < rows; r++)
         for (i = 0; i < ss; i++)
             rr[4 * r + i] = actag_geometry_range(&s->geo, rows,
@@ -649,6 +684,7 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
     actag_rng_seed(&g, seed);
     for (r = 0; r < rows; r++) {
         float rc = actag_geometry_range(&s->geo, rows, (float)r);
+        float loss = a->spreading != 0.0f ? powf(a->spreading_r0 / rc, a->spreading) : 1.0f;
         for (col = 0; col < cols; col++) {
             size_t idx = (size_t)r * (size_t)cols + (size_t)col;
             float I;
@@ -657,12 +693,14 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
                 I = 0.0f;
                 for (v = 0; v < ss; v++)
                     for (u = 0; u < ss; u++)
-                        I += intensity_at(&c, rr[4 * r + v], raz[4 * col + u]);
+                        I += intensity_at(&c, rr[4 * r + v], raz[4 * col + u],
+                                          caz[5 * col + 1 + u], saz[5 * col + 1 + u]);
                 I /= (float)(ss * ss);
             } else {
-                I = intensity_at(&c, rc, actag_geometry_azimuth(&s->geo, cols, (float)col));
+                I = intensity_at(&c, rc, actag_geometry_azimuth(&s->geo, cols, (float)col),
+                                 caz[5 * col], saz[5 * col]);
             }
-            mean[idx] = sqrtf((I + a->noise) * 0.5f);
+            mean[idx] = sqrtf((I * loss + a->noise) * 0.5f);
             acc[idx] = 0.0f;
         }
     }
@@ -675,13 +713,22 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
         }
         /* beam spread: azimuth (along a row) then range (along a column) */
         kr = psf_kernel(a->psf_azimuth, kern, 31);
-        if (kr > 0)
-            convolve(re, im, tmp, rows, cols, kern, kr, 1);
+        if (kr > 0) {
+            convolve_rows(re, tmp, rows, cols, kern, kr);
+            convolve_rows(im, tmp, rows, cols, kern, kr);
+        }
         kr = psf_kernel(a->psf_range, kern, 31);
-        if (kr > 0)
-            convolve(re, im, tmp, rows, cols, kern, kr, 0);
-        for (idx = 0; idx < n; idx++)
-            acc[idx] += re[idx] * re[idx] + im[idx] * im[idx];
+        if (kr > 0) {
+            convolve_cols(re, col_tmp, rows, cols, kern, kr);
+            for (idx = 0; idx < n; idx++)
+                acc[idx] += col_tmp[idx] * col_tmp[idx];
+            convolve_cols(im, col_tmp, rows, cols, kern, kr);
+            for (idx = 0; idx < n; idx++)
+                acc[idx] += col_tmp[idx] * col_tmp[idx];
+        } else {
+            for (idx = 0; idx < n; idx++)
+                acc[idx] += re[idx] * re[idx] + im[idx] * im[idx];
+        }
     }
     /* interference bands: constant-range gain changes */
     for (r = 0; r < rows; r++)
@@ -720,7 +767,7 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
                     (uint8_t)(v8 > 255.0f ? 255.0f : v8);
             }
         }
-    free(mean); free(acc);
+    free(caz); free(col_tmp); free(mean); free(acc);
     free(re); free(im); free(tmp); free(rowgain); free(super); free(raz); free(rr);
     return 0;
 }
@@ -837,7 +884,7 @@ static void add_clutter(const sim_sonar *s, const sim_view_params *v, actag_rng 
 }
 
 static void random_sonar(const sim_sonar *s, const sim_view_params *v, actag_rng *g, float margin,
-                         float *S, float *Rsw, float *dist)
+                         float *S, float *Rsw, float *dist, float *bearing)
 {
     float alo, ahi, d, inc, beta, da, de, roll, amax, emax;
     azimuth_limit(s, &alo, &ahi);
@@ -859,6 +906,7 @@ static void random_sonar(const sim_sonar *s, const sim_view_params *v, actag_rng
     }
     look_at(S, da, de, roll, Rsw);
     *dist = d;
+    *bearing = beta;
 }
 
 int sim_sample_view(const sim_sonar *s, const sim_view_params *v, uint32_t seed, sim_tag *tag,
@@ -868,10 +916,12 @@ int sim_sample_view(const sim_sonar *s, const sim_view_params *v, uint32_t seed,
     int attempt;
     actag_rng_seed(&g, seed);
     for (attempt = 0; attempt < 200; attempt++) {
-        float S[3], Rsw[9], Rwt[9], d, yaw = urange(&g, 0.0f, 2.0f * SIM_PI), W = tag_side(tag);
+        float S[3], Rsw[9], Rwt[9], d, yaw, W = tag_side(tag), beta;
         float negS[3];
         sim_truth tr;
-        random_sonar(s, v, &g, 0.75f * W, S, Rsw, &d);
+        random_sonar(s, v, &g, 0.75f * W, S, Rsw, &d, &beta);
+        /* yaw = beta + pi/2: the printed top points away from the sonar */
+        yaw = beta + 0.5f * SIM_PI + urange(&g, -v->max_yaw, v->max_yaw);
         /* tag in the world: face up (+Z), x = (cos yaw, sin yaw, 0), z = -Z */
         Rwt[0] = cosf(yaw); Rwt[1] = sinf(yaw);  Rwt[2] = 0.0f;
         Rwt[3] = sinf(yaw); Rwt[4] = -cosf(yaw); Rwt[5] = 0.0f;
@@ -898,9 +948,9 @@ void sim_sample_empty(const sim_sonar *s, const sim_view_params *v, uint32_t see
                       sim_scene *scene)
 {
     actag_rng g;
-    float S[3], Rsw[9], d;
+    float S[3], Rsw[9], d, beta;
     actag_rng_seed(&g, seed);
-    random_sonar(s, v, &g, 0.0f, S, Rsw, &d);
+    random_sonar(s, v, &g, 0.0f, S, Rsw, &d, &beta);
     memset(scene, 0, sizeof *scene);
     make_seabed(Rsw, S, 0.0f, scene);
     add_clutter(s, v, &g, Rsw, S, NULL, scene);

@@ -135,6 +135,8 @@ typedef struct sim_view_params {
     float max_roll;                   /* rad, sonar roll jitter */
     float mirror_fraction;            /* share of views from the other side of the plane */
     int clutter;                      /* mean clutter patches per frame */
+    float max_yaw;                    /* rad, the tag's turn about its normal away from
+                                         "printed top farthest from the sonar" (pi: any) */
 } sim_view_params;
 
 void sim_appearance_default(sim_appearance *a);

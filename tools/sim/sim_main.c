@@ -48,6 +48,7 @@ static void usage(FILE *f)
         "  --tag-size M (default 0.130628571)\n"
         "  --min-distance M --max-distance M   sonar to tag centre (default 0.5, 5)\n"
         "  --min-incidence-deg D --max-incidence-deg D  line of sight vs face normal (30, 80)\n"
+        "  --max-yaw-deg D        the tag's turn about its normal from upright (default 180: any)\n"
         "  --mirror-fraction F    share of views from the other side of the sonar's\n"
         "                         horizontal plane (mirrored images), default 0.5\n"
         "  --clutter N            mean clutter patches per frame (default 4)\n"
@@ -270,6 +271,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--max-incidence-deg")) {
             NEED();
             view.max_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
+        } else if (!strcmp(o, "--max-yaw-deg")) {
+            NEED();
+            view.max_yaw = (float)(num(o, v, 0.0, 180.0) * DEG);
         } else if (!strcmp(o, "--mirror-fraction")) {
             NEED();
             view.mirror_fraction = (float)num(o, v, 0.0, 1.0);
