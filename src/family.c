@@ -9,13 +9,22 @@ int actag_builtin_family_fill(int index, actag_family *out);
 
 int actag_family_count(void) { return actag_builtin_family_count(); }
 
+/* The generated fill functions of published-rule families (and tables
+ * generated before the fields existed) leave mirror and excluded alone. */
+static int fill(int i, actag_family *out)
+{
+    out->mirror = ACTAG_MIRROR_REVERSE;
+    out->excluded = 0u;
+    return actag_builtin_family_fill(i, out);
+}
+
 int actag_family_get_at(int i, actag_family *out)
 {
     if (out == NULL)
         return ACTAG_ERR_NULL;
     if (i < 0 || i >= actag_builtin_family_count())
         return ACTAG_ERR_FAMILY;
-    return actag_builtin_family_fill(i, out);
+    return fill(i, out);
 }
 
 int actag_family_get(const char *name, actag_family *out)
@@ -24,7 +33,7 @@ int actag_family_get(const char *name, actag_family *out)
     if (name == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     for (i = 0; i < n; i++) {
-        if (actag_builtin_family_fill(i, out) == ACTAG_OK && strcmp(out->name, name) == 0)
+        if (fill(i, out) == ACTAG_OK && strcmp(out->name, name) == 0)
             return ACTAG_OK;
     }
     return ACTAG_ERR_FAMILY;
@@ -68,6 +77,27 @@ uint32_t actag_code_reverse(uint32_t code, int bits)
         code >>= 1;
     }
     return r;
+}
+
+uint32_t actag_code_mirror(uint32_t code, int bits)
+{
+    uint32_t msb;
+    if (bits < 2 || bits > 32)
+        return code;
+    code &= actag_code_mask(bits);
+    msb = (uint32_t)1u << (bits - 1);
+    return (code & msb) | (actag_code_reverse(code, bits) >> 1);
+}
+
+uint32_t actag_code_corners(int bits)
+{
+    int k = bits / 4, j;
+    uint32_t m = 0u;
+    if (bits < 4 || bits > 32)
+        return 0u;
+    for (j = 0; j < 4; j++)
+        m |= (uint32_t)1u << (bits - 1 - j * k);
+    return m;
 }
 
 int actag_popcount32(uint32_t v)

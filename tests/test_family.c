@@ -77,7 +77,7 @@ static void test_family_lookup_errors(void)
 
 static void test_max_corrections(void)
 {
-    actag_family fam = {"x", 24, 4, 1, NULL};
+    actag_family fam = {"x", 24, 4, 1, NULL, ACTAG_MIRROR_REVERSE, 0u};
     int h;
     for (h = 1; h <= 12; h++) {
         fam.hamming = h;
@@ -214,7 +214,7 @@ static void test_match_errors(void)
 {
     actag_family fam;
     actag_match m;
-    actag_family bad = {"bad", 24, 4, 0, NULL};
+    actag_family bad = {"bad", 24, 4, 0, NULL, ACTAG_MIRROR_REVERSE, 0u};
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_family_match(&fam, 0, 5, &m));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_family_match(&fam, 0, -1, &m));

@@ -251,7 +251,7 @@ static int flood_tabs(const actag_family *fam, int id)
 
 static void test_corner_tabs_all_families(void)
 {
-    int f, nf = actag_family_count();
+    int f, nf = actag_family_count(), total = 0;
     TEST_ASSERT_EQUAL_INT(ACTAG_CORNER_TOP_LEFT, 1);
     for (f = 0; f < nf; f++) {
         actag_family fam;
@@ -267,8 +267,13 @@ static void test_corner_tabs_all_families(void)
         }
         printf("%s: %d of %d tags need corner tabs (%d corners)\n", fam.name, with, fam.ncodes,
                corners);
-        TEST_ASSERT_GREATER_THAN(0, with); /* the exception really occurs */
+        /* the exception really occurs (in every family large enough for it to
+         * be certain: AcTag24m10's only code needs no tab) */
+        if (fam.ncodes >= 40)
+            TEST_ASSERT_GREATER_THAN(0, with);
+        total += with;
     }
+    TEST_ASSERT_GREATER_THAN(0, total);
 }
 
 static void test_known_tab_example(void)

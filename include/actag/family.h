@@ -18,18 +18,43 @@
  *         printf("id %d rot %d mirrored %d hamming %d\n",
  *                m.id, m.rotation, m.mirrored, m.hamming);
  *
- *   Orientation model of actag_family_match(): the 8 orientations the family
- *   generator guarantees distances for (SPEC sections 2-3):
+ *   Two kinds of family (docs/families.md):
+ *     AcTag<bits>h<h>  the published families (AcTag24h4 .. AcTag24h10) and
+ *                      others made by the same rule: distance >= h between
+ *                      the 8 orientations rot90^j(c) and reverse(rot90^j(c))
+ *                      of all codes, over all bits. mirror = ACTAG_MIRROR_REVERSE,
+ *                      excluded = 0.
+ *     AcTag<bits>m<h>  mirror-safe families (AcTag24m4 .. AcTag28m10): the
+ *                      distance >= h holds between the 8 views a sonar can
+ *                      show, rot90^j(c) and P(rot90^j(c)) (P = the physical
+ *                      reflection, actag_code_mirror), counted over the bits
+ *                      the default sonar decoder reads (all but the 4 corner
+ *                      cells), hence also over all bits and between plain
+ *                      rotations. mirror = ACTAG_MIRROR_PHYSICAL, excluded =
+ *                      the 4 corner bits.
+ *     AcTag<bits>p<h>  (not built by default) physical mirror, all bits.
+ *   The fields mirror and excluded say which rule the family's hamming holds
+ *   for; both are 0 for the published rule. actag_family_get() and
+ *   actag_family_get_at() always set them; they are descriptive only:
+ *   actag_family_validate() and the matchers do not read them (a family
+ *   struct filled field by field, as before they existed, works as before).
+ *
+ *   Orientation model of actag_family_match(): the 8 orientations the
+ *   published families' generator guarantees distances for (SPEC sections 2-3):
  *       w == rot90^rotation(c)                 (mirrored == 0), or
  *       w == reverse(rot90^rotation(c))        (mirrored == 1),
  *   up to m.hamming flipped bits. rot90 is the printed tag turned 90 degrees
- *   counter-clockwise (cell (x,y) moves to (y, k-x)).
+ *   counter-clockwise (cell (x,y) moves to (y, k-x)). For a mirror-safe
+ *   family the guaranteed views are w and actag_code_mirror(w) matched with
+ *   actag_family_match_rotations(), as the sonar decoder does; its
+ *   reverse() matches carry no guarantee.
  *   Note: a physically mirrored tag read clockwise from a corner is NOT
  *   reverse(...) of a rotation (a reflection keeps a corner cell fixed; the
  *   full-word reversal does not); it is P(w) with sequence position s taking
  *   position -s mod 4k. The sonar decoder (decode.h) therefore matches w and
  *   P(w) with actag_family_match_rotations(); see decode.h for what this
- *   means for the guaranteed distances.
+ *   means for the guaranteed distances of the published families (none of
+ *   it applies to the AcTag<bits>m<h> families, made for exactly that).
  *
  *   actag_family is a small value the caller owns; it points into the const
  *   code tables. (The tables are reached through functions rather than const
@@ -51,13 +76,20 @@
 extern "C" {
 #endif
 
-/* A tag family: a view of a const code table. */
+/* Mirror rule of a family (actag_family.mirror). */
+#define ACTAG_MIRROR_REVERSE 0  /* full bit reversal: the published families */
+#define ACTAG_MIRROR_PHYSICAL 1 /* the reflection P a sonar shows (actag_code_mirror) */
+
+/* A tag family: a view of a const code table. The last two fields were
+ * added after the first five; zero (the published rule) is their default. */
 typedef struct actag_family {
     const char *name;      /* e.g. "AcTag24h10" */
     int bits;              /* number of data bits, 4k */
     int hamming;           /* minimum Hamming distance between orientations */
     int ncodes;            /* number of codes (IDs 0 .. ncodes-1) */
     const uint32_t *codes; /* codes in ID order */
+    int mirror;            /* ACTAG_MIRROR_*: which mirror image hamming holds for */
+    uint32_t excluded;     /* code bits hamming does not count (0: none) */
 } actag_family;
 
 /* Result of actag_family_match(). */
@@ -96,11 +128,21 @@ uint32_t actag_code_rot90(uint32_t code, int bits);
 /* Reverse the order of the low `bits` bits (bit i <-> bit bits-1-i). */
 uint32_t actag_code_reverse(uint32_t code, int bits);
 
-/* Number of differing bits between a and b. */
+/* The reflection P (sequence position s -> -s mod bits): keeps the MSB
+ * (position 0) and reverses the other bits; its own inverse. The same map
+ * as actag_decode_mirror(). */
+uint32_t actag_code_mirror(uint32_t code, int bits);
+
+/* Mask of the 4 corner cells of the data ring (sequence positions 0, k, 2k,
+ * 3k) as code bits: the cells the default sonar decoder ignores and the
+ * AcTag<bits>m<h> families exclude. */
+uint32_t actag_code_corners(int bits);
+
+/* Number of set bits of v. */
 int actag_popcount32(uint32_t v);
 
 /* Match an observed bit word against every code of the family in all 8
- * orientations. Returns ACTAG_OK and fills *out with the closest match
+ * orientations (rotations and reversals, see above). Returns ACTAG_OK and fills *out with the closest match
  * (smallest Hamming distance; ties go to the lowest ID, then the lowest
  * orientation, unmirrored first), ACTAG_ERR_NO_MATCH if nothing is within
  * max_corrections, or ACTAG_ERR_NULL / ACTAG_ERR_CORRECTIONS. */

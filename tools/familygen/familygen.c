@@ -1,19 +1,51 @@
 /*
  * actag-familygen: generates AcTag families (SPEC section 3).
  *
- *   actag-familygen --bits N --hamming H [--format txt|c|apriltag]
- *                   [--name NAME] [--out FILE]
+ *   actag-familygen --bits N --hamming H [--mirror reverse|physical]
+ *                   [--exclude none|corners|LIST] [--min-complexity F]
+ *                   [--format txt|c|apriltag] [--name NAME] [--out FILE]
  *
  * Greedy lexicode search identical to the modified AprilTag 3 generator used
  * for the published families: candidates v = 0x445965 + i * 982451653 (mod
  * 2^N) in that order; a candidate is accepted when its layout is complex
- * enough, its 8 orientations (4 rotations, each optionally reversed) differ
- * pairwise in >= H bits, and each differs in >= H bits from every
- * orientation of every accepted code. The last test is one bitmap look-up:
- * accepting a code marks the Hamming ball of radius H-1 around each of its
- * orientations as forbidden. (The orientation set is closed under the
- * dihedral group, so testing v alone against the marked balls is the same as
- * testing all 8 of its orientations.)
+ * enough, its 8 orientations differ pairwise in >= H bits, and each differs
+ * in >= H bits from every orientation of every accepted code.
+ *
+ * The 8 orientations are the 4 rotations, each optionally mirrored:
+ *   --mirror reverse   (default) the full bit reversal, sequence position
+ *                      s -> 4k-1-s: the published rule (AcTag<N>h<H>).
+ *   --mirror physical  the reflection P a sonar shows, s -> -s mod 4k (bit 0
+ *                      stays, the rest is reversed; decode.h).
+ * --exclude leaves cells out of every distance: "corners" = the 4 data-ring
+ * corner cells (sequence positions 0, k, 2k, 3k), which the default sonar
+ * decoder ignores, or a comma-separated list of sequence positions. The
+ * excluded set must map onto itself under the 8 orientations.
+ * --min-complexity F: layout energy >= F * 2 (k+1)^2 (default 0.3333, the
+ * published rule; the energy always counts the whole layout).
+ *
+ * Family names (docs/families.md): AcTag<N>h<H> = reverse, all cells (the
+ * published rule); AcTag<N>p<H> = physical, all cells; AcTag<N>m<H> =
+ * physical, corners excluded (mirror-safe over the default decoder's
+ * cells). A name of that form must match the options; other option sets
+ * need a --name of another form for c and apriltag output.
+ *
+ * Speed. The last test is one bitmap look-up: accepting a code marks the
+ * Hamming ball of radius H-1 around each of its orientations as forbidden
+ * (the orientation set is a group and the counted cells are invariant under
+ * it, so testing v alone is the same as testing all 8 of its orientations).
+ * The bitmap is indexed by the counted bits only (excluded cells squeezed
+ * out). A ball is marked one 64-bit word at a time: the low 6 index bits
+ * address a bit within a word, so for every high part within distance d of
+ * the centre's high part the word gets the precomputed 6-bit ball of radius
+ * H-1-d around the centre's low part. The high parts are a table of all
+ * error patterns of weight <= H-1, sorted by value (XOR with the centre
+ * keeps neighbouring patterns in neighbouring memory). Candidate look-ups
+ * are prefetched a few candidates ahead.
+ *
+ * Progress (stderr, every 2 s once a run takes longer than that): fraction
+ * searched, codes so far, elapsed time and a linear estimate of the time
+ * left (an upper estimate: codes, and with them ball marking, thin out as
+ * the search goes on).
  *
  * Exit status: 0 success; 2 bad arguments or unwritable output; 1 when the
  * family would be empty or memory runs out.
@@ -31,6 +63,18 @@
 #define PROG "actag-familygen"
 #define PRIME 982451653ull
 #define SEED 0x445965ull
+#define DEFAULT_COMPLEXITY 0.3333
+#define PREFETCH_AHEAD 32 /* candidates; a power of 2 */
+
+#if defined(__GNUC__) || defined(__clang__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)0)
+#endif
+
+#define USAGE                                                                                 \
+    PROG " --bits N --hamming H [--mirror reverse|physical] [--exclude none|corners|LIST] "   \
+         "[--min-complexity F] [--format txt|c|apriltag] [--name NAME] [--out FILE]"
 
 static void die(int status, const char *fmt, const char *arg)
 {
@@ -44,38 +88,96 @@ static void usage_error(const char *fmt, const char *arg)
 {
     fprintf(stderr, PROG ": ");
     fprintf(stderr, fmt, arg);
-    fprintf(stderr, " (usage: " PROG " --bits N --hamming H [--format txt|c|apriltag] "
-                    "[--name NAME] [--out FILE])\n");
+    fprintf(stderr, " (usage: " USAGE ")\n");
     exit(2);
 }
 
 typedef struct {
     int bits, k;
     uint64_t mask;
+    int physical;   /* mirror rule: 0 = full reversal, 1 = reflection P */
+    uint64_t keep;  /* code bits counted in distances */
+    int nkeep;      /* number of counted bits = index bits of the bitmap */
+    int nruns;      /* runs of counted bits, for squeezing out the others */
+    int run_shift[32], run_out[32];
+    uint64_t run_mask[32];
 } layout;
 
-static uint64_t rot90(const layout *L, uint64_t w)
-{
-    return ((w << L->k) | (w >> (L->bits - L->k))) & L->mask;
-}
-
-static uint64_t reverse_bits(const layout *L, uint64_t w)
-{
-    uint64_t r = 0;
-    int i;
-    for (i = 0; i < L->bits; i++) {
-        r = (r << 1) | (w & 1u);
-        w >>= 1;
-    }
-    return r;
-}
-
+/* SWAR: without -mpopcnt, GCC's __builtin_popcountll is a library call. */
 static int popcount64(uint64_t v)
 {
     v = v - ((v >> 1) & 0x5555555555555555ull);
     v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
     v = (v + (v >> 4)) & 0x0f0f0f0f0f0f0f0full;
     return (int)((v * 0x0101010101010101ull) >> 56);
+}
+
+static uint64_t rot90(const layout *L, uint64_t w)
+{
+    return ((w << L->k) | (w >> (L->bits - L->k))) & L->mask;
+}
+
+/* Bit i <-> bit bits-1-i. */
+static uint64_t reverse_bits(const layout *L, uint64_t w)
+{
+    w = ((w >> 1) & 0x5555555555555555ull) | ((w & 0x5555555555555555ull) << 1);
+    w = ((w >> 2) & 0x3333333333333333ull) | ((w & 0x3333333333333333ull) << 2);
+    w = ((w >> 4) & 0x0f0f0f0f0f0f0f0full) | ((w & 0x0f0f0f0f0f0f0f0full) << 4);
+    w = ((w >> 8) & 0x00ff00ff00ff00ffull) | ((w & 0x00ff00ff00ff00ffull) << 8);
+    w = ((w >> 16) & 0x0000ffff0000ffffull) | ((w & 0x0000ffff0000ffffull) << 16);
+    w = (w >> 32) | (w << 32);
+    return w >> (64 - L->bits);
+}
+
+/* The orientation's mirror: reverse (s -> -1-s) or P (s -> -s: keep the
+ * MSB, which is sequence position 0, and reverse the other bits). */
+static uint64_t mirror(const layout *L, uint64_t w)
+{
+    uint64_t r = reverse_bits(L, w);
+    if (!L->physical)
+        return r;
+    return (w & (1ull << (L->bits - 1))) | (r >> 1);
+}
+
+/* Sequence position s under the generators of the orientation group. */
+static int pos_rot(const layout *L, int s) { return (s + L->k) % L->bits; }
+static int pos_mirror(const layout *L, int s)
+{
+    return L->physical ? (L->bits - s) % L->bits : L->bits - 1 - s;
+}
+
+/* Bitmap index of a code: its counted bits, squeezed together. */
+static uint64_t squeeze(const layout *L, uint64_t v)
+{
+    uint64_t r = 0;
+    int i;
+    if (L->nruns == 1 && L->run_shift[0] == 0)
+        return v & L->run_mask[0];
+    for (i = 0; i < L->nruns; i++)
+        r |= ((v >> L->run_shift[i]) & L->run_mask[i]) << L->run_out[i];
+    return r;
+}
+
+static void layout_runs(layout *L)
+{
+    int b = 0, out = 0;
+    L->nruns = 0;
+    while (b < L->bits) {
+        int len = 0;
+        if (!((L->keep >> b) & 1u)) {
+            b++;
+            continue;
+        }
+        while (b + len < L->bits && ((L->keep >> (b + len)) & 1u))
+            len++;
+        L->run_shift[L->nruns] = b;
+        L->run_out[L->nruns] = out;
+        L->run_mask[L->nruns] = (len >= 64) ? ~0ull : ((1ull << len) - 1);
+        L->nruns++;
+        out += len;
+        b += len;
+    }
+    L->nkeep = out;
 }
 
 /* Grid cell (x, y) in 0..k of data bit i (i = 0 is the MSB), SPEC section 2. */
@@ -140,19 +242,80 @@ static int fast_energy(const layout *L, const energy_model *m, uint64_t code)
     return m->base + popcount64(code ^ rotl1) + popcount64(code & m->noncorner);
 }
 
+/* Forbidden-word bitmap over the squeezed index and the ball tables. */
 typedef struct {
     uint64_t *bitmap;
-    const layout *L;
+    int lowbits;     /* index bits within one word: min(6, nkeep) */
+    int radius;      /* H-1, at most nkeep */
+    uint32_t *pats;  /* high-part error patterns of weight <= radius, sorted;
+                        weight in bits 27..31 */
+    size_t npats;
 } forbid_map;
 
-static void mark_ball(forbid_map *F, uint64_t v, int start, int radius)
+#define PAT_WSHIFT 27
+#define PAT_MASK ((1u << PAT_WSHIFT) - 1u)
+
+/* All high-part patterns (nkeep - lowbits bits, at most 26) of weight
+ * <= radius in increasing order. Returns 0 when memory runs out. */
+static int make_patterns(forbid_map *F, int hibits)
 {
-    int i;
-    F->bitmap[v >> 6] |= 1ull << (v & 63);
-    if (radius == 0)
-        return;
-    for (i = start; i < F->L->bits; i++)
-        mark_ball(F, v ^ (1ull << i), i + 1, radius - 1);
+    uint64_t count = 0, p, end = 1ull << hibits;
+    size_t n = 0;
+    /* count first: sum of binomials */
+    {
+        uint64_t c = 1;
+        int j;
+        for (j = 0; j <= F->radius && j <= hibits; j++) {
+            count += c;
+            c = c * (uint64_t)(hibits - j) / (uint64_t)(j + 1);
+        }
+    }
+    F->pats = malloc((size_t)count * sizeof *F->pats);
+    if (!F->pats)
+        return 0;
+    if (F->radius >= hibits) {
+        for (p = 0; p < end; p++)
+            F->pats[n++] = (uint32_t)p | ((uint32_t)popcount64(p) << PAT_WSHIFT);
+    } else {
+        /* Walk the values in order, skipping blocks that are already too
+         * heavy: after a prefix of weight > radius, jump to the next prefix. */
+        p = 0;
+        while (p < end) {
+            int w = popcount64(p);
+            if (w <= F->radius) {
+                F->pats[n++] = (uint32_t)p | ((uint32_t)w << PAT_WSHIFT);
+                p++;
+            } else {
+                /* clear bits from the lowest set bit up until the weight fits,
+                 * then carry: p = next value with a lighter prefix */
+                uint64_t low = p & (~p + 1); /* lowest set bit */
+                p += low;
+            }
+        }
+    }
+    F->npats = n;
+    return n == count;
+}
+
+/* Marks every index within distance radius of index c. */
+static void mark_ball(forbid_map *F, uint64_t c)
+{
+    uint64_t ch = c >> F->lowbits, row[33];
+    unsigned cl = (unsigned)(c & ((1u << F->lowbits) - 1u));
+    unsigned x, nlow = 1u << F->lowbits;
+    size_t i;
+    int d;
+    for (d = 0; d <= F->radius; d++) {
+        uint64_t m = 0;
+        for (x = 0; x < nlow; x++)
+            if (popcount64((uint64_t)(x ^ cl)) <= F->radius - d)
+                m |= 1ull << x;
+        row[d] = m;
+    }
+    for (i = 0; i < F->npats; i++) {
+        uint32_t e = F->pats[i];
+        F->bitmap[ch ^ (e & PAT_MASK)] |= row[e >> PAT_WSHIFT];
+    }
 }
 
 static int parse_int(const char *opt, const char *s)
@@ -161,9 +324,43 @@ static int parse_int(const char *opt, const char *s)
     long v;
     errno = 0;
     v = strtol(s, &end, 10);
-    if (errno || *s == '\0' || *end != '\0' || v < -1000000 || v > 1000000)
-        usage_error("%s needs an integer", opt);
+    if (errno || *s == '\0' || *end != '\0' || v < -1000000 || v > 1000000) {
+        fprintf(stderr, PROG ": %s needs an integer, got '%s' (usage: " USAGE ")\n", opt, s);
+        exit(2);
+    }
     return (int)v;
+}
+
+/* --exclude value -> set of excluded sequence positions (bit s = position s). */
+static uint64_t parse_exclude(const char *s, int bits)
+{
+    uint64_t set = 0;
+    const char *p = s;
+    if (strcmp(s, "none") == 0)
+        return 0;
+    if (strcmp(s, "corners") == 0) {
+        int j;
+        for (j = 0; j < 4; j++)
+            set |= 1ull << (j * (bits / 4));
+        return set;
+    }
+    for (;;) {
+        char *end;
+        long v;
+        errno = 0;
+        v = strtol(p, &end, 10);
+        if (errno || end == p || !isdigit((unsigned char)*p) || v >= bits)
+            usage_error("--exclude '%s': expected none, corners or a comma-separated list of "
+                        "sequence positions 0..4k-1", s);
+        set |= 1ull << v;
+        if (*end == '\0')
+            break;
+        if (*end != ',')
+            usage_error("--exclude '%s': expected none, corners or a comma-separated list of "
+                        "sequence positions 0..4k-1", s);
+        p = end + 1;
+    }
+    return set;
 }
 
 static void write_txt(FILE *f, const layout *L, const uint64_t *codes, size_t n)
@@ -173,13 +370,13 @@ static void write_txt(FILE *f, const layout *L, const uint64_t *codes, size_t n)
         fprintf(f, "0x%0*llx\n", L->bits / 4, (unsigned long long)codes[i]);
 }
 
-static void write_c(FILE *f, const layout *L, int h, const char *name, const uint64_t *codes,
-                    size_t n)
+static void write_c(FILE *f, const layout *L, int h, const char *rule, const char *name,
+                    const uint64_t *codes, size_t n)
 {
     size_t i;
-    fprintf(f, "/* Generated by " PROG " --bits %d --hamming %d --name %s: do not edit.\n"
+    fprintf(f, "/* Generated by " PROG " --bits %d --hamming %d%s --name %s: do not edit.\n"
                " * %lu codes in ID order, MSB = bit 0 = top-left cell as printed. */\n",
-            L->bits, h, name, (unsigned long)n);
+            L->bits, h, rule, name, (unsigned long)n);
     fprintf(f, "#include \"actag/family.h\"\n\n");
     fprintf(f, "static const uint32_t actag_codes_%s[%lu] = {\n", name, (unsigned long)n);
     for (i = 0; i < n; i++)
@@ -190,19 +387,27 @@ static void write_c(FILE *f, const layout *L, int h, const char *name, const uin
     fprintf(f, "void actag_family_fill_%s(actag_family *out)\n{\n", name);
     fprintf(f, "    out->name = \"%s\";\n    out->bits = %d;\n    out->hamming = %d;\n", name,
             L->bits, h);
-    fprintf(f, "    out->ncodes = %lu;\n    out->codes = actag_codes_%s;\n}\n", (unsigned long)n,
+    fprintf(f, "    out->ncodes = %lu;\n    out->codes = actag_codes_%s;\n", (unsigned long)n,
             name);
+    /* The published rule leaves mirror and excluded at 0 (set by the
+     * library before it calls this), so those tables stay as they were. */
+    if (L->physical)
+        fprintf(f, "    out->mirror = ACTAG_MIRROR_PHYSICAL;\n");
+    if (L->keep != L->mask)
+        fprintf(f, "    out->excluded = 0x%0*llxu;\n", L->bits / 4,
+                (unsigned long long)(L->mask & ~L->keep));
+    fprintf(f, "}\n");
 }
 
-static void write_apriltag(FILE *f, const layout *L, int h, const char *name,
+static void write_apriltag(FILE *f, const layout *L, int h, const char *rule, const char *name,
                            const uint64_t *codes, size_t n)
 {
     size_t i;
     int b, x, y;
-    fprintf(f, "/* Generated by " PROG " --bits %d --hamming %d --name %s --format apriltag:\n"
+    fprintf(f, "/* Generated by " PROG " --bits %d --hamming %d%s --name %s --format apriltag:\n"
                " * do not edit. An AprilTag 3 family (apriltag_family_t) from static data;\n"
                " * %lu codes, the complete family. Images must be inverted (SPEC section 1). */\n",
-            L->bits, h, name, (unsigned long)n);
+            L->bits, h, rule, name, (unsigned long)n);
     fprintf(f, "#include <stdbool.h>\n#include <stddef.h>\n#include <stdint.h>\n"
                "#include <apriltag/apriltag.h>\n\n");
     fprintf(f, "static uint64_t actag_at_codes_%s[%lu] = {\n", name, (unsigned long)n);
@@ -235,18 +440,46 @@ static void write_apriltag(FILE *f, const layout *L, int h, const char *name,
                "    return &actag_at_family_%s;\n}\n", name, name);
 }
 
+/* The rule letter of the standard names: 'h' published (reverse, all
+ * cells), 'p' physical mirror, all cells, 'm' physical mirror without the
+ * 4 corner cells; 0 for any other rule. */
+static char rule_letter(const layout *L, uint64_t excluded_pos, double complexity)
+{
+    uint64_t corners = 0;
+    int j;
+    for (j = 0; j < 4; j++)
+        corners |= 1ull << (j * L->k);
+    if (complexity != DEFAULT_COMPLEXITY)
+        return 0;
+    if (!L->physical)
+        return excluded_pos == 0 ? 'h' : 0;
+    if (excluded_pos == 0)
+        return 'p';
+    return excluded_pos == corners ? 'm' : 0;
+}
+
+static void fmt_secs(char *buf, size_t n, double s)
+{
+    if (s < 120)
+        snprintf(buf, n, "%.0f s", s);
+    else if (s < 7200)
+        snprintf(buf, n, "%.1f min", s / 60);
+    else
+        snprintf(buf, n, "%.1f h", s / 3600);
+}
+
 int main(int argc, char **argv)
 {
-    int bits = -1, h = -1, i, ncand_bits;
-    const char *format = "txt", *name = NULL, *outpath = NULL;
-    char default_name[64];
+    int bits = -1, h = -1, i, physical = 0, emin;
+    const char *format = "txt", *name = NULL, *outpath = NULL, *exclude = "none";
+    char default_name[64], rule[160], letter;
     layout L;
     FILE *out = stdout;
-    uint64_t *codes = NULL, v, iter, total;
+    uint64_t *codes = NULL, v, iter, total, excluded_pos, pf, ring[PREFETCH_AHEAD], sentinel;
     size_t ncodes = 0, capcodes = 0;
     forbid_map F;
     energy_model em;
-    double min_energy;
+    double min_energy, complexity = DEFAULT_COMPLEXITY;
     clock_t t0 = clock(), last_report;
     int reported = 0;
     size_t codes_at_report = 0; /* codes at the last progress check */
@@ -254,15 +487,24 @@ int main(int argc, char **argv)
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            printf("usage: " PROG " --bits N --hamming H [--format txt|c|apriltag] [--name NAME] "
-                   "[--out FILE]\n"
+            printf("usage: " USAGE "\n"
                    "  N: data bits, a multiple of 4 from 16 to 32; H: minimum Hamming distance >= 1\n"
+                   "  --mirror: the mirror image the distance must hold for: reverse (default,\n"
+                   "    the published families: bit i <-> bit N-1-i) or physical (the reflection\n"
+                   "    a sonar shows: sequence position s <-> -s mod N)\n"
+                   "  --exclude: cells not counted in any distance: none (default), corners (the\n"
+                   "    4 data-ring corners the default sonar decoder ignores) or a list of\n"
+                   "    sequence positions (0 = top-left cell), e.g. 0,6,12,18\n"
+                   "  --min-complexity F: layout energy >= F * 2(k+1)^2 (default 0.3333)\n"
+                   "  names: AcTag<N>h<H> reverse, all cells (published); AcTag<N>p<H> physical,\n"
+                   "    all cells; AcTag<N>m<H> physical, corners excluded (mirror-safe)\n"
                    "  txt: one 0x code per line in ID order; c: libactag table; apriltag: an\n"
                    "  AprilTag 3 apriltag_family_t from static data.\n");
             return 0;
         }
         if (strcmp(a, "--bits") && strcmp(a, "--hamming") && strcmp(a, "--format") &&
-            strcmp(a, "--name") && strcmp(a, "--out"))
+            strcmp(a, "--name") && strcmp(a, "--out") && strcmp(a, "--mirror") &&
+            strcmp(a, "--exclude") && strcmp(a, "--min-complexity"))
             usage_error("unknown option '%s'", a);
         if (i + 1 >= argc)
             usage_error("%s needs a value", a);
@@ -274,7 +516,24 @@ int main(int argc, char **argv)
             format = argv[++i];
         else if (strcmp(a, "--name") == 0)
             name = argv[++i];
-        else
+        else if (strcmp(a, "--mirror") == 0) {
+            const char *m = argv[++i];
+            if (strcmp(m, "reverse") == 0)
+                physical = 0;
+            else if (strcmp(m, "physical") == 0)
+                physical = 1;
+            else
+                usage_error("unknown --mirror '%s' (reverse or physical)", m);
+        } else if (strcmp(a, "--exclude") == 0)
+            exclude = argv[++i];
+        else if (strcmp(a, "--min-complexity") == 0) {
+            const char *s = argv[++i];
+            char *end;
+            errno = 0;
+            complexity = strtod(s, &end);
+            if (errno || end == s || *end != '\0' || !(complexity >= 0.0) || !(complexity <= 1.0))
+                usage_error("--min-complexity '%s': expected a number from 0 to 1", s);
+        } else
             outpath = argv[++i];
     }
     if (bits == -1)
@@ -285,12 +544,56 @@ int main(int argc, char **argv)
         snprintf(default_name, sizeof default_name, "%d", bits);
         usage_error("--bits %s: must be a multiple of 4 from 16 to 32", default_name);
     }
-    if (h < 1)
-        usage_error("%s", "--hamming must be at least 1");
+    if (h < 1) {
+        snprintf(default_name, sizeof default_name, "%d", h);
+        usage_error("--hamming %s: must be at least 1", default_name);
+    }
     if (strcmp(format, "txt") && strcmp(format, "c") && strcmp(format, "apriltag"))
         usage_error("unknown --format '%s' (txt, c or apriltag)", format);
+
+    L.bits = bits;
+    L.k = bits / 4;
+    L.mask = (1ull << bits) - 1;
+    L.physical = physical;
+    excluded_pos = parse_exclude(exclude, bits);
+    /* the excluded cells must be closed under the orientation group */
+    for (i = 0; i < bits; i++)
+        if ((excluded_pos >> i) & 1u) {
+            int r = pos_rot(&L, i), m = pos_mirror(&L, i);
+            if (!((excluded_pos >> r) & 1u) || !((excluded_pos >> m) & 1u)) {
+                fprintf(stderr,
+                        PROG ": --exclude '%s': position %d is excluded but its %s, position "
+                             "%d, is not (the excluded cells must map onto each other under "
+                             "rotation and --mirror %s)\n",
+                        exclude, i, ((excluded_pos >> r) & 1u) ? "mirror image" : "rotation",
+                        ((excluded_pos >> r) & 1u) ? m : r, physical ? "physical" : "reverse");
+                exit(2);
+            }
+        }
+    L.keep = L.mask;
+    for (i = 0; i < bits; i++)
+        if ((excluded_pos >> i) & 1u)
+            L.keep &= ~(1ull << (bits - 1 - i));
+    if (L.keep == 0)
+        usage_error("--exclude '%s' leaves no cell to count", exclude);
+    layout_runs(&L);
+
+    /* names and their rules */
+    letter = rule_letter(&L, excluded_pos, complexity);
+    rule[0] = '\0';
+    if (physical)
+        strcat(rule, " --mirror physical");
+    if (excluded_pos)
+        snprintf(rule + strlen(rule), sizeof rule - strlen(rule), " --exclude %s", exclude);
+    if (complexity != DEFAULT_COMPLEXITY)
+        snprintf(rule + strlen(rule), sizeof rule - strlen(rule), " --min-complexity %g",
+                 complexity);
     if (name == NULL) {
-        snprintf(default_name, sizeof default_name, "AcTag%dh%d", bits, h);
+        if (letter == 0 && strcmp(format, "txt") != 0)
+            usage_error("%s", "these options have no standard family name: give --name "
+                              "(not of the form AcTag<N>[hpm]<H>)");
+        snprintf(default_name, sizeof default_name, "AcTag%d%c%d", bits, letter ? letter : 'x',
+                 h);
         name = default_name;
     }
     if (!(isalpha((unsigned char)name[0]) || name[0] == '_') || strlen(name) > 48)
@@ -298,22 +601,48 @@ int main(int argc, char **argv)
     for (i = 0; name[i]; i++)
         if (!(isalnum((unsigned char)name[i]) || name[i] == '_'))
             usage_error("--name '%s' must be a C identifier", name);
+    {
+        /* a standard-looking name must carry its own rule */
+        int nb, nh, used = 0;
+        char c = 0;
+        if (sscanf(name, "AcTag%d%c%d%n", &nb, &c, &nh, &used) == 3 && name[used] == '\0' &&
+            (c == 'h' || c == 'p' || c == 'm') && (nb != bits || nh != h || c != letter)) {
+            char want[32];
+            if (letter)
+                snprintf(want, sizeof want, "AcTag%d%c%d", bits, letter, h);
+            else
+                snprintf(want, sizeof want, "a name of another form");
+            fprintf(stderr,
+                    PROG ": --name '%s' is the standard name of a family with other options "
+                         "(AcTag<N>h<H>: --mirror reverse, all cells; AcTag<N>p<H>: --mirror "
+                         "physical, all cells; AcTag<N>m<H>: --mirror physical --exclude "
+                         "corners; all with the default complexity); these options need %s\n",
+                    name, want);
+            exit(2);
+        }
+    }
     if (outpath) {
         out = fopen(outpath, "w");
         if (!out)
             usage_error("cannot write '%s'", outpath);
     }
 
-    L.bits = bits;
-    L.k = bits / 4;
-    L.mask = (bits == 64) ? ~0ull : ((1ull << bits) - 1);
-    ncand_bits = bits;
-    total = 1ull << ncand_bits;
-    F.L = &L;
-    F.bitmap = calloc((size_t)(total / 64), sizeof(uint64_t));
+    total = 1ull << bits;
+    F.lowbits = L.nkeep < 6 ? L.nkeep : 6;
+    F.radius = h - 1 < L.nkeep ? h - 1 : L.nkeep;
+    /* one word more than the index needs: its bits are all set (sentinel) */
+    sentinel = ((1ull << L.nkeep) + 63) / 64 * 64;
+    F.bitmap = calloc((size_t)(sentinel / 64 + 1), sizeof(uint64_t));
+    if (F.bitmap)
+        F.bitmap[sentinel / 64] = ~0ull;
     if (!F.bitmap)
-        die(1, "out of memory for the %s bitmap", bits >= 32 ? "512 MiB" : "forbidden-word");
-    min_energy = 0.3333 * 2.0 * (L.k + 1) * (L.k + 1);
+        die(1, "out of memory for the %s bitmap", L.nkeep >= 32 ? "512 MiB" : "forbidden-word");
+    if (!make_patterns(&F, L.nkeep - F.lowbits))
+        die(1, "%s", "out of memory for the Hamming-ball table");
+    min_energy = complexity * 2.0 * (L.k + 1) * (L.k + 1);
+    emin = (int)min_energy; /* energy >= min_energy <=> energy >= ceil(min_energy) */
+    if ((double)emin < min_energy)
+        emin++;
     energy_init(&L, &em);
     {
         /* the closed form must agree with the rendered layout */
@@ -326,37 +655,64 @@ int main(int argc, char **argv)
     }
 
     v = SEED & L.mask;
+    pf = v;
+    {
+        /* The candidate PREFETCH_AHEAD steps ahead is tested for complexity
+         * (arithmetic only) and, when it passes, its bitmap word is fetched
+         * while the candidates before it are looked at. */
+        int j;
+        for (j = 0; j < PREFETCH_AHEAD; j++) {
+            pf = (pf + PRIME) & L.mask;
+            ring[j] = fast_energy(&L, &em, pf) < emin ? sentinel : squeeze(&L, pf);
+        }
+    }
     last_report = t0;
     for (iter = 0; iter < total; iter++) {
-        uint64_t o[8];
-        int a, b, ok = 1;
+        uint64_t o[8], idx;
+        int a, ok = 1;
         v = (v + PRIME) & L.mask;
-        if ((iter & 0xffff) == 0 || ncodes != codes_at_report) {
+        idx = ring[iter & (PREFETCH_AHEAD - 1)];
+        pf = (pf + PRIME) & L.mask;
+        {
+            /* branch-free: a code that fails the energy test gets the index
+             * of the sentinel bit, which is always set */
+            uint64_t pi = squeeze(&L, pf);
+            uint64_t fail = 0 - (uint64_t)(fast_energy(&L, &em, pf) < emin);
+            pi = (pi & ~fail) | (sentinel & fail);
+            PREFETCH(&F.bitmap[pi >> 6]);
+            ring[iter & (PREFETCH_AHEAD - 1)] = pi;
+        }
+        if ((iter & 0xfffff) == 0 || ncodes != codes_at_report) {
             clock_t now = clock();
-            codes_at_report = ncodes; /* next check: after 2^16 more or a new code */
-            if ((double)(now - last_report) / CLOCKS_PER_SEC >= 2.0) {
-                fprintf(stderr, "\r" PROG ": %s: %5.1f%% searched, %lu codes", name,
-                        100.0 * (double)iter / (double)total, (unsigned long)ncodes);
+            codes_at_report = ncodes; /* next check: after 2^20 more or a new code */
+            if ((double)(now - last_report) / CLOCKS_PER_SEC >= 2.0 && iter > 0) {
+                double el = (double)(now - t0) / CLOCKS_PER_SEC;
+                double frac = (double)iter / (double)total;
+                char e1[32], e2[32];
+                fmt_secs(e1, sizeof e1, el);
+                fmt_secs(e2, sizeof e2, el * (1.0 - frac) / frac);
+                fprintf(stderr, "\r" PROG ": %s: %5.1f%% searched, %lu codes, %s, about %s left  ",
+                        name, 100.0 * frac, (unsigned long)ncodes, e1, e2);
                 fflush(stderr);
                 last_report = now;
                 reported = 1;
             }
         }
-        if (F.bitmap[v >> 6] & (1ull << (v & 63)))
-            continue; /* too close to an accepted code */
-        if (fast_energy(&L, &em, v) < min_energy)
-            continue;
+        if (F.bitmap[idx >> 6] & (1ull << (idx & 63)))
+            continue; /* too close to an accepted code, or not complex enough */
         o[0] = v;
         for (a = 1; a < 4; a++)
             o[a] = rot90(&L, o[a - 1]);
         for (a = 0; a < 4; a++)
-            o[4 + a] = reverse_bits(&L, o[a]);
-        for (a = 0; a < 8 && ok; a++)
-            for (b = a + 1; b < 8; b++)
-                if (popcount64(o[a] ^ o[b]) < h) {
-                    ok = 0;
-                    break;
-                }
+            o[4 + a] = mirror(&L, o[a]);
+        /* Pairwise distances of the 8 orientations: the orientations form a
+         * group and the counted cells are invariant, so d(g v, g' v) =
+         * d(v, g^-1 g' v) and comparing v with the other 7 covers all pairs. */
+        for (a = 1; a < 8; a++)
+            if (popcount64((o[0] ^ o[a]) & L.keep) < h) {
+                ok = 0;
+                break;
+            }
         if (!ok)
             continue;
         if (ncodes == capcodes) {
@@ -369,12 +725,16 @@ int main(int argc, char **argv)
         }
         codes[ncodes++] = v;
         for (a = 0; a < 8; a++)
-            mark_ball(&F, o[a], 0, h - 1);
+            mark_ball(&F, squeeze(&L, o[a]));
     }
-    if (reported)
-        fprintf(stderr, "\r" PROG ": %s: 100.0%% searched, %lu codes\n", name,
-                (unsigned long)ncodes);
+    if (reported) {
+        char e1[32];
+        fmt_secs(e1, sizeof e1, (double)(clock() - t0) / CLOCKS_PER_SEC);
+        fprintf(stderr, "\r" PROG ": %s: 100.0%% searched, %lu codes, %s%30s\n", name,
+                (unsigned long)ncodes, e1, "");
+    }
     free(F.bitmap);
+    free(F.pats);
     if (ncodes == 0) {
         if (outpath) {
             fclose(out);
@@ -385,9 +745,9 @@ int main(int argc, char **argv)
     if (strcmp(format, "txt") == 0)
         write_txt(out, &L, codes, ncodes);
     else if (strcmp(format, "c") == 0)
-        write_c(out, &L, h, name, codes, ncodes);
+        write_c(out, &L, h, rule, name, codes, ncodes);
     else
-        write_apriltag(out, &L, h, name, codes, ncodes);
+        write_apriltag(out, &L, h, rule, name, codes, ncodes);
     free(codes);
     if (fflush(out) != 0 || ferror(out) || (outpath && fclose(out) != 0))
         die(2, "error writing '%s'", outpath ? outpath : "standard output");
