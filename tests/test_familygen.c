@@ -1,10 +1,13 @@
-/* actag-familygen: published families reproduced bit for bit, checked-in
- * tables equal the generator's output, argument errors exit with status 2. */
+/* actag-familygen: published families reproduced bit for bit (and fast),
+ * checked-in tables equal the generator's output, the mirror / excluded-cell
+ * rules equal an independent naive greedy search, argument errors exit with
+ * status 2. (The 28-bit tables: test_familygen_28.) */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
 #include "test_util.h"
 
 #include <sys/wait.h>
+#include <time.h>
 
 void setUp(void) {}
 void tearDown(void) {}
@@ -51,29 +54,193 @@ static void test_txt_equals_published(void)
     }
 }
 
-static void test_checked_in_tables_equal_generator(void)
+/* Generator options of a standard family name (docs/families.md). */
+static const char *rule_flags(const char *name)
 {
-    static const int hs[4] = {4, 6, 8, 10};
-    int i;
-    for (i = 0; i < 4; i++) {
-        char args[1024], a[256], b[256];
-        long la = 0, lb = 0;
-        char *ca, *cb;
-        snprintf(a, sizeof a, "%s/gen_h%d.c", ACTAG_BINARY_DIR, hs[i]);
-        snprintf(args, sizeof args, "--bits 24 --hamming %d --format c --out %s", hs[i], a);
-        TEST_ASSERT_EQUAL_INT(0, run_gen(args));
-        snprintf(b, sizeof b, "%s/families/AcTag24h%d.c", ACTAG_SOURCE_DIR, hs[i]);
-        ca = tu_slurp(a, &la);
-        cb = tu_slurp(b, &lb);
-        TEST_ASSERT_NOT_NULL(ca);
-        TEST_ASSERT_NOT_NULL_MESSAGE(cb, "checked-in family table missing");
-        TEST_ASSERT_EQUAL_INT(la, lb);
-        TEST_ASSERT_EQUAL_MEMORY(ca, cb, la);
-        free(ca);
-        free(cb);
-    }
+    const char *p = strchr(name + 5, 'm') ? "--mirror physical --exclude corners"
+                    : strchr(name + 5, 'p') ? "--mirror physical"
+                                            : "";
+    return p;
 }
 
+static void check_table(const char *name)
+{
+    char args[1024], a[256], b[256];
+    long la = 0, lb = 0;
+    char *ca, *cb;
+    int bits, h;
+    char c;
+    TEST_ASSERT_EQUAL_INT(3, sscanf(name, "AcTag%d%c%d", &bits, &c, &h));
+    snprintf(a, sizeof a, "%s/gen_%s.c", ACTAG_BINARY_DIR, name);
+    snprintf(args, sizeof args, "--bits %d --hamming %d %s --format c --name %s --out %s", bits, h,
+             rule_flags(name), name, a);
+    TEST_ASSERT_EQUAL_INT(0, run_gen(args));
+    snprintf(b, sizeof b, "%s/families/%s.c", ACTAG_SOURCE_DIR, name);
+    ca = tu_slurp(a, &la);
+    cb = tu_slurp(b, &lb);
+    TEST_ASSERT_NOT_NULL(ca);
+    TEST_ASSERT_NOT_NULL_MESSAGE(cb, "checked-in family table missing");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(la, lb, name);
+    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(ca, cb, la, name);
+    free(ca);
+    free(cb);
+}
+
+static void test_checked_in_tables_equal_generator(void)
+{
+    static const char *const names[] = {"AcTag24h4", "AcTag24h6", "AcTag24h8", "AcTag24h10",
+                                        "AcTag24m4", "AcTag24m6", "AcTag24m8", "AcTag24m10"};
+    int i;
+    for (i = 0; i < (int)(sizeof names / sizeof names[0]); i++)
+        check_table(names[i]);
+}
+
+/* The four published families, one generator run each, as CMake runs them:
+ * the time is reported (README, docs/families.md) and bounded loosely (the
+ * previous generator needed about 3 s on our 2-core machines). */
+static void test_published_four_are_fast(void)
+{
+    struct timespec t0, t1;
+    double s;
+    char msg[96];
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 4 > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 6 > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 8 > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 10 > /dev/null"));
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    snprintf(msg, sizeof msg, "four published 24-bit families: %.2f s", s);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE_MESSAGE(s < 2.5, msg);
+}
+
+/* ---------------------------------------------------------------- naive reference */
+
+/* Sequence position s of w is bit bits-1-s. */
+static uint32_t nv_view(uint32_t w, int bits, int g, int physical)
+{
+    int k = bits / 4, s;
+    uint32_t r = 0, m = 0;
+    for (s = 0; s < bits; s++)
+        if ((w >> (bits - 1 - (s + (g & 3) * k) % bits)) & 1u)
+            r |= 1u << (bits - 1 - s);
+    if (g < 4)
+        return r;
+    for (s = 0; s < bits; s++) {
+        int src = physical ? (bits - s) % bits : bits - 1 - s;
+        if ((r >> (bits - 1 - src)) & 1u)
+            m |= 1u << (bits - 1 - s);
+    }
+    return m;
+}
+
+static int nv_pop(uint32_t v)
+{
+    int n = 0;
+    for (; v; v &= v - 1)
+        n++;
+    return n;
+}
+
+/* Layout energy by rendering the (k+1)^2 grid (SPEC sections 1-3). */
+static int nv_energy(uint32_t w, int bits)
+{
+    int k = bits / 4, n = k + 1, g[9][9], x, y, i, e = 0;
+    for (y = 0; y < n; y++)
+        for (x = 0; x < n; x++) {
+            int d = x;
+            if (y < d) d = y;
+            if (k - x < d) d = k - x;
+            if (k - y < d) d = k - y;
+            g[y][x] = d == 1 ? 0 : 1;
+        }
+    for (i = 0; i < bits; i++) {
+        if (i < k) { x = i; y = 0; }
+        else if (i < 2 * k) { x = k; y = i - k; }
+        else if (i < 3 * k) { x = 3 * k - i; y = k; }
+        else { x = 0; y = 4 * k - i; }
+        g[y][x] = (int)((w >> (bits - 1 - i)) & 1u);
+    }
+    for (y = 0; y < n; y++)
+        for (x = 0; x < n; x++) {
+            if (x + 1 < n && g[y][x] != g[y][x + 1]) e++;
+            if (y + 1 < n && g[y][x] != g[y + 1][x]) e++;
+        }
+    return e;
+}
+
+/* SPEC section 3, literally: every candidate in order, all 8 x 8 view
+ * pairs against every accepted code; keep = counted bits. */
+static int naive_family(int bits, int h, int physical, uint32_t keep, uint32_t *out, int cap)
+{
+    static uint32_t views[4096][8];
+    uint32_t mask = (uint32_t)((1ull << bits) - 1), v = 0x445965u & mask;
+    unsigned long iter, total = 1ul << bits;
+    int n = 0, k = bits / 4;
+    double emin = 0.3333 * 2.0 * (k + 1) * (k + 1);
+    for (iter = 0; iter < total; iter++) {
+        uint32_t o[8];
+        int a, b, c, ok = 1;
+        v = (uint32_t)((v + 982451653ull) & mask);
+        if (nv_energy(v, bits) < emin)
+            continue;
+        for (a = 0; a < 8; a++)
+            o[a] = nv_view(v, bits, a, physical);
+        for (a = 0; a < 8 && ok; a++)
+            for (b = a + 1; b < 8 && ok; b++)
+                ok = nv_pop((o[a] ^ o[b]) & keep) >= h;
+        for (c = 0; c < n && ok; c++)
+            for (a = 0; a < 8 && ok; a++)
+                for (b = 0; b < 8 && ok; b++)
+                    ok = nv_pop((o[a] ^ views[c][b]) & keep) >= h;
+        if (!ok)
+            continue;
+        TEST_ASSERT_TRUE(n < cap && n < 4096);
+        for (a = 0; a < 8; a++)
+            views[n][a] = o[a];
+        out[n++] = v;
+    }
+    return n;
+}
+
+static void check_against_naive(int bits, int h, int physical, const char *exclude, uint32_t keep)
+{
+    static uint32_t want[4096], got[4096];
+    char args[512], path[256], msg[512];
+    int n, m, i;
+    snprintf(path, sizeof path, "%s/gen_naive.txt", ACTAG_BINARY_DIR);
+    snprintf(args, sizeof args, "--bits %d --hamming %d --mirror %s --exclude %s --out %s 2>/dev/null",
+             bits, h, physical ? "physical" : "reverse", exclude, path);
+    snprintf(msg, sizeof msg, "%s", args);
+    {
+        clock_t t0 = clock();
+        n = naive_family(bits, h, physical, keep, want, 4096);
+        printf("naive %s: %d codes, %.2f s\n", args, n, (double)(clock() - t0) / CLOCKS_PER_SEC);
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(n > 0 ? 0 : 1, run_gen(args), msg);
+    m = n > 0 ? tu_read_codes(path, got, 4096) : 0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(n, m, msg);
+    for (i = 0; i < n; i++)
+        TEST_ASSERT_EQUAL_HEX32_MESSAGE(want[i], got[i], msg);
+}
+
+static void test_rules_equal_naive_search(void)
+{
+    uint32_t m16 = 0xffffu, c16 = 0x8888u; /* corners: positions 0, 4, 8, 12 */
+    uint32_t c20 = 0x84210u;               /* positions 0, 5, 10, 15 */
+    int h;
+    check_against_naive(16, 2, 1, "corners", m16 & ~c16); /* (h2 without exclusion: 10 s) */
+    for (h = 3; h <= 7; h++) { /* h7 with corners excluded is empty: exit status 1 */
+        check_against_naive(16, h, 0, "none", m16);
+        check_against_naive(16, h, 1, "none", m16);
+        check_against_naive(16, h, 1, "corners", m16 & ~c16);
+    }
+    /* positions 2, 6, 10, 14 (and 14, 10, 6, 2 under P): closed, not the corners */
+    check_against_naive(16, 3, 1, "2,6,10,14", m16 & ~0x2222u);
+    check_against_naive(20, 6, 1, "corners", 0xfffffu & ~c20);
+    check_against_naive(20, 8, 1, "corners", 0xfffffu & ~c20);
+}
 static void test_apriltag_format_is_static(void)
 {
     char path[256], args[1024];
@@ -131,6 +298,42 @@ static void test_argument_errors(void)
     TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --format png > /dev/null 2>&1"));
     TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --name 9bad > /dev/null 2>&1"));
     TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --out /nonexistent-dir/x.txt 2>/dev/null"));
+    /* the rule options */
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --mirror sideways > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --mirror > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude 24 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude 3,x > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude -1 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude 0,6,12 --mirror physical > /dev/null 2>&1"));
+    /* the corners are not closed under the full reversal (0 -> 23) */
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude corners > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --min-complexity 1.5 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --min-complexity abc > /dev/null 2>&1"));
+    /* a standard name must carry its rule; other rules need their own name */
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --mirror physical --name AcTag24h10 --format c > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --name AcTag24m10 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --mirror physical --exclude corners --name AcTag24m8 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --min-complexity 0.2 --format c > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 10 --min-complexity 0.2 --format c --name Custom24 > /dev/null 2>&1"));
+    {
+        /* the message names the bad value */
+        char path[256], args[512];
+        char *s;
+        snprintf(path, sizeof path, "%s/gen_err2.txt", ACTAG_BINARY_DIR);
+        snprintf(args, sizeof args, "--bits 24 --hamming 4 --mirror physical --exclude 0,6,12 2> %s", path);
+        TEST_ASSERT_EQUAL_INT(2, run_gen(args));
+        s = tu_slurp(path, NULL);
+        TEST_ASSERT_NOT_NULL(s);
+        TEST_ASSERT_NOT_NULL(strstr(s, "'0,6,12'"));
+        TEST_ASSERT_NOT_NULL(strstr(s, "position 18"));
+        free(s);
+        snprintf(args, sizeof args, "--bits 24 --hamming 4 --mirror sideways 2> %s", path);
+        TEST_ASSERT_EQUAL_INT(2, run_gen(args));
+        s = tu_slurp(path, NULL);
+        TEST_ASSERT_NOT_NULL(s);
+        TEST_ASSERT_NOT_NULL(strstr(s, "'sideways'"));
+        free(s);
+    }
     /* one line on stderr */
     snprintf(args, sizeof args, "--bits 23 --hamming 4 2> %s/gen_err.txt", ACTAG_BINARY_DIR);
     TEST_ASSERT_EQUAL_INT(2, run_gen(args));
@@ -157,6 +360,8 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_txt_equals_published);
     RUN_TEST(test_checked_in_tables_equal_generator);
+    RUN_TEST(test_published_four_are_fast);
+    RUN_TEST(test_rules_equal_naive_search);
     RUN_TEST(test_apriltag_format_is_static);
     RUN_TEST(test_other_sizes);
     RUN_TEST(test_argument_errors);
