@@ -627,13 +627,22 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
  * FIT_STEEPEST=1 takes the best of all 12 moves per step instead (order
  * independent, but measured worse on the pool frames: 36-38 vs 37-39 of
  * 47 over flips and seeds). */
-static void ffit(const fimg *im, fgrid *gr, int k, float *m)
+static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
+                    int erase);
+
+static float objective(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
+                       int erase)
+{
+    return L ? tscore(im, gr, k, m, L, erase) : fscore(im, gr, k, m);
+}
+
+static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase)
 {
     static const float scales[3] = {1.0f, 0.5f, 0.25f};
     fgrid g0 = *gr;
     float la = sqrtf(gr->ax * gr->ax + gr->ay * gr->ay);
     float lb = sqrtf(gr->bx * gr->bx + gr->by * gr->by);
-    float best = fscore(im, gr, k, m);
+    float best = objective(im, gr, k, m, L, erase);
     int lvl, it, p, sgn;
     for (lvl = 0; lvl < 3; lvl++) {
         for (it = 0; it < FIT_MAX_STEPS; it++) {
@@ -656,7 +665,7 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m)
                         t.bx * t.bx + t.by * t.by > 1.8f * lb * lb ||
                         t.bx * t.bx + t.by * t.by < 0.42f * lb * lb)
                         continue;
-                    s = fscore(im, &t, k, m);
+                    s = objective(im, &t, k, m, L, erase);
                     if (s > bs) {
                         bs = s;
                         bt = t;
@@ -700,10 +709,19 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
  * five masked popcounts; candidates whose hard distance alone bounds their
  * soft distance above the runner-up's are skipped (exact pruning). */
 #define ML_Q 16
+#define ML_TOP 6 /* readings kept for the template check */
+#ifndef ACTAG_FIT_MIN_NOISE
+#define ACTAG_FIT_MIN_NOISE 0.05f /* floor of the cell noise estimate, confidence units */
+#endif
 typedef struct {
     actag_match best; /* ML best: id, rotation, mirrored, hamming (hard, kept bits) */
     int d1, d2;       /* soft distances of the best and the runner-up, 1/ML_Q units */
     int other;        /* best hard distance of the other handedness */
+    int h2;           /* best hard distance of any other reading */
+    struct {
+        int d, h, id, view; /* view: rotation + 4 * mirrored */
+    } top[ML_TOP];    /* the ML_TOP most likely readings, best first */
+    int ntop;
 } ml_result;
 
 static uint32_t rot_inv(uint32_t w, int o, int bits) /* rot^-o(w) */
@@ -750,40 +768,118 @@ static void ml_match(const actag_family *family, const float *conf, uint32_t kee
         for (b = 0; b < 5; b++)
             pl[v][b] = rot_inv(m ? actag_decode_mirror(plane[b], bits) : plane[b], o, bits);
     }
+    res->ntop = 0;
     for (i = 0; i < family->ncodes; i++) {
         uint32_t c = family->codes[i];
         for (v = 0; v < 8; v++) {
             uint32_t mis = (c ^ obs[v]) & keep;
-            int h = actag_popcount32(mis), d;
-            if (lb[h] >= res->d2)
+            int h = actag_popcount32(mis), d, j;
+            /* prune: cannot enter the kept list (or beat the runner-up) */
+            if (lb[h] >= res->d2 && (res->ntop == ML_TOP || lb[h] >= res->top[res->ntop - 1].d))
                 continue;
             d = 0;
             for (b = 0; b < 5; b++)
                 d += actag_popcount32(mis & pl[v][b]) << b;
-            if (d < res->d1 || (d == res->d1 && h < res->best.hamming)) {
-                res->d2 = res->d1;
-                res->d1 = d;
-                res->best.id = i;
-                res->best.rotation = (v & 3);
-                res->best.mirrored = v >> 2;
-                res->best.hamming = h;
-            } else if (d < res->d2) {
-                res->d2 = d;
+            /* insert into the sorted list of the ML_TOP best readings */
+            if (res->ntop < ML_TOP) {
+                j = res->ntop++;
+            } else {
+                j = ML_TOP - 1;
+                if (!(d < res->top[j].d || (d == res->top[j].d && h < res->top[j].h)))
+                    continue;
             }
+            while (j > 0 && (d < res->top[j - 1].d || (d == res->top[j - 1].d && h < res->top[j - 1].h))) {
+                res->top[j] = res->top[j - 1];
+                j--;
+            }
+            res->top[j].d = d;
+            res->top[j].h = h;
+            res->top[j].id = i;
+            res->top[j].view = v;
+            res->d1 = res->top[0].d;
+            res->d2 = res->ntop > 1 ? res->top[1].d : 1 << 28;
         }
     }
-    /* the other handedness' best hard distance (mirror_margin) */
+    if (res->ntop > 0) {
+        res->best.id = res->top[0].id;
+        res->best.rotation = res->top[0].view & 3;
+        res->best.mirrored = res->top[0].view >> 2;
+        res->best.hamming = res->top[0].h;
+    }
+    /* hard distances: the other handedness' best (mirror_margin) and the
+     * best of every reading but the chosen one (the bit margin) */
+    res->h2 = 33;
     for (i = 0; i < family->ncodes; i++) {
         uint32_t c = family->codes[i];
         for (v = 0; v < 8; v++) {
-            int h;
-            if ((v >> 2) == res->best.mirrored)
-                continue;
-            h = actag_popcount32((c ^ obs[v]) & keep);
-            if (h < res->other)
+            int h = actag_popcount32((c ^ obs[v]) & keep);
+            if ((v >> 2) != res->best.mirrored && h < res->other)
                 res->other = h;
+            if (h < res->h2 && !(i == res->best.id && (v & 3) == res->best.rotation &&
+                                 (v >> 2) == res->best.mirrored))
+                res->h2 = h;
         }
     }
+}
+
+/* Template check (ACTAG_FIT_VERIFY). Each of the most likely readings is
+ * a full hypothesis for all (k+1)^2 cells (data ring from its code, black
+ * ring, white interior); its grid is refitted to that template and scored
+ * by the residual of a two-level least-squares fit of the cell means
+ * (rss). Every hypothesis thus gets its own best alignment, so a reading
+ * that only a misaligned grid supports loses to the right one; the margin
+ * is the log-likelihood ratio of the best against the next hypothesis
+ * under Gaussian cell noise estimated from the best one's residual. */
+static int is_data_corner(int cx, int cy, int k)
+{
+    return (cx == 0 || cx == k) && (cy == 0 || cy == k);
+}
+
+static void layout_of(const actag_family *family, int id, int view, int k, uint8_t *L)
+{
+    int bits = 4 * k, n = k + 1, i, cx, cy;
+    uint32_t e = family->codes[id];
+    for (i = 0; i < (view & 3); i++)
+        e = actag_code_rot90(e, bits);
+    if (view >> 2)
+        e = actag_decode_mirror(e, bits);
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++)
+            L[cy * n + cx] = (uint8_t)(cx >= 2 && cy >= 2 && cx <= k - 2 && cy <= k - 2);
+    for (i = 0; i < bits; i++) {
+        bit_cell(i, k, &cx, &cy);
+        L[cy * n + cx] = (uint8_t)((e >> (bits - 1 - i)) & 1u);
+    }
+}
+
+static float template_rss(const float *m, const uint8_t *L, int k, int erase, int *ncells)
+{
+    int n = k + 1, cx, cy, nw = 0, nb = 0;
+    float sw = 0.0f, sb = 0.0f, ss = 0.0f;
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++) {
+            float v = m[cy * n + cx];
+            if (erase && is_data_corner(cx, cy, k))
+                continue;
+            ss += v * v;
+            if (L[cy * n + cx]) {
+                sw += v;
+                nw++;
+            } else {
+                sb += v;
+                nb++;
+            }
+        }
+    if (ncells)
+        *ncells = nw + nb;
+    return ss - (nw ? sw * sw / (float)nw : 0.0f) - (nb ? sb * sb / (float)nb : 0.0f);
+}
+
+static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
+                    int erase)
+{
+    fcells(im, gr, k, m);
+    return -template_rss(m, L, k, erase, NULL);
 }
 
 void actag_fit_params_default(actag_fit_params *fp)
@@ -795,6 +891,7 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->min_contrast = 5;
     fp->sample_offset = 0.2f;
     fp->min_margin = ACTAG_FIT_MIN_MARGIN;
+    fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
 }
 
 int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
@@ -811,7 +908,8 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     actag_point q[4];
     actag_match mu, mm;
     ml_result ml;
-    float margin = 0.0f;
+    float margin = 0.0f, noise2 = 0.0f;
+    int nknown = 0;
     memset(&ml, 0, sizeof ml);
     uint32_t w = 0, e, diff, keep;
     int rc, maxc, bits, k, n, du, dm, i, orient, ring_ok = 0, in_ok = 0, cx, cy;
@@ -827,8 +925,8 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     min_contrast = fp->min_contrast;
     level = fp->level;
     if (min_contrast < 0 || min_contrast > 255 || !(level >= 0.0f) || !(level <= 1.0f) ||
-        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f) || !(fp->min_margin >= 0.0f) ||
-        !(fp->min_margin <= 64.0f))
+        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f) || !(fp->min_margin >= 0.0f) || fp->min_bit_margin < 0 || fp->min_bit_margin > 32 ||
+        !(fp->min_margin <= 1.0e6f))
         return ACTAG_ERR_PARAM;
     maxc = actag_family_max_corrections(family);
     if (max_corrections < 0 || max_corrections > maxc)
@@ -868,7 +966,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     }
     if (!(flags & ACTAG_FIT_NO_SEARCH)) {
         im.fast = FIT_FAST_ASCENT;
-        ffit(&im, &gr, k, m);
+        ffit(&im, &gr, k, m, NULL, 0);
         im.fast = 0;
     }
     fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
@@ -888,12 +986,22 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         return ACTAG_ERR_NO_MATCH;
     for (cy = 1; cy < k; cy++)
         for (cx = 1; cx < k; cx++) {
-            float v = m[cy * n + cx];
-            if (is_ring(cx, cy, k))
+            float v = m[cy * n + cx], d;
+            if (is_ring(cx, cy, k)) {
                 ring_ok += v < black + ACTAG_FIT_RING_LEVEL * contrast;
-            else
+                d = v - black;
+            } else {
                 in_ok += v > black + ACTAG_FIT_INTERIOR_LEVEL * contrast;
+                d = v - white;
+            }
+            noise2 += d * d;
+            nknown++;
         }
+    /* cell noise in confidence units (a clean bit reads +-0.5), from the
+     * cells whose value is known; floored so clean renders stay finite */
+    noise2 = noise2 / ((float)nknown * contrast * contrast);
+    if (noise2 < ACTAG_FIT_MIN_NOISE * ACTAG_FIT_MIN_NOISE)
+        noise2 = ACTAG_FIT_MIN_NOISE * ACTAG_FIT_MIN_NOISE;
     for (i = 0; i < bits; i++) {
         float t, c;
         bit_cell(i, k, &cx, &cy);
@@ -991,9 +1099,41 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 conf[i] = -0.01f;
             w = (w << 1) | (conf[i] > 0.0f ? 1u : 0u);
         }
-        margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ML_Q);
-        if (margin < fp->min_margin)
+        /* log-likelihood ratio best : runner-up under Gaussian cell noise */
+        margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ML_Q) / noise2;
+        if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
+            uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+            float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+            float rss0 = 0.0f, rss2 = 1e30f, s2, floor2;
+            int jj, nc = 1, erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
+            for (jj = 0; jj < ml.ntop; jj++) {
+                fgrid g = gr;
+                float r;
+                layout_of(family, ml.top[jj].id, ml.top[jj].view, k, L);
+                im.fast = FIT_FAST_ASCENT;
+                ffit(&im, &g, k, mt, L, erase);
+                im.fast = 0;
+                fcells(&im, &g, k, mt);
+                r = template_rss(mt, L, k, erase, &nc);
+                if (jj == 0)
+                    rss0 = r;
+                else if (r < rss2)
+                    rss2 = r;
+            }
+            /* another hypothesis explains the cells better once each has
+             * its own grid: the code-agnostic reading cannot be trusted */
+            if (rss2 <= rss0)
+                return ACTAG_ERR_NO_MATCH;
+            s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
+            floor2 = ACTAG_FIT_MIN_NOISE * 2.0f * contrast;
+            floor2 *= floor2;
+            if (s2 < floor2)
+                s2 = floor2;
+            margin = 0.5f * (rss2 - rss0) / s2;
+        }
+        if (margin < fp->min_margin || ml.h2 - ml.best.hamming < fp->min_bit_margin)
             return ACTAG_ERR_NO_MATCH;
+        out->bit_margin = ml.h2 - ml.best.hamming;
     }
 
     out->observed = w;

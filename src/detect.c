@@ -86,6 +86,7 @@ void actag_params_default(actag_params *p)
     p->search_min_score = 15;
     p->search_range_scale = 0.75f;
     p->search_max_corrections = 3;
+    p->search_min_margin = ACTAG_SEARCH_MIN_MARGIN;
 }
 
 static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
@@ -119,6 +120,8 @@ int actag_params_validate(const actag_params *p)
         p->search_candidates < 0 || p->search_candidates > ACTAG_SEARCH_MAX || p->search_min_score < 0 ||
         p->search_min_score > 255 || !(p->search_range_scale > 0.05f) ||
         !(p->search_range_scale <= 4.0f) || p->search_max_corrections < 0 ||
+        !(p->search_min_margin >= 0.0f) || !(p->search_min_margin <= 1.0e6f) ||
+        !(p->fit.min_margin >= 0.0f) || !(p->fit.min_margin <= 1.0e6f) ||
         !(p->min_structure <= 1.0f) || !(p->min_side_fraction >= 0.0f) ||
         !(p->max_side_fraction >= p->min_side_fraction))
         return ACTAG_ERR_PARAM;
@@ -401,7 +404,8 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                                  ACTAG_FIT_WIDE, &dr);
                 if (drc != ACTAG_OK)
                     continue;
-                if (dr.ring_black < params->min_structure ||
+                if (dr.decision_margin < params->search_min_margin ||
+                    dr.ring_black < params->min_structure ||
                     dr.interior_white < params->min_structure ||
                     !sides_plausible(dr.fit_corners, geometry, params, rows, cols))
                     continue;

@@ -116,6 +116,9 @@ typedef struct actag_params {
     int search_candidates;      /* structure search: positions decoded per frame, 0..8 (2; 0 off) */
     int search_min_score;       /* ... least interior-minus-ring box contrast, grey levels (15) */
     int search_max_corrections; /* ... bit corrections, capped by max_bit_corrections (3) */
+    float search_min_margin;    /* ... least decision margin (ACTAG_SEARCH_MIN_MARGIN): the
+                                   search fits many grids per candidate, so chance readings
+                                   need a larger lead than a quad's (fit.min_margin) */
     float search_range_scale;   /* ... expected range extent / tag_size (0.75: tilted tags
                                    look shorter in range) */
 } actag_params;
@@ -131,6 +134,11 @@ typedef struct actag_params {
  * maximum, capped at ACTAG_AUTO_CORRECTIONS. */
 #define ACTAG_CORRECTIONS_AUTO (-1)
 #define ACTAG_AUTO_CORRECTIONS 3
+
+/* Default least decision margin of structure-search readings. */
+#ifndef ACTAG_SEARCH_MIN_MARGIN
+#define ACTAG_SEARCH_MIN_MARGIN 10.0f
+#endif
 
 /* Most structure-search candidates per frame (search_candidates). */
 #define ACTAG_SEARCH_MAX 8

@@ -179,6 +179,7 @@ typedef struct actag_decode_result {
     float contrast;         /* white-interior minus black-ring mean, grey levels */
     float flip_weight;      /* sum of the corrected bits' confidences (see fit decoder) */
     float min_confidence;   /* smallest data-bit confidence */
+    int bit_margin;         /* fit decoder: the runner-up's corrected bits minus hamming */
     float decision_margin;  /* fit decoder: runner-up's soft distance minus the best's
                                (contrast units; see actag_decode_quad_fit); binary
                                decoders: the runner-up's extra bits */
@@ -225,7 +226,9 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
 #define ACTAG_FIT_SPLIT 4         /* code-aware data threshold (see the manual below) */
 #define ACTAG_FIT_WIDE 16         /* start with a +-1 cell position / rotation / shear search */
 #define ACTAG_FIT_ERASE_CORNERS 64 /* the data ring's 4 corner cells do not count */
-#define ACTAG_FIT_DEFAULT_FLAGS (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS)
+#define ACTAG_FIT_VERIFY 128      /* template check of the likeliest readings (see below) */
+#define ACTAG_FIT_DEFAULT_FLAGS \
+    (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS | ACTAG_FIT_VERIFY)
 
 /* ACTAG_FIT_SPLIT tries data thresholds from LO to HI of the tag's contrast
  * above its black ring (compile-time constants). */
@@ -238,7 +241,11 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
 
 /* Default least decision margin of the fit decoder (contrast units). */
 #ifndef ACTAG_FIT_MIN_MARGIN
-#define ACTAG_FIT_MIN_MARGIN 1.0f
+#define ACTAG_FIT_MIN_MARGIN 5.0f
+#endif
+
+#ifndef ACTAG_FIT_MIN_BIT_MARGIN
+#define ACTAG_FIT_MIN_BIT_MARGIN 1
 #endif
 
 /* Options of actag_decode_quad_fit(). */
@@ -247,7 +254,8 @@ typedef struct actag_fit_params {
     float level;         /* mid level between ring black (0) and interior white (1), 0.5 */
     int min_contrast;    /* interior minus ring mean must reach this, grey levels (5) */
     float sample_offset; /* cells from a cell centre to its outer sample points, 0..0.5 (0.2) */
-    float min_margin;    /* least decision margin accepted, contrast units (see below) */
+    float min_margin;    /* least decision margin (log-likelihood ratio) accepted */
+    int min_bit_margin;  /* least lead in corrected bits over any other reading */
 } actag_fit_params;
 
 /* Fills *fp with the defaults above (no-op for NULL). */

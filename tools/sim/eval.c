@@ -46,6 +46,8 @@ static void usage(FILE *f)
         "  --tag-free-families all|NAME[,NAME...]  families run on tag-free frames (all)\n"
         "  --corrections N        bit corrections for the tagged frames (default: the\n"
         "                         library's default for the family)\n"
+        "  --min-margin F --search-min-margin F  least decision margins (library defaults)\n"
+        "  --min-bit-margin N     least lead in corrected bits over the runner-up\n"
         "  --seed S (default 1)   --threads N (default 2)\n"
         "Views and sonar (defaults: the paper's: 0.1-5 m, 60 x 12 degrees, 1024 x 512,\n"
         "sonar within 0.5-5 m of the tag, 30-80 degrees incidence):\n"
@@ -98,7 +100,7 @@ typedef struct {
     int mirror_err, order_err;
     int hamming;
     float margin, wrong_margin; /* decision margin of the right reading, largest of the wrong */
-    int wrong_hamming, wrong_search;
+    int wrong_hamming, wrong_search, found_search;
     float range_err[4], az_err[4], px_err;
     uint32_t seed;
 } tag_result;
@@ -113,6 +115,8 @@ typedef struct {
     sim_appearance app;
     actag_family fam;
     int corrections;
+    float min_margin, search_min_margin; /* < 0: the library's defaults */
+    int min_bit_margin;                  /* < 0: the library's default */
     actag_family free_fam[MAX_FAM];
     int nfree_fam;
     int frames, tag_free;
@@ -170,6 +174,12 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
     p.family = &c->fam;
     p.tag_size = tag_size_default;
     p.max_bit_corrections = c->corrections;
+    if (c->min_margin >= 0.0f)
+        p.fit.min_margin = c->min_margin;
+    if (c->min_bit_margin >= 0)
+        p.fit.min_bit_margin = c->min_bit_margin;
+    if (c->search_min_margin >= 0.0f)
+        p.search_min_margin = c->search_min_margin;
     fr.data = img;
     fr.rows = c->sonar.rows;
     fr.cols = c->sonar.cols;
@@ -216,6 +226,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
             R->found = 1;
             R->hamming = det[d].hamming;
             R->margin = det[d].decision_margin;
+            R->found_search = det[d].inlier_ratio == 0.0f;
             R->mirror_err = det[d].mirrored != tr.mirrored;
             R->order_err = bestp != 0 && ident > best + 4.0f;
             R->px_err = 0.25f * ident;
@@ -490,6 +501,8 @@ int main(int argc, char **argv)
     memset(&c, 0, sizeof c);
     c.frames = 1000;
     c.seed = 1;
+    c.min_margin = c.search_min_margin = -1.0f;
+    c.min_bit_margin = -1;
     c.sonar.rows = 1024;
     c.sonar.cols = 512;
     c.sonar.geo.min_range = 0.1f;
@@ -529,6 +542,15 @@ int main(int argc, char **argv)
             NEED();
             c.corrections = (int)inum(o, v, 0, 16);
             corrections_set = 1;
+        } else if (!strcmp(o, "--min-margin")) {
+            NEED();
+            c.min_margin = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--min-bit-margin")) {
+            NEED();
+            c.min_bit_margin = (int)inum(o, v, 0, 32);
+        } else if (!strcmp(o, "--search-min-margin")) {
+            NEED();
+            c.search_min_margin = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--seed")) {
             NEED();
             c.seed = (uint32_t)inum(o, v, 0, 4294967295L);
@@ -714,11 +736,11 @@ int main(int argc, char **argv)
                             "%.2f, \"mirrored\": %d, \"found\": %d, \"wrong_id\": %d, "
                             "\"false_tags\": %d, \"mirror_error\": %d, \"order_error\": %d, "
                             "\"margin\": %.3f, \"wrong_margin\": %.3f, \"wrong_hamming\": %d, "
-                            "\"wrong_from_search\": %d}\n",
+                            "\"wrong_from_search\": %d, \"found_from_search\": %d}\n",
                         i, (unsigned)R->seed, (double)R->distance, R->incidence / DEG,
                         R->mirrored, R->found, R->wrong_id, R->false_tags, R->mirror_err,
                         R->order_err, (double)R->margin, (double)R->wrong_margin,
-                        R->wrong_hamming, R->wrong_search);
+                        R->wrong_hamming, R->wrong_search, R->found_search);
             if (!R->found)
                 continue;
             found++;
@@ -831,6 +853,26 @@ int main(int argc, char **argv)
                 printf("  hamming of the detections:");
                 for (k = 0; k <= actag_family_max_corrections(&c.fam) && k < 17; k++)
                     printf(" %d:%d", k, hcount[k]);
+                {
+                    double *mv = (double *)malloc((size_t)(found + 1) * sizeof(double));
+                    int nm = 0;
+                    err_stats ms;
+                    for (k = 0; k < c.frames; k++)
+                        if (c.tres[k].sampled && c.tres[k].found)
+                            mv[nm++] = c.tres[k].margin;
+                    qsort(mv, (size_t)nm, sizeof *mv, cmp_d);
+                    ms = stats_of(mv, nm);
+                    if (nm > 0)
+                        printf("\n  decision margin of the detections: min %.2f  5%% %.2f  median %.2f",
+                               mv[0], mv[(int)(0.05 * (nm - 1))], mv[nm / 2]);
+                    nm = 0;
+                    for (k = 0; k < c.frames; k++)
+                        if (c.tres[k].sampled && c.tres[k].found && c.tres[k].found_search)
+                            nm++;
+                    printf(" (%d read by the structure search)", nm);
+                    (void)ms;
+                    free(mv);
+                }
                 printf("\n  range error per corner (m):     mean %+.5f  sd %.5f  95%% |e| %.5f  "
                        "(%d corners)\n",
                        rs.mean, rs.sd, rs.p95, rs.n);

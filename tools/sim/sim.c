@@ -29,9 +29,12 @@ void sim_appearance_default(sim_appearance *a)
     a->seabed_exp = 1.0f;
     a->spreading = 1.0f;
     a->spreading_r0 = 1.0f;
-    a->psf_azimuth = 2.5f;
-    a->psf_range = 1.2f;
-    a->noise = 0.001f;
+    /* Blueprint Oculus M1200d at 2.1 MHz: 0.4 degree beams, 2.5 mm range
+     * resolution (Gaussian sigma = FWHM / 2.355), widened for the recording's
+     * compression blur */
+    a->psf_azimuth = 0.0035f;
+    a->psf_range = 0.0025f;
+    a->noise = 0.0006f;
     a->gain = 260.0f;
     a->band_rate = 1.0f;
     a->band_min = 0.25f;
@@ -712,12 +715,14 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
             im[idx] = mean[idx] * gauss(&g);
         }
         /* beam spread: azimuth (along a row) then range (along a column) */
-        kr = psf_kernel(a->psf_azimuth, kern, 31);
+        kr = psf_kernel(a->psf_azimuth /
+                            actag_geometry_azimuth_step(&s->geo, cols, 0.5f * (float)cols),
+                        kern, 31);
         if (kr > 0) {
             convolve_rows(re, tmp, rows, cols, kern, kr);
             convolve_rows(im, tmp, rows, cols, kern, kr);
         }
-        kr = psf_kernel(a->psf_range, kern, 31);
+        kr = psf_kernel(a->psf_range / c.dr, kern, 31);
         if (kr > 0) {
             convolve_cols(re, col_tmp, rows, cols, kern, kr);
             for (idx = 0; idx < n; idx++)

@@ -35,7 +35,7 @@
  *     seabed * cos(inc)^seabed_exp, brighter in clutter patches.
  *     The intensity image then becomes a complex field with Rayleigh
  *     speckle (circular Gaussian per pixel), blurred by the beam's point
- *     spread (Gaussian, psf_azimuth / psf_range pixels), plus complex
+ *     spread (Gaussian, sigma psf_azimuth rad / psf_range m), plus complex
  *     receiver noise; the root of `looks` such fields' mean power (the
  *     sonar's ping averaging) times `gain` is the pixel, after
  *     interference bands (constant-range rows of gain between band_min and
@@ -108,7 +108,7 @@ typedef struct sim_appearance {
     float seabed, seabed_exp;                    /* seabed backscatter */
     float spreading;                             /* intensity * (r0/r)^spreading */
     float spreading_r0;                          /* metres */
-    float psf_azimuth, psf_range;                /* beam spread, Gaussian sigma in pixels */
+    float psf_azimuth, psf_range;                /* beam spread, Gaussian sigma: rad, m */
     float noise;                                 /* receiver noise power (intensity units) */
     float gain;                                  /* pixel = gain * amplitude */
     float band_rate;                             /* mean interference bands per frame */

@@ -62,7 +62,7 @@ static void usage(FILE *f)
         "  --pool                 the pool recording's sonar: 530 x 512, 0.1-1.5 m, and views\n"
         "                         at 0.9-1.4 m, 55-75 degrees incidence\n"
         "Appearance (defaults tuned to the pool frames):\n"
-        "  --gain G --noise N --bands RATE --psf-azimuth PX --psf-range PX\n"
+        "  --gain G --noise N --bands RATE --psf-azimuth RAD --psf-range M (beam sigma)\n"
         "  --foam F --seabed-level S --metal-specular M --metal-diffuse D --spreading P --looks N\n"
         "Output:\n"
         "  --out-dir DIR (created)  --prefix NAME (default sim)  --raw  --depth 8|16\n"
@@ -316,10 +316,10 @@ int main(int argc, char **argv)
             app.band_rate = (float)num(o, v, 0.0, 20.0);
         } else if (!strcmp(o, "--psf-azimuth")) {
             NEED();
-            app.psf_azimuth = (float)num(o, v, 0.0, 10.0);
+            app.psf_azimuth = (float)num(o, v, 0.0, 0.5);
         } else if (!strcmp(o, "--psf-range")) {
             NEED();
-            app.psf_range = (float)num(o, v, 0.0, 10.0);
+            app.psf_range = (float)num(o, v, 0.0, 1.0);
         } else if (!strcmp(o, "--foam")) {
             NEED();
             app.foam = (float)num(o, v, 0.0, 1e6);
