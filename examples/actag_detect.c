@@ -46,6 +46,8 @@ static void usage(FILE *f)
             "                         read each bit against its neighbours; binary: the paper's\n"
             "                         reading of the binary frame\n"
             "  --search N             structure-search candidates per frame, 0 (off) to 8 (default 2)\n"
+            "  --min-margin F         least decision margin (log-likelihood ratio) of a reading\n"
+            "                         (default 5); --search-min-margin F for search readings (10)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
             "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
@@ -522,6 +524,12 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--search") == 0) {
             NEEDV();
             params.search_candidates = (int)parse_long(a, v, 0, ACTAG_SEARCH_MAX);
+        } else if (strcmp(a, "--min-margin") == 0) {
+            NEEDV();
+            params.fit.min_margin = (float)parse_double(a, v);
+        } else if (strcmp(a, "--search-min-margin") == 0) {
+            NEEDV();
+            params.search_min_margin = (float)parse_double(a, v);
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
             params.seed = (uint32_t)parse_long(a, v, 0, 4294967295L);
@@ -648,8 +656,9 @@ int main(int argc, char **argv)
             printf(", \"rows\": %d, \"cols\": %d, \"detections\": [", im.rows, im.cols);
             for (k = 0; k < n; k++) {
                 int c;
-                printf("%s{\"id\": %d, \"hamming\": %d, \"mirrored\": %s, \"corners_px\": [",
-                       k ? ", " : "", det[k].id, det[k].hamming,
+                printf("%s{\"id\": %d, \"hamming\": %d, \"decision_margin\": %.2f, "
+                       "\"mirrored\": %s, \"corners_px\": [",
+                       k ? ", " : "", det[k].id, det[k].hamming, (double)det[k].decision_margin,
                        det[k].mirrored ? "true" : "false");
                 for (c = 0; c < 4; c++)
                     printf("%s[%.3f, %.3f]", c ? ", " : "", (double)det[k].corners[c].y,
@@ -666,9 +675,9 @@ int main(int argc, char **argv)
                 printf("%s: no tags (%.2f ms)\n", file, t1 - t0);
             for (k = 0; k < n; k++) {
                 int c;
-                printf("%s: %s id %d hamming %d%s corners (row,col | range m,azimuth rad):",
+                printf("%s: %s id %d hamming %d margin %.1f%s corners (row,col | range m,azimuth rad):",
                        file, fam.name, det[k].id, det[k].hamming,
-                       det[k].mirrored ? " mirrored" : "");
+                       (double)det[k].decision_margin, det[k].mirrored ? " mirrored" : "");
                 for (c = 0; c < 4; c++)
                     printf(" (%.1f,%.1f | %.4f,%.4f)", (double)det[k].corners[c].y,
                            (double)det[k].corners[c].x, (double)det[k].range[c],

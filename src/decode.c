@@ -636,7 +636,17 @@ static float objective(const fimg *im, const fgrid *gr, int k, float *m, const u
     return L ? tscore(im, gr, k, m, L, erase) : fscore(im, gr, k, m);
 }
 
-static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase)
+#ifndef FIT_T_SHIFT2
+#define FIT_T_SHIFT2 0.0625f /* template polish: squared shift bound, cells^2 */
+#endif
+#ifndef FIT_T_HI
+#define FIT_T_HI 1.3225f /* (1.15)^2 */
+#endif
+#ifndef FIT_T_LO
+#define FIT_T_LO 0.7225f /* (0.85)^2 */
+#endif
+static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
+                 int tight)
 {
     static const float scales[3] = {1.0f, 0.5f, 0.25f};
     fgrid g0 = *gr;
@@ -657,13 +667,14 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
                     d = (p < 2 ? 0.15f * (la < lb ? la : lb) : 0.05f * (p < 4 ? la : lb)) *
                         scales[lvl] * (float)sgn;
                     *f += d;
-                    /* stay within half a cell and +-35 % of the starting grid */
+                    /* stay within half a cell and +-35 % of the starting grid
+                     * (a template polish: a quarter cell and +-15 %) */
                     if ((t.mx - g0.mx) * (t.mx - g0.mx) + (t.my - g0.my) * (t.my - g0.my) >
-                            0.25f * la * lb ||
-                        t.ax * t.ax + t.ay * t.ay > 1.8f * la * la ||
-                        t.ax * t.ax + t.ay * t.ay < 0.42f * la * la ||
-                        t.bx * t.bx + t.by * t.by > 1.8f * lb * lb ||
-                        t.bx * t.bx + t.by * t.by < 0.42f * lb * lb)
+                            (tight ? FIT_T_SHIFT2 : 0.25f) * la * lb ||
+                        t.ax * t.ax + t.ay * t.ay > (tight ? FIT_T_HI : 1.8f) * la * la ||
+                        t.ax * t.ax + t.ay * t.ay < (tight ? FIT_T_LO : 0.42f) * la * la ||
+                        t.bx * t.bx + t.by * t.by > (tight ? FIT_T_HI : 1.8f) * lb * lb ||
+                        t.bx * t.bx + t.by * t.by < (tight ? FIT_T_LO : 0.42f) * lb * lb)
                         continue;
                     s = objective(im, &t, k, m, L, erase);
                     if (s > bs) {
@@ -852,6 +863,8 @@ static void layout_of(const actag_family *family, int id, int view, int k, uint8
     }
 }
 
+/* Residual of the cell means against a layout after a two-level (black,
+ * white) least-squares fit. */
 static float template_rss(const float *m, const uint8_t *L, int k, int erase, int *ncells)
 {
     int n = k + 1, cx, cy, nw = 0, nb = 0;
@@ -966,7 +979,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     }
     if (!(flags & ACTAG_FIT_NO_SEARCH)) {
         im.fast = FIT_FAST_ASCENT;
-        ffit(&im, &gr, k, m, NULL, 0);
+        ffit(&im, &gr, k, m, NULL, 0, 0);
         im.fast = 0;
     }
     fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
@@ -1111,7 +1124,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 float r;
                 layout_of(family, ml.top[jj].id, ml.top[jj].view, k, L);
                 im.fast = FIT_FAST_ASCENT;
-                ffit(&im, &g, k, mt, L, erase);
+                /* a polish near the code-agnostic grid; after the wide
+                 * search (which may settle a cell off) the full range */
+                ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE));
                 im.fast = 0;
                 fcells(&im, &g, k, mt);
                 r = template_rss(mt, L, k, erase, &nc);
