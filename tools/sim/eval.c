@@ -44,6 +44,9 @@ static void usage(FILE *f)
         "  --tag-free N           tag-free frames (default 0; the acceptance run uses 10000)\n"
         "  --family NAME          family of the tagged frames (default AcTag24h10)\n"
         "  --tag-free-families all|NAME[,NAME...]  families run on tag-free frames (all)\n"
+        "  --free-rows R --free-cols C  tag-free frame size (default 530 x 512)\n"
+        "  --free-max-range LO,HI tag-free frames' maximum range, uniform per frame (3,6 m:\n"
+        "                         the paper's tag-free set)\n"
         "  --corrections N        bit corrections for the tagged frames (default: the\n"
         "                         library's default for the family)\n"
         "  --min-margin F --search-min-margin F  least decision margins (library defaults)\n"
@@ -110,7 +113,8 @@ typedef struct {
 } free_result;
 
 typedef struct {
-    sim_sonar sonar;
+    sim_sonar sonar, free_sonar;
+    float free_min_max_range, free_max_max_range;
     sim_view_params view;
     sim_appearance app;
     actag_family fam;
@@ -252,35 +256,58 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
     }
 }
 
+/* Corrections of setting k (0 zero, 1 default, 2 maximal) for a family. */
+static int corrections_of(const actag_family *f, int k)
+{
+    int mx = actag_family_max_corrections(f);
+    if (k == 0)
+        return 0;
+    if (k == 1)
+        return mx < ACTAG_AUTO_CORRECTIONS ? mx : ACTAG_AUTO_CORRECTIONS;
+    return mx;
+}
+
 static void eval_free_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t wss)
 {
     free_result *R = &c->fres[i];
     sim_scene sc;
+    sim_sonar sonar = c->free_sonar;
     actag_frame fr;
     actag_detection det[16];
+    actag_rng g;
     uint32_t fs = sim_frame_seed(c->seed ^ 0xa5a5a5a5u, (uint32_t)i);
     int f, k;
     char err[HOSTIO_ERRLEN];
     memset(R, 0, sizeof *R);
-    sim_sample_empty(&c->sonar, &c->view, fs, &sc);
-    if (sim_render(&c->sonar, &sc, &c->app, fs, img, NULL, c->sonar.cols, err) != 0)
+    /* the paper's tag-free set: maximum ranges between 3 and 6 m */
+    actag_rng_seed(&g, fs ^ 0x27d4eb2du);
+    sonar.geo.max_range = c->free_min_max_range +
+                          (c->free_max_max_range - c->free_min_max_range) *
+                              (float)(actag_rng_next(&g) >> 8) * (1.0f / 16777216.0f);
+    sim_sample_empty(&sonar, &c->view, fs, &sc);
+    if (sim_render(&sonar, &sc, &c->app, fs, img, NULL, sonar.cols, err) != 0)
         die(err);
     fr.data = img;
-    fr.rows = c->sonar.rows;
-    fr.cols = c->sonar.cols;
-    fr.stride = c->sonar.cols;
+    fr.rows = sonar.rows;
+    fr.cols = sonar.cols;
+    fr.stride = sonar.cols;
     fr.depth = 8;
     for (f = 0; f < c->nfree_fam; f++)
         for (k = 0; k < NCORR; k++) {
             actag_params p;
-            int nd;
+            int nd, j, corr = corrections_of(&c->free_fam[f], k);
+            for (j = 0; j < k; j++) /* the same setting twice: one run */
+                if (corrections_of(&c->free_fam[f], j) == corr)
+                    break;
+            if (j < k) {
+                R->det[f][k] = R->det[f][j];
+                continue;
+            }
             actag_params_default(&p);
             p.family = &c->free_fam[f];
             p.tag_size = tag_size_default;
-            p.max_bit_corrections = k == 0 ? 0
-                                    : k == 1 ? ACTAG_CORRECTIONS_AUTO
-                                             : actag_family_max_corrections(&c->free_fam[f]);
-            nd = actag_detect(&fr, &c->sonar.geo, &p, ws, wss, det, 16, NULL);
+            p.max_bit_corrections = corr;
+            nd = actag_detect(&fr, &sonar.geo, &p, ws, wss, det, 16, NULL);
             if (nd < 0) {
                 char m[200];
                 snprintf(m, sizeof m, "actag_detect failed: %s", actag_strerror(nd));
@@ -293,9 +320,11 @@ static void eval_free_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t w
 static void *worker(void *arg)
 {
     eval_ctx *c = (eval_ctx *)arg;
-    size_t wss = actag_workspace_size(c->sonar.rows, c->sonar.cols);
+    int rows = c->sonar.rows > c->free_sonar.rows ? c->sonar.rows : c->free_sonar.rows;
+    int cols = c->sonar.cols > c->free_sonar.cols ? c->sonar.cols : c->free_sonar.cols;
+    size_t wss = actag_workspace_size(rows, cols);
     void *ws = malloc(wss);
-    uint8_t *img = (uint8_t *)malloc((size_t)c->sonar.rows * (size_t)c->sonar.cols);
+    uint8_t *img = (uint8_t *)malloc((size_t)rows * (size_t)cols);
     int total = c->frames + c->tag_free;
     if (!ws || !img)
         die("out of memory");
@@ -493,7 +522,7 @@ static void parse_free_families(eval_ctx *c, const char *list)
 int main(int argc, char **argv)
 {
     static eval_ctx c;
-    int i, threads = 2, json = 0, pool = 0, corrections_set = 0;
+    int i, threads = 2, json = 0, pool = 0, corrections_set = 0, free_rows = 530, free_cols = 512;
     const char *family = "AcTag24h10", *svg = NULL, *free_list = "all", *failures = NULL;
     double aperture_deg = 60.0, elapsed;
     pthread_t th[16];
@@ -584,6 +613,22 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--cols")) {
             NEED();
             c.sonar.cols = (int)inum(o, v, 16, 8192);
+        } else if (!strcmp(o, "--free-rows")) {
+            NEED();
+            free_rows = (int)inum(o, v, 16, 8192);
+        } else if (!strcmp(o, "--free-cols")) {
+            NEED();
+            free_cols = (int)inum(o, v, 16, 8192);
+        } else if (!strcmp(o, "--free-max-range")) {
+            double mm[2];
+            char e2[HOSTIO_ERRLEN];
+            NEED();
+            if (hostio_parse_doubles(o, v, ',', mm, 2, e2) != HOSTIO_OK)
+                die(e2);
+            if (!(mm[0] > 0.0 && mm[1] >= mm[0]))
+                die("--free-max-range: expected LO,HI with 0 < LO <= HI");
+            c.free_min_max_range = (float)mm[0];
+            c.free_max_max_range = (float)mm[1];
         } else if (!strcmp(o, "--min-range")) {
             NEED();
             c.sonar.geo.min_range = (float)num(o, v, 0.0, 10000.0);
@@ -639,6 +684,15 @@ int main(int argc, char **argv)
         die(m);
     }
     parse_free_families(&c, free_list);
+    c.free_sonar = c.sonar;
+    c.free_sonar.rows = free_rows;
+    c.free_sonar.cols = free_cols;
+    if (c.free_max_max_range <= 0.0f) {
+        c.free_min_max_range = 3.0f;
+        c.free_max_max_range = 6.0f;
+    }
+    if (!(c.free_min_max_range > c.sonar.geo.min_range))
+        die("--free-max-range: must be above --min-range");
     if (c.frames + c.tag_free == 0)
         die("--frames and --tag-free are both 0: nothing to do");
     if (svg && mkdir(svg, 0777) != 0 && errno != EEXIST) {
@@ -821,13 +875,7 @@ int main(int argc, char **argv)
                     static const char *kn[NCORR] = {"zero", "default", "maximal"};
                     printf(", \"%s\": {\"corrections\": %d, \"detections\": %d, \"frames_with_"
                            "detections\": %d, \"rate\": %.6f}",
-                           kn[k],
-                           k == 0 ? 0
-                           : k == 1
-                               ? (actag_family_max_corrections(&c.free_fam[f]) < ACTAG_AUTO_CORRECTIONS
-                                      ? actag_family_max_corrections(&c.free_fam[f])
-                                      : ACTAG_AUTO_CORRECTIONS)
-                               : actag_family_max_corrections(&c.free_fam[f]),
+                           kn[k], corrections_of(&c.free_fam[f], k),
                            fam_total[f][k], fam_frames[f][k],
                            c.tag_free ? (double)fam_frames[f][k] / c.tag_free : 0.0);
                 }

@@ -41,6 +41,7 @@ void sim_appearance_default(sim_appearance *a)
     a->band_max = 2.0f;
     a->supersample = 3;
     a->looks = 2;
+    a->speckle = 1;
 }
 
 void sim_view_params_default(sim_view_params *v)
@@ -409,8 +410,15 @@ static float intensity_at(const render_ctx *c, float r, float az, float ca, floa
         if (rho < 1e-9f)
             continue;
         q = S->d / (r * rho);
-        if (q > 1.0f || q < -1.0f)
-            continue;
+        if (q > 1.0f || q < -1.0f) {
+            /* The arc misses the plane at this range, but may touch it
+             * within the range bin (a surface at normal incidence returns
+             * from one range only): then the tangent point, at full
+             * density. */
+            if ((q < 0.0f ? -q : q) * r / (r + 0.5f * c->dr) > 1.0f)
+                continue;
+            q = q > 0.0f ? 1.0f : -1.0f;
+        }
         sq = sqrtf(1.0f - q * q);
         cps = A / rho;
         sps = B / rho;
@@ -711,8 +719,13 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
         size_t idx;
         int kr;
         for (idx = 0; idx < n; idx++) {
-            re[idx] = mean[idx] * gauss(&g);
-            im[idx] = mean[idx] * gauss(&g);
+            if (a->speckle) {
+                re[idx] = mean[idx] * gauss(&g);
+                im[idx] = mean[idx] * gauss(&g);
+            } else { /* the mean field: the point spread's effect alone */
+                re[idx] = mean[idx] * 1.41421356f;
+                im[idx] = 0.0f;
+            }
         }
         /* beam spread: azimuth (along a row) then range (along a column) */
         kr = psf_kernel(a->psf_azimuth /

@@ -115,6 +115,8 @@ typedef struct sim_appearance {
     float band_min, band_max;                    /* band gain range */
     int supersample;                             /* samples per pixel side near tags (1..4) */
     int looks;                                   /* independent speckle looks averaged (1..8) */
+    int speckle;                                 /* 1: Rayleigh speckle; 0: the mean field
+                                                    (geometry tests) */
 } sim_appearance;
 
 typedef struct sim_truth {

@@ -1,0 +1,331 @@
+/* The simulator's own geometry and determinism, and simulated frames through
+ * the detector in every orientation the library accepts. */
+#include "unity.h"
+#include "sim.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+#define DEGF (3.14159265f / 180.0f)
+
+static uint64_t prng = 0x243f6a8885a308d3ull;
+static double urand(void) /* [0, 1) */
+{
+    prng ^= prng >> 12;
+    prng ^= prng << 25;
+    prng ^= prng >> 27;
+    return (double)((prng * 0x2545f4914f6cdd1dull) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* A non-uniform (Oculus-like) bearing table: denser near the centre. */
+static void make_bearings(float *b, int cols, float half)
+{
+    int c;
+    for (c = 0; c < cols; c++) {
+        float t = 2.0f * (float)c / (float)(cols - 1) - 1.0f; /* -1 .. 1 */
+        b[c] = half * (0.7f * t + 0.3f * t * t * t);
+    }
+}
+
+static void pool_sonar(sim_sonar *s, unsigned flags, const float *bearings)
+{
+    memset(s, 0, sizeof *s);
+    s->rows = 530;
+    s->cols = 512;
+    s->geo.min_range = 0.1f;
+    s->geo.max_range = 1.5f;
+    s->geo.aperture = 60.0f * DEGF;
+    s->geo.flags = flags;
+    s->geo.bearings = bearings;
+    s->vertical_aperture = 12.0f * DEGF;
+}
+
+/* sim_pixel_of is the inverse of the library's pixel -> (range, azimuth). */
+static void test_pixel_of_inverts_geometry(void)
+{
+    static float bt[512];
+    int o, i;
+    make_bearings(bt, 512, 30.0f * DEGF);
+    for (o = 0; o < 5; o++) {
+        sim_sonar s;
+        float x2, y2;
+        pool_sonar(&s, o < 4 ? (unsigned)o : 0u, o == 4 ? bt : NULL);
+        for (i = 0; i < 500; i++) {
+            float x = (float)(urand() * 511.0), y = (float)(urand() * 529.0);
+            float r = actag_geometry_range(&s.geo, s.rows, y);
+            float az = actag_geometry_azimuth(&s.geo, s.cols, x);
+            TEST_ASSERT_EQUAL_INT(0, sim_pixel_of(&s, r, az, &x2, &y2));
+            TEST_ASSERT_FLOAT_WITHIN(2e-3f, x, x2);
+            TEST_ASSERT_FLOAT_WITHIN(2e-3f, y, y2);
+        }
+        /* outside the fan */
+        TEST_ASSERT_EQUAL_INT(-1, sim_pixel_of(&s, 2.0f, 0.0f, &x2, &y2));
+        TEST_ASSERT_EQUAL_INT(-1, sim_pixel_of(&s, 1.0f, 40.0f * DEGF, &x2, &y2));
+    }
+}
+
+/* A small aluminium plate facing the sonar glints at one range and azimuth:
+ * the bright spot's centroid lands on the pixel predicted for its centre, in
+ * every orientation and with a non-uniform bearing table. */
+static void test_point_target_lands_on_predicted_pixel(void)
+{
+    static uint8_t img[530 * 512];
+    static float bt[512];
+    sim_appearance a;
+    int o, trial;
+    make_bearings(bt, 512, 30.0f * DEGF);
+    sim_appearance_default(&a);
+    a.speckle = 0;
+    a.noise = 0.0f;
+    a.band_rate = 0.0f;
+    a.spreading = 0.0f;
+    for (o = 0; o < 5; o++)
+        for (trial = 0; trial < 4; trial++) {
+            sim_sonar s;
+            sim_scene sc;
+            sim_tag *t = &sc.tags[0];
+            float r = (float)(0.4 + 0.9 * urand()), az = (float)((urand() - 0.5) * 0.8);
+            float el = (float)((urand() - 0.5) * 0.1), px, py, sw = 0.0f, sx = 0.0f, sy = 0.0f;
+            float p[3];
+            int x, y, maxv = 0;
+            pool_sonar(&s, o < 4 ? (unsigned)o : 0u, o == 4 ? bt : NULL);
+            memset(&sc, 0, sizeof sc);
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &t->family));
+            t->id = 0;
+            t->tag_size = 0.01f; /* the whole tag 2.3 cm: a few beams at this range */
+            p[0] = r * cosf(el) * cosf(az);
+            p[1] = r * cosf(el) * sinf(az);
+            p[2] = r * sinf(el);
+            /* the tag's back toward the sonar (z = -p / |p|): a uniform
+             * aluminium plate at normal incidence */
+            {
+                float z[3], xv[3], yv[3], up[3] = {0.0f, 0.0f, 1.0f};
+                int q;
+                for (q = 0; q < 3; q++)
+                    z[q] = -p[q] / r;
+                xv[0] = up[1] * z[2] - up[2] * z[1];
+                xv[1] = up[2] * z[0] - up[0] * z[2];
+                xv[2] = up[0] * z[1] - up[1] * z[0];
+                {
+                    float nx = sqrtf(xv[0] * xv[0] + xv[1] * xv[1] + xv[2] * xv[2]);
+                    for (q = 0; q < 3; q++)
+                        xv[q] /= nx;
+                }
+                yv[0] = z[1] * xv[2] - z[2] * xv[1];
+                yv[1] = z[2] * xv[0] - z[0] * xv[2];
+                yv[2] = z[0] * xv[1] - z[1] * xv[0];
+                for (q = 0; q < 3; q++) {
+                    t->pose.R[3 * q + 0] = xv[q];
+                    t->pose.R[3 * q + 1] = yv[q];
+                    t->pose.R[3 * q + 2] = z[q];
+                    t->pose.t[q] = p[q];
+                }
+            }
+            sc.ntags = 1;
+            TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 7u, img, NULL, 512, NULL));
+            TEST_ASSERT_EQUAL_INT(0, sim_pixel_of(&s, r, az, &px, &py));
+            for (y = 0; y < 530; y++)
+                for (x = 0; x < 512; x++)
+                    if (img[y * 512 + x] > maxv)
+                        maxv = img[y * 512 + x];
+            TEST_ASSERT_GREATER_THAN(20, maxv);
+            for (y = 0; y < 530; y++)
+                for (x = 0; x < 512; x++) {
+                    float v = (float)img[y * 512 + x];
+                    if (v >= 0.5f * (float)maxv) {
+                        sw += v;
+                        sx += v * (float)x;
+                        sy += v * (float)y;
+                    }
+                }
+            TEST_ASSERT_FLOAT_WITHIN(0.6f, px, sx / sw);
+            TEST_ASSERT_FLOAT_WITHIN(0.6f, py, sy / sw);
+        }
+}
+
+/* A tag lying upright below the sonar (printed top away from it) is seen as
+ * printed: TL at far range on the +azimuth side; rolling the sonar upside
+ * down mirrors it; the corners keep the tag's own order. */
+static void test_truth_orientation_and_mirror(void)
+{
+    sim_sonar s;
+    sim_tag t;
+    sim_truth tr;
+    pool_sonar(&s, 0u, NULL);
+    memset(&t, 0, sizeof t);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &t.family));
+    t.tag_size = 0.13f;
+    /* tag frame x (right) = sonar -y, y (down) = sonar -x, z (into) = sonar -z:
+     * a tag on the floor, top away from the sonar */
+    memset(t.pose.R, 0, sizeof t.pose.R);
+    t.pose.R[1] = -1.0f; /* sonar x = -tag y */
+    t.pose.R[3] = -1.0f; /* sonar y = -tag x */
+    t.pose.R[8] = -1.0f; /* sonar z = -tag z */
+    t.pose.t[0] = 1.0f;
+    t.pose.t[2] = -0.05f;
+    sim_truth_of(&s, &t, &tr);
+    TEST_ASSERT_EQUAL_INT(0, tr.mirrored);
+    TEST_ASSERT_EQUAL_INT(1, tr.visible);
+    TEST_ASSERT_TRUE(tr.range[0] > tr.range[3]);     /* TL farther than BL */
+    TEST_ASSERT_TRUE(tr.azimuth[0] > tr.azimuth[1]); /* TL on the +azimuth side of TR */
+    TEST_ASSERT_TRUE(tr.px[0].y < tr.px[3].y && tr.px[0].x < tr.px[1].x);
+    /* a tag above the sonar's plane, face down, top away: x = sonar +y */
+    t.pose.R[3] = 1.0f;
+    t.pose.R[8] = 1.0f;
+    t.pose.t[2] = 0.05f;
+    sim_truth_of(&s, &t, &tr);
+    TEST_ASSERT_EQUAL_INT(1, tr.mirrored);
+    /* other orientation flags change pixels, not the mirrored flag */
+    s.geo.flags = ACTAG_RANGE_ASCENDING;
+    sim_truth_of(&s, &t, &tr);
+    TEST_ASSERT_EQUAL_INT(1, tr.mirrored);
+    /* far outside the vertical aperture: not visible */
+    t.pose.t[2] = 0.6f;
+    sim_truth_of(&s, &t, &tr);
+    TEST_ASSERT_EQUAL_INT(0, tr.visible);
+}
+
+/* Same seed, same frame; another seed, another frame. */
+static void test_deterministic(void)
+{
+    static uint8_t a1[530 * 512], a2[530 * 512];
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    pool_sonar(&s, 0u, NULL);
+    sim_view_params_default(&v);
+    sim_appearance_default(&a);
+    memset(&t, 0, sizeof t);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &t.family));
+    t.tag_size = 0.130628571f;
+    v.min_distance = 0.9f;
+    v.max_distance = 1.3f;
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, 99u, &t, &sc));
+    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 99u, a1, NULL, 512, NULL));
+    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 99u, a2, NULL, 512, NULL));
+    TEST_ASSERT_EQUAL_INT(0, memcmp(a1, a2, sizeof a1));
+    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 100u, a2, NULL, 512, NULL));
+    TEST_ASSERT_TRUE(memcmp(a1, a2, sizeof a1) != 0);
+    TEST_ASSERT_NOT_EQUAL(sim_frame_seed(1u, 0u), sim_frame_seed(1u, 1u));
+    TEST_ASSERT_NOT_EQUAL(sim_frame_seed(1u, 0u), sim_frame_seed(2u, 0u));
+}
+
+/* A simulated pool view through actag_detect in every orientation the
+ * library accepts (the same scene rendered with the flags, and with a
+ * bearing table): the right ID, the true mirrored flag, corners in the tag's
+ * order near the truth; never another ID. */
+static void test_detect_in_every_orientation(void)
+{
+    static uint8_t img[530 * 512];
+    static uint8_t ws[ACTAG_WORKSPACE_SIZE(530, 512)];
+    static float bt[512];
+    sim_appearance a;
+    sim_view_params v;
+    actag_family fam;
+    int trial, o, found = 0, runs = 0;
+    make_bearings(bt, 512, 30.0f * DEGF);
+    sim_appearance_default(&a);
+    sim_view_params_default(&v);
+    v.min_distance = 0.9f;
+    v.max_distance = 1.2f;
+    v.min_incidence = 60.0f * DEGF;
+    v.max_incidence = 70.0f * DEGF;
+    v.max_yaw = 10.0f * DEGF;
+    v.clutter = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    for (trial = 0; trial < 4; trial++)
+        for (o = 0; o < 5; o++) {
+            sim_sonar s;
+            sim_tag t;
+            sim_scene sc;
+            sim_truth tr;
+            actag_params p;
+            actag_frame f;
+            actag_detection det[4];
+            int n, k, c;
+            pool_sonar(&s, o < 4 ? (unsigned)o : 0u, o == 4 ? bt : NULL);
+            memset(&t, 0, sizeof t);
+            t.family = fam;
+            t.id = trial % fam.ncodes;
+            t.tag_size = 0.130628571f;
+            v.mirror_fraction = (float)(trial & 1); /* both handednesses */
+            TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, 1000u + (uint32_t)trial, &t, &sc));
+            TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 5u + (uint32_t)trial, img, NULL, 512,
+                                                NULL));
+            sim_truth_of(&s, &t, &tr);
+            TEST_ASSERT_EQUAL_INT(trial & 1, tr.mirrored);
+            actag_params_default(&p);
+            p.family = &fam;
+            p.tag_size = t.tag_size;
+            f.data = img;
+            f.rows = 530;
+            f.cols = 512;
+            f.stride = 512;
+            f.depth = 8;
+            n = actag_detect(&f, &s.geo, &p, ws, sizeof ws, det, 4, NULL);
+            TEST_ASSERT_TRUE(n >= 0 && n <= 1);
+            runs++;
+            for (k = 0; k < n; k++) {
+                TEST_ASSERT_EQUAL_INT(t.id, det[k].id);
+                TEST_ASSERT_EQUAL_INT(tr.mirrored, det[k].mirrored);
+                /* corners within 40 % of a side: no corner-order error (a
+                 * wrong order moves corners by a whole side) */
+                float side = hypotf(tr.px[1].x - tr.px[0].x, tr.px[1].y - tr.px[0].y);
+                for (c = 0; c < 4; c++) {
+                    char msg[160];
+                    snprintf(msg, sizeof msg, "trial %d orientation %d corner %d: (%.1f, %.1f) "
+                             "truth (%.1f, %.1f)", trial, o, c, (double)det[k].corners[c].x,
+                             (double)det[k].corners[c].y, (double)tr.px[c].x, (double)tr.px[c].y);
+                    TEST_ASSERT_TRUE_MESSAGE(hypotf(tr.px[c].x - det[k].corners[c].x,
+                                                    tr.px[c].y - det[k].corners[c].y) <
+                                                 0.4f * side, msg);
+                }
+                found++;
+            }
+        }
+    /* clean near views: the detector must find most of them */
+    TEST_ASSERT_GREATER_OR_EQUAL(runs * 3 / 4, found);
+}
+
+/* Bad arguments are reported, not rendered. */
+static void test_render_errors(void)
+{
+    static uint8_t img[64 * 64];
+    char err[256];
+    sim_sonar s;
+    sim_scene sc;
+    sim_appearance a;
+    sim_appearance_default(&a);
+    memset(&sc, 0, sizeof sc);
+    pool_sonar(&s, 0u, NULL);
+    s.rows = s.cols = 64;
+    TEST_ASSERT_EQUAL_INT(-1, sim_render(NULL, &sc, &a, 1u, img, NULL, 64, err));
+    TEST_ASSERT_EQUAL_INT(-1, sim_render(&s, &sc, &a, 1u, img, NULL, 63, err));
+    s.geo.max_range = 0.05f;
+    TEST_ASSERT_EQUAL_INT(-1, sim_render(&s, &sc, &a, 1u, img, NULL, 64, err));
+    TEST_ASSERT_NOT_NULL(strstr(err, "geometry"));
+    s.geo.max_range = 1.5f;
+    sc.ntags = SIM_MAX_TAGS + 1;
+    TEST_ASSERT_EQUAL_INT(-1, sim_render(&s, &sc, &a, 1u, img, NULL, 64, err));
+    sc.ntags = 0;
+    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 1u, img, NULL, 64, err));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_pixel_of_inverts_geometry);
+    RUN_TEST(test_point_target_lands_on_predicted_pixel);
+    RUN_TEST(test_truth_orientation_and_mirror);
+    RUN_TEST(test_deterministic);
+    RUN_TEST(test_detect_in_every_orientation);
+    RUN_TEST(test_render_errors);
+    return UNITY_END();
+}
