@@ -1,0 +1,189 @@
+/* actag-eval and actag-sim as a user runs them: a small seeded evaluation
+ * with fixed bounds on error and detection rate, the tag-free run, the SVG
+ * output, ground truth written by actag-sim, and bad options (exit 2, a
+ * message naming the option and the value). */
+#define _POSIX_C_SOURCE 200809L
+#include "unity.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+static char out_path[512], err_path[512];
+
+static int run(const char *tool, const char *args)
+{
+    char cmd[4096];
+    int st;
+    snprintf(out_path, sizeof out_path, "%s/eval_out.txt", ACTAG_BINARY_DIR);
+    snprintf(err_path, sizeof err_path, "%s/eval_err.txt", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd, "\"%s\" %s > \"%s\" 2> \"%s\"", tool, args, out_path, err_path);
+    st = system(cmd);
+    return (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
+}
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    char *b;
+    long n;
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    b = (char *)calloc((size_t)n + 1, 1);
+    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
+        free(b);
+        b = NULL;
+    }
+    fclose(f);
+    return b;
+}
+
+/* The number after "key": (the first occurrence after from). */
+static double json_num(const char *s, const char *key)
+{
+    char pat[128];
+    const char *p;
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    p = strstr(s, pat);
+    TEST_ASSERT_NOT_NULL_MESSAGE(p, key);
+    return atof(p + strlen(pat));
+}
+
+/* 60 pool-geometry views, seed 3: bounds from the figures such a run gives
+ * (about 70 % found, range sd 0.6 cm, azimuth sd 0.005 rad), with slack; no
+ * wrong ID, mirror or order error in any case. */
+static void test_small_seeded_evaluation(void)
+{
+    char *js, *rng, *az;
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--pool --frames 60 --seed 3 --json --quiet"));
+    js = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(js);
+    TEST_ASSERT_EQUAL_INT(60, (int)json_num(js, "views"));
+    TEST_ASSERT_TRUE(json_num(js, "detection_rate") >= 0.5);
+    TEST_ASSERT_EQUAL_INT(0, (int)json_num(js, "wrong_ids"));
+    TEST_ASSERT_EQUAL_INT(0, (int)json_num(js, "false_tags"));
+    TEST_ASSERT_EQUAL_INT(0, (int)json_num(js, "mirror_errors"));
+    TEST_ASSERT_EQUAL_INT(0, (int)json_num(js, "corner_order_errors"));
+    rng = strstr(js, "\"range_error_m\"");
+    az = strstr(js, "\"azimuth_error_rad\"");
+    TEST_ASSERT_NOT_NULL(rng);
+    TEST_ASSERT_NOT_NULL(az);
+    TEST_ASSERT_TRUE(json_num(rng, "sd") <= 0.012);
+    TEST_ASSERT_TRUE(json_num(rng, "mean") <= 0.005 && json_num(rng, "mean") >= -0.005);
+    TEST_ASSERT_TRUE(json_num(az, "sd") <= 0.008);
+    TEST_ASSERT_TRUE(json_num(az, "mean") <= 0.002 && json_num(az, "mean") >= -0.002);
+    free(js);
+}
+
+/* Tag-free frames: nothing at the default corrections, for every family;
+ * the same figures with 1 thread as with 2 (frames are independent). */
+static void test_tag_free_and_threads(void)
+{
+    char *a, *b, *p;
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--frames 0 --tag-free 24 --json --quiet"));
+    a = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(a);
+    for (p = strstr(a, "\"default\": "); p; p = strstr(p + 1, "\"default\": "))
+        TEST_ASSERT_EQUAL_INT(0, (int)json_num(p, "detections"));
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH,
+                                 "--frames 0 --tag-free 24 --json --quiet --threads 1"));
+    b = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(b);
+    /* identical up to the timing fields at the end */
+    TEST_ASSERT_EQUAL_INT(0, strncmp(a, b, (size_t)(strstr(a, "\"seconds\"") - a)));
+    free(a);
+    free(b);
+}
+
+static void test_svg_output(void)
+{
+    char args[1024], path[1024];
+    static const char *names[4] = {"range_error.svg", "azimuth_error.svg", "rate_vs_distance.svg",
+                                   "rate_vs_incidence.svg"};
+    int i;
+    snprintf(args, sizeof args, "--pool --frames 12 --quiet --svg \"%s/eval_svg\"",
+             ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    for (i = 0; i < 4; i++) {
+        char *s;
+        snprintf(path, sizeof path, "%s/eval_svg/%s", ACTAG_BINARY_DIR, names[i]);
+        s = slurp(path);
+        TEST_ASSERT_NOT_NULL_MESSAGE(s, path);
+        TEST_ASSERT_NOT_NULL(strstr(s, "<svg"));
+        TEST_ASSERT_NOT_NULL(strstr(s, "</svg>"));
+        free(s);
+    }
+}
+
+/* actag-sim writes frames and one truth line per frame. */
+static void test_sim_writes_frames_and_truth(void)
+{
+    char args[1024], path[1024];
+    char *t;
+    int lines = 0;
+    const char *p;
+    snprintf(args, sizeof args, "--pool --random 3 --quiet --out-dir \"%s/sim_out\"",
+             ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+    snprintf(path, sizeof path, "%s/sim_out/truth.jsonl", ACTAG_BINARY_DIR);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL(t);
+    for (p = t; *p; p++)
+        lines += *p == '\n';
+    TEST_ASSERT_EQUAL_INT(3, lines);
+    TEST_ASSERT_NOT_NULL(strstr(t, "\"corners\": [{\"x\": "));
+    TEST_ASSERT_NOT_NULL(strstr(t, "\"mirrored\": "));
+    free(t);
+    snprintf(path, sizeof path, "%s/sim_out/sim_0002.pgm", ACTAG_BINARY_DIR);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL(t);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(t, "P5\n512 530\n255\n", 15));
+    free(t);
+    /* a fixed tag pose */
+    snprintf(args, sizeof args,
+             "--pool --tag AcTag24h10:3:1.0,0,-0.3,0,-20,0 --quiet --out-dir \"%s/sim_out2\"",
+             ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+}
+
+static void expect_error(const char *tool, const char *args, const char *what)
+{
+    char *e;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run(tool, args), args);
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, what), e);
+    free(e);
+}
+
+static void test_bad_options(void)
+{
+    expect_error(ACTAG_EVAL_PATH, "--frames -1", "--frames");
+    expect_error(ACTAG_EVAL_PATH, "--frames 10 --family AcTag99h1", "AcTag99h1");
+    expect_error(ACTAG_EVAL_PATH, "--max-range 0.05", "--max-range");
+    expect_error(ACTAG_EVAL_PATH, "--corrections 9", "--corrections");
+    expect_error(ACTAG_EVAL_PATH, "--bogus", "--bogus");
+    expect_error(ACTAG_SIM_PATH, "--random 2", "--out-dir");
+    expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:99:1,0,0,0,0,0 --out-dir /tmp", "99");
+    expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0 --out-dir /tmp", "--tag pose");
+    expect_error(ACTAG_SIM_PATH, "--random 2 --aperture-deg 400 --out-dir /tmp", "--aperture-deg");
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_small_seeded_evaluation);
+    RUN_TEST(test_tag_free_and_threads);
+    RUN_TEST(test_svg_output);
+    RUN_TEST(test_sim_writes_frames_and_truth);
+    RUN_TEST(test_bad_options);
+    return UNITY_END();
+}
