@@ -524,6 +524,12 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--search") == 0) {
             NEEDV();
             params.search_candidates = (int)parse_long(a, v, 0, ACTAG_SEARCH_MAX);
+        } else if (strcmp(a, "--min-structure") == 0) {
+            NEEDV();
+            params.min_structure = (float)parse_double(a, v);
+        } else if (strcmp(a, "--min-side-fraction") == 0) {
+            NEEDV();
+            params.min_side_fraction = (float)parse_double(a, v);
         } else if (strcmp(a, "--min-margin") == 0) {
             NEEDV();
             params.fit.min_margin = (float)parse_double(a, v);

@@ -206,6 +206,21 @@ static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
 
+/* The structure budget: black-ring cells read white, interior cells read
+ * black and corrected bits together may not exceed the reading's
+ * corrections limit, and each structure fraction must reach min_structure.
+ * (One budget instead of an all-or-nothing gate: a speckled ring cell
+ * costs what a corrected bit costs.) */
+static int structure_ok(const actag_decode_result *dr, const actag_params *p, int limit)
+{
+    int k = p->family->bits / 4;
+    float ring = (float)(4 * (k - 2)), in = (float)((k - 3) * (k - 3));
+    int misses = (int)((1.0f - dr->ring_black) * ring + 0.5f) +
+                 (int)((1.0f - dr->interior_white) * in + 0.5f);
+    return dr->ring_black >= p->min_structure && dr->interior_white >= p->min_structure &&
+           misses + dr->hamming <= limit;
+}
+
 /* The grid-fitting decoder with the pipeline's options. */
 static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
                       const actag_params *p, int max_corrections, int extra_flags,
@@ -405,8 +420,10 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                 if (drc != ACTAG_OK)
                     continue;
                 if (dr.decision_margin < params->search_min_margin ||
-                    dr.ring_black < params->min_structure ||
-                    dr.interior_white < params->min_structure ||
+                    !structure_ok(&dr, params,
+                                  params->search_max_corrections < params->max_bit_corrections
+                                      ? params->search_max_corrections
+                                      : params->max_bit_corrections) ||
                     !sides_plausible(dr.fit_corners, geometry, params, rows, cols))
                     continue;
                 st.decoded++;
@@ -486,8 +503,7 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                 /* the fit decoder's structure gate: black ring and white
                  * interior cells on the right side of the mid level */
                 if (rc == ACTAG_OK && params->decode_mode == ACTAG_DECODE_FIT &&
-                    (dr.ring_black < params->min_structure ||
-                     dr.interior_white < params->min_structure))
+                    !structure_ok(&dr, params, params->max_bit_corrections))
                     rc = ACTAG_ERR_NO_MATCH;
                 if (rc == ACTAG_OK)
                     break;

@@ -51,6 +51,7 @@ static void usage(FILE *f)
         "                         library's default for the family)\n"
         "  --min-margin F --search-min-margin F  least decision margins (library defaults)\n"
         "  --min-bit-margin N     least lead in corrected bits over the runner-up\n"
+        "  --min-structure F --min-side-fraction F  the pipeline's structure and side gates\n"
         "  --seed S (default 1)   --threads N (default 2)\n"
         "Views and sonar (defaults: the paper's: 0.1-5 m, 60 x 12 degrees, 1024 x 512,\n"
         "sonar within 0.5-5 m of the tag, 30-80 degrees incidence):\n"
@@ -121,6 +122,7 @@ typedef struct {
     int corrections;
     float min_margin, search_min_margin; /* < 0: the library's defaults */
     int min_bit_margin;                  /* < 0: the library's default */
+    float min_structure, min_side;       /* < 0: the library's defaults */
     actag_family free_fam[MAX_FAM];
     int nfree_fam;
     int frames, tag_free;
@@ -182,6 +184,10 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
         p.fit.min_margin = c->min_margin;
     if (c->min_bit_margin >= 0)
         p.fit.min_bit_margin = c->min_bit_margin;
+    if (c->min_structure >= 0.0f)
+        p.min_structure = c->min_structure;
+    if (c->min_side >= 0.0f)
+        p.min_side_fraction = c->min_side;
     if (c->search_min_margin >= 0.0f)
         p.search_min_margin = c->search_min_margin;
     fr.data = img;
@@ -532,6 +538,7 @@ int main(int argc, char **argv)
     c.seed = 1;
     c.min_margin = c.search_min_margin = -1.0f;
     c.min_bit_margin = -1;
+    c.min_structure = c.min_side = -1.0f;
     c.sonar.rows = 1024;
     c.sonar.cols = 512;
     c.sonar.geo.min_range = 0.1f;
@@ -574,6 +581,12 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--min-margin")) {
             NEED();
             c.min_margin = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--min-structure")) {
+            NEED();
+            c.min_structure = (float)num(o, v, 0.0, 1.0);
+        } else if (!strcmp(o, "--min-side-fraction")) {
+            NEED();
+            c.min_side = (float)num(o, v, 0.0, 10.0);
         } else if (!strcmp(o, "--min-bit-margin")) {
             NEED();
             c.min_bit_margin = (int)inum(o, v, 0, 32);
