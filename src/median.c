@@ -22,7 +22,9 @@
  * Speed (x86-64, SSE2 path, gcc -O2/-O3, one core): about 1.7 ms for a
  * 530 x 512 sonar frame at R = 4 (the same up to R = 16; 3 ms at R = 127,
  * where the O(R) set-up per row shows). The portable path computes the
- * same bytes (tests check both). */
+ * same bytes (tests check both); for R <= 7 it uses median_quad() below
+ * (a sliding histogram shared by four rows), which without SIMD is about
+ * 3x faster than the constant-time scheme at R = 4. */
 #include "actag/median.h"
 
 #include <string.h>
@@ -230,6 +232,143 @@ static unsigned h16_get(const h16 *h, unsigned k)
 
 #endif
 
+#ifndef MEDIAN_SSE2
+/* ----------------------------------------------------------------------
+ * Radii up to 7: four output rows at a time, one histogram (Huang's
+ * scheme, as above) for the four windows. hist[v] packs the four windows'
+ * 8-bit counts of level v (a window holds (2R+1)^2 <= 225 samples); the
+ * 2R+4 source rows of a block of four output rows enter the windows of the
+ * rows they cover (mask[t], 0x01 per covered lane), so each sample costs
+ * one histogram update for all four windows instead of up to four. The
+ * number of samples below each window's median is updated for all four at
+ * once with 16-bit lanes: lane p of medb is med[p] + 255, so bit 8 of lane
+ * p of medb - v * 0x0001000100010001 is (v < med[p]) and no lane borrows.
+ * ---------------------------------------------------------------------- */
+#define MEDIAN_QUAD_MAX_R 7
+#define LANES16 0x0001000100010001ull
+
+/* bcast16[v]: v in each of four 16-bit lanes (a table: cheaper than the
+ * multiply or shifts on both x86-64 and Cortex-M). */
+#define BC1(v) ((uint64_t)(v) * LANES16)
+#define BC4(v) BC1(v), BC1((v) + 1), BC1((v) + 2), BC1((v) + 3)
+#define BC16(v) BC4(v), BC4((v) + 4), BC4((v) + 8), BC4((v) + 12)
+#define BC64(v) BC16(v), BC16((v) + 16), BC16((v) + 32), BC16((v) + 48)
+static const uint64_t bcast16_tab[256] = {BC64(0), BC64(64), BC64(128), BC64(192)};
+#define bcast16(v) bcast16_tab[v]
+
+static void median_quad(const uint8_t *src, int rows, int cols, size_t sstride, uint8_t *dst,
+                        size_t dstride, int R)
+{
+    uint32_t hist[256];
+    const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint64_t mask16[2 * MEDIAN_QUAD_MAX_R + 4];
+    const int n = 2 * R + 1, nt = n + 3;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    int i0, j, t, p;
+
+    for (t = 0; t < nt; t++) {
+        uint32_t m8 = 0;
+        uint64_t m16 = 0;
+        for (p = 0; p < 4; p++) {
+            if (p <= t && t <= p + n - 1) {
+                m8 |= (uint32_t)1u << (8 * p);
+                m16 |= (uint64_t)1u << (16 * p);
+            }
+        }
+        mask8[t] = m8;
+        mask16[t] = m16;
+    }
+
+    for (i0 = 0; i0 < rows; i0 += 4) {
+        unsigned med[4], lt[4];
+        uint64_t medb = 0;
+        int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
+        for (t = 0; t < nt; t++)
+            rowp[t] = src + (size_t)clampi(i0 - R + t, 0, rows - 1) * sstride;
+
+        /* Windows of column 0: columns clamp(-R..R). */
+        memset(hist, 0, sizeof hist);
+        for (t = 0; t < nt; t++) {
+            const uint8_t *s = rowp[t];
+            int b;
+            for (b = -R; b <= R; b++)
+                hist[s[clampi(b, 0, cols - 1)]] += mask8[t];
+        }
+        for (p = 0; p < 4; p++) {
+            unsigned m = 0, l = 0, sh = 8u * (unsigned)p;
+            while (l + ((hist[m] >> sh) & 0xFFu) <= half) {
+                l += (hist[m] >> sh) & 0xFFu;
+                m++;
+            }
+            med[p] = m;
+            lt[p] = l;
+            medb |= (uint64_t)(m + 255u) << (16 * p);
+            if (p < np)
+                dst[(size_t)(i0 + p) * dstride] = (uint8_t)m;
+        }
+
+        for (j = 1; j < cols; j++) {
+            size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
+            size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+            if (ca != cr) {
+                /* acc collects 256 * (change of lt) per 16-bit lane; the
+                 * lanes start at 64 * 256 so that they never go negative. */
+                uint64_t acc = 64u * 256u * LANES16;
+                for (t = 0; t < nt; t++) {
+                    unsigned vin = rowp[t][ca], vout = rowp[t][cr];
+                    uint64_t m16 = mask16[t];
+                    uint32_t m8 = mask8[t];
+                    if (t == 3 && n > 3) {
+                        /* Rows 3 .. n-1 are in all four windows. */
+                        for (; t < n; t++) {
+                            vin = rowp[t][ca];
+                            vout = rowp[t][cr];
+                            hist[vin] += 0x01010101u;
+                            hist[vout] -= 0x01010101u;
+                            acc += (medb - bcast16(vin)) & (256u * LANES16);
+                            acc -= (medb - bcast16(vout)) & (256u * LANES16);
+                        }
+                        vin = rowp[t][ca];
+                        vout = rowp[t][cr];
+                        m16 = mask16[t];
+                        m8 = mask8[t];
+                    }
+                    hist[vin] += m8;
+                    hist[vout] -= m8;
+                    acc += (medb - bcast16(vin)) & (m16 << 8);
+                    acc -= (medb - bcast16(vout)) & (m16 << 8);
+                }
+                acc >>= 8;
+                medb = 0;
+                for (p = 0; p < 4; p++) {
+                    unsigned sh = 8u * (unsigned)p;
+                    unsigned m = med[p];
+                    unsigned l = lt[p] + (unsigned)((acc >> (16 * p)) & 0xFFFFu) - 64u;
+                    if (l > half) {
+                        do {
+                            m--;
+                            l -= (hist[m] >> sh) & 0xFFu;
+                        } while (l > half);
+                    } else {
+                        while (l + ((hist[m] >> sh) & 0xFFu) <= half) {
+                            l += (hist[m] >> sh) & 0xFFu;
+                            m++;
+                        }
+                    }
+                    med[p] = m;
+                    lt[p] = l;
+                    medb |= (uint64_t)(m + 255u) << (16 * p);
+                }
+            }
+            for (p = 0; p < np; p++)
+                dst[(size_t)(i0 + p) * dstride + (size_t)j] = (uint8_t)med[p];
+        }
+    }
+}
+
+#endif /* !MEDIAN_SSE2 */
+
 int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
                         uint8_t *dst, int dst_stride, int radius,
                         void *scratch, size_t scratch_size)
@@ -262,6 +401,13 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
             memcpy(dst + (size_t)i * dstride, src + (size_t)i * sstride, ucols);
         return ACTAG_OK;
     }
+#ifndef MEDIAN_SSE2
+    /* Without SIMD, radii up to 7 are faster with a sliding histogram. */
+    if (R <= MEDIAN_QUAD_MAX_R) {
+        median_quad(src, rows, cols, sstride, dst, dstride, R);
+        return ACTAG_OK;
+    }
+#endif
 
     colc = (uint8_t *)scratch;
     colf = colc + ucols * 16u;

@@ -159,7 +159,132 @@ static void check_case(int rows, int cols, int R, int kind, int sextra, int dext
     free(scratch);
 }
 
+/* Checks both paths on a given image (stride sstride, padding already
+ * filled by the caller) against the brute-force reference. */
+static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int dextra,
+                        const char *what)
+{
+    int dstride = cols + dextra, f, i, j;
+    size_t dsize = (size_t)rows * (size_t)dstride;
+    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+    uint8_t *want = (uint8_t *)malloc(dsize);
+    uint8_t *out = (uint8_t *)malloc(dsize);
+    uint8_t *scratch = (uint8_t *)malloc(scr);
+    char msg[200];
+
+    TEST_ASSERT_NOT_NULL(want);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_NOT_NULL(scratch);
+    brute_median(src, rows, cols, sstride, R, want, dstride);
+    for (f = 0; f < 2; f++) {
+        memset(out, 0xA5, dsize);
+        memset(scratch, 0x5A, scr);
+        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d sstride=%d", FN_NAMES[f], what, rows, cols, R,
+                 sstride);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, scratch, scr),
+                                      msg);
+        for (i = 0; i < rows; i++)
+            for (j = 0; j < dstride; j++) {
+                size_t k = (size_t)i * (size_t)dstride + (size_t)j;
+                uint8_t expect = j < cols ? want[k] : (uint8_t)0xA5;
+                if (out[k] != expect) {
+                    snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d at (%d,%d): got %d want %d",
+                             FN_NAMES[f], what, rows, cols, R, i, j, out[k], expect);
+                    TEST_FAIL_MESSAGE(msg);
+                }
+            }
+    }
+    free(want);
+    free(out);
+    free(scratch);
+}
+
 /* ------------------------------------------------------------ tests */
+
+static void test_partial_row_blocks(void)
+{
+    /* The portable path works on blocks of four output rows: every row
+     * count 1..13 (blocks of 1, 2, 3 and 4 rows at the bottom) at every
+     * radius 1..8 and several fills, with and without padding. */
+    int rows, R;
+    rng_state = 0x51DEu;
+    for (rows = 1; rows <= 13; rows++)
+        for (R = 1; R <= 8; R++) {
+            int cols = rnd_range(1, 45);
+            int kind = (int)(rnd() % FILL_N);
+            check_case(rows, cols, R, kind, (rows + R) & 3, R & 1);
+        }
+}
+
+static void test_constant_and_extreme_images(void)
+{
+    /* All-equal images (0, 255 and a middle level): the median is that
+     * level; images of only 0 and 255 in stripes and checkerboards, where
+     * the median jumps between the extremes from one pixel to the next. */
+    static const int levels[] = {0, 255, 128};
+    static const int shapes[][2] = {{1, 1}, {1, 37}, {37, 1}, {2, 50}, {50, 2}, {23, 31}, {64, 64}};
+    static const int radii[] = {0, 1, 2, 3, 4, 5, 7, 8, 9, 16, 127};
+    uint8_t *img = (uint8_t *)malloc(64u * 80u);
+    size_t a, b, r;
+    int i, j;
+    TEST_ASSERT_NOT_NULL(img);
+    for (a = 0; a < sizeof shapes / sizeof shapes[0]; a++) {
+        int rows = shapes[a][0], cols = shapes[a][1], sstride = cols + 7;
+        for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
+            int R = radii[r];
+            for (b = 0; b < 3; b++) {
+                memset(img, levels[b], (size_t)rows * (size_t)sstride);
+                for (i = 0; i < rows; i++) /* padding of another level */
+                    memset(img + (size_t)i * (size_t)sstride + (size_t)cols, 255 - levels[b], 7);
+                check_image(img, rows, cols, sstride, R, 3, "constant");
+            }
+            for (b = 0; b < 4; b++) {
+                for (i = 0; i < rows; i++)
+                    for (j = 0; j < sstride; j++) {
+                        int on;
+                        switch (b) {
+                        case 0: on = (j / (R + 1)) & 1; break;          /* vertical stripes */
+                        case 1: on = (i / (R + 1)) & 1; break;          /* horizontal stripes */
+                        case 2: on = (i + j) & 1; break;                /* checkerboard */
+                        default: on = ((i / 3) + (j / 5)) % 3 == 0; break; /* blocks */
+                        }
+                        img[(size_t)i * (size_t)sstride + (size_t)j] = on ? 255 : 0;
+                    }
+                check_image(img, rows, cols, sstride, R, 0, "0/255 pattern");
+            }
+        }
+    }
+    free(img);
+}
+
+static void test_wide_strides(void)
+{
+    /* Strides much larger than cols (sub-images of a larger buffer), the
+     * padding full of random bytes that must be neither read nor written. */
+    static const int radii[] = {0, 1, 4, 7, 8, 20};
+    int t;
+    rng_state = 0xD00Du;
+    for (t = 0; t < 24; t++) {
+        int rows = rnd_range(1, 30), cols = rnd_range(1, 30);
+        int sextra = rnd_range(30, 200), dextra = rnd_range(30, 200);
+        int kind = (int)(rnd() % FILL_N);
+        check_case(rows, cols, radii[t % 6], kind, sextra, dextra);
+    }
+}
+
+static void test_every_small_radius_random(void)
+{
+    /* Every radius 0..15 on random images with random sizes (the portable
+     * path's four-row histogram covers 1..7, the constant-time one above). */
+    int R, t;
+    rng_state = 0x7E57u;
+    for (R = 0; R <= 15; R++)
+        for (t = 0; t < 6; t++) {
+            int rows = rnd_range(1, 60), cols = rnd_range(1, 60);
+            int kind = t < 3 ? FILL_UNIFORM : (int)(rnd() % FILL_N);
+            check_case(rows, cols, R, kind, t & 1 ? 3 : 0, t & 2 ? 2 : 0);
+        }
+}
 
 static void test_random_images(void)
 {
@@ -184,8 +309,11 @@ static void test_value_patterns(void)
     int kind, R;
     rng_state = 0xBEEFu;
     for (kind = 0; kind < FILL_N; kind++)
-        for (R = 0; R <= 9; R++)
-            check_case(rnd_range(10, 30), rnd_range(10, 60), R, kind, 3, 5);
+        for (R = 0; R <= 9; R++) {
+            int rows = rnd_range(10, 30); /* one PRNG call per statement: */
+            int cols = rnd_range(10, 60); /* argument order is unspecified */
+            check_case(rows, cols, R, kind, 3, 5);
+        }
 }
 
 static void test_thin_images(void)
@@ -330,6 +458,10 @@ int main(void)
     RUN_TEST(test_radius_beyond_image);
     RUN_TEST(test_wide_and_tall);
     RUN_TEST(test_max_counts);
+    RUN_TEST(test_partial_row_blocks);
+    RUN_TEST(test_constant_and_extreme_images);
+    RUN_TEST(test_wide_strides);
+    RUN_TEST(test_every_small_radius_random);
     RUN_TEST(test_real_sonar_frame);
     RUN_TEST(test_errors);
     return UNITY_END();

@@ -29,6 +29,18 @@
  *   ACTAG_NO_SIMD when building the library selects the portable C path,
  *   which gives identical output.
  *
+ *   Portable path (no SSE2: ARM, Cortex-M, or ACTAG_NO_SIMD), radii 1..7:
+ *   Huang's sliding histogram instead, one 256-bin histogram shared by four
+ *   output rows (their four 8-bit counts packed in one 32-bit word per
+ *   level, so a sample entering or leaving costs one update for all the
+ *   windows it belongs to) and the four "samples below the median" counts
+ *   updated together in 16-bit lanes of a 64-bit word. O(R) per pixel but
+ *   plain integer operations only: at R = 4 about 3.4x fewer instructions
+ *   than the portable constant-time path (~127 vs ~431 per pixel on x86-64,
+ *   gcc -O3) and about 3x less time. It needs no scratch (the scratch size
+ *   is still checked, so that one size fits every radius). Radii >= 8 use
+ *   the constant-time path.
+ *
  *   src and dst must not overlap (src == dst is rejected with
  *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
  *
@@ -37,8 +49,9 @@
  *   ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) bytes (272 bytes per image column:
  *   8-bit column histograms; 139,264 bytes for 512 columns, whatever the
  *   number of rows or the radius). No alignment is required. The kernel
- *   histograms live on the stack (under 1 KiB). scratch is checked for
- *   every radius, R = 0 included.
+ *   histograms live on the stack (under 1 KiB; the portable path's four-row
+ *   histogram for R <= 7 under 1.5 KiB). scratch is checked for every
+ *   radius, R = 0 included.
  *
  * LIMITS
  *   0 <= radius <= ACTAG_MEDIAN_MAX_RADIUS (127): column histogram counters
