@@ -43,8 +43,10 @@
  * are prefetched a few candidates ahead.
  *
  * Progress (stderr, every 2 s once a run takes longer than that): fraction
- * searched, codes so far, elapsed time and a linear estimate of the time
- * left (an upper estimate: codes, and with them ball marking, thin out as
+ * searched, codes so far, elapsed wall-clock time and an estimate of the
+ * time left in two parts: the search at its rate so far (ball marking
+ * excluded), plus the marking time per code so far for every further code
+ * (how many more there will be nobody knows in advance; they thin out as
  * the search goes on).
  *
  * Exit status: 0 success; 2 bad arguments or unwritable output; 1 when the
@@ -52,6 +54,7 @@
  *
  * Host-only tool: uses the standard library freely.
  */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime for wall-clock progress */
 #include <ctype.h>
 #include <errno.h>
 #include <stdint.h>
@@ -458,6 +461,18 @@ static char rule_letter(const layout *L, uint64_t excluded_pos, double complexit
     return excluded_pos == corners ? 'm' : 0;
 }
 
+/* Wall-clock seconds (what a progress estimate is about); CPU time where
+ * the POSIX clock is missing. */
+static double now_s(void)
+{
+#if defined(CLOCK_MONOTONIC)
+    struct timespec ts;
+    if (clock_gettime(CLOCK_MONOTONIC, &ts) == 0)
+        return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+#endif
+    return (double)clock() / CLOCKS_PER_SEC;
+}
+
 static void fmt_secs(char *buf, size_t n, double s)
 {
     if (s < 120)
@@ -480,7 +495,7 @@ int main(int argc, char **argv)
     forbid_map F;
     energy_model em;
     double min_energy, complexity = DEFAULT_COMPLEXITY;
-    clock_t t0 = clock(), last_report;
+    double t0 = now_s(), last_report, t_mark = 0.0; /* t_mark: time spent marking balls */
     int reported = 0;
     size_t codes_at_report = 0; /* codes at the last progress check */
 
@@ -683,16 +698,18 @@ int main(int argc, char **argv)
             ring[iter & (PREFETCH_AHEAD - 1)] = pi;
         }
         if ((iter & 0xfffff) == 0 || ncodes != codes_at_report) {
-            clock_t now = clock();
+            double now = now_s();
             codes_at_report = ncodes; /* next check: after 2^20 more or a new code */
-            if ((double)(now - last_report) / CLOCKS_PER_SEC >= 2.0 && iter > 0) {
-                double el = (double)(now - t0) / CLOCKS_PER_SEC;
+            if (now - last_report >= 2.0 && iter > 0) {
+                double el = now - t0, scan = el - t_mark;
                 double frac = (double)iter / (double)total;
                 char e1[32], e2[32];
                 fmt_secs(e1, sizeof e1, el);
-                fmt_secs(e2, sizeof e2, el * (1.0 - frac) / frac);
-                fprintf(stderr, "\r" PROG ": %s: %5.1f%% searched, %lu codes, %s, about %s left  ",
-                        name, 100.0 * frac, (unsigned long)ncodes, e1, e2);
+                fmt_secs(e2, sizeof e2, scan * (1.0 - frac) / frac);
+                fprintf(stderr, "\r" PROG ": %s: %5.1f%% searched, %lu codes, %s; about %s left "
+                                "+ %.2g s per further code  ",
+                        name, 100.0 * frac, (unsigned long)ncodes, e1, e2,
+                        ncodes ? t_mark / (double)ncodes : 0.0);
                 fflush(stderr);
                 last_report = now;
                 reported = 1;
@@ -724,12 +741,16 @@ int main(int argc, char **argv)
             codes = nc;
         }
         codes[ncodes++] = v;
-        for (a = 0; a < 8; a++)
-            mark_ball(&F, squeeze(&L, o[a]));
+        {
+            double tm = now_s();
+            for (a = 0; a < 8; a++)
+                mark_ball(&F, squeeze(&L, o[a]));
+            t_mark += now_s() - tm;
+        }
     }
     if (reported) {
         char e1[32];
-        fmt_secs(e1, sizeof e1, (double)(clock() - t0) / CLOCKS_PER_SEC);
+        fmt_secs(e1, sizeof e1, now_s() - t0);
         fprintf(stderr, "\r" PROG ": %s: 100.0%% searched, %lu codes, %s%30s\n", name,
                 (unsigned long)ncodes, e1, "");
     }
