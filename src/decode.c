@@ -516,6 +516,8 @@ static void flevels(const float *m, int k, float *black, float *white)
 }
 
 #define FIT_INITS 5
+/* grids the ACTAG_FIT_WIDE search compares: 5 starts x (25 + 8) shifts */
+#define FIT_WIDE_GRIDS (FIT_INITS * 33)
 #ifndef ACTAG_FIT_MARGIN
 #define ACTAG_FIT_MARGIN 1
 #endif
@@ -938,7 +940,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     min_contrast = fp->min_contrast;
     level = fp->level;
     if (min_contrast < 0 || min_contrast > 255 || !(level >= 0.0f) || !(level <= 1.0f) ||
-        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f) || !(fp->min_margin >= 0.0f) || fp->min_bit_margin < 0 || fp->min_bit_margin > 32 ||
+        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f) || !(fp->min_margin >= -1.0e6f) || fp->min_bit_margin < 0 || fp->min_bit_margin > 32 ||
         !(fp->min_margin <= 1.0e6f))
         return ACTAG_ERR_PARAM;
     maxc = actag_family_max_corrections(family);
@@ -1146,6 +1148,11 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 s2 = floor2;
             margin = 0.5f * (rss2 - rss0) / s2;
         }
+        /* Look-elsewhere allowance: the best of N hypotheses (8 views of
+         * every code, times the grids the wide search tries) beats the
+         * next by ln N on pure noise; the margin counts what is left. */
+        margin -= logf(8.0f * (float)family->ncodes *
+                       ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
         if (margin < fp->min_margin || ml.h2 - ml.best.hamming < fp->min_bit_margin)
             return ACTAG_ERR_NO_MATCH;
         out->bit_margin = ml.h2 - ml.best.hamming;

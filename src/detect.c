@@ -120,8 +120,8 @@ int actag_params_validate(const actag_params *p)
         p->search_candidates < 0 || p->search_candidates > ACTAG_SEARCH_MAX || p->search_min_score < 0 ||
         p->search_min_score > 255 || !(p->search_range_scale > 0.05f) ||
         !(p->search_range_scale <= 4.0f) || p->search_max_corrections < 0 ||
-        !(p->search_min_margin >= 0.0f) || !(p->search_min_margin <= 1.0e6f) ||
-        !(p->fit.min_margin >= 0.0f) || !(p->fit.min_margin <= 1.0e6f) ||
+        !(p->search_min_margin >= -1.0e6f) || !(p->search_min_margin <= 1.0e6f) ||
+        !(p->fit.min_margin >= -1.0e6f) || !(p->fit.min_margin <= 1.0e6f) ||
         !(p->min_structure <= 1.0f) || !(p->min_side_fraction >= 0.0f) ||
         !(p->max_side_fraction >= p->min_side_fraction))
         return ACTAG_ERR_PARAM;

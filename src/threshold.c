@@ -20,6 +20,15 @@
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define THRESHOLD_SSE2 1
 #include <emmintrin.h>
+#elif defined(ACTAG_FORCE_SWAR) ||                                                        \
+    !(defined(__SSE2__) || defined(__ARM_NEON) || defined(__ARM_FEATURE_MVE) ||          \
+      defined(__riscv_vector) || defined(__ALTIVEC__))
+/* No vector unit for the compiler to use (Cortex-M, ...): word-at-a-time
+ * (SWAR) row operations and a horizontal pass fused with the threshold.
+ * (With one, the plain byte loops below are vectorized by the compiler,
+ * which beats SWAR.) ACTAG_FORCE_SWAR selects this variant anywhere, so
+ * that the tests check it on any host. */
+#define THRESHOLD_SCALAR 1
 #endif
 
 static uint8_t min8(uint8_t a, uint8_t b)
@@ -44,6 +53,52 @@ static void st(uint8_t *p, __m128i v)
 }
 #endif
 
+#ifdef THRESHOLD_SCALAR
+/* Portable word-at-a-time (SWAR) byte min/max: a machine word holds 8
+ * (64-bit targets) or 4 bytes; unaligned words are moved with memcpy,
+ * which compilers turn into single loads and stores. */
+#if UINTPTR_MAX > 0xFFFFFFFFu
+typedef uint64_t word_t;
+#define WORD_ONES 0x0101010101010101ull
+#else
+typedef uint32_t word_t;
+#define WORD_ONES 0x01010101u
+#endif
+#define WORD_HIGH (WORD_ONES * 0x80u)
+
+static word_t ldw(const uint8_t *p)
+{
+    word_t w;
+    memcpy(&w, p, sizeof w);
+    return w;
+}
+
+static void stw(uint8_t *p, word_t w)
+{
+    memcpy(p, &w, sizeof w);
+}
+
+/* 0xFF in every byte lane where a < b (unsigned), else 0: the lane's
+ * borrow of a - b, from a subtraction of the low 7 bits that cannot
+ * borrow across lanes and the lanes' top bits. */
+static word_t lt_mask(word_t a, word_t b)
+{
+    word_t t = (a | WORD_HIGH) - (b & ~WORD_HIGH);
+    word_t lt = ((~a & b) | ~((a ^ b) | t)) & WORD_HIGH;
+    return (lt >> 7) * 0xFFu;
+}
+
+static word_t minw(word_t a, word_t b)
+{
+    return b ^ ((a ^ b) & lt_mask(a, b));
+}
+
+static word_t maxw(word_t a, word_t b)
+{
+    return a ^ ((a ^ b) & lt_mask(a, b));
+}
+#endif
+
 /* dmin = min(amin, bmin), dmax = max(amax, bmax) over n bytes. d may equal
  * a or b (same pointer); no other overlap. The row operations below have an
  * SSE2 body and a portable one (and tail); both give the same bytes. */
@@ -58,6 +113,13 @@ static void minmax_rows(uint8_t *dmin, uint8_t *dmax, const uint8_t *amin, const
         st(dmin + k, mn);
         st(dmax + k, mx);
     }
+#elif defined(THRESHOLD_SCALAR)
+    for (; k + sizeof(word_t) <= n; k += sizeof(word_t)) {
+        word_t mn = minw(ldw(amin + k), ldw(bmin + k));
+        word_t mx = maxw(ldw(amax + k), ldw(bmax + k));
+        stw(dmin + k, mn);
+        stw(dmax + k, mx);
+    }
 #endif
     for (; k < n; k++) {
         uint8_t mn = min8(amin[k], bmin[k]), mx = max8(amax[k], bmax[k]);
@@ -66,6 +128,7 @@ static void minmax_rows(uint8_t *dmin, uint8_t *dmax, const uint8_t *amin, const
     }
 }
 
+#ifndef THRESHOLD_SCALAR
 /* Full-window thresholds of n consecutive pixels x:
  * d = (2x + off2 >= min(sa, pa) + max(sb, pb)), off2 = 2 * offset in
  * [-512, 510]. */
@@ -121,6 +184,79 @@ static void block_prefix_suffix(uint8_t *restrict xmin, uint8_t *restrict xmax,
         }
     }
 }
+
+#endif /* !THRESHOLD_SCALAR */
+
+#ifdef THRESHOLD_SCALAR
+/* Horizontal pass and threshold of one row in two passes (no SIMD): on
+ * entry hmin/hmax hold the row's vertical extrema h (n samples), x the
+ * row's pixels; smin/smax receive the block suffix extrema S (blocks of w =
+ * 2r+1). A forward pass then keeps the block prefix extremum p of h[t] in
+ * a register and writes pixel j = t - r, whose window is [max(0, j-r), t]:
+ * min(S[j-r], p) for j >= r (a full window, see the top of the file),
+ * p alone for j < r (then t < 2r, inside block 0, so p = extremum of
+ * h[0..t]). The pixels j > n-1-r (window [max(0, j-r), n-1]) follow from
+ * S and the prefix of the last block up to n-1. */
+static void row_threshold(uint8_t *restrict d, const uint8_t *restrict x,
+                          const uint8_t *restrict hmin, const uint8_t *restrict hmax,
+                          uint8_t *restrict smin, uint8_t *restrict smax, int n, int r, int off2)
+{
+    const int w = 2 * r + 1;
+    int b0, t, j;
+    uint8_t pmn = 0, pmx = 0;  /* prefix extrema of the current block */
+    int last0 = 0;             /* start of the last block */
+
+    for (b0 = 0; b0 < n; b0 += w) {
+        int end = n - b0 > w ? b0 + w : n;
+        uint8_t a = hmin[end - 1], c = hmax[end - 1];
+        smin[end - 1] = a;
+        smax[end - 1] = c;
+        for (t = end - 2; t >= b0; t--) {
+            a = min8(a, hmin[t]);
+            c = max8(c, hmax[t]);
+            smin[t] = a;
+            smax[t] = c;
+        }
+    }
+    /* Block 0: outputs j = t - r for r <= t < 2r (windows [0, t]); t = 2r,
+     * the block's last sample, gives j = r, a full window equal to p. */
+    {
+        int end = n < w ? n : w;
+        pmn = hmin[0];
+        pmx = hmax[0];
+        for (t = 0; t < end; t++) {
+            pmn = min8(pmn, hmin[t]);
+            pmx = max8(pmx, hmax[t]);
+            if (t >= r)
+                d[t - r] = (uint8_t)(2 * x[t - r] + off2 >= pmn + pmx);
+        }
+    }
+    for (b0 = w; b0 < n; b0 += w) {
+        int end = n - b0 > w ? b0 + w : n;
+        const uint8_t *sa = smin - 2 * r, *sb = smax - 2 * r, *xs = x - r;
+        uint8_t *ds = d - r;
+        last0 = b0;
+        pmn = hmin[b0];
+        pmx = hmax[b0];
+        for (t = b0; t < end; t++) {
+            pmn = min8(pmn, hmin[t]);
+            pmx = max8(pmx, hmax[t]);
+            ds[t] = (uint8_t)(2 * xs[t] + off2 >= min8(sa[t], pmn) + max8(sb[t], pmx));
+        }
+    }
+    /* Pixels whose window reaches n-1: pmn/pmx now hold the last block's
+     * prefix extrema up to n-1. */
+    for (j = n - r > 0 ? n - r : 0; j < n; j++) {
+        int lo = j - r > 0 ? j - r : 0;
+        int mn = smin[lo], mx = smax[lo];
+        if (lo < last0) {
+            mn = min8(smin[lo], pmn);
+            mx = max8(smax[lo], pmx);
+        }
+        d[j] = (uint8_t)(2 * x[j] + off2 >= mn + mx);
+    }
+}
+#endif
 
 int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
                              uint8_t *dst, int dst_stride, int radius, int offset,
@@ -220,6 +356,11 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
         }
 
         /* Horizontal, then the threshold: 2x + 2 offset >= mn + mx. */
+#ifdef THRESHOLD_SCALAR
+        (void)wh;
+        (void)j;
+        row_threshold(d, x, hmin, hmax, hsmin, hsmax, cols, rh, off2);
+#else
         block_prefix_suffix(hmin, hmax, hsmin, hsmax, cols, wh);
         for (j = 0; j < cols; j++) {
             int jlo = j - rh > 0 ? j - rh : 0;
@@ -245,6 +386,7 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
             }
             d[j] = (uint8_t)(2 * x[j] + off2 >= mn + mx);
         }
+#endif
     }
     return ACTAG_OK;
 }

@@ -33,6 +33,17 @@
  *   530 x 512 frame at R = 8 on one x86-64 core (SSE2 row operations;
  *   ACTAG_NO_SIMD selects the portable C path, identical output).
  *
+ *   Portable C path: where the compiler has a vector unit to vectorize
+ *   plain byte loops (SSE2, NEON, MVE, ...), the row operations are such
+ *   loops. Elsewhere (Cortex-M3/M4/M7, other scalar cores; or any build
+ *   with ACTAG_FORCE_SWAR defined, which the tests use) the vertical pass
+ *   works a machine word at a time (8 or 4 byte lanes, SWAR min/max with
+ *   integer operations only) and the horizontal pass is fused with the
+ *   threshold (the block prefix extrema stay in registers): about 30 % fewer
+ *   instructions than the byte loops without vectorization (x86-64 gcc
+ *   -O3 -fno-tree-vectorize: ~52 vs ~74 per pixel at R = 8). Every variant
+ *   gives the same bytes.
+ *
  *   src and dst must not overlap (src == dst is rejected with
  *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
  *

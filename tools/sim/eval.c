@@ -180,7 +180,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
     p.family = &c->fam;
     p.tag_size = tag_size_default;
     p.max_bit_corrections = c->corrections;
-    if (c->min_margin >= 0.0f)
+    if (c->min_margin > -1e5f)
         p.fit.min_margin = c->min_margin;
     if (c->min_bit_margin >= 0)
         p.fit.min_bit_margin = c->min_bit_margin;
@@ -188,7 +188,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
         p.min_structure = c->min_structure;
     if (c->min_side >= 0.0f)
         p.min_side_fraction = c->min_side;
-    if (c->search_min_margin >= 0.0f)
+    if (c->search_min_margin > -1e5f)
         p.search_min_margin = c->search_min_margin;
     fr.data = img;
     fr.rows = c->sonar.rows;
@@ -536,7 +536,7 @@ int main(int argc, char **argv)
     memset(&c, 0, sizeof c);
     c.frames = 1000;
     c.seed = 1;
-    c.min_margin = c.search_min_margin = -1.0f;
+    c.min_margin = c.search_min_margin = -1.0e6f;
     c.min_bit_margin = -1;
     c.min_structure = c.min_side = -1.0f;
     c.sonar.rows = 1024;
@@ -580,7 +580,7 @@ int main(int argc, char **argv)
             corrections_set = 1;
         } else if (!strcmp(o, "--min-margin")) {
             NEED();
-            c.min_margin = (float)num(o, v, 0.0, 1e6);
+            c.min_margin = (float)num(o, v, -1e6, 1e6);
         } else if (!strcmp(o, "--min-structure")) {
             NEED();
             c.min_structure = (float)num(o, v, 0.0, 1.0);
@@ -592,7 +592,7 @@ int main(int argc, char **argv)
             c.min_bit_margin = (int)inum(o, v, 0, 32);
         } else if (!strcmp(o, "--search-min-margin")) {
             NEED();
-            c.search_min_margin = (float)num(o, v, 0.0, 1e6);
+            c.search_min_margin = (float)num(o, v, -1e6, 1e6);
         } else if (!strcmp(o, "--seed")) {
             NEED();
             c.seed = (uint32_t)inum(o, v, 0, 4294967295L);
