@@ -14,6 +14,11 @@ int actag_adaptive_threshold_portable(const uint8_t *src, int rows, int cols, in
                                       uint8_t *dst, int dst_stride, int radius, int offset,
                                       void *scratch, size_t scratch_size);
 #define ACTAG_NO_SIMD 1
+/* The variant for targets without a vector unit (SWAR row operations, fused
+ * horizontal pass), which is what ACTAG_NO_SIMD gives on Cortex-M; on
+ * hosts with SSE2 or NEON the library itself checks the byte loops (its
+ * SIMD tails) and block_prefix_suffix. */
+#define ACTAG_FORCE_SWAR 1
 #define actag_adaptive_threshold actag_adaptive_threshold_portable
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
@@ -166,7 +171,120 @@ static void check_case(int rows, int cols, int R, int offset, int kind, int sext
     free(scratch);
 }
 
+/* Checks both paths on a given image (stride sstride, padding already
+ * filled by the caller) against the brute-force reference. */
+static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
+                        int dextra, const char *what)
+{
+    int dstride = cols + dextra, f, i, j;
+    size_t dsize = (size_t)rows * (size_t)dstride;
+    size_t scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, R);
+    uint8_t *want = (uint8_t *)malloc(dsize);
+    uint8_t *out = (uint8_t *)malloc(dsize);
+    uint8_t *scratch = (uint8_t *)malloc(scr);
+    char msg[200];
+
+    TEST_ASSERT_NOT_NULL(want);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_NOT_NULL(scratch);
+    brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
+    for (f = 0; f < 2; f++) {
+        memset(out, 0xA5, dsize);
+        memset(scratch, 0x5A, scr);
+        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d", FN_NAMES[f], what, rows, cols, R, offset);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(
+            ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, offset, scratch, scr), msg);
+        for (i = 0; i < rows; i++)
+            for (j = 0; j < dstride; j++) {
+                size_t k = (size_t)i * (size_t)dstride + (size_t)j;
+                uint8_t expect = j < cols ? want[k] : (uint8_t)0xA5;
+                if (out[k] != expect) {
+                    snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d at (%d,%d): got %d want %d",
+                             FN_NAMES[f], what, rows, cols, R, offset, i, j, out[k], expect);
+                    TEST_FAIL_MESSAGE(msg);
+                }
+            }
+    }
+    free(want);
+    free(out);
+    free(scratch);
+}
+
 /* ------------------------------------------------------------ tests */
+
+static void test_every_width_and_radius(void)
+{
+    /* Every width 1..40 at every radius 0..22 (so that the row splits into
+     * one or more blocks of 2R+1 with every remainder, the window reaches
+     * both borders, one, or none), few rows, random pixels and offsets. */
+    int cols, R;
+    rng_state = 0x5EEDu;
+    for (cols = 1; cols <= 40; cols++)
+        for (R = 0; R <= 22; R++) {
+            int rows = rnd_range(1, 5);
+            int off = random_offset();
+            check_case(rows, cols, R, off, FILL_UNIFORM, cols & 1, (cols >> 1) & 1);
+        }
+}
+
+static void test_constant_and_extreme_images(void)
+{
+    /* All-equal images (0, 255, a middle level): every output is
+     * offset >= 0; images of only 0 and 255 in stripes and checkerboards.
+     * Shapes include 1 x N and N x 1; radii 0 to far beyond the image. */
+    static const int levels[] = {0, 255, 77};
+    static const int shapes[][2] = {{1, 1}, {1, 45}, {45, 1}, {2, 33}, {33, 2}, {19, 27}, {40, 64}};
+    static const int radii[] = {0, 1, 2, 3, 7, 8, 9, 16, 32, 1000};
+    static const int offs[] = {-1, 0, 1, 128, -255};
+    uint8_t *img = (uint8_t *)malloc(40u * 80u);
+    size_t a, b, r;
+    int i, j;
+    TEST_ASSERT_NOT_NULL(img);
+    for (a = 0; a < sizeof shapes / sizeof shapes[0]; a++) {
+        int rows = shapes[a][0], cols = shapes[a][1], sstride = cols + 9;
+        for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
+            int R = radii[r];
+            int off = offs[(a + r) % 5];
+            for (b = 0; b < 3; b++) {
+                memset(img, levels[b], (size_t)rows * (size_t)sstride);
+                for (i = 0; i < rows; i++) /* padding of another level */
+                    memset(img + (size_t)i * (size_t)sstride + (size_t)cols, 255 - levels[b], 9);
+                check_image(img, rows, cols, sstride, R, off, 2, "constant");
+            }
+            for (b = 0; b < 4; b++) {
+                for (i = 0; i < rows; i++)
+                    for (j = 0; j < sstride; j++) {
+                        int on;
+                        switch (b) {
+                        case 0: on = (j / (R % 7 + 1)) & 1; break;      /* vertical stripes */
+                        case 1: on = (i / (R % 5 + 1)) & 1; break;      /* horizontal stripes */
+                        case 2: on = (i + j) & 1; break;                /* checkerboard */
+                        default: on = i == rows / 2 && j == cols / 2; break; /* one bright pixel */
+                        }
+                        img[(size_t)i * (size_t)sstride + (size_t)j] = on ? 255 : 0;
+                    }
+                check_image(img, rows, cols, sstride, R, off, 0, "0/255 pattern");
+            }
+        }
+    }
+    free(img);
+}
+
+static void test_wide_strides(void)
+{
+    /* Strides much larger than cols (sub-images of a larger buffer), the
+     * padding full of random bytes that must be neither read nor written. */
+    static const int radii[] = {0, 1, 3, 8, 16, 100};
+    int t;
+    rng_state = 0xFACEu;
+    for (t = 0; t < 30; t++) {
+        int rows = rnd_range(1, 30), cols = rnd_range(1, 30);
+        int sextra = rnd_range(30, 200), dextra = rnd_range(30, 200);
+        int off = random_offset();
+        int kind = (int)(rnd() % FILL_N);
+        check_case(rows, cols, radii[t % 6], off, kind, sextra, dextra);
+    }
+}
 
 static void test_random_images(void)
 {
@@ -226,8 +344,12 @@ static void test_thin_images(void)
         for (n = 2; n <= 80; n += 13) {
             check_case(1, n, radii[r], random_offset(), FILL_UNIFORM, 2, 1);
             check_case(n, 1, radii[r], random_offset(), FILL_UNIFORM, 1, 2);
-            check_case(2, n, radii[r], random_offset(), (int)(rnd() % FILL_N), 0, 0);
-            check_case(n, 2, radii[r], random_offset(), (int)(rnd() % FILL_N), 0, 0);
+            int off = random_offset(); /* one PRNG call per statement: */
+            int kind = (int)(rnd() % FILL_N); /* argument order is unspecified */
+            check_case(2, n, radii[r], off, kind, 0, 0);
+            off = random_offset();
+            kind = (int)(rnd() % FILL_N);
+            check_case(n, 2, radii[r], off, kind, 0, 0);
         }
     }
 }
@@ -239,7 +361,9 @@ static void test_radius_beyond_image(void)
     for (t = 0; t < 20; t++) {
         int rows = rnd_range(1, 30), cols = rnd_range(1, 30);
         int R = rnd_range(30, 5000);
-        check_case(rows, cols, R, random_offset(), (int)(rnd() % FILL_N), t & 3, (t >> 2) & 3);
+        int off = random_offset();
+        int kind = (int)(rnd() % FILL_N);
+        check_case(rows, cols, R, off, kind, t & 3, (t >> 2) & 3);
     }
     check_case(7, 5, INT_MAX, 1, FILL_UNIFORM, 1, 1);
     check_case(1, 9, INT_MAX, -1, FILL_UNIFORM, 0, 0);
@@ -393,6 +517,9 @@ int main(void)
     RUN_TEST(test_thin_images);
     RUN_TEST(test_radius_beyond_image);
     RUN_TEST(test_wide_rows);
+    RUN_TEST(test_every_width_and_radius);
+    RUN_TEST(test_constant_and_extreme_images);
+    RUN_TEST(test_wide_strides);
     RUN_TEST(test_output_is_binary);
     RUN_TEST(test_real_sonar_frame);
     RUN_TEST(test_scratch_sizes);
