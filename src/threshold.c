@@ -56,8 +56,9 @@ static void st(uint8_t *p, __m128i v)
 #ifdef THRESHOLD_SCALAR
 /* Portable word-at-a-time (SWAR) byte min/max: a machine word holds 8
  * (64-bit targets) or 4 bytes; unaligned words are moved with memcpy,
- * which compilers turn into single loads and stores. */
-#if UINTPTR_MAX > 0xFFFFFFFFu
+ * which compilers turn into single loads and stores. ACTAG_SWAR_WORD32
+ * selects 4-byte words anywhere (the tests check both sizes). */
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ACTAG_SWAR_WORD32)
 typedef uint64_t word_t;
 #define WORD_ONES 0x0101010101010101ull
 #else

@@ -23,10 +23,35 @@ int actag_adaptive_threshold_portable(const uint8_t *src, int rows, int cols, in
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
 
+/* The same variant with 4-byte words (what 32-bit cores such as Cortex-M
+ * use), compiled in a second time with its static names renamed. */
+int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int src_stride,
+                                    uint8_t *dst, int dst_stride, int radius, int offset,
+                                    void *scratch, size_t scratch_size);
+#undef THRESHOLD_SCALAR
+#undef WORD_ONES
+#undef WORD_HIGH
+#define ACTAG_SWAR_WORD32 1
+#define min8 min8_w32
+#define max8 max8_w32
+#define word_t word32_t
+#define ldw ldw_w32
+#define stw stw_w32
+#define lt_mask lt_mask_w32
+#define minw minw_w32
+#define maxw maxw_w32
+#define minmax_rows minmax_rows_w32
+#define row_threshold row_threshold_w32
+#define actag_adaptive_threshold actag_adaptive_threshold_swar32
+#include "../src/threshold.c"
+#undef actag_adaptive_threshold
+
 typedef int (*threshold_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, int, void *, size_t);
 
-static const threshold_fn FNS[2] = {actag_adaptive_threshold, actag_adaptive_threshold_portable};
-static const char *const FN_NAMES[2] = {"library", "portable"};
+#define NFNS 3
+static const threshold_fn FNS[NFNS] = {actag_adaptive_threshold, actag_adaptive_threshold_portable,
+                                       actag_adaptive_threshold_swar32};
+static const char *const FN_NAMES[NFNS] = {"library", "portable", "portable-32-bit-words"};
 
 void setUp(void) {}
 void tearDown(void) {}
@@ -141,7 +166,7 @@ static void check_case(int rows, int cols, int R, int offset, int kind, int sext
     TEST_ASSERT_TRUE(scr <= ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols));
     fill_image(src, rows, cols, sstride, kind);
     brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NFNS; f++) {
         memset(out, 0xA5, dsize);
         memset(scratch, 0x5A, scr);
         snprintf(msg, sizeof msg, "%s: %dx%d R=%d off=%d kind=%d sstride=%d dstride=%d", FN_NAMES[f],
@@ -188,7 +213,7 @@ static void check_image(const uint8_t *src, int rows, int cols, int sstride, int
     TEST_ASSERT_NOT_NULL(out);
     TEST_ASSERT_NOT_NULL(scratch);
     brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NFNS; f++) {
         memset(out, 0xA5, dsize);
         memset(scratch, 0x5A, scr);
         snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d", FN_NAMES[f], what, rows, cols, R, offset);
@@ -390,7 +415,7 @@ static void test_output_is_binary(void)
     int f;
     size_t k;
     memset(src, 77, sizeof src);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NFNS; f++) {
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](src, 12, 13, 13, dst, 13, 3, 0, scratch, sizeof scratch));
         for (k = 0; k < sizeof dst; k++)
             TEST_ASSERT_EQUAL_UINT8(1, dst[k]);
@@ -400,7 +425,7 @@ static void test_output_is_binary(void)
     }
     rng_state = 3u;
     fill_image(src, 12, 13, 13, FILL_UNIFORM);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NFNS; f++) {
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](src, 12, 13, 13, dst, 13, 2, 5, scratch, sizeof scratch));
         for (k = 0; k < sizeof dst; k++)
             TEST_ASSERT_TRUE(dst[k] == 0 || dst[k] == 1);
@@ -428,7 +453,7 @@ static void test_real_sonar_frame(void)
     TEST_ASSERT_NOT_NULL(out);
     TEST_ASSERT_NOT_NULL(scratch);
     brute_threshold(img, rows, cols, cols, 8, 1, want, cols);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NFNS; f++) {
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](img, rows, cols, cols, out, cols, 8, 1, scratch, scr));
         TEST_ASSERT_EQUAL_MEMORY_MESSAGE(want, out, n, FN_NAMES[f]);
     }
@@ -453,7 +478,7 @@ static void test_scratch_sizes(void)
     TEST_ASSERT_EQUAL_size_t(8u * 11u, ACTAG_THRESHOLD_SCRATCH_SIZE_R(10, 11, 0));
     rng_state = 11u;
     fill_image(src, 10, 11, 11, FILL_UNIFORM);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NFNS; f++) {
         for (R = 0; R <= 6; R++) {
             size_t need = ACTAG_THRESHOLD_SCRATCH_SIZE_R(10, 11, R);
             TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
@@ -475,7 +500,7 @@ static void test_errors(void)
 
     rng_state = 5u;
     fill_image(src, 6, 7, 7, FILL_UNIFORM);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NFNS; f++) {
         threshold_fn fn = FNS[f];
         memset(dst, 0x77, sizeof dst);
         memcpy(dst_before, dst, sizeof dst);
