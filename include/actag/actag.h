@@ -136,7 +136,7 @@ typedef struct actag_params {
 
 /* Default least decision margin of structure-search readings. */
 #ifndef ACTAG_SEARCH_MIN_MARGIN
-#define ACTAG_SEARCH_MIN_MARGIN 0.0f
+#define ACTAG_SEARCH_MIN_MARGIN 1.0f
 #endif
 
 /* Most structure-search candidates per frame (search_candidates). */

@@ -241,7 +241,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
 
 /* Default least decision margin of the fit decoder (contrast units). */
 #ifndef ACTAG_FIT_MIN_MARGIN
-#define ACTAG_FIT_MIN_MARGIN 0.0f
+#define ACTAG_FIT_MIN_MARGIN 1.0f
 #endif
 
 #ifndef ACTAG_FIT_MIN_BIT_MARGIN

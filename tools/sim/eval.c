@@ -44,6 +44,9 @@ static void usage(FILE *f)
         "  --tag-free N           tag-free frames (default 0; the acceptance run uses 10000)\n"
         "  --family NAME          family of the tagged frames (default AcTag24h10)\n"
         "  --tag-free-families all|NAME[,NAME...]  families run on tag-free frames (all)\n"
+        "  --sweep-families all|NAME[,NAME...]  families also run with zero and maximal\n"
+        "                         corrections on tag-free frames (default: the four published\n"
+        "                         24-bit families, paper Table II); the others at default only\n"
         "  --free-rows R --free-cols C  tag-free frame size (default 530 x 512)\n"
         "  --free-max-range LO,HI tag-free frames' maximum range, uniform per frame (3,6 m:\n"
         "                         the paper's tag-free set)\n"
@@ -125,6 +128,7 @@ typedef struct {
     float min_structure, min_side;       /* < 0: the library's defaults */
     actag_family free_fam[MAX_FAM];
     int nfree_fam;
+    int sweep[MAX_FAM]; /* 1: also zero and maximal corrections (Table II) */
     int frames, tag_free;
     uint32_t seed;
     tag_result *tres;
@@ -302,6 +306,10 @@ static void eval_free_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t w
         for (k = 0; k < NCORR; k++) {
             actag_params p;
             int nd, j, corr = corrections_of(&c->free_fam[f], k);
+            if (k != 1 && !c->sweep[f]) {
+                R->det[f][k] = -1; /* not run */
+                continue;
+            }
             for (j = 0; j < k; j++) /* the same setting twice: one run */
                 if (corrections_of(&c->free_fam[f], j) == corr)
                     break;
@@ -530,6 +538,7 @@ int main(int argc, char **argv)
     static eval_ctx c;
     int i, threads = 2, json = 0, pool = 0, corrections_set = 0, free_rows = 530, free_cols = 512;
     const char *family = "AcTag24h10", *svg = NULL, *free_list = "all", *failures = NULL;
+    const char *sweep_list = "AcTag24h4,AcTag24h6,AcTag24h8,AcTag24h10";
     double aperture_deg = 60.0, elapsed;
     pthread_t th[16];
 
@@ -626,6 +635,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--cols")) {
             NEED();
             c.sonar.cols = (int)inum(o, v, 16, 8192);
+        } else if (!strcmp(o, "--sweep-families")) {
+            NEED();
+            sweep_list = v;
         } else if (!strcmp(o, "--free-rows")) {
             NEED();
             free_rows = (int)inum(o, v, 16, 8192);
@@ -697,6 +709,15 @@ int main(int argc, char **argv)
         die(m);
     }
     parse_free_families(&c, free_list);
+    {
+        int f;
+        for (f = 0; f < c.nfree_fam; f++) {
+            const char *p = strstr(sweep_list, c.free_fam[f].name);
+            size_t L = strlen(c.free_fam[f].name);
+            c.sweep[f] = !strcmp(sweep_list, "all") ||
+                         (p && (p == sweep_list || p[-1] == ',') && (p[L] == ',' || p[L] == 0));
+        }
+    }
     c.free_sonar = c.sonar;
     c.free_sonar.rows = free_rows;
     c.free_sonar.cols = free_cols;
@@ -844,6 +865,10 @@ int main(int argc, char **argv)
                     fam_total[f][k] = 0;
                     fam_frames[f][k] = 0;
                     for (j = 0; j < c.tag_free; j++) {
+                        if (c.fres[j].det[f][k] < 0) {
+                            fam_total[f][k] = fam_frames[f][k] = -1;
+                            break;
+                        }
                         fam_total[f][k] += c.fres[j].det[f][k];
                         fam_frames[f][k] += c.fres[j].det[f][k] > 0;
                     }
@@ -886,6 +911,10 @@ int main(int argc, char **argv)
                        c.free_fam[f].ncodes);
                 for (k = 0; k < NCORR; k++) {
                     static const char *kn[NCORR] = {"zero", "default", "maximal"};
+                    if (fam_frames[f][k] < 0) { /* not run */
+                        printf(", \"%s\": null", kn[k]);
+                        continue;
+                    }
                     printf(", \"%s\": {\"corrections\": %d, \"detections\": %d, \"frames_with_"
                            "detections\": %d, \"rate\": %.6f}",
                            kn[k], corrections_of(&c.free_fam[f], k),
@@ -959,10 +988,14 @@ int main(int argc, char **argv)
                     char b0[64], b1[64], b2[64];
                     snprintf(b0, sizeof b0, "0: %d (%d) %.3f%%", fam_frames[f][0], fam_total[f][0],
                              100.0 * fam_frames[f][0] / c.tag_free);
+                    if (fam_frames[f][0] < 0)
+                        snprintf(b0, sizeof b0, "-");
                     snprintf(b1, sizeof b1, "%d: %d (%d) %.3f%%", df, fam_frames[f][1],
                              fam_total[f][1], 100.0 * fam_frames[f][1] / c.tag_free);
                     snprintf(b2, sizeof b2, "%d: %d (%d) %.3f%%", mx, fam_frames[f][2],
                              fam_total[f][2], 100.0 * fam_frames[f][2] / c.tag_free);
+                    if (fam_frames[f][2] < 0)
+                        snprintf(b2, sizeof b2, "-");
                     printf("  %-12s %6d  %-22s %-22s %-22s\n", c.free_fam[f].name,
                            c.free_fam[f].ncodes, b0, b1, b2);
                 }
