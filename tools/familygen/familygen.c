@@ -40,12 +40,15 @@
  * H-1-d around the centre's low part. The high parts are a table of all
  * error patterns of weight <= H-1, sorted by value (XOR with the centre
  * keeps neighbouring patterns in neighbouring memory). Candidate look-ups
- * are prefetched a few candidates ahead.
+ * are prefetched 32 candidates ahead; with a bitmap larger than the caches
+ * (more than 24 counted bits) the complexity test comes first, and only
+ * candidates that pass it touch the bitmap.
  *
  * Progress (stderr, every 2 s once a run takes longer than that): fraction
  * searched, codes so far, elapsed wall-clock time and an estimate of the
- * time left in two parts: the search at its rate so far (ball marking
- * excluded), plus the marking time per code so far for every further code
+ * time left in two parts: the search at its current rate (over the last
+ * report interval, ball marking excluded; the rate grows as the bitmap
+ * fills), plus the marking time per code so far for every further code
  * (how many more there will be nobody knows in advance; they thin out as
  * the search goes on).
  *
@@ -485,7 +488,7 @@ static void fmt_secs(char *buf, size_t n, double s)
 
 int main(int argc, char **argv)
 {
-    int bits = -1, h = -1, i, physical = 0, emin;
+    int bits = -1, h = -1, i, physical = 0, emin, energy_first;
     const char *format = "txt", *name = NULL, *outpath = NULL, *exclude = "none";
     char default_name[64], rule[160], letter;
     layout L;
@@ -496,6 +499,8 @@ int main(int argc, char **argv)
     energy_model em;
     double min_energy, complexity = DEFAULT_COMPLEXITY;
     double t0 = now_s(), last_report, t_mark = 0.0; /* t_mark: time spent marking balls */
+    double last_scan = 0.0;
+    uint64_t last_iter = 0;
     int reported = 0;
     size_t codes_at_report = 0; /* codes at the last progress check */
 
@@ -669,6 +674,10 @@ int main(int argc, char **argv)
         }
     }
 
+    /* A bitmap that fits the caches (up to 2^24 bits, 2 MiB) is cheaper to
+     * look at than the energy test; a larger one is not, so then only the
+     * candidates that pass the energy test touch it. */
+    energy_first = L.nkeep > 24;
     v = SEED & L.mask;
     pf = v;
     {
@@ -678,7 +687,7 @@ int main(int argc, char **argv)
         int j;
         for (j = 0; j < PREFETCH_AHEAD; j++) {
             pf = (pf + PRIME) & L.mask;
-            ring[j] = fast_energy(&L, &em, pf) < emin ? sentinel : squeeze(&L, pf);
+            ring[j] = energy_first && fast_energy(&L, &em, pf) < emin ? sentinel : squeeze(&L, pf);
         }
     }
     last_report = t0;
@@ -692,8 +701,10 @@ int main(int argc, char **argv)
             /* branch-free: a code that fails the energy test gets the index
              * of the sentinel bit, which is always set */
             uint64_t pi = squeeze(&L, pf);
-            uint64_t fail = 0 - (uint64_t)(fast_energy(&L, &em, pf) < emin);
-            pi = (pi & ~fail) | (sentinel & fail);
+            if (energy_first) {
+                uint64_t fail = 0 - (uint64_t)(fast_energy(&L, &em, pf) < emin);
+                pi = (pi & ~fail) | (sentinel & fail);
+            }
             PREFETCH(&F.bitmap[pi >> 6]);
             ring[iter & (PREFETCH_AHEAD - 1)] = pi;
         }
@@ -703,12 +714,20 @@ int main(int argc, char **argv)
             if (now - last_report >= 2.0 && iter > 0) {
                 double el = now - t0, scan = el - t_mark;
                 double frac = (double)iter / (double)total;
-                char e1[32], e2[32];
+                /* the search's current rate: over the last report interval */
+                double rate = (scan - last_scan) / (double)(iter - last_iter);
+                char e1[32], e2[32], e3[48];
                 fmt_secs(e1, sizeof e1, el);
-                fmt_secs(e2, sizeof e2, scan * (1.0 - frac) / frac);
-                fprintf(stderr, "\r" PROG ": %s: %5.1f%% searched, %lu codes, %s; about %s left "
+                fmt_secs(e2, sizeof e2, rate * (double)(total - iter));
+                if (last_iter == 0) /* the first interval holds the start-up: no rate yet */
+                    snprintf(e3, sizeof e3, "estimating the time left");
+                else
+                    snprintf(e3, sizeof e3, "about %s left", e2);
+                last_scan = scan;
+                last_iter = iter;
+                fprintf(stderr, "\r" PROG ": %s: %5.1f%% searched, %lu codes, %s; %s "
                                 "+ %.2g s per further code  ",
-                        name, 100.0 * frac, (unsigned long)ncodes, e1, e2,
+                        name, 100.0 * frac, (unsigned long)ncodes, e1, e3,
                         ncodes ? t_mark / (double)ncodes : 0.0);
                 fflush(stderr);
                 last_report = now;
@@ -717,6 +736,8 @@ int main(int argc, char **argv)
         }
         if (F.bitmap[idx >> 6] & (1ull << (idx & 63)))
             continue; /* too close to an accepted code, or not complex enough */
+        if (!energy_first && fast_energy(&L, &em, v) < emin)
+            continue;
         o[0] = v;
         for (a = 1; a < 4; a++)
             o[a] = rot90(&L, o[a - 1]);
