@@ -400,6 +400,7 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
         /* the map uses A (free until the threshold), the integral image S;
          * a frame too small or too tall for them is simply not searched */
         if (actag_search_map(&z, w.b, rows, cols, cols, geometry, params->tag_size,
+                             params->family->bits,
                              params->search_range_scale, w.a,
                              ACTAG__ALIGN16((size_t)rows * (size_t)cols), w.s,
                              w.s_size) == ACTAG_OK) {

@@ -20,7 +20,7 @@ static uint32_t box_sum(const actag_search *z, int r0, int c0, int r1, int c1)
 static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
 
 int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
-                     const actag_sonar_geometry *g, float tag_size, float range_scale,
+                     const actag_sonar_geometry *g, float tag_size, int bits, float range_scale,
                      void *mapmem, size_t mapmem_size, void *scratch, size_t scratch_size)
 {
     int r, c, hr, hc, rc;
@@ -33,7 +33,7 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
         return rc;
     if (stride < cols)
         return ACTAG_ERR_SIZE;
-    if (!finite_pos(tag_size) || !finite_pos(range_scale))
+    if (!finite_pos(tag_size) || !finite_pos(range_scale) || bits < 16 || bits > 32 || bits % 4 != 0)
         return ACTAG_ERR_PARAM;
     hr = rows / ACTAG_SEARCH_FACTOR;
     hc = cols / ACTAG_SEARCH_FACTOR;
@@ -69,7 +69,8 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
         float y = (float)(ACTAG_SEARCH_FACTOR * r) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
         float range = actag_geometry_range(g, rows, y);
         float daz = actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range;
-        float cell = tag_size / 3.0f;
+        /* the white square is k-3 cells wide; the ring box one cell more */
+        float cell = tag_size / (float)(bits / 4 - 3), half_in = 0.5f * (float)(bits / 4 - 3);
         int ir, ic, orr, oc;
         float cr, cc;
         if (!(daz > 0.0f)) {
@@ -79,10 +80,10 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
         }
         cr = cell * range_scale / dr / (float)ACTAG_SEARCH_FACTOR;  /* low-res pixels per cell along range */
         cc = cell / daz / (float)ACTAG_SEARCH_FACTOR;  /* ... along azimuth */
-        ir = (int)(1.5f * cr + 0.5f);
-        ic = (int)(1.5f * cc + 0.5f);
-        orr = (int)(2.5f * cr + 0.5f);
-        oc = (int)(2.5f * cc + 0.5f);
+        ir = (int)(half_in * cr + 0.5f);
+        ic = (int)(half_in * cc + 0.5f);
+        orr = (int)((half_in + 1.0f) * cr + 0.5f);
+        oc = (int)((half_in + 1.0f) * cc + 0.5f);
         if (ir < 1) ir = 1;
         if (ic < 1) ic = 1;
         if (orr <= ir) orr = ir + 1;

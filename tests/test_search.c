@@ -13,22 +13,23 @@ void tearDown(void) {}
 
 /* The score at block (r, c), by direct summation (SEARCH.H's definition). */
 static int ref_score(const uint8_t *img, int rows, int cols, int stride,
-                     const actag_sonar_geometry *g, float tag, float rs, int r, int c)
+                     const actag_sonar_geometry *g, float tag, int bits, float rs, int r, int c)
 {
     int hr = rows / F, hc = cols / F, ir, ic, orr, oc, i, j, a, b;
     float y = (float)(F * r) + 0.5f * (float)(F - 1);
     float range = actag_geometry_range(g, rows, y);
     float daz = actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range;
-    float dr = actag_geometry_range_step(g, rows), cell = tag / 3.0f, cr, cc;
+    float w = (float)(bits / 4 - 3); /* white square, cells */
+    float dr = actag_geometry_range_step(g, rows), cell = tag / w, cr, cc;
     long long si = 0, so = 0, ni, no, num, den, q;
     if (!(daz > 0.0f))
         return INT16_MIN;
     cr = cell * rs / dr / (float)F;
     cc = cell / daz / (float)F;
-    ir = (int)(1.5f * cr + 0.5f);
-    ic = (int)(1.5f * cc + 0.5f);
-    orr = (int)(2.5f * cr + 0.5f);
-    oc = (int)(2.5f * cc + 0.5f);
+    ir = (int)(0.5f * w * cr + 0.5f);
+    ic = (int)(0.5f * w * cc + 0.5f);
+    orr = (int)((0.5f * w + 1.0f) * cr + 0.5f);
+    oc = (int)((0.5f * w + 1.0f) * cc + 0.5f);
     if (ir < 1) ir = 1;
     if (ic < 1) ic = 1;
     if (orr <= ir) orr = ir + 1;
@@ -61,6 +62,7 @@ static void test_map_equals_direct_sums(void)
         int rows = tu_range(16, 140), cols = tu_range(16, 140), stride = cols + tu_range(0, 9);
         int r, c;
         float tag = 0.02f + (float)tu_range(0, 100) * 0.001f;
+        int bits = (t % 2) ? 28 : 24; /* 28 bits: a 4-cell white square */
         actag_sonar_geometry g = {0.5f, 2.0f, 0.6f, NULL, 0u};
         uint8_t *img = (uint8_t *)malloc((size_t)rows * (size_t)stride);
         size_t ms = ACTAG_SEARCH_MAP_SIZE(rows, cols), is = ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols);
@@ -71,13 +73,13 @@ static void test_map_equals_direct_sums(void)
             img[r] = (uint8_t)((tu_rand() % 4u == 0u) ? tu_range(150, 255) : tu_range(0, 60));
         if (t % 3 == 1)
             g.flags = ACTAG_RANGE_ASCENDING;
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, rows, cols, stride, &g, tag, 0.75f,
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, rows, cols, stride, &g, tag, bits, 0.75f,
                                                          map, ms, ii, is));
         TEST_ASSERT_EQUAL_INT(rows / F, z.hr);
         TEST_ASSERT_EQUAL_INT(cols / F, z.hc);
         for (r = 0; r < z.hr; r++)
             for (c = 0; c < z.hc; c++)
-                TEST_ASSERT_EQUAL_INT(ref_score(img, rows, cols, stride, &g, tag, 0.75f, r, c),
+                TEST_ASSERT_EQUAL_INT(ref_score(img, rows, cols, stride, &g, tag, bits, 0.75f, r, c),
                                       z.map[(size_t)r * (size_t)z.hc + (size_t)c]);
         free(img);
         free(map);
@@ -109,7 +111,7 @@ static void test_finds_a_synthetic_square(void)
             int in = c >= (int)cx - 15 && c < (int)cx + 15 && r >= (int)cy - 15 && r < (int)cy + 15;
             img[(size_t)r * C + (size_t)c] = (uint8_t)(in ? tu_range(170, 230) : tu_range(10, 50));
         }
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, C, &g, 0.13f, 1.0f, map,
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, C, &g, 0.13f, 24, 1.0f, map,
                                                      sizeof map, ii, sizeof ii));
     TEST_ASSERT_EQUAL_INT(1, actag_search_next(&z, 8 * 60, &g, 0.13f, 1.0f, R, C, q));
     TEST_ASSERT_FLOAT_WITHIN(4.0f, cx, 0.25f * (q[0].x + q[1].x + q[2].x + q[3].x));
@@ -120,7 +122,7 @@ static void test_finds_a_synthetic_square(void)
     TEST_ASSERT_EQUAL_INT(0, actag_search_next(&z, 8 * 60, &g, 0.13f, 1.0f, R, C, q2));
     /* flat frame: no contrast anywhere */
     memset(img, 90, sizeof img);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, C, &g, 0.13f, 1.0f, map,
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, C, &g, 0.13f, 24, 1.0f, map,
                                                      sizeof map, ii, sizeof ii));
     TEST_ASSERT_EQUAL_INT(0, actag_search_next(&z, 1, &g, 0.13f, 1.0f, R, C, q));
 }
@@ -132,18 +134,20 @@ static void test_errors(void)
     actag_sonar_geometry g = {0.5f, 2.0f, 0.6f, NULL, 0u}, bad = g;
     actag_search z;
     bad.max_range = 0.1f;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_search_map(NULL, img, 64, 64, 64, &g, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_search_map(&z, NULL, 64, 64, 64, &g, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 1.0f, NULL, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_search_map(&z, img, 64, 64, 63, &g, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_search_map(&z, img, 15, 64, 64, &g, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_search_map(&z, img, 64, 15, 64, &g, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.0f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, -1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_search_map(&z, img, 64, 64, 64, &bad, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 1.0f, map, sizeof map - 1, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 1.0f, map, sizeof map, ii, sizeof ii - 1));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_search_map(NULL, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_search_map(&z, NULL, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, NULL, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_search_map(&z, img, 64, 64, 63, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_search_map(&z, img, 15, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_search_map(&z, img, 64, 15, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.0f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, -1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 26, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 36, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_search_map(&z, img, 64, 64, 64, &bad, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map - 1, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii - 1));
 }
 
 int main(void)

@@ -12,9 +12,10 @@
  *   actag_search_map() averages the frame over ACTAG_SEARCH_FACTOR^2 blocks
  *   (integral image in caller scratch) and scores every block position by
  *       8 * (mean of the inner box - mean of the ring between inner and outer box)
- *   in grey levels x 8, where at the block's range the inner box spans 1.5
- *   cells either side of the centre and the outer box 2.5 cells (cell =
- *   tag_size / 3; along the range axis the cell is scaled by range_scale,
+ *   in grey levels x 8, where at the block's range the inner box is the white
+ *   square (k-3 cells, k = bits / 4: 1.5 cells either side of the centre for
+ *   24 bits, 2 for 28) and the outer box one cell more either side (cell =
+ *   tag_size / (k-3); along the range axis the cell is scaled by range_scale,
  *   because tilted tags look shorter in range). Rows whose geometry gives no
  *   azimuth step, and positions whose outer box leaves the frame, score
  *   INT16_MIN. Scores are clamped to +-2040.
@@ -33,7 +34,8 @@
  *   ACTAG_ERR_NULL       a pointer is NULL
  *   ACTAG_ERR_SIZE       stride < cols, or the frame is smaller than
  *                        4 blocks in either direction (nothing to search)
- *   ACTAG_ERR_PARAM      tag_size or range_scale not positive and finite
+ *   ACTAG_ERR_PARAM      tag_size or range_scale not positive and finite, bits not
+ *                        a multiple of 4 in 16..32
  *   ACTAG_ERR_GEOMETRY   invalid geometry for this frame (geometry.h)
  *   ACTAG_ERR_WORKSPACE  map or scratch smaller than the sizes below
  */
@@ -63,7 +65,7 @@ typedef struct actag_search {
 } actag_search;
 
 int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
-                     const actag_sonar_geometry *g, float tag_size, float range_scale,
+                     const actag_sonar_geometry *g, float tag_size, int bits, float range_scale,
                      void *map, size_t map_size, void *scratch, size_t scratch_size);
 
 int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
