@@ -39,10 +39,14 @@
  *   with ACTAG_FORCE_SWAR defined, which the tests use) the vertical pass
  *   works a machine word at a time (8 or 4 byte lanes, SWAR min/max with
  *   integer operations only) and the horizontal pass is fused with the
- *   threshold (the block prefix extrema stay in registers): about 30 % fewer
- *   instructions than the byte loops without vectorization (x86-64 gcc
- *   -O3 -fno-tree-vectorize: ~52 vs ~74 per pixel at R = 8). Every variant
- *   gives the same bytes.
+ *   threshold (the block prefix extrema stay in registers). Measured as
+ *   x86-64 gcc -O3 -fno-tree-vectorize instruction counts at R = 8: ~51 per
+ *   pixel with 8-byte words and ~69 with 4-byte words (ACTAG_SWAR_WORD32,
+ *   as on 32-bit cores), against ~73 for the plain byte loops: SWAR min/max
+ *   costs about 15 integer operations per word, so on 32-bit cores nearly
+ *   all of the gain is the fused horizontal pass. (Cortex-M4/M7 DSP byte
+ *   instructions, USUB8 + SEL, would do a 4-byte min in 2; not used here.)
+ *   Every variant gives the same bytes.
  *
  *   src and dst must not overlap (src == dst is rejected with
  *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
