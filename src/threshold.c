@@ -234,15 +234,14 @@ static void row_threshold(uint8_t *restrict d, const uint8_t *restrict x,
     }
     for (b0 = w; b0 < n; b0 += w) {
         int end = n - b0 > w ? b0 + w : n;
-        const uint8_t *sa = smin - 2 * r, *sb = smax - 2 * r, *xs = x - r;
-        uint8_t *ds = d - r;
         last0 = b0;
         pmn = hmin[b0];
         pmx = hmax[b0];
         for (t = b0; t < end; t++) {
             pmn = min8(pmn, hmin[t]);
             pmx = max8(pmx, hmax[t]);
-            ds[t] = (uint8_t)(2 * xs[t] + off2 >= min8(sa[t], pmn) + max8(sb[t], pmx));
+            d[t - r] = (uint8_t)(2 * x[t - r] + off2 >=
+                                 min8(smin[t - 2 * r], pmn) + max8(smax[t - 2 * r], pmx));
         }
     }
     /* Pixels whose window reaches n-1: pmn/pmx now hold the last block's
