@@ -9,7 +9,7 @@
  *     keep their distance h under the physical mirror, no tag may be read
  *     as any ID at all (nothing at a tag's white square, no exact code
  *     anywhere).
- * Every ID of every family (10,201 IDs on 109 sheets, each in 8 orientations, ~10 s). */
+ * Every ID of every family (10,201 IDs on 108 sheets, each in 8 orientations, ~10 s). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
