@@ -779,16 +779,21 @@ static void test_dxf_6000(void)
 
 static void test_dxf_many_tags_and_tabs(void)
 {
-    /* Every tag of AcTag24h10 and AcTag24h8 and a sample of the others: one
-     * piece of metal, right areas, tabs exactly where actag_layout_corner_tabs says. */
-    static const char *const names[4] = {"AcTag24h10", "AcTag24h8", "AcTag24h6", "AcTag24h4"};
+    /* Every tag of the families of up to 48 codes and a sample of the others
+     * (published and mirror-safe, 24 and 28 bits): one piece of metal, right
+     * areas, tabs exactly where actag_layout_corner_tabs says. */
+    static const char *const names[12] = {"AcTag24h10", "AcTag24h8",  "AcTag24h6",  "AcTag24h4",
+                                          "AcTag24m10", "AcTag24m8",  "AcTag24m6",  "AcTag24m4",
+                                          "AcTag28m10", "AcTag28m8",  "AcTag28m6",  "AcTag28m4"};
     int f, tabbed = 0;
-    for (f = 0; f < 4; f++) {
+    for (f = 0; f < 12; f++) {
         actag_family fam;
         char args[2048], ids[4096], name[128];
         int n = 0, i, list[64];
+        if (f >= 4 && actag_family_get(names[f], &fam) != ACTAG_OK)
+            continue; /* mirror-safe family not in ACTAG_FAMILIES */
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
-        if (fam.ncodes <= 45) {
+        if (fam.ncodes <= 48) {
             for (i = 0; i < fam.ncodes; i++)
                 list[n++] = i;
         } else {
