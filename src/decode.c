@@ -638,6 +638,9 @@ static float objective(const fimg *im, const fgrid *gr, int k, float *m, const u
     return L ? tscore(im, gr, k, m, L, erase) : fscore(im, gr, k, m);
 }
 
+#ifndef FIT_T_STEPS
+#define FIT_T_STEPS 2 /* template polish: steps per step size */
+#endif
 #ifndef FIT_T_SHIFT2
 #define FIT_T_SHIFT2 0.0625f /* template polish: squared shift bound, cells^2 */
 #endif
@@ -656,8 +659,8 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
     float lb = sqrtf(gr->bx * gr->bx + gr->by * gr->by);
     float best = objective(im, gr, k, m, L, erase);
     int lvl, it, p, sgn;
-    for (lvl = 0; lvl < 3; lvl++) {
-        for (it = 0; it < FIT_MAX_STEPS; it++) {
+    for (lvl = tight ? 1 : 0; lvl < 3; lvl++) { /* a polish starts at half steps */
+        for (it = 0; it < (tight ? FIT_T_STEPS : FIT_MAX_STEPS); it++) {
             fgrid bt = *gr;
             float bs = best;
             for (p = 0; p < 6; p++)
@@ -722,7 +725,7 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
  * five masked popcounts; candidates whose hard distance alone bounds their
  * soft distance above the runner-up's are skipped (exact pruning). */
 #define ML_Q 16
-#define ML_TOP 6 /* readings kept for the template check */
+#define ML_TOP 4 /* readings kept for the template check */
 #ifndef ACTAG_FIT_MIN_NOISE
 #define ACTAG_FIT_MIN_NOISE 0.05f /* floor of the cell noise estimate, confidence units */
 #endif

@@ -481,7 +481,7 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
             /* A contour at a tag the search found gets several RANSAC
              * quads (each the first acceptable one) until one decodes, so
              * the tag is reported with a quad's corners. */
-            tries = 1;
+            tries = 2;
             for (k = 0; k < nsk; k++) {
                 actag_point m = centre(sk[k].corners);
                 if (m.x >= (float)ci.min_x && m.x <= (float)ci.max_x && m.y >= (float)ci.min_y &&

@@ -2,7 +2,9 @@
  * pipeline: every ID of AcTag24h10 and AcTag24h8 and samples of AcTag24h6 and
  * AcTag24h4 (incl. IDs above 2590 and 6000), in all 8 orientations (4
  * rotations, optionally mirrored); the ID, the mirrored flag and the corners
- * in tag order must come back. */
+ * in tag order must come back. IDs within 2 bits of another reading over the
+ * default decoder's cells (AcTag24h4 has such neighbours, and twins) may give
+ * no reading, never a wrong one. */
 #include "unity.h"
 #include "test_util.h"
 
@@ -49,8 +51,36 @@ static void xform(int t, float x, float y, float *ox, float *oy)
     *oy = y;
 }
 
+/* Distance from code `id` (as printed) to the nearest other reading, over
+ * the bits the default decoder counts (the data ring's corner cells
+ * excluded): every code in its 4 rotations and 4 reflections, except id
+ * itself unturned. 0: the decoder cannot tell id from that reading. */
+static int decoder_distance(const actag_family *fam, int id)
+{
+    int bits = fam->bits, k = bits / 4, j, v, i, best = 99;
+    uint32_t keep = actag_code_mask(bits), c0 = fam->codes[id];
+    for (i = 0; i < 4; i++)
+        keep &= ~((uint32_t)1u << (bits - 1 - i * k));
+    for (j = 0; j < fam->ncodes; j++) {
+        uint32_t w = fam->codes[j];
+        for (v = 0; v < 4; v++) {
+            for (i = 0; i < 2; i++) {
+                uint32_t o = i ? actag_decode_mirror(w, bits) : w;
+                int d = actag_popcount32((o ^ c0) & keep);
+                if (!(j == id && v == 0 && i == 0) && d < best)
+                    best = d;
+            }
+            w = actag_code_rot90(w, bits);
+        }
+    }
+    return best;
+}
+
 static void check_tag(const actag_family *fam, int id)
 {
+    /* within 2 bits of another reading the likelihood margin may refuse
+     * even a clean render (AcTag24h4 needs e^10.8 odds for 6261 codes) */
+    int ambiguous = decoder_distance(fam, id) <= 2;
     static uint8_t tag[120 * 120], frame[FRAME * FRAME], out[FRAME * FRAME];
     actag_params p;
     actag_sonar_geometry g = geometry();
@@ -87,6 +117,8 @@ static void check_tag(const actag_family *fam, int id)
         f.depth = 8;
         n = actag_detect(&f, &g, &p, g_ws, sizeof g_ws, det, 4, NULL);
         snprintf(msg, sizeof msg, "%s id %d transform %d", fam->name, id, t);
+        if (ambiguous && n == 0)
+            continue; /* no reading: never a wrong one */
         TEST_ASSERT_EQUAL_INT_MESSAGE(1, n, msg);
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[0].id, msg);
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, det[0].hamming, msg);
