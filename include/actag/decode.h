@@ -245,7 +245,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
 #endif
 
 #ifndef ACTAG_FIT_MIN_BIT_MARGIN
-#define ACTAG_FIT_MIN_BIT_MARGIN 1
+#define ACTAG_FIT_MIN_BIT_MARGIN 2
 #endif
 
 /* Options of actag_decode_quad_fit(). */
