@@ -320,26 +320,65 @@ static void record(actag_detection *out, int max_out, int *nout, actag_stats *st
     out[k] = *d;
 }
 
+static int detect_filtered(const actag_sonar_geometry *geometry, const actag_params *params,
+                           const ws_layout *wl, int rows, int cols, int flip_mirror,
+                           actag_detection *out, int max_out, actag_stats *stats);
+
+/* Validates *params and resolves ACTAG_CORRECTIONS_AUTO into *pe. */
+static int resolve_params(const actag_params *params, actag_params *pe)
+{
+    int rc = actag_params_validate(params);
+    if (rc != ACTAG_OK)
+        return rc;
+    *pe = *params;
+    if (pe->max_bit_corrections == ACTAG_CORRECTIONS_AUTO) {
+        int maxc = actag_family_max_corrections(pe->family);
+        pe->max_bit_corrections = maxc < ACTAG_AUTO_CORRECTIONS ? maxc : ACTAG_AUTO_CORRECTIONS;
+    }
+    return ACTAG_OK;
+}
+
+/* 1. median filter: the frame (16-bit frames scaled into A first) -> B.
+ * B is not written again by any later stage, so several parameter sets can
+ * share it. */
+static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, int cols,
+                        int median_radius)
+{
+    const uint8_t *src;
+    int src_stride;
+    if (frame->depth == 16) {
+        convert16(frame, w->a);
+        src = w->a;
+        src_stride = cols;
+    } else {
+        src = (const uint8_t *)frame->data;
+        src_stride = frame->stride;
+    }
+    return actag_median_filter(src, rows, cols, src_stride, w->b, cols, median_radius, w->s,
+                               w->s_size);
+}
+
+/* The decoder reports mirroring relative to the image; flipping exactly one
+ * image axis relative to the reference orientation mirrors it again. */
+static int mirror_flip(const actag_sonar_geometry *geometry, int cols)
+{
+    int az_asc = geometry->bearings
+                     ? (cols > 1 && geometry->bearings[cols - 1] > geometry->bearings[0])
+                     : (geometry->flags & ACTAG_AZIMUTH_ASCENDING) != 0u;
+    int r_asc = (geometry->flags & ACTAG_RANGE_ASCENDING) != 0u;
+    return az_asc ^ r_asc;
+}
+
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  const actag_params *params, void *workspace, size_t workspace_size,
                  actag_detection *out, int max_out, actag_stats *stats)
 {
-    actag_stats st;
     actag_params pe;
     ws_layout w;
-    const uint8_t *src;
-    int src_stride, rc, rows, cols, nout = 0, flip_mirror, nsk = 0, k;
-    actag_detection sk[ACTAG_SEARCH_MAX];
-    int sk_used[ACTAG_SEARCH_MAX] = {0};
-    actag_contour_scanner scan;
-    actag_ipoint *pts;
-    void *qscratch;
-    size_t cap, qscratch_size;
-    actag_rng rng;
+    int rc, rows, cols, flip_mirror;
 
-    memset(&st, 0, sizeof st);
     if (stats)
-        *stats = st;
+        memset(stats, 0, sizeof *stats);
     if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
         frame->data == NULL || (out == NULL && max_out > 0))
         return ACTAG_ERR_NULL;
@@ -350,47 +389,39 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
         return ACTAG_ERR_SIZE;
     if (max_out < 0)
         return ACTAG_ERR_PARAM;
-    rc = actag_params_validate(params);
+    rc = resolve_params(params, &pe);
     if (rc != ACTAG_OK)
         return rc;
-    /* Resolve ACTAG_CORRECTIONS_AUTO on a copy. */
-    pe = *params;
-    if (pe.max_bit_corrections == ACTAG_CORRECTIONS_AUTO) {
-        int maxc = actag_family_max_corrections(pe.family);
-        pe.max_bit_corrections = maxc < ACTAG_AUTO_CORRECTIONS ? maxc : ACTAG_AUTO_CORRECTIONS;
-    }
-    params = &pe;
     rc = actag_geometry_validate(geometry, rows, cols);
     if (rc != ACTAG_OK)
         return rc;
     if (workspace_size < actag_workspace_size(rows, cols))
         return ACTAG_ERR_WORKSPACE;
-
     ws_split(workspace, rows, cols, &w);
-    if (frame->depth == 16) {
-        convert16(frame, w.a);
-        src = w.a;
-        src_stride = cols;
-    } else {
-        src = (const uint8_t *)frame->data;
-        src_stride = frame->stride;
-    }
-
-    /* 1. median filter: src -> B */
-    rc = actag_median_filter(src, rows, cols, src_stride, w.b, cols, params->median_radius, w.s,
-                             w.s_size);
+    rc = filter_frame(frame, &w, rows, cols, pe.median_radius);
     if (rc != ACTAG_OK)
         return rc;
-    /* The decoder reports mirroring relative to the image; flipping exactly
-     * one image axis relative to the reference orientation mirrors it again. */
-    {
-        int az_asc = geometry->bearings
-                         ? (cols > 1 && geometry->bearings[cols - 1] > geometry->bearings[0])
-                         : (geometry->flags & ACTAG_AZIMUTH_ASCENDING) != 0u;
-        int r_asc = (geometry->flags & ACTAG_RANGE_ASCENDING) != 0u;
-        flip_mirror = az_asc ^ r_asc;
-    }
+    flip_mirror = mirror_flip(geometry, cols);
+    return detect_filtered(geometry, &pe, &w, rows, cols, flip_mirror, out, max_out, stats);
+}
 
+/* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */
+static int detect_filtered(const actag_sonar_geometry *geometry, const actag_params *params,
+                           const ws_layout *wl, int rows, int cols, int flip_mirror,
+                           actag_detection *out, int max_out, actag_stats *stats)
+{
+    actag_stats st;
+    ws_layout w = *wl;
+    int rc, nout = 0, nsk = 0, k;
+    actag_detection sk[ACTAG_SEARCH_MAX];
+    int sk_used[ACTAG_SEARCH_MAX] = {0};
+    actag_contour_scanner scan;
+    actag_ipoint *pts;
+    void *qscratch;
+    size_t cap, qscratch_size;
+    actag_rng rng;
+
+    memset(&st, 0, sizeof st);
     /* 2. structure search (before the threshold overwrites A): candidates
      * the contours may miss. Contours at a tag found here get more RANSAC
      * iterations below, so a tag seen by both reports the quad's corners. */
@@ -531,4 +562,52 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
     if (stats)
         *stats = st;
     return nout;
+}
+
+int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                       const actag_params *params, int nparams, void *workspace,
+                       size_t workspace_size, actag_detection *out, int max_out_each,
+                       int *counts)
+{
+    ws_layout w;
+    int rc, rows, cols, flip_mirror, i;
+    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
+        counts == NULL || frame->data == NULL || (out == NULL && max_out_each > 0))
+        return ACTAG_ERR_NULL;
+    rows = frame->rows;
+    cols = frame->cols;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
+        frame->stride < cols || (frame->depth != 8 && frame->depth != 16))
+        return ACTAG_ERR_SIZE;
+    if (nparams < 1 || max_out_each < 0)
+        return ACTAG_ERR_PARAM;
+    for (i = 0; i < nparams; i++) {
+        actag_params pe;
+        rc = resolve_params(&params[i], &pe);
+        if (rc != ACTAG_OK)
+            return rc;
+        if (params[i].median_radius != params[0].median_radius)
+            return ACTAG_ERR_PARAM; /* one filtered frame serves them all */
+    }
+    rc = actag_geometry_validate(geometry, rows, cols);
+    if (rc != ACTAG_OK)
+        return rc;
+    if (workspace_size < actag_workspace_size(rows, cols))
+        return ACTAG_ERR_WORKSPACE;
+    ws_split(workspace, rows, cols, &w);
+    rc = filter_frame(frame, &w, rows, cols, params[0].median_radius);
+    if (rc != ACTAG_OK)
+        return rc;
+    flip_mirror = mirror_flip(geometry, cols);
+    for (i = 0; i < nparams; i++) {
+        actag_params pe;
+        resolve_params(&params[i], &pe);
+        rc = detect_filtered(geometry, &pe, &w, rows, cols, flip_mirror,
+                             out ? out + (size_t)i * (size_t)max_out_each : NULL, max_out_each,
+                             NULL);
+        if (rc < 0)
+            return rc;
+        counts[i] = rc;
+    }
+    return ACTAG_OK;
 }

@@ -250,6 +250,21 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  const actag_params *params, void *workspace, size_t workspace_size,
                  actag_detection *out, int max_out, actag_stats *stats);
 
+/* Several parameter sets on one frame (for example several families, or one
+ * family at several correction limits): the frame is median-filtered once and
+ * every set runs the rest of the pipeline on it, so set i gets exactly what
+ * actag_detect(frame, geometry, &params[i], ...) would give, at a fraction of
+ * the cost. Set i's detections go to out[i * max_out_each ...], their number
+ * to counts[i] (extra ones are dropped, as with actag_detect). Returns ACTAG_OK
+ * or the first error (ACTAG_ERR_NULL, _SIZE, _PARAM: nparams < 1,
+ * max_out_each < 0, an invalid set or median radii that differ, _GEOMETRY,
+ * _FAMILY, _CORRECTIONS, _WORKSPACE); counts is then undefined. The
+ * workspace is that of one actag_detect call. */
+int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                       const actag_params *params, int nparams, void *workspace,
+                       size_t workspace_size, actag_detection *out, int max_out_each,
+                       int *counts);
+
 /* After a successful actag_detect() on a rows x cols frame, these point at
  * the stage images inside the workspace (row stride = cols): the median
  * filtered frame, and the binary frame (0 = black, nonzero = white). They

@@ -21,6 +21,9 @@
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -283,7 +286,7 @@ static void eval_free_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t w
     sim_scene sc;
     sim_sonar sonar = c->free_sonar;
     actag_frame fr;
-    actag_detection det[16];
+    actag_detection *det;
     actag_rng g;
     uint32_t fs = sim_frame_seed(c->seed ^ 0xa5a5a5a5u, (uint32_t)i);
     int f, k;
@@ -302,33 +305,44 @@ static void eval_free_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t w
     fr.cols = sonar.cols;
     fr.stride = sonar.cols;
     fr.depth = 8;
-    for (f = 0; f < c->nfree_fam; f++)
-        for (k = 0; k < NCORR; k++) {
-            actag_params p;
-            int nd, j, corr = corrections_of(&c->free_fam[f], k);
-            if (k != 1 && !c->sweep[f]) {
-                R->det[f][k] = -1; /* not run */
-                continue;
+    {
+        /* every (family, corrections) setting in one actag_detect_multi
+         * call: the frame is filtered once (identical to separate calls) */
+        actag_params p[MAX_FAM * NCORR];
+        int slot[MAX_FAM][NCORR], np = 0, rc, counts[MAX_FAM * NCORR];
+        for (f = 0; f < c->nfree_fam; f++)
+            for (k = 0; k < NCORR; k++) {
+                int j, corr = corrections_of(&c->free_fam[f], k);
+                slot[f][k] = -1;
+                if (k != 1 && !c->sweep[f])
+                    continue; /* not run */
+                for (j = 0; j < k; j++) /* the same setting twice: one run */
+                    if (slot[f][j] >= 0 && corrections_of(&c->free_fam[f], j) == corr)
+                        break;
+                if (j < k) {
+                    slot[f][k] = slot[f][j];
+                    continue;
+                }
+                actag_params_default(&p[np]);
+                p[np].family = &c->free_fam[f];
+                p[np].tag_size = tag_size_default;
+                p[np].max_bit_corrections = corr;
+                slot[f][k] = np++;
             }
-            for (j = 0; j < k; j++) /* the same setting twice: one run */
-                if (corrections_of(&c->free_fam[f], j) == corr)
-                    break;
-            if (j < k) {
-                R->det[f][k] = R->det[f][j];
-                continue;
-            }
-            actag_params_default(&p);
-            p.family = &c->free_fam[f];
-            p.tag_size = tag_size_default;
-            p.max_bit_corrections = corr;
-            nd = actag_detect(&fr, &sonar.geo, &p, ws, wss, det, 16, NULL);
-            if (nd < 0) {
-                char m[200];
-                snprintf(m, sizeof m, "actag_detect failed: %s", actag_strerror(nd));
-                die(m);
-            }
-            R->det[f][k] = nd;
+        det = (actag_detection *)malloc((size_t)np * 16u * sizeof *det);
+        if (!det)
+            die("out of memory");
+        rc = actag_detect_multi(&fr, &sonar.geo, p, np, ws, wss, det, 16, counts);
+        free(det);
+        if (rc < 0) {
+            char m[200];
+            snprintf(m, sizeof m, "actag_detect_multi failed: %s", actag_strerror(rc));
+            die(m);
         }
+        for (f = 0; f < c->nfree_fam; f++)
+            for (k = 0; k < NCORR; k++)
+                R->det[f][k] = slot[f][k] >= 0 ? counts[slot[f][k]] : -1;
+    }
 }
 
 static void *worker(void *arg)
@@ -542,6 +556,12 @@ int main(int argc, char **argv)
     double aperture_deg = 60.0, elapsed;
     pthread_t th[16];
 
+#ifdef __GLIBC__
+    /* The renderer's per-frame buffers (a few MB) would otherwise be mmap'ed
+     * and faulted in anew every frame, and page faults serialise threads. */
+    mallopt(M_MMAP_THRESHOLD, 256 * 1024 * 1024);
+    mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+#endif
     memset(&c, 0, sizeof c);
     c.frames = 1000;
     c.seed = 1;

@@ -294,6 +294,102 @@ static void test_detect_in_every_orientation(void)
     TEST_ASSERT_GREATER_OR_EQUAL(runs * 3 / 4, found);
 }
 
+/* actag_detect_multi gives every parameter set exactly what a separate
+ * actag_detect call gives: all built-in families at zero, default and
+ * maximal corrections, on tagged and tag-free simulated frames (8- and
+ * 16-bit); and it reports bad sets. */
+static void test_detect_multi_equals_separate_calls(void)
+{
+    enum { MAXP = 3 * 32, EACH = 4 };
+    static uint8_t img[530 * 512];
+    static uint16_t img16[530 * 512];
+    static uint8_t ws[ACTAG_WORKSPACE_SIZE(530, 512)];
+    static actag_detection multi[MAXP * EACH], one[EACH];
+    static actag_family fams[32];
+    actag_params p[MAXP];
+    int counts[MAXP], nf = actag_family_count(), np = 0, f, k, i, trial, total = 0;
+    sim_appearance a;
+    sim_view_params v;
+    sim_sonar s;
+    TEST_ASSERT_TRUE(nf >= 4 && nf <= 32);
+    sim_appearance_default(&a);
+    sim_view_params_default(&v);
+    pool_sonar(&s, 0u, NULL);
+    v.min_distance = 0.9f;
+    v.max_distance = 1.3f;
+    for (f = 0; f < nf; f++) {
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get_at(f, &fams[f]));
+        for (k = 0; k < 3; k++) {
+            actag_params_default(&p[np]);
+            p[np].family = &fams[f];
+            p[np].tag_size = 0.130628571f;
+            p[np].max_bit_corrections = k == 0 ? 0 : k == 1 ? ACTAG_CORRECTIONS_AUTO
+                                                            : actag_family_max_corrections(&fams[f]);
+            np++;
+        }
+    }
+    for (trial = 0; trial < 4; trial++) {
+        sim_scene sc;
+        actag_frame fr;
+        if (trial < 2) {
+            sim_tag t;
+            memset(&t, 0, sizeof t);
+            t.family = fams[3]; /* AcTag24h10 */
+            t.id = trial;
+            t.tag_size = 0.130628571f;
+            TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, 50u + (uint32_t)trial, &t, &sc));
+        } else {
+            sim_sample_empty(&s, &v, 60u + (uint32_t)trial, &sc);
+        }
+        TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 70u + (uint32_t)trial, img, NULL, 512,
+                                            NULL));
+        fr.rows = 530;
+        fr.cols = 512;
+        fr.stride = 512;
+        if (trial == 1) { /* the same frame as 16-bit samples */
+            for (i = 0; i < 530 * 512; i++)
+                img16[i] = (uint16_t)(img[i] * 257);
+            fr.data = img16;
+            fr.depth = 16;
+        } else {
+            fr.data = img;
+            fr.depth = 8;
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_detect_multi(&fr, &s.geo, p, np, ws, sizeof ws,
+                                                           multi, EACH, counts));
+        for (i = 0; i < np; i++) {
+            int n = actag_detect(&fr, &s.geo, &p[i], ws, sizeof ws, one, EACH, NULL);
+            TEST_ASSERT_EQUAL_INT(n, counts[i]);
+            TEST_ASSERT_EQUAL_INT(0, memcmp(one, multi + i * EACH, (size_t)n * sizeof one[0]));
+            total += n;
+        }
+    }
+    TEST_ASSERT_GREATER_THAN(0, total); /* the tagged frames were found */
+    {
+        actag_frame fr;
+        fr.data = img;
+        fr.rows = 530;
+        fr.cols = 512;
+        fr.stride = 512;
+        fr.depth = 8;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect_multi(&fr, &s.geo, p, 0, ws, sizeof ws,
+                                                                  multi, EACH, counts));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect_multi(&fr, &s.geo, p, 2, ws, sizeof ws,
+                                                                 multi, EACH, NULL));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_detect_multi(&fr, &s.geo, p, 2, ws,
+                                                                      sizeof ws - 1, multi, EACH,
+                                                                      counts));
+        p[1].median_radius = p[0].median_radius + 1;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect_multi(&fr, &s.geo, p, 2, ws, sizeof ws,
+                                                                  multi, EACH, counts));
+        p[1].median_radius = p[0].median_radius;
+        p[1].max_bit_corrections = 99;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_detect_multi(&fr, &s.geo, p, 2, ws,
+                                                                        sizeof ws, multi, EACH,
+                                                                        counts));
+    }
+}
+
 /* Bad arguments are reported, not rendered. */
 static void test_render_errors(void)
 {
@@ -326,6 +422,7 @@ int main(void)
     RUN_TEST(test_truth_orientation_and_mirror);
     RUN_TEST(test_deterministic);
     RUN_TEST(test_detect_in_every_orientation);
+    RUN_TEST(test_detect_multi_equals_separate_calls);
     RUN_TEST(test_render_errors);
     return UNITY_END();
 }
