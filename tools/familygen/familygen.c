@@ -681,9 +681,9 @@ int main(int argc, char **argv)
     v = SEED & L.mask;
     pf = v;
     {
-        /* The candidate PREFETCH_AHEAD steps ahead is tested for complexity
-         * (arithmetic only) and, when it passes, its bitmap word is fetched
-         * while the candidates before it are looked at. */
+        /* The bitmap word of the candidate PREFETCH_AHEAD steps ahead is
+         * fetched while the candidates before it are looked at (with
+         * energy_first only when it passes the complexity test). */
         int j;
         for (j = 0; j < PREFETCH_AHEAD; j++) {
             pf = (pf + PRIME) & L.mask;
