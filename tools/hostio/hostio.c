@@ -109,7 +109,8 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
     const char *nm = name ? name : "PGM";
     if (!buf || !out)
         return fail(err, "%s: no buffer", nm);
-    if (len < 2 || buf[0] != 'P' || buf[1] != '5')
+    if (len < 3 || buf[0] != 'P' || buf[1] != '5' ||
+        !(buf[2] == ' ' || buf[2] == '\t' || buf[2] == '\n' || buf[2] == '\r' || buf[2] == '#'))
         return fail(err, "%s: not a binary PGM (no P5 magic)", nm);
     w = pgm_int(buf, len, &pos);
     h = pgm_int(buf, len, &pos);
@@ -122,6 +123,8 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
         return fail(err, "%s: PGM maxval %ld outside 1..65535", nm, maxv);
     if (pos >= len)
         return fail(err, "%s: PGM header ends without pixel data", nm);
+    if (!(buf[pos] == ' ' || buf[pos] == '\t' || buf[pos] == '\n' || buf[pos] == '\r'))
+        return fail(err, "%s: PGM maxval is not followed by whitespace", nm);
     pos++; /* the single whitespace after maxval */
     out->bytes_per_sample = maxv > 255 ? 2 : 1;
     need = (size_t)w * (size_t)h * (size_t)out->bytes_per_sample;
@@ -194,8 +197,11 @@ int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
             }
         }
     }
-    if (ferror(f) || fclose(f) != 0)
-        return fail(err, "%s: write error", path);
+    {
+        int bad = ferror(f);
+        if (fclose(f) != 0 || bad)
+            return fail(err, "%s: write error", path);
+    }
     return HOSTIO_OK;
 }
 

@@ -9,7 +9,8 @@
  * whose face is toward the sonar and which is wholly in view, a simulated
  * frame (sim.h), actag_detect() with default parameters, and a comparison
  * with the truth. Tag-free frames (seabed and clutter only) are run through
- * every chosen family with 0, the default and the maximal bit corrections.
+ * every chosen family at its default bit corrections, and the sweep families
+ * (the four published ones by default) also with 0 and the maximal ones.
  * Frames are independent streams of the seed, so the figures do not depend
  * on --threads. Progress on stderr. Exit status 0, 2 on bad options.
  */
@@ -69,7 +70,8 @@ static void usage(FILE *f)
         "  --json                 one JSON summary object on stdout (instead of text)\n"
         "  --svg DIR              error histograms and rate-versus-distance/incidence curves\n"
         "  --failures FILE        JSON lines of frames with a wrong ID, false tag, order or\n"
-        "                         mirror error (seed and pose, to reproduce with actag-sim)\n"
+        "                         mirror error; frame F of run seed S is frame F of\n"
+        "                         actag-sim --seed S --random F+1 with the same sonar options\n"
         "  --quiet                no progress on stderr\n"
         "  --help  --version\n");
 }
@@ -729,13 +731,33 @@ int main(int argc, char **argv)
         die(m);
     }
     parse_free_families(&c, free_list);
+    if (c.nfree_fam == 0)
+        die("--tag-free-families: no family given");
+    if (strcmp(sweep_list, "all") != 0) { /* every sweep name must be a family */
+        char buf[1024], *tok, *save = NULL;
+        actag_family tmp;
+        if (strlen(sweep_list) >= sizeof buf)
+            die("--sweep-families: list too long");
+        strcpy(buf, sweep_list);
+        for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save))
+            if (actag_family_get(tok, &tmp) != ACTAG_OK) {
+                char m[1100];
+                snprintf(m, sizeof m, "--sweep-families: unknown family '%s'", tok);
+                die(m);
+            }
+    }
     {
         int f;
         for (f = 0; f < c.nfree_fam; f++) {
-            const char *p = strstr(sweep_list, c.free_fam[f].name);
             size_t L = strlen(c.free_fam[f].name);
-            c.sweep[f] = !strcmp(sweep_list, "all") ||
-                         (p && (p == sweep_list || p[-1] == ',') && (p[L] == ',' || p[L] == 0));
+            const char *p = sweep_list;
+            c.sweep[f] = !strcmp(sweep_list, "all");
+            /* token by token: a name that is a prefix of another must not match */
+            while (!c.sweep[f] && (p = strstr(p, c.free_fam[f].name)) != NULL) {
+                if ((p == sweep_list || p[-1] == ',') && (p[L] == ',' || p[L] == 0))
+                    c.sweep[f] = 1;
+                p += L;
+            }
         }
     }
     c.free_sonar = c.sonar;
@@ -840,12 +862,12 @@ int main(int argc, char **argv)
             wrong += R->wrong_id;
             falset += R->false_tags;
             if (ff && (R->wrong_id || R->false_tags || (R->found && (R->mirror_err || R->order_err))))
-                fprintf(ff, "{\"frame\": %d, \"seed\": %u, \"distance\": %.4f, \"incidence_deg\": "
+                fprintf(ff, "{\"frame\": %d, \"run_seed\": %u, \"frame_seed\": %u, \"distance\": %.4f, \"incidence_deg\": "
                             "%.2f, \"mirrored\": %d, \"found\": %d, \"wrong_id\": %d, "
                             "\"false_tags\": %d, \"mirror_error\": %d, \"order_error\": %d, "
                             "\"margin\": %.3f, \"wrong_margin\": %.3f, \"wrong_hamming\": %d, "
                             "\"wrong_from_search\": %d, \"found_from_search\": %d}\n",
-                        i, (unsigned)R->seed, (double)R->distance, R->incidence / DEG,
+                        i, (unsigned)c.seed, (unsigned)R->seed, (double)R->distance, R->incidence / DEG,
                         R->mirrored, R->found, R->wrong_id, R->false_tags, R->mirror_err,
                         R->order_err, (double)R->margin, (double)R->wrong_margin,
                         R->wrong_hamming, R->wrong_search, R->found_search);

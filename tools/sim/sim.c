@@ -7,6 +7,7 @@
 #include <string.h>
 
 #define SIM_PI 3.14159265358979f
+#define SIM_MAX_PSF_RADIUS 255 /* beam spread kernel taps either side (sigma <= 100 px) */
 #define SIM_LN2 0.69314718f
 
 static int fail(char *err, const char *msg)
@@ -281,11 +282,11 @@ void sim_truth_of(const sim_sonar *s, const sim_tag *tag, sim_truth *out)
     /* Visibility: the tag's outline (sampled) inside range/azimuth/elevation. */
     azimuth_limit(s, &alo, &ahi);
     out->visible = 1;
+    /* the whole face, not only its outline: range and elevation can peak
+     * inside it */
     for (i = 0; i <= 8 && out->visible; i++)
         for (j = 0; j <= 8; j++) {
             float p[3], r, az, el;
-            if (i != 0 && i != 8 && j != 0 && j != 8)
-                continue;
             tag_point(tag, ((float)i / 8.0f - 0.5f) * W, ((float)j / 8.0f - 0.5f) * W, p);
             polar_of(p, &r, &az, &el);
             if (r < s->geo.min_range || r > s->geo.max_range || az < alo || az > ahi ||
@@ -431,7 +432,7 @@ static float intensity_at(const render_ctx *c, float r, float az, float ca, floa
                 break; /* tangent: one solution */
             if (ce <= 0.0f)
                 continue; /* behind the sonar */
-            e = se * (1.0f + se * se * (1.0f / 6.0f)); /* asin, |e| small */
+            e = atan2f(se, ce);
             if (fabsf(e) > 2.0f * c->half_v)
                 continue;
             beam = expf(-SIM_LN2 * (e / c->half_v) * (e / c->half_v));
@@ -555,7 +556,7 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
 {
     render_ctx c;
     int rows, cols, i, r, col, ss;
-    float *re, *im, *tmp, *rowgain, kern[64], *mean, *acc, *col_tmp, *caz, *saz;
+    float *re, *im, *tmp, *rowgain, kern[2 * SIM_MAX_PSF_RADIUS + 1], *mean, *acc, *col_tmp, *caz, *saz;
     int look, nlooks = a->looks < 1 ? 1 : (a->looks > 8 ? 8 : a->looks);
     float *raz, *rr;
     uint8_t *super;
@@ -695,7 +696,10 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
     actag_rng_seed(&g, seed);
     for (r = 0; r < rows; r++) {
         float rc = actag_geometry_range(&s->geo, rows, (float)r);
-        float loss = a->spreading != 0.0f ? powf(a->spreading_r0 / rc, a->spreading) : 1.0f;
+        /* range 0 (a min range of 0): the nearest bin's centre, not infinity */
+        float loss = a->spreading != 0.0f
+                         ? powf(a->spreading_r0 / fmaxf(rc, 0.5f * c.dr), a->spreading)
+                         : 1.0f;
         for (col = 0; col < cols; col++) {
             size_t idx = (size_t)r * (size_t)cols + (size_t)col;
             float I;
@@ -730,12 +734,12 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
         /* beam spread: azimuth (along a row) then range (along a column) */
         kr = psf_kernel(a->psf_azimuth /
                             actag_geometry_azimuth_step(&s->geo, cols, 0.5f * (float)cols),
-                        kern, 31);
+                        kern, SIM_MAX_PSF_RADIUS);
         if (kr > 0) {
             convolve_rows(re, tmp, rows, cols, kern, kr);
             convolve_rows(im, tmp, rows, cols, kern, kr);
         }
-        kr = psf_kernel(a->psf_range / c.dr, kern, 31);
+        kr = psf_kernel(a->psf_range / c.dr, kern, SIM_MAX_PSF_RADIUS);
         if (kr > 0) {
             convolve_cols(re, col_tmp, rows, cols, kern, kr);
             for (idx = 0; idx < n; idx++)
@@ -775,6 +779,8 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
         for (col = 0; col < cols; col++) {
             size_t idx = (size_t)r * (size_t)cols + (size_t)col;
             float v = a->gain * rowgain[r] * sqrtf(acc[idx] / (float)nlooks);
+            if (!(v >= 0.0f))
+                v = 0.0f; /* NaN-safe before the integer casts */
             if (out16) {
                 float v16 = v * 256.0f + 0.5f;
                 out16[(size_t)r * (size_t)out_stride + (size_t)col] =

@@ -35,12 +35,12 @@
  *     seabed * cos(inc)^seabed_exp, brighter in clutter patches.
  *     The intensity image then becomes a complex field with Rayleigh
  *     speckle (circular Gaussian per pixel), blurred by the beam's point
- *     spread (Gaussian, sigma psf_azimuth rad / psf_range m), plus complex
- *     receiver noise; the root of `looks` such fields' mean power (the
+ *     spread (Gaussian, sigma psf_azimuth rad / psf_range m; receiver noise
+ *     is added before the spread, so it is blurred too); the root of `looks` such fields' mean power (the
  *     sonar's ping averaging) times `gain` is the pixel, after
- *     interference bands (constant-range rows of gain between band_min and
- *     band_max, band_rate per frame on average, some over part of the
- *     beams). Same inputs and seed: same frame.
+ *     interference bands (constant-range rows across all beams, gain between
+ *     band_min and band_max, band_rate per frame on average). Same inputs
+ *     and seed: same frame.
  *
  *   Ground truth (sim_truth): for each tag the true range/azimuth and pixel
  *   position of its inner-square corners in tag order, the mirrored flag
@@ -175,10 +175,12 @@ int sim_sample_view(const sim_sonar *s, const sim_view_params *v, uint32_t seed,
 void sim_sample_empty(const sim_sonar *s, const sim_view_params *v, uint32_t seed,
                       sim_scene *scene);
 
-/* Frame i of n of a sonar pass: the sonar moves at constant height from the
- * far end of the distance range to the near end while turning around the tag
- * by 40 degrees, always aimed at it (tracking sequences). The tag may leave
- * the field of view near the ends (see sim_truth.visible). */
+/* Frame i of n of a sonar pass: the sonar moves at a constant height (that of
+ * the mean distance at the mean incidence) from max_distance * sin(incidence)
+ * to min_distance * sin(incidence) horizontally while turning around the tag
+ * by 40 degrees, aimed at it with a slow wobble (tracking sequences); the
+ * distance and incidence change along the pass, and the tag may leave the
+ * field of view (see sim_truth.visible). */
 void sim_sequence_view(const sim_sonar *s, const sim_view_params *v, uint32_t seed, int i, int n,
                        sim_tag *tag, sim_scene *scene);
 
