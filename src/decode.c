@@ -920,7 +920,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     int flags, min_contrast;
     float level;
     fimg im;
-    fgrid gr;
+    fgrid gr, g_quad;
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     float conf[32], black, white, contrast, flips = 0.0f, minc = 1e30f;
     actag_point q[4];
@@ -977,6 +977,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     gr.by = H[4];
     gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
     gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
+    g_quad = gr; /* the quad's own grid: the template check's second start */
     if (flags & ACTAG_FIT_WIDE) {
         im.fast = FIT_FAST_SHIFT;
         fshift(&im, &gr, k, m);
@@ -1124,17 +1125,58 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
             float rss0 = 0.0f, rss2 = 1e30f, s2, floor2;
             int jj, nc = 1, erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
+            int cid[2 * ML_TOP], cview[2 * ML_TOP], ncand = 0;
+            /* candidates: the likeliest readings on the fitted grid, and on
+             * the quad's own grid (the code-agnostic fit may have settled
+             * where the right reading is not among its likeliest) */
             for (jj = 0; jj < ml.ntop; jj++) {
-                fgrid g = gr;
+                cid[ncand] = ml.top[jj].id;
+                cview[ncand++] = ml.top[jj].view;
+            }
+            {
+                float cq[32], bq, wq;
+                ml_result mq;
+                int a2, b2;
+                fcells(&im, &g_quad, k, mt);
+                flevels(mt, k, &bq, &wq);
+                if (wq - bq > 0.0f) {
+                    for (i = 0; i < bits; i++) {
+                        float t;
+                        bit_cell(i, k, &cx, &cy);
+                        if (flags & ACTAG_FIT_LOCAL) {
+                            int rx, ry, wx, wy;
+                            fref_cells(i, k, &rx, &ry, &wx, &wy);
+                            t = 0.5f * (mt[ry * n + rx] + mt[wy * n + wx]);
+                        } else {
+                            t = bq + level * (wq - bq);
+                        }
+                        cq[i] = (mt[cy * n + cx] - t) / (wq - bq);
+                    }
+                    ml_match(family, cq, keep, &mq);
+                    for (a2 = 0; a2 < mq.ntop; a2++) {
+                        int dup = 0;
+                        for (b2 = 0; b2 < ncand; b2++)
+                            dup |= cid[b2] == mq.top[a2].id && cview[b2] == mq.top[a2].view;
+                        if (!dup) {
+                            cid[ncand] = mq.top[a2].id;
+                            cview[ncand++] = mq.top[a2].view;
+                        }
+                    }
+                }
+            }
+            for (jj = 0; jj < ncand; jj++) {
                 float r;
-                layout_of(family, ml.top[jj].id, ml.top[jj].view, k, L);
-                im.fast = FIT_FAST_ASCENT;
-                /* a polish near the code-agnostic grid; after the wide
-                 * search (which may settle a cell off) the full range */
-                ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE));
-                im.fast = 0;
-                fcells(&im, &g, k, mt);
-                r = template_rss(mt, L, k, erase, &nc);
+                layout_of(family, cid[jj], cview[jj], k, L);
+                /* a polish near the grid the reading came from (after the
+                 * wide search, which may settle a cell off, the full range) */
+                {
+                    fgrid g = jj < ml.ntop ? gr : g_quad;
+                    im.fast = FIT_FAST_ASCENT;
+                    ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE));
+                    im.fast = 0;
+                    fcells(&im, &g, k, mt);
+                    r = template_rss(mt, L, k, erase, &nc);
+                }
                 if (jj == 0)
                     rss0 = r;
                 else if (r < rss2)
