@@ -274,3 +274,28 @@ int hostio_parse_doubles(const char *name, const char *s, char sep, double *out,
         return fail(err, "%s: expected exactly %d numbers (got '%s')", name, n, s);
     return HOSTIO_OK;
 }
+
+void hostio_die(const char *prog, const char *msg)
+{
+    fprintf(stderr, "%s: %s\n", prog, msg);
+    exit(2);
+}
+
+double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
+                         double hi)
+{
+    char err[HOSTIO_ERRLEN];
+    double v = 0.0;
+    if (hostio_parse_double(name, s, lo, hi, &v, err) != HOSTIO_OK)
+        hostio_die(prog, err);
+    return v;
+}
+
+long hostio_opt_long(const char *prog, const char *name, const char *s, long lo, long hi)
+{
+    char err[HOSTIO_ERRLEN];
+    long v = 0;
+    if (hostio_parse_long(name, s, lo, hi, &v, err) != HOSTIO_OK)
+        hostio_die(prog, err);
+    return v;
+}

@@ -28,6 +28,10 @@
  *     hostio_parse_double(name, s, lo, hi, &v, err)
  *     hostio_parse_long(name, s, lo, hi, &v, err)
  *     hostio_parse_doubles(name, s, sep, out, n, err)  exactly n numbers
+ *   Command-line tools (print "PROG: message" on stderr and exit with status 2)
+ *     hostio_die(prog, msg)
+ *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
+ *     hostio_opt_long(prog, name, s, lo, hi)     hostio_parse_long or die
  */
 #ifndef ACTAG_HOSTIO_H
 #define ACTAG_HOSTIO_H
@@ -78,6 +82,12 @@ int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v
 /* Exactly n finite numbers separated by `sep` (e.g. ','). */
 int hostio_parse_doubles(const char *name, const char *s, char sep, double *out, int n,
                          char *err);
+
+/* For command-line tools: the message on stderr as "prog: msg", exit status 2. */
+void hostio_die(const char *prog, const char *msg);
+double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
+                         double hi);
+long hostio_opt_long(const char *prog, const char *name, const char *s, long lo, long hi);
 
 #ifdef __cplusplus
 }

@@ -76,29 +76,10 @@ static void usage(FILE *f)
         "  --help  --version\n");
 }
 
-static void die(const char *msg)
-{
-    fprintf(stderr, PROG ": %s\n", msg);
-    exit(2);
-}
-
-static double num(const char *opt, const char *s, double lo, double hi)
-{
-    char err[HOSTIO_ERRLEN];
-    double v;
-    if (hostio_parse_double(opt, s, lo, hi, &v, err) != HOSTIO_OK)
-        die(err);
-    return v;
-}
-
-static long inum(const char *opt, const char *s, long lo, long hi)
-{
-    char err[HOSTIO_ERRLEN];
-    long v;
-    if (hostio_parse_long(opt, s, lo, hi, &v, err) != HOSTIO_OK)
-        die(err);
-    return v;
-}
+/* Errors and option values: the host I/O library's, exit status 2. */
+#define die(msg) hostio_die(PROG, (msg))
+#define num(opt, s, lo, hi) hostio_opt_double(PROG, (opt), (s), (lo), (hi))
+#define inum(opt, s, lo, hi) hostio_opt_long(PROG, (opt), (s), (lo), (hi))
 
 /* ------------------------------------------------------------ per frame */
 

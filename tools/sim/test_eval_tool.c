@@ -4,6 +4,7 @@
  * message naming the option and the value). */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
+#include "hostio.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,24 +28,8 @@ static int run(const char *tool, const char *args)
     return (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
 }
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    char *b;
-    long n;
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    b = (char *)calloc((size_t)n + 1, 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
-        free(b);
-        b = NULL;
-    }
-    fclose(f);
-    return b;
-}
+/* A whole output file as a string (NULL when it cannot be read). */
+static char *slurp(const char *path) { return (char *)hostio_slurp(path, NULL, NULL); }
 
 /* The number after "key": (the first occurrence after from). */
 static double json_num(const char *s, const char *key)
