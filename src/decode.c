@@ -725,7 +725,8 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
  * five masked popcounts; candidates whose hard distance alone bounds their
  * soft distance above the runner-up's are skipped (exact pruning). */
 #define ML_Q 16
-#define ML_TOP 4 /* readings kept for the template check */
+#define ML_TOP 6 /* readings kept for the template check (4 let a wrong handedness
+                          through on a simulated view read from a contour guess) */
 #ifndef ACTAG_FIT_MIN_NOISE
 #define ACTAG_FIT_MIN_NOISE 0.05f /* floor of the cell noise estimate, confidence units */
 #endif

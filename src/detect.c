@@ -203,6 +203,71 @@ static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g
     return 1;
 }
 
+/* A first guess of a blob's tag grid when RANSAC finds no quad on its
+ * border (ragged sonar outlines): the border point farthest from the
+ * centroid, the point farthest from it, and the points farthest on either
+ * side of the line through those two. The fit decoder's wide search only
+ * needs a start within about a cell. Returns 0 when the points are
+ * collinear. */
+static int extreme_quad(const actag_ipoint *pts, int n, actag_point q[4])
+{
+    float cx = 0.0f, cy = 0.0f, best = -1.0f, dx, dy, lo = 0.0f, hi = 0.0f;
+    long sx = 0, sy = 0;
+    int i, i0 = 0, i1 = -1, i2 = 0, i3 = -1;
+    if (n < 4)
+        return 0;
+    for (i = 0; i < n; i++) {
+        sx += pts[i].x;
+        sy += pts[i].y;
+    }
+    cx = (float)sx / (float)n;
+    cy = (float)sy / (float)n;
+    for (i = 0; i < n; i++) {
+        float ex = (float)pts[i].x - cx, ey = (float)pts[i].y - cy, d = ex * ex + ey * ey;
+        if (d > best) {
+            best = d;
+            i0 = i;
+        }
+    }
+    best = -1.0f;
+    for (i = 0; i < n; i++) {
+        float ex = (float)(pts[i].x - pts[i0].x), ey = (float)(pts[i].y - pts[i0].y);
+        float d = ex * ex + ey * ey;
+        if (d > best) {
+            best = d;
+            i2 = i;
+        }
+    }
+    dx = (float)(pts[i2].x - pts[i0].x);
+    dy = (float)(pts[i2].y - pts[i0].y);
+    for (i = 0; i < n; i++) {
+        float s = dx * (float)(pts[i].y - pts[i0].y) - dy * (float)(pts[i].x - pts[i0].x);
+        if (s > hi) {
+            hi = s;
+            i1 = i;
+        }
+        if (s < lo) {
+            lo = s;
+            i3 = i;
+        }
+    }
+    if (i1 < 0 || i3 < 0)
+        return 0;
+    q[0].x = (float)pts[i0].x;
+    q[0].y = (float)pts[i0].y;
+    q[1].x = (float)pts[i1].x;
+    q[1].y = (float)pts[i1].y;
+    q[2].x = (float)pts[i2].x;
+    q[2].y = (float)pts[i2].y;
+    q[3].x = (float)pts[i3].x;
+    q[3].y = (float)pts[i3].y;
+    return 1;
+}
+
+/* Contours per frame whose extreme points are tried as a grid guess when
+ * RANSAC gives no reading (each a wide-search decode, ~0.1 ms). */
+#define ACTAG_GUESS_MAX 16
+
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
 
@@ -412,7 +477,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
 {
     actag_stats st;
     ws_layout w = *wl;
-    int rc, nout = 0, nsk = 0, k;
+    int rc, nout = 0, nsk = 0, k, nguess = 0;
     actag_detection sk[ACTAG_SEARCH_MAX];
     int sk_used[ACTAG_SEARCH_MAX] = {0};
     actag_contour_scanner scan;
@@ -539,6 +604,32 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                     rc = ACTAG_ERR_NO_MATCH;
                 if (rc == ACTAG_OK)
                     break;
+            }
+            if (rc != ACTAG_OK && params->decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
+                /* no quad reads: the blob's extreme points as a first guess
+                 * for the wide grid search, judged like a search reading */
+                actag_point gq[4];
+                int lim = params->search_max_corrections < params->max_bit_corrections
+                              ? params->search_max_corrections
+                              : params->max_bit_corrections;
+                if (extreme_quad(pts, ci.stored, gq)) {
+                    nguess++;
+                    if (decode_fit(w.b, rows, cols, gq, params, lim, ACTAG_FIT_WIDE, &dr) ==
+                            ACTAG_OK &&
+                        dr.decision_margin >= params->search_min_margin &&
+                        structure_ok(&dr, params, lim) &&
+                        sides_plausible(dr.fit_corners, geometry, params, rows, cols)) {
+                        actag_detection d;
+                        st.decoded++;
+                        fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols,
+                                 flip_mirror);
+                        record(out, max_out, &nout, &st, &d);
+                        for (k = 0; k < nsk; k++)
+                            if (same_place(&sk[k], d.corners))
+                                sk_used[k] = 1;
+                    }
+                }
+                continue;
             }
             if (rc != ACTAG_OK)
                 continue;

@@ -161,6 +161,17 @@ typedef struct actag_params {
  *     counted in ACTAG_WORKSPACE_SIZE); frames under 16 pixels in either
  *     direction are not searched. Cost: ~1.5 ms per 530 x 512 frame
  *     (desktop core).
+ *   - A size-plausible contour on which no RANSAC quad reads (ragged or
+ *     hollow outlines of speckled white squares) is tried once more: its
+ *     extreme points (farthest from the centroid, farthest from that, and
+ *     farthest on either side of the line through both) start the fit
+ *     decoder's wide grid search, and the reading is judged like a search
+ *     reading (search corrections, margin, budget, sides), at most 16
+ *     contours per frame. On 2,000 simulated pool views (seeds 1, 3) it
+ *     raised the detection rate from 77 % to 87 % and at the paper's
+ *     settings (seed 2) from 36 % to 38 %, with 0 wrong IDs, 0 mirror and 0
+ *     order errors, and 0 false detections on 2,000 tag-free frames for
+ *     every family; it costs ~60 % more decoder work per frame.
  *   - Two readings at the same place (centre inside the other's
  *     circumcircle) are one tag: the lower hamming wins (then the higher
  *     inlier ratio); this also drops misreadings with another ID.
