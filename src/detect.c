@@ -385,9 +385,47 @@ static void record(actag_detection *out, int max_out, int *nout, actag_stats *st
     out[k] = *d;
 }
 
+/* The optional candidate callback of actag_detect_traced() (trace.h). */
+typedef struct {
+    actag_trace_fn fn;
+    void *user;
+} tracer;
+
+/* Reports a search position or quad (tr may be NULL: nothing to do). */
+static void trace_quad(const tracer *tr, int kind, int outcome, const actag_point quad[4],
+                       float ratio, const actag_decode_result *dr)
+{
+    actag_trace_event e;
+    if (tr == NULL)
+        return;
+    memset(&e, 0, sizeof e);
+    e.kind = kind;
+    e.outcome = outcome;
+    memcpy(e.quad, quad, sizeof e.quad);
+    e.inlier_ratio = ratio;
+    e.decoded = dr;
+    tr->fn(tr->user, &e);
+}
+
+static void trace_contour(const tracer *tr, int outcome, const actag_ipoint *pts,
+                          const actag_contour_info *ci)
+{
+    actag_trace_event e;
+    if (tr == NULL)
+        return;
+    memset(&e, 0, sizeof e);
+    e.kind = ACTAG_TRACE_CONTOUR;
+    e.outcome = outcome;
+    e.points = ci->overflow ? NULL : pts;
+    e.npoints = ci->overflow ? 0 : ci->stored;
+    e.contour = ci;
+    tr->fn(tr->user, &e);
+}
+
 static int detect_filtered(const actag_sonar_geometry *geometry, const actag_params *params,
                            const ws_layout *wl, int rows, int cols, int flip_mirror,
-                           actag_detection *out, int max_out, actag_stats *stats);
+                           actag_detection *out, int max_out, actag_stats *stats,
+                           const tracer *tr);
 
 /* Validates *params and resolves ACTAG_CORRECTIONS_AUTO into *pe. */
 static int resolve_params(const actag_params *params, actag_params *pe)
@@ -438,6 +476,16 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  const actag_params *params, void *workspace, size_t workspace_size,
                  actag_detection *out, int max_out, actag_stats *stats)
 {
+    return actag_detect_traced(frame, geometry, params, workspace, workspace_size, out, max_out,
+                               stats, NULL, NULL);
+}
+
+int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                        const actag_params *params, void *workspace, size_t workspace_size,
+                        actag_detection *out, int max_out, actag_stats *stats,
+                        actag_trace_fn trace, void *user)
+{
+    tracer tr;
     actag_params pe;
     ws_layout w;
     int rc, rows, cols, flip_mirror;
@@ -467,13 +515,17 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
     if (rc != ACTAG_OK)
         return rc;
     flip_mirror = mirror_flip(geometry, cols);
-    return detect_filtered(geometry, &pe, &w, rows, cols, flip_mirror, out, max_out, stats);
+    tr.fn = trace;
+    tr.user = user;
+    return detect_filtered(geometry, &pe, &w, rows, cols, flip_mirror, out, max_out, stats,
+                           trace ? &tr : NULL);
 }
 
 /* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */
 static int detect_filtered(const actag_sonar_geometry *geometry, const actag_params *params,
                            const ws_layout *wl, int rows, int cols, int flip_mirror,
-                           actag_detection *out, int max_out, actag_stats *stats)
+                           actag_detection *out, int max_out, actag_stats *stats,
+                           const tracer *tr)
 {
     actag_stats st;
     ws_layout w = *wl;
@@ -514,15 +566,26 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                                      ? params->search_max_corrections
                                      : params->max_bit_corrections,
                                  ACTAG_FIT_WIDE, &dr);
-                if (drc != ACTAG_OK)
+                if (drc != ACTAG_OK) {
+                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_NO_MATCH, quad, 0.0f, NULL);
                     continue;
-                if (dr.decision_margin < params->search_min_margin ||
-                    !structure_ok(&dr, params,
+                }
+                if (dr.decision_margin < params->search_min_margin) {
+                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_MARGIN, quad, 0.0f, &dr);
+                    continue;
+                }
+                if (!structure_ok(&dr, params,
                                   params->search_max_corrections < params->max_bit_corrections
                                       ? params->search_max_corrections
-                                      : params->max_bit_corrections) ||
-                    !sides_plausible(dr.fit_corners, geometry, params, rows, cols))
+                                      : params->max_bit_corrections)) {
+                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_STRUCTURE, quad, 0.0f, &dr);
                     continue;
+                }
+                if (!sides_plausible(dr.fit_corners, geometry, params, rows, cols)) {
+                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_SIDES, quad, 0.0f, &dr);
+                    continue;
+                }
+                trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_ACCEPTED, quad, 0.0f, &dr);
                 st.decoded++;
                 fill_det(&sk[nsk], &dr, dr.fit_corners, 0.0f, geometry, rows, cols,
                          flip_mirror);
@@ -569,10 +632,14 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
             st.contours++;
             if (ci.overflow) {
                 st.overflowed++;
+                trace_contour(tr, ACTAG_TRACE_OVERFLOW, pts, &ci);
                 continue;
             }
-            if (!size_plausible(&ci, geometry, params, rows, cols))
+            if (!size_plausible(&ci, geometry, params, rows, cols)) {
+                trace_contour(tr, ACTAG_TRACE_SIZE, pts, &ci);
                 continue;
+            }
+            trace_contour(tr, ACTAG_TRACE_ACCEPTED, pts, &ci);
             st.size_ok++;
             /* A contour at a tag the search found gets several RANSAC
              * quads (each the first acceptable one) until one decodes, so
@@ -593,17 +660,29 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                     continue; /* another try draws other samples */
                 st.quads++;
                 if (!sides_plausible(q.corners, geometry, params, rows, cols)) {
+                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_SIDES, q.corners,
+                               q.inlier_ratio, NULL);
                     rc = ACTAG_ERR_NO_QUAD;
                     continue;
                 }
                 rc = decode_any(&w, rows, cols, q.corners, params, &dr);
+                if (rc != ACTAG_OK) {
+                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_NO_MATCH, q.corners,
+                               q.inlier_ratio, NULL);
+                    continue;
+                }
                 /* the fit decoder's structure gate: black ring and white
                  * interior cells on the right side of the mid level */
-                if (rc == ACTAG_OK && params->decode_mode == ACTAG_DECODE_FIT &&
-                    !structure_ok(&dr, params, params->max_bit_corrections))
+                if (params->decode_mode == ACTAG_DECODE_FIT &&
+                    !structure_ok(&dr, params, params->max_bit_corrections)) {
+                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_STRUCTURE, q.corners,
+                               q.inlier_ratio, &dr);
                     rc = ACTAG_ERR_NO_MATCH;
-                if (rc == ACTAG_OK)
-                    break;
+                    continue;
+                }
+                trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_ACCEPTED, q.corners,
+                           q.inlier_ratio, &dr);
+                break;
             }
             if (rc != ACTAG_OK && params->decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
                 /* no quad reads: the blob's extreme points as a first guess
@@ -695,7 +774,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
         resolve_params(&params[i], &pe);
         rc = detect_filtered(geometry, &pe, &w, rows, cols, flip_mirror,
                              out ? out + (size_t)i * (size_t)max_out_each : NULL, max_out_each,
-                             NULL);
+                             NULL, NULL);
         if (rc < 0)
             return rc;
         counts[i] = rc;

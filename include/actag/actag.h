@@ -79,6 +79,7 @@
 #include "actag/rng.h"
 #include "actag/search.h"
 #include "actag/threshold.h"
+#include "actag/trace.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -260,6 +261,13 @@ int actag_params_validate(const actag_params *p);
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  const actag_params *params, void *workspace, size_t workspace_size,
                  actag_detection *out, int max_out, actag_stats *stats);
+
+/* actag_detect() with a callback that sees every candidate (trace.h); trace
+ * may be NULL. Same results, same errors. */
+int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                        const actag_params *params, void *workspace, size_t workspace_size,
+                        actag_detection *out, int max_out, actag_stats *stats,
+                        actag_trace_fn trace, void *user);
 
 /* Several parameter sets on one frame (for example several families, or one
  * family at several correction limits): the frame is median-filtered once and

@@ -1,0 +1,257 @@
+/* actag_detect_traced(): the callback sees every candidate the counters
+ * count, every detection comes from an accepted candidate, and the results
+ * (detections, order, stats) are byte-identical to actag_detect() on real
+ * frames, noise and synthetic squares, at several parameter settings. */
+#include "unity.h"
+#include "test_util.h"
+
+#include "actag/actag.h"
+
+void setUp(void) {}
+void tearDown(void) {}
+
+#define MAXR 530
+#define MAXC 620
+static uint8_t g_ws[ACTAG_WORKSPACE_SIZE(MAXR, MAXC)];
+static uint8_t g_ws2[ACTAG_WORKSPACE_SIZE(MAXR, MAXC)];
+
+#define MAX_ACC 4096
+typedef struct {
+    int kind_count[4];    /* by kind */
+    int contour_accepted; /* contours that passed the size filter */
+    int contour_overflow;
+    int accepted;         /* quads and search positions that decoded and went on */
+    int bad;              /* malformed events */
+    int nacc;
+    actag_point acc_corners[MAX_ACC][4]; /* corners of accepted readings */
+    int acc_id[MAX_ACC];
+} tally;
+
+/* Events seen over all frames checked so far, by kind and outcome. */
+static int g_seen[4][8];
+
+static void on_event(void *user, const actag_trace_event *e)
+{
+    tally *t = (tally *)user;
+    if (e->kind < ACTAG_TRACE_SEARCH || e->kind > ACTAG_TRACE_QUAD) {
+        t->bad++;
+        return;
+    }
+    t->kind_count[e->kind]++;
+    if (e->outcome >= 0 && e->outcome < 8)
+        g_seen[e->kind][e->outcome]++;
+    if (e->kind == ACTAG_TRACE_CONTOUR) {
+        if (e->contour == NULL)
+            t->bad++;
+        else if (e->outcome == ACTAG_TRACE_OVERFLOW)
+            t->contour_overflow += (e->points == NULL && e->npoints == 0) ? 1 : 0;
+        else if (e->points == NULL || e->npoints != e->contour->stored)
+            t->bad++;
+        if (e->outcome == ACTAG_TRACE_ACCEPTED)
+            t->contour_accepted++;
+        return;
+    }
+    if (e->outcome == ACTAG_TRACE_ACCEPTED) {
+        const actag_point *c;
+        if (e->decoded == NULL) {
+            t->bad++;
+            return;
+        }
+        t->accepted++;
+        c = e->kind == ACTAG_TRACE_QUAD ? e->decoded->corners : e->decoded->fit_corners;
+        if (t->nacc < MAX_ACC) {
+            memcpy(t->acc_corners[t->nacc], c, sizeof t->acc_corners[0]);
+            t->acc_id[t->nacc] = e->decoded->id;
+            t->nacc++;
+        }
+    } else if ((e->outcome == ACTAG_TRACE_STRUCTURE || e->outcome == ACTAG_TRACE_MARGIN) &&
+               e->decoded == NULL) {
+        t->bad++;
+    }
+}
+
+/* Runs both entry points on one frame and checks everything listed above. */
+static int check_frame(const uint8_t *px, int rows, int cols, const actag_sonar_geometry *geo,
+                       const actag_params *p, const char *what)
+{
+    actag_frame f;
+    actag_detection a[32], b[32];
+    actag_stats sa, sb;
+    static tally t;
+    int na, nb, i, j;
+    f.data = px;
+    f.rows = rows;
+    f.cols = cols;
+    f.stride = cols;
+    f.depth = 8;
+    memset(a, 0, sizeof a);
+    memset(b, 0, sizeof b);
+    memset(&t, 0, sizeof t);
+    na = actag_detect(&f, geo, p, g_ws, sizeof g_ws, a, 32, &sa);
+    nb = actag_detect_traced(&f, geo, p, g_ws2, sizeof g_ws2, b, 32, &sb, on_event, &t);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(na, nb, what);
+    TEST_ASSERT_TRUE_MESSAGE(na >= 0, what);
+    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(a, b, sizeof a, what);
+    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&sa, &sb, sizeof sa, what);
+    /* the stage images are the same too */
+    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(actag_workspace_binary(g_ws, rows, cols),
+                                     actag_workspace_binary(g_ws2, rows, cols),
+                                     (size_t)rows * (size_t)cols, what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, t.bad, what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(sa.contours, t.kind_count[ACTAG_TRACE_CONTOUR], what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(sa.size_ok, t.contour_accepted, what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(sa.overflowed, t.contour_overflow, what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(sa.quads, t.kind_count[ACTAG_TRACE_QUAD], what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(sa.searched, t.kind_count[ACTAG_TRACE_SEARCH], what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(sa.decoded, t.accepted, what);
+    /* every detection is one of the accepted readings */
+    for (i = 0; i < na; i++) {
+        int found = 0;
+        for (j = 0; j < t.nacc && !found; j++)
+            found = t.acc_id[j] == a[i].id &&
+                    memcmp(t.acc_corners[j], a[i].corners, sizeof a[i].corners) == 0;
+        TEST_ASSERT_TRUE_MESSAGE(found, what);
+    }
+    return na;
+}
+
+static void params_for(actag_params *p, const actag_family *fam, int variant)
+{
+    actag_params_default(p);
+    p->family = fam;
+    switch (variant) {
+    case 1: /* the paper's binary decoder, no search */
+        p->decode_mode = ACTAG_DECODE_BINARY;
+        p->search_candidates = 0;
+        break;
+    case 2: /* every search candidate, loose margins */
+        p->search_candidates = ACTAG_SEARCH_MAX;
+        p->search_min_margin = -5.0f;
+        p->fit.min_margin = -2.0f;
+        break;
+    default:
+        break;
+    }
+}
+
+static void test_example_frame_every_variant(void)
+{
+    int rows = 0, cols = 0, v, found = 0;
+    actag_family fam;
+    actag_params p;
+    const actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+    uint8_t *img = tu_read_pgm(ACTAG_SOURCE_DIR "/data/exampleSonarImage.pgm", &rows, &cols);
+    TEST_ASSERT_NOT_NULL(img);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    for (v = 0; v < 3; v++) {
+        char what[64];
+        snprintf(what, sizeof what, "example frame, variant %d", v);
+        params_for(&p, &fam, v);
+        found += check_frame(img, rows, cols, &geo, &p, what) > 0;
+    }
+    TEST_ASSERT_EQUAL_INT(3, found); /* the tag is there in every variant */
+    free(img);
+}
+
+/* The pool frames, when ../shared is beside the repository. */
+static void test_pool_frames(void)
+{
+    int i, frames = 0, total = 0;
+    actag_family fam;
+    actag_params p;
+    const actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    params_for(&p, &fam, 0);
+    for (i = 1; i <= 574; i += 10) {
+        char path[512];
+        int rows = 0, cols = 0;
+        uint8_t *img;
+        snprintf(path, sizeof path, ACTAG_SHARED_DIR "/data/sonar/pool-video/f_%04d.pgm", i);
+        img = tu_read_pgm(path, &rows, &cols);
+        if (!img)
+            continue;
+        TEST_ASSERT_TRUE(rows <= MAXR && cols <= MAXC);
+        total += check_frame(img, rows, cols, &geo, &p, path);
+        frames++;
+        free(img);
+    }
+    if (frames == 0)
+        TEST_IGNORE_MESSAGE("no pool frames in " ACTAG_SHARED_DIR);
+    TEST_ASSERT_TRUE(total > 0);
+}
+
+/* Noise with bright squares (some with a dark ring) under the orientation
+ * flags: many contours, quads and failed decodes. */
+static void test_synthetic_frames(void)
+{
+    static uint8_t img[300 * 280];
+    int trial, rows = 300, cols = 280;
+    actag_family fam;
+    actag_params p;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    tu_seed(11);
+    for (trial = 0; trial < 12; trial++) {
+        actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+        int i, s, r0, c0, r, c, n;
+        char what[64];
+        geo.flags = (unsigned)(trial & 3);
+        for (i = 0; i < rows * cols; i++)
+            img[i] = (uint8_t)tu_range(0, 60);
+        for (s = 0; s < 6; s++) {
+            int side = tu_range(12, 40), ring = tu_range(0, 1);
+            r0 = tu_range(0, rows - side - 1);
+            c0 = tu_range(0, cols - side - 1);
+            for (r = r0; r < r0 + side; r++)
+                for (c = c0; c < c0 + side; c++) {
+                    int edge = ring && (r - r0 < side / 4 || r0 + side - 1 - r < side / 4 ||
+                                        c - c0 < side / 4 || c0 + side - 1 - c < side / 4);
+                    img[r * cols + c] = edge ? 10 : (uint8_t)tu_range(180, 255);
+                }
+        }
+        params_for(&p, &fam, trial % 3);
+        snprintf(what, sizeof what, "synthetic trial %d", trial);
+        n = check_frame(img, rows, cols, &geo, &p, what);
+        TEST_ASSERT_TRUE(n >= 0);
+    }
+    /* the frames exercised the rejection paths, not only acceptance */
+    TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_CONTOUR][ACTAG_TRACE_SIZE] > 0);
+    TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_CONTOUR][ACTAG_TRACE_ACCEPTED] > 0);
+    TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_QUAD][ACTAG_TRACE_NO_MATCH] +
+                         g_seen[ACTAG_TRACE_QUAD][ACTAG_TRACE_SIDES] +
+                         g_seen[ACTAG_TRACE_QUAD][ACTAG_TRACE_STRUCTURE] > 0);
+    TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_SEARCH][ACTAG_TRACE_NO_MATCH] +
+                         g_seen[ACTAG_TRACE_SEARCH][ACTAG_TRACE_MARGIN] +
+                         g_seen[ACTAG_TRACE_SEARCH][ACTAG_TRACE_STRUCTURE] > 0);
+}
+
+/* Errors come back exactly as from actag_detect, with no event. */
+static void test_errors_without_events(void)
+{
+    static uint8_t img[64 * 64];
+    static tally t;
+    actag_family fam;
+    actag_params p;
+    actag_frame f = {img, 64, 64, 64, 8};
+    actag_detection d[4];
+    const actag_sonar_geometry bad = {1.0f, 0.5f, 1.0f, NULL, 0u};
+    const actag_sonar_geometry good = {0.1f, 1.5f, 1.0f, NULL, 0u};
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    params_for(&p, &fam, 0);
+    memset(&t, 0, sizeof t);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_detect(&f, &bad, &p, g_ws, sizeof g_ws, d, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_detect_traced(&f, &bad, &p, g_ws, sizeof g_ws,
+                                                                  d, 4, NULL, on_event, &t));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
+                          actag_detect_traced(&f, &good, &p, g_ws, 10, d, 4, NULL, on_event, &t));
+    TEST_ASSERT_EQUAL_INT(0, t.kind_count[1] + t.kind_count[2] + t.kind_count[3]);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_example_frame_every_variant);
+    RUN_TEST(test_pool_frames);
+    RUN_TEST(test_synthetic_frames);
+    RUN_TEST(test_errors_without_events);
+    return UNITY_END();
+}
