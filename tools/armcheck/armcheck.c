@@ -20,6 +20,7 @@
  *   returned >= 0.
  */
 #include "actag/actag.h"
+#include "actag/version.h" /* generated: the build passes -I<build>/include */
 #include "armcheck_io.h"
 
 #include <string.h>

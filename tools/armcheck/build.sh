@@ -29,14 +29,14 @@ warn="-std=c99 -Wall -Wextra -Wpedantic -Werror -Wshadow -Wconversion"
 
 # Host: the report is formatted by armcheck.c itself; ARMCHECK_HOST adds the
 # check of its hex floats against glibc's printf("%a").
-${CC:-cc} $warn -O2 -DARMCHECK_HOST -I"$root/include" \
+${CC:-cc} $warn -O2 -DARMCHECK_HOST -I"$root/include" -I"$host_build/include" \
   "$here/armcheck.c" "$here/io_host.c" "$host_build/libactag.a" -lm \
   -o "$out/armcheck-host"
 
 # ARM: own startup and semihosting I/O, newlib only for memcpy/strcmp/sqrtf.
 # shellcheck disable=SC2086
 arm-none-eabi-gcc $cpu_flags $warn -O2 -ffunction-sections -fdata-sections \
-  -I"$root/include" \
+  -I"$root/include" -I"$arm_build/include" \
   "$here/armcheck.c" "$here/io_semihost.c" "$here/startup.c" \
   -nostartfiles -T "$here/armcheck.ld" -Wl,--gc-sections -Wl,-Map="$out/armcheck.map" \
   "$arm_build/libactag.a" -Wl,--start-group -lc -lm -lgcc -Wl,--end-group \

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static int fail(char *err, const char *fmt, ...)
 {
@@ -20,11 +21,18 @@ static int fail(char *err, const char *fmt, ...)
     return -1;
 }
 
+const char *hostio_frame_name(const char *path)
+{
+    return (path && strcmp(path, "-") == 0) ? "stdin" : path;
+}
+
 uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
 {
-    FILE *f = fopen(path, "rb");
+    int is_stdin = strcmp(path, "-") == 0;
+    FILE *f = is_stdin ? stdin : fopen(path, "rb");
     uint8_t *buf = NULL;
     size_t cap = 0, n = 0;
+    path = hostio_frame_name(path);
     if (!f) {
         fail(err, "%s: %s", path, strerror(errno));
         return NULL;
@@ -36,6 +44,7 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
             uint8_t *nb = (uint8_t *)realloc(buf, ncap);
             if (!nb) {
                 free(buf);
+                if (!is_stdin)
                 fclose(f);
                 fail(err, "%s: out of memory", path);
                 return NULL;
@@ -50,11 +59,13 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
     }
     if (ferror(f)) {
         free(buf);
-        fclose(f);
+        if (!is_stdin)
+                fclose(f);
         fail(err, "%s: read error", path);
         return NULL;
     }
-    fclose(f);
+    if (!is_stdin)
+                fclose(f);
     buf[n] = 0;
     if (len)
         *len = n;
@@ -72,6 +83,31 @@ int hostio_write_file(const char *path, const void *data, size_t n, char *err)
     }
     if (fclose(f) != 0)
         return fail(err, "%s: write error", path);
+    return HOSTIO_OK;
+}
+
+int hostio_mkdirs(const char *path, char *err)
+{
+    char buf[4096];
+    size_t n = strlen(path), i;
+    struct stat sb;
+    if (n == 0)
+        return fail(err, "cannot create a folder with an empty name");
+    if (n >= sizeof buf)
+        return fail(err, "%.64s...: folder name too long", path);
+    memcpy(buf, path, n + 1);
+    for (i = 1; i <= n; i++) {
+        if (buf[i] != '/' && buf[i] != '\0')
+            continue;
+        if (buf[i - 1] == '/')
+            continue; /* "a//b" */
+        buf[i] = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return fail(err, "%s: cannot create folder: %s", buf, strerror(errno));
+        buf[i] = i < n ? '/' : '\0';
+    }
+    if (stat(path, &sb) != 0 || !S_ISDIR(sb.st_mode))
+        return fail(err, "%s: exists and is not a folder", path);
     return HOSTIO_OK;
 }
 
@@ -146,7 +182,7 @@ int hostio_pgm_read(const char *path, hostio_image *out, char *err)
     memset(out, 0, sizeof *out);
     if (!b)
         return -1;
-    if (hostio_pgm_parse(b, len, path, &v, err) != HOSTIO_OK) {
+    if (hostio_pgm_parse(b, len, hostio_frame_name(path), &v, err) != HOSTIO_OK) {
         free(b);
         return -1;
     }
@@ -205,12 +241,122 @@ int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
     return HOSTIO_OK;
 }
 
+int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err)
+{
+    FILE *f;
+    int bad;
+    size_t n = (size_t)rows * (size_t)cols;
+    if (!rgb || rows < 1 || cols < 1)
+        return fail(err, "%s: bad picture to write", path);
+    f = fopen(path, "wb");
+    if (!f)
+        return fail(err, "%s: cannot write: %s", path, strerror(errno));
+    fprintf(f, "P6\n%d %d\n255\n", cols, rows);
+    bad = fwrite(rgb, 3, n, f) != n;
+    bad |= ferror(f);
+    if (fclose(f) != 0 || bad)
+        return fail(err, "%s: write error", path);
+    return HOSTIO_OK;
+}
+
 void hostio_image_free(hostio_image *img)
 {
     if (img) {
         free(img->data);
         img->data = NULL;
     }
+}
+
+/* A raw frame of spec's layout from a buffer (whole file). */
+static int raw_frame(const uint8_t *b, size_t len, const char *name, const hostio_raw_spec *raw,
+                     hostio_image *out, char *err)
+{
+    int bytes = raw->depth / 8, stride = raw->stride ? raw->stride : raw->cols;
+    size_t minimum, full, i;
+    if (raw->depth != 8 && raw->depth != 16)
+        return fail(err, "%s: raw depth %d is not 8 or 16", name, raw->depth);
+    if (raw->rows < 1 || raw->cols < 1 || raw->rows > 32767 || raw->cols > 32767)
+        return fail(err, "%s: raw frame size %d x %d outside 1..32767", name, raw->rows,
+                    raw->cols);
+    if (stride < raw->cols)
+        return fail(err, "%s: raw stride %d is smaller than the %d columns", name, stride,
+                    raw->cols);
+    minimum = ((size_t)(raw->rows - 1) * (size_t)stride + (size_t)raw->cols) * (size_t)bytes;
+    full = (size_t)raw->rows * (size_t)stride * (size_t)bytes;
+    if (len < minimum || len > full)
+        return fail(err,
+                    "%s: raw frame is %lu bytes, expected %lu (%d rows x stride %d x %d byte%s)",
+                    name, (unsigned long)len, (unsigned long)full, raw->rows, stride, bytes,
+                    bytes > 1 ? "s" : "");
+    out->data = calloc(full, 1);
+    if (!out->data)
+        return fail(err, "%s: out of memory", name);
+    if (bytes == 1) {
+        memcpy(out->data, b, len);
+    } else {
+        uint16_t *d = (uint16_t *)out->data;
+        for (i = 0; i + 1 < len; i += 2) /* little-endian samples */
+            d[i / 2] = (uint16_t)(b[i] | (b[i + 1] << 8));
+    }
+    out->rows = raw->rows;
+    out->cols = raw->cols;
+    out->stride = stride;
+    out->depth = raw->depth;
+    out->maxval = raw->depth == 8 ? 255 : 65535;
+    return HOSTIO_OK;
+}
+
+int hostio_frame_read(const char *path, const hostio_raw_spec *raw, hostio_image *out,
+                      char *err)
+{
+    size_t len, n, i;
+    hostio_pgm_view v;
+    const char *name = hostio_frame_name(path);
+    uint8_t *b;
+    int rc;
+    memset(out, 0, sizeof *out);
+    b = hostio_slurp(path, &len, err);
+    if (!b)
+        return -1;
+    if (len >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '7' && b[1] != '5') {
+        char kind = (char)b[1];
+        free(b);
+        return fail(err, "%s: a P%c image: only binary PGM (P5) is supported", name, kind);
+    }
+    if (len >= 2 && b[0] == 'P' && b[1] == '5') {
+        if (hostio_pgm_parse(b, len, name, &v, err) != HOSTIO_OK) {
+            free(b);
+            return -1;
+        }
+        n = (size_t)v.rows * (size_t)v.cols;
+        out->data = malloc(n * (size_t)v.bytes_per_sample);
+        if (!out->data) {
+            free(b);
+            return fail(err, "%s: out of memory", name);
+        }
+        if (v.bytes_per_sample == 1) {
+            memcpy(out->data, v.pixels, n);
+        } else {
+            uint16_t *d = (uint16_t *)out->data;
+            for (i = 0; i < n; i++)
+                d[i] = (uint16_t)((v.pixels[2 * i] << 8) | v.pixels[2 * i + 1]);
+        }
+        out->rows = v.rows;
+        out->cols = v.cols;
+        out->stride = v.cols;
+        out->depth = 8 * v.bytes_per_sample;
+        out->maxval = v.maxval;
+        free(b);
+        return HOSTIO_OK;
+    }
+    if (!raw || raw->rows <= 0 || raw->cols <= 0) {
+        free(b);
+        return fail(err, "%s: not a PGM file (no P5 magic); raw frames need --rows and --cols",
+                    name);
+    }
+    rc = raw_frame(b, len, name, raw, out, err);
+    free(b);
+    return rc;
 }
 
 int hostio_parse_double(const char *name, const char *s, double lo, double hi, double *v,
@@ -272,6 +418,40 @@ int hostio_parse_doubles(const char *name, const char *s, char sep, double *out,
     }
     if (*p != '\0')
         return fail(err, "%s: expected exactly %d numbers (got '%s')", name, n, s);
+    return HOSTIO_OK;
+}
+
+int hostio_parse_list(const char *name, const char *s, double *out, int cap, int *n,
+                      char *err)
+{
+    const char *p = s;
+    int count = 0;
+    if (!s)
+        return fail(err, "%s: missing value", name);
+    for (;;) {
+        char *end;
+        double x;
+        while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r' || *p == ',')
+            p++;
+        if (*p == '\0')
+            break;
+        errno = 0;
+        x = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(x) ||
+            !(*end == '\0' || *end == ' ' || *end == '\t' || *end == '\n' || *end == '\r' ||
+              *end == ',')) {
+            size_t tl = strcspn(p, " \t\r\n,");
+            return fail(err, "%s: value %d is not a finite number (got '%.*s')", name,
+                        count + 1, (int)(tl > 40 ? 40 : tl), p);
+        }
+        if (count < cap)
+            out[count] = x;
+        count++;
+        if (count > cap)
+            break;
+        p = end;
+    }
+    *n = count;
     return HOSTIO_OK;
 }
 

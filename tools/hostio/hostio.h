@@ -13,9 +13,11 @@
  *       "f.pgm: PGM maxval 0 outside 1..65535"
  *       "--max-range: must be a finite number > 0 (got -1)"
  *
- *   Files
+ *   Files (the path "-" reads standard input)
  *     hostio_slurp(path, &len, err)        whole file, malloc'd, NUL-terminated
  *     hostio_write_file(path, data, n, err)
+ *     hostio_mkdirs(path, err)             creates a folder and its parents
+ *                                           (like mkdir -p; fine when it exists)
  *   PGM (binary P5, 8 or 16 bit; 16-bit samples big-endian as the format says)
  *     hostio_pgm_parse(buf, len, &view, err)  parses a buffer in place, no
  *                                           allocation (usable on bare metal):
@@ -24,10 +26,23 @@
  *                                           (16-bit samples in host order)
  *     hostio_pgm_write(path, &img, err)    writes an image (depth 8 or 16)
  *     hostio_image_free(&img)
+ *     hostio_ppm_write(path, rgb, rows, cols, err)  a colour picture (P6,
+ *                                           rows x cols RGB triplets)
+ *   Frames (sonar tools: PGM by its magic, else headerless raw)
+ *     hostio_frame_read(path, &raw, &img, err)  a P5 PGM, or a raw frame laid
+ *                                           out as raw says (rows x stride
+ *                                           samples, 16-bit little-endian; the
+ *                                           last row's padding may be absent);
+ *                                           raw may be NULL (PGM only)
+ *     hostio_frame_name(path)              "stdin" for "-", else path
  *   Numbers (the whole string must be the number; ranges are inclusive)
  *     hostio_parse_double(name, s, lo, hi, &v, err)
  *     hostio_parse_long(name, s, lo, hi, &v, err)
  *     hostio_parse_doubles(name, s, sep, out, n, err)  exactly n numbers
+ *     hostio_parse_list(name, s, out, cap, &n, err)  up to cap finite numbers
+ *                                           separated by whitespace or commas
+ *                                           (e.g. a file's text); *n is the count
+ *                                           (cap + 1 when there were more)
  *   Command-line tools (print "PROG: message" on stderr and exit with status 2)
  *     hostio_die(prog, msg)
  *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
@@ -64,9 +79,17 @@ typedef struct hostio_pgm_view {
     int bytes_per_sample;  /* 1 (maxval <= 255) or 2 */
 } hostio_pgm_view;
 
-/* Whole file, malloc'd with a terminating NUL (not counted in *len). */
+/* How a raw (headerless) frame is laid out. */
+typedef struct hostio_raw_spec {
+    int rows, cols; /* both > 0 to accept raw frames */
+    int depth;      /* 8 or 16 (16: little-endian samples) */
+    int stride;     /* samples from one row to the next; 0 = cols */
+} hostio_raw_spec;
+
+/* Whole file ("-": standard input), malloc'd with a terminating NUL (not counted in *len). */
 uint8_t *hostio_slurp(const char *path, size_t *len, char *err);
 int hostio_write_file(const char *path, const void *data, size_t n, char *err);
+int hostio_mkdirs(const char *path, char *err);
 
 /* `name` labels messages (usually the file name; NULL for "PGM"). */
 int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pgm_view *out,
@@ -74,6 +97,13 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
 int hostio_pgm_read(const char *path, hostio_image *out, char *err);
 int hostio_pgm_write(const char *path, const hostio_image *img, char *err);
 void hostio_image_free(hostio_image *img);
+int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err);
+
+/* A PGM (by its P5 magic) or a raw frame (raw may be NULL: PGM only). The
+ * image is malloc'd with stride = raw stride (or cols for PGM). */
+int hostio_frame_read(const char *path, const hostio_raw_spec *raw, hostio_image *out,
+                      char *err);
+const char *hostio_frame_name(const char *path);
 
 /* Number parsing: name is the option (e.g. "--max-range") shown in messages. */
 int hostio_parse_double(const char *name, const char *s, double lo, double hi, double *v,
@@ -82,6 +112,9 @@ int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v
 /* Exactly n finite numbers separated by `sep` (e.g. ','). */
 int hostio_parse_doubles(const char *name, const char *s, char sep, double *out, int n,
                          char *err);
+
+int hostio_parse_list(const char *name, const char *s, double *out, int cap, int *n,
+                      char *err);
 
 /* For command-line tools: the message on stderr as "prog: msg", exit status 2. */
 void hostio_die(const char *prog, const char *msg);

@@ -16,6 +16,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sim.h"
+#include "actag/version.h"
 #include "simio.h"
 #include "../hostio/hostio.h"
 
