@@ -3,13 +3,14 @@
  *
  *   actag_detect_optical [--family NAME] [--tag-size M --fx F --fy F --cx C --cy C]
  *                        [--no-invert] [--json] [--bits-corrected N] [--decimate X]
- *                        IMAGE.pgm...
+ *                        IMAGE.pgm...          (IMAGE "-" reads standard input)
  *
  * For every image: inverts it (camera: aluminium light, foam dark; SPEC section 1)
  * unless --no-invert, runs AprilTag 3 with the AcTag family and prints per tag its
  * ID, corrected bits, decision margin, the corners of the inner white square in
- * AcTag order (top-left as printed, then clockwise; pixels, centre of the top-left
- * pixel at (0,0)) and, when --tag-size and all four intrinsics are given, the
+ * AcTag order (top-left as printed, then clockwise) as x = column, y = row in
+ * pixels with the centre of the top-left pixel at (0,0) (the convention of every
+ * actag tool and of the C API) and, when --tag-size and all four intrinsics are given, the
  * tag's pose from AprilTag's estimate_tag_pose() (actag_apriltag_pose()):
  *   t (metres) is the tag centre in camera coordinates (x right, y down,
  *   z forward); R (row-major) turns tag axes (x = printed right, y = printed
@@ -19,11 +20,14 @@
  *   pixels, principal point with pixel centres at integers (OpenCV, ROS).
  * --json prints one line per image:
  *   {"file":...,"detections":[{"id":..,"hamming":..,"margin":..,
- *    "corners_px":[[x,y],[x,y],[x,y],[x,y]],"pose":{"R":[9],"t":[3]}}]}
+ *    "corners":[{"x_col":..,"y_row":..} x 4],"pose":{"R":[9],"t":[3]}}]}
+ * Images: binary PGM (P5) through the host I/O library (tools/hostio), 8 or
+ * 16 bit, scaled to 0..255 by their maxval.
  * Defaults: --family AcTag24h10, --bits-corrected min(2, family limit),
  * --decimate 2 (AprilTag's quad_decimate; 1 = full resolution).
  * Exit status: 0 ok, 2 a bad option or an unreadable image (reported on stderr
- * in one line; the other images are still processed).
+ * in one line naming the option or file and the value; the other images are
+ * still processed).
  */
 #include <errno.h>
 #include <math.h>
@@ -36,6 +40,8 @@
 #include <apriltag/common/zarray.h>
 
 #include "actag/actag_apriltag.h"
+#include "actag/version.h"
+#include "hostio.h"
 
 #define PROG "actag_detect_optical"
 
@@ -44,6 +50,7 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: " PROG " [--family NAME] [--tag-size M --fx F --fy F --cx C --cy C]\n"
         "       [--no-invert] [--json] [--bits-corrected N] [--decimate X] IMAGE.pgm...\n"
+        "  IMAGE                binary PGM, 8 or 16 bit; - reads standard input\n"
         "  --family NAME        AcTag family (default AcTag24h10); built in:");
     for (int i = 0; i < actag_apriltag_family_count(); i++)
         fprintf(f, " %s", actag_apriltag_family_name(i));
@@ -54,103 +61,42 @@ static void usage(FILE *f)
         "  --cx C --cy C        principal point, pixels (pixel centres at integers)\n"
         "                       pose is printed when all five are given\n"
         "  --no-invert          image already has foam white (default: invert camera image)\n"
-        "  --json               one JSON line per image\n"
+        "  --json               one JSON line per image (corners as x_col, y_row)\n"
         "  --bits-corrected N   bit errors AprilTag may correct (default min(2, family limit))\n"
-        "  --decimate X         AprilTag quad_decimate >= 1 (default 2)\n");
+        "  --decimate X         AprilTag quad_decimate >= 1 (default 2)\n"
+        "  --help  --version\n"
+        "Corners: the inner white square's top-left (as printed), top-right, bottom-right,\n"
+        "bottom-left, as x = column, y = row in pixels, centre of the top-left pixel (0,0).\n");
 }
 
-/* ------------------------------------------------------------------ PGM reader */
+/* ------------------------------------------------------------------ image */
 
-/* Skips whitespace and '#' comments in a PNM header. */
-static int pnm_skip(FILE *f)
+/* Reads a binary PGM (8 or 16 bit) into an AprilTag image, scaled to 0..255
+ * by its maxval. Returns NULL with a message in err. */
+static image_u8_t *read_image(const char *path, char *err)
 {
-    int c;
-    for (;;) {
-        c = fgetc(f);
-        if (c == '#') {
-            while (c != '\n' && c != '\r' && c != EOF)
-                c = fgetc(f);
-        } else if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f') {
-            continue;
-        } else {
-            return c;
-        }
-    }
-}
-
-/* Reads a decimal header field; -1 on error. */
-static long pnm_uint(FILE *f)
-{
-    int c = pnm_skip(f);
-    long v = 0;
-    if (c < '0' || c > '9')
-        return -1;
-    while (c >= '0' && c <= '9') {
-        if (v > 100000000L)
-            return -1;
-        v = v * 10 + (c - '0');
-        c = fgetc(f);
-    }
-    /* exactly one whitespace character ends the field (before binary data) */
-    if (c != ' ' && c != '\t' && c != '\n' && c != '\r' && c != '#')
-        return -1;
-    if (c == '#')
-        ungetc(c, f);
-    return v;
-}
-
-/* Reads an 8-bit binary PGM (P5, maxval <= 255; scaled to 0..255).
- * Returns NULL and sets *why on failure. */
-static image_u8_t *read_pgm(const char *path, const char **why)
-{
-    FILE *f = fopen(path, "rb");
-    image_u8_t *im = NULL;
-    long w, h, maxv;
-    if (f == NULL) {
-        *why = strerror(errno);
+    hostio_image hi;
+    image_u8_t *im;
+    if (hostio_frame_read(path, NULL, &hi, err) != HOSTIO_OK)
+        return NULL;
+    im = image_u8_create((unsigned)hi.cols, (unsigned)hi.rows);
+    if (im == NULL) {
+        snprintf(err, HOSTIO_ERRLEN, "%s: out of memory", hostio_frame_name(path));
+        hostio_image_free(&hi);
         return NULL;
     }
-    if (fgetc(f) != 'P' || fgetc(f) != '5') {
-        *why = "not a binary PGM (P5) file";
-        goto fail;
-    }
-    w = pnm_uint(f);
-    h = pnm_uint(f);
-    maxv = pnm_uint(f);
-    if (w <= 0 || h <= 0 || maxv <= 0) {
-        *why = "bad PGM header";
-        goto fail;
-    }
-    if (maxv > 255) {
-        *why = "16-bit PGM is not supported (need maxval <= 255)";
-        goto fail;
-    }
-    if (w > 65535 || h > 65535) {
-        *why = "image too large";
-        goto fail;
-    }
-    im = image_u8_create((unsigned)w, (unsigned)h);
-    if (im == NULL) {
-        *why = "out of memory";
-        goto fail;
-    }
-    for (long y = 0; y < h; y++) {
-        uint8_t *row = im->buf + y * im->stride;
-        if (fread(row, 1, (size_t)w, f) != (size_t)w) {
-            *why = "PGM data truncated";
-            goto fail;
+    for (int y = 0; y < hi.rows; y++) {
+        uint8_t *row = im->buf + (size_t)y * (size_t)im->stride;
+        for (int x = 0; x < hi.cols; x++) {
+            size_t i = (size_t)y * (size_t)hi.stride + (size_t)x;
+            uint32_t v = hi.depth == 8 ? ((const uint8_t *)hi.data)[i]
+                                       : ((const uint16_t *)hi.data)[i];
+            uint32_t mx = (uint32_t)hi.maxval;
+            row[x] = (uint8_t)(mx == 255 ? v : v >= mx ? 255u : (v * 255u + mx / 2u) / mx);
         }
-        if (maxv != 255)
-            for (long x = 0; x < w; x++)
-                row[x] = (uint8_t)(row[x] > maxv ? 255 : (row[x] * 255 + maxv / 2) / maxv);
     }
-    fclose(f);
+    hostio_image_free(&hi);
     return im;
-fail:
-    if (im != NULL)
-        image_u8_destroy(im);
-    fclose(f);
-    return NULL;
 }
 
 /* ------------------------------------------------------------------ output */
@@ -180,23 +126,7 @@ static void json_number(double v, const char *fmt)
 
 /* ------------------------------------------------------------------ options */
 
-static int parse_double(const char *opt, const char *s, double *out)
-{
-    char *end;
-    double v;
-    if (s == NULL) {
-        fprintf(stderr, PROG ": option %s needs a value\n", opt);
-        return -1;
-    }
-    errno = 0;
-    v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno != 0 || !isfinite(v)) {
-        fprintf(stderr, PROG ": option %s: '%s' is not a number\n", opt, s);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
+#define die(msg) hostio_die(PROG, (msg))
 
 typedef struct {
     const char *family;
@@ -228,6 +158,9 @@ int main(int argc, char **argv)
         static const char *const pose_opts[5] = {"--tag-size", "--fx", "--fy", "--cx", "--cy"};
         int k, matched = 0;
         if (only_files || a[0] != '-' || a[1] == '\0') {
+            for (k = 0; k < nfiles && strcmp(a, "-") == 0; k++)
+                if (strcmp(argv[files[k]], "-") == 0)
+                    die("-: standard input can be read only once");
             files[nfiles++] = i;
             continue;
         }
@@ -240,15 +173,16 @@ int main(int argc, char **argv)
             free(files);
             return 0;
         }
+        if (strcmp(a, "--version") == 0) {
+            printf(PROG " %s\n", ACTAG_VERSION_STRING);
+            free(files);
+            return 0;
+        }
         for (k = 0; k < 5; k++) {
             if (strcmp(a, pose_opts[k]) == 0) {
                 double *dst[5] = {&o.tag_size, &o.fx, &o.fy, &o.cx, &o.cy};
-                if (parse_double(a, v, dst[k]) != 0)
-                    goto bad_option;
-                if (k <= 2 && !(*dst[k] > 0)) {
-                    fprintf(stderr, PROG ": option %s must be > 0\n", a);
-                    goto bad_option;
-                }
+                /* sizes and focal lengths > 0; the principal point anywhere */
+                *dst[k] = hostio_opt_double(PROG, a, v, k <= 2 ? 1e-9 : -1e9, 1e9);
                 o.have[k] = 1;
                 matched = 1;
                 i++;
@@ -258,10 +192,8 @@ int main(int argc, char **argv)
         if (matched)
             continue;
         if (strcmp(a, "--family") == 0) {
-            if (v == NULL) {
-                fprintf(stderr, PROG ": option --family needs a value\n");
-                goto bad_option;
-            }
+            if (v == NULL)
+                die("--family: missing value");
             o.family = v;
             i++;
         } else if (strcmp(a, "--no-invert") == 0) {
@@ -269,26 +201,15 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--json") == 0) {
             o.json = 1;
         } else if (strcmp(a, "--bits-corrected") == 0) {
-            double b;
-            if (parse_double(a, v, &b) != 0)
-                goto bad_option;
-            if (b != floor(b) || b < 0 || b > 3) {
-                fprintf(stderr, PROG ": option --bits-corrected must be an integer 0..3\n");
-                goto bad_option;
-            }
-            o.bits = (int)b;
+            o.bits = (int)hostio_opt_long(PROG, a, v, 0, 3);
             i++;
         } else if (strcmp(a, "--decimate") == 0) {
-            if (parse_double(a, v, &o.decimate) != 0)
-                goto bad_option;
-            if (!(o.decimate >= 1.0) || o.decimate > 64.0) {
-                fprintf(stderr, PROG ": option --decimate must be in [1, 64]\n");
-                goto bad_option;
-            }
+            o.decimate = hostio_opt_double(PROG, a, v, 1.0, 64.0);
             i++;
         } else {
-            fprintf(stderr, PROG ": unknown option '%s' (see --help)\n", a);
-            goto bad_option;
+            char m[160];
+            snprintf(m, sizeof m, "unknown option '%.100s' (see --help)", a);
+            die(m);
         }
     }
     if (nfiles == 0) {
@@ -323,10 +244,10 @@ int main(int argc, char **argv)
 
     for (int i = 0; i < nfiles; i++) {
         const char *path = argv[files[i]];
-        const char *why = "";
-        image_u8_t *im = read_pgm(path, &why);
+        char msg[HOSTIO_ERRLEN];
+        image_u8_t *im = read_image(path, msg);
         if (im == NULL) {
-            fprintf(stderr, PROG ": %s: %s\n", path, why);
+            fprintf(stderr, PROG ": %s\n", msg);
             status = 2;
             continue;
         }
@@ -357,13 +278,13 @@ int main(int argc, char **argv)
                 printf("%s{\"id\":%d,\"hamming\":%d,\"margin\":", j ? "," : "", det->id,
                        det->hamming);
                 json_number(det->decision_margin, "%.3f");
-                printf(",\"corners_px\":[");
+                printf(",\"corners\":[");
                 for (int k = 0; k < 4; k++) {
-                    printf("%s[", k ? "," : "");
+                    printf("%s{\"x_col\":", k ? "," : "");
                     json_number(c[k][0], "%.3f");
-                    putchar(',');
+                    printf(",\"y_row\":");
                     json_number(c[k][1], "%.3f");
-                    putchar(']');
+                    putchar('}');
                 }
                 putchar(']');
                 if (have_pose) {
@@ -385,8 +306,8 @@ int main(int argc, char **argv)
             } else {
                 printf("  id %d  hamming %d  margin %.3f\n", det->id, det->hamming,
                        (double)det->decision_margin);
-                printf("    corners px (TL TR BR BL): (%.3f, %.3f) (%.3f, %.3f) (%.3f, %.3f) "
-                       "(%.3f, %.3f)\n",
+                printf("    corners TL TR BR BL (x=col, y=row px): (%.3f, %.3f) (%.3f, %.3f) "
+                       "(%.3f, %.3f) (%.3f, %.3f)\n",
                        c[0][0], c[0][1], c[1][0], c[1][1], c[2][0], c[2][1], c[3][0], c[3][1]);
                 if (have_pose) {
                     printf("    pose t [m]: %.6f %.6f %.6f\n", t[0], t[1], t[2]);

@@ -854,7 +854,7 @@ static void draw_grid(canvas *cv, const view *vw, const actag_detection *d, int 
     view_quad(cv, vw, d->corners, C_EDGE, 1.0f);
 }
 
-#define ZOOM 4
+#define MAX_ZOOM 6
 #define MAX_INSETS 4
 
 static int stage_decoded(const char *dir, const char *stem, const pic_frame *f, char *err)
@@ -864,7 +864,7 @@ static int stage_decoded(const char *dir, const char *stem, const pic_frame *f, 
     int n = 0, r, c, i, ninset = f->ndet < MAX_INSETS ? f->ndet : MAX_INSETS;
     int skip = f->params->decode_mode == ACTAG_DECODE_FIT &&
                (f->params->fit.flags & ACTAG_FIT_ERASE_CORNERS) != 0;
-    int box[MAX_INSETS][4], inset_h = 0, inset_w = 0, y_inset;
+    int box[MAX_INSETS][5], inset_h = 0, y_inset;
     const rgb_t dark = {40, 40, 40};
     view vw;
     it[n++] = mk(4, C_WHITE, 0, "CODE 1");
@@ -872,48 +872,48 @@ static int stage_decoded(const char *dir, const char *stem, const pic_frame *f, 
     it[n++] = mk(2, C_GREY, 0, "NOT READ");
     it[n++] = mk(2, C_GREEN, 1, "BINARY AGREES");
     it[n++] = mk(2, C_RED, 0, "DISAGREES");
-    if (ninset > 0)
-        it[n++] = mk(0, C_TEXT, 1, "BELOW: EACH TAG ENLARGED 4 X");
-    /* the enlarged crops: each tag's bounding box plus two cells */
+    /* the enlarged crops below the legend, one under the other, each as
+     * wide as the frame allows: the tag's bounding box plus a margin */
     for (i = 0; i < ninset; i++) {
         const actag_point *q = f->det[i].corners;
         float x0 = q[0].x, x1 = q[0].x, y0 = q[0].y, y1 = q[0].y, m;
-        int k;
+        int k, z;
         for (k = 1; k < 4; k++) {
             x0 = fminf(x0, q[k].x);
             x1 = fmaxf(x1, q[k].x);
             y0 = fminf(y0, q[k].y);
             y1 = fmaxf(y1, q[k].y);
         }
-        m = 0.8f * fmaxf(x1 - x0, y1 - y0) + 4.0f;
+        m = 0.55f * fmaxf(x1 - x0, y1 - y0) + 4.0f; /* the data ring and a little more */
         box[i][0] = (int)floorf(x0 - m);
         box[i][1] = (int)floorf(y0 - m);
         box[i][2] = (int)ceilf(x1 + m) - box[i][0] + 1;
         box[i][3] = (int)ceilf(y1 + m) - box[i][1] + 1;
-        if (box[i][2] * ZOOM > 1200 || box[i][3] * ZOOM > 1200) { /* huge tag: no inset */
+        z = f->cols / box[i][2];
+        if (z > MAX_ZOOM)
+            z = MAX_ZOOM;
+        if (z < 2 || box[i][3] * z > 4000) { /* the tag is large enough as it is */
             ninset = i;
             break;
         }
-        inset_w += box[i][2] * ZOOM + 8;
-        if (box[i][3] * ZOOM > inset_h)
-            inset_h = box[i][3] * ZOOM;
+        box[i][4] = z;
+        inset_h += box[i][3] * z + 8;
     }
+    if (ninset > 0)
+        it[n++] = mk(0, C_TEXT, 1, "BELOW: EACH TAG ENLARGED");
     if (colour_stage(&cv, f, it, n) != 0) {
         oom(err, dir, stem);
         return -1;
     }
+    y_inset = cv.h;
     if (ninset > 0) { /* a taller canvas with room for the insets */
-        int w = cv.w > inset_w ? cv.w : inset_w;
-        y_inset = cv.h;
-        if (canvas_new(&big, w, cv.h + inset_h + 8, C_PANEL) != 0) {
+        if (canvas_new(&big, cv.w, cv.h + inset_h, C_PANEL) != 0) {
             canvas_free(&cv);
             oom(err, dir, stem);
             return -1;
         }
         canvas_free(&cv);
         cv = big;
-    } else {
-        y_inset = cv.h;
     }
     for (r = 0; r < f->rows; r++)
         for (c = 0; c < f->cols; c++) {
@@ -924,31 +924,27 @@ static int stage_decoded(const char *dir, const char *stem, const pic_frame *f, 
     vw = polar_view(f, 0, 0);
     for (i = 0; i < f->ndet; i++)
         draw_grid(&cv, &vw, &f->det[i], skip);
-    {
-        int x = 0;
-        for (i = 0; i < ninset; i++) {
-            int u, v;
-            view zv = polar_view(f, x, y_inset);
-            zv.ox = (float)box[i][0] - 0.5f + 0.5f / ZOOM;
-            zv.oy = (float)box[i][1] - 0.5f + 0.5f / ZOOM;
-            zv.zoom = ZOOM;
-            for (v = 0; v < box[i][3] * ZOOM; v++)
-                for (u = 0; u < box[i][2] * ZOOM; u++) {
-                    int ix = box[i][0] + u / ZOOM, iy = box[i][1] + v / ZOOM;
-                    rgb_t g = C_BG;
-                    if (ix >= 0 && iy >= 0 && ix < f->cols && iy < f->rows)
-                        g.r = g.g = g.b =
-                            (uint8_t)(f->filtered[(size_t)iy * (size_t)f->cols + (size_t)ix] * 3 / 4);
-                    canvas_put(&cv, x + u, y_inset + v, g, 1.0f);
-                }
-            draw_grid(&cv, &zv, &f->det[i], skip);
-            {
-                char buf[32];
-                snprintf(buf, sizeof buf, "#%d ID %d", i + 1, f->det[i].id);
-                canvas_label(&cv, x + 4, y_inset + 4, 2, buf, C_LABEL);
+    for (i = 0; i < ninset; i++) {
+        int u, v, z = box[i][4];
+        int x = (f->cols - box[i][2] * z) / 2;
+        view zv = polar_view(f, x, y_inset);
+        char buf[48];
+        zv.ox = (float)box[i][0] - 0.5f + 0.5f / (float)z;
+        zv.oy = (float)box[i][1] - 0.5f + 0.5f / (float)z;
+        zv.zoom = (float)z;
+        for (v = 0; v < box[i][3] * z; v++)
+            for (u = 0; u < box[i][2] * z; u++) {
+                int ix = box[i][0] + u / z, iy = box[i][1] + v / z;
+                rgb_t g = C_BG;
+                if (ix >= 0 && iy >= 0 && ix < f->cols && iy < f->rows)
+                    g.r = g.g = g.b =
+                        (uint8_t)(f->filtered[(size_t)iy * (size_t)f->cols + (size_t)ix] * 3 / 4);
+                canvas_put(&cv, x + u, y_inset + v, g, 1.0f);
             }
-            x += box[i][2] * ZOOM + 8;
-        }
+        draw_grid(&cv, &zv, &f->det[i], skip);
+        snprintf(buf, sizeof buf, "#%d ID %d (X%d)", i + 1, f->det[i].id, z);
+        canvas_label(&cv, x + 4, y_inset + 4, 2, buf, C_LABEL);
+        y_inset += box[i][3] * z + 8;
     }
     return finish_stage(&cv, f, it, n, dir, stem, "7-decoded", err);
 }

@@ -42,7 +42,8 @@
  *     7-decoded.ppm   each detection's cell grid through its corners: cells
  *                     filled with the decoded code's value (white 1, black 0),
  *                     ringed green where the binary frame agrees, red where
- *                     it does not, grey where the decoder does not read
+ *                     it does not, grey where the decoder does not read;
+ *                     below the legend each tag (up to 4) enlarged
  *   The colour stages carry a legend strip below the frame (the frame keeps
  *   its pixel positions).
  *

@@ -1,11 +1,18 @@
 /* The actag_detect example as a user runs it: PGM (8/16-bit) and raw input
- * with strides and orientation flags, --json (one line per file, errors
- * included), --overlay and --stages outputs, and bad input (exit status 2,
- * one line naming the file, the remaining files still processed). */
+ * with strides and orientation flags, standard input, --json (one line per
+ * file, errors included, coordinates under x_col/y_row), --overlay and
+ * --stages outputs (folders created, no two pictures with one name), bad
+ * input and bad options (exit status 2, one line naming the file or option,
+ * the remaining files still processed), --version. */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
-#include "../tests/test_util.h"
+#include "hostio.h"
+#include "actag/version.h"
 
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 void setUp(void) {}
@@ -13,10 +20,12 @@ void tearDown(void) {}
 
 #define GEO "--min-range 0.1 --max-range 1.5 --aperture-deg 60 --family AcTag24h10"
 #define EXAMPLE ACTAG_SOURCE_DIR "/data/exampleSonarImage.pgm"
+#define OUT ACTAG_BINARY_DIR "/tool_test"
 
 static char out_path[512], err_path[512];
 
-/* Runs the tool with args; stdout/stderr go to files. Returns exit status. */
+/* Runs the tool with args (which may hold a "< file" redirection); stdout
+ * and stderr go to files. Returns the exit status. */
 static int run(const char *args)
 {
     char cmd[4096];
@@ -29,6 +38,23 @@ static int run(const char *args)
     return (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
 }
 
+static char *slurp(const char *path)
+{
+    char err[HOSTIO_ERRLEN];
+    char *s = (char *)hostio_slurp(path, NULL, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(s, err);
+    return s;
+}
+
+static char *out_text(void) { return slurp(out_path); }
+static char *err_text(void) { return slurp(err_path); }
+
+static int exists(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0;
+}
+
 static int count_lines(const char *s)
 {
     int n = 0;
@@ -37,74 +63,109 @@ static int count_lines(const char *s)
     return n;
 }
 
-/* First detection's corners_px from a JSON line; returns the id or -1. */
-static int parse_first(const char *line, float rc[4][2])
+/* First detection's corners from a JSON line as (x_col, y_row); returns
+ * the id or -1. */
+static int parse_first(const char *line, float xy[4][2])
 {
     const char *p = strstr(line, "\"id\": ");
     int id, c;
     if (!p || sscanf(p, "\"id\": %d", &id) != 1)
         return -1;
-    p = strstr(p, "\"corners_px\": [");
+    p = strstr(p, "\"corners\": [");
     if (!p)
         return -1;
-    p += strlen("\"corners_px\": [");
     for (c = 0; c < 4; c++) {
-        if (sscanf(p, " [%f, %f]", &rc[c][0], &rc[c][1]) != 2)
+        p = strstr(p, "{\"x_col\": ");
+        if (!p || sscanf(p, "{\"x_col\": %f, \"y_row\": %f,", &xy[c][0], &xy[c][1]) != 2)
             return -1;
-        p = strchr(p, ']') + 1;
-        if (*p == ',')
-            p++;
+        if (!strstr(p, "\"range_m\": ") || !strstr(p, "\"azimuth_rad\": "))
+            return -1;
+        p++;
     }
     return id;
 }
 
+/* SPEC section 6: the reference's corners, (row, col), tag order. */
 static const float ref_rc[4][2] = {{145, 314}, {113, 339}, {103, 280}, {133, 244}};
 
 static void assert_reference_tag(const char *json_line)
 {
-    float rc[4][2];
+    float xy[4][2];
     int c;
-    TEST_ASSERT_EQUAL_INT(0, parse_first(json_line, rc));
+    TEST_ASSERT_NOT_NULL(json_line);
+    TEST_ASSERT_EQUAL_INT(0, parse_first(json_line, xy));
     TEST_ASSERT_NULL_MESSAGE(strstr(strstr(json_line, "\"id\": ") + 1, "\"id\": "),
                              "more than one detection");
     for (c = 0; c < 4; c++) {
-        TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[c][0], rc[c][0]);
-        TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[c][1], rc[c][1]);
+        TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[c][1], xy[c][0]); /* x = column */
+        TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[c][0], xy[c][1]); /* y = row */
     }
+}
+
+/* The part of a JSON line that does not depend on the file name or the time. */
+static char *json_body(const char *line)
+{
+    const char *a = strstr(line, "\"rows\""), *b = strstr(line, "\"time_ms\"");
+    char *s;
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL(b);
+    s = (char *)calloc((size_t)(b - a) + 1, 1);
+    TEST_ASSERT_NOT_NULL(s);
+    memcpy(s, a, (size_t)(b - a));
+    return s;
+}
+
+static void write_file(const char *path, const void *data, size_t n)
+{
+    char err[HOSTIO_ERRLEN];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_write_file(path, data, n, err), err);
 }
 
 static void test_json_on_example(void)
 {
     char *o;
     TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " " EXAMPLE));
-    o = tu_slurp(out_path, NULL);
-    TEST_ASSERT_NOT_NULL(o);
+    o = out_text();
     TEST_ASSERT_EQUAL_INT(1, count_lines(o));
     TEST_ASSERT_EQUAL_INT(0, strncmp(o, "{\"file\": \"", 10));
     TEST_ASSERT_NOT_NULL(strstr(o, "\"rows\": 463, \"cols\": 620, \"detections\": [{"));
-    TEST_ASSERT_NOT_NULL(strstr(o, "\"corners_polar\": [["));
+    TEST_ASSERT_NOT_NULL(strstr(o, "\"corners\": [{\"x_col\": "));
     TEST_ASSERT_NOT_NULL(strstr(o, "\"mirrored\": "));
     TEST_ASSERT_NOT_NULL(strstr(o, "\"time_ms\": "));
+    TEST_ASSERT_NULL(strstr(o, "corners_px")); /* the old, ambiguous key */
     assert_reference_tag(o);
     free(o);
 }
 
-static void write_file(const char *path, const void *data, size_t n)
+/* The text output says its convention and lists x (column) first. */
+static void test_text_output_convention(void)
 {
-    FILE *f = fopen(path, "wb");
-    TEST_ASSERT_NOT_NULL(f);
-    TEST_ASSERT_EQUAL_UINT(n, fwrite(data, 1, n, f));
-    fclose(f);
+    char *o;
+    float x, y;
+    const char *p;
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " " EXAMPLE));
+    o = out_text();
+    p = strstr(o, "(x=col, y=row px | range m, azimuth rad): (");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_EQUAL_INT(2, sscanf(p + strlen("(x=col, y=row px | range m, azimuth rad): ("),
+                                    "%f, %f", &x, &y));
+    TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[0][1], x);
+    TEST_ASSERT_FLOAT_WITHIN(2.0f, ref_rc[0][0], y);
+    free(o);
 }
 
 /* Raw frames: stride padding, 16-bit little-endian, orientation flags. */
 static void test_raw_and_16bit_inputs(void)
 {
-    int rows = 0, cols = 0, r, c, stride = 631;
-    uint8_t *img = tu_read_pgm(EXAMPLE, &rows, &cols), *raw;
+    hostio_image im;
+    char err[HOSTIO_ERRLEN], path[600], args[1400], *o;
+    int rows, cols, r, c, stride = 631;
+    uint8_t *img, *raw;
     uint16_t *raw16;
-    char path[600], args[1400], *o;
-    TEST_ASSERT_NOT_NULL(img);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_read(EXAMPLE, &im, err), err);
+    img = (uint8_t *)im.data;
+    rows = im.rows;
+    cols = im.cols;
     /* 8-bit raw with a 631-pixel stride (padding full of 0xee) */
     raw = (uint8_t *)malloc((size_t)rows * (size_t)stride);
     TEST_ASSERT_NOT_NULL(raw);
@@ -116,7 +177,7 @@ static void test_raw_and_16bit_inputs(void)
     snprintf(args, sizeof args, "--json " GEO " --rows %d --cols %d --stride %d %s", rows, cols,
              stride, path);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    o = tu_slurp(out_path, NULL);
+    o = out_text();
     assert_reference_tag(o);
     free(o);
     /* the same frame, rows and columns reversed, said so with the flags:
@@ -131,13 +192,13 @@ static void test_raw_and_16bit_inputs(void)
              "--json " GEO " --range-ascending --azimuth-ascending --rows %d --cols %d %s", rows,
              cols, path);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    o = tu_slurp(out_path, NULL);
+    o = out_text();
     {
-        float rc[4][2];
-        TEST_ASSERT_EQUAL_INT(0, parse_first(o, rc));
+        float xy[4][2];
+        TEST_ASSERT_EQUAL_INT(0, parse_first(o, xy));
         for (c = 0; c < 4; c++) {
-            TEST_ASSERT_FLOAT_WITHIN(2.5f, (float)(rows - 1) - ref_rc[c][0], rc[c][0]);
-            TEST_ASSERT_FLOAT_WITHIN(2.5f, (float)(cols - 1) - ref_rc[c][1], rc[c][1]);
+            TEST_ASSERT_FLOAT_WITHIN(2.5f, (float)(cols - 1) - ref_rc[c][1], xy[c][0]);
+            TEST_ASSERT_FLOAT_WITHIN(2.5f, (float)(rows - 1) - ref_rc[c][0], xy[c][1]);
         }
     }
     free(o);
@@ -154,56 +215,169 @@ static void test_raw_and_16bit_inputs(void)
     write_file(path, raw16, (size_t)rows * (size_t)cols * 2u);
     snprintf(args, sizeof args, "--json " GEO " --depth 16 --rows %d --cols %d %s", rows, cols, path);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    o = tu_slurp(out_path, NULL);
+    o = out_text();
     TEST_ASSERT_NOT_NULL(strstr(o, "\"id\": 0"));
     free(o);
     /* 16-bit PGM (big-endian samples) */
     {
-        FILE *f;
+        hostio_image im16;
+        for (r = 0; r < rows * cols; r++)
+            raw16[r] = (uint16_t)(img[r] * 257u);
+        im16.data = raw16;
+        im16.rows = rows;
+        im16.cols = cols;
+        im16.stride = cols;
+        im16.depth = 16;
+        im16.maxval = 65535;
         snprintf(path, sizeof path, "%s/example16.pgm", ACTAG_BINARY_DIR);
-        f = fopen(path, "wb");
-        TEST_ASSERT_NOT_NULL(f);
-        fprintf(f, "P5\n# 16-bit copy\n%d %d\n65535\n", cols, rows);
-        for (r = 0; r < rows * cols; r++) {
-            unsigned v = img[r] * 257u;
-            fputc((int)(v >> 8), f);
-            fputc((int)(v & 0xff), f);
-        }
-        fclose(f);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_write(path, &im16, err), err);
         snprintf(args, sizeof args, "--json " GEO " %s", path);
         TEST_ASSERT_EQUAL_INT(0, run(args));
-        o = tu_slurp(out_path, NULL);
+        o = out_text();
         TEST_ASSERT_NOT_NULL(strstr(o, "\"id\": 0"));
         free(o);
     }
     free(raw16);
     free(raw);
-    free(img);
+    hostio_image_free(&im);
 }
 
+/* "-" reads the frame from standard input: the same JSON as from the file
+ * (PGM and raw); standard input only once. */
+static void test_stdin_gives_the_same_json(void)
+{
+    char *a, *b, *ba, *bb, args[1400];
+    TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " " EXAMPLE));
+    a = out_text();
+    TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " - < " EXAMPLE));
+    b = out_text();
+    TEST_ASSERT_EQUAL_INT(0, strncmp(b, "{\"file\": \"-\", ", 14));
+    ba = json_body(a);
+    bb = json_body(b);
+    TEST_ASSERT_EQUAL_STRING(ba, bb);
+    assert_reference_tag(b);
+    free(a);
+    free(b);
+    free(bb);
+    /* a raw frame through a pipe */
+    snprintf(args, sizeof args, "--json " GEO " --rows 463 --cols 620 --stride 631 - < %s",
+             ACTAG_BINARY_DIR "/example_stride.raw");
+    TEST_ASSERT_EQUAL_INT(0, run(args));
+    b = out_text();
+    bb = json_body(b);
+    TEST_ASSERT_EQUAL_STRING(ba, bb);
+    free(b);
+    free(bb);
+    free(ba);
+    /* text mode, and bad input on standard input names it */
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " - < " EXAMPLE));
+    a = out_text();
+    TEST_ASSERT_EQUAL_INT(0, strncmp(a, "-: AcTag24h10 id 0 ", 19));
+    free(a);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " - < /dev/null"));
+    a = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(a, "actag_detect: stdin: not a PGM file"));
+    free(a);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " - - < " EXAMPLE));
+    a = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(a, "standard input can be read only once"));
+    free(a);
+}
+
+static void assert_header(const char *path, const char *magic, int w, int min_h)
+{
+    char *s = slurp(path);
+    int fw = 0, fh = 0;
+    char m[3] = {0, 0, 0};
+    TEST_ASSERT_EQUAL_INT_MESSAGE(3, sscanf(s, "%2s %d %d", m, &fw, &fh), path);
+    TEST_ASSERT_EQUAL_STRING_MESSAGE(magic, m, path);
+    if (w > 0)
+        TEST_ASSERT_EQUAL_INT_MESSAGE(w, fw, path);
+    else
+        TEST_ASSERT_TRUE_MESSAGE(fw > -w, path); /* w < 0: wider than -w */
+    TEST_ASSERT_TRUE_MESSAGE(fh >= min_h, path);
+    free(s);
+}
+
+/* --stages writes every stage into a folder it creates (parents too);
+ * --overlay writes the polar + fan picture, into a new folder too. */
 static void test_overlay_and_stages(void)
 {
-    char args[1400], path[700], *s;
+    static const char *const stage[7] = {"1-input.pgm", "2-median.pgm", "3-search.ppm",
+                                         "4-binary.pgm", "5-contours.ppm", "6-quads.ppm",
+                                         "7-decoded.ppm"};
+    char path[700], *s;
     int i;
-    static const char *const stage[3] = {"1-input", "2-median", "3-threshold"};
-    snprintf(args, sizeof args, GEO " --overlay %s/ov.ppm --stages %s " EXAMPLE, ACTAG_BINARY_DIR,
-             ACTAG_BINARY_DIR);
-    TEST_ASSERT_EQUAL_INT(0, run(args));
-    s = tu_slurp(out_path, NULL);
+    TEST_ASSERT_EQUAL_INT(0, system("rm -rf \"" OUT "\""));
+    TEST_ASSERT_FALSE(exists(OUT));
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --overlay " OUT "/ov/ov.ppm --stages " OUT "/st/a/b " EXAMPLE));
+    s = out_text();
     TEST_ASSERT_NOT_NULL(strstr(s, "id 0"));
     free(s);
-    snprintf(path, sizeof path, "%s/ov.ppm", ACTAG_BINARY_DIR);
-    s = tu_slurp(path, NULL);
-    TEST_ASSERT_NOT_NULL(s);
-    TEST_ASSERT_EQUAL_INT(0, strncmp(s, "P6\n620 463\n255\n", 15));
-    free(s);
-    for (i = 0; i < 3; i++) {
-        snprintf(path, sizeof path, "%s/exampleSonarImage.pgm-%s.pgm", ACTAG_BINARY_DIR, stage[i]);
-        s = tu_slurp(path, NULL);
-        TEST_ASSERT_NOT_NULL_MESSAGE(s, path);
-        TEST_ASSERT_EQUAL_INT(0, strncmp(s, "P5\n620 463\n255\n", 15));
-        free(s);
+    assert_header(OUT "/ov/ov.ppm", "P6", -620 - 200, 463); /* polar + fan side by side */
+    for (i = 0; i < 7; i++) {
+        snprintf(path, sizeof path, OUT "/st/a/b/exampleSonarImage-%s", stage[i]);
+        assert_header(path, strstr(stage[i], ".pgm") ? "P5" : "P6", 620, 463);
     }
+    /* --stages naming something that is not a folder: one line, status 2 */
+    write_file(OUT "/plainfile", "x", 1);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --stages " OUT "/plainfile " EXAMPLE));
+    s = err_text();
+    TEST_ASSERT_EQUAL_INT(1, count_lines(s));
+    TEST_ASSERT_NOT_NULL(strstr(s, "--stages: "));
+    TEST_ASSERT_NOT_NULL(strstr(s, "plainfile"));
+    free(s);
+}
+
+/* --show-rejected draws the candidates that did not become tags: the
+ * example frame has one rejected search box, so the pictures differ. */
+static void test_show_rejected_changes_the_overlay(void)
+{
+    char *a, *b;
+    size_t la, lb;
+    char err[HOSTIO_ERRLEN];
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --overlay " OUT "/plain.ppm " EXAMPLE));
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --show-rejected --overlay " OUT "/rej.ppm " EXAMPLE));
+    a = (char *)hostio_slurp(OUT "/plain.ppm", &la, err);
+    b = (char *)hostio_slurp(OUT "/rej.ppm", &lb, err);
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL(b);
+    TEST_ASSERT_EQUAL_UINT(la, lb);
+    TEST_ASSERT_TRUE(memcmp(a, b, la) != 0);
+    free(a);
+    free(b);
+}
+
+/* a/x.pgm and b/x.pgm: pictures named by position, both kept; a unique
+ * name keeps the plain stem. */
+static void test_same_named_files_do_not_overwrite(void)
+{
+    hostio_image im;
+    char err[HOSTIO_ERRLEN], *a, *b;
+    size_t la, lb;
+    int r;
+    TEST_ASSERT_EQUAL_INT(0, system("mkdir -p \"" OUT "/a\" \"" OUT "/b\""));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_read(EXAMPLE, &im, err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_write(OUT "/a/x.pgm", &im, err), err);
+    for (r = 0; r < im.rows * im.cols; r++) /* a different frame of the same size */
+        ((uint8_t *)im.data)[r] = (uint8_t)(255 - ((uint8_t *)im.data)[r]);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_write(OUT "/b/x.pgm", &im, err), err);
+    hostio_image_free(&im);
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --overlay " OUT "/two.ppm --stages " OUT "/two " OUT
+                                     "/a/x.pgm " OUT "/b/x.pgm " EXAMPLE));
+    TEST_ASSERT_TRUE(exists(OUT "/two-1-x.ppm"));
+    TEST_ASSERT_TRUE(exists(OUT "/two-2-x.ppm"));
+    TEST_ASSERT_TRUE(exists(OUT "/two-exampleSonarImage.ppm"));
+    TEST_ASSERT_TRUE(exists(OUT "/two/1-x-1-input.pgm"));
+    TEST_ASSERT_TRUE(exists(OUT "/two/2-x-7-decoded.ppm"));
+    TEST_ASSERT_TRUE(exists(OUT "/two/exampleSonarImage-4-binary.pgm"));
+    a = (char *)hostio_slurp(OUT "/two-1-x.ppm", &la, err);
+    b = (char *)hostio_slurp(OUT "/two-2-x.ppm", &lb, err);
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL(b);
+    TEST_ASSERT_TRUE(la != lb || memcmp(a, b, la) != 0); /* each its own frame */
+    free(a);
+    free(b);
 }
 
 static void test_bad_files_are_reported_and_the_rest_processed(void)
@@ -218,14 +392,14 @@ static void test_bad_files_are_reported_and_the_rest_processed(void)
     write_file(p3, "hello", 5);
     snprintf(args, sizeof args, "--json " GEO " %s /nonexistent/x.pgm %s %s " EXAMPLE, p1, p2, p3);
     TEST_ASSERT_EQUAL_INT(2, run(args));
-    o = tu_slurp(out_path, NULL);
-    e = tu_slurp(err_path, NULL);
+    o = out_text();
+    e = err_text();
     TEST_ASSERT_EQUAL_INT(5, count_lines(o)); /* one JSON line per input file */
     TEST_ASSERT_EQUAL_INT(4, count_lines(e)); /* one message per bad file */
-    TEST_ASSERT_NOT_NULL(strstr(e, "truncated.pgm: "));
+    TEST_ASSERT_NOT_NULL(strstr(e, "truncated.pgm: PGM has 3 pixel bytes, its header needs 100"));
     TEST_ASSERT_NOT_NULL(strstr(e, "/nonexistent/x.pgm: "));
-    TEST_ASSERT_NOT_NULL(strstr(e, "ascii.pgm: "));
-    TEST_ASSERT_NOT_NULL(strstr(e, "notanimage.bin: "));
+    TEST_ASSERT_NOT_NULL(strstr(e, "ascii.pgm: a P2 image"));
+    TEST_ASSERT_NOT_NULL(strstr(e, "notanimage.bin: not a PGM file"));
     TEST_ASSERT_NOT_NULL(strstr(o, "\"error\": "));
     assert_reference_tag(strstr(o, "exampleSonarImage"));
     free(o);
@@ -233,16 +407,17 @@ static void test_bad_files_are_reported_and_the_rest_processed(void)
     /* raw frame of the wrong size */
     snprintf(args, sizeof args, GEO " --rows 10 --cols 10 %s", p3);
     TEST_ASSERT_EQUAL_INT(2, run(args));
-    e = tu_slurp(err_path, NULL);
-    TEST_ASSERT_NOT_NULL(strstr(e, "raw frame is 5 bytes"));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(e, "notanimage.bin: raw frame is 5 bytes, expected 100"));
     free(e);
 }
 
 /* A per-beam bearing table equal to the uniform 60-degree fan gives the
- * same detection; a table of the wrong length is a per-file error. */
+ * same detection; a table of the wrong length or with a bad value is a
+ * per-file error naming the table. */
 static void test_bearing_table_file(void)
 {
-    char path[600], args[1400], *a, *b;
+    char path[600], args[1400], *a, *b, *ba, *bb;
     FILE *f;
     int c;
     snprintf(path, sizeof path, "%s/bearings620.txt", ACTAG_BINARY_DIR);
@@ -252,50 +427,97 @@ static void test_bearing_table_file(void)
         fprintf(f, "%.9f\n", 0.5 * 1.0471975512 - c * 1.0471975512 / 619.0);
     fclose(f);
     TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " " EXAMPLE));
-    a = tu_slurp(out_path, NULL);
+    a = out_text();
     snprintf(args, sizeof args,
              "--json --min-range 0.1 --max-range 1.5 --family AcTag24h10 --bearings %s " EXAMPLE, path);
     TEST_ASSERT_EQUAL_INT(0, run(args));
-    b = tu_slurp(out_path, NULL);
-    TEST_ASSERT_NOT_NULL(a);
-    TEST_ASSERT_NOT_NULL(b);
+    b = out_text();
     assert_reference_tag(b);
-    /* same corners and polar values (time_ms differs) */
-    TEST_ASSERT_EQUAL_MEMORY(a, b, (size_t)(strstr(a, "\"time_ms\"") - a));
+    ba = json_body(a);
+    bb = json_body(b);
+    TEST_ASSERT_EQUAL_STRING(ba, bb); /* same corners and polar values */
     free(a);
     free(b);
+    free(ba);
+    free(bb);
     f = fopen(path, "w");
     TEST_ASSERT_NOT_NULL(f);
     for (c = 0; c < 100; c++)
         fprintf(f, "%f\n", 0.5 - c * 0.01);
     fclose(f);
     TEST_ASSERT_EQUAL_INT(2, run(args));
-    a = tu_slurp(err_path, NULL);
-    TEST_ASSERT_NOT_NULL(strstr(a, "bearing table has 100 values, the frame has 620 columns"));
+    a = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(a, "bearings620.txt: bearing table has 100 values, the frame has 620 columns"));
     free(a);
+    write_file(path, "0.5 0.4 zebra\n", 14);
+    TEST_ASSERT_EQUAL_INT(2, run(args));
+    a = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(a, "bearings620.txt: value 3 is not a finite number (got 'zebra')"));
+    free(a);
+}
+
+/* Runs args, expects status 2 and exactly one stderr line containing msg. */
+static void expect_option_error(const char *args, const char *msg)
+{
+    char *e;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run(args), args);
+    e = err_text();
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(e), args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(e, "actag_detect: ", 14), e);
+    if (!strstr(e, msg)) {
+        char m[1200];
+        snprintf(m, sizeof m, "'%s': expected '%s' in '%s'", args, msg, e);
+        TEST_FAIL_MESSAGE(m);
+    }
+    free(e);
 }
 
 static void test_bad_options(void)
 {
-    TEST_ASSERT_EQUAL_INT(2, run("--min-range 0.1 --max-range 1.5 --aperture-deg 60 --family Nope " EXAMPLE));
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --bit-corrections 5 " EXAMPLE)); /* h10 allows 4 */
-    TEST_ASSERT_EQUAL_INT(2, run("--min-range 0.1 --aperture-deg 60 " EXAMPLE)); /* no max range */
-    TEST_ASSERT_EQUAL_INT(2, run("--min-range 0.1 --max-range 1.5 " EXAMPLE));   /* no aperture */
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --frobnicate " EXAMPLE));
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --median-radius x " EXAMPLE));
-    TEST_ASSERT_EQUAL_INT(2, run(GEO));
-    TEST_ASSERT_EQUAL_INT(2, run("--min-range 2 --max-range 1.5 --aperture-deg 60 " EXAMPLE));
+    expect_option_error("--min-range 0.1 --max-range 1.5 --aperture-deg 60 --family Nope " EXAMPLE,
+                        "--family: unknown family Nope (built in: AcTag24h4");
+    expect_option_error(GEO " --bit-corrections 5 " EXAMPLE, "at most 4 bit corrections");
+    expect_option_error("--min-range 0.1 --aperture-deg 60 " EXAMPLE, "--max-range is required");
+    expect_option_error("--max-range 1.5 --aperture-deg 60 " EXAMPLE, "--min-range is required");
+    expect_option_error("--min-range 0.1 --max-range 1.5 " EXAMPLE,
+                        "--aperture-deg or --bearings is required");
+    expect_option_error(GEO " --bearings " ACTAG_BINARY_DIR "/bearings620.txt " EXAMPLE,
+                        "--aperture-deg and --bearings exclude each other");
+    expect_option_error(GEO " --frobnicate " EXAMPLE, "unknown option --frobnicate");
+    expect_option_error(GEO " --median-radius x " EXAMPLE, "--median-radius: must be an integer (got 'x')");
+    expect_option_error(GEO " --aperture-deg -5 " EXAMPLE, "--aperture-deg: must be from");
+    expect_option_error(GEO " --min-range nan " EXAMPLE, "--min-range: must be a finite number (got 'nan')");
+    expect_option_error(GEO " --decode guess " EXAMPLE, "--decode: must be fit or binary (got 'guess')");
+    expect_option_error(GEO " --depth 12 " EXAMPLE, "--depth: must be 8 or 16 (got 12)");
+    expect_option_error(GEO " --tag-size", "--tag-size: missing value");
+    expect_option_error(GEO, "no input files");
+    expect_option_error("--min-range 2 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
+                        "--max-range 1.5 must be larger than --min-range 2");
     TEST_ASSERT_EQUAL_INT(0, run("--help"));
+}
+
+static void test_version(void)
+{
+    char *o;
+    TEST_ASSERT_EQUAL_INT(0, run("--version"));
+    o = out_text();
+    TEST_ASSERT_EQUAL_STRING("actag_detect " ACTAG_VERSION_STRING "\n", o);
+    free(o);
 }
 
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_json_on_example);
+    RUN_TEST(test_text_output_convention);
     RUN_TEST(test_raw_and_16bit_inputs);
+    RUN_TEST(test_stdin_gives_the_same_json);
     RUN_TEST(test_overlay_and_stages);
+    RUN_TEST(test_show_rejected_changes_the_overlay);
+    RUN_TEST(test_same_named_files_do_not_overwrite);
     RUN_TEST(test_bad_files_are_reported_and_the_rest_processed);
     RUN_TEST(test_bearing_table_file);
     RUN_TEST(test_bad_options);
+    RUN_TEST(test_version);
     return UNITY_END();
 }
