@@ -30,6 +30,8 @@
 
 #include "actag/family.h"
 #include "actag/render.h"
+#include "actag/version.h"
+#include "hostio.h"
 
 #define DEFAULT_TAG_SIZE_M 0.130628571 /* 3/7 ft: inner white square of a 1 ft 24-bit tag */
 #define DEFAULT_CELL_PX 20
@@ -138,10 +140,14 @@ static void usage(FILE *f)
         "  --page-width MM --page-height MM   SVG/DXF page (default 210 x 297)\n"
         "  --gap MM               space between tags and page margin (default 10)\n"
         "output\n"
-        "  --out FILE             output file (default stdout); numbered -pN when a\n"
-        "                         sheet needs several pages\n"
+        "  --out FILE             output file (default stdout). A sheet that fits one\n"
+        "                         page is FILE itself; a longer one is FILE with -p1,\n"
+        "                         -p2, ... before the extension (tags.svg: tags-p1.svg,\n"
+        "                         tags-p2.svg, ...; the names are reported on stderr)\n"
         "  --out-dir DIR          one file per tag: DIR/FAMILY-ID[-face|-back].EXT,\n"
-        "                         sheets DIR/FAMILY[-face|-back]-sheet-pN.EXT\n",
+        "                         sheets DIR/FAMILY[-face|-back]-sheet-pN.EXT (DIR is\n"
+        "                         created)\n"
+        "  --help  --version\n",
         f);
 }
 
@@ -283,6 +289,9 @@ static void parse_args(int argc, char **argv, opts_t *o)
         const char *a = argv[i];
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
+            exit(0);
+        } else if (strcmp(a, "--version") == 0) {
+            printf("actag-render %s\n", ACTAG_VERSION_STRING);
             exit(0);
         } else if (strcmp(a, "--family") == 0) {
             o->family_name = need_arg(argc, argv, &i);
@@ -1084,6 +1093,9 @@ static char *page_path(const opts_t *o, int page, int npages)
         const char *dot = strrchr(o->out, '.'), *slash = strrchr(o->out, '/');
         size_t stem = (dot && (!slash || dot > slash)) ? (size_t)(dot - o->out) : strlen(o->out);
         snprintf(s, n, "%.*s-p%d%s", (int)stem, o->out, page + 1, o->out + stem);
+        if (page == 0)
+            fprintf(stderr, "actag-render: the sheet needs %d pages: %.*s-p1%s .. -p%d%s\n",
+                    npages, (int)stem, o->out, o->out + stem, npages, o->out + stem);
     }
     return s;
 }
@@ -1211,6 +1223,11 @@ int main(int argc, char **argv)
     opts_t o;
     int i;
     parse_args(argc, argv, &o);
+    if (o.out_dir) {
+        char err[HOSTIO_ERRLEN];
+        if (hostio_mkdirs(o.out_dir, err) != HOSTIO_OK)
+            die("--out-dir: %s", err);
+    }
     if (o.list_tabs) {
         static const char *const names[4] = {"TL", "TR", "BR", "BL"};
         for (i = 0; i < o.nids; i++) {

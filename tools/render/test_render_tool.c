@@ -15,6 +15,7 @@
 #include "test_util.h"
 
 #include "actag/render.h"
+#include "actag/version.h"
 
 #ifndef ACTAG_RENDER_PATH
 #error "ACTAG_RENDER_PATH must name the actag-render executable"
@@ -1009,7 +1010,7 @@ static void test_errors(void)
         "--family AcTag24h4 --ids 0-2",
         "--family AcTag24h4 --id 1 --columns 3",
         "--family AcTag24h4 --id 1 --out /nonexistent-dir/x.pgm",
-        "--family AcTag24h4 --id 1 --out-dir /nonexistent-dir",
+        "--family AcTag24h4 --id 1 --out-dir /dev/null/plates", /* cannot be created */
         "--family AcTag24h4 --id 1 --frobnicate",
         "--family AcTag24h4 --id",
         "--family AcTag24h10 --all --sheet --format svg",
@@ -1049,6 +1050,93 @@ static void test_dxf_checker_rejects(void)
     }
 }
 
+/* Every actag-render command in the README, run as written (in a scratch
+ * folder), writes exactly the files the command names: --out FILE makes
+ * FILE (a sheet that fits one page is not renamed), --out-dir DIR makes
+ * the folder and fills it. */
+static void test_readme_commands_write_what_they_say(void)
+{
+    char *readme = tu_slurp(ACTAG_SOURCE_DIR "/README.md", NULL), *line;
+    const char *prefix = "    build/tools/render/actag-render ";
+    int ncmd = 0;
+    char clean[2200];
+    TEST_ASSERT_NOT_NULL(readme);
+    snprintf(clean, sizeof clean, "rm -rf '%s/readme' && mkdir -p '%s/readme'", dir, dir);
+    TEST_ASSERT_EQUAL_INT(0, system(clean));
+    for (line = strstr(readme, prefix); line; line = strstr(line + 1, prefix)) {
+        char args[400], cmd[8192], name[128], msg[1200];
+        const char *a = line + strlen(prefix), *o;
+        size_t n = strcspn(a, "\n");
+        int st;
+        snprintf(args, sizeof args, "%.*s", (int)(n < 390 ? n : 390), a);
+        snprintf(cmd, sizeof cmd, "cd '%s/readme' && '%s' %s 2>/dev/null", dir,
+                 ACTAG_RENDER_PATH, args);
+        st = system(cmd);
+        snprintf(msg, sizeof msg, "README command failed: %s", args);
+        TEST_ASSERT_TRUE_MESSAGE(st != -1 && WIFEXITED(st) && WEXITSTATUS(st) == 0, msg);
+        if ((o = strstr(args, "--out ")) != NULL) {
+            size_t l = strcspn(o + 6, " ");
+            snprintf(name, sizeof name, "readme/%.*s", (int)(l < 100 ? l : 100), o + 6);
+            snprintf(msg, sizeof msg, "'%s' did not write %s", args, name + 7);
+            TEST_ASSERT_TRUE_MESSAGE(file_exists(name), msg);
+            if (strstr(args, "--sheet")) { /* one page: no NAME-p1 beside NAME */
+                char *dot = strrchr(name, '.');
+                char p1[160];
+                snprintf(p1, sizeof p1, "%.*s-p1%s", (int)(dot - name), name, dot);
+                snprintf(msg, sizeof msg, "'%s' wrote %s, not %s", args, p1 + 7, name + 7);
+                TEST_ASSERT_FALSE_MESSAGE(file_exists(p1), msg);
+            }
+        } else if ((o = strstr(args, "--out-dir ")) != NULL) {
+            char p[1400];
+            size_t l = strcspn(o + 10, " ");
+            snprintf(name, sizeof name, "readme/%.*s", (int)(l < 100 ? l : 100), o + 10);
+            path_of(p, sizeof p, name);
+            snprintf(cmd, sizeof cmd, "test -n \"$(ls -A '%s')\"", p);
+            snprintf(msg, sizeof msg, "'%s' left %s empty", args, name + 7);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, system(cmd), msg);
+        }
+        ncmd++;
+    }
+    TEST_ASSERT_TRUE(ncmd >= 5);
+    free(readme);
+}
+
+/* A multi-page sheet names its pages on stderr; --out-dir creates nested
+ * folders; --version prints the project version. */
+static void test_pages_folders_version(void)
+{
+    char args[2048], p[1200];
+    snprintf(args, sizeof args,
+             "--family AcTag24h10 --all --sheet --format svg --tag-size 0.03 --out '%s/pages.svg'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    TEST_ASSERT_TRUE(file_exists("pages-p1.svg"));
+    TEST_ASSERT_TRUE(file_exists("pages-p2.svg"));
+    TEST_ASSERT_FALSE(file_exists("pages.svg"));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, "the sheet needs 2 pages: "), errtext);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, "pages-p1.svg .. -p2.svg"), errtext);
+    path_of(p, sizeof p, "new/a/b");
+    snprintf(args, sizeof args, "rm -rf '%s/new'", dir);
+    TEST_ASSERT_EQUAL_INT(0, system(args));
+    snprintf(args, sizeof args, "--family AcTag24h10 --ids 1,2 --cut --out-dir '%s'", p);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    TEST_ASSERT_TRUE(file_exists("new/a/b/AcTag24h10-1-face.dxf"));
+    TEST_ASSERT_TRUE(file_exists("new/a/b/AcTag24h10-2-face.dxf"));
+    /* a file where the folder should be: one line, status 2 */
+    path_of(p, sizeof p, "new/a/b/AcTag24h10-1-face.dxf");
+    snprintf(args, sizeof args, "--family AcTag24h10 --ids 1,2 --cut --out-dir '%s'", p);
+    TEST_ASSERT_EQUAL_INT(2, run(args));
+    TEST_ASSERT_EQUAL_INT(1, count_lines(errtext));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, "actag-render: --out-dir: "), errtext);
+    TEST_ASSERT_EQUAL_INT(0, run("--version"));
+    path_of(p, sizeof p, "stdout.bin");
+    {
+        char *v = tu_slurp(p, NULL);
+        TEST_ASSERT_NOT_NULL(v);
+        TEST_ASSERT_EQUAL_STRING("actag-render " ACTAG_VERSION_STRING "\n", v);
+        free(v);
+    }
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "%s/render_tool_test", ACTAG_BINARY_DIR);
@@ -1065,5 +1153,7 @@ int main(void)
     RUN_TEST(test_sheets);
     RUN_TEST(test_errors);
     RUN_TEST(test_dxf_checker_rejects);
+    RUN_TEST(test_readme_commands_write_what_they_say);
+    RUN_TEST(test_pages_folders_version);
     return UNITY_END();
 }
