@@ -11,6 +11,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "actag/actag.h"
+#include "actag/version.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,7 +51,10 @@ int main(int argc, char **argv)
     int frames = 0, found = 0;
 
     for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
+        if (strcmp(argv[i], "--version") == 0) {
+            printf("actag_bench %s\n", ACTAG_VERSION_STRING);
+            return 0;
+        } else if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
             repeat = atoi(argv[++i]);
         else if (strcmp(argv[i], "--family") == 0 && i + 1 < argc)
             family_name = argv[++i];

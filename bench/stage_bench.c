@@ -27,6 +27,7 @@
 
 #include "actag/median.h"
 #include "actag/threshold.h"
+#include "actag/version.h"
 #include "hostio.h"
 
 /* The portable paths, compiled in under other names. */
@@ -92,7 +93,11 @@ int main(int argc, char **argv)
         return 2;
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--repeat") == 0 && i + 1 < argc) {
+        if (strcmp(a, "--version") == 0) {
+            printf("stage_bench %s\n", ACTAG_VERSION_STRING);
+            free(fr);
+            return 0;
+        } else if (strcmp(a, "--repeat") == 0 && i + 1 < argc) {
             if (parse_int(a, argv[++i], 1, 100000, &repeat))
                 return 2;
         } else if (strcmp(a, "--median-radius") == 0 && i + 1 < argc) {

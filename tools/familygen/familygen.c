@@ -66,6 +66,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "actag/version.h"
+
 #define PROG "actag-familygen"
 #define PRIME 982451653ull
 #define SEED 0x445965ull
@@ -506,6 +508,10 @@ int main(int argc, char **argv)
 
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
+        if (strcmp(a, "--version") == 0) {
+            printf("actag-familygen %s\n", ACTAG_VERSION_STRING);
+            return 0;
+        }
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             printf("usage: " USAGE "\n"
                    "  N: data bits, a multiple of 4 from 16 to 32; H: minimum Hamming distance >= 1\n"
@@ -519,7 +525,8 @@ int main(int argc, char **argv)
                    "  names: AcTag<N>h<H> reverse, all cells (published); AcTag<N>p<H> physical,\n"
                    "    all cells; AcTag<N>m<H> physical, corners excluded (mirror-safe)\n"
                    "  txt: one 0x code per line in ID order; c: libactag table; apriltag: an\n"
-                   "  AprilTag 3 apriltag_family_t from static data.\n");
+                   "  AprilTag 3 apriltag_family_t from static data.\n"
+                   "  --help  --version\n");
             return 0;
         }
         if (strcmp(a, "--bits") && strcmp(a, "--hamming") && strcmp(a, "--format") &&

@@ -753,10 +753,12 @@ int main(int argc, char **argv)
         die("--free-max-range: must be above --min-range");
     if (c.frames + c.tag_free == 0)
         die("--frames and --tag-free are both 0: nothing to do");
-    if (svg && mkdir(svg, 0777) != 0 && errno != EEXIST) {
-        char m[600];
-        snprintf(m, sizeof m, "--svg: cannot create '%s': %s", svg, strerror(errno));
-        die(m);
+    if (svg) {
+        char e[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
+        if (hostio_mkdirs(svg, e) != HOSTIO_OK) { /* parents too */
+            snprintf(m, sizeof m, "--svg: %s", e);
+            die(m);
+        }
     }
     c.tres = (tag_result *)calloc((size_t)(c.frames > 0 ? c.frames : 1), sizeof *c.tres);
     c.fres = (free_result *)calloc((size_t)(c.tag_free > 0 ? c.tag_free : 1), sizeof *c.fres);

@@ -382,10 +382,12 @@ int main(int argc, char **argv)
         die("give exactly one of --tag, --random, --tag-free, --sequence (see --help)");
     if (!out_dir)
         die("--out-dir: required");
-    if (mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
-        char m[600];
-        snprintf(m, sizeof m, "--out-dir: cannot create '%s': %s", out_dir, strerror(errno));
-        die(m);
+    {
+        char e[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
+        if (hostio_mkdirs(out_dir, e) != HOSTIO_OK) { /* parents too */
+            snprintf(m, sizeof m, "--out-dir: %s", e);
+            die(m);
+        }
     }
     {
         char path[1200];

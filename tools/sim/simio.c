@@ -48,7 +48,7 @@ void simio_truth_line(FILE *f, const char *file, int frame, uint32_t seed, const
     fprintf(f, "{\"file\": ");
     json_str(f, file);
     fprintf(f, ", \"frame\": %d, \"seed\": %u, \"rows\": %d, \"cols\": %d, \"clutter\": %d, "
-               "\"coordinates\": \"x = column, y = row, pixel centres at integers\", \"tags\": [",
+               "\"coordinates\": \"x_col = column, y_row = row, pixels, centre of the top-left pixel at (0, 0)\", \"tags\": [",
             frame, (unsigned)seed, s->rows, s->cols, scene->npatches);
     for (t = 0; t < scene->ntags; t++) {
         const sim_tag *tag = &scene->tags[t];
@@ -69,7 +69,7 @@ void simio_truth_line(FILE *f, const char *file, int frame, uint32_t seed, const
             fprintf(f, "%s%.7f", j ? ", " : "", (double)tag->pose.R[j]);
         fprintf(f, "]}, \"corners\": [");
         for (n = 0; n < 4; n++)
-            fprintf(f, "%s{\"x\": %.3f, \"y\": %.3f, \"range\": %.6f, \"azimuth\": %.6f}",
+            fprintf(f, "%s{\"x_col\": %.3f, \"y_row\": %.3f, \"range_m\": %.6f, \"azimuth_rad\": %.6f}",
                     n ? ", " : "", (double)tr.px[n].x, (double)tr.px[n].y, (double)tr.range[n],
                     (double)tr.azimuth[n]);
         fprintf(f, "]}");

@@ -124,7 +124,7 @@ static void test_sim_writes_frames_and_truth(void)
     for (p = t; *p; p++)
         lines += *p == '\n';
     TEST_ASSERT_EQUAL_INT(3, lines);
-    TEST_ASSERT_NOT_NULL(strstr(t, "\"corners\": [{\"x\": "));
+    TEST_ASSERT_NOT_NULL(strstr(t, "\"corners\": [{\"x_col\": "));
     TEST_ASSERT_NOT_NULL(strstr(t, "\"mirrored\": "));
     free(t);
     snprintf(path, sizeof path, "%s/sim_out/sim_0002.pgm", ACTAG_BINARY_DIR);

@@ -1,0 +1,142 @@
+/* The host I/O library's frame reader (PGM by magic, raw by layout, errors
+ * naming the file and value), folder creation, number lists and PPM writer. */
+#define _POSIX_C_SOURCE 200809L
+#include "unity.h"
+#include "hostio.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+#define DIR ACTAG_BINARY_DIR "/hostio_test"
+
+static void put(const char *name, const void *data, size_t n)
+{
+    char err[HOSTIO_ERRLEN], path[512];
+    snprintf(path, sizeof path, DIR "/%s", name);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_write_file(path, data, n, err), err);
+}
+
+static void expect_error(const char *name, const hostio_raw_spec *raw, const char *msg)
+{
+    char err[HOSTIO_ERRLEN], path[512], m[700];
+    hostio_image im;
+    snprintf(path, sizeof path, DIR "/%s", name);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(-1, hostio_frame_read(path, raw, &im, err), name);
+    snprintf(m, sizeof m, "expected '%s' in '%s'", msg, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, msg), m);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, name), m); /* names the file */
+    TEST_ASSERT_NULL(im.data);
+}
+
+static void test_frames(void)
+{
+    static const uint8_t pgm8[] = "P5\n# c\n3 2\n255\n\x01\x02\x03\x04\x05\x06";
+    static const uint8_t pgm16[] = "P5 2 1 65535 \x01\x02\xff\xfe";
+    static const uint8_t raw16[] = {1, 2, 3, 4, 0xaa, 0xbb, 5, 6, 7, 8};
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    hostio_raw_spec raw = {2, 2, 16, 3}; /* 2 x 2, stride 3, 16-bit */
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
+    put("a.pgm", pgm8, sizeof pgm8 - 1);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/a.pgm", &raw, &im, err), err);
+    TEST_ASSERT_EQUAL_INT(2, im.rows);
+    TEST_ASSERT_EQUAL_INT(3, im.cols);
+    TEST_ASSERT_EQUAL_INT(8, im.depth);
+    TEST_ASSERT_EQUAL_UINT8(6, ((uint8_t *)im.data)[5]);
+    hostio_image_free(&im);
+    put("b.pgm", pgm16, sizeof pgm16 - 1);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/b.pgm", NULL, &im, err), err);
+    TEST_ASSERT_EQUAL_INT(16, im.depth);
+    TEST_ASSERT_EQUAL_UINT16(0x0102, ((uint16_t *)im.data)[0]); /* big-endian in the file */
+    TEST_ASSERT_EQUAL_UINT16(0xfffe, ((uint16_t *)im.data)[1]);
+    hostio_image_free(&im);
+    /* raw, little-endian, stride 3; the last row's padding may be absent */
+    put("c.raw", raw16, sizeof raw16);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/c.raw", &raw, &im, err), err);
+    TEST_ASSERT_EQUAL_INT(3, im.stride);
+    TEST_ASSERT_EQUAL_UINT16(0x0201, ((uint16_t *)im.data)[0]);
+    TEST_ASSERT_EQUAL_UINT16(0x0403, ((uint16_t *)im.data)[1]);
+    TEST_ASSERT_EQUAL_UINT16(0x0605, ((uint16_t *)im.data)[3]);
+    TEST_ASSERT_EQUAL_UINT16(0x0807, ((uint16_t *)im.data)[4]);
+    hostio_image_free(&im);
+    /* errors name the file and the value */
+    expect_error("c.raw", NULL, "not a PGM file (no P5 magic); raw frames need --rows and --cols");
+    raw.stride = 0;
+    expect_error("c.raw", &raw, "raw frame is 10 bytes, expected 8 (2 rows x stride 2 x 2 bytes)");
+    raw.stride = 1;
+    expect_error("c.raw", &raw, "raw stride 1 is smaller than the 2 columns");
+    put("d.pgm", "P2\n1 1\n255\n0\n", 12);
+    expect_error("d.pgm", &raw, "a P2 image: only binary PGM (P5) is supported");
+    put("e.pgm", "P5\n4 4\n0\n", 9);
+    expect_error("e.pgm", NULL, "PGM maxval 0 outside 1..65535");
+    expect_error("missing.pgm", NULL, "No such file");
+}
+
+static void test_mkdirs(void)
+{
+    char err[HOSTIO_ERRLEN];
+    struct stat sb;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_mkdirs(DIR "/x/y//z/", err), err);
+    TEST_ASSERT_EQUAL_INT(0, stat(DIR "/x/y/z", &sb));
+    TEST_ASSERT_TRUE(S_ISDIR(sb.st_mode));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR "/x/y/z", err)); /* exists: fine */
+    put("file", "x", 1);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_mkdirs(DIR "/file", err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "file: exists and is not a folder"), err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_mkdirs(DIR "/file/sub", err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "file/sub: cannot create folder"), err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_mkdirs("", err));
+}
+
+static void test_lists(void)
+{
+    char err[HOSTIO_ERRLEN];
+    double v[4];
+    int n = 0;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_list("t", " 1, -2.5\n3e-1\t", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_INT(3, n);
+    TEST_ASSERT_FLOAT_WITHIN(1e-9f, -2.5f, (float)v[1]);
+    TEST_ASSERT_FLOAT_WITHIN(1e-7f, 0.3f, (float)v[2]);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_list("t", "1 2 3 4 5 6", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_INT(5, n); /* more than cap: cap + 1 */
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_list("t", "", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_INT(0, n);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("tab.txt", "1 2x 3", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got '2x')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("tab.txt", "1 inf", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got 'inf')", err);
+}
+
+static void test_ppm(void)
+{
+    static const uint8_t rgb[2 * 3 * 3] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18};
+    char err[HOSTIO_ERRLEN];
+    size_t len;
+    uint8_t *s;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_ppm_write(DIR "/p.ppm", rgb, 2, 3, err));
+    s = hostio_slurp(DIR "/p.ppm", &len, err);
+    TEST_ASSERT_NOT_NULL(s);
+    TEST_ASSERT_EQUAL_UINT(11 + sizeof rgb, len);
+    TEST_ASSERT_EQUAL_MEMORY("P6\n3 2\n255\n", s, 11);
+    TEST_ASSERT_EQUAL_MEMORY(rgb, s + 11, sizeof rgb);
+    free(s);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_ppm_write(DIR "/nofolder/p.ppm", rgb, 2, 3, err));
+    TEST_ASSERT_NOT_NULL(strstr(err, "nofolder/p.ppm: cannot write"));
+    TEST_ASSERT_EQUAL_STRING("stdin", hostio_frame_name("-"));
+    TEST_ASSERT_EQUAL_STRING("a/b", hostio_frame_name("a/b"));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_frames);
+    RUN_TEST(test_mkdirs);
+    RUN_TEST(test_lists);
+    RUN_TEST(test_ppm);
+    return UNITY_END();
+}
