@@ -29,7 +29,9 @@ static void usage(FILE *f)
     fprintf(f,
         "usage: " PROG " [options] --out-dir DIR\n"
         "Renders polar sonar frames (rows = range bins, columns = beams) of AcTags at given or\n"
-        "random 6-DOF poses, with ground truth as JSON lines (DIR/truth.jsonl).\n"
+        "random 6-DOF poses, with ground truth as JSON lines (DIR/truth.jsonl; each tag's\n"
+        "corners TL TR BR BL as printed, as {\"x_col\", \"y_row\", \"range_m\", \"azimuth_rad\"}:\n"
+        "x = column, y = row in pixels, centre of the top-left pixel at (0, 0)).\n"
         "Scene (one of):\n"
         "  --tag FAMILY:ID:X,Y,Z,ROLL,PITCH,YAW[:SIZE]\n"
         "                         a tag at this pose in the sonar frame (x forward, y left,\n"
