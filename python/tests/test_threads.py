@@ -14,7 +14,7 @@ np = pytest.importorskip("numpy")
 
 def frames_for_threads(example_frame):
     from conftest import pool_paths
-    paths = pool_paths()[:16]
+    paths = pool_paths()[:8]
     frames = [pyactag.read_pgm(p) for p in paths]
     return frames + [example_frame, example_frame[:, ::-1], example_frame[::2]]
 
@@ -29,7 +29,7 @@ def test_shared_and_private_detectors_in_threads(example_frame):
         try:
             own = pyactag.Detector(**GEOMETRY)
             out = []
-            for rep in range(2):
+            for rep in range(1):
                 for i, f in enumerate(frames):
                     det = shared if (i + t + rep) % 2 else own
                     out.append((i, detections_key(det.detect(f))))
