@@ -75,7 +75,10 @@ def run_c_tool(tool, paths, extra=()):
 def c_corners_xy(det):
     """Corner (x = column, y = row) pairs from a detection of the C tool's JSON,
     whichever key it uses: 'corners_xy' ([x, y]), 'corners_rowcol' or the
-    older 'corners_px' ([row, col])."""
+    older 'corners_px' ([row, col]), or 'corners' ([{x_col, y_row, range_m,
+    azimuth_rad}])."""
+    if "corners" in det:
+        return [(c["x_col"], c["y_row"]) for c in det["corners"]]
     if "corners_xy" in det:
         return [(c[0], c[1]) for c in det["corners_xy"]]
     if "corners_rowcol" in det:
@@ -86,6 +89,8 @@ def c_corners_xy(det):
 
 
 def c_corners_polar(det):
+    if "corners" in det:
+        return [(c["range_m"], c["azimuth_rad"]) for c in det["corners"]]
     for key in ("corners_range_azimuth", "corners_polar"):
         if key in det:
             return [(c[0], c[1]) for c in det[key]]

@@ -160,7 +160,10 @@ def test_detection_object(example_frame):
     d = pyactag.detect(example_frame, **GEOMETRY)[0]
     dd = d.to_dict()
     assert json.loads(json.dumps(dd)) == dd
-    assert dd["corners_xy"][0] == list(d.corners_xy[0])
+    assert dd["corners"][0] == {"x_col": d.corners_xy[0][0], "y_row": d.corners_xy[0][1],
+                                "range_m": d.corners_polar[0][0],
+                                "azimuth_rad": d.corners_polar[0][1]}
+    assert d.corners[2].y_row == d.corners_rowcol[2][0] and d.corners[2].x_col == d.corners_xy[2][0]
     assert d.ranges_m == tuple(r for r, _ in d.corners_polar)
     assert d.azimuths_rad == tuple(a for _, a in d.corners_polar)
     cx, cy = d.center_xy

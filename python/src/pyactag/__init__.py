@@ -14,7 +14,7 @@ from . import _core
 from ._arrays import have_numpy
 from ._core import ActagError
 from .compat import AcTag
-from .detection import (GEOMETRY_KEYS, Detection, Detector, Result, default_params, detect,
+from .detection import (GEOMETRY_KEYS, Corner, Detection, Detector, Result, default_params, detect,
                         tuning_names)
 from .families import Family, code_mirror, code_reverse, code_rot90, family_names, rule_of_name
 from .pgm import parse_pgm, read_pgm, write_pgm
@@ -39,7 +39,7 @@ def strerror(code):
 
 
 __all__ = [
-    "AcTag", "ActagError", "Detection", "Detector", "Family", "GEOMETRY_KEYS", "Result",
+    "AcTag", "ActagError", "Corner", "Detection", "Detector", "Family", "GEOMETRY_KEYS", "Result",
     "code_mirror", "code_reverse", "code_rot90", "default_params", "detect", "family_names",
     "have_numpy", "parse_pgm", "read_pgm", "rule_of_name", "strerror", "tuning_names",
     "workspace_size", "write_pgm", "LIBRARY_VERSION", "CORNER_TOP_LEFT", "CORNER_TOP_RIGHT",

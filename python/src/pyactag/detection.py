@@ -27,6 +27,10 @@ GEOMETRY_KEYS = (
 #: {"filtered": median-filtered frame, "binary": 0/255 threshold image}.
 Result = namedtuple("Result", ["detections", "stats", "stages"])
 
+#: One corner of a detection: x_col = column and y_row = row (pixels,
+#: sub-pixel, pixel centres at integers), range_m (metres), azimuth_rad.
+Corner = namedtuple("Corner", ["x_col", "y_row", "range_m", "azimuth_rad"])
+
 
 def default_params():
     """Every detection parameter with its C default (``actag_params_default``).
@@ -75,6 +79,13 @@ class Detection:
         self.corners_polar = corners_polar
 
     @property
+    def corners(self):
+        """The four corners (tag order TL, TR, BR, BL) as ``Corner(x_col,
+        y_row, range_m, azimuth_rad)``."""
+        return tuple(Corner(x, y, r, a) for (x, y), (r, a) in zip(self.corners_xy,
+                                                                   self.corners_polar))
+
+    @property
     def corners_rowcol(self):
         """The corners as (row, column) pairs (the reference package's order)."""
         return tuple((y, x) for x, y in self.corners_xy)
@@ -95,15 +106,16 @@ class Detection:
         return (sum(x for x, _ in self.corners_xy) / 4.0, sum(y for _, y in self.corners_xy) / 4.0)
 
     def to_dict(self):
-        """Plain dict (JSON-ready); corner keys say their order."""
+        """Plain dict (JSON-ready), with the keys of ``actag_detect --json``:
+        id, hamming, decision_margin, mirrored, inlier_ratio and corners as
+        [{"x_col", "y_row", "range_m", "azimuth_rad"} x 4]."""
         return {
             "id": self.id,
             "hamming": self.hamming,
             "decision_margin": self.decision_margin,
             "mirrored": self.mirrored,
             "inlier_ratio": self.inlier_ratio,
-            "corners_xy": [list(p) for p in self.corners_xy],
-            "corners_range_azimuth": [list(p) for p in self.corners_polar],
+            "corners": [c._asdict() for c in self.corners],
         }
 
     def __eq__(self, other):
