@@ -27,8 +27,24 @@ FAMILY = "AcTag24h10"
 TAG_SIZE = 0.130628571
 
 
+SUBSET = REPO / "data" / "pool-video"  # the few pool frames the repository ships
+
+
 def pool_paths():
-    return sorted(POOL.glob("f_*.pgm")) if POOL.is_dir() else []
+    """The pool frames: the full recording when ACTAG_DATA_DIR (../shared/data)
+    has it, else the repository's subset."""
+    for d in (POOL, SUBSET):
+        paths = sorted(d.glob("f_*.pgm")) if d.is_dir() else []
+        if paths:
+            return paths
+    return []
+
+
+def family_file_dir():
+    for d in (DATA / "families", REPO / "data" / "families"):
+        if d.is_dir():
+            return d
+    return None
 
 
 @pytest.fixture(scope="session")
@@ -40,7 +56,7 @@ def example_frame():
 def pool_frames():
     paths = pool_paths()
     if not paths:
-        pytest.skip("pool frames not found in {} (set ACTAG_DATA_DIR)".format(POOL))
+        pytest.skip("pool frames not found in {} or {} (set ACTAG_DATA_DIR)".format(POOL, SUBSET))
     return [(p, pyactag.read_pgm(p)) for p in paths]
 
 

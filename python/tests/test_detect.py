@@ -52,7 +52,8 @@ def test_pool_frames_same_as_c_tool(pool_frames, c_tool):
         found += len(dets)
         for d in dets:  # one physical tag, ID 0, in the whole recording
             assert d.id == 0, path.name
-    assert found >= 30  # the C suite's floor is 34 of 47 tagged frames
+    # The C suite's floor is 34 of the 47 tagged frames among the 58.
+    assert found >= len(pool_frames) // 2
     print("pool: {} frames, {} detections, all equal to actag_detect --json".format(
         len(pool_frames), found))
 

@@ -2,7 +2,7 @@
 import pytest
 
 import pyactag
-from conftest import DATA, GEOMETRY, detections_key
+from conftest import DATA, GEOMETRY, detections_key, family_file_dir
 
 np = pytest.importorskip("numpy")
 
@@ -28,9 +28,9 @@ def test_builtin_families():
 
 
 def test_published_codes_equal_the_data_files():
-    fam_dir = DATA / "families"
-    if not fam_dir.is_dir():
-        pytest.skip("published family files not found in {}".format(fam_dir))
+    fam_dir = family_file_dir()
+    if fam_dir is None:
+        pytest.skip("published family files not found in {}/families or data/families".format(DATA))
     for name in PUBLISHED_SIZES:
         loaded = pyactag.Family.from_file(str(fam_dir / (name + ".txt")))
         assert loaded.codes == pyactag.Family(name).codes, name

@@ -31,10 +31,13 @@ NFRAMES = 8
 @pytest.fixture(scope="module")
 def frames(example_frame):
     paths = pool_paths()
-    if not paths:
-        pytest.skip("pool frames not found (set ACTAG_DATA_DIR); the bag test writes them")
-    # Frames with and without the tag: every 5th of the 58.
-    return [pyactag.read_pgm(p) for p in paths[::5][:NFRAMES]]
+    if not paths:  # still a bag: the example frame, cropped to the pool's size, and a blank one
+        f = np.ascontiguousarray(example_frame[:, 50:562])
+        return [f, np.ascontiguousarray(f[:, ::-1]), np.zeros_like(f)]
+    # Frames with and without the tag: every 5th of the 58 (or the subset).
+    if len(paths) > NFRAMES:
+        paths = paths[::5][:NFRAMES]
+    return [pyactag.read_pgm(p) for p in paths]
 
 
 def beam_directions(store, cols):
@@ -161,7 +164,7 @@ def test_bag_round_trip(tmp_path, frames, storage):
                         assert abs(r1 - r2) < 0.03 and abs(a1 - a2) < 0.03
         assert line["detections"] == json.loads(json.dumps([d.to_dict() for d in want])), (
             topic, i)
-    assert tagged >= 2 and agree == tagged
+    assert tagged >= 1 and agree == tagged
     # All topics: the rgb8 image is reported, the rest still processed, status 2.
     rc, lines, err = run_tool(bag, "--min-range", 0.1, "--max-range", 1.5, "--aperture-deg", 60)
     assert rc == 2 and "rgb8" in err
