@@ -113,6 +113,7 @@ static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view 
     int isize, swap = 0;
     const char *t;
     char *tmp;
+    PyObject *keep = obj; /* what holds the pixels */
 
     if (!PyDict_Check(ai))
         return 1;
@@ -153,13 +154,26 @@ static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view 
     }
     if (mask_o != NULL && mask_o != Py_None)
         return bad_type("masked arrays are not supported");
-    /* data: (pointer, read-only flag); anything else (a buffer object, None):
-     * let the buffer protocol read it. */
-    if (data_o == NULL || !PyTuple_Check(data_o) || PyTuple_Size(data_o) < 1 ||
-        get_ll(PyTuple_GetItem(data_o, 0), &ptr) != 0)
+    /* data: (pointer, read-only flag), or a bytes object (Pillow) plus an
+     * optional offset; anything else (another buffer object, None): let the
+     * buffer protocol read the object. */
+    if (data_o != NULL && PyBytes_Check(data_o)) {
+        PyObject *off_o = PyDict_GetItemString(ai, "offset");
+        long long off = 0;
+        if (off_o != NULL && off_o != Py_None && get_ll(off_o, &off) != 0)
+            return bad_type("__array_interface__ offset is not an integer");
+        if (dims_ok(shape[0], shape[1]) != 0)
+            return -1;
+        if (off < 0 || off > (long long)PyBytes_Size(data_o))
+            return bad_type("__array_interface__ offset outside its data");
+        ptr = (long long)(size_t)(PyBytes_AsString(data_o) + off);
+        keep = data_o;
+    } else if (data_o == NULL || !PyTuple_Check(data_o) || PyTuple_Size(data_o) < 1 ||
+               get_ll(PyTuple_GetItem(data_o, 0), &ptr) != 0) {
         return 1;
-    if (dims_ok(shape[0], shape[1]) != 0)
+    } else if (dims_ok(shape[0], shape[1]) != 0) {
         return -1;
+    }
     if (strides_o == NULL || strides_o == Py_None) {
         strides[1] = isize;
         strides[0] = shape[1] * isize;
@@ -168,8 +182,18 @@ static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view 
     }
     if (ptr == 0)
         return bad_type("__array_interface__ data pointer is NULL");
-    Py_INCREF(obj);
-    v->keep = obj;
+    if (keep == data_o && PyBytes_Check(data_o)) { /* the pixels must fit in the bytes */
+        long long hi = (shape[0] - 1) * (strides[0] > 0 ? strides[0] : 0) +
+                       (shape[1] - 1) * (strides[1] > 0 ? strides[1] : 0);
+        long long lo = (shape[0] - 1) * (strides[0] < 0 ? strides[0] : 0) +
+                       (shape[1] - 1) * (strides[1] < 0 ? strides[1] : 0);
+        const char *b = PyBytes_AsString(data_o);
+        long long pos = (long long)((const char *)(size_t)ptr - b);
+        if (pos + lo < 0 || pos + hi + isize > (long long)PyBytes_Size(data_o))
+            return bad_type("__array_interface__ data is smaller than its shape");
+    }
+    Py_INCREF(keep);
+    v->keep = keep;
     if (strides[1] == isize && strides[0] > 0 && strides[0] % isize == 0 &&
         strides[0] / isize >= shape[1] && strides[0] / isize <= 0x7fffffffLL && !swap &&
         (isize == 1 || ptr % 2 == 0))

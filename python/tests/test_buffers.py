@@ -109,3 +109,24 @@ def test_input_is_not_modified(example_frame):
     f = example_frame.copy()
     pyactag.detect(f, **GEOMETRY)
     assert np.array_equal(f, example_frame)
+
+
+class PillowLike:
+    """__array_interface__ with the pixels as a bytes object (what Pillow gives)."""
+
+    def __init__(self, arr, offset=0):
+        self.__array_interface__ = {"shape": arr.shape, "typestr": arr.dtype.str,
+                                    "version": 3, "data": b"\0" * offset + arr.tobytes(),
+                                    "offset": offset}
+
+
+def test_array_interface_with_bytes(example_frame, reference):
+    same(PillowLike(example_frame), reference)
+    same(PillowLike(example_frame, offset=3), reference)
+    f16 = example_frame.astype(np.uint16) * 200
+    expected = detections_key(pyactag.detect(f16, **GEOMETRY))
+    assert detections_key(pyactag.detect(PillowLike(f16, offset=1), **GEOMETRY)) == expected
+    short = PillowLike(example_frame)
+    short.__array_interface__["data"] = short.__array_interface__["data"][:-1]
+    with pytest.raises(TypeError, match="smaller than its shape"):
+        pyactag.detect(short, **GEOMETRY)
