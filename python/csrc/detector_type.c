@@ -1,0 +1,322 @@
+/*
+ * detector_type.c -- pyactag._core.Detector: validated actag_params, the
+ * family they point at, and a workspace the object keeps for its next call.
+ *
+ * Threads: detect() releases the GIL around actag_detect(). The object's
+ * workspace serves one call at a time; a call that finds it busy (another
+ * thread is detecting with the same object) uses a workspace of its own for
+ * that call. The busy flag is only read and written with the GIL held. The
+ * parameters and the family are immutable after construction.
+ */
+#include "pyactag.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_DETECTIONS_LIMIT 4096
+
+typedef struct detobj {
+    PyObject_HEAD
+    actag_params params;
+    PyObject *family; /* the Family instance params.family points into */
+    void *ws;         /* kept workspace (malloc), or NULL */
+    size_t ws_size;
+    int ws_busy;
+} detobj;
+
+static PyObject *detector_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"family", "params", NULL};
+    PyObject *family, *params = Py_None;
+    const actag_family *fam;
+    allocfunc alloc;
+    detobj *self;
+    int rc;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O|O:Detector", kwlist, &family, &params))
+        return NULL;
+    fam = pyactag_family_of(family);
+    if (fam == NULL)
+        return NULL;
+    alloc = (allocfunc)PyType_GetSlot(type, Py_tp_alloc);
+    self = (detobj *)alloc(type, 0);
+    if (self == NULL)
+        return NULL;
+    actag_params_default(&self->params);
+    if (pyactag_params_from_dict(params, &self->params) != 0) {
+        Py_DECREF(self);
+        return NULL;
+    }
+    Py_INCREF(family);
+    self->family = family;
+    self->params.family = fam;
+    rc = actag_params_validate(&self->params);
+    if (rc != ACTAG_OK) {
+        Py_DECREF(self);
+        return pyactag_raise(rc, "invalid parameters");
+    }
+    return (PyObject *)self;
+}
+
+static void detector_dealloc(PyObject *o)
+{
+    detobj *self = (detobj *)o;
+    PyTypeObject *tp = Py_TYPE(o);
+    freefunc tfree = (freefunc)PyType_GetSlot(tp, Py_tp_free);
+    free(self->ws);
+    Py_XDECREF(self->family);
+    tfree(o);
+    Py_DECREF(tp);
+}
+
+/* Bearing table: an iterable of exactly `cols` finite numbers (radians). */
+static float *read_bearings(PyObject *obj, int cols)
+{
+    PyObject *it = PyObject_GetIter(obj), *item;
+    float *b;
+    int n = 0;
+    if (it == NULL)
+        return NULL;
+    b = (float *)malloc((size_t)cols * sizeof(float));
+    if (b == NULL) {
+        Py_DECREF(it);
+        PyErr_NoMemory();
+        return NULL;
+    }
+    while ((item = PyIter_Next(it)) != NULL) {
+        double d = PyFloat_AsDouble(item);
+        Py_DECREF(item);
+        if (d == -1.0 && PyErr_Occurred())
+            break;
+        if (n < cols)
+            b[n] = (float)d;
+        n++;
+    }
+    Py_DECREF(it);
+    if (PyErr_Occurred()) {
+        free(b);
+        return NULL;
+    }
+    if (n != cols) {
+        PyErr_Format(PyExc_ValueError, "bearings has %d values, the frame has %d columns", n,
+                     cols);
+        free(b);
+        return NULL;
+    }
+    return b;
+}
+
+static PyObject *detection_tuple(const actag_detection *d)
+{
+    const actag_point *c = d->corners;
+    const float *r = d->range, *a = d->azimuth;
+    return Py_BuildValue("(iiOdd((dd)(dd)(dd)(dd))((dd)(dd)(dd)(dd)))", d->id, d->hamming,
+                         d->mirrored ? Py_True : Py_False, (double)d->decision_margin,
+                         (double)d->inlier_ratio, (double)c[0].x, (double)c[0].y,
+                         (double)c[1].x, (double)c[1].y, (double)c[2].x, (double)c[2].y,
+                         (double)c[3].x, (double)c[3].y, (double)r[0], (double)a[0],
+                         (double)r[1], (double)a[1], (double)r[2], (double)a[2], (double)r[3],
+                         (double)a[3]);
+}
+
+static PyObject *stats_dict(const actag_stats *s)
+{
+    return Py_BuildValue("{sisisisisisisisi}", "contours", s->contours, "size_ok", s->size_ok,
+                         "overflowed", s->overflowed, "quads", s->quads, "decoded", s->decoded,
+                         "duplicates", s->duplicates, "dropped", s->dropped, "searched",
+                         s->searched);
+}
+
+static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"frame",           "min_range",         "max_range",
+                             "aperture",        "bearings",          "range_ascending",
+                             "azimuth_ascending", "max_detections",  "stages",
+                             NULL};
+    detobj *self = (detobj *)o;
+    PyObject *frame_o, *aperture_o = Py_None, *bearings_o = Py_None;
+    double min_range, max_range;
+    int range_asc = 0, az_asc = 0, max_out = 64, want_stages = 0;
+    pyactag_frame_view view;
+    actag_sonar_geometry geo;
+    actag_detection *det = NULL;
+    actag_stats st;
+    float *bearings = NULL;
+    void *ws;
+    size_t need;
+    int own_ws, n, i;
+    PyObject *list = NULL, *stages = NULL, *result = NULL;
+
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|OOppip:detect", kwlist, &frame_o,
+                                     &min_range, &max_range, &aperture_o, &bearings_o,
+                                     &range_asc, &az_asc, &max_out, &want_stages))
+        return NULL;
+    if (max_out < 0 || max_out > MAX_DETECTIONS_LIMIT) {
+        PyErr_Format(PyExc_ValueError, "max_detections must be 0..%d", MAX_DETECTIONS_LIMIT);
+        return NULL;
+    }
+    if ((aperture_o == Py_None) == (bearings_o == Py_None)) {
+        PyErr_SetString(PyExc_ValueError,
+                        aperture_o == Py_None
+                            ? "sonar geometry: give aperture (radians) or bearings (one azimuth "
+                              "per column)"
+                            : "sonar geometry: give aperture or bearings, not both");
+        return NULL;
+    }
+    memset(&geo, 0, sizeof geo);
+    geo.min_range = (float)min_range;
+    geo.max_range = (float)max_range;
+    if (aperture_o != Py_None) {
+        double ap = PyFloat_AsDouble(aperture_o);
+        if (ap == -1.0 && PyErr_Occurred())
+            return NULL;
+        geo.aperture = (float)ap;
+    }
+    geo.flags = (range_asc ? ACTAG_RANGE_ASCENDING : 0u) | (az_asc ? ACTAG_AZIMUTH_ASCENDING : 0u);
+
+    if (pyactag_frame_get(frame_o, &view) != 0)
+        return NULL;
+    if (bearings_o != Py_None) {
+        bearings = read_bearings(bearings_o, view.frame.cols);
+        if (bearings == NULL)
+            goto done;
+        geo.bearings = bearings;
+    }
+    det = (actag_detection *)malloc((size_t)(max_out > 0 ? max_out : 1) * sizeof *det);
+    if (det == NULL) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    need = actag_workspace_size(view.frame.rows, view.frame.cols);
+    own_ws = !self->ws_busy;
+    if (own_ws) {
+        if (self->ws_size < need) {
+            free(self->ws);
+            self->ws = malloc(need);
+            self->ws_size = self->ws ? need : 0;
+            if (self->ws == NULL) {
+                PyErr_NoMemory();
+                goto done;
+            }
+        }
+        ws = self->ws;
+        self->ws_busy = 1;
+    } else {
+        ws = malloc(need);
+        if (ws == NULL) {
+            PyErr_NoMemory();
+            goto done;
+        }
+    }
+    memset(&st, 0, sizeof st);
+    Py_BEGIN_ALLOW_THREADS
+    n = actag_detect(&view.frame, &geo, &self->params, ws, need, det, max_out, &st);
+    Py_END_ALLOW_THREADS
+    if (n >= 0 && want_stages) {
+        const uint8_t *f = actag_workspace_filtered(ws, view.frame.rows, view.frame.cols);
+        const uint8_t *b = actag_workspace_binary(ws, view.frame.rows, view.frame.cols);
+        Py_ssize_t sz = (Py_ssize_t)view.frame.rows * view.frame.cols;
+        PyObject *fb = f ? PyBytes_FromStringAndSize((const char *)f, sz) : NULL;
+        PyObject *bb = b ? PyBytes_FromStringAndSize((const char *)b, sz) : NULL;
+        if (fb && bb) {
+            char *p = PyBytes_AsString(bb);
+            Py_ssize_t k;
+            for (k = 0; k < sz; k++) /* 0 = black, 255 = white */
+                p[k] = p[k] ? (char)255 : 0;
+            stages = Py_BuildValue("{sNsNsisi}", "filtered", fb, "binary", bb, "rows",
+                                   view.frame.rows, "cols", view.frame.cols);
+        } else {
+            Py_XDECREF(fb);
+            Py_XDECREF(bb);
+            if (!PyErr_Occurred())
+                PyErr_SetString(PyExc_RuntimeError, "stage images unavailable");
+        }
+    }
+    if (own_ws)
+        self->ws_busy = 0;
+    else
+        free(ws);
+    if (n < 0) {
+        pyactag_raise(n, "actag_detect");
+        goto done;
+    }
+    if (want_stages && stages == NULL)
+        goto done;
+    list = PyList_New(n);
+    if (list == NULL)
+        goto done;
+    for (i = 0; i < n; i++) {
+        PyObject *t = detection_tuple(&det[i]);
+        if (t == NULL) {
+            Py_CLEAR(list);
+            goto done;
+        }
+        PyList_SetItem(list, i, t);
+    }
+    {
+        PyObject *sd = stats_dict(&st);
+        if (sd == NULL)
+            goto done;
+        result = Py_BuildValue("(NNO)", list, sd, stages ? stages : Py_None);
+        list = NULL;
+    }
+done:
+    Py_XDECREF(list);
+    Py_XDECREF(stages);
+    free(det);
+    free(bearings);
+    pyactag_frame_release(&view);
+    return result;
+}
+
+static PyObject *get_params(PyObject *o, void *c)
+{
+    (void)c;
+    return pyactag_params_to_dict(&((detobj *)o)->params);
+}
+
+static PyObject *get_family(PyObject *o, void *c)
+{
+    detobj *self = (detobj *)o;
+    (void)c;
+    Py_INCREF(self->family);
+    return self->family;
+}
+
+static PyObject *get_workspace_bytes(PyObject *o, void *c)
+{
+    (void)c;
+    return PyLong_FromSize_t(((detobj *)o)->ws_size);
+}
+
+static PyGetSetDef detector_getset[] = {
+    {"params", get_params, NULL, "the parameters as a dict (a copy)", NULL},
+    {"family", get_family, NULL, "the Family", NULL},
+    {"workspace_bytes", get_workspace_bytes, NULL,
+     "bytes of the workspace kept for the next call (0 before the first)", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyMethodDef detector_methods[] = {
+    {"detect", (PyCFunction)(void (*)(void))detector_detect, METH_VARARGS | METH_KEYWORDS,
+     "detect(frame, min_range, max_range, aperture=None, bearings=None, range_ascending=False,\n"
+     "       azimuth_ascending=False, max_detections=64, stages=False)\n"
+     "-> (list of (id, hamming, mirrored, decision_margin, inlier_ratio,\n"
+     "             ((x, y) x 4), ((range, azimuth) x 4)), stats dict, stages dict or None)"},
+    {NULL, NULL, 0, NULL}};
+
+static PyType_Slot detector_slots[] = {
+    {Py_tp_new, (void *)detector_new},
+    {Py_tp_dealloc, (void *)detector_dealloc},
+    {Py_tp_getset, detector_getset},
+    {Py_tp_methods, detector_methods},
+    {Py_tp_doc, (void *)"Detector(family, params=None): validated parameters and a workspace."},
+    {0, NULL}};
+
+static PyType_Spec detector_spec = {"pyactag._core.Detector", sizeof(detobj), 0,
+                                    Py_TPFLAGS_DEFAULT, detector_slots};
+
+PyObject *pyactag_detector_type_create(PyObject *module)
+{
+    (void)module;
+    return PyType_FromSpec(&detector_spec);
+}

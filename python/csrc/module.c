@@ -1,0 +1,278 @@
+/*
+ * module.c -- pyactag._core: module init, ActagError, small functions.
+ */
+#include "pyactag.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+PyObject *pyactag_error = NULL;
+PyObject *pyactag_family_type = NULL;
+
+const char *pyactag_code_name(int code)
+{
+    switch (code) {
+    case ACTAG_OK: return "ACTAG_OK";
+    case ACTAG_ERR_NULL: return "ACTAG_ERR_NULL";
+    case ACTAG_ERR_SIZE: return "ACTAG_ERR_SIZE";
+    case ACTAG_ERR_PARAM: return "ACTAG_ERR_PARAM";
+    case ACTAG_ERR_GEOMETRY: return "ACTAG_ERR_GEOMETRY";
+    case ACTAG_ERR_WORKSPACE: return "ACTAG_ERR_WORKSPACE";
+    case ACTAG_ERR_FAMILY: return "ACTAG_ERR_FAMILY";
+    case ACTAG_ERR_CORRECTIONS: return "ACTAG_ERR_CORRECTIONS";
+    case ACTAG_ERR_NO_MATCH: return "ACTAG_ERR_NO_MATCH";
+    case ACTAG_ERR_OVERFLOW: return "ACTAG_ERR_OVERFLOW";
+    case ACTAG_ERR_NO_QUAD: return "ACTAG_ERR_NO_QUAD";
+    default: return "ACTAG_ERR_UNKNOWN";
+    }
+}
+
+PyObject *pyactag_raise_message(int code, PyObject *msg)
+{
+    PyObject *exc = PyObject_CallFunctionObjArgs(pyactag_error, msg, NULL);
+    PyObject *c, *n;
+    if (exc == NULL)
+        return NULL;
+    c = PyLong_FromLong(code);
+    n = PyUnicode_FromString(pyactag_code_name(code));
+    if (c == NULL || n == NULL || PyObject_SetAttrString(exc, "code", c) != 0 ||
+        PyObject_SetAttrString(exc, "name", n) != 0) {
+        Py_XDECREF(c);
+        Py_XDECREF(n);
+        Py_DECREF(exc);
+        return NULL;
+    }
+    Py_DECREF(c);
+    Py_DECREF(n);
+    PyErr_SetObject(pyactag_error, exc);
+    Py_DECREF(exc);
+    return NULL;
+}
+
+PyObject *pyactag_raise(int code, const char *context)
+{
+    PyObject *msg = PyUnicode_FromFormat("%s: %s (%s)", context, actag_strerror(code),
+                                         pyactag_code_name(code));
+    if (msg == NULL)
+        return NULL;
+    pyactag_raise_message(code, msg);
+    Py_DECREF(msg);
+    return NULL;
+}
+
+char *pyactag_strdup(PyObject *str)
+{
+    PyObject *b = PyUnicode_AsUTF8String(str); /* PyUnicode_AsUTF8AndSize is not in 3.9's limited API */
+    char *out;
+    const char *s;
+    size_t n;
+    if (b == NULL)
+        return NULL;
+    s = PyBytes_AsString(b);
+    n = strlen(s);
+    out = (char *)malloc(n + 1);
+    if (out == NULL) {
+        Py_DECREF(b);
+        PyErr_NoMemory();
+        return NULL;
+    }
+    memcpy(out, s, n + 1);
+    Py_DECREF(b);
+    return out;
+}
+
+static PyObject *m_family_names(PyObject *self, PyObject *noargs)
+{
+    int i, n = actag_family_count();
+    PyObject *t = PyTuple_New(n);
+    (void)self;
+    (void)noargs;
+    if (t == NULL)
+        return NULL;
+    for (i = 0; i < n; i++) {
+        actag_family f;
+        PyObject *s;
+        if (actag_family_get_at(i, &f) != ACTAG_OK || (s = PyUnicode_FromString(f.name)) == NULL) {
+            Py_DECREF(t);
+            return PyErr_Occurred() ? NULL : pyactag_raise(ACTAG_ERR_FAMILY, "family_names");
+        }
+        PyTuple_SetItem(t, i, s);
+    }
+    return t;
+}
+
+static PyObject *m_default_params(PyObject *self, PyObject *noargs)
+{
+    actag_params p;
+    (void)self;
+    (void)noargs;
+    actag_params_default(&p);
+    return pyactag_params_to_dict(&p);
+}
+
+static PyObject *m_tuning_names(PyObject *self, PyObject *noargs)
+{
+    (void)self;
+    (void)noargs;
+    return pyactag_tuning_names();
+}
+
+static PyObject *m_workspace_size(PyObject *self, PyObject *args)
+{
+    int rows, cols;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "ii:workspace_size", &rows, &cols))
+        return NULL;
+    return PyLong_FromSize_t(actag_workspace_size(rows, cols));
+}
+
+static PyObject *m_strerror(PyObject *self, PyObject *args)
+{
+    int code;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "i:strerror", &code))
+        return NULL;
+    return PyUnicode_FromString(actag_strerror(code));
+}
+
+static int code_args(PyObject *args, const char *fmt, unsigned long long *code, int *bits)
+{
+    if (!PyArg_ParseTuple(args, fmt, code, bits))
+        return -1;
+    if (*bits < 1 || *bits > 32 || *code > actag_code_mask(*bits)) {
+        PyErr_SetString(PyExc_ValueError, "code must fit in bits (1..32)");
+        return -1;
+    }
+    return 0;
+}
+
+static PyObject *m_code_rot90(PyObject *self, PyObject *args)
+{
+    unsigned long long c;
+    int bits;
+    (void)self;
+    if (code_args(args, "Ki:code_rot90", &c, &bits) != 0)
+        return NULL;
+    if (bits % 4 != 0) {
+        PyErr_SetString(PyExc_ValueError, "bits must be a multiple of 4");
+        return NULL;
+    }
+    return PyLong_FromUnsignedLong(actag_code_rot90((uint32_t)c, bits));
+}
+
+static PyObject *m_code_reverse(PyObject *self, PyObject *args)
+{
+    unsigned long long c;
+    int bits;
+    (void)self;
+    if (code_args(args, "Ki:code_reverse", &c, &bits) != 0)
+        return NULL;
+    return PyLong_FromUnsignedLong(actag_code_reverse((uint32_t)c, bits));
+}
+
+static PyObject *m_code_mirror(PyObject *self, PyObject *args)
+{
+    unsigned long long c;
+    int bits;
+    (void)self;
+    if (code_args(args, "Ki:code_mirror", &c, &bits) != 0)
+        return NULL;
+    return PyLong_FromUnsignedLong(actag_code_mirror((uint32_t)c, bits));
+}
+
+static PyObject *m_code_corners(PyObject *self, PyObject *args)
+{
+    int bits;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "i:code_corners", &bits))
+        return NULL;
+    if (bits < 16 || bits > 32 || bits % 4 != 0) {
+        PyErr_SetString(PyExc_ValueError, "bits must be a multiple of 4 from 16 to 32");
+        return NULL;
+    }
+    return PyLong_FromUnsignedLong(actag_code_corners(bits));
+}
+
+static PyMethodDef module_methods[] = {
+    {"family_names", m_family_names, METH_NOARGS, "names of the built-in families"},
+    {"default_params", m_default_params, METH_NOARGS,
+     "every detection parameter with its C default (actag_params_default)"},
+    {"tuning_names", m_tuning_names, METH_NOARGS, "names of the tuning parameters"},
+    {"workspace_size", m_workspace_size, METH_VARARGS,
+     "workspace_size(rows, cols) -> bytes (actag_workspace_size; 0 for bad sizes)"},
+    {"strerror", m_strerror, METH_VARARGS, "strerror(code) -> the library's message"},
+    {"code_rot90", m_code_rot90, METH_VARARGS,
+     "code_rot90(code, bits): the code of the tag turned 90 degrees counter-clockwise"},
+    {"code_reverse", m_code_reverse, METH_VARARGS, "code_reverse(code, bits): bit order reversed"},
+    {"code_mirror", m_code_mirror, METH_VARARGS,
+     "code_mirror(code, bits): the physical reflection P (position s -> -s mod bits)"},
+    {"code_corners", m_code_corners, METH_VARARGS,
+     "code_corners(bits): mask of the 4 corner cells of the data ring"},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef module_def = {PyModuleDef_HEAD_INIT, "_core",
+                                        "libactag bindings (use the pyactag package).", -1,
+                                        module_methods, NULL, NULL, NULL, NULL};
+
+static int add(PyObject *m, const char *name, PyObject *o)
+{
+    if (o == NULL)
+        return -1;
+    if (PyModule_AddObject(m, name, o) != 0) { /* steals o on success only */
+        Py_DECREF(o);
+        return -1;
+    }
+    return 0;
+}
+
+PyMODINIT_FUNC PyInit__core(void);
+PyMODINIT_FUNC PyInit__core(void)
+{
+    PyObject *m = PyModule_Create(&module_def), *det_type;
+    if (m == NULL)
+        return NULL;
+    if (pyactag_error == NULL) {
+        pyactag_error = PyErr_NewExceptionWithDoc(
+            "pyactag.ActagError",
+            "An error code of libactag; str() is the library's message, .code the "
+            "ACTAG_ERR_* number and .name its name.",
+            PyExc_ValueError, NULL);
+        if (pyactag_error == NULL)
+            goto fail;
+    }
+    Py_INCREF(pyactag_error);
+    if (add(m, "ActagError", pyactag_error) != 0)
+        goto fail;
+    if (pyactag_family_type == NULL) {
+        pyactag_family_type = pyactag_family_type_create(m);
+        if (pyactag_family_type == NULL)
+            goto fail;
+    }
+    Py_INCREF(pyactag_family_type);
+    if (add(m, "Family", pyactag_family_type) != 0)
+        goto fail;
+    det_type = pyactag_detector_type_create(m);
+    if (add(m, "Detector", det_type) != 0)
+        goto fail;
+    if (PyModule_AddStringConstant(m, "LIBRARY_VERSION", ACTAG_VERSION_STRING) != 0 ||
+        PyModule_AddIntConstant(m, "MAX_DIM", ACTAG_MAX_DIM) != 0 ||
+        PyModule_AddIntConstant(m, "SEARCH_MAX", ACTAG_SEARCH_MAX) != 0 ||
+        PyModule_AddIntConstant(m, "MAX_THRESHOLD_RADIUS", ACTAG_MAX_THRESHOLD_RADIUS) != 0 ||
+        PyModule_AddIntConstant(m, "MIRROR_REVERSE", ACTAG_MIRROR_REVERSE) != 0 ||
+        PyModule_AddIntConstant(m, "MIRROR_PHYSICAL", ACTAG_MIRROR_PHYSICAL) != 0 ||
+        PyModule_AddIntConstant(m, "CORNER_TOP_LEFT", ACTAG_CORNER_TOP_LEFT) != 0 ||
+        PyModule_AddIntConstant(m, "CORNER_TOP_RIGHT", ACTAG_CORNER_TOP_RIGHT) != 0 ||
+        PyModule_AddIntConstant(m, "CORNER_BOTTOM_RIGHT", ACTAG_CORNER_BOTTOM_RIGHT) != 0 ||
+        PyModule_AddIntConstant(m, "CORNER_BOTTOM_LEFT", ACTAG_CORNER_BOTTOM_LEFT) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_NO_SEARCH", ACTAG_FIT_NO_SEARCH) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_LOCAL", ACTAG_FIT_LOCAL) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_SPLIT", ACTAG_FIT_SPLIT) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_WIDE", ACTAG_FIT_WIDE) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_ERASE_CORNERS", ACTAG_FIT_ERASE_CORNERS) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_VERIFY", ACTAG_FIT_VERIFY) != 0)
+        goto fail;
+    return m;
+fail:
+    Py_DECREF(m);
+    return NULL;
+}

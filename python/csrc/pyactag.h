@@ -1,0 +1,95 @@
+/*
+ * pyactag.h -- declarations shared by the files of the pyactag._core extension.
+ *
+ * The extension is built against the CPython limited API of 3.9 (abi3), so
+ * one binary serves every CPython >= 3.9. Files:
+ *   module.c        module init, ActagError, small module functions
+ *   params.c        actag_params <-> Python dict (the one place that knows
+ *                   the parameter names)
+ *   frame.c         a Python 2-D uint8/uint16 buffer -> actag_frame
+ *   family_type.c   the Family type (built-in or caller-supplied codes)
+ *   detector_type.c the Detector type (parameters, workspace, detection)
+ *
+ * The core library never allocates; the workspace, the output array and any
+ * frame copy belong to this extension (malloc/free).
+ */
+#ifndef PYACTAG_H
+#define PYACTAG_H
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include "actag/actag.h"
+#include "actag/render.h"
+
+/* Module state shared by the types (one interpreter; the types are heap types). */
+extern PyObject *pyactag_error;      /* pyactag.ActagError (a ValueError) */
+extern PyObject *pyactag_family_type; /* pyactag._core.Family */
+
+/* Raise ActagError for a negative ACTAG_ERR_* code: "<context>: <library
+ * message> (ACTAG_ERR_NAME)", with attributes code and name. Returns NULL. */
+PyObject *pyactag_raise(int code, const char *context);
+
+/* Raise ActagError(msg) with attributes code and name. Returns NULL. */
+PyObject *pyactag_raise_message(int code, PyObject *msg);
+
+/* Name of an ACTAG_* code ("ACTAG_ERR_PARAM"), or "ACTAG_ERR_UNKNOWN". */
+const char *pyactag_code_name(int code);
+
+/* A Python str -> new UTF-8 copy (malloc); NULL with an exception set. */
+char *pyactag_strdup(PyObject *str);
+
+/* ---------------------------------------------------------------- params.c */
+
+/* Fill *p from a dict of keyword arguments (None or empty: nothing changes).
+ * Names are those of pyactag_params_to_dict(); unknown names, wrong types and
+ * values out of the C type's range raise TypeError/ValueError/OverflowError.
+ * The family pointer is not touched. Returns 0, or -1 with an exception. */
+int pyactag_params_from_dict(PyObject *kwargs, actag_params *p);
+
+/* New dict of every parameter of *p by name (family excluded). */
+PyObject *pyactag_params_to_dict(const actag_params *p);
+
+/* New tuple of the names that belong to the "tuning" group (the rest are the
+ * user fields: tag_size, max_bit_corrections, seed, decode_mode). */
+PyObject *pyactag_tuning_names(void);
+
+/* ----------------------------------------------------------------- frame.c */
+
+typedef struct pyactag_frame_view {
+    actag_frame frame; /* what actag_detect reads */
+    PyObject *keep;    /* reference that keeps the pixels alive, or NULL */
+    void *copy;        /* our contiguous copy (malloc), or NULL */
+    int copied;        /* 1 when the pixels were copied (non-contiguous, swapped...) */
+} pyactag_frame_view;
+
+/* Describe a 2-D uint8/uint16 object as an actag_frame: zero-copy through
+ * __array_interface__ when rows are contiguous in memory (numpy arrays and
+ * their row-strided views), otherwise a copy; any other object through the
+ * buffer protocol (memoryview). Returns 0, or -1 with TypeError/ValueError. */
+int pyactag_frame_get(PyObject *obj, pyactag_frame_view *v);
+
+/* Release what pyactag_frame_get() took (safe on a zeroed view). */
+void pyactag_frame_release(pyactag_frame_view *v);
+
+/* ----------------------------------------------------------- family_type.c */
+
+typedef struct pyactag_family_object {
+    PyObject_HEAD
+    actag_family fam;
+    uint32_t *codes_owned; /* caller-supplied codes (malloc), or NULL */
+    char *name_owned;      /* its name (malloc), or NULL */
+} pyactag_family_object;
+
+/* Create the Family type; returns a new reference or NULL. */
+PyObject *pyactag_family_type_create(PyObject *module);
+
+/* The actag_family of a Family instance, or NULL with TypeError. */
+const actag_family *pyactag_family_of(PyObject *obj);
+
+/* --------------------------------------------------------- detector_type.c */
+
+/* Create the Detector type; returns a new reference or NULL. */
+PyObject *pyactag_detector_type_create(PyObject *module);
+
+#endif /* PYACTAG_H */

@@ -1,0 +1,302 @@
+#!/usr/bin/env python3
+"""actag_rosbag: find AcTags in the sonar images of a ROS 2 bag.
+
+    python3 actag_rosbag.py BAG [--topic NAME ...] [options]
+
+Reads a ROS 2 bag (sqlite3 or MCAP) with the ``rosbags`` package (pip
+install rosbags; no ROS installation needed) and writes one JSON line per
+sonar message: topic, message type, the bag's log time and the header stamp
+(nanoseconds), frame_id, rows, cols and the detections (pyactag's
+``Detection.to_dict()``, the keys of ``actag_detect --json``: id, hamming,
+decision_margin, mirrored, inlier_ratio, corners as [{"x_col", "y_row",
+"range_m", "azimuth_rad"} x 4] in tag order TL, TR, BR, BL; x_col is the
+column (beam), y_row the row (range bin) of the frame as stored in the message),
+or an "error" key when a message cannot be used.
+
+Topics (all supported ones unless --topic is given):
+  marine_acoustic_msgs/msg/ProjectedSonarImage
+      geometry from the message: rows are its ``ranges`` (metres; increasing
+      or decreasing, assumed evenly spaced: a warning is printed when they are
+      not), columns its ``beam_directions`` with azimuth = atan2(-y, z) (the
+      message's rotation about X; zero along Z), pixels image.data in range-major
+      order (beam index fastest), dtype uint8 or uint16.
+  sensor_msgs/msg/Image
+      mono8 / 8UC1 / mono16 / 16UC1 frames with rows = range bins and columns =
+      beams; the geometry comes from --min-range, --max-range and
+      --aperture-deg or --bearings (and the orientation flags).
+
+Exit status: 0 when every message was processed, 2 when an option was bad or
+any message failed (the others are still processed).
+"""
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+try:
+    import numpy as np
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+except ImportError as e:  # pragma: no cover
+    sys.stderr.write("actag_rosbag: needs numpy and rosbags (pip install rosbags): {}\n".format(e))
+    sys.exit(2)
+
+import pyactag
+
+PROG = "actag_rosbag"
+IMAGE = "sensor_msgs/msg/Image"
+PROJECTED = "marine_acoustic_msgs/msg/ProjectedSonarImage"
+
+# marine_acoustic_msgs (github.com/apl-ocean-engineering/marine_msgs), the
+# fields this tool reads and writes; used when a bag carries no definitions.
+MARINE_ACOUSTIC_MSGS = {
+    "marine_acoustic_msgs/msg/PingInfo": """
+float32 frequency
+float32 sound_speed
+float32[] tx_beamwidths
+float32[] rx_beamwidths
+""",
+    "marine_acoustic_msgs/msg/SonarImageData": """
+uint32 DTYPE_UINT8=0
+uint32 DTYPE_INT8=1
+uint32 DTYPE_UINT16=2
+uint32 DTYPE_INT16=3
+uint32 DTYPE_UINT32=4
+uint32 DTYPE_INT32=5
+uint32 DTYPE_UINT64=6
+uint32 DTYPE_INT64=7
+uint32 DTYPE_FLOAT32=8
+uint32 DTYPE_FLOAT64=9
+bool is_bigendian
+uint32 dtype
+uint32 beam_count
+uint8[] data
+""",
+    PROJECTED: """
+std_msgs/Header header
+marine_acoustic_msgs/PingInfo ping_info
+geometry_msgs/Vector3[] beam_directions
+float32[] ranges
+marine_acoustic_msgs/SonarImageData image
+""",
+}
+
+DTYPE_UINT8, DTYPE_UINT16 = 0, 2
+
+
+def typestore():
+    """ROS 2 standard messages plus marine_acoustic_msgs."""
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    types = {}
+    for name, text in MARINE_ACOUSTIC_MSGS.items():
+        types.update(get_types_from_msg(text, name))
+    store.register(types)
+    return store
+
+
+class MessageError(Exception):
+    pass
+
+
+def azimuths_of(beam_directions):
+    """Azimuth (rad) of each beam: rotation about X, zero along Z."""
+    return [math.atan2(-float(v.y), float(v.z)) for v in beam_directions]
+
+
+def projected_frame(msg, warned, topic):
+    """(frame, geometry dict) of a ProjectedSonarImage."""
+    img = msg.image
+    cols = int(img.beam_count)
+    ranges = [float(r) for r in msg.ranges]
+    rows = len(ranges)
+    if cols < 1 or rows < 1:
+        raise MessageError("empty image ({} ranges, beam_count {})".format(rows, cols))
+    if len(msg.beam_directions) != cols:
+        raise MessageError("{} beam_directions for beam_count {}".format(
+            len(msg.beam_directions), cols))
+    if img.dtype == DTYPE_UINT8:
+        dtype = np.uint8
+    elif img.dtype == DTYPE_UINT16:
+        dtype = np.dtype(">u2" if img.is_bigendian else "<u2")
+    else:
+        raise MessageError("image dtype {} is not supported (uint8 or uint16 only)".format(
+            img.dtype))
+    data = np.asarray(img.data, dtype=np.uint8)
+    need = rows * cols * np.dtype(dtype).itemsize
+    if data.size != need:
+        raise MessageError("image has {} bytes, {} ranges x {} beams need {}".format(
+            data.size, rows, cols, need))
+    frame = data.view(dtype).reshape(rows, cols)
+    ascending = rows > 1 and ranges[-1] > ranges[0]
+    lo, hi = min(ranges), max(ranges)
+    if rows > 1:
+        step = (hi - lo) / (rows - 1)
+        expect = [ranges[0] + i * (ranges[-1] - ranges[0]) / (rows - 1) for i in range(rows)]
+        worst = max(abs(a - b) for a, b in zip(ranges, expect))
+        if step > 0 and worst > 0.01 * step and topic not in warned:
+            warned.add(topic)
+            sys.stderr.write("{}: {}: ranges are not evenly spaced (off by up to {:.3g} bins); "
+                             "libactag maps rows linearly\n".format(PROG, topic, worst / step))
+    geometry = dict(min_range=lo, max_range=hi, bearings=azimuths_of(msg.beam_directions),
+                    range_ascending=ascending)
+    return frame, geometry
+
+
+def image_frame(msg):
+    enc = msg.encoding.lower()
+    if enc in ("mono8", "8uc1"):
+        dtype, item = np.uint8, 1
+    elif enc in ("mono16", "16uc1"):
+        dtype, item = np.dtype(">u2" if msg.is_bigendian else "<u2"), 2
+    else:
+        raise MessageError("encoding '{}' is not supported (mono8, 8UC1, mono16, 16UC1)".format(
+            msg.encoding))
+    rows, cols, step = int(msg.height), int(msg.width), int(msg.step)
+    if rows < 1 or cols < 1 or step < cols * item:
+        raise MessageError("bad image size {} x {}, step {}".format(cols, rows, step))
+    data = np.asarray(msg.data, dtype=np.uint8)
+    if data.size < (rows - 1) * step + cols * item:
+        raise MessageError("image data is {} bytes, {} x {} with step {} need more".format(
+            data.size, cols, rows, step))
+    if data.size < rows * step:  # the last row's padding may be missing
+        data = np.concatenate([data, np.zeros(rows * step - data.size, np.uint8)])
+    # Rows step bytes apart: a row-strided view, no copy.
+    return data[: rows * step].reshape(rows, step)[:, : cols * item].view(dtype)
+
+
+def stamp_ns(header):
+    return int(header.stamp.sec) * 1000000000 + int(header.stamp.nanosec)
+
+
+def parse_value(text):
+    for conv in (int, float):
+        try:
+            return conv(text)
+        except ValueError:
+            pass
+    if text.lower() == "none":
+        return None
+    return text
+
+
+def build_parser():
+    p = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("bag", help="ROS 2 bag directory (sqlite3 or MCAP)")
+    p.add_argument("--topic", action="append", default=[],
+                   help="topic to read (repeatable; default: every supported topic)")
+    p.add_argument("--family", default="AcTag24h10", help="tag family (default AcTag24h10)")
+    p.add_argument("--tag-size", type=float, default=None,
+                   help="side of the inner white square, metres (default 0.130628571)")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="any pyactag parameter, e.g. --param max_bit_corrections=2")
+    g = p.add_argument_group("geometry of sensor_msgs/Image topics")
+    g.add_argument("--min-range", type=float, help="range of the nearest row, metres")
+    g.add_argument("--max-range", type=float, help="range of the farthest row, metres")
+    g.add_argument("--aperture-deg", type=float, help="horizontal aperture, degrees")
+    g.add_argument("--bearings", help="file of one azimuth per column, radians")
+    g.add_argument("--range-ascending", action="store_true",
+                   help="row 0 is the nearest range (default: the farthest)")
+    g.add_argument("--azimuth-ascending", action="store_true",
+                   help="column 0 is the most negative bearing (default: +aperture/2)")
+    p.add_argument("--out", help="write the JSON lines here (default: stdout)")
+    p.add_argument("--version", action="version",
+                   version="%(prog)s (pyactag {})".format(pyactag.__version__))
+    return p
+
+
+def image_geometry(args):
+    """Geometry for Image topics, or None when not given."""
+    if args.min_range is None and args.max_range is None and args.aperture_deg is None and \
+            args.bearings is None:
+        return None
+    if args.min_range is None or args.max_range is None:
+        raise SystemExit("{}: --min-range and --max-range are both required for "
+                         "sensor_msgs/Image topics".format(PROG))
+    if (args.aperture_deg is None) == (args.bearings is None):
+        raise SystemExit("{}: give --aperture-deg or --bearings (not both)".format(PROG))
+    g = dict(min_range=args.min_range, max_range=args.max_range,
+             range_ascending=args.range_ascending, azimuth_ascending=args.azimuth_ascending)
+    if args.bearings is not None:
+        with open(args.bearings) as f:
+            g["bearings"] = [float(t) for t in f.read().split()]
+    else:
+        g["aperture_deg"] = args.aperture_deg
+    return g
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    params = {}
+    for item in args.param:
+        if "=" not in item:
+            sys.stderr.write("{}: --param expects NAME=VALUE, not '{}'\n".format(PROG, item))
+            return 2
+        k, v = item.split("=", 1)
+        params[k.strip()] = parse_value(v.strip())
+    if args.tag_size is not None:
+        params["tag_size"] = args.tag_size
+    try:
+        img_geo = image_geometry(args)
+        detector = pyactag.Detector(args.family, **params)
+    except SystemExit as e:
+        sys.stderr.write(str(e) + "\n")
+        return 2
+    except (TypeError, ValueError, OverflowError, OSError) as e:
+        sys.stderr.write("{}: {}\n".format(PROG, e))
+        return 2
+
+    out = open(args.out, "w") if args.out else sys.stdout
+    status, warned = 0, set()
+    try:
+        with AnyReader([Path(args.bag)],
+                       default_typestore=typestore()) as reader:
+            conns = [c for c in reader.connections if c.msgtype in (IMAGE, PROJECTED)]
+            if args.topic:
+                missing = set(args.topic) - {c.topic for c in reader.connections}
+                if missing:
+                    sys.stderr.write("{}: {}: no topic {}\n".format(PROG, args.bag,
+                                                                     ", ".join(sorted(missing))))
+                    return 2
+                conns = [c for c in conns if c.topic in args.topic]
+                unsupported = set(args.topic) - {c.topic for c in conns}
+                if unsupported:
+                    sys.stderr.write("{}: topics {} are not Image or ProjectedSonarImage\n".format(
+                        PROG, ", ".join(sorted(unsupported))))
+                    return 2
+            if not conns:
+                sys.stderr.write("{}: {}: no sensor_msgs/Image or ProjectedSonarImage topic\n"
+                                 .format(PROG, args.bag))
+                return 2
+            if img_geo is None and any(c.msgtype == IMAGE for c in conns):
+                sys.stderr.write("{}: sensor_msgs/Image topics need --min-range, --max-range "
+                                 "and --aperture-deg or --bearings\n".format(PROG))
+                return 2
+            for conn, log_time, raw in reader.messages(connections=conns):
+                line = {"topic": conn.topic, "type": conn.msgtype, "log_time_ns": int(log_time)}
+                try:
+                    msg = reader.deserialize(raw, conn.msgtype)
+                    line["stamp_ns"] = stamp_ns(msg.header)
+                    line["frame_id"] = msg.header.frame_id
+                    if conn.msgtype == PROJECTED:
+                        frame, geo = projected_frame(msg, warned, conn.topic)
+                    else:
+                        frame, geo = image_frame(msg), img_geo
+                    line["rows"], line["cols"] = int(frame.shape[0]), int(frame.shape[1])
+                    dets = detector.detect(frame, **geo)
+                    line["detections"] = [d.to_dict() for d in dets]
+                except (MessageError, pyactag.ActagError, ValueError, TypeError) as e:
+                    line["error"] = str(e)
+                    sys.stderr.write("{}: {} at {}: {}\n".format(PROG, conn.topic, log_time, e))
+                    status = 2
+                out.write(json.dumps(line) + "\n")
+    finally:
+        if out is not sys.stdout:
+            out.close()
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

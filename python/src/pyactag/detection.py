@@ -1,0 +1,270 @@
+"""Detection: ``detect()``, ``Detector`` and the ``Detection`` result."""
+
+import math
+from collections import namedtuple
+
+from . import _core
+from ._arrays import array2d
+from .families import Family
+
+DEFAULT_FAMILY = "AcTag24h10"
+DEFAULT_MAX_DETECTIONS = 64
+
+#: Keyword arguments that describe the sonar (the rest are detection parameters).
+GEOMETRY_KEYS = (
+    "min_range",
+    "max_range",
+    "aperture",
+    "aperture_deg",
+    "bearings",
+    "range_ascending",
+    "azimuth_ascending",
+)
+
+#: Result of ``Detector.run()``: the detections, the pipeline's counters
+#: (contours, size_ok, overflowed, quads, decoded, duplicates, dropped,
+#: searched) and, with ``stages=True``, the stage images
+#: {"filtered": median-filtered frame, "binary": 0/255 threshold image}.
+Result = namedtuple("Result", ["detections", "stats", "stages"])
+
+#: One corner of a detection: x_col = column and y_row = row (pixels,
+#: sub-pixel, pixel centres at integers), range_m (metres), azimuth_rad.
+Corner = namedtuple("Corner", ["x_col", "y_row", "range_m", "azimuth_rad"])
+
+
+def default_params():
+    """Every detection parameter with its C default (``actag_params_default``).
+
+    ``max_bit_corrections`` None means automatic: min(3, the family's maximum).
+    """
+    return _core.default_params()
+
+
+def tuning_names():
+    """Names of the tuning parameters (also accepted in a ``tuning`` dict)."""
+    return _core.tuning_names()
+
+
+class Detection:
+    """One tag found in a frame.
+
+    Attributes:
+        id: tag ID in the family.
+        hamming: number of corrected bits.
+        decision_margin: how much better the reported code and orientation
+            explain the cells than the next hypothesis (about 0 on noise,
+            5-30 on a clear tag).
+        mirrored: True when the sonar shows the tag mirrored (which side of
+            the sonar's horizontal plane it lies on).
+        inlier_ratio: RANSAC support of the quadrilateral.
+        corners_xy: the inner white square's corners as printed, top-left,
+            top-right, bottom-right, bottom-left, as (x, y) pixel pairs with
+            x = COLUMN (beam) and y = ROW (range bin), sub-pixel, pixel
+            centres at integers.
+        corners_polar: the same corners as (range in metres, azimuth in
+            radians) pairs.
+    """
+
+    __slots__ = ("id", "hamming", "mirrored", "decision_margin", "inlier_ratio", "corners_xy",
+                 "corners_polar")
+
+    def __init__(self, id, hamming, mirrored, decision_margin, inlier_ratio, corners_xy,
+                 corners_polar):
+        self.id = id
+        self.hamming = hamming
+        self.mirrored = mirrored
+        self.decision_margin = decision_margin
+        self.inlier_ratio = inlier_ratio
+        self.corners_xy = corners_xy
+        self.corners_polar = corners_polar
+
+    @property
+    def corners(self):
+        """The four corners (tag order TL, TR, BR, BL) as ``Corner(x_col,
+        y_row, range_m, azimuth_rad)``."""
+        return tuple(Corner(x, y, r, a) for (x, y), (r, a) in zip(self.corners_xy,
+                                                                   self.corners_polar))
+
+    @property
+    def corners_rowcol(self):
+        """The corners as (row, column) pairs (the reference package's order)."""
+        return tuple((y, x) for x, y in self.corners_xy)
+
+    @property
+    def ranges_m(self):
+        """Range of each corner in metres."""
+        return tuple(r for r, _ in self.corners_polar)
+
+    @property
+    def azimuths_rad(self):
+        """Azimuth of each corner in radians."""
+        return tuple(a for _, a in self.corners_polar)
+
+    @property
+    def center_xy(self):
+        """Mean of the four corners, (x = column, y = row)."""
+        return (sum(x for x, _ in self.corners_xy) / 4.0, sum(y for _, y in self.corners_xy) / 4.0)
+
+    def to_dict(self):
+        """Plain dict (JSON-ready), with the keys of ``actag_detect --json``:
+        id, hamming, decision_margin, mirrored, inlier_ratio and corners as
+        [{"x_col", "y_row", "range_m", "azimuth_rad"} x 4]."""
+        return {
+            "id": self.id,
+            "hamming": self.hamming,
+            "decision_margin": self.decision_margin,
+            "mirrored": self.mirrored,
+            "inlier_ratio": self.inlier_ratio,
+            "corners": [c._asdict() for c in self.corners],
+        }
+
+    def __eq__(self, other):
+        if not isinstance(other, Detection):
+            return NotImplemented
+        return all(getattr(self, k) == getattr(other, k) for k in self.__slots__)
+
+    def __repr__(self):
+        return ("Detection(id={}, hamming={}, decision_margin={:.2f}, mirrored={}, "
+                "corners_xy={})".format(self.id, self.hamming, self.decision_margin,
+                                        self.mirrored,
+                                        tuple((round(x, 2), round(y, 2))
+                                              for x, y in self.corners_xy)))
+
+
+def _family(family):
+    if isinstance(family, _core.Family):
+        return family
+    if isinstance(family, str):
+        return Family(family)
+    raise TypeError("family must be a name or a pyactag.Family, not {}".format(
+        type(family).__name__))
+
+
+def _split_params(params, tuning):
+    merged = dict(params)
+    if tuning:
+        for k, v in dict(tuning).items():
+            if k in merged:
+                raise TypeError("parameter '{}' given twice (keyword and tuning)".format(k))
+            merged[k] = v
+    return merged
+
+
+def _geometry(base, overrides):
+    g = dict(base)
+    for k, v in overrides.items():
+        if k not in GEOMETRY_KEYS:
+            raise TypeError("unknown sonar geometry keyword '{}'".format(k))
+        g[k] = v
+    if g.get("aperture") is not None and g.get("aperture_deg") is not None:
+        raise ValueError("give aperture (radians) or aperture_deg, not both")
+    aperture = g.get("aperture")
+    if g.get("aperture_deg") is not None:
+        aperture = math.radians(float(g["aperture_deg"]))
+    if g.get("min_range") is None or g.get("max_range") is None:
+        raise ValueError("sonar geometry: min_range and max_range (metres) are required")
+    bearings = g.get("bearings")
+    if bearings is not None and aperture is not None:
+        raise ValueError("sonar geometry: give aperture or bearings, not both")
+    if bearings is None and aperture is None:
+        raise ValueError("sonar geometry: give aperture (radians), aperture_deg, or bearings "
+                         "(one azimuth per column)")
+    return dict(min_range=float(g["min_range"]), max_range=float(g["max_range"]),
+                aperture=aperture, bearings=bearings,
+                range_ascending=bool(g.get("range_ascending", False)),
+                azimuth_ascending=bool(g.get("azimuth_ascending", False)))
+
+
+class Detector:
+    """Detection parameters, the sonar geometry and a reusable workspace.
+
+    ``Detector(family="AcTag24h10", *, min_range, max_range, aperture |
+    aperture_deg | bearings, range_ascending=False, azimuth_ascending=False,
+    max_detections=64, tuning=None, **params)``
+
+    Geometry (metres, radians): rows are range bins, columns beams. Default
+    orientation: row 0 = max_range, column 0 = +aperture/2; the flags select
+    the other ones. ``bearings`` is one azimuth per column (radians,
+    strictly monotonic) instead of a uniform aperture. Geometry given here
+    is the default of every ``detect()`` call, which may override it.
+
+    ``params``: any name of ``default_params()``, e.g. ``tag_size`` (metres,
+    side of the inner white square), ``max_bit_corrections``, ``seed``,
+    ``decode_mode`` ('fit' or 'binary'), ``median_radius``, ...; ``tuning``
+    is a dict of the same names. Invalid values raise ActagError with the
+    library's message.
+
+    Threads: ``detect()`` releases the GIL. One Detector may be used from
+    several threads at once (a call that finds the kept workspace busy uses
+    its own).
+    """
+
+    def __init__(self, family=DEFAULT_FAMILY, *, max_detections=DEFAULT_MAX_DETECTIONS,
+                 tuning=None, min_range=None, max_range=None, aperture=None, aperture_deg=None,
+                 bearings=None, range_ascending=False, azimuth_ascending=False, **params):
+        self._core = _core.Detector(_family(family), _split_params(params, tuning))
+        self.max_detections = int(max_detections)
+        self._geometry = dict(min_range=min_range, max_range=max_range, aperture=aperture,
+                              aperture_deg=aperture_deg, bearings=bearings,
+                              range_ascending=range_ascending,
+                              azimuth_ascending=azimuth_ascending)
+
+    @property
+    def family(self):
+        """The Family."""
+        return self._core.family
+
+    @property
+    def params(self):
+        """The parameters in use (a dict copy)."""
+        return self._core.params
+
+    @property
+    def geometry(self):
+        """The default sonar geometry (a dict copy)."""
+        return dict(self._geometry)
+
+    def run(self, frame, *, stages=False, max_detections=None, **geometry):
+        """Detect tags in ``frame``; returns ``Result(detections, stats, stages)``.
+
+        ``frame``: a 2-D uint8 or uint16 array or buffer (numpy arrays and
+        strided views, memoryviews, Pillow images...), rows = range bins.
+        ``geometry``: overrides of the constructor's sonar geometry.
+        """
+        g = _geometry(self._geometry, geometry)
+        n = self.max_detections if max_detections is None else int(max_detections)
+        raw, stats, images = self._core.detect(frame, g["min_range"], g["max_range"],
+                                               g["aperture"], g["bearings"],
+                                               g["range_ascending"], g["azimuth_ascending"], n,
+                                               bool(stages))
+        dets = [Detection(*t) for t in raw]
+        if images is not None:
+            rows, cols = images["rows"], images["cols"]
+            images = {k: array2d(images[k], rows, cols) for k in ("filtered", "binary")}
+        return Result(dets, stats, images)
+
+    def detect(self, frame, **geometry):
+        """Detect tags in ``frame``; returns a list of ``Detection`` (see ``run``)."""
+        return self.run(frame, **geometry).detections
+
+    def __repr__(self):
+        return "Detector(family={!r}, tag_size={:g})".format(self.family.name,
+                                                              self.params["tag_size"])
+
+
+def detect(frame, *, family=DEFAULT_FAMILY, max_detections=DEFAULT_MAX_DETECTIONS,
+           tuning=None, **kwargs):
+    """Detect AcTags in one sonar frame; returns a list of ``Detection``.
+
+    ``pyactag.detect(frame, min_range=0.1, max_range=1.5, aperture_deg=60,
+    family="AcTag24h10", tag_size=0.130628571)``
+
+    Keywords: the sonar geometry (``min_range``, ``max_range`` in metres,
+    ``aperture`` in radians or ``aperture_deg`` or ``bearings`` per column,
+    ``range_ascending``, ``azimuth_ascending``) and any detection parameter
+    of ``default_params()`` (C defaults when left out). Allocates a
+    workspace for this call; a ``Detector`` keeps one between calls.
+    """
+    geometry = {k: kwargs.pop(k) for k in list(kwargs) if k in GEOMETRY_KEYS}
+    det = Detector(family, max_detections=max_detections, tuning=tuning, **kwargs)
+    return det.detect(frame, **geometry)

@@ -1,0 +1,205 @@
+"""detect()/Detector on real frames: the same detections as the C tool,
+parameters and their C defaults, results, stage images."""
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+import pyactag
+from conftest import (EXAMPLE, FAMILY, GEOMETRY, TAG_SIZE, assert_same_as_c, detections_key,
+                      run_c_tool)
+
+np = pytest.importorskip("numpy")
+
+
+def test_extension_is_abi3():
+    # One binary for every CPython >= 3.9: the limited-API module suffix.
+    assert pyactag._core.__file__.endswith(".abi3.so"), pyactag._core.__file__
+
+
+def test_example_frame(example_frame):
+    assert example_frame.shape == (463, 620) and example_frame.dtype == np.uint8
+    dets = pyactag.detect(example_frame, **GEOMETRY)
+    assert len(dets) == 1
+    d = dets[0]
+    assert d.id == 0 and d.hamming <= 3 and d.decision_margin > 5
+    # SPEC section 6: the reference finds tag 0 with corners (row, col)
+    # (145,314) (113,339) (103,280) (133,244) and these (range, azimuth).
+    ref_rc = [(145, 314), (113, 339), (103, 280), (133, 244)]
+    ref_polar = [(1.0606, -0.0076), (1.1576, -0.0499), (1.1879, 0.0499), (1.0970, 0.1108)]
+    for (r, c), (rr, rc) in zip(d.corners_rowcol, ref_rc):
+        assert abs(r - rr) < 2.0 and abs(c - rc) < 2.0
+    for (r, a), (rr, ra) in zip(d.corners_polar, ref_polar):
+        assert abs(r - rr) < 0.005 and abs(a - ra) < 0.005
+    # x is the column, y the row.
+    assert d.corners_rowcol[0] == (d.corners_xy[0][1], d.corners_xy[0][0])
+
+
+def test_example_frame_same_as_c_tool(example_frame, c_tool):
+    line = run_c_tool(c_tool, [EXAMPLE])[0]
+    assert_same_as_c(pyactag.detect(example_frame, **GEOMETRY), line, "example")
+
+
+def test_pool_frames_same_as_c_tool(pool_frames, c_tool):
+    lines = run_c_tool(c_tool, [p for p, _ in pool_frames])
+    det = pyactag.Detector(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    found = 0
+    for (path, frame), line in zip(pool_frames, lines):
+        dets = det.detect(frame)
+        assert_same_as_c(dets, line, path.name)
+        found += len(dets)
+        for d in dets:  # one physical tag, ID 0, in the whole recording
+            assert d.id == 0, path.name
+    # The C suite's floor is 34 of the 47 tagged frames among the 58.
+    assert found >= len(pool_frames) // 2
+    print("pool: {} frames, {} detections, all equal to actag_detect --json".format(
+        len(pool_frames), found))
+
+
+def test_pool_frames_other_settings_same_as_c_tool(pool_frames, c_tool):
+    # A few non-default parameters through both front ends.
+    paths = [p for p, _ in pool_frames[:12]]
+    lines = run_c_tool(c_tool, paths, ["--decode", "binary", "--bit-corrections", "2", "--seed",
+                                       "7", "--median-radius", "3", "--search", "0"])
+    det = pyactag.Detector(FAMILY, tag_size=TAG_SIZE, decode_mode="binary",
+                           max_bit_corrections=2, seed=7, median_radius=3, search_candidates=0,
+                           **GEOMETRY)
+    for (path, frame), line in zip(pool_frames[:12], lines):
+        assert_same_as_c(det.detect(frame), line, path.name)
+
+
+def test_sixteen_bit_same_as_c_tool(example_frame, c_tool, tmp_path):
+    f16 = (example_frame.astype(np.uint16) * 181 + 7).astype(np.uint16)
+    path = tmp_path / "example16.pgm"
+    pyactag.write_pgm(path, f16)
+    assert np.array_equal(pyactag.read_pgm(path), f16)
+    line = run_c_tool(c_tool, [path])[0]
+    assert_same_as_c(pyactag.detect(f16, **GEOMETRY), line, "16-bit")
+
+
+def test_defaults_are_the_c_defaults():
+    p = pyactag.default_params()
+    # actag_params_default() (include/actag/actag.h, src/detect.c)
+    expected = dict(tag_size=0.130628571, max_bit_corrections=None, decode_mode="fit", seed=1,
+                    median_radius=4, threshold_radius=8, threshold_offset=1, size_tolerance=0.2,
+                    min_area_fraction=0.1, max_area_fraction=1.0, quad_max_iterations=100,
+                    quad_sample_fraction=0.1, quad_inlier_ratio=0.8, quad_inlier_distance=2.5,
+                    quad_min_parallel_cos=0.9, quad_min_inlier_ratio=0.6, min_structure=1.0,
+                    min_side_fraction=0.5, max_side_fraction=1.6, search_candidates=2,
+                    search_min_score=15, search_max_corrections=3, search_min_margin=1.0,
+                    search_range_scale=0.75, fit_level=0.5, fit_min_contrast=5,
+                    fit_sample_offset=0.2, fit_min_margin=1.0, fit_min_bit_margin=2)
+    for k, v in expected.items():
+        if isinstance(v, float):  # C floats
+            assert np.float32(p[k]) == np.float32(v), k
+        else:
+            assert p[k] == v, k
+    assert p["fit_flags"] == (pyactag._core.FIT_LOCAL | pyactag._core.FIT_SPLIT |
+                              pyactag._core.FIT_ERASE_CORNERS | pyactag._core.FIT_VERIFY)
+    assert pyactag.Detector(**GEOMETRY).params == p
+    assert set(pyactag.tuning_names()) < set(p)
+
+
+def test_keyword_parameters_and_tuning_dict(example_frame):
+    d = pyactag.Detector(median_radius=3, tuning={"quad_inlier_distance": 2.0}, seed=9,
+                         max_bit_corrections=1)
+    p = d.params
+    assert (p["median_radius"], p["quad_inlier_distance"], p["seed"],
+            p["max_bit_corrections"]) == (3, 2.0, 9, 1)
+    with pytest.raises(TypeError, match="given twice"):
+        pyactag.Detector(median_radius=3, tuning={"median_radius": 2})
+    # Parameters change the result as in C: no corrections allowed -> hamming 0 only.
+    strict = pyactag.detect(example_frame, max_bit_corrections=0, search_candidates=0, **GEOMETRY)
+    assert all(x.hamming == 0 for x in strict)
+
+
+def test_geometry_in_detector_and_per_call(example_frame):
+    det = pyactag.Detector(**GEOMETRY)
+    a = det.detect(example_frame)
+    b = pyactag.Detector().detect(example_frame, **GEOMETRY)
+    c = det.detect(example_frame, aperture_deg=None, aperture=np.radians(60.0))
+    assert detections_key(a) == detections_key(b) == detections_key(c)
+    # An explicit bearing table equal to the uniform aperture.
+    cols = example_frame.shape[1]
+    half = np.radians(30.0)
+    bearings = [half - i * 2 * half / (cols - 1) for i in range(cols)]
+    e = pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings=bearings)
+    assert [x.id for x in e] == [x.id for x in a]
+    for x, y in zip(e, a):
+        for (r1, a1), (r2, a2) in zip(x.corners_polar, y.corners_polar):
+            assert abs(r1 - r2) < 1e-3 and abs(a1 - a2) < 1e-3
+
+
+def test_orientation_flags(example_frame):
+    # The same sonar stored nearest row first and most negative beam first.
+    flipped = np.ascontiguousarray(example_frame[::-1, ::-1])
+    dets = pyactag.detect(flipped, range_ascending=True, azimuth_ascending=True, **GEOMETRY)
+    ref = pyactag.detect(example_frame, **GEOMETRY)
+    assert [d.id for d in dets] == [d.id for d in ref]
+    for x, y in zip(dets, ref):
+        assert x.mirrored == y.mirrored
+        for (r1, a1), (r2, a2) in zip(x.corners_polar, y.corners_polar):
+            assert abs(r1 - r2) < 0.02 and abs(a1 - a2) < 0.02
+
+
+def test_run_stats_and_stages(example_frame):
+    res = pyactag.Detector(**GEOMETRY).run(example_frame, stages=True)
+    assert len(res.detections) == 1
+    assert res.stats["contours"] > 0 and res.stats["decoded"] >= 1 and res.stats["dropped"] == 0
+    for k in ("filtered", "binary"):
+        img = res.stages[k]
+        assert img.shape == example_frame.shape and img.dtype == np.uint8
+    assert set(np.unique(res.stages["binary"])) <= {0, 255}
+    assert pyactag.Detector(**GEOMETRY).run(example_frame).stages is None
+    none = pyactag.Detector(max_detections=0, **GEOMETRY).run(example_frame)
+    assert none.detections == [] and none.stats["dropped"] == 1
+
+
+def test_detection_object(example_frame):
+    d = pyactag.detect(example_frame, **GEOMETRY)[0]
+    dd = d.to_dict()
+    assert json.loads(json.dumps(dd)) == dd
+    assert dd["corners"][0] == {"x_col": d.corners_xy[0][0], "y_row": d.corners_xy[0][1],
+                                "range_m": d.corners_polar[0][0],
+                                "azimuth_rad": d.corners_polar[0][1]}
+    assert d.corners[2].y_row == d.corners_rowcol[2][0] and d.corners[2].x_col == d.corners_xy[2][0]
+    assert d.ranges_m == tuple(r for r, _ in d.corners_polar)
+    assert d.azimuths_rad == tuple(a for _, a in d.corners_polar)
+    cx, cy = d.center_xy
+    assert 200 < cx < 400 and 80 < cy < 160
+    assert "id=0" in repr(d)
+    assert d == pyactag.detect(example_frame, **GEOMETRY)[0]
+
+
+def test_workspace_kept_by_detector(example_frame):
+    det = pyactag.Detector(**GEOMETRY)
+    assert det._core.workspace_bytes == 0
+    det.detect(example_frame)
+    assert det._core.workspace_bytes == pyactag.workspace_size(*example_frame.shape)
+    det.detect(example_frame[:200, :300])  # a smaller frame reuses it
+    assert det._core.workspace_bytes == pyactag.workspace_size(*example_frame.shape)
+
+
+def test_without_numpy(tmp_path):
+    """numpy is optional: the same detections from a memoryview frame."""
+    code = (
+        "import json, sys, pyactag\n"
+        "assert 'numpy' not in sys.modules and not pyactag.have_numpy()\n"
+        "f = pyactag.read_pgm(sys.argv[1])\n"
+        "assert isinstance(f, memoryview) and f.shape == (463, 620)\n"
+        "d = pyactag.detect(f, min_range=0.1, max_range=1.5, aperture_deg=60)\n"
+        "img = pyactag.Family('AcTag24h10').render(0, 4)\n"
+        "assert isinstance(img, memoryview) and img.shape == (28, 28)\n"
+        "print(json.dumps([x.to_dict() for x in d]))\n")
+    env = dict(os.environ, PYACTAG_NO_NUMPY="1")
+    # Block numpy outright so that an accidental import fails.
+    blocker = tmp_path / "numpy.py"
+    blocker.write_text("raise ImportError('numpy blocked by the test')\n")
+    env["PYTHONPATH"] = str(tmp_path) + os.pathsep + env.get("PYTHONPATH", "")
+    out = subprocess.run([sys.executable, "-c", code, str(EXAMPLE)], env=env, check=True,
+                         stdout=subprocess.PIPE, universal_newlines=True).stdout
+    frame = pyactag.read_pgm(EXAMPLE)
+    expected = [x.to_dict() for x in pyactag.detect(frame, **GEOMETRY)]
+    assert json.loads(out) == json.loads(json.dumps(expected))
