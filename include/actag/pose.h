@@ -1,0 +1,196 @@
+/*
+ * actag/pose.h -- 6-DOF tag pose from one sonar detection, with covariance,
+ *                 and the camera pose in the same frame convention.
+ *
+ * MANUAL
+ *   FRAMES (defined once here for the sonar and the camera paths)
+ *     Tag frame    origin at the centre of the tag's face (the centre of the
+ *                  inner white square), x toward the printed right edge, y
+ *                  toward the printed bottom edge, z into the tag (AprilTag's
+ *                  tag frame); the face you read is the side toward -z. The
+ *                  inner white square's corners, in actag's tag order
+ *                  (top-left, top-right, bottom-right, bottom-left as
+ *                  printed), are (-s/2,-s/2,0) (s/2,-s/2,0) (s/2,s/2,0)
+ *                  (-s/2,s/2,0), s = tag_size.
+ *     Sensor frame x forward, y to the sensor's left, z up (right-handed).
+ *                  Sonar: the AcTag paper's frame (section III-A): a point p
+ *                  has range |p|, azimuth atan2(y, x) (positive toward +y,
+ *                  image column 0 in the reference orientation) and
+ *                  elevation asin(z / |p|), which the image loses.
+ *                  Camera: x along the optical axis, y to the left of the
+ *                  image (toward column 0), z toward the image's top row;
+ *                  from the optical frame (x right, y down, z forward) of
+ *                  AprilTag/OpenCV: x = z_opt, y = -x_opt, z = -y_opt
+ *                  (actag_pose_from_camera).
+ *     Pose         p_sensor = R p_tag + t; R row-major, t in metres (the tag
+ *                  centre in the sensor frame).
+ *     Covariance   6 x 6, row-major, of the error vector (dt, w): dt = t_true
+ *                  - t (metres) and w the rotation vector (radians, sensor
+ *                  axes) with R_true = exp([w]x) R. Units m^2, m rad, rad^2.
+ *
+ *   WHAT ONE PING DETERMINES
+ *     Each corner lies somewhere on its elevation arc (fixed range and
+ *     azimuth). Four arcs and a rigid square of known side fix:
+ *       - the range and azimuth of the tag centre (about the corner noise
+ *         divided by 2);
+ *       - the tag's orientation: the image of the square is the square
+ *         projected along the elevation direction, so its area and shape
+ *         give the tilt out of the fan plane (poorly when the tag lies
+ *         almost in the fan plane: the tilt then enters only through the
+ *         shortfall of the image's side lengths, a square-root effect);
+ *       - with a proper rotation and the printed face toward the sonar,
+ *         the reflection across the horizontal plane (the sonar's classic
+ *         two-fold ambiguity) is resolved: the reflected solution shows the
+ *         tag's back. What remains of it is the sign of the face's tilt out
+ *         of the fan plane, the winding of the corners in the image, which
+ *         is exactly the detector's `mirrored` flag: unmirrored means the
+ *         face normal (-z of the tag) points toward +elevation (for example
+ *         a tag on the seabed seen from an upright sonar above it), mirrored
+ *         toward -elevation (the same tag seen by an upside-down sonar, or a
+ *         tag under a ceiling). The estimator starts on the side the flag
+ *         gives and reports ACTAG_POSE_MIRROR_CONFLICT when the corners'
+ *         winding clearly says otherwise.
+ *     The centre's elevation is almost unobservable: moving the whole tag
+ *     along the elevation arcs changes the corners' (range, azimuth) only by
+ *     a second-order term (the azimuth spread shrinks by cos(elevation),
+ *     0.5 % at 6 degrees), far below the corner noise except at very short
+ *     range. The estimator therefore combines the corners with what the
+ *     image itself proves: the tag was seen, so its outline (params.extent)
+ *     lies within the vertical aperture. This is a uniform prior on the
+ *     centre's elevation over the band where the whole outline fits,
+ *     entered in the least squares as a Gaussian of the band's mean and
+ *     standard deviation (width / sqrt(12)); the covariance carries it, so
+ *     the position's error ellipsoid is long in elevation (about range *
+ *     band / sqrt(12)). ACTAG_POSE_ELEVATION is set when no elevation fits
+ *     the outline into the aperture (the corners are not those of a tag of
+ *     this size wholly in view) or the corners pull the fit out of the band
+ *     (more than 2 standard deviations of the band).
+ *
+ *   METHOD
+ *     Start: the corners placed at one elevation give each edge's in-fan
+ *     components; the elevation components follow from the square's side
+ *     and right angle (a rank-one 2 x 2 problem), signed so the face is
+ *     toward the sonar. Then Levenberg-Marquardt on the 6 pose parameters
+ *     (t, and a rotation vector applied on the left) over the 8 corner
+ *     residuals, range / range_sd and azimuth / azimuth_sd, plus the
+ *     elevation prior, each step a column-scaled Householder QR (no normal
+ *     equations). Five starts across the elevation band (the cost along
+ *     the arcs is flat and can have two minima, near +e and -e), the best
+ *     one refined; the band is recomputed from the fit and the fit repeated
+ *     (at most 3 passes; max_iterations trial steps per start and pass).
+ *     The covariance is (J^T J)^-1 at the solution (prior included), from
+ *     the same QR factor. All in float; the trigonometry is the library's
+ *     own (sums and products only, plus sqrtf), so results are identical on
+ *     every IEEE-754 platform built with -ffp-contract=off. No heap, no
+ *     static state; about 0.8 M instructions (0.1 ms on a desktop core).
+ *
+ *   CORNER NOISE DEFAULTS (ACTAG_POSE_RANGE_SD, ACTAG_POSE_AZIMUTH_SD)
+ *     0.0088 m and 0.0040 rad: the simulator's measured corner error at the
+ *     paper's settings (actag-eval, docs/evaluation.md: 1,308 corners, sd
+ *     0.88 cm in range, 0.0040 rad in azimuth). Corners of another sonar
+ *     (resolution, range) deserve their own figures: the covariance scales
+ *     with them.
+ *
+ *   CAMERA POSES
+ *     actag_pose_from_camera() turns a camera pose of the same tag frame
+ *     (AprilTag's estimate_tag_pose, optical frame) into the sensor frame
+ *     above, so both sensors report p_sensor = R p_tag + t with x forward,
+ *     y left, z up; a vehicle then applies each sensor's mounting.
+ *     (optical/: actag_apriltag_pose_sensor does both steps.)
+ *
+ * FUNCTIONS
+ *   void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
+ *                                  float tag_size, float vertical_aperture)
+ *       Defaults: the given tag size (m) and vertical aperture (rad, full
+ *       width), extent = the family's full tag side over tag_size ((k+1)/(k-3)
+ *       for 4k bits: 7/3 for 24 bits; 1 when family is NULL), the noise
+ *       defaults above, 20 iterations. NULL p: nothing.
+ *   int actag_pose_estimate(const float range[4], const float azimuth[4], int mirrored,
+ *                           const actag_pose_params *p, actag_pose *out)
+ *       Pose from the four corners in tag order (metres, radians, as in
+ *       actag_detection). Returns ACTAG_OK (out filled; check out->flags),
+ *       ACTAG_ERR_NULL (a pointer is NULL), ACTAG_ERR_PARAM (a corner not
+ *       finite or range <= 0, tag_size <= 0, vertical_aperture outside
+ *       (0, pi), extent < 1, a noise sd <= 0 or not finite, max_iterations
+ *       outside 1..100). Degenerate geometry is not an error: out is filled
+ *       as well as possible and flagged.
+ *   int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
+ *                                 actag_pose *out)
+ *       actag_pose_estimate(d->range, d->azimuth, d->mirrored, p, out).
+ *   int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pose *out)
+ *       Camera pose in the optical frame (R row-major tag -> camera, t in
+ *       metres) to the sensor frame; fills R, t, range, azimuth, elevation,
+ *       zeroes the rest (no covariance: flags = ACTAG_POSE_NO_COVARIANCE).
+ *       ACTAG_ERR_NULL or ACTAG_ERR_PARAM (not finite), else ACTAG_OK.
+ *   float actag_pose_angle(const float Ra[9], const float Rb[9])
+ *       The angle (rad, 0..pi) of the rotation between Ra and Rb.
+ *   void actag_pose_rotation_vector(const float Ra[9], const float Rb[9], float w[3])
+ *       w with Ra = exp([w]x) Rb (the covariance's rotation error).
+ */
+#ifndef ACTAG_POSE_H
+#define ACTAG_POSE_H
+
+#include "actag/actag.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#ifndef ACTAG_POSE_RANGE_SD
+#define ACTAG_POSE_RANGE_SD 0.0088f /* m: simulator, paper settings */
+#endif
+#ifndef ACTAG_POSE_AZIMUTH_SD
+#define ACTAG_POSE_AZIMUTH_SD 0.0040f /* rad */
+#endif
+
+/* flags of actag_pose */
+#define ACTAG_POSE_DEGENERATE 1u       /* image of the tag nearly a line (edge-on in the
+                                          projection: all corners at one range or one
+                                          azimuth), or a singular fit: orientation unreliable */
+#define ACTAG_POSE_ELEVATION 2u        /* no elevation puts the outline inside the vertical
+                                          aperture, or the fit left that band */
+#define ACTAG_POSE_NOT_CONVERGED 4u    /* the iteration cap was reached before convergence */
+#define ACTAG_POSE_MIRROR_CONFLICT 8u  /* the corners' winding contradicts `mirrored` */
+#define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed (camera poses) */
+
+typedef struct actag_pose_params {
+    float tag_size;          /* m, side of the inner white square */
+    float vertical_aperture; /* rad, full width of the sonar's elevation fan */
+    float extent;            /* side of the square that must lie inside the aperture, in
+                                tag sizes (default: the whole tag, (k+1)/(k-3)) */
+    float range_sd;          /* m, corner range noise (ACTAG_POSE_RANGE_SD) */
+    float azimuth_sd;        /* rad, corner azimuth noise (ACTAG_POSE_AZIMUTH_SD) */
+    int max_iterations;      /* trial steps per pass, 1..100 (20) */
+} actag_pose_params;
+
+typedef struct actag_pose {
+    float R[9];        /* row-major rotation, tag -> sensor */
+    float t[3];        /* m, tag centre in the sensor frame */
+    float cov[36];     /* 6x6 row-major covariance of (dt, w), see the manual */
+    float range;       /* m, |t| */
+    float azimuth;     /* rad, atan2(t_y, t_x) */
+    float elevation;   /* rad, asin(t_z / |t|) */
+    float elevation_lo, elevation_hi; /* rad, band of centre elevations that keep the
+                                         outline inside the aperture (lo > hi: none) */
+    float residual;    /* m, RMS distance between measured and fitted corners in the fan
+                          plane (range, range * azimuth) */
+    float chi2;        /* sum of squared normalised corner residuals (8 terms, ~3 expected
+                          with the assumed noise: 8 measurements - 6 + 1 prior) */
+    int iterations;    /* trial steps taken over all passes */
+    unsigned flags;    /* ACTAG_POSE_* */
+} actag_pose;
+
+void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
+                               float tag_size, float vertical_aperture);
+int actag_pose_estimate(const float range[4], const float azimuth[4], int mirrored,
+                        const actag_pose_params *p, actag_pose *out);
+int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
+                              actag_pose *out);
+int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pose *out);
+float actag_pose_angle(const float Ra[9], const float Rb[9]);
+void actag_pose_rotation_vector(const float Ra[9], const float Rb[9], float w[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_POSE_H */

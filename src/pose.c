@@ -1,0 +1,760 @@
+/* 6-DOF tag pose from one sonar detection (see actag/pose.h). */
+#include "actag/pose.h"
+
+#include <math.h>
+
+#define P_PI 3.14159265f
+#define P_PIO2_HI 1.57079637e+00f  /* float(pi/2) */
+#define P_PIO2_LO -4.37113883e-08f /* pi/2 - P_PIO2_HI */
+#define P_NPAR 6
+#define P_NRES 9 /* 8 corner residuals + the elevation prior */
+#define P_PASSES 3
+#define P_STARTS 5 /* start elevations across the band */
+
+/* ------------------------------------------------------------ trigonometry
+ * Our own, from sums, products and sqrtf only: libm's sinf/atan2f differ in
+ * the last bits between C libraries, and results must not. Accuracy a few
+ * float ulps over the arguments used here. */
+
+static int p_finite(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
+
+/* sin and cos of r, |r| <= pi/4 */
+static float p_sin_k(float r)
+{
+    float z = r * r;
+    return r + r * z * (-1.66666672e-01f +
+                        z * (8.33333377e-03f + z * (-1.98412701e-04f + z * 2.75573188e-06f)));
+}
+
+static float p_cos_k(float r)
+{
+    float z = r * r;
+    return 1.0f + z * (-0.5f + z * (4.16666679e-02f +
+                                    z * (-1.38888892e-03f + z * (2.48015876e-05f -
+                                                                 z * 2.75573188e-07f))));
+}
+
+/* sin and cos together; |x| up to a few thousand radians */
+static void p_sincos(float x, float *s, float *c)
+{
+    float kf = x * 0.636619772f, r, sr, cr;
+    int k;
+    kf = kf >= 0.0f ? kf + 0.5f : kf - 0.5f;
+    k = (int)kf;
+    r = (x - (float)k * P_PIO2_HI) - (float)k * P_PIO2_LO;
+    sr = p_sin_k(r);
+    cr = p_cos_k(r);
+    switch (k & 3) {
+    case 0: *s = sr; *c = cr; break;
+    case 1: *s = cr; *c = -sr; break;
+    case 2: *s = -sr; *c = -cr; break;
+    default: *s = -cr; *c = sr; break;
+    }
+}
+
+/* atan(x), |x| <= 1 */
+static float p_atan01(float x)
+{
+    const float t15 = 0.267949194f, sqrt3 = 1.73205081f, pio6 = 0.523598776f;
+    float off = 0.0f, z, neg = x < 0.0f;
+    if (neg)
+        x = -x;
+    if (x > t15) {
+        x = (x * sqrt3 - 1.0f) / (x + sqrt3);
+        off = pio6;
+    }
+    z = x * x;
+    x = off + x * (1.0f + z * (-3.33333343e-01f +
+                               z * (2.00000003e-01f +
+                                    z * (-1.42857149e-01f +
+                                         z * (1.11111112e-01f - z * 9.09090936e-02f)))));
+    return neg ? -x : x;
+}
+
+static float p_atan2(float y, float x)
+{
+    float ax = x < 0.0f ? -x : x, ay = y < 0.0f ? -y : y, a;
+    if (ax == 0.0f && ay == 0.0f)
+        return 0.0f;
+    if (ay <= ax)
+        a = p_atan01(ay / ax);
+    else
+        a = 2.0f * P_PIO2_HI - p_atan01(ax / ay);
+    if (x < 0.0f)
+        a = 2.0f * (2.0f * P_PIO2_HI) - a; /* pi - a */
+    return y < 0.0f ? -a : a;
+}
+
+static float p_asin(float v)
+{
+    if (v > 1.0f)
+        v = 1.0f;
+    if (v < -1.0f)
+        v = -1.0f;
+    return p_atan2(v, sqrtf((1.0f - v) * (1.0f + v)));
+}
+
+static float p_wrap(float a) /* to (-pi, pi] */
+{
+    while (a > P_PI)
+        a -= 2.0f * P_PI;
+    while (a <= -P_PI)
+        a += 2.0f * P_PI;
+    return a;
+}
+
+/* ------------------------------------------------------------ 3-vectors, rotations */
+
+static float dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static void cross3(const float *a, const float *b, float *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static float norm3(const float *a) { return sqrtf(dot3(a, a)); }
+
+static void mat_vec(const float *R, const float *v, float *o)
+{
+    o[0] = R[0] * v[0] + R[1] * v[1] + R[2] * v[2];
+    o[1] = R[3] * v[0] + R[4] * v[1] + R[5] * v[2];
+    o[2] = R[6] * v[0] + R[7] * v[1] + R[8] * v[2];
+}
+
+static void mat_mul(const float *A, const float *B, float *o)
+{
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            o[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
+}
+
+/* Rotation with columns x, y (orthonormalised), z = x cross y. */
+static void rot_from_axes(const float *xa, const float *ya, float *R)
+{
+    float x[3], y[3], z[3], d, n;
+    int i;
+    n = norm3(xa);
+    for (i = 0; i < 3; i++)
+        x[i] = n > 0.0f ? xa[i] / n : (i == 0);
+    d = dot3(ya, x);
+    for (i = 0; i < 3; i++)
+        y[i] = ya[i] - d * x[i];
+    n = norm3(y);
+    if (!(n > 1e-12f)) { /* any perpendicular */
+        float e[3] = {0.0f, 0.0f, 0.0f};
+        e[(x[0] * x[0] < 0.5f) ? 0 : 1] = 1.0f;
+        cross3(x, e, z);
+        cross3(z, x, y);
+        n = norm3(y);
+    }
+    for (i = 0; i < 3; i++)
+        y[i] /= n;
+    cross3(x, y, z);
+    for (i = 0; i < 3; i++) {
+        R[3 * i] = x[i];
+        R[3 * i + 1] = y[i];
+        R[3 * i + 2] = z[i];
+    }
+}
+
+/* exp([w]x), Rodrigues */
+static void rot_exp(const float *w, float *R)
+{
+    float th2 = dot3(w, w), a, b, s, c;
+    if (th2 < 1e-8f) {
+        a = 1.0f - th2 / 6.0f;
+        b = 0.5f - th2 / 24.0f;
+    } else {
+        float th = sqrtf(th2);
+        p_sincos(th, &s, &c);
+        a = s / th;
+        b = (1.0f - c) / th2;
+    }
+    R[0] = 1.0f - b * (w[1] * w[1] + w[2] * w[2]);
+    R[4] = 1.0f - b * (w[0] * w[0] + w[2] * w[2]);
+    R[8] = 1.0f - b * (w[0] * w[0] + w[1] * w[1]);
+    R[1] = -a * w[2] + b * w[0] * w[1];
+    R[3] = a * w[2] + b * w[0] * w[1];
+    R[2] = a * w[1] + b * w[0] * w[2];
+    R[6] = -a * w[1] + b * w[0] * w[2];
+    R[5] = -a * w[0] + b * w[1] * w[2];
+    R[7] = a * w[0] + b * w[1] * w[2];
+}
+
+/* w with R = exp([w]x) */
+static void rot_log(const float *R, float *w)
+{
+    float v[3], sn, cs, th, tr = R[0] + R[4] + R[8];
+    v[0] = 0.5f * (R[7] - R[5]);
+    v[1] = 0.5f * (R[2] - R[6]);
+    v[2] = 0.5f * (R[3] - R[1]);
+    sn = norm3(v);
+    cs = 0.5f * (tr - 1.0f);
+    th = p_atan2(sn, cs);
+    if (cs > -0.9f) {
+        float k = sn > 1e-7f ? th / sn : 1.0f + sn * sn / 6.0f;
+        w[0] = k * v[0];
+        w[1] = k * v[1];
+        w[2] = k * v[2];
+    } else {
+        /* near pi: the axis from the symmetric part, (R + R^T)/2 = I + (1-cos) (u u^T - I) */
+        float om = 1.0f - cs, u[3], n;
+        int i = (R[0] >= R[4] && R[0] >= R[8]) ? 0 : (R[4] >= R[8] ? 1 : 2), j;
+        float d = (R[4 * i] - cs) / om;
+        u[i] = sqrtf(d > 0.0f ? d : 0.0f);
+        for (j = 0; j < 3; j++)
+            if (j != i)
+                u[j] = 0.5f * (R[3 * i + j] + R[3 * j + i]) / (om * (u[i] > 1e-6f ? u[i] : 1e-6f));
+        n = norm3(u);
+        if (n > 0.0f)
+            for (j = 0; j < 3; j++)
+                u[j] /= n;
+        if (dot3(u, v) < 0.0f)
+            for (j = 0; j < 3; j++)
+                u[j] = -u[j];
+        for (j = 0; j < 3; j++)
+            w[j] = th * u[j];
+    }
+}
+
+void actag_pose_rotation_vector(const float Ra[9], const float Rb[9], float w[3])
+{
+    float Bt[9], M[9];
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            Bt[3 * i + j] = Rb[3 * j + i];
+    mat_mul(Ra, Bt, M);
+    rot_log(M, w);
+}
+
+float actag_pose_angle(const float Ra[9], const float Rb[9])
+{
+    float w[3];
+    actag_pose_rotation_vector(Ra, Rb, w);
+    return norm3(w);
+}
+
+/* ------------------------------------------------------------ 6x6 linear algebra */
+
+/* ------------------------------------------------------------ the model */
+
+typedef struct {
+    float r[4], az[4];   /* measured corners */
+    float s, E, half_v;  /* tag size, outline extent (tag sizes), half aperture */
+    float sr, sa;        /* noise sds */
+    float mu, sp;        /* elevation prior: mean, sd (rad) */
+} p_model;
+
+typedef struct {
+    float R[9], t[3];
+} p_state;
+
+static const float p_cx[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, p_cy[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
+
+static float p_elev(const float *p)
+{
+    float n = norm3(p);
+    return n > 0.0f ? p_asin(p[2] / n) : 0.0f;
+}
+
+/* Band of centre elevations that keep the outline in the aperture. */
+static void p_band(const p_model *m, const p_state *x, float *lo, float *hi)
+{
+    float e0 = p_elev(x->t), mn = 1e30f, mx = -1e30f;
+    int k;
+    for (k = 0; k < 4; k++) {
+        float c[3], p[3], e;
+        c[0] = p_cx[k] * m->E * m->s;
+        c[1] = p_cy[k] * m->E * m->s;
+        c[2] = 0.0f;
+        mat_vec(x->R, c, p);
+        p[0] += x->t[0];
+        p[1] += x->t[1];
+        p[2] += x->t[2];
+        e = p_elev(p) - e0;
+        if (e < mn)
+            mn = e;
+        if (e > mx)
+            mx = e;
+    }
+    *lo = -m->half_v - mn;
+    *hi = m->half_v - mx;
+}
+
+static void p_set_prior(p_model *m, float lo, float hi)
+{
+    float w = hi - lo;
+    m->mu = 0.5f * (lo + hi);
+    if (w > 0.0f)
+        m->sp = w * 0.288675135f; /* 1/sqrt(12): a uniform band's sd */
+    else
+        m->sp = m->half_v; /* no elevation fits the outline: a weak pull to the middle */
+    if (m->sp < 1e-4f * m->half_v)
+        m->sp = 1e-4f * m->half_v;
+}
+
+/* Residuals f (P_NRES) and, when J != NULL, the Jacobian (P_NRES x P_NPAR).
+ * Returns the sum of squares. */
+static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
+{
+    float cost = 0.0f, tn, rho2, rho, e0;
+    int i, j;
+    for (i = 0; i < 4; i++) {
+        float c[3], q[3], p[3], r, th, gr[3], ga[3], w[3];
+        c[0] = p_cx[i] * m->s;
+        c[1] = p_cy[i] * m->s;
+        c[2] = 0.0f;
+        mat_vec(x->R, c, q);
+        for (j = 0; j < 3; j++)
+            p[j] = q[j] + x->t[j];
+        r = norm3(p);
+        th = p_atan2(p[1], p[0]);
+        f[2 * i] = (r - m->r[i]) / m->sr;
+        f[2 * i + 1] = p_wrap(th - m->az[i]) / m->sa;
+        if (J) {
+            float pr2 = p[0] * p[0] + p[1] * p[1];
+            if (!(pr2 > 1e-20f))
+                pr2 = 1e-20f;
+            for (j = 0; j < 3; j++)
+                gr[j] = (r > 0.0f ? p[j] / r : 0.0f) / m->sr;
+            ga[0] = -p[1] / pr2 / m->sa;
+            ga[1] = p[0] / pr2 / m->sa;
+            ga[2] = 0.0f;
+            /* d/dt = g; d/dw = q x g (p = exp([w]x) q + t) */
+            for (j = 0; j < 3; j++) {
+                J[(2 * i) * P_NPAR + j] = gr[j];
+                J[(2 * i + 1) * P_NPAR + j] = ga[j];
+            }
+            cross3(q, gr, w);
+            for (j = 0; j < 3; j++)
+                J[(2 * i) * P_NPAR + 3 + j] = w[j];
+            cross3(q, ga, w);
+            for (j = 0; j < 3; j++)
+                J[(2 * i + 1) * P_NPAR + 3 + j] = w[j];
+        }
+    }
+    e0 = p_elev(x->t);
+    f[8] = (e0 - m->mu) / m->sp;
+    if (J) {
+        tn = norm3(x->t);
+        rho2 = x->t[0] * x->t[0] + x->t[1] * x->t[1];
+        rho = sqrtf(rho2);
+        if (tn > 0.0f && rho > 0.0f) {
+            J[8 * P_NPAR + 0] = -x->t[2] * x->t[0] / (rho * tn * tn) / m->sp;
+            J[8 * P_NPAR + 1] = -x->t[2] * x->t[1] / (rho * tn * tn) / m->sp;
+            J[8 * P_NPAR + 2] = rho / (tn * tn) / m->sp;
+        } else {
+            J[8 * P_NPAR + 0] = J[8 * P_NPAR + 1] = J[8 * P_NPAR + 2] = 0.0f;
+        }
+        J[8 * P_NPAR + 3] = J[8 * P_NPAR + 4] = J[8 * P_NPAR + 5] = 0.0f;
+    }
+    for (i = 0; i < P_NRES; i++)
+        cost += f[i] * f[i];
+    return cost;
+}
+
+static void p_step(const p_state *x, const float *d, p_state *o)
+{
+    float dR[9];
+    int j;
+    for (j = 0; j < 3; j++)
+        o->t[j] = x->t[j] + d[j];
+    rot_exp(d + 3, dR);
+    mat_mul(dR, x->R, o->R);
+    { /* keep R orthonormal */
+        float xa[3], ya[3];
+        for (j = 0; j < 3; j++) {
+            xa[j] = o->R[3 * j];
+            ya[j] = o->R[3 * j + 1];
+        }
+        rot_from_axes(xa, ya, o->R);
+    }
+}
+
+/* Least squares min |A d - b| for an m x P_NPAR matrix A (row-major, m <=
+ * P_NRES + P_NPAR), by Householder QR on column-scaled A (no normal
+ * equations: their squared condition number would cost float digits).
+ * A and b are overwritten: A's top P_NPAR rows hold R (upper triangle) of
+ * the scaled A, sc the column scales. Returns 0, or -1 when A is rank
+ * deficient. */
+#define P_MAXR (P_NRES + P_NPAR)
+static int p_lsq(float *A, float *b, int m, float *d, float *sc)
+{
+    int i, j, k;
+    for (j = 0; j < P_NPAR; j++) {
+        float n = 0.0f;
+        for (i = 0; i < m; i++)
+            n += A[i * P_NPAR + j] * A[i * P_NPAR + j];
+        n = sqrtf(n);
+        if (!(n > 0.0f))
+            return -1;
+        sc[j] = 1.0f / n;
+        for (i = 0; i < m; i++)
+            A[i * P_NPAR + j] *= sc[j];
+    }
+    for (k = 0; k < P_NPAR; k++) {
+        float alpha = 0.0f, vnorm2, beta;
+        for (i = k; i < m; i++)
+            alpha += A[i * P_NPAR + k] * A[i * P_NPAR + k];
+        alpha = sqrtf(alpha);
+        if (!(alpha > 1e-6f))
+            return -1;
+        if (A[k * P_NPAR + k] > 0.0f)
+            alpha = -alpha;
+        /* v = x - alpha e1, stored in column k */
+        A[k * P_NPAR + k] -= alpha;
+        vnorm2 = 0.0f;
+        for (i = k; i < m; i++)
+            vnorm2 += A[i * P_NPAR + k] * A[i * P_NPAR + k];
+        if (vnorm2 > 0.0f) {
+            beta = 2.0f / vnorm2;
+            for (j = k + 1; j < P_NPAR; j++) {
+                float t = 0.0f;
+                for (i = k; i < m; i++)
+                    t += A[i * P_NPAR + k] * A[i * P_NPAR + j];
+                t *= beta;
+                for (i = k; i < m; i++)
+                    A[i * P_NPAR + j] -= t * A[i * P_NPAR + k];
+            }
+            {
+                float t = 0.0f;
+                for (i = k; i < m; i++)
+                    t += A[i * P_NPAR + k] * b[i];
+                t *= beta;
+                for (i = k; i < m; i++)
+                    b[i] -= t * A[i * P_NPAR + k];
+            }
+        }
+        A[k * P_NPAR + k] = alpha; /* R's diagonal; the rest of column k is scrap */
+    }
+    for (k = P_NPAR - 1; k >= 0; k--) {
+        float v = b[k];
+        for (j = k + 1; j < P_NPAR; j++)
+            v -= A[k * P_NPAR + j] * d[j];
+        d[k] = v / A[k * P_NPAR + k];
+    }
+    for (j = 0; j < P_NPAR; j++)
+        d[j] *= sc[j];
+    return 0;
+}
+
+/* Levenberg-Marquardt on the 6 parameters; returns the trial steps used,
+ * negated when the cap was reached without convergence. */
+static int p_lm(const p_model *m, p_state *x, int max_it)
+{
+    float f[P_NRES], J[P_NRES * P_NPAR], A[P_MAXR * P_NPAR], b[P_MAXR], d[P_NPAR];
+    float dg[P_NPAR], sc[P_NPAR], cost, lambda = 1e-3f;
+    int it, i, j;
+    cost = p_eval(m, x, f, J);
+    for (it = 1; it <= max_it; it++) {
+        p_state y;
+        float fy[P_NRES], cy;
+        /* min |J d + f|^2 + lambda |diag(|J_col|) d|^2 (Marquardt's scaling) */
+        for (j = 0; j < P_NPAR; j++) {
+            float n = 0.0f;
+            for (i = 0; i < P_NRES; i++)
+                n += J[i * P_NPAR + j] * J[i * P_NPAR + j];
+            dg[j] = sqrtf(n * lambda);
+        }
+        for (i = 0; i < P_NRES * P_NPAR; i++)
+            A[i] = J[i];
+        for (i = 0; i < P_NRES; i++)
+            b[i] = -f[i];
+        for (i = 0; i < P_NPAR; i++) {
+            for (j = 0; j < P_NPAR; j++)
+                A[(P_NRES + i) * P_NPAR + j] = i == j ? dg[j] : 0.0f;
+            b[P_NRES + i] = 0.0f;
+        }
+        if (p_lsq(A, b, P_MAXR, d, sc) != 0) {
+            lambda *= 10.0f;
+            if (lambda > 1e8f)
+                return it;
+            continue;
+        }
+        p_step(x, d, &y);
+        cy = p_eval(m, &y, fy, NULL);
+        if (cy <= cost) {
+            float dt = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            float dw = sqrtf(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
+            int done = ((cost - cy) <= 1e-7f * cost + 1e-12f && lambda < 1e-2f) ||
+                       (dt < 1e-7f && dw < 1e-7f);
+            *x = y;
+            cost = p_eval(m, x, f, J);
+            lambda = lambda * 0.1f > 1e-9f ? lambda * 0.1f : 1e-9f;
+            if (done)
+                return it;
+        } else {
+            lambda *= 10.0f;
+            if (lambda > 1e8f)
+                return it; /* no step improves: at the minimum to float precision */
+        }
+    }
+    return -max_it;
+}
+
+/* ------------------------------------------------------------ start */
+
+/* Pose from the corners assuming the centre at elevation e: the in-fan
+ * components of the edges are measured, the elevation components follow
+ * from the square (rank-one fit), signed so the face is toward the sonar. */
+static void p_start(const p_model *m, float e, p_state *x, float *winding)
+{
+    float rbar = 0.0f, abar = 0.0f, q[4][2], ah[2], bh[2], A, B, C, lam, u[2], hn, ha, hb;
+    float ur[3], ua[3], ue[3], se, ce, sa, ca, al[3], bl[3], zr, xa[3], ya[3];
+    int i, j;
+    for (i = 0; i < 4; i++) {
+        rbar += 0.25f * m->r[i];
+        abar += 0.25f * p_wrap(m->az[i] - m->az[0]);
+    }
+    abar = p_wrap(abar + m->az[0]);
+    for (i = 0; i < 4; i++) {
+        float s, c, d = p_wrap(m->az[i] - abar);
+        p_sincos(d, &s, &c);
+        q[i][0] = m->r[i] * c;
+        q[i][1] = m->r[i] * s;
+    }
+    for (j = 0; j < 2; j++) {
+        ah[j] = 0.5f * ((q[1][j] - q[0][j]) + (q[2][j] - q[3][j]));
+        bh[j] = 0.5f * ((q[3][j] - q[0][j]) + (q[2][j] - q[1][j]));
+    }
+    /* winding in (range, lateral): the elevation component of a x b */
+    *winding = ah[0] * bh[1] - ah[1] * bh[0];
+    A = m->s * m->s - (ah[0] * ah[0] + ah[1] * ah[1]);
+    B = m->s * m->s - (bh[0] * bh[0] + bh[1] * bh[1]);
+    C = -(ah[0] * bh[0] + ah[1] * bh[1]);
+    lam = 0.5f * (A + B) + sqrtf(0.25f * (A - B) * (A - B) + C * C);
+    u[0] = C;
+    u[1] = lam - A;
+    if (u[0] * u[0] + u[1] * u[1] < (lam - B) * (lam - B) + C * C) {
+        u[0] = lam - B;
+        u[1] = C;
+    }
+    hn = sqrtf(u[0] * u[0] + u[1] * u[1]);
+    if (hn > 0.0f && lam > 0.0f) {
+        float k = sqrtf(lam) / hn;
+        ha = u[0] * k;
+        hb = u[1] * k;
+    } else {
+        ha = hb = 0.0f;
+    }
+    /* face toward the sonar: tag z (a x b) has a positive range component */
+    zr = ah[1] * hb - ha * bh[1];
+    if (zr < 0.0f) {
+        ha = -ha;
+        hb = -hb;
+    }
+    p_sincos(abar, &sa, &ca);
+    p_sincos(e, &se, &ce);
+    ur[0] = ca * ce; ur[1] = sa * ce; ur[2] = se;
+    ua[0] = -sa;     ua[1] = ca;      ua[2] = 0.0f;
+    ue[0] = -ca * se; ue[1] = -sa * se; ue[2] = ce;
+    for (j = 0; j < 3; j++) {
+        al[j] = ah[0] * ur[j] + ah[1] * ua[j] + ha * ue[j];
+        bl[j] = bh[0] * ur[j] + bh[1] * ua[j] + hb * ue[j];
+    }
+    for (j = 0; j < 3; j++) {
+        xa[j] = al[j];
+        ya[j] = bl[j];
+    }
+    rot_from_axes(xa, ya, x->R);
+    for (j = 0; j < 3; j++)
+        x->t[j] = rbar * ur[j];
+}
+
+/* ------------------------------------------------------------ public */
+
+void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
+                               float tag_size, float vertical_aperture)
+{
+    if (p == NULL)
+        return;
+    p->tag_size = tag_size;
+    p->vertical_aperture = vertical_aperture;
+    p->extent = 1.0f;
+    if (family != NULL && family->bits >= 16) {
+        int k = family->bits / 4;
+        p->extent = (float)(k + 1) / (float)(k - 3);
+    }
+    p->range_sd = ACTAG_POSE_RANGE_SD;
+    p->azimuth_sd = ACTAG_POSE_AZIMUTH_SD;
+    p->max_iterations = 20;
+}
+
+int actag_pose_estimate(const float range[4], const float azimuth[4], int mirrored,
+                        const actag_pose_params *p, actag_pose *out)
+{
+    p_model m;
+    p_state x;
+    float lo, hi, winding, f[P_NRES], J[P_NRES * P_NPAR], res2 = 0.0f;
+    int i, j, pass, it, total = 0, converged = 1;
+    if (range == NULL || azimuth == NULL || p == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    for (i = 0; i < 4; i++)
+        if (!p_finite(range[i]) || !(range[i] > 0.0f) || !p_finite(azimuth[i]) ||
+            !(azimuth[i] > -4.0f * P_PI && azimuth[i] < 4.0f * P_PI))
+            return ACTAG_ERR_PARAM;
+    if (!p_finite(p->tag_size) || !(p->tag_size > 0.0f) || !p_finite(p->vertical_aperture) ||
+        !(p->vertical_aperture > 0.0f) || !(p->vertical_aperture < P_PI) ||
+        !p_finite(p->extent) || !(p->extent >= 1.0f) || !p_finite(p->range_sd) ||
+        !(p->range_sd > 0.0f) || !p_finite(p->azimuth_sd) || !(p->azimuth_sd > 0.0f) ||
+        p->max_iterations < 1 || p->max_iterations > 100)
+        return ACTAG_ERR_PARAM;
+    for (i = 0; i < (int)sizeof *out; i++)
+        ((unsigned char *)out)[i] = 0;
+    for (i = 0; i < 4; i++) {
+        m.r[i] = range[i];
+        m.az[i] = azimuth[i];
+    }
+    m.s = p->tag_size;
+    m.E = p->extent;
+    m.half_v = 0.5f * p->vertical_aperture;
+    m.sr = p->range_sd;
+    m.sa = p->azimuth_sd;
+
+    /* start on the horizontal plane for the band, then from 5 elevations
+     * across it (the cost along the elevation arcs is flat and can have
+     * two minima); the best fit goes on */
+    p_start(&m, 0.0f, &x, &winding);
+    p_band(&m, &x, &lo, &hi);
+    p_set_prior(&m, lo, hi);
+    if (!(hi > lo))
+        out->flags |= ACTAG_POSE_ELEVATION; /* the corners' own tilt: taller than the fan */
+    {
+        float best = 3.0e38f, f0[P_NRES];
+        p_state x0 = x;
+        int k;
+        for (k = 0; k < P_STARTS; k++) {
+            p_state y;
+            float cy, e = m.mu + m.sp * 1.73205081f * ((float)k / (float)(P_STARTS - 1) * 2.0f - 1.0f);
+            p_start(&m, e, &y, &winding);
+            it = p_lm(&m, &y, p->max_iterations);
+            total += it > 0 ? it : -it;
+            cy = p_eval(&m, &y, f0, NULL);
+            if (cy < best) {
+                best = cy;
+                x0 = y;
+            }
+        }
+        x = x0;
+    }
+    {
+        float sd[2], rbar = 0.0f, sigma_pt, area_sd;
+        for (i = 0; i < 4; i++)
+            rbar += 0.25f * range[i];
+        /* image area noise: about s * sqrt(2) * the corner's position sd */
+        sd[0] = p->range_sd;
+        sd[1] = rbar * p->azimuth_sd;
+        sigma_pt = sqrtf(sd[0] * sd[0] + sd[1] * sd[1]);
+        area_sd = p->tag_size * 1.41421356f * sigma_pt;
+        if ((winding < 0.0f ? -winding : winding) < 2.0f * area_sd)
+            out->flags |= ACTAG_POSE_DEGENERATE;
+        else if ((winding > 0.0f) != (mirrored != 0))
+            out->flags |= ACTAG_POSE_MIRROR_CONFLICT;
+    }
+    for (pass = 0; pass < P_PASSES; pass++) {
+        float mu0 = m.mu;
+        p_band(&m, &x, &lo, &hi);
+        p_set_prior(&m, lo, hi);
+        it = p_lm(&m, &x, p->max_iterations);
+        converged = it > 0;
+        total += it > 0 ? it : -it;
+        p_band(&m, &x, &lo, &hi);
+        {
+            float dm = 0.5f * (lo + hi) - mu0;
+            if (converged && (dm < 0.0f ? -dm : dm) < 1e-4f)
+                break;
+        }
+    }
+    if (!converged)
+        out->flags |= ACTAG_POSE_NOT_CONVERGED;
+    /* covariance: (J^T J)^-1 at the solution (prior as last fitted), from
+     * the QR factor: (R^T R)^-1 = R^-1 R^-T, columns rescaled */
+    p_eval(&m, &x, f, J);
+    {
+        float A[P_NRES * P_NPAR], b[P_NRES], d[P_NPAR], sc[P_NPAR], Ri[36];
+        for (i = 0; i < P_NRES * P_NPAR; i++)
+            A[i] = J[i];
+        for (i = 0; i < P_NRES; i++)
+            b[i] = 0.0f;
+        if (p_lsq(A, b, P_NRES, d, sc) != 0) {
+            out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
+        } else {
+            int k;
+            for (i = 0; i < 36; i++)
+                Ri[i] = 0.0f;
+            for (j = 0; j < P_NPAR; j++) { /* column j of R^-1 */
+                Ri[j * P_NPAR + j] = 1.0f / A[j * P_NPAR + j];
+                for (i = j - 1; i >= 0; i--) {
+                    float v = 0.0f;
+                    for (k = i + 1; k <= j; k++)
+                        v += A[i * P_NPAR + k] * Ri[k * P_NPAR + j];
+                    Ri[i * P_NPAR + j] = -v / A[i * P_NPAR + i];
+                }
+            }
+            for (i = 0; i < P_NPAR; i++)
+                for (j = 0; j < P_NPAR; j++) {
+                    float v = 0.0f;
+                    for (k = (i > j ? i : j); k < P_NPAR; k++)
+                        v += Ri[i * P_NPAR + k] * Ri[j * P_NPAR + k];
+                    out->cov[i * P_NPAR + j] = v * sc[i] * sc[j];
+                }
+        }
+    }
+    for (i = 0; i < 9; i++)
+        out->R[i] = x.R[i];
+    for (i = 0; i < 3; i++)
+        out->t[i] = x.t[i];
+    out->range = norm3(x.t);
+    out->azimuth = p_atan2(x.t[1], x.t[0]);
+    out->elevation = p_elev(x.t);
+    out->elevation_lo = lo;
+    out->elevation_hi = hi;
+    out->iterations = total;
+    out->chi2 = 0.0f;
+    for (i = 0; i < 8; i++)
+        out->chi2 += f[i] * f[i];
+    for (i = 0; i < 4; i++) {
+        float dr = f[2 * i] * m.sr, da = f[2 * i + 1] * m.sa * range[i];
+        res2 += dr * dr + da * da;
+    }
+    out->residual = sqrtf(0.25f * res2);
+    if (!(hi > lo) || out->elevation < lo - 2.0f * m.sp || out->elevation > hi + 2.0f * m.sp)
+        out->flags |= ACTAG_POSE_ELEVATION;
+    return ACTAG_OK;
+}
+
+int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
+                              actag_pose *out)
+{
+    if (d == NULL)
+        return ACTAG_ERR_NULL;
+    return actag_pose_estimate(d->range, d->azimuth, d->mirrored, p, out);
+}
+
+int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pose *out)
+{
+    /* sensor = C optical: x = z_opt, y = -x_opt, z = -y_opt */
+    static const float Cm[9] = {0.0f, 0.0f, 1.0f, -1.0f, 0.0f, 0.0f, 0.0f, -1.0f, 0.0f};
+    int i;
+    if (R_opt == NULL || t_opt == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    for (i = 0; i < 9; i++)
+        if (!p_finite(R_opt[i]))
+            return ACTAG_ERR_PARAM;
+    for (i = 0; i < 3; i++)
+        if (!p_finite(t_opt[i]))
+            return ACTAG_ERR_PARAM;
+    for (i = 0; i < (int)sizeof *out; i++)
+        ((unsigned char *)out)[i] = 0;
+    mat_mul(Cm, R_opt, out->R);
+    mat_vec(Cm, t_opt, out->t);
+    out->range = norm3(out->t);
+    out->azimuth = p_atan2(out->t[1], out->t[0]);
+    out->elevation = p_elev(out->t);
+    out->flags = ACTAG_POSE_NO_COVARIANCE;
+    return ACTAG_OK;
+}

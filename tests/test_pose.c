@@ -1,0 +1,596 @@
+/* Sonar pose (pose.h): exact synthetic corners, brute-force optimality,
+ * degenerate and out-of-aperture geometry, mirror flag, covariance
+ * consistency, camera frame conversion, errors, determinism. */
+#include "unity.h"
+#include "test_util.h"
+
+#include "actag/pose.h"
+
+#include <math.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+#define S 0.130628571f /* tag size, m */
+#define DEG (3.14159265358979 / 180.0)
+
+static double urand(void) { return (double)tu_rand() / 4294967296.0; }
+static double urange(double lo, double hi) { return lo + (hi - lo) * urand(); }
+static double gauss(void)
+{
+    double u1 = (tu_rand() + 0.5) / 4294967296.0;
+    double u2 = (tu_rand() + 0.5) / 4294967296.0;
+    return sqrt(-2.0 * log(u1)) * cos(2.0 * 3.14159265358979 * u2);
+}
+
+typedef struct {
+    double R[9], t[3];
+} tpose;
+
+static void cross(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static void unit(double *v)
+{
+    double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    v[0] /= n;
+    v[1] /= n;
+    v[2] /= n;
+}
+
+/* A tag at (d, az, el) whose face normal makes angle inc with the line of
+ * sight toward the sonar, tilted about it by phi, turned about its normal by
+ * psi. */
+static void make_pose(double d, double az, double el, double inc, double phi, double psi,
+                      tpose *P)
+{
+    double p[3], a[3], b[3], z[3], x[3], y[3], h[3] = {0.0, 0.0, 1.0};
+    int i;
+    p[0] = cos(el) * cos(az);
+    p[1] = cos(el) * sin(az);
+    p[2] = sin(el);
+    cross(p, h, a);
+    unit(a);
+    cross(a, p, b);
+    /* z into the tag: away from the sonar, tilted by inc toward a cos phi + b sin phi */
+    for (i = 0; i < 3; i++)
+        z[i] = cos(inc) * p[i] + sin(inc) * (cos(phi) * a[i] + sin(phi) * b[i]);
+    unit(z);
+    /* x: any perpendicular, turned by psi */
+    cross(z, h, a);
+    unit(a);
+    cross(z, a, b);
+    for (i = 0; i < 3; i++)
+        x[i] = cos(psi) * a[i] + sin(psi) * b[i];
+    cross(z, x, y);
+    for (i = 0; i < 3; i++) {
+        P->R[3 * i] = x[i];
+        P->R[3 * i + 1] = y[i];
+        P->R[3 * i + 2] = z[i];
+        P->t[i] = d * p[i];
+    }
+}
+
+/* Exact corners (tag order) and the mirrored flag from the image winding
+ * (as the simulator's truth: negative area in (azimuth, range) = mirrored). */
+static int corners_of(const tpose *P, double s, float r[4], float az[4])
+{
+    static const double cx[4] = {-0.5, 0.5, 0.5, -0.5}, cy[4] = {-0.5, -0.5, 0.5, 0.5};
+    double rr[4], aa[4], area = 0.0;
+    int i, j;
+    for (i = 0; i < 4; i++) {
+        double q[3];
+        for (j = 0; j < 3; j++)
+            q[j] = P->R[3 * j] * cx[i] * s + P->R[3 * j + 1] * cy[i] * s + P->t[j];
+        rr[i] = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+        aa[i] = atan2(q[1], q[0]);
+        r[i] = (float)rr[i];
+        az[i] = (float)aa[i];
+    }
+    for (i = 0; i < 4; i++) {
+        j = (i + 1) & 3;
+        area += aa[i] * rr[j] - aa[j] * rr[i];
+    }
+    return area < 0.0;
+}
+
+static double pos_err(const tpose *P, const actag_pose *E)
+{
+    double d0 = P->t[0] - E->t[0], d1 = P->t[1] - E->t[1], d2 = P->t[2] - E->t[2];
+    return sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+}
+
+static double rot_err(const tpose *P, const actag_pose *E)
+{
+    float Rt[9];
+    int i;
+    for (i = 0; i < 9; i++)
+        Rt[i] = (float)P->R[i];
+    return actag_pose_angle(Rt, E->R);
+}
+
+/* Random view as in the paper's protocol, close enough that exact corners
+ * fix the elevation (far tags: its sign is nearly free, see pose.h). */
+static void random_view(tpose *P, double dmin, double dmax)
+{
+    double el = urange(1.0, 5.0) * DEG * (tu_rand() & 1u ? 1.0 : -1.0);
+    make_pose(urange(dmin, dmax), urange(-0.45, 0.45), el, urange(30.0, 75.0) * DEG,
+              urange(0.0, 2.0 * 3.14159265358979), urange(0.0, 2.0 * 3.14159265358979), P);
+}
+
+static void test_exact_corners_recover_the_pose(void)
+{
+    actag_pose_params pp;
+    int t, within = 0, n = 200;
+    double worst_p = 0.0, worst_r = 0.0;
+    actag_family fam;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    /* exact corners: tiny noise, and an aperture wide enough that the
+     * elevation band does not pull the fit */
+    actag_pose_params_default(&pp, &fam, S, (float)(150.0 * DEG));
+    pp.range_sd = 1e-5f;
+    pp.azimuth_sd = 1e-6f;
+    pp.max_iterations = 60;
+    tu_seed(11);
+    for (t = 0; t < n; t++) {
+        tpose P;
+        actag_pose E;
+        float r[4], az[4];
+        double ep, er;
+        int mir;
+        random_view(&P, 0.5, 1.5);
+        mir = corners_of(&P, S, r, az);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+        TEST_ASSERT_EQUAL_UINT(0u, E.flags & (ACTAG_POSE_MIRROR_CONFLICT | ACTAG_POSE_DEGENERATE));
+        ep = pos_err(&P, &E);
+        er = rot_err(&P, &E);
+        if (ep <= 1e-3 && er <= 1e-3)
+            within++;
+        if (ep > worst_p)
+            worst_p = ep;
+        if (er > worst_r)
+            worst_r = er;
+    }
+    printf("exact corners, 0.5-1.5 m: %d/%d within 1e-3 m and 1e-3 rad (worst %.2g m, %.2g rad)\n",
+           within, n, worst_p, worst_r);
+    TEST_ASSERT_TRUE(within >= n * 97 / 100);
+    TEST_ASSERT_TRUE(worst_p < 0.05 && worst_r < 0.05);
+}
+
+/* Every point of the square of side w centred on the tag within +-half of elevation. */
+static int outline_in_fan(const tpose *P, double w, double half)
+{
+    int i, j, k;
+    for (i = 0; i <= 8; i++)
+        for (j = 0; j <= 8; j++) {
+            double q[3], u = (i / 8.0 - 0.5) * w, v = (j / 8.0 - 0.5) * w, n;
+            for (k = 0; k < 3; k++)
+                q[k] = P->R[3 * k] * u + P->R[3 * k + 1] * v + P->t[k];
+            n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+            if (fabs(asin(q[2] / n)) > half)
+                return 0;
+        }
+    return 1;
+}
+
+/* The same at the paper's 12 degree aperture: the band prior keeps the
+ * elevation inside the band; position within the band's size, orientation
+ * close. */
+static void test_exact_corners_with_the_aperture_prior(void)
+{
+    actag_pose_params pp;
+    actag_family fam;
+    int t, n = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    actag_pose_params_default(&pp, &fam, S, (float)(12.0 * DEG));
+    tu_seed(12);
+    for (t = 0; t < 300; t++) {
+        tpose P;
+        actag_pose E;
+        float r[4], az[4];
+        double d = urange(1.0, 5.0);
+        int mir;
+        make_pose(d, urange(-0.45, 0.45), urange(-1.5, 1.5) * DEG, urange(30.0, 75.0) * DEG,
+                  urange(0.0, 6.283), urange(0.0, 6.283), &P);
+        if (!outline_in_fan(&P, 7.0 / 3.0 * S, 6.0 * DEG))
+            continue; /* the sonar would not show the whole tag */
+        n++;
+        mir = corners_of(&P, S, r, az);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+        TEST_ASSERT_TRUE(E.elevation_lo < E.elevation_hi);
+        TEST_ASSERT_TRUE(E.elevation >= E.elevation_lo - 1e-3f &&
+                         E.elevation <= E.elevation_hi + 1e-3f);
+        /* the range and azimuth of the centre are exact; elevation within the band */
+        TEST_ASSERT_FLOAT_WITHIN(2e-3f, (float)d, E.range);
+        TEST_ASSERT_TRUE(pos_err(&P, &E) <= d * (double)(E.elevation_hi - E.elevation_lo) + 2e-3);
+        TEST_ASSERT_TRUE(rot_err(&P, &E) < 8.0 * DEG);
+    }
+    TEST_ASSERT_TRUE(n > 150);
+}
+
+/* Brute force: with noisy corners the estimate is a minimum of the
+ * objective: no pose among the truth and 2,000 random perturbations of the
+ * estimate fits the corners better (wide aperture: the prior is nil; to
+ * 0.01 in chi2). */
+static double chi2_of(const double *R, const double *t, const float *r, const float *az, double sr,
+                      double sa)
+{
+    static const double cx[4] = {-0.5, 0.5, 0.5, -0.5}, cy[4] = {-0.5, -0.5, 0.5, 0.5};
+    double c = 0.0;
+    int i, j;
+    for (i = 0; i < 4; i++) {
+        double q[3], rr, aa, da;
+        for (j = 0; j < 3; j++)
+            q[j] = R[3 * j] * cx[i] * S + R[3 * j + 1] * cy[i] * S + t[j];
+        rr = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+        aa = atan2(q[1], q[0]);
+        da = aa - az[i];
+        c += (rr - r[i]) * (rr - r[i]) / (sr * sr) + da * da / (sa * sa);
+    }
+    return c;
+}
+
+static void rodrigues(const double *w, double *R)
+{
+    double th = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]), k[3], s, c, v;
+    int i, j;
+    if (th < 1e-15) {
+        for (i = 0; i < 9; i++)
+            R[i] = (i % 4 == 0);
+        return;
+    }
+    for (i = 0; i < 3; i++)
+        k[i] = w[i] / th;
+    s = sin(th);
+    c = cos(th);
+    v = 1.0 - c;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            R[3 * i + j] = (i == j ? c : 0.0) + v * k[i] * k[j];
+    R[1] -= s * k[2];
+    R[2] += s * k[1];
+    R[3] += s * k[2];
+    R[5] -= s * k[0];
+    R[6] -= s * k[1];
+    R[7] += s * k[0];
+}
+
+static void test_noisy_estimate_is_a_minimum_brute_force(void)
+{
+    actag_pose_params pp;
+    int t, k;
+    actag_pose_params_default(&pp, NULL, S, (float)(150.0 * DEG));
+    tu_seed(13);
+    for (t = 0; t < 40; t++) {
+        tpose P;
+        actag_pose E;
+        float r[4], az[4];
+        double Re[9], te[3], ce, ct;
+        int i, mir;
+        random_view(&P, 0.7, 3.0);
+        mir = corners_of(&P, S, r, az);
+        for (i = 0; i < 4; i++) {
+            double g1 = gauss(), g2 = gauss(); /* one draw per statement */
+            r[i] += (float)(0.3 * ACTAG_POSE_RANGE_SD * g1);
+            az[i] += (float)(0.3 * ACTAG_POSE_AZIMUTH_SD * g2);
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+        if (E.flags & ACTAG_POSE_DEGENERATE)
+            continue;
+        for (i = 0; i < 9; i++)
+            Re[i] = E.R[i];
+        for (i = 0; i < 3; i++)
+            te[i] = E.t[i];
+        ce = chi2_of(Re, te, r, az, pp.range_sd, pp.azimuth_sd);
+        TEST_ASSERT_FLOAT_WITHIN(1e-2f * (float)(ce + 1.0), (float)ce, E.chi2);
+        ct = chi2_of(P.R, P.t, r, az, pp.range_sd, pp.azimuth_sd);
+        TEST_ASSERT_TRUE(ce <= ct * 1.001 + 1e-3);
+        for (k = 0; k < 2000; k++) {
+            double w[3], dR[9], R2[9], t2[3], scale = k < 1000 ? 1e-3 : 2e-2;
+            int a, b;
+            for (i = 0; i < 3; i++) {
+                double g1 = gauss();
+                w[i] = scale * g1;
+            }
+            for (i = 0; i < 3; i++) {
+                double g1 = gauss();
+                t2[i] = te[i] + 0.2 * scale * g1;
+            }
+            rodrigues(w, dR);
+            for (a = 0; a < 3; a++)
+                for (b = 0; b < 3; b++)
+                    R2[3 * a + b] = dR[3 * a] * Re[b] + dR[3 * a + 1] * Re[3 + b] +
+                                    dR[3 * a + 2] * Re[6 + b];
+            /* float precision along the flat elevation valley: 0.01 in chi2
+             * (a hundredth of one corner sd squared) */
+            TEST_ASSERT_TRUE(chi2_of(R2, t2, r, az, pp.range_sd, pp.azimuth_sd) >= ce - 1e-2);
+        }
+    }
+}
+
+static void test_degenerate_geometry_is_flagged(void)
+{
+    actag_pose_params pp;
+    actag_pose E;
+    tpose P;
+    float r[4], az[4];
+    int mir;
+    actag_pose_params_default(&pp, NULL, S, (float)(12.0 * DEG));
+    /* facing the sonar head-on: all corners at one range */
+    make_pose(2.0, 0.1, 0.0, 0.0, 0.0, 0.3, &P);
+    mir = corners_of(&P, S, r, az);
+    TEST_ASSERT_FLOAT_WITHIN(2e-3f, r[0], r[2]);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+    TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_DEGENERATE);
+    /* edge-on: the tag's plane holds the line of sight and the elevation
+     * direction, all corners at one azimuth */
+    make_pose(2.0, -0.2, 0.0, 89.99 * DEG, 0.0, 0.0, &P);
+    mir = corners_of(&P, S, r, az);
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, az[0], az[1]);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+    TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_DEGENERATE);
+    /* a plain view is not */
+    make_pose(2.0, 0.1, 2.0 * DEG, 60.0 * DEG, 1.5707963, 0.4, &P);
+    mir = corners_of(&P, S, r, az);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+    TEST_ASSERT_EQUAL_UINT(0u, E.flags);
+}
+
+static void test_elevation_outside_the_aperture_is_flagged(void)
+{
+    actag_pose_params pp;
+    actag_pose E;
+    tpose P;
+    float r[4], az[4];
+    int mir;
+    actag_family fam;
+    /* a close tag whose face (7/3 tag sizes) spans ~27 degrees of elevation, 12 degree fan */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    actag_pose_params_default(&pp, &fam, S, (float)(12.0 * DEG));
+    make_pose(0.5, 0.0, 0.0, 40.0 * DEG, 1.5707963, 0.0, &P);
+    mir = corners_of(&P, S, r, az);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+    TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_ELEVATION);
+    TEST_ASSERT_TRUE(E.elevation_lo > E.elevation_hi);
+    /* the same with a 40 degree fan fits */
+    actag_pose_params_default(&pp, &fam, S, (float)(40.0 * DEG));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+    TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_ELEVATION);
+}
+
+/* The mirrored flag is the sign of the face's tilt out of the fan plane:
+ * unmirrored = face normal toward +elevation (a seabed tag under an upright
+ * sonar); the wrong flag is reported. */
+static void test_mirror_flag_is_the_tilt_sign(void)
+{
+    actag_pose_params pp;
+    actag_pose E;
+    int t, degenerate = 0;
+    actag_pose_params_default(&pp, NULL, S, (float)(12.0 * DEG));
+    tu_seed(14);
+    for (t = 0; t < 200; t++) {
+        tpose P;
+        float r[4], az[4];
+        int mir;
+        double up;
+        random_view(&P, 0.5, 4.0);
+        mir = corners_of(&P, S, r, az);
+        {
+            /* elevation direction at the tag centre, dotted with the face normal (-z) */
+            double d = sqrt(P.t[0] * P.t[0] + P.t[1] * P.t[1] + P.t[2] * P.t[2]);
+            double rho = sqrt(P.t[0] * P.t[0] + P.t[1] * P.t[1]);
+            double e[3];
+            e[0] = -P.t[2] * P.t[0] / (d * rho);
+            e[1] = -P.t[2] * P.t[1] / (d * rho);
+            e[2] = rho / d;
+            up = -(e[0] * P.R[2] + e[1] * P.R[5] + e[2] * P.R[8]);
+        }
+        TEST_ASSERT_EQUAL_INT(up < 0.0, mir);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+        TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_MIRROR_CONFLICT);
+        degenerate += (E.flags & ACTAG_POSE_DEGENERATE) != 0;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, !mir, &pp, &E));
+        /* a nearly flat image has no reliable winding: then no conflict */
+        TEST_ASSERT_TRUE((E.flags & ACTAG_POSE_MIRROR_CONFLICT) || (E.flags & ACTAG_POSE_DEGENERATE));
+        TEST_ASSERT_FALSE((E.flags & ACTAG_POSE_MIRROR_CONFLICT) && (E.flags & ACTAG_POSE_DEGENERATE));
+    }
+}
+
+/* With corners drawn from the assumed noise, the errors fall inside the
+ * predicted 95 % ellipsoids about as often as they should (the prior band is
+ * uniform, the ellipsoid Gaussian, and the fit is linearised). */
+static void test_covariance_is_consistent(void)
+{
+    actag_pose_params pp;
+    int t, n = 0, in_pos = 0, in_all = 0;
+    actag_pose_params_default(&pp, NULL, S, (float)(12.0 * DEG));
+    tu_seed(15);
+    for (t = 0; t < 400; t++) {
+        tpose P;
+        actag_pose E;
+        float r[4], az[4], w[3], Rt[9];
+        double e[6], A[6][7], x[6], m;
+        int i, j, k, mir;
+        make_pose(urange(0.7, 3.0), urange(-0.45, 0.45), urange(-2.0, 2.0) * DEG,
+                  urange(30.0, 60.0) * DEG, urange(0.0, 6.283), urange(0.0, 6.283), &P);
+        mir = corners_of(&P, S, r, az);
+        for (i = 0; i < 4; i++) {
+            double g1 = gauss(), g2 = gauss();
+            r[i] += (float)(0.5 * ACTAG_POSE_RANGE_SD * g1);
+            az[i] += (float)(0.5 * ACTAG_POSE_AZIMUTH_SD * g2);
+        }
+        pp.range_sd = 0.5f * ACTAG_POSE_RANGE_SD;
+        pp.azimuth_sd = 0.5f * ACTAG_POSE_AZIMUTH_SD;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+        if (E.flags & (ACTAG_POSE_DEGENERATE | ACTAG_POSE_ELEVATION))
+            continue;
+        n++;
+        for (i = 0; i < 9; i++)
+            Rt[i] = (float)P.R[i];
+        actag_pose_rotation_vector(Rt, E.R, w);
+        for (i = 0; i < 3; i++) {
+            e[i] = P.t[i] - E.t[i];
+            e[3 + i] = w[i];
+        }
+        for (k = 0; k < 2; k++) { /* k 0: position (3), k 1: all six */
+            int nn = k ? 6 : 3;
+            for (i = 0; i < nn; i++) {
+                for (j = 0; j < nn; j++)
+                    A[i][j] = E.cov[6 * i + j];
+                A[i][6] = e[i];
+            }
+            for (j = 0; j < nn; j++)
+                for (i = j + 1; i < nn; i++) {
+                    double f = A[i][j] / A[j][j];
+                    int q;
+                    for (q = j; q < nn; q++)
+                        A[i][q] -= f * A[j][q];
+                    A[i][6] -= f * A[j][6];
+                }
+            for (i = nn - 1; i >= 0; i--) {
+                double v = A[i][6];
+                for (j = i + 1; j < nn; j++)
+                    v -= A[i][j] * x[j];
+                x[i] = v / A[i][i];
+            }
+            m = 0.0;
+            for (i = 0; i < nn; i++)
+                m += e[i] * x[i];
+            if (k == 0 && m <= 7.815)
+                in_pos++;
+            if (k == 1 && m <= 12.592)
+                in_all++;
+        }
+        /* symmetric, positive variances */
+        for (i = 0; i < 6; i++) {
+            TEST_ASSERT_TRUE(E.cov[7 * i] > 0.0f);
+            for (j = 0; j < 6; j++)
+                TEST_ASSERT_FLOAT_WITHIN(1e-6f * (E.cov[7 * i] + E.cov[7 * j]) + 1e-12f,
+                                         E.cov[6 * i + j], E.cov[6 * j + i]);
+        }
+    }
+    printf("covariance: %d views, inside the 95 %% ellipsoid: position %.3f, 6-D %.3f\n", n,
+           (double)in_pos / n, (double)in_all / n);
+    TEST_ASSERT_TRUE(n > 300);
+    TEST_ASSERT_TRUE(in_pos >= n * 88 / 100);
+    TEST_ASSERT_TRUE(in_all >= n * 85 / 100);
+}
+
+static void test_camera_pose_in_the_sensor_frame(void)
+{
+    /* a tag 2 m straight ahead of the camera, facing it, printed upright:
+     * optical frame R = I (tag x right, y down, z forward = into the tag) */
+    float Ro[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, to[3] = {0.0f, 0.0f, 2.0f};
+    actag_pose E;
+    int i;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_from_camera(Ro, to, &E));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 2.0f, E.t[0]);
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.0f, E.t[1]);
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.0f, E.t[2]);
+    /* tag z (into the tag) is the sensor's forward, tag x (printed right) is
+     * the sensor's right (-y), tag y (printed down) is down (-z) */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, E.R[2]);   /* R[0][2] */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -1.0f, E.R[3]);  /* R[1][0] */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -1.0f, E.R[7]);  /* R[2][1] */
+    TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_NO_COVARIANCE);
+    /* round trip: a sonar-frame pose, expressed in a co-located camera's
+     * optical frame, comes back identical */
+    {
+        tpose P;
+        float Rs[9], ts[3];
+        static const double C[9] = {0, 0, 1, -1, 0, 0, 0, -1, 0}; /* sensor <- optical */
+        int a, b;
+        make_pose(1.7, 0.2, 0.05, 0.7, 0.3, 1.1, &P);
+        for (a = 0; a < 3; a++) {
+            double v = 0.0;
+            for (b = 0; b < 3; b++) {
+                double m = 0.0;
+                int k;
+                for (k = 0; k < 3; k++)
+                    m += C[3 * k + a] * P.R[3 * k + b]; /* C^T R */
+                Rs[3 * a + b] = (float)m;
+                v += C[3 * b + a] * P.t[b];
+            }
+            ts[a] = (float)v;
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_from_camera(Rs, ts, &E));
+        for (i = 0; i < 9; i++)
+            TEST_ASSERT_FLOAT_WITHIN(1e-6f, (float)P.R[i], E.R[i]);
+        for (i = 0; i < 3; i++)
+            TEST_ASSERT_FLOAT_WITHIN(1e-6f, (float)P.t[i], E.t[i]);
+        TEST_ASSERT_FLOAT_WITHIN(1e-5f, 0.05f, E.elevation);
+        TEST_ASSERT_FLOAT_WITHIN(1e-5f, 0.2f, E.azimuth);
+    }
+    Ro[4] = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_from_camera(Ro, to, &E));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_from_camera(NULL, to, &E));
+}
+
+static void test_errors_and_determinism(void)
+{
+    actag_pose_params pp, bad;
+    actag_pose A, B;
+    actag_detection d;
+    tpose P;
+    float r[4], az[4];
+    int mir, i;
+    actag_pose_params_default(&pp, NULL, S, (float)(12.0 * DEG));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, pp.extent);
+    make_pose(2.0, 0.1, 0.02, 50.0 * DEG, 1.0, 0.4, &P);
+    mir = corners_of(&P, S, r, az);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_estimate(NULL, az, mir, &pp, &A));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_estimate(r, NULL, mir, &pp, &A));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_estimate(r, az, mir, NULL, &A));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_estimate(r, az, mir, &pp, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_from_detection(NULL, &pp, &A));
+    bad = pp; bad.tag_size = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, mir, &bad, &A));
+    bad = pp; bad.vertical_aperture = 3.2f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, mir, &bad, &A));
+    bad = pp; bad.extent = 0.5f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, mir, &bad, &A));
+    bad = pp; bad.range_sd = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, mir, &bad, &A));
+    bad = pp; bad.azimuth_sd = -1.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, mir, &bad, &A));
+    bad = pp; bad.max_iterations = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, mir, &bad, &A));
+    {
+        float r2[4];
+        memcpy(r2, r, sizeof r2);
+        r2[2] = 0.0f;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r2, az, mir, &pp, &A));
+        r2[2] = INFINITY;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r2, az, mir, &pp, &A));
+    }
+    /* identical input, identical output (bit for bit), also via a detection */
+    memset(&d, 0, sizeof d);
+    for (i = 0; i < 4; i++) {
+        d.range[i] = r[i];
+        d.azimuth[i] = az[i];
+    }
+    d.mirrored = mir;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &A));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_from_detection(&d, &pp, &B));
+    TEST_ASSERT_EQUAL_MEMORY(&A, &B, sizeof A);
+    TEST_ASSERT_TRUE(pos_err(&P, &A) < 0.2 && rot_err(&P, &A) < 0.05);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_exact_corners_recover_the_pose);
+    RUN_TEST(test_exact_corners_with_the_aperture_prior);
+    RUN_TEST(test_noisy_estimate_is_a_minimum_brute_force);
+    RUN_TEST(test_degenerate_geometry_is_flagged);
+    RUN_TEST(test_elevation_outside_the_aperture_is_flagged);
+    RUN_TEST(test_mirror_flag_is_the_tilt_sign);
+    RUN_TEST(test_covariance_is_consistent);
+    RUN_TEST(test_camera_pose_in_the_sensor_frame);
+    RUN_TEST(test_errors_and_determinism);
+    return UNITY_END();
+}
