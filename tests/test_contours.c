@@ -421,9 +421,12 @@ static void test_random_images(void)
     for (it = 0; it < 6000; it++) {
         int rows = tu_range(1, it < 1500 ? 6 : 40), cols = tu_range(1, it < 1500 ? 6 : 40);
         timg t = timg_new(rows, cols, tu_range(0, 3) ? 0 : tu_range(1, 9));
-        if (it % 3 == 2)
-            fill_blobby(&t, tu_range(1, 2), tu_range(400, 600));
-        else
+        if (it % 3 == 2) {
+            /* one draw per declarator: a fixed order (the x86-64 build's
+             * order when they were call arguments: the last one first) */
+            int pm = tu_range(400, 600), nb = tu_range(1, 2);
+            fill_blobby(&t, nb, pm);
+        } else
             fill_random(&t, tu_range(0, 1000));
         total += check_image(&t);
         free(t.px);
@@ -436,11 +439,16 @@ static void test_larger_images(void)
     int it;
     tu_seed(777);
     for (it = 0; it < 30; it++) {
-        timg t = timg_new(tu_range(100, 200), tu_range(100, 200), it & 1 ? 13 : 0);
-        if (it % 3 == 0)
+        /* one draw per declarator: a fixed order (the x86-64 build's order
+         * when they were call arguments: the last one first) */
+        int cols = tu_range(100, 200), rows = tu_range(100, 200);
+        timg t = timg_new(rows, cols, it & 1 ? 13 : 0);
+        if (it % 3 == 0) {
             fill_random(&t, tu_range(300, 700));
-        else
-            fill_blobby(&t, tu_range(1, 4), tu_range(420, 580));
+        } else {
+            int pm = tu_range(420, 580), nb = tu_range(1, 4);
+            fill_blobby(&t, nb, pm);
+        }
         TEST_ASSERT_GREATER_THAN(0, check_image(&t));
         free(t.px);
     }

@@ -815,8 +815,12 @@ static void setup_case(render_case *rc, int k, int rot, int mirror, int warp, in
     rc->cols = (int)(1.9 * ext) + tu_range(4, 20);
     rc->rows = (int)(1.9 * ext) + tu_range(4, 20);
     rc->stride = rc->cols + (tu_range(0, 2) == 0 ? tu_range(1, 13) : 0);
-    make_transform(k, cs, rot, mirror, rc->cols / 2.0 + frand(-3, 3), rc->rows / 2.0 + frand(-3, 3),
-                   W, rc->T);
+    {
+        /* one draw per declarator, so in a fixed order (the order the x86-64
+         * build used when they were call arguments: the last one first) */
+        double oy = rc->rows / 2.0 + frand(-3, 3), ox = rc->cols / 2.0 + frand(-3, 3);
+        make_transform(k, cs, rot, mirror, ox, oy, W, rc->T);
+    }
     for (n = 0; n < 4; n++) {
         double gu = (n == 1 || n == 2) ? k - 1 : 2, gv = n >= 2 ? k - 1 : 2;
         m3_apply(rc->T, gu, gv, &x, &y);

@@ -20,8 +20,17 @@ static unsigned char g_scratch[ACTAG_QUAD_SCRATCH_SIZE(MAXP)];
 /* ------------------------------------------------------------ helpers */
 
 static double urand(void) { return (double)tu_rand() / 4294967296.0; }
-/* Roughly Gaussian, unit variance (sum of 4 uniforms). */
-static double nrand(void) { return (urand() + urand() + urand() + urand() - 2.0) * 1.7320508; }
+/* Roughly Gaussian, unit variance (sum of 4 uniforms). The draws are summed
+ * one statement at a time: operands of + are evaluated in an unspecified
+ * order, and a different order would change the sum's rounding. */
+static double nrand(void)
+{
+    double s = urand();
+    s += urand();
+    s += urand();
+    s += urand();
+    return (s - 2.0) * 1.7320508;
+}
 
 static short clamp16(double v)
 {
@@ -73,7 +82,8 @@ static int make_contour(const double *cx, const double *cy, double sigma, double
             double off = sigma * nrand();
             tside[n] = s;
             if (urand() < outlier_frac && min_len >= 20.0) {
-                off += (urand() < 0.5 ? -1.0 : 1.0) * (5.0 + 3.0 * urand());
+                double sign = urand() < 0.5 ? -1.0 : 1.0; /* two draws, in this order */
+                off += sign * (5.0 + 3.0 * urand());
                 tside[n] = -1;
             }
             tmp[n].x = clamp16(px + off * nx);
@@ -792,7 +802,12 @@ static void test_random_blobs_rejected(void)
             amp[k] = 0.06 + 0.12 * urand();
             ph[k] = 6.283 * urand();
         }
-        raster_blob(128.0 + urand(), 128.0 + urand(), 25.0 + 30.0 * urand(), amp, ph, harm, 3);
+        {
+            /* one draw per declarator: a fixed order (the x86-64 build's
+             * order when they were call arguments: the last one first) */
+            double br = 25.0 + 30.0 * urand(), by = 128.0 + urand(), bx = 128.0 + urand();
+            raster_blob(bx, by, br, amp, ph, harm, 3);
+        }
         n = trace(g_pts, MAXP);
         TEST_ASSERT_GREATER_THAN(80, n);
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_QUAD, fit(g_pts, n, &p, (uint32_t)t, &q));
