@@ -22,6 +22,7 @@ static const rgb_t C_BIT0 = {40, 120, 255};
 static const rgb_t C_LABEL = {0, 255, 255};
 static const rgb_t C_REJ_QUAD = {255, 140, 0};
 static const rgb_t C_REJ_SEARCH = {255, 0, 220};
+static const rgb_t C_REJ_GUESS = {90, 200, 255};
 static const rgb_t C_TEXT = {230, 230, 230};
 static const rgb_t C_GRID = {90, 160, 200};
 static const rgb_t C_BG = {16, 20, 32};
@@ -389,7 +390,10 @@ static void draw_rejected(canvas *cv, const view *vw, const pic_trace *t)
         const pic_candidate *c = &t->cand[i];
         if (c->outcome == ACTAG_TRACE_ACCEPTED)
             continue;
-        view_quad(cv, vw, c->quad, c->kind == ACTAG_TRACE_SEARCH ? C_REJ_SEARCH : C_REJ_QUAD,
+        view_quad(cv, vw, c->quad,
+                  c->kind == ACTAG_TRACE_SEARCH  ? C_REJ_SEARCH
+                  : c->kind == ACTAG_TRACE_GUESS ? C_REJ_GUESS
+                                                 : C_REJ_QUAD,
                   REJECTED_ALPHA);
     }
 }
@@ -510,7 +514,7 @@ int pic_overlay(const char *path, const pic_frame *f, int show_rejected, char *e
     canvas cv;
     view pv, fv;
     item it[MAX_ITEMS];
-    int n = 0, i, w, h, legend_h, nrej = 0, nrej_search = 0;
+    int n = 0, i, w, h, legend_h, nrej = 0, nrej_search = 0, nrej_guess = 0;
     char buf[160];
 
     if (fan_setup(&fn, f, f->rows) != 0) {
@@ -523,6 +527,7 @@ int pic_overlay(const char *path, const pic_frame *f, int show_rejected, char *e
             if (f->trace->cand[i].outcome != ACTAG_TRACE_ACCEPTED) {
                 nrej++;
                 nrej_search += f->trace->cand[i].kind == ACTAG_TRACE_SEARCH;
+                nrej_guess += f->trace->cand[i].kind == ACTAG_TRACE_GUESS;
             }
 
     /* the legend */
@@ -535,10 +540,12 @@ int pic_overlay(const char *path, const pic_frame *f, int show_rejected, char *e
     it[n++] = mk(2, C_BIT1, 0, "BIT READ 1");
     it[n++] = mk(2, C_BIT0, 0, "BIT READ 0");
     if (show_rejected) {
-        snprintf(buf, sizeof buf, "REJECTED QUAD (%d)", nrej - nrej_search);
+        snprintf(buf, sizeof buf, "REJECTED QUAD (%d)", nrej - nrej_search - nrej_guess);
         it[n++] = mk(3, C_REJ_QUAD, 0, buf);
         snprintf(buf, sizeof buf, "REJECTED SEARCH BOX (%d)", nrej_search);
         it[n++] = mk(3, C_REJ_SEARCH, 0, buf);
+        snprintf(buf, sizeof buf, "REJECTED GRID GUESS (%d)", nrej_guess);
+        it[n++] = mk(3, C_REJ_GUESS, 0, buf);
     }
     for (i = 0; i < f->ndet && n < MAX_ITEMS - 1; i++) {
         const actag_detection *d = &f->det[i];
@@ -757,13 +764,14 @@ static int stage_contours(const char *dir, const char *stem, const pic_frame *f,
 static int stage_quads(const char *dir, const char *stem, const pic_frame *f, char *err)
 {
     canvas cv;
-    item it[5];
+    item it[6];
     int n = 0, r, c, i;
     view vw;
     it[n++] = mk(1, C_GREEN, 0, "DECODED");
     it[n++] = mk(1, C_RED, 0, "SIDES");
     it[n++] = mk(1, C_ORANGE, 0, "NO CODE");
     it[n++] = mk(1, C_VIOLET, 0, "STRUCTURE");
+    it[n++] = mk(3, C_TEXT, 1, "FAINT: GRID GUESS FROM A CONTOUR'S EXTREME POINTS");
     if (colour_stage(&cv, f, it, n) != 0) {
         oom(err, dir, stem);
         return -1;
@@ -782,9 +790,9 @@ static int stage_quads(const char *dir, const char *stem, const pic_frame *f, ch
                         : q->outcome == ACTAG_TRACE_SIDES  ? C_RED
                         : q->outcome == ACTAG_TRACE_NO_MATCH ? C_ORANGE
                                                              : C_VIOLET;
-            if (q->kind != ACTAG_TRACE_QUAD)
+            if (q->kind == ACTAG_TRACE_SEARCH)
                 continue;
-            view_quad(&cv, &vw, q->quad, col, 1.0f);
+            view_quad(&cv, &vw, q->quad, col, q->kind == ACTAG_TRACE_GUESS ? 0.5f : 1.0f);
         }
     return finish_stage(&cv, f, it, n, dir, stem, "6-quads", err);
 }

@@ -23,8 +23,9 @@
  *            reference's column 0 side), range arcs and bearing lines;
  *     bottom a legend: the colour key and, per tag, ID, hamming, decision
  *            margin, mirrored flag and its centre's range and azimuth.
- *     With show_rejected, the rejected candidates (quads and structure-search
- *     boxes that did not become detections) are drawn faintly in both views.
+ *     With show_rejected, the rejected candidates (quads, structure-search
+ *     boxes and contour grid guesses that did not become detections) are
+ *     drawn faintly in both views.
  *
  *   pic_stages(dir, stem, frame, err) writes every stage of the pipeline as
  *   DIR/STEM-N-NAME.EXT:
@@ -38,7 +39,9 @@
  *     5-contours.ppm  every outer border: yellow passed the size filter,
  *                     red too small/large, magenta too long to store
  *     6-quads.ppm     every RANSAC quad: green decoded, red sides implausible,
- *                     orange no code, violet failed the structure/margin check
+ *                     orange no code, violet failed the structure/margin check;
+ *                     the grid guesses from contours' extreme points likewise,
+ *                     faintly
  *     7-decoded.ppm   each detection's cell grid through its corners: cells
  *                     filled with the decoded code's value (white 1, black 0),
  *                     ringed green where the binary frame agrees, red where
@@ -58,7 +61,7 @@
 #include <stddef.h>
 
 typedef struct pic_candidate {
-    int kind, outcome;   /* ACTAG_TRACE_SEARCH or _QUAD; ACTAG_TRACE_* */
+    int kind, outcome;   /* ACTAG_TRACE_SEARCH, _QUAD or _GUESS; ACTAG_TRACE_* */
     actag_point quad[4]; /* as examined (image pixels) */
     int id;              /* decoded ID, or -1 */
 } pic_candidate;

@@ -692,12 +692,22 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                               ? params->search_max_corrections
                               : params->max_bit_corrections;
                 if (extreme_quad(pts, ci.stored, gq)) {
+                    int verdict;
                     nguess++;
-                    if (decode_fit(w.b, rows, cols, gq, params, lim, ACTAG_FIT_WIDE, &dr) ==
-                            ACTAG_OK &&
-                        dr.decision_margin >= params->search_min_margin &&
-                        structure_ok(&dr, params, lim) &&
-                        sides_plausible(dr.fit_corners, geometry, params, rows, cols)) {
+                    if (decode_fit(w.b, rows, cols, gq, params, lim, ACTAG_FIT_WIDE, &dr) !=
+                        ACTAG_OK)
+                        verdict = ACTAG_TRACE_NO_MATCH;
+                    else if (!(dr.decision_margin >= params->search_min_margin))
+                        verdict = ACTAG_TRACE_MARGIN;
+                    else if (!structure_ok(&dr, params, lim))
+                        verdict = ACTAG_TRACE_STRUCTURE;
+                    else if (!sides_plausible(dr.fit_corners, geometry, params, rows, cols))
+                        verdict = ACTAG_TRACE_SIDES;
+                    else
+                        verdict = ACTAG_TRACE_ACCEPTED;
+                    trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
+                               verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
+                    if (verdict == ACTAG_TRACE_ACCEPTED) {
                         actag_detection d;
                         st.decoded++;
                         fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols,

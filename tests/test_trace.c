@@ -17,7 +17,7 @@ static uint8_t g_ws2[ACTAG_WORKSPACE_SIZE(MAXR, MAXC)];
 
 #define MAX_ACC 4096
 typedef struct {
-    int kind_count[4];    /* by kind */
+    int kind_count[5];    /* by kind */
     int contour_accepted; /* contours that passed the size filter */
     int contour_overflow;
     int accepted;         /* quads and search positions that decoded and went on */
@@ -28,12 +28,12 @@ typedef struct {
 } tally;
 
 /* Events seen over all frames checked so far, by kind and outcome. */
-static int g_seen[4][8];
+static int g_seen[5][8];
 
 static void on_event(void *user, const actag_trace_event *e)
 {
     tally *t = (tally *)user;
-    if (e->kind < ACTAG_TRACE_SEARCH || e->kind > ACTAG_TRACE_QUAD) {
+    if (e->kind < ACTAG_TRACE_SEARCH || e->kind > ACTAG_TRACE_GUESS) {
         t->bad++;
         return;
     }
@@ -178,6 +178,12 @@ static void test_pool_frames(void)
     if (frames == 0)
         TEST_IGNORE_MESSAGE("no pool frames in " ACTAG_SHARED_DIR);
     TEST_ASSERT_TRUE(total > 0);
+    { /* the ragged pool outlines exercise the extreme-point grid guesses */
+        int k, guesses = 0;
+        for (k = 0; k < 8; k++)
+            guesses += g_seen[ACTAG_TRACE_GUESS][k];
+        TEST_ASSERT_TRUE(guesses > 0);
+    }
 }
 
 /* Noise with bright squares (some with a dark ring) under the orientation
@@ -243,7 +249,7 @@ static void test_errors_without_events(void)
                                                                   d, 4, NULL, on_event, &t));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
                           actag_detect_traced(&f, &good, &p, g_ws, 10, d, 4, NULL, on_event, &t));
-    TEST_ASSERT_EQUAL_INT(0, t.kind_count[1] + t.kind_count[2] + t.kind_count[3]);
+    TEST_ASSERT_EQUAL_INT(0, t.kind_count[1] + t.kind_count[2] + t.kind_count[3] + t.kind_count[4]);
 }
 
 int main(void)

@@ -14,6 +14,10 @@
  *                          physical size filter.
  *     ACTAG_TRACE_QUAD     a RANSAC quadrilateral fitted to a size-plausible
  *                          contour (quad.h) and what became of it.
+ *     ACTAG_TRACE_GUESS    when no quad of a contour reads: the grid guess from
+ *                          the contour's extreme points and what the fit
+ *                          decoder's wide search made of it (judged like a
+ *                          search position).
  *
  *   Each event carries an outcome: ACTAG_TRACE_ACCEPTED (the candidate went
  *   on: a contour to RANSAC, a quad or search position to the detections,
@@ -49,6 +53,7 @@ extern "C" {
 #define ACTAG_TRACE_SEARCH 1
 #define ACTAG_TRACE_CONTOUR 2
 #define ACTAG_TRACE_QUAD 3
+#define ACTAG_TRACE_GUESS 4
 
 /* actag_trace_event.outcome */
 #define ACTAG_TRACE_ACCEPTED 0    /* went on to the next stage / the detections */
@@ -62,22 +67,24 @@ extern "C" {
 #define ACTAG_TRACE_MARGIN 6      /* decoded, but decision margin too small */
 
 typedef struct actag_trace_event {
-    int kind;                           /* ACTAG_TRACE_SEARCH / _CONTOUR / _QUAD */
+    int kind;                           /* ACTAG_TRACE_SEARCH / _CONTOUR / _QUAD / _GUESS */
     int outcome;                        /* ACTAG_TRACE_ACCEPTED or a reason above */
     /* _CONTOUR: the traced border (points valid during the call only; NULL
      * and 0 on overflow) and its description */
     const actag_ipoint *points;
     int npoints;
     const actag_contour_info *contour;
-    /* _SEARCH, _QUAD: the candidate's white-square corners as examined
-     * (image pixels, x = column, y = row; clockwise on screen for the
-     * search, the RANSAC order for quads); inlier_ratio: the quad's RANSAC
-     * support (0 for the search) */
+    /* _SEARCH, _QUAD, _GUESS: the candidate's white-square corners as
+     * examined (image pixels, x = column, y = row; clockwise on screen for
+     * the search, the RANSAC order for quads, the extreme points for
+     * guesses); inlier_ratio: the quad's RANSAC support (0 otherwise) */
     actag_point quad[4];
     float inlier_ratio;
-    /* _SEARCH, _QUAD: the decoder's result when it decoded (outcomes
-     * _ACCEPTED, _STRUCTURE, _MARGIN, and _SIDES for search readings whose
-     * fitted grid failed the side check), else NULL. Its corners and
+    /* _SEARCH, _QUAD, _GUESS: the decoder's result when it decoded
+     * (outcomes _ACCEPTED, _STRUCTURE, _MARGIN, and _SIDES for search and
+     * guess readings whose fitted grid failed the side check), else NULL.
+     * Accepted quads report decoded->corners, search and guess readings
+     * decoded->fit_corners. Its corners and
      * mirrored flag are in image terms, before the geometry's orientation
      * flags are applied. */
     const actag_decode_result *decoded;
