@@ -342,8 +342,8 @@ static void test_show_rejected_changes_the_overlay(void)
     b = (char *)hostio_slurp(OUT "/rej.ppm", &lb, err);
     TEST_ASSERT_NOT_NULL(a);
     TEST_ASSERT_NOT_NULL(b);
-    TEST_ASSERT_EQUAL_UINT(la, lb);
-    TEST_ASSERT_TRUE(memcmp(a, b, la) != 0);
+    TEST_ASSERT_TRUE(la != lb || memcmp(a, b, la) != 0); /* the legend may grow too */
+    TEST_ASSERT_NOT_NULL(strstr(b, "P6\n"));
     free(a);
     free(b);
 }
