@@ -11,14 +11,24 @@
  * with the truth. Tag-free frames (seabed and clutter only) are run through
  * every chosen family at its default bit corrections, and the sweep families
  * (the four published ones by default) also with 0 and the maximal ones.
- * Frames are independent streams of the seed, so the figures do not depend
- * on --threads. Progress on stderr. Exit status 0, 2 on bad options.
+ * Every tag read gets a pose (pose.h), compared with the truth: position
+ * and orientation error against distance and incidence, and how often the
+ * error lies inside the predicted 95 % ellipsoid. --sequences runs
+ * simulated sonar passes and --pool-sequence a folder of frames in order
+ * through the tracker (track.h) beside whole-frame detection
+ * (eval_track.h). Frames are independent streams of the seed, so the
+ * figures do not depend on --threads. Progress on stderr. Exit status 0,
+ * 2 on bad options.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sim.h"
 #include "actag/version.h"
 #include "simio.h"
 #include "../hostio/hostio.h"
+#include "eval_track.h"
+#include "actag/pose.h"
+
+#include <dirent.h>
 
 #include <errno.h>
 #include <math.h>
@@ -74,6 +84,16 @@ static void usage(FILE *f)
         "                         mirror error; frame F of run seed S is frame F of\n"
         "                         actag-sim --seed S --random F+1 with the same sonar options\n"
         "  --quiet                no progress on stderr\n"
+        "Tracking (track.h; the tag frames' pose figures are always printed):\n"
+        "  --sequences N          N simulated sonar passes (sim_sequence_view) through the\n"
+        "                         tracker beside whole-frame detection (default 0)\n"
+        "  --sequence-length L    frames per pass (default 100)\n"
+        "  --pool-sequence DIR    DIR's f_*.pgm in name order as one sequence (the pool\n"
+        "                         recording: 530 x 512, 0.1-1.5 m, 60 degrees, tag ID 0)\n"
+        "  --full-every N --confirm-frames M --confirm-margin F --max-missed K --roi-scale F\n"
+        "  --refind-after K\n"
+        "                         tracker settings (track.h defaults)\n"
+        "  --relax-roi            ROI searches accept decision margins down to -2 (search 0)\n"
         "  --help  --version\n");
 }
 
@@ -97,6 +117,10 @@ typedef struct {
     int wrong_hamming, wrong_search, found_search;
     float range_err[4], az_err[4], px_err;
     uint32_t seed;
+    /* pose of the right reading (pose.h) against the truth */
+    int pose_flags;
+    float pos_err, ori_err, elev_err; /* m, rad, rad */
+    float m2_pos, m2_ori, m2_all;     /* squared Mahalanobis distances */
 } tag_result;
 
 typedef struct {
@@ -136,6 +160,75 @@ static double now_s(void)
 }
 
 static const float tag_size_default = 0.130628571f;
+
+/* e^T C^-1 e for the n x n leading block (first = 0) or the trailing one
+ * (first = 3) of a 6 x 6 covariance, by Gaussian elimination in double. */
+static float mahalanobis2(const float *cov, const double *e6, int first, int n)
+{
+    double A[6][7], x[6], m = 0.0;
+    int i, j, k;
+    for (i = 0; i < n; i++) {
+        for (j = 0; j < n; j++)
+            A[i][j] = cov[6 * (first + i) + first + j];
+        A[i][n] = e6[first + i];
+    }
+    for (k = 0; k < n; k++) {
+        int piv = k;
+        for (i = k + 1; i < n; i++)
+            if (fabs(A[i][k]) > fabs(A[piv][k]))
+                piv = i;
+        if (piv != k)
+            for (j = 0; j <= n; j++) {
+                double t = A[k][j];
+                A[k][j] = A[piv][j];
+                A[piv][j] = t;
+            }
+        if (A[k][k] == 0.0)
+            return 1e30f;
+        for (i = k + 1; i < n; i++) {
+            double f = A[i][k] / A[k][k];
+            for (j = k; j <= n; j++)
+                A[i][j] -= f * A[k][j];
+        }
+    }
+    for (i = n - 1; i >= 0; i--) {
+        double v = A[i][n];
+        for (j = i + 1; j < n; j++)
+            v -= A[i][j] * x[j];
+        x[i] = v / A[i][i];
+    }
+    for (i = 0; i < n; i++)
+        m += e6[first + i] * x[i];
+    return (float)m;
+}
+
+static void pose_errors(const eval_ctx *c, const sim_tag *tag, const actag_detection *d,
+                        tag_result *R)
+{
+    actag_pose_params pp;
+    actag_pose P;
+    double e[6];
+    float w[3], el_true;
+    int q;
+    actag_pose_params_default(&pp, &c->fam, tag->tag_size, c->sonar.vertical_aperture);
+    if (actag_pose_from_detection(d, &pp, &P) != ACTAG_OK)
+        die("actag_pose_from_detection failed");
+    actag_pose_rotation_vector(tag->pose.R, P.R, w);
+    for (q = 0; q < 3; q++) {
+        e[q] = (double)tag->pose.t[q] - P.t[q];
+        e[3 + q] = w[q];
+    }
+    R->pose_flags = (int)P.flags;
+    R->pos_err = (float)sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    R->ori_err = sqrtf(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    el_true = asinf(tag->pose.t[2] / sqrtf(tag->pose.t[0] * tag->pose.t[0] +
+                                           tag->pose.t[1] * tag->pose.t[1] +
+                                           tag->pose.t[2] * tag->pose.t[2]));
+    R->elev_err = P.elevation - el_true;
+    R->m2_pos = mahalanobis2(P.cov, e, 0, 3);
+    R->m2_ori = mahalanobis2(P.cov, e, 3, 3);
+    R->m2_all = mahalanobis2(P.cov, e, 0, 6);
+}
 
 static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t wss)
 {
@@ -231,6 +324,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
             R->mirror_err = det[d].mirrored != tr.mirrored;
             R->order_err = bestp != 0 && ident > best + 4.0f;
             R->px_err = 0.25f * ident;
+            pose_errors(c, &tag, &det[d], R);
             for (m = 0; m < 4; m++) {
                 R->range_err[m] = det[d].range[m] - tr.range[m];
                 R->az_err[m] = det[d].azimuth[m] - tr.azimuth[m];
@@ -503,6 +597,123 @@ static void svg_rate(const char *dir, const char *name, const char *title, const
     fclose(f);
 }
 
+/* ------------------------------------------------------------ pose summary */
+
+static double median_of(double *v, int n)
+{
+    if (n <= 0)
+        return 0.0;
+    qsort(v, (size_t)n, sizeof *v, cmp_d);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Pose figures of the right readings (corner order and handedness right):
+ * medians overall and per distance / incidence bin, covariance consistency.
+ * Text lines, or a JSON member "pose": {...} followed by ", ". */
+static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, int nbd,
+                         double ilo, double istep, int nbi)
+{
+    int n = 0, i, b, in_pos = 0, in_ori = 0, in_all = 0, degen = 0, elev = 0, conflict = 0,
+        nconv = 0;
+    double *rel = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
+    double *pos = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
+    double *ori = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
+    double *ele = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
+    double *tmp = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
+    double *tmp2 = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
+    double mrel, mpos, mori, mele;
+    if (!rel || !pos || !ori || !ele || !tmp || !tmp2)
+        die("out of memory");
+    for (i = 0; i < c->frames; i++) {
+        const tag_result *R = &c->tres[i];
+        if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+            continue;
+        rel[n] = 100.0 * R->pos_err / R->distance;
+        pos[n] = R->pos_err;
+        ori[n] = R->ori_err / DEG;
+        ele[n] = fabs((double)R->elev_err) / DEG;
+        in_pos += R->m2_pos <= 7.815f;
+        in_ori += R->m2_ori <= 7.815f;
+        in_all += R->m2_all <= 12.592f;
+        degen += (R->pose_flags & (int)ACTAG_POSE_DEGENERATE) != 0;
+        elev += (R->pose_flags & (int)ACTAG_POSE_ELEVATION) != 0;
+        conflict += (R->pose_flags & (int)ACTAG_POSE_MIRROR_CONFLICT) != 0;
+        nconv += (R->pose_flags & (int)ACTAG_POSE_NOT_CONVERGED) != 0;
+        n++;
+    }
+    mrel = median_of(rel, n);
+    mpos = median_of(pos, n);
+    mori = median_of(ori, n);
+    mele = median_of(ele, n);
+    if (json)
+        printf("\"pose\": {\"readings\": %d, \"median_position_error_m\": %.5f, "
+               "\"median_position_error_pct_of_range\": %.3f, "
+               "\"median_orientation_error_deg\": %.3f, \"median_elevation_error_deg\": %.3f, "
+               "\"inside_95_position\": %.4f, \"inside_95_orientation\": %.4f, "
+               "\"inside_95_6d\": %.4f, \"flags\": {\"degenerate\": %d, \"elevation\": %d, "
+               "\"mirror_conflict\": %d, \"not_converged\": %d}, \"by_distance\": [",
+               n, mpos, mrel, mori, mele, n ? (double)in_pos / n : 0.0,
+               n ? (double)in_ori / n : 0.0, n ? (double)in_all / n : 0.0, degen, elev,
+               conflict, nconv);
+    else {
+        printf("  pose of the %d readings (pose.h, corner noise %.4f m / %.4f rad):\n", n,
+               (double)ACTAG_POSE_RANGE_SD, (double)ACTAG_POSE_AZIMUTH_SD);
+        printf("    median position error %.4f m = %.2f %% of range (elevation %.2f deg), "
+               "median orientation error %.2f deg\n", mpos, mrel, mele, mori);
+        printf("    inside the predicted 95 %% ellipsoid: position %.1f %%, orientation %.1f %%, "
+               "6-D %.1f %%\n", n ? 100.0 * in_pos / n : 0.0, n ? 100.0 * in_ori / n : 0.0,
+               n ? 100.0 * in_all / n : 0.0);
+        printf("    flags: degenerate %d, elevation %d, mirror conflict %d, not converged %d\n",
+               degen, elev, conflict, nconv);
+        printf("    by distance (m: n, position %% of range, orientation deg):");
+    }
+    for (b = 0; b < nbd + nbi; b++) {
+        int m = 0, inc = b >= nbd, bb = inc ? b - nbd : b;
+        for (i = 0; i < c->frames; i++) {
+            const tag_result *R = &c->tres[i];
+            int k;
+            if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+                continue;
+            k = inc ? (int)floor((R->incidence / DEG - ilo) / istep)
+                    : (int)floor((R->distance - dlo) / dstep);
+            if (k < 0)
+                k = 0;
+            if (k >= (inc ? nbi : nbd))
+                k = (inc ? nbi : nbd) - 1;
+            if (k != bb)
+                continue;
+            tmp[m] = 100.0 * R->pos_err / R->distance;
+            tmp2[m++] = R->ori_err / DEG;
+        }
+        if (b == nbd) {
+            if (json)
+                printf("], \"by_incidence\": [");
+            else
+                printf("\n    by incidence (deg: n, position %% of range, orientation deg):");
+        }
+        {
+            double centre = inc ? ilo + (bb + 0.5) * istep : dlo + (bb + 0.5) * dstep;
+            double a = median_of(tmp, m), o = median_of(tmp2, m);
+            if (json)
+                printf("%s{\"%s\": %.2f, \"readings\": %d, \"median_position_error_pct\": %.3f, "
+                       "\"median_orientation_error_deg\": %.3f}",
+                       bb ? ", " : "", inc ? "incidence_deg" : "distance_m", centre, m, a, o);
+            else if (m > 0)
+                printf(" %.4g: %d, %.2f, %.1f;", centre, m, a, o);
+        }
+    }
+    if (json)
+        printf("]}, ");
+    else
+        printf("\n");
+    free(rel);
+    free(pos);
+    free(ori);
+    free(ele);
+    free(tmp);
+    free(tmp2);
+}
+
 /* ------------------------------------------------------------ main */
 
 static void parse_free_families(eval_ctx *c, const char *list)
@@ -539,6 +750,10 @@ int main(int argc, char **argv)
     const char *sweep_list = "AcTag24h4,AcTag24h6,AcTag24h8,AcTag24h10";
     double aperture_deg = 60.0, elapsed;
     pthread_t th[16];
+    te_options topt;
+    te_counts seq_counts, pool_counts;
+    const char *pool_dir = NULL;
+    int have_seq = 0, have_pool = 0;
 
 #ifdef __GLIBC__
     /* The renderer's per-frame buffers (a few MB) would otherwise be mmap'ed
@@ -547,6 +762,9 @@ int main(int argc, char **argv)
     mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
 #endif
     memset(&c, 0, sizeof c);
+    te_options_default(&topt);
+    memset(&seq_counts, 0, sizeof seq_counts);
+    memset(&pool_counts, 0, sizeof pool_counts);
     c.frames = 1000;
     c.seed = 1;
     c.min_margin = c.search_min_margin = -1.0e6f;
@@ -684,6 +902,35 @@ int main(int argc, char **argv)
             failures = v;
         } else if (!strcmp(o, "--quiet")) {
             c.quiet = 1;
+        } else if (!strcmp(o, "--sequences")) {
+            NEED();
+            topt.sequences = (int)inum(o, v, 0, 100000);
+        } else if (!strcmp(o, "--sequence-length")) {
+            NEED();
+            topt.length = (int)inum(o, v, 1, 100000);
+        } else if (!strcmp(o, "--pool-sequence")) {
+            NEED();
+            pool_dir = v;
+        } else if (!strcmp(o, "--full-every")) {
+            NEED();
+            topt.track.full_every = (int)inum(o, v, 1, 100000);
+        } else if (!strcmp(o, "--confirm-frames")) {
+            NEED();
+            topt.track.confirm_frames = (int)inum(o, v, 1, 1000);
+        } else if (!strcmp(o, "--confirm-margin")) {
+            NEED();
+            topt.track.confirm_margin = (float)num(o, v, -1e6, 1e6);
+        } else if (!strcmp(o, "--max-missed")) {
+            NEED();
+            topt.track.max_missed = (int)inum(o, v, 0, 1000);
+        } else if (!strcmp(o, "--roi-scale")) {
+            NEED();
+            topt.track.roi_scale = (float)num(o, v, 0.01, 10.0);
+        } else if (!strcmp(o, "--refind-after")) {
+            NEED();
+            topt.track.refind_after = (int)inum(o, v, 0, 1000);
+        } else if (!strcmp(o, "--relax-roi")) {
+            topt.relax_roi = 1;
         } else {
             char m[300];
             snprintf(m, sizeof m, "unknown option '%s' (see --help)", o);
@@ -751,8 +998,8 @@ int main(int argc, char **argv)
     }
     if (!(c.free_min_max_range > c.sonar.geo.min_range))
         die("--free-max-range: must be above --min-range");
-    if (c.frames + c.tag_free == 0)
-        die("--frames and --tag-free are both 0: nothing to do");
+    if (c.frames + c.tag_free == 0 && topt.sequences == 0 && !pool_dir)
+        die("--frames, --tag-free and --sequences are 0 and no --pool-sequence: nothing to do");
     if (svg) {
         char e[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
         if (hostio_mkdirs(svg, e) != HOSTIO_OK) { /* parents too */
@@ -770,6 +1017,66 @@ int main(int argc, char **argv)
         pthread_create(&th[i], NULL, worker, &c);
     for (i = 0; i < threads; i++)
         pthread_join(th[i], NULL);
+    /* ---- tracking */
+    topt.threads = threads;
+    if (topt.sequences > 0) {
+        te_run_sequences(&c.sonar, &c.view, &c.app, &c.fam, tag_size_default, c.seed, &topt,
+                         &seq_counts, c.quiet);
+        have_seq = 1;
+    }
+    if (pool_dir) {
+        DIR *dp = opendir(pool_dir);
+        struct dirent *de;
+        char **names = NULL, err[HOSTIO_ERRLEN];
+        int nn = 0, cap = 0;
+        actag_sonar_geometry pg = {0.1f, 1.5f, (float)(60.0 * DEG), NULL, 0u};
+        actag_family f24;
+        if (!dp) {
+            char m[700];
+            snprintf(m, sizeof m, "--pool-sequence: cannot open '%s': %s", pool_dir,
+                     strerror(errno));
+            die(m);
+        }
+        while ((de = readdir(dp)) != NULL) {
+            size_t L = strlen(de->d_name);
+            if (L < 7 || strncmp(de->d_name, "f_", 2) != 0 || strcmp(de->d_name + L - 4, ".pgm"))
+                continue;
+            if (nn == cap) {
+                cap = cap ? 2 * cap : 64;
+                names = (char **)realloc(names, (size_t)cap * sizeof *names);
+                if (!names)
+                    die("out of memory");
+            }
+            names[nn] = (char *)malloc(strlen(pool_dir) + L + 2);
+            if (!names[nn])
+                die("out of memory");
+            sprintf(names[nn++], "%s/%s", pool_dir, de->d_name);
+        }
+        closedir(dp);
+        if (nn == 0) {
+            char m[700];
+            snprintf(m, sizeof m, "--pool-sequence: no f_*.pgm in '%s'", pool_dir);
+            die(m);
+        }
+        {   /* name order (f_0001, f_0011, ...: frame order) */
+            int a2, b2;
+            for (a2 = 1; a2 < nn; a2++)
+                for (b2 = a2; b2 > 0 && strcmp(names[b2 - 1], names[b2]) > 0; b2--) {
+                    char *t2 = names[b2];
+                    names[b2] = names[b2 - 1];
+                    names[b2 - 1] = t2;
+                }
+        }
+        if (actag_family_get("AcTag24h10", &f24) != ACTAG_OK)
+            die("--pool-sequence needs the AcTag24h10 family in the build");
+        if (te_run_files((const char *const *)names, nn, &pg, &f24, tag_size_default, 0, &topt,
+                         &pool_counts, err) != 0)
+            die(err);
+        for (i = 0; i < nn; i++)
+            free(names[i]);
+        free(names);
+        have_pool = 1;
+    }
     elapsed = now_s() - c.t0;
 
     /* ---- aggregate the tagged frames */
@@ -931,7 +1238,9 @@ int main(int argc, char **argv)
             for (i = 0; i < nbi; i++)
                 printf("%s{\"incidence_deg\": %.1f, \"views\": %d, \"detected\": %d, \"rate\": %.4f}",
                        i ? ", " : "", bi_c[i], bi_cnt[i], bi_hit[i], bi_r[i]);
-            printf("], \"tag_free\": {\"frames\": %d, \"families\": [", c.tag_free);
+            printf("], ");
+            pose_summary(&c, 1, dlo, dstep, nbd, ilo, istep, nbi);
+            printf("\"tag_free\": {\"frames\": %d, \"families\": [", c.tag_free);
             for (f = 0; f < c.nfree_fam; f++) {
                 printf("%s{\"family\": \"%s\", \"codes\": %d", f ? ", " : "", c.free_fam[f].name,
                        c.free_fam[f].ncodes);
@@ -949,7 +1258,19 @@ int main(int argc, char **argv)
                 }
                 printf("}");
             }
-            printf("]}, \"seconds\": %.1f, \"threads\": %d}\n", elapsed, threads);
+            printf("]}, ");
+            if (have_seq) {
+                printf("\"tracking_sequences\": ");
+                te_print(stdout, "simulated passes", &seq_counts, &topt, 1);
+                printf(", \"sequences\": %d, \"sequence_length\": %d, ", topt.sequences,
+                       topt.length);
+            }
+            if (have_pool) {
+                printf("\"tracking_pool\": ");
+                te_print(stdout, pool_dir, &pool_counts, &topt, 1);
+                printf(", ");
+            }
+            printf("\"seconds\": %.1f, \"threads\": %d}\n", elapsed, threads);
         } else {
             int f, k;
             if (c.frames > 0) {
@@ -1001,6 +1322,7 @@ int main(int argc, char **argv)
                 for (i = 0; i < nbi; i++)
                     printf(" %.0f: %d/%d", bi_c[i], bi_hit[i], bi_cnt[i]);
                 printf("\n");
+                pose_summary(&c, 0, dlo, dstep, nbd, ilo, istep, nbi);
             }
             if (c.tag_free > 0) {
                 printf("tag-free frames: %d; frames with false detections (detections), by bit "
@@ -1026,6 +1348,14 @@ int main(int argc, char **argv)
                            c.free_fam[f].ncodes, b0, b1, b2);
                 }
             }
+            if (have_seq) {
+                char title[200];
+                snprintf(title, sizeof title, "tracking, %d simulated passes of %d frames",
+                         topt.sequences, topt.length);
+                te_print(stdout, title, &seq_counts, &topt, 0);
+            }
+            if (have_pool)
+                te_print(stdout, "tracking, frames in order", &pool_counts, &topt, 0);
             printf("time: %.1f s with %d threads\n", elapsed, threads);
         }
         if (svg) {

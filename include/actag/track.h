@@ -1,0 +1,167 @@
+/*
+ * actag/track.h -- following tags across the pings of a sonar stream.
+ *
+ * MANUAL
+ *   A tag seen in the last ping is almost where it was. Feed the frames in
+ *   order; for each frame the tracker
+ *     1. reads every confirmed track where it is predicted ("verify"): the
+ *        window around the predicted tag is median-filtered and the
+ *        grid-fitting decoder (decode.h) starts on the predicted corners,
+ *        under the pipeline's trust rules (likelihood match, template check,
+ *        decision margin, structure budget); only the track's own ID and
+ *        handedness count. This skips the structure search, the threshold,
+ *        the contours and RANSAC, which is where most of a frame's work is
+ *        (docs/tracking.md);
+ *     2. for tracks not read so (and tentative ones), runs actag_detect() on
+ *        a region of interest (ROI) around the prediction: a sub-frame view
+ *        of the caller's frame (same data and stride, offset start) with
+ *        the sonar geometry of that window (the range limits of its rows and
+ *        a bearing table of its columns, kept in the tracker state);
+ *     3. runs actag_detect() on the whole frame every `full_every` frames,
+ *        whenever no confirmed track exists, and when a confirmed track has
+ *        gone `refind_after` frames in a row without a reading (a tag that
+ *        moved more than foreseen).
+ *
+ *   Tracks. A reading that matches no track starts a tentative track; it is
+ *   confirmed after `confirm_frames` consecutive frames with a consistent
+ *   reading (same ID, same handedness, centre within `gate` tag diagonals of
+ *   the prediction, the gate growing by one diagonal per frame the track has
+ *   missed), or at once when its decision margin reaches `confirm_margin`.
+ *   A tentative track that misses a frame is dropped; a confirmed one after
+ *   more than `max_missed` consecutive frames without a reading (meanwhile
+ *   it is reported as coasting, measured = 0). A track's tag ID and
+ *   handedness never change: a reading of another ID (or the other
+ *   handedness) at a tracked tag's place is ignored and counted
+ *   (stats.conflicts), never assigned. Corners are smoothed by an alpha-beta
+ *   filter per pixel coordinate (alpha = smoothing, beta = alpha^2 /
+ *   (2 - alpha)), which also predicts the next frame's position; the range
+ *   and azimuth of the smoothed corners come from the geometry. Only
+ *   confirmed tracks are reported. Verify readings carry the fitted grid's
+ *   corners (inlier_ratio 0, like structure-search readings).
+ *
+ *   roi_params: the parameters of steps 1-2 (NULL: the whole-frame ones).
+ *   Since only a track's own ID near its prediction can update it, a
+ *   caller may lower the decision margins there (e.g. fit.min_margin -2);
+ *   measured gain in docs/tracking.md.
+ *
+ *   Memory: actag_tracker is a caller-owned struct of fixed size (about
+ *   6 KB with the defaults of ACTAG_TRACK_MAX and ACTAG_TRACK_ROI_MAX_COLS),
+ *   no heap, no static state; the workspace of one whole-frame
+ *   actag_detect() call serves every step. The same frames and parameters
+ *   give the same output on every platform. 16-bit frames: actag_detect()
+ *   scales each view by its own maximum, so an ROI's 8-bit image can differ
+ *   slightly from the whole frame's; step 1 runs on 8-bit frames with the
+ *   fit decoder only (others go to step 2).
+ *
+ * FUNCTIONS
+ *   void actag_track_params_default(actag_track_params *p)
+ *       full_every 10, confirm_frames 3, confirm_margin 15, max_missed 5,
+ *       roi_scale 0.5, gate 1.0, smoothing 0.7, refind_after 2, verify 1.
+ *   int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
+ *       Empty state. ACTAG_ERR_NULL, ACTAG_ERR_PARAM (full_every < 1,
+ *       confirm_frames < 1, max_missed < 0, roi_scale <= 0 or > 10, gate <= 0
+ *       or > 10, smoothing outside (0, 1], refind_after < 0, verify not 0/1),
+ *       ACTAG_OK.
+ *   int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
+ *                            const actag_sonar_geometry *geometry,
+ *                            const actag_params *params, const actag_params *roi_params,
+ *                            void *workspace, size_t workspace_size,
+ *                            actag_track *out, int max_out, actag_track_stats *stats)
+ *       One frame. Writes up to max_out confirmed tracks (in track order)
+ *       and returns their number, or a negative error: those of
+ *       actag_detect() for the frame and the full-frame parameters, and
+ *       ACTAG_ERR_SIZE when the frame's rows/cols differ from the first
+ *       frame's (re-initialise for another sonar setting), ACTAG_ERR_NULL
+ *       for t or out (max_out > 0). stats may be NULL. On an error the state
+ *       is unchanged except the frame counter.
+ *
+ *   Cost per frame (stats): pixels filtered (verify windows, ROIs, whole
+ *   frame), verify attempts, ROI calls, whether the whole frame was
+ *   searched, and the detector's counters summed. Measured instructions:
+ *   docs/tracking.md (bench/track_bench under callgrind).
+ */
+#ifndef ACTAG_TRACK_H
+#define ACTAG_TRACK_H
+
+#include "actag/actag.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#ifndef ACTAG_TRACK_MAX
+#define ACTAG_TRACK_MAX 8 /* tracks (tentative and confirmed) per tracker */
+#endif
+#ifndef ACTAG_TRACK_ROI_MAX_COLS
+#define ACTAG_TRACK_ROI_MAX_COLS 512 /* widest ROI (beams); wider: the whole frame */
+#endif
+#define ACTAG_TRACK_MAX_DET 16 /* readings kept per actag_detect() call */
+
+typedef struct actag_track_params {
+    int full_every;      /* search the whole frame every N frames (10) */
+    int confirm_frames;  /* consecutive consistent frames to confirm a tag (3) */
+    float confirm_margin; /* a reading with this decision margin confirms at once (15) */
+    int max_missed;      /* a confirmed track survives this many frames unseen (5) */
+    float roi_scale;     /* ROI = the tag's predicted box (whole tag) grown by this many
+                            box sizes on every side, plus the filter radii (0.5) */
+    float gate;          /* a reading matches a track within this many tag diagonals of the
+                            predicted centre (1.0) */
+    float smoothing;     /* alpha of the corner filter, (0, 1]; 1 = no smoothing (0.7) */
+    int refind_after;    /* a confirmed track missed in its ROI this many frames in a row
+                            triggers a whole-frame search in the same frame (2; 0: never) */
+    int verify;          /* 1: read a confirmed track first at its prediction (below) (1) */
+} actag_track_params;
+
+typedef struct actag_track {
+    uint32_t track_id;       /* unique within the tracker, never reused */
+    int id;                  /* tag ID (never changes) */
+    int mirrored;            /* handedness (never changes) */
+    int confirmed;           /* 1 once confirmed */
+    int measured;            /* 1: read in this frame; 0: coasting on the prediction */
+    int hits;                /* frames with a reading */
+    int missed;              /* consecutive frames without one */
+    int age;                 /* frames since the track started */
+    actag_point corners[4];  /* smoothed corners, tag order (x = column, y = row) */
+    float range[4];          /* metres, of the smoothed corners */
+    float azimuth[4];        /* radians */
+    actag_point velocity[4]; /* pixels per frame */
+    actag_detection last;    /* the latest reading (unsmoothed) */
+} actag_track;
+
+typedef struct actag_track_stats {
+    int full_frame;      /* 1: the whole frame was searched */
+    int rois;            /* ROI calls of actag_detect() */
+    long pixels;         /* pixels filtered: verify windows, ROIs and the whole frame */
+    int readings;        /* detections returned by those calls */
+    int conflicts;       /* readings ignored: another ID or handedness at a tracked tag */
+    int started, confirmed, dropped; /* track events this frame */
+    int verified;        /* confirmed tracks tried at their prediction (verify) */
+    int quads, decoded, searched; /* actag_stats of those calls, summed: quads fitted,
+                                     decoded, structure-search candidates decoded */
+} actag_track_stats;
+
+typedef struct actag_tracker {
+    actag_track_params params;
+    actag_track tracks[ACTAG_TRACK_MAX];
+    int ntracks;
+    long frame;              /* frames fed (including failed ones) */
+    long last_full;          /* frame index of the last whole-frame search (-1: none) */
+    uint32_t next_track_id;
+    int rows, cols;          /* of the first frame (0: none yet) */
+    float bearings[ACTAG_TRACK_ROI_MAX_COLS];   /* an ROI's bearing table */
+    actag_detection det[ACTAG_TRACK_MAX_DET];   /* one call's readings */
+    actag_detection pool[ACTAG_TRACK_MAX_DET];  /* one frame's readings, frame coordinates */
+    int pool_from_roi[ACTAG_TRACK_MAX_DET];     /* track index of the ROI, -1: whole frame */
+} actag_tracker;
+
+void actag_track_params_default(actag_track_params *p);
+int actag_tracker_init(actag_tracker *t, const actag_track_params *p);
+int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
+                         const actag_sonar_geometry *geometry, const actag_params *params,
+                         const actag_params *roi_params, void *workspace, size_t workspace_size,
+                         actag_track *out, int max_out, actag_track_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_TRACK_H */

@@ -1,0 +1,506 @@
+/* Tag tracking across frames: ROI search, confirmation, smoothing (see actag/track.h). */
+#include "actag/track.h"
+
+#include <math.h>
+#include <string.h>
+
+#define T_MIN_ROI 24 /* pixels per side: the structure search wants >= 16 */
+
+void actag_track_params_default(actag_track_params *p)
+{
+    if (p == NULL)
+        return;
+    p->full_every = 10;
+    p->confirm_frames = 3;
+    p->confirm_margin = 15.0f;
+    p->max_missed = 5;
+    p->roi_scale = 0.5f;
+    p->gate = 1.0f;
+    p->smoothing = 0.7f;
+    p->refind_after = 2;
+    p->verify = 1;
+}
+
+static int t_finite(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
+
+int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
+{
+    if (t == NULL || p == NULL)
+        return ACTAG_ERR_NULL;
+    if (p->full_every < 1 || p->confirm_frames < 1 || p->max_missed < 0 ||
+        !t_finite(p->confirm_margin) || !t_finite(p->roi_scale) || !(p->roi_scale > 0.0f) ||
+        !(p->roi_scale <= 10.0f) || !t_finite(p->gate) || !(p->gate > 0.0f) ||
+        !(p->gate <= 10.0f) || !t_finite(p->smoothing) || !(p->smoothing > 0.0f) ||
+        !(p->smoothing <= 1.0f) || p->refind_after < 0 ||
+        (p->verify != 0 && p->verify != 1))
+        return ACTAG_ERR_PARAM;
+    memset(t, 0, sizeof *t);
+    t->params = *p;
+    t->last_full = -1;
+    t->next_track_id = 1u;
+    return ACTAG_OK;
+}
+
+static actag_point t_centre(const actag_point c[4])
+{
+    actag_point m;
+    m.x = 0.25f * (c[0].x + c[1].x + c[2].x + c[3].x);
+    m.y = 0.25f * (c[0].y + c[1].y + c[2].y + c[3].y);
+    return m;
+}
+
+static float t_dist2(actag_point a, actag_point b)
+{
+    float dx = a.x - b.x, dy = a.y - b.y;
+    return dx * dx + dy * dy;
+}
+
+/* The track's predicted corners (constant velocity). */
+static void t_predict(const actag_track *k, actag_point pred[4])
+{
+    int i;
+    for (i = 0; i < 4; i++) {
+        pred[i].x = k->corners[i].x + k->velocity[i].x;
+        pred[i].y = k->corners[i].y + k->velocity[i].y;
+    }
+}
+
+static float t_diag(const actag_point c[4])
+{
+    float a = t_dist2(c[0], c[2]), b = t_dist2(c[1], c[3]);
+    return sqrtf(a > b ? a : b);
+}
+
+/* Detections are the same tag: same ID and handedness, centres within a
+ * quarter diagonal. */
+static int t_same(const actag_detection *a, const actag_detection *b)
+{
+    float d = 0.25f * t_diag(a->corners);
+    return a->id == b->id && a->mirrored == b->mirrored &&
+           t_dist2(t_centre(a->corners), t_centre(b->corners)) <= d * d + 1.0f;
+}
+
+/* Adds t->det[0..n) to the frame's pool (shifted by x0, y0), skipping
+ * readings already there. */
+static void t_pool_add(actag_tracker *t, int *npool, int n, int x0, int y0, int from)
+{
+    int i, j, c;
+    for (i = 0; i < n; i++) {
+        actag_detection d = t->det[i];
+        for (c = 0; c < 4; c++) {
+            d.corners[c].x += (float)x0;
+            d.corners[c].y += (float)y0;
+        }
+        for (j = 0; j < *npool; j++)
+            if (t_same(&t->pool[j], &d))
+                break;
+        if (j < *npool || *npool >= ACTAG_TRACK_MAX_DET)
+            continue;
+        t->pool[*npool] = d;
+        t->pool_from_roi[*npool] = from;
+        (*npool)++;
+    }
+}
+
+/* The whole tag's side over the inner square's for the family (7/3 for 24 bits). */
+static float t_extent(const actag_params *p)
+{
+    int k = p->family != NULL ? p->family->bits / 4 : 6;
+    return k > 3 ? (float)(k + 1) / (float)(k - 3) : 1.0f;
+}
+
+/* ROI of a track: [x0, x1] x [y0, y1] (inclusive, clamped). Returns 0, or -1
+ * when it would be wider than the bearing table allows. */
+static int t_roi(const actag_tracker *t, const actag_track *k, const actag_params *p, float grow,
+                 float pad, int *x0, int *y0, int *x1, int *y1)
+{
+    actag_point pred[4], c;
+    float minx = 3.0e38f, maxx = -3.0e38f, miny = 3.0e38f, maxy = -3.0e38f, hx, hy, E;
+    int i, cols = t->cols, rows = t->rows;
+    t_predict(k, pred);
+    for (i = 0; i < 4; i++) {
+        if (pred[i].x < minx) minx = pred[i].x;
+        if (pred[i].x > maxx) maxx = pred[i].x;
+        if (pred[i].y < miny) miny = pred[i].y;
+        if (pred[i].y > maxy) maxy = pred[i].y;
+    }
+    c = t_centre(pred);
+    E = t_extent(p);
+    hx = 0.5f * (maxx - minx) * E;
+    hy = 0.5f * (maxy - miny) * E;
+    hx = hx * (1.0f + grow) + pad;
+    hy = hy * (1.0f + grow) + pad;
+    if (hx < 0.5f * T_MIN_ROI)
+        hx = 0.5f * T_MIN_ROI;
+    if (hy < 0.5f * T_MIN_ROI)
+        hy = 0.5f * T_MIN_ROI;
+    if (!(c.x - hx > -1.0e7f && c.x + hx < 1.0e7f && c.y - hy > -1.0e7f && c.y + hy < 1.0e7f))
+        return -1;
+    *x0 = (int)(c.x - hx < 0.0f ? 0.0f : c.x - hx);
+    *x1 = (int)(c.x + hx);
+    *y0 = (int)(c.y - hy < 0.0f ? 0.0f : c.y - hy);
+    *y1 = (int)(c.y + hy);
+    if (*x1 > cols - 1) *x1 = cols - 1;
+    if (*y1 > rows - 1) *y1 = rows - 1;
+    /* keep the minimum size inside the frame */
+    if (*x1 - *x0 + 1 < T_MIN_ROI) {
+        *x0 = *x1 - T_MIN_ROI + 1 < 0 ? 0 : *x1 - T_MIN_ROI + 1;
+        *x1 = *x0 + T_MIN_ROI - 1 > cols - 1 ? cols - 1 : *x0 + T_MIN_ROI - 1;
+    }
+    if (*y1 - *y0 + 1 < T_MIN_ROI) {
+        *y0 = *y1 - T_MIN_ROI + 1 < 0 ? 0 : *y1 - T_MIN_ROI + 1;
+        *y1 = *y0 + T_MIN_ROI - 1 > rows - 1 ? rows - 1 : *y0 + T_MIN_ROI - 1;
+    }
+    if (*x1 < *x0 || *y1 < *y0)
+        return -1;
+    return *x1 - *x0 + 1 > ACTAG_TRACK_ROI_MAX_COLS ? -1 : 0;
+}
+
+/* actag_detect() on the ROI view; readings into t->det. */
+static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
+                        const actag_sonar_geometry *g, const actag_params *p, void *ws,
+                        size_t wss, int x0, int y0, int x1, int y1, actag_stats *ds)
+{
+    actag_frame sub;
+    actag_sonar_geometry sg;
+    int w = x1 - x0 + 1, h = y1 - y0 + 1, j;
+    size_t off = (size_t)y0 * (size_t)frame->stride + (size_t)x0;
+    float ra = actag_geometry_range(g, frame->rows, (float)y0);
+    float rb = actag_geometry_range(g, frame->rows, (float)y1);
+    sub = *frame;
+    sub.data = frame->depth == 16 ? (const void *)((const uint16_t *)frame->data + off)
+                                  : (const void *)((const uint8_t *)frame->data + off);
+    sub.rows = h;
+    sub.cols = w;
+    for (j = 0; j < w; j++)
+        t->bearings[j] = actag_geometry_azimuth(g, frame->cols, (float)(x0 + j));
+    sg.bearings = t->bearings;
+    sg.aperture = 0.0f;
+    sg.flags = g->flags & ACTAG_RANGE_ASCENDING;
+    sg.min_range = ra < rb ? ra : rb;
+    sg.max_range = ra < rb ? rb : ra;
+    return actag_detect(&sub, &sg, p, ws, wss, t->det, ACTAG_TRACK_MAX_DET, ds);
+}
+
+static void t_add_stats(actag_track_stats *st, const actag_stats *ds)
+{
+    st->quads += ds->quads;
+    st->decoded += ds->decoded;
+    st->searched += ds->searched;
+}
+
+/* The tracked tag read where it is predicted: the ROI median-filtered and
+ * the grid-fitting decoder started on the predicted corners, with the
+ * pipeline's trust rules (likelihood match, template check, margin,
+ * structure budget). Only the track's own ID and handedness count. On
+ * success t->det[0] holds the reading (frame coordinates, fitted-grid
+ * corners) and 1 is returned; 0 means "run the ROI detector". 8-bit frames
+ * with the fit decoder only. */
+static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *frame,
+                    const actag_sonar_geometry *g, const actag_params *p, void *ws,
+                    actag_track_stats *st)
+{
+    actag_point q[4];
+    actag_decode_result dr;
+    uint8_t *grey;
+    int x0, y0, x1, y1, w, h, c, limit, rc, flip, kk, misses;
+    float ring, in;
+    if (frame->depth != 8 || p->decode_mode != ACTAG_DECODE_FIT || !t->params.verify)
+        return 0;
+    if (t_roi(t, k, p, 0.25f, (float)(p->median_radius + 2), &x0, &y0, &x1, &y1) != 0)
+        return 0;
+    w = x1 - x0 + 1;
+    h = y1 - y0 + 1;
+    grey = (uint8_t *)(((uintptr_t)ws + 15u) & ~(uintptr_t)15u);
+    /* the workspace holds a whole frame's images and scratch: room for both */
+    rc = actag_median_filter((const uint8_t *)frame->data + (size_t)y0 * (size_t)frame->stride +
+                                 (size_t)x0,
+                             h, w, frame->stride, grey, w, p->median_radius,
+                             grey + (((size_t)w * (size_t)h + 15u) & ~(size_t)15u),
+                             ACTAG_MEDIAN_SCRATCH_SIZE(h, w));
+    st->verified++;
+    st->pixels += (long)w * (long)h;
+    if (rc != ACTAG_OK)
+        return 0;
+    t_predict(k, q);
+    for (c = 0; c < 4; c++) {
+        q[c].x -= (float)x0;
+        q[c].y -= (float)y0;
+    }
+    limit = p->max_bit_corrections;
+    if (limit == ACTAG_CORRECTIONS_AUTO) {
+        int m = actag_family_max_corrections(p->family);
+        limit = m < ACTAG_AUTO_CORRECTIONS ? m : ACTAG_AUTO_CORRECTIONS;
+    }
+    if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &p->fit, &dr) != ACTAG_OK)
+        return 0;
+    /* handedness relative to the reference orientation (as actag_detect) */
+    flip = (g->bearings ? (frame->cols > 1 && g->bearings[frame->cols - 1] > g->bearings[0])
+                        : (g->flags & ACTAG_AZIMUTH_ASCENDING) != 0u) ^
+           ((g->flags & ACTAG_RANGE_ASCENDING) != 0u);
+    kk = p->family->bits / 4;
+    ring = (float)(4 * (kk - 2));
+    in = (float)((kk - 3) * (kk - 3));
+    misses = (int)((1.0f - dr.ring_black) * ring + 0.5f) +
+             (int)((1.0f - dr.interior_white) * in + 0.5f);
+    if (dr.id != k->id || (dr.mirrored ^ flip) != k->mirrored ||
+        dr.ring_black < p->min_structure || dr.interior_white < p->min_structure ||
+        misses + dr.hamming > limit)
+        return 0;
+    memset(&t->det[0], 0, sizeof t->det[0]);
+    t->det[0].id = dr.id;
+    t->det[0].hamming = dr.hamming;
+    t->det[0].mirrored = k->mirrored;
+    t->det[0].decision_margin = dr.decision_margin;
+    t->det[0].inlier_ratio = 0.0f; /* no quad: as the structure search's readings */
+    for (c = 0; c < 4; c++) {
+        t->det[0].corners[c].x = dr.fit_corners[c].x + (float)x0;
+        t->det[0].corners[c].y = dr.fit_corners[c].y + (float)y0;
+        t->det[0].range[c] = actag_geometry_range(g, frame->rows, t->det[0].corners[c].y);
+        t->det[0].azimuth[c] = actag_geometry_azimuth(g, frame->cols, t->det[0].corners[c].x);
+    }
+    st->readings++;
+    return 1;
+}
+
+static void t_polar(const actag_sonar_geometry *g, int rows, int cols, actag_track *k)
+{
+    int i;
+    for (i = 0; i < 4; i++) {
+        k->range[i] = actag_geometry_range(g, rows, k->corners[i].y);
+        k->azimuth[i] = actag_geometry_azimuth(g, cols, k->corners[i].x);
+    }
+}
+
+int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
+                         const actag_sonar_geometry *geometry, const actag_params *params,
+                         const actag_params *roi_params, void *workspace, size_t workspace_size,
+                         actag_track *out, int max_out, actag_track_stats *stats)
+{
+    actag_track_stats st;
+    actag_stats ds;
+    const actag_params *rp = roi_params != NULL ? roi_params : params;
+    long cur;
+    int rc, i, j, npool = 0, need_full, nconf = 0, nout = 0;
+    int assigned[ACTAG_TRACK_MAX], used[ACTAG_TRACK_MAX_DET];
+    float alpha, beta;
+
+    memset(&st, 0, sizeof st);
+    if (stats)
+        *stats = st;
+    if (t == NULL || (out == NULL && max_out > 0))
+        return ACTAG_ERR_NULL;
+    cur = t->frame++;
+    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
+        frame->data == NULL)
+        return ACTAG_ERR_NULL;
+    if (max_out < 0)
+        return ACTAG_ERR_PARAM;
+    if (frame->rows < 1 || frame->cols < 1 || frame->rows > ACTAG_MAX_DIM ||
+        frame->cols > ACTAG_MAX_DIM || frame->stride < frame->cols ||
+        (frame->depth != 8 && frame->depth != 16))
+        return ACTAG_ERR_SIZE;
+    if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
+        return ACTAG_ERR_SIZE;
+    rc = actag_params_validate(params);
+    if (rc == ACTAG_OK && roi_params != NULL)
+        rc = actag_params_validate(roi_params);
+    if (rc == ACTAG_OK)
+        rc = actag_geometry_validate(geometry, frame->rows, frame->cols);
+    if (rc == ACTAG_OK && workspace_size < actag_workspace_size(frame->rows, frame->cols))
+        rc = ACTAG_ERR_WORKSPACE;
+    if (rc != ACTAG_OK)
+        return rc;
+    t->rows = frame->rows;
+    t->cols = frame->cols;
+
+    for (i = 0; i < t->ntracks; i++)
+        nconf += t->tracks[i].confirmed;
+    need_full = nconf == 0 || t->last_full < 0 || cur - t->last_full >= t->params.full_every;
+
+    /* 1. ROIs around every track (unless the whole frame is due anyway) */
+    if (!need_full) {
+        for (i = 0; i < t->ntracks; i++) {
+            int x0, y0, x1, y1, n;
+            if (t->tracks[i].confirmed && t_verify(t, &t->tracks[i], frame, geometry, rp,
+                                                   workspace, &st)) {
+                t_pool_add(t, &npool, 1, 0, 0, i);
+                continue;
+            }
+            if (t_roi(t, &t->tracks[i], rp, t->params.roi_scale,
+                      (float)(rp->median_radius + rp->threshold_radius + 4), &x0, &y0, &x1,
+                      &y1) != 0) {
+                need_full = 1;
+                continue;
+            }
+            n = t_detect_roi(t, frame, geometry, rp, workspace, workspace_size, x0, y0, x1, y1,
+                             &ds);
+            t_add_stats(&st, &ds);
+            st.rois++;
+            st.pixels += (long)(x1 - x0 + 1) * (long)(y1 - y0 + 1);
+            if (n < 0)
+                return n; /* a valid frame's window: cannot happen for valid input */
+            st.readings += n;
+            t_pool_add(t, &npool, n, x0, y0, i);
+        }
+        if (t->params.refind_after && !need_full) {
+            /* a confirmed track with no reading of its own in its ROI */
+            for (i = 0; i < t->ntracks && !need_full; i++) {
+                const actag_track *k = &t->tracks[i];
+                int found = 0;
+                if (!k->confirmed || k->missed + 1 < t->params.refind_after)
+                    continue;
+                for (j = 0; j < npool; j++)
+                    if (t->pool[j].id == k->id && t->pool[j].mirrored == k->mirrored)
+                        found = 1;
+                if (!found)
+                    need_full = 1;
+            }
+        }
+    }
+    /* 2. the whole frame */
+    if (need_full) {
+        int n = actag_detect(frame, geometry, params, workspace, workspace_size, t->det,
+                             ACTAG_TRACK_MAX_DET, &ds);
+        t_add_stats(&st, &ds);
+        if (n < 0)
+            return n;
+        st.full_frame = 1;
+        st.pixels += (long)frame->rows * (long)frame->cols;
+        st.readings += n;
+        t_pool_add(t, &npool, n, 0, 0, -1);
+        t->last_full = cur;
+    }
+
+    /* 3. assign readings to tracks: own ID and handedness, nearest to the
+     * prediction within the gate; tracks in order (oldest first) */
+    for (j = 0; j < npool; j++)
+        used[j] = 0;
+    for (i = 0; i < t->ntracks; i++) {
+        actag_point pred[4], pc;
+        float gate, best = 3.0e38f;
+        int bj = -1;
+        assigned[i] = -1;
+        t_predict(&t->tracks[i], pred);
+        pc = t_centre(pred);
+        /* the gate widens while a track coasts */
+        gate = t->params.gate * t_diag(pred) * (float)(1 + t->tracks[i].missed) + 2.0f;
+        for (j = 0; j < npool; j++) {
+            float d2;
+            if (used[j] || t->pool[j].id != t->tracks[i].id ||
+                t->pool[j].mirrored != t->tracks[i].mirrored)
+                continue;
+            d2 = t_dist2(t_centre(t->pool[j].corners), pc);
+            if (d2 <= gate * gate && d2 < best) {
+                best = d2;
+                bj = j;
+            }
+        }
+        if (bj >= 0) {
+            assigned[i] = bj;
+            used[bj] = 1;
+        }
+    }
+    /* readings at a tracked tag's place that are not its own: ignored */
+    for (j = 0; j < npool; j++) {
+        if (used[j])
+            continue;
+        for (i = 0; i < t->ntracks; i++) {
+            actag_point pred[4];
+            float gate;
+            t_predict(&t->tracks[i], pred);
+            gate = t->params.gate * t_diag(pred) * (float)(1 + t->tracks[i].missed) + 2.0f;
+            if (t_dist2(t_centre(t->pool[j].corners), t_centre(pred)) <= gate * gate)
+                break;
+        }
+        if (i < t->ntracks) {
+            used[j] = 2;
+            st.conflicts++;
+        }
+    }
+
+    /* 4. update, coast or drop the tracks */
+    alpha = t->params.smoothing;
+    beta = alpha * alpha / (2.0f - alpha);
+    for (i = 0; i < t->ntracks; i++) {
+        actag_track *k = &t->tracks[i];
+        actag_point pred[4];
+        int c;
+        t_predict(k, pred);
+        k->age++;
+        if (assigned[i] >= 0) {
+            const actag_detection *d = &t->pool[assigned[i]];
+            for (c = 0; c < 4; c++) {
+                float rx = d->corners[c].x - pred[c].x, ry = d->corners[c].y - pred[c].y;
+                k->corners[c].x = pred[c].x + alpha * rx;
+                k->corners[c].y = pred[c].y + alpha * ry;
+                k->velocity[c].x += beta * rx;
+                k->velocity[c].y += beta * ry;
+            }
+            k->hits++;
+            k->missed = 0;
+            k->measured = 1;
+            k->last = *d;
+            if (!k->confirmed && (k->hits >= t->params.confirm_frames ||
+                                  d->decision_margin >= t->params.confirm_margin)) {
+                k->confirmed = 1;
+                st.confirmed++;
+            }
+        } else {
+            for (c = 0; c < 4; c++) {
+                k->corners[c] = pred[c];
+                k->velocity[c].x *= 0.5f;
+                k->velocity[c].y *= 0.5f;
+            }
+            k->missed++;
+            k->measured = 0;
+        }
+    }
+    for (i = 0; i < t->ntracks;) {
+        const actag_track *k = &t->tracks[i];
+        if (k->missed > 0 && (!k->confirmed || k->missed > t->params.max_missed)) {
+            for (j = i; j + 1 < t->ntracks; j++) {
+                t->tracks[j] = t->tracks[j + 1];
+                assigned[j] = assigned[j + 1];
+            }
+            t->ntracks--;
+            st.dropped++;
+        } else {
+            i++;
+        }
+    }
+    /* 5. new tentative tracks from the remaining readings */
+    for (j = 0; j < npool; j++) {
+        actag_track *k;
+        if (used[j] || t->ntracks >= ACTAG_TRACK_MAX)
+            continue;
+        k = &t->tracks[t->ntracks++];
+        memset(k, 0, sizeof *k);
+        k->track_id = t->next_track_id++;
+        k->id = t->pool[j].id;
+        k->mirrored = t->pool[j].mirrored;
+        memcpy(k->corners, t->pool[j].corners, sizeof k->corners);
+        k->hits = 1;
+        k->measured = 1;
+        k->age = 1;
+        k->last = t->pool[j];
+        k->confirmed = t->params.confirm_frames <= 1 ||
+                       t->pool[j].decision_margin >= t->params.confirm_margin;
+        st.started++;
+        st.confirmed += k->confirmed;
+    }
+
+    /* 6. report the confirmed tracks */
+    for (i = 0; i < t->ntracks; i++) {
+        actag_track *k = &t->tracks[i];
+        t_polar(geometry, frame->rows, frame->cols, k);
+        if (!k->confirmed)
+            continue;
+        if (nout < max_out)
+            out[nout] = *k;
+        nout++;
+    }
+    if (stats)
+        *stats = st;
+    return nout < max_out ? nout : max_out;
+}

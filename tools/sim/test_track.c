@@ -1,0 +1,322 @@
+/* Tracker (track.h) on simulated sonar passes: IDs never switch, tracks end
+ * when the tag leaves, identical input gives identical output, ROI readings
+ * agree with whole-frame ones, errors. */
+#include "unity.h"
+#include "sim.h"
+#include "simio.h"
+#include "actag/track.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+#define S 0.130628571f
+#define NSEQ 40
+
+static sim_sonar sonar;
+static sim_view_params view;
+static sim_appearance app;
+static actag_family fam;
+static uint8_t *frames[NSEQ];
+static sim_truth truth[NSEQ];
+static void *ws;
+static size_t wss;
+
+static int render_pass(uint32_t seed, int id, int n, uint8_t **out, sim_truth *tr)
+{
+    int i;
+    char err[256];
+    sim_tag tag;
+    memset(&tag, 0, sizeof tag);
+    tag.family = fam;
+    tag.id = id;
+    tag.tag_size = S;
+    for (i = 0; i < n; i++) {
+        sim_scene sc;
+        out[i] = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+        if (!out[i])
+            return -1;
+        sim_sequence_view(&sonar, &view, seed, i, n, &tag, &sc);
+        if (sim_render(&sonar, &sc, &app, sim_frame_seed(seed, (uint32_t)i), out[i], NULL,
+                       sonar.cols, err) != 0)
+            return -1;
+        if (tr)
+            sim_truth_of(&sonar, &tag, &tr[i]);
+    }
+    return 0;
+}
+
+static actag_frame frame_of(const uint8_t *px)
+{
+    actag_frame f;
+    f.data = px;
+    f.rows = sonar.rows;
+    f.cols = sonar.cols;
+    f.stride = sonar.cols;
+    f.depth = 8;
+    return f;
+}
+
+static void params_of(actag_params *p)
+{
+    actag_params_default(p);
+    p->family = &fam;
+    p->tag_size = S;
+}
+
+static void test_a_pass_is_tracked_without_switches(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    uint32_t ids_tid[64];
+    int ids_id[64], nids = 0, i, k, read = 0, visible = 0, full_read = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < NSEQ; i++) {
+        actag_frame f = frame_of(frames[i]);
+        actag_track_stats st;
+        actag_detection det[8];
+        int n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out,
+                                     ACTAG_TRACK_MAX, &st);
+        int nd = actag_detect(&f, &sonar.geo, &p, ws, wss, det, 8, NULL);
+        TEST_ASSERT_TRUE(n >= 0 && nd >= 0);
+        TEST_ASSERT_TRUE(n <= 1); /* one tag in view: never two confirmed tracks */
+        visible += truth[i].visible;
+        for (k = 0; k < nd; k++)
+            full_read += truth[i].visible && det[k].id == 5;
+        for (k = 0; k < n; k++) {
+            int j;
+            TEST_ASSERT_EQUAL_INT(5, out[k].id);     /* never a wrong ID */
+            TEST_ASSERT_EQUAL_INT(truth[i].mirrored, out[k].mirrored);
+            for (j = 0; j < nids; j++)
+                if (ids_tid[j] == out[k].track_id) {
+                    TEST_ASSERT_EQUAL_INT(ids_id[j], out[k].id); /* no switch */
+                    break;
+                }
+            if (j == nids && nids < 64) {
+                ids_tid[nids] = out[k].track_id;
+                ids_id[nids++] = out[k].id;
+            }
+            if (out[k].measured && truth[i].visible) {
+                /* at the tag: the smoothed centre within a quarter diagonal */
+                float cx = 0.0f, cy = 0.0f, tx = 0.0f, ty = 0.0f, d;
+                for (j = 0; j < 4; j++) {
+                    cx += 0.25f * out[k].corners[j].x;
+                    cy += 0.25f * out[k].corners[j].y;
+                    tx += 0.25f * truth[i].px[j].x;
+                    ty += 0.25f * truth[i].px[j].y;
+                }
+                d = hypotf(truth[i].px[0].x - truth[i].px[2].x,
+                           truth[i].px[0].y - truth[i].px[2].y);
+                TEST_ASSERT_TRUE(hypotf(cx - tx, cy - ty) < 0.25f * d + 2.0f);
+                read++;
+            }
+        }
+    }
+    printf("pass of %d frames: %d with the tag in view, whole-frame reads %d, tracker reads %d, "
+           "tracks %d\n", NSEQ, visible, full_read, read, nids);
+    TEST_ASSERT_TRUE(nids >= 1 && nids <= 2);
+    TEST_ASSERT_TRUE(read >= full_read - 2);
+}
+
+static void test_identical_input_identical_output(void)
+{
+    static actag_tracker a, b;
+    actag_track_params tp;
+    actag_params p;
+    int i;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&a, &tp));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&b, &tp));
+    for (i = 0; i < NSEQ; i++) {
+        actag_frame f = frame_of(frames[i]);
+        actag_track oa[ACTAG_TRACK_MAX], ob[ACTAG_TRACK_MAX];
+        actag_track_stats sa, sb;
+        int na, nb;
+        memset(oa, 0, sizeof oa);
+        memset(ob, 0, sizeof ob);
+        na = actag_tracker_update(&a, &f, &sonar.geo, &p, NULL, ws, wss, oa, ACTAG_TRACK_MAX, &sa);
+        nb = actag_tracker_update(&b, &f, &sonar.geo, &p, NULL, ws, wss, ob, ACTAG_TRACK_MAX, &sb);
+        TEST_ASSERT_EQUAL_INT(na, nb);
+        TEST_ASSERT_EQUAL_MEMORY(oa, ob, sizeof oa);
+        TEST_ASSERT_EQUAL_MEMORY(&sa, &sb, sizeof sa);
+    }
+    TEST_ASSERT_EQUAL_MEMORY(&a, &b, sizeof a);
+}
+
+/* The tag leaves (frames of seabed only): the track coasts max_missed
+ * frames and is dropped; then another ID at the same place gets a new track,
+ * never the old one's. */
+static void test_track_ends_when_the_tag_leaves_and_ids_never_switch(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    uint8_t *empty = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+    uint8_t *other[12];
+    uint32_t first = 0;
+    int i, n, k, coast = 0;
+    char err[256];
+    sim_scene sc;
+    TEST_ASSERT_NOT_NULL(empty);
+    sim_sample_empty(&sonar, &view, 99u, &sc);
+    TEST_ASSERT_EQUAL_INT(0, sim_render(&sonar, &sc, &app, 99u, empty, NULL, sonar.cols, err));
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < 25; i++) {
+        actag_frame f = frame_of(frames[i]);
+        n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_TRUE(n >= 0);
+        if (n > 0)
+            first = out[0].track_id;
+    }
+    TEST_ASSERT_TRUE(first != 0);
+    for (i = 0; i < tp.max_missed + 3; i++) {
+        actag_frame f = frame_of(empty);
+        n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_TRUE(n >= 0 && n <= 1);
+        if (n == 1) {
+            TEST_ASSERT_EQUAL_INT(0, out[0].measured);
+            coast++;
+        }
+    }
+    TEST_ASSERT_TRUE(coast <= tp.max_missed);
+    TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
+    /* the same pass with tag 2 instead of 5: it must become a new track */
+    TEST_ASSERT_EQUAL_INT(0, render_pass(7u, 2, 12, other, NULL));
+    for (i = 0; i < 12; i++) {
+        actag_frame f = frame_of(other[i]);
+        n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_TRUE(n >= 0);
+        for (k = 0; k < n; k++) {
+            TEST_ASSERT_EQUAL_INT(2, out[k].id);
+            TEST_ASSERT_TRUE(out[k].track_id != first);
+        }
+        free(other[i]);
+    }
+    free(empty);
+}
+
+/* A tag read in an ROI gives the reading the whole frame gives (same ID,
+ * handedness; corners and polar coordinates within a pixel). */
+static void test_roi_readings_agree_with_whole_frame(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    int i, compared = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.verify = 0;
+    tp.full_every = 1000;
+    tp.smoothing = 1.0f;
+    tp.refind_after = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < NSEQ; i++) {
+        actag_frame f = frame_of(frames[i]);
+        actag_track out[ACTAG_TRACK_MAX];
+        actag_track_stats st;
+        actag_detection det[8];
+        int n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out,
+                                     ACTAG_TRACK_MAX, &st);
+        int nd = actag_detect(&f, &sonar.geo, &p, ws, wss, det, 8, NULL), c;
+        TEST_ASSERT_TRUE(n >= 0 && nd >= 0);
+        if (n == 1 && nd == 1 && out[0].measured && !st.full_frame && st.rois == 1 &&
+            det[0].inlier_ratio > 0.0f && out[0].last.inlier_ratio > 0.0f) {
+            float dmax = 0.0f;
+            TEST_ASSERT_EQUAL_INT(det[0].id, out[0].last.id);
+            TEST_ASSERT_EQUAL_INT(det[0].mirrored, out[0].last.mirrored);
+            for (c = 0; c < 4; c++) {
+                float d = hypotf(det[0].corners[c].x - out[0].last.corners[c].x,
+                                 det[0].corners[c].y - out[0].last.corners[c].y);
+                float rs = actag_geometry_range_step(&sonar.geo, sonar.rows);
+                float as = actag_geometry_azimuth_step(&sonar.geo, sonar.cols, 0.0f);
+                dmax = d > dmax ? d : dmax;
+                /* the polar coordinates follow the pixel positions exactly */
+                TEST_ASSERT_FLOAT_WITHIN(rs * (d + 0.01f) + 1e-5f, det[0].range[c],
+                                         out[0].last.range[c]);
+                TEST_ASSERT_FLOAT_WITHIN(as * (d + 0.01f) + 1e-6f, det[0].azimuth[c],
+                                         out[0].last.azimuth[c]);
+            }
+            if (dmax < 1.0f)
+                compared++;
+        }
+    }
+    printf("ROI readings within a pixel of the whole frame's: %d\n", compared);
+    TEST_ASSERT_TRUE(compared >= 3);
+}
+
+static void test_errors(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp, bad;
+    actag_params p;
+    actag_track out[2];
+    actag_frame f = frame_of(frames[0]), g;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tracker_init(NULL, &tp));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tracker_init(&tr, NULL));
+    bad = tp; bad.full_every = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.smoothing = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.gate = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.verify = 2;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, NULL, 2, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag_tracker_update(&tr, NULL, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
+                          actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, 100, out, 2, NULL));
+    TEST_ASSERT_TRUE(actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL) >= 0);
+    g = f;
+    g.rows = f.rows - 10; /* another frame size in the same stream */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE,
+                          actag_tracker_update(&tr, &g, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
+    p.tag_size = -1.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
+}
+
+int main(void)
+{
+    int i;
+    memset(&sonar, 0, sizeof sonar);
+    sim_view_params_default(&view);
+    simio_pool_settings(&sonar, &view);
+    sim_appearance_default(&app);
+    if (actag_family_get("AcTag24h10", &fam) != ACTAG_OK)
+        return 1;
+    wss = actag_workspace_size(sonar.rows, sonar.cols);
+    ws = malloc(wss);
+    if (!ws)
+        return 1;
+    if (render_pass(7u, 5, NSEQ, frames, truth) != 0)
+        return 1;
+    UNITY_BEGIN();
+    RUN_TEST(test_a_pass_is_tracked_without_switches);
+    RUN_TEST(test_identical_input_identical_output);
+    RUN_TEST(test_track_ends_when_the_tag_leaves_and_ids_never_switch);
+    RUN_TEST(test_roi_readings_agree_with_whole_frame);
+    RUN_TEST(test_errors);
+    for (i = 0; i < NSEQ; i++)
+        free(frames[i]);
+    free(ws);
+    return UNITY_END();
+}
