@@ -20,6 +20,8 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "actag/actag.h"
+#include "actag/pose.h"
+#include "actag/track.h"
 #include "actag/version.h"
 #include "hostio.h"
 #include "pictures.h"
@@ -73,6 +75,15 @@ static void usage(FILE *f)
             "                         \"detections\": [{\"id\", \"hamming\", \"decision_margin\",\n"
             "                         \"mirrored\", \"corners\": [{\"x_col\", \"y_row\", \"range_m\",\n"
             "                         \"azimuth_rad\"} x 4]}], \"time_ms\"}, or {\"file\", \"error\"}\n"
+            "  --pose                 each tag's 6-DOF pose in the sonar frame with its covariance\n"
+            "                         (actag/pose.h: x forward, y left, z up; JSON member \"pose\")\n"
+            "  --vertical-aperture-deg D  the sonar's vertical aperture for --pose (default 12)\n"
+            "  --track                the files are consecutive frames of one stream: report the\n"
+            "                         tracker's confirmed tracks (actag/track.h) instead of the\n"
+            "                         detections; JSON {\"file\", \"frame\", \"tracks\": [{\"track\",\n"
+            "                         \"id\", \"mirrored\", \"measured\", \"hits\", \"missed\",\n"
+            "                         \"decision_margin\", \"corners\"[, \"pose\"]}], \"whole_frame\",\n"
+            "                         \"pixels\", \"time_ms\"} (no --overlay or --stages)\n"
             "  --overlay OUT.ppm      picture: the polar frame and the fan (sonar below, +azimuth\n"
             "                         left) side by side, tag edges, corners, sampled bits, and a\n"
             "                         legend with ID, hamming, margin, mirrored per tag. Several\n"
@@ -101,6 +112,9 @@ typedef struct options {
     int json, show_rejected;
     int have_min, have_max, have_aperture;
     double aperture_deg;
+    int pose, track;                 /* --pose, --track */
+    double vertical_deg;             /* --vertical-aperture-deg */
+    actag_pose_params pose_params;
 } options;
 
 /* Parses argv into *o and the file list (files[0..*nfiles-1]); exits with
@@ -111,6 +125,7 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
     memset(o, 0, sizeof *o);
     o->family_name = "AcTag24h10";
     o->raw.depth = 8;
+    o->vertical_deg = 12.0;
     actag_params_default(&o->params);
     *nfiles = 0;
     for (i = 1; i < argc; i++) {
@@ -135,6 +150,13 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->json = 1;
         } else if (strcmp(a, "--show-rejected") == 0) {
             o->show_rejected = 1;
+        } else if (strcmp(a, "--pose") == 0) {
+            o->pose = 1;
+        } else if (strcmp(a, "--track") == 0) {
+            o->track = 1;
+        } else if (strcmp(a, "--vertical-aperture-deg") == 0) {
+            NEEDV();
+            o->vertical_deg = num(a, v, 1e-3, 179.999);
         } else if (strcmp(a, "--range-ascending") == 0) {
             o->geo.flags |= ACTAG_RANGE_ASCENDING;
         } else if (strcmp(a, "--azimuth-ascending") == 0) {
@@ -285,6 +307,10 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             die(m);
         }
     }
+    actag_pose_params_default(&o->pose_params, &o->fam, o->params.tag_size,
+                              (float)(o->vertical_deg * 3.14159265358979323846 / 180.0));
+    if (o->track && (o->overlay || o->stages))
+        die("--track does not combine with --overlay or --stages");
     if (o->stages) {
         char err[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
         if (hostio_mkdirs(o->stages, err) != HOSTIO_OK) {
@@ -365,8 +391,12 @@ static void json_error(const char *file, const char *msg)
     fflush(stdout);
 }
 
+static void print_pose(const float range[4], const float azimuth[4], int mirrored,
+                       const actag_pose_params *pp, int json);
+static double now_ms(void);
+
 static void print_json(const char *file, const hostio_image *im, const actag_detection *det,
-                       int n, double ms)
+                       int n, double ms, const actag_pose_params *pp)
 {
     int k, c;
     printf("{\"file\": ");
@@ -382,13 +412,16 @@ static void print_json(const char *file, const hostio_image *im, const actag_det
                    "\"azimuth_rad\": %.5f}",
                    c ? ", " : "", (double)det[k].corners[c].x, (double)det[k].corners[c].y,
                    (double)det[k].range[c], (double)det[k].azimuth[c]);
-        printf("]}");
+        printf("]");
+        if (pp)
+            print_pose(det[k].range, det[k].azimuth, det[k].mirrored, pp, 1);
+        printf("}");
     }
     printf("], \"time_ms\": %.3f}\n", ms);
 }
 
 static void print_text(const char *file, const actag_family *fam, const actag_detection *det,
-                       int n, double ms)
+                       int n, double ms, const actag_pose_params *pp)
 {
     int k, c;
     if (n == 0)
@@ -403,7 +436,126 @@ static void print_text(const char *file, const actag_family *fam, const actag_de
                    (double)det[k].corners[c].y, (double)det[k].range[c],
                    (double)det[k].azimuth[c]);
         printf(" (%.2f ms)\n", ms);
+        if (pp)
+            print_pose(det[k].range, det[k].azimuth, det[k].mirrored, pp, 0);
     }
+}
+
+/* ---- --pose and --track: kept apart from the rest of the output ---- */
+
+static const char *const pose_flag_names[5] = {"degenerate", "elevation", "not_converged",
+                                               "mirror_conflict", "no_covariance"};
+
+/* JSON: ", \"pose\": {...}"; text: an indented line. */
+static void print_pose(const float range[4], const float azimuth[4], int mirrored,
+                       const actag_pose_params *pp, int json)
+{
+    actag_pose P;
+    int i, first = 1, rc = actag_pose_estimate(range, azimuth, mirrored, pp, &P);
+    if (rc != ACTAG_OK) {
+        if (json)
+            printf(", \"pose\": null");
+        else
+            printf("    pose: %s\n", actag_strerror(rc));
+        return;
+    }
+    if (!json) {
+        printf("    pose: t (%.4f, %.4f, %.4f) m, range %.4f m, azimuth %.4f rad, elevation "
+               "%.4f rad (band %.4f..%.4f), sd t (%.4f, %.4f, %.4f) m, rotation sd (%.4f, "
+               "%.4f, %.4f) rad, residual %.4f m",
+               (double)P.t[0], (double)P.t[1], (double)P.t[2], (double)P.range,
+               (double)P.azimuth, (double)P.elevation, (double)P.elevation_lo,
+               (double)P.elevation_hi, sqrt((double)P.cov[0]), sqrt((double)P.cov[7]),
+               sqrt((double)P.cov[14]), sqrt((double)P.cov[21]), sqrt((double)P.cov[28]),
+               sqrt((double)P.cov[35]), (double)P.residual);
+        for (i = 0; i < 5; i++)
+            if (P.flags & (1u << i))
+                printf(" [%s]", pose_flag_names[i]);
+        printf("\n");
+        return;
+    }
+    printf(", \"pose\": {\"t\": [%.5f, %.5f, %.5f], \"R\": [", (double)P.t[0], (double)P.t[1],
+           (double)P.t[2]);
+    for (i = 0; i < 9; i++)
+        printf("%s%.6f", i ? ", " : "", (double)P.R[i]);
+    printf("], \"range\": %.5f, \"azimuth\": %.5f, \"elevation\": %.5f, "
+           "\"elevation_band\": [%.5f, %.5f], \"cov\": [",
+           (double)P.range, (double)P.azimuth, (double)P.elevation, (double)P.elevation_lo,
+           (double)P.elevation_hi);
+    for (i = 0; i < 36; i++)
+        printf("%s%.4e", i ? ", " : "", (double)P.cov[i]);
+    printf("], \"residual_m\": %.5f, \"chi2\": %.3f, \"flags\": [", (double)P.residual,
+           (double)P.chi2);
+    for (i = 0; i < 5; i++)
+        if (P.flags & (1u << i)) {
+            printf("%s\"%s\"", first ? "" : ", ", pose_flag_names[i]);
+            first = 0;
+        }
+    printf("]}");
+}
+
+/* One frame of a --track run: feeds the tracker, prints its confirmed
+ * tracks. Returns 0, or -1 with the message in err. */
+static int track_frame(actag_tracker *tr, const actag_frame *fr, const actag_sonar_geometry *geo,
+                       const options *o, void *ws, size_t wsize, const char *file, char *err)
+{
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    const actag_pose_params *pp = o->pose ? &o->pose_params : NULL;
+    double t0 = now_ms(), t1;
+    int n = actag_tracker_update(tr, fr, geo, &o->params, NULL, ws, wsize, out, ACTAG_TRACK_MAX,
+                                 &st),
+        k, c;
+    t1 = now_ms();
+    if (n < 0) {
+        snprintf(err, HOSTIO_ERRLEN, "%s: %s", hostio_frame_name(file), actag_strerror(n));
+        return -1;
+    }
+    if (o->json) {
+        printf("{\"file\": ");
+        json_string(stdout, file);
+        printf(", \"frame\": %ld, \"tracks\": [", tr->frame - 1);
+    } else if (n == 0) {
+        printf("%s: no confirmed tracks", file);
+    }
+    for (k = 0; k < n; k++) {
+        const actag_track *t = &out[k];
+        if (o->json) {
+            printf("%s{\"track\": %u, \"id\": %d, \"mirrored\": %s, \"measured\": %s, "
+                   "\"hits\": %d, \"missed\": %d, \"decision_margin\": %.2f, \"corners\": [",
+                   k ? ", " : "", (unsigned)t->track_id, t->id, t->mirrored ? "true" : "false",
+                   t->measured ? "true" : "false", t->hits, t->missed,
+                   (double)t->last.decision_margin);
+            for (c = 0; c < 4; c++)
+                printf("%s{\"x_col\": %.3f, \"y_row\": %.3f, \"range_m\": %.5f, "
+                       "\"azimuth_rad\": %.5f}",
+                       c ? ", " : "", (double)t->corners[c].x, (double)t->corners[c].y,
+                       (double)t->range[c], (double)t->azimuth[c]);
+            printf("]");
+            if (pp)
+                print_pose(t->range, t->azimuth, t->mirrored, pp, 1);
+            printf("}");
+        } else {
+            printf("%s%s: track %u %s id %d%s %s (hits %d) corners TL TR BR BL "
+                   "(x=col, y=row px | range m, azimuth rad):",
+                   k ? "\n" : "", file, (unsigned)t->track_id, o->fam.name, t->id,
+                   t->mirrored ? " mirrored" : "", t->measured ? "read" : "coasting", t->hits);
+            for (c = 0; c < 4; c++)
+                printf(" (%.1f, %.1f | %.4f, %.4f)", (double)t->corners[c].x,
+                       (double)t->corners[c].y, (double)t->range[c], (double)t->azimuth[c]);
+            if (pp) {
+                printf("\n");
+                print_pose(t->range, t->azimuth, t->mirrored, pp, 0);
+            }
+        }
+    }
+    if (o->json)
+        printf("], \"whole_frame\": %s, \"pixels\": %ld, \"time_ms\": %.3f}\n",
+               st.full_frame ? "true" : "false", st.pixels, t1 - t0);
+    else
+        printf("%s(%s, %ld pixels, %.2f ms)\n", (n > 0 && pp) ? "    " : " ",
+               st.full_frame ? "whole frame" : "tracked windows", st.pixels, t1 - t0);
+    return 0;
 }
 
 static double now_ms(void)
@@ -470,7 +622,8 @@ static int load_bearings(const char *path, int cols, float *out, char *err)
 }
 
 /* Detects, prints and draws one file. Returns 0, or -1 after reporting. */
-static int process(const options *o, const char *file, const char *picname, int nfiles)
+static int process(const options *o, const char *file, const char *picname, int nfiles,
+                   actag_tracker *tracker)
 {
     char err[HOSTIO_ERRLEN];
     hostio_image im;
@@ -508,6 +661,15 @@ static int process(const options *o, const char *file, const char *picname, int 
     fr.cols = im.cols;
     fr.stride = im.stride;
     fr.depth = im.depth;
+    if (o->track) {
+        if (track_frame(tracker, &fr, &geo, o, ws, wsize, file, err) != 0)
+            goto fail;
+        fflush(stdout);
+        free(ws);
+        free(bearings);
+        hostio_image_free(&im);
+        return 0;
+    }
     pic_trace_init(&trace, o->stages != NULL);
     t0 = now_ms();
     n = actag_detect_traced(&fr, &geo, &o->params, ws, wsize, det, MAX_DETECTIONS, &st,
@@ -519,9 +681,9 @@ static int process(const options *o, const char *file, const char *picname, int 
         goto fail;
     }
     if (o->json)
-        print_json(file, &im, det, n, t1 - t0);
+        print_json(file, &im, det, n, t1 - t0, o->pose ? &o->pose_params : NULL);
     else
-        print_text(file, &o->fam, det, n, t1 - t0);
+        print_text(file, &o->fam, det, n, t1 - t0, o->pose ? &o->pose_params : NULL);
     fflush(stdout);
     if (st.dropped > 0)
         fprintf(stderr, PROG ": %s: %d more tags than the %d reported\n", hostio_frame_name(file),
@@ -584,11 +746,16 @@ fail:
 int main(int argc, char **argv)
 {
     options o;
+    static actag_tracker tracker; /* --track: one stream over all files */
+    actag_track_params tp;
     int i, nfiles, status = 0;
     const char **files = (const char **)calloc((size_t)argc + 1, sizeof(char *));
     if (!files)
         die("out of memory");
     parse_options(argc, argv, &o, files, &nfiles);
+    actag_track_params_default(&tp);
+    if (actag_tracker_init(&tracker, &tp) != ACTAG_OK)
+        die("tracker initialisation failed");
     if (o.overlay) {
         const char *dot = strrchr(o.overlay, '/');
         if (dot) { /* the overlay's folder is created like --stages' */
@@ -603,7 +770,7 @@ int main(int argc, char **argv)
     for (i = 0; i < nfiles; i++) {
         char picname[1100];
         picture_name(files, nfiles, i, picname, sizeof picname);
-        if (process(&o, files[i], picname, nfiles) != 0)
+        if (process(&o, files[i], picname, nfiles, &tracker) != 0)
             status = 2;
     }
     free(files);

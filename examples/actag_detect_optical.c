@@ -18,6 +18,8 @@
  *   --tag-size is AcTag's tag_size: the side of the inner white square in metres
  *   (3/7 ft = 0.130628571 for a 1 ft 24-bit tag). --fx --fy --cx --cy are in
  *   pixels, principal point with pixel centres at integers (OpenCV, ROS).
+ * --sensor-frame adds the same pose in the frame shared with the sonar
+ * (actag/pose.h: x forward, y left, z up; the same tag frame), "pose_sensor".
  * --json prints one line per image:
  *   {"file":...,"detections":[{"id":..,"hamming":..,"margin":..,
  *    "corners":[{"x_col":..,"y_row":..} x 4],"pose":{"R":[9],"t":[3]}}]}
@@ -62,6 +64,8 @@ static void usage(FILE *f)
         "                       pose is printed when all five are given\n"
         "  --no-invert          image already has foam white (default: invert camera image)\n"
         "  --json               one JSON line per image (corners as x_col, y_row)\n"
+        "  --sensor-frame       also the pose in the frame shared with the sonar (actag/pose.h:\n"
+        "                       x forward, y left, z up), JSON member pose_sensor\n"
         "  --bits-corrected N   bit errors AprilTag may correct (default min(2, family limit))\n"
         "  --decimate X         AprilTag quad_decimate >= 1 (default 2)\n"
         "  --help  --version\n"
@@ -132,9 +136,44 @@ typedef struct {
     const char *family;
     double tag_size, fx, fy, cx, cy;
     int have[5]; /* tag-size fx fy cx cy given */
-    int invert, json, bits;
+    int invert, json, bits, sensor;
     double decimate;
 } options;
+
+/* The pose in the sensor frame shared with the sonar (actag/pose.h). */
+static void print_sensor_pose(const apriltag_detection_t *det, const options *o, int json)
+{
+    actag_pose p;
+    int k;
+    if (actag_apriltag_pose_sensor(det, o->tag_size, o->fx, o->fy, o->cx, o->cy, &p) != ACTAG_OK)
+        return;
+    if (json) {
+        printf(",\"pose_sensor\":{\"R\":[");
+        for (k = 0; k < 9; k++) {
+            if (k)
+                putchar(',');
+            json_number(p.R[k], "%.6f");
+        }
+        printf("],\"t\":[");
+        for (k = 0; k < 3; k++) {
+            if (k)
+                putchar(',');
+            json_number(p.t[k], "%.6f");
+        }
+        printf("],\"range\":");
+        json_number(p.range, "%.6f");
+        printf(",\"azimuth\":");
+        json_number(p.azimuth, "%.6f");
+        printf(",\"elevation\":");
+        json_number(p.elevation, "%.6f");
+        putchar('}');
+    } else {
+        printf("    sensor frame (x forward, y left, z up): t [m] %.6f %.6f %.6f, range %.6f m, "
+               "azimuth %.6f rad, elevation %.6f rad\n",
+               (double)p.t[0], (double)p.t[1], (double)p.t[2], (double)p.range,
+               (double)p.azimuth, (double)p.elevation);
+    }
+}
 
 int main(int argc, char **argv)
 {
@@ -200,6 +239,8 @@ int main(int argc, char **argv)
             o.invert = 0;
         } else if (strcmp(a, "--json") == 0) {
             o.json = 1;
+        } else if (strcmp(a, "--sensor-frame") == 0) {
+            o.sensor = 1;
         } else if (strcmp(a, "--bits-corrected") == 0) {
             o.bits = (int)hostio_opt_long(PROG, a, v, 0, 3);
             i++;
@@ -301,6 +342,8 @@ int main(int argc, char **argv)
                         json_number(t[k], "%.6f");
                     }
                     printf("]}");
+                    if (o.sensor)
+                        print_sensor_pose(det, &o, 1);
                 }
                 putchar('}');
             } else {
@@ -314,6 +357,8 @@ int main(int argc, char **argv)
                     printf("    pose R: [%.6f %.6f %.6f; %.6f %.6f %.6f; %.6f %.6f %.6f]"
                            "  object-space error %.3g\n",
                            R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8], err);
+                    if (o.sensor)
+                        print_sensor_pose(det, &o, 0);
                 }
             }
         }

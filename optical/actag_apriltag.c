@@ -154,3 +154,24 @@ double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
     free(pose.t);
     return err;
 }
+
+int actag_apriltag_pose_sensor(const apriltag_detection_t *det, double tag_size, double fx,
+                               double fy, double cx, double cy, actag_pose *out)
+{
+    double R[9], t[3], err;
+    float Rf[9], tf[3];
+    int i, rc;
+    if (det == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    err = actag_apriltag_pose(det, tag_size, fx, fy, cx, cy, R, t);
+    if (err < 0)
+        return ACTAG_ERR_PARAM;
+    for (i = 0; i < 9; i++)
+        Rf[i] = (float)R[i];
+    for (i = 0; i < 3; i++)
+        tf[i] = (float)t[i];
+    rc = actag_pose_from_camera(Rf, tf, out);
+    if (rc == ACTAG_OK)
+        out->residual = (float)err;
+    return rc;
+}

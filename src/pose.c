@@ -262,14 +262,14 @@ static float p_elev(const float *p)
 }
 
 /* Band of centre elevations that keep the outline in the aperture. */
-static void p_band(const p_model *m, const p_state *x, float *lo, float *hi)
+static void p_band_of(const p_model *m, const p_state *x, float E, float *lo, float *hi)
 {
     float e0 = p_elev(x->t), mn = 1e30f, mx = -1e30f;
     int k;
     for (k = 0; k < 4; k++) {
         float c[3], p[3], e;
-        c[0] = p_cx[k] * m->E * m->s;
-        c[1] = p_cy[k] * m->E * m->s;
+        c[0] = p_cx[k] * E * m->s;
+        c[1] = p_cy[k] * E * m->s;
         c[2] = 0.0f;
         mat_vec(x->R, c, p);
         p[0] += x->t[0];
@@ -283,6 +283,15 @@ static void p_band(const p_model *m, const p_state *x, float *lo, float *hi)
     }
     *lo = -m->half_v - mn;
     *hi = m->half_v - mx;
+}
+
+/* The band for the outline (extent E); when no elevation fits it, the band
+ * for the inner square, which was surely seen (a sonar's beam edge is soft). */
+static void p_band(const p_model *m, const p_state *x, float *lo, float *hi)
+{
+    p_band_of(m, x, m->E, lo, hi);
+    if (!(*hi > *lo) && m->E > 1.0f)
+        p_band_of(m, x, 1.0f, lo, hi);
 }
 
 static void p_set_prior(p_model *m, float lo, float hi)

@@ -348,18 +348,24 @@ static void test_elevation_outside_the_aperture_is_flagged(void)
     float r[4], az[4];
     int mir;
     actag_family fam;
-    /* a close tag whose face (7/3 tag sizes) spans ~27 degrees of elevation, 12 degree fan */
+    /* a close tag whose inner square alone spans ~16 degrees of elevation
+     * (the whole tag 37), 12 degree fan */
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
     actag_pose_params_default(&pp, &fam, S, (float)(12.0 * DEG));
-    make_pose(0.5, 0.0, 0.0, 40.0 * DEG, 1.5707963, 0.0, &P);
+    make_pose(0.4, 0.0, 0.0, 30.0 * DEG, 1.5707963, 0.0, &P);
     mir = corners_of(&P, S, r, az);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
     TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_ELEVATION);
     TEST_ASSERT_TRUE(E.elevation_lo > E.elevation_hi);
-    /* the same with a 40 degree fan fits */
+    /* the same with a 40 degree fan fits the whole tag */
     actag_pose_params_default(&pp, &fam, S, (float)(40.0 * DEG));
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
     TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_ELEVATION);
+    /* a 20 degree fan fits the inner square only: the fallback band, no flag */
+    actag_pose_params_default(&pp, &fam, S, (float)(20.0 * DEG));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+    TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_ELEVATION);
+    TEST_ASSERT_TRUE(E.elevation_lo < E.elevation_hi);
 }
 
 /* The mirrored flag is the sign of the face's tilt out of the fan plane:

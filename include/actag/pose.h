@@ -61,10 +61,12 @@
  *     entered in the least squares as a Gaussian of the band's mean and
  *     standard deviation (width / sqrt(12)); the covariance carries it, so
  *     the position's error ellipsoid is long in elevation (about range *
- *     band / sqrt(12)). ACTAG_POSE_ELEVATION is set when no elevation fits
- *     the outline into the aperture (the corners are not those of a tag of
- *     this size wholly in view) or the corners pull the fit out of the band
- *     (more than 2 standard deviations of the band).
+ *     band / sqrt(12)). When no elevation fits the outline into the
+ *     aperture (a close or tall tag: a real beam's edge is soft), the band
+ *     of the inner square is used instead; ACTAG_POSE_ELEVATION is set when
+ *     not even that fits (the corners are not those of a tag of this size
+ *     in view) or the corners pull the fit out of the band (more than 2
+ *     standard deviations of the band).
  *
  *   METHOD
  *     Start: the corners placed at one elevation give each edge's in-fan

@@ -620,6 +620,30 @@ static void test_pose_tag_size_is_inner_square(void)
         TEST_ASSERT_EQUAL_FLOAT(-1.0f, (float)actag_apriltag_pose(det, 0.0, 600, 600, centre, centre, R, t));
         TEST_ASSERT_EQUAL_FLOAT(-1.0f, (float)actag_apriltag_pose(NULL, 0.13, 600, 600, centre, centre, R, t));
         err = actag_apriltag_pose(det, 0.13, 600.0, 600.0, centre, centre, R, t);
+        {
+            /* the same pose in the sensor frame shared with the sonar
+             * (pose.h): x = z_opt, y = -x_opt, z = -y_opt */
+            actag_pose ps;
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_apriltag_pose_sensor(det, 0.13, 600.0, 600.0,
+                                                                       centre, centre, &ps));
+            TEST_ASSERT_FLOAT_WITHIN(1e-5f, (float)t[2], ps.t[0]);
+            TEST_ASSERT_FLOAT_WITHIN(1e-5f, (float)-t[0], ps.t[1]);
+            TEST_ASSERT_FLOAT_WITHIN(1e-5f, (float)-t[1], ps.t[2]);
+            for (i = 0; i < 3; i++) {
+                TEST_ASSERT_FLOAT_WITHIN(1e-5f, (float)R[6 + i], ps.R[i]);
+                TEST_ASSERT_FLOAT_WITHIN(1e-5f, (float)-R[i], ps.R[3 + i]);
+                TEST_ASSERT_FLOAT_WITHIN(1e-5f, (float)-R[3 + i], ps.R[6 + i]);
+            }
+            /* tag facing the camera: its z (into the tag) is the sensor's forward */
+            TEST_ASSERT_FLOAT_WITHIN(0.02f, 1.0f, ps.R[2]);
+            TEST_ASSERT_TRUE(ps.flags & ACTAG_POSE_NO_COVARIANCE);
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_apriltag_pose_sensor(det, 0.0, 600.0,
+                                                                              600.0, centre,
+                                                                              centre, &ps));
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_apriltag_pose_sensor(det, 0.13, 600.0,
+                                                                             600.0, centre,
+                                                                             centre, NULL));
+        }
         apriltag_detections_destroy(dets);
         TEST_ASSERT_TRUE(err >= 0);
         {

@@ -121,6 +121,15 @@
  *       rotation tag -> camera; t: tag centre in camera coordinates, metres.
  *       Returns AprilTag's object-space error (>= 0), or -1 (R, t untouched)
  *       for NULL arguments, tag_size/fx/fy <= 0 or a failed estimate.
+ *   int actag_apriltag_pose_sensor(const apriltag_detection_t *det, double tag_size,
+ *                                  double fx, double fy, double cx, double cy,
+ *                                  actag_pose *out)
+ *       The same pose in the sensor frame shared with the sonar (actag/pose.h:
+ *       x forward along the optical axis, y left, z up; the same tag frame):
+ *       actag_apriltag_pose() then actag_pose_from_camera(). out->cov is not
+ *       computed (flags ACTAG_POSE_NO_COVARIANCE); out->residual holds
+ *       AprilTag's object-space error. Returns ACTAG_OK, ACTAG_ERR_NULL
+ *       (det or out NULL) or ACTAG_ERR_PARAM (bad sizes or a failed estimate).
  *   void actag_apriltag_invert(image_u8_t *im)
  *       In place: v -> 255 - v over width x height (stride respected). NULL ok.
  *   void actag_apriltag_corners_to_actag(const apriltag_detection_t *det,
@@ -136,6 +145,8 @@
 
 #include <apriltag/apriltag.h>
 
+#include "actag/pose.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -149,6 +160,8 @@ int actag_apriltag_max_bits_corrected(const apriltag_family_t *fam);
 double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
                           double fx, double fy, double cx, double cy,
                           double R[9], double t[3]);
+int actag_apriltag_pose_sensor(const apriltag_detection_t *det, double tag_size, double fx,
+                               double fy, double cx, double cy, actag_pose *out);
 void actag_apriltag_invert(image_u8_t *im);
 void actag_apriltag_corners_to_actag(const apriltag_detection_t *det, double out[4][2]);
 
