@@ -21,6 +21,7 @@
 
 #include "actag/actag.h"
 #include "actag/render.h"
+#include "actag/version.h"
 
 /* Module state shared by the types (one interpreter; the types are heap types). */
 extern PyObject *pyactag_error;      /* pyactag.ActagError (a ValueError) */
