@@ -2,10 +2,11 @@
  * params.c -- actag_params <-> Python keyword arguments.
  *
  * The one place that knows the parameter names: a table of (name, C type,
- * offset into actag_params). Python names are the C field names, nested
- * structs flattened with their prefix (quad.inlier_ratio -> quad_inlier_ratio,
- * fit.min_margin -> fit_min_margin). When actag_params changes layout, only
- * the offsets below change.
+ * offset into actag_params). Python names are the C field names: the user
+ * settings of actag_params (tag_size, max_bit_corrections, seed, min_margin)
+ * and the fields of actag_params.tuning, nested structs flattened with their
+ * prefix (tuning.quad.inlier_ratio -> quad_inlier_ratio, tuning.fit.level ->
+ * fit_level). When actag_params changes layout, only the table changes.
  */
 #include "pyactag.h"
 
@@ -27,11 +28,15 @@ typedef struct field {
 
 #define F(name, kind, member, tuning) {name, kind, offsetof(actag_params, member), tuning}
 
+/* User settings, then the stage tuning. (This layout is actag_params before
+ * its split into user settings + an embedded actag_tuning: the same names
+ * map onto the flat fields, min_margin onto fit.min_margin, the margin
+ * actag_detect() reads.) */
 static const field fields[] = {
     F("tag_size", K_FLOAT, tag_size, 0),
     F("max_bit_corrections", K_CORRECTIONS, max_bit_corrections, 0),
-    F("decode_mode", K_DECODE, decode_mode, 0),
     F("seed", K_U32, seed, 0),
+    F("min_margin", K_FLOAT, fit.min_margin, 0),
     F("median_radius", K_INT, median_radius, 1),
     F("threshold_radius", K_INT, threshold_radius, 1),
     F("threshold_offset", K_INT, threshold_offset, 1),
@@ -44,11 +49,11 @@ static const field fields[] = {
     F("quad_inlier_distance", K_FLOAT, quad.inlier_distance, 1),
     F("quad_min_parallel_cos", K_FLOAT, quad.min_parallel_cos, 1),
     F("quad_min_inlier_ratio", K_FLOAT, quad.min_inlier_ratio, 1),
+    F("decode_mode", K_DECODE, decode_mode, 1),
     F("fit_flags", K_INT, fit.flags, 1),
     F("fit_level", K_FLOAT, fit.level, 1),
     F("fit_min_contrast", K_INT, fit.min_contrast, 1),
     F("fit_sample_offset", K_FLOAT, fit.sample_offset, 1),
-    F("fit_min_margin", K_FLOAT, fit.min_margin, 1),
     F("fit_min_bit_margin", K_INT, fit.min_bit_margin, 1),
     F("min_structure", K_FLOAT, min_structure, 1),
     F("min_side_fraction", K_FLOAT, min_side_fraction, 1),

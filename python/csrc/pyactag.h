@@ -21,6 +21,7 @@
 
 #include "actag/actag.h"
 #include "actag/render.h"
+#include "actag/version.h"
 
 /* Module state shared by the types (one interpreter; the types are heap types). */
 extern PyObject *pyactag_error;      /* pyactag.ActagError (a ValueError) */
@@ -50,8 +51,8 @@ int pyactag_params_from_dict(PyObject *kwargs, actag_params *p);
 /* New dict of every parameter of *p by name (family excluded). */
 PyObject *pyactag_params_to_dict(const actag_params *p);
 
-/* New tuple of the names that belong to the "tuning" group (the rest are the
- * user fields: tag_size, max_bit_corrections, seed, decode_mode). */
+/* New tuple of the names of the actag_params.tuning fields (the rest are the
+ * user settings: tag_size, max_bit_corrections, seed, min_margin). */
 PyObject *pyactag_tuning_names(void);
 
 /* ----------------------------------------------------------------- frame.c */

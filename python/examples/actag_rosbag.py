@@ -182,7 +182,7 @@ def parse_value(text):
 
 
 def build_parser():
-    p = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0],
+    p = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n", 2)[2],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("bag", help="ROS 2 bag directory (sqlite3 or MCAP)")
     p.add_argument("--topic", action="append", default=[],

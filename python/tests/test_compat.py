@@ -76,7 +76,9 @@ def test_defaults_are_libactag_and_arguments_map():
     assert abs(q["max_area_fraction"] * (1 + 0.3) - (1 + 0.1)) < 1e-6
     r = make(contours_reject_by_area=False).detector.params
     assert r["min_area_fraction"] == 0.0 and r["max_area_fraction"] >= 1e5
-    assert make(tuning={"search_candidates": 0}).detector.params["search_candidates"] == 0
+    assert make(libactag_params={"search_candidates": 0, "min_margin": 2.0}).detector.params["search_candidates"] == 0
+    with pytest.raises(TypeError, match="libactag_params"):
+        make(median_filter_kernel_radius=3, libactag_params={"median_radius": 2})
 
 
 def test_reference_errors():

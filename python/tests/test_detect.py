@@ -68,6 +68,16 @@ def test_pool_frames_other_settings_same_as_c_tool(pool_frames, c_tool):
                            **GEOMETRY)
     for (path, frame), line in zip(pool_frames[:12], lines):
         assert_same_as_c(det.detect(frame), line, path.name)
+    # The least decision margin (actag_detect --min-margin).
+    lines = run_c_tool(c_tool, paths, ["--min-margin", "12"])
+    det = pyactag.Detector(FAMILY, tag_size=TAG_SIZE, min_margin=12.0, **GEOMETRY)
+    fewer = 0
+    for (path, frame), line in zip(pool_frames[:12], lines):
+        dets = det.detect(frame)
+        assert_same_as_c(dets, line, path.name)
+        assert all(d.decision_margin >= 12.0 for d in dets)
+        fewer += len(pyactag.detect(frame, **GEOMETRY)) - len(dets)
+    assert fewer > 0  # the margin changed something
 
 
 def test_sixteen_bit_same_as_c_tool(example_frame, c_tool, tmp_path):
@@ -90,7 +100,7 @@ def test_defaults_are_the_c_defaults():
                     min_side_fraction=0.5, max_side_fraction=1.6, search_candidates=2,
                     search_min_score=15, search_max_corrections=3, search_min_margin=1.0,
                     search_range_scale=0.75, fit_level=0.5, fit_min_contrast=5,
-                    fit_sample_offset=0.2, fit_min_margin=1.0, fit_min_bit_margin=2)
+                    fit_sample_offset=0.2, min_margin=1.0, fit_min_bit_margin=2)
     for k, v in expected.items():
         if isinstance(v, float):  # C floats
             assert np.float32(p[k]) == np.float32(v), k
@@ -99,7 +109,9 @@ def test_defaults_are_the_c_defaults():
     assert p["fit_flags"] == (pyactag._core.FIT_LOCAL | pyactag._core.FIT_SPLIT |
                               pyactag._core.FIT_ERASE_CORNERS | pyactag._core.FIT_VERIFY)
     assert pyactag.Detector(**GEOMETRY).params == p
-    assert set(pyactag.tuning_names()) < set(p)
+    # actag_params: the user settings, then actag_tuning.
+    user = {"tag_size", "max_bit_corrections", "seed", "min_margin"}
+    assert set(pyactag.tuning_names()) == set(p) - user
 
 
 def test_keyword_parameters_and_tuning_dict(example_frame):
@@ -110,6 +122,8 @@ def test_keyword_parameters_and_tuning_dict(example_frame):
             p["max_bit_corrections"]) == (3, 2.0, 9, 1)
     with pytest.raises(TypeError, match="given twice"):
         pyactag.Detector(median_radius=3, tuning={"median_radius": 2})
+    with pytest.raises(TypeError, match="not a tuning field"):
+        pyactag.Detector(tuning={"seed": 2})
     # Parameters change the result as in C: no corrections allowed -> hamming 0 only.
     strict = pyactag.detect(example_frame, max_bit_corrections=0, search_candidates=0, **GEOMETRY)
     assert all(x.hamming == 0 for x in strict)

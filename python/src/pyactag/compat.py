@@ -125,9 +125,9 @@ class AcTag:
         ``pyactag.family_names()``) or a .java (reference) / .txt
         (actag-familygen) family file.
     :param tag_size: side of the inner white square (m).
-    The other parameters: see the module documentation. ``tuning``
-    (keyword only, not in the reference) passes libactag parameters by
-    their own names (``pyactag.default_params()``).
+    The other parameters: see the module documentation.
+    ``libactag_params`` (keyword only, not in the reference) is a dict of
+    libactag parameters by their own names (``pyactag.default_params()``).
     """
 
     def __init__(self,
@@ -157,7 +157,7 @@ class AcTag:
                  decoding_num_bit_corrections=None,
                  use_optimized_rust_code=True,
                  *,
-                 tuning=None):
+                 libactag_params=None):
         args = dict(locals())
         del args["self"]
         self.min_range = float(min_range)
@@ -166,10 +166,11 @@ class AcTag:
         self.tag_size = float(tag_size)
         self.family = _family_from_argument(tag_family)
         params = _map_arguments(args, self.family)
-        extra = dict(tuning or {})
+        extra = dict(libactag_params or {})
         for k in extra:
             if k in params:
-                raise TypeError("'{}' set both by a reference argument and by tuning".format(k))
+                raise TypeError("'{}' set both by a reference argument and by "
+                                "libactag_params".format(k))
         params.update(extra)
         params["tag_size"] = self.tag_size
         self.detector = Detector(self.family, min_range=self.min_range,

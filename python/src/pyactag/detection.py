@@ -41,7 +41,9 @@ def default_params():
 
 
 def tuning_names():
-    """Names of the tuning parameters (also accepted in a ``tuning`` dict)."""
+    """Names of the stage tuning fields (``actag_params.tuning`` in C), also
+    accepted in a ``tuning`` dict; the other parameters are the user settings
+    tag_size, max_bit_corrections, seed and min_margin."""
     return _core.tuning_names()
 
 
@@ -143,7 +145,11 @@ def _family(family):
 def _split_params(params, tuning):
     merged = dict(params)
     if tuning:
+        names = set(_core.tuning_names())
         for k, v in dict(tuning).items():
+            if k not in names:
+                raise TypeError("'{}' is not a tuning field (pyactag.tuning_names()); pass it as "
+                                "a keyword argument".format(k))
             if k in merged:
                 raise TypeError("parameter '{}' given twice (keyword and tuning)".format(k))
             merged[k] = v
@@ -188,10 +194,11 @@ class Detector:
     strictly monotonic) instead of a uniform aperture. Geometry given here
     is the default of every ``detect()`` call, which may override it.
 
-    ``params``: any name of ``default_params()``, e.g. ``tag_size`` (metres,
-    side of the inner white square), ``max_bit_corrections``, ``seed``,
-    ``decode_mode`` ('fit' or 'binary'), ``median_radius``, ...; ``tuning``
-    is a dict of the same names. Invalid values raise ActagError with the
+    ``params``: any name of ``default_params()``: the user settings
+    ``tag_size`` (metres, side of the inner white square),
+    ``max_bit_corrections``, ``seed``, ``min_margin``, and the stage tuning
+    (``tuning_names()``: ``median_radius``, ``decode_mode`` ('fit' or
+    'binary'), ...), which may also come as a dict, ``tuning``. Invalid values raise ActagError with the
     library's message.
 
     Threads: ``detect()`` releases the GIL. One Detector may be used from
