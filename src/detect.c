@@ -310,6 +310,30 @@ static int decode_any(const ws_layout *w, int rows, int cols, const actag_point 
     }
 }
 
+/* A first guess of a tag's grid (a search box, a contour's extreme points)
+ * read with the fit decoder's wide search and judged as such readings are:
+ * the wide-search corrections, search_min_margin, the structure budget and
+ * the fitted grid's sides. Returns ACTAG_TRACE_ACCEPTED or the reason for
+ * refusing it; *dr is filled unless ACTAG_TRACE_NO_MATCH. */
+static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
+                     const actag_sonar_geometry *geometry, const actag_params *params,
+                     actag_decode_result *dr)
+{
+    /* search_max_corrections, capped by max_bit_corrections */
+    int lim = params->search_max_corrections < params->max_bit_corrections
+                  ? params->search_max_corrections
+                  : params->max_bit_corrections;
+    if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, dr) != ACTAG_OK)
+        return ACTAG_TRACE_NO_MATCH;
+    if (!(dr->decision_margin >= params->search_min_margin))
+        return ACTAG_TRACE_MARGIN;
+    if (!structure_ok(dr, params, lim))
+        return ACTAG_TRACE_STRUCTURE;
+    if (!sides_plausible(dr->fit_corners, geometry, params, rows, cols))
+        return ACTAG_TRACE_SIDES;
+    return ACTAG_TRACE_ACCEPTED;
+}
+
 static float dist2(actag_point a, actag_point b)
 {
     float dx = a.x - b.x, dy = a.y - b.y;
@@ -558,34 +582,14 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                                      params->tag_size, params->search_range_scale, rows, cols,
                                      quad)) {
                 actag_decode_result dr;
-                int drc;
+                int verdict;
                 ncand++;
                 st.searched++;
-                drc = decode_fit(w.b, rows, cols, quad, params,
-                                 params->search_max_corrections < params->max_bit_corrections
-                                     ? params->search_max_corrections
-                                     : params->max_bit_corrections,
-                                 ACTAG_FIT_WIDE, &dr);
-                if (drc != ACTAG_OK) {
-                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_NO_MATCH, quad, 0.0f, NULL);
+                verdict = read_wide(w.b, rows, cols, quad, geometry, params, &dr);
+                trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, quad, 0.0f,
+                           verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
+                if (verdict != ACTAG_TRACE_ACCEPTED)
                     continue;
-                }
-                if (dr.decision_margin < params->search_min_margin) {
-                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_MARGIN, quad, 0.0f, &dr);
-                    continue;
-                }
-                if (!structure_ok(&dr, params,
-                                  params->search_max_corrections < params->max_bit_corrections
-                                      ? params->search_max_corrections
-                                      : params->max_bit_corrections)) {
-                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_STRUCTURE, quad, 0.0f, &dr);
-                    continue;
-                }
-                if (!sides_plausible(dr.fit_corners, geometry, params, rows, cols)) {
-                    trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_SIDES, quad, 0.0f, &dr);
-                    continue;
-                }
-                trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_ACCEPTED, quad, 0.0f, &dr);
                 st.decoded++;
                 fill_det(&sk[nsk], &dr, dr.fit_corners, 0.0f, geometry, rows, cols,
                          flip_mirror);
@@ -622,6 +626,8 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
             actag_contour_info ci;
             actag_quad q;
             actag_decode_result dr;
+            const actag_point *corners = NULL;
+            float ratio = 0.0f;
             int tries;
 
             rc = actag_contour_next(&scan, pts, (int)cap, &ci);
@@ -684,49 +690,33 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                            q.inlier_ratio, &dr);
                 break;
             }
-            if (rc != ACTAG_OK && params->decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
+            if (rc == ACTAG_OK) {
+                corners = dr.corners;
+                ratio = q.inlier_ratio;
+            } else if (params->decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
                 /* no quad reads: the blob's extreme points as a first guess
                  * for the wide grid search, judged like a search reading */
                 actag_point gq[4];
-                int lim = params->search_max_corrections < params->max_bit_corrections
-                              ? params->search_max_corrections
-                              : params->max_bit_corrections;
                 if (extreme_quad(pts, ci.stored, gq)) {
                     int verdict;
                     nguess++;
-                    if (decode_fit(w.b, rows, cols, gq, params, lim, ACTAG_FIT_WIDE, &dr) !=
-                        ACTAG_OK)
-                        verdict = ACTAG_TRACE_NO_MATCH;
-                    else if (!(dr.decision_margin >= params->search_min_margin))
-                        verdict = ACTAG_TRACE_MARGIN;
-                    else if (!structure_ok(&dr, params, lim))
-                        verdict = ACTAG_TRACE_STRUCTURE;
-                    else if (!sides_plausible(dr.fit_corners, geometry, params, rows, cols))
-                        verdict = ACTAG_TRACE_SIDES;
-                    else
-                        verdict = ACTAG_TRACE_ACCEPTED;
+                    verdict = read_wide(w.b, rows, cols, gq, geometry, params, &dr);
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED) {
-                        actag_detection d;
-                        st.decoded++;
-                        fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols,
-                                 flip_mirror);
-                        record(out, max_out, &nout, &st, &d);
-                        for (k = 0; k < nsk; k++)
-                            if (same_place(&sk[k], d.corners))
-                                sk_used[k] = 1;
+                        rc = ACTAG_OK;
+                        corners = dr.fit_corners;
+                        ratio = 0.0f;
                     }
                 }
-                continue;
             }
             if (rc != ACTAG_OK)
                 continue;
             st.decoded++;
             {
                 actag_detection d;
-                fill_det(&d, &dr, dr.corners, q.inlier_ratio, geometry, rows, cols, flip_mirror);
-                /* a search reading at this place is superseded by the quad's */
+                fill_det(&d, &dr, corners, ratio, geometry, rows, cols, flip_mirror);
+                /* a search reading at this place is superseded by this one */
                 for (k = 0; k < nsk; k++)
                     if (same_place(&sk[k], d.corners))
                         sk_used[k] = 1;
