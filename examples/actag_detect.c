@@ -205,9 +205,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--decode") == 0) {
             NEEDV();
             if (strcmp(v, "binary") == 0) {
-                o->params.decode_mode = ACTAG_DECODE_BINARY;
+                o->params.tuning.decode_mode = ACTAG_DECODE_BINARY;
             } else if (strcmp(v, "fit") == 0) {
-                o->params.decode_mode = ACTAG_DECODE_FIT;
+                o->params.tuning.decode_mode = ACTAG_DECODE_FIT;
             } else {
                 char m[128];
                 snprintf(m, sizeof m, "--decode: must be fit or binary (got '%.40s')", v);
@@ -215,40 +215,40 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             }
         } else if (strcmp(a, "--search") == 0) {
             NEEDV();
-            o->params.search_candidates = (int)inum(a, v, 0, ACTAG_SEARCH_MAX);
+            o->params.tuning.search_candidates = (int)inum(a, v, 0, ACTAG_SEARCH_MAX);
         } else if (strcmp(a, "--min-structure") == 0) {
             NEEDV();
-            o->params.min_structure = (float)num(a, v, 0.0, 1.0);
+            o->params.tuning.min_structure = (float)num(a, v, 0.0, 1.0);
         } else if (strcmp(a, "--min-side-fraction") == 0) {
             NEEDV();
-            o->params.min_side_fraction = (float)num(a, v, 0.0, 1e3);
+            o->params.tuning.min_side_fraction = (float)num(a, v, 0.0, 1e3);
         } else if (strcmp(a, "--min-margin") == 0) {
             NEEDV();
-            o->params.fit.min_margin = (float)num(a, v, -1e6, 1e6);
+            o->params.min_margin = (float)num(a, v, -1e6, 1e6);
         } else if (strcmp(a, "--search-min-margin") == 0) {
             NEEDV();
-            o->params.search_min_margin = (float)num(a, v, -1e6, 1e6);
+            o->params.tuning.search_min_margin = (float)num(a, v, -1e6, 1e6);
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
             o->params.seed = (uint32_t)inum(a, v, 0, 4294967295L);
         } else if (strcmp(a, "--median-radius") == 0) {
             NEEDV();
-            o->params.median_radius = (int)inum(a, v, 0, ACTAG_MEDIAN_MAX_RADIUS);
+            o->params.tuning.median_radius = (int)inum(a, v, 0, ACTAG_MEDIAN_MAX_RADIUS);
         } else if (strcmp(a, "--threshold-radius") == 0) {
             NEEDV();
-            o->params.threshold_radius = (int)inum(a, v, 0, ACTAG_MAX_THRESHOLD_RADIUS);
+            o->params.tuning.threshold_radius = (int)inum(a, v, 0, ACTAG_MAX_THRESHOLD_RADIUS);
         } else if (strcmp(a, "--threshold-offset") == 0) {
             NEEDV();
-            o->params.threshold_offset = (int)inum(a, v, -255, 255);
+            o->params.tuning.threshold_offset = (int)inum(a, v, -255, 255);
         } else if (strcmp(a, "--inlier-ratio") == 0) {
             NEEDV();
-            o->params.quad.inlier_ratio = (float)num(a, v, 1e-6, 1.0);
+            o->params.tuning.quad.inlier_ratio = (float)num(a, v, 1e-6, 1.0);
         } else if (strcmp(a, "--inlier-distance") == 0) {
             NEEDV();
-            o->params.quad.inlier_distance = (float)num(a, v, 1e-6, 1e6);
+            o->params.tuning.quad.inlier_distance = (float)num(a, v, 1e-6, 1e6);
         } else if (strcmp(a, "--ransac-iterations") == 0) {
             NEEDV();
-            o->params.quad.max_iterations = (int)inum(a, v, 1, 1000000);
+            o->params.tuning.quad.max_iterations = (int)inum(a, v, 1, 1000000);
         } else if (strcmp(a, "--overlay") == 0) {
             NEEDV();
             o->overlay = v;

@@ -54,6 +54,37 @@ const uint8_t *actag_workspace_binary(const void *workspace, int rows, int cols)
     return w.a;
 }
 
+void actag_tuning_default(actag_tuning *t)
+{
+    if (t == NULL)
+        return;
+    memset(t, 0, sizeof *t);
+    t->median_radius = 4;
+    t->threshold_radius = 8;
+    t->threshold_offset = 1;
+    t->size_tolerance = 0.2f;
+    t->min_area_fraction = 0.1f;
+    t->max_area_fraction = 1.0f;
+    actag_quad_params_default(&t->quad);
+    /* Measured on the pool frames (see the manual in actag.h): RANSAC's
+     * early exit at 0.8 and acceptance down to 0.6 let ragged sonar
+     * contours through (the decoder judges them); 100 iterations suffice
+     * because the structure search covers what RANSAC misses. */
+    t->quad.inlier_ratio = 0.8f;
+    t->quad.min_inlier_ratio = 0.6f;
+    t->quad.max_iterations = 100;
+    t->decode_mode = ACTAG_DECODE_FIT;
+    actag_fit_params_default(&t->fit);
+    t->min_structure = 1.0f;
+    t->min_side_fraction = 0.5f;
+    t->max_side_fraction = 1.6f;
+    t->search_candidates = 2;
+    t->search_min_score = 15;
+    t->search_range_scale = 0.75f;
+    t->search_max_corrections = 3;
+    t->search_min_margin = ACTAG_SEARCH_MIN_MARGIN;
+}
+
 void actag_params_default(actag_params *p)
 {
     if (p == NULL)
@@ -62,31 +93,9 @@ void actag_params_default(actag_params *p)
     p->family = NULL;
     p->tag_size = 0.130628571f; /* 3/7 ft: inner square of a 1 ft, 24-bit tag */
     p->max_bit_corrections = ACTAG_CORRECTIONS_AUTO;
-    p->median_radius = 4;
-    p->threshold_radius = 8;
-    p->threshold_offset = 1;
-    p->size_tolerance = 0.2f;
-    p->min_area_fraction = 0.1f;
-    p->max_area_fraction = 1.0f;
-    actag_quad_params_default(&p->quad);
-    /* Measured on the pool frames (see the manual in actag.h): RANSAC's
-     * early exit at 0.8 and acceptance down to 0.6 let ragged sonar
-     * contours through (the decoder judges them); 100 iterations suffice
-     * because the structure search covers what RANSAC misses. */
-    p->quad.inlier_ratio = 0.8f;
-    p->quad.min_inlier_ratio = 0.6f;
-    p->quad.max_iterations = 100;
-    p->decode_mode = ACTAG_DECODE_FIT;
     p->seed = 1u;
-    actag_fit_params_default(&p->fit);
-    p->min_structure = 1.0f;
-    p->min_side_fraction = 0.5f;
-    p->max_side_fraction = 1.6f;
-    p->search_candidates = 2;
-    p->search_min_score = 15;
-    p->search_range_scale = 0.75f;
-    p->search_max_corrections = 3;
-    p->search_min_margin = ACTAG_SEARCH_MIN_MARGIN;
+    p->min_margin = ACTAG_FIT_MIN_MARGIN;
+    actag_tuning_default(&p->tuning);
 }
 
 static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
@@ -103,32 +112,33 @@ int actag_params_validate(const actag_params *p)
     if ((p->max_bit_corrections < 0 && p->max_bit_corrections != ACTAG_CORRECTIONS_AUTO) ||
         p->max_bit_corrections > maxc)
         return ACTAG_ERR_CORRECTIONS;
-    if (!finite_pos(p->tag_size) || p->median_radius < 0 ||
-        p->median_radius > ACTAG_MEDIAN_MAX_RADIUS || p->threshold_radius < 0 ||
-        p->threshold_radius > ACTAG_MAX_THRESHOLD_RADIUS || p->threshold_offset < -255 ||
-        p->threshold_offset > 255)
+    if (!finite_pos(p->tag_size) || p->tuning.median_radius < 0 ||
+        p->tuning.median_radius > ACTAG_MEDIAN_MAX_RADIUS || p->tuning.threshold_radius < 0 ||
+        p->tuning.threshold_radius > ACTAG_MAX_THRESHOLD_RADIUS || p->tuning.threshold_offset < -255 ||
+        p->tuning.threshold_offset > 255)
         return ACTAG_ERR_PARAM;
-    if (!(p->size_tolerance >= 0.0f && p->size_tolerance < 10.0f) ||
-        !(p->min_area_fraction >= 0.0f) || !(p->max_area_fraction >= p->min_area_fraction) ||
-        !(p->max_area_fraction < 1.0e6f))
+    if (!(p->tuning.size_tolerance >= 0.0f && p->tuning.size_tolerance < 10.0f) ||
+        !(p->tuning.min_area_fraction >= 0.0f) || !(p->tuning.max_area_fraction >= p->tuning.min_area_fraction) ||
+        !(p->tuning.max_area_fraction < 1.0e6f))
         return ACTAG_ERR_PARAM;
-    if ((p->decode_mode != ACTAG_DECODE_FIT && p->decode_mode != ACTAG_DECODE_BINARY) ||
-        !(p->min_structure >= 0.0f) ||
-        !(p->fit.level >= 0.0f) || !(p->fit.level <= 1.0f) || p->fit.min_contrast < 0 ||
-        p->fit.min_contrast > 255 || !(p->fit.sample_offset >= 0.0f) ||
-        !(p->fit.sample_offset <= 0.5f) ||
-        p->search_candidates < 0 || p->search_candidates > ACTAG_SEARCH_MAX || p->search_min_score < 0 ||
-        p->search_min_score > 255 || !(p->search_range_scale > 0.05f) ||
-        !(p->search_range_scale <= 4.0f) || p->search_max_corrections < 0 ||
-        !(p->search_min_margin >= -1.0e6f) || !(p->search_min_margin <= 1.0e6f) ||
-        !(p->fit.min_margin >= -1.0e6f) || !(p->fit.min_margin <= 1.0e6f) ||
-        !(p->min_structure <= 1.0f) || !(p->min_side_fraction >= 0.0f) ||
-        !(p->max_side_fraction >= p->min_side_fraction))
+    if ((p->tuning.decode_mode != ACTAG_DECODE_FIT && p->tuning.decode_mode != ACTAG_DECODE_BINARY) ||
+        !(p->tuning.min_structure >= 0.0f) ||
+        !(p->tuning.fit.level >= 0.0f) || !(p->tuning.fit.level <= 1.0f) || p->tuning.fit.min_contrast < 0 ||
+        p->tuning.fit.min_contrast > 255 || !(p->tuning.fit.sample_offset >= 0.0f) ||
+        !(p->tuning.fit.sample_offset <= 0.5f) ||
+        p->tuning.search_candidates < 0 || p->tuning.search_candidates > ACTAG_SEARCH_MAX || p->tuning.search_min_score < 0 ||
+        p->tuning.search_min_score > 255 || !(p->tuning.search_range_scale > 0.05f) ||
+        !(p->tuning.search_range_scale <= 4.0f) || p->tuning.search_max_corrections < 0 ||
+        !(p->tuning.search_min_margin >= -1.0e6f) || !(p->tuning.search_min_margin <= 1.0e6f) ||
+        !(p->tuning.fit.min_margin >= -1.0e6f) || !(p->tuning.fit.min_margin <= 1.0e6f) ||
+        !(p->min_margin >= -1.0e6f) || !(p->min_margin <= 1.0e6f) ||
+        !(p->tuning.min_structure <= 1.0f) || !(p->tuning.min_side_fraction >= 0.0f) ||
+        !(p->tuning.max_side_fraction >= p->tuning.min_side_fraction))
         return ACTAG_ERR_PARAM;
-    if (p->quad.max_iterations < 1 || !(p->quad.sample_fraction > 0.0f) ||
-        !(p->quad.sample_fraction <= 1.0f) || !(p->quad.inlier_ratio > 0.0f) ||
-        !(p->quad.inlier_ratio <= 1.0f) || !finite_pos(p->quad.inlier_distance) ||
-        !(p->quad.min_parallel_cos >= 0.0f) || !(p->quad.min_parallel_cos <= 1.0f))
+    if (p->tuning.quad.max_iterations < 1 || !(p->tuning.quad.sample_fraction > 0.0f) ||
+        !(p->tuning.quad.sample_fraction <= 1.0f) || !(p->tuning.quad.inlier_ratio > 0.0f) ||
+        !(p->tuning.quad.inlier_ratio <= 1.0f) || !finite_pos(p->tuning.quad.inlier_distance) ||
+        !(p->tuning.quad.min_parallel_cos >= 0.0f) || !(p->tuning.quad.min_parallel_cos <= 1.0f))
         return ACTAG_ERR_PARAM;
     return ACTAG_OK;
 }
@@ -164,7 +174,7 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
     float dr = actag_geometry_range_step(g, rows);
     float daz = actag_geometry_azimuth_step(g, cols, xc) * range;
     float diag = p->tag_size * 1.41421356f;
-    float diag_r_px, diag_az_px, ext_r, ext_az, ref_area, tol = p->size_tolerance;
+    float diag_r_px, diag_az_px, ext_r, ext_az, ref_area, tol = p->tuning.size_tolerance;
     if (!(dr > 0.0f) || !(daz > 0.0f))
         return 0;
     diag_r_px = diag / dr;
@@ -174,8 +184,8 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
     if (ext_r > diag_r_px * (1.0f + tol) || ext_az > diag_az_px * (1.0f + tol))
         return 0;
     ref_area = diag_r_px * diag_az_px;
-    if (ci->area < p->min_area_fraction * (1.0f - tol) * ref_area ||
-        ci->area > p->max_area_fraction * (1.0f + tol) * ref_area)
+    if (ci->area < p->tuning.min_area_fraction * (1.0f - tol) * ref_area ||
+        ci->area > p->tuning.max_area_fraction * (1.0f + tol) * ref_area)
         return 0;
     return 1;
 }
@@ -185,8 +195,8 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
 static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g,
                            const actag_params *p, int rows, int cols)
 {
-    float rg[4], az[4], lo = p->min_side_fraction * p->tag_size,
-                        hi = p->max_side_fraction * p->tag_size;
+    float rg[4], az[4], lo = p->tuning.min_side_fraction * p->tag_size,
+                        hi = p->tuning.max_side_fraction * p->tag_size;
     int i;
     for (i = 0; i < 4; i++) {
         rg[i] = actag_geometry_range(g, rows, c[i].y);
@@ -282,7 +292,7 @@ static int structure_ok(const actag_decode_result *dr, const actag_params *p, in
     float ring = (float)(4 * (k - 2)), in = (float)((k - 3) * (k - 3));
     int misses = (int)((1.0f - dr->ring_black) * ring + 0.5f) +
                  (int)((1.0f - dr->interior_white) * in + 0.5f);
-    return dr->ring_black >= p->min_structure && dr->interior_white >= p->min_structure &&
+    return dr->ring_black >= p->tuning.min_structure && dr->interior_white >= p->tuning.min_structure &&
            misses + dr->hamming <= limit;
 }
 
@@ -291,8 +301,9 @@ static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point
                       const actag_params *p, int max_corrections, int extra_flags,
                       actag_decode_result *dr)
 {
-    actag_fit_params fp = p->fit;
+    actag_fit_params fp = p->tuning.fit;
     fp.flags |= extra_flags;
+    fp.min_margin = p->min_margin; /* the user's margin wins over the tuning's */
     return actag_decode_quad_fit(grey, rows, cols, cols, quad, p->family, max_corrections, &fp,
                                  dr);
 }
@@ -301,7 +312,7 @@ static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point
 static int decode_any(const ws_layout *w, int rows, int cols, const actag_point quad[4],
                       const actag_params *params, actag_decode_result *dr)
 {
-    switch (params->decode_mode) {
+    switch (params->tuning.decode_mode) {
     case ACTAG_DECODE_FIT:
         return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, dr);
     default:
@@ -511,7 +522,7 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
     if (workspace_size < actag_workspace_size(rows, cols))
         return ACTAG_ERR_WORKSPACE;
     ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, pe.median_radius);
+    rc = filter_frame(frame, &w, rows, cols, pe.tuning.median_radius);
     if (rc != ACTAG_OK)
         return rc;
     flip_mirror = mirror_flip(geometry, cols);
@@ -542,41 +553,41 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
     /* 2. structure search (before the threshold overwrites A): candidates
      * the contours may miss. Contours at a tag found here get more RANSAC
      * iterations below, so a tag seen by both reports the quad's corners. */
-    if (params->search_candidates > 0) {
+    if (params->tuning.search_candidates > 0) {
         actag_search z;
         int ncand = 0;
         /* the map uses A (free until the threshold), the integral image S;
          * a frame too small or too tall for them is simply not searched */
         if (actag_search_map(&z, w.b, rows, cols, cols, geometry, params->tag_size,
                              params->family->bits,
-                             params->search_range_scale, w.a,
+                             params->tuning.search_range_scale, w.a,
                              ACTAG__ALIGN16((size_t)rows * (size_t)cols), w.s,
                              w.s_size) == ACTAG_OK) {
             actag_point quad[4];
-            while (ncand < params->search_candidates &&
-                   actag_search_next(&z, params->search_min_score * 8, geometry,
-                                     params->tag_size, params->search_range_scale, rows, cols,
+            while (ncand < params->tuning.search_candidates &&
+                   actag_search_next(&z, params->tuning.search_min_score * 8, geometry,
+                                     params->tag_size, params->tuning.search_range_scale, rows, cols,
                                      quad)) {
                 actag_decode_result dr;
                 int drc;
                 ncand++;
                 st.searched++;
                 drc = decode_fit(w.b, rows, cols, quad, params,
-                                 params->search_max_corrections < params->max_bit_corrections
-                                     ? params->search_max_corrections
+                                 params->tuning.search_max_corrections < params->max_bit_corrections
+                                     ? params->tuning.search_max_corrections
                                      : params->max_bit_corrections,
                                  ACTAG_FIT_WIDE, &dr);
                 if (drc != ACTAG_OK) {
                     trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_NO_MATCH, quad, 0.0f, NULL);
                     continue;
                 }
-                if (dr.decision_margin < params->search_min_margin) {
+                if (dr.decision_margin < params->tuning.search_min_margin) {
                     trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_MARGIN, quad, 0.0f, &dr);
                     continue;
                 }
                 if (!structure_ok(&dr, params,
-                                  params->search_max_corrections < params->max_bit_corrections
-                                      ? params->search_max_corrections
+                                  params->tuning.search_max_corrections < params->max_bit_corrections
+                                      ? params->tuning.search_max_corrections
                                       : params->max_bit_corrections)) {
                     trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_STRUCTURE, quad, 0.0f, &dr);
                     continue;
@@ -603,8 +614,8 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
         }
     }
     /* 3. adaptive threshold: B -> A (A's 16-bit copy is no longer needed) */
-    rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols, params->threshold_radius,
-                                  params->threshold_offset, w.s, w.s_size);
+    rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols, params->tuning.threshold_radius,
+                                  params->tuning.threshold_offset, w.s, w.s_size);
     if (rc != ACTAG_OK)
         return rc;
 
@@ -654,7 +665,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                 }
             }
             for (k = 0; k < tries; k++) {
-                rc = actag_quad_fit(pts, ci.stored, &params->quad, &rng, qscratch,
+                rc = actag_quad_fit(pts, ci.stored, &params->tuning.quad, &rng, qscratch,
                                     qscratch_size, &q);
                 if (rc != ACTAG_OK)
                     continue; /* another try draws other samples */
@@ -673,7 +684,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                 }
                 /* the fit decoder's structure gate: black ring and white
                  * interior cells on the right side of the mid level */
-                if (params->decode_mode == ACTAG_DECODE_FIT &&
+                if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
                     !structure_ok(&dr, params, params->max_bit_corrections)) {
                     trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_STRUCTURE, q.corners,
                                q.inlier_ratio, &dr);
@@ -684,12 +695,12 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                            q.inlier_ratio, &dr);
                 break;
             }
-            if (rc != ACTAG_OK && params->decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
+            if (rc != ACTAG_OK && params->tuning.decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
                 /* no quad reads: the blob's extreme points as a first guess
                  * for the wide grid search, judged like a search reading */
                 actag_point gq[4];
-                int lim = params->search_max_corrections < params->max_bit_corrections
-                              ? params->search_max_corrections
+                int lim = params->tuning.search_max_corrections < params->max_bit_corrections
+                              ? params->tuning.search_max_corrections
                               : params->max_bit_corrections;
                 if (extreme_quad(pts, ci.stored, gq)) {
                     int verdict;
@@ -697,7 +708,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                     if (decode_fit(w.b, rows, cols, gq, params, lim, ACTAG_FIT_WIDE, &dr) !=
                         ACTAG_OK)
                         verdict = ACTAG_TRACE_NO_MATCH;
-                    else if (!(dr.decision_margin >= params->search_min_margin))
+                    else if (!(dr.decision_margin >= params->tuning.search_min_margin))
                         verdict = ACTAG_TRACE_MARGIN;
                     else if (!structure_ok(&dr, params, lim))
                         verdict = ACTAG_TRACE_STRUCTURE;
@@ -766,7 +777,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
         rc = resolve_params(&params[i], &pe);
         if (rc != ACTAG_OK)
             return rc;
-        if (params[i].median_radius != params[0].median_radius)
+        if (params[i].tuning.median_radius != params[0].tuning.median_radius)
             return ACTAG_ERR_PARAM; /* one filtered frame serves them all */
     }
     rc = actag_geometry_validate(geometry, rows, cols);
@@ -775,7 +786,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
     if (workspace_size < actag_workspace_size(rows, cols))
         return ACTAG_ERR_WORKSPACE;
     ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, params[0].median_radius);
+    rc = filter_frame(frame, &w, rows, cols, params[0].tuning.median_radius);
     if (rc != ACTAG_OK)
         return rc;
     flip_mirror = mirror_flip(geometry, cols);
