@@ -98,50 +98,8 @@ void actag_params_default(actag_params *p)
     actag_tuning_default(&p->tuning);
 }
 
-static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
-
-int actag_params_validate(const actag_params *p)
-{
-    int rc, maxc;
-    if (p == NULL || p->family == NULL)
-        return ACTAG_ERR_NULL;
-    rc = actag_family_validate(p->family);
-    if (rc != ACTAG_OK)
-        return rc;
-    maxc = actag_family_max_corrections(p->family);
-    if ((p->max_bit_corrections < 0 && p->max_bit_corrections != ACTAG_CORRECTIONS_AUTO) ||
-        p->max_bit_corrections > maxc)
-        return ACTAG_ERR_CORRECTIONS;
-    if (!finite_pos(p->tag_size) || p->tuning.median_radius < 0 ||
-        p->tuning.median_radius > ACTAG_MEDIAN_MAX_RADIUS || p->tuning.threshold_radius < 0 ||
-        p->tuning.threshold_radius > ACTAG_MAX_THRESHOLD_RADIUS || p->tuning.threshold_offset < -255 ||
-        p->tuning.threshold_offset > 255)
-        return ACTAG_ERR_PARAM;
-    if (!(p->tuning.size_tolerance >= 0.0f && p->tuning.size_tolerance < 10.0f) ||
-        !(p->tuning.min_area_fraction >= 0.0f) || !(p->tuning.max_area_fraction >= p->tuning.min_area_fraction) ||
-        !(p->tuning.max_area_fraction < 1.0e6f))
-        return ACTAG_ERR_PARAM;
-    if ((p->tuning.decode_mode != ACTAG_DECODE_FIT && p->tuning.decode_mode != ACTAG_DECODE_BINARY) ||
-        !(p->tuning.min_structure >= 0.0f) ||
-        !(p->tuning.fit.level >= 0.0f) || !(p->tuning.fit.level <= 1.0f) || p->tuning.fit.min_contrast < 0 ||
-        p->tuning.fit.min_contrast > 255 || !(p->tuning.fit.sample_offset >= 0.0f) ||
-        !(p->tuning.fit.sample_offset <= 0.5f) ||
-        p->tuning.search_candidates < 0 || p->tuning.search_candidates > ACTAG_SEARCH_MAX || p->tuning.search_min_score < 0 ||
-        p->tuning.search_min_score > 255 || !(p->tuning.search_range_scale > 0.05f) ||
-        !(p->tuning.search_range_scale <= 4.0f) || p->tuning.search_max_corrections < 0 ||
-        !(p->tuning.search_min_margin >= -1.0e6f) || !(p->tuning.search_min_margin <= 1.0e6f) ||
-        !(p->tuning.fit.min_margin >= -1.0e6f) || !(p->tuning.fit.min_margin <= 1.0e6f) ||
-        !(p->min_margin >= -1.0e6f) || !(p->min_margin <= 1.0e6f) ||
-        !(p->tuning.min_structure <= 1.0f) || !(p->tuning.min_side_fraction >= 0.0f) ||
-        !(p->tuning.max_side_fraction >= p->tuning.min_side_fraction))
-        return ACTAG_ERR_PARAM;
-    if (p->tuning.quad.max_iterations < 1 || !(p->tuning.quad.sample_fraction > 0.0f) ||
-        !(p->tuning.quad.sample_fraction <= 1.0f) || !(p->tuning.quad.inlier_ratio > 0.0f) ||
-        !(p->tuning.quad.inlier_ratio <= 1.0f) || !finite_pos(p->tuning.quad.inlier_distance) ||
-        !(p->tuning.quad.min_parallel_cos >= 0.0f) || !(p->tuning.quad.min_parallel_cos <= 1.0f))
-        return ACTAG_ERR_PARAM;
-    return ACTAG_OK;
-}
+/* actag_params_validate(), actag_tuning_validate() and actag_check() are in
+ * validate.c with the other rules. */
 
 /* 16-bit frames: scale by the frame's maximum into 8 bits (integer, exact). */
 static void convert16(const actag_frame *f, uint8_t *dst)
@@ -438,18 +396,14 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr);
 
-/* Validates *params and resolves ACTAG_CORRECTIONS_AUTO into *pe. */
-static int resolve_params(const actag_params *params, actag_params *pe)
+/* *params (validated) with ACTAG_CORRECTIONS_AUTO resolved, into *pe. */
+static void resolve_params(const actag_params *params, actag_params *pe)
 {
-    int rc = actag_params_validate(params);
-    if (rc != ACTAG_OK)
-        return rc;
     *pe = *params;
     if (pe->max_bit_corrections == ACTAG_CORRECTIONS_AUTO) {
         int maxc = actag_family_max_corrections(pe->family);
         pe->max_bit_corrections = maxc < ACTAG_AUTO_CORRECTIONS ? maxc : ACTAG_AUTO_CORRECTIONS;
     }
-    return ACTAG_OK;
 }
 
 /* 1. median filter: the frame (16-bit frames scaled into A first) -> B.
@@ -503,24 +457,14 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
 
     if (stats)
         memset(stats, 0, sizeof *stats);
-    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
-        frame->data == NULL || (out == NULL && max_out > 0))
+    if (workspace == NULL || (out == NULL && max_out > 0))
         return ACTAG_ERR_NULL;
+    rc = actag_check(frame, geometry, params, workspace_size, max_out, NULL);
+    if (rc != ACTAG_OK)
+        return rc;
     rows = frame->rows;
     cols = frame->cols;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
-        frame->stride < cols || (frame->depth != 8 && frame->depth != 16))
-        return ACTAG_ERR_SIZE;
-    if (max_out < 0)
-        return ACTAG_ERR_PARAM;
-    rc = resolve_params(params, &pe);
-    if (rc != ACTAG_OK)
-        return rc;
-    rc = actag_geometry_validate(geometry, rows, cols);
-    if (rc != ACTAG_OK)
-        return rc;
-    if (workspace_size < actag_workspace_size(rows, cols))
-        return ACTAG_ERR_WORKSPACE;
+    resolve_params(params, &pe);
     ws_split(workspace, rows, cols, &w);
     rc = filter_frame(frame, &w, rows, cols, pe.tuning.median_radius);
     if (rc != ACTAG_OK)
@@ -762,29 +706,20 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
 {
     ws_layout w;
     int rc, rows, cols, flip_mirror, i;
-    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
-        counts == NULL || frame->data == NULL || (out == NULL && max_out_each > 0))
+    if (params == NULL || workspace == NULL || counts == NULL ||
+        (out == NULL && max_out_each > 0))
         return ACTAG_ERR_NULL;
-    rows = frame->rows;
-    cols = frame->cols;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
-        frame->stride < cols || (frame->depth != 8 && frame->depth != 16))
-        return ACTAG_ERR_SIZE;
-    if (nparams < 1 || max_out_each < 0)
+    if (nparams < 1)
         return ACTAG_ERR_PARAM;
     for (i = 0; i < nparams; i++) {
-        actag_params pe;
-        rc = resolve_params(&params[i], &pe);
+        rc = actag_check(frame, geometry, &params[i], workspace_size, max_out_each, NULL);
         if (rc != ACTAG_OK)
             return rc;
         if (params[i].tuning.median_radius != params[0].tuning.median_radius)
             return ACTAG_ERR_PARAM; /* one filtered frame serves them all */
     }
-    rc = actag_geometry_validate(geometry, rows, cols);
-    if (rc != ACTAG_OK)
-        return rc;
-    if (workspace_size < actag_workspace_size(rows, cols))
-        return ACTAG_ERR_WORKSPACE;
+    rows = frame->rows;
+    cols = frame->cols;
     ws_split(workspace, rows, cols, &w);
     rc = filter_frame(frame, &w, rows, cols, params[0].tuning.median_radius);
     if (rc != ACTAG_OK)

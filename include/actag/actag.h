@@ -56,15 +56,48 @@
  *   ACTAG_ERR_NULL         frame, frame->data, geometry, params, params->family,
  *                          workspace or out (when max_out > 0) is NULL
  *   ACTAG_ERR_SIZE         rows/cols < 1 or > ACTAG_MAX_DIM, stride < cols,
- *                          depth not 8 or 16
- *   ACTAG_ERR_PARAM        a pipeline parameter is out of range (radii, ratios,
- *                          tag_size <= 0, max_out < 0, ...)
- *   ACTAG_ERR_GEOMETRY     invalid sonar geometry (see geometry.h)
+ *                          depth not 8 or 16, (rows-1) * stride + cols elements
+ *                          beyond SIZE_MAX bytes
+ *   ACTAG_ERR_PARAM        max_out < 0, a parameter or tuning value out of range
+ *                          (actag_params_validate), tag_size above
+ *                          sqrt(2) * geometry->max_range
+ *   ACTAG_ERR_GEOMETRY     invalid sonar geometry (actag_geometry_validate)
  *   ACTAG_ERR_FAMILY       invalid family
  *   ACTAG_ERR_CORRECTIONS  max_bit_corrections above the family's limit
  *   ACTAG_ERR_WORKSPACE    workspace_size < actag_workspace_size(rows, cols)
  *   When more tags are found than max_out, the first max_out (in scan order)
  *   are written and stats->dropped counts the rest.
+ *
+ * ERROR DETAILS (which input was wrong, and why)
+ *   actag_check(frame, geometry, params, workspace_size, max_out, &detail)
+ *   runs exactly the checks actag_detect() runs before it touches a pixel,
+ *   in the same order, and returns the same code (ACTAG_OK when actag_detect
+ *   would run; actag_detect's only further checks are workspace and out
+ *   being NULL). It also fills the optional actag_error_detail (common.h):
+ *       actag_error_detail d;
+ *       if (actag_check(&f, &g, &p, sizeof ws, 8, &d) != ACTAG_OK)
+ *           printf("%s: %s (got %g)\n", d.field, d.rule, d.value);
+ *   prints e.g. "tag_size: must be a finite number > 0 (metres) (got 0)",
+ *   "tuning.quad.min_inlier_ratio: must be a number > 0 and <= 1 (got 1.5)",
+ *   "geometry.min_range: must be below geometry.max_range (got 2)" (then
+ *   d.other = "geometry.max_range", d.limit = 1.5), or for a bearing table
+ *   d.field = "geometry.bearings" with d.index the entry at fault. Field
+ *   names are the C expressions from actag_check's arguments: params
+ *   members bare ("tag_size", "tuning.median_radius"), the others prefixed
+ *   ("frame.stride", "geometry.aperture", "workspace_size", "max_out").
+ *   Every string is a literal; nothing is stored anywhere else, so the
+ *   checks stay re-entrant.
+ *   The validators of the single structs take the same optional pointer:
+ *   actag_params_validate, actag_tuning_validate (below),
+ *   actag_geometry_validate (geometry.h), actag_quad_params_validate
+ *   (quad.h), actag_fit_params_validate (decode.h). The stages call them too
+ *   (actag_quad_fit, actag_decode_quad_fit, actag_search_map), so a value
+ *   is judged by one rule wherever it enters, and anything a stage would
+ *   refuse is an error from actag_detect, not a silent "no tag". Besides the
+ *   per-field ranges documented with actag_tuning / actag_params, the rules
+ *   bound everything that scales with the frame: tag_size at most
+ *   sqrt(2) * max_range, and the geometry's least range and azimuth steps
+ *   (geometry.h), so no stage computes an out-of-range pixel count.
  */
 #ifndef ACTAG_ACTAG_H
 #define ACTAG_ACTAG_H
@@ -161,8 +194,8 @@ typedef struct actag_tuning {
 typedef struct actag_params {
     const actag_family *family; /* required: e.g. from actag_family_get() */
     float tag_size;             /* metres: side of the inner white square (default 3/7 ft,
-                                   0.130628571); must be finite, > 0 and below the frame's
-                                   range span (see actag_params_validate) */
+                                   0.130628571); finite, > 0 and at most sqrt(2) *
+                                   geometry max_range (actag_check) */
     int max_bit_corrections;    /* 0 .. actag_family_max_corrections(family), or
                                    ACTAG_CORRECTIONS_AUTO (default): min(3, family maximum) */
     uint32_t seed;              /* RANSAC seed (default 1); any value */
@@ -308,8 +341,27 @@ void actag_params_default(actag_params *p);
  * no-op for NULL). actag_params_default() calls it. */
 void actag_tuning_default(actag_tuning *t);
 
-/* Checks parameters; returns ACTAG_OK or ACTAG_ERR_NULL / _PARAM / _FAMILY / _CORRECTIONS. */
-int actag_params_validate(const actag_params *p);
+/* Checks *p alone (no frame or geometry): family, max_bit_corrections,
+ * tag_size finite and > 0, min_margin in [-1e6, 1e6], then the tuning
+ * (actag_tuning_validate, fields named "tuning.*"). Returns ACTAG_OK or
+ * ACTAG_ERR_NULL (p or p->family), _FAMILY, _CORRECTIONS, _PARAM; fills
+ * *detail when not NULL (ERROR DETAILS above). */
+int actag_params_validate(const actag_params *p, actag_error_detail *detail);
+
+/* Checks *t: the ranges documented with each actag_tuning field, then
+ * actag_quad_params_validate(&t->quad) and actag_fit_params_validate(&t->fit)
+ * (fields "quad.inlier_distance", "fit.level", ...). Returns ACTAG_OK,
+ * ACTAG_ERR_NULL or ACTAG_ERR_PARAM; fills *detail when not NULL. */
+int actag_tuning_validate(const actag_tuning *t, actag_error_detail *detail);
+
+/* Every check actag_detect(frame, geometry, params, <workspace>,
+ * workspace_size, <out>, max_out, ...) makes before it runs, with the same
+ * result code (ERROR DETAILS above): ACTAG_OK, or ACTAG_ERR_NULL, _SIZE,
+ * _PARAM, _GEOMETRY, _FAMILY, _CORRECTIONS, _WORKSPACE. Fills *detail when
+ * not NULL. Reads the bearing table, no pixels. */
+int actag_check(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                const actag_params *params, size_t workspace_size, int max_out,
+                actag_error_detail *detail);
 
 /* Detect tags. Writes at most max_out detections to out and returns their
  * number (>= 0), or a negative ACTAG_ERR_* code. stats may be NULL. */
@@ -330,9 +382,11 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
  * actag_detect(frame, geometry, &params[i], ...) would give, at a fraction of
  * the cost. Set i's detections go to out[i * max_out_each ...], their number
  * to counts[i] (extra ones are dropped, as with actag_detect). Returns ACTAG_OK
- * or the first error (ACTAG_ERR_NULL, _SIZE, _PARAM: nparams < 1,
- * max_out_each < 0, an invalid set or median radii that differ, _GEOMETRY,
- * _FAMILY, _CORRECTIONS, _WORKSPACE); counts is then undefined. The
+ * or the first error: ACTAG_ERR_NULL (params, workspace, counts, or out with
+ * max_out_each > 0), ACTAG_ERR_PARAM for nparams < 1, then for i = 0, 1, ...
+ * what actag_check(frame, geometry, &params[i], workspace_size, max_out_each)
+ * returns, or ACTAG_ERR_PARAM when set i's tuning.median_radius differs from
+ * set 0's; counts is then undefined. The
  * workspace is that of one actag_detect call. */
 int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geometry,
                        const actag_params *params, int nparams, void *workspace,
