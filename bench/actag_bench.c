@@ -117,10 +117,10 @@ int main(int argc, char **argv)
             actag_ipoint *pts = (actag_ipoint *)(void *)scratch;
             int n;
             t0 = now_ms();
-            actag_median_filter(img, rows, cols, cols, filt, cols, p.median_radius, scratch, ssize);
+            actag_median_filter(img, rows, cols, cols, filt, cols, p.tuning.median_radius, scratch, ssize);
             t1 = now_ms();
-            actag_adaptive_threshold(filt, rows, cols, cols, bin, cols, p.threshold_radius,
-                                     p.threshold_offset, scratch, ssize);
+            actag_adaptive_threshold(filt, rows, cols, cols, bin, cols, p.tuning.threshold_radius,
+                                     p.tuning.threshold_offset, scratch, ssize);
             t2 = now_ms();
             actag_contour_scanner_init(&sc, bin, rows, cols, cols);
             while (actag_contour_next(&sc, pts, (int)ACTAG_CONTOUR_CAP(rows, cols), &ci) == 1)

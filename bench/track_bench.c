@@ -125,11 +125,11 @@ int main(int argc, char **argv)
     p.tag_size = (float)tag_size;
     rp = p;
     if (roi_search >= 0) {
-        rp.search_candidates = roi_search;
+        rp.tuning.search_candidates = roi_search;
         roi_params = &rp;
     }
     if (roi_ransac > 0) {
-        rp.quad.max_iterations = roi_ransac;
+        rp.tuning.quad.max_iterations = roi_ransac;
         roi_params = &rp;
     }
     if (actag_tracker_init(&tr, &tp) != ACTAG_OK)

@@ -26,6 +26,8 @@
 #include "hostio.h"
 #include "pictures.h"
 
+#include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -100,6 +102,33 @@ static void usage(FILE *f)
 #define die(msg) hostio_die(PROG, (msg))
 #define num(opt, s, lo, hi) hostio_opt_double(PROG, (opt), (s), (lo), (hi))
 #define inum(opt, s, lo, hi) hostio_opt_long(PROG, (opt), (s), (lo), (hi))
+/* Values the library judges (actag_check): any float / int here. */
+#define fnum(opt, s) ((float)num((opt), (s), -FLT_MAX, FLT_MAX))
+#define anyint(opt, s) ((int)inum((opt), (s), INT_MIN, INT_MAX))
+
+/* The options that set library fields, for the library's error details. */
+static const hostio_optname option_names[] = {
+    {"tag_size", "--tag-size", 0},
+    {"max_bit_corrections", "--bit-corrections", 0},
+    {"seed", "--seed", 0},
+    {"min_margin", "--min-margin", 0},
+    {"tuning.decode_mode", "--decode", 0},
+    {"tuning.search_candidates", "--search", 0},
+    {"tuning.min_structure", "--min-structure", 0},
+    {"tuning.min_side_fraction", "--min-side-fraction", 0},
+    {"tuning.search_min_margin", "--search-min-margin", 0},
+    {"tuning.median_radius", "--median-radius", 0},
+    {"tuning.threshold_radius", "--threshold-radius", 0},
+    {"tuning.threshold_offset", "--threshold-offset", 0},
+    {"tuning.quad.inlier_ratio", "--inlier-ratio", 0},
+    {"tuning.quad.inlier_distance", "--inlier-distance", 0},
+    {"tuning.quad.max_iterations", "--ransac-iterations", 0},
+    {"geometry.min_range", "--min-range", 0},
+    {"geometry.max_range", "--max-range", 0},
+    {"geometry.aperture", "--aperture-deg", 57.29577951308232},
+    {"geometry.bearings", "--bearings", 0},
+};
+#define NOPTION_NAMES ((int)(sizeof option_names / sizeof option_names[0]))
 
 /* ------------------------------------------------------------------ options */
 
@@ -163,15 +192,21 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->geo.flags |= ACTAG_AZIMUTH_ASCENDING;
         } else if (strcmp(a, "--min-range") == 0) {
             NEEDV();
-            o->geo.min_range = (float)num(a, v, 0.0, 1e6);
+            o->geo.min_range = fnum(a, v);
             o->have_min = 1;
         } else if (strcmp(a, "--max-range") == 0) {
             NEEDV();
-            o->geo.max_range = (float)num(a, v, 1e-6, 1e6);
+            o->geo.max_range = fnum(a, v);
             o->have_max = 1;
         } else if (strcmp(a, "--aperture-deg") == 0) {
             NEEDV();
-            o->aperture_deg = num(a, v, 1e-6, 359.999);
+            o->aperture_deg = num(a, v, -DBL_MAX, DBL_MAX);
+            if (!(o->aperture_deg > 0.0 && o->aperture_deg < 360.0)) {
+                char m[128];
+                snprintf(m, sizeof m, "--aperture-deg: must be a number > 0 and < 360 (got %g)",
+                         o->aperture_deg);
+                die(m);
+            }
             o->have_aperture = 1;
         } else if (strcmp(a, "--bearings") == 0) {
             NEEDV();
@@ -198,16 +233,16 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->family_name = v;
         } else if (strcmp(a, "--tag-size") == 0) {
             NEEDV();
-            o->params.tag_size = (float)num(a, v, 1e-6, 1e3);
+            o->params.tag_size = fnum(a, v);
         } else if (strcmp(a, "--bit-corrections") == 0) {
             NEEDV();
-            o->params.max_bit_corrections = (int)inum(a, v, 0, 64);
+            o->params.max_bit_corrections = anyint(a, v);
         } else if (strcmp(a, "--decode") == 0) {
             NEEDV();
             if (strcmp(v, "binary") == 0) {
-                o->params.decode_mode = ACTAG_DECODE_BINARY;
+                o->params.tuning.decode_mode = ACTAG_DECODE_BINARY;
             } else if (strcmp(v, "fit") == 0) {
-                o->params.decode_mode = ACTAG_DECODE_FIT;
+                o->params.tuning.decode_mode = ACTAG_DECODE_FIT;
             } else {
                 char m[128];
                 snprintf(m, sizeof m, "--decode: must be fit or binary (got '%.40s')", v);
@@ -215,40 +250,40 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             }
         } else if (strcmp(a, "--search") == 0) {
             NEEDV();
-            o->params.search_candidates = (int)inum(a, v, 0, ACTAG_SEARCH_MAX);
+            o->params.tuning.search_candidates = anyint(a, v);
         } else if (strcmp(a, "--min-structure") == 0) {
             NEEDV();
-            o->params.min_structure = (float)num(a, v, 0.0, 1.0);
+            o->params.tuning.min_structure = fnum(a, v);
         } else if (strcmp(a, "--min-side-fraction") == 0) {
             NEEDV();
-            o->params.min_side_fraction = (float)num(a, v, 0.0, 1e3);
+            o->params.tuning.min_side_fraction = fnum(a, v);
         } else if (strcmp(a, "--min-margin") == 0) {
             NEEDV();
-            o->params.fit.min_margin = (float)num(a, v, -1e6, 1e6);
+            o->params.min_margin = fnum(a, v);
         } else if (strcmp(a, "--search-min-margin") == 0) {
             NEEDV();
-            o->params.search_min_margin = (float)num(a, v, -1e6, 1e6);
+            o->params.tuning.search_min_margin = fnum(a, v);
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
             o->params.seed = (uint32_t)inum(a, v, 0, 4294967295L);
         } else if (strcmp(a, "--median-radius") == 0) {
             NEEDV();
-            o->params.median_radius = (int)inum(a, v, 0, ACTAG_MEDIAN_MAX_RADIUS);
+            o->params.tuning.median_radius = anyint(a, v);
         } else if (strcmp(a, "--threshold-radius") == 0) {
             NEEDV();
-            o->params.threshold_radius = (int)inum(a, v, 0, ACTAG_MAX_THRESHOLD_RADIUS);
+            o->params.tuning.threshold_radius = anyint(a, v);
         } else if (strcmp(a, "--threshold-offset") == 0) {
             NEEDV();
-            o->params.threshold_offset = (int)inum(a, v, -255, 255);
+            o->params.tuning.threshold_offset = anyint(a, v);
         } else if (strcmp(a, "--inlier-ratio") == 0) {
             NEEDV();
-            o->params.quad.inlier_ratio = (float)num(a, v, 1e-6, 1.0);
+            o->params.tuning.quad.inlier_ratio = fnum(a, v);
         } else if (strcmp(a, "--inlier-distance") == 0) {
             NEEDV();
-            o->params.quad.inlier_distance = (float)num(a, v, 1e-6, 1e6);
+            o->params.tuning.quad.inlier_distance = fnum(a, v);
         } else if (strcmp(a, "--ransac-iterations") == 0) {
             NEEDV();
-            o->params.quad.max_iterations = (int)inum(a, v, 1, 1000000);
+            o->params.tuning.quad.max_iterations = anyint(a, v);
         } else if (strcmp(a, "--overlay") == 0) {
             NEEDV();
             o->overlay = v;
@@ -276,12 +311,6 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         die("--aperture-deg and --bearings exclude each other: give one");
     if (!o->have_aperture && !o->bearings_path)
         die("--aperture-deg or --bearings is required");
-    if (o->geo.max_range <= o->geo.min_range) {
-        char m[160];
-        snprintf(m, sizeof m, "--max-range %g must be larger than --min-range %g",
-                 (double)o->geo.max_range, (double)o->geo.min_range);
-        die(m);
-    }
     o->geo.aperture = (float)(o->aperture_deg * 3.14159265358979323846 / 180.0);
     if (actag_family_get(o->family_name, &o->fam) != ACTAG_OK) {
         char m[1024];
@@ -299,11 +328,19 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
     }
     o->params.family = &o->fam;
     {
-        int rc = actag_params_validate(&o->params);
-        if (rc != ACTAG_OK) {
-            char m[256];
-            snprintf(m, sizeof m, "bad parameters: %s (family %s allows at most %d bit corrections)",
-                     actag_strerror(rc), o->fam.name, actag_family_max_corrections(&o->fam));
+        /* what does not depend on the frame, once: the library's checks on a
+         * 2 x 1 stand-in frame (the bearing table and the per-column azimuth
+         * step are checked with each frame) */
+        static const uint8_t px[2] = {0, 0};
+        actag_frame fr = {px, 2, 1, 1, 8};
+        actag_sonar_geometry g = o->geo;
+        actag_error_detail d;
+        char m[HOSTIO_ERRLEN];
+        if (o->bearings_path) {
+            g.aperture = 1.0f; /* judged per frame */
+        }
+        if (actag_check(&fr, &g, &o->params, SIZE_MAX, MAX_DETECTIONS, &d) != ACTAG_OK) {
+            hostio_detail_message(&d, option_names, NOPTION_NAMES, m);
             die(m);
         }
     }
@@ -661,6 +698,17 @@ static int process(const options *o, const char *file, const char *picname, int 
     fr.cols = im.cols;
     fr.stride = im.stride;
     fr.depth = im.depth;
+    {
+        actag_error_detail d;
+        char m[HOSTIO_ERRLEN];
+        if (actag_check(&fr, &geo, &o->params, wsize, MAX_DETECTIONS, &d) != ACTAG_OK) {
+            hostio_detail_message(&d, option_names, NOPTION_NAMES, m);
+            int room = HOSTIO_ERRLEN - 3 - (int)strlen(m); /* the message, whole */
+            snprintf(err, HOSTIO_ERRLEN, "%.*s: %s", room > 0 ? room : 0,
+                     hostio_frame_name(file), m);
+            goto fail;
+        }
+    }
     if (o->track) {
         if (track_frame(tracker, &fr, &geo, o, ws, wsize, file, err) != 0)
             goto fail;

@@ -221,7 +221,12 @@ int main(int argc, char **argv)
             if (strcmp(a, pose_opts[k]) == 0) {
                 double *dst[5] = {&o.tag_size, &o.fx, &o.fy, &o.cx, &o.cy};
                 /* sizes and focal lengths > 0; the principal point anywhere */
-                *dst[k] = hostio_opt_double(PROG, a, v, k <= 2 ? 1e-9 : -1e9, 1e9);
+                *dst[k] = hostio_opt_double(PROG, a, v, -1e9, 1e9);
+                if (k <= 2 && !(*dst[k] > 0.0)) {
+                    char m[128];
+                    snprintf(m, sizeof m, "%s: must be a finite number > 0 (got %g)", a, *dst[k]);
+                    die(m);
+                }
                 o.have[k] = 1;
                 matched = 1;
                 i++;

@@ -687,7 +687,7 @@ static int stage_search(const char *dir, const char *stem, const pic_frame *f, c
         return -1;
     }
     have = actag_search_map(&z, f->filtered, f->rows, f->cols, f->cols, f->geo, p->tag_size,
-                            p->family->bits, p->search_range_scale, map, msize, ii,
+                            p->family->bits, p->tuning.search_range_scale, map, msize, ii,
                             isize) == ACTAG_OK;
     for (r = 0; r < f->rows; r++)
         for (c = 0; c < f->cols; c++) {
@@ -870,8 +870,8 @@ static int stage_decoded(const char *dir, const char *stem, const pic_frame *f, 
     canvas cv, big;
     item it[6];
     int n = 0, r, c, i, ninset = f->ndet < MAX_INSETS ? f->ndet : MAX_INSETS;
-    int skip = f->params->decode_mode == ACTAG_DECODE_FIT &&
-               (f->params->fit.flags & ACTAG_FIT_ERASE_CORNERS) != 0;
+    int skip = f->params->tuning.decode_mode == ACTAG_DECODE_FIT &&
+               (f->params->tuning.fit.flags & ACTAG_FIT_ERASE_CORNERS) != 0;
     int box[MAX_INSETS][5], inset_h = 0, y_inset;
     const rgb_t dark = {40, 40, 40};
     view vw;

@@ -454,6 +454,25 @@ static void test_bearing_table_file(void)
     a = err_text();
     TEST_ASSERT_NOT_NULL(strstr(a, "bearings620.txt: value 3 is not a finite number (got 'zebra')"));
     free(a);
+    /* a table that turns back at value 301 (index 300): the library's
+     * detail names the entry, per frame, exit status 2 */
+    f = fopen(path, "w");
+    TEST_ASSERT_NOT_NULL(f);
+    for (c = 0; c < 620; c++)
+        fprintf(f, "%.3f\n", c == 300 ? 0.5 - 0.001 * 298 : 0.5 - 0.001 * c);
+    fclose(f);
+    TEST_ASSERT_EQUAL_INT(2, run(args));
+    a = err_text();
+    TEST_ASSERT_EQUAL_STRING("actag_detect: " EXAMPLE ": --bearings: value 301 must be below the "
+                             "previous bearing (the table must be strictly monotonic: it "
+                             "decreases) (got 0.202 after 0.201)\n", a);
+    free(a);
+    /* the per-column azimuth step depends on the frame: checked per frame */
+    TEST_ASSERT_EQUAL_INT(2, run("--min-range 0.1 --max-range 1.5 --aperture-deg 1e-7 " EXAMPLE));
+    a = err_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(a, EXAMPLE ": --aperture-deg: must be at least (cols - 1) "
+                                           "* ACTAG_MIN_AZIMUTH_STEP"), a);
+    free(a);
 }
 
 /* Runs args, expects status 2 and exactly one stderr line containing msg. */
@@ -476,7 +495,10 @@ static void test_bad_options(void)
 {
     expect_option_error("--min-range 0.1 --max-range 1.5 --aperture-deg 60 --family Nope " EXAMPLE,
                         "--family: unknown family Nope (built in: AcTag24h4");
-    expect_option_error(GEO " --bit-corrections 5 " EXAMPLE, "at most 4 bit corrections");
+    expect_option_error(GEO " --bit-corrections 5 " EXAMPLE,
+                        "--bit-corrections: must be ACTAG_CORRECTIONS_AUTO (-1) or an integer "
+                        "from 0 to the family's limit (actag_family_max_corrections) (got 5, "
+                        "limit 4)");
     expect_option_error("--min-range 0.1 --aperture-deg 60 " EXAMPLE, "--max-range is required");
     expect_option_error("--max-range 1.5 --aperture-deg 60 " EXAMPLE, "--min-range is required");
     expect_option_error("--min-range 0.1 --max-range 1.5 " EXAMPLE,
@@ -485,14 +507,40 @@ static void test_bad_options(void)
                         "--aperture-deg and --bearings exclude each other");
     expect_option_error(GEO " --frobnicate " EXAMPLE, "unknown option --frobnicate");
     expect_option_error(GEO " --median-radius x " EXAMPLE, "--median-radius: must be an integer (got 'x')");
-    expect_option_error(GEO " --aperture-deg -5 " EXAMPLE, "--aperture-deg: must be from");
+    expect_option_error(GEO " --aperture-deg -5 " EXAMPLE,
+                        "--aperture-deg: must be a number > 0 and < 360 (got -5)");
     expect_option_error(GEO " --min-range nan " EXAMPLE, "--min-range: must be a finite number (got 'nan')");
     expect_option_error(GEO " --decode guess " EXAMPLE, "--decode: must be fit or binary (got 'guess')");
     expect_option_error(GEO " --depth 12 " EXAMPLE, "--depth: must be 8 or 16 (got 12)");
     expect_option_error(GEO " --tag-size", "--tag-size: missing value");
     expect_option_error(GEO, "no input files");
     expect_option_error("--min-range 2 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
-                        "--max-range 1.5 must be larger than --min-range 2");
+                        "actag_detect: --min-range/--max-range: must be below --max-range "
+                        "(got 2, limit 1.5)\n");
+    /* values the library judges: its rule, in the option's name */
+    expect_option_error(GEO " --tag-size 0 " EXAMPLE,
+                        "actag_detect: --tag-size: must be a finite number > 0 (metres) (got 0)\n");
+    expect_option_error(GEO " --tag-size 1e30 " EXAMPLE,
+                        "--tag-size/--max-range: must be at most sqrt(2) * --max-range");
+    expect_option_error(GEO " --threshold-radius 33 " EXAMPLE,
+                        "--threshold-radius: must be an integer from 0 to "
+                        "ACTAG_MAX_THRESHOLD_RADIUS (32, pixels) (got 33)");
+    expect_option_error(GEO " --inlier-ratio 2 " EXAMPLE,
+                        "--inlier-ratio: must be a number > 0 and <= 1 (got 2)");
+    expect_option_error(GEO " --inlier-distance 1e7 " EXAMPLE,
+                        "--inlier-distance: must be a number of pixels > 0 and <= 1e6 (got 1e+07)");
+    expect_option_error(GEO " --ransac-iterations 0 " EXAMPLE,
+                        "--ransac-iterations: must be an integer from 1 to 1000000 (got 0)");
+    expect_option_error(GEO " --median-radius 128 " EXAMPLE,
+                        "--median-radius: must be an integer from 0 to 127 (pixels) (got 128)");
+    expect_option_error(GEO " --search 9 " EXAMPLE,
+                        "--search: must be an integer from 0 to ACTAG_SEARCH_MAX (8) (got 9)");
+    expect_option_error(GEO " --min-structure 1.5 " EXAMPLE,
+                        "--min-structure: must be a number from 0 to 1 (got 1.5)");
+    expect_option_error("--min-range -1 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
+                        "--min-range: must be a finite number >= 0 (metres) (got -1)");
+    expect_option_error("--min-range 0.1 --max-range 1.5 --aperture-deg 400 " EXAMPLE,
+                        "--aperture-deg: must be a number > 0 and < 360 (got 400)");
     TEST_ASSERT_EQUAL_INT(0, run("--help"));
 }
 

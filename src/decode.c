@@ -943,9 +943,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     flags = fp->flags;
     min_contrast = fp->min_contrast;
     level = fp->level;
-    if (min_contrast < 0 || min_contrast > 255 || !(level >= 0.0f) || !(level <= 1.0f) ||
-        !(fp->sample_offset >= 0.0f) || !(fp->sample_offset <= 0.5f) || !(fp->min_margin >= -1.0e6f) || fp->min_bit_margin < 0 || fp->min_bit_margin > 32 ||
-        !(fp->min_margin <= 1.0e6f))
+    if (actag_fit_params_validate(fp, NULL) != ACTAG_OK)
         return ACTAG_ERR_PARAM;
     maxc = actag_family_max_corrections(family);
     if (max_corrections < 0 || max_corrections > maxc)

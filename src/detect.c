@@ -54,6 +54,37 @@ const uint8_t *actag_workspace_binary(const void *workspace, int rows, int cols)
     return w.a;
 }
 
+void actag_tuning_default(actag_tuning *t)
+{
+    if (t == NULL)
+        return;
+    memset(t, 0, sizeof *t);
+    t->median_radius = 4;
+    t->threshold_radius = 8;
+    t->threshold_offset = 1;
+    t->size_tolerance = 0.2f;
+    t->min_area_fraction = 0.1f;
+    t->max_area_fraction = 1.0f;
+    actag_quad_params_default(&t->quad);
+    /* Measured on the pool frames (see the manual in actag.h): RANSAC's
+     * early exit at 0.8 and acceptance down to 0.6 let ragged sonar
+     * contours through (the decoder judges them); 100 iterations suffice
+     * because the structure search covers what RANSAC misses. */
+    t->quad.inlier_ratio = 0.8f;
+    t->quad.min_inlier_ratio = 0.6f;
+    t->quad.max_iterations = 100;
+    t->decode_mode = ACTAG_DECODE_FIT;
+    actag_fit_params_default(&t->fit);
+    t->min_structure = 1.0f;
+    t->min_side_fraction = 0.5f;
+    t->max_side_fraction = 1.6f;
+    t->search_candidates = 2;
+    t->search_min_score = 15;
+    t->search_range_scale = 0.75f;
+    t->search_max_corrections = 3;
+    t->search_min_margin = ACTAG_SEARCH_MIN_MARGIN;
+}
+
 void actag_params_default(actag_params *p)
 {
     if (p == NULL)
@@ -62,76 +93,13 @@ void actag_params_default(actag_params *p)
     p->family = NULL;
     p->tag_size = 0.130628571f; /* 3/7 ft: inner square of a 1 ft, 24-bit tag */
     p->max_bit_corrections = ACTAG_CORRECTIONS_AUTO;
-    p->median_radius = 4;
-    p->threshold_radius = 8;
-    p->threshold_offset = 1;
-    p->size_tolerance = 0.2f;
-    p->min_area_fraction = 0.1f;
-    p->max_area_fraction = 1.0f;
-    actag_quad_params_default(&p->quad);
-    /* Measured on the pool frames (see the manual in actag.h): RANSAC's
-     * early exit at 0.8 and acceptance down to 0.6 let ragged sonar
-     * contours through (the decoder judges them); 100 iterations suffice
-     * because the structure search covers what RANSAC misses. */
-    p->quad.inlier_ratio = 0.8f;
-    p->quad.min_inlier_ratio = 0.6f;
-    p->quad.max_iterations = 100;
-    p->decode_mode = ACTAG_DECODE_FIT;
     p->seed = 1u;
-    actag_fit_params_default(&p->fit);
-    p->min_structure = 1.0f;
-    p->min_side_fraction = 0.5f;
-    p->max_side_fraction = 1.6f;
-    p->search_candidates = 2;
-    p->search_min_score = 15;
-    p->search_range_scale = 0.75f;
-    p->search_max_corrections = 3;
-    p->search_min_margin = ACTAG_SEARCH_MIN_MARGIN;
+    p->min_margin = ACTAG_FIT_MIN_MARGIN;
+    actag_tuning_default(&p->tuning);
 }
 
-static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
-
-int actag_params_validate(const actag_params *p)
-{
-    int rc, maxc;
-    if (p == NULL || p->family == NULL)
-        return ACTAG_ERR_NULL;
-    rc = actag_family_validate(p->family);
-    if (rc != ACTAG_OK)
-        return rc;
-    maxc = actag_family_max_corrections(p->family);
-    if ((p->max_bit_corrections < 0 && p->max_bit_corrections != ACTAG_CORRECTIONS_AUTO) ||
-        p->max_bit_corrections > maxc)
-        return ACTAG_ERR_CORRECTIONS;
-    if (!finite_pos(p->tag_size) || p->median_radius < 0 ||
-        p->median_radius > ACTAG_MEDIAN_MAX_RADIUS || p->threshold_radius < 0 ||
-        p->threshold_radius > ACTAG_MAX_THRESHOLD_RADIUS || p->threshold_offset < -255 ||
-        p->threshold_offset > 255)
-        return ACTAG_ERR_PARAM;
-    if (!(p->size_tolerance >= 0.0f && p->size_tolerance < 10.0f) ||
-        !(p->min_area_fraction >= 0.0f) || !(p->max_area_fraction >= p->min_area_fraction) ||
-        !(p->max_area_fraction < 1.0e6f))
-        return ACTAG_ERR_PARAM;
-    if ((p->decode_mode != ACTAG_DECODE_FIT && p->decode_mode != ACTAG_DECODE_BINARY) ||
-        !(p->min_structure >= 0.0f) ||
-        !(p->fit.level >= 0.0f) || !(p->fit.level <= 1.0f) || p->fit.min_contrast < 0 ||
-        p->fit.min_contrast > 255 || !(p->fit.sample_offset >= 0.0f) ||
-        !(p->fit.sample_offset <= 0.5f) ||
-        p->search_candidates < 0 || p->search_candidates > ACTAG_SEARCH_MAX || p->search_min_score < 0 ||
-        p->search_min_score > 255 || !(p->search_range_scale > 0.05f) ||
-        !(p->search_range_scale <= 4.0f) || p->search_max_corrections < 0 ||
-        !(p->search_min_margin >= -1.0e6f) || !(p->search_min_margin <= 1.0e6f) ||
-        !(p->fit.min_margin >= -1.0e6f) || !(p->fit.min_margin <= 1.0e6f) ||
-        !(p->min_structure <= 1.0f) || !(p->min_side_fraction >= 0.0f) ||
-        !(p->max_side_fraction >= p->min_side_fraction))
-        return ACTAG_ERR_PARAM;
-    if (p->quad.max_iterations < 1 || !(p->quad.sample_fraction > 0.0f) ||
-        !(p->quad.sample_fraction <= 1.0f) || !(p->quad.inlier_ratio > 0.0f) ||
-        !(p->quad.inlier_ratio <= 1.0f) || !finite_pos(p->quad.inlier_distance) ||
-        !(p->quad.min_parallel_cos >= 0.0f) || !(p->quad.min_parallel_cos <= 1.0f))
-        return ACTAG_ERR_PARAM;
-    return ACTAG_OK;
-}
+/* actag_params_validate(), actag_tuning_validate() and actag_check() are in
+ * validate.c with the other rules. */
 
 /* 16-bit frames: scale by the frame's maximum into 8 bits (integer, exact). */
 static void convert16(const actag_frame *f, uint8_t *dst)
@@ -164,7 +132,7 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
     float dr = actag_geometry_range_step(g, rows);
     float daz = actag_geometry_azimuth_step(g, cols, xc) * range;
     float diag = p->tag_size * 1.41421356f;
-    float diag_r_px, diag_az_px, ext_r, ext_az, ref_area, tol = p->size_tolerance;
+    float diag_r_px, diag_az_px, ext_r, ext_az, ref_area, tol = p->tuning.size_tolerance;
     if (!(dr > 0.0f) || !(daz > 0.0f))
         return 0;
     diag_r_px = diag / dr;
@@ -174,8 +142,8 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
     if (ext_r > diag_r_px * (1.0f + tol) || ext_az > diag_az_px * (1.0f + tol))
         return 0;
     ref_area = diag_r_px * diag_az_px;
-    if (ci->area < p->min_area_fraction * (1.0f - tol) * ref_area ||
-        ci->area > p->max_area_fraction * (1.0f + tol) * ref_area)
+    if (ci->area < p->tuning.min_area_fraction * (1.0f - tol) * ref_area ||
+        ci->area > p->tuning.max_area_fraction * (1.0f + tol) * ref_area)
         return 0;
     return 1;
 }
@@ -185,8 +153,8 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
 static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g,
                            const actag_params *p, int rows, int cols)
 {
-    float rg[4], az[4], lo = p->min_side_fraction * p->tag_size,
-                        hi = p->max_side_fraction * p->tag_size;
+    float rg[4], az[4], lo = p->tuning.min_side_fraction * p->tag_size,
+                        hi = p->tuning.max_side_fraction * p->tag_size;
     int i;
     for (i = 0; i < 4; i++) {
         rg[i] = actag_geometry_range(g, rows, c[i].y);
@@ -282,7 +250,7 @@ static int structure_ok(const actag_decode_result *dr, const actag_params *p, in
     float ring = (float)(4 * (k - 2)), in = (float)((k - 3) * (k - 3));
     int misses = (int)((1.0f - dr->ring_black) * ring + 0.5f) +
                  (int)((1.0f - dr->interior_white) * in + 0.5f);
-    return dr->ring_black >= p->min_structure && dr->interior_white >= p->min_structure &&
+    return dr->ring_black >= p->tuning.min_structure && dr->interior_white >= p->tuning.min_structure &&
            misses + dr->hamming <= limit;
 }
 
@@ -291,8 +259,9 @@ static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point
                       const actag_params *p, int max_corrections, int extra_flags,
                       actag_decode_result *dr)
 {
-    actag_fit_params fp = p->fit;
+    actag_fit_params fp = p->tuning.fit;
     fp.flags |= extra_flags;
+    fp.min_margin = p->min_margin; /* the user's margin wins over the tuning's */
     return actag_decode_quad_fit(grey, rows, cols, cols, quad, p->family, max_corrections, &fp,
                                  dr);
 }
@@ -301,7 +270,7 @@ static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point
 static int decode_any(const ws_layout *w, int rows, int cols, const actag_point quad[4],
                       const actag_params *params, actag_decode_result *dr)
 {
-    switch (params->decode_mode) {
+    switch (params->tuning.decode_mode) {
     case ACTAG_DECODE_FIT:
         return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, dr);
     default:
@@ -320,12 +289,12 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
                      actag_decode_result *dr)
 {
     /* search_max_corrections, capped by max_bit_corrections */
-    int lim = params->search_max_corrections < params->max_bit_corrections
-                  ? params->search_max_corrections
+    int lim = params->tuning.search_max_corrections < params->max_bit_corrections
+                  ? params->tuning.search_max_corrections
                   : params->max_bit_corrections;
     if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, dr) != ACTAG_OK)
         return ACTAG_TRACE_NO_MATCH;
-    if (!(dr->decision_margin >= params->search_min_margin))
+    if (!(dr->decision_margin >= params->tuning.search_min_margin))
         return ACTAG_TRACE_MARGIN;
     if (!structure_ok(dr, params, lim))
         return ACTAG_TRACE_STRUCTURE;
@@ -451,18 +420,14 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr);
 
-/* Validates *params and resolves ACTAG_CORRECTIONS_AUTO into *pe. */
-static int resolve_params(const actag_params *params, actag_params *pe)
+/* *params (validated) with ACTAG_CORRECTIONS_AUTO resolved, into *pe. */
+static void resolve_params(const actag_params *params, actag_params *pe)
 {
-    int rc = actag_params_validate(params);
-    if (rc != ACTAG_OK)
-        return rc;
     *pe = *params;
     if (pe->max_bit_corrections == ACTAG_CORRECTIONS_AUTO) {
         int maxc = actag_family_max_corrections(pe->family);
         pe->max_bit_corrections = maxc < ACTAG_AUTO_CORRECTIONS ? maxc : ACTAG_AUTO_CORRECTIONS;
     }
-    return ACTAG_OK;
 }
 
 /* 1. median filter: the frame (16-bit frames scaled into A first) -> B.
@@ -516,26 +481,16 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
 
     if (stats)
         memset(stats, 0, sizeof *stats);
-    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
-        frame->data == NULL || (out == NULL && max_out > 0))
+    if (workspace == NULL || (out == NULL && max_out > 0))
         return ACTAG_ERR_NULL;
+    rc = actag_check(frame, geometry, params, workspace_size, max_out, NULL);
+    if (rc != ACTAG_OK)
+        return rc;
     rows = frame->rows;
     cols = frame->cols;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
-        frame->stride < cols || (frame->depth != 8 && frame->depth != 16))
-        return ACTAG_ERR_SIZE;
-    if (max_out < 0)
-        return ACTAG_ERR_PARAM;
-    rc = resolve_params(params, &pe);
-    if (rc != ACTAG_OK)
-        return rc;
-    rc = actag_geometry_validate(geometry, rows, cols);
-    if (rc != ACTAG_OK)
-        return rc;
-    if (workspace_size < actag_workspace_size(rows, cols))
-        return ACTAG_ERR_WORKSPACE;
+    resolve_params(params, &pe);
     ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, pe.median_radius);
+    rc = filter_frame(frame, &w, rows, cols, pe.tuning.median_radius);
     if (rc != ACTAG_OK)
         return rc;
     flip_mirror = mirror_flip(geometry, cols);
@@ -566,20 +521,20 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
     /* 2. structure search (before the threshold overwrites A): candidates
      * the contours may miss. Contours at a tag found here get more RANSAC
      * iterations below, so a tag seen by both reports the quad's corners. */
-    if (params->search_candidates > 0) {
+    if (params->tuning.search_candidates > 0) {
         actag_search z;
         int ncand = 0;
         /* the map uses A (free until the threshold), the integral image S;
          * a frame too small or too tall for them is simply not searched */
         if (actag_search_map(&z, w.b, rows, cols, cols, geometry, params->tag_size,
                              params->family->bits,
-                             params->search_range_scale, w.a,
+                             params->tuning.search_range_scale, w.a,
                              ACTAG__ALIGN16((size_t)rows * (size_t)cols), w.s,
                              w.s_size) == ACTAG_OK) {
             actag_point quad[4];
-            while (ncand < params->search_candidates &&
-                   actag_search_next(&z, params->search_min_score * 8, geometry,
-                                     params->tag_size, params->search_range_scale, rows, cols,
+            while (ncand < params->tuning.search_candidates &&
+                   actag_search_next(&z, params->tuning.search_min_score * 8, geometry,
+                                     params->tag_size, params->tuning.search_range_scale, rows, cols,
                                      quad)) {
                 actag_decode_result dr;
                 int verdict;
@@ -607,8 +562,8 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
         }
     }
     /* 3. adaptive threshold: B -> A (A's 16-bit copy is no longer needed) */
-    rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols, params->threshold_radius,
-                                  params->threshold_offset, w.s, w.s_size);
+    rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols, params->tuning.threshold_radius,
+                                  params->tuning.threshold_offset, w.s, w.s_size);
     if (rc != ACTAG_OK)
         return rc;
 
@@ -660,7 +615,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                 }
             }
             for (k = 0; k < tries; k++) {
-                rc = actag_quad_fit(pts, ci.stored, &params->quad, &rng, qscratch,
+                rc = actag_quad_fit(pts, ci.stored, &params->tuning.quad, &rng, qscratch,
                                     qscratch_size, &q);
                 if (rc != ACTAG_OK)
                     continue; /* another try draws other samples */
@@ -679,7 +634,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                 }
                 /* the fit decoder's structure gate: black ring and white
                  * interior cells on the right side of the mid level */
-                if (params->decode_mode == ACTAG_DECODE_FIT &&
+                if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
                     !structure_ok(&dr, params, params->max_bit_corrections)) {
                     trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_STRUCTURE, q.corners,
                                q.inlier_ratio, &dr);
@@ -693,7 +648,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
             if (rc == ACTAG_OK) {
                 corners = dr.corners;
                 ratio = q.inlier_ratio;
-            } else if (params->decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
+            } else if (params->tuning.decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
                 /* no quad reads: the blob's extreme points as a first guess
                  * for the wide grid search, judged like a search reading */
                 actag_point gq[4];
@@ -741,31 +696,22 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
 {
     ws_layout w;
     int rc, rows, cols, flip_mirror, i;
-    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
-        counts == NULL || frame->data == NULL || (out == NULL && max_out_each > 0))
+    if (params == NULL || workspace == NULL || counts == NULL ||
+        (out == NULL && max_out_each > 0))
         return ACTAG_ERR_NULL;
-    rows = frame->rows;
-    cols = frame->cols;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
-        frame->stride < cols || (frame->depth != 8 && frame->depth != 16))
-        return ACTAG_ERR_SIZE;
-    if (nparams < 1 || max_out_each < 0)
+    if (nparams < 1)
         return ACTAG_ERR_PARAM;
     for (i = 0; i < nparams; i++) {
-        actag_params pe;
-        rc = resolve_params(&params[i], &pe);
+        rc = actag_check(frame, geometry, &params[i], workspace_size, max_out_each, NULL);
         if (rc != ACTAG_OK)
             return rc;
-        if (params[i].median_radius != params[0].median_radius)
+        if (params[i].tuning.median_radius != params[0].tuning.median_radius)
             return ACTAG_ERR_PARAM; /* one filtered frame serves them all */
     }
-    rc = actag_geometry_validate(geometry, rows, cols);
-    if (rc != ACTAG_OK)
-        return rc;
-    if (workspace_size < actag_workspace_size(rows, cols))
-        return ACTAG_ERR_WORKSPACE;
+    rows = frame->rows;
+    cols = frame->cols;
     ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, params[0].median_radius);
+    rc = filter_frame(frame, &w, rows, cols, params[0].tuning.median_radius);
     if (rc != ACTAG_OK)
         return rc;
     flip_mirror = mirror_flip(geometry, cols);

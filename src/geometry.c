@@ -1,37 +1,7 @@
 /* Pixel <-> (range, azimuth) for polar sonar frames (SPEC section 4). */
 #include "actag/geometry.h"
 
-static int finite_f(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
-
-int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols)
-{
-    if (geo == NULL)
-        return ACTAG_ERR_NULL;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM)
-        return ACTAG_ERR_SIZE;
-    if ((geo->flags & ~(ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING)) != 0u)
-        return ACTAG_ERR_GEOMETRY;
-    if (!finite_f(geo->min_range) || !finite_f(geo->max_range) || geo->min_range < 0.0f ||
-        !(geo->max_range > geo->min_range))
-        return ACTAG_ERR_GEOMETRY;
-    if (geo->bearings != NULL) {
-        int c, dir = 0;
-        for (c = 0; c < cols; c++)
-            if (!finite_f(geo->bearings[c]))
-                return ACTAG_ERR_GEOMETRY;
-        for (c = 1; c < cols; c++) {
-            int d = geo->bearings[c] > geo->bearings[c - 1] ? 1
-                    : geo->bearings[c] < geo->bearings[c - 1] ? -1 : 0;
-            if (d == 0 || (dir != 0 && d != dir))
-                return ACTAG_ERR_GEOMETRY;
-            dir = d;
-        }
-    } else if (!finite_f(geo->aperture) || !(geo->aperture > 0.0f) ||
-               !(geo->aperture < 6.2831853f)) {
-        return ACTAG_ERR_GEOMETRY;
-    }
-    return ACTAG_OK;
-}
+/* actag_geometry_validate() is in validate.c with the other rules. */
 
 float actag_geometry_range_step(const actag_sonar_geometry *geo, int rows)
 {

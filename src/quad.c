@@ -450,12 +450,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     if (!pts || !params || !rng || !scratch || !out)
         return ACTAG_ERR_NULL;
     d = params->inlier_distance;
-    if (npoints < 0 || params->max_iterations < 1 ||
-        !(params->sample_fraction > 0.0f && params->sample_fraction <= 1.0f) ||
-        !(params->inlier_ratio > 0.0f && params->inlier_ratio <= 1.0f) ||
-        !(params->min_inlier_ratio > 0.0f && params->min_inlier_ratio <= 1.0f) ||
-        !(d > 0.0f && d <= 1e6f) ||
-        !(params->min_parallel_cos >= 0.0f && params->min_parallel_cos <= 1.0f))
+    if (npoints < 0 || actag_quad_params_validate(params, NULL) != ACTAG_OK)
         return ACTAG_ERR_PARAM;
     if (npoints > ACTAG_QUAD_MAX_POINTS)
         return ACTAG_ERR_SIZE;

@@ -205,9 +205,9 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     uint8_t *grey;
     int x0, y0, x1, y1, w, h, c, limit, rc, flip, kk, misses;
     float ring, in;
-    if (frame->depth != 8 || p->decode_mode != ACTAG_DECODE_FIT || !t->params.verify)
+    if (frame->depth != 8 || p->tuning.decode_mode != ACTAG_DECODE_FIT || !t->params.verify)
         return 0;
-    if (t_roi(t, k, p, 0.25f, (float)(p->median_radius + 2), &x0, &y0, &x1, &y1) != 0)
+    if (t_roi(t, k, p, 0.25f, (float)(p->tuning.median_radius + 2), &x0, &y0, &x1, &y1) != 0)
         return 0;
     w = x1 - x0 + 1;
     h = y1 - y0 + 1;
@@ -215,7 +215,7 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     /* the workspace holds a whole frame's images and scratch: room for both */
     rc = actag_median_filter((const uint8_t *)frame->data + (size_t)y0 * (size_t)frame->stride +
                                  (size_t)x0,
-                             h, w, frame->stride, grey, w, p->median_radius,
+                             h, w, frame->stride, grey, w, p->tuning.median_radius,
                              grey + (((size_t)w * (size_t)h + 15u) & ~(size_t)15u),
                              ACTAG_MEDIAN_SCRATCH_SIZE(h, w));
     st->verified++;
@@ -232,8 +232,12 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
         int m = actag_family_max_corrections(p->family);
         limit = m < ACTAG_AUTO_CORRECTIONS ? m : ACTAG_AUTO_CORRECTIONS;
     }
-    if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &p->fit, &dr) != ACTAG_OK)
-        return 0;
+    {
+        actag_fit_params fp = p->tuning.fit;
+        fp.min_margin = p->min_margin; /* the user's margin wins, as in actag_detect */
+        if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &fp, &dr) != ACTAG_OK)
+            return 0;
+    }
     /* handedness relative to the reference orientation (as actag_detect) */
     flip = (g->bearings ? (frame->cols > 1 && g->bearings[frame->cols - 1] > g->bearings[0])
                         : (g->flags & ACTAG_AZIMUTH_ASCENDING) != 0u) ^
@@ -244,7 +248,7 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     misses = (int)((1.0f - dr.ring_black) * ring + 0.5f) +
              (int)((1.0f - dr.interior_white) * in + 0.5f);
     if (dr.id != k->id || (dr.mirrored ^ flip) != k->mirrored ||
-        dr.ring_black < p->min_structure || dr.interior_white < p->min_structure ||
+        dr.ring_black < p->tuning.min_structure || dr.interior_white < p->tuning.min_structure ||
         misses + dr.hamming > limit)
         return 0;
     memset(&t->det[0], 0, sizeof t->det[0]);
@@ -302,13 +306,10 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         return ACTAG_ERR_SIZE;
     if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
         return ACTAG_ERR_SIZE;
-    rc = actag_params_validate(params);
+    /* actag_detect's checks (actag_check) for both parameter sets */
+    rc = actag_check(frame, geometry, params, workspace_size, max_out, NULL);
     if (rc == ACTAG_OK && roi_params != NULL)
-        rc = actag_params_validate(roi_params);
-    if (rc == ACTAG_OK)
-        rc = actag_geometry_validate(geometry, frame->rows, frame->cols);
-    if (rc == ACTAG_OK && workspace_size < actag_workspace_size(frame->rows, frame->cols))
-        rc = ACTAG_ERR_WORKSPACE;
+        rc = actag_check(frame, geometry, roi_params, workspace_size, max_out, NULL);
     if (rc != ACTAG_OK)
         return rc;
     t->rows = frame->rows;
@@ -328,7 +329,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
                 continue;
             }
             if (t_roi(t, &t->tracks[i], rp, t->params.roi_scale,
-                      (float)(rp->median_radius + rp->threshold_radius + 4), &x0, &y0, &x1,
+                      (float)(rp->tuning.median_radius + rp->tuning.threshold_radius + 4), &x0, &y0, &x1,
                       &y1) != 0) {
                 need_full = 1;
                 continue;

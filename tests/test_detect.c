@@ -242,10 +242,10 @@ static void test_errors_and_workspace_bounds(void)
     p.tag_size = 0.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
     p = g_p;
-    p.median_radius = -1;
+    p.tuning.median_radius = -1;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
     p = g_p;
-    p.quad.inlier_ratio = 1.5f;
+    p.tuning.quad.inlier_ratio = 1.5f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
     TEST_ASSERT_EQUAL_UINT(0, actag_workspace_size(0, 5));
     TEST_ASSERT_NULL(actag_workspace_binary(NULL, 5, 5));

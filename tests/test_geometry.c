@@ -13,7 +13,7 @@ static void test_reference_mapping(void)
 {
     /* SPEC section 6: (row 145, col 314) of the 463 x 620 example -> (1.0606 m, -0.0076 rad) */
     actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0u};
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 463, 620));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 463, 620, NULL));
     TEST_ASSERT_FLOAT_WITHIN(1e-4f, 1.0606f, actag_geometry_range(&g, 463, 145.0f));
     TEST_ASSERT_FLOAT_WITHIN(1e-4f, -0.0076f, actag_geometry_azimuth(&g, 620, 314.0f));
     TEST_ASSERT_FLOAT_WITHIN(1e-4f, 1.1576f, actag_geometry_range(&g, 463, 113.0f));
@@ -32,7 +32,7 @@ static void test_orientation_flags_mirror_the_axes(void)
     actag_sonar_geometry a = g;
     int t;
     a.flags = ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&a, 530, 512));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&a, 530, 512, NULL));
     tu_seed(5);
     for (t = 0; t < 1000; t++) {
         float y = (float)tu_range(0, 52900) / 100.0f, x = (float)tu_range(0, 51100) / 100.0f;
@@ -47,7 +47,7 @@ static void test_bearing_table(void)
 {
     float b[6] = {0.3f, 0.2f, 0.15f, 0.0f, -0.1f, -0.3f};
     actag_sonar_geometry g = {0.5f, 20.0f, 0.0f, b, 0u};
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 10, 6));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 10, 6, NULL));
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.15f, actag_geometry_azimuth(&g, 6, 2.0f));
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.175f, actag_geometry_azimuth(&g, 6, 1.5f));
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.2f, actag_geometry_azimuth(&g, 6, 4.5f));
@@ -56,38 +56,38 @@ static void test_bearing_table(void)
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.1f, actag_geometry_azimuth_step(&g, 6, 3.2f));
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.15f, actag_geometry_azimuth_step(&g, 6, 2.9f));
     b[3] = 0.15f; /* not strictly monotonic */
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6, NULL));
     b[3] = 0.4f; /* changes direction */
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6, NULL));
     b[3] = NAN;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6, NULL));
 }
 
 static void test_errors(void)
 {
     actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0u};
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_geometry_validate(NULL, 10, 10));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_geometry_validate(&g, 0, 10));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_geometry_validate(&g, 10, ACTAG_MAX_DIM + 1));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_geometry_validate(NULL, 10, 10, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_geometry_validate(&g, 0, 10, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_geometry_validate(&g, 10, ACTAG_MAX_DIM + 1, NULL));
     g.max_range = 0.1f;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
     g.max_range = 1.5f;
     g.min_range = -1.0f;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
     g.min_range = 0.0f;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 1, 1));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 1, 1, NULL));
     g.aperture = 0.0f;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
     g.aperture = 7.0f;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
     g.aperture = INFINITY;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
     g.aperture = 1.0f;
     g.flags = 4u;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
     g.flags = 0u;
     g.max_range = NAN;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
 }
 
 int main(void)

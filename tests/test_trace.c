@@ -121,13 +121,13 @@ static void params_for(actag_params *p, const actag_family *fam, int variant)
     p->family = fam;
     switch (variant) {
     case 1: /* the paper's binary decoder, no search */
-        p->decode_mode = ACTAG_DECODE_BINARY;
-        p->search_candidates = 0;
+        p->tuning.decode_mode = ACTAG_DECODE_BINARY;
+        p->tuning.search_candidates = 0;
         break;
     case 2: /* every search candidate, loose margins */
-        p->search_candidates = ACTAG_SEARCH_MAX;
-        p->search_min_margin = -5.0f;
-        p->fit.min_margin = -2.0f;
+        p->tuning.search_candidates = ACTAG_SEARCH_MAX;
+        p->tuning.search_min_margin = -5.0f;
+        p->min_margin = -2.0f;
         break;
     default:
         break;

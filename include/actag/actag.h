@@ -56,15 +56,48 @@
  *   ACTAG_ERR_NULL         frame, frame->data, geometry, params, params->family,
  *                          workspace or out (when max_out > 0) is NULL
  *   ACTAG_ERR_SIZE         rows/cols < 1 or > ACTAG_MAX_DIM, stride < cols,
- *                          depth not 8 or 16
- *   ACTAG_ERR_PARAM        a pipeline parameter is out of range (radii, ratios,
- *                          tag_size <= 0, max_out < 0, ...)
- *   ACTAG_ERR_GEOMETRY     invalid sonar geometry (see geometry.h)
+ *                          depth not 8 or 16, (rows-1) * stride + cols elements
+ *                          beyond SIZE_MAX bytes
+ *   ACTAG_ERR_PARAM        max_out < 0, a parameter or tuning value out of range
+ *                          (actag_params_validate), tag_size above
+ *                          sqrt(2) * geometry->max_range
+ *   ACTAG_ERR_GEOMETRY     invalid sonar geometry (actag_geometry_validate)
  *   ACTAG_ERR_FAMILY       invalid family
  *   ACTAG_ERR_CORRECTIONS  max_bit_corrections above the family's limit
  *   ACTAG_ERR_WORKSPACE    workspace_size < actag_workspace_size(rows, cols)
  *   When more tags are found than max_out, the first max_out (in scan order)
  *   are written and stats->dropped counts the rest.
+ *
+ * ERROR DETAILS (which input was wrong, and why)
+ *   actag_check(frame, geometry, params, workspace_size, max_out, &detail)
+ *   runs exactly the checks actag_detect() runs before it touches a pixel,
+ *   in the same order, and returns the same code (ACTAG_OK when actag_detect
+ *   would run; actag_detect's only further checks are workspace and out
+ *   being NULL). It also fills the optional actag_error_detail (common.h):
+ *       actag_error_detail d;
+ *       if (actag_check(&f, &g, &p, sizeof ws, 8, &d) != ACTAG_OK)
+ *           printf("%s: %s (got %g)\n", d.field, d.rule, d.value);
+ *   prints e.g. "tag_size: must be a finite number > 0 (metres) (got 0)",
+ *   "tuning.quad.min_inlier_ratio: must be a number > 0 and <= 1 (got 1.5)",
+ *   "geometry.min_range: must be below geometry.max_range (got 2)" (then
+ *   d.other = "geometry.max_range", d.limit = 1.5), or for a bearing table
+ *   d.field = "geometry.bearings" with d.index the entry at fault. Field
+ *   names are the C expressions from actag_check's arguments: params
+ *   members bare ("tag_size", "tuning.median_radius"), the others prefixed
+ *   ("frame.stride", "geometry.aperture", "workspace_size", "max_out").
+ *   Every string is a literal; nothing is stored anywhere else, so the
+ *   checks stay re-entrant.
+ *   The validators of the single structs take the same optional pointer:
+ *   actag_params_validate, actag_tuning_validate (below),
+ *   actag_geometry_validate (geometry.h), actag_quad_params_validate
+ *   (quad.h), actag_fit_params_validate (decode.h). The stages call them too
+ *   (actag_quad_fit, actag_decode_quad_fit, actag_search_map), so a value
+ *   is judged by one rule wherever it enters, and anything a stage would
+ *   refuse is an error from actag_detect, not a silent "no tag". Besides the
+ *   per-field ranges documented with actag_tuning / actag_params, the rules
+ *   bound everything that scales with the frame: tag_size at most
+ *   sqrt(2) * max_range, and the geometry's least range and azimuth steps
+ *   (geometry.h), so no stage computes an out-of-range pixel count.
  */
 #ifndef ACTAG_ACTAG_H
 #define ACTAG_ACTAG_H
@@ -94,33 +127,84 @@ typedef struct actag_frame {
     int depth;        /* 8 or 16 */
 } actag_frame;
 
-/* Detection parameters. actag_params_default() gives the paper's Table I. */
+/* Tuning of the pipeline stages: the values the defaults were measured with
+ * (see DEFAULTS AND WHY below). actag_tuning_default() fills them; most
+ * users never change them. Each field: unit, default, when to change it. */
+typedef struct actag_tuning {
+    int median_radius;          /* pixels, 0..ACTAG_MEDIAN_MAX_RADIUS (default 4; 0 disables
+                                   the filter). Lower it (2-3) when tags span few pixels
+                                   (under ~15 px), raise it (5-6) on very speckled frames. */
+    int threshold_radius;       /* pixels, 0..ACTAG_MAX_THRESHOLD_RADIUS (default 8): half side
+                                   of the adaptive threshold's window. About the white square's
+                                   half side in pixels works best; raise it for large tags. */
+    int threshold_offset;       /* grey levels, -255..255 (default 1): a pixel is white when
+                                   above its window mean plus this. Raise it (3-10) when
+                                   background speckle forms many small contours. */
+    float size_tolerance;       /* fraction, [0, 10) (default 0.2): slack of the physical size
+                                   filter (extents and area). Raise it when the range or
+                                   aperture is known only roughly. */
+    float min_area_fraction;    /* fraction, >= 0 (default 0.1): a contour's area must reach
+                                   this * diag_r_px * diag_az_px * (1 - size_tolerance), with
+                                   diag_*_px the tag diagonal in pixels at the contour's range.
+                                   Lower it for strongly tilted tags. */
+    float max_area_fraction;    /* fraction, min_area_fraction..1e6 (default 1.0): ... at most
+                                   this * diag_r_px * diag_az_px * (1 + size_tolerance). Raise
+                                   it when blooming makes the white square look larger. */
+    actag_quad_params quad;     /* RANSAC quadrilateral (quad.h; here: 100 iterations, sample
+                                   fraction 0.1, early exit at inlier ratio 0.8, 0.6 required,
+                                   inlier distance 2.5 px, parallel cos 0.9). More iterations
+                                   (500, the paper's) cost time and rarely find more. */
+    int decode_mode;            /* ACTAG_DECODE_FIT (default) or ACTAG_DECODE_BINARY (the
+                                   paper's binary reading, for comparison with it). */
+    actag_fit_params fit;       /* options of the fit decoder (decode.h, actag_fit_params_default)
+                                   except min_margin: actag_detect() takes the least decision
+                                   margin from actag_params.min_margin, which wins, and does not
+                                   read fit.min_margin (it is there for direct callers of
+                                   actag_decode_quad_fit; actag_tuning_default sets it to the
+                                   same default). Change only to study the decoder. */
+    float min_structure;        /* fraction, 0..1 (default 1.0): the fit decoder's black-ring
+                                   and white-interior fractions must reach this; the misses
+                                   below 1 are charged to the corrections budget anyway.
+                                   Lower it (e.g. 0.9) only to study recall. */
+    float min_side_fraction;    /* fraction of tag_size, >= 0 (default 0.5): each quad side,
+                                   measured in metres, must reach this * tag_size. Lower it
+                                   (0.4) for tags seen at grazing angles. */
+    float max_side_fraction;    /* fraction of tag_size, >= min_side_fraction (default 1.6):
+                                   ... and stay within this * tag_size. Raise it when blooming
+                                   is strong (near range, high gain). */
+    int search_candidates;      /* structure search: positions decoded per frame, 0..ACTAG_SEARCH_MAX
+                                   (default 2; 0 turns the search off). Raise it when several
+                                   tags share a frame (each candidate costs one wide grid fit). */
+    int search_min_score;       /* grey levels, 0..255 (default 15): least interior-minus-ring box
+                                   contrast of a search position. Raise it on low-contrast
+                                   clutter, lower it on faint tags. */
+    int search_max_corrections; /* bits, >= 0 (default 3), capped by max_bit_corrections: the
+                                   corrections limit of search readings. Lower it for fewer
+                                   chance readings in clutter. */
+    float search_min_margin;    /* decision margin, -1e6..1e6 (default ACTAG_SEARCH_MIN_MARGIN,
+                                   1.0): search readings need this AND min_margin (the margin
+                                   already allows for the ~165 grids the search tries). */
+    float search_range_scale;   /* ratio, (0.05, 4] (default 0.75): expected range extent of a
+                                   tag / tag_size in the search (tilted tags look shorter in
+                                   range). Lower it for tags seen mostly edge-on in range. */
+} actag_tuning;
+
+/* Detection parameters: what a user sets, plus the tuning (by value).
+ * actag_params_default() gives the defaults (paper Table I where it has one). */
 typedef struct actag_params {
     const actag_family *family; /* required: e.g. from actag_family_get() */
-    float tag_size;             /* metres: side of the inner white square (default 3/7 ft) */
+    float tag_size;             /* metres: side of the inner white square (default 3/7 ft,
+                                   0.130628571); finite, > 0 and at most sqrt(2) *
+                                   geometry max_range (actag_check) */
     int max_bit_corrections;    /* 0 .. actag_family_max_corrections(family), or
                                    ACTAG_CORRECTIONS_AUTO (default): min(3, family maximum) */
-    int median_radius;          /* pixels (default 4); 0 disables the filter */
-    int threshold_radius;       /* pixels (default 8), at most ACTAG_MAX_THRESHOLD_RADIUS */
-    int threshold_offset;       /* grey levels (default 1) */
-    float size_tolerance;       /* contour size filter slack (default 0.2) */
-    float min_area_fraction;    /* contour area >= this * diag_r_px * diag_az_px * (1 - tol) (0.1) */
-    float max_area_fraction;    /* contour area <= this * diag_r_px * diag_az_px * (1 + tol) (1.0) */
-    actag_quad_params quad;     /* RANSAC (default 100 iterations, 0.1, 0.8 early exit,
-                                   0.6 required, 2.5 px, 0.9) */
-    int decode_mode;            /* ACTAG_DECODE_FIT (default) or ACTAG_DECODE_BINARY (paper) */
-    uint32_t seed;              /* RANSAC seed (default 1) */
-    actag_fit_params fit;       /* _FIT decoding: options (decode.h; actag_fit_params_default) */
-    float min_structure;        /* _FIT: ring_black and interior_white must reach this (1.0) */
-    float min_side_fraction;    /* each quad side, in metres, >= this * tag_size (0.5) */
-    float max_side_fraction;    /* ... and <= this * tag_size (1.6) */
-    int search_candidates;      /* structure search: positions decoded per frame, 0..8 (2; 0 off) */
-    int search_min_score;       /* ... least interior-minus-ring box contrast, grey levels (15) */
-    int search_max_corrections; /* ... bit corrections, capped by max_bit_corrections (3) */
-    float search_min_margin;    /* ... least decision margin (ACTAG_SEARCH_MIN_MARGIN, 0); the
-                                   margin already allows for the ~165 grids the search tries */
-    float search_range_scale;   /* ... expected range extent / tag_size (0.75: tilted tags
-                                   look shorter in range) */
+    uint32_t seed;              /* RANSAC seed (default 1); any value */
+    float min_margin;           /* least decision margin of a fit-decoder reading (decode.h;
+                                   default ACTAG_FIT_MIN_MARGIN, 1.0), -1e6..1e6: raise it
+                                   (e.g. 3) for fewer chance readings in clutter, lower it
+                                   (e.g. -2) for recall on clean scenes. This one wins over
+                                   tuning.fit.min_margin. */
+    actag_tuning tuning;        /* stage tuning (actag_tuning_default) */
 } actag_params;
 
 /* decode_mode:
@@ -253,8 +337,31 @@ size_t actag_workspace_size(int rows, int cols);
 /* Fill *p with the defaults (paper Table I; family NULL: set it). */
 void actag_params_default(actag_params *p);
 
-/* Checks parameters; returns ACTAG_OK or ACTAG_ERR_NULL / _PARAM / _FAMILY / _CORRECTIONS. */
-int actag_params_validate(const actag_params *p);
+/* Fill *t with the default tuning (the values documented in actag_tuning;
+ * no-op for NULL). actag_params_default() calls it. */
+void actag_tuning_default(actag_tuning *t);
+
+/* Checks *p alone (no frame or geometry): family, max_bit_corrections,
+ * tag_size finite and > 0, min_margin in [-1e6, 1e6], then the tuning
+ * (actag_tuning_validate, fields named "tuning.*"). Returns ACTAG_OK or
+ * ACTAG_ERR_NULL (p or p->family), _FAMILY, _CORRECTIONS, _PARAM; fills
+ * *detail when not NULL (ERROR DETAILS above). */
+int actag_params_validate(const actag_params *p, actag_error_detail *detail);
+
+/* Checks *t: the ranges documented with each actag_tuning field, then
+ * actag_quad_params_validate(&t->quad) and actag_fit_params_validate(&t->fit)
+ * (fields "quad.inlier_distance", "fit.level", ...). Returns ACTAG_OK,
+ * ACTAG_ERR_NULL or ACTAG_ERR_PARAM; fills *detail when not NULL. */
+int actag_tuning_validate(const actag_tuning *t, actag_error_detail *detail);
+
+/* Every check actag_detect(frame, geometry, params, <workspace>,
+ * workspace_size, <out>, max_out, ...) makes before it runs, with the same
+ * result code (ERROR DETAILS above): ACTAG_OK, or ACTAG_ERR_NULL, _SIZE,
+ * _PARAM, _GEOMETRY, _FAMILY, _CORRECTIONS, _WORKSPACE. Fills *detail when
+ * not NULL. Reads the bearing table, no pixels. */
+int actag_check(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                const actag_params *params, size_t workspace_size, int max_out,
+                actag_error_detail *detail);
 
 /* Detect tags. Writes at most max_out detections to out and returns their
  * number (>= 0), or a negative ACTAG_ERR_* code. stats may be NULL. */
@@ -275,9 +382,11 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
  * actag_detect(frame, geometry, &params[i], ...) would give, at a fraction of
  * the cost. Set i's detections go to out[i * max_out_each ...], their number
  * to counts[i] (extra ones are dropped, as with actag_detect). Returns ACTAG_OK
- * or the first error (ACTAG_ERR_NULL, _SIZE, _PARAM: nparams < 1,
- * max_out_each < 0, an invalid set or median radii that differ, _GEOMETRY,
- * _FAMILY, _CORRECTIONS, _WORKSPACE); counts is then undefined. The
+ * or the first error: ACTAG_ERR_NULL (params, workspace, counts, or out with
+ * max_out_each > 0), ACTAG_ERR_PARAM for nparams < 1, then for i = 0, 1, ...
+ * what actag_check(frame, geometry, &params[i], workspace_size, max_out_each)
+ * returns, or ACTAG_ERR_PARAM when set i's tuning.median_radius differs from
+ * set 0's; counts is then undefined. The
  * workspace is that of one actag_detect call. */
 int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geometry,
                        const actag_params *params, int nparams, void *workspace,

@@ -9,6 +9,12 @@
  *   Image coordinates: x is the column, y is the row, both in pixels, with
  *   the centre of pixel (row r, column c) at (x, y) = (c, r).
  *
+ *   Validators (actag_check, actag_params_validate, actag_tuning_validate,
+ *   actag_geometry_validate, actag_quad_params_validate,
+ *   actag_fit_params_validate) also fill an optional actag_error_detail:
+ *   which input was wrong, its value and the rule it broke (string
+ *   literals, no buffer, no global state). See ERROR DETAILS in actag.h.
+ *
  *   The library never allocates: every buffer is owned by the caller.
  *   Nothing here keeps global or static mutable state; all functions are
  *   re-entrant.
@@ -54,6 +60,27 @@ typedef struct actag_ipoint {
     int16_t x; /* column */
     int16_t y; /* row */
 } actag_ipoint;
+
+/* What was wrong with an input (ERROR DETAILS in actag.h). Every string is a
+ * string literal (never freed, valid for the program's lifetime). */
+typedef struct actag_error_detail {
+    int code;          /* the code the validator returned: ACTAG_OK or ACTAG_ERR_* */
+    const char *field; /* the input at fault as C names it, relative to the validator's
+                          argument ("inlier_distance" from actag_quad_params_validate,
+                          "tuning.quad.inlier_distance" from actag_params_validate and
+                          actag_check, "geometry.max_range", "frame.stride",
+                          "workspace_size"); NULL with ACTAG_OK */
+    int index;         /* element of an array field (the bearing table), else -1 */
+    double value;      /* the value at fault (0 for a NULL pointer or an invalid family) */
+    const char *rule;  /* what the value must be: "must be a finite number > 0"; NULL
+                          with ACTAG_OK */
+    const char *other; /* the input the rule compares the value with ("geometry.max_range",
+                          "family", "frame.cols", "frame"), else NULL */
+    double limit;      /* with `other`: the bound the value broke, taken from that input
+                          (its value, or a bound derived from it: the family's corrections
+                          limit, sqrt(2) * max_range, the workspace bytes needed, the
+                          previous bearing); 0 when other is NULL */
+} actag_error_detail;
 
 /* One-line English description of an ACTAG_* code; never NULL. */
 const char *actag_strerror(int code);

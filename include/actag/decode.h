@@ -254,14 +254,23 @@ typedef struct actag_fit_params {
     float level;         /* mid level between ring black (0) and interior white (1), 0.5 */
     int min_contrast;    /* interior minus ring mean must reach this, grey levels (5) */
     float sample_offset; /* cells from a cell centre to its outer sample points, 0..0.5 (0.2) */
-    float min_margin;    /* least decision_margin accepted (default 0; raise it, e.g. to 3,
-                            for fewer chance readings in clutter, lower it, e.g. to -2, for
-                            recall on clean scenes) */
-    int min_bit_margin;  /* least lead in corrected bits over any other reading (1) */
+    float min_margin;    /* least decision_margin accepted (default ACTAG_FIT_MIN_MARGIN, 1;
+                            raise it, e.g. to 3, for fewer chance readings in clutter, lower
+                            it, e.g. to -2, for recall on clean scenes). actag_detect() uses
+                            actag_params.min_margin instead. */
+    int min_bit_margin;  /* least lead in corrected bits over any other reading
+                            (ACTAG_FIT_MIN_BIT_MARGIN, 2) */
 } actag_fit_params;
 
 /* Fills *fp with the defaults above (no-op for NULL). */
 void actag_fit_params_default(actag_fit_params *fp);
+
+/* Checks *fp: level in [0, 1], min_contrast 0..255, sample_offset in
+ * [0, 0.5], min_margin in [-1e6, 1e6], min_bit_margin 0..32 (unknown flag
+ * bits are ignored). Returns ACTAG_OK, ACTAG_ERR_NULL or ACTAG_ERR_PARAM;
+ * fills *detail (common.h; field names as "level") when not NULL.
+ * actag_decode_quad_fit() applies the same rules. */
+int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *detail);
 
 /*
  * actag_decode_quad_fit(grey, rows, cols, stride, quad, family, max_corrections, fp, &res)
@@ -323,7 +332,7 @@ void actag_fit_params_default(actag_fit_params *fp);
  *      (s^2 = rss_best / (cells - 2), floored at (0.1 contrast)^2) less a
  *      look-elsewhere allowance for the N = 8 ncodes hypotheses (times 165
  *      grids after ACTAG_FIT_WIDE): pure noise reaches about 0. A reading
- *      needs decision_margin >= min_margin (default 0, ACTAG_FIT_MIN_MARGIN).
+ *      needs decision_margin >= min_margin (default ACTAG_FIT_MIN_MARGIN, 1).
  *      Without ACTAG_FIT_VERIFY the margin is the soft-distance lead over
  *      the runner-up divided by the cell noise (from the ring and interior
  *      cells), less the same allowance.
@@ -344,9 +353,8 @@ void actag_fit_params_default(actag_fit_params *fp);
  *   Cost: one fit is ~100-200 evaluations of 49 cells x 9 (5 during the
  *   ACTAG_FIT_WIDE search) bilinear samples, 0.1-0.4 ms on a desktop core.
  *   Errors: ACTAG_ERR_NULL (any pointer NULL), ACTAG_ERR_SIZE, ACTAG_ERR_FAMILY,
- *   ACTAG_ERR_CORRECTIONS, ACTAG_ERR_PARAM (degenerate quad, level outside
- *   0..1, sample_offset outside 0..0.5, min_contrast outside 0..255),
- *   ACTAG_ERR_NO_MATCH.
+ *   ACTAG_ERR_CORRECTIONS, ACTAG_ERR_PARAM (degenerate quad, or *fp fails
+ *   actag_fit_params_validate), ACTAG_ERR_NO_MATCH.
  */
 int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                           const actag_point quad[4], const actag_family *family,

@@ -21,13 +21,30 @@
  *   Units: ranges in metres, angles in radians, positions in pixels
  *   (x = column, y = row, pixel centres at integers).
  *
+ *   Validation: actag_geometry_validate(geo, rows, cols, detail) checks a
+ *   geometry for a rows x cols frame; detail (may be NULL) names the field
+ *   at fault ("min_range", "bearings" with its index, ...), its value and
+ *   the rule (actag_error_detail, common.h; inside actag_check the names
+ *   are "geometry.min_range" etc.). The rules, in the order checked:
+ *     flags           only ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING
+ *     min_range       finite, >= 0
+ *     max_range       finite; min_range < max_range
+ *     range step      (max_range - min_range) / (rows - 1) >=
+ *                     ACTAG_MIN_RANGE_STEP * max_range (rows > 1), so every
+ *                     row has its own range in float
+ *     bearings        (when given) every entry finite; strictly monotonic,
+ *                     each step at least ACTAG_MIN_AZIMUTH_STEP rad; the
+ *                     whole table spans less than 2 pi
+ *     aperture        (without bearings) > 0 and < 2 pi, and
+ *                     aperture / (cols - 1) >= ACTAG_MIN_AZIMUTH_STEP
+ *   The two least steps keep every pixel-size computation of the stages
+ *   (search.c, the size filter) finite and far from int overflow; real
+ *   sonars are orders of magnitude above them.
+ *
  * ERRORS
  *   ACTAG_ERR_NULL      geometry pointer NULL
  *   ACTAG_ERR_SIZE      rows or cols < 1 or > ACTAG_MAX_DIM
- *   ACTAG_ERR_GEOMETRY  non-finite values, min_range < 0, max_range <= min_range,
- *                       aperture <= 0 or >= 2*pi (without a table), a bearing
- *                       table that is not strictly monotonic or not finite,
- *                       unknown flags
+ *   ACTAG_ERR_GEOMETRY  any rule above broken
  */
 #ifndef ACTAG_GEOMETRY_H
 #define ACTAG_GEOMETRY_H
@@ -49,8 +66,15 @@ typedef struct actag_sonar_geometry {
     unsigned flags;        /* ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING */
 } actag_sonar_geometry;
 
-/* Checks the geometry for a rows x cols frame. Returns ACTAG_OK or an error. */
-int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols);
+/* Least range step between rows, as a fraction of max_range. */
+#define ACTAG_MIN_RANGE_STEP 1e-6f
+/* Least azimuth step between columns, radians. */
+#define ACTAG_MIN_AZIMUTH_STEP 1e-6f
+
+/* Checks the geometry for a rows x cols frame (rules above). Returns
+ * ACTAG_OK or an error code; fills *detail when it is not NULL. */
+int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols,
+                            actag_error_detail *detail);
 
 /* Range (m) at a sub-pixel row y. Assumes a validated geometry. */
 float actag_geometry_range(const actag_sonar_geometry *geo, int rows, float y);

@@ -89,10 +89,12 @@
  *
  * ERRORS
  *   ACTAG_ERR_NULL       pts, params, rng, scratch or out is NULL
- *   ACTAG_ERR_PARAM      npoints < 0, max_iterations < 1, sample_fraction,
- *                        inlier_ratio or min_inlier_ratio outside (0, 1],
- *                        inlier_distance outside (0, 1e6], min_parallel_cos
- *                        outside [0, 1] (NaN is out of every range)
+ *   ACTAG_ERR_PARAM      npoints < 0, or params fail actag_quad_params_validate():
+ *                        max_iterations outside 1..ACTAG_QUAD_MAX_ITERATIONS,
+ *                        sample_fraction, inlier_ratio or min_inlier_ratio
+ *                        outside (0, 1], inlier_distance outside (0, 1e6],
+ *                        min_parallel_cos outside [0, 1] (NaN is out of every
+ *                        range)
  *   ACTAG_ERR_SIZE       npoints > ACTAG_QUAD_MAX_POINTS
  *   ACTAG_ERR_WORKSPACE  scratch_size < ACTAG_QUAD_SCRATCH_SIZE(npoints)
  *   ACTAG_ERR_NO_QUAD    fewer than ACTAG_QUAD_MIN_POINTS points, or no
@@ -131,6 +133,14 @@ typedef struct actag_quad_params {
 
 /* Fills *p with the defaults above (no-op for NULL). */
 void actag_quad_params_default(actag_quad_params *p);
+
+/* Most RANSAC iterations accepted (bounds the time of one contour). */
+#define ACTAG_QUAD_MAX_ITERATIONS 1000000
+
+/* Checks *params against the rules of ERRORS below (the ones actag_quad_fit
+ * applies). Returns ACTAG_OK, ACTAG_ERR_NULL or ACTAG_ERR_PARAM; fills
+ * *detail (common.h; field names as "inlier_distance") when not NULL. */
+int actag_quad_params_validate(const actag_quad_params *params, actag_error_detail *detail);
 
 typedef struct actag_quad {
     actag_point corners[4]; /* consecutive, clockwise on screen, topmost first (pixels) */

@@ -41,7 +41,7 @@
  *
  *   roi_params: the parameters of steps 1-2 (NULL: the whole-frame ones).
  *   Since only a track's own ID near its prediction can update it, a
- *   caller may lower the decision margins there (e.g. fit.min_margin -2);
+ *   caller may lower the decision margins there (e.g. min_margin -2);
  *   measured gain in docs/tracking.md.
  *
  *   Memory: actag_tracker is a caller-owned struct of fixed size (about
@@ -68,8 +68,9 @@
  *                            void *workspace, size_t workspace_size,
  *                            actag_track *out, int max_out, actag_track_stats *stats)
  *       One frame. Writes up to max_out confirmed tracks (in track order)
- *       and returns their number, or a negative error: those of
- *       actag_detect() for the frame and the full-frame parameters, and
+ *       and returns their number, or a negative error: what actag_check()
+ *       (actag_detect's checks) returns for the frame with params, then with
+ *       roi_params (when given), and
  *       ACTAG_ERR_SIZE when the frame's rows/cols differ from the first
  *       frame's (re-initialise for another sonar setting), ACTAG_ERR_NULL
  *       for t or out (max_out > 0). stats may be NULL. On an error the state

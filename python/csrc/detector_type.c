@@ -50,10 +50,13 @@ static PyObject *detector_new(PyTypeObject *type, PyObject *args, PyObject *kwds
     Py_INCREF(family);
     self->family = family;
     self->params.family = fam;
-    rc = actag_params_validate(&self->params);
-    if (rc != ACTAG_OK) {
-        Py_DECREF(self);
-        return pyactag_raise(rc, "invalid parameters");
+    {
+        actag_error_detail d;
+        rc = actag_params_validate(&self->params, &d);
+        if (rc != ACTAG_OK) {
+            Py_DECREF(self);
+            return pyactag_raise_detail("invalid parameters", &d);
+        }
     }
     return (PyObject *)self;
 }
@@ -237,7 +240,11 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
     else
         free(ws);
     if (n < 0) {
-        pyactag_raise(n, "actag_detect");
+        actag_error_detail d;
+        if (actag_check(&view.frame, &geo, &self->params, need, max_out, &d) == n)
+            pyactag_raise_detail("actag_detect", &d);
+        else
+            pyactag_raise(n, "actag_detect");
         goto done;
     }
     if (want_stages && stages == NULL)

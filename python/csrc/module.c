@@ -3,6 +3,7 @@
  */
 #include "pyactag.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -46,6 +47,46 @@ PyObject *pyactag_raise_message(int code, PyObject *msg)
     Py_DECREF(n);
     PyErr_SetObject(pyactag_error, exc);
     Py_DECREF(exc);
+    return NULL;
+}
+
+PyObject *pyactag_raise_detail(const char *context, const actag_error_detail *d)
+{
+    char field[96], text[512];
+    const char *f = d->field ? d->field : "?";
+    size_t i, o = 0;
+    PyObject *msg, *type, *value, *tb, *fo;
+    /* library names -> Python keywords: tuning.quad.inlier_ratio ->
+     * quad_inlier_ratio, geometry.min_range -> min_range */
+    if (strncmp(f, "tuning.", 7) == 0)
+        f += 7;
+    else if (strncmp(f, "geometry.", 9) == 0)
+        f += 9;
+    for (i = 0; f[i] && o + 1 < sizeof field; i++)
+        field[o++] = f[i] == '.' ? '_' : f[i];
+    field[o] = '\0';
+    if (d->index >= 0 && o + 16 < sizeof field)
+        snprintf(field + o, sizeof field - o, "[%d]", d->index);
+    if (d->other)
+        snprintf(text, sizeof text, "%s: %s %s (got %g, limit %g): %s (%s)", context, field,
+                 d->rule ? d->rule : "is invalid", d->value, d->limit,
+                 actag_strerror(d->code), pyactag_code_name(d->code));
+    else
+        snprintf(text, sizeof text, "%s: %s %s (got %g): %s (%s)", context, field,
+                 d->rule ? d->rule : "is invalid", d->value, actag_strerror(d->code),
+                 pyactag_code_name(d->code));
+    msg = PyUnicode_FromString(text);
+    if (msg == NULL)
+        return NULL;
+    pyactag_raise_message(d->code, msg);
+    Py_DECREF(msg);
+    /* attach the field to the exception just raised */
+    PyErr_Fetch(&type, &value, &tb);
+    fo = PyUnicode_FromString(field);
+    if (value != NULL && fo != NULL)
+        PyObject_SetAttrString(value, "field", fo);
+    Py_XDECREF(fo);
+    PyErr_Restore(type, value, tb);
     return NULL;
 }
 

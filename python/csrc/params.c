@@ -28,41 +28,40 @@ typedef struct field {
 
 #define F(name, kind, member, tuning) {name, kind, offsetof(actag_params, member), tuning}
 
-/* User settings, then the stage tuning. (This layout is actag_params before
- * its split into user settings + an embedded actag_tuning: the same names
- * map onto the flat fields, min_margin onto fit.min_margin, the margin
- * actag_detect() reads.) */
+/* User settings, then the stage tuning (actag_params.tuning). min_margin is
+ * actag_params.min_margin, the margin actag_detect() reads; it wins over
+ * tuning.fit.min_margin, which is therefore not offered. */
 static const field fields[] = {
     F("tag_size", K_FLOAT, tag_size, 0),
     F("max_bit_corrections", K_CORRECTIONS, max_bit_corrections, 0),
     F("seed", K_U32, seed, 0),
-    F("min_margin", K_FLOAT, fit.min_margin, 0),
-    F("median_radius", K_INT, median_radius, 1),
-    F("threshold_radius", K_INT, threshold_radius, 1),
-    F("threshold_offset", K_INT, threshold_offset, 1),
-    F("size_tolerance", K_FLOAT, size_tolerance, 1),
-    F("min_area_fraction", K_FLOAT, min_area_fraction, 1),
-    F("max_area_fraction", K_FLOAT, max_area_fraction, 1),
-    F("quad_max_iterations", K_INT, quad.max_iterations, 1),
-    F("quad_sample_fraction", K_FLOAT, quad.sample_fraction, 1),
-    F("quad_inlier_ratio", K_FLOAT, quad.inlier_ratio, 1),
-    F("quad_inlier_distance", K_FLOAT, quad.inlier_distance, 1),
-    F("quad_min_parallel_cos", K_FLOAT, quad.min_parallel_cos, 1),
-    F("quad_min_inlier_ratio", K_FLOAT, quad.min_inlier_ratio, 1),
-    F("decode_mode", K_DECODE, decode_mode, 1),
-    F("fit_flags", K_INT, fit.flags, 1),
-    F("fit_level", K_FLOAT, fit.level, 1),
-    F("fit_min_contrast", K_INT, fit.min_contrast, 1),
-    F("fit_sample_offset", K_FLOAT, fit.sample_offset, 1),
-    F("fit_min_bit_margin", K_INT, fit.min_bit_margin, 1),
-    F("min_structure", K_FLOAT, min_structure, 1),
-    F("min_side_fraction", K_FLOAT, min_side_fraction, 1),
-    F("max_side_fraction", K_FLOAT, max_side_fraction, 1),
-    F("search_candidates", K_INT, search_candidates, 1),
-    F("search_min_score", K_INT, search_min_score, 1),
-    F("search_max_corrections", K_INT, search_max_corrections, 1),
-    F("search_min_margin", K_FLOAT, search_min_margin, 1),
-    F("search_range_scale", K_FLOAT, search_range_scale, 1),
+    F("min_margin", K_FLOAT, min_margin, 0),
+    F("median_radius", K_INT, tuning.median_radius, 1),
+    F("threshold_radius", K_INT, tuning.threshold_radius, 1),
+    F("threshold_offset", K_INT, tuning.threshold_offset, 1),
+    F("size_tolerance", K_FLOAT, tuning.size_tolerance, 1),
+    F("min_area_fraction", K_FLOAT, tuning.min_area_fraction, 1),
+    F("max_area_fraction", K_FLOAT, tuning.max_area_fraction, 1),
+    F("quad_max_iterations", K_INT, tuning.quad.max_iterations, 1),
+    F("quad_sample_fraction", K_FLOAT, tuning.quad.sample_fraction, 1),
+    F("quad_inlier_ratio", K_FLOAT, tuning.quad.inlier_ratio, 1),
+    F("quad_inlier_distance", K_FLOAT, tuning.quad.inlier_distance, 1),
+    F("quad_min_parallel_cos", K_FLOAT, tuning.quad.min_parallel_cos, 1),
+    F("quad_min_inlier_ratio", K_FLOAT, tuning.quad.min_inlier_ratio, 1),
+    F("decode_mode", K_DECODE, tuning.decode_mode, 1),
+    F("fit_flags", K_INT, tuning.fit.flags, 1),
+    F("fit_level", K_FLOAT, tuning.fit.level, 1),
+    F("fit_min_contrast", K_INT, tuning.fit.min_contrast, 1),
+    F("fit_sample_offset", K_FLOAT, tuning.fit.sample_offset, 1),
+    F("fit_min_bit_margin", K_INT, tuning.fit.min_bit_margin, 1),
+    F("min_structure", K_FLOAT, tuning.min_structure, 1),
+    F("min_side_fraction", K_FLOAT, tuning.min_side_fraction, 1),
+    F("max_side_fraction", K_FLOAT, tuning.max_side_fraction, 1),
+    F("search_candidates", K_INT, tuning.search_candidates, 1),
+    F("search_min_score", K_INT, tuning.search_min_score, 1),
+    F("search_max_corrections", K_INT, tuning.search_max_corrections, 1),
+    F("search_min_margin", K_FLOAT, tuning.search_min_margin, 1),
+    F("search_range_scale", K_FLOAT, tuning.search_range_scale, 1),
 };
 
 #define NFIELDS ((int)(sizeof fields / sizeof fields[0]))

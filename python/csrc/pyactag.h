@@ -31,6 +31,12 @@ extern PyObject *pyactag_family_type; /* pyactag._core.Family */
  * message> (ACTAG_ERR_NAME)", with attributes code and name. Returns NULL. */
 PyObject *pyactag_raise(int code, const char *context);
 
+/* Raise ActagError for a failed check with its detail (actag_check and the
+ * validators): "<context>: <field> <rule> (got <value>): <library message>
+ * (ACTAG_ERR_NAME)", the field in Python's names (quad_inlier_ratio,
+ * min_range, bearings[7]), with attributes code, name and field. Returns NULL. */
+PyObject *pyactag_raise_detail(const char *context, const actag_error_detail *d);
+
 /* Raise ActagError(msg) with attributes code and name. Returns NULL. */
 PyObject *pyactag_raise_message(int code, PyObject *msg);
 

@@ -46,6 +46,7 @@ def test_geometry_errors(example_frame):
     with pytest.raises(pyactag.ActagError) as ei:
         pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings=[0.0] * 620)
     library_error(ei, "ACTAG_ERR_GEOMETRY")  # not strictly monotonic
+    assert ei.value.field == "bearings[1]"
     with pytest.raises(ValueError, match="620 columns"):
         pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings=[0.0, 1.0])
     with pytest.raises(ValueError, match="not both"):
@@ -72,6 +73,11 @@ def test_parameter_errors():
     with pytest.raises(pyactag.ActagError) as ei:
         pyactag.Detector(quad_inlier_ratio=float("nan"))
     library_error(ei, "ACTAG_ERR_PARAM")
+    assert ei.value.field == "quad_inlier_ratio"  # the library's detail, in Python's names
+    assert "must be a number > 0 and <= 1 (got nan)" in str(ei.value)
+    with pytest.raises(pyactag.ActagError) as ei:
+        pyactag.Detector(quad_inlier_distance=1e7)  # RANSAC would refuse it: an error now
+    assert ei.value.field == "quad_inlier_distance"
     with pytest.raises(pyactag.ActagError) as ei:
         pyactag.Detector("AcTag99h1")
     library_error(ei, "ACTAG_ERR_FAMILY")

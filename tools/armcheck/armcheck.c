@@ -312,7 +312,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         p.family = fam;
         p.max_bit_corrections = ac_settings[si].max_bit_corrections;
         if (ac_settings[si].decode_mode >= 0)
-            p.decode_mode = ac_settings[si].decode_mode;
+            p.tuning.decode_mode = ac_settings[si].decode_mode;
         memset(ac_det, 0, sizeof ac_det); /* no stale bytes in the digest */
         memset(&st, 0, sizeof st);
         n = actag_detect(&frame, &geo, &p, ac_ws, sizeof ac_ws, ac_det, AC_MAX_DET, &st);
@@ -322,7 +322,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         put_s(" max_bit_corrections ");
         put_d(p.max_bit_corrections);
         put_s(" decode_mode ");
-        put_d(p.decode_mode);
+        put_d(p.tuning.decode_mode);
         put_s(" seed ");
         put_u(p.seed);
         put_s(" result ");

@@ -43,6 +43,15 @@
  *                                           separated by whitespace or commas
  *                                           (e.g. a file's text); *n is the count
  *                                           (cap + 1 when there were more)
+ *   Library error details (actag_error_detail from actag_check and the
+ *   validators, actag/common.h) in the tool's own option names
+ *     hostio_detail_message(&detail, map, nmap, err)
+ *         map[] pairs library fields with options ({"tag_size", "--tag-size"});
+ *         err gets "--tag-size: must be a finite number > 0 (metres) (got 0)",
+ *         "--min-range/--max-range: must be below --max-range (got 2, limit 1.5)"
+ *         or "--bearings b.txt: value 7 must be below the previous bearing
+ *         (...) (got 0.3 after 0.29)"; field names inside the rule are
+ *         translated too, unmapped ones are printed as the library names them
  *   Command-line tools (print "PROG: message" on stderr and exit with status 2)
  *     hostio_die(prog, msg)
  *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
@@ -115,6 +124,20 @@ int hostio_parse_doubles(const char *name, const char *s, char sep, double *out,
 
 int hostio_parse_list(const char *name, const char *s, double *out, int cap, int *n,
                       char *err);
+
+/* A library field and the command-line option that sets it. */
+typedef struct hostio_optname {
+    const char *field;  /* as actag_error_detail names it: "tag_size", "geometry.max_range" */
+    const char *option; /* "--tag-size" */
+    double scale;       /* option units per library unit (0 means 1): 57.2957795 for a
+                           radian field set in degrees */
+} hostio_optname;
+
+struct actag_error_detail;
+/* The detail as a one-line message in err (HOSTIO_ERRLEN). Returns 0, or -1
+ * for a NULL detail or err. */
+int hostio_detail_message(const struct actag_error_detail *d, const hostio_optname *map,
+                          int nmap, char *err);
 
 /* For command-line tools: the message on stderr as "prog: msg", exit status 2. */
 void hostio_die(const char *prog, const char *msg);

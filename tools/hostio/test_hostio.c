@@ -4,6 +4,8 @@
 #include "unity.h"
 #include "hostio.h"
 
+#include "actag/actag.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,6 +133,60 @@ static void test_ppm(void)
     TEST_ASSERT_EQUAL_STRING("a/b", hostio_frame_name("a/b"));
 }
 
+/* Library details in option names: the plain form, two fields, an array
+ * entry, names inside the rule, a scaled unit, an unmapped field. */
+static void test_detail_messages(void)
+{
+    static const hostio_optname map[] = {
+        {"tag_size", "--tag-size", 0},
+        {"geometry.min_range", "--min-range", 0},
+        {"geometry.max_range", "--max-range", 0},
+        {"geometry.aperture", "--aperture-deg", 57.29577951308232},
+        {"geometry.bearings", "--bearings", 0},
+    };
+    const int n = (int)(sizeof map / sizeof map[0]);
+    char err[HOSTIO_ERRLEN];
+    actag_family fam;
+    actag_params p;
+    actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+    static const uint8_t px[4] = {0, 0, 0, 0};
+    actag_frame f = {px, 2, 2, 2, 8};
+    float b[2] = {0.5f, 0.5f};
+    actag_error_detail d;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    actag_params_default(&p);
+    p.family = &fam;
+    p.tag_size = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_check(&f, &g, &p, SIZE_MAX, 4, &d));
+    TEST_ASSERT_EQUAL_INT(0, hostio_detail_message(&d, map, n, err));
+    TEST_ASSERT_EQUAL_STRING("--tag-size: must be a finite number > 0 (metres) (got 0)", err);
+    p.tag_size = 0.13f;
+    g.min_range = 2.0f;
+    actag_check(&f, &g, &p, SIZE_MAX, 4, &d);
+    hostio_detail_message(&d, map, n, err);
+    TEST_ASSERT_EQUAL_STRING("--min-range/--max-range: must be below --max-range (got 2, limit 1.5)",
+                             err);
+    g.min_range = 0.1f;
+    g.aperture = 7.0f;
+    actag_check(&f, &g, &p, SIZE_MAX, 4, &d);
+    hostio_detail_message(&d, map, n, err);
+    TEST_ASSERT_EQUAL_STRING("--aperture-deg: must be a number > 0 and < 2 pi (radians) (got "
+                             "401.07)", err);
+    g.bearings = b;
+    actag_check(&f, &g, &p, SIZE_MAX, 4, &d);
+    hostio_detail_message(&d, map, n, err);
+    TEST_ASSERT_EQUAL_STRING("--bearings: value 2 must differ from the previous bearing (the "
+                             "table must be strictly monotonic) (got 0.5 after 0.5)", err);
+    g.bearings = NULL;
+    g.aperture = 1.0f;
+    p.tuning.quad.min_inlier_ratio = 1.5f; /* not in the map: the library's name */
+    actag_check(&f, &g, &p, SIZE_MAX, 4, &d);
+    hostio_detail_message(&d, map, n, err);
+    TEST_ASSERT_EQUAL_STRING("tuning.quad.min_inlier_ratio: must be a number > 0 and <= 1 (got "
+                             "1.5)", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_detail_message(NULL, map, n, err));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -138,5 +194,6 @@ int main(void)
     RUN_TEST(test_mkdirs);
     RUN_TEST(test_lists);
     RUN_TEST(test_ppm);
+    RUN_TEST(test_detail_messages);
     return UNITY_END();
 }

@@ -265,15 +265,15 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
     p.tag_size = tag_size_default;
     p.max_bit_corrections = c->corrections;
     if (c->min_margin > -1e5f)
-        p.fit.min_margin = c->min_margin;
+        p.min_margin = c->min_margin;
     if (c->min_bit_margin >= 0)
-        p.fit.min_bit_margin = c->min_bit_margin;
+        p.tuning.fit.min_bit_margin = c->min_bit_margin;
     if (c->min_structure >= 0.0f)
-        p.min_structure = c->min_structure;
+        p.tuning.min_structure = c->min_structure;
     if (c->min_side >= 0.0f)
-        p.min_side_fraction = c->min_side;
+        p.tuning.min_side_fraction = c->min_side;
     if (c->search_min_margin > -1e5f)
-        p.search_min_margin = c->search_min_margin;
+        p.tuning.search_min_margin = c->search_min_margin;
     fr.data = img;
     fr.rows = c->sonar.rows;
     fr.cols = c->sonar.cols;

@@ -55,8 +55,8 @@ static void te_params(const actag_family *fam, float tag_size, const te_options 
     p->tag_size = tag_size;
     *rp = *p;
     if (o->relax_roi) {
-        rp->fit.min_margin = -2.0f;
-        rp->search_min_margin = 0.0f;
+        rp->min_margin = -2.0f;
+        rp->tuning.search_min_margin = 0.0f;
     }
 }
 

@@ -44,7 +44,7 @@ typedef struct te_counts {
 
 typedef struct te_options {
     actag_track_params track;
-    int relax_roi;        /* 1: ROI searches with fit.min_margin and search_min_margin 0 */
+    int relax_roi;        /* 1: ROI searches with min_margin -2 and search_min_margin 0 */
     int sequences, length;
     int threads;
 } te_options;

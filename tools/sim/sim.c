@@ -568,8 +568,15 @@ int sim_render(const sim_sonar *s, const sim_scene *scene, const sim_appearance 
     cols = s->cols;
     if (rows < 2 || cols < 2 || out_stride < cols)
         return fail(err, "sim_render: frame must be at least 2 x 2 with stride >= cols");
-    if (actag_geometry_validate(&s->geo, rows, cols) != ACTAG_OK)
-        return fail(err, "sim_render: invalid sonar geometry");
+    {
+        actag_error_detail d;
+        if (actag_geometry_validate(&s->geo, rows, cols, &d) != ACTAG_OK) {
+            if (err)
+                snprintf(err, 256, "sim_render: invalid sonar geometry: %s %s (got %g)",
+                         d.field, d.rule, d.value);
+            return -1;
+        }
+    }
     if (!(s->vertical_aperture > 0.0f) || s->vertical_aperture > SIM_PI)
         return fail(err, "sim_render: vertical aperture must be in (0, pi]");
     if (scene->ntags < 0 || scene->ntags > SIM_MAX_TAGS || scene->npatches < 0 ||

@@ -369,9 +369,20 @@ int main(int argc, char **argv)
     } else {
         sonar.geo.aperture = (float)(aperture_deg * DEG);
     }
-    if (actag_geometry_validate(&sonar.geo, sonar.rows, sonar.cols) != ACTAG_OK)
-        die(bearings ? "--bearings: the table must be finite and strictly monotonic"
-                     : "--aperture-deg: invalid sonar geometry");
+    {
+        /* the library's rules, in this tool's option names */
+        static const hostio_optname names[] = {
+            {"min_range", "--min-range", 0},   {"max_range", "--max-range", 0},
+            {"aperture", "--aperture-deg", 57.29577951308232},
+            {"bearings", "--bearings", 0},     {"flags", "--range/azimuth-ascending", 0},
+            {"rows", "--rows", 0},             {"cols", "--cols", 0}};
+        actag_error_detail d;
+        if (actag_geometry_validate(&sonar.geo, sonar.rows, sonar.cols, &d) != ACTAG_OK) {
+            char m[HOSTIO_ERRLEN];
+            hostio_detail_message(&d, names, (int)(sizeof names / sizeof names[0]), m);
+            die(m);
+        }
+    }
 
     if (compare) {
         int n = nrandom > 0 ? nrandom : 60;

@@ -379,10 +379,10 @@ static void test_detect_multi_equals_separate_calls(void)
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_detect_multi(&fr, &s.geo, p, 2, ws,
                                                                       sizeof ws - 1, multi, EACH,
                                                                       counts));
-        p[1].median_radius = p[0].median_radius + 1;
+        p[1].tuning.median_radius = p[0].tuning.median_radius + 1;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect_multi(&fr, &s.geo, p, 2, ws, sizeof ws,
                                                                   multi, EACH, counts));
-        p[1].median_radius = p[0].median_radius;
+        p[1].tuning.median_radius = p[0].tuning.median_radius;
         p[1].max_bit_corrections = 99;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_detect_multi(&fr, &s.geo, p, 2, ws,
                                                                         sizeof ws, multi, EACH,
