@@ -299,7 +299,7 @@ int main(int argc, char **argv)
         }
         if (o.invert)
             actag_apriltag_invert(im);
-        zarray_t *dets = apriltag_detector_detect(td, im);
+        zarray_t *dets = actag_apriltag_detect(td, im); /* empty on tiny images */
         int n = zarray_size(dets);
 
         if (o.json) {

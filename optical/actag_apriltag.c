@@ -91,6 +91,28 @@ int actag_apriltag_max_bits_corrected(const apriltag_family_t *fam)
     return m;
 }
 
+/* Smallest image side AprilTag 3.3 handles: its threshold stage works on
+ * 4 x 4 tiles of the decimated image and indexes before a zero-size tile
+ * array when a side has fewer than 4 decimated pixels. */
+#define ACTAG_APRILTAG_MIN_DECIMATED 4
+
+zarray_t *actag_apriltag_detect(apriltag_detector_t *td, image_u8_t *im)
+{
+    float d;
+    int min_side;
+    if (td == NULL || im == NULL || im->buf == NULL || im->width < 1 || im->height < 1 ||
+        im->stride < im->width)
+        return NULL;
+    d = td->quad_decimate > 1.0f ? td->quad_decimate : 1.0f;
+    /* 4 * d, rounded up (d is a float the caller may set to anything > 1) */
+    min_side = d < 1.0e6f ? (int)(ACTAG_APRILTAG_MIN_DECIMATED * d) : 1 << 30;
+    if ((float)min_side < ACTAG_APRILTAG_MIN_DECIMATED * d)
+        min_side++;
+    if (im->width < min_side || im->height < min_side)
+        return zarray_create(sizeof(apriltag_detection_t *));
+    return apriltag_detector_detect(td, im);
+}
+
 void actag_apriltag_invert(image_u8_t *im)
 {
     int x, y;

@@ -83,6 +83,11 @@ void actag_tuning_default(actag_tuning *t)
     t->search_range_scale = 0.75f;
     t->search_max_corrections = 3;
     t->search_min_margin = ACTAG_SEARCH_MIN_MARGIN;
+    t->limits.max_contours = ACTAG_LIMIT_CONTOURS;
+    t->limits.max_contour_points = ACTAG_LIMIT_CONTOUR_POINTS;
+    t->limits.max_contour_iterations = ACTAG_LIMIT_CONTOUR_ITERATIONS;
+    t->limits.max_frame_iterations = ACTAG_LIMIT_FRAME_ITERATIONS;
+    t->limits.max_decodes = ACTAG_LIMIT_DECODES;
 }
 
 void actag_params_default(actag_params *p)
@@ -101,21 +106,31 @@ void actag_params_default(actag_params *p)
 /* actag_params_validate(), actag_tuning_validate() and actag_check() are in
  * validate.c with the other rules. */
 
-/* 16-bit frames: scale by the frame's maximum into 8 bits (integer, exact). */
+/* 16-bit frames: scale by the frame's maximum into 8 bits (integer, exact).
+ * Samples are read with memcpy, so a frame at an odd address is fine (no
+ * misaligned uint16_t load, which faults on some cores); compilers turn it
+ * into a plain halfword load where that is allowed. */
+static uint32_t load16(const uint8_t *p)
+{
+    uint16_t v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
 static void convert16(const actag_frame *f, uint8_t *dst)
 {
-    const uint16_t *src = (const uint16_t *)f->data;
+    const uint8_t *src = (const uint8_t *)f->data;
     uint32_t mx = 0;
     int r, c;
     for (r = 0; r < f->rows; r++)
         for (c = 0; c < f->cols; c++) {
-            uint32_t v = src[(size_t)r * (size_t)f->stride + (size_t)c];
+            uint32_t v = load16(src + 2u * ((size_t)r * (size_t)f->stride + (size_t)c));
             if (v > mx)
                 mx = v;
         }
     for (r = 0; r < f->rows; r++)
         for (c = 0; c < f->cols; c++) {
-            uint32_t v = src[(size_t)r * (size_t)f->stride + (size_t)c];
+            uint32_t v = load16(src + 2u * ((size_t)r * (size_t)f->stride + (size_t)c));
             dst[(size_t)r * (size_t)f->cols + (size_t)c] =
                 (uint8_t)(mx ? (v * 255u + mx / 2u) / mx : 0u);
         }
@@ -235,6 +250,18 @@ static int extreme_quad(const actag_ipoint *pts, int n, actag_point q[4])
 /* Contours per frame whose extreme points are tried as a grid guess when
  * RANSAC gives no reading (each a wide-search decode, ~0.1 ms). */
 #define ACTAG_GUESS_MAX 16
+
+/* One more decoder call within limits.max_decodes? Counts the call, or
+ * the refusal (stats.decode_cap). */
+static int decode_budget(actag_stats *st, const actag_params *p)
+{
+    if (st->decodes >= p->tuning.limits.max_decodes) {
+        st->decode_cap++;
+        return 0;
+    }
+    st->decodes++;
+    return 1;
+}
 
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
@@ -516,6 +543,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
     void *qscratch;
     size_t cap, qscratch_size;
     actag_rng rng;
+    int frame_iters;
 
     memset(&st, 0, sizeof st);
     /* 2. structure search (before the threshold overwrites A): candidates
@@ -539,6 +567,10 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                 actag_decode_result dr;
                 int verdict;
                 ncand++;
+                if (!decode_budget(&st, params)) {
+                    ncand = params->tuning.search_candidates;
+                    break;
+                }
                 st.searched++;
                 verdict = read_wide(w.b, rows, cols, quad, geometry, params, &dr);
                 trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, quad, 0.0f,
@@ -559,6 +591,11 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                         sk[dup] = sk[nsk];
                 }
             }
+            /* candidates left above the least score: the limit decided */
+            if (ncand == params->tuning.search_candidates &&
+                actag_search_next(&z, params->tuning.search_min_score * 8, geometry, params->tag_size,
+                                  params->tuning.search_range_scale, rows, cols, quad))
+                st.search_cap = 1;
         }
     }
     /* 3. adaptive threshold: B -> A (A's 16-bit copy is no longer needed) */
@@ -569,9 +606,12 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
 
     /* 4.-6. contours, one at a time, each through size filter, quad, decode */
     cap = ACTAG_CONTOUR_CAP(rows, cols);
+    if ((size_t)params->tuning.limits.max_contour_points < cap)
+        cap = (size_t)params->tuning.limits.max_contour_points;
     pts = (actag_ipoint *)(void *)w.s;
-    qscratch = w.s + ACTAG__ALIGN16(cap * sizeof(actag_ipoint));
-    qscratch_size = w.s_size - ACTAG__ALIGN16(cap * sizeof(actag_ipoint));
+    qscratch = w.s + ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
+    qscratch_size = w.s_size - ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
+    frame_iters = params->tuning.limits.max_frame_iterations;
     rc = actag_contour_scanner_init(&scan, w.a, rows, cols, cols);
     if (rc != ACTAG_OK)
         return rc;
@@ -583,8 +623,13 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
             actag_decode_result dr;
             const actag_point *corners = NULL;
             float ratio = 0.0f;
-            int tries;
+            int tries, contour_iters = params->tuning.limits.max_contour_iterations,
+                contour_limited = 0;
 
+            if (st.contours >= params->tuning.limits.max_contours) {
+                st.contour_cap = 1; /* the rest of the frame is not examined */
+                break;
+            }
             rc = actag_contour_next(&scan, pts, (int)cap, &ci);
             if (rc < 0)
                 return rc;
@@ -614,9 +659,32 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                     break;
                 }
             }
+            rc = ACTAG_ERR_NO_QUAD;
             for (k = 0; k < tries; k++) {
-                rc = actag_quad_fit(pts, ci.stored, &params->tuning.quad, &rng, qscratch,
-                                    qscratch_size, &q);
+                actag_quad_params qp = params->tuning.quad;
+                /* iterations: the per-fit limit, within the contour's and the frame's */
+                if (qp.max_iterations > contour_iters)
+                    qp.max_iterations = contour_iters;
+                if (qp.max_iterations > frame_iters)
+                    qp.max_iterations = frame_iters;
+                if (qp.max_iterations < params->tuning.quad.max_iterations) {
+                    if (frame_iters < contour_iters)
+                        st.frame_budget++; /* this fit shortened or skipped */
+                    else if (!contour_limited)
+                        st.contour_budget++; /* this contour's tries cut */
+                    contour_limited = 1;
+                    if (qp.max_iterations < 1) {
+                        rc = ACTAG_ERR_NO_QUAD;
+                        break;
+                    }
+                }
+                q.iterations = 0;
+                rc = actag_quad_fit(pts, ci.stored, &qp, &rng, qscratch, qscratch_size, &q);
+                contour_iters -= q.iterations;
+                frame_iters -= q.iterations;
+                st.iterations += q.iterations;
+                if (q.iterations >= qp.max_iterations)
+                    st.ransac_exhausted++;
                 if (rc != ACTAG_OK)
                     continue; /* another try draws other samples */
                 st.quads++;
@@ -625,6 +693,10 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                                q.inlier_ratio, NULL);
                     rc = ACTAG_ERR_NO_QUAD;
                     continue;
+                }
+                if (!decode_budget(&st, params)) {
+                    rc = ACTAG_ERR_NO_MATCH;
+                    break;
                 }
                 rc = decode_any(&w, rows, cols, q.corners, params, &dr);
                 if (rc != ACTAG_OK) {
@@ -645,6 +717,9 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                            q.inlier_ratio, &dr);
                 break;
             }
+            if (rc != ACTAG_OK && params->tuning.decode_mode == ACTAG_DECODE_FIT &&
+                nguess >= ACTAG_GUESS_MAX)
+                st.guess_cap++;
             if (rc == ACTAG_OK) {
                 corners = dr.corners;
                 ratio = q.inlier_ratio;
@@ -652,7 +727,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
                 /* no quad reads: the blob's extreme points as a first guess
                  * for the wide grid search, judged like a search reading */
                 actag_point gq[4];
-                if (extreme_quad(pts, ci.stored, gq)) {
+                if (extreme_quad(pts, ci.stored, gq) && decode_budget(&st, params)) {
                     int verdict;
                     nguess++;
                     verdict = read_wide(w.b, rows, cols, gq, geometry, params, &dr);

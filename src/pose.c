@@ -56,7 +56,8 @@ static void p_sincos(float x, float *s, float *c)
 static float p_atan01(float x)
 {
     const float t15 = 0.267949194f, sqrt3 = 1.73205081f, pio6 = 0.523598776f;
-    float off = 0.0f, z, neg = x < 0.0f;
+    float off = 0.0f, z;
+    int neg = x < 0.0f; /* an int: Clang's -Wconversion refuses a float tested as a bool */
     if (neg)
         x = -x;
     if (x > t15) {

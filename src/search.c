@@ -19,15 +19,17 @@ static uint32_t box_sum(const actag_search *z, int r0, int c0, int r1, int c1)
 
 static int finite_pos(float v) { return v == v && v > 0.0f && v < 3.0e38f; }
 
-/* A non-negative pixel count in float (NaN or huge near range 0, or with a
- * tag far larger than the frame) as an int: capped at ACTAG_SEARCH_CAP,
- * which already exceeds every frame, so the conversion is always defined. */
-#define ACTAG_SEARCH_CAP 1000000
-static int count_of(float v)
+/* A pixel count from a float that may be huge, infinite or NaN (an absurd
+ * tag size or azimuth step): truncated like (int)v, but saturating at cap
+ * (and at 0 from below) instead of converting an out-of-range float, which
+ * is undefined and gives INT_MIN on x86, saturation on ARM. */
+static int px_count(float v, int cap)
 {
-    if (!(v < (float)ACTAG_SEARCH_CAP))
-        return ACTAG_SEARCH_CAP;
-    return v > 0.0f ? (int)v : 0;
+    if (!(v < (float)cap))
+        return cap;
+    if (!(v > 0.0f))
+        return 0;
+    return (int)v;
 }
 
 int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
@@ -91,10 +93,11 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
         }
         cr = cell * range_scale / dr / (float)ACTAG_SEARCH_FACTOR;  /* low-res pixels per cell along range */
         cc = cell / daz / (float)ACTAG_SEARCH_FACTOR;  /* ... along azimuth */
-        ir = count_of(half_in * cr + 0.5f);
-        ic = count_of(half_in * cc + 0.5f);
-        orr = count_of((half_in + 1.0f) * cr + 0.5f);
-        oc = count_of((half_in + 1.0f) * cc + 0.5f);
+        /* boxes larger than the map leave it anyway: saturate there */
+        ir = px_count(half_in * cr + 0.5f, hr + 1);
+        ic = px_count(half_in * cc + 0.5f, hc + 1);
+        orr = px_count((half_in + 1.0f) * cr + 0.5f, hr + 2);
+        oc = px_count((half_in + 1.0f) * cc + 0.5f, hc + 2);
         if (ir < 1) ir = 1;
         if (ic < 1) ic = 1;
         if (orr <= ir) orr = ir + 1;
@@ -144,8 +147,8 @@ int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry
     hr_px = 0.5f * tag_size * range_scale / actag_geometry_range_step(g, rows);
     hc_px = 0.5f * tag_size / daz;
     {
-        int sr = count_of(hr_px * 1.5f / (float)ACTAG_SEARCH_FACTOR) + 1,
-            sc = count_of(hc_px * 1.5f / (float)ACTAG_SEARCH_FACTOR) + 1;
+        int sr = px_count(hr_px * 1.5f / (float)ACTAG_SEARCH_FACTOR, z->hr) + 1,
+            sc = px_count(hc_px * 1.5f / (float)ACTAG_SEARCH_FACTOR, z->hc) + 1;
         int r0 = br - sr, r1 = br + sr, c0 = bc - sc, c1 = bc + sc;
         if (r0 < 0) r0 = 0;
         if (c0 < 0) c0 = 0;

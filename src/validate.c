@@ -200,6 +200,21 @@ static int tuning_check(const actag_tuning *t, int lv, actag_error_detail *d)
     if (!in_range_open(t->search_range_scale, 0.05f, 4.0f))
         return fail(d, ACTAG_ERR_PARAM, TN(lv, "search_range_scale"), t->search_range_scale,
                     "must be a number > 0.05 and <= 4");
+    if (t->limits.max_contours < 1)
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "limits.max_contours"), t->limits.max_contours,
+                    "must be an integer >= 1");
+    if (t->limits.max_contour_points < 1)
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "limits.max_contour_points"),
+                    t->limits.max_contour_points, "must be an integer >= 1");
+    if (t->limits.max_contour_iterations < 1)
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "limits.max_contour_iterations"),
+                    t->limits.max_contour_iterations, "must be an integer >= 1");
+    if (t->limits.max_frame_iterations < 1)
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "limits.max_frame_iterations"),
+                    t->limits.max_frame_iterations, "must be an integer >= 1");
+    if (t->limits.max_decodes < 1)
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "limits.max_decodes"), t->limits.max_decodes,
+                    "must be an integer >= 1");
     return set_ok(d);
 }
 

@@ -255,7 +255,7 @@ static uint32_t expected_observed(const double T[9], const actag_point q[4], int
 {
     double Hd[9], Ti[9];
     uint32_t w = 0;
-    int s, cx, cy;
+    int s, cx = 0, cy = 0;
     TEST_ASSERT_TRUE(dlt_tag(q, k, Hd));
     m3_inv(T, Ti);
     for (s = 0; s < 4 * k; s++) {

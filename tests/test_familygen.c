@@ -125,7 +125,11 @@ static void test_published_four_are_fast(void)
     s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     snprintf(msg, sizeof msg, "four published 24-bit families: %.2f s wall, %.2f s CPU", s, cpu);
     TEST_MESSAGE(msg);
+#ifdef ACTAG_SANITIZED
+    TEST_ASSERT_TRUE_MESSAGE(cpu < 40.0, msg); /* instrumented: about 10x slower */
+#else
     TEST_ASSERT_TRUE_MESSAGE(cpu < 2.0, msg);
+#endif
 }
 
 /* ---------------------------------------------------------------- naive reference */

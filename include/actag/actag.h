@@ -51,6 +51,13 @@
  *
  *   16-bit frames (depth 16) are first scaled to 8 bits by the frame's own
  *   maximum: v8 = (v * 255 + max/2) / max; the stages then run on 8 bits.
+ *   Alignment: none required. 16-bit samples are in host byte order and are
+ *   read bytewise-safe, so frame->data may be at any address (an odd one
+ *   included, e.g. a frame inside a packet after a 1-byte header).
+ *   Buffer extent: the frame is read only at rows 0..rows-1, columns
+ *   0..cols-1; the last row needs no padding, i.e. a buffer of
+ *   ((rows - 1) * stride + cols) samples suffices, and padding bytes are
+ *   never read.
  *
  * ERRORS (negative return values of actag_detect)
  *   ACTAG_ERR_NULL         frame, frame->data, geometry, params, params->family,
@@ -120,12 +127,40 @@ extern "C" {
 
 /* An input frame: 8- or 16-bit unsigned pixels, row-major. */
 typedef struct actag_frame {
-    const void *data; /* const uint8_t * (depth 8) or const uint16_t * (depth 16) */
+    const void *data; /* const uint8_t * (depth 8) or const uint16_t * (depth 16, host byte
+                         order, any alignment: odd addresses are read safely) */
     int rows;         /* range bins */
     int cols;         /* beams */
     int stride;       /* elements (not bytes) from one row to the next, >= cols */
     int depth;        /* 8 or 16 */
 } actag_frame;
+
+/* Work limits of one call (bounded time, issue 10): every loop whose length
+ * depends on the image stops at one of these, and actag_stats counts each
+ * time a limit was reached. The defaults are far above what real frames use
+ * (docs/robustness.md: same detections on every pool frame with and
+ * without them) and keep the worst adversarial frame (tag-sized squares,
+ * fake tags, checkerboards, speckle, noise) within 3x the median pool
+ * frame's instructions (bench/worst_callgrind.sh). Each is >= 1. */
+typedef struct actag_limits {
+    int max_contours;           /* outer borders examined per frame (default 20000); the
+                                   scan stops there (stats.contour_cap) */
+    int max_contour_points;     /* points of one border (default 4096, at most
+                                   ACTAG_CONTOUR_CAP(rows, cols) is used); longer borders are
+                                   skipped (stats.overflowed) */
+    int max_contour_iterations; /* RANSAC iterations per contour over all its quad tries
+                                   (default 1000) (stats.contour_budget) */
+    int max_frame_iterations;   /* RANSAC iterations per frame (default 6000)
+                                   (stats.frame_budget) */
+    int max_decodes;            /* decoder calls per frame: quads, search candidates and
+                                   extreme-point guesses (default 48) (stats.decode_cap) */
+} actag_limits;
+
+#define ACTAG_LIMIT_CONTOURS 20000
+#define ACTAG_LIMIT_CONTOUR_POINTS 4096
+#define ACTAG_LIMIT_CONTOUR_ITERATIONS 1000
+#define ACTAG_LIMIT_FRAME_ITERATIONS 6000
+#define ACTAG_LIMIT_DECODES 48
 
 /* Tuning of the pipeline stages: the values the defaults were measured with
  * (see DEFAULTS AND WHY below). actag_tuning_default() fills them; most
@@ -187,6 +222,8 @@ typedef struct actag_tuning {
     float search_range_scale;   /* ratio, (0.05, 4] (default 0.75): expected range extent of a
                                    tag / tag_size in the search (tilted tags look shorter in
                                    range). Lower it for tags seen mostly edge-on in range. */
+    actag_limits limits;        /* work limits per call (see actag_limits above). Raise them
+                                   only if stats report a limit reached on real frames. */
 } actag_tuning;
 
 /* Detection parameters: what a user sets, plus the tuning (by value).
@@ -302,6 +339,20 @@ typedef struct actag_stats {
     int duplicates;      /* decodes dropped as the same tag seen twice */
     int dropped;         /* detections beyond max_out */
     int searched;        /* structure-search candidates decoded */
+    /* work done and limits reached (actag_limits): contour_cap, contour_budget,
+     * frame_budget, decode_cap and guess_cap are 0 on every pool frame at the
+     * defaults; ransac_exhausted, search_cap and overflowed are not (a border
+     * longer than the point limit, a fit without an early exit, more search
+     * positions than search_candidates are ordinary) */
+    int decodes;          /* decoder calls made (quads, search, guesses) */
+    int iterations;       /* RANSAC iterations run */
+    int contour_cap;      /* 1 when the scan stopped at limits.max_contours */
+    int ransac_exhausted; /* quad fits that ran all their iterations without an early exit */
+    int contour_budget;   /* contours whose quad tries stopped at limits.max_contour_iterations */
+    int frame_budget;     /* quad fits skipped or shortened by limits.max_frame_iterations */
+    int decode_cap;       /* decoder calls skipped at limits.max_decodes */
+    int search_cap;       /* 1 when candidates above search_min_score were left undecoded */
+    int guess_cap;        /* contours given no extreme-point guess (16 per frame at most) */
 } actag_stats;
 
 /* Largest threshold_radius the workspace is sized for (stb-style

@@ -19,7 +19,7 @@
  *   because tilted tags look shorter in range). Rows whose geometry gives no
  *   azimuth step, and positions whose outer box leaves the frame, score
  *   INT16_MIN. Scores are clamped to +-2040. Box half-sizes are computed in
- *   float and capped at 1,000,000 blocks before they become ints, so any
+ *   float and saturate at the map's size before they become ints, so any
  *   finite tag_size and geometry (even a range of almost 0) is defined
  *   behaviour: a box larger than the frame simply scores INT16_MIN.
  *

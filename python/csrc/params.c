@@ -62,6 +62,11 @@ static const field fields[] = {
     F("search_max_corrections", K_INT, tuning.search_max_corrections, 1),
     F("search_min_margin", K_FLOAT, tuning.search_min_margin, 1),
     F("search_range_scale", K_FLOAT, tuning.search_range_scale, 1),
+    F("max_contours", K_INT, tuning.limits.max_contours, 1),
+    F("max_contour_points", K_INT, tuning.limits.max_contour_points, 1),
+    F("max_contour_iterations", K_INT, tuning.limits.max_contour_iterations, 1),
+    F("max_frame_iterations", K_INT, tuning.limits.max_frame_iterations, 1),
+    F("max_decodes", K_INT, tuning.limits.max_decodes, 1),
 };
 
 #define NFIELDS ((int)(sizeof fields / sizeof fields[0]))

@@ -267,12 +267,26 @@ void hostio_image_free(hostio_image *img)
     }
 }
 
-/* A raw frame of spec's layout from a buffer (whole file). */
-static int raw_frame(const uint8_t *b, size_t len, const char *name, const hostio_raw_spec *raw,
-                     hostio_image *out, char *err)
+/* Bytes of a raw frame of spec's layout: the whole frame (*full) and the
+ * least a file may hold (*minimum: the last row's padding may be absent).
+ * Computed in 64 bits and checked against SIZE_MAX, so that no product
+ * overflows (rows 32767 x stride 2^20 x 2 bytes is 2^36, beyond a 32-bit
+ * size_t or long). Returns 0 when the frame cannot be addressed. */
+static int raw_sizes(const hostio_raw_spec *raw, int stride, size_t *minimum, size_t *full)
 {
-    int bytes = raw->depth / 8, stride = raw->stride ? raw->stride : raw->cols;
-    size_t minimum, full, i;
+    uint64_t bytes = (uint64_t)(raw->depth / 8);
+    uint64_t mn = ((uint64_t)(raw->rows - 1) * (uint64_t)stride + (uint64_t)raw->cols) * bytes;
+    uint64_t fl = (uint64_t)raw->rows * (uint64_t)stride * bytes;
+    if (fl > (uint64_t)SIZE_MAX)
+        return 0;
+    *minimum = (size_t)mn;
+    *full = (size_t)fl;
+    return 1;
+}
+
+/* Checks raw's layout; 0 with a message in err when it is unusable. */
+static int raw_check(const char *name, const hostio_raw_spec *raw, int stride, char *err)
+{
     if (raw->depth != 8 && raw->depth != 16)
         return fail(err, "%s: raw depth %d is not 8 or 16", name, raw->depth);
     if (raw->rows < 1 || raw->cols < 1 || raw->rows > 32767 || raw->cols > 32767)
@@ -281,12 +295,24 @@ static int raw_frame(const uint8_t *b, size_t len, const char *name, const hosti
     if (stride < raw->cols)
         return fail(err, "%s: raw stride %d is smaller than the %d columns", name, stride,
                     raw->cols);
-    minimum = ((size_t)(raw->rows - 1) * (size_t)stride + (size_t)raw->cols) * (size_t)bytes;
-    full = (size_t)raw->rows * (size_t)stride * (size_t)bytes;
+    return HOSTIO_OK;
+}
+
+/* A raw frame of spec's layout from a buffer (whole file). */
+static int raw_frame(const uint8_t *b, size_t len, const char *name, const hostio_raw_spec *raw,
+                     hostio_image *out, char *err)
+{
+    int bytes = raw->depth / 8, stride = raw->stride ? raw->stride : raw->cols;
+    size_t minimum, full, i;
+    if (raw_check(name, raw, stride, err) != HOSTIO_OK)
+        return -1;
+    if (!raw_sizes(raw, stride, &minimum, &full))
+        return fail(err, "%s: raw frame of %d rows x stride %d x %d bytes is too large to address",
+                    name, raw->rows, stride, bytes);
     if (len < minimum || len > full)
         return fail(err,
-                    "%s: raw frame is %lu bytes, expected %lu (%d rows x stride %d x %d byte%s)",
-                    name, (unsigned long)len, (unsigned long)full, raw->rows, stride, bytes,
+                    "%s: raw frame is %llu bytes, expected %llu (%d rows x stride %d x %d byte%s)",
+                    name, (unsigned long long)len, (unsigned long long)full, raw->rows, stride, bytes,
                     bytes > 1 ? "s" : "");
     out->data = calloc(full, 1);
     if (!out->data)
@@ -306,55 +332,92 @@ static int raw_frame(const uint8_t *b, size_t len, const char *name, const hosti
     return HOSTIO_OK;
 }
 
+/* Does a buffer of len bytes fit raw's layout (a usable raw spec given)? */
+static int raw_fits(const hostio_raw_spec *raw, size_t len)
+{
+    int stride;
+    size_t minimum, full;
+    if (!raw || raw->rows <= 0 || raw->cols <= 0)
+        return 0;
+    stride = raw->stride ? raw->stride : raw->cols;
+    if (raw_check("", raw, stride, NULL) != HOSTIO_OK || !raw_sizes(raw, stride, &minimum, &full))
+        return 0;
+    return len >= minimum && len <= full;
+}
+
+/* A PGM view into a malloc'd image: 16-bit samples to host order, every
+ * sample checked against maxval, and 8-bit samples of a maxval below 255
+ * scaled to 0..255 (v * 255 / maxval, rounded), so that 8-bit frames are
+ * full scale like 16-bit ones, which actag_detect scales by their maximum. */
+static int pgm_image(const hostio_pgm_view *v, const char *name, hostio_image *out, char *err)
+{
+    size_t n = (size_t)v->rows * (size_t)v->cols, i;
+    uint32_t mx = (uint32_t)v->maxval;
+    out->data = malloc(n * (size_t)v->bytes_per_sample);
+    if (!out->data)
+        return fail(err, "%s: out of memory", name);
+    for (i = 0; i < n; i++) {
+        uint32_t s = v->bytes_per_sample == 1
+                         ? v->pixels[i]
+                         : (uint32_t)((v->pixels[2 * i] << 8) | v->pixels[2 * i + 1]);
+        if (s > mx) {
+            free(out->data);
+            out->data = NULL;
+            return fail(err, "%s: PGM sample %lu at row %lu, column %lu is above maxval %lu", name,
+                        (unsigned long)s, (unsigned long)(i / (size_t)v->cols),
+                        (unsigned long)(i % (size_t)v->cols), (unsigned long)mx);
+        }
+        if (v->bytes_per_sample == 1)
+            ((uint8_t *)out->data)[i] = (uint8_t)(mx == 255u ? s : (s * 255u + mx / 2u) / mx);
+        else
+            ((uint16_t *)out->data)[i] = (uint16_t)s;
+    }
+    out->rows = v->rows;
+    out->cols = v->cols;
+    out->stride = v->cols;
+    out->depth = 8 * v->bytes_per_sample;
+    out->maxval = v->bytes_per_sample == 1 ? 255 : v->maxval;
+    return HOSTIO_OK;
+}
+
+int hostio_frame_parse(const uint8_t *b, size_t len, const char *name, const hostio_raw_spec *raw,
+                       hostio_image *out, char *err)
+{
+    hostio_pgm_view v;
+    const char *nm = name ? name : "frame";
+    if (!out)
+        return fail(err, "%s: no image to fill", nm);
+    memset(out, 0, sizeof *out);
+    if (!b)
+        return fail(err, "%s: no buffer", nm);
+    /* With a raw layout given, a buffer of that layout's size is a raw frame,
+     * whatever its first bytes (a raw frame may start with "P5"). */
+    if (raw_fits(raw, len))
+        return raw_frame(b, len, nm, raw, out, err);
+    if (len >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '7' && b[1] != '5')
+        return fail(err, "%s: a P%c image: only binary PGM (P5) is supported", nm, (char)b[1]);
+    if (len >= 2 && b[0] == 'P' && b[1] == '5') {
+        if (hostio_pgm_parse(b, len, nm, &v, err) != HOSTIO_OK)
+            return -1;
+        return pgm_image(&v, nm, out, err);
+    }
+    if (!raw || raw->rows <= 0 || raw->cols <= 0)
+        return fail(err, "%s: not a PGM file (no P5 magic); raw frames need --rows and --cols",
+                    nm);
+    return raw_frame(b, len, nm, raw, out, err);
+}
+
 int hostio_frame_read(const char *path, const hostio_raw_spec *raw, hostio_image *out,
                       char *err)
 {
-    size_t len, n, i;
-    hostio_pgm_view v;
-    const char *name = hostio_frame_name(path);
+    size_t len;
     uint8_t *b;
     int rc;
     memset(out, 0, sizeof *out);
     b = hostio_slurp(path, &len, err);
     if (!b)
         return -1;
-    if (len >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '7' && b[1] != '5') {
-        char kind = (char)b[1];
-        free(b);
-        return fail(err, "%s: a P%c image: only binary PGM (P5) is supported", name, kind);
-    }
-    if (len >= 2 && b[0] == 'P' && b[1] == '5') {
-        if (hostio_pgm_parse(b, len, name, &v, err) != HOSTIO_OK) {
-            free(b);
-            return -1;
-        }
-        n = (size_t)v.rows * (size_t)v.cols;
-        out->data = malloc(n * (size_t)v.bytes_per_sample);
-        if (!out->data) {
-            free(b);
-            return fail(err, "%s: out of memory", name);
-        }
-        if (v.bytes_per_sample == 1) {
-            memcpy(out->data, v.pixels, n);
-        } else {
-            uint16_t *d = (uint16_t *)out->data;
-            for (i = 0; i < n; i++)
-                d[i] = (uint16_t)((v.pixels[2 * i] << 8) | v.pixels[2 * i + 1]);
-        }
-        out->rows = v.rows;
-        out->cols = v.cols;
-        out->stride = v.cols;
-        out->depth = 8 * v.bytes_per_sample;
-        out->maxval = v.maxval;
-        free(b);
-        return HOSTIO_OK;
-    }
-    if (!raw || raw->rows <= 0 || raw->cols <= 0) {
-        free(b);
-        return fail(err, "%s: not a PGM file (no P5 magic); raw frames need --rows and --cols",
-                    name);
-    }
-    rc = raw_frame(b, len, name, raw, out, err);
+    rc = hostio_frame_parse(b, len, hostio_frame_name(path), raw, out, err);
     free(b);
     return rc;
 }

@@ -34,6 +34,8 @@
  *                                           samples, 16-bit little-endian; the
  *                                           last row's padding may be absent);
  *                                           raw may be NULL (PGM only)
+ *     hostio_frame_parse(buf, len, name, &raw, &img, err)  the same on a
+ *                                           buffer in memory
  *     hostio_frame_name(path)              "stdin" for "-", else path
  *   Numbers (the whole string must be the number; ranges are inclusive)
  *     hostio_parse_double(name, s, lo, hi, &v, err)
@@ -109,9 +111,23 @@ void hostio_image_free(hostio_image *img);
 int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err);
 
 /* A PGM (by its P5 magic) or a raw frame (raw may be NULL: PGM only). The
- * image is malloc'd with stride = raw stride (or cols for PGM). */
+ * image is malloc'd with stride = raw stride (or cols for PGM).
+ *   - With a raw layout given (rows, cols > 0), a file whose size fits it
+ *     (rows x stride samples, the last row's padding optional) is raw even
+ *     when it starts with "P5"; other files are read as PGM.
+ *   - Every PGM sample must be <= maxval (else an error naming the sample's
+ *     row and column); 8-bit samples of a maxval below 255 are scaled to
+ *     0..255 (v * 255 / maxval, rounded) and img.maxval is then 255; 16-bit
+ *     samples are returned as stored (actag_detect scales a 16-bit frame by
+ *     its maximum).
+ *   - Raw sizes are computed without overflow on 32-bit hosts: a layout too
+ *     large to address is an error.
+ * hostio_frame_parse() does the same on a buffer already in memory (name
+ * labels messages; NULL for "frame"). */
 int hostio_frame_read(const char *path, const hostio_raw_spec *raw, hostio_image *out,
                       char *err);
+int hostio_frame_parse(const uint8_t *buf, size_t len, const char *name,
+                       const hostio_raw_spec *raw, hostio_image *out, char *err);
 const char *hostio_frame_name(const char *path);
 
 /* Number parsing: name is the option (e.g. "--max-range") shown in messages. */

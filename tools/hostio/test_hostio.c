@@ -187,6 +187,104 @@ static void test_detail_messages(void)
     TEST_ASSERT_EQUAL_INT(-1, hostio_detail_message(NULL, map, n, err));
 }
 
+/* A raw frame whose first bytes happen to be "P5" (issue 10): with a raw
+ * layout given and a file of that layout's size, it is read as raw; a PGM of
+ * another size next to it is still a PGM. */
+static void test_raw_frame_starting_with_p5(void)
+{
+    /* 4 x 4 8-bit raw: "P5 4 4 255\n" + 5 more bytes would parse as a PGM */
+    static const uint8_t rawp5[16] = {'P', '5', ' ', '2', ' ', '1', ' ', '2', '5', '5', '\n',
+                                      7, 8, 9, 10, 11};
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    hostio_raw_spec raw = {4, 4, 8, 0};
+    int i;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
+    put("p5.raw", rawp5, sizeof rawp5);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/p5.raw", &raw, &im, err), err);
+    TEST_ASSERT_EQUAL_INT(4, im.rows);
+    TEST_ASSERT_EQUAL_INT(4, im.cols);
+    TEST_ASSERT_EQUAL_INT(8, im.depth);
+    for (i = 0; i < 16; i++)
+        TEST_ASSERT_EQUAL_UINT8(rawp5[i], ((uint8_t *)im.data)[i]);
+    hostio_image_free(&im);
+    /* without a raw layout the same bytes are a 2 x 1 PGM (with 3 bytes over) */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/p5.raw", NULL, &im, err), err);
+    TEST_ASSERT_EQUAL_INT(1, im.rows);
+    TEST_ASSERT_EQUAL_INT(2, im.cols);
+    TEST_ASSERT_EQUAL_UINT8(7, ((uint8_t *)im.data)[0]);
+    hostio_image_free(&im);
+    /* the buffer form gives the same */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK,
+                                  hostio_frame_parse(rawp5, sizeof rawp5, "buf", &raw, &im, err), err);
+    TEST_ASSERT_EQUAL_INT(4, im.rows);
+    hostio_image_free(&im);
+}
+
+/* 8-bit PGM maxval (issue 10): samples of a maxval below 255 are scaled to
+ * 0..255 like 16-bit frames are by the library; a sample above maxval is an
+ * error naming it; maxval 255 is taken as is. */
+static void test_pgm_8bit_maxval(void)
+{
+    static const uint8_t m100[] = "P5 4 1 100\n\x00\x01\x32\x64";   /* 0 1 50 100 */
+    static const uint8_t m1[] = "P5 2 1 1\n\x00\x01";               /* a binary frame */
+    static const uint8_t over[] = "P5 3 1 100\n\x00\x65\x01";       /* 101 > 100 */
+    static const uint8_t over16[] = "P5 2 1 1000\n\x03\xe8\x03\xe9"; /* 1000, 1001 */
+    static const uint8_t m255[] = "P5 2 1 255\n\x00\xff";
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_frame_parse(m100, sizeof m100 - 1, "m100.pgm", NULL, &im, err));
+    TEST_ASSERT_EQUAL_INT(8, im.depth);
+    TEST_ASSERT_EQUAL_INT(255, im.maxval);
+    TEST_ASSERT_EQUAL_UINT8(0, ((uint8_t *)im.data)[0]);
+    TEST_ASSERT_EQUAL_UINT8(3, ((uint8_t *)im.data)[1]);   /* (255 + 50) / 100 */
+    TEST_ASSERT_EQUAL_UINT8(128, ((uint8_t *)im.data)[2]); /* (12750 + 50) / 100 */
+    TEST_ASSERT_EQUAL_UINT8(255, ((uint8_t *)im.data)[3]);
+    hostio_image_free(&im);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_frame_parse(m1, sizeof m1 - 1, "m1.pgm", NULL, &im, err));
+    TEST_ASSERT_EQUAL_UINT8(0, ((uint8_t *)im.data)[0]);
+    TEST_ASSERT_EQUAL_UINT8(255, ((uint8_t *)im.data)[1]);
+    hostio_image_free(&im);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_frame_parse(m255, sizeof m255 - 1, "m255.pgm", NULL, &im, err));
+    TEST_ASSERT_EQUAL_UINT8(255, ((uint8_t *)im.data)[1]);
+    hostio_image_free(&im);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_parse(over, sizeof over - 1, "over.pgm", NULL, &im, err));
+    TEST_ASSERT_EQUAL_STRING("over.pgm: PGM sample 101 at row 0, column 1 is above maxval 100", err);
+    TEST_ASSERT_NULL(im.data);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_parse(over16, sizeof over16 - 1, "over16.pgm", NULL, &im, err));
+    TEST_ASSERT_EQUAL_STRING("over16.pgm: PGM sample 1001 at row 0, column 1 is above maxval 1000", err);
+}
+
+/* Raw size products (issue 10): 32767 rows x stride 2^20 x 2 bytes is 2^36
+ * bytes, beyond a 32-bit long; the expected size is computed and reported
+ * exactly (or, where size_t is 32 bits, the layout is refused as too large). */
+static void test_raw_size_overflow(void)
+{
+    static const uint8_t small[64] = {0};
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    hostio_raw_spec raw = {32767, 32767, 16, 1 << 20};
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_parse(small, sizeof small, "big.raw", &raw, &im, err));
+    if (sizeof(size_t) >= 8)
+        TEST_ASSERT_EQUAL_STRING("big.raw: raw frame is 64 bytes, expected 68717379584 (32767 "
+                                 "rows x stride 1048576 x 2 bytes)",
+                                 err);
+    else
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "too large to address"), err);
+    TEST_ASSERT_NULL(im.data);
+    /* 32767 x 32767 8-bit: 1073676289 bytes, just under 2^30 */
+    raw.depth = 8;
+    raw.stride = 0;
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_parse(small, sizeof small, "big8.raw", &raw, &im, err));
+    TEST_ASSERT_EQUAL_STRING("big8.raw: raw frame is 64 bytes, expected 1073676289 (32767 rows x "
+                             "stride 32767 x 1 byte)",
+                             err);
+    /* out-of-range layouts are refused before any arithmetic */
+    raw.rows = 40000;
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_parse(small, sizeof small, "r.raw", &raw, &im, err));
+    TEST_ASSERT_EQUAL_STRING("r.raw: raw frame size 40000 x 32767 outside 1..32767", err);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -195,5 +293,8 @@ int main(void)
     RUN_TEST(test_lists);
     RUN_TEST(test_ppm);
     RUN_TEST(test_detail_messages);
+    RUN_TEST(test_raw_frame_starting_with_p5);
+    RUN_TEST(test_pgm_8bit_maxval);
+    RUN_TEST(test_raw_size_overflow);
     return UNITY_END();
 }

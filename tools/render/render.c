@@ -581,6 +581,7 @@ static void build_plate(const opts_t *o, int id, int mode, plate_t *p)
     double br[2 * (9 + 2) + 8 + 4];
     double *X, *Y;
     unsigned char *metal;
+    char hole_err[200] = "";
 
     memset(p, 0, sizeof *p);
     r.o = o;
@@ -660,25 +661,35 @@ static void build_plate(const opts_t *o, int id, int mode, plate_t *p)
         for (i = 0; i < p->nholes; i++) {
             double hx = p->holes[i].x, hy = p->holes[i].y, rr = p->hole_r;
             int a, b;
-            if (hx - rr < 0 || hy - rr < 0 || hx + rr > p->size || hy + rr > p->size)
-                die("screw hole %d at (%g, %g) mm does not fit on the %g mm plate", i + 1,
-                    hx - r.margin, hy - r.margin, p->size);
-            for (b = 0; b < ny; b++)
-                for (a = 0; a < nx; a++) {
+            if (hx - rr < 0 || hy - rr < 0 || hx + rr > p->size || hy + rr > p->size) {
+                snprintf(hole_err, sizeof hole_err,
+                         "screw hole %d at (%g, %g) mm does not fit on the %g mm plate", i + 1,
+                         hx - r.margin, hy - r.margin, p->size);
+                break;
+            }
+            for (b = 0; b < ny && !hole_err[0]; b++)
+                for (a = 0; a < nx && !hole_err[0]; a++) {
                     double dx, dy;
                     if (metal[b * nx + a])
                         continue;
                     dx = hx < X[a] ? X[a] - hx : hx > X[a + 1] ? hx - X[a + 1] : 0.0;
                     dy = hy < Y[b] ? Y[b] - hy : hy > Y[b + 1] ? hy - Y[b + 1] : 0.0;
                     if (dx * dx + dy * dy < rr * rr)
-                        die("screw hole %d at (%g, %g) mm (diameter %g) cuts into a foam window",
-                            i + 1, hx - r.margin, hy - r.margin, o->hole_d);
+                        snprintf(hole_err, sizeof hole_err,
+                                 "screw hole %d at (%g, %g) mm (diameter %g) cuts into a foam "
+                                 "window",
+                                 i + 1, hx - r.margin, hy - r.margin, o->hole_d);
                 }
+            if (hole_err[0])
+                break;
         }
     }
+    /* free before any exit, so that LeakSanitizer sees a clean status 2 */
     free(X);
     free(Y);
     free(metal);
+    if (hole_err[0])
+        die("%s", hole_err);
 }
 
 /* ------------------------------------------------------------------ output helpers */

@@ -168,6 +168,16 @@ static int is_r12_entity(const char *s)
 
 /* Reads group code / value pairs. Returns 1 and fills code/val, 0 at end,
  * -1 on a malformed group code line. */
+/* Copies src into dst[n], truncating (and always terminating). */
+static void copy_str(char *dst, size_t n, const char *src)
+{
+    size_t len = strlen(src);
+    if (len >= n)
+        len = n - 1;
+    memcpy(dst, src, len);
+    dst[len] = '\0';
+}
+
 static int next_pair(char **cur, int *code, char *val, size_t valn)
 {
     char *p = *cur, *nl, *end;
@@ -226,7 +236,7 @@ static const char *check_dxf(const char *name, dxf_t *d)
     cur = text;
 #define FAIL(m)                                                                \
     do {                                                                       \
-        snprintf(msg, sizeof msg, "%s (near '%s')", (m), val);                 \
+        snprintf(msg, sizeof msg, "%s (near '%.160s')", (m), val);                 \
         free(text);                                                            \
         return msg;                                                            \
     } while (0)
@@ -273,9 +283,9 @@ static const char *check_dxf(const char *name, dxf_t *d)
             }
             if (sec == 0) {
                 if (code == 9)
-                    snprintf(hvar, sizeof hvar, "%s", val);
+                    copy_str(hvar, sizeof hvar, val);
                 else if (strcmp(hvar, "$ACADVER") == 0 && code == 1)
-                    snprintf(d->acadver, sizeof d->acadver, "%s", val);
+                    copy_str(d->acadver, sizeof d->acadver, val);
                 else if (strcmp(hvar, "$INSUNITS") == 0 && code == 70)
                     d->insunits = atoi(val);
                 else if (strcmp(hvar, "$EXTMAX") == 0 && code == 10)
@@ -286,9 +296,9 @@ static const char *check_dxf(const char *name, dxf_t *d)
                     FAIL("entity in HEADER");
             } else if (sec == 1) {
                 if (code == 0)
-                    snprintf(ent, sizeof ent, "%s", val);
+                    copy_str(ent, sizeof ent, val);
                 else if (code == 2 && strcmp(ent, "LAYER") == 0 && d->nlayers < 16)
-                    snprintf(d->layers[d->nlayers++], 32, "%s", val);
+                    copy_str(d->layers[d->nlayers++], 32, val);
             } else if (sec == 3) {
                 if (code == 0) {
                     if (!is_r12_entity(val))
@@ -303,7 +313,7 @@ static const char *check_dxf(const char *name, dxf_t *d)
                             FAIL("POLYLINE with fewer than 3 vertices");
                         d->npolys++;
                     }
-                    snprintf(ent, sizeof ent, "%s", val);
+                    copy_str(ent, sizeof ent, val);
                     if (strcmp(ent, "POLYLINE") == 0) {
                         if (d->npolys >= 256)
                             FAIL("too many polylines for the checker");
@@ -337,7 +347,7 @@ static const char *check_dxf(const char *name, dxf_t *d)
                     if (!ok)
                         FAIL("entity on an undefined layer");
                     if (strcmp(ent, "POLYLINE") == 0)
-                        snprintf(poly->layer, sizeof poly->layer, "%s", val);
+                        copy_str(poly->layer, sizeof poly->layer, val);
                     else if (strcmp(ent, "VERTEX") == 0 && strcmp(poly->layer, val) != 0)
                         FAIL("VERTEX on another layer than its POLYLINE");
                 }
@@ -364,7 +374,7 @@ static const char *check_dxf(const char *name, dxf_t *d)
                         d->py[d->npoints - 1] = atof(val);
                 }
                 if (strcmp(ent, "TEXT") == 0 && code == 1 && d->ntexts <= 64)
-                    snprintf(d->texts[d->ntexts - 1], 80, "%s", val);
+                    copy_str(d->texts[d->ntexts - 1], 80, val);
             }
         }
     }
@@ -522,6 +532,12 @@ static void check_face_plate(const char *name, const actag_family *fam, int id, 
 /* Tag balance: every start tag closed in order, one root <svg> with
  * width/height in mm and a viewBox. Accumulates the absolute area of path
  * loops in groups OUTLINE and CUTOUT. Returns NULL when well formed. */
+/* Every early return of check_svg frees the file text. */
+#define SVG_FAIL(m)                                                            \
+    do {                                                                       \
+        free(s);                                                               \
+        return (m);                                                            \
+    } while (0)
 static const char *check_svg(const char *name, double *outline_area, double *cutout_area,
                              int *ntext, int *ncircle)
 {
@@ -533,7 +549,7 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
     *outline_area = *cutout_area = 0;
     *ntext = *ncircle = 0;
     if (!s)
-        return "cannot read";
+        SVG_FAIL("cannot read");
     p = s;
     while ((p = strchr(p, '<')) != NULL) {
         char nm[32];
@@ -543,20 +559,20 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
         if (strncmp(p, "<?", 2) == 0) {
             end = strstr(p, "?>");
             if (!end)
-                return "unterminated <?";
+                SVG_FAIL("unterminated <?");
             p = end + 2;
             continue;
         }
         if (strncmp(p, "<!--", 4) == 0) {
             end = strstr(p, "-->");
             if (!end)
-                return "unterminated comment";
+                SVG_FAIL("unterminated comment");
             p = end + 3;
             continue;
         }
         end = strchr(p, '>');
         if (!end)
-            return "unterminated tag";
+            SVG_FAIL("unterminated tag");
         p++;
         if (*p == '/') {
             closing = 1;
@@ -565,7 +581,7 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
         while ((isalnum((unsigned char)p[n]) || p[n] == ':' || p[n] == '-') && n < sizeof nm - 1)
             n++;
         if (n == 0)
-            return "tag without a name";
+            SVG_FAIL("tag without a name");
         memcpy(nm, p, n);
         nm[n] = '\0';
         selfclose = end[-1] == '/';
@@ -576,11 +592,11 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
             for (q = p; q < end; q++)
                 quotes += *q == '"';
             if (quotes % 2)
-                return "unbalanced quotes";
+                SVG_FAIL("unbalanced quotes");
         }
         if (closing) {
             if (depth == 0 || strcmp(stack[depth - 1], nm) != 0)
-                return "closing tag does not match";
+                SVG_FAIL("closing tag does not match");
             depth--;
             if (strcmp(nm, "g") == 0)
                 group[0] = '\0';
@@ -590,9 +606,9 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
                 roots++;
                 if (depth != 0 || !strstr(p, "viewBox=\"") || !strstr(p, "mm\" height=\"") ||
                     !strstr(p, "width=\""))
-                    return "svg root without mm size or viewBox";
+                    SVG_FAIL("svg root without mm size or viewBox");
             } else if (depth == 0) {
-                return "content outside the root";
+                SVG_FAIL("content outside the root");
             }
             if (strcmp(nm, "g") == 0) {
                 char *id = strstr(p, "id=\"");
@@ -608,8 +624,10 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
                 char *dd = strstr(p, " d=\"");
                 poly_t *poly = (poly_t *)calloc(1, sizeof(poly_t));
                 char *t;
-                if (!dd || !poly)
-                    return "path without d";
+                if (!dd || !poly) {
+                    free(poly);
+                    SVG_FAIL("path without d");
+                }
                 t = dd + 4;
                 for (;;) {
                     double x, y;
@@ -619,8 +637,10 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
                     if (*t == 'M' || *t == 'L') {
                         if (*t == 'M')
                             poly->n = 0;
-                        if (sscanf(t + 1, "%lf %lf%n", &x, &y, &used) != 2 || poly->n >= MAXP)
-                            return "bad path data";
+                        if (sscanf(t + 1, "%lf %lf%n", &x, &y, &used) != 2 || poly->n >= MAXP) {
+                            free(poly);
+                            SVG_FAIL("bad path data");
+                        }
                         poly->x[poly->n] = x;
                         poly->y[poly->n++] = y;
                         t += 1 + used;
@@ -639,7 +659,7 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
             }
             if (!selfclose) {
                 if (depth >= 64)
-                    return "too deep";
+                    SVG_FAIL("too deep");
                 snprintf(stack[depth++], 32, "%s", nm);
             }
             *end = '>';
@@ -647,12 +667,14 @@ static const char *check_svg(const char *name, double *outline_area, double *cut
         p = end + 1;
     }
     free(s);
+    s = NULL;
     if (depth != 0)
-        return "unclosed element";
+        SVG_FAIL("unclosed element");
     if (roots != 1)
-        return "not exactly one <svg> root";
+        SVG_FAIL("not exactly one <svg> root");
     return NULL;
 }
+#undef SVG_FAIL
 
 static int have_python_minidom(void)
 {
@@ -806,9 +828,10 @@ static void test_dxf_many_tags_and_tabs(void)
         ids[0] = '\0';
         for (i = 0; i < n; i++)
             snprintf(ids + strlen(ids), sizeof ids - strlen(ids), "%s%d", i ? "," : "", list[i]);
-        snprintf(args, sizeof args,
-                 "--family %s --ids %s --cut --tab-width 3 --hole-diameter 5 --out-dir '%s'",
-                 names[f], ids, dir);
+        TEST_ASSERT_TRUE(snprintf(args, sizeof args,
+                                  "--family %s --ids %s --cut --tab-width 3 --hole-diameter 5 "
+                                  "--out-dir '%s'",
+                                  names[f], ids, dir) < (int)sizeof args);
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
         TEST_ASSERT_EQUAL_STRING("", errtext);
         for (i = 0; i < n; i++) {

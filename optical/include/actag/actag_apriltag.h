@@ -17,7 +17,7 @@
  *     apriltag_detector_add_family_bits(td, fam,
  *                                       actag_apriltag_max_bits_corrected(fam));
  *     actag_apriltag_invert(im);             // camera: aluminium light, foam dark
- *     zarray_t *dets = apriltag_detector_detect(td, im);
+ *     zarray_t *dets = actag_apriltag_detect(td, im);   // apriltag_detector_detect()
  *     for (int i = 0; i < zarray_size(dets); i++) {
  *         apriltag_detection_t *det;
  *         double c[4][2];
@@ -130,6 +130,15 @@
  *       computed (flags ACTAG_POSE_NO_COVARIANCE); out->residual holds
  *       AprilTag's object-space error. Returns ACTAG_OK, ACTAG_ERR_NULL
  *       (det or out NULL) or ACTAG_ERR_PARAM (bad sizes or a failed estimate).
+ *   zarray_t *actag_apriltag_detect(apriltag_detector_t *td, image_u8_t *im)
+ *       apriltag_detector_detect(td, im), safe on small images: AprilTag 3.3
+ *       reads outside its buffers (and crashes) when the decimated image is
+ *       under 4 pixels in either direction (e.g. under 8 rows at the default
+ *       quad_decimate 2), so images of fewer than 4 * max(quad_decimate, 1)
+ *       rows or columns (rounded up) give an empty array (no tag fits there:
+ *       a tag is at least 8 cells wide). Free the result with
+ *       apriltag_detections_destroy(). NULL for a NULL detector, image or
+ *       pixel buffer, or a width/height/stride that does not describe one.
  *   void actag_apriltag_invert(image_u8_t *im)
  *       In place: v -> 255 - v over width x height (stride respected). NULL ok.
  *   void actag_apriltag_corners_to_actag(const apriltag_detection_t *det,
@@ -162,6 +171,7 @@ double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
                           double R[9], double t[3]);
 int actag_apriltag_pose_sensor(const apriltag_detection_t *det, double tag_size, double fx,
                                double fy, double cx, double cy, actag_pose *out);
+zarray_t *actag_apriltag_detect(apriltag_detector_t *td, image_u8_t *im);
 void actag_apriltag_invert(image_u8_t *im);
 void actag_apriltag_corners_to_actag(const apriltag_detection_t *det, double out[4][2]);
 
