@@ -1,8 +1,8 @@
 /* Sonar round trip of the 28-bit mirror-safe families in all 8 orientations
  * (sonar_roundtrip.h): every ID of AcTag28m10 and m8 (AcTag28m6: its own
  * test); every 50th ID of AcTag28m4 and its last (ACTAG_FULL_ROUNDTRIP=1 in
- * the environment: every one of its 8910 IDs, 6-15 minutes; it stops at ID
- * 6120, whose two mirrored readings the fit decoder declines, docs/families.md). */
+ * the environment: every one of its 8910 IDs, about 22 minutes of CPU time;
+ * all 71,280 readings pass, docs/families.md). */
 #include "sonar_roundtrip.h"
 
 void setUp(void) {}
