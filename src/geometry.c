@@ -1,4 +1,5 @@
 /* Pixel <-> (range, azimuth) for polar sonar frames (SPEC section 4). */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/geometry.h"
 
 static int finite_f(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }

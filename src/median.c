@@ -25,6 +25,7 @@
  * same bytes (tests check both); for R <= 7 it uses median_quad() below
  * (a sliding histogram shared by four rows), which without SIMD is about
  * 3x faster than the constant-time scheme at R = 4. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 
 #include <string.h>

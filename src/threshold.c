@@ -13,6 +13,7 @@
  *   S[lo]           when they share a block otherwise (only possible when
  *                   hi = n-1 ends that block),
  * and for a full window (hi - lo = 2r) the first form always holds. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/threshold.h"
 
 #include <string.h>
