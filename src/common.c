@@ -1,4 +1,5 @@
 /* Error messages for the ACTAG_ERR_* codes. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/common.h"
 
 const char *actag_strerror(int code)

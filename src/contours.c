@@ -17,6 +17,7 @@
  * to find run starts and ends) and every border pixel O(1) times by the
  * walks, so a scan is O(rows * cols + total border length).
  */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/contours.h"
 
 #include <limits.h>

@@ -1,4 +1,5 @@
 /* Decode stage: quad -> homography -> sampled data ring -> family match. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/decode.h"
 
 #include <math.h>
@@ -576,7 +577,7 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
     static const float hb[FIT_INITS] = {0.0f, 0.0f, 0.0f, 1.0f, -1.0f};
     fgrid g0 = *gr, t;
     float best = -1e30f;
-    float la = sqrtf(g0.ax * g0.ax + g0.ay * g0.ay), lb = sqrtf(g0.bx * g0.bx + g0.by * g0.by);
+    float la = actag_sqrtf(g0.ax * g0.ax + g0.ay * g0.ay), lb = actag_sqrtf(g0.bx * g0.bx + g0.by * g0.by);
     float q = la > 0.0f ? lb / la : 1.0f;
     int i, j, o;
     for (o = 0; o < FIT_INITS; o++) {
@@ -655,8 +656,8 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
 {
     static const float scales[3] = {1.0f, 0.5f, 0.25f};
     fgrid g0 = *gr;
-    float la = sqrtf(gr->ax * gr->ax + gr->ay * gr->ay);
-    float lb = sqrtf(gr->bx * gr->bx + gr->by * gr->by);
+    float la = actag_sqrtf(gr->ax * gr->ax + gr->ay * gr->ay);
+    float lb = actag_sqrtf(gr->bx * gr->bx + gr->by * gr->by);
     float best = objective(im, gr, k, m, L, erase);
     int lvl, it, p, sgn;
     for (lvl = tight ? 1 : 0; lvl < 3; lvl++) { /* a polish starts at half steps */
@@ -1195,7 +1196,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         /* Look-elsewhere allowance: the best of N hypotheses (8 views of
          * every code, times the grids the wide search tries) beats the
          * next by ln N on pure noise; the margin counts what is left. */
-        margin -= logf(8.0f * (float)family->ncodes *
+        margin -= actag_logf(8.0f * (float)family->ncodes *
                        ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
         if (margin < fp->min_margin || ml.h2 - ml.best.hamming < fp->min_bit_margin)
             return ACTAG_ERR_NO_MATCH;

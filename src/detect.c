@@ -2,6 +2,7 @@
  * size filter, duplicate suppression and the polar output. The stages
  * themselves live in their own files (median.c, threshold.c, contours.c,
  * quad.c, decode.c). */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/actag.h"
 
 #include <string.h>

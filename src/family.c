@@ -1,4 +1,5 @@
 /* Family look-up, code orientation helpers and the orientation-aware matcher. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/family.h"
 
 #include <string.h>

@@ -1,4 +1,5 @@
 /* Pixel <-> (range, azimuth) for polar sonar frames (SPEC section 4). */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/geometry.h"
 
 /* actag_geometry_validate() is in validate.c with the other rules. */

@@ -1,4 +1,5 @@
 /* 6-DOF tag pose from one sonar detection (see actag/pose.h). */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/pose.h"
 
 #include <math.h>

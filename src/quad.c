@@ -1,14 +1,9 @@
 /* RANSAC parallelogram fit to one contour (paper Algorithm 2); see quad.h. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/quad.h"
 
 #include <math.h>
 #include <string.h>
-
-#if defined(__clang__)
-/* Fused multiply-add would change results between x86 and ARM. (GCC in
- * -std=c99 mode does not contract; it warns about this pragma.) */
-#pragma STDC FP_CONTRACT OFF
-#endif
 
 /* Adjacent sides must differ by at least asin(0.2) (11.5 degrees). */
 #define QUAD_MIN_ADJ_SIN 0.2f
@@ -100,7 +95,7 @@ static int line_fit(const qsums *s, qline *l, float *msr)
     b = (float)b64 * inv;
     c = (float)c64 * inv;
     hd = 0.5f * (a - c);
-    r = sqrtf(hd * hd + b * b);
+    r = actag_sqrtf(hd * hd + b * b);
     /* Eigenvector of the larger eigenvalue, written so nothing cancels. */
     if (hd >= 0.0f) {
         dx = hd + r;
@@ -112,7 +107,7 @@ static int line_fit(const qsums *s, qline *l, float *msr)
     len2 = dx * dx + dy * dy;
     if (!(len2 > 0.0f))
         return 0;
-    il = 1.0f / sqrtf(len2);
+    il = 1.0f / actag_sqrtf(len2);
     l->nx = -dy * il;
     l->ny = dx * il;
     l->c = l->nx * ((float)s->sx / fn) + l->ny * ((float)s->sy / fn);
@@ -192,7 +187,7 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span)
     for (j = 0; j < 4; j++) {
         int j1 = (j + 1) & 3;
         float ex = q->x[j1] - q->x[j], ey = q->y[j1] - q->y[j];
-        float l = sqrtf(ex * ex + ey * ey);
+        float l = actag_sqrtf(ex * ex + ey * ey);
         ax[j] = q->x[j];
         ay[j] = q->y[j];
         ux[j] = l > 0.0f ? ex / l : 0.0f;
@@ -308,7 +303,7 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
         int a = ci[j], b = ci[(j + 1) & 3], cnt, left;
         const qline *l = &q->line[(j + 1) & 3], *la = &q->line[j], *lb = &q->line[(j + 2) & 3];
         float ex = q->x[(j + 1) & 3] - q->x[j], ey = q->y[(j + 1) & 3] - q->y[j];
-        float len = sqrtf(ex * ex + ey * ey), ux, uy;
+        float len = actag_sqrtf(ex * ex + ey * ey), ux, uy;
         qsums *s = &sums[(j + 1) & 3];
         if (!(len > 0.0f))
             return 0;

@@ -1,4 +1,5 @@
 /* The AcTag cell layout and an allocation-free 8-bit renderer (see render.h). */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/render.h"
 
 #include <string.h>

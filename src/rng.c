@@ -1,4 +1,5 @@
 /* PCG32 (XSH-RR): 64-bit LCG state, 32-bit permuted output. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/rng.h"
 
 #define ACTAG_PCG_MULT 6364136223846793005ull

@@ -1,5 +1,6 @@
 /* Structure search (see search.h): box contrast of a bright square inside a
  * dark ring at the tag's physical size, on a block-averaged frame. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/search.h"
 
 

@@ -1,4 +1,5 @@
 /* Tag tracking across frames: ROI search, confirmation, smoothing (see actag/track.h). */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/track.h"
 
 #include <math.h>
@@ -68,7 +69,7 @@ static void t_predict(const actag_track *k, actag_point pred[4])
 static float t_diag(const actag_point c[4])
 {
     float a = t_dist2(c[0], c[2]), b = t_dist2(c[1], c[3]);
-    return sqrtf(a > b ? a : b);
+    return actag_sqrtf(a > b ? a : b);
 }
 
 /* Detections are the same tag: same ID and handedness, centres within a

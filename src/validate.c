@@ -4,6 +4,7 @@
  * actag_detect() calls actag_check(), so a value is accepted or rejected by
  * the same code wherever it enters. No state: every message is a string
  * literal. */
+#include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/actag.h"
 
 #include <float.h>

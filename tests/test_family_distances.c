@@ -200,6 +200,10 @@ static void test_distances_of_every_family(void)
         dists d;
         int found = 0;
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get_at(i, &f));
+        if (TU_EMULATED && f.ncodes > 1000) { /* n^2 pairs: 10-20 s each under QEMU */
+            printf("%s: %d codes, measured in the host suite only\n", f.name, f.ncodes);
+            continue;
+        }
         d = measure(&f, f.ncodes <= 1000);
         if (f.ncodes <= 1000 && f.ncodes > 1) { /* the reduction is exact */
             dists r = measure(&f, 0);

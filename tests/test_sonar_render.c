@@ -139,7 +139,7 @@ static void test_every_id_of_small_families(void)
     for (f = 0; f < 2; f++) {
         actag_family fam;
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
-        for (id = 0; id < fam.ncodes; id++)
+        for (id = 0; id < fam.ncodes; id += fam.ncodes > 10 ? TU_STEP(5) : 1) /* emulated: sampled */
             check_tag(&fam, id);
     }
 }
@@ -150,10 +150,10 @@ static void test_sampled_ids_of_large_families(void)
     actag_family fam;
     int i;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h6", &fam));
-    for (i = 0; i < fam.ncodes; i += 37)
+    for (i = 0; i < fam.ncodes; i += 37 * TU_STEP(3)) /* emulated: every 111th */
         check_tag(&fam, i);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h4", &fam));
-    for (i = 0; i < (int)(sizeof h4_ids / sizeof h4_ids[0]); i++)
+    for (i = 0; i < (int)(sizeof h4_ids / sizeof h4_ids[0]); i += TU_STEP(3))
         check_tag(&fam, h4_ids[i]);
 }
 

@@ -18,6 +18,11 @@
  *         printf("id %d rot %d mirrored %d hamming %d\n",
  *                m.id, m.rotation, m.mirrored, m.hamming);
  *
+ *   Firmware can skip the name look-up (and its strcmp, and the tables it
+ *   does not use): the generated header actag/families.h declares one
+ *   accessor per built-in family, e.g. actag_family_AcTag24h10(&f), and
+ *   defines ACTAG_HAVE_AcTag24h10.
+ *
  *   Two kinds of family (docs/families.md):
  *     AcTag<bits>h<h>  the published families (AcTag24h4 .. AcTag24h10) and
  *                      others made by the same rule: distance >= h between

@@ -1,0 +1,200 @@
+/*
+ * fpmath.h -- internal: the same floating-point results whatever compiler
+ * flags a project builds the library's sources with. Every src/ file
+ * includes it first.
+ *
+ * 1. No fused multiply-add. GCC contracts a*b+c into one fused operation
+ *    (a single rounding) wherever the target has one (Cortex-M4F/M7 VFMA,
+ *    x86 FMA3 with -march=haswell and later) unless -ffp-contract=off is
+ *    given; its default in the GNU dialects (-std=gnu99, what most firmware
+ *    IDEs use) is -ffp-contract=fast, and GCC ignores the standard
+ *    "#pragma STDC FP_CONTRACT OFF" (with a warning). Contraction would move
+ *    corners in the last bits against the x86 build and could flip a
+ *    decision near a threshold. So: the GCC pragma that sets the option for
+ *    the rest of the file, the standard pragma for Clang and other
+ *    compilers. Checked by .ci/fpcontract (the Cortex-M7 library compiled
+ *    with -std=gnu99 -ffp-contract=fast gives byte-identical armcheck
+ *    reports; without this header it does not).
+ * 2. Refused at compile time: -ffast-math (reassociation, no NaN/inf), and
+ *    x87 excess precision (FLT_EVAL_METHOD != 0: i386 without -msse2
+ *    -mfpmath=sse), both of which change results.
+ * 3. No errno. libm's sqrtf and logf set errno on a domain error, and on
+ *    newlib that pulls the reentrancy structure (impure_data, ~1 KB of
+ *    .data) into every firmware; GCC only inlines sqrtf without a call
+ *    under -fno-math-errno. actag_sqrtf and actag_logf need no libm on
+ *    Cortex-M: sqrtf is the FPU's VSQRT.F32 (correctly rounded, as x86's
+ *    SQRTSS and glibc's sqrtf), an exact integer square root on cores
+ *    without one; logf is computed here (deterministic on every platform,
+ *    correctly rounded but for inputs within 1e-15 of a rounding boundary,
+ *    see actag_logf).
+ */
+#ifndef ACTAG_SRC_FPMATH_H
+#define ACTAG_SRC_FPMATH_H
+
+/* Before any other header, so every function of the file gets it. */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#else
+#pragma STDC FP_CONTRACT OFF
+#endif
+
+#include <float.h>
+#include <stdint.h>
+#include <string.h>
+
+#if defined(__FAST_MATH__)
+#error "actag: built with -ffast-math; results would differ between platforms (drop it for the actag sources)"
+#endif
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != -1
+#error "actag: float arithmetic in excess precision (FLT_EVAL_METHOD != 0); on i386 use -msse2 -mfpmath=sse"
+#endif
+
+#if defined(__GNUC__) && defined(__arm__) && defined(__ARM_FP) && (__ARM_FP & 4) && !defined(__SOFTFP__)
+#define ACTAG__VSQRT 1 /* single-precision FPU with the hard or softfp ABI */
+#elif defined(__arm__) || defined(__thumb__)
+#define ACTAG__SOFT_SQRT 1 /* no FPU: libm's sqrtf would set errno */
+#else
+#include <math.h>
+#endif
+
+/* Correctly rounded square root of a float (round to nearest even), from
+ * its bits only; NaN for x < 0 (and NaN in), +-0 and +inf unchanged. */
+static inline float actag_sqrtf_soft(float x)
+{
+    uint32_t u, m, q, r, b;
+    int e;
+    memcpy(&u, &x, sizeof u);
+    if ((u & 0x7fffffffu) == 0u || u == 0x7f800000u || (u & 0x7fffffffu) > 0x7f800000u)
+        return x; /* +-0, +inf, NaN */
+    if (u & 0x80000000u) {
+        u = 0x7fc00000u; /* sqrt of a negative number */
+        memcpy(&x, &u, sizeof x);
+        return x;
+    }
+    e = (int)(u >> 23);
+    m = u & 0x7fffffu;
+    if (e == 0) { /* subnormal: normalise */
+        e = 1;
+        while ((m & 0x800000u) == 0u) {
+            m <<= 1;
+            e--;
+        }
+    } else {
+        m |= 0x800000u;
+    }
+    e -= 127;          /* x = m * 2^(e - 23), m in [2^23, 2^24) */
+    if (e & 1) {       /* make the exponent even */
+        m <<= 1;
+        e--;
+    }
+    /* sqrt(m * 2^25) has 24 or 25 bits: bit-by-bit integer root of m << 25
+     * (up to 50 bits), done as a 64-bit remainder */
+    {
+        uint64_t rem = (uint64_t)m << 25, root = 0, bit = (uint64_t)1 << 48;
+        while (bit > rem)
+            bit >>= 2;
+        while (bit != 0u) {
+            if (rem >= root + bit) {
+                rem -= root + bit;
+                root = (root >> 1) + bit;
+            } else {
+                root >>= 1;
+            }
+            bit >>= 2;
+        }
+        q = (uint32_t)root; /* floor(sqrt(m << 25)), in [2^24, 2^25) */
+        r = rem != 0u;      /* inexact */
+    }
+    /* q has one guard bit below the 24 result bits; the sticky bit is r */
+    b = q & 1u;
+    q >>= 1;
+    if (b && (r || (q & 1u)))
+        q++; /* round to nearest, ties to even (a tie needs r == 0) */
+    e = e / 2 + 127;
+    if (q == 0x1000000u) { /* rounded up to the next power of two */
+        q >>= 1;
+        e++;
+    }
+    u = ((uint32_t)e << 23) | (q & 0x7fffffu);
+    memcpy(&x, &u, sizeof x);
+    return x;
+}
+
+/* sqrtf without errno: the same correctly rounded result on every platform. */
+static inline float actag_sqrtf(float x)
+{
+#if defined(ACTAG__VSQRT)
+    float r;
+    __asm__("vsqrt.f32 %0, %1" : "=t"(r) : "t"(x));
+    return r;
+#elif defined(ACTAG__SOFT_SQRT)
+    return actag_sqrtf_soft(x);
+#else
+    return sqrtf(x);
+#endif
+}
+
+/* Natural logarithm of x > 0 (NaN for x < 0 or NaN, -inf for 0, +inf for
+ * +inf), without errno or libm: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
+ * ln x = e ln 2 + 2 atanh(s), s = (m - 1) / (m + 1), |s| < 0.172, by its
+ * series to s^23 in double (relative error < 1e-16), then rounded once to
+ * float. Identical on every IEEE platform (no contraction, see above). */
+static inline float actag_logf(float x)
+{
+    uint32_t u;
+    int e;
+    double m, s, s2, t, ln;
+    float r;
+    memcpy(&u, &x, sizeof u);
+    if ((u & 0x7fffffffu) == 0u) {
+        u = 0xff800000u; /* -inf */
+        memcpy(&r, &u, sizeof r);
+        return r;
+    }
+    if ((u & 0x80000000u) || (u & 0x7fffffffu) > 0x7f800000u) {
+        u = 0x7fc00000u;
+        memcpy(&r, &u, sizeof r);
+        return r;
+    }
+    if (u == 0x7f800000u)
+        return x;
+    e = (int)(u >> 23) - 127;
+    if (e == -127) { /* subnormal */
+        uint32_t mm = u & 0x7fffffu;
+        e = -126;
+        while ((mm & 0x800000u) == 0u) {
+            mm <<= 1;
+            e--;
+        }
+        m = (double)(mm & 0x7fffffu) / 8388608.0 + 1.0;
+    } else {
+        m = (double)(u & 0x7fffffu) / 8388608.0 + 1.0; /* [1, 2) */
+    }
+    if (m > 1.4142135623730951) {
+        m *= 0.5;
+        e++;
+    }
+    s = (m - 1.0) / (m + 1.0);
+    s2 = s * s;
+    t = 1.0 / 23.0;
+    t = t * s2 + 1.0 / 21.0;
+    t = t * s2 + 1.0 / 19.0;
+    t = t * s2 + 1.0 / 17.0;
+    t = t * s2 + 1.0 / 15.0;
+    t = t * s2 + 1.0 / 13.0;
+    t = t * s2 + 1.0 / 11.0;
+    t = t * s2 + 1.0 / 9.0;
+    t = t * s2 + 1.0 / 7.0;
+    t = t * s2 + 1.0 / 5.0;
+    t = t * s2 + 1.0 / 3.0;
+    t = t * s2;
+    /* ln 2 = 0.693147180369123816490 + 1.90821492927058770002e-10: the
+     * first part has 32 significant bits, so e * it is exact */
+    ln = (double)e * 6.93147180369123816490e-01;
+    ln += 2.0 * s + (2.0 * s * t + (double)e * 1.90821492927058770002e-10);
+    return (float)ln;
+}
+
+#endif

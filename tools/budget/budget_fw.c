@@ -1,0 +1,325 @@
+/*
+ * budget_fw.c -- firmware for tools/budget/budget.py: instructions per frame
+ * and per stage of actag_detect on a Cortex-M4/M7, under
+ * qemu-system-arm -icount shift=0 (one instruction per nanosecond of
+ * virtual time), read from the MPS2 board's 25 MHz timer: one tick is 40
+ * instructions (the calibration loop below checks it).
+ *
+ * Stages: the calls detect.c makes are routed through wrappers at link time
+ * (-Wl,--wrap=<function>, see CMakeLists.txt), which add the time spent in
+ * them to the stage's counter; "other" is the rest of actag_detect (16-bit
+ * scaling, size and side filters, merging, geometry). The library itself is
+ * the unchanged libactag.a of the build.
+ *
+ *   median     actag_median_filter
+ *   search     actag_search_map, actag_search_next
+ *   threshold  actag_adaptive_threshold
+ *   contours   actag_contour_scanner_init, actag_contour_next
+ *   ransac     actag_quad_fit
+ *   decode     actag_decode_quad_fit, actag_decode_quad
+ *
+ * Also the stack actag_detect used (painted before the call, high-water
+ * mark after) and the workspace sizes of three frame sizes.
+ *
+ * usage (semihosting arguments): budget_fw FRAME.pgm...
+ * One line per frame:
+ *   frame <path> rows <r> cols <c> tags <n> total <instr> median <instr> ... stack <bytes>
+ * Host files through semihosting (newlib stdio, board support); the
+ * measured calls do no I/O.
+ */
+#include "actag/actag.h"
+#include "actag/families.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#define MAX_ROWS 530
+#define MAX_COLS 620
+#define INSTR_PER_TICK 40u /* 25 MHz timer, 1 GHz of virtual instructions */
+
+enum { ST_MEDIAN, ST_SEARCH, ST_THRESHOLD, ST_CONTOURS, ST_RANSAC, ST_DECODE, ST_N };
+static const char *const stage_names[ST_N] = {"median", "search", "threshold",
+                                              "contours", "ransac", "decode"};
+static uint32_t stage_ticks[ST_N];
+
+static uint8_t ws[ACTAG_WORKSPACE_SIZE(MAX_ROWS, MAX_COLS)];
+static uint8_t px[MAX_ROWS * MAX_COLS];
+
+/* ------------------------------------------------------------ timer */
+
+#define TIMER0_CTRL (*(volatile uint32_t *)0x40000000u)
+#define TIMER0_VALUE (*(volatile uint32_t *)0x40000004u)
+#define TIMER0_RELOAD (*(volatile uint32_t *)0x40000008u)
+
+static uint32_t ticks(void) { return 0xffffffffu - TIMER0_VALUE; }
+
+static void timer_start(void)
+{
+    TIMER0_CTRL = 0u;
+    TIMER0_RELOAD = 0xffffffffu;
+    TIMER0_VALUE = 0xffffffffu;
+    TIMER0_CTRL = 1u;
+}
+
+/* ------------------------------------------------------------ wrappers */
+
+#define TIMED(stage, call)                                                                     \
+    do {                                                                                       \
+        uint32_t t0_ = ticks();                                                                \
+        rc = call;                                                                             \
+        stage_ticks[stage] += ticks() - t0_;                                                   \
+    } while (0)
+
+int __real_actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
+                               int dst_stride, int radius, void *scratch, size_t scratch_size);
+int __wrap_actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
+                               int dst_stride, int radius, void *scratch, size_t scratch_size);
+int __wrap_actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
+                               int dst_stride, int radius, void *scratch, size_t scratch_size)
+{
+    int rc;
+    TIMED(ST_MEDIAN, __real_actag_median_filter(src, rows, cols, src_stride, dst, dst_stride,
+                                                radius, scratch, scratch_size));
+    return rc;
+}
+
+int __real_actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
+                            const actag_sonar_geometry *g, float tag_size, int bits,
+                            float range_scale, void *map, size_t map_size, void *scratch,
+                            size_t scratch_size);
+int __wrap_actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
+                            const actag_sonar_geometry *g, float tag_size, int bits,
+                            float range_scale, void *map, size_t map_size, void *scratch,
+                            size_t scratch_size);
+int __wrap_actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
+                            const actag_sonar_geometry *g, float tag_size, int bits,
+                            float range_scale, void *map, size_t map_size, void *scratch,
+                            size_t scratch_size)
+{
+    int rc;
+    TIMED(ST_SEARCH, __real_actag_search_map(z, img, rows, cols, stride, g, tag_size, bits,
+                                             range_scale, map, map_size, scratch, scratch_size));
+    return rc;
+}
+
+int __real_actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
+                             float tag_size, float range_scale, int rows, int cols,
+                             actag_point quad[4]);
+int __wrap_actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
+                             float tag_size, float range_scale, int rows, int cols,
+                             actag_point quad[4]);
+int __wrap_actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
+                             float tag_size, float range_scale, int rows, int cols,
+                             actag_point quad[4])
+{
+    int rc;
+    TIMED(ST_SEARCH, __real_actag_search_next(z, min_score, g, tag_size, range_scale, rows, cols,
+                                              quad));
+    return rc;
+}
+
+int __real_actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
+                                    uint8_t *dst, int dst_stride, int radius, int offset,
+                                    void *scratch, size_t scratch_size);
+int __wrap_actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
+                                    uint8_t *dst, int dst_stride, int radius, int offset,
+                                    void *scratch, size_t scratch_size);
+int __wrap_actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
+                                    uint8_t *dst, int dst_stride, int radius, int offset,
+                                    void *scratch, size_t scratch_size)
+{
+    int rc;
+    TIMED(ST_THRESHOLD, __real_actag_adaptive_threshold(src, rows, cols, src_stride, dst,
+                                                        dst_stride, radius, offset, scratch,
+                                                        scratch_size));
+    return rc;
+}
+
+int __real_actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows,
+                                      int cols, int stride);
+int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows,
+                                      int cols, int stride);
+int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows,
+                                      int cols, int stride)
+{
+    int rc;
+    TIMED(ST_CONTOURS, __real_actag_contour_scanner_init(s, binary, rows, cols, stride));
+    return rc;
+}
+
+int __real_actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
+                              actag_contour_info *info);
+int __wrap_actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
+                              actag_contour_info *info);
+int __wrap_actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
+                              actag_contour_info *info)
+{
+    int rc;
+    TIMED(ST_CONTOURS, __real_actag_contour_next(s, pts, cap, info));
+    return rc;
+}
+
+int __real_actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
+                          actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
+int __wrap_actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
+                          actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
+int __wrap_actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
+                          actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out)
+{
+    int rc;
+    TIMED(ST_RANSAC, __real_actag_quad_fit(pts, npoints, params, rng, scratch, scratch_size, out));
+    return rc;
+}
+
+int __real_actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
+                                 const actag_point quad[4], const actag_family *family,
+                                 int max_corrections, const actag_fit_params *fp,
+                                 actag_decode_result *out);
+int __wrap_actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
+                                 const actag_point quad[4], const actag_family *family,
+                                 int max_corrections, const actag_fit_params *fp,
+                                 actag_decode_result *out);
+int __wrap_actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
+                                 const actag_point quad[4], const actag_family *family,
+                                 int max_corrections, const actag_fit_params *fp,
+                                 actag_decode_result *out)
+{
+    int rc;
+    TIMED(ST_DECODE, __real_actag_decode_quad_fit(grey, rows, cols, stride, quad, family,
+                                                  max_corrections, fp, out));
+    return rc;
+}
+
+int __real_actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
+                             const actag_point quad[4], const actag_family *family,
+                             int max_corrections, actag_decode_result *out);
+int __wrap_actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
+                             const actag_point quad[4], const actag_family *family,
+                             int max_corrections, actag_decode_result *out);
+int __wrap_actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
+                             const actag_point quad[4], const actag_family *family,
+                             int max_corrections, actag_decode_result *out)
+{
+    int rc;
+    TIMED(ST_DECODE, __real_actag_decode_quad(binary, rows, cols, stride, quad, family,
+                                              max_corrections, out));
+    return rc;
+}
+
+/* ------------------------------------------------------------ stack paint */
+
+#define PAINT 0x5a5a5a5au
+#define PAINT_WORDS 4096u /* 16 KB below the stack pointer */
+
+static uint32_t *stack_pointer(void)
+{
+    uint32_t *sp;
+    __asm__ volatile("mov %0, sp" : "=r"(sp));
+    return sp;
+}
+
+/* Fills the 16 KB below the stack pointer of main's callees (this
+ * function's frame is a few words at most) with PAINT; returns that top. */
+static __attribute__((noinline)) uint32_t *paint_stack(void)
+{
+    volatile uint32_t *sp = stack_pointer();
+    uint32_t i;
+    for (i = 1u; i <= PAINT_WORDS; i++)
+        sp[-(int32_t)i] = PAINT;
+    return (uint32_t *)sp;
+}
+
+/* Bytes below top written since paint_stack(): the deepest word that no
+ * longer holds PAINT, searched from the bottom of the painted area. */
+static __attribute__((noinline)) uint32_t stack_used(const uint32_t *top)
+{
+    const volatile uint32_t *p = top;
+    uint32_t i;
+    for (i = PAINT_WORDS; i >= 1u; i--)
+        if (p[-(int32_t)i] != PAINT)
+            return i * 4u;
+    return 0u;
+}
+
+/* ------------------------------------------------------------ frames */
+
+static int read_pgm(const char *path, int *rows, int *cols)
+{
+    FILE *f = fopen(path, "rb");
+    int w, h, m, ok;
+    if (f == NULL)
+        return -1;
+    ok = fscanf(f, "P5 %d %d %d", &w, &h, &m) == 3 && m <= 255 && w >= 1 && h >= 1 &&
+         w <= MAX_COLS && h <= MAX_ROWS && fgetc(f) != EOF &&
+         fread(px, 1, (size_t)w * (size_t)h, f) == (size_t)w * (size_t)h;
+    fclose(f);
+    *rows = h;
+    *cols = w;
+    return ok ? 0 : -1;
+}
+
+/* Two instructions an iteration (subs, bne): 2 n + a few. */
+static __attribute__((noinline)) void spin(uint32_t n)
+{
+    __asm__ volatile("1: subs %0, %0, #1\n\tbne 1b" : "+r"(n) : : "cc");
+}
+
+int main(int argc, char **argv)
+{
+    actag_family fam;
+    actag_params p;
+    actag_sonar_geometry g = {0.1f, 1.5f, 1.0471976f, NULL, 0u};
+    int i, k, status = 0;
+
+    timer_start();
+    {
+        uint32_t t0 = ticks(), t;
+        spin(5000000u);
+        t = ticks() - t0;
+        /* expected: 10,000,000 instructions = 250,000 ticks */
+        printf("calibration spin 10000000 measured %lu\n", (unsigned long)(t * INSTR_PER_TICK));
+    }
+    printf("workspace 256x256 %lu 530x512 %lu 1024x1024 %lu\n",
+           (unsigned long)actag_workspace_size(256, 256), (unsigned long)actag_workspace_size(530, 512),
+           (unsigned long)actag_workspace_size(1024, 1024));
+    if (actag_family_AcTag24h10(&fam) != ACTAG_OK)
+        return 1;
+    actag_params_default(&p);
+    p.family = &fam;
+    for (i = 1; i < argc; i++) {
+        actag_frame f;
+        actag_detection det[8];
+        int rows, cols, n;
+        uint32_t t0, t, sum = 0u, used, *top;
+        if (read_pgm(argv[i], &rows, &cols) != 0) {
+            printf("frame %s unreadable\n", argv[i]);
+            status = 1;
+            continue;
+        }
+        f.data = px;
+        f.rows = rows;
+        f.cols = cols;
+        f.stride = cols;
+        f.depth = 8;
+        memset(stage_ticks, 0, sizeof stage_ticks);
+        top = paint_stack();
+        t0 = ticks();
+        n = actag_detect(&f, &g, &p, ws, sizeof ws, det, 8, NULL);
+        t = ticks() - t0;
+        used = stack_used(top);
+        if (used >= PAINT_WORDS * 4u)
+            status = 1; /* deeper than the painted area: no measurement */
+        printf("frame %s rows %d cols %d tags %d total %lu", argv[i], rows, cols, n,
+               (unsigned long)(t * INSTR_PER_TICK));
+        for (k = 0; k < ST_N; k++) {
+            printf(" %s %lu", stage_names[k], (unsigned long)(stage_ticks[k] * INSTR_PER_TICK));
+            sum += stage_ticks[k];
+        }
+        printf(" other %lu stack %lu\n", (unsigned long)((t - sum) * INSTR_PER_TICK),
+               (unsigned long)used);
+        if (n < 0)
+            status = 1;
+    }
+    return status;
+}
