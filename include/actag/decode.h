@@ -135,7 +135,9 @@
  *   ACTAG_ERR_PARAM        bits not one of 16, 20, 24, 28, 32; unknown model;
  *                          degenerate quad: non-finite, not strictly convex
  *                          (each corner's turn must have |sin| > 1e-3, all the
- *                          same way), or (projective only) the homography
+ *                          same way, judged in float: a quad so small that the
+ *                          products of its sides underflow, sides under about
+ *                          1e-11 pixels, is degenerate), or (projective only) the homography
  *                          sends part of the (k+1)^2 tag grid through
  *                          infinity (extreme perspective)
  *   ACTAG_ERR_FAMILY       the family fails actag_family_validate()

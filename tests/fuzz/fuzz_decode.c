@@ -43,6 +43,9 @@ static int judge_quad(const actag_point q[4])
             return isfinite(ax) && isfinite(ay) && isfinite(bx) && isfinite(by) ? 2 : 0;
         if (fabs(ax) > 1e15 || fabs(ay) > 1e15)
             near = 1; /* squares of the sides overflow float: the decoder refuses */
+        if (l1 * l2 < 1e-18)
+            near = 1; /* products of the sides underflow float (found by fuzzing:
+                       * a square of side 4e-41): degenerate there, documented */
         if (!(l1 * l2 > 0.0))
             return 0;
         s = z / (l1 * l2);
