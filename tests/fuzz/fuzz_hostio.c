@@ -58,7 +58,8 @@ static void check_frame(const uint8_t *buf, size_t len, const hostio_raw_spec *r
                    (uint64_t)(raw->depth / 8) <= (uint64_t)len &&
            (uint64_t)raw->rows * (uint64_t)stride * (uint64_t)(raw->depth / 8) >= (uint64_t)len;
     if (fits) {
-        size_t full = (size_t)raw->rows * (size_t)stride;
+        /* samples addressed by the layout: the last row ends at its cols */
+        size_t full = (size_t)(raw->rows - 1) * (size_t)stride + (size_t)raw->cols;
         FZ_CHECK(frc == HOSTIO_OK, "a buffer of the raw layout's size refused: %s", err);
         FZ_CHECK(im.rows == raw->rows && im.cols == raw->cols && im.stride == stride &&
                      im.depth == raw->depth,

@@ -111,7 +111,9 @@ void hostio_image_free(hostio_image *img);
 int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err);
 
 /* A PGM (by its P5 magic) or a raw frame (raw may be NULL: PGM only). The
- * image is malloc'd with stride = raw stride (or cols for PGM).
+ * image is malloc'd with stride = raw stride (or cols for PGM); a raw image
+ * holds (rows - 1) x stride + cols samples (the last row's padding is not
+ * kept, so a small file never costs a large allocation).
  *   - With a raw layout given (rows, cols > 0), a file whose size fits it
  *     (rows x stride samples, the last row's padding optional) is raw even
  *     when it starts with "P5"; other files are read as PGM.
