@@ -81,9 +81,9 @@ static float p_atan2(float y, float x)
     if (ay <= ax)
         a = p_atan01(ay / ax);
     else
-        a = 2.0f * P_PIO2_HI - p_atan01(ax / ay);
+        a = (P_PIO2_HI - p_atan01(ax / ay)) + P_PIO2_LO; /* pi/2 - atan(ax / ay) */
     if (x < 0.0f)
-        a = 2.0f * (2.0f * P_PIO2_HI) - a; /* pi - a */
+        a = (2.0f * P_PIO2_HI - a) + 2.0f * P_PIO2_LO; /* pi - a */
     return y < 0.0f ? -a : a;
 }
 

@@ -586,6 +586,32 @@ static void test_errors_and_determinism(void)
     TEST_ASSERT_TRUE(pos_err(&P, &A) < 0.2 && rot_err(&P, &A) < 0.05);
 }
 
+/* Angles in every octant (regression: the library's atan2 returned pi -
+ * atan(x / y) instead of pi/2 - atan(x / y) when |y| > |x|, and 2 pi - a
+ * instead of pi - a for x < 0, so camera azimuths beyond 45 degrees and
+ * rotation angles above 45 degrees were wrong). Reference: libm in double. */
+static void test_angles_in_every_octant(void)
+{
+    static const float I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    int i;
+    for (i = -15; i <= 16; i++) {
+        double a = (double)i * 3.14159265358979 / 16.0; /* -15 pi/16 .. pi */
+        float Ro[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, to[3], Rz[9];
+        actag_pose pose;
+        /* sensor t = (cos a, sin a, 0): optical x = -sin a, z = cos a */
+        to[0] = (float)-sin(a);
+        to[1] = 0.0f;
+        to[2] = (float)cos(a);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_from_camera(Ro, to, &pose));
+        TEST_ASSERT_FLOAT_WITHIN(1e-5f, (float)atan2((double)-to[0], (double)to[2]), pose.azimuth);
+        /* rotation by |a| about z */
+        Rz[0] = (float)cos(a); Rz[1] = (float)-sin(a); Rz[2] = 0.0f;
+        Rz[3] = (float)sin(a); Rz[4] = (float)cos(a);  Rz[5] = 0.0f;
+        Rz[6] = 0.0f;          Rz[7] = 0.0f;           Rz[8] = 1.0f;
+        TEST_ASSERT_FLOAT_WITHIN(1e-4f, (float)fabs(a), actag_pose_angle(Rz, I));
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -598,5 +624,6 @@ int main(void)
     RUN_TEST(test_covariance_is_consistent);
     RUN_TEST(test_camera_pose_in_the_sensor_frame);
     RUN_TEST(test_errors_and_determinism);
+    RUN_TEST(test_angles_in_every_octant);
     return UNITY_END();
 }

@@ -385,7 +385,8 @@ typedef struct actag_stats {
 /* ACTAG_WORKSPACE_SIZE at run time; 0 for sizes outside 1..ACTAG_MAX_DIM. */
 size_t actag_workspace_size(int rows, int cols);
 
-/* Fill *p with the defaults (paper Table I; family NULL: set it). */
+/* Fill *p with the defaults (paper Table I; family NULL: set it). No-op for
+ * NULL; no error codes. */
 void actag_params_default(actag_params *p);
 
 /* Fill *t with the default tuning (the values documented in actag_tuning;

@@ -46,7 +46,8 @@ extern "C" {
 #define ACTAG_ERR_FAMILY (-6)      /* unknown or invalid tag family */
 #define ACTAG_ERR_CORRECTIONS (-7) /* more bit corrections than the family allows */
 #define ACTAG_ERR_NO_MATCH (-8)    /* nothing matched (decoder, family matcher) */
-#define ACTAG_ERR_OVERFLOW (-9)    /* a bounded buffer was too small */
+#define ACTAG_ERR_OVERFLOW (-9)    /* a bounded buffer was too small (reserved: no function
+                                      returns it at present) */
 #define ACTAG_ERR_NO_QUAD (-10)    /* no quadrilateral could be fitted */
 
 /* A 2-D point in image coordinates (pixels, sub-pixel). */
@@ -82,7 +83,8 @@ typedef struct actag_error_detail {
                           previous bearing); 0 when other is NULL */
 } actag_error_detail;
 
-/* One-line English description of an ACTAG_* code; never NULL. */
+/* One-line English description of an ACTAG_* code; never NULL, no error codes
+ * ("unknown error" for an unknown negative code, "success" for >= 0). */
 const char *actag_strerror(int code);
 
 #ifdef __cplusplus

@@ -194,7 +194,7 @@ int actag_tag_homography(const actag_point quad[4], int bits, float H[9]);
 /* Least-squares affine map from tag grid (u,v) to image (x,y) (H6 = H7 = 0, H8 = 1). */
 int actag_tag_affine(const actag_point quad[4], int bits, float H[9]);
 
-/* out = H applied to (u, v). */
+/* out = H applied to (u, v). No checks, no error codes. */
 void actag_homography_apply(const float H[9], float u, float v, actag_point *out);
 
 /* Image positions of the `bits` data-cell centres in bit order (out has `bits`
@@ -205,7 +205,8 @@ int actag_decode_bit_positions(const actag_point quad[4], int bits, actag_point 
 int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride,
                            const actag_point quad[4], int bits, int model, uint32_t *word);
 
-/* The corner reflection P (see the manual); bits in 16..32, multiple of 4. */
+/* The corner reflection P (see the manual); bits in 16..32, multiple of 4.
+ * No error codes: bits outside 2..32 return word unchanged. */
 uint32_t actag_decode_mirror(uint32_t word, int bits);
 
 /* Decodes one quad with the default map; fills *out on ACTAG_OK only. */

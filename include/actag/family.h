@@ -67,7 +67,8 @@
  *   byte of the library read-only: no .data, no .data.rel.ro.)
  *
  * ERRORS
- *   ACTAG_ERR_FAMILY       unknown family name or index
+ *   ACTAG_ERR_FAMILY       unknown family name or index; the matchers: a family that
+ *                          fails actag_family_validate()
  *   ACTAG_ERR_NULL         a pointer argument is NULL
  *   ACTAG_ERR_CORRECTIONS  max_corrections < 0 or above actag_family_max_corrections()
  *   ACTAG_ERR_NO_MATCH     no code within max_corrections in any orientation
@@ -109,7 +110,7 @@ typedef struct actag_match {
  * Returns ACTAG_OK, ACTAG_ERR_FAMILY if it is not built in, or ACTAG_ERR_NULL. */
 int actag_family_get(const char *name, actag_family *out);
 
-/* Number of built-in families (ACTAG_FAMILIES at build time). */
+/* Number of built-in families (ACTAG_FAMILIES at build time); no error codes. */
 int actag_family_count(void);
 
 /* Fill *out with the i-th built-in family, 0 <= i < actag_family_count().
@@ -121,8 +122,12 @@ int actag_family_get_at(int i, actag_family *out);
 int actag_family_validate(const actag_family *family);
 
 /* Largest number of bit corrections the family supports:
- * h/2 - 1 for even h, floor(h/2) for odd h. -1 (ACTAG_ERR_NULL) for NULL. */
+ * h/2 - 1 for even h, floor(h/2) for odd h. -1 (ACTAG_ERR_NULL) for NULL. The
+ * family is not validated (hamming 0 also gives -1). */
 int actag_family_max_corrections(const actag_family *family);
+
+/* The code helpers below (actag_code_* and actag_popcount32) have no error
+ * codes and check nothing; bits is a family's, a multiple of 4 in 16..32. */
 
 /* Mask of the low `bits` bits (bits in 1..32). */
 uint32_t actag_code_mask(int bits);
@@ -150,12 +155,15 @@ int actag_popcount32(uint32_t v);
  * orientations (rotations and reversals, see above). Returns ACTAG_OK and fills *out with the closest match
  * (smallest Hamming distance; ties go to the lowest ID, then the lowest
  * orientation, unmirrored first), ACTAG_ERR_NO_MATCH if nothing is within
- * max_corrections, or ACTAG_ERR_NULL / ACTAG_ERR_CORRECTIONS. */
+ * max_corrections, ACTAG_ERR_NULL (family or out NULL), ACTAG_ERR_FAMILY (the
+ * family fails actag_family_validate) or ACTAG_ERR_CORRECTIONS (max_corrections
+ * < 0 or above actag_family_max_corrections). */
 int actag_family_match(const actag_family *family, uint32_t observed,
                        int max_corrections, actag_match *out);
 
 /* Like actag_family_match() but only over the 4 rotations (out->mirrored is
- * always 0). Decoders that undo a physical mirror themselves use this. */
+ * always 0), with the same error codes. Decoders that undo a physical mirror
+ * themselves use this. */
 int actag_family_match_rotations(const actag_family *family, uint32_t observed,
                                  int max_corrections, actag_match *out);
 

@@ -76,16 +76,19 @@ typedef struct actag_sonar_geometry {
 int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols,
                             actag_error_detail *detail);
 
+/* The four mappings below have no error codes and check nothing: geo must
+ * not be NULL and should be validated for the frame. */
+
 /* Range (m) at a sub-pixel row y. Assumes a validated geometry. */
 float actag_geometry_range(const actag_sonar_geometry *geo, int rows, float y);
 
 /* Azimuth (rad) at a sub-pixel column x. Assumes a validated geometry. */
 float actag_geometry_azimuth(const actag_sonar_geometry *geo, int cols, float x);
 
-/* Metres per row (always >= 0). */
+/* Metres per row (>= 0 for a validated geometry; 0 when rows < 2). */
 float actag_geometry_range_step(const actag_sonar_geometry *geo, int rows);
 
-/* Radians per column near sub-pixel column x (always >= 0). */
+/* Radians per column near sub-pixel column x (always >= 0; 0 when cols < 2). */
 float actag_geometry_azimuth_step(const actag_sonar_geometry *geo, int cols, float x);
 
 #ifdef __cplusplus

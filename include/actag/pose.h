@@ -112,20 +112,23 @@
  *       Pose from the four corners in tag order (metres, radians, as in
  *       actag_detection). Returns ACTAG_OK (out filled; check out->flags),
  *       ACTAG_ERR_NULL (a pointer is NULL), ACTAG_ERR_PARAM (a corner not
- *       finite or range <= 0, tag_size <= 0, vertical_aperture outside
+ *       finite, a range <= 0, an azimuth outside (-4 pi, 4 pi), tag_size not
+ *       finite or <= 0, vertical_aperture outside
  *       (0, pi), extent < 1, a noise sd <= 0 or not finite, max_iterations
  *       outside 1..100). Degenerate geometry is not an error: out is filled
  *       as well as possible and flagged.
  *   int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
  *                                 actag_pose *out)
- *       actag_pose_estimate(d->range, d->azimuth, d->mirrored, p, out).
+ *       actag_pose_estimate(d->range, d->azimuth, d->mirrored, p, out), with
+ *       its error codes; ACTAG_ERR_NULL also for d NULL.
  *   int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pose *out)
  *       Camera pose in the optical frame (R row-major tag -> camera, t in
  *       metres) to the sensor frame; fills R, t, range, azimuth, elevation,
  *       zeroes the rest (no covariance: flags = ACTAG_POSE_NO_COVARIANCE).
  *       ACTAG_ERR_NULL or ACTAG_ERR_PARAM (not finite), else ACTAG_OK.
  *   float actag_pose_angle(const float Ra[9], const float Rb[9])
- *       The angle (rad, 0..pi) of the rotation between Ra and Rb.
+ *       The angle (rad, 0..pi) of the rotation between Ra and Rb. This and
+ *       actag_pose_rotation_vector check nothing and have no error codes.
  *   void actag_pose_rotation_vector(const float Ra[9], const float Rb[9], float w[3])
  *       w with Ra = exp([w]x) Rb (the covariance's rotation error).
  */

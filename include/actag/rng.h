@@ -18,7 +18,8 @@
  *   0xa02bdbf7bb3c0a7, i.e. increment 1442695040888963407).
  *
  *   The state is a plain value: copy it to fork a stream, store it to resume.
- *   None of these functions check for NULL (they are called in inner loops).
+ *   None of these functions check for NULL (they are called in inner loops),
+ *   and none has an error code.
  */
 #ifndef ACTAG_RNG_H
 #define ACTAG_RNG_H

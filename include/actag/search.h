@@ -27,7 +27,9 @@
  *   min_score, blanks a 1.5-tag neighbourhood around it, and returns the
  *   axis-aligned white-square quad it implies (full-resolution pixels,
  *   clockwise on screen from the top-left). Returns 1, or 0 when nothing is
- *   left.
+ *   left. It has no error codes and checks nothing: z must come from a
+ *   successful actag_search_map() with the same geometry, tag_size,
+ *   range_scale, rows and cols.
  *
  *   Memory: ACTAG_SEARCH_MAP_SIZE bytes for the score map and
  *   ACTAG_SEARCH_INTEGRAL_SIZE bytes of scratch, both caller-owned; the
@@ -35,8 +37,9 @@
  *
  * ERRORS (actag_search_map)
  *   ACTAG_ERR_NULL       a pointer is NULL
- *   ACTAG_ERR_SIZE       stride < cols, or the frame is smaller than
- *                        4 blocks in either direction (nothing to search)
+ *   ACTAG_ERR_SIZE       rows or cols < 1 or > ACTAG_MAX_DIM (checked with the
+ *                        geometry, first), stride < cols, or the frame is smaller
+ *                        than 4 blocks in either direction (nothing to search)
  *   ACTAG_ERR_PARAM      tag_size or range_scale not positive and finite, bits not
  *                        a multiple of 4 in 16..32
  *   ACTAG_ERR_GEOMETRY   invalid geometry for this frame (geometry.h)

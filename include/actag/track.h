@@ -57,11 +57,12 @@
  *   void actag_track_params_default(actag_track_params *p)
  *       full_every 10, confirm_frames 3, confirm_margin 15, max_missed 5,
  *       roi_scale 0.5, gate 1.0, smoothing 0.7, refind_after 2, verify 1.
+ *       NULL p: nothing (no error codes).
  *   int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
- *       Empty state. ACTAG_ERR_NULL, ACTAG_ERR_PARAM (full_every < 1,
- *       confirm_frames < 1, max_missed < 0, roi_scale <= 0 or > 10, gate <= 0
- *       or > 10, smoothing outside (0, 1], refind_after < 0, verify not 0/1),
- *       ACTAG_OK.
+ *       Empty state. ACTAG_ERR_NULL (t or p), ACTAG_ERR_PARAM (full_every < 1,
+ *       confirm_frames < 1, confirm_margin not finite, max_missed < 0,
+ *       roi_scale <= 0 or > 10, gate <= 0 or > 10, smoothing outside (0, 1],
+ *       NaN included, refind_after < 0, verify not 0/1), ACTAG_OK.
  *   int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
  *                            const actag_sonar_geometry *geometry,
  *                            const actag_params *params, const actag_params *roi_params,
@@ -73,7 +74,7 @@
  *       roi_params (when given), and
  *       ACTAG_ERR_SIZE when the frame's rows/cols differ from the first
  *       frame's (re-initialise for another sonar setting), ACTAG_ERR_NULL
- *       for t or out (max_out > 0). stats may be NULL. On an error the state
+ *       for t, workspace or out (max_out > 0). stats may be NULL. On an error the state
  *       is unchanged except the frame counter.
  *
  *   Cost per frame (stats): pixels filtered (verify windows, ROIs, whole

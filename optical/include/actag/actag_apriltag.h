@@ -105,7 +105,7 @@
  *       Name of the i-th family, 0 <= i < count; NULL when out of range.
  *   apriltag_family_t *actag_apriltag_family_create(const char *name)
  *       A new heap copy of the family with impl = NULL; NULL if the name is
- *       unknown or memory runs out.
+ *       NULL or unknown or memory runs out.
  *   void actag_apriltag_family_destroy(apriltag_family_t *fam)
  *       Frees a copy made by actag_apriltag_family_create(). Ignores NULL and
  *       the static families. fam->impl must already be NULL (detector gone).
