@@ -31,7 +31,7 @@ else()
 endif()
 
 # Labels: every test is "quick" or "slow" (ctest -L quick: the whole quick set in
-# about 17 s of CPU time); tests that read the full data set in
+# about 23 s of CPU time); tests that read the full data set in
 # ${ACTAG_SHARED_DIR}/data (data/README.md) also carry "full_data".
 # actag_test_labels(<test> [SLOW]) labels a test registered with add_test().
 function(actag_test_labels test)
