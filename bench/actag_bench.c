@@ -1,7 +1,9 @@
 /*
  * actag_bench: per-stage and whole-pipeline time per frame over a set of
- * sonar frames (default: the 58 pool frames in ../shared/data/sonar/pool-video),
- * printed as a table (ms per frame, ns per pixel), plus the workspace bytes.
+ * sonar frames (default: the 58 pool frames of the full data set in
+ * ../shared/data/sonar/pool-video, or when it is absent the 6 that ship in
+ * data/pool-video; data/README.md), printed as a table (ms per frame, ns per
+ * pixel), plus the workspace bytes.
  *
  *   actag_bench [--repeat N] [--family NAME] [FRAME.pgm...]
  *
@@ -18,11 +20,22 @@
 #include <string.h>
 #include <time.h>
 
-#include "../tests/test_util.h" /* the PGM reader shared with the tests */
+#include "hostio.h"
 
 #ifndef ACTAG_SHARED_DIR
 #define ACTAG_SHARED_DIR "../shared"
 #endif
+#ifndef ACTAG_SOURCE_DIR
+#define ACTAG_SOURCE_DIR "."
+#endif
+
+static int file_exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f)
+        fclose(f);
+    return f != NULL;
+}
 
 static double now_ms(void)
 {
@@ -40,7 +53,7 @@ static const char *const stage_names[S_N] = {"median filter (R=4)", "adaptive th
 int main(int argc, char **argv)
 {
     const char *files[1024];
-    char pathbuf[64][512];
+    static char pathbuf[64][512];
     int nfiles = 0, repeat = 5, i, r, s;
     const char *family_name = "AcTag24h10";
     actag_family fam;
@@ -55,7 +68,7 @@ int main(int argc, char **argv)
             printf("actag_bench %s\n", ACTAG_VERSION_STRING);
             return 0;
         } else if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
-            repeat = atoi(argv[++i]);
+            repeat = (int)hostio_opt_long("actag_bench", "--repeat", argv[++i], 1, 1000000);
         else if (strcmp(argv[i], "--family") == 0 && i + 1 < argc)
             family_name = argv[++i];
         else if (argv[i][0] == '-') {
@@ -64,15 +77,20 @@ int main(int argc, char **argv)
         } else if (nfiles < 1024)
             files[nfiles++] = argv[i];
     }
-    if (repeat < 1) {
-        fprintf(stderr, "actag_bench: --repeat must be >= 1\n");
-        return 2;
-    }
-    if (nfiles == 0) {
+    if (nfiles == 0 && file_exists(ACTAG_SHARED_DIR "/data/sonar/pool-video/f_0001.pgm")) {
         for (i = 0; i < 58; i++) {
-            snprintf(pathbuf[i % 64], sizeof pathbuf[0], "%s/data/sonar/pool-video/f_%04d.pgm",
+            snprintf(pathbuf[i], sizeof pathbuf[0], "%s/data/sonar/pool-video/f_%04d.pgm",
                      ACTAG_SHARED_DIR, 1 + 10 * i);
-            files[nfiles++] = strdup(pathbuf[i % 64]);
+            files[nfiles++] = pathbuf[i];
+        }
+    } else if (nfiles == 0) {
+        static const int subset[6] = {1, 11, 291, 421, 491, 561};
+        printf("(the full data set is not in %s/data: timing the 6 pool frames of data/)\n",
+               ACTAG_SHARED_DIR);
+        for (i = 0; i < 6; i++) {
+            snprintf(pathbuf[i], sizeof pathbuf[0], "%s/data/pool-video/f_%04d.pgm",
+                     ACTAG_SOURCE_DIR, subset[i]);
+            files[nfiles++] = pathbuf[i];
         }
     }
     if (actag_family_get(family_name, &fam) != ACTAG_OK) {
@@ -86,15 +104,22 @@ int main(int argc, char **argv)
 
     for (i = 0; i < nfiles; i++) {
         int rows, cols;
-        uint8_t *img = tu_read_pgm(files[i], &rows, &cols), *filt, *bin, *scratch;
+        uint8_t *img, *filt, *bin, *scratch;
         size_t wsize, ssize;
         void *ws;
         actag_frame fr;
         actag_detection det[16];
-        if (!img) {
-            fprintf(stderr, "actag_bench: cannot read %s\n", files[i]);
-            return 2;
+        hostio_image im;
+        char err[HOSTIO_ERRLEN];
+        if (hostio_pgm_read(files[i], &im, err) != HOSTIO_OK)
+            hostio_die("actag_bench", err);
+        if (im.depth != 8) {
+            snprintf(err, sizeof err, "%s: expected an 8-bit PGM", files[i]);
+            hostio_die("actag_bench", err);
         }
+        img = (uint8_t *)im.data;
+        rows = im.rows;
+        cols = im.cols;
         wsize = actag_workspace_size(rows, cols);
         ssize = ACTAG__STAGE_SCRATCH(rows, cols);
         ws = malloc(wsize);

@@ -39,7 +39,7 @@
 #endif
 
 #include "../tests/adversarial.h"
-#include "../tests/test_util.h"
+#include "hostio.h"
 
 #ifndef ACTAG_SHARED_DIR
 #define ACTAG_SHARED_DIR "../shared"
@@ -124,14 +124,22 @@ int main(int argc, char **argv)
         if (only && !strstr(v[i].name, only))
             continue;
         if (v[i].kind == K_POOL) {
-            uint8_t *pix = tu_read_pgm(v[i].path, &rows, &cols);
-            if (!pix || rows != ROWS || cols != COLS) {
-                fprintf(stderr, "worst_bench: cannot read %s (530 x 512 PGM)\n", v[i].path);
-                free(pix);
+            char err[HOSTIO_ERRLEN];
+            hostio_image im;
+            if (hostio_pgm_read(v[i].path, &im, err) != HOSTIO_OK) {
+                fprintf(stderr, "worst_bench: %s\n", err);
                 return 2;
             }
-            memcpy(img, pix, sizeof img);
-            free(pix);
+            if (im.depth != 8 || im.rows != ROWS || im.cols != COLS) {
+                fprintf(stderr, "worst_bench: %s: %d x %d, %d-bit (expected an 8-bit 530 x 512 PGM)\n",
+                        v[i].path, im.rows, im.cols, im.depth);
+                hostio_image_free(&im);
+                return 2;
+            }
+            rows = im.rows;
+            cols = im.cols;
+            memcpy(img, im.data, sizeof img);
+            hostio_image_free(&im);
         } else {
             adv_generate(&v[i], img);
         }

@@ -30,13 +30,43 @@ else()
   endif()
 endif()
 
-get_filename_component(ACTAG_SHARED_DIR ${PROJECT_SOURCE_DIR}/../shared ABSOLUTE)
+# The full data set (ACTAG_SHARED_DIR, CMakeLists.txt; ../shared by default)
+# as an absolute path for the tests.
+get_filename_component(ACTAG_SHARED_DIR ${ACTAG_SHARED_DIR} ABSOLUTE)
 
-# actag_add_unity_test(<name> <source> [LIBS lib...])
+# Labels: every test is "quick" or "slow" (ctest -L quick: the whole quick set in
+# about 32 s of CPU time with the full data set); tests that read the full data set in
+# ${ACTAG_SHARED_DIR}/data (data/README.md) also carry "full_data".
+# actag_test_labels(<test> [SLOW]) labels a test registered with add_test().
+function(actag_test_labels test)
+  if("SLOW" IN_LIST ARGN)
+    set_property(TEST ${test} APPEND PROPERTY LABELS slow)
+  else()
+    set_property(TEST ${test} APPEND PROPERTY LABELS quick)
+  endif()
+endfunction()
+
+# A test that needs the full data set runs its command through this prefix,
+#   add_test(NAME <test> COMMAND ${ACTAG_NEEDS_FULL_DATA} cmd...)
+#   actag_full_data_test(<test> [SLOW])
+# and without the data CTest reports it as skipped (exit status 77 from
+# tests/needs_data.sh), never as failed or passed.
+set(ACTAG_NEEDS_FULL_DATA sh ${PROJECT_SOURCE_DIR}/tests/needs_data.sh ${ACTAG_SHARED_DIR}/data)
+function(actag_full_data_test test)
+  set_tests_properties(${test} PROPERTIES SKIP_RETURN_CODE 77)
+  actag_test_labels(${test} ${ARGN})
+  set_property(TEST ${test} APPEND PROPERTY LABELS full_data)
+endfunction()
+
+# actag_add_unity_test(<name> <source> [SLOW] [FULL_DATA [FULL_DATA_SLOW]] [LIBS lib...])
+#   One Unity program, one CTest test <name> (label quick, or slow with SLOW).
+#   FULL_DATA: the program also has tests that read the full data set, run when
+#   it is called with --full-data (tests/test_util.h: tu_full_data()); they form
+#   the CTest test <name>_full_data, skipped when the data is absent.
 function(actag_add_unity_test name src)
-  cmake_parse_arguments(T "" "" "LIBS" ${ARGN})
+  cmake_parse_arguments(T "SLOW;FULL_DATA;FULL_DATA_SLOW" "" "LIBS" ${ARGN})
   add_executable(${name} ${src})
-  target_link_libraries(${name} PRIVATE actag::actag actag_unity ${T_LIBS})
+  target_link_libraries(${name} PRIVATE actag::actag actag_unity actag_hostio ${T_LIBS})
   target_compile_options(${name} PRIVATE -Wall -Wextra -Wpedantic -Werror)
   target_compile_definitions(${name} PRIVATE
     ACTAG_SHARED_DIR="${ACTAG_SHARED_DIR}"
@@ -47,6 +77,12 @@ function(actag_add_unity_test name src)
     add_dependencies(${name} actag-familygen)
   endif()
   add_test(NAME ${name} COMMAND ${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  if(T_SLOW)
+    actag_test_labels(${name} SLOW)
+  else()
+    actag_test_labels(${name})
+  endif()
+  set(_run $<TARGET_FILE:${name}>)
   if(ACTAG_EMULATED)
     # Firmware for the QEMU board (boards/qemu-mps2), run through
     # CMAKE_CROSSCOMPILING_EMULATOR; ACTAG_TEST_EMULATED lets a test shrink
@@ -54,5 +90,21 @@ function(actag_add_unity_test name src)
     actag_board_link(${name})
     target_compile_definitions(${name} PRIVATE ACTAG_TEST_EMULATED=1)
     set_tests_properties(${name} PROPERTIES TIMEOUT 600 SKIP_RETURN_CODE 77)
+    # The <name>_full_data command below is not a bare target name, so CTest
+    # does not add the emulator itself; --full-data reaches argv through
+    # QEMU's -append (the semihosting command line, boards/qemu-mps2/startup.c).
+    set(_run ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${name}> -append)
+  endif()
+  if(T_FULL_DATA)
+    add_test(NAME ${name}_full_data COMMAND ${ACTAG_NEEDS_FULL_DATA} ${_run} --full-data
+             WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    if(T_FULL_DATA_SLOW)
+      actag_full_data_test(${name}_full_data SLOW)
+    else()
+      actag_full_data_test(${name}_full_data)
+    endif()
+    if(ACTAG_EMULATED)
+      set_tests_properties(${name}_full_data PROPERTIES TIMEOUT 600)
+    endif()
   endif()
 endfunction()

@@ -1,19 +1,27 @@
 #!/bin/sh
-# Fails when a static library references the heap or defines writable static
-# data (nm classes B/b bss, D/d data, C common, G/g/S/s small data).
-# usage: check_nm.sh [NM] LIBRARY
+# Fails when a static library (or the object files of a shared one)
+# references the heap or defines writable static data (nm classes B/b bss,
+# D/d data, C common, G/g/S/s small data).
+# usage: check_nm.sh [NM] LIBRARY_OR_OBJECT...   (NM when 2 or more arguments)
 #
 # Reads nm's POSIX output (-P: "name type [value size]"), so the symbol class
 # is a field of its own: in the default BSD output, an address ending in a
-# hex letter (...6b t name) looked like a "b" symbol to a pattern.
-if [ $# -eq 2 ]; then NM=$1; LIB=$2; else NM=nm; LIB=$1; fi
-[ -f "$LIB" ] || { echo "check_nm: no library $LIB"; exit 1; }
-syms=$("$NM" -P "$LIB") || { echo "check_nm: $NM -P $LIB failed"; exit 1; }
+# hex letter (...6b t name) looked like a "b" symbol to a pattern. The
+# "file:" / "lib.a[member]:" header lines nm prints for several files or
+# archive members have one field and are not symbols.
+if [ $# -ge 2 ]; then NM=$1; shift; else NM=nm; fi
+[ $# -ge 1 ] || { echo "check_nm: usage: check_nm.sh [NM] LIBRARY_OR_OBJECT..."; exit 1; }
+for f in "$@"; do
+  [ -f "$f" ] || { echo "check_nm: no library $f"; exit 1; }
+done
+what=$1
+[ $# -gt 1 ] && what="$# object files ($(basename "$1") ...)"
+syms=$("$NM" -P "$@") || { echo "check_nm: $NM -P $* failed"; exit 1; }
 heap_list=$(echo "$syms" | awk 'NF >= 2 && $2 == "U" && $1 ~ /^(malloc|calloc|realloc|free)$/')
 writable_list=$(echo "$syms" | awk 'NF >= 2 && $2 ~ /^[BbDdCGgSs]$/')
 heap=$(printf '%s' "$heap_list" | grep -c .)
 writable=$(printf '%s' "$writable_list" | grep -c .)
-echo "check_nm: $LIB: $heap heap references, $writable writable static symbols"
+echo "check_nm: $what: $heap heap references, $writable writable static symbols"
 if [ "$heap" -ne 0 ] || [ "$writable" -ne 0 ]; then
   [ -n "$heap_list" ] && echo "$heap_list"
   [ -n "$writable_list" ] && echo "$writable_list"

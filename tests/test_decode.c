@@ -324,7 +324,7 @@ static void load_h10(test_family *tf)
         memcpy(tf->codes, tf->fam.codes, 7 * sizeof(uint32_t));
     } else { /* generator not built: read the published file */
         char path[512];
-        snprintf(path, sizeof path, "%s/data/families/AcTag24h10.txt", ACTAG_SHARED_DIR);
+        snprintf(path, sizeof path, "%s/families/AcTag24h10.txt", TU_DATA);
         TEST_ASSERT_EQUAL_INT(7, tu_read_codes(path, tf->codes, 64));
         tf->fam.name = "AcTag24h10";
         tf->fam.bits = 24;
@@ -1038,7 +1038,7 @@ static void test_bit_flips_h8_h6(void)
     tu_seed(777);
     for (f = 0; f < 2; f++) {
         int n;
-        snprintf(path, sizeof path, "%s/data/families/%s.txt", ACTAG_SHARED_DIR, names[f]);
+        snprintf(path, sizeof path, "%s/families/%s.txt", TU_DATA, names[f]);
         n = tu_read_codes(path, pub, 500);
         TEST_ASSERT_GREATER_THAN_INT(40, n);
         if (n > 64)
@@ -1237,7 +1237,7 @@ static void test_real_example_frame(void)
     int rows = 0, cols = 0, r, c, st, ccw, mw = C1 - C0 + 2 * M;
     uint8_t *img;
     test_family tf;
-    snprintf(path, sizeof path, "%s/data/sonar/example/exampleSonarImage.pgm", ACTAG_SHARED_DIR);
+    snprintf(path, sizeof path, "%s/exampleSonarImage.pgm", TU_DATA);
     img = tu_read_pgm(path, &rows, &cols);
     TEST_ASSERT_NOT_NULL(img);
     TEST_ASSERT_EQUAL_INT(463, rows);
@@ -1320,7 +1320,7 @@ static void test_h4_mirror_ambiguity(void)
     render_case rc;
     actag_decode_result res;
     int n;
-    snprintf(path, sizeof path, "%s/data/families/AcTag24h4.txt", ACTAG_SHARED_DIR);
+    snprintf(path, sizeof path, "%s/families/AcTag24h4.txt", TU_DATA);
     n = tu_read_codes(path, codes, 6300);
     TEST_ASSERT_EQUAL_INT(6261, n);
     fam.name = "AcTag24h4";

@@ -1,6 +1,7 @@
-/* End-to-end sonar detection on the real frames in ../shared/data, plus the
- * API contract: errors, workspace bounds, strides, 16-bit input, orientation
- * flags, bearing tables and determinism. */
+/* End-to-end sonar detection on the real frames, plus the API contract:
+ * errors, workspace bounds, strides, 16-bit input, orientation flags, bearing
+ * tables and determinism. The example frame and the pool subset ship in data/;
+ * with --full-data, the 58 pool frames of the full data set (test_detect_full_data). */
 #include "unity.h"
 #include "test_util.h"
 
@@ -29,8 +30,7 @@ static void load_example(void)
 {
     if (g_img)
         return;
-    g_img = tu_read_pgm(ACTAG_SHARED_DIR "/data/sonar/example/exampleSonarImage.pgm", &g_rows,
-                        &g_cols);
+    g_img = tu_read_pgm(TU_DATA "/exampleSonarImage.pgm", &g_rows, &g_cols);
     TEST_ASSERT_NOT_NULL_MESSAGE(g_img, "cannot read exampleSonarImage.pgm");
     TEST_ASSERT_EQUAL_INT(463, g_rows);
     TEST_ASSERT_EQUAL_INT(620, g_cols);
@@ -287,7 +287,10 @@ static int pool_class(int frame)
     return 2; /* the whole tag pattern is visible */
 }
 
-static int run_pool(unsigned flags, int *visible, int *found, int *wrong, int *in_tag_free)
+/* Detection on the pool frames numbered frames[0..nframes-1] in the folder dir
+ * (f_NNNN.pgm), stored as recorded or (flags) the other way round. */
+static int run_pool(const char *dir, const int *frames, int nframes, unsigned flags,
+                    int *visible, int *found, int *wrong, int *in_tag_free)
 {
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(530, 512)];
     static uint8_t flipped[530 * 512];
@@ -300,15 +303,14 @@ static int run_pool(unsigned flags, int *visible, int *found, int *wrong, int *i
     actag_params_default(&p);
     p.family = &fam;
     *visible = *found = *wrong = *in_tag_free = 0;
-    for (i = 0; i < 58; i++) {
+    for (i = 0; i < nframes; i++) {
         char path[512];
-        int rows = 0, cols = 0, n, k, frame = 1 + 10 * i, cls = pool_class(frame), hit = 0;
+        int rows = 0, cols = 0, n, k, frame = frames[i], cls = pool_class(frame), hit = 0;
         uint8_t *img;
         actag_frame f;
         actag_detection det[8];
-        snprintf(path, sizeof path, "%s/data/sonar/pool-video/f_%04d.pgm", ACTAG_SHARED_DIR, frame);
+        snprintf(path, sizeof path, "%s/f_%04d.pgm", dir, frame);
         img = tu_read_pgm(path, &rows, &cols);
-        TEST_ASSERT_NOT_NULL_MESSAGE(img, path);
         TEST_ASSERT_EQUAL_INT(530, rows);
         TEST_ASSERT_EQUAL_INT(512, cols);
         if (flags) { /* the same frame stored the other way round */
@@ -350,11 +352,14 @@ static int run_pool(unsigned flags, int *visible, int *found, int *wrong, int *i
  * which removed every wrong ID and mirrored-flag error on 1,000 simulated
  * views in each of two settings; the readings lost here had hamming 3 or a
  * likelihood ratio below the allowance.) */
+static int g_all_frames[58];
+
 static void test_pool_frames(void)
 {
     int visible, found, wrong, tag_free;
     char msg[128];
-    run_pool(0u, &visible, &found, &wrong, &tag_free);
+    run_pool(TU_FULL_DATA "/sonar/pool-video", g_all_frames, 58, 0u, &visible, &found, &wrong,
+             &tag_free);
     snprintf(msg, sizeof msg, "tag 0 in %d of %d visible frames, %d wrong, %d in tag-free",
              found, visible, wrong, tag_free);
     TEST_MESSAGE(msg);
@@ -372,7 +377,8 @@ static void test_pool_frames_other_orientation(void)
     char msg[128];
     if (TU_EMULATED) /* another minute under QEMU; test_pool_frames runs all 58 there */
         TEST_IGNORE_MESSAGE("host suite only (emulated: the stored orientation in test_pool_frames)");
-    run_pool(ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING, &visible, &found, &wrong, &tag_free);
+    run_pool(TU_FULL_DATA "/sonar/pool-video", g_all_frames, 58,
+             ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING, &visible, &found, &wrong, &tag_free);
     snprintf(msg, sizeof msg, "flipped: tag 0 in %d of %d visible frames, %d wrong, %d in tag-free",
              found, visible, wrong, tag_free);
     TEST_MESSAGE(msg);
@@ -381,9 +387,39 @@ static void test_pool_frames_other_orientation(void)
     TEST_ASSERT_GREATER_OR_EQUAL_MESSAGE(34, found, msg); /* 37 before the template check */
 }
 
-int main(void)
+/* The pool frames that ship in data/pool-video (data/README.md): tag 0 in each
+ * of the four tagged ones, both storage orientations, and nothing else; nothing
+ * in the two tag-free ones. */
+static void test_pool_subset(void)
 {
+    static const int frames[6] = {1, 11, 291, 421, 491, 561};
+    int o, visible, found, wrong, tag_free;
+    for (o = 0; o < 2; o++) {
+        char msg[160];
+        run_pool(TU_DATA "/pool-video", frames, 6,
+                 o ? ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING : 0u, &visible, &found,
+                 &wrong, &tag_free);
+        snprintf(msg, sizeof msg, "%s: tag 0 in %d of %d tagged frames, %d wrong, %d in tag-free",
+                 o ? "flipped" : "as recorded", found, visible, wrong, tag_free);
+        TEST_MESSAGE(msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(4, visible, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(4, found, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, wrong, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, tag_free, msg);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    int i;
     UNITY_BEGIN();
+    if (tu_full_data(argc, argv)) {
+        for (i = 0; i < 58; i++)
+            g_all_frames[i] = 1 + 10 * i;
+        RUN_TEST(test_pool_frames);
+        RUN_TEST(test_pool_frames_other_orientation);
+        return UNITY_END();
+    }
     RUN_TEST(test_example_frame_gives_tag0_at_reference_corners);
     RUN_TEST(test_deterministic_and_seed_owned_by_call);
     RUN_TEST(test_stride_with_garbage_padding);
@@ -392,8 +428,7 @@ int main(void)
     RUN_TEST(test_bearing_table_equivalent_to_aperture);
     RUN_TEST(test_errors_and_workspace_bounds);
     RUN_TEST(test_tiny_and_constant_frames);
-    RUN_TEST(test_pool_frames);
-    RUN_TEST(test_pool_frames_other_orientation);
+    RUN_TEST(test_pool_subset);
     free(g_img);
     return UNITY_END();
 }

@@ -55,7 +55,7 @@ static void test_builtin_families_match_published(void)
         TEST_ASSERT_EQUAL_INT(24, fam.bits);
         TEST_ASSERT_EQUAL_INT(sizes[f], fam.ncodes);
         TEST_ASSERT_EQUAL_HEX32(0xd35f2a, fam.codes[0]);
-        snprintf(path, sizeof path, "%s/data/families/%s.txt", ACTAG_SHARED_DIR, names[f]);
+        snprintf(path, sizeof path, "%s/families/%s.txt", TU_DATA, names[f]);
         n = tu_read_codes(path, pub, 7000);
         TEST_ASSERT_EQUAL_INT(sizes[f], n);
         for (i = 0; i < n; i++)

@@ -7,7 +7,6 @@
 #include "test_util.h"
 
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <time.h>
 
 void setUp(void) {}
@@ -29,17 +28,6 @@ int main(void)
     return UNITY_END() == 0 ? 77 : 1;
 }
 #else
-/* Runs the generator with args; returns its exit status (or -1). */
-static int run_gen(const char *args)
-{
-    char cmd[4096];
-    int st;
-    snprintf(cmd, sizeof cmd, "\"%s\" %s", ACTAG_FAMILYGEN_PATH, args);
-    st = system(cmd);
-    if (st == -1 || !WIFEXITED(st))
-        return -1;
-    return WEXITSTATUS(st);
-}
 
 static void test_txt_equals_published(void)
 {
@@ -52,8 +40,8 @@ static void test_txt_equals_published(void)
         FILE *f;
         snprintf(args, sizeof args, "--bits 24 --hamming %d --format txt > %s/gen_h%d.txt",
                  hs[i], ACTAG_BINARY_DIR, hs[i]);
-        TEST_ASSERT_EQUAL_INT(0, run_gen(args));
-        snprintf(pub, sizeof pub, "%s/data/families/AcTag24h%d.txt", ACTAG_SHARED_DIR, hs[i]);
+        TEST_ASSERT_EQUAL_INT(0, tu_run_gen(args));
+        snprintf(pub, sizeof pub, "%s/families/AcTag24h%d.txt", TU_DATA, hs[i]);
         n = tu_read_codes(pub, want, 7000);
         TEST_ASSERT_GREATER_THAN(0, n);
         snprintf(pub, sizeof pub, "%s/gen_h%d.txt", ACTAG_BINARY_DIR, hs[i]);
@@ -83,7 +71,7 @@ static const char *rule_flags(const char *name)
 static void check_table(const char *name)
 {
     char args[1024], a[256], b[256];
-    long la = 0, lb = 0;
+    size_t la = 0, lb = 0;
     char *ca, *cb;
     int bits, h;
     char c;
@@ -91,7 +79,7 @@ static void check_table(const char *name)
     snprintf(a, sizeof a, "%s/gen_%s.c", ACTAG_BINARY_DIR, name);
     snprintf(args, sizeof args, "--bits %d --hamming %d %s --format c --name %s --out %s", bits, h,
              rule_flags(name), name, a);
-    TEST_ASSERT_EQUAL_INT(0, run_gen(args));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen(args));
     snprintf(b, sizeof b, "%s/families/%s.c", ACTAG_SOURCE_DIR, name);
     ca = tu_slurp(a, &la);
     cb = tu_slurp(b, &lb);
@@ -132,10 +120,10 @@ static void test_published_four_are_fast(void)
     char msg[128];
     c0 = children_cpu();
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 4 > /dev/null"));
-    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 6 > /dev/null"));
-    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 8 > /dev/null"));
-    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 10 > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen("--bits 24 --hamming 4 > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen("--bits 24 --hamming 6 > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen("--bits 24 --hamming 8 > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen("--bits 24 --hamming 10 > /dev/null"));
     clock_gettime(CLOCK_MONOTONIC, &t1);
     cpu = children_cpu() - c0;
     s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
@@ -251,7 +239,7 @@ static void check_against_naive(int bits, int h, int physical, const char *exclu
         n = naive_family(bits, h, physical, keep, want, 4096);
         printf("naive %s: %d codes, %.2f s\n", args, n, (double)(clock() - t0) / CLOCKS_PER_SEC);
     }
-    TEST_ASSERT_EQUAL_INT_MESSAGE(n > 0 ? 0 : 1, run_gen(args), msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(n > 0 ? 0 : 1, tu_run_gen(args), msg);
     m = n > 0 ? tu_read_codes(path, got, 4096) : 0;
     TEST_ASSERT_EQUAL_INT_MESSAGE(n, m, msg);
     for (i = 0; i < n; i++)
@@ -277,11 +265,11 @@ static void test_rules_equal_naive_search(void)
 static void test_apriltag_format_is_static(void)
 {
     char path[256], args[1024];
-    long n = 0;
+    size_t n = 0;
     char *s;
     snprintf(path, sizeof path, "%s/gen_at.c", ACTAG_BINARY_DIR);
     snprintf(args, sizeof args, "--bits 24 --hamming 10 --format apriltag --out %s", path);
-    TEST_ASSERT_EQUAL_INT(0, run_gen(args));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen(args));
     s = tu_slurp(path, &n);
     TEST_ASSERT_NOT_NULL(s);
     TEST_ASSERT_NOT_NULL(strstr(s, "apriltag_family_t *actag_apriltag_family_AcTag24h10(void)"));
@@ -304,7 +292,7 @@ static void test_other_sizes(void)
     int n = 0;
     snprintf(path, sizeof path, "%s/gen_16.txt", ACTAG_BINARY_DIR);
     snprintf(args, sizeof args, "--bits 16 --hamming 5 --out %s", path);
-    TEST_ASSERT_EQUAL_INT(0, run_gen(args));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen(args));
     f = fopen(path, "r");
     TEST_ASSERT_NOT_NULL(f);
     while (fgets(line, sizeof line, f)) {
@@ -318,50 +306,54 @@ static void test_other_sizes(void)
 static void test_argument_errors(void)
 {
     char args[1024];
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 23 --hamming 4 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 12 --hamming 4 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 36 --hamming 4 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 0 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming -3 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--hamming 4 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --frobnicate > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits x24 --hamming 4 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --format png > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --name 9bad > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --out /nonexistent-dir/x.txt 2>/dev/null"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 23 --hamming 4 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 12 --hamming 4 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 36 --hamming 4 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 0 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming -3 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--hamming 4 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --frobnicate > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits x24 --hamming 4 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --format png > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --name 9bad > /dev/null 2>&1"));
+    /* an output path under a regular file can never be created (unlike a
+     * missing folder, which another program on the machine might make) */
+    snprintf(args, sizeof args, "--bits 24 --hamming 4 --out '%s/CMakeCache.txt/x.txt' 2>/dev/null",
+             ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen(args));
     /* the rule options */
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --mirror sideways > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --mirror > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude 24 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude 3,x > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude -1 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude 0,6,12 --mirror physical > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --mirror sideways > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --mirror > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --exclude 24 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --exclude 3,x > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --exclude -1 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --exclude 0,6,12 --mirror physical > /dev/null 2>&1"));
     /* the corners are not closed under the full reversal (0 -> 23) */
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --exclude corners > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --min-complexity 1.5 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 4 --min-complexity abc > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --exclude corners > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --min-complexity 1.5 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 4 --min-complexity abc > /dev/null 2>&1"));
     /* a standard name must carry its rule; other rules need their own name */
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --mirror physical --name AcTag24h10 --format c > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --name AcTag24m10 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --mirror physical --exclude corners --name AcTag24m8 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(2, run_gen("--bits 24 --hamming 10 --min-complexity 0.2 --format c > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(0, run_gen("--bits 24 --hamming 10 --min-complexity 0.2 --format c --name Custom24 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 10 --mirror physical --name AcTag24h10 --format c > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 10 --name AcTag24m10 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 10 --mirror physical --exclude corners --name AcTag24m8 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 24 --hamming 10 --min-complexity 0.2 --format c > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen("--bits 24 --hamming 10 --min-complexity 0.2 --format c --name Custom24 > /dev/null 2>&1"));
     {
         /* the message names the bad value */
         char path[256], args[512];
         char *s;
         snprintf(path, sizeof path, "%s/gen_err2.txt", ACTAG_BINARY_DIR);
         snprintf(args, sizeof args, "--bits 24 --hamming 4 --mirror physical --exclude 0,6,12 2> %s", path);
-        TEST_ASSERT_EQUAL_INT(2, run_gen(args));
+        TEST_ASSERT_EQUAL_INT(2, tu_run_gen(args));
         s = tu_slurp(path, NULL);
         TEST_ASSERT_NOT_NULL(s);
         TEST_ASSERT_NOT_NULL(strstr(s, "'0,6,12'"));
         TEST_ASSERT_NOT_NULL(strstr(s, "position 18"));
         free(s);
         snprintf(args, sizeof args, "--bits 24 --hamming 4 --mirror sideways 2> %s", path);
-        TEST_ASSERT_EQUAL_INT(2, run_gen(args));
+        TEST_ASSERT_EQUAL_INT(2, tu_run_gen(args));
         s = tu_slurp(path, NULL);
         TEST_ASSERT_NOT_NULL(s);
         TEST_ASSERT_NOT_NULL(strstr(s, "'sideways'"));
@@ -369,10 +361,10 @@ static void test_argument_errors(void)
     }
     /* one line on stderr */
     snprintf(args, sizeof args, "--bits 23 --hamming 4 2> %s/gen_err.txt", ACTAG_BINARY_DIR);
-    TEST_ASSERT_EQUAL_INT(2, run_gen(args));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen(args));
     {
         char path[256];
-        long n = 0;
+        size_t n = 0;
         char *s;
         snprintf(path, sizeof path, "%s/gen_err.txt", ACTAG_BINARY_DIR);
         s = tu_slurp(path, &n);
@@ -384,8 +376,8 @@ static void test_argument_errors(void)
         free(s);
     }
     /* an empty family is an error, not an empty table */
-    TEST_ASSERT_EQUAL_INT(1, run_gen("--bits 16 --hamming 17 > /dev/null 2>&1"));
-    TEST_ASSERT_EQUAL_INT(0, run_gen("--help > /dev/null"));
+    TEST_ASSERT_EQUAL_INT(1, tu_run_gen("--bits 16 --hamming 17 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(0, tu_run_gen("--help > /dev/null"));
 }
 
 int main(void)

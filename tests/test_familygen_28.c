@@ -5,7 +5,6 @@
 #include "unity.h"
 #include "test_util.h"
 
-#include <sys/wait.h>
 #include <time.h>
 
 void setUp(void) {}
@@ -27,16 +26,6 @@ int main(void)
     return UNITY_END() == 0 ? 77 : 1;
 }
 #else
-static int run_gen(const char *args)
-{
-    char cmd[4096];
-    int st;
-    snprintf(cmd, sizeof cmd, "\"%s\" %s", ACTAG_FAMILYGEN_PATH, args);
-    st = system(cmd);
-    if (st == -1 || !WIFEXITED(st))
-        return -1;
-    return WEXITSTATUS(st);
-}
 
 static void test_checked_in_28_bit_tables_equal_generator(void)
 {
@@ -44,7 +33,7 @@ static void test_checked_in_28_bit_tables_equal_generator(void)
     int i;
     for (i = 0; i < 4; i++) {
         char args[1024], a[256], b[256], msg[128];
-        long la = 0, lb = 0;
+        size_t la = 0, lb = 0;
         char *ca, *cb;
         struct timespec t0, t1;
         snprintf(a, sizeof a, "%s/gen_AcTag28m%d.c", ACTAG_BINARY_DIR, hs[i]);
@@ -52,7 +41,7 @@ static void test_checked_in_28_bit_tables_equal_generator(void)
                  "--bits 28 --hamming %d --mirror physical --exclude corners --format c --out %s "
                  "2>/dev/null", hs[i], a);
         clock_gettime(CLOCK_MONOTONIC, &t0);
-        TEST_ASSERT_EQUAL_INT(0, run_gen(args));
+        TEST_ASSERT_EQUAL_INT(0, tu_run_gen(args));
         clock_gettime(CLOCK_MONOTONIC, &t1);
         snprintf(msg, sizeof msg, "AcTag28m%d: %.2f s", hs[i],
                  (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));

@@ -153,7 +153,12 @@ static void test_example_frame_every_variant(void)
     free(img);
 }
 
-/* The pool frames, when ../shared is beside the repository. */
+/* Pool frames: the 6 in data/pool-video, or with --full-data the 58 of the
+ * full data set (test_trace_full_data). */
+static const char *g_pool_dir = TU_DATA "/pool-video";
+static int g_pool_frames[58] = {1, 11, 291, 421, 491, 561};
+static int g_pool_n = 6;
+
 static void test_pool_frames(void)
 {
     int i, frames = 0, total = 0;
@@ -162,21 +167,18 @@ static void test_pool_frames(void)
     const actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, 0u};
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
     params_for(&p, &fam, 0);
-    for (i = 1; i <= 574; i += 10) {
+    for (i = 0; i < g_pool_n; i++) {
         char path[512];
         int rows = 0, cols = 0;
         uint8_t *img;
-        snprintf(path, sizeof path, ACTAG_SHARED_DIR "/data/sonar/pool-video/f_%04d.pgm", i);
+        snprintf(path, sizeof path, "%s/f_%04d.pgm", g_pool_dir, g_pool_frames[i]);
         img = tu_read_pgm(path, &rows, &cols);
-        if (!img)
-            continue;
         TEST_ASSERT_TRUE(rows <= MAXR && cols <= MAXC);
         total += check_frame(img, rows, cols, &geo, &p, path);
         frames++;
         free(img);
     }
-    if (frames == 0)
-        TEST_IGNORE_MESSAGE("no pool frames in " ACTAG_SHARED_DIR);
+    TEST_ASSERT_EQUAL_INT(g_pool_n, frames);
     TEST_ASSERT_TRUE(total > 0);
     { /* the ragged pool outlines exercise the extreme-point grid guesses */
         int k, guesses = 0;
@@ -252,9 +254,18 @@ static void test_errors_without_events(void)
     TEST_ASSERT_EQUAL_INT(0, t.kind_count[1] + t.kind_count[2] + t.kind_count[3] + t.kind_count[4]);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     UNITY_BEGIN();
+    if (tu_full_data(argc, argv)) {
+        int i;
+        g_pool_dir = TU_FULL_DATA "/sonar/pool-video";
+        for (i = 0; i < 58; i++)
+            g_pool_frames[i] = 1 + 10 * i;
+        g_pool_n = 58;
+        RUN_TEST(test_pool_frames);
+        return UNITY_END();
+    }
     RUN_TEST(test_example_frame_every_variant);
     RUN_TEST(test_pool_frames);
     RUN_TEST(test_synthetic_frames);

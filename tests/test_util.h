@@ -1,4 +1,13 @@
-/* Small helpers shared by the tests (host only: stdio and malloc are fine here). */
+/* Small helpers shared by the tests in tests/ (host only: stdio and malloc are
+ * fine here). File reading goes through the host I/O library tools/hostio;
+ * these wrappers fail the running Unity test with hostio's message (file and
+ * value at fault) instead of returning NULL.
+ *
+ * Data: TU_DATA is the subset that ships in the repository (data/README.md);
+ * TU_FULL_DATA the full data set beside it (../shared/data by default), read
+ * only by the tests a program runs when called with --full-data
+ * (tu_full_data()); CTest registers those as <name>_full_data and reports
+ * them skipped when the full set is absent (cmake/unity.cmake). */
 #ifndef ACTAG_TEST_UTIL_H
 #define ACTAG_TEST_UTIL_H
 
@@ -6,6 +15,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "hostio.h"
+#include "unity.h"
+
+#define TU_DATA ACTAG_SOURCE_DIR "/data"
+#define TU_FULL_DATA ACTAG_SHARED_DIR "/data"
+
+/* 1 when the program was called with --full-data. */
+static inline int tu_full_data(int argc, char **argv)
+{
+    return argc > 1 && strcmp(argv[1], "--full-data") == 0;
+}
 
 /* The emulated suites (a cross build with cmake/toolchains/cortex-m*.cmake,
  * run by CTest under qemu-system-arm, defines ACTAG_TEST_EMULATED; about 50
@@ -36,69 +57,56 @@ static inline int tu_range(int lo, int hi) /* inclusive */
     return lo + (int)(tu_rand() % (uint32_t)(hi - lo + 1));
 }
 
-/* Reads a published family file (comment lines start with '#'); returns the count. */
+/* A published family file (hostio_read_codes); returns the number of codes. */
 static inline int tu_read_codes(const char *path, uint32_t *codes, int cap)
 {
-    char line[256];
-    int n = 0;
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return -1;
-    while (fgets(line, sizeof line, f)) {
-        if (line[0] == '#' || line[0] == '\n')
-            continue;
-        if (n < cap)
-            codes[n] = (uint32_t)strtoul(line, NULL, 16);
-        n++;
-    }
-    fclose(f);
-    return n;
+    char err[HOSTIO_ERRLEN];
+    size_t n = 0;
+    if (hostio_read_codes(path, codes, (size_t)cap, &n, err) != HOSTIO_OK)
+        TEST_FAIL_MESSAGE(err);
+    return (int)n;
 }
 
-/* Reads a binary PGM (P5, maxval <= 255). Returns malloc'd pixels or NULL. */
+/* An 8-bit binary PGM (hostio_pgm_read): malloc'd pixels, stride = cols. */
 static inline uint8_t *tu_read_pgm(const char *path, int *rows, int *cols)
 {
-    FILE *f = fopen(path, "rb");
-    int w, h, maxv;
-    uint8_t *px;
-    if (!f)
-        return NULL;
-    if (fscanf(f, "P5 %d %d %d", &w, &h, &maxv) != 3 || maxv > 255 || w < 1 || h < 1) {
-        fclose(f);
-        return NULL;
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    if (hostio_pgm_read(path, &im, err) != HOSTIO_OK)
+        TEST_FAIL_MESSAGE(err);
+    if (im.depth != 8) {
+        hostio_image_free(&im);
+        TEST_FAIL_MESSAGE("expected an 8-bit PGM");
     }
-    fgetc(f);
-    px = (uint8_t *)malloc((size_t)w * (size_t)h);
-    if (px && fread(px, 1, (size_t)w * (size_t)h, f) != (size_t)w * (size_t)h) {
-        free(px);
-        px = NULL;
-    }
-    fclose(f);
-    *rows = h;
-    *cols = w;
-    return px;
+    *rows = im.rows;
+    *cols = im.cols;
+    return (uint8_t *)im.data;
 }
 
-/* Whole file as a NUL-terminated malloc'd string (len may be NULL), or NULL. */
-static inline char *tu_slurp(const char *path, long *len)
+/* Whole file as a NUL-terminated malloc'd string (hostio_slurp); len may be NULL. */
+static inline char *tu_slurp(const char *path, size_t *len)
 {
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    long n;
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    buf = (char *)calloc((size_t)n + 1, 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    if (len)
-        *len = n;
-    return buf;
+    char err[HOSTIO_ERRLEN];
+    char *s = (char *)hostio_slurp(path, len, err);
+    if (!s)
+        TEST_FAIL_MESSAGE(err);
+    return s;
 }
+
+/* Runs a shell command line (hostio_run); its exit status, or -1. */
+static inline int tu_run(const char *cmd)
+{
+    return hostio_run(cmd, NULL);
+}
+
+#ifdef ACTAG_FAMILYGEN_PATH
+/* Runs actag-familygen with args (shell syntax: redirections allowed). */
+static inline int tu_run_gen(const char *args)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "\"%s\" %s", ACTAG_FAMILYGEN_PATH, args);
+    return tu_run(cmd);
+}
+#endif
 
 #endif

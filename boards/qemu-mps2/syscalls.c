@@ -5,7 +5,8 @@
  * host files (QEMU -semihosting-config target=native), malloc() takes its
  * memory from the board's heap region (__heap_start .. __heap_end in the
  * linker script), exit(n) ends QEMU with status n, clock() reads the
- * semihosting clock. system() and the process calls fail with ENOSYS.
+ * semihosting clock. system(), mkdir() (semihosting has no directories)
+ * and the process calls fail with ENOSYS.
  */
 #include "semihost.h"
 
@@ -40,6 +41,7 @@ int _gettimeofday(struct timeval *tv, void *tz);
 int _unlink(const char *path);
 int _link(const char *old, const char *new_path);
 int _system(const char *cmd);
+int mkdir(const char *path, mode_t mode);
 
 #define BOARD_MAX_FILES 16
 
@@ -284,6 +286,16 @@ int _link(const char *old, const char *new_path)
 int _system(const char *cmd)
 {
     (void)cmd;
+    errno = ENOSYS;
+    return -1;
+}
+
+/* newlib declares mkdir() but has no system call for it (tools/hostio's
+ * hostio_mkdirs refers to it; the tests on the board never create folders). */
+int mkdir(const char *path, mode_t mode)
+{
+    (void)path;
+    (void)mode;
     errno = ENOSYS;
     return -1;
 }

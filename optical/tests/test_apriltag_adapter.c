@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hostio.h"
 #include "unity.h"
 
 #include "actag/actag_apriltag.h"
@@ -114,25 +115,18 @@ static void ref_render_camera(uint32_t code, int k, int cell, int margin, int ma
         }
 }
 
-/* Published codes from the shared data (independent of the generator). */
+/* The published codes (data/families, independent of the generator) of the
+ * published families AcTag24h*, or -1 for the others. */
 static int read_published(const char *name, uint32_t *codes, int cap)
 {
-    char path[512], line[128];
-    int n = 0;
-    FILE *f;
-    snprintf(path, sizeof path, "%s/data/families/%s.txt", ACTAG_SHARED_DIR, name);
-    f = fopen(path, "r");
-    if (f == NULL)
+    char path[512], err[HOSTIO_ERRLEN];
+    size_t n = 0;
+    if (strncmp(name, "AcTag24h", 8) != 0)
         return -1;
-    while (fgets(line, sizeof line, f)) {
-        if (line[0] == '#' || line[0] == '\n')
-            continue;
-        if (n < cap)
-            codes[n] = (uint32_t)strtoul(line, NULL, 16);
-        n++;
-    }
-    fclose(f);
-    return n;
+    snprintf(path, sizeof path, "%s/data/families/%s.txt", ACTAG_SOURCE_DIR, name);
+    if (hostio_read_codes(path, codes, (size_t)cap, &n, err) != HOSTIO_OK)
+        TEST_FAIL_MESSAGE(err);
+    return (int)n;
 }
 
 /* Rotate a side x side image by 90 degrees clockwise (as displayed, x right,
@@ -668,6 +662,8 @@ static void test_pose_tag_size_is_inner_square(void)
 }
 
 /* ------------------------------------------------------------ real photo */
+/* (The full data set's photo: run with --full-data, CTest test
+ * test_apriltag_adapter_full_data.) */
 
 static void test_real_photo_id0(void)
 {
@@ -726,16 +722,19 @@ static void test_real_photo_id0(void)
     TEST_ASSERT_FLOAT_WITHIN(5.0f, 1412.0f, (float)c[3][1]);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     UNITY_BEGIN();
+    if (argc > 1 && strcmp(argv[1], "--full-data") == 0) {
+        RUN_TEST(test_real_photo_id0);
+        return UNITY_END();
+    }
     RUN_TEST(test_registry_matches_core_and_published);
     RUN_TEST(test_max_bits_corrected);
     RUN_TEST(test_invert);
     RUN_TEST(test_corners_to_actag_synthetic);
     RUN_TEST(test_copy_and_static_in_two_detectors);
     RUN_TEST(test_pose_tag_size_is_inner_square);
-    RUN_TEST(test_real_photo_id0);
     RUN_TEST(test_read_all_AcTag24h10);
     RUN_TEST(test_read_all_AcTag24h8);
     RUN_TEST(test_read_all_AcTag24h6);

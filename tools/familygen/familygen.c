@@ -67,6 +67,7 @@
 #include <time.h>
 
 #include "actag/version.h"
+#include "hostio.h"
 
 #define PROG "actag-familygen"
 #define PRIME 982451653ull
@@ -328,14 +329,10 @@ static void mark_ball(forbid_map *F, uint64_t c)
 
 static int parse_int(const char *opt, const char *s)
 {
-    char *end;
-    long v;
-    errno = 0;
-    v = strtol(s, &end, 10);
-    if (errno || *s == '\0' || *end != '\0' || v < -1000000 || v > 1000000) {
-        fprintf(stderr, PROG ": %s needs an integer, got '%s' (usage: " USAGE ")\n", opt, s);
-        exit(2);
-    }
+    char err[HOSTIO_ERRLEN];
+    long v = 0;
+    if (hostio_parse_long(opt, s, -1000000, 1000000, &v, err) != HOSTIO_OK)
+        usage_error("%s", err);
     return (int)v;
 }
 
@@ -353,20 +350,21 @@ static uint64_t parse_exclude(const char *s, int bits)
         return set;
     }
     for (;;) {
-        char *end;
-        long v;
-        errno = 0;
-        v = strtol(p, &end, 10);
-        if (errno || end == p || !isdigit((unsigned char)*p) || v >= bits)
+        char tok[16];
+        size_t len = strcspn(p, ",");
+        long v = 0;
+        if (len >= sizeof tok || !isdigit((unsigned char)*p))
+            usage_error("--exclude '%s': expected none, corners or a comma-separated list of "
+                        "sequence positions 0..4k-1", s);
+        memcpy(tok, p, len);
+        tok[len] = '\0';
+        if (hostio_parse_long("--exclude", tok, 0, bits - 1, &v, NULL) != HOSTIO_OK)
             usage_error("--exclude '%s': expected none, corners or a comma-separated list of "
                         "sequence positions 0..4k-1", s);
         set |= 1ull << v;
-        if (*end == '\0')
+        if (p[len] == '\0')
             break;
-        if (*end != ',')
-            usage_error("--exclude '%s': expected none, corners or a comma-separated list of "
-                        "sequence positions 0..4k-1", s);
-        p = end + 1;
+        p += len + 1;
     }
     return set;
 }
@@ -555,10 +553,7 @@ int main(int argc, char **argv)
             exclude = argv[++i];
         else if (strcmp(a, "--min-complexity") == 0) {
             const char *s = argv[++i];
-            char *end;
-            errno = 0;
-            complexity = strtod(s, &end);
-            if (errno || end == s || *end != '\0' || !(complexity >= 0.0) || !(complexity <= 1.0))
+            if (hostio_parse_double(a, s, 0.0, 1.0, &complexity, NULL) != HOSTIO_OK)
                 usage_error("--min-complexity '%s': expected a number from 0 to 1", s);
         } else
             outpath = argv[++i];

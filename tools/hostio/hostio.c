@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "hostio.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -9,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 
 static int fail(char *err, const char *fmt, ...)
 {
@@ -208,17 +210,14 @@ int hostio_pgm_read(const char *path, hostio_image *out, char *err)
     return HOSTIO_OK;
 }
 
-int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
+int hostio_pgm_fwrite(FILE *f, const char *name, const hostio_image *img, char *err)
 {
-    FILE *f;
     int r, c, maxv;
+    const char *nm = name ? name : "PGM";
     if (!img || !img->data || img->rows < 1 || img->cols < 1 || img->stride < img->cols ||
         (img->depth != 8 && img->depth != 16))
-        return fail(err, "%s: bad image to write", path);
+        return fail(err, "%s: bad image to write", nm);
     maxv = img->maxval > 0 ? img->maxval : (img->depth == 8 ? 255 : 65535);
-    f = fopen(path, "wb");
-    if (!f)
-        return fail(err, "%s: cannot write: %s", path, strerror(errno));
     fprintf(f, "P5\n%d %d\n%d\n", img->cols, img->rows, maxv);
     for (r = 0; r < img->rows; r++) {
         if (img->depth == 8) {
@@ -233,12 +232,25 @@ int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
             }
         }
     }
-    {
-        int bad = ferror(f);
-        if (fclose(f) != 0 || bad)
-            return fail(err, "%s: write error", path);
-    }
+    if (ferror(f))
+        return fail(err, "%s: write error", nm);
     return HOSTIO_OK;
+}
+
+int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
+{
+    FILE *f;
+    int rc;
+    if (!img || !img->data || img->rows < 1 || img->cols < 1 || img->stride < img->cols ||
+        (img->depth != 8 && img->depth != 16))
+        return fail(err, "%s: bad image to write", path);
+    f = fopen(path, "wb");
+    if (!f)
+        return fail(err, "%s: cannot write: %s", path, strerror(errno));
+    rc = hostio_pgm_fwrite(f, path, img, err);
+    if (fclose(f) != 0 && rc == HOSTIO_OK)
+        return fail(err, "%s: write error", path);
+    return rc;
 }
 
 int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err)
@@ -519,6 +531,65 @@ int hostio_parse_list(const char *name, const char *s, double *out, int cap, int
     }
     *n = count;
     return HOSTIO_OK;
+}
+
+int hostio_read_codes(const char *path, uint32_t *codes, size_t cap, size_t *n, char *err)
+{
+    size_t len, pos = 0, count = 0;
+    long line = 0;
+    uint8_t *b = hostio_slurp(path, &len, err);
+    *n = 0;
+    if (!b)
+        return -1;
+    while (pos < len) {
+        size_t end = pos, s, e, s0;
+        uint64_t v = 0;
+        int digits = 0;
+        while (end < len && b[end] != '\n')
+            end++;
+        line++;
+        s = pos;
+        e = end;
+        pos = end + 1;
+        while (s < e && (b[s] == ' ' || b[s] == '\t'))
+            s++;
+        while (e > s && (b[e - 1] == ' ' || b[e - 1] == '\t' || b[e - 1] == '\r'))
+            e--;
+        if (s == e || b[s] == '#')
+            continue;
+        s0 = s;
+        if (e - s > 2 && b[s] == '0' && (b[s + 1] == 'x' || b[s + 1] == 'X')) {
+            for (s += 2; s < e && isxdigit(b[s]); s++, digits++)
+                v = v * 16u + (uint64_t)(isdigit(b[s]) ? b[s] - '0' : (b[s] | 0x20) - 'a' + 10);
+        }
+        if (s != e || digits == 0 || digits > 8) {
+            int shown = e - s0 > 40 ? 40 : (int)(e - s0);
+            fail(err, "%s:%ld: '%.*s' is not a 0x-prefixed hexadecimal code of at most 32 bits",
+                 path, line, shown, (const char *)b + s0);
+            free(b);
+            return -1;
+        }
+        if (count == cap) {
+            free(b);
+            return fail(err, "%s:%ld: more than %lu codes", path, line, (unsigned long)cap);
+        }
+        codes[count++] = (uint32_t)v;
+    }
+    free(b);
+    *n = count;
+    return HOSTIO_OK;
+}
+
+int hostio_run(const char *cmd, char *err)
+{
+    int st;
+    fflush(NULL); /* our buffered output before the child's */
+    st = system(cmd);
+    if (st == -1)
+        return fail(err, "cannot run '%s': %s", cmd, strerror(errno));
+    if (!WIFEXITED(st))
+        return fail(err, "'%s' was ended by signal %d", cmd, WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    return WEXITSTATUS(st);
 }
 
 void hostio_die(const char *prog, const char *msg)

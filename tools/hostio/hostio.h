@@ -25,6 +25,8 @@
  *     hostio_pgm_read(path, &img, err)     reads a file into a malloc'd image
  *                                           (16-bit samples in host order)
  *     hostio_pgm_write(path, &img, err)    writes an image (depth 8 or 16)
+ *     hostio_pgm_fwrite(stream, name, &img, err)  the same to an open stream
+ *                                           (e.g. stdout); name labels messages
  *     hostio_image_free(&img)
  *     hostio_ppm_write(path, rgb, rows, cols, err)  a colour picture (P6,
  *                                           rows x cols RGB triplets)
@@ -54,6 +56,14 @@
  *         or "--bearings b.txt: value 7 must be below the previous bearing
  *         (...) (got 0.3 after 0.29)"; field names inside the rule are
  *         translated too, unmapped ones are printed as the library names them
+ *   Family code lists (the published AcTag<N>h<H>.txt format, actag-familygen
+ *   --format txt: '#' comment lines, blank lines, one code per line in ID
+ *   order as 0x-prefixed hexadecimal)
+ *     hostio_read_codes(path, codes, cap, &n, err)  at most cap codes
+ *   Subprocesses
+ *     hostio_run(cmd, err)   runs a shell command line (system()); returns its
+ *                            exit status 0..255, or -1 (and a message) when it
+ *                            could not run or was ended by a signal
  *   Command-line tools (print "PROG: message" on stderr and exit with status 2)
  *     hostio_die(prog, msg)
  *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
@@ -64,6 +74,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -107,6 +118,7 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
                      char *err);
 int hostio_pgm_read(const char *path, hostio_image *out, char *err);
 int hostio_pgm_write(const char *path, const hostio_image *img, char *err);
+int hostio_pgm_fwrite(FILE *stream, const char *name, const hostio_image *img, char *err);
 void hostio_image_free(hostio_image *img);
 int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err);
 
@@ -142,6 +154,11 @@ int hostio_parse_doubles(const char *name, const char *s, char sep, double *out,
 
 int hostio_parse_list(const char *name, const char *s, double *out, int cap, int *n,
                       char *err);
+/* Family code list: *n codes stored (error when the file holds more than cap). */
+int hostio_read_codes(const char *path, uint32_t *codes, size_t cap, size_t *n, char *err);
+
+/* Shell command line; exit status 0..255, or -1 when it did not run or exit. */
+int hostio_run(const char *cmd, char *err);
 
 /* A library field and the command-line option that sets it. */
 typedef struct hostio_optname {

@@ -28,6 +28,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hostio.h"
+
 #include "actag/family.h"
 #include "actag/render.h"
 #include "actag/version.h"
@@ -159,30 +161,16 @@ static double cell_mm(const opts_t *o)
 
 /* ------------------------------------------------------------------ parsing */
 
+/* Whole numbers and reals with range checks (tools/hostio: the message names
+ * the option and the value, exit status 2). */
 static int parse_int(const char *opt, const char *s, long lo, long hi)
 {
-    char *end;
-    long v;
-    errno = 0;
-    if (s == NULL || *s == '\0')
-        die("%s needs a number", opt);
-    v = strtol(s, &end, 10);
-    if (errno != 0 || *end != '\0' || v < lo || v > hi)
-        die("%s: '%s' is not a whole number in %ld..%ld", opt, s, lo, hi);
-    return (int)v;
+    return (int)hostio_opt_long("actag-render", opt, s, lo, hi);
 }
 
 static double parse_real(const char *opt, const char *s, double lo, double hi)
 {
-    char *end;
-    double v;
-    errno = 0;
-    if (s == NULL || *s == '\0')
-        die("%s needs a number", opt);
-    v = strtod(s, &end);
-    if (errno != 0 || *end != '\0' || !isfinite(v) || v < lo || v > hi)
-        die("%s: '%s' is not a number in %g..%g", opt, s, lo, hi);
-    return v;
+    return hostio_opt_double("actag-render", opt, s, lo, hi);
 }
 
 /* "0,5,10-12" -> ids (ranges inclusive). */
@@ -787,10 +775,18 @@ static void draw_text(uint8_t *img, long w, long h, long x0, long y0, int s, con
     }
 }
 
-static void write_pgm(FILE *f, const uint8_t *img, long w, long h)
+static void write_pgm(FILE *f, const char *path, const uint8_t *img, long w, long h)
 {
-    fprintf(f, "P5\n%ld %ld\n255\n", w, h);
-    fwrite(img, 1, (size_t)(w * h), f);
+    hostio_image im;
+    char err[HOSTIO_ERRLEN];
+    im.data = (void *)(uintptr_t)img; /* only read */
+    im.rows = (int)h;
+    im.cols = (int)w;
+    im.stride = (int)w;
+    im.depth = 8;
+    im.maxval = 255;
+    if (hostio_pgm_fwrite(f, path ? path : "stdout", &im, err) != HOSTIO_OK)
+        die("%s", err);
 }
 
 static int margin_px(const opts_t *o)
@@ -822,7 +818,7 @@ static void pgm_single(const opts_t *o, int id, const char *path)
     FILE *f;
     render_into(o, id, img, side, side);
     f = open_out(path);
-    write_pgm(f, img, side, side);
+    write_pgm(f, path, img, side, side);
     close_out(f, path);
     free(img);
 }
@@ -1150,7 +1146,7 @@ static void pgm_sheet(const opts_t *o)
             draw_text(img, w, h, x0 + (slot_w - tl) / 2, y0 + side + 2 * s, (int)s, lab);
         }
         f = open_out(path);
-        write_pgm(f, img, w, h);
+        write_pgm(f, path, img, w, h);
         close_out(f, path ? path : "stdout");
         free(img);
         free(path);

@@ -8,11 +8,14 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 
+#include "hostio.h"
 #include "unity.h"
-#include "test_util.h"
 
 #include "actag/render.h"
 #include "actag/version.h"
@@ -42,23 +45,20 @@ static void path_of(char *buf, size_t n, const char *name)
 static int run(const char *args)
 {
     char cmd[8192], errf[1200], outf[1200];
-    FILE *f;
-    size_t n;
+    char *e;
+    size_t n = 0;
     int st;
     path_of(errf, sizeof errf, "stderr.txt");
     path_of(outf, sizeof outf, "stdout.bin");
     snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2> '%s'", ACTAG_RENDER_PATH, args, outf, errf);
-    st = system(cmd);
+    st = hostio_run(cmd, NULL);
     errtext[0] = '\0';
-    f = fopen(errf, "r");
-    if (f) {
-        n = fread(errtext, 1, sizeof errtext - 1, f);
-        errtext[n] = '\0';
-        fclose(f);
+    e = (char *)hostio_slurp(errf, &n, NULL);
+    if (e) {
+        snprintf(errtext, sizeof errtext, "%s", e);
+        free(e);
     }
-    if (st == -1 || !WIFEXITED(st))
-        return -1;
-    return WEXITSTATUS(st);
+    return st;
 }
 
 static int count_lines(const char *s)
@@ -77,30 +77,27 @@ static int file_exists(const char *name)
     return stat(p, &st) == 0;
 }
 
+/* A file of dir as a NUL-terminated string (NULL when it cannot be read). */
 static char *slurp(const char *name, size_t *len)
 {
     char p[1200];
-    FILE *f;
-    long n;
-    char *b;
     path_of(p, sizeof p, name);
-    f = fopen(p, "rb");
-    if (!f)
+    return (char *)hostio_slurp(p, len, NULL);
+}
+
+/* An 8-bit PGM written by the tool (NULL when it does not parse as one). */
+static uint8_t *read_pgm8(const char *path, int *rows, int *cols)
+{
+    hostio_image im;
+    if (hostio_pgm_read(path, &im, NULL) != HOSTIO_OK)
         return NULL;
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    b = (char *)malloc((size_t)n + 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) {
-        free(b);
-        b = NULL;
+    if (im.depth != 8) {
+        hostio_image_free(&im);
+        return NULL;
     }
-    if (b)
-        b[n] = '\0';
-    if (len)
-        *len = (size_t)n;
-    fclose(f);
-    return b;
+    *rows = im.rows;
+    *cols = im.cols;
+    return (uint8_t *)im.data;
 }
 
 /* ------------------------------------------------------------------ geometry helpers */
@@ -701,7 +698,7 @@ static void check_pgm_against_layout(const char *name, const actag_family *fam, 
     int rows = 0, cols = 0, r, c, k = fam->bits / 4;
     uint8_t *img;
     path_of(p, sizeof p, name);
-    img = tu_read_pgm(p, &rows, &cols);
+    img = read_pgm8(p, &rows, &cols);
     TEST_ASSERT_NOT_NULL_MESSAGE(img, "PGM does not parse");
     TEST_ASSERT_EQUAL_INT((k + 1) * cell + 2 * margin, rows);
     TEST_ASSERT_EQUAL_INT(rows, cols);
@@ -956,7 +953,7 @@ static void test_sheets(void)
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(&fam, ids[t], 6, 6, 0, 0, blk, side,
                                                          (size_t)side * (size_t)side));
         path_of(p, sizeof p, t < 2 ? "s-p1.pgm" : "s-p2.pgm");
-        page = tu_read_pgm(p, &rows, &cols);
+        page = read_pgm8(p, &rows, &cols);
         TEST_ASSERT_NOT_NULL(page);
         TEST_ASSERT_TRUE_MESSAGE(find_block(page, cols, rows, blk, side), "tag not on its page");
         free(page);
@@ -1079,7 +1076,7 @@ static void test_dxf_checker_rejects(void)
  * the folder and fills it. */
 static void test_readme_commands_write_what_they_say(void)
 {
-    char *readme = tu_slurp(ACTAG_SOURCE_DIR "/README.md", NULL), *line;
+    char *readme = (char *)hostio_slurp(ACTAG_SOURCE_DIR "/README.md", NULL, NULL), *line;
     const char *prefix = "    build/tools/render/actag-render ";
     int ncmd = 0;
     char clean[2200];
@@ -1153,7 +1150,7 @@ static void test_pages_folders_version(void)
     TEST_ASSERT_EQUAL_INT(0, run("--version"));
     path_of(p, sizeof p, "stdout.bin");
     {
-        char *v = tu_slurp(p, NULL);
+        char *v = (char *)hostio_slurp(p, NULL, NULL);
         TEST_ASSERT_NOT_NULL(v);
         TEST_ASSERT_EQUAL_STRING("actag-render " ACTAG_VERSION_STRING "\n", v);
         free(v);

@@ -10,7 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 
 void setUp(void) {}
 void tearDown(void) {}
@@ -20,12 +19,10 @@ static char out_path[512], err_path[512];
 static int run(const char *tool, const char *args)
 {
     char cmd[4096];
-    int st;
     snprintf(out_path, sizeof out_path, "%s/eval_out.txt", ACTAG_BINARY_DIR);
     snprintf(err_path, sizeof err_path, "%s/eval_err.txt", ACTAG_BINARY_DIR);
     snprintf(cmd, sizeof cmd, "\"%s\" %s > \"%s\" 2> \"%s\"", tool, args, out_path, err_path);
-    st = system(cmd);
-    return (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
+    return hostio_run(cmd, NULL);
 }
 
 /* A whole output file as a string (NULL when it cannot be read). */

@@ -28,9 +28,11 @@
  *     apriltag_detections_destroy(dets);
  *     apriltag_detector_destroy(td);         // also frees fam's decode table
  *
- *   Link with -lactag_apriltag -lapriltag; on Debian add -lapriltag-utils
- *   for AprilTag's image helpers (image_u8_create, image_u8_create_from_pnm),
- *   which its apriltag.pc omits. (CMake: actag::actag_apriltag.)
+ *   Link with $(pkg-config --cflags --libs actag_apriltag): -lactag_apriltag,
+ *   libactag, -lapriltag and, on Debian, -lapriltag-utils for AprilTag's image
+ *   helpers (image_u8_create, image_u8_create_from_pnm), which its
+ *   apriltag.pc omits. (CMake: find_package(actag COMPONENTS apriltag),
+ *   target actag::actag_apriltag.)
  *
  * IMAGE POLARITY
  *   Acoustically foam is bright and aluminium dark; optically aluminium is the

@@ -1,0 +1,80 @@
+/*
+ * minimal.c -- the smallest complete program using libactag: reads an 8-bit
+ * binary PGM sonar frame and prints every AcTag in it.
+ *
+ *   cc minimal.c $(pkg-config --cflags --libs actag) -o minimal
+ *   ./minimal data/exampleSonarImage.pgm
+ *
+ * The frame is the example of data/: 0.1-1.5 m, 60 degree aperture, row 0 the
+ * farthest range, column 0 the +30 degree beam, family AcTag24h10 with tags
+ * whose inner white square is 0.130628571 m wide. Like the library, the
+ * program allocates nothing: the frame and the workspace are static arrays
+ * sized for the largest frame it accepts (1024 x 1024).
+ */
+#include <stdint.h>
+#include <stdio.h>
+
+#include "actag/actag.h"
+
+#define MAX_ROWS 1024
+#define MAX_COLS 1024
+
+static uint8_t pixels[MAX_ROWS * MAX_COLS];
+static uint8_t ws[ACTAG_WORKSPACE_SIZE(MAX_ROWS, MAX_COLS)];
+
+/* A bare-bones P5 reader (8 bit, no comment lines in the header). */
+static int read_pgm(const char *path, int *rows, int *cols)
+{
+    FILE *f = fopen(path, "rb");
+    int maxval = 0, ok;
+    if (!f)
+        return 0;
+    ok = fscanf(f, "P5 %d %d %d", cols, rows, &maxval) == 3 && fgetc(f) != EOF &&
+         *rows >= 1 && *rows <= MAX_ROWS && *cols >= 1 && *cols <= MAX_COLS &&
+         maxval >= 1 && maxval <= 255 &&
+         fread(pixels, 1, (size_t)*rows * (size_t)*cols, f) == (size_t)*rows * (size_t)*cols;
+    fclose(f);
+    return ok;
+}
+
+int main(int argc, char **argv)
+{
+    actag_family fam;
+    actag_params p;
+    actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, 0}; /* m, m, rad */
+    actag_frame frame;
+    actag_detection det[8];
+    int rows, cols, n, i, c;
+
+    if (argc != 2 || !read_pgm(argv[1], &rows, &cols)) {
+        fprintf(stderr, "usage: minimal FRAME.pgm (8-bit binary PGM, at most %d x %d)\n",
+                MAX_COLS, MAX_ROWS);
+        return 2;
+    }
+    frame.data = pixels;
+    frame.rows = rows; /* range bins */
+    frame.cols = cols; /* beams */
+    frame.stride = cols;
+    frame.depth = 8;
+
+    actag_family_get("AcTag24h10", &fam);
+    actag_params_default(&p);
+    p.family = &fam;
+    p.tag_size = 0.130628571f; /* side of the inner white square, m */
+    n = actag_detect(&frame, &geo, &p, ws, sizeof ws, det, 8, NULL);
+    if (n < 0) {
+        fprintf(stderr, "minimal: %s\n", actag_strerror(n));
+        return 1;
+    }
+    printf("%s: %d tag%s\n", argv[1], n, n == 1 ? "" : "s");
+    for (i = 0; i < n; i++) {
+        printf("tag %d (%s), hamming %d, margin %.1f\n", det[i].id,
+               det[i].mirrored ? "mirrored" : "not mirrored", det[i].hamming,
+               (double)det[i].decision_margin);
+        for (c = 0; c < 4; c++) /* corners in the tag's own order TL TR BR BL */
+            printf("  corner %d: x %.1f y %.1f px, range %.3f m, azimuth %+.4f rad\n", c,
+                   (double)det[i].corners[c].x, (double)det[i].corners[c].y,
+                   (double)det[i].range[c], (double)det[i].azimuth[c]);
+    }
+    return 0;
+}
