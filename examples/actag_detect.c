@@ -702,10 +702,22 @@ static int process(const options *o, const char *file, const char *picname, int 
         actag_error_detail d;
         char m[HOSTIO_ERRLEN];
         if (actag_check(&fr, &geo, &o->params, wsize, MAX_DETECTIONS, &d) != ACTAG_OK) {
+            const char *name = hostio_frame_name(file);
+            size_t ml, nl, room;
             hostio_detail_message(&d, option_names, NOPTION_NAMES, m);
-            int room = HOSTIO_ERRLEN - 3 - (int)strlen(m); /* the message, whole */
-            snprintf(err, HOSTIO_ERRLEN, "%.*s: %s", room > 0 ? room : 0,
-                     hostio_frame_name(file), m);
+            /* "name: message", the message whole and the name cut to fit
+             * (copied by hand: snprintf's truncation warning at -O1) */
+            ml = strlen(m);
+            if (ml > HOSTIO_ERRLEN - 3)
+                ml = HOSTIO_ERRLEN - 3;
+            room = HOSTIO_ERRLEN - 3 - ml;
+            nl = strlen(name);
+            if (nl > room)
+                nl = room;
+            memcpy(err, name, nl);
+            memcpy(err + nl, ": ", 2);
+            memcpy(err + nl + 2, m, ml);
+            err[nl + 2 + ml] = '\0';
             goto fail;
         }
     }
