@@ -459,12 +459,71 @@ static float fsample(const fimg *im, float x, float y)
     return v00 + (v10 - v00) * fy;
 }
 
+/* fsample for a point known to lie in [0, cols-1) x [0, rows-1): the same
+ * arithmetic without the clamps (the result is bit-identical there). */
+static float fsample_in(const fimg *im, float x, float y)
+{
+    int x0 = (int)x, y0 = (int)y;
+    float fx = x - (float)x0, fy = y - (float)y0, v00, v01, v10, v11;
+    const uint8_t *r0 = im->img + (size_t)y0 * (size_t)im->stride + x0;
+    const uint8_t *r1 = r0 + im->stride;
+    v00 = (float)r0[0];
+    v01 = (float)r0[1];
+    v10 = (float)r1[0];
+    v11 = (float)r1[1];
+    v00 += (v01 - v00) * fx;
+    v10 += (v11 - v10) * fx;
+    return v00 + (v10 - v00) * fy;
+}
+
+/* Do all of a grid's sample points lie a pixel inside the image? (Then
+ * fsample_in serves; the margin covers the rounding of the points.) */
+static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
+{
+    float h = 0.5f * (float)(k + 1) + im->so; /* centre to the outermost samples, cells */
+    float ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * h;
+    float ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * h;
+    return gr->mx - ex >= 1.0f && gr->mx + ex <= (float)(im->cols - 2) &&
+           gr->my - ey >= 1.0f && gr->my + ey <= (float)(im->rows - 2);
+}
+
 /* Mean grey level of every cell of the (k+1)^2 grid over a 3x3 sample
  * pattern (+-ACTAG_DECODE_SAMPLE_OFFSET cell), m[cy * (k+1) + cx]. */
 static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
 {
     int cx, cy, a, b, n = k + 1;
     float g = 0.5f * (float)n;
+    if (fgrid_inside(im, gr, k)) {
+        /* the same sums in the same order, on the clamp-free sampler */
+        float ou[3], ov[3], pu[3], pv[3];
+        for (a = 0; a < 3; a++) {
+            float u = (float)(a - 1) * im->so;
+            ou[a] = gr->ax * u;
+            ov[a] = gr->ay * u;
+            pu[a] = gr->bx * u;
+            pv[a] = gr->by * u;
+        }
+        for (cy = 0; cy < n; cy++)
+            for (cx = 0; cx < n; cx++) {
+                float s = 0.0f, u0 = (float)cx + 0.5f - g, v0 = (float)cy + 0.5f - g;
+                float x0 = gr->mx + gr->ax * u0 + gr->bx * v0;
+                float y0 = gr->my + gr->ay * u0 + gr->by * v0;
+                if (im->fast) {
+                    float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
+                    float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
+                    s = fsample_in(im, x0, y0) + fsample_in(im, x0 + dx1, y0 + dy1) +
+                        fsample_in(im, x0 - dx1, y0 - dy1) + fsample_in(im, x0 + dx2, y0 + dy2) +
+                        fsample_in(im, x0 - dx2, y0 - dy2);
+                    m[cy * n + cx] = s * 0.2f;
+                    continue;
+                }
+                for (b = 0; b < 3; b++)
+                    for (a = 0; a < 3; a++)
+                        s += fsample_in(im, x0 + ou[a] + pu[b], y0 + ov[a] + pv[b]);
+                m[cy * n + cx] = s * (1.0f / 9.0f);
+            }
+        return;
+    }
     for (cy = 0; cy < n; cy++)
         for (cx = 0; cx < n; cx++) {
             float s = 0.0f, u0 = (float)cx + 0.5f - g, v0 = (float)cy + 0.5f - g;
@@ -928,7 +987,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     actag_point q[4];
     actag_match mu, mm;
     ml_result ml;
-    float margin = 0.0f, noise2 = 0.0f;
+    float margin = 0.0f, noise2 = 0.0f, look;
     int nknown = 0;
     memset(&ml, 0, sizeof ml);
     uint32_t w = 0, e, diff, keep;
@@ -1118,12 +1177,20 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 conf[i] = -0.01f;
             w = (w << 1) | (conf[i] > 0.0f ? 1u : 0u);
         }
+        /* the bit margin needs no template check: refuse before it */
+        if (ml.h2 - ml.best.hamming < fp->min_bit_margin)
+            return ACTAG_ERR_NO_MATCH;
+        /* Look-elsewhere allowance: the best of N hypotheses (8 views of
+         * every code, times the grids the wide search tries) beats the
+         * next by ln N on pure noise; the margin counts what is left. */
+        look = actag_logf(8.0f * (float)family->ncodes *
+                          ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
         /* log-likelihood ratio best : runner-up under Gaussian cell noise */
         margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ML_Q) / noise2;
         if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
             uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
             float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
-            float rss0 = 0.0f, rss2 = 1e30f, s2, floor2;
+            float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, floor2;
             int jj, nc = 1, erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
             int cid[2 * ML_TOP], cview[2 * ML_TOP], ncand = 0;
             /* candidates: the likeliest readings on the fitted grid, and on
@@ -1177,28 +1244,29 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                     fcells(&im, &g, k, mt);
                     r = template_rss(mt, L, k, erase, &nc);
                 }
-                if (jj == 0)
+                if (jj == 0) {
                     rss0 = r;
-                else if (r < rss2)
+                    s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
+                    floor2 = ACTAG_FIT_MIN_NOISE * 2.0f * contrast;
+                    floor2 *= floor2;
+                    if (s2 < floor2)
+                        s2 = floor2;
+                    continue;
+                }
+                /* Another hypothesis explains the cells better once each
+                 * has its own grid (the code-agnostic reading cannot be
+                 * trusted), or too nearly as well: refuse now. The margin
+                 * only falls as rss2 does, so the first such hypothesis
+                 * decides exactly what the least one would. */
+                if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin)
+                    return ACTAG_ERR_NO_MATCH;
+                if (r < rss2)
                     rss2 = r;
             }
-            /* another hypothesis explains the cells better once each has
-             * its own grid: the code-agnostic reading cannot be trusted */
-            if (rss2 <= rss0)
-                return ACTAG_ERR_NO_MATCH;
-            s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
-            floor2 = ACTAG_FIT_MIN_NOISE * 2.0f * contrast;
-            floor2 *= floor2;
-            if (s2 < floor2)
-                s2 = floor2;
             margin = 0.5f * (rss2 - rss0) / s2;
         }
-        /* Look-elsewhere allowance: the best of N hypotheses (8 views of
-         * every code, times the grids the wide search tries) beats the
-         * next by ln N on pure noise; the margin counts what is left. */
-        margin -= actag_logf(8.0f * (float)family->ncodes *
-                       ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
-        if (margin < fp->min_margin || ml.h2 - ml.best.hamming < fp->min_bit_margin)
+        margin -= look;
+        if (margin < fp->min_margin)
             return ACTAG_ERR_NO_MATCH;
         out->bit_margin = ml.h2 - ml.best.hamming;
     }
