@@ -134,7 +134,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
                hypotf(truth_px[1].x - truth_px[3].x, truth_px[1].y - truth_px[3].y);
     }
     c->frames++;
-    c->visible += visible;
+    c->visible += visible > 0;
     nd = te_full_frame(fr, g, p, ws, wss, det, 16);
     if (nd < 0) {
         snprintf(m, sizeof m, "actag_detect failed: %s", actag_strerror(nd));
@@ -143,7 +143,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
     c->full_pixels += (double)fr->rows * fr->cols;
     for (i = 0; i < nd; i++) {
         actag_point dc = te_centre(det[i].corners);
-        int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : 1;
+        int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : visible >= 0;
         if (at && det[i].id == tag_id && !found)
             found = 1;
         else if (at && det[i].id != tag_id)
@@ -151,7 +151,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
         else
             c->full_false++;
     }
-    c->full_found += found && visible;
+    c->full_found += found && visible > 0;
     for (i = 0; i < run->tr.ntracks; i++)
         tracked |= run->tr.tracks[i].confirmed;
     if (tracked)
@@ -170,9 +170,11 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
     }
     for (i = 0; i < nt; i++) {
         actag_point dc = te_centre(out[i].corners);
-        int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : 1;
+        int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : visible >= 0;
         if (te_switched(&run->ids, out[i].track_id, out[i].id))
             c->id_switches++;
+        if (!truth_px && visible < 0 && !out[i].measured)
+            continue; /* a track coasting through a tag-free file: no reading */
         if (at && out[i].id == tag_id && !rep) {
             rep = 1;
             read = out[i].measured;
@@ -183,10 +185,10 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
             c->track_false++;
         }
     }
-    c->track_read += read && visible;
-    c->track_reported += rep && visible;
+    c->track_read += read && visible > 0;
+    c->track_reported += rep && visible > 0;
     if (at_tid != 0) {
-        if (run->tag_track != 0 && at_tid != run->tag_track && visible)
+        if (run->tag_track != 0 && at_tid != run->tag_track && visible > 0)
             c->breaks++;
         run->tag_track = at_tid;
     }
@@ -298,8 +300,8 @@ int te_run_sequences(const sim_sonar *s, const sim_view_params *v, const sim_app
 /* ------------------------------------------------------------ files */
 
 int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
-                 const actag_family *fam, float tag_size, int tag_id, const te_options *o,
-                 te_counts *out, char *err)
+                 const actag_family *fam, float tag_size, int tag_id, const int *visible,
+                 const te_options *o, te_counts *out, char *err)
 {
     te_run *run = (te_run *)calloc(1, sizeof *run);
     actag_params p, rp;
@@ -343,7 +345,7 @@ int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
         fr.cols = im.cols;
         fr.stride = im.stride;
         fr.depth = im.depth;
-        te_frame(run, &fr, g, &p, &rp, ws, wss, NULL, 1, tag_id, out);
+        te_frame(run, &fr, g, &p, &rp, ws, wss, NULL, visible ? visible[i] : 1, tag_id, out);
         hostio_image_free(&im);
     }
     free(ws);

@@ -58,10 +58,12 @@ int te_run_sequences(const sim_sonar *s, const sim_view_params *v, const sim_app
                      const te_options *o, te_counts *out, int quiet);
 
 /* Frames from files (8-bit PGM), in the order given, with one sonar
- * geometry; tag_id is the ID present. Returns 0, or -1 with a message in
- * err (HOSTIO_ERRLEN). */
+ * geometry; tag_id is the ID present. visible[i] (NULL: all 1): 1 the whole
+ * tag is in view (counts for recall), 0 part of it (a reading of tag_id is
+ * neither counted nor an error), -1 no tag (every reading is a false tag).
+ * Returns 0, or -1 with a message in err (HOSTIO_ERRLEN). */
 int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
-                 const actag_family *fam, float tag_size, int tag_id, const te_options *o,
+                 const actag_family *fam, float tag_size, int tag_id, const int *visible, const te_options *o,
                  te_counts *out, char *err);
 
 /* Text or one JSON object (no newline). */
