@@ -84,6 +84,7 @@ void actag_tuning_default(actag_tuning *t)
     t->search_range_scale = 0.75f;
     t->search_max_corrections = 3;
     t->search_min_margin = ACTAG_SEARCH_MIN_MARGIN;
+    t->refine_corners = 1;
     t->limits.max_contours = ACTAG_LIMIT_CONTOURS;
     t->limits.max_contour_points = ACTAG_LIMIT_CONTOUR_POINTS;
     t->limits.max_contour_iterations = ACTAG_LIMIT_CONTOUR_ITERATIONS;
@@ -374,6 +375,26 @@ static void fill_det(actag_detection *d, const actag_decode_result *dr,
         d->corners[c] = corners[c];
         d->range[c] = actag_geometry_range(geometry, rows, corners[c].y);
         d->azimuth[c] = actag_geometry_azimuth(geometry, cols, corners[c].x);
+    }
+}
+
+/* Sub-pixel corners for a reported tag: its decoded template fitted to the
+ * filtered frame; the corners (and their range and azimuth) move when the
+ * fit is accepted, nothing else. */
+static void refine_det(actag_detection *d, const uint8_t *grey, int rows, int cols,
+                       const actag_sonar_geometry *geometry, const actag_params *params)
+{
+    actag_refine_params rp;
+    actag_point fine[4];
+    int c;
+    actag_refine_params_default(&rp);
+    if (actag_refine_corners(grey, rows, cols, cols, geometry, params->tag_size, params->family,
+                             d->id, d->corners, &rp, fine, NULL) != ACTAG_OK)
+        return;
+    for (c = 0; c < 4; c++) {
+        d->corners[c] = fine[c];
+        d->range[c] = actag_geometry_range(geometry, rows, fine[c].y);
+        d->azimuth[c] = actag_geometry_azimuth(geometry, cols, fine[c].x);
     }
 }
 
@@ -760,6 +781,11 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
     for (k = 0; k < nsk; k++)
         if (!sk_used[k])
             record(out, max_out, &nout, &st, &sk[k]);
+    /* 7. the reported tags' corners refined on the filtered frame (refine.h);
+     * which tags, IDs, handedness and corner order stay as they are */
+    if (params->tuning.refine_corners)
+        for (k = 0; k < nout && k < max_out; k++)
+            refine_det(&out[k], w.b, rows, cols, geometry, params);
     if (stats)
         *stats = st;
     return nout;

@@ -201,6 +201,9 @@ static int tuning_check(const actag_tuning *t, int lv, actag_error_detail *d)
     if (!in_range_open(t->search_range_scale, 0.05f, 4.0f))
         return fail(d, ACTAG_ERR_PARAM, TN(lv, "search_range_scale"), t->search_range_scale,
                     "must be a number > 0.05 and <= 4");
+    if (t->refine_corners != 0 && t->refine_corners != 1)
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "refine_corners"), t->refine_corners,
+                    "must be 0 or 1");
     if (t->limits.max_contours < 1)
         return fail(d, ACTAG_ERR_PARAM, TN(lv, "limits.max_contours"), t->limits.max_contours,
                     "must be an integer >= 1");

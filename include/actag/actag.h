@@ -116,6 +116,7 @@
 #include "actag/geometry.h"
 #include "actag/median.h"
 #include "actag/quad.h"
+#include "actag/refine.h"
 #include "actag/rng.h"
 #include "actag/search.h"
 #include "actag/threshold.h"
@@ -222,6 +223,10 @@ typedef struct actag_tuning {
     float search_range_scale;   /* ratio, (0.05, 4] (default 0.75): expected range extent of a
                                    tag / tag_size in the search (tilted tags look shorter in
                                    range). Lower it for tags seen mostly edge-on in range. */
+    int refine_corners;         /* 0 or 1 (default 1): each detection's corners refined by
+                                   fitting its decoded template to the filtered frame
+                                   (refine.h); the corners move, nothing else changes. 0
+                                   reports the quad's or the fit decoder's corners. */
     actag_limits limits;        /* work limits per call (see actag_limits above). Raise them
                                    only if stats report a limit reached on real frames. */
 } actag_tuning;

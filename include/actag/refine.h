@@ -1,0 +1,118 @@
+/*
+ * actag/refine.h -- sub-pixel corners of a decoded tag: the whole known
+ *                   template fitted to the grey image.
+ *
+ * MANUAL
+ *   The last stage of the sonar detector. The quad stage's corners come from
+ *   a RANSAC fit to the binary contour of the white blob, the fit decoder's
+ *   from a cell grid judged by 9 samples per cell: both are off by a pixel
+ *   or two (simulated at the paper's settings: sd 0.9 cm in range and 0.004
+ *   rad in azimuth per corner, nearly independent between corners), which
+ *   is 7 % of the inner square of a 13 cm tag and sets the pose's
+ *   orientation error (docs/pose.md). Once a tag is decoded its whole
+ *   appearance is known: the data ring (the code), the black ring, the white
+ *   interior. This stage fits that template to every pixel of the tag at
+ *   once, so each corner rests on all the tag's edges instead of the few
+ *   contour points near it.
+ *
+ *     actag_refine_params rp;
+ *     actag_point fine[4];
+ *     actag_refine_params_default(&rp);
+ *     if (actag_refine_corners(grey, rows, cols, cols, &fam, det.id, det.corners,
+ *                              &rp, fine, NULL) == ACTAG_OK)
+ *         ... fine[0..3] replace det.corners ...
+ *
+ *   Model. The tag's cell grid (u, v in cells, 0 .. k+1 on the grid lines,
+ *   u to the right and v down as printed, decode.h) maps into the image by
+ *   an affine map x = m + a (u - g) + b (v - g), g = (k+1)/2: a sonar image
+ *   has no perspective, and over one tag the map from the tag's plane to
+ *   (range, azimuth) is affine to well under a pixel. The template P(u, v)
+ *   is the tag's layout (1 white, 0 black; outside the tag 0), each cell's
+ *   indicator smoothed across its edges by a cubic step `blur` pixels wide
+ *   on either side (the beam's point spread). The grey level is modelled as
+ *       I = c0 + c1 P + c2 P u' + c3 P v' + c4 u' + c5 v',
+ *   u' = (u - g)/(k+1), v' likewise: two levels whose contrast and offset
+ *   may vary linearly across the tag (the elevation beam pattern brightens
+ *   one side). For given grid numbers the six levels c are the linear
+ *   least-squares fit; the grid's six numbers are fitted by Gauss-Newton
+ *   (Levenberg-Marquardt damping) on the residuals with c held at each
+ *   step, with analytic derivatives of the template (no image gradients,
+ *   which speckle makes noisy). Two passes: the first with the template's
+ *   edges 0.4 cell wide (a wide basin for corners a cell off), the second
+ *   with `blur`.
+ *
+ *   Pixels: every pixel (centres on integer coordinates) whose grid
+ *   position under the START map lies within [margin, k+1-margin] in u and
+ *   v (the outer edge of the data ring borders an unknown background),
+ *   subsampled on a regular lattice to at most max_samples pixels; the set
+ *   is fixed during the fit. Pixels outside the image are not used.
+ *
+ *   Safety. The refined corners are returned only when the fit converged
+ *   to a proper grid (finite, the same handedness as the start, side
+ *   lengths within 25 % of the start's) and no corner moved more than
+ *   max_shift cells from its start; otherwise the start corners are copied
+ *   to out and ACTAG_ERR_NO_MATCH returned. The ID, handedness and corner
+ *   order are never changed: this stage moves corners only.
+ *
+ *   Deterministic: + - * / and sqrtf only, float. No memory beyond a few
+ *   hundred bytes of stack; no workspace. Cost: about (2 + 2 iterations) x
+ *   max_samples template evaluations per pass, well under a millisecond
+ *   for one tag on a desktop core.
+ *
+ *   actag_refine_params_default(&rp)
+ *       blur 2 px, margin 0.3 cell, max_iterations 8 per pass, max_shift
+ *       0.5 cell, max_samples 6000.
+ *   actag_refine_corners(img, rows, cols, stride, family, id, corners, rp, out, info)
+ *       img: 8-bit grey image (the detector passes its median-filtered
+ *       frame); corners: the white square's corners in tag order (TL, TR,
+ *       BR, BL as printed, as actag_detection.corners); id: the decoded
+ *       code. info (may be NULL) receives the fit's figures.
+ *
+ * ERRORS
+ *   ACTAG_ERR_NULL    img, family, corners, rp or out is NULL
+ *   ACTAG_ERR_SIZE    rows or cols < 1 or > ACTAG_MAX_DIM, stride < cols
+ *   ACTAG_ERR_PARAM   id outside the family, bits not 16..32 (multiple of 4),
+ *                     a non-finite or degenerate corner quad, rp out of range
+ *                     (blur in [0.25, 20], margin in [0, 1], max_iterations
+ *                     1..50, max_shift in (0, 2], max_samples 64..100000)
+ *   ACTAG_ERR_NO_MATCH the fit did not give acceptable corners (out = corners)
+ */
+#ifndef ACTAG_REFINE_H
+#define ACTAG_REFINE_H
+
+#include "actag/common.h"
+#include "actag/family.h"
+#include "actag/geometry.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct actag_refine_params {
+    float blur;         /* template edge half-width, pixels (2) */
+    float margin;       /* cells left out inside the tag's outline (0.3) */
+    int max_iterations; /* Gauss-Newton steps per pass (8) */
+    float max_shift;    /* largest corner move accepted, cells (0.5) */
+    int max_samples;    /* most pixels used (6000) */
+} actag_refine_params;
+
+typedef struct actag_refine_info {
+    int samples;      /* pixels used */
+    int iterations;   /* steps taken, both passes */
+    float rms;        /* residual rms, grey levels */
+    float contrast;   /* fitted white minus black at the tag centre, grey levels */
+    float shift;      /* largest corner move, pixels */
+} actag_refine_info;
+
+void actag_refine_params_default(actag_refine_params *rp);
+
+int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
+                         const actag_sonar_geometry *geometry, float tag_size,
+                         const actag_family *family, int id, const actag_point corners[4],
+                         const actag_refine_params *rp, actag_point out[4],
+                         actag_refine_info *info);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACTAG_REFINE_H */
