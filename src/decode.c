@@ -1,156 +1,10 @@
 /* Decode stage: quad -> homography -> sampled data ring -> family match. */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/decode.h"
+#include "decode_common.h"
 
 #include <math.h>
 #include <string.h>
-
-/* 1 for 16, 20, 24, 28, 32 data bits. */
-static int bits_ok(int bits) { return bits >= 16 && bits <= 32 && bits % 4 == 0; }
-
-/* +1 if quad is strictly convex and clockwise on screen (x right, y down),
- * -1 if strictly convex and counter-clockwise, 0 if degenerate. Every turn
- * must have |sin| > 1e-3 and the same sign; NaN/inf fail the comparisons. */
-static int quad_orientation(const actag_point q[4])
-{
-    int i, pos = 0, neg = 0;
-    for (i = 0; i < 4; i++) {
-        const actag_point *a = &q[i], *b = &q[(i + 1) & 3], *c = &q[(i + 2) & 3];
-        float e1x = b->x - a->x, e1y = b->y - a->y;
-        float e2x = c->x - b->x, e2y = c->y - b->y;
-        float z = e1x * e2y - e1y * e2x;
-        float l = (e1x * e1x + e1y * e1y) * (e2x * e2x + e2y * e2y);
-        /* z^2 > 1e-6 * |e1|^2 |e2|^2  <=>  |sin(turn)| > 1e-3 */
-        if (!(z * z > 1e-6f * l) || !(l <= 3.0e38f))
-            return 0;
-        if (z > 0.0f)
-            pos++;
-        else
-            neg++;
-    }
-    return pos == 4 ? 1 : (neg == 4 ? -1 : 0);
-}
-
-void actag_homography_apply(const float H[9], float u, float v, actag_point *out)
-{
-    float w = H[6] * u + H[7] * v + H[8];
-    out->x = (H[0] * u + H[1] * v + H[2]) / w;
-    out->y = (H[3] * u + H[4] * v + H[5]) / w;
-}
-
-int actag_tag_homography(const actag_point quad[4], int bits, float H[9])
-{
-    float x0, y0, x1, y1, x2, y2, x3, y3, dx1, dx2, dx3, dy1, dy2, dy3;
-    float a, b, c, d, e, f, g, h, den, il;
-    int k, i;
-    if (quad == NULL || H == NULL)
-        return ACTAG_ERR_NULL;
-    if (!bits_ok(bits))
-        return ACTAG_ERR_PARAM;
-    if (quad_orientation(quad) == 0)
-        return ACTAG_ERR_PARAM;
-    k = bits / 4;
-    x0 = quad[0].x; y0 = quad[0].y;
-    x1 = quad[1].x; y1 = quad[1].y;
-    x2 = quad[2].x; y2 = quad[2].y;
-    x3 = quad[3].x; y3 = quad[3].y;
-    /* Unit square (s,t) -> quad with (0,0),(1,0),(1,1),(0,1) -> q0..q3
-     * (Heckbert's closed form; g = h = 0 for a parallelogram). */
-    dx1 = x1 - x2; dx2 = x3 - x2; dx3 = x0 - x1 + x2 - x3;
-    dy1 = y1 - y2; dy2 = y3 - y2; dy3 = y0 - y1 + y2 - y3;
-    den = dx1 * dy2 - dx2 * dy1;
-    if (!(den != 0.0f))
-        return ACTAG_ERR_PARAM;
-    g = (dx3 * dy2 - dx2 * dy3) / den;
-    h = (dx1 * dy3 - dx3 * dy1) / den;
-    a = x1 - x0 + g * x1; b = x3 - x0 + h * x3; c = x0;
-    d = y1 - y0 + g * y1; e = y3 - y0 + h * y3; f = y0;
-    /* Then grid -> unit square: s = (u - 2) / (k - 3), t = (v - 2) / (k - 3). */
-    il = 1.0f / (float)(k - 3);
-    H[0] = a * il; H[1] = b * il; H[2] = c - 2.0f * (a + b) * il;
-    H[3] = d * il; H[4] = e * il; H[5] = f - 2.0f * (d + e) * il;
-    H[6] = g * il; H[7] = h * il; H[8] = 1.0f - 2.0f * (g + h) * il;
-    for (i = 0; i < 9; i++)
-        if (!(H[i] >= -3.0e38f && H[i] <= 3.0e38f))
-            return ACTAG_ERR_PARAM;
-    /* w is affine in (u,v): positive at the 4 corners of the whole (k+1)^2
-     * grid means no tag point is sent through infinity. */
-    for (i = 0; i < 4; i++) {
-        float u = (i == 1 || i == 2) ? (float)(k + 1) : 0.0f;
-        float v = (i >= 2) ? (float)(k + 1) : 0.0f;
-        if (!(H[6] * u + H[7] * v + H[8] > 0.0f))
-            return ACTAG_ERR_PARAM;
-    }
-    return ACTAG_OK;
-}
-
-int actag_tag_affine(const actag_point quad[4], int bits, float H[9])
-{
-    float h, g, ax, bx, ay, by, mx, my;
-    int i;
-    if (quad == NULL || H == NULL)
-        return ACTAG_ERR_NULL;
-    if (!bits_ok(bits))
-        return ACTAG_ERR_PARAM;
-    if (quad_orientation(quad) == 0)
-        return ACTAG_ERR_PARAM;
-    /* Least squares over the 4 corners. The grid corners are a square of
-     * half side h about g = (k+1)/2, so the normal equations are diagonal:
-     * the columns are the mean side vectors, the offset the centroid. */
-    h = (float)(bits / 4 - 3) * 0.5f;
-    g = (float)(bits / 4 + 1) * 0.5f;
-    ax = ((quad[1].x - quad[0].x) + (quad[2].x - quad[3].x)) / (4.0f * h);
-    ay = ((quad[1].y - quad[0].y) + (quad[2].y - quad[3].y)) / (4.0f * h);
-    bx = ((quad[3].x - quad[0].x) + (quad[2].x - quad[1].x)) / (4.0f * h);
-    by = ((quad[3].y - quad[0].y) + (quad[2].y - quad[1].y)) / (4.0f * h);
-    mx = ((quad[0].x + quad[2].x) + (quad[1].x + quad[3].x)) * 0.25f;
-    my = ((quad[0].y + quad[2].y) + (quad[1].y + quad[3].y)) * 0.25f;
-    H[0] = ax; H[1] = bx; H[2] = mx - (ax + bx) * g;
-    H[3] = ay; H[4] = by; H[5] = my - (ay + by) * g;
-    H[6] = 0.0f; H[7] = 0.0f; H[8] = 1.0f;
-    for (i = 0; i < 6; i++)
-        if (!(H[i] >= -3.0e38f && H[i] <= 3.0e38f))
-            return ACTAG_ERR_PARAM;
-    return ACTAG_OK;
-}
-
-/* The grid -> image map of the chosen model. */
-static int tag_map(const actag_point quad[4], int bits, int model, float H[9])
-{
-    if (model == ACTAG_DECODE_AFFINE)
-        return actag_tag_affine(quad, bits, H);
-    if (model == ACTAG_DECODE_PROJECTIVE)
-        return actag_tag_homography(quad, bits, H);
-    return ACTAG_ERR_PARAM;
-}
-
-/* Cell (cx, cy) of data bit i (sequence position, 0 = MSB). */
-static void bit_cell(int i, int k, int *cx, int *cy)
-{
-    int side = i / k, j = i % k;
-    switch (side) {
-    case 0: *cx = j; *cy = 0; break;
-    case 1: *cx = k; *cy = j; break;
-    case 2: *cx = k - j; *cy = k; break;
-    default: *cx = 0; *cy = k - j; break;
-    }
-}
-
-int actag_decode_bit_positions(const actag_point quad[4], int bits, actag_point *out)
-{
-    float H[9];
-    int i, cx, cy, rc;
-    if (quad == NULL || out == NULL)
-        return ACTAG_ERR_NULL;
-    rc = tag_map(quad, bits, ACTAG_DECODE_DEFAULT_MODEL, H);
-    if (rc != ACTAG_OK)
-        return rc;
-    for (i = 0; i < bits; i++) {
-        bit_cell(i, bits / 4, &cx, &cy);
-        actag_homography_apply(H, (float)cx + 0.5f, (float)cy + 0.5f, &out[i]);
-    }
-    return ACTAG_OK;
-}
 
 typedef struct sampler {
     const uint8_t *img;
@@ -192,19 +46,10 @@ static uint32_t read_word(const sampler *s, int bits)
     uint32_t w = 0;
     int i, cx, cy;
     for (i = 0; i < bits; i++) {
-        bit_cell(i, bits / 4, &cx, &cy);
+        actag_tag_bit_cell(bits, i, &cx, &cy);
         w = (w << 1) | (cell_votes(s, cx, cy) >= 5 ? 1u : 0u);
     }
     return w;
-}
-
-static int check_image(const uint8_t *binary, int rows, int cols, int stride)
-{
-    if (binary == NULL)
-        return ACTAG_ERR_NULL;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
-        return ACTAG_ERR_SIZE;
-    return ACTAG_OK;
 }
 
 int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride,
@@ -214,10 +59,10 @@ int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride
     int rc;
     if (binary == NULL || quad == NULL || word == NULL)
         return ACTAG_ERR_NULL;
-    rc = check_image(binary, rows, cols, stride);
+    rc = decode_check_image(binary, rows, cols, stride);
     if (rc != ACTAG_OK)
         return rc;
-    rc = tag_map(quad, bits, model, s.H);
+    rc = actag_tag_map(quad, bits, model, s.H);
     if (rc != ACTAG_OK)
         return rc;
     s.img = binary;
@@ -230,17 +75,7 @@ int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride
 
 uint32_t actag_decode_mirror(uint32_t word, int bits)
 {
-    /* Sequence position s <- (-s) mod n: position 0 (the MSB) stays, the
-     * remaining n-1 positions are reversed. */
-    uint32_t msb, r = 0;
-    int i;
-    if (bits < 2 || bits > 32)
-        return word;
-    msb = (uint32_t)1u << (bits - 1);
-    for (i = 0; i < bits - 1; i++)
-        if (word & ((uint32_t)1u << i))
-            r |= (uint32_t)1u << (bits - 2 - i);
-    return r | (word & msb);
+    return actag_code_mirror(word, bits);
 }
 
 /* actag_family_match_rotations() counting only the bits in keep (a set of
@@ -294,44 +129,6 @@ static int match_both(const actag_family *family, uint32_t w, uint32_t keep, int
     return (*du > max_corrections && *dm > max_corrections) ? ACTAG_ERR_NO_MATCH : ACTAG_OK;
 }
 
-/* Picks the handedness with fewer corrected bits (unmirrored on a tie) and
- * fills id, hamming, mirrored, rotation, mirror_margin and the corners in
- * tag order from the clockwise-on-screen quad q:
- *   unmirrored, observed == rot^r(code): screen cell s shows code cell
- *     s + rk, so q[n] is printed corner n + r;
- *   mirrored, P(observed) == rot^r(code): screen cell s shows code cell
- *     rk - s, so q[n] is printed corner r - n. */
-static void set_orientation(actag_decode_result *out, const actag_point q[4],
-                            const actag_match *mu, int du, const actag_match *mm, int dm)
-{
-    int i, mirrored = dm < du;
-    const actag_match *m = mirrored ? mm : mu;
-    int r = m->rotation;
-    out->id = m->id;
-    out->hamming = mirrored ? dm : du;
-    out->mirrored = mirrored;
-    out->rotation = r;
-    out->mirror_margin = mirrored ? du - dm : dm - du;
-    for (i = 0; i < 4; i++)
-        out->corners[i] = mirrored ? q[(r - i + 4) & 3] : q[(i - r + 4) & 3];
-}
-
-/* set_orientation() with the handedness given (the ML decoder's choice);
- * mirror_margin = the other handedness' distance minus this one's (it may
- * be negative when likelihood prefers the reading with more flipped bits). */
-static void set_orientation_as(actag_decode_result *out, const actag_point q[4],
-                               const actag_match *m, int mirrored, int dm, int du)
-{
-    int i, r = m->rotation;
-    out->id = m->id;
-    out->hamming = m->hamming;
-    out->mirrored = mirrored;
-    out->rotation = r;
-    out->mirror_margin = mirrored ? du - dm : dm - du;
-    for (i = 0; i < 4; i++)
-        out->corners[i] = mirrored ? q[(r - i + 4) & 3] : q[(i - r + 4) & 3];
-}
-
 int actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
                       const actag_point quad[4], const actag_family *family,
                       int max_corrections, actag_decode_result *out)
@@ -348,11 +145,11 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     actag_point q[4];
     actag_match mu, mm;
     uint32_t w;
-    int rc, maxc, bits, k, du, dm, i, orient, cx, cy;
+    int rc, maxc, bits, k, du, dm, cx, cy;
     int ring_n = 0, ring_black = 0, in_n = 0, in_white = 0;
     if (binary == NULL || quad == NULL || family == NULL || out == NULL)
         return ACTAG_ERR_NULL;
-    rc = check_image(binary, rows, cols, stride);
+    rc = decode_check_image(binary, rows, cols, stride);
     if (rc != ACTAG_OK)
         return rc;
     rc = actag_family_validate(family);
@@ -366,13 +163,10 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
 
     /* Clockwise on screen, quad[0] first, so that "mirrored" means mirrored
      * on screen whatever order the quad stage used. */
-    orient = quad_orientation(quad);
-    if (orient == 0)
-        return ACTAG_ERR_PARAM;
-    q[0] = quad[0];
-    for (i = 1; i < 4; i++)
-        q[i] = quad[orient > 0 ? i : 4 - i];
-    rc = tag_map(q, bits, model, s.H);
+    rc = actag_tag_quad_clockwise(quad, q);
+    if (rc != ACTAG_OK)
+        return rc;
+    rc = actag_tag_map(q, bits, model, s.H);
     if (rc != ACTAG_OK)
         return rc;
     s.img = binary;
@@ -406,7 +200,12 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     out->min_confidence = 0.0f;
     out->ring_black = ring_n ? (float)ring_black / (float)ring_n : 1.0f;
     out->interior_white = in_n ? (float)in_white / (float)in_n : 1.0f;
-    set_orientation(out, q, &mu, du, &mm, dm);
+    if (dm < du) { /* the handedness with fewer corrected bits, unmirrored on a tie */
+        mm.mirrored = 1;
+        decode_set_reading(out, q, &mm, du);
+    } else {
+        decode_set_reading(out, q, &mu, dm);
+    }
     out->decision_margin = (float)out->mirror_margin; /* the hard decoder: other handedness */
     return ACTAG_OK;
 }
@@ -765,7 +564,7 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
 static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
 {
     int cx, cy;
-    bit_cell(i, k, &cx, &cy);
+    actag_tag_bit_cell(4 * k, i, &cx, &cy);
     *rx = cx < 1 ? 1 : cx > k - 1 ? k - 1 : cx;
     *ry = cy < 1 ? 1 : cy > k - 1 ? k - 1 : cy;
     *wx = *rx < 2 ? 2 : *rx > k - 2 ? k - 2 : *rx;
@@ -919,14 +718,10 @@ static void layout_of(const actag_family *family, int id, int view, int k, uint8
     for (i = 0; i < (view & 3); i++)
         e = actag_code_rot90(e, bits);
     if (view >> 2)
-        e = actag_decode_mirror(e, bits);
+        e = actag_code_mirror(e, bits);
     for (cy = 0; cy < n; cy++)
         for (cx = 0; cx < n; cx++)
-            L[cy * n + cx] = (uint8_t)(cx >= 2 && cy >= 2 && cx <= k - 2 && cy <= k - 2);
-    for (i = 0; i < bits; i++) {
-        bit_cell(i, k, &cx, &cy);
-        L[cy * n + cx] = (uint8_t)((e >> (bits - 1 - i)) & 1u);
-    }
+            L[cy * n + cx] = (uint8_t)actag_tag_cell_value(e, bits, cx, cy);
 }
 
 /* Residual of the cell means against a layout after a two-level (black,
@@ -985,16 +780,15 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     float conf[32], black, white, contrast, flips = 0.0f, minc = 1e30f;
     actag_point q[4];
-    actag_match mu, mm;
     ml_result ml;
     float margin = 0.0f, noise2 = 0.0f, look;
     int nknown = 0;
     memset(&ml, 0, sizeof ml);
     uint32_t w = 0, e, diff, keep;
-    int rc, maxc, bits, k, n, du, dm, i, orient, ring_ok = 0, in_ok = 0, cx, cy;
+    int rc, maxc, bits, k, n, i, ring_ok = 0, in_ok = 0, cx, cy;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
-    rc = check_image(grey, rows, cols, stride);
+    rc = decode_check_image(grey, rows, cols, stride);
     if (rc != ACTAG_OK)
         return rc;
     rc = actag_family_validate(family);
@@ -1013,14 +807,10 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     n = k + 1;
     keep = actag_code_mask(bits);
     if (flags & ACTAG_FIT_ERASE_CORNERS)
-        for (i = 0; i < 4; i++) /* sequence positions 0, k, 2k, 3k */
-            keep &= ~((uint32_t)1u << (bits - 1 - i * k));
-    orient = quad_orientation(quad);
-    if (orient == 0)
-        return ACTAG_ERR_PARAM;
-    q[0] = quad[0];
-    for (i = 1; i < 4; i++)
-        q[i] = quad[orient > 0 ? i : 4 - i];
+        keep &= ~actag_code_corners(bits);
+    rc = actag_tag_quad_clockwise(quad, q);
+    if (rc != ACTAG_OK)
+        return rc;
     rc = actag_tag_affine(q, bits, H);
     if (rc != ACTAG_OK)
         return rc;
@@ -1082,7 +872,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         noise2 = ACTAG_FIT_MIN_NOISE * ACTAG_FIT_MIN_NOISE;
     for (i = 0; i < bits; i++) {
         float t, c;
-        bit_cell(i, k, &cx, &cy);
+        actag_tag_bit_cell(4 * k, i, &cx, &cy);
         if (flags & ACTAG_FIT_LOCAL) {
             int rx, ry, wx, wy;
             fref_cells(i, k, &rx, &ry, &wx, &wy);
@@ -1209,7 +999,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 if (wq - bq > 0.0f) {
                     for (i = 0; i < bits; i++) {
                         float t;
-                        bit_cell(i, k, &cx, &cy);
+                        actag_tag_bit_cell(4 * k, i, &cx, &cy);
                         if (flags & ACTAG_FIT_LOCAL) {
                             int rx, ry, wx, wy;
                             fref_cells(i, k, &rx, &ry, &wx, &wy);
@@ -1274,16 +1064,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     out->observed = w;
     out->ring_black = (float)ring_ok / (float)(4 * (k - 2));
     out->interior_white = (float)in_ok / (float)((k - 3) * (k - 3));
-    if (ml.best.mirrored) {
-        mm = ml.best;
-        dm = ml.best.hamming;
-        du = ml.other;
-    } else {
-        mu = ml.best;
-        du = ml.best.hamming;
-        dm = ml.other;
-    }
-    set_orientation_as(out, q, ml.best.mirrored ? &mm : &mu, ml.best.mirrored, dm, du);
+    decode_set_reading(out, q, &ml.best, ml.other);
     out->decision_margin = margin;
     /* the word a perfect reading would have given */
     e = family->codes[out->id];
@@ -1301,9 +1082,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             fq[i].x = gr.mx + gr.ax * u + gr.bx * v;
             fq[i].y = gr.my + gr.ay * u + gr.by * v;
         }
-        for (i = 0; i < 4; i++)
-            out->fit_corners[i] = out->mirrored ? fq[(out->rotation - i + 4) & 3]
-                                                : fq[(i - out->rotation + 4) & 3];
+        actag_tag_corners(fq, out->rotation, out->mirrored, out->fit_corners);
     }
     diff = (w ^ e) & keep;
     for (i = 0; i < bits; i++)
