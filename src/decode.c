@@ -78,48 +78,15 @@ uint32_t actag_decode_mirror(uint32_t word, int bits)
     return actag_code_mirror(word, bits);
 }
 
-/* actag_family_match_rotations() counting only the bits in keep (a set of
- * sequence positions closed under rotation and reflection, e.g. all but
- * the four corner cells). */
-static int match_rot_masked(const actag_family *family, uint32_t observed, uint32_t keep,
-                            int max_corrections, actag_match *out)
-{
-    uint32_t obs[4];
-    int o, i, best = 33;
-    if (keep == actag_code_mask(family->bits))
-        return actag_family_match_rotations(family, observed, max_corrections, out);
-    obs[0] = observed & actag_code_mask(family->bits);
-    for (o = 1; o < 4; o++) /* obs[o] = rot^-o(observed) = rot^(4-o) */
-        obs[o] = actag_code_rot90(actag_code_rot90(actag_code_rot90(obs[o - 1], family->bits),
-                                                   family->bits),
-                                  family->bits);
-    for (i = 0; i < family->ncodes; i++) {
-        uint32_t c = family->codes[i];
-        for (o = 0; o < 4; o++) {
-            int d = actag_popcount32((c ^ obs[o]) & keep);
-            if (d < best) {
-                best = d;
-                out->id = i;
-                out->rotation = o;
-                out->mirrored = 0;
-                out->hamming = d;
-            }
-        }
-        if (best == 0)
-            break;
-    }
-    return best > max_corrections ? ACTAG_ERR_NO_MATCH : ACTAG_OK;
-}
-
 /* Matches the word read clockwise on screen (unmirrored) and its reflection
  * P (mirrored) up to the family limit, so the margin between them is known;
  * the caller's limit applies to the better one. Returns ACTAG_OK,
  * ACTAG_ERR_NO_MATCH, or the matcher's error. */
-static int match_both(const actag_family *family, uint32_t w, uint32_t keep, int maxc,
-                      int max_corrections, actag_match *mu, int *du, actag_match *mm, int *dm)
+static int match_both(const actag_family *family, uint32_t w, int maxc, int max_corrections,
+                      actag_match *mu, int *du, actag_match *mm, int *dm)
 {
-    int rcu = match_rot_masked(family, w, keep, maxc, mu);
-    int rcm = match_rot_masked(family, actag_decode_mirror(w, family->bits), keep, maxc, mm);
+    int rcu = actag_family_match_rotations(family, w, maxc, mu);
+    int rcm = actag_family_match_rotations(family, actag_decode_mirror(w, family->bits), maxc, mm);
     if (rcu != ACTAG_OK && rcu != ACTAG_ERR_NO_MATCH)
         return rcu;
     if (rcm != ACTAG_OK && rcm != ACTAG_ERR_NO_MATCH)
@@ -190,7 +157,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
         }
     }
 
-    rc = match_both(family, w, actag_code_mask(bits), maxc, max_corrections, &mu, &du, &mm, &dm);
+    rc = match_both(family, w, maxc, max_corrections, &mu, &du, &mm, &dm);
     if (rc != ACTAG_OK)
         return rc;
 
@@ -572,131 +539,9 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
 }
 
 
-/* Soft maximum-likelihood matching (the fit decoder's matcher).
- * Every code in each of the 8 physical views (rotations, and reflections P
- * of the reading) is scored by its soft distance to the reading: the sum of
- * |c_i| over the bits where the code disagrees with the sign of the bit's
- * confidence c_i (clamped to 1 = the tag's black-to-white contrast).
- * Under independent Gaussian cell noise this ranks codes by likelihood, and
- * the soft distance of the runner-up minus the best's is twice the log
- * likelihood ratio between them in units of contrast^2 / sigma^2: the
- * decision margin. Confidences are quantised to 1/16 so that a distance is
- * five masked popcounts; candidates whose hard distance alone bounds their
- * soft distance above the runner-up's are skipped (exact pruning). */
-#define ML_Q 16
-#define ML_TOP 6 /* readings kept for the template check (4 let a wrong handedness
-                          through on a simulated view read from a contour guess) */
 #ifndef ACTAG_FIT_MIN_NOISE
 #define ACTAG_FIT_MIN_NOISE 0.05f /* floor of the cell noise estimate, confidence units */
 #endif
-typedef struct {
-    actag_match best; /* ML best: id, rotation, mirrored, hamming (hard, kept bits) */
-    int d1, d2;       /* soft distances of the best and the runner-up, 1/ML_Q units */
-    int other;        /* best hard distance of the other handedness */
-    int h2;           /* best hard distance of any other reading */
-    struct {
-        int d, h, id, view; /* view: rotation + 4 * mirrored */
-    } top[ML_TOP];    /* the ML_TOP most likely readings, best first */
-    int ntop;
-} ml_result;
-
-static uint32_t rot_inv(uint32_t w, int o, int bits) /* rot^-o(w) */
-{
-    int s;
-    for (s = 0; s < (4 - o) % 4; s++)
-        w = actag_code_rot90(w, bits);
-    return w;
-}
-
-static void ml_match(const actag_family *family, const float *conf, uint32_t keep, ml_result *res)
-{
-    int bits = family->bits, i, b, v, nk = 0, q[32], lb[33];
-    uint32_t w = 0, plane[5] = {0, 0, 0, 0, 0}, obs[8], pl[8][5];
-    res->d1 = res->d2 = 1 << 28;
-    res->other = 33;
-    res->best.id = res->best.rotation = res->best.mirrored = 0;
-    res->best.hamming = 33;
-    for (i = 0; i < bits; i++) {
-        float a = conf[i] < 0.0f ? -conf[i] : conf[i];
-        int qi = a >= 1.0f ? ML_Q : (int)(a * (float)ML_Q + 0.5f);
-        uint32_t bit = (uint32_t)1u << (bits - 1 - i);
-        if (conf[i] > 0.0f)
-            w |= bit;
-        for (b = 0; b < 5; b++)
-            if (qi & (1 << b))
-                plane[b] |= bit;
-        if (keep & bit)
-            q[nk++] = qi;
-    }
-    /* lb[h]: the least soft distance of h disagreeing kept bits */
-    for (i = 1; i < nk; i++) {
-        int j, t = q[i];
-        for (j = i; j > 0 && q[j - 1] > t; j--)
-            q[j] = q[j - 1];
-        q[j] = t;
-    }
-    lb[0] = 0;
-    for (i = 0; i < nk; i++)
-        lb[i + 1] = lb[i] + q[i];
-    for (v = 0; v < 8; v++) {
-        int o = v & 3, m = v >> 2;
-        obs[v] = rot_inv(m ? actag_decode_mirror(w, bits) : w, o, bits);
-        for (b = 0; b < 5; b++)
-            pl[v][b] = rot_inv(m ? actag_decode_mirror(plane[b], bits) : plane[b], o, bits);
-    }
-    res->ntop = 0;
-    for (i = 0; i < family->ncodes; i++) {
-        uint32_t c = family->codes[i];
-        for (v = 0; v < 8; v++) {
-            uint32_t mis = (c ^ obs[v]) & keep;
-            int h = actag_popcount32(mis), d, j;
-            /* prune: cannot enter the kept list (or beat the runner-up) */
-            if (lb[h] >= res->d2 && (res->ntop == ML_TOP || lb[h] >= res->top[res->ntop - 1].d))
-                continue;
-            d = 0;
-            for (b = 0; b < 5; b++)
-                d += actag_popcount32(mis & pl[v][b]) << b;
-            /* insert into the sorted list of the ML_TOP best readings */
-            if (res->ntop < ML_TOP) {
-                j = res->ntop++;
-            } else {
-                j = ML_TOP - 1;
-                if (!(d < res->top[j].d || (d == res->top[j].d && h < res->top[j].h)))
-                    continue;
-            }
-            while (j > 0 && (d < res->top[j - 1].d || (d == res->top[j - 1].d && h < res->top[j - 1].h))) {
-                res->top[j] = res->top[j - 1];
-                j--;
-            }
-            res->top[j].d = d;
-            res->top[j].h = h;
-            res->top[j].id = i;
-            res->top[j].view = v;
-            res->d1 = res->top[0].d;
-            res->d2 = res->ntop > 1 ? res->top[1].d : 1 << 28;
-        }
-    }
-    if (res->ntop > 0) {
-        res->best.id = res->top[0].id;
-        res->best.rotation = res->top[0].view & 3;
-        res->best.mirrored = res->top[0].view >> 2;
-        res->best.hamming = res->top[0].h;
-    }
-    /* hard distances: the other handedness' best (mirror_margin) and the
-     * best of every reading but the chosen one (the bit margin) */
-    res->h2 = 33;
-    for (i = 0; i < family->ncodes; i++) {
-        uint32_t c = family->codes[i];
-        for (v = 0; v < 8; v++) {
-            int h = actag_popcount32((c ^ obs[v]) & keep);
-            if ((v >> 2) != res->best.mirrored && h < res->other)
-                res->other = h;
-            if (h < res->h2 && !(i == res->best.id && (v & 3) == res->best.rotation &&
-                                 (v >> 2) == res->best.mirrored))
-                res->h2 = h;
-        }
-    }
-}
 
 /* Template check (ACTAG_FIT_VERIFY). Each of the most likely readings is
  * a full hypothesis for all (k+1)^2 cells (data ring from its code, black
@@ -780,7 +625,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     float conf[32], black, white, contrast, flips = 0.0f, minc = 1e30f;
     actag_point q[4];
-    ml_result ml;
+    actag_soft_match ml;
     float margin = 0.0f, noise2 = 0.0f, look;
     int nknown = 0;
     memset(&ml, 0, sizeof ml);
@@ -892,7 +737,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         /* Thresholds: with ACTAG_FIT_SPLIT every split of the sorted data
          * confidences between ACTAG_FIT_SPLIT_LO and _HI (relative to the
          * mid level) is read; otherwise the single threshold 0. Each reading
-         * is matched by likelihood (ml_match); the split whose best code
+         * is matched by likelihood (actag_family_match_soft); the split whose best code
          * needs the fewest corrections wins (then the larger margin). */
         float sv[32], tbest = 0.0f;
         int j, a, nsplit = 0, have = 0;
@@ -913,7 +758,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         }
         for (j = 0; j < nsplit; j++) {
             float t, ct[32];
-            ml_result r;
+            actag_soft_match r;
             int dk;
             long key1;
             if (flags & ACTAG_FIT_SPLIT) {
@@ -927,7 +772,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             }
             for (a = 0; a < bits; a++)
                 ct[a] = conf[a] - t;
-            ml_match(family, ct, keep, &r);
+            rc = actag_family_match_soft(family, ct, keep, &r);
+            if (rc != ACTAG_OK)
+                return rc;
             dk = r.best.hamming;
             if (dk > max_corrections)
                 continue;
@@ -976,13 +823,13 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         look = actag_logf(8.0f * (float)family->ncodes *
                           ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
         /* log-likelihood ratio best : runner-up under Gaussian cell noise */
-        margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ML_Q) / noise2;
+        margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ACTAG_SOFT_SCALE) / noise2;
         if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
             uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
             float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
             float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, floor2;
             int jj, nc = 1, erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
-            int cid[2 * ML_TOP], cview[2 * ML_TOP], ncand = 0;
+            int cid[2 * ACTAG_SOFT_TOP], cview[2 * ACTAG_SOFT_TOP], ncand = 0;
             /* candidates: the likeliest readings on the fitted grid, and on
              * the quad's own grid (the code-agnostic fit may have settled
              * where the right reading is not among its likeliest) */
@@ -992,7 +839,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             }
             {
                 float cq[32], bq, wq;
-                ml_result mq;
+                actag_soft_match mq;
                 int a2, b2;
                 fcells(&im, &g_quad, k, mt);
                 flevels(mt, k, &bq, &wq);
@@ -1009,7 +856,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                         }
                         cq[i] = (mt[cy * n + cx] - t) / (wq - bq);
                     }
-                    ml_match(family, cq, keep, &mq);
+                    rc = actag_family_match_soft(family, cq, keep, &mq);
+                    if (rc != ACTAG_OK)
+                        return rc;
                     for (a2 = 0; a2 < mq.ntop; a2++) {
                         int dup = 0;
                         for (b2 = 0; b2 < ncand; b2++)
