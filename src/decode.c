@@ -344,30 +344,12 @@ static void flevels(const float *m, int k, float *black, float *white)
 #define FIT_INITS 5
 /* grids the ACTAG_FIT_WIDE search compares: 5 starts x (25 + 8) shifts */
 #define FIT_WIDE_GRIDS (FIT_INITS * 33)
-#ifndef ACTAG_FIT_MARGIN
-#define ACTAG_FIT_MARGIN 1
-#endif
-#ifndef FIT_STEEPEST
-#define FIT_STEEPEST 0
-#endif
-#ifndef FIT_MAX_STEPS
-#define FIT_MAX_STEPS 4
-#endif
-#ifndef FIT_FAST_ASCENT
-#define FIT_FAST_ASCENT 0
-#endif
-#ifndef FIT_FAST_SHIFT
-#define FIT_FAST_SHIFT 1
-#endif
-#ifndef ACTAG_FIT_RING_LEVEL
-#define ACTAG_FIT_RING_LEVEL 0.5f
-#endif
-#ifndef ACTAG_FIT_INTERIOR_LEVEL
-#define ACTAG_FIT_INTERIOR_LEVEL 0.5f
-#endif
-#ifndef ACTAG_FIT_DATA_LEVEL
-#define ACTAG_FIT_DATA_LEVEL 0.5f
-#endif
+/* Splits that read as different tags: the closest must lead the others by
+ * this many bits, else the threshold would decide the ID. */
+#define FIT_SPLIT_LEAD 1
+/* Where cells are judged between the black ring (0) and the white interior
+ * (1): the grid score's data-cell distance and the ring / interior counts. */
+#define FIT_MID_LEVEL 0.5f
 
 /* Code-agnostic crispness of a grid: black ring cells below, interior
  * cells above the mid level, data cells far from it (either side, capped
@@ -378,8 +360,8 @@ static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
     float black, white, t, half, s = 0.0f;
     fcells(im, gr, k, m);
     flevels(m, k, &black, &white);
-    t = black + ACTAG_FIT_DATA_LEVEL * (white - black);
-    half = ACTAG_FIT_DATA_LEVEL * (white - black);
+    t = black + FIT_MID_LEVEL * (white - black);
+    half = FIT_MID_LEVEL * (white - black);
     for (cy = 0; cy < n; cy++)
         for (cx = 0; cx < n; cx++) {
             float v = m[cy * n + cx] - t;
@@ -450,11 +432,6 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
     }
 }
 
-/* Ascent of fscore over the 6 affine parameters, 3 step sizes. Default:
- * Gauss-Seidel sweeps (each parameter moves as soon as a move improves);
- * FIT_STEEPEST=1 takes the best of all 12 moves per step instead (order
- * independent, but measured worse on the pool frames: 36-38 vs 37-39 of
- * 47 over flips and seeds). */
 static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
                     int erase);
 
@@ -464,18 +441,25 @@ static float objective(const fimg *im, const fgrid *gr, int k, float *m, const u
     return L ? tscore(im, gr, k, m, L, erase) : fscore(im, gr, k, m);
 }
 
-#ifndef FIT_T_STEPS
-#define FIT_T_STEPS 2 /* template polish: steps per step size */
-#endif
-#ifndef FIT_T_SHIFT2
-#define FIT_T_SHIFT2 0.0625f /* template polish: squared shift bound, cells^2 */
-#endif
-#ifndef FIT_T_HI
-#define FIT_T_HI 1.3225f /* (1.15)^2 */
-#endif
-#ifndef FIT_T_LO
-#define FIT_T_LO 0.7225f /* (0.85)^2 */
-#endif
+/* The grid ascent: steps per step size, and how far it may go from the
+ * starting grid (squared centre shift in cells^2: half a cell; squared side
+ * lengths: 65-134 %), so it cannot wander onto a neighbouring tag. */
+#define FIT_ASCENT_STEPS 4
+#define FIT_ASCENT_SHIFT2 0.25f
+#define FIT_ASCENT_HI 1.8f
+#define FIT_ASCENT_LO 0.42f
+/* A template's polish (tight): a reading refits the grid it came from,
+ * so fewer steps, a quarter cell and +-15 % (1.15^2, 0.85^2). */
+#define FIT_POLISH_STEPS 2
+#define FIT_POLISH_SHIFT2 0.0625f
+#define FIT_POLISH_HI 1.3225f
+#define FIT_POLISH_LO 0.7225f
+
+/* Ascent of the objective (fscore, or tscore for a template L) over the 6
+ * affine parameters, 3 step sizes, by Gauss-Seidel sweeps: each parameter
+ * moves as soon as a move improves (taking the best of all 12 moves per
+ * step instead measured worse on the pool frames: 36-38 vs 37-39 of 47 over
+ * flips and seeds). */
 static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
                  int tight)
 {
@@ -486,7 +470,7 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
     float best = objective(im, gr, k, m, L, erase);
     int lvl, it, p, sgn;
     for (lvl = tight ? 1 : 0; lvl < 3; lvl++) { /* a polish starts at half steps */
-        for (it = 0; it < (tight ? FIT_T_STEPS : FIT_MAX_STEPS); it++) {
+        for (it = 0; it < (tight ? FIT_POLISH_STEPS : FIT_ASCENT_STEPS); it++) {
             fgrid bt = *gr;
             float bs = best;
             for (p = 0; p < 6; p++)
@@ -498,23 +482,20 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
                     d = (p < 2 ? 0.15f * (la < lb ? la : lb) : 0.05f * (p < 4 ? la : lb)) *
                         scales[lvl] * (float)sgn;
                     *f += d;
-                    /* stay within half a cell and +-35 % of the starting grid
-                     * (a template polish: a quarter cell and +-15 %) */
+                    /* stay near the starting grid */
                     if ((t.mx - g0.mx) * (t.mx - g0.mx) + (t.my - g0.my) * (t.my - g0.my) >
-                            (tight ? FIT_T_SHIFT2 : 0.25f) * la * lb ||
-                        t.ax * t.ax + t.ay * t.ay > (tight ? FIT_T_HI : 1.8f) * la * la ||
-                        t.ax * t.ax + t.ay * t.ay < (tight ? FIT_T_LO : 0.42f) * la * la ||
-                        t.bx * t.bx + t.by * t.by > (tight ? FIT_T_HI : 1.8f) * lb * lb ||
-                        t.bx * t.bx + t.by * t.by < (tight ? FIT_T_LO : 0.42f) * lb * lb)
+                            (tight ? FIT_POLISH_SHIFT2 : FIT_ASCENT_SHIFT2) * la * lb ||
+                        t.ax * t.ax + t.ay * t.ay > (tight ? FIT_POLISH_HI : FIT_ASCENT_HI) * la * la ||
+                        t.ax * t.ax + t.ay * t.ay < (tight ? FIT_POLISH_LO : FIT_ASCENT_LO) * la * la ||
+                        t.bx * t.bx + t.by * t.by > (tight ? FIT_POLISH_HI : FIT_ASCENT_HI) * lb * lb ||
+                        t.bx * t.bx + t.by * t.by < (tight ? FIT_POLISH_LO : FIT_ASCENT_LO) * lb * lb)
                         continue;
                     s = objective(im, &t, k, m, L, erase);
                     if (s > bs) {
                         bs = s;
                         bt = t;
-#if !FIT_STEEPEST
                         *gr = bt; /* Gauss-Seidel sweep: move at once */
                         break;
-#endif
                     }
                 }
             if (!(bs > best))
@@ -539,9 +520,9 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
 }
 
 
-#ifndef ACTAG_FIT_MIN_NOISE
-#define ACTAG_FIT_MIN_NOISE 0.05f /* floor of the cell noise estimate, confidence units */
-#endif
+/* Floor of the cell noise estimate, confidence units: clean renders have
+ * none, and the margins divide by it. */
+#define FIT_MIN_NOISE 0.05f
 
 /* Template check (ACTAG_FIT_VERIFY). Each of the most likely readings is
  * a full hypothesis for all (k+1)^2 cells (data ring from its code, black
@@ -673,14 +654,12 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
     g_quad = gr; /* the quad's own grid: the template check's second start */
     if (flags & ACTAG_FIT_WIDE) {
-        im.fast = FIT_FAST_SHIFT;
+        im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
         fshift(&im, &gr, k, m);
         im.fast = 0;
     }
     if (!(flags & ACTAG_FIT_NO_SEARCH)) {
-        im.fast = FIT_FAST_ASCENT;
         ffit(&im, &gr, k, m, NULL, 0, 0);
-        im.fast = 0;
     }
     fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
     /* The whole grid must lie in the image: a tag cut by the frame edge
@@ -701,10 +680,10 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         for (cx = 1; cx < k; cx++) {
             float v = m[cy * n + cx], d;
             if (is_ring(cx, cy, k)) {
-                ring_ok += v < black + ACTAG_FIT_RING_LEVEL * contrast;
+                ring_ok += v < black + FIT_MID_LEVEL * contrast;
                 d = v - black;
             } else {
-                in_ok += v > black + ACTAG_FIT_INTERIOR_LEVEL * contrast;
+                in_ok += v > black + FIT_MID_LEVEL * contrast;
                 d = v - white;
             }
             noise2 += d * d;
@@ -713,8 +692,8 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     /* cell noise in confidence units (a clean bit reads +-0.5), from the
      * cells whose value is known; floored so clean renders stay finite */
     noise2 = noise2 / ((float)nknown * contrast * contrast);
-    if (noise2 < ACTAG_FIT_MIN_NOISE * ACTAG_FIT_MIN_NOISE)
-        noise2 = ACTAG_FIT_MIN_NOISE * ACTAG_FIT_MIN_NOISE;
+    if (noise2 < FIT_MIN_NOISE * FIT_MIN_NOISE)
+        noise2 = FIT_MIN_NOISE * FIT_MIN_NOISE;
     for (i = 0; i < bits; i++) {
         float t, c;
         actag_tag_bit_cell(4 * k, i, &cx, &cy);
@@ -783,7 +762,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 return ACTAG_ERR_NO_MATCH;
             /* Splits that read as different tags (or poses): the threshold
              * decides the ID, so the reading is ambiguous unless one is
-             * closer than every other by ACTAG_FIT_MARGIN bits. */
+             * closer than every other by FIT_SPLIT_LEAD bits. */
             key1 = (long)r.best.id * 8L + (long)r.best.mirrored * 4L + (long)r.best.rotation;
             if (key < 0 || key == key1) {
                 if (key < 0 || dk < kd)
@@ -805,7 +784,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         }
         if (!have)
             return ACTAG_ERR_NO_MATCH;
-        if (od < 99 && od - kd < ACTAG_FIT_MARGIN)
+        if (od < 99 && od - kd < FIT_SPLIT_LEAD)
             return ACTAG_ERR_NO_MATCH;
         w = 0;
         for (i = 0; i < bits; i++) { /* confidences relative to the chosen threshold */
@@ -877,16 +856,14 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                  * wide search, which may settle a cell off, the full range) */
                 {
                     fgrid g = jj < ml.ntop ? gr : g_quad;
-                    im.fast = FIT_FAST_ASCENT;
                     ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE));
-                    im.fast = 0;
                     fcells(&im, &g, k, mt);
                     r = template_rss(mt, L, k, erase, &nc);
                 }
                 if (jj == 0) {
                     rss0 = r;
                     s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
-                    floor2 = ACTAG_FIT_MIN_NOISE * 2.0f * contrast;
+                    floor2 = FIT_MIN_NOISE * 2.0f * contrast;
                     floor2 *= floor2;
                     if (s2 < floor2)
                         s2 = floor2;

@@ -184,22 +184,16 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS | ACTAG_FIT_VERIFY)
 
 /* ACTAG_FIT_SPLIT tries data thresholds from LO to HI of the tag's contrast
- * above its black ring (compile-time constants). */
-#ifndef ACTAG_FIT_SPLIT_LO
+ * above its black ring. */
 #define ACTAG_FIT_SPLIT_LO 0.1f
-#endif
-#ifndef ACTAG_FIT_SPLIT_HI
 #define ACTAG_FIT_SPLIT_HI 0.5f
-#endif
 
-/* Default least decision margin of the fit decoder (contrast units). */
-#ifndef ACTAG_FIT_MIN_MARGIN
+/* Default least decision margin of the fit decoder (log-likelihood units,
+ * see actag_decode_quad_fit). */
 #define ACTAG_FIT_MIN_MARGIN 1.0f
-#endif
 
-#ifndef ACTAG_FIT_MIN_BIT_MARGIN
+/* Default least lead in corrected bits of a fit-decoder reading. */
 #define ACTAG_FIT_MIN_BIT_MARGIN 2
-#endif
 
 /* Options of actag_decode_quad_fit(). */
 typedef struct actag_fit_params {
