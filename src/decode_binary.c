@@ -11,6 +11,17 @@ typedef struct sampler {
     float H[9];
 } sampler;
 
+/* The sampler of the quad's grid (quad[n] = corner n) under a map model. */
+static int sampler_init(sampler *s, const uint8_t *binary, int rows, int cols, int stride,
+                        const actag_point quad[4], int bits, int model)
+{
+    s->img = binary;
+    s->rows = rows;
+    s->cols = cols;
+    s->stride = stride;
+    return actag_tag_map(quad, bits, model, s->H);
+}
+
 /* Nearest pixel of grid point (u,v); outside the image counts as black. */
 static int sample_px(const sampler *s, float u, float v)
 {
@@ -61,13 +72,9 @@ int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride
     rc = decode_check_image(binary, rows, cols, stride);
     if (rc != ACTAG_OK)
         return rc;
-    rc = actag_tag_map(quad, bits, model, s.H);
+    rc = sampler_init(&s, binary, rows, cols, stride, quad, bits, model);
     if (rc != ACTAG_OK)
         return rc;
-    s.img = binary;
-    s.rows = rows;
-    s.cols = cols;
-    s.stride = stride;
     *word = read_word(&s, bits);
     return ACTAG_OK;
 }
@@ -115,10 +122,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     int ring_n = 0, ring_black = 0, in_n = 0, in_white = 0;
     if (binary == NULL || quad == NULL || family == NULL || out == NULL)
         return ACTAG_ERR_NULL;
-    rc = decode_check_image(binary, rows, cols, stride);
-    if (rc != ACTAG_OK)
-        return rc;
-    rc = actag_family_validate(family);
+    rc = decode_check_frame_family(binary, rows, cols, stride, family);
     if (rc != ACTAG_OK)
         return rc;
     maxc = actag_family_max_corrections(family);
@@ -132,13 +136,9 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     rc = actag_tag_quad_clockwise(quad, q);
     if (rc != ACTAG_OK)
         return rc;
-    rc = actag_tag_map(q, bits, model, s.H);
+    rc = sampler_init(&s, binary, rows, cols, stride, q, bits, model);
     if (rc != ACTAG_OK)
         return rc;
-    s.img = binary;
-    s.rows = rows;
-    s.cols = cols;
-    s.stride = stride;
 
     w = read_word(&s, bits);
     /* Structure statistics (informative): black ring at distance 1, white

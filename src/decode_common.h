@@ -17,6 +17,14 @@ static inline int decode_check_image(const uint8_t *img, int rows, int cols, int
     return ACTAG_OK;
 }
 
+/* The image, then the family (ACTAG_ERR_FAMILY), in the decoders' order. */
+static inline int decode_check_frame_family(const uint8_t *img, int rows, int cols, int stride,
+                                            const actag_family *family)
+{
+    int rc = decode_check_image(img, rows, cols, stride);
+    return rc != ACTAG_OK ? rc : actag_family_validate(family);
+}
+
 /* Fills id, hamming, mirrored, rotation, mirror_margin and the corners in
  * tag order from the clockwise-on-screen quad q, for reading m (m->mirrored:
  * P(observed) == rot^r(code)) whose other handedness is best at `other`

@@ -80,42 +80,25 @@ static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
            gr->my - ey >= 1.0f && gr->my + ey <= (float)(im->rows - 2);
 }
 
-/* Mean grey level of every cell of the (k+1)^2 grid over a 3x3 sample
- * pattern (+-ACTAG_DECODE_SAMPLE_OFFSET cell), m[cy * (k+1) + cx]. */
-static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
+/* One grey sample: the clamp-free sampler when the whole grid lies a pixel
+ * inside the frame (bit-identical there, and cheaper). */
+static float fsample_at(const fimg *im, int inside, float x, float y)
+{
+    return inside ? fsample_in(im, x, y) : fsample(im, x, y);
+}
+
+/* fcells() on one sampler (inside: the clamp-free one). */
+static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside)
 {
     int cx, cy, a, b, n = k + 1;
     float g = 0.5f * (float)n;
-    if (fgrid_inside(im, gr, k)) {
-        /* the same sums in the same order, on the clamp-free sampler */
-        float ou[3], ov[3], pu[3], pv[3];
-        for (a = 0; a < 3; a++) {
-            float u = (float)(a - 1) * im->so;
-            ou[a] = gr->ax * u;
-            ov[a] = gr->ay * u;
-            pu[a] = gr->bx * u;
-            pv[a] = gr->by * u;
-        }
-        for (cy = 0; cy < n; cy++)
-            for (cx = 0; cx < n; cx++) {
-                float s = 0.0f, u0 = (float)cx + 0.5f - g, v0 = (float)cy + 0.5f - g;
-                float x0 = gr->mx + gr->ax * u0 + gr->bx * v0;
-                float y0 = gr->my + gr->ay * u0 + gr->by * v0;
-                if (im->fast) {
-                    float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
-                    float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
-                    s = fsample_in(im, x0, y0) + fsample_in(im, x0 + dx1, y0 + dy1) +
-                        fsample_in(im, x0 - dx1, y0 - dy1) + fsample_in(im, x0 + dx2, y0 + dy2) +
-                        fsample_in(im, x0 - dx2, y0 - dy2);
-                    m[cy * n + cx] = s * 0.2f;
-                    continue;
-                }
-                for (b = 0; b < 3; b++)
-                    for (a = 0; a < 3; a++)
-                        s += fsample_in(im, x0 + ou[a] + pu[b], y0 + ov[a] + pv[b]);
-                m[cy * n + cx] = s * (1.0f / 9.0f);
-            }
-        return;
+    float ou[3], ov[3], pu[3], pv[3]; /* the 3x3 pattern's offsets along a and b */
+    for (a = 0; a < 3; a++) {
+        float u = (float)(a - 1) * im->so;
+        ou[a] = gr->ax * u;
+        ov[a] = gr->ay * u;
+        pu[a] = gr->bx * u;
+        pv[a] = gr->by * u;
     }
     for (cy = 0; cy < n; cy++)
         for (cx = 0; cx < n; cx++) {
@@ -126,21 +109,30 @@ static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
                 /* centre and the 4 diagonal points */
                 float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
                 float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
-                s = fsample(im, x0, y0) + fsample(im, x0 + dx1, y0 + dy1) +
-                    fsample(im, x0 - dx1, y0 - dy1) + fsample(im, x0 + dx2, y0 + dy2) +
-                    fsample(im, x0 - dx2, y0 - dy2);
+                s = fsample_at(im, inside, x0, y0) + fsample_at(im, inside, x0 + dx1, y0 + dy1) +
+                    fsample_at(im, inside, x0 - dx1, y0 - dy1) +
+                    fsample_at(im, inside, x0 + dx2, y0 + dy2) +
+                    fsample_at(im, inside, x0 - dx2, y0 - dy2);
                 m[cy * n + cx] = s * 0.2f;
                 continue;
             }
-            for (b = -1; b <= 1; b++) {
-                float v = (float)b * im->so;
-                for (a = -1; a <= 1; a++) {
-                    float u = (float)a * im->so;
-                    s += fsample(im, x0 + gr->ax * u + gr->bx * v, y0 + gr->ay * u + gr->by * v);
-                }
-            }
+            for (b = 0; b < 3; b++)
+                for (a = 0; a < 3; a++)
+                    s += fsample_at(im, inside, x0 + ou[a] + pu[b], y0 + ov[a] + pv[b]);
             m[cy * n + cx] = s * (1.0f / 9.0f);
         }
+}
+
+/* Mean grey level of every cell of the (k+1)^2 grid over a 3x3 sample
+ * pattern (+-so cell; im->fast: the centre and the 4 diagonal points),
+ * m[cy * (k+1) + cx]. */
+static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
+{
+    /* two copies of the loops, one per sampler (constant inside) */
+    if (fgrid_inside(im, gr, k))
+        fcells_on(im, gr, k, m, 1);
+    else
+        fcells_on(im, gr, k, m, 0);
 }
 
 static int is_ring(int cx, int cy, int k)
@@ -441,10 +433,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     int rc, maxc, bits, k, n, i, ring_ok = 0, in_ok = 0, cx, cy;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
-    rc = decode_check_image(grey, rows, cols, stride);
-    if (rc != ACTAG_OK)
-        return rc;
-    rc = actag_family_validate(family);
+    rc = decode_check_frame_family(grey, rows, cols, stride, family);
     if (rc != ACTAG_OK)
         return rc;
     flags = fp->flags;

@@ -28,6 +28,18 @@ static int quad_orientation(const actag_point q[4])
     return pos == 4 ? 1 : (neg == 4 ? -1 : 0);
 }
 
+/* The argument checks of both maps. */
+static int check_quad(const actag_point quad[4], int bits, const float *H)
+{
+    if (quad == NULL || H == NULL)
+        return ACTAG_ERR_NULL;
+    if (!bits_ok(bits))
+        return ACTAG_ERR_PARAM;
+    if (quad_orientation(quad) == 0)
+        return ACTAG_ERR_PARAM;
+    return ACTAG_OK;
+}
+
 void actag_homography_apply(const float H[9], float u, float v, actag_point *out)
 {
     float w = H[6] * u + H[7] * v + H[8];
@@ -40,12 +52,9 @@ int actag_tag_homography(const actag_point quad[4], int bits, float H[9])
     float x0, y0, x1, y1, x2, y2, x3, y3, dx1, dx2, dx3, dy1, dy2, dy3;
     float a, b, c, d, e, f, g, h, den, il;
     int k, i;
-    if (quad == NULL || H == NULL)
-        return ACTAG_ERR_NULL;
-    if (!bits_ok(bits))
-        return ACTAG_ERR_PARAM;
-    if (quad_orientation(quad) == 0)
-        return ACTAG_ERR_PARAM;
+    int rc = check_quad(quad, bits, H);
+    if (rc != ACTAG_OK)
+        return rc;
     k = bits / 4;
     x0 = quad[0].x; y0 = quad[0].y;
     x1 = quad[1].x; y1 = quad[1].y;
@@ -85,12 +94,9 @@ int actag_tag_affine(const actag_point quad[4], int bits, float H[9])
 {
     float h, g, ax, bx, ay, by, mx, my;
     int i;
-    if (quad == NULL || H == NULL)
-        return ACTAG_ERR_NULL;
-    if (!bits_ok(bits))
-        return ACTAG_ERR_PARAM;
-    if (quad_orientation(quad) == 0)
-        return ACTAG_ERR_PARAM;
+    int rc = check_quad(quad, bits, H);
+    if (rc != ACTAG_OK)
+        return rc;
     /* Least squares over the 4 corners. The grid corners are a square of
      * half side h about g = (k+1)/2, so the normal equations are diagonal:
      * the columns are the mean side vectors, the offset the centroid. */
