@@ -255,7 +255,8 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      counted (on the pool frames they held 39 of the 100 bit errors of
  *      39 correct readings, 2.3 times their share); the distance then runs
  *      over 4k-4 bits and a family's guaranteed distance drops by up to 4.
- *   4. Matching by likelihood (not by the nearest hard word): every code in
+ *   4. Matching by likelihood (actag_family_match_soft, family.h; not by
+ *      the nearest hard word): every code in
  *      each of its 8 physical views (rotations, and reflections P of the
  *      reading) gets a soft distance, the sum of |c_i| (clamped at 1) over
  *      the bits where it disagrees with the sign of c_i; the smallest wins

@@ -51,15 +51,18 @@
  *   up to m.hamming flipped bits. rot90 is the printed tag turned 90 degrees
  *   counter-clockwise (cell (x,y) moves to (y, k-x)). For a mirror-safe
  *   family the guaranteed views are w and actag_code_mirror(w) matched with
- *   actag_family_match_rotations(), as the sonar decoder does; its
+ *   actag_family_match_rotations() (or actag_family_match_soft()), as the
+ *   decoders do; its
  *   reverse() matches carry no guarantee.
  *   Note: a physically mirrored tag read clockwise from a corner is NOT
  *   reverse(...) of a rotation (a reflection keeps a corner cell fixed; the
  *   full-word reversal does not); it is P(w) with sequence position s taking
- *   position -s mod 4k. The sonar decoder (decode.h) therefore matches w and
- *   P(w) with actag_family_match_rotations(); see decode.h for what this
- *   means for the guaranteed distances of the published families (none of
- *   it applies to the AcTag<bits>m<h> families, made for exactly that).
+ *   position -s mod 4k. The binary decoder (decode.h) therefore matches w
+ *   and P(w) with actag_family_match_rotations(), and the default fit
+ *   decoder the same 8 views with actag_family_match_soft(); see decode.h
+ *   for what this means for the guaranteed distances of the published
+ *   families (none of it applies to the AcTag<bits>m<h> families, made for
+ *   exactly that).
  *
  *   Soft matching, actag_family_match_soft() (the sonar fit decoder's
  *   matcher): the reading is given as one confidence c_i per bit (bit i of
