@@ -186,7 +186,7 @@ static int match_orientations(const actag_family *family, uint32_t observed, int
                               int norient, actag_match *out)
 {
     uint32_t obs[8], w;
-    actag_soft_reading best;
+    actag_soft_reading best = {0, 0, 0, 0}; /* every family has a code: always filled */
     int maxc, rc = actag_family_validate(family);
     if (out == NULL)
         return ACTAG_ERR_NULL;
