@@ -1,7 +1,7 @@
 /* The detection pipeline: workspace layout, stage sequencing, the physical
  * size filter, duplicate suppression and the polar output. The stages
  * themselves live in their own files (median.c, threshold.c, contours.c,
- * quad.c, decode.c). */
+ * quad.c, decode_fit.c and decode_binary.c). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/actag.h"
 

@@ -1,4 +1,4 @@
-/* Family look-up, code orientation helpers and the orientation-aware matcher. */
+/* Family look-up, code orientation helpers and the matchers (hard and soft: one scan). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/family.h"
 
@@ -110,12 +110,83 @@ int actag_popcount32(uint32_t v)
     return (int)((v * 0x01010101u) >> 24);
 }
 
-/* Shared matcher: norient is 4 (rotations) or 8 (rotations and reversals). */
+/* The views of an observation: view o (0..3) undoes rotation o on w, view
+ * 4 + o on wm (the mirrored reading), so that view v equals code c exactly
+ * when the reading is that orientation of c (observed == rot^o(c) <=>
+ * rot^-o(observed) == c): the observation is turned, not the whole table. */
+static void undo_views(uint32_t w, uint32_t wm, int bits, uint32_t obs[8])
+{
+    int o, s;
+    for (o = 0; o < 4; o++) {
+        uint32_t a = w, b = wm;
+        for (s = 0; s < (4 - o) % 4; s++) { /* rot^-o == rot^(4-o) */
+            a = actag_code_rot90(a, bits);
+            b = actag_code_rot90(b, bits);
+        }
+        obs[o] = a;
+        obs[4 + o] = b;
+    }
+}
+
+/* The one scan behind every matcher: each code against views 0 .. nv-1,
+ * counting the bits in keep. A reading's cost is the summed weight of its
+ * disagreeing bits, the weights (0..31) given as bit planes pl[v][b] (bit b
+ * of every bit's weight, in view v's order); without planes every bit
+ * weighs 1 and the cost is the Hamming distance h: the hard match is the
+ * soft one with equal confidences. The maxtop cheapest readings go to
+ * top[], cheapest first (then fewer disagreeing bits; equal readings keep
+ * scan order: lower ID, then lower view). With lb (lb[h]: the least cost of
+ * h disagreeing bits) a reading is skipped unscored when lb[h] is no better
+ * than the runner-up's cost and, unless the list is full, than the last
+ * kept one's: exact for the best two, so the rest of a full list may miss
+ * readings. Returns the number kept. */
+static int scan_codes(const actag_family *family, const uint32_t *obs, int nv, uint32_t keep,
+                      const uint32_t (*pl)[5], const int *lb, actag_soft_reading *top,
+                      int maxtop)
+{
+    int i, v, b, ntop = 0;
+    for (i = 0; i < family->ncodes; i++) {
+        uint32_t c = family->codes[i];
+        for (v = 0; v < nv; v++) {
+            uint32_t mis = (c ^ obs[v]) & keep;
+            int h = actag_popcount32(mis), d = h, j;
+            if (lb && ntop > 1 && lb[h] >= top[1].d &&
+                (ntop == maxtop || lb[h] >= top[ntop - 1].d))
+                continue;
+            if (pl) {
+                d = 0;
+                for (b = 0; b < 5; b++)
+                    d += actag_popcount32(mis & pl[v][b]) << b;
+            }
+            if (ntop < maxtop) {
+                j = ntop++;
+            } else {
+                j = maxtop - 1;
+                if (!(d < top[j].d || (d == top[j].d && h < top[j].h)))
+                    continue;
+            }
+            while (j > 0 && (d < top[j - 1].d || (d == top[j - 1].d && h < top[j - 1].h))) {
+                top[j] = top[j - 1];
+                j--;
+            }
+            top[j].d = d;
+            top[j].h = h;
+            top[j].id = i;
+            top[j].view = v;
+        }
+        /* nothing beats a full list of exact matches */
+        if (ntop == maxtop && top[maxtop - 1].d == 0 && top[maxtop - 1].h == 0)
+            break;
+    }
+    return ntop;
+}
+
+/* The hard matchers: norient is 4 (rotations) or 8 (rotations and reversals). */
 static int match_orientations(const actag_family *family, uint32_t observed, int max_corrections,
                               int norient, actag_match *out)
 {
-    uint32_t obs[8];
-    int o, i, best = 1 << 30;
+    uint32_t obs[8], w;
+    actag_soft_reading best = {0, 0, 0, 0}; /* every family has a code: always filled */
     int maxc, rc = actag_family_validate(family);
     if (out == NULL)
         return ACTAG_ERR_NULL;
@@ -124,39 +195,15 @@ static int match_orientations(const actag_family *family, uint32_t observed, int
     maxc = actag_family_max_corrections(family);
     if (max_corrections < 0 || max_corrections > maxc)
         return ACTAG_ERR_CORRECTIONS;
-    /* Undo the orientation on the observation instead of transforming the
-     * whole table: observed == rot^r(c)  <=>  rot^-r(observed) == c, and
-     * observed == rev(rot^r(c))   <=>  rot^-r(rev(observed)) == c. */
-    {
-        uint32_t w = observed & actag_code_mask(family->bits);
-        uint32_t rv = actag_code_reverse(w, family->bits);
-        for (o = 0; o < 4; o++) {
-            uint32_t a = w, b = rv;
-            int s;
-            for (s = 0; s < (4 - o) % 4; s++) { /* rot^-o == rot^(4-o) */
-                a = actag_code_rot90(a, family->bits);
-                b = actag_code_rot90(b, family->bits);
-            }
-            obs[o] = a;
-            obs[4 + o] = b;
-        }
-    }
-    for (i = 0; i < family->ncodes; i++) {
-        uint32_t c = family->codes[i];
-        for (o = 0; o < norient; o++) {
-            int d = actag_popcount32(c ^ obs[o]);
-            if (d < best) {
-                best = d;
-                out->id = i;
-                out->rotation = o & 3;
-                out->mirrored = o >> 2;
-                out->hamming = d;
-            }
-        }
-        if (best == 0)
-            break;
-    }
-    if (best > max_corrections)
+    /* observed == rev(rot^r(c))  <=>  rot^-r(rev(observed)) == c */
+    w = observed & actag_code_mask(family->bits);
+    undo_views(w, actag_code_reverse(w, family->bits), family->bits, obs);
+    scan_codes(family, obs, norient, 0xffffffffu, NULL, NULL, &best, 1);
+    out->id = best.id;
+    out->rotation = best.view & 3;
+    out->mirrored = best.view >> 2;
+    out->hamming = best.h;
+    if (best.h > max_corrections)
         return ACTAG_ERR_NO_MATCH;
     return ACTAG_OK;
 }
@@ -171,4 +218,73 @@ int actag_family_match_rotations(const actag_family *family, uint32_t observed,
                                  int max_corrections, actag_match *out)
 {
     return match_orientations(family, observed, max_corrections, 4, out);
+}
+
+int actag_family_match_soft(const actag_family *family, const float *conf, uint32_t keep,
+                            actag_soft_match *res)
+{
+    int bits, i, b, v, nk = 0, q[32], lb[33], rc;
+    uint32_t w = 0, plane[5] = {0, 0, 0, 0, 0}, obs[8], pl[8][5];
+    if (family == NULL || conf == NULL || res == NULL)
+        return ACTAG_ERR_NULL;
+    rc = actag_family_validate(family);
+    if (rc != ACTAG_OK)
+        return rc;
+    bits = family->bits;
+    res->other = 33;
+    /* the reading's signs, and its weights |c_i| in 1/ACTAG_SOFT_SCALE as
+     * bit planes: a soft distance is then five masked popcounts */
+    for (i = 0; i < bits; i++) {
+        float a = conf[i] < 0.0f ? -conf[i] : conf[i];
+        int qi = a >= 1.0f ? ACTAG_SOFT_SCALE : (int)(a * (float)ACTAG_SOFT_SCALE + 0.5f);
+        uint32_t bit = (uint32_t)1u << (bits - 1 - i);
+        if (conf[i] > 0.0f)
+            w |= bit;
+        for (b = 0; b < 5; b++)
+            if (qi & (1 << b))
+                plane[b] |= bit;
+        if (keep & bit)
+            q[nk++] = qi;
+    }
+    /* lb[h]: the least soft distance of h disagreeing kept bits */
+    for (i = 1; i < nk; i++) {
+        int j, t = q[i];
+        for (j = i; j > 0 && q[j - 1] > t; j--)
+            q[j] = q[j - 1];
+        q[j] = t;
+    }
+    lb[0] = 0;
+    for (i = 0; i < nk; i++)
+        lb[i + 1] = lb[i] + q[i];
+    /* views 4..7: the physical reflection P of the reading */
+    undo_views(w, actag_code_mirror(w, bits), bits, obs);
+    for (b = 0; b < 5; b++) {
+        uint32_t pv[8];
+        undo_views(plane[b], actag_code_mirror(plane[b], bits), bits, pv);
+        for (v = 0; v < 8; v++)
+            pl[v][b] = pv[v];
+    }
+    res->ntop = scan_codes(family, obs, 8, keep, (const uint32_t(*)[5])pl, lb, res->top,
+                           ACTAG_SOFT_TOP);
+    res->d1 = res->top[0].d; /* ncodes >= 1: at least one reading */
+    res->d2 = res->ntop > 1 ? res->top[1].d : 1 << 28;
+    res->best.id = res->top[0].id;
+    res->best.rotation = res->top[0].view & 3;
+    res->best.mirrored = res->top[0].view >> 2;
+    res->best.hamming = res->top[0].h;
+    /* hard distances: the other handedness' best (mirror_margin) and the
+     * best of every reading but the chosen one (the bit margin) */
+    res->h2 = 33;
+    for (i = 0; i < family->ncodes; i++) {
+        uint32_t c = family->codes[i];
+        for (v = 0; v < 8; v++) {
+            int h = actag_popcount32((c ^ obs[v]) & keep);
+            if ((v >> 2) != res->best.mirrored && h < res->other)
+                res->other = h;
+            if (h < res->h2 && !(i == res->best.id && (v & 3) == res->best.rotation &&
+                                 (v >> 2) == res->best.mirrored))
+                res->h2 = h;
+        }
+    }
+    return ACTAG_OK;
 }

@@ -1,30 +1,10 @@
-/* The AcTag cell layout and an allocation-free 8-bit renderer (see render.h). */
+/* The allocation-free 8-bit renderer and the layout queries (see render.h; the
+ * cell layout itself is tag_grid.c). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/render.h"
+#include "actag/tag_grid.h"
 
 #include <string.h>
-
-/* Layout value of cell (x, y), 0 <= x, y <= k, for a code; no checks. */
-static int layout_value(uint32_t code, int k, int x, int y)
-{
-    int i;
-    if (x == 0 || y == 0 || x == k || y == k) {
-        /* Data ring, clockwise from the top-left corner; each side owns k cells
-         * starting at its first corner. */
-        if (y == 0 && x < k)
-            i = x;
-        else if (x == k && y < k)
-            i = k + y;
-        else if (y == k && x > 0)
-            i = 3 * k - x;
-        else
-            i = 4 * k - y; /* x == 0, y > 0 */
-        return (int)((code >> (4 * k - 1 - i)) & 1u);
-    }
-    if (x == 1 || y == 1 || x == k - 1 || y == k - 1)
-        return 0; /* black ring */
-    return 1;     /* white interior */
-}
 
 static int check_family_id(const actag_family *family, int id)
 {
@@ -60,26 +40,28 @@ int actag_layout_cell(const actag_family *family, int id, int x, int y)
     k = family->bits / 4;
     if (x < 0 || y < 0 || x > k || y > k)
         return ACTAG_ERR_PARAM;
-    return layout_value(family->codes[id], k, x, y);
+    return actag_tag_cell_value(family->codes[id], family->bits, x, y);
 }
 
 int actag_layout_corner_tabs(const actag_family *family, int id)
 {
     /* For each corner: the corner cell and its two ring neighbours (along the
      * top/bottom row and along the left/right column). */
-    int k, rc = check_family_id(family, id), mask = 0, c;
+    int k, bits, rc = check_family_id(family, id), mask = 0, c;
     uint32_t code;
     if (rc != ACTAG_OK)
         return rc;
-    k = family->bits / 4;
+    bits = family->bits;
+    k = bits / 4;
     code = family->codes[id];
     for (c = 0; c < 4; c++) {
         int cx = (c == 1 || c == 2) ? k : 0;
         int cy = (c >= 2) ? k : 0;
         int nx = cx == 0 ? 1 : k - 1; /* neighbour along the row */
         int ny = cy == 0 ? 1 : k - 1; /* neighbour along the column */
-        if (layout_value(code, k, cx, cy) == 0 && layout_value(code, k, nx, cy) == 1 &&
-            layout_value(code, k, cx, ny) == 1)
+        if (actag_tag_cell_value(code, bits, cx, cy) == 0 &&
+            actag_tag_cell_value(code, bits, nx, cy) == 1 &&
+            actag_tag_cell_value(code, bits, cx, ny) == 1)
             mask |= 1 << c;
     }
     return mask;
@@ -122,7 +104,7 @@ int actag_render_tag(const actag_family *family, int id, int cell_px, int margin
         memset(row, mval, (size_t)margin_px);
         memset(row + side - margin_px, mval, (size_t)margin_px);
         for (x = 0; x <= k; x++) {
-            uint8_t v = layout_value(code, k, x, y) ? 255u : 0u;
+            uint8_t v = actag_tag_cell_value(code, family->bits, x, y) ? 255u : 0u;
             memset(row + margin_px + x * cell_px, (uint8_t)(v ^ flip), (size_t)cell_px);
         }
     }

@@ -1,6 +1,6 @@
 /* The rules for every input of the pipeline, one validator per struct, and
  * the error detail they report (ERROR DETAILS in actag.h). The stages call
- * the validator of the struct they take (quad.c, decode.c, search.c), and
+ * the validator of the struct they take (quad.c, decode_fit.c, search.c), and
  * actag_detect() calls actag_check(), so a value is accepted or rejected by
  * the same code wherever it enters. No state: every message is a string
  * literal. */

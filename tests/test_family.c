@@ -265,6 +265,95 @@ static void test_random_words_against_brute_force(void)
     }
 }
 
+/* The physical reflection P: sequence position s takes position -s mod bits. */
+static uint32_t ref_P(uint32_t w, int bits)
+{
+    uint32_t r = 0;
+    int s;
+    for (s = 0; s < bits; s++)
+        if ((w >> (bits - 1 - s)) & 1u)
+            r |= 1u << (bits - 1 - (bits - s) % bits);
+    return r;
+}
+
+/* actag_family_match_soft against a brute force over all codes and the 8
+ * physical views: best, d1, d2, other and h2, with the corner bits kept or
+ * not; with equal confidences the best is the hard (Hamming) match. */
+static void test_soft_match_against_brute_force(void)
+{
+    int f, t;
+    for (f = 1; f < 4; f++) {
+        actag_family fam;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
+        for (t = 0; t < TU_TRIALS(400, 8); t++) {
+            float conf[24];
+            int q[24], i, id, v, equal = t % 4 == 0;
+            uint32_t keep = (t & 1) ? 0xffffffu & ~actag_code_corners(24) : 0xffffffu, w = 0;
+            int bd = 1 << 30, bh = 0, bid = -1, bv = -1, d2 = 1 << 28, other = 33, h2 = 33;
+            actag_soft_match r;
+            uint32_t c0 = orient(fam.codes[tu_range(0, fam.ncodes - 1)], tu_range(0, 3), 0, 24);
+            if (tu_range(0, 1))
+                c0 = ref_P(c0, 24);
+            c0 = flip_bits(c0, tu_range(0, 4), 24);
+            for (i = 0; i < 24; i++) {
+                int a = equal ? 8 : tu_range(0, 20); /* 17..20: clamped to 16 */
+                q[i] = a > 16 ? 16 : a;
+                conf[i] = ((c0 >> (23 - i)) & 1u ? 1.0f : -1.0f) * (float)a / 16.0f;
+                if (a == 0)
+                    conf[i] = ((c0 >> (23 - i)) & 1u) ? 0.001f : -0.001f;
+                if (conf[i] > 0.0f)
+                    w |= 1u << (23 - i);
+            }
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft(&fam, conf, keep, &r));
+            for (id = 0; id < fam.ncodes; id++)
+                for (v = 0; v < 8; v++) {
+                    uint32_t e = orient(fam.codes[id], v & 3, 0, 24), mis;
+                    int d = 0, h;
+                    if (v >> 2)
+                        e = ref_P(e, 24);
+                    mis = (e ^ w) & keep; /* keep is closed under rotation and P */
+                    h = ref_pop(mis);
+                    for (i = 0; i < 24; i++)
+                        if ((mis >> (23 - i)) & 1u)
+                            d += q[i];
+                    if (d < bd || (d == bd && h < bh)) {
+                        if (bid >= 0)
+                            d2 = bd;
+                        bd = d;
+                        bh = h;
+                        bid = id;
+                        bv = v;
+                    } else if (d < d2) {
+                        d2 = d;
+                    }
+                }
+            for (id = 0; id < fam.ncodes; id++)
+                for (v = 0; v < 8; v++) {
+                    uint32_t e = orient(fam.codes[id], v & 3, 0, 24);
+                    int h;
+                    if (v >> 2)
+                        e = ref_P(e, 24);
+                    h = ref_pop((e ^ w) & keep);
+                    if ((v >> 2) != (bv >> 2) && h < other)
+                        other = h;
+                    if (!(id == bid && v == bv) && h < h2)
+                        h2 = h;
+                }
+            TEST_ASSERT_EQUAL_INT(bid, r.best.id);
+            TEST_ASSERT_EQUAL_INT(bv & 3, r.best.rotation);
+            TEST_ASSERT_EQUAL_INT(bv >> 2, r.best.mirrored);
+            TEST_ASSERT_EQUAL_INT(bh, r.best.hamming);
+            TEST_ASSERT_EQUAL_INT(bd, r.d1);
+            TEST_ASSERT_EQUAL_INT(d2, r.d2);
+            TEST_ASSERT_EQUAL_INT(other, r.other);
+            TEST_ASSERT_EQUAL_INT(h2, r.h2);
+            if (equal)
+                TEST_ASSERT_EQUAL_INT(bd, 8 * bh);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft(NULL, NULL, 0u, NULL));
+}
+
 static void test_match_errors(void)
 {
     actag_family fam;
@@ -292,5 +381,6 @@ int main(void)
     RUN_TEST(test_every_code_every_orientation);
     RUN_TEST(test_random_words_against_brute_force);
     RUN_TEST(test_match_errors);
+    RUN_TEST(test_soft_match_against_brute_force);
     return UNITY_END();
 }

@@ -6,6 +6,7 @@
 #include "test_util.h"
 
 #include "actag/render.h"
+#include "actag/tag_grid.h"
 
 void setUp(void) {}
 void tearDown(void) {}
@@ -357,6 +358,50 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_layout_cell(&bad, 0, 0, 0));
 }
 
+/* tag_grid.h: bit cells and the layout are each other's inverse on the
+ * data ring for every size; corners in tag order; clockwise reordering. */
+static void test_tag_grid_cells_and_corners(void)
+{
+    static const actag_point cw[4] = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+    static const actag_point ccw[4] = {{0, 0}, {0, 10}, {10, 10}, {10, 0}};
+    static const actag_point flat[4] = {{0, 0}, {5, 0}, {10, 0}, {5, 0}};
+    actag_point q[4], c[4];
+    float H[9];
+    int bits, i, r;
+    for (bits = 16; bits <= 32; bits += 4) {
+        int k = bits / 4, x, y, seen = 0;
+        for (i = 0; i < bits; i++) {
+            uint32_t one = 1u << (bits - 1 - i);
+            actag_tag_bit_cell(bits, i, &x, &y);
+            TEST_ASSERT_TRUE(x == 0 || y == 0 || x == k || y == k);
+            TEST_ASSERT_EQUAL_INT(1, actag_tag_cell_value(one, bits, x, y));
+            TEST_ASSERT_EQUAL_INT(0, actag_tag_cell_value(~one, bits, x, y));
+            seen |= 1 << (x == 0 ? 0 : 1); /* both edges reached */
+        }
+        TEST_ASSERT_EQUAL_INT(3, seen);
+        TEST_ASSERT_EQUAL_INT(0, actag_tag_cell_value(0xffffffffu, bits, 1, 1));
+        TEST_ASSERT_EQUAL_INT(1, actag_tag_cell_value(0u, bits, 2, 2));
+    }
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_quad_clockwise(ccw, q));
+    for (i = 0; i < 4; i++) {
+        TEST_ASSERT_EQUAL_FLOAT(cw[i].x, q[i].x);
+        TEST_ASSERT_EQUAL_FLOAT(cw[i].y, q[i].y);
+    }
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_quad_clockwise(flat, q));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tag_quad_clockwise(NULL, q));
+    for (r = 0; r < 4; r++) {
+        actag_tag_corners(cw, r, 0, c); /* q[0] is printed corner r */
+        TEST_ASSERT_EQUAL_FLOAT(cw[0].x, c[r].x);
+        TEST_ASSERT_EQUAL_FLOAT(cw[1].x, c[(r + 1) & 3].x);
+        actag_tag_corners(cw, r, 1, c); /* mirrored: q[n] is corner r - n */
+        TEST_ASSERT_EQUAL_FLOAT(cw[0].x, c[r].x);
+        TEST_ASSERT_EQUAL_FLOAT(cw[1].x, c[(r + 3) & 3].x);
+    }
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_map(cw, 24, ACTAG_DECODE_PROJECTIVE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(cw, 24, 7, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(cw, 22, ACTAG_DECODE_AFFINE, H));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -370,5 +415,6 @@ int main(void)
     RUN_TEST(test_corner_tabs_all_families);
     RUN_TEST(test_known_tab_example);
     RUN_TEST(test_errors);
+    RUN_TEST(test_tag_grid_cells_and_corners);
     return UNITY_END();
 }

@@ -8,44 +8,11 @@
  *   homography), samples the data ring in the binary image (0 = black =
  *   aluminium, nonzero = white = foam), and matches the bits against a family.
  *
- *   Tag grid coordinates (u, v): a family of 4k bits uses (k+1) x (k+1) cells;
- *   u runs to the right, v down, as printed, both in cells, 0 .. k+1 on the
- *   grid lines, so cell (cx, cy) has its centre at (cx + 0.5, cy + 0.5). The
- *   outer ring holds the data bits, the next ring is black, the rest white:
- *   the white square spans [2, k-1] x [2, k-1]. Data bit i (i = 0 is the
- *   code's MSB) lies in cell
- *       i = 0   .. k-1 : (i, 0)              top row, left to right
- *       i = k   .. 2k-1: (k, i-k)            right column, downwards
- *       i = 2k  .. 3k-1: (3k-i, k)           bottom row, right to left
- *       i = 3k  .. 4k-1: (0, 4k-i)           left column, upwards
- *   (SPEC section 2; for 24 bits these are the AprilTag 3 bit_x/bit_y.)
- *   Corner n of the white square: 0 = top-left (2,2), 1 = top-right (k-1,2),
- *   2 = bottom-right (k-1,k-1), 3 = bottom-left (2,k-1), as printed.
+ *   The tag's cell grid, its layout and the grid -> image maps
+ *   (actag_tag_affine, actag_tag_homography, actag_decode_bit_positions, the
+ *   ACTAG_DECODE_AFFINE / _PROJECTIVE models) are in tag_grid.h, which this
+ *   header includes.
  *
- *   Grid -> image maps. Both take quad[0..3] as white-square corners 0..3 in
- *   the order given (no reordering) and fill a 3x3 matrix H (row-major):
- *   x = (H0 u + H1 v + H2) / w, y = (H3 u + H4 v + H5) / w, w = H6 u + H7 v + H8.
- *   actag_tag_affine(quad, bits, H)       ACTAG_DECODE_AFFINE (the default)
- *       The least-squares affine map of the 4 corners (H6 = H7 = 0, H8 = 1):
- *       exact for a parallelogram, otherwise the corners' mean fit.
- *   actag_tag_homography(quad, bits, H)   ACTAG_DECODE_PROJECTIVE
- *       The exact 4-point homography (quad[n] lands on corner n).
- *   Why affine by default: a sonar image has no perspective (range and
- *   azimuth are not a central projection), so the projective part of a
- *   4-point fit is corner noise, and the data ring lies outside the white
- *   square, where that noise is extrapolated. On the 58 pool frames plus the
- *   example frame (our pipeline's quads, inlier ratio 0.75) the affine map
- *   read tag 0 in 23 quads with 4 corrections (1 wrong ID) against 10
- *   (4 wrong IDs) for the homography; at 2 corrections 6 against 2. The
- *   reference decoder also fits an affine map (a pseudo-inverse). Use
- *   ACTAG_DECODE_PROJECTIVE for camera-like images with real perspective.
- *   actag_homography_apply(H, u, v, &p)
- *       Applies H. No checks; w > 0 everywhere on the tag grid for any H
- *       produced by the functions above.
- *   actag_decode_bit_positions(quad, bits, out)
- *       Image positions of the 4k data-cell centres, in bit order, through
- *       the default map (pass a tag-order corner list, e.g. a result's
- *       corners[], to get the tag's own bit order).
  *   actag_decode_read_word(binary, ..., quad, bits, model, &word)
  *       The raw 4k-bit word read in quad order: bit i of the sequence (word
  *       bit 4k-1-i) is the vote of data cell i with quad[n] taken as corner n.
@@ -150,6 +117,7 @@
 
 #include "actag/common.h"
 #include "actag/family.h"
+#include "actag/tag_grid.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -160,11 +128,6 @@ extern "C" {
 
 /* Offset (cells) of the outer sample points from a cell centre. */
 #define ACTAG_DECODE_SAMPLE_OFFSET 0.25f
-
-/* Grid -> image map models. */
-#define ACTAG_DECODE_AFFINE 0     /* least-squares affine fit of the 4 corners */
-#define ACTAG_DECODE_PROJECTIVE 1 /* exact 4-point homography */
-#define ACTAG_DECODE_DEFAULT_MODEL ACTAG_DECODE_AFFINE
 
 typedef struct actag_decode_result {
     int id;                 /* tag ID in the family */
@@ -187,19 +150,6 @@ typedef struct actag_decode_result {
                                actag_decode_quad_fit); binary decoder: mirror_margin */
     actag_point fit_corners[4]; /* the fitted grid's white-square corners, tag order */
 } actag_decode_result;
-
-/* Homography from tag grid (u,v) to image (x,y), quad[n] at white-square corner n. */
-int actag_tag_homography(const actag_point quad[4], int bits, float H[9]);
-
-/* Least-squares affine map from tag grid (u,v) to image (x,y) (H6 = H7 = 0, H8 = 1). */
-int actag_tag_affine(const actag_point quad[4], int bits, float H[9]);
-
-/* out = H applied to (u, v). No checks, no error codes. */
-void actag_homography_apply(const float H[9], float u, float v, actag_point *out);
-
-/* Image positions of the `bits` data-cell centres in bit order (out has `bits`
- * entries), through the default map. */
-int actag_decode_bit_positions(const actag_point quad[4], int bits, actag_point *out);
 
 /* Reads the raw word in quad order (quad[n] = corner n, no reordering). */
 int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride,
@@ -234,22 +184,16 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS | ACTAG_FIT_VERIFY)
 
 /* ACTAG_FIT_SPLIT tries data thresholds from LO to HI of the tag's contrast
- * above its black ring (compile-time constants). */
-#ifndef ACTAG_FIT_SPLIT_LO
+ * above its black ring. */
 #define ACTAG_FIT_SPLIT_LO 0.1f
-#endif
-#ifndef ACTAG_FIT_SPLIT_HI
 #define ACTAG_FIT_SPLIT_HI 0.5f
-#endif
 
-/* Default least decision margin of the fit decoder (contrast units). */
-#ifndef ACTAG_FIT_MIN_MARGIN
+/* Default least decision margin of the fit decoder (log-likelihood units,
+ * see actag_decode_quad_fit). */
 #define ACTAG_FIT_MIN_MARGIN 1.0f
-#endif
 
-#ifndef ACTAG_FIT_MIN_BIT_MARGIN
+/* Default least lead in corrected bits of a fit-decoder reading. */
 #define ACTAG_FIT_MIN_BIT_MARGIN 2
-#endif
 
 /* Options of actag_decode_quad_fit(). */
 typedef struct actag_fit_params {
@@ -311,7 +255,8 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      counted (on the pool frames they held 39 of the 100 bit errors of
  *      39 correct readings, 2.3 times their share); the distance then runs
  *      over 4k-4 bits and a family's guaranteed distance drops by up to 4.
- *   4. Matching by likelihood (not by the nearest hard word): every code in
+ *   4. Matching by likelihood (actag_family_match_soft, family.h; not by
+ *      the nearest hard word): every code in
  *      each of its 8 physical views (rotations, and reflections P of the
  *      reading) gets a soft distance, the sum of |c_i| (clamped at 1) over
  *      the bits where it disagrees with the sign of c_i; the smallest wins

@@ -51,15 +51,41 @@
  *   up to m.hamming flipped bits. rot90 is the printed tag turned 90 degrees
  *   counter-clockwise (cell (x,y) moves to (y, k-x)). For a mirror-safe
  *   family the guaranteed views are w and actag_code_mirror(w) matched with
- *   actag_family_match_rotations(), as the sonar decoder does; its
+ *   actag_family_match_rotations() (or actag_family_match_soft()), as the
+ *   decoders do; its
  *   reverse() matches carry no guarantee.
  *   Note: a physically mirrored tag read clockwise from a corner is NOT
  *   reverse(...) of a rotation (a reflection keeps a corner cell fixed; the
  *   full-word reversal does not); it is P(w) with sequence position s taking
- *   position -s mod 4k. The sonar decoder (decode.h) therefore matches w and
- *   P(w) with actag_family_match_rotations(); see decode.h for what this
- *   means for the guaranteed distances of the published families (none of
- *   it applies to the AcTag<bits>m<h> families, made for exactly that).
+ *   position -s mod 4k. The binary decoder (decode.h) therefore matches w
+ *   and P(w) with actag_family_match_rotations(), and the default fit
+ *   decoder the same 8 views with actag_family_match_soft(); see decode.h
+ *   for what this means for the guaranteed distances of the published
+ *   families (none of it applies to the AcTag<bits>m<h> families, made for
+ *   exactly that).
+ *
+ *   Soft matching, actag_family_match_soft() (the sonar fit decoder's
+ *   matcher): the reading is given as one confidence c_i per bit (bit i of
+ *   the sequence, i = 0 the MSB; > 0 reads white = 1, the size is how sure;
+ *   |c_i| is clamped at 1 and quantised to 1/ACTAG_SOFT_SCALE). Every code
+ *   in each of the 8 physical views, rot90^r(c) and P(rot90^r(c)) (P =
+ *   actag_code_mirror, mirrored = 1), gets a soft distance d: the sum of
+ *   |c_i| over the counted bits (those set in keep) where the code disagrees
+ *   with the sign of c_i; under independent Gaussian cell noise the least d
+ *   is the likeliest code, and the runner-up's d minus the best's is twice
+ *   the log-likelihood ratio between them in units of contrast^2 / sigma^2.
+ *   With all |c_i| equal the ranking is the hard (Hamming) one; the hard
+ *   matchers above are the same scan with every bit weighing 1.
+ *   Result (actag_soft_match): best (hamming = its hard distance over the
+ *   kept bits), d1 and d2 (soft distances of the best and the runner-up,
+ *   1 << 28 when there is none), other (the best hard distance of the other
+ *   handedness), h2 (the best hard distance of any reading but best), and
+ *   top[0 .. ntop-1], the likeliest readings, best first (ties: fewer
+ *   disagreeing bits, then lower ID, then lower view = rotation + 4 *
+ *   mirrored). Readings whose hard distance alone bounds their d at or above
+ *   the runner-up's are skipped unscored, so best, d1 and d2 are exact and
+ *   top[2 ..] of a full list may miss readings. Cost: 8 ncodes views, five
+ *   popcounts each unless skipped, then one more popcount pass.
  *
  *   actag_family is a small value the caller owns; it points into the const
  *   code tables. (The tables are reached through functions rather than const
@@ -72,6 +98,8 @@
  *   ACTAG_ERR_NULL         a pointer argument is NULL
  *   ACTAG_ERR_CORRECTIONS  max_corrections < 0 or above actag_family_max_corrections()
  *   ACTAG_ERR_NO_MATCH     no code within max_corrections in any orientation
+ *   (actag_family_match_soft: only ACTAG_ERR_NULL and ACTAG_ERR_FAMILY; it
+ *   always reports the likeliest reading.)
  */
 #ifndef ACTAG_FAMILY_H
 #define ACTAG_FAMILY_H
@@ -166,6 +194,37 @@ int actag_family_match(const actag_family *family, uint32_t observed,
  * themselves use this. */
 int actag_family_match_rotations(const actag_family *family, uint32_t observed,
                                  int max_corrections, actag_match *out);
+
+/* Soft distances count 1/ACTAG_SOFT_SCALE of a confidence. */
+#define ACTAG_SOFT_SCALE 16
+/* Readings actag_family_match_soft() keeps (the fit decoder's template check
+ * verifies them; 4 let a wrong handedness through on a simulated view read
+ * from a contour guess). */
+#define ACTAG_SOFT_TOP 6
+
+/* One reading of actag_family_match_soft(). */
+typedef struct actag_soft_reading {
+    int d;    /* soft distance, 1/ACTAG_SOFT_SCALE units */
+    int h;    /* hard distance: disagreeing bits among the kept ones */
+    int id;   /* code */
+    int view; /* rotation + 4 * mirrored (mirrored: the reflection P) */
+} actag_soft_reading;
+
+/* Result of actag_family_match_soft() (see the manual). */
+typedef struct actag_soft_match {
+    actag_match best; /* the likeliest reading; mirrored: P(observed) == rot90^rotation(code) */
+    int d1, d2;       /* soft distances of the best and the runner-up */
+    int other;        /* best hard distance of the other handedness */
+    int h2;           /* best hard distance of any reading but best */
+    actag_soft_reading top[ACTAG_SOFT_TOP]; /* the likeliest readings, best first */
+    int ntop;         /* entries of top (1 .. ACTAG_SOFT_TOP) */
+} actag_soft_match;
+
+/* Matches a reading given as per-bit confidences (conf[0 .. bits-1], bit 0
+ * the MSB) over the bits set in keep, in the 8 physical views, by soft
+ * distance. Returns ACTAG_OK (*out filled), ACTAG_ERR_NULL or ACTAG_ERR_FAMILY. */
+int actag_family_match_soft(const actag_family *family, const float *conf, uint32_t keep,
+                            actag_soft_match *out);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,737 @@
+/* The grid-fit decoder (actag_decode_quad_fit, decode.h): the tag's cell
+ * grid fitted to the grey frame, every bit a confidence, matched by
+ * likelihood (family.c), the likeliest readings checked as whole templates. */
+#include "fpmath.h" /* first: float results independent of the build flags */
+#include "actag/decode.h"
+#include "decode_common.h"
+
+#include <string.h>
+
+/* The affine tag grid: image point of grid point (u, v) is
+ * m + a (u - g) + b (v - g), g the grid centre. */
+typedef struct fgrid {
+    float mx, my, ax, ay, bx, by;
+} fgrid;
+
+typedef struct fimg {
+    const uint8_t *img;
+    int rows, cols, stride;
+    float so; /* sample offset, cells */
+    int fast; /* 1: 5 samples per cell instead of 9 */
+} fimg;
+
+/* Bilinear grey level at (x, y), pixel centres on integers; edge pixels
+ * are replicated outside the image. Only + - * decide it. */
+static float fsample(const fimg *im, float x, float y)
+{
+    int x0, y0, x1, y1;
+    float fx, fy, v00, v01, v10, v11;
+    const uint8_t *r0, *r1;
+    if (!(x >= 0.0f))
+        x = 0.0f;
+    if (!(y >= 0.0f))
+        y = 0.0f;
+    if (x > (float)(im->cols - 1))
+        x = (float)(im->cols - 1);
+    if (y > (float)(im->rows - 1))
+        y = (float)(im->rows - 1);
+    x0 = (int)x;
+    y0 = (int)y;
+    fx = x - (float)x0;
+    fy = y - (float)y0;
+    x1 = x0 + 1 < im->cols ? x0 + 1 : x0;
+    y1 = y0 + 1 < im->rows ? y0 + 1 : y0;
+    r0 = im->img + (size_t)y0 * (size_t)im->stride;
+    r1 = im->img + (size_t)y1 * (size_t)im->stride;
+    v00 = (float)r0[x0];
+    v01 = (float)r0[x1];
+    v10 = (float)r1[x0];
+    v11 = (float)r1[x1];
+    v00 += (v01 - v00) * fx;
+    v10 += (v11 - v10) * fx;
+    return v00 + (v10 - v00) * fy;
+}
+
+/* fsample for a point known to lie in [0, cols-1) x [0, rows-1): the same
+ * arithmetic without the clamps (the result is bit-identical there). */
+static float fsample_in(const fimg *im, float x, float y)
+{
+    int x0 = (int)x, y0 = (int)y;
+    float fx = x - (float)x0, fy = y - (float)y0, v00, v01, v10, v11;
+    const uint8_t *r0 = im->img + (size_t)y0 * (size_t)im->stride + x0;
+    const uint8_t *r1 = r0 + im->stride;
+    v00 = (float)r0[0];
+    v01 = (float)r0[1];
+    v10 = (float)r1[0];
+    v11 = (float)r1[1];
+    v00 += (v01 - v00) * fx;
+    v10 += (v11 - v10) * fx;
+    return v00 + (v10 - v00) * fy;
+}
+
+/* Do all of a grid's sample points lie a pixel inside the image? (Then
+ * fsample_in serves; the margin covers the rounding of the points.) */
+static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
+{
+    float h = 0.5f * (float)(k + 1) + im->so; /* centre to the outermost samples, cells */
+    float ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * h;
+    float ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * h;
+    return gr->mx - ex >= 1.0f && gr->mx + ex <= (float)(im->cols - 2) &&
+           gr->my - ey >= 1.0f && gr->my + ey <= (float)(im->rows - 2);
+}
+
+/* One grey sample: the clamp-free sampler when the whole grid lies a pixel
+ * inside the frame (bit-identical there, and cheaper). */
+static float fsample_at(const fimg *im, int inside, float x, float y)
+{
+    return inside ? fsample_in(im, x, y) : fsample(im, x, y);
+}
+
+/* fcells() on one sampler (inside: the clamp-free one). */
+static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside)
+{
+    int cx, cy, a, b, n = k + 1;
+    float g = 0.5f * (float)n;
+    float ou[3], ov[3], pu[3], pv[3]; /* the 3x3 pattern's offsets along a and b */
+    for (a = 0; a < 3; a++) {
+        float u = (float)(a - 1) * im->so;
+        ou[a] = gr->ax * u;
+        ov[a] = gr->ay * u;
+        pu[a] = gr->bx * u;
+        pv[a] = gr->by * u;
+    }
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++) {
+            float s = 0.0f, u0 = (float)cx + 0.5f - g, v0 = (float)cy + 0.5f - g;
+            float x0 = gr->mx + gr->ax * u0 + gr->bx * v0;
+            float y0 = gr->my + gr->ay * u0 + gr->by * v0;
+            if (im->fast) {
+                /* centre and the 4 diagonal points */
+                float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
+                float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
+                s = fsample_at(im, inside, x0, y0) + fsample_at(im, inside, x0 + dx1, y0 + dy1) +
+                    fsample_at(im, inside, x0 - dx1, y0 - dy1) +
+                    fsample_at(im, inside, x0 + dx2, y0 + dy2) +
+                    fsample_at(im, inside, x0 - dx2, y0 - dy2);
+                m[cy * n + cx] = s * 0.2f;
+                continue;
+            }
+            for (b = 0; b < 3; b++)
+                for (a = 0; a < 3; a++)
+                    s += fsample_at(im, inside, x0 + ou[a] + pu[b], y0 + ov[a] + pv[b]);
+            m[cy * n + cx] = s * (1.0f / 9.0f);
+        }
+}
+
+/* Mean grey level of every cell of the (k+1)^2 grid over a 3x3 sample
+ * pattern (+-so cell; im->fast: the centre and the 4 diagonal points),
+ * m[cy * (k+1) + cx]. */
+static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
+{
+    /* two copies of the loops, one per sampler (constant inside) */
+    if (fgrid_inside(im, gr, k))
+        fcells_on(im, gr, k, m, 1);
+    else
+        fcells_on(im, gr, k, m, 0);
+}
+
+static int is_ring(int cx, int cy, int k)
+{
+    return (cx == 1 || cy == 1 || cx == k - 1 || cy == k - 1) && cx >= 1 && cy >= 1 &&
+           cx <= k - 1 && cy <= k - 1;
+}
+
+/* Black ring mean and white interior mean of the cell means. */
+static void flevels(const float *m, int k, float *black, float *white)
+{
+    int cx, cy, n = k + 1, nr = 0, ni = 0;
+    float sr = 0.0f, si = 0.0f;
+    for (cy = 1; cy < k; cy++)
+        for (cx = 1; cx < k; cx++) {
+            if (is_ring(cx, cy, k)) {
+                sr += m[cy * n + cx];
+                nr++;
+            } else {
+                si += m[cy * n + cx];
+                ni++;
+            }
+        }
+    *black = sr / (float)nr;
+    *white = si / (float)ni;
+}
+
+#define FIT_INITS 5
+/* grids the ACTAG_FIT_WIDE search compares: 5 starts x (25 + 8) shifts */
+#define FIT_WIDE_GRIDS (FIT_INITS * 33)
+/* Splits that read as different tags: the closest must lead the others by
+ * this many bits, else the threshold would decide the ID. */
+#define FIT_SPLIT_LEAD 1
+/* Where cells are judged between the black ring (0) and the white interior
+ * (1): the grid score's data-cell distance and the ring / interior counts. */
+#define FIT_MID_LEVEL 0.5f
+
+/* Code-agnostic crispness of a grid: black ring cells below, interior
+ * cells above the mid level, data cells far from it (either side, capped
+ * at half the contrast so bright clutter cannot pull the grid). */
+static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
+{
+    int cx, cy, n = k + 1;
+    float black, white, t, half, s = 0.0f;
+    fcells(im, gr, k, m);
+    flevels(m, k, &black, &white);
+    t = black + FIT_MID_LEVEL * (white - black);
+    half = FIT_MID_LEVEL * (white - black);
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++) {
+            float v = m[cy * n + cx] - t;
+            if (cx == 0 || cy == 0 || cx == k || cy == k) {
+                v = v < 0.0f ? -v : v;
+                s += v < half ? v : half;
+            }
+        }
+    return s + (white - black) * (float)((k - 1) * (k - 1));
+}
+
+/* Coarse translation search (+-1 cell, quarter-cell steps) by fscore. */
+static void fshift(const fimg *im, fgrid *gr, int k, float *m)
+{
+    /* Starting grids: as given, rotated by +-30 degrees, and sheared
+     * (sonar images show tags as parallelograms) by b += +-a (lb / la);
+     * each on a quarter-cell lattice of shifts within +-1 cell. */
+    static const float rc[FIT_INITS] = {1.0f, 0.8660254f, 0.8660254f, 1.0f, 1.0f};
+    static const float rs[FIT_INITS] = {0.0f, 0.5f, -0.5f, 0.0f, 0.0f};
+    static const float hb[FIT_INITS] = {0.0f, 0.0f, 0.0f, 1.0f, -1.0f};
+    fgrid g0 = *gr, t;
+    float best = -1e30f;
+    float la = actag_sqrtf(g0.ax * g0.ax + g0.ay * g0.ay), lb = actag_sqrtf(g0.bx * g0.bx + g0.by * g0.by);
+    float q = la > 0.0f ? lb / la : 1.0f;
+    int i, j, o;
+    for (o = 0; o < FIT_INITS; o++) {
+        fgrid gro = g0;
+        gro.ax = rc[o] * g0.ax + rs[o] * g0.bx / q;
+        gro.ay = rc[o] * g0.ay + rs[o] * g0.by / q;
+        gro.bx = -rs[o] * g0.ax * q + rc[o] * g0.bx + hb[o] * q * g0.ax;
+        gro.by = -rs[o] * g0.ay * q + rc[o] * g0.by + hb[o] * q * g0.ay;
+        /* half-cell lattice within +-1 cell, then the quarter-cell
+         * neighbours of the best point */
+        {
+            fgrid bo = gro;
+            float bs = -1e30f;
+            for (j = -2; j <= 2; j++)
+                for (i = -2; i <= 2; i++) {
+                    float sc;
+                    t = gro;
+                    t.mx += 0.5f * ((float)i * g0.ax + (float)j * g0.bx);
+                    t.my += 0.5f * ((float)i * g0.ay + (float)j * g0.by);
+                    sc = fscore(im, &t, k, m);
+                    if (sc > bs) {
+                        bs = sc;
+                        bo = t;
+                    }
+                }
+            for (j = -1; j <= 1; j++)
+                for (i = -1; i <= 1; i++) {
+                    float sc;
+                    if (i == 0 && j == 0)
+                        continue;
+                    t = bo;
+                    t.mx += 0.25f * ((float)i * g0.ax + (float)j * g0.bx);
+                    t.my += 0.25f * ((float)i * g0.ay + (float)j * g0.by);
+                    sc = fscore(im, &t, k, m);
+                    if (sc > bs) {
+                        bs = sc;
+                        bo = t;
+                    }
+                }
+            if (bs > best) {
+                best = bs;
+                *gr = bo;
+            }
+        }
+    }
+}
+
+static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
+                    int erase);
+
+static float objective(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
+                       int erase)
+{
+    return L ? tscore(im, gr, k, m, L, erase) : fscore(im, gr, k, m);
+}
+
+/* The grid ascent: steps per step size, and how far it may go from the
+ * starting grid (squared centre shift in cells^2: half a cell; squared side
+ * lengths: 65-134 %), so it cannot wander onto a neighbouring tag. */
+#define FIT_ASCENT_STEPS 4
+#define FIT_ASCENT_SHIFT2 0.25f
+#define FIT_ASCENT_HI 1.8f
+#define FIT_ASCENT_LO 0.42f
+/* A template's polish (tight): a reading refits the grid it came from,
+ * so fewer steps, a quarter cell and +-15 % (1.15^2, 0.85^2). */
+#define FIT_POLISH_STEPS 2
+#define FIT_POLISH_SHIFT2 0.0625f
+#define FIT_POLISH_HI 1.3225f
+#define FIT_POLISH_LO 0.7225f
+
+/* Ascent of the objective (fscore, or tscore for a template L) over the 6
+ * affine parameters, 3 step sizes, by Gauss-Seidel sweeps: each parameter
+ * moves as soon as a move improves (taking the best of all 12 moves per
+ * step instead measured worse on the pool frames: 36-38 vs 37-39 of 47 over
+ * flips and seeds). */
+static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
+                 int tight)
+{
+    static const float scales[3] = {1.0f, 0.5f, 0.25f};
+    fgrid g0 = *gr;
+    float la = actag_sqrtf(gr->ax * gr->ax + gr->ay * gr->ay);
+    float lb = actag_sqrtf(gr->bx * gr->bx + gr->by * gr->by);
+    float best = objective(im, gr, k, m, L, erase);
+    int lvl, it, p, sgn;
+    for (lvl = tight ? 1 : 0; lvl < 3; lvl++) { /* a polish starts at half steps */
+        for (it = 0; it < (tight ? FIT_POLISH_STEPS : FIT_ASCENT_STEPS); it++) {
+            fgrid bt = *gr;
+            float bs = best;
+            for (p = 0; p < 6; p++)
+                for (sgn = -1; sgn <= 1; sgn += 2) {
+                    fgrid t = *gr;
+                    float d, s;
+                    float *f = p == 0 ? &t.mx : p == 1 ? &t.my : p == 2 ? &t.ax
+                             : p == 3 ? &t.ay : p == 4 ? &t.bx : &t.by;
+                    d = (p < 2 ? 0.15f * (la < lb ? la : lb) : 0.05f * (p < 4 ? la : lb)) *
+                        scales[lvl] * (float)sgn;
+                    *f += d;
+                    /* stay near the starting grid */
+                    if ((t.mx - g0.mx) * (t.mx - g0.mx) + (t.my - g0.my) * (t.my - g0.my) >
+                            (tight ? FIT_POLISH_SHIFT2 : FIT_ASCENT_SHIFT2) * la * lb ||
+                        t.ax * t.ax + t.ay * t.ay > (tight ? FIT_POLISH_HI : FIT_ASCENT_HI) * la * la ||
+                        t.ax * t.ax + t.ay * t.ay < (tight ? FIT_POLISH_LO : FIT_ASCENT_LO) * la * la ||
+                        t.bx * t.bx + t.by * t.by > (tight ? FIT_POLISH_HI : FIT_ASCENT_HI) * lb * lb ||
+                        t.bx * t.bx + t.by * t.by < (tight ? FIT_POLISH_LO : FIT_ASCENT_LO) * lb * lb)
+                        continue;
+                    s = objective(im, &t, k, m, L, erase);
+                    if (s > bs) {
+                        bs = s;
+                        bt = t;
+                        *gr = bt; /* Gauss-Seidel sweep: move at once */
+                        break;
+                    }
+                }
+            if (!(bs > best))
+                break;
+            best = bs;
+            *gr = bt;
+        }
+    }
+}
+
+/* Data cell i's reference cells: the black-ring cell next to it (towards the
+ * tag centre; the ring corner for the data ring's corners) and the interior
+ * cell next to that one. */
+static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
+{
+    int cx, cy;
+    actag_tag_bit_cell(4 * k, i, &cx, &cy);
+    *rx = cx < 1 ? 1 : cx > k - 1 ? k - 1 : cx;
+    *ry = cy < 1 ? 1 : cy > k - 1 ? k - 1 : cy;
+    *wx = *rx < 2 ? 2 : *rx > k - 2 ? k - 2 : *rx;
+    *wy = *ry < 2 ? 2 : *ry > k - 2 ? k - 2 : *ry;
+}
+
+
+/* Floor of the cell noise estimate, confidence units: clean renders have
+ * none, and the margins divide by it. */
+#define FIT_MIN_NOISE 0.05f
+
+/* Template check (ACTAG_FIT_VERIFY). Each of the most likely readings is
+ * a full hypothesis for all (k+1)^2 cells (data ring from its code, black
+ * ring, white interior); its grid is refitted to that template and scored
+ * by the residual of a two-level least-squares fit of the cell means
+ * (rss). Every hypothesis thus gets its own best alignment, so a reading
+ * that only a misaligned grid supports loses to the right one; the margin
+ * is the log-likelihood ratio of the best against the next hypothesis
+ * under Gaussian cell noise estimated from the best one's residual. */
+static int is_data_corner(int cx, int cy, int k)
+{
+    return (cx == 0 || cx == k) && (cy == 0 || cy == k);
+}
+
+static void layout_of(const actag_family *family, int id, int view, int k, uint8_t *L)
+{
+    int bits = 4 * k, n = k + 1, i, cx, cy;
+    uint32_t e = family->codes[id];
+    for (i = 0; i < (view & 3); i++)
+        e = actag_code_rot90(e, bits);
+    if (view >> 2)
+        e = actag_code_mirror(e, bits);
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++)
+            L[cy * n + cx] = (uint8_t)actag_tag_cell_value(e, bits, cx, cy);
+}
+
+/* Residual of the cell means against a layout after a two-level (black,
+ * white) least-squares fit. */
+static float template_rss(const float *m, const uint8_t *L, int k, int erase, int *ncells)
+{
+    int n = k + 1, cx, cy, nw = 0, nb = 0;
+    float sw = 0.0f, sb = 0.0f, ss = 0.0f;
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++) {
+            float v = m[cy * n + cx];
+            if (erase && is_data_corner(cx, cy, k))
+                continue;
+            ss += v * v;
+            if (L[cy * n + cx]) {
+                sw += v;
+                nw++;
+            } else {
+                sb += v;
+                nb++;
+            }
+        }
+    if (ncells)
+        *ncells = nw + nb;
+    return ss - (nw ? sw * sw / (float)nw : 0.0f) - (nb ? sb * sb / (float)nb : 0.0f);
+}
+
+static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
+                    int erase)
+{
+    fcells(im, gr, k, m);
+    return -template_rss(m, L, k, erase, NULL);
+}
+
+void actag_fit_params_default(actag_fit_params *fp)
+{
+    if (fp == NULL)
+        return;
+    fp->flags = ACTAG_FIT_DEFAULT_FLAGS;
+    fp->level = 0.5f;
+    fp->min_contrast = 5;
+    fp->sample_offset = 0.2f;
+    fp->min_margin = ACTAG_FIT_MIN_MARGIN;
+    fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
+}
+
+int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
+                          const actag_point quad[4], const actag_family *family,
+                          int max_corrections, const actag_fit_params *fp,
+                          actag_decode_result *out)
+{
+    int flags, min_contrast;
+    float level;
+    fimg im;
+    fgrid gr, g_quad;
+    float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+    float conf[32], black, white, contrast, flips = 0.0f, minc = 1e30f;
+    actag_point q[4];
+    actag_soft_match ml;
+    float margin = 0.0f, noise2 = 0.0f, look;
+    int nknown = 0;
+    memset(&ml, 0, sizeof ml);
+    uint32_t w = 0, e, diff, keep;
+    int rc, maxc, bits, k, n, i, ring_ok = 0, in_ok = 0, cx, cy;
+    if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    rc = decode_check_frame_family(grey, rows, cols, stride, family);
+    if (rc != ACTAG_OK)
+        return rc;
+    flags = fp->flags;
+    min_contrast = fp->min_contrast;
+    level = fp->level;
+    if (actag_fit_params_validate(fp, NULL) != ACTAG_OK)
+        return ACTAG_ERR_PARAM;
+    maxc = actag_family_max_corrections(family);
+    if (max_corrections < 0 || max_corrections > maxc)
+        return ACTAG_ERR_CORRECTIONS;
+    bits = family->bits;
+    k = bits / 4;
+    n = k + 1;
+    keep = actag_code_mask(bits);
+    if (flags & ACTAG_FIT_ERASE_CORNERS)
+        keep &= ~actag_code_corners(bits);
+    rc = actag_tag_quad_clockwise(quad, q);
+    if (rc != ACTAG_OK)
+        return rc;
+    rc = actag_tag_affine(q, bits, H);
+    if (rc != ACTAG_OK)
+        return rc;
+    im.img = grey;
+    im.rows = rows;
+    im.cols = cols;
+    im.stride = stride;
+    im.so = fp->sample_offset;
+    im.fast = 0;
+    gr.ax = H[0];
+    gr.bx = H[1];
+    gr.ay = H[3];
+    gr.by = H[4];
+    gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
+    gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
+    g_quad = gr; /* the quad's own grid: the template check's second start */
+    if (flags & ACTAG_FIT_WIDE) {
+        im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
+        fshift(&im, &gr, k, m);
+        im.fast = 0;
+    }
+    if (!(flags & ACTAG_FIT_NO_SEARCH)) {
+        ffit(&im, &gr, k, m, NULL, 0, 0);
+    }
+    fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
+    /* The whole grid must lie in the image: a tag cut by the frame edge
+     * cannot be read (edge replication would invent its data cells). */
+    {
+        float ex = (gr.ax < 0.0f ? -gr.ax : gr.ax) + (gr.bx < 0.0f ? -gr.bx : gr.bx);
+        float ey = (gr.ay < 0.0f ? -gr.ay : gr.ay) + (gr.by < 0.0f ? -gr.by : gr.by);
+        float hw = 0.5f * (float)k; /* centre to the data cells' centres, cells */
+        if (gr.mx - ex * hw < 0.0f || gr.mx + ex * hw > (float)(cols - 1) ||
+            gr.my - ey * hw < 0.0f || gr.my + ey * hw > (float)(rows - 1))
+            return ACTAG_ERR_NO_MATCH;
+    }
+    flevels(m, k, &black, &white);
+    contrast = white - black;
+    if (!(contrast >= (float)min_contrast) || !(contrast > 0.0f))
+        return ACTAG_ERR_NO_MATCH;
+    for (cy = 1; cy < k; cy++)
+        for (cx = 1; cx < k; cx++) {
+            float v = m[cy * n + cx], d;
+            if (is_ring(cx, cy, k)) {
+                ring_ok += v < black + FIT_MID_LEVEL * contrast;
+                d = v - black;
+            } else {
+                in_ok += v > black + FIT_MID_LEVEL * contrast;
+                d = v - white;
+            }
+            noise2 += d * d;
+            nknown++;
+        }
+    /* cell noise in confidence units (a clean bit reads +-0.5), from the
+     * cells whose value is known; floored so clean renders stay finite */
+    noise2 = noise2 / ((float)nknown * contrast * contrast);
+    if (noise2 < FIT_MIN_NOISE * FIT_MIN_NOISE)
+        noise2 = FIT_MIN_NOISE * FIT_MIN_NOISE;
+    for (i = 0; i < bits; i++) {
+        float t, c;
+        actag_tag_bit_cell(4 * k, i, &cx, &cy);
+        if (flags & ACTAG_FIT_LOCAL) {
+            int rx, ry, wx, wy;
+            fref_cells(i, k, &rx, &ry, &wx, &wy);
+            t = 0.5f * (m[ry * n + rx] + m[wy * n + wx]);
+        } else {
+            t = black + level * contrast;
+        }
+        c = (m[cy * n + cx] - t) / contrast;
+        conf[i] = c;
+        w = (w << 1) | (c > 0.0f ? 1u : 0u);
+        c = c < 0.0f ? -c : c;
+        if (c < minc)
+            minc = c;
+    }
+
+    {
+        /* Thresholds: with ACTAG_FIT_SPLIT every split of the sorted data
+         * confidences between ACTAG_FIT_SPLIT_LO and _HI (relative to the
+         * mid level) is read; otherwise the single threshold 0. Each reading
+         * is matched by likelihood (actag_family_match_soft); the split whose best code
+         * needs the fewest corrections wins (then the larger margin). */
+        float sv[32], tbest = 0.0f;
+        int j, a, nsplit = 0, have = 0;
+        long key = -1;
+        int kd = 99, od = 99; /* best distance of the kept key, of any other */
+        if (flags & ACTAG_FIT_SPLIT) {
+            for (i = 0; i < bits; i++)
+                sv[i] = conf[i];
+            for (i = 1; i < bits; i++)
+                for (j = i; j > 0 && sv[j - 1] > sv[j]; j--) {
+                    float t = sv[j];
+                    sv[j] = sv[j - 1];
+                    sv[j - 1] = t;
+                }
+            nsplit = bits;
+        } else {
+            nsplit = 1;
+        }
+        for (j = 0; j < nsplit; j++) {
+            float t, ct[32];
+            actag_soft_match r;
+            int dk;
+            long key1;
+            if (flags & ACTAG_FIT_SPLIT) {
+                t = j == 0 ? sv[0] - 1.0f : 0.5f * (sv[j - 1] + sv[j]);
+                if (t > ACTAG_FIT_SPLIT_HI - level)
+                    break;
+                if (t < ACTAG_FIT_SPLIT_LO - level)
+                    continue;
+            } else {
+                t = 0.0f;
+            }
+            for (a = 0; a < bits; a++)
+                ct[a] = conf[a] - t;
+            rc = actag_family_match_soft(family, ct, keep, &r);
+            if (rc != ACTAG_OK)
+                return rc;
+            dk = r.best.hamming;
+            if (dk > max_corrections)
+                continue;
+            /* A tie between the two handednesses is no reading. */
+            if (r.other == dk)
+                return ACTAG_ERR_NO_MATCH;
+            /* Splits that read as different tags (or poses): the threshold
+             * decides the ID, so the reading is ambiguous unless one is
+             * closer than every other by FIT_SPLIT_LEAD bits. */
+            key1 = (long)r.best.id * 8L + (long)r.best.mirrored * 4L + (long)r.best.rotation;
+            if (key < 0 || key == key1) {
+                if (key < 0 || dk < kd)
+                    kd = dk;
+                key = key1;
+            } else if (dk < kd) {
+                od = kd < od ? kd : od;
+                kd = dk;
+                key = key1;
+            } else if (dk < od) {
+                od = dk;
+            }
+            if (!have || dk < ml.best.hamming ||
+                (dk == ml.best.hamming && r.d2 - r.d1 > ml.d2 - ml.d1)) {
+                ml = r;
+                tbest = t;
+                have = 1;
+            }
+        }
+        if (!have)
+            return ACTAG_ERR_NO_MATCH;
+        if (od < 99 && od - kd < FIT_SPLIT_LEAD)
+            return ACTAG_ERR_NO_MATCH;
+        w = 0;
+        for (i = 0; i < bits; i++) { /* confidences relative to the chosen threshold */
+            conf[i] -= tbest;
+            if (conf[i] == 0.0f)
+                conf[i] = -0.01f;
+            w = (w << 1) | (conf[i] > 0.0f ? 1u : 0u);
+        }
+        /* the bit margin needs no template check: refuse before it */
+        if (ml.h2 - ml.best.hamming < fp->min_bit_margin)
+            return ACTAG_ERR_NO_MATCH;
+        /* Look-elsewhere allowance: the best of N hypotheses (8 views of
+         * every code, times the grids the wide search tries) beats the
+         * next by ln N on pure noise; the margin counts what is left. */
+        look = actag_logf(8.0f * (float)family->ncodes *
+                          ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
+        /* log-likelihood ratio best : runner-up under Gaussian cell noise */
+        margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ACTAG_SOFT_SCALE) / noise2;
+        if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
+            uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+            float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+            float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, floor2;
+            int jj, nc = 1, erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
+            int cid[2 * ACTAG_SOFT_TOP], cview[2 * ACTAG_SOFT_TOP], ncand = 0;
+            /* candidates: the likeliest readings on the fitted grid, and on
+             * the quad's own grid (the code-agnostic fit may have settled
+             * where the right reading is not among its likeliest) */
+            for (jj = 0; jj < ml.ntop; jj++) {
+                cid[ncand] = ml.top[jj].id;
+                cview[ncand++] = ml.top[jj].view;
+            }
+            {
+                float cq[32], bq, wq;
+                actag_soft_match mq;
+                int a2, b2;
+                fcells(&im, &g_quad, k, mt);
+                flevels(mt, k, &bq, &wq);
+                if (wq - bq > 0.0f) {
+                    for (i = 0; i < bits; i++) {
+                        float t;
+                        actag_tag_bit_cell(4 * k, i, &cx, &cy);
+                        if (flags & ACTAG_FIT_LOCAL) {
+                            int rx, ry, wx, wy;
+                            fref_cells(i, k, &rx, &ry, &wx, &wy);
+                            t = 0.5f * (mt[ry * n + rx] + mt[wy * n + wx]);
+                        } else {
+                            t = bq + level * (wq - bq);
+                        }
+                        cq[i] = (mt[cy * n + cx] - t) / (wq - bq);
+                    }
+                    rc = actag_family_match_soft(family, cq, keep, &mq);
+                    if (rc != ACTAG_OK)
+                        return rc;
+                    for (a2 = 0; a2 < mq.ntop; a2++) {
+                        int dup = 0;
+                        for (b2 = 0; b2 < ncand; b2++)
+                            dup |= cid[b2] == mq.top[a2].id && cview[b2] == mq.top[a2].view;
+                        if (!dup) {
+                            cid[ncand] = mq.top[a2].id;
+                            cview[ncand++] = mq.top[a2].view;
+                        }
+                    }
+                }
+            }
+            for (jj = 0; jj < ncand; jj++) {
+                float r;
+                layout_of(family, cid[jj], cview[jj], k, L);
+                /* a polish near the grid the reading came from (after the
+                 * wide search, which may settle a cell off, the full range) */
+                {
+                    fgrid g = jj < ml.ntop ? gr : g_quad;
+                    ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE));
+                    fcells(&im, &g, k, mt);
+                    r = template_rss(mt, L, k, erase, &nc);
+                }
+                if (jj == 0) {
+                    rss0 = r;
+                    s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
+                    floor2 = FIT_MIN_NOISE * 2.0f * contrast;
+                    floor2 *= floor2;
+                    if (s2 < floor2)
+                        s2 = floor2;
+                    continue;
+                }
+                /* Another hypothesis explains the cells better once each
+                 * has its own grid (the code-agnostic reading cannot be
+                 * trusted), or too nearly as well: refuse now. The margin
+                 * only falls as rss2 does, so the first such hypothesis
+                 * decides exactly what the least one would. */
+                if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin)
+                    return ACTAG_ERR_NO_MATCH;
+                if (r < rss2)
+                    rss2 = r;
+            }
+            margin = 0.5f * (rss2 - rss0) / s2;
+        }
+        margin -= look;
+        if (margin < fp->min_margin)
+            return ACTAG_ERR_NO_MATCH;
+        out->bit_margin = ml.h2 - ml.best.hamming;
+    }
+
+    out->observed = w;
+    out->ring_black = (float)ring_ok / (float)(4 * (k - 2));
+    out->interior_white = (float)in_ok / (float)((k - 3) * (k - 3));
+    decode_set_reading(out, q, &ml.best, ml.other);
+    out->decision_margin = margin;
+    /* the word a perfect reading would have given */
+    e = family->codes[out->id];
+    for (i = 0; i < out->rotation; i++)
+        e = actag_code_rot90(e, bits);
+    if (out->mirrored)
+        e = actag_decode_mirror(e, bits);
+    {
+        /* the fitted grid's white-square corners, in the same tag order */
+        actag_point fq[4];
+        float lo = 2.0f - 0.5f * (float)n, hi = (float)(k - 1) - 0.5f * (float)n;
+        static const int su[4] = {0, 1, 1, 0}, sv[4] = {0, 0, 1, 1};
+        for (i = 0; i < 4; i++) {
+            float u = su[i] ? hi : lo, v = sv[i] ? hi : lo;
+            fq[i].x = gr.mx + gr.ax * u + gr.bx * v;
+            fq[i].y = gr.my + gr.ay * u + gr.by * v;
+        }
+        actag_tag_corners(fq, out->rotation, out->mirrored, out->fit_corners);
+    }
+    diff = (w ^ e) & keep;
+    for (i = 0; i < bits; i++)
+        if (diff & ((uint32_t)1u << (bits - 1 - i)))
+            flips += conf[i] < 0.0f ? -conf[i] : conf[i];
+    out->contrast = contrast;
+    out->flip_weight = flips;
+    out->min_confidence = minc;
+    return ACTAG_OK;
+}
