@@ -49,6 +49,7 @@ typedef struct qctx {
     float ratio;     /* inlier fraction that ends the search at once */
     float min_ratio; /* inlier fraction required of the best quad found */
     float pcos;      /* min |cos| between opposite sides */
+    int chain;       /* consecutive points are at most 1 px apart in x and in y */
 } qctx;
 
 void actag_quad_params_default(actag_quad_params *p)
@@ -382,6 +383,55 @@ static int refine_and_accept(const qctx *k, const qquad *q0, qquad *out, float *
     return 0;
 }
 
+/* Labels the unclaimed points within d of line l with tag; returns their
+ * number. The points with |dist| <= d are exactly those of the plain loop
+ * (the reference below, kept for ACTAG_QUAD_REFERENCE and contours that are
+ * not chains); on a chain (consecutive points at most 1 px apart in x and
+ * in y) the loop skips the points that cannot be that close: the exact
+ * distance to the line changes by at most s = |nx| + |ny| per step, and a
+ * computed distance is within E of the exact one, E < 2^-24 (3 (bw + bh) +
+ * |c|) * 1.01 (three roundings, |fx| <= bw, |fy| <= bh). So when the
+ * computed |dist| of point i exceeds d + 2E + j s, the computed distances
+ * of points i+1 .. i+j exceed d too. M below is far above 2E, and s is
+ * taken 1e-4 larger, which also covers the roundings of the step count. */
+static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, unsigned char tag)
+{
+    const float *restrict fx = k->fx, *restrict fy = k->fy;
+    const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
+    const int n = k->n;
+    int i, cnt = 0;
+#ifndef ACTAG_QUAD_REFERENCE
+    if (k->chain) {
+        const float lim = d + (1e-5f * (k->bw + k->bh + fabsf(lc)) + 1e-4f);
+        const float inv = 1.0f / ((fabsf(lnx) + fabsf(lny)) * 1.0001f);
+        for (i = 0; i < n;) {
+            float a = fabsf(lnx * fx[i] + lny * fy[i] - lc);
+            if (a <= d) {
+                if (!lab[i]) {
+                    lab[i] = tag;
+                    cnt++;
+                }
+                i++;
+            } else {
+                float t = (a - lim) * inv; /* points i+1 .. i+floor(t) are out */
+                if (t >= (float)(n - i))
+                    break;
+                i += t > 0.0f ? 1 + (int)t : 1;
+            }
+        }
+        return cnt;
+    }
+#endif
+    /* Branch-free so that compilers vectorise it. */
+    for (i = 0; i < n; i++) {
+        float dist = lnx * fx[i] + lny * fy[i] - lc;
+        int in = (lab[i] == 0) & (dist <= d) & (dist >= -d);
+        lab[i] = (unsigned char)(lab[i] | (in ? tag : 0u));
+        cnt += in;
+    }
+    return cnt;
+}
+
 /* Sums of the unclaimed points met walking from index start until m of them
  * are taken (cyclic); with line non-NULL, only those within d of it. */
 static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
@@ -495,6 +545,12 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     k.ratio = params->inlier_ratio;
     k.min_ratio = params->min_inlier_ratio < k.ratio ? params->min_inlier_ratio : k.ratio;
     k.pcos = params->min_parallel_cos;
+    k.chain = 1;
+    for (i = 1; i < n; i++) {
+        int dx = pts[i].x - pts[i - 1].x, dy = pts[i].y - pts[i - 1].y;
+        if (dx < -1 || dx > 1 || dy < -1 || dy > 1)
+            k.chain = 0;
+    }
     promise = k.min_ratio - QUAD_PROMISE;
 
     m = (int)(params->sample_fraction * (float)n + 0.5f);
@@ -514,7 +570,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         memset(lab, 0, (size_t)n);
         for (line = 0; line < 4 && ok; line++) {
             qline l;
-            float mx, my, lnx, lny, lc;
+            float mx, my;
             int cnt = 0;
             unsigned char tag = (unsigned char)(line + 1);
             if (nfree < m ||
@@ -522,17 +578,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
                 ok = 0;
                 break;
             }
-            /* Branch-free so that compilers vectorise it: with the sampling
-             * walks, this loop is most of the time spent. */
-            lnx = l.nx;
-            lny = l.ny;
-            lc = l.c;
-            for (i = 0; i < n; i++) {
-                float dist = lnx * fx[i] + lny * fy[i] - lc;
-                int in = (lab[i] == 0) & (dist <= d) & (dist >= -d);
-                lab[i] = (unsigned char)(lab[i] | (in ? tag : 0u));
-                cnt += in;
-            }
+            cnt = claim(&k, lab, &l, tag);
             if (cnt < 2) {
                 ok = 0;
                 break;
