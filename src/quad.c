@@ -50,6 +50,7 @@ typedef struct qctx {
     float min_ratio; /* inlier fraction required of the best quad found */
     float pcos;      /* min |cos| between opposite sides */
     int chain;       /* consecutive points are at most 1 px apart in x and in y */
+    int accept_min;  /* fewest inliers whose ratio passes min_ratio (n + 1: none) */
 } qctx;
 
 void actag_quad_params_default(actag_quad_params *p)
@@ -75,6 +76,24 @@ static void sums_add(qsums *s, int64_t x, int64_t y)
 }
 
 static float ratio_of(int count, int n) { return (float)count / (float)n; }
+
+/* The fewest of n points c with ratio_of(c, n) >= lo and > above (n + 1 if
+ * none): ratio_of grows with c (a correctly rounded quotient of a growing
+ * numerator), so count >= count_min(...) decides exactly what the ratio
+ * tests do. */
+static int count_min(int n, float lo, float above)
+{
+    int a = 0, b = n + 1; /* the answer is in [a, b] */
+    while (a < b) {
+        int c = a + (b - a) / 2;
+        float r = ratio_of(c, n);
+        if (r >= lo && r > above)
+            b = c;
+        else
+            a = c + 1;
+    }
+    return a;
+}
 
 /* Total-least-squares line through the summed points. *msr (if not NULL)
  * receives the mean squared perpendicular residual. Returns 0 when the
@@ -180,8 +199,11 @@ static int quad_shape_ok(const qctx *k, const qquad *q, int parallel)
 /* Counts the points within d of the quad's sides (segments). With span
  * non-NULL, also assigns each inlier to its nearest side and returns 1 in
  * *span only if on every side those inliers spread over at least
- * QUAD_MIN_SPAN of its length. */
-static int quad_inliers(const qctx *k, const qquad *q, int *span)
+ * QUAD_MIN_SPAN of its length. Once the count can no longer reach need
+ * (the caller rejects any smaller count), returns a count below need
+ * (and *span 0) without looking at the rest (not under
+ * ACTAG_QUAD_REFERENCE). */
+static int quad_inliers(const qctx *k, const qquad *q, int *span, int need)
 {
     float ax[4], ay[4], ux[4], uy[4], len[4], tmin[4], tmax[4];
     int j, i, count = 0;
@@ -197,9 +219,19 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span)
         tmin[j] = l;
         tmax[j] = 0.0f;
     }
+#ifdef ACTAG_QUAD_REFERENCE
+    (void)need;
+#endif
     for (i = 0; i < k->n; i++) {
         float px = k->fx[i], py = k->fy[i], best = k->d2, bt = 0.0f;
         int bj = -1;
+#ifndef ACTAG_QUAD_REFERENCE
+        if (count + (k->n - i) < need) {
+            if (span)
+                *span = 0;
+            return count;
+        }
+#endif
         for (j = 0; j < 4; j++) {
             float vx = px - ax[j], vy = py - ay[j];
             float t = vx * ux[j] + vy * uy[j], e2;
@@ -241,10 +273,10 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span)
  * nearest inliers over at least QUAD_MIN_SPAN of its length (a line fitted
  * to stray points can otherwise close a quad whose inlier count passes while
  * most of a short side is missed). */
-static float quad_support(const qctx *k, const qquad *q)
+static float quad_support(const qctx *k, const qquad *q, int need)
 {
     int span;
-    float r = ratio_of(quad_inliers(k, q, &span), k->n);
+    float r = ratio_of(quad_inliers(k, q, &span, need), k->n);
     return span ? r : -1.0f;
 }
 
@@ -254,7 +286,7 @@ static int quad_accept(const qctx *k, const qquad *q, float *ratio)
     float r;
     if (!quad_shape_ok(k, q, 1))
         return 0;
-    r = quad_support(k, q);
+    r = quad_support(k, q, k->accept_min);
     if (!(r >= k->min_ratio))
         return 0;
     *ratio = r;
@@ -393,8 +425,11 @@ static int refine_and_accept(const qctx *k, const qquad *q0, qquad *out, float *
  * |c|) * 1.01 (three roundings, |fx| <= bw, |fy| <= bh). So when the
  * computed |dist| of point i exceeds d + 2E + j s, the computed distances
  * of points i+1 .. i+j exceed d too. M below is far above 2E, and s is
- * taken 1e-4 larger, which also covers the roundings of the step count. */
-static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, unsigned char tag)
+ * taken 1e-4 larger, which also covers the roundings of the step count.
+ * With need > 0, returns a count below need as soon as the count can no
+ * longer reach need (the caller then rejects; the labels are incomplete). */
+static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, unsigned char tag,
+                 int need)
 {
     const float *restrict fx = k->fx, *restrict fy = k->fy;
     const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
@@ -417,10 +452,14 @@ static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, uns
                 if (t >= (float)(n - i))
                     break;
                 i += t > 0.0f ? 1 + (int)t : 1;
+                if (cnt + (n - i) < need) /* checked here only: cheaper */
+                    return cnt;
             }
         }
         return cnt;
     }
+#else
+    (void)need;
 #endif
     /* Branch-free so that compilers vectorise it. */
     for (i = 0; i < n; i++) {
@@ -433,26 +472,64 @@ static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, uns
 }
 
 /* Sums of the unclaimed points met walking from index start until m of them
- * are taken (cyclic); with line non-NULL, only those within d of it. */
+ * are taken (cyclic); with line non-NULL, only those within d of it. At
+ * least m points are unclaimed. The count and the first sums fit 32 bits
+ * (at most 32767 points of coordinates below 65536 relative to the
+ * origin); the walk runs up to the end of the array, then from 0. */
 static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
                       const qline *line, qsums *s)
 {
-    int i = start, got = 0;
-    memset(s, 0, sizeof *s);
-    while (got < m) {
-        if (!lab[i]) {
-            got++;
-            if (!line) {
-                sums_add(s, k->pts[i].x - k->ox, k->pts[i].y - k->oy);
-            } else {
-                float dist = line->nx * k->fx[i] + line->ny * k->fy[i] - line->c;
-                if (dist <= k->d && dist >= -k->d)
-                    sums_add(s, k->pts[i].x - k->ox, k->pts[i].y - k->oy);
+    const actag_ipoint *pts = k->pts;
+    const int ox = k->ox, oy = k->oy, n = k->n;
+    int32_t cnt = 0, sx = 0, sy = 0;
+    int64_t sxx = 0, sxy = 0, syy = 0;
+    int i = start, left = m;
+    while (left > 0) {
+        if (!line) {
+            for (; i < n && left > 0; i++) {
+                int32_t x, y;
+                if (lab[i])
+                    continue;
+                left--;
+                x = pts[i].x - ox;
+                y = pts[i].y - oy;
+                cnt++;
+                sx += x;
+                sy += y;
+                sxx += (int64_t)x * x;
+                sxy += (int64_t)x * y;
+                syy += (int64_t)y * y;
+            }
+        } else {
+            const float lnx = line->nx, lny = line->ny, lc = line->c, d = k->d;
+            for (; i < n && left > 0; i++) {
+                float dist;
+                int32_t x, y;
+                if (lab[i])
+                    continue;
+                left--;
+                dist = lnx * k->fx[i] + lny * k->fy[i] - lc;
+                if (!(dist <= d && dist >= -d))
+                    continue;
+                x = pts[i].x - ox;
+                y = pts[i].y - oy;
+                cnt++;
+                sx += x;
+                sy += y;
+                sxx += (int64_t)x * x;
+                sxy += (int64_t)x * y;
+                syy += (int64_t)y * y;
             }
         }
-        if (++i == k->n)
+        if (i == n)
             i = 0;
     }
+    s->n = cnt;
+    s->sx = sx;
+    s->sy = sy;
+    s->sxx = sxx;
+    s->sxy = sxy;
+    s->syy = syy;
 }
 
 /* Line through a run of m unclaimed points from index start: fitted, then
@@ -488,7 +565,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     qquad best;
     unsigned char *lab;
     float *fx, *fy;
-    int n, m, i, it, minx, miny, maxx, maxy, have = 0;
+    int n, m, i, it, minx, miny, maxx, maxy, have = 0, claim_min;
     int64_t sx = 0, sy = 0;
     float d, promise, best_r0 = 0.0f, best_ratio = 0.0f;
 
@@ -553,6 +630,9 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     }
     promise = k.min_ratio - QUAD_PROMISE;
 
+    k.accept_min = count_min(n, k.min_ratio, -1.0f);
+    claim_min = count_min(n, promise, best_r0);
+
     m = (int)(params->sample_fraction * (float)n + 0.5f);
     if (m < 3)
         m = 3;
@@ -578,26 +658,32 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
                 ok = 0;
                 break;
             }
-            cnt = claim(&k, lab, &l, tag);
+            lines[line] = l;
+            /* Any point of each side orders the sides around an interior
+             * point; the run's centroid will do. */
+            key[line] = pseudo_angle(mx - k.cx, my - k.cy);
+#ifndef ACTAG_QUAD_REFERENCE
+            if (line == 3)
+                break; /* its claims are counted after step 3 */
+#endif
+            cnt = claim(&k, lab, &l, tag, 0);
             if (cnt < 2) {
                 ok = 0;
                 break;
             }
             nfree -= cnt;
             claimed += cnt;
-            lines[line] = l;
-            /* Any point of each side orders the sides around an interior
-             * point; the run's centroid will do. */
-            key[line] = pseudo_angle(mx - k.cx, my - k.cy);
         }
         if (!ok)
             continue;
+#ifdef ACTAG_QUAD_REFERENCE
         /* 2. A quad's inliers are a subset of the points its lines
          * claimed: too few claimed points can neither promise a quad nor
          * beat the best unrefined quad so far. */
         r = ratio_of(claimed, n);
         if (r < promise || r <= best_r0)
             continue;
+#endif
 
         /* 3. Order the lines clockwise around the centroid, intersect. */
         for (i = 0; i < 4; i++)
@@ -614,12 +700,25 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
             q.line[i] = lines[order[i]];
         if (!quad_from_lines(&q) || !quad_shape_ok(&k, &q, 0))
             continue;
+#ifndef ACTAG_QUAD_REFERENCE
+        /* 2., after step 3 (every test of steps 1-3 only ends the
+         * iteration, and the generator was drawn for all four lines, so
+         * their order does not change the result): the fourth line's
+         * claims, counted only until the total can no longer reach
+         * claim_min, the count that step 2 of the reference accepts. */
+        {
+            int cnt = claim(&k, lab, &lines[3], 4u, claim_min - claimed > 2 ? claim_min - claimed : 2);
+            if (cnt < 2 || claimed + cnt < claim_min)
+                continue;
+        }
+#endif
 
         /* 4. Refine each new best unrefined quad and test it. */
-        r = quad_support(&k, &q);
+        r = quad_support(&k, &q, claim_min);
         if (r < promise || r <= best_r0)
             continue;
         best_r0 = r;
+        claim_min = count_min(n, promise, best_r0);
         if (!refine_and_accept(&k, &q, &cand, &r))
             continue;
         if (!have || r > best_ratio) {
