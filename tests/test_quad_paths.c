@@ -1,5 +1,6 @@
 /* actag_quad_fit's fast paths (src/quad.c without ACTAG_QUAD_REFERENCE:
- * skipping along chains, early exits from the counts) against its reference
+ * skipping along chains (ACTAG_QUAD_FORCE_SKIP, as on targets without a
+ * vector unit), early exits from the counts) against its reference
  * loops (the same file compiled in here with ACTAG_QUAD_REFERENCE, under
  * another name): the same return code, the same bytes of actag_quad and the
  * same generator state afterwards, on random contours of many kinds: noisy
@@ -21,6 +22,38 @@ void actag_quad_params_default_reference(actag_quad_params *p);
 #define ACTAG_QUAD_REFERENCE 1
 #define actag_quad_fit actag_quad_fit_reference
 #define actag_quad_params_default actag_quad_params_default_reference
+#include "../src/quad.c"
+#undef actag_quad_fit
+#undef actag_quad_params_default
+#undef ACTAG_QUAD_REFERENCE
+
+/* The skipping claim loop, which the library uses only on targets without
+ * a vector unit: compiled in a second time, every name renamed. */
+int actag_quad_fit_skip(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
+                        actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
+void actag_quad_params_default_skip(actag_quad_params *p);
+#define ACTAG_QUAD_FORCE_SKIP 1
+#define actag_quad_fit actag_quad_fit_skip
+#define actag_quad_params_default actag_quad_params_default_skip
+#define qsums qsums_skip
+#define qline qline_skip
+#define qquad qquad_skip
+#define qctx qctx_skip
+#define sums_add sums_add_skip
+#define ratio_of ratio_of_skip
+#define count_min count_min_skip
+#define line_fit line_fit_skip
+#define pseudo_angle pseudo_angle_skip
+#define quad_from_lines quad_from_lines_skip
+#define quad_shape_ok quad_shape_ok_skip
+#define quad_inliers quad_inliers_skip
+#define quad_support quad_support_skip
+#define quad_accept quad_accept_skip
+#define side_sums side_sums_skip
+#define refine_and_accept refine_and_accept_skip
+#define claim claim_skip
+#define walk_sums walk_sums_skip
+#define sample_line sample_line_skip
 #include "../src/quad.c"
 #undef actag_quad_fit
 #undef actag_quad_params_default
@@ -142,17 +175,22 @@ static int compare(const actag_ipoint *pts, int n, const actag_quad_params *p, u
     actag_quad qa, qb;
     int rca, rcb;
     char msg[160];
-    actag_rng_seed(&ra, seed);
     actag_rng_seed(&rb, seed);
-    memset(&qa, 0x5a, sizeof qa);
     memset(&qb, 0x5a, sizeof qb);
-    rca = actag_quad_fit(pts, n, p, &ra, g_scratch, ACTAG_QUAD_SCRATCH_SIZE(n), &qa);
+    int v;
     rcb = actag_quad_fit_reference(pts, n, p, &rb, g_scratch, ACTAG_QUAD_SCRATCH_SIZE(n), &qb);
-    snprintf(msg, sizeof msg, "%s trial %d: n %d, d %g, iterations %d / %d", what, trial, n,
-             (double)p->inlier_distance, qa.iterations, qb.iterations);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(rcb, rca, msg);
-    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&qb, &qa, sizeof qa, msg);
-    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&rb, &ra, sizeof ra, msg);
+    for (v = 0; v < 2; v++) { /* the library, the skipping build */
+        actag_rng_seed(&ra, seed);
+        memset(&qa, 0x5a, sizeof qa);
+        rca = (v ? actag_quad_fit_skip : actag_quad_fit)(pts, n, p, &ra, g_scratch,
+                                                         ACTAG_QUAD_SCRATCH_SIZE(n), &qa);
+        snprintf(msg, sizeof msg, "%s, %s trial %d: n %d, d %g, iterations %d / %d",
+                 v ? "skipping" : "library", what, trial, n, (double)p->inlier_distance,
+                 qa.iterations, qb.iterations);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(rcb, rca, msg);
+        TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&qb, &qa, sizeof qa, msg);
+        TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&rb, &ra, sizeof ra, msg);
+    }
     return rca == ACTAG_OK;
 }
 
