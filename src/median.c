@@ -332,6 +332,10 @@ static void median_quad(const uint8_t *src, int rows, int cols, size_t sstride, 
         unsigned med[4], lt[4];
         lanes_t medb = 0;
         int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
+#ifdef MEDIAN_DSP
+        /* every source row in the image: rowp[t] = rowp[0] + t * sstride */
+        const int interior = i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1;
+#endif
         for (t = 0; t < nt; t++)
             rowp[t] = src + (size_t)clampi(i0 - R + t, 0, rows - 1) * sstride;
 
@@ -365,6 +369,34 @@ static void median_quad(const uint8_t *src, int rows, int cols, size_t sstride, 
                  * that they never go negative (at most 2R+4 <= 18 samples
                  * leave a window in one step). */
                 lanes_t acc = LANES_BIAS;
+#ifdef MEDIAN_DSP
+                if (interior) {
+                    /* The same updates in the same order, the rows walked
+                     * with two pointers and the masks as constants: rows
+                     * 0-2 are in windows 0..t, rows 3..n-1 in all four,
+                     * rows n..n+2 in windows t-n+1..3. */
+                    const uint8_t *a = rowp[0] + ca, *b = rowp[0] + cr;
+#define QSTEP(m)                                                                               \
+    do {                                                                                       \
+        unsigned vi_ = *a, vo_ = *b;                                                           \
+        a += sstride;                                                                          \
+        b += sstride;                                                                          \
+        hist[vi_] += (m);                                                                      \
+        hist[vo_] -= (m);                                                                      \
+        acc += below_lanes(vi_, medb, (m));                                                    \
+        acc -= below_lanes(vo_, medb, (m));                                                    \
+    } while (0)
+                    QSTEP(0x00000001u);
+                    QSTEP(0x00000101u);
+                    QSTEP(0x00010101u);
+                    for (t = 3; t < n; t++)
+                        QSTEP(0x01010101u);
+                    QSTEP(0x01010100u);
+                    QSTEP(0x01010000u);
+                    QSTEP(0x01000000u);
+#undef QSTEP
+                } else
+#endif
                 for (t = 0; t < nt; t++) {
                     unsigned vin = rowp[t][ca], vout = rowp[t][cr];
 #ifndef MEDIAN_DSP

@@ -5,6 +5,19 @@
 #include <math.h>
 #include <string.h>
 
+/* The claim loop skips points along chains (claim() below) where the
+ * compiler has no vector unit to vectorise the plain loop (Cortex-M, ...);
+ * with one (SSE2, NEON, ...) the plain loop is cheaper (x86-64: 253 M vs
+ * 284 M instructions over 20 pool frames). ACTAG_QUAD_FORCE_SKIP selects
+ * the skipping anywhere (the tests check it); ACTAG_QUAD_REFERENCE keeps
+ * every plain loop and no early exit. */
+#if !defined(ACTAG_QUAD_REFERENCE) &&                                                          \
+    (defined(ACTAG_QUAD_FORCE_SKIP) ||                                                         \
+     !(defined(__SSE2__) || defined(__ARM_NEON) || defined(__ARM_FEATURE_MVE) ||              \
+       defined(__riscv_vector) || defined(__ALTIVEC__)))
+#define QUAD_SKIP 1
+#endif
+
 /* Adjacent sides must differ by at least asin(0.2) (11.5 degrees). */
 #define QUAD_MIN_ADJ_SIN 0.2f
 /* Unrefined quads below min_inlier_ratio minus this are not refined. */
@@ -49,6 +62,8 @@ typedef struct qctx {
     float ratio;     /* inlier fraction that ends the search at once */
     float min_ratio; /* inlier fraction required of the best quad found */
     float pcos;      /* min |cos| between opposite sides */
+    int chain;       /* consecutive points are at most 1 px apart in x and in y */
+    int accept_min;  /* fewest inliers whose ratio passes min_ratio (n + 1: none) */
 } qctx;
 
 void actag_quad_params_default(actag_quad_params *p)
@@ -74,6 +89,24 @@ static void sums_add(qsums *s, int64_t x, int64_t y)
 }
 
 static float ratio_of(int count, int n) { return (float)count / (float)n; }
+
+/* The fewest of n points c with ratio_of(c, n) >= lo and > above (n + 1 if
+ * none): ratio_of grows with c (a correctly rounded quotient of a growing
+ * numerator), so count >= count_min(...) decides exactly what the ratio
+ * tests do. */
+static int count_min(int n, float lo, float above)
+{
+    int a = 0, b = n + 1; /* the answer is in [a, b] */
+    while (a < b) {
+        int c = a + (b - a) / 2;
+        float r = ratio_of(c, n);
+        if (r >= lo && r > above)
+            b = c;
+        else
+            a = c + 1;
+    }
+    return a;
+}
 
 /* Total-least-squares line through the summed points. *msr (if not NULL)
  * receives the mean squared perpendicular residual. Returns 0 when the
@@ -179,8 +212,11 @@ static int quad_shape_ok(const qctx *k, const qquad *q, int parallel)
 /* Counts the points within d of the quad's sides (segments). With span
  * non-NULL, also assigns each inlier to its nearest side and returns 1 in
  * *span only if on every side those inliers spread over at least
- * QUAD_MIN_SPAN of its length. */
-static int quad_inliers(const qctx *k, const qquad *q, int *span)
+ * QUAD_MIN_SPAN of its length. Once the count can no longer reach need
+ * (the caller rejects any smaller count), returns a count below need
+ * (and *span 0) without looking at the rest (not under
+ * ACTAG_QUAD_REFERENCE). */
+static int quad_inliers(const qctx *k, const qquad *q, int *span, int need)
 {
     float ax[4], ay[4], ux[4], uy[4], len[4], tmin[4], tmax[4];
     int j, i, count = 0;
@@ -196,9 +232,19 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span)
         tmin[j] = l;
         tmax[j] = 0.0f;
     }
+#ifdef ACTAG_QUAD_REFERENCE
+    (void)need;
+#endif
     for (i = 0; i < k->n; i++) {
         float px = k->fx[i], py = k->fy[i], best = k->d2, bt = 0.0f;
         int bj = -1;
+#ifndef ACTAG_QUAD_REFERENCE
+        if (count + (k->n - i) < need) {
+            if (span)
+                *span = 0;
+            return count;
+        }
+#endif
         for (j = 0; j < 4; j++) {
             float vx = px - ax[j], vy = py - ay[j];
             float t = vx * ux[j] + vy * uy[j], e2;
@@ -240,10 +286,10 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span)
  * nearest inliers over at least QUAD_MIN_SPAN of its length (a line fitted
  * to stray points can otherwise close a quad whose inlier count passes while
  * most of a short side is missed). */
-static float quad_support(const qctx *k, const qquad *q)
+static float quad_support(const qctx *k, const qquad *q, int need)
 {
     int span;
-    float r = ratio_of(quad_inliers(k, q, &span), k->n);
+    float r = ratio_of(quad_inliers(k, q, &span, need), k->n);
     return span ? r : -1.0f;
 }
 
@@ -253,7 +299,7 @@ static int quad_accept(const qctx *k, const qquad *q, float *ratio)
     float r;
     if (!quad_shape_ok(k, q, 1))
         return 0;
-    r = quad_support(k, q);
+    r = quad_support(k, q, k->accept_min);
     if (!(r >= k->min_ratio))
         return 0;
     *ratio = r;
@@ -382,27 +428,121 @@ static int refine_and_accept(const qctx *k, const qquad *q0, qquad *out, float *
     return 0;
 }
 
+/* Labels the unclaimed points within d of line l with tag; returns their
+ * number. The points with |dist| <= d are exactly those of the plain loop
+ * (the reference below, kept for ACTAG_QUAD_REFERENCE and contours that are
+ * not chains); on a chain (consecutive points at most 1 px apart in x and
+ * in y) the loop skips the points that cannot be that close: the exact
+ * distance to the line changes by at most s = |nx| + |ny| per step, and a
+ * computed distance is within E of the exact one, E < 2^-24 (3 (bw + bh) +
+ * |c|) * 1.01 (three roundings, |fx| <= bw, |fy| <= bh). So when the
+ * computed |dist| of point i exceeds d + 2E + j s, the computed distances
+ * of points i+1 .. i+j exceed d too. M below is far above 2E, and s is
+ * taken 1e-4 larger, which also covers the roundings of the step count.
+ * With need > 0, returns a count below need as soon as the count can no
+ * longer reach need (the caller then rejects; the labels are incomplete). */
+static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, unsigned char tag,
+                 int need)
+{
+    const float *restrict fx = k->fx, *restrict fy = k->fy;
+    const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
+    const int n = k->n;
+    int i, cnt = 0;
+#ifdef QUAD_SKIP
+    if (k->chain) {
+        const float lim = d + (1e-5f * (k->bw + k->bh + fabsf(lc)) + 1e-4f);
+        const float inv = 1.0f / ((fabsf(lnx) + fabsf(lny)) * 1.0001f);
+        for (i = 0; i < n;) {
+            float a = fabsf(lnx * fx[i] + lny * fy[i] - lc);
+            if (a <= d) {
+                if (!lab[i]) {
+                    lab[i] = tag;
+                    cnt++;
+                }
+                i++;
+            } else {
+                float t = (a - lim) * inv; /* points i+1 .. i+floor(t) are out */
+                if (t >= (float)(n - i))
+                    break;
+                i += t > 0.0f ? 1 + (int)t : 1;
+                if (cnt + (n - i) < need) /* checked here only: cheaper */
+                    return cnt;
+            }
+        }
+        return cnt;
+    }
+#else
+    (void)need;
+#endif
+    /* Branch-free so that compilers vectorise it. */
+    for (i = 0; i < n; i++) {
+        float dist = lnx * fx[i] + lny * fy[i] - lc;
+        int in = (lab[i] == 0) & (dist <= d) & (dist >= -d);
+        lab[i] = (unsigned char)(lab[i] | (in ? tag : 0u));
+        cnt += in;
+    }
+    return cnt;
+}
+
 /* Sums of the unclaimed points met walking from index start until m of them
- * are taken (cyclic); with line non-NULL, only those within d of it. */
+ * are taken (cyclic); with line non-NULL, only those within d of it. At
+ * least m points are unclaimed. The count and the first sums fit 32 bits
+ * (at most 32767 points of coordinates below 65536 relative to the
+ * origin); the walk runs up to the end of the array, then from 0. */
 static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
                       const qline *line, qsums *s)
 {
-    int i = start, got = 0;
-    memset(s, 0, sizeof *s);
-    while (got < m) {
-        if (!lab[i]) {
-            got++;
-            if (!line) {
-                sums_add(s, k->pts[i].x - k->ox, k->pts[i].y - k->oy);
-            } else {
-                float dist = line->nx * k->fx[i] + line->ny * k->fy[i] - line->c;
-                if (dist <= k->d && dist >= -k->d)
-                    sums_add(s, k->pts[i].x - k->ox, k->pts[i].y - k->oy);
+    const actag_ipoint *pts = k->pts;
+    const int ox = k->ox, oy = k->oy, n = k->n;
+    int32_t cnt = 0, sx = 0, sy = 0;
+    int64_t sxx = 0, sxy = 0, syy = 0;
+    int i = start, left = m;
+    while (left > 0) {
+        if (!line) {
+            for (; i < n && left > 0; i++) {
+                int32_t x, y;
+                if (lab[i])
+                    continue;
+                left--;
+                x = pts[i].x - ox;
+                y = pts[i].y - oy;
+                cnt++;
+                sx += x;
+                sy += y;
+                sxx += (int64_t)x * x;
+                sxy += (int64_t)x * y;
+                syy += (int64_t)y * y;
+            }
+        } else {
+            const float lnx = line->nx, lny = line->ny, lc = line->c, d = k->d;
+            for (; i < n && left > 0; i++) {
+                float dist;
+                int32_t x, y;
+                if (lab[i])
+                    continue;
+                left--;
+                dist = lnx * k->fx[i] + lny * k->fy[i] - lc;
+                if (!(dist <= d && dist >= -d))
+                    continue;
+                x = pts[i].x - ox;
+                y = pts[i].y - oy;
+                cnt++;
+                sx += x;
+                sy += y;
+                sxx += (int64_t)x * x;
+                sxy += (int64_t)x * y;
+                syy += (int64_t)y * y;
             }
         }
-        if (++i == k->n)
+        if (i == n)
             i = 0;
     }
+    s->n = cnt;
+    s->sx = sx;
+    s->sy = sy;
+    s->sxx = sxx;
+    s->sxy = sxy;
+    s->syy = syy;
 }
 
 /* Line through a run of m unclaimed points from index start: fitted, then
@@ -438,7 +578,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     qquad best;
     unsigned char *lab;
     float *fx, *fy;
-    int n, m, i, it, minx, miny, maxx, maxy, have = 0;
+    int n, m, i, it, minx, miny, maxx, maxy, have = 0, claim_min;
     int64_t sx = 0, sy = 0;
     float d, promise, best_r0 = 0.0f, best_ratio = 0.0f;
 
@@ -495,7 +635,16 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     k.ratio = params->inlier_ratio;
     k.min_ratio = params->min_inlier_ratio < k.ratio ? params->min_inlier_ratio : k.ratio;
     k.pcos = params->min_parallel_cos;
+    k.chain = 1;
+    for (i = 1; i < n; i++) {
+        int dx = pts[i].x - pts[i - 1].x, dy = pts[i].y - pts[i - 1].y;
+        if (dx < -1 || dx > 1 || dy < -1 || dy > 1)
+            k.chain = 0;
+    }
     promise = k.min_ratio - QUAD_PROMISE;
+
+    k.accept_min = count_min(n, k.min_ratio, -1.0f);
+    claim_min = count_min(n, promise, best_r0);
 
     m = (int)(params->sample_fraction * (float)n + 0.5f);
     if (m < 3)
@@ -514,7 +663,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         memset(lab, 0, (size_t)n);
         for (line = 0; line < 4 && ok; line++) {
             qline l;
-            float mx, my, lnx, lny, lc;
+            float mx, my;
             int cnt = 0;
             unsigned char tag = (unsigned char)(line + 1);
             if (nfree < m ||
@@ -522,36 +671,32 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
                 ok = 0;
                 break;
             }
-            /* Branch-free so that compilers vectorise it: with the sampling
-             * walks, this loop is most of the time spent. */
-            lnx = l.nx;
-            lny = l.ny;
-            lc = l.c;
-            for (i = 0; i < n; i++) {
-                float dist = lnx * fx[i] + lny * fy[i] - lc;
-                int in = (lab[i] == 0) & (dist <= d) & (dist >= -d);
-                lab[i] = (unsigned char)(lab[i] | (in ? tag : 0u));
-                cnt += in;
-            }
+            lines[line] = l;
+            /* Any point of each side orders the sides around an interior
+             * point; the run's centroid will do. */
+            key[line] = pseudo_angle(mx - k.cx, my - k.cy);
+#ifndef ACTAG_QUAD_REFERENCE
+            if (line == 3)
+                break; /* its claims are counted after step 3 */
+#endif
+            cnt = claim(&k, lab, &l, tag, 0);
             if (cnt < 2) {
                 ok = 0;
                 break;
             }
             nfree -= cnt;
             claimed += cnt;
-            lines[line] = l;
-            /* Any point of each side orders the sides around an interior
-             * point; the run's centroid will do. */
-            key[line] = pseudo_angle(mx - k.cx, my - k.cy);
         }
         if (!ok)
             continue;
+#ifdef ACTAG_QUAD_REFERENCE
         /* 2. A quad's inliers are a subset of the points its lines
          * claimed: too few claimed points can neither promise a quad nor
          * beat the best unrefined quad so far. */
         r = ratio_of(claimed, n);
         if (r < promise || r <= best_r0)
             continue;
+#endif
 
         /* 3. Order the lines clockwise around the centroid, intersect. */
         for (i = 0; i < 4; i++)
@@ -568,12 +713,25 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
             q.line[i] = lines[order[i]];
         if (!quad_from_lines(&q) || !quad_shape_ok(&k, &q, 0))
             continue;
+#ifndef ACTAG_QUAD_REFERENCE
+        /* 2., after step 3 (every test of steps 1-3 only ends the
+         * iteration, and the generator was drawn for all four lines, so
+         * their order does not change the result): the fourth line's
+         * claims, counted only until the total can no longer reach
+         * claim_min, the count that step 2 of the reference accepts. */
+        {
+            int cnt = claim(&k, lab, &lines[3], 4u, claim_min - claimed > 2 ? claim_min - claimed : 2);
+            if (cnt < 2 || claimed + cnt < claim_min)
+                continue;
+        }
+#endif
 
         /* 4. Refine each new best unrefined quad and test it. */
-        r = quad_support(&k, &q);
+        r = quad_support(&k, &q, claim_min);
         if (r < promise || r <= best_r0)
             continue;
         best_r0 = r;
+        claim_min = count_min(n, promise, best_r0);
         if (!refine_and_accept(&k, &q, &cand, &r))
             continue;
         if (!have || r > best_ratio) {

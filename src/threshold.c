@@ -82,6 +82,7 @@ static void stw(uint8_t *p, word_t w)
 
 #if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
     UINTPTR_MAX <= 0xFFFFFFFFu
+#define THRESHOLD_DSP 1
 /* Cortex-M4/M7 DSP byte instructions: USUB8 sets the GE flag of every byte
  * lane where a >= b, SEL picks per lane by it (2 instructions instead of
  * about 15). ACTAG_NO_DSP selects the portable words. */
@@ -96,6 +97,17 @@ static word_t maxw(word_t a, word_t b)
 {
     word_t r;
     __asm__("usub8 %0, %1, %2\n\tsel %0, %1, %2" : "=&r"(r) : "r"(a), "r"(b) : "cc");
+    return r;
+}
+
+/* 0x01 in every byte lane where a >= b, else 0. */
+static word_t gew(word_t a, word_t b)
+{
+    word_t r;
+    __asm__("usub8 %0, %1, %2\n\tsel %0, %3, %4"
+            : "=&r"(r)
+            : "r"(a), "r"(b), "r"((word_t)WORD_ONES), "r"((word_t)0u)
+            : "cc");
     return r;
 }
 #else
@@ -118,6 +130,21 @@ static word_t maxw(word_t a, word_t b)
 {
     return a ^ ((a ^ b) & lt_mask(a, b));
 }
+
+#if WORD_ONES > 0xFFFFFFFFu || defined(ACTAG_THRESHOLD_DOUBLING) /* THRESHOLD_DOUBLING */
+static word_t gew(word_t a, word_t b)
+{
+    return (lt_mask(a, b) & WORD_ONES) ^ WORD_ONES;
+}
+#endif
+#endif
+
+/* The horizontal pass by doubling (row_threshold_doubling below) where a
+ * word's min or max is cheap: the DSP instructions, or 8-byte words.
+ * ACTAG_THRESHOLD_DOUBLING selects it anywhere (the tests check it with
+ * portable 4-byte words too). */
+#if defined(THRESHOLD_DSP) || WORD_ONES > 0xFFFFFFFFu || defined(ACTAG_THRESHOLD_DOUBLING)
+#define THRESHOLD_DOUBLING 1
 #endif
 #endif
 
@@ -279,6 +306,78 @@ static void row_threshold(uint8_t *restrict d, const uint8_t *restrict x,
 }
 #endif
 
+#ifdef THRESHOLD_DOUBLING
+/* Minimum and maximum over windows of 2^p samples, in place: on entry a[j]
+ * and b[j] are extrema over [j, j + 2^(p-1)), valid for j < len + s (s =
+ * 2^(p-1)); on exit over [j, j + 2^p), valid for j < len. Word at a time
+ * in increasing j: a word's loads come before its store, and the next
+ * word's samples are not yet overwritten. Reads up to len + s + W - 2 and
+ * writes up to len + W - 2 (W the word size; the caller's slack). */
+static void double_pass(uint8_t *a, uint8_t *b, size_t len, size_t s)
+{
+    size_t j;
+    for (j = 0; j < len; j += sizeof(word_t)) {
+        word_t mn = minw(ldw(a + j), ldw(a + j + s));
+        word_t mx = maxw(ldw(b + j), ldw(b + j + s));
+        stw(a + j, mn);
+        stw(b + j, mx);
+    }
+}
+
+/* Horizontal pass and threshold of one row by doubling, words at a time
+ * (no sequential dependency along the row, unlike van Herk): the row's
+ * vertical extrema, padded with r copies of the edge sample on each side
+ * (window extrema with edge replication), length L = n + 2r; K passes
+ * give extrema over windows of 2^K <= w = 2r+1 < 2^(K+1) samples; the
+ * window of pixel j, [j, j + w) in the padded row, is the union of
+ * [j, j + 2^K) and [j + w - 2^K, j + w). Then x + off >= ceil((mn + mx) /
+ * 2) per lane, which is 2x + off2 >= mn + mx (off = off2 / 2 in
+ * [-256, 255]): for off >= 0, x >= max(avg, off) - off (avg - off clamped
+ * at 0, where the test holds anyway); for off < 0, with q = -off - 1 in
+ * [0, 255], x > min(avg, 255 - q) + q (a sum above 255 fails either way).
+ *
+ * Memory: bufa and bufb hold 2n bytes each and need L + W <= 2n; on entry
+ * bufb[0..n) holds hmin and bufb[n..2n) hmax (the caller's layout). */
+static void row_threshold_doubling(uint8_t *restrict d, const uint8_t *restrict x,
+                                   uint8_t *restrict bufa, uint8_t *restrict bufb, int n, int r,
+                                   int off2)
+{
+    const size_t un = (size_t)n, ur = (size_t)r, len = un + 2u * ur, w = 2u * ur + 1u;
+    const int off = off2 / 2;
+    const word_t offw = (word_t)WORD_ONES * (word_t)(off >= 0 ? off : -off - 1);
+    size_t p2 = 1, c, j;
+
+    /* bufa: padded hmin; bufb: padded hmax (moved down over hmin). */
+    memcpy(bufa + ur, bufb, un);
+    memset(bufa, bufb[0], ur);
+    memset(bufa + ur + un, bufb[un - 1u], ur);
+    memmove(bufb + ur, bufb + un, un);
+    memset(bufb, bufb[ur], ur);
+    memset(bufb + ur + un, bufb[ur + un - 1u], ur);
+    memset(bufa + len, 0, sizeof(word_t));
+    memset(bufb + len, 0, sizeof(word_t));
+    while (2u * p2 <= w) {
+        double_pass(bufa, bufb, len - 2u * p2 + 1u, p2);
+        p2 *= 2u;
+    }
+    c = w - p2;
+    for (j = 0; j + sizeof(word_t) <= un; j += sizeof(word_t)) {
+        word_t mn = minw(ldw(bufa + j), ldw(bufa + j + c));
+        word_t mx = maxw(ldw(bufb + j), ldw(bufb + j + c));
+        word_t avg = (mn | mx) - (((mn ^ mx) >> 1) & (WORD_ONES * 0x7Fu));
+        word_t xv = ldw(x + j);
+        word_t res;
+        if (off >= 0)
+            res = gew(xv, maxw(avg, offw) - offw);
+        else
+            res = gew(minw(avg, ~offw) + offw, xv) ^ WORD_ONES;
+        stw(d + j, res);
+    }
+    for (; j < un; j++)
+        d[j] = (uint8_t)(2 * x[j] + off2 >= min8(bufa[j], bufa[j + c]) + max8(bufb[j], bufb[j + c]));
+}
+#endif
+
 int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
                              uint8_t *dst, int dst_stride, int radius, int offset,
                              void *scratch, size_t scratch_size)
@@ -380,7 +479,13 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
 #ifdef THRESHOLD_SCALAR
         (void)wh;
         (void)j;
-        row_threshold(d, x, hmin, hmax, hsmin, hsmax, cols, rh, off2);
+#ifdef THRESHOLD_DOUBLING
+        /* hmin, hmax and hsmin, hsmax are contiguous: 2 cols bytes each */
+        if (cols + 2 * rh + (int)sizeof(word_t) <= 2 * cols)
+            row_threshold_doubling(d, x, hsmin, hmin, cols, rh, off2);
+        else
+#endif
+            row_threshold(d, x, hmin, hmax, hsmin, hsmax, cols, rh, off2);
 #else
         block_prefix_suffix(hmin, hmax, hsmin, hsmax, cols, wh);
         for (j = 0; j < cols; j++) {

@@ -42,16 +42,63 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define maxw maxw_w32
 #define minmax_rows minmax_rows_w32
 #define row_threshold row_threshold_w32
+#define gew gew_w32
+#define double_pass double_pass_w32
+#define row_threshold_doubling row_threshold_doubling_w32
+#undef THRESHOLD_DSP
+#undef THRESHOLD_DOUBLING
 #define actag_adaptive_threshold actag_adaptive_threshold_swar32
+#include "../src/threshold.c"
+#undef actag_adaptive_threshold
+
+/* 4-byte words with the horizontal pass by doubling (what Cortex-M4/M7
+ * use with their DSP min/max; here with the portable words). */
+int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int src_stride,
+                                   uint8_t *dst, int dst_stride, int radius, int offset,
+                                   void *scratch, size_t scratch_size);
+#undef THRESHOLD_SCALAR
+#undef THRESHOLD_DSP
+#undef THRESHOLD_DOUBLING
+#undef WORD_ONES
+#undef WORD_HIGH
+#undef min8
+#undef max8
+#undef word_t
+#undef ldw
+#undef stw
+#undef lt_mask
+#undef minw
+#undef maxw
+#undef minmax_rows
+#undef row_threshold
+#undef gew
+#undef double_pass
+#undef row_threshold_doubling
+#define ACTAG_THRESHOLD_DOUBLING 1
+#define min8 min8_d32
+#define max8 max8_d32
+#define word_t word_d32_t
+#define ldw ldw_d32
+#define stw stw_d32
+#define lt_mask lt_mask_d32
+#define minw minw_d32
+#define maxw maxw_d32
+#define minmax_rows minmax_rows_d32
+#define row_threshold row_threshold_d32
+#define gew gew_d32
+#define double_pass double_pass_d32
+#define row_threshold_doubling row_threshold_doubling_d32
+#define actag_adaptive_threshold actag_adaptive_threshold_dbl32
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
 
 typedef int (*threshold_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, int, void *, size_t);
 
-#define NFNS 3
+#define NFNS 4
 static const threshold_fn FNS[NFNS] = {actag_adaptive_threshold, actag_adaptive_threshold_portable,
-                                       actag_adaptive_threshold_swar32};
-static const char *const FN_NAMES[NFNS] = {"library", "portable", "portable-32-bit-words"};
+                                       actag_adaptive_threshold_swar32, actag_adaptive_threshold_dbl32};
+static const char *const FN_NAMES[NFNS] = {"library", "portable", "portable-32-bit-words",
+                                           "portable-32-bit-words-doubling"};
 
 void setUp(void) {}
 void tearDown(void) {}
