@@ -41,9 +41,9 @@
  *   and about 3x less time. A constant 2 KiB table (bcast16_tab) goes to
  *   read-only memory. On cores with the DSP extension (__ARM_FEATURE_SIMD32:
  *   Cortex-M4/M7) the four counts are 8-bit lanes of a 32-bit word updated
- *   with USUB8 + SEL (no table; ACTAG_NO_DSP: the 16-bit lanes): 32.6
+ *   with USUB8 + SEL (no table; ACTAG_NO_DSP: the 16-bit lanes): 31.2
  *   instead of 51.2 million instructions per 530 x 512 frame at R = 4 on a
- *   Cortex-M7 at -O2, about 120 per pixel (QEMU -icount, tools/budget). It needs no scratch (the scratch size
+ *   Cortex-M7 at -O2, about 115 per pixel (QEMU -icount, tools/budget). It needs no scratch (the scratch size
  *   is still checked, so that one size fits every radius). Radii >= 8 use
  *   the constant-time path.
  *
