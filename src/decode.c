@@ -933,6 +933,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     memset(&ml, 0, sizeof ml);
     uint32_t w = 0, e, diff, keep;
     int rc, maxc, bits, k, n, du, dm, i, orient, ring_ok = 0, in_ok = 0, cx, cy;
+    int regrid = 0; /* 1: reading the quad's own grid after the fitted one read nothing */
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = check_image(grey, rows, cols, stride);
@@ -988,6 +989,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         ffit(&im, &gr, k, m, NULL, 0, 0);
         im.fast = 0;
     }
+reread:
     fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
     /* The whole grid must lie in the image: a tag cut by the frame edge
      * cannot be read (edge replication would invent its data cells). */
@@ -1107,8 +1109,21 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 have = 1;
             }
         }
-        if (!have)
+        if (!have) {
+            /* The code-agnostic fit can settle on a lattice where no code
+             * reads within max_corrections while the quad's own grid does:
+             * read that grid too (one more grid in the allowance below). */
+            if (!regrid && !(flags & ACTAG_FIT_NO_SEARCH)) {
+                regrid = 1;
+                gr = g_quad;
+                ring_ok = in_ok = nknown = 0;
+                noise2 = 0.0f;
+                minc = 1e30f;
+                w = 0;
+                goto reread;
+            }
             return ACTAG_ERR_NO_MATCH;
+        }
         if (od < 99 && od - kd < ACTAG_FIT_MARGIN)
             return ACTAG_ERR_NO_MATCH;
         w = 0;
@@ -1197,7 +1212,8 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
          * every code, times the grids the wide search tries) beats the
          * next by ln N on pure noise; the margin counts what is left. */
         margin -= actag_logf(8.0f * (float)family->ncodes *
-                       ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
+                       ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f) *
+                       (regrid ? 2.0f : 1.0f));
         if (margin < fp->min_margin || ml.h2 - ml.best.hamming < fp->min_bit_margin)
             return ACTAG_ERR_NO_MATCH;
         out->bit_margin = ml.h2 - ml.best.hamming;
