@@ -999,12 +999,12 @@ reread:
         float hw = 0.5f * (float)k; /* centre to the data cells' centres, cells */
         if (gr.mx - ex * hw < 0.0f || gr.mx + ex * hw > (float)(cols - 1) ||
             gr.my - ey * hw < 0.0f || gr.my + ey * hw > (float)(rows - 1))
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
     }
     flevels(m, k, &black, &white);
     contrast = white - black;
     if (!(contrast >= (float)min_contrast) || !(contrast > 0.0f))
-        return ACTAG_ERR_NO_MATCH;
+        goto no_reading;
     for (cy = 1; cy < k; cy++)
         for (cx = 1; cx < k; cx++) {
             float v = m[cy * n + cx], d;
@@ -1086,7 +1086,7 @@ reread:
                 continue;
             /* A tie between the two handednesses is no reading. */
             if (r.other == dk)
-                return ACTAG_ERR_NO_MATCH;
+                goto no_reading;
             /* Splits that read as different tags (or poses): the threshold
              * decides the ID, so the reading is ambiguous unless one is
              * closer than every other by ACTAG_FIT_MARGIN bits. */
@@ -1109,23 +1109,10 @@ reread:
                 have = 1;
             }
         }
-        if (!have) {
-            /* The code-agnostic fit can settle on a lattice where no code
-             * reads within max_corrections while the quad's own grid does:
-             * read that grid too (one more grid in the allowance below). */
-            if (!regrid && !(flags & ACTAG_FIT_NO_SEARCH)) {
-                regrid = 1;
-                gr = g_quad;
-                ring_ok = in_ok = nknown = 0;
-                noise2 = 0.0f;
-                minc = 1e30f;
-                w = 0;
-                goto reread;
-            }
-            return ACTAG_ERR_NO_MATCH;
-        }
+        if (!have)
+            goto no_reading;
         if (od < 99 && od - kd < ACTAG_FIT_MARGIN)
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
         w = 0;
         for (i = 0; i < bits; i++) { /* confidences relative to the chosen threshold */
             conf[i] -= tbest;
@@ -1200,7 +1187,7 @@ reread:
             /* another hypothesis explains the cells better once each has
              * its own grid: the code-agnostic reading cannot be trusted */
             if (rss2 <= rss0)
-                return ACTAG_ERR_NO_MATCH;
+                goto no_reading;
             s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
             floor2 = ACTAG_FIT_MIN_NOISE * 2.0f * contrast;
             floor2 *= floor2;
@@ -1215,7 +1202,7 @@ reread:
                        ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f) *
                        (regrid ? 2.0f : 1.0f));
         if (margin < fp->min_margin || ml.h2 - ml.best.hamming < fp->min_bit_margin)
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
         out->bit_margin = ml.h2 - ml.best.hamming;
     }
 
@@ -1261,4 +1248,19 @@ reread:
     out->flip_weight = flips;
     out->min_confidence = minc;
     return ACTAG_OK;
+
+no_reading:
+    /* The code-agnostic fit can settle on a lattice where the tag does not
+     * read while the quad's own grid does: read that grid too (one more
+     * grid in the look-elsewhere allowance). */
+    if (!regrid && !(flags & ACTAG_FIT_NO_SEARCH)) {
+        regrid = 1;
+        gr = g_quad;
+        ring_ok = in_ok = nknown = 0;
+        noise2 = 0.0f;
+        minc = 1e30f;
+        w = 0;
+        goto reread;
+    }
+    return ACTAG_ERR_NO_MATCH;
 }

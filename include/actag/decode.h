@@ -319,16 +319,18 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      Its hard distance `hamming` (over the counted bits) must be within
  *      max_corrections, and lead every other reading by min_bit_margin
  *      bits (bit_margin); a tie between the two handednesses is no reading.
- *      Second grid: when no split of the fitted grid's reading lies within
- *      max_corrections (and ACTAG_FIT_NO_SEARCH is not set), steps 2-4 are
- *      repeated on the quad's own grid, which then stands for the fitted
- *      one below, and N in the allowance of step 5 is doubled (two grids
+ *      Second grid: when the fitted grid gives no reading (grid outside
+ *      the image, too little contrast, no split within max_corrections, an
+ *      ambiguous split or handedness, the template check or the margins of
+ *      step 5 refuse it) and ACTAG_FIT_NO_SEARCH is not set, steps 2-5 are
+ *      repeated once on the quad's own grid, which then stands for the
+ *      fitted one, and N in the allowance of step 5 is doubled (two grids
  *      read). The code-agnostic fit can settle on a lattice with 4-6 bit
- *      errors where the quad's grid reads the tag within 2; on simulated
- *      pool views (seeds 1, 3) this read 868 -> 909 and 873 -> 915 of
- *      1,000, at the paper's settings (seed 2) 382 -> 490, with no wrong
- *      ID, handedness or corner order, and no tag in 2,000 tag-free frames
- *      for any family.
+ *      errors, or one where the tag reads with little evidence, where the
+ *      quad's grid reads it well. On simulated pool views (seeds 1, 3)
+ *      this read 868 -> 926 and 871 -> 938 of 1,000, at the paper's
+ *      settings (seed 2) 381 -> 497, with no wrong ID, handedness or
+ *      corner order, and no tag in 2,000 tag-free frames for any family.
  *   5. Template check (ACTAG_FIT_VERIFY, default): the four likeliest
  *      readings on the fitted grid and the four likeliest on the quad's own
  *      grid (the code-agnostic fit can settle where the right reading is not
