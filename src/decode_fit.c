@@ -431,6 +431,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     memset(&ml, 0, sizeof ml);
     uint32_t w = 0, e, diff, keep;
     int rc, maxc, bits, k, n, i, ring_ok = 0, in_ok = 0, cx, cy;
+    int regrid = 0; /* 1: reading the quad's own grid after the fitted one read nothing */
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -468,7 +469,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     gr.by = H[4];
     gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
     gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
-    g_quad = gr; /* the quad's own grid: the template check's second start */
+    g_quad = gr; /* the quad's own grid: the template check's second start and the second grid */
     if (flags & ACTAG_FIT_WIDE) {
         im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
         fshift(&im, &gr, k, m);
@@ -477,6 +478,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     if (!(flags & ACTAG_FIT_NO_SEARCH)) {
         ffit(&im, &gr, k, m, NULL, 0, 0);
     }
+reread:
     fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
     /* The whole grid must lie in the image: a tag cut by the frame edge
      * cannot be read (edge replication would invent its data cells). */
@@ -486,12 +488,12 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         float hw = 0.5f * (float)k; /* centre to the data cells' centres, cells */
         if (gr.mx - ex * hw < 0.0f || gr.mx + ex * hw > (float)(cols - 1) ||
             gr.my - ey * hw < 0.0f || gr.my + ey * hw > (float)(rows - 1))
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
     }
     flevels(m, k, &black, &white);
     contrast = white - black;
     if (!(contrast >= (float)min_contrast) || !(contrast > 0.0f))
-        return ACTAG_ERR_NO_MATCH;
+        goto no_reading;
     for (cy = 1; cy < k; cy++)
         for (cx = 1; cx < k; cx++) {
             float v = m[cy * n + cx], d;
@@ -575,7 +577,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                 continue;
             /* A tie between the two handednesses is no reading. */
             if (r.other == dk)
-                return ACTAG_ERR_NO_MATCH;
+                goto no_reading;
             /* Splits that read as different tags (or poses): the threshold
              * decides the ID, so the reading is ambiguous unless one is
              * closer than every other by FIT_SPLIT_LEAD bits. */
@@ -599,9 +601,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             }
         }
         if (!have)
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
         if (od < 99 && od - kd < FIT_SPLIT_LEAD)
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
         w = 0;
         for (i = 0; i < bits; i++) { /* confidences relative to the chosen threshold */
             conf[i] -= tbest;
@@ -611,12 +613,14 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         }
         /* the bit margin needs no template check: refuse before it */
         if (ml.h2 - ml.best.hamming < fp->min_bit_margin)
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
         /* Look-elsewhere allowance: the best of N hypotheses (8 views of
-         * every code, times the grids the wide search tries) beats the
-         * next by ln N on pure noise; the margin counts what is left. */
+         * every code, times the grids the wide search tries, times 2 on the
+         * second grid) beats the next by ln N on pure noise; the margin
+         * counts what is left. */
         look = actag_logf(8.0f * (float)family->ncodes *
-                          ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f));
+                          ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f) *
+                          (regrid ? 2.0f : 1.0f));
         /* log-likelihood ratio best : runner-up under Gaussian cell noise */
         margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ACTAG_SOFT_SCALE) / noise2;
         if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
@@ -691,7 +695,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                  * only falls as rss2 does, so the first such hypothesis
                  * decides exactly what the least one would. */
                 if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin)
-                    return ACTAG_ERR_NO_MATCH;
+                    goto no_reading;
                 if (r < rss2)
                     rss2 = r;
             }
@@ -699,7 +703,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         }
         margin -= look;
         if (margin < fp->min_margin)
-            return ACTAG_ERR_NO_MATCH;
+            goto no_reading;
         out->bit_margin = ml.h2 - ml.best.hamming;
     }
 
@@ -734,4 +738,19 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     out->flip_weight = flips;
     out->min_confidence = minc;
     return ACTAG_OK;
+
+no_reading:
+    /* The code-agnostic fit can settle on a lattice where the tag does not
+     * read while the quad's own grid does: read that grid too (one more
+     * grid in the look-elsewhere allowance). */
+    if (!regrid && !(flags & ACTAG_FIT_NO_SEARCH)) {
+        regrid = 1;
+        gr = g_quad;
+        ring_ok = in_ok = nknown = 0;
+        noise2 = 0.0f;
+        minc = 1e30f;
+        w = 0;
+        goto reread;
+    }
+    return ACTAG_ERR_NO_MATCH;
 }

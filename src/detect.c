@@ -76,7 +76,9 @@ void actag_tuning_default(actag_tuning *t)
     t->quad.max_iterations = 100;
     t->decode_mode = ACTAG_DECODE_FIT;
     actag_fit_params_default(&t->fit);
-    t->min_structure = 1.0f;
+    /* the structure budget alone (structure_ok): a speckled ring or
+     * interior cell costs what a corrected bit costs, no gate besides */
+    t->min_structure = 0.0f;
     t->min_side_fraction = 0.5f;
     t->max_side_fraction = 1.6f;
     t->search_candidates = 2;
