@@ -196,21 +196,17 @@ int main(void)
         put_s(", \"decision_margin\": ");
         put_fixed(det[k].decision_margin, 2);
         put_s(det[k].mirrored ? ", \"mirrored\": true" : ", \"mirrored\": false");
-        put_s(", \"corners_px\": [");
-        for (c = 0; c < 4; c++) {
-            put_s(c ? ", [" : "[");
-            put_fixed(det[k].corners[c].y, 3);
-            put_s(", ");
+        put_s(", \"corners\": [");
+        for (c = 0; c < 4; c++) { /* the host tool's keys and digits */
+            put_s(c ? ", {\"x_col\": " : "{\"x_col\": ");
             put_fixed(det[k].corners[c].x, 3);
-            put_s("]");
-        }
-        put_s("], \"corners_polar\": [");
-        for (c = 0; c < 4; c++) {
-            put_s(c ? ", [" : "[");
+            put_s(", \"y_row\": ");
+            put_fixed(det[k].corners[c].y, 3);
+            put_s(", \"range_m\": ");
             put_fixed(det[k].range[c], 5);
-            put_s(", ");
+            put_s(", \"azimuth_rad\": ");
             put_fixed(det[k].azimuth[c], 5);
-            put_s("]");
+            put_s("}");
         }
         put_s("]}");
     }
