@@ -20,7 +20,7 @@
 #define RTOL2 0.003f
 /* Sparser lattices: pass 1 and the levels keep at least this many pixels
  * (every sub-th lattice row and column, sub 1..4). */
-#define RSUB1 300
+#define RSUB1 250
 #define RSUBL 300
 #define RK_MAX ACTAG_DECODE_MAX_K
 #define RN_MAX (RK_MAX + 1)

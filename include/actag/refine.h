@@ -51,7 +51,7 @@
  *   position under the START map lies within [margin, k+1-margin] in u and
  *   v (the outer edge of the data ring borders an unknown background),
  *   subsampled on a regular lattice to at most max_samples pixels (pass 1:
- *   every 2nd to 4th lattice row and column, at least 300 pixels); the set
+ *   every 2nd to 4th lattice row and column, at least 250 pixels); the set
  *   is fixed during the fit (each lattice row's members from the first to
  *   the last). Pixels outside the image are not used.
  *
