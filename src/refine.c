@@ -13,6 +13,15 @@
 #define DBG(...) ((void)0)
 #endif
 
+/* Convergence: no corner moves by more than this many cells (pass 1: the
+ * basin; pass 2: the corners; the steps shrink at least twofold, so the
+ * corners stop within about this much of the fit's minimum). */
+#define RTOL1 0.03f
+#define RTOL2 0.003f
+/* Sparser lattices: pass 1 and the levels keep at least this many pixels
+ * (every sub-th lattice row and column, sub 1..4). */
+#define RSUB1 250
+#define RSUBL 300
 #define RK_MAX ACTAG_DECODE_MAX_K
 #define RN_MAX (RK_MAX + 1)
 
@@ -36,7 +45,15 @@ typedef struct rgrid {
     float p[6];
     float Q[3]; /* Q11, Q12, Q22 */
     float r0;   /* |m| */
+    /* for dQ/dM: qcase 0 (Q = 0), 1 (Q = cell^2 I - M'M), 2 (its positive
+     * part l1 v v', v[] a unit vector, kap = l1 / (l1 - l2)) */
+    int qcase;
+    float v[2], kap;
 } rgrid;
+
+#define RROW_MAX 128 /* lattice rows */
+#define RCOL_MAX 255 /* lattice columns (uint8_t intervals) */
+#define RL_PAD (RN_MAX + 2) /* the layout with a ring of zero cells */
 
 typedef struct rctx {
     const uint8_t *img;
@@ -46,21 +63,34 @@ typedef struct rctx {
     float cell2;                     /* squared cell side, m^2 (0: no curvature) */
     int n;                           /* k + 1 cells per side */
     float g;                         /* grid centre, cells */
-    float L[RN_MAX * RN_MAX];
+    float Lp[RL_PAD * RL_PAD];       /* layout, cell (u, v) at [(v + 1) RL_PAD + u + 1] */
     int x0, y0, x1, y1, step;        /* the pixel lattice */
+    int nrow;                        /* lattice rows */
+    uint8_t ja[RROW_MAX], jb[RROW_MAX]; /* each lattice row's members: columns ja..jb */
     rgrid G0;                        /* the start grid: decides the pixel set */
     float lo, hi;                    /* grid range of the pixel set */
     float wu, wv;                    /* template edge half-widths, cells */
+    float iwu, iwv;                  /* their inverses */
+    float rx, ry, ra[4];             /* level ramps: (u', v') = ra (X - rx, Y - ry) */
 } rctx;
 
 static int finite_f(float x) { return x == x && x - x == 0.0f; }
 
-/* sin, cos of a small angle (|d| <= 0.6: Taylor, error < 1e-8) */
+/* sin, cos of a small angle (|d| <= 0.6: Taylor, error < 1e-8; |d| < 0.2,
+ * most pixels of a tag about its centre beam: two terms fewer, error
+ * < 3e-9) */
 static void rsincos(float d, float *s, float *c)
 {
+    const float i6 = 1.0f / 6.0f, i20 = 1.0f / 20.0f, i42 = 1.0f / 42.0f, i72 = 1.0f / 72.0f;
+    const float i12 = 1.0f / 12.0f, i30 = 1.0f / 30.0f, i56 = 1.0f / 56.0f;
     float d2 = d * d;
-    *s = d * (1.0f - d2 / 6.0f * (1.0f - d2 / 20.0f * (1.0f - d2 / 42.0f * (1.0f - d2 / 72.0f))));
-    *c = 1.0f - d2 / 2.0f * (1.0f - d2 / 12.0f * (1.0f - d2 / 30.0f * (1.0f - d2 / 56.0f)));
+    if (d2 < 0.04f) {
+        *s = d * (1.0f - d2 * i6 * (1.0f - d2 * i20));
+        *c = 1.0f - d2 * 0.5f * (1.0f - d2 * i12 * (1.0f - d2 * i30));
+        return;
+    }
+    *s = d * (1.0f - d2 * i6 * (1.0f - d2 * i20 * (1.0f - d2 * i42 * (1.0f - d2 * i72))));
+    *c = 1.0f - d2 * 0.5f * (1.0f - d2 * i12 * (1.0f - d2 * i30 * (1.0f - d2 * i56)));
 }
 
 /* atan(t), |t| <= 0.7 (series, error < 2e-7 there) */
@@ -152,6 +182,7 @@ static void rcurv(const rctx *c, rgrid *G)
     float a11, a12, a22, h, t, dsc, l1, l2;
     G->r0 = actag_sqrtf(G->p[0] * G->p[0] + G->p[1] * G->p[1]);
     G->Q[0] = G->Q[1] = G->Q[2] = 0.0f;
+    G->qcase = 0;
     if (c->cell2 <= 0.0f || !(G->r0 > 0.0f))
         return;
     a11 = c->cell2 - (G->p[2] * G->p[2] + G->p[3] * G->p[3]);
@@ -168,6 +199,7 @@ static void rcurv(const rctx *c, rgrid *G)
         G->Q[0] = a11;
         G->Q[1] = a12;
         G->Q[2] = a22;
+        G->qcase = 1;
         return;
     }
     /* keep the positive part: l1 v v' */
@@ -183,6 +215,11 @@ static void rcurv(const rctx *c, rgrid *G)
         G->Q[0] = l1 * vx * vx / nv;
         G->Q[1] = l1 * vx * vy / nv;
         G->Q[2] = l1 * vy * vy / nv;
+        nv = actag_sqrtf(nv);
+        G->v[0] = vx / nv;
+        G->v[1] = vy / nv;
+        G->kap = l1 / (l1 - l2);
+        G->qcase = 2;
     }
 }
 
@@ -234,12 +271,127 @@ static void rforward(const rgrid *G, float w0, float w1, float *X, float *Y)
     *Y = G->p[1] + G->p[3] * w0 + G->p[5] * w1;
 }
 
-/* Is pixel (x, y) in the fixed set?  Its plane point and offset when so. */
-static int rmember(const rctx *c, int x, int y, float *X, float *Y)
+/* The plane -> grid inverse of a grid, its per-grid constants:
+ *   w = M^-1 (d - e1 q(w)),  d = (X, Y) - m,  q(w) = w'Qw / (2 r0),
+ * solved by 3 fixed-point steps from the affine w (as rinvert), and the
+ * Jacobian K = dF/dw = M + e1 (Q w / r0)'. */
+typedef struct rmap {
+    float m0, m1, inv[4];   /* m, M^-1 */
+    float qa, qb, qc;       /* Q / (2 r0) */
+    float ka, kb, kc;       /* Q / r0 */
+    float k11, k12, k21, k22, idet; /* K and 1/det K when flat (no Q) */
+    int curved;
+    /* dq/dp (q = w'Qw / (2 r0)): dq/dm = -q m / r0^2; d(w'Qw)/dM = -2 M Gw,
+     * Gw = w w' (qcase 1) or s^2 v v' + kap s t (u v' + v u') (qcase 2,
+     * s = v'w, t = u'w, u = v turned 90 degrees) */
+    int qcase;
+    float mr0, mr1;         /* m / r0^2 */
+    float M[4], ir0;        /* M11, M21, M12, M22; 1 / r0 */
+    float v[2], u[2], kap, Mv[2], Mu[2];
+} rmap;
+
+static int rmap_init(const rgrid *G, rmap *q)
 {
-    float w[2], Ki[4];
-    if (!rplane(c, (float)x, (float)y, X, Y) || !rinvert(&c->G0, *X, *Y, w, Ki))
+    float det = G->p[2] * G->p[5] - G->p[4] * G->p[3];
+    if (!finite_f(det) || det == 0.0f)
         return 0;
+    q->m0 = G->p[0];
+    q->m1 = G->p[1];
+    q->inv[0] = G->p[5] / det;
+    q->inv[1] = -G->p[4] / det;
+    q->inv[2] = -G->p[3] / det;
+    q->inv[3] = G->p[2] / det;
+    q->k11 = G->p[2];
+    q->k12 = G->p[4];
+    q->k21 = G->p[3];
+    q->k22 = G->p[5];
+    q->idet = 1.0f / det;
+    q->curved = !(G->Q[0] == 0.0f && G->Q[1] == 0.0f && G->Q[2] == 0.0f);
+    q->qa = q->qb = q->qc = q->ka = q->kb = q->kc = 0.0f;
+    q->qcase = q->curved ? G->qcase : 0;
+    if (q->curved) {
+        int i;
+        q->ir0 = 1.0f / G->r0;
+        q->mr0 = G->p[0] * q->ir0 * q->ir0;
+        q->mr1 = G->p[1] * q->ir0 * q->ir0;
+        for (i = 0; i < 4; i++)
+            q->M[i] = G->p[2 + i];
+        q->v[0] = G->v[0];
+        q->v[1] = G->v[1];
+        q->u[0] = -G->v[1];
+        q->u[1] = G->v[0];
+        q->kap = G->kap;
+        q->Mv[0] = q->M[0] * q->v[0] + q->M[2] * q->v[1];
+        q->Mv[1] = q->M[1] * q->v[0] + q->M[3] * q->v[1];
+        q->Mu[0] = q->M[0] * q->u[0] + q->M[2] * q->u[1];
+        q->Mu[1] = q->M[1] * q->u[0] + q->M[3] * q->u[1];
+        float h = 0.5f / G->r0, k = 1.0f / G->r0;
+        q->qa = G->Q[0] * h;
+        q->qb = G->Q[1] * h;
+        q->qc = G->Q[2] * h;
+        q->ka = G->Q[0] * k;
+        q->kb = G->Q[1] * k;
+        q->kc = G->Q[2] * k;
+    }
+    return 1;
+}
+
+/* Grid offset w of plane point (X, Y). */
+/* Grid offset w of plane point (X, Y): the fixed point t = q(w),
+ * w = M^-1 (d - e1 t), iterated nit times from t0 (0, or a neighbour's t:
+ * the curvature changes little from pixel to pixel). Returns the last t. */
+static float rmap_w(const rmap *q, float X, float Y, float w[2], float t0, int nit)
+{
+    float dx = X - q->m0, dy = Y - q->m1;
+    float a0 = q->inv[0] * dx + q->inv[1] * dy, a1 = q->inv[2] * dx + q->inv[3] * dy;
+    float w0 = a0, w1 = a1, t = 0.0f;
+    if (q->curved) {
+        int it;
+        w0 = a0 - t0 * q->inv[0];
+        w1 = a1 - t0 * q->inv[2];
+        for (it = 0; it < nit; it++) {
+            t = w0 * (q->qa * w0 + q->qb * w1) + w1 * (q->qb * w0 + q->qc * w1);
+            w0 = a0 - t * q->inv[0];
+            w1 = a1 - t * q->inv[2];
+        }
+    }
+    w[0] = w0;
+    w[1] = w1;
+    return t;
+}
+
+/* Fan-plane point of lattice row (range r or pixel row y) and column. */
+static int rlattice_plane(const rctx *c, float rr, int x, float *X, float *Y)
+{
+    float d, sn, cs;
+    if (c->geo == NULL) {
+        *X = (float)x;
+        *Y = rr;
+        return 1;
+    }
+    d = actag_geometry_azimuth(c->geo, c->cols, (float)x) - c->ac;
+    if (!(d >= -0.6f && d <= 0.6f))
+        return 0;
+    rsincos(d, &sn, &cs);
+    *X = rr * cs;
+    *Y = rr * sn;
+    return 1;
+}
+
+/* Range of pixel row y (or y itself without a geometry). */
+static float rrange(const rctx *c, int y)
+{
+    return c->geo == NULL ? (float)y : actag_geometry_range(c->geo, c->rows, (float)y);
+}
+
+/* Is lattice point (x, y) (range rr) in the pixel set: its grid position
+ * under the start grid within [lo, hi] in u and v. */
+static int rmember(const rctx *c, const rmap *q0, float rr, int x)
+{
+    float X, Y, w[2];
+    if (!rlattice_plane(c, rr, x, &X, &Y))
+        return 0;
+    rmap_w(q0, X, Y, w, 0.0f, 3);
     return w[0] + c->g >= c->lo && w[0] + c->g <= c->hi && w[1] + c->g >= c->lo &&
            w[1] + c->g <= c->hi;
 }
@@ -259,41 +411,54 @@ static float rstep(float z, float *dz)
     return 0.5f + z * (0.75f - 0.25f * z * z);
 }
 
-/* Smoothed indicator of [0, 1] at t (half-width w), and d/dt. */
-static float rind(float t, float w, float *d)
+/* The cell of t: floor(t) clamped to the tag. */
+static int rcell(float t, int n)
 {
-    float d0, d1, s0 = rstep(t / w, &d0), s1 = rstep((t - 1.0f) / w, &d1);
-    *d = (d0 - d1) / w;
-    return s0 - s1;
+    float ft = t < -2.0f ? -2.0f : t > (float)n + 2.0f ? (float)n + 2.0f : t;
+    int i = (int)(ft + 2.0f) - 2;
+    return i < 0 ? 0 : i > n - 1 ? n - 1 : i;
 }
 
-static float layout_at(const rctx *c, int cu, int cv)
+/* The smoothed indicators of cells i - 1, i, i + 1 at t (i = rcell(t)),
+ * edge half-width 1/iw < 1 cell, from z = (t - i) iw, and their
+ * derivatives: with f = t - i in [0, 1) only the steps at f and f - 1 are
+ * not flat, so s = (1 - A, A - B, B), A = step(f iw), B = step((f - 1) iw).
+ * When i was clamped the cells where this differs from the indicator are
+ * outside the tag, where the layout is 0. */
+static void rind3(float z, float iw, float s[3], float ds[3])
 {
-    if (cu < 0 || cv < 0 || cu >= c->n || cv >= c->n)
-        return 0.0f;
-    return c->L[cv * c->n + cu];
+    float A, B, dA, dB;
+    A = rstep(z, &dA);
+    B = rstep(z - iw, &dB);
+    s[0] = 1.0f - A;
+    s[1] = A - B;
+    s[2] = B;
+    ds[0] = -dA * iw;
+    ds[1] = (dA - dB) * iw;
+    ds[2] = dB * iw;
 }
 
 /* Template P(u, v) and its gradient. */
 static float rtemplate(const rctx *c, float u, float v, float *pu, float *pv)
 {
-    float fu = u < -2.0f ? -2.0f : u > (float)c->n + 2.0f ? (float)c->n + 2.0f : u;
-    float fv = v < -2.0f ? -2.0f : v > (float)c->n + 2.0f ? (float)c->n + 2.0f : v;
-    int iu = (int)(fu + 2.0f) - 2, iv = (int)(fv + 2.0f) - 2, a, b;
     float su[3], du[3], sv[3], dv[3], P = 0.0f, Pu = 0.0f, Pv = 0.0f;
-    for (a = 0; a < 3; a++) {
-        su[a] = rind(u - (float)(iu + a - 1), c->wu, &du[a]);
-        sv[a] = rind(v - (float)(iv + a - 1), c->wv, &dv[a]);
+    int iu = rcell(u, c->n), iv = rcell(v, c->n), b;
+    const float *L = c->Lp + iv * RL_PAD + iu; /* cell (iu - 1, iv - 1) */
+    float zu = (u - (float)iu) * c->iwu, zv = (v - (float)iv) * c->iwv;
+    if (zu >= 1.0f && zu - c->iwu <= -1.0f && zv >= 1.0f && zv - c->iwv <= -1.0f) {
+        *pu = *pv = 0.0f; /* inside one cell, away from its edges */
+        return L[RL_PAD + 1];
     }
-    for (b = 0; b < 3; b++)
-        for (a = 0; a < 3; a++) {
-            float l = layout_at(c, iu + a - 1, iv + b - 1);
-            if (l == 0.0f)
-                continue;
-            P += l * su[a] * sv[b];
-            Pu += l * du[a] * sv[b];
-            Pv += l * su[a] * dv[b];
-        }
+    rind3(zu, c->iwu, su, du);
+    rind3(zv, c->iwv, sv, dv);
+    for (b = 0; b < 3; b++) {
+        const float *row = L + b * RL_PAD;
+        float rs = row[0] * su[0] + row[1] * su[1] + row[2] * su[2];
+        float rd = row[0] * du[0] + row[1] * du[1] + row[2] * du[2];
+        P += sv[b] * rs;
+        Pu += sv[b] * rd;
+        Pv += dv[b] * rs;
+    }
     *pu = Pu;
     *pv = Pv;
     return P;
@@ -334,103 +499,275 @@ static int rsolve(float *A, float *y, int n)
     return 1;
 }
 
-/* The levels c for grid G (linear least squares) and the residual sum of
- * squares; 0 when singular. */
-static int rlevels(const rctx *c, const rgrid *G, float cl[6], float *rss, int *count)
+/* Packed upper triangle of a symmetric 6 x 6 matrix, row by row. */
+#define RNJ 21
+
+/* One pass over the pixel set at grid G, mode one of: RS_LEVELS, the levels' normal
+ * equations (R'R, R'I, I'I: the best levels for G and their residual sum of
+ * squares); with RS_GRID the residual sum of squares rss with the levels cl
+ * and the grid's normal equations J'J, J'r. */
+#define RS_LEVELS 1
+#define RS_GRID 2
+typedef struct rsums {
+    float A[RNJ], b[6]; /* R'R, R'I (levels) or J'J, J'r (grid) */
+    float ss;           /* I'I (levels) or rss (grid) */
+    int n;
+} rsums;
+
+static void racc6(float *A, float *y, const float *J, float r)
 {
-    float A[36], y[6], yy = 0.0f;
-    int x, yq, i, j, nn = 0;
-    float sn = 1.0f / (float)c->n;
-    memset(A, 0, sizeof A);
-    memset(y, 0, sizeof y);
-    for (yq = c->y0; yq <= c->y1; yq += c->step) {
-        const uint8_t *row = c->img + (size_t)yq * (size_t)c->stride;
-        for (x = c->x0; x <= c->x1; x += c->step) {
-            float X, Y, w[2], Ki[4], P, pu, pv, R[6], I;
-            if (!rmember(c, x, yq, &X, &Y))
+    const float j0 = J[0], j1 = J[1], j2 = J[2], j3 = J[3], j4 = J[4], j5 = J[5];
+    A[0] += j0 * j0;
+    A[1] += j0 * j1;
+    A[2] += j0 * j2;
+    A[3] += j0 * j3;
+    A[4] += j0 * j4;
+    A[5] += j0 * j5;
+    A[6] += j1 * j1;
+    A[7] += j1 * j2;
+    A[8] += j1 * j3;
+    A[9] += j1 * j4;
+    A[10] += j1 * j5;
+    A[11] += j2 * j2;
+    A[12] += j2 * j3;
+    A[13] += j2 * j4;
+    A[14] += j2 * j5;
+    A[15] += j3 * j3;
+    A[16] += j3 * j4;
+    A[17] += j3 * j5;
+    A[18] += j4 * j4;
+    A[19] += j4 * j5;
+    A[20] += j5 * j5;
+    y[0] += j0 * r;
+    y[1] += j1 * r;
+    y[2] += j2 * r;
+    y[3] += j3 * r;
+    y[4] += j4 * r;
+    y[5] += j5 * r;
+}
+
+static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int mode, rsums *S)
+{
+    rmap q;
+    int i;
+    memset(S, 0, sizeof *S);
+    if (!rmap_init(G, &q))
+        return 0;
+    for (i = 0; i < c->nrow; i += sub) {
+        int y = c->y0 + i * c->step, j = c->ja[i], first = 1;
+        const uint8_t *row = c->img + (size_t)y * (size_t)c->stride;
+        float rr = rrange(c, y), tq = 0.0f;
+        j = (j + sub - 1) / sub * sub;
+        for (; j <= c->jb[i]; j += sub) {
+            int x = c->x0 + j * c->step;
+            float X, Y, w[2], P, pu, pv, up, vp, I, R[6], J[6];
+            if (!rlattice_plane(c, rr, x, &X, &Y))
                 continue;
-            if (!rinvert(G, X, Y, w, Ki))
-                return 0;
+            /* 3 steps from the affine w at a row's first pixel, then 2
+             * from the previous pixel's curvature */
+            tq = rmap_w(&q, X, Y, w, tq, first ? 3 : 2);
+            first = 0;
             P = rtemplate(c, w[0] + c->g, w[1] + c->g, &pu, &pv);
-            R[0] = 1.0f;
-            R[1] = P;
-            R[4] = w[0] * sn;
-            R[5] = w[1] * sn;
-            R[2] = P * R[4];
-            R[3] = P * R[5];
+            /* the level ramps' coordinates: the start grid's (affine), fixed */
+            up = c->ra[0] * (X - c->rx) + c->ra[1] * (Y - c->ry);
+            vp = c->ra[2] * (X - c->rx) + c->ra[3] * (Y - c->ry);
             I = (float)row[x] - 128.0f;
-            for (i = 0; i < 6; i++) {
-                for (j = 0; j <= i; j++)
-                    A[i * 6 + j] += R[i] * R[j];
-                y[i] += R[i] * I;
+            S->n++;
+            if (mode & RS_LEVELS) {
+                R[0] = 1.0f;
+                R[1] = P;
+                R[2] = P * up;
+                R[3] = P * vp;
+                R[4] = up;
+                R[5] = vp;
+                racc6(S->A, S->b, R, I);
+                S->ss += I * I;
             }
-            yy += I * I;
-            nn++;
+            if (mode & RS_GRID) {
+                float gain = cl[1] + cl[2] * up + cl[3] * vp;
+                float r = I - (cl[0] + gain * P + cl[4] * up + cl[5] * vp), Tu, Tv;
+                float k11 = q.k11, k12 = q.k12, id = q.idet, h0, h1;
+                S->ss += r * r;
+                if (pu == 0.0f && pv == 0.0f)
+                    continue; /* inside a cell: the grid does not move the model */
+                /* dw = -K^-1 (dm + dM w): dT/dm_i = -h_i, dT/dM_ij = -h_i w_j,
+                 * h = K^-T (Tu, Tv) */
+                Tu = gain * pu;
+                Tv = gain * pv;
+                if (q.curved) {
+                    float det;
+                    k11 += q.ka * w[0] + q.kb * w[1];
+                    k12 += q.kb * w[0] + q.kc * w[1];
+                    det = k11 * q.k22 - k12 * q.k21;
+                    if (!finite_f(det) || det == 0.0f)
+                        return 0;
+                    id = 1.0f / det;
+                }
+                h0 = (q.k22 * Tu - q.k21 * Tv) * id;
+                h1 = (k11 * Tv - k12 * Tu) * id;
+                J[0] = -h0;
+                J[1] = -h1;
+                J[2] = -h0 * w[0];
+                J[3] = -h1 * w[0];
+                J[4] = -h0 * w[1];
+                J[5] = -h1 * w[1];
+                if (q.qcase != 0) {
+                    /* Q and r0 move with the grid: F's e1 part q(w) too */
+                    float qq =
+                        w[0] * (q.qa * w[0] + q.qb * w[1]) + w[1] * (q.qb * w[0] + q.qc * w[1]);
+                    float g0 = -h0 * q.ir0, a0, a1, b0, b1, e0, e1;
+                    if (q.qcase == 1) { /* -MG/r0 = -(M w) w' / r0 */
+                        a0 = q.M[0] * w[0] + q.M[2] * w[1];
+                        a1 = q.M[1] * w[0] + q.M[3] * w[1];
+                        J[2] -= g0 * a0 * w[0];
+                        J[3] -= g0 * a1 * w[0];
+                        J[4] -= g0 * a0 * w[1];
+                        J[5] -= g0 * a1 * w[1];
+                    } else {
+                        float sv = q.v[0] * w[0] + q.v[1] * w[1];
+                        float tu = q.u[0] * w[0] + q.u[1] * w[1];
+                        float kst = q.kap * sv * tu, ss = sv * sv;
+                        a0 = ss * q.v[0] + kst * q.u[0]; /* MG = Mv a' + Mu b' */
+                        a1 = ss * q.v[1] + kst * q.u[1];
+                        b0 = kst * q.v[0];
+                        b1 = kst * q.v[1];
+                        e0 = q.Mv[0] * a0 + q.Mu[0] * b0; /* (MG)_i0 */
+                        e1 = q.Mv[1] * a0 + q.Mu[1] * b0;
+                        J[2] -= g0 * e0;
+                        J[3] -= g0 * e1;
+                        e0 = q.Mv[0] * a1 + q.Mu[0] * b1; /* (MG)_i1 */
+                        e1 = q.Mv[1] * a1 + q.Mu[1] * b1;
+                        J[4] -= g0 * e0;
+                        J[5] -= g0 * e1;
+                    }
+                    J[0] += h0 * qq * q.mr0;
+                    J[1] += h0 * qq * q.mr1;
+                }
+                racc6(S->A, S->b, J, r);
+            }
         }
     }
-    if (nn < 16)
-        return 0;
-    for (i = 0; i < 6; i++) {
-        for (j = 0; j < i; j++)
-            A[j * 6 + i] = A[i * 6 + j];
-        A[i * 6 + i] *= 1.0f + 1e-6f;
-        A[i * 6 + i] += 1e-6f * (float)nn;
+    return S->n >= 16;
+}
+
+/* The damped step d: (A + lambda diag A) d = y, A packed (RNJ), solved
+ * scaled to a unit diagonal. 0 when singular. */
+static int rdamped(const float Ap[RNJ], const float y[6], float lambda, float d[6])
+{
+    float A[36], s[6];
+    int i, j, k;
+    for (i = 0, k = 0; i < 6; i++) {
+        float v = Ap[k];
+        s[i] = v > 0.0f ? 1.0f / actag_sqrtf(v) : 1.0f;
+        k += 6 - i;
     }
-    memcpy(cl, y, sizeof y);
-    if (!rsolve(A, cl, 6))
+    for (i = 0, k = 0; i < 6; i++) {
+        for (j = i; j < 6; j++, k++)
+            A[i * 6 + j] = A[j * 6 + i] = Ap[k] * s[i] * s[j];
+        A[i * 6 + i] = A[i * 6 + i] * (1.0f + lambda) + 1e-9f;
+        d[i] = y[i] * s[i];
+    }
+    if (!rsolve(A, d, 6))
         return 0;
-    *rss = yy;
     for (i = 0; i < 6; i++)
-        *rss -= cl[i] * y[i];
-    if (*rss < 0.0f)
-        *rss = 0.0f;
-    *count = nn;
+        d[i] *= s[i];
     return 1;
 }
 
-/* Normal equations of the grid's 6 numbers with the levels cl (and Q) held. */
-static int rnormal(const rctx *c, const rgrid *G, const float cl[6], float JJ[36], float Jr[6])
+/* The best levels for the sweep's grid and their residual sum of squares. */
+static int rbest(const rsums *S, float cl[6], float *rss)
 {
-    float sn = 1.0f / (float)c->n;
-    int x, yq, i, j;
-    memset(JJ, 0, 36 * sizeof(float));
-    memset(Jr, 0, 6 * sizeof(float));
-    for (yq = c->y0; yq <= c->y1; yq += c->step) {
-        const uint8_t *row = c->img + (size_t)yq * (size_t)c->stride;
-        for (x = c->x0; x <= c->x1; x += c->step) {
-            float X, Y, w[2], Ki[4], P, pu, pv, up, vp, gain, Tu, Tv, h0, h1, J[6], r;
-            if (!rmember(c, x, yq, &X, &Y))
+    int i;
+    if (!rdamped(S->A, S->b, 1e-6f, cl))
+        return 0;
+    *rss = S->ss;
+    for (i = 0; i < 6; i++)
+        *rss -= cl[i] * S->b[i];
+    if (*rss < 0.0f)
+        *rss = 0.0f;
+    return 1;
+}
+
+/* Grid steps' inner product: squared corner moves, about (cells^2 x |a|^2). */
+static float rdot(const float a[6], const float b[6])
+{
+    return a[0] * b[0] + a[1] * b[1] +
+           4.0f * (a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]);
+}
+
+/* One pass: the levels fitted to the grid on every lsub-th lattice row and
+ * column and held, then Levenberg-Marquardt over the grid on every sub-th,
+ * one sweep per step (the sweep at a trial grid gives its residual, which
+ * judges the step, and the next step's normal equations). Converged when
+ * no corner moves by more than tol cells. Returns the steps taken, -1 on
+ * failure. */
+static int rpass(const rctx *c, rgrid *G, float cl[6], int sub, int lsub, int max_it, float tol,
+                 float *rss_out, int *count)
+{
+    rsums S, S2;
+    float lambda = 1e-3f, tol2 = tol * tol, rss, dprev[6] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    int it, taken = 0, have_prev = 0;
+    rcurv(c, G);
+    /* the levels (6 numbers: a sparser lattice does) for the grid, then
+     * held through the pass */
+    if (!rsweep(c, G, cl, lsub, RS_LEVELS, &S) || !rbest(&S, cl, &rss) ||
+        !rsweep(c, G, cl, sub, RS_GRID, &S))
+        return -1;
+    *count = S.n;
+    for (it = 0; it < max_it; it++) {
+        int i, tries, ok = 0, noext = 0;
+        for (tries = 0; tries < 5 && !ok; tries++) {
+            rgrid T = *G;
+            float d[6], mv, cs, ext = 1.0f;
+            if (!rdamped(S.A, S.b, lambda, d)) {
+                lambda *= 10.0f;
                 continue;
-            if (!rinvert(G, X, Y, w, Ki))
-                return 0;
-            P = rtemplate(c, w[0] + c->g, w[1] + c->g, &pu, &pv);
-            up = w[0] * sn;
-            vp = w[1] * sn;
-            gain = cl[1] + cl[2] * up + cl[3] * vp;
-            r = (float)row[x] - 128.0f - (cl[0] + gain * P + cl[4] * up + cl[5] * vp);
-            Tu = gain * pu + (cl[2] * P + cl[4]) * sn;
-            Tv = gain * pv + (cl[3] * P + cl[5]) * sn;
-            /* dw = -K^-1 (dm + dM w): dT/dm_i = -h_i, dT/dM_ij = -h_i w_j,
-             * h = K^-T (Tu, Tv) */
-            h0 = Ki[0] * Tu + Ki[2] * Tv;
-            h1 = Ki[1] * Tu + Ki[3] * Tv;
-            J[0] = -h0;
-            J[1] = -h1;
-            J[2] = -h0 * w[0];
-            J[3] = -h1 * w[0];
-            J[4] = -h0 * w[1];
-            J[5] = -h1 * w[1];
-            for (i = 0; i < 6; i++) {
-                for (j = 0; j <= i; j++)
-                    JJ[i * 6 + j] += J[i] * J[j];
-                Jr[i] += J[i] * r;
+            }
+            /* the largest corner move, about */
+            mv = rdot(d, d);
+            cs = G->p[2] * G->p[2] + G->p[3] * G->p[3];
+            if (have_prev && !noext) {
+                /* linear convergence (the residuals are not small): steps
+                 * along one line shrinking by rho add up to 1 / (1 - rho) */
+                float dp = rdot(d, dprev), pp = rdot(dprev, dprev);
+                if (dp > 0.0f && dp * dp > 0.81f * mv * pp && mv < 0.64f * pp) {
+                    float rho = actag_sqrtf(mv / pp);
+                    ext = 1.0f / (1.0f - rho);
+                }
+            }
+            for (i = 0; i < 6; i++)
+                T.p[i] += ext * d[i];
+            rcurv(c, &T);
+            DBG("refine:  step %d.%d lambda %g ext %g move %g cells rss %g\n", it, tries,
+                (double)lambda, (double)ext, (double)actag_sqrtf(mv / cs), (double)S.ss);
+            if (mv < tol2 * cs) { /* converged: a step too small to test */
+                *G = T;
+                taken++;
+                it = max_it;
+                ok = 1;
+                break;
+            }
+            if (rsweep(c, &T, cl, sub, RS_GRID, &S2) && S2.ss <= S.ss) {
+                *G = T;
+                S = S2;
+                lambda *= 0.1f;
+                if (lambda < 1e-6f)
+                    lambda = 1e-6f;
+                ok = 1;
+                taken++;
+                have_prev = ext == 1.0f;
+                memcpy(dprev, d, sizeof d);
+            } else if (ext > 1.0f) {
+                noext = 1;
+            } else {
+                lambda *= 10.0f;
             }
         }
+        if (!ok)
+            break;
     }
-    for (i = 0; i < 6; i++)
-        for (j = 0; j < i; j++)
-            JJ[j * 6 + i] = JJ[i * 6 + j];
-    return 1;
+    *rss_out = S.ss;
+    return taken;
 }
 
 /* Pixel of grid offset w. */
@@ -458,6 +795,7 @@ static void rwidths(rctx *c, const rgrid *G, float px, float cells_min)
     det = ax * by - bx * ay;
     if (!finite_f(det) || det == 0.0f) {
         c->wu = c->wv = 0.5f;
+        c->iwu = c->iwv = 2.0f;
         return;
     }
     /* |grad u| = |row 1 of the inverse|, |grad v| = |row 2| */
@@ -471,62 +809,8 @@ static void rwidths(rctx *c, const rgrid *G, float px, float cells_min)
         c->wu = 0.9f;
     if (c->wv > 0.9f)
         c->wv = 0.9f;
-}
-
-/* One Levenberg-Marquardt pass; returns the steps taken, -1 on failure. */
-static int rpass(const rctx *c, rgrid *G, int max_it, float *rss_out, float cl_out[6],
-                 int *count)
-{
-    float cl[6], rss, lambda = 1e-3f;
-    int it, taken = 0;
-    rcurv(c, G);
-    if (!rlevels(c, G, cl, &rss, count))
-        return -1;
-    for (it = 0; it < max_it; it++) {
-        float JJ[36], Jr[6], A[36], d[6];
-        int i, tries, ok = 0;
-        if (!rnormal(c, G, cl, JJ, Jr))
-            return -1;
-        for (tries = 0; tries < 4 && !ok; tries++) {
-            rgrid T = *G;
-            float cl2[6], rss2;
-            int cnt;
-            memcpy(A, JJ, sizeof A);
-            memcpy(d, Jr, sizeof d);
-            for (i = 0; i < 6; i++)
-                A[i * 6 + i] = JJ[i * 6 + i] * (1.0f + lambda) + 1e-12f;
-            if (!rsolve(A, d, 6)) {
-                lambda *= 10.0f;
-                continue;
-            }
-            for (i = 0; i < 6; i++)
-                T.p[i] += d[i];
-            rcurv(c, &T);
-            if (rlevels(c, &T, cl2, &rss2, &cnt) && rss2 <= rss) {
-                /* converged when no corner moves by 1e-3 of a cell */
-                float mv = (d[0] * d[0] + d[1] * d[1]) +
-                           4.0f * (d[2] * d[2] + d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
-                float cs = G->p[2] * G->p[2] + G->p[3] * G->p[3];
-                *G = T;
-                memcpy(cl, cl2, sizeof cl);
-                rss = rss2;
-                lambda *= 0.1f;
-                if (lambda < 1e-6f)
-                    lambda = 1e-6f;
-                ok = 1;
-                taken++;
-                if (mv < 1e-6f * cs)
-                    it = max_it;
-            } else {
-                lambda *= 10.0f;
-            }
-        }
-        if (!ok)
-            break;
-    }
-    *rss_out = rss;
-    memcpy(cl_out, cl, sizeof cl);
-    return taken;
+    c->iwu = 1.0f / c->wu;
+    c->iwv = 1.0f / c->wv;
 }
 
 int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
@@ -539,7 +823,7 @@ int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
     rgrid G;
     float H[9], cl[6], rss = 0.0f, shift2 = 0.0f, cu[4], cv[4];
     actag_point pl[4], p[4];
-    int k, bits, i, cx, cy, rc, count = 0, iters = 0, steps;
+    int k, bits, i, cx, cy, rc, count = 0, iters = 0, steps, lsub;
     uint32_t code;
 
     if (img == NULL || family == NULL || corners == NULL || rp == NULL || out == NULL)
@@ -579,12 +863,13 @@ int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
     code = family->codes[id];
     for (cy = 0; cy < c.n; cy++)
         for (cx = 0; cx < c.n; cx++)
-            c.L[cy * c.n + cx] = (cx >= 2 && cy >= 2 && cx <= k - 2 && cy <= k - 2) ? 1.0f : 0.0f;
+            c.Lp[(cy + 1) * RL_PAD + cx + 1] =
+                (cx >= 2 && cy >= 2 && cx <= k - 2 && cy <= k - 2) ? 1.0f : 0.0f;
     for (i = 0; i < bits; i++) {
         int q = i / k, j = i % k;
         cx = q == 0 ? j : q == 1 ? k : q == 2 ? k - j : 0;
         cy = q == 0 ? 0 : q == 1 ? j : q == 2 ? k : k - j;
-        c.L[cy * c.n + cx] = (float)((code >> (bits - 1 - i)) & 1u);
+        c.Lp[(cy + 1) * RL_PAD + cx + 1] = (float)((code >> (bits - 1 - i)) & 1u);
     }
 
     /* the start grid: the corners' affine fit in the fan plane */
@@ -611,6 +896,18 @@ int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
             return ACTAG_ERR_PARAM;
     rcurv(&c, &G);
     c.G0 = G;
+    {
+        /* the level ramps' frame: the start grid's affine coordinates / (k + 1) */
+        float det = G.p[2] * G.p[5] - G.p[4] * G.p[3], s = 1.0f / (float)c.n;
+        if (!finite_f(det) || det == 0.0f)
+            return ACTAG_ERR_PARAM;
+        c.rx = G.p[0];
+        c.ry = G.p[1];
+        c.ra[0] = G.p[5] / det * s;
+        c.ra[1] = -G.p[4] / det * s;
+        c.ra[2] = -G.p[3] / det * s;
+        c.ra[3] = G.p[2] / det * s;
+    }
     {
         /* the pixel box: the start outline's pixels (its sides are nearly
          * straight: a 2 pixel pad), clipped to the image */
@@ -650,25 +947,66 @@ int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
         area = (area < 0.0f ? -area : area) * (c.hi - c.lo) * (c.hi - c.lo) /
                (float)((k - 3) * (k - 3));
         c.step = 1;
-        while ((float)(c.step * c.step) * (float)rp->max_samples < area && c.step < 64)
+        while (((float)(c.step * c.step) * (float)rp->max_samples < area ||
+                (c.x1 - c.x0) / c.step >= RCOL_MAX || (c.y1 - c.y0) / c.step >= RROW_MAX) &&
+               c.step < 1024)
             c.step++;
     }
+    {
+        /* the pixel set: each lattice row's members from the first to the
+         * last (the set is convex: an affine image of a square, mildly bent) */
+        rmap q0;
+        int ncol = (c.x1 - c.x0) / c.step + 1, r;
+        if (!rmap_init(&c.G0, &q0))
+            return ACTAG_ERR_NO_MATCH;
+        c.nrow = (c.y1 - c.y0) / c.step + 1;
+        for (r = 0; r < c.nrow; r++) {
+            float rr = rrange(&c, c.y0 + r * c.step);
+            int a = 0, b = ncol - 1;
+            while (a < ncol && !rmember(&c, &q0, rr, c.x0 + a * c.step))
+                a++;
+            while (b > a && !rmember(&c, &q0, rr, c.x0 + b * c.step))
+                b--;
+            if (a < ncol) {
+                c.ja[r] = (uint8_t)a;
+                c.jb[r] = (uint8_t)b;
+                count += b - a + 1;
+            } else {
+                c.ja[r] = 1;
+                c.jb[r] = 0;
+            }
+        }
+        if (count < 16)
+            return ACTAG_ERR_NO_MATCH;
+    }
 
-    /* pass 1: wide edges (a basin for corners a cell off); pass 2: the blur */
+    /* pass 1: wide edges (a basin for corners a cell off) on every sub-th
+     * lattice row and column, sub leaving at least RSUB1 pixels; pass 2: the
+     * blur, every pixel */
     rwidths(&c, &G, rp->blur, 0.4f);
-    steps = rpass(&c, &G, rp->max_iterations, &rss, cl, &count);
+    {
+        int sub = 1;
+        while (sub < 4 && count >= (sub + 1) * (sub + 1) * RSUB1)
+            sub++;
+        lsub = 1;
+        while (lsub < 4 && count >= (lsub + 1) * (lsub + 1) * RSUBL)
+            lsub++;
+        steps = rpass(&c, &G, cl, sub, sub, rp->max_iterations, RTOL1, &rss, &count);
+    }
     if (steps < 0) {
         DBG("refine: pass 1 failed\n");
         return ACTAG_ERR_NO_MATCH;
     }
     iters += steps;
+    DBG("refine: lattice step %d, pass 1: %d steps, %d pixels\n", c.step, steps, count);
     rwidths(&c, &G, rp->blur, 0.05f);
-    steps = rpass(&c, &G, rp->max_iterations, &rss, cl, &count);
+    steps = rpass(&c, &G, cl, 1, lsub, rp->max_iterations, RTOL2, &rss, &count);
     if (steps < 0) {
         DBG("refine: pass 2 failed\n");
         return ACTAG_ERR_NO_MATCH;
     }
     iters += steps;
+    DBG("refine: pass 2: %d steps, %d pixels\n", steps, count);
 
     /* acceptance: finite, same handedness, cell sides within 25 %, white
      * brighter than black, no corner moved more than max_shift cells */

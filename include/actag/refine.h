@@ -31,21 +31,29 @@
  *   indicator smoothed across its edges by a cubic step `blur` pixels wide
  *   on either side (the beam's point spread). The grey level is modelled as
  *       I = c0 + c1 P + c2 P u' + c3 P v' + c4 u' + c5 v',
- *   u' = (u - g)/(k+1), v' likewise: two levels whose contrast and offset
- *   may vary linearly across the tag (the elevation beam pattern brightens
- *   one side). For given grid numbers the six levels c are the linear
- *   least-squares fit; the grid's six numbers are fitted by Gauss-Newton
- *   (Levenberg-Marquardt damping) on the residuals with c held at each
- *   step, with analytic derivatives of the template (no image gradients,
- *   which speckle makes noisy). Two passes: the first with the template's
- *   edges 0.4 cell wide (a wide basin for corners a cell off), the second
- *   with `blur`.
+ *   (u', v') the pixel's (u - g, v - g)/(k+1) under the START grid (affine,
+ *   fixed during the fit): two levels whose contrast and offset may vary
+ *   linearly across the tag (the elevation beam pattern brightens one
+ *   side). Two passes: the first with the template's edges 0.4 cell wide
+ *   (a wide basin for corners a cell off), the second with `blur`. Each
+ *   pass fits the six levels c by linear least squares to its start grid
+ *   (on a lattice of at least 300 pixels) and holds them; the grid's six
+ *   numbers are then fitted by Gauss-Newton (Levenberg-Marquardt damping,
+ *   one pass over the pixels per step) with analytic derivatives of the
+ *   template and of the curvature term (no image gradients, which speckle
+ *   makes noisy); pixels inside a cell, away from its edges, add to the
+ *   residual only. Steps along one line shrinking by a ratio rho are
+ *   extrapolated by 1/(1 - rho) (the residuals are not small: convergence
+ *   is linear). Converged when no corner moves by more than 0.03 cell
+ *   (pass 1) or 0.003 cell (pass 2).
  *
  *   Pixels: every pixel (centres on integer coordinates) whose grid
  *   position under the START map lies within [margin, k+1-margin] in u and
  *   v (the outer edge of the data ring borders an unknown background),
- *   subsampled on a regular lattice to at most max_samples pixels; the set
- *   is fixed during the fit. Pixels outside the image are not used.
+ *   subsampled on a regular lattice to at most max_samples pixels (pass 1:
+ *   every 2nd to 4th lattice row and column, at least 250 pixels); the set
+ *   is fixed during the fit (each lattice row's members from the first to
+ *   the last). Pixels outside the image are not used.
  *
  *   Safety. The refined corners are returned only when the fit converged
  *   to a proper grid (finite, the same handedness as the start, side
@@ -54,10 +62,11 @@
  *   to out and ACTAG_ERR_NO_MATCH returned. The ID, handedness and corner
  *   order are never changed: this stage moves corners only.
  *
- *   Deterministic: + - * / and sqrtf only, float. No memory beyond a few
- *   hundred bytes of stack; no workspace. Cost: about (2 + 2 iterations) x
- *   max_samples template evaluations per pass, well under a millisecond
- *   for one tag on a desktop core.
+ *   Deterministic: + - * / and sqrtf only, float. About 2 KB of stack
+ *   (Cortex-M7, -O2); no workspace. Cost: about 5 passes over the pixel set
+ *   in all (pass 2: 1 + 2..4 steps; pass 1 on a sparser lattice); a pool
+ *   frame's tag (3000 pixels at lattice step 2) takes about 5 M
+ *   instructions (x86, callgrind).
  *
  *   actag_refine_params_default(&rp)
  *       blur 2 px, margin 0.3 cell, max_iterations 8 per pass, max_shift
