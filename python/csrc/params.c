@@ -62,6 +62,7 @@ static const field fields[] = {
     F("search_max_corrections", K_INT, tuning.search_max_corrections, 1),
     F("search_min_margin", K_FLOAT, tuning.search_min_margin, 1),
     F("search_range_scale", K_FLOAT, tuning.search_range_scale, 1),
+    F("refine_corners", K_INT, tuning.refine_corners, 1),
     F("max_contours", K_INT, tuning.limits.max_contours, 1),
     F("max_contour_points", K_INT, tuning.limits.max_contour_points, 1),
     F("max_contour_iterations", K_INT, tuning.limits.max_contour_iterations, 1),

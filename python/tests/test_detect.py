@@ -29,10 +29,12 @@ def test_example_frame(example_frame):
     # (145,314) (113,339) (103,280) (133,244) and these (range, azimuth).
     ref_rc = [(145, 314), (113, 339), (103, 280), (133, 244)]
     ref_polar = [(1.0606, -0.0076), (1.1576, -0.0499), (1.1879, 0.0499), (1.0970, 0.1108)]
+    # The corners are refined to the fitted tag (refine.h): within 4.5 px
+    # of the reference's quad corners, as in test_detect (C).
     for (r, c), (rr, rc) in zip(d.corners_rowcol, ref_rc):
-        assert abs(r - rr) < 2.0 and abs(c - rc) < 2.0
+        assert abs(r - rr) < 4.5 and abs(c - rc) < 4.5
     for (r, a), (rr, ra) in zip(d.corners_polar, ref_polar):
-        assert abs(r - rr) < 0.005 and abs(a - ra) < 0.005
+        assert abs(r - rr) < 0.012 and abs(a - ra) < 0.008
     # x is the column, y the row.
     assert d.corners_rowcol[0] == (d.corners_xy[0][1], d.corners_xy[0][0])
 
@@ -96,10 +98,10 @@ def test_defaults_are_the_c_defaults():
                     median_radius=4, threshold_radius=8, threshold_offset=1, size_tolerance=0.2,
                     min_area_fraction=0.1, max_area_fraction=1.0, quad_max_iterations=100,
                     quad_sample_fraction=0.1, quad_inlier_ratio=0.8, quad_inlier_distance=2.5,
-                    quad_min_parallel_cos=0.9, quad_min_inlier_ratio=0.6, min_structure=1.0,
+                    quad_min_parallel_cos=0.9, quad_min_inlier_ratio=0.6, min_structure=0.0,
                     min_side_fraction=0.5, max_side_fraction=1.6, search_candidates=2,
                     search_min_score=15, search_max_corrections=3, search_min_margin=1.0,
-                    search_range_scale=0.75, fit_level=0.5, fit_min_contrast=5,
+                    search_range_scale=0.75, refine_corners=1, fit_level=0.5, fit_min_contrast=5,
                     fit_sample_offset=0.2, min_margin=1.0, fit_min_bit_margin=2)
     for k, v in expected.items():
         if isinstance(v, float):  # C floats
