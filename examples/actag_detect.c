@@ -65,7 +65,7 @@ static void usage(FILE *f)
             "                         reading of the binary frame\n"
             "  --search N             structure-search candidates per frame, 0 (off) to 8 (default 2)\n"
             "  --min-margin F         least decision margin (log-likelihood ratio) of a reading\n"
-            "                         (default 1); --search-min-margin F for search readings (1)\n"
+            "                         (default 2); --search-min-margin F for search readings (1)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
             "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"

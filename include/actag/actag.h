@@ -243,7 +243,7 @@ typedef struct actag_params {
                                    ACTAG_CORRECTIONS_AUTO (default): min(3, family maximum) */
     uint32_t seed;              /* RANSAC seed (default 1); any value */
     float min_margin;           /* least decision margin of a fit-decoder reading (decode.h;
-                                   default ACTAG_FIT_MIN_MARGIN, 1.0), -1e6..1e6: raise it
+                                   default ACTAG_FIT_MIN_MARGIN, 2.0), -1e6..1e6: raise it
                                    (e.g. 3) for fewer chance readings in clutter, lower it
                                    (e.g. -2) for recall on clean scenes. This one wins over
                                    tuning.fit.min_margin. */

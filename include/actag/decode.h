@@ -189,8 +189,12 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
 #define ACTAG_FIT_SPLIT_HI 0.5f
 
 /* Default least decision margin of the fit decoder (log-likelihood units,
- * see actag_decode_quad_fit). */
-#define ACTAG_FIT_MIN_MARGIN 1.0f
+ * see actag_decode_quad_fit): the reading must be e^2 (7.4) times likelier
+ * than the runner-up after the look-elsewhere allowance. 1 let one wrong ID
+ * through in 300 simulated pool views read with rows flipped (a quad reading
+ * of 3 corrections at margin 1.85, after the second grid was added); correct
+ * readings below 2 are about 1 in 200 (docs/decoder.md). */
+#define ACTAG_FIT_MIN_MARGIN 2.0f
 
 /* Default least lead in corrected bits of a fit-decoder reading. */
 #define ACTAG_FIT_MIN_BIT_MARGIN 2
@@ -201,7 +205,7 @@ typedef struct actag_fit_params {
     float level;         /* mid level between ring black (0) and interior white (1), 0.5 */
     int min_contrast;    /* interior minus ring mean must reach this, grey levels (5) */
     float sample_offset; /* cells from a cell centre to its outer sample points, 0..0.5 (0.2) */
-    float min_margin;    /* least decision_margin accepted (default ACTAG_FIT_MIN_MARGIN, 1;
+    float min_margin;    /* least decision_margin accepted (default ACTAG_FIT_MIN_MARGIN, 2;
                             raise it, e.g. to 3, for fewer chance readings in clutter, lower
                             it, e.g. to -2, for recall on clean scenes). actag_detect() uses
                             actag_params.min_margin instead. */
@@ -293,7 +297,7 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      look-elsewhere allowance for the N = 8 ncodes hypotheses (times 165
  *      grids after ACTAG_FIT_WIDE, times 2 after the second grid): pure
  *      noise reaches about 0. A reading
- *      needs decision_margin >= min_margin (default ACTAG_FIT_MIN_MARGIN, 1).
+ *      needs decision_margin >= min_margin (default ACTAG_FIT_MIN_MARGIN, 2).
  *      Without ACTAG_FIT_VERIFY the margin is the soft-distance lead over
  *      the runner-up divided by the cell noise (from the ring and interior
  *      cells), less the same allowance.
