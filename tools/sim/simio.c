@@ -10,8 +10,9 @@
 
 #define DEGF (3.14159265358979f / 180.0f)
 
-void simio_pool_settings(sim_sonar *s, sim_view_params *v)
+void simio_pool_sonar(sim_sonar *s)
 {
+    memset(s, 0, sizeof *s);
     s->rows = 530;
     s->cols = 512;
     s->geo.min_range = 0.1f;
@@ -20,6 +21,11 @@ void simio_pool_settings(sim_sonar *s, sim_view_params *v)
     s->geo.bearings = NULL;
     s->geo.flags = 0;
     s->vertical_aperture = 12.0f * DEGF;
+}
+
+void simio_pool_settings(sim_sonar *s, sim_view_params *v)
+{
+    simio_pool_sonar(s);
     v->min_distance = 0.9f;
     v->max_distance = 1.4f;
     v->min_incidence = 55.0f * DEGF;

@@ -17,6 +17,8 @@ extern "C" {
 /* The pool recording (../shared/data/sonar/pool-video): 530 x 512, 0.1-1.5 m,
  * 60 degrees, 12 degrees vertical; views at 0.9-1.4 m, 55-75 degrees. */
 void simio_pool_settings(sim_sonar *s, sim_view_params *v);
+/* The pool recording's sonar alone (every field set, reference orientation). */
+void simio_pool_sonar(sim_sonar *s);
 
 /* One JSON line: file, frame, seed, and per tag its family, id, size,
  * mirrored, visible, distance, incidence, pose and corners (x = column,

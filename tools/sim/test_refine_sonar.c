@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "sim.h"
+#include "simio.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -15,17 +16,12 @@ void tearDown(void) {}
 
 #define DEGF 0.017453292f
 
+/* The pool recording's sonar (simio.h) with an orientation and bearings. */
 static void pool_sonar(sim_sonar *s, unsigned flags, const float *bearings)
 {
-    memset(s, 0, sizeof *s);
-    s->rows = 530;
-    s->cols = 512;
-    s->geo.min_range = 0.1f;
-    s->geo.max_range = 1.5f;
-    s->geo.aperture = 60.0f * DEGF;
+    simio_pool_sonar(s);
     s->geo.flags = flags;
     s->geo.bearings = bearings;
-    s->vertical_aperture = 12.0f * DEGF;
 }
 
 static float maxerr(const actag_point a[4], const actag_point b[4])

@@ -2,6 +2,7 @@
  * the detector in every orientation the library accepts. */
 #include "unity.h"
 #include "sim.h"
+#include "simio.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -32,17 +33,12 @@ static void make_bearings(float *b, int cols, float half)
     }
 }
 
+/* The pool recording's sonar (simio.h) with an orientation and bearings. */
 static void pool_sonar(sim_sonar *s, unsigned flags, const float *bearings)
 {
-    memset(s, 0, sizeof *s);
-    s->rows = 530;
-    s->cols = 512;
-    s->geo.min_range = 0.1f;
-    s->geo.max_range = 1.5f;
-    s->geo.aperture = 60.0f * DEGF;
+    simio_pool_sonar(s);
     s->geo.flags = flags;
     s->geo.bearings = bearings;
-    s->vertical_aperture = 12.0f * DEGF;
 }
 
 /* sim_pixel_of is the inverse of the library's pixel -> (range, azimuth). */
