@@ -368,6 +368,41 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
     return cost;
 }
 
+/* The second-order term of the elevation arc, added to the position block of
+ * the covariance. The poorly seen direction is the centre sliding along its
+ * elevation arc (a sphere of fixed range): a slide by de moves the centre
+ * r de along the arc's tangent, which (J^T J)^-1 holds, and r (1 - cos de)
+ * ~ r de^2 / 2 toward the sonar, which a linear covariance cannot. With de
+ * of sd s_e that is E[(r de^2 / 2)^2] = 3 r^2 s_e^4 / 4 along t / |t|;
+ * without it the range sd is set by the corners alone (about 1 mm) and
+ * the truth, a few degrees away on the same sphere, falls outside the 95 %
+ * ellipsoid about one time in five (actag-eval, docs/pose.md). */
+static void p_arc_term(const float *t, float *cov)
+{
+    float r2 = dot3(t, t), rho2 = t[0] * t[0] + t[1] * t[1], rho, r, e[3], u[3], ve, c;
+    int i, j;
+    if (!(r2 > 0.0f) || !(rho2 > 0.0f))
+        return;
+    r = sqrtf(r2);
+    rho = sqrtf(rho2);
+    /* unit tangent of the elevation arc, and the unit range direction */
+    e[0] = -t[2] * t[0] / (rho * r);
+    e[1] = -t[2] * t[1] / (rho * r);
+    e[2] = rho / r;
+    for (i = 0; i < 3; i++)
+        u[i] = t[i] / r;
+    ve = 0.0f; /* variance along the tangent, m^2: r^2 s_e^2 */
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            ve += e[i] * cov[i * P_NPAR + j] * e[j];
+    if (!(ve > 0.0f))
+        return;
+    c = 0.75f * ve * ve / r2; /* 3/4 r^2 s_e^4 */
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            cov[i * P_NPAR + j] += c * u[i] * u[j];
+}
+
 static void p_step(const p_state *x, const float *d, p_state *o)
 {
     float dR[9];
@@ -713,6 +748,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
                         v += Ri[i * P_NPAR + k] * Ri[j * P_NPAR + k];
                     out->cov[i * P_NPAR + j] = v * sc[i] * sc[j];
                 }
+            p_arc_term(x.t, out->cov);
         }
     }
     for (i = 0; i < 9; i++)

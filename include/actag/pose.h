@@ -81,7 +81,11 @@
  *     one refined; the band is recomputed from the fit and the fit repeated
  *     (at most 3 passes; max_iterations trial steps per start and pass).
  *     The covariance is (J^T J)^-1 at the solution (prior included), from
- *     the same QR factor. All in float; the trigonometry is the library's
+ *     the same QR factor, plus the second-order part of the elevation
+ *     slide: the centre moves on a sphere of fixed range, so a slide of
+ *     sd s_e along the arc also moves it toward the sonar by r de^2 / 2,
+ *     added as 3/4 r^2 s_e^4 along t / |t| (without it the truth fell
+ *     outside the 95 % position ellipsoid about one time in five). All in float; the trigonometry is the library's
  *     own (sums and products only, plus sqrtf), so results are identical on
  *     every IEEE-754 platform built with -ffp-contract=off. No heap, no
  *     static state; about 0.8 M instructions (0.1 ms on a desktop core).

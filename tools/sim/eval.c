@@ -80,6 +80,9 @@ static void usage(FILE *f)
         "Output:\n"
         "  --json                 one JSON summary object on stdout (instead of text)\n"
         "  --svg DIR              error histograms and rate-versus-distance/incidence curves\n"
+        "  --pose-dump FILE       JSON lines, one per right reading: distance, incidence,\n"
+        "                         true and estimated centre elevation and band, position and\n"
+        "                         orientation errors, rotation error vector, pose flags\n"
         "  --failures FILE        JSON lines of frames with a wrong ID, false tag, order or\n"
         "                         mirror error; frame F of run seed S is frame F of\n"
         "                         actag-sim --seed S --random F+1 with the same sonar options\n"
@@ -122,6 +125,8 @@ typedef struct {
     int pose_flags;
     float pos_err, ori_err, elev_err; /* m, rad, rad */
     float m2_pos, m2_ori, m2_all;     /* squared Mahalanobis distances */
+    float el_true, el_est, el_lo, el_hi; /* rad: centre elevation, truth and estimate, band */
+    float range_true, w_err[3];       /* m; rad, rotation error vector (sensor axes) */
 } tag_result;
 
 typedef struct {
@@ -226,6 +231,14 @@ static void pose_errors(const eval_ctx *c, const sim_tag *tag, const actag_detec
                                            tag->pose.t[1] * tag->pose.t[1] +
                                            tag->pose.t[2] * tag->pose.t[2]));
     R->elev_err = P.elevation - el_true;
+    R->el_true = el_true;
+    R->el_est = P.elevation;
+    R->el_lo = P.elevation_lo;
+    R->el_hi = P.elevation_hi;
+    R->range_true = sqrtf(tag->pose.t[0] * tag->pose.t[0] + tag->pose.t[1] * tag->pose.t[1] +
+                          tag->pose.t[2] * tag->pose.t[2]);
+    for (q = 0; q < 3; q++)
+        R->w_err[q] = w[q];
     R->m2_pos = mahalanobis2(P.cov, e, 0, 3);
     R->m2_ori = mahalanobis2(P.cov, e, 3, 3);
     R->m2_all = mahalanobis2(P.cov, e, 0, 6);
@@ -747,7 +760,8 @@ int main(int argc, char **argv)
 {
     static eval_ctx c;
     int i, threads = 2, json = 0, pool = 0, corrections_set = 0, free_rows = 530, free_cols = 512;
-    const char *family = "AcTag24h10", *svg = NULL, *free_list = "all", *failures = NULL;
+    const char *family = "AcTag24h10", *svg = NULL, *free_list = "all", *failures = NULL,
+               *pose_dump = NULL;
     const char *sweep_list = "AcTag24h4,AcTag24h6,AcTag24h8,AcTag24h10";
     double aperture_deg = 60.0, elapsed;
     pthread_t th[16];
@@ -898,6 +912,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--svg")) {
             NEED();
             svg = v;
+        } else if (!strcmp(o, "--pose-dump")) {
+            NEED();
+            pose_dump = v;
         } else if (!strcmp(o, "--failures")) {
             NEED();
             failures = v;
@@ -1123,6 +1140,36 @@ int main(int argc, char **argv)
         if (nbi < 1) nbi = 1;
         if (nbd > MAX_BINS) nbd = MAX_BINS;
         if (nbi > MAX_BINS) nbi = MAX_BINS;
+        if (pose_dump) {
+            FILE *pf = fopen(pose_dump, "w");
+            if (!pf) {
+                char m[600];
+                snprintf(m, sizeof m, "--pose-dump: cannot write '%s': %s", pose_dump,
+                         strerror(errno));
+                die(m);
+            }
+            for (i = 0; i < c.frames; i++) {
+                const tag_result *R = &c.tres[i];
+                if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+                    continue;
+                fprintf(pf,
+                        "{\"frame\": %d, \"distance\": %.4f, \"incidence_deg\": %.3f, "
+                        "\"range\": %.5f, \"mirrored\": %d, \"elevation\": %.6f, "
+                        "\"elevation_est\": %.6f, \"band\": [%.6f, %.6f], "
+                        "\"position_error\": %.6f, \"orientation_error\": %.6f, "
+                        "\"w\": [%.6f, %.6f, %.6f], \"flags\": %d, "
+                        "\"range_errors\": [%.6f, %.6f, %.6f, %.6f], "
+                        "\"azimuth_errors\": [%.7f, %.7f, %.7f, %.7f], "
+                        "\"m2\": [%.3f, %.3f, %.3f]}\n",
+                        i, R->distance, R->incidence / DEG, R->range_true, R->mirrored,
+                        R->el_true, R->el_est, R->el_lo, R->el_hi, R->pos_err, R->ori_err,
+                        R->w_err[0], R->w_err[1], R->w_err[2], R->pose_flags, R->range_err[0],
+                        R->range_err[1], R->range_err[2], R->range_err[3], R->az_err[0],
+                        R->az_err[1], R->az_err[2], R->az_err[3], R->m2_pos, R->m2_ori,
+                        R->m2_all);
+            }
+            fclose(pf);
+        }
         if (failures) {
             ff = fopen(failures, "w");
             if (!ff) {
