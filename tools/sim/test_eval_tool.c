@@ -105,6 +105,34 @@ static void test_svg_output(void)
     }
 }
 
+/* --pose-dump: one JSON line per right reading (as many as the summary's
+ * pose readings), each with the truth and the estimate; errors within the
+ * bounds the estimator gives at these short ranges. */
+static void test_pose_dump(void)
+{
+    char args[1200], path[512];
+    char *js, *dump, *line;
+    int lines = 0;
+    snprintf(path, sizeof path, "%s/eval_pose.jsonl", ACTAG_BINARY_DIR);
+    snprintf(args, sizeof args, "--pool --frames 20 --seed 3 --json --quiet --pose-dump \"%s\"",
+             path);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    js = slurp(out_path);
+    dump = slurp(path);
+    TEST_ASSERT_NOT_NULL(js);
+    TEST_ASSERT_NOT_NULL(dump);
+    for (line = dump; (line = strstr(line, "{\"frame\": ")) != NULL; line++) {
+        lines++;
+        TEST_ASSERT_TRUE(json_num(line, "position_error") < 0.2 * json_num(line, "range"));
+        TEST_ASSERT_TRUE(json_num(line, "orientation_error") < 0.5);
+        TEST_ASSERT_NOT_NULL(strstr(line, "\"range_errors\": ["));
+    }
+    TEST_ASSERT_TRUE(lines > 5);
+    TEST_ASSERT_EQUAL_INT((int)json_num(strstr(js, "\"pose\""), "readings"), lines);
+    free(js);
+    free(dump);
+}
+
 /* actag-sim writes frames and one truth line per frame. */
 static void test_sim_writes_frames_and_truth(void)
 {
@@ -153,6 +181,8 @@ static void test_bad_options(void)
     expect_error(ACTAG_EVAL_PATH, "--max-range 0.05", "--max-range");
     expect_error(ACTAG_EVAL_PATH, "--corrections 9", "--corrections");
     expect_error(ACTAG_EVAL_PATH, "--bogus", "--bogus");
+    expect_error(ACTAG_EVAL_PATH, "--frames 2 --pose-dump /nonexistent-dir/p.jsonl",
+                 "/nonexistent-dir/p.jsonl");
     expect_error(ACTAG_SIM_PATH, "--random 2", "--out-dir");
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:99:1,0,0,0,0,0 --out-dir /tmp", "99");
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0 --out-dir /tmp", "--tag pose");
@@ -165,6 +195,7 @@ int main(void)
     RUN_TEST(test_small_seeded_evaluation);
     RUN_TEST(test_tag_free_and_threads);
     RUN_TEST(test_svg_output);
+    RUN_TEST(test_pose_dump);
     RUN_TEST(test_sim_writes_frames_and_truth);
     RUN_TEST(test_bad_options);
     return UNITY_END();
