@@ -381,17 +381,20 @@ static void fill_det(actag_detection *d, const actag_decode_result *dr,
 }
 
 /* Sub-pixel corners for a reported tag: its decoded template fitted to the
- * filtered frame; the corners (and their range and azimuth) move when the
- * fit is accepted, nothing else. */
-static void refine_det(actag_detection *d, const uint8_t *grey, int rows, int cols,
+ * caller's frame as the sonar gave it (the median filter, a detection aid,
+ * rounds corners and thins small cells: it biased the fitted shape); the
+ * corners (and their range and azimuth) move when the fit is accepted,
+ * nothing else. */
+static void refine_det(actag_detection *d, const actag_frame *frame,
                        const actag_sonar_geometry *geometry, const actag_params *params)
 {
     actag_refine_params rp;
     actag_point fine[4];
-    int c;
+    int c, rows = frame->rows, cols = frame->cols;
     actag_refine_params_default(&rp);
-    if (actag_refine_corners(grey, rows, cols, cols, geometry, params->tag_size, params->family,
-                             d->id, d->corners, &rp, fine, NULL) != ACTAG_OK)
+    if (actag_refine_corners_depth(frame->data, frame->depth, rows, cols, frame->stride, geometry,
+                                   params->tag_size, params->family, d->id, d->corners, &rp, fine,
+                                   NULL) != ACTAG_OK)
         return;
     for (c = 0; c < 4; c++) {
         d->corners[c] = fine[c];
@@ -466,7 +469,8 @@ static void trace_contour(const tracer *tr, int outcome, const actag_ipoint *pts
     tr->fn(tr->user, &e);
 }
 
-static int detect_filtered(const actag_sonar_geometry *geometry, const actag_params *params,
+static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                           const actag_params *params,
                            const ws_layout *wl, int rows, int cols, int flip_mirror,
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr);
@@ -547,12 +551,13 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
     flip_mirror = mirror_flip(geometry, cols);
     tr.fn = trace;
     tr.user = user;
-    return detect_filtered(geometry, &pe, &w, rows, cols, flip_mirror, out, max_out, stats,
+    return detect_filtered(frame, geometry, &pe, &w, rows, cols, flip_mirror, out, max_out, stats,
                            trace ? &tr : NULL);
 }
 
 /* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */
-static int detect_filtered(const actag_sonar_geometry *geometry, const actag_params *params,
+static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                           const actag_params *params,
                            const ws_layout *wl, int rows, int cols, int flip_mirror,
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr)
@@ -787,7 +792,7 @@ static int detect_filtered(const actag_sonar_geometry *geometry, const actag_par
      * which tags, IDs, handedness and corner order stay as they are */
     if (params->tuning.refine_corners)
         for (k = 0; k < nout && k < max_out; k++)
-            refine_det(&out[k], w.b, rows, cols, geometry, params);
+            refine_det(&out[k], frame, geometry, params);
     if (stats)
         *stats = st;
     return nout;
@@ -822,7 +827,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
     for (i = 0; i < nparams; i++) {
         actag_params pe;
         resolve_params(&params[i], &pe);
-        rc = detect_filtered(geometry, &pe, &w, rows, cols, flip_mirror,
+        rc = detect_filtered(frame, geometry, &pe, &w, rows, cols, flip_mirror,
                              out ? out + (size_t)i * (size_t)max_out_each : NULL, max_out_each,
                              NULL, NULL);
         if (rc < 0)

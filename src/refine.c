@@ -56,7 +56,9 @@ typedef struct rgrid {
 #define RL_PAD (RN_MAX + 2) /* the layout with a ring of zero cells */
 
 typedef struct rctx {
-    const uint8_t *img;
+    const uint8_t *img;              /* 8- or 16-bit pixels (bytes) */
+    int depth;                       /* 8 or 16 */
+    uint32_t max16;                  /* 16-bit: the image's maximum (0: all 0) */
     int rows, cols, stride;
     const actag_sonar_geometry *geo; /* NULL: plane = pixels */
     float ac;                        /* azimuth of the centre beam */
@@ -75,6 +77,23 @@ typedef struct rctx {
 } rctx;
 
 static int finite_f(float x) { return x == x && x - x == 0.0f; }
+
+/* A 16-bit pixel in host byte order at any address (memcpy: no misaligned
+ * halfword load, which faults on some cores). */
+static uint32_t rload16(const uint8_t *p)
+{
+    uint16_t v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
+/* A 16-bit pixel on the detector's 8-bit scale (actag.h: 16-bit frames are
+ * scaled by their maximum, rounded), so a 16-bit frame refines exactly as
+ * its 8-bit conversion does. */
+static uint32_t rscale16(const struct rctx *c, const uint8_t *p)
+{
+    return c->max16 ? (rload16(p) * 255u + c->max16 / 2u) / c->max16 : 0u;
+}
 
 /* sin, cos of a small angle (|d| <= 0.6: Taylor, error < 1e-8; |d| < 0.2,
  * most pixels of a tag about its centre beam: two terms fewer, error
@@ -555,7 +574,7 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
         return 0;
     for (i = 0; i < c->nrow; i += sub) {
         int y = c->y0 + i * c->step, j = c->ja[i], first = 1;
-        const uint8_t *row = c->img + (size_t)y * (size_t)c->stride;
+        const uint8_t *row = c->img + (size_t)y * (size_t)c->stride * (size_t)(c->depth / 8);
         float rr = rrange(c, y), tq = 0.0f;
         j = (j + sub - 1) / sub * sub;
         for (; j <= c->jb[i]; j += sub) {
@@ -571,7 +590,7 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
             /* the level ramps' coordinates: the start grid's (affine), fixed */
             up = c->ra[0] * (X - c->rx) + c->ra[1] * (Y - c->ry);
             vp = c->ra[2] * (X - c->rx) + c->ra[3] * (Y - c->ry);
-            I = (float)row[x] - 128.0f;
+            I = (c->depth == 16 ? (float)rscale16(c, row + 2 * x) : (float)row[x]) - 128.0f;
             S->n++;
             if (mode & RS_LEVELS) {
                 R[0] = 1.0f;
@@ -819,6 +838,16 @@ int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
                          const actag_refine_params *rp, actag_point out[4],
                          actag_refine_info *info)
 {
+    return actag_refine_corners_depth(img, 8, rows, cols, stride, geometry, tag_size, family, id,
+                                      corners, rp, out, info);
+}
+
+int actag_refine_corners_depth(const void *img, int depth, int rows, int cols, int stride,
+                               const actag_sonar_geometry *geometry, float tag_size,
+                               const actag_family *family, int id, const actag_point corners[4],
+                               const actag_refine_params *rp, actag_point out[4],
+                               actag_refine_info *info)
+{
     rctx c;
     rgrid G;
     float H[9], cl[6], rss = 0.0f, shift2 = 0.0f, cu[4], cv[4];
@@ -830,6 +859,8 @@ int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
         return ACTAG_ERR_NULL;
     if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
         return ACTAG_ERR_SIZE;
+    if (depth != 8 && depth != 16)
+        return ACTAG_ERR_PARAM;
     if (info)
         memset(info, 0, sizeof *info);
     bits = family->bits;
@@ -850,7 +881,16 @@ int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
     }
     k = bits / 4;
     memset(&c, 0, sizeof c);
-    c.img = img;
+    c.img = (const uint8_t *)img;
+    c.depth = depth;
+    if (depth == 16) {
+        uint32_t v;
+        int y, x;
+        for (y = 0; y < rows; y++)
+            for (x = 0; x < cols; x++)
+                if ((v = rload16(c.img + 2u * ((size_t)y * (size_t)stride + (size_t)x))) > c.max16)
+                    c.max16 = v;
+    }
     c.rows = rows;
     c.cols = cols;
     c.stride = stride;

@@ -298,6 +298,58 @@ static void test_deterministic(void)
     TEST_ASSERT_TRUE(i1.contrast > 100.0f && i1.contrast < 200.0f);
 }
 
+/* A 16-bit image (any scale, odd address, padded stride) refines exactly as
+ * its 8-bit conversion by the detector's rule (v * 255 + max / 2) / max,
+ * and depth 8 is actag_refine_corners itself; other depths are refused. */
+static void test_sixteen_bit_equals_its_conversion(void)
+{
+    static uint8_t buf16[2u * RT_ROWS * (RT_COLS + 3) + 1];
+    static uint8_t img8[RT_ROWS * RT_COLS];
+    actag_refine_params rp;
+    actag_rng r;
+    int i;
+    actag_refine_params_default(&rp);
+    actag_rng_seed(&r, 11u);
+    for (i = 0; i < 6; i++) {
+        amap M;
+        actag_point t[4], s[4], f8[4], f16[4], fd[4];
+        int id = (int)actag_rng_below(&r, (uint32_t)g_fam.ncodes), c, x, y, stride = RT_COLS + 3;
+        uint32_t gain = 1u + actag_rng_below(&r, 257u), mx = 0;
+        uint8_t *p16 = buf16 + 1; /* odd address */
+        random_map(&r, i & 1, &M);
+        draw(id, &M, 30.0f, &r);
+        for (y = 0; y < RT_ROWS; y++)
+            for (x = 0; x < stride; x++) {
+                /* padding at full scale: it must not count as the maximum */
+                uint16_t v = (uint16_t)(x < RT_COLS ? g_img[y * RT_COLS + x] * gain : 65535u);
+                if (x < RT_COLS && v > mx)
+                    mx = v;
+                memcpy(p16 + 2 * (y * stride + x), &v, 2);
+            }
+        for (y = 0; y < RT_ROWS; y++)
+            for (x = 0; x < RT_COLS; x++) {
+                uint32_t v = g_img[y * RT_COLS + x] * gain;
+                img8[y * RT_COLS + x] = (uint8_t)((v * 255u + mx / 2u) / mx);
+            }
+        for (c = 0; c < 4; c++)
+            t[c] = corner_of(&M, c);
+        perturb(t, 7.0f, 0.3f, &r, s);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img8, RT_ROWS, RT_COLS, RT_COLS, NULL,
+                                                             0.0f, &g_fam, id, s, &rp, f8, NULL));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                              actag_refine_corners_depth(p16, 16, RT_ROWS, RT_COLS, stride, NULL,
+                                                         0.0f, &g_fam, id, s, &rp, f16, NULL));
+        TEST_ASSERT_EQUAL_MEMORY(f8, f16, sizeof f8);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                              actag_refine_corners_depth(img8, 8, RT_ROWS, RT_COLS, RT_COLS, NULL,
+                                                         0.0f, &g_fam, id, s, &rp, fd, NULL));
+        TEST_ASSERT_EQUAL_MEMORY(f8, fd, sizeof f8);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              actag_refine_corners_depth(img8, 12, RT_ROWS, RT_COLS, RT_COLS, NULL,
+                                                         0.0f, &g_fam, id, s, &rp, fd, NULL));
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -306,5 +358,6 @@ int main(void)
     RUN_TEST(test_agrees_with_brute_force_shift);
     RUN_TEST(test_refusals_and_errors);
     RUN_TEST(test_deterministic);
+    RUN_TEST(test_sixteen_bit_equals_its_conversion);
     return UNITY_END();
 }
