@@ -13,9 +13,14 @@ int actag_median_filter_portable(const uint8_t *src, int rows, int cols, int src
                                  uint8_t *dst, int dst_stride, int radius,
                                  void *scratch, size_t scratch_size);
 #define ACTAG_NO_SIMD 1
+int actag_median_filter16_portable(const void *src, int rows, int cols, int src_stride,
+                                   uint8_t *dst, int dst_stride, int radius, void *scratch,
+                                   size_t scratch_size);
 #define actag_median_filter actag_median_filter_portable
+#define actag_median_filter16 actag_median_filter16_portable
 #include "../src/median.c"
 #undef actag_median_filter
+#undef actag_median_filter16
 
 typedef int (*median_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, void *, size_t);
 

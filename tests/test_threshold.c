@@ -20,8 +20,10 @@ int actag_adaptive_threshold_portable(const uint8_t *src, int rows, int cols, in
  * SIMD tails) and block_prefix_suffix. */
 #define ACTAG_FORCE_SWAR 1
 #define actag_adaptive_threshold actag_adaptive_threshold_portable
+#define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_portable
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
+#undef actag_adaptive_threshold_bitmap
 
 /* The same variant with 4-byte words (what 32-bit cores such as Cortex-M
  * use), compiled in a second time with its static names renamed. */
@@ -47,9 +49,13 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define row_threshold_doubling row_threshold_doubling_w32
 #undef THRESHOLD_DSP
 #undef THRESHOLD_DOUBLING
+#define pack_row pack_row_w32
+#define threshold_core threshold_core_w32
 #define actag_adaptive_threshold actag_adaptive_threshold_swar32
+#define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_swar32
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
+#undef actag_adaptive_threshold_bitmap
 
 /* 4-byte words with the horizontal pass by doubling (what Cortex-M4/M7
  * use with their DSP min/max; here with the portable words). */
@@ -74,6 +80,10 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #undef gew
 #undef double_pass
 #undef row_threshold_doubling
+#undef pack_row
+#undef threshold_core
+#define pack_row pack_row_d32
+#define threshold_core threshold_core_d32
 #define ACTAG_THRESHOLD_DOUBLING 1
 #define min8 min8_d32
 #define max8 max8_d32
@@ -89,10 +99,24 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #define double_pass double_pass_d32
 #define row_threshold_doubling row_threshold_doubling_d32
 #define actag_adaptive_threshold actag_adaptive_threshold_dbl32
+#define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_dbl32
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
+#undef actag_adaptive_threshold_bitmap
+
+int actag_adaptive_threshold_bitmap_portable(const uint8_t *src, int rows, int cols,
+                                             int src_stride, uint32_t *bitmap, int radius,
+                                             int offset, void *scratch, size_t scratch_size);
+int actag_adaptive_threshold_bitmap_swar32(const uint8_t *src, int rows, int cols, int src_stride,
+                                           uint32_t *bitmap, int radius, int offset,
+                                           void *scratch, size_t scratch_size);
+int actag_adaptive_threshold_bitmap_dbl32(const uint8_t *src, int rows, int cols, int src_stride,
+                                          uint32_t *bitmap, int radius, int offset, void *scratch,
+                                          size_t scratch_size);
 
 typedef int (*threshold_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, int, void *, size_t);
+typedef int (*threshold_bitmap_fn)(const uint8_t *, int, int, int, uint32_t *, int, int, void *,
+                                   size_t);
 
 #define NFNS 4
 static const threshold_fn FNS[NFNS] = {actag_adaptive_threshold, actag_adaptive_threshold_portable,
