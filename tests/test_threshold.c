@@ -121,6 +121,9 @@ typedef int (*threshold_bitmap_fn)(const uint8_t *, int, int, int, uint32_t *, i
 #define NFNS 4
 static const threshold_fn FNS[NFNS] = {actag_adaptive_threshold, actag_adaptive_threshold_portable,
                                        actag_adaptive_threshold_swar32, actag_adaptive_threshold_dbl32};
+static const threshold_bitmap_fn BFNS[NFNS] = {
+    actag_adaptive_threshold_bitmap, actag_adaptive_threshold_bitmap_portable,
+    actag_adaptive_threshold_bitmap_swar32, actag_adaptive_threshold_bitmap_dbl32};
 static const char *const FN_NAMES[NFNS] = {"library", "portable", "portable-32-bit-words",
                                            "portable-32-bit-words-doubling"};
 
@@ -216,6 +219,48 @@ static int random_offset(void)
     return rnd_range(-20, 20);
 }
 
+/* The bitmap variant of every path on src against want (the reference's
+ * bytes, stride wstride): each pixel bit, every padding bit 0, with the
+ * exact scratch size (one byte less fails and writes nothing). */
+static void check_bitmap(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
+                         const uint8_t *want, int wstride, const char *what)
+{
+    size_t n = ACTAG_BITMAP_SIZE(rows, cols), wpr = ACTAG_BITMAP_WORDS(cols), b;
+    size_t scr = ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, R);
+    uint32_t *bm = (uint32_t *)malloc(n);
+    uint8_t *scratch = (uint8_t *)malloc(scr);
+    char msg[240];
+    int f, r;
+    TEST_ASSERT_NOT_NULL(bm);
+    TEST_ASSERT_NOT_NULL(scratch);
+    for (f = 0; f < NFNS; f++) {
+        memset(bm, 0xA5, n);
+        memset(scratch, 0x5A, scr);
+        snprintf(msg, sizeof msg, "bitmap %s: %s", FN_NAMES[f], what);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_ERR_WORKSPACE,
+                                      BFNS[f](src, rows, cols, sstride, bm, R, offset, scratch,
+                                              scr - 1), msg);
+        TEST_ASSERT_EQUAL_HEX32_MESSAGE(0xA5A5A5A5u, bm[0], msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(
+            ACTAG_OK, BFNS[f](src, rows, cols, sstride, bm, R, offset, scratch, scr), msg);
+        for (r = -1; r <= rows; r++)
+            for (b = 0; b < 32u * wpr; b++) {
+                int c = (int)b - 1;
+                unsigned got = (bm[(size_t)(r + 1) * wpr + b / 32u] >> (b % 32u)) & 1u;
+                unsigned exp = r >= 0 && r < rows && c >= 0 && c < cols
+                                   ? want[(size_t)r * (size_t)wstride + (size_t)c]
+                                   : 0u;
+                if (got != exp) {
+                    snprintf(msg, sizeof msg, "bitmap %s: %s at (%d,%d): got %u want %u",
+                             FN_NAMES[f], what, r, c, got, exp);
+                    TEST_FAIL_MESSAGE(msg);
+                }
+            }
+    }
+    free(bm);
+    free(scratch);
+}
+
 /* Runs one case through both code paths with the exact radius-specific
  * scratch size, and checks every pixel and the untouched dst padding. */
 static void check_case(int rows, int cols, int R, int offset, int kind, int sextra, int dextra)
@@ -261,6 +306,9 @@ static void check_case(int rows, int cols, int R, int offset, int kind, int sext
             }
         }
     }
+    snprintf(msg, sizeof msg, "%dx%d R=%d off=%d kind=%d sstride=%d", rows, cols, R, offset,
+             kind, sstride);
+    check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
     free(src);
     free(want);
     free(out);
@@ -301,6 +349,8 @@ static void check_image(const uint8_t *src, int rows, int cols, int sstride, int
                 }
             }
     }
+    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d", what, rows, cols, R, offset);
+    check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
     free(want);
     free(out);
     free(scratch);
@@ -597,6 +647,25 @@ static void test_errors(void)
         TEST_ASSERT_EQUAL_MEMORY(dst_before, dst, sizeof dst);
 
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, fn(src, 6, 7, 7, dst, 7, 100, 1, scratch, scr));
+    }
+    for (f = 0; f < NFNS; f++) {
+        threshold_bitmap_fn fn = BFNS[f];
+        uint32_t bm[ACTAG_BITMAP_SIZE(6, 7) / 4];
+        uint8_t big[ACTAG_THRESHOLD_SCRATCH_SIZE(6, 7) + 7];
+        size_t bscr = sizeof big;
+        memset(bm, 0x77, sizeof bm);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(NULL, 6, 7, 7, bm, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(src, 6, 7, 7, NULL, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(src, 6, 7, 7, bm, 1, 1, NULL, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 0, 7, 7, bm, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 6, 7, 6, bm, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, fn(src, 6, 7, 7, bm, -1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              fn(src, 6, 7, 7, (uint32_t *)(void *)src, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
+                              fn(src, 6, 7, 7, bm, 100, 1, big, ACTAG_THRESHOLD_SCRATCH_SIZE(6, 7)));
+        TEST_ASSERT_EQUAL_HEX32(0x77777777u, bm[0]);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, fn(src, 6, 7, 7, bm, 100, 1, big, bscr));
     }
 }
 
