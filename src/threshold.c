@@ -378,20 +378,32 @@ static void row_threshold_doubling(uint8_t *restrict d, const uint8_t *restrict 
 }
 #endif
 
+/* Bit i set when p[i] is 1, for i = 0..3 (bytes of 0 / 1; the multiply
+ * gathers bits 0, 8, 16, 24 into bits 24..27 without carries; any byte
+ * order, as the word is assembled bytewise). */
+static uint32_t gather4(const uint8_t *p)
+{
+    uint32_t x = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    return (x * 0x01020408u) >> 24;
+}
+
 /* Row i of a bitmap (common.h layout) from cols bytes of 0 / 1, padding
- * bits 0. */
+ * bits 0: 32 pixels gathered into a word, shifted by the padding column. */
 static void pack_row(uint32_t *row, const uint8_t *d, size_t cols)
 {
-    uint32_t acc = 0u;
-    size_t c, b = 1u, k = 0;
-    for (c = 0; c < cols; c++) {
-        acc |= (uint32_t)d[c] << (b % 32u);
-        if (++b % 32u == 0u) {
-            row[k++] = acc;
-            acc = 0u;
-        }
+    uint32_t carry = 0u, g;
+    size_t c, i, k = 0;
+    for (c = 0; c + 32u <= cols; c += 32u) {
+        g = 0u;
+        for (i = 0; i < 32u; i += 4u)
+            g |= gather4(d + c + i) << i;
+        row[k++] = g << 1 | carry;
+        carry = g >> 31;
     }
-    row[k++] = acc;
+    g = 0u;
+    for (i = 0; c + i < cols; i++)
+        g |= (uint32_t)d[c + i] << i;
+    row[k++] = g << 1 | carry;
     for (; k < ACTAG_BITMAP_WORDS(cols); k++)
         row[k] = 0u;
 }

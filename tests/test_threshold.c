@@ -50,6 +50,7 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #undef THRESHOLD_DSP
 #undef THRESHOLD_DOUBLING
 #define pack_row pack_row_w32
+#define gather4 gather4_w32
 #define threshold_core threshold_core_w32
 #define actag_adaptive_threshold actag_adaptive_threshold_swar32
 #define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_swar32
@@ -81,8 +82,10 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #undef double_pass
 #undef row_threshold_doubling
 #undef pack_row
+#undef gather4
 #undef threshold_core
 #define pack_row pack_row_d32
+#define gather4 gather4_d32
 #define threshold_core threshold_core_d32
 #define ACTAG_THRESHOLD_DOUBLING 1
 #define min8 min8_d32
