@@ -50,7 +50,9 @@
  *   re-entrant (use one workspace per concurrent call).
  *
  *   16-bit frames (depth 16) are first scaled to 8 bits by the frame's own
- *   maximum: v8 = (v * 255 + max/2) / max; the stages then run on 8 bits.
+ *   maximum: v8 = (v * 255 + max/2) / max; the stages then run on 8 bits
+ *   (the median filter scales a row at a time inside its scratch,
+ *   actag_median_filter16: no 8-bit copy of the frame is made).
  *   Alignment: none required. 16-bit samples are in host byte order and are
  *   read bytewise-safe, so frame->data may be at any address (an odd one
  *   included, e.g. a frame inside a packet after a 1-byte header).
@@ -284,7 +286,8 @@ typedef struct actag_params {
  *     and a quad reading replaces the search reading at the same place, so
  *     corners come from quads whenever one decodes (fitted-grid corners
  *     otherwise). Memory: the score map (int16, rows/4 x cols/4) uses the
- *     binary image's place before the threshold fills it, the integral
+ *     binary bitmap's and the contour marks' place before the threshold
+ *     fills them, the integral
  *     image (uint32, (rows/4+1) x (cols/4+1)) the stage scratch (both
  *     counted in ACTAG_WORKSPACE_SIZE); frames under 16 pixels in either
  *     direction are not searched. Cost: ~1.5 ms per 530 x 512 frame
