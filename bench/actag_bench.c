@@ -106,7 +106,8 @@ int main(int argc, char **argv)
 
     for (i = 0; i < nfiles; i++) {
         int rows, cols;
-        uint8_t *img, *filt, *bin, *scratch;
+        uint8_t *img, *filt, *scratch;
+        uint32_t *bin, *marks;
         size_t wsize, ssize;
         void *ws;
         actag_frame fr;
@@ -126,9 +127,10 @@ int main(int argc, char **argv)
         ssize = ACTAG__STAGE_SCRATCH(rows, cols);
         ws = malloc(wsize);
         filt = (uint8_t *)malloc((size_t)rows * (size_t)cols);
-        bin = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+        bin = (uint32_t *)malloc(ACTAG_BITMAP_SIZE(rows, cols));
+        marks = (uint32_t *)malloc(ACTAG_BITMAP_SIZE(rows, cols));
         scratch = (uint8_t *)malloc(ssize);
-        if (!ws || !filt || !bin || !scratch)
+        if (!ws || !filt || !bin || !marks || !scratch)
             return 2;
         fr.data = img;
         fr.rows = rows;
@@ -146,10 +148,10 @@ int main(int argc, char **argv)
             t0 = now_ms();
             actag_median_filter(img, rows, cols, cols, filt, cols, p.tuning.median_radius, scratch, ssize);
             t1 = now_ms();
-            actag_adaptive_threshold(filt, rows, cols, cols, bin, cols, p.tuning.threshold_radius,
-                                     p.tuning.threshold_offset, scratch, ssize);
+            actag_adaptive_threshold_bitmap(filt, rows, cols, cols, bin, p.tuning.threshold_radius,
+                                            p.tuning.threshold_offset, scratch, ssize);
             t2 = now_ms();
-            actag_contour_scanner_init(&sc, bin, rows, cols, cols);
+            actag_contour_scanner_init(&sc, bin, marks, rows, cols);
             while (actag_contour_next(&sc, pts, (int)ACTAG_CONTOUR_CAP(rows, cols), &ci) == 1)
                 ;
             t3 = now_ms();
@@ -174,6 +176,7 @@ int main(int argc, char **argv)
         free(ws);
         free(filt);
         free(bin);
+        free(marks);
         free(scratch);
     }
     printf("actag_bench: %d frames, best of %d runs each, family %s, default parameters (Table I radii)\n",

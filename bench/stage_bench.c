@@ -37,13 +37,23 @@ int actag_median_filter_portable(const uint8_t *src, int rows, int cols, int src
 int actag_adaptive_threshold_portable(const uint8_t *src, int rows, int cols, int src_stride,
                                       uint8_t *dst, int dst_stride, int radius, int offset,
                                       void *scratch, size_t scratch_size);
+int actag_median_filter16_portable(const void *src, int rows, int cols, int src_stride,
+                                   uint8_t *dst, int dst_stride, int radius, void *scratch,
+                                   size_t scratch_size);
+int actag_adaptive_threshold_bitmap_portable(const uint8_t *src, int rows, int cols,
+                                             int src_stride, uint32_t *bitmap, int radius,
+                                             int offset, void *scratch, size_t scratch_size);
 #define ACTAG_NO_SIMD 1
 #define actag_median_filter actag_median_filter_portable
+#define actag_median_filter16 actag_median_filter16_portable
 #include "../src/median.c"
 #undef actag_median_filter
+#undef actag_median_filter16
 #define actag_adaptive_threshold actag_adaptive_threshold_portable
+#define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_portable
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
+#undef actag_adaptive_threshold_bitmap
 
 typedef struct {
     uint8_t *img, *med, *bin;

@@ -751,11 +751,16 @@ static int process(const options *o, const char *file, const char *picname, int 
     if (pictures) {
         pic_frame pf;
         uint8_t *in8 = to8(&im);
+        uint8_t *bin8 = (uint8_t *)malloc((size_t)im.rows * (size_t)im.cols);
         pf.name = strrchr(hostio_frame_name(file), '/') ? strrchr(file, '/') + 1
                                                         : hostio_frame_name(file);
         pf.input8 = in8;
         pf.filtered = actag_workspace_filtered(ws, im.rows, im.cols);
-        pf.binary = actag_workspace_binary(ws, im.rows, im.cols);
+        /* the binary frame as bytes, 0 = black, 1 = white */
+        if (bin8)
+            actag_bitmap_unpack(actag_workspace_bitmap(ws, im.rows, im.cols), im.rows, im.cols,
+                                bin8, im.cols, 1u);
+        pf.binary = bin8;
         pf.rows = im.rows;
         pf.cols = im.cols;
         pf.geo = &geo;
@@ -763,7 +768,7 @@ static int process(const options *o, const char *file, const char *picname, int 
         pf.det = det;
         pf.ndet = n;
         pf.trace = &trace;
-        if (!in8) {
+        if (!in8 || !bin8) {
             fprintf(stderr, PROG ": %s: out of memory for the pictures\n", pf.name);
             status = -1;
         } else {
@@ -784,6 +789,7 @@ static int process(const options *o, const char *file, const char *picname, int 
             }
         }
         free(in8);
+        free(bin8);
     }
     pic_trace_free(&trace);
     free(ws);

@@ -94,7 +94,7 @@ typedef struct pic_frame {
     const char *name;           /* shown in the legend */
     const uint8_t *input8;      /* rows x cols, 8-bit view of the input */
     const uint8_t *filtered;    /* actag_workspace_filtered() */
-    const uint8_t *binary;      /* actag_workspace_binary() */
+    const uint8_t *binary;      /* actag_workspace_bitmap(), unpacked: 0 black, 1 white */
     int rows, cols;
     const actag_sonar_geometry *geo;
     const actag_params *params; /* family, tag size, search settings */

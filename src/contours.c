@@ -3,9 +3,9 @@
  * analysis of digitized binary images by border following", algorithm 1,
  * 8-connectivity, without the hierarchy (no NBD labels): we only need to know
  * whether a pixel has been traced and whether its right neighbour was seen as
- * the black side of a border, so three pixel states suffice and fit in the
- * image bytes themselves. That is what makes the scanner allocation-free and
- * streaming.
+ * the black side of a border, so one mark bit per pixel beside the binary
+ * bitmap suffices (see the pixel states below). That is what makes the
+ * scanner allocation-free and streaming.
  *
  * Both outer and hole borders are traced (each exactly once, as in the
  * paper); hole borders only to mark their pixels, so that the raster scan
@@ -23,11 +23,16 @@
 #include <limits.h>
 #include <string.h>
 
-/* Pixel states after init (black stays 0). */
-#define PX_WHITE 1u /* white, not traced yet (Suzuki-Abe's 1) */
-#define PX_TRACED 2u /* on a traced border (Suzuki-Abe's +NBD) */
-#define PX_EAST 3u /* on a traced border whose east neighbour is the black side of
-                      a traced border (Suzuki-Abe's -NBD): no hole starts here */
+/* Pixel states, kept in two bitmaps (common.h layout):
+ *   white  the binary image (1 = white), read only;
+ *   marks  bit (r, c) of a WHITE pixel: on a traced border (Suzuki-Abe's
+ *          +NBD or -NBD); bit (r, c + 1) when (r, c + 1) is BLACK (or the
+ *          padding column right of the image): the white pixel (r, c) left of
+ *          it is on a traced border whose black side that pixel is
+ *          (Suzuki-Abe's -NBD: no hole border starts at (r, c)).
+ * The second meaning only ever marks black pixels, the first only white
+ * ones, so the four states of a byte-per-pixel tracer (black, white, traced,
+ * traced with east black) fit in two bits per pixel. */
 
 #define SCANNER_MAGIC 0x43545253 /* "CTRS" */
 
@@ -46,16 +51,6 @@ static int ctz32(uint32_t x)
     return k_debruijn[((x & (0u - x)) * 0x077CB531u) >> 27];
 }
 
-/* Bit i set when p[i] != 0, for i = 0..3 (SWAR, any byte order). */
-static uint32_t white4(const uint8_t *p)
-{
-    uint32_t x = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-    /* High bit of each byte := byte != 0, then move it down to bit 0. */
-    x = ((((x & 0x7f7f7f7fu) + 0x7f7f7f7fu) | x) & 0x80808080u) >> 7;
-    /* Gather bits 0, 8, 16, 24 into bits 24..27 (no carries). */
-    return (x * 0x01020408u) >> 24;
-}
-
 /* Index of the lowest set bit of an 8-bit value (8 for 0). */
 static const uint8_t k_ctz8[256] = {
     8, 0, 1, 0, 2, 0, 1, 0, 3, 0, 1, 0, 2, 0, 1, 0, 4, 0, 1, 0, 2, 0, 1, 0, 3, 0, 1, 0, 2, 0, 1, 0,
@@ -68,60 +63,53 @@ static const uint8_t k_ctz8[256] = {
     5, 0, 1, 0, 2, 0, 1, 0, 3, 0, 1, 0, 2, 0, 1, 0, 4, 0, 1, 0, 2, 0, 1, 0, 3, 0, 1, 0, 2, 0, 1, 0,
 };
 
-/* Bit d set when the neighbour in direction d is white; outside is black. */
-static unsigned mask_checked(const actag_contour_scanner *s, int r, int c)
+/* Bits 0..2 = padded-row bits b .. b+2 (pixels b-1 .. b+1 of that row). */
+static unsigned bits3(const uint32_t *row, size_t b)
 {
-    unsigned m = 0u;
-    int d;
-    for (d = 0; d < 8; d++) {
-        int rr = r + k_dr[d], cc = c + k_dc[d];
-        if ((unsigned)rr < (unsigned)s->rows && (unsigned)cc < (unsigned)s->cols &&
-            s->img[(ptrdiff_t)rr * s->stride + cc])
-            m |= 1u << d;
-    }
-    return m;
+    uint32_t w = row[b / 32u] >> (b % 32u);
+    if (b % 32u > 29u)
+        w |= row[b / 32u + 1u] << (32u - b % 32u);
+    return (unsigned)(w & 7u);
 }
 
-/* The same for a pixel at least one pixel away from the image edge. */
-static unsigned mask_fast(const uint8_t *p, ptrdiff_t stride)
+/* k_rev3[x]: bits 0..2 of x reversed (the row above is read right to left
+ * in direction order). */
+static const uint8_t k_rev3[8] = {0, 4, 2, 6, 1, 5, 3, 7};
+
+/* Bit d set when the neighbour in direction d is white; outside the image is
+ * black (the bitmap's padding), so every pixel takes the same path. up is
+ * the padded row above the pixel's (its row r is up + wpr). */
+static unsigned nb_mask(const uint32_t *up, size_t wpr, int c)
 {
-    const uint8_t *q = p - stride, *u = p + stride;
-    return (unsigned)(p[1] != 0) | (unsigned)(q[1] != 0) << 1 | (unsigned)(q[0] != 0) << 2 |
-           (unsigned)(q[-1] != 0) << 3 | (unsigned)(p[-1] != 0) << 4 |
-           (unsigned)(u[-1] != 0) << 5 | (unsigned)(u[0] != 0) << 6 | (unsigned)(u[1] != 0) << 7;
+    size_t b = (size_t)c; /* padded bit index of column c - 1 */
+    unsigned u = bits3(up, b), m = bits3(up + wpr, b), d = bits3(up + 2u * wpr, b);
+    return (m >> 2) | (unsigned)k_rev3[u] << 1 | (m & 1u) << 4 | d << 5;
 }
 
 /* Traces the border through (r0, c0), whose black neighbour in direction
  * from_dir (4 = W for an outer border, 0 = E for a hole border) is the
  * border's black side, and marks every traced pixel. With info != NULL (an
  * outer border) it also reports the points and fills npoints, bbox and area.
- * Everything the walk updates lives in locals: stores through uint8_t may
- * alias anything, so fields reached through pointers would be reloaded from
- * memory on every step. */
+ * Everything the walk updates lives in locals. */
 static void trace(const actag_contour_scanner *s, int r0, int c0, int from_dir,
                   actag_ipoint *pts, int cap, actag_contour_info *info)
 {
-    uint8_t *const img = s->img;
-    const ptrdiff_t st = s->stride;
-    const int rlast = s->rows - 1, clast = s->cols - 1;
-    uint8_t *p, *p0 = img + (ptrdiff_t)r0 * st + c0, *p1, *pend, pendv;
-    ptrdiff_t off[8];
+    const uint32_t *const white = s->white;
+    uint32_t *const marks = s->marks;
+    const size_t wpr = ACTAG_BITMAP_WORDS(s->cols);
     unsigned m;
-    int d, k, r, c, dp;
+    int d, k, r, c, r1, c1, dp;
     int n = 0, minx = c0, maxx = c0, maxy = r0, pr = 0, pc = 0;
     int64_t twice_area = 0;
 
-    for (d = 0; d < 8; d++)
-        off[d] = (ptrdiff_t)k_dr[d] * st + k_dc[d];
-
     /* Step 3.1: clockwise from the black side, find the last border pixel
      * before the start (the walk ends on the step from it back to the start). */
-    if (r0 > 0 && r0 < rlast && c0 > 0 && c0 < clast)
-        m = mask_fast(p0, st);
-    else
-        m = mask_checked(s, r0, c0);
-    if (!m) { /* isolated pixel */
-        *p0 = PX_EAST;
+    m = nb_mask(white + (size_t)r0 * wpr, wpr, c0);
+    if (!m) { /* isolated pixel: traced, its east neighbour black */
+        size_t i = (size_t)(r0 + 1) * wpr, b = (size_t)c0 + 1u;
+        marks[i + b / 32u] |= (uint32_t)1u << (b % 32u);
+        b++;
+        marks[i + b / 32u] |= (uint32_t)1u << (b % 32u);
         if (info) {
             if (cap > 0) {
                 pts[0].x = (int16_t)c0;
@@ -137,36 +125,25 @@ static void trace(const actag_contour_scanner *s, int r0, int c0, int from_dir,
     for (k = 1; !(m & (1u << ((from_dir - k) & 7))); k++)
         ;
     d = (from_dir - k) & 7;
-    p1 = p0 + off[d];
+    r1 = r0 + k_dr[d];
+    c1 = c0 + k_dc[d];
     dp = d; /* direction from the current pixel to the previous one */
     r = r0;
     c = c0;
-    p = p0;
-    /* Each pixel's new mark is written one step late, after the next
-     * neighbourhood (which includes the pixel) has been read, so the walk does
-     * not wait on its own stores. Marks never turn white into black, so the
-     * stale value reads the same. */
-    pend = p0;
-    pendv = *p0;
     for (;;) {
-        int sweep0 = (dp + 1) & 7;
-        if (r > 0 && r < rlast && c > 0 && c < clast)
-            m = mask_fast(p, st);
-        else
-            m = mask_checked(s, r, c);
-        *pend = pendv;
+        int sweep0 = (dp + 1) & 7, last = r == r1 && c == c1;
+        size_t mi = (size_t)(r + 1) * wpr, b = (size_t)c + 1u;
+        m = nb_mask(white + (size_t)r * wpr, wpr, c);
         /* Step 3.3: counterclockwise from just after the previous pixel to the
          * first white neighbour (the previous pixel is white, so k < 8). */
         k = k_ctz8[((m >> sweep0) | (m << (8 - sweep0))) & 0xffu];
         d = (sweep0 + k) & 7;
-        /* Step 3.4: EAST if the sweep passed over a black east neighbour, else
-         * TRACED unless already EAST. The states are ordered WHITE < TRACED <
-         * EAST, so this is a max() and needs no branch. */
-        {
-            /* (8 - sweep0) & 7 is where east comes in the sweep. */
-            unsigned v = *p, t = PX_TRACED + (unsigned)(((8 - sweep0) & 7) < k);
-            pend = p;
-            pendv = (uint8_t)(v > t ? v : t);
+        /* Step 3.4: traced; and the east neighbour (black) marked when the
+         * sweep passed over it ((8 - sweep0) & 7 is where east comes). */
+        marks[mi + b / 32u] |= (uint32_t)1u << (b % 32u);
+        if (((8 - sweep0) & 7) < k) {
+            b++;
+            marks[mi + b / 32u] |= (uint32_t)1u << (b % 32u);
         }
         if (info) {
             int dr = r - r0, dc = c - c0;
@@ -187,12 +164,10 @@ static void trace(const actag_contour_scanner *s, int r0, int c0, int from_dir,
         r += k_dr[d];
         c += k_dc[d];
         /* Step 3.5: back at the start, coming from the last pixel. */
-        if (p == p1 && r == r0 && c == c0)
+        if (last && r == r0 && c == c0)
             break;
-        p += off[d];
         dp = (d + 4) & 7;
     }
-    *pend = pendv;
     if (info) {
         info->npoints = n;
         info->min_x = minx;
@@ -203,31 +178,56 @@ static void trace(const actag_contour_scanner *s, int r0, int c0, int from_dir,
     }
 }
 
-int actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows, int cols,
-                               int stride)
+int actag_bitmap_pack(const uint8_t *img, int rows, int cols, int stride, uint32_t *bitmap)
 {
-    int r, c;
-    if (!s || !binary)
+    size_t wpr, r, c;
+    if (!img || !bitmap)
         return ACTAG_ERR_NULL;
     if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
         return ACTAG_ERR_SIZE;
-    /* Any nonzero input value could collide with the marks, so normalise,
-     * 8 bytes at a time (the per-byte formula does not care about byte order). */
-    for (r = 0; r < rows; r++) {
-        uint8_t *row = binary + (ptrdiff_t)r * stride;
-        for (c = 0; c + 8 <= cols; c += 8) {
-            uint64_t x;
-            memcpy(&x, row + c, 8);
-            x = ((((x & 0x7f7f7f7f7f7f7f7fu) + 0x7f7f7f7f7f7f7f7fu) | x) & 0x8080808080808080u) >> 7;
-            memcpy(row + c, &x, 8);
-        }
-        for (; c < cols; c++)
-            row[c] = (uint8_t)(row[c] != 0);
+    wpr = ACTAG_BITMAP_WORDS(cols);
+    memset(bitmap, 0, ACTAG_BITMAP_SIZE(rows, cols));
+    for (r = 0; r < (size_t)rows; r++) {
+        const uint8_t *src = img + r * (size_t)stride;
+        uint32_t *row = bitmap + (r + 1u) * wpr;
+        for (c = 0; c < (size_t)cols; c++)
+            row[(c + 1u) / 32u] |= (uint32_t)(src[c] != 0) << ((c + 1u) % 32u);
     }
-    s->img = binary;
+    return ACTAG_OK;
+}
+
+int actag_bitmap_unpack(const uint32_t *bitmap, int rows, int cols, uint8_t *dst, int dst_stride,
+                        uint8_t white)
+{
+    size_t wpr, r, c;
+    if (!bitmap || !dst)
+        return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || dst_stride < cols)
+        return ACTAG_ERR_SIZE;
+    wpr = ACTAG_BITMAP_WORDS(cols);
+    for (r = 0; r < (size_t)rows; r++) {
+        const uint32_t *row = bitmap + (r + 1u) * wpr;
+        uint8_t *d = dst + r * (size_t)dst_stride;
+        for (c = 0; c < (size_t)cols; c++)
+            d[c] = ((row[(c + 1u) / 32u] >> ((c + 1u) % 32u)) & 1u) ? white : 0u;
+    }
+    return ACTAG_OK;
+}
+
+int actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white, uint32_t *marks,
+                               int rows, int cols)
+{
+    if (!s || !white || !marks)
+        return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM)
+        return ACTAG_ERR_SIZE;
+    if ((const void *)white == (const void *)marks)
+        return ACTAG_ERR_PARAM;
+    memset(marks, 0, ACTAG_BITMAP_SIZE(rows, cols));
+    s->white = white;
+    s->marks = marks;
     s->rows = rows;
     s->cols = cols;
-    s->stride = stride;
     s->r = 0;
     s->c = 0;
     s->holes = 0;
@@ -240,52 +240,40 @@ int actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
 {
     int r, c;
     const int rows = s ? s->rows : 0, cols = s ? s->cols : 0;
+    size_t wpr;
 
     if (!s || !info || (cap > 0 && !pts))
         return ACTAG_ERR_NULL;
-    if (cap < 0 || s->magic != SCANNER_MAGIC || !s->img)
+    if (cap < 0 || s->magic != SCANNER_MAGIC || !s->white || !s->marks)
         return ACTAG_ERR_PARAM;
+    wpr = ACTAG_BITMAP_WORDS(cols);
 
     for (r = s->r, c = s->c; r < rows; r++, c = 0) {
-        const uint8_t *row = s->img + (ptrdiff_t)r * s->stride;
-        const int inner = r > 0 && r < rows - 1; /* rows above and below exist */
-        const uint8_t *up = r > 0 ? row - s->stride : row;
-        const uint8_t *down = r < rows - 1 ? row + s->stride : row;
-        int base;
-        /* 32 pixels at a time: only run starts (white, left black) can begin an
-         * outer border and only run ends (white, right black) a hole border.
-         * Tracing changes white values but never which pixels are white, so
-         * the run masks stay valid while the row is processed. */
-        for (base = c & ~31; base < cols; base += 32) {
-            int n = cols - base < 32 ? cols - base : 32, i;
-            uint32_t w = 0u, starts, ends, ev;
-            if (n == 32) {
-                for (i = 0; i < 32; i += 4)
-                    w |= white4(row + base + i) << i;
-            } else {
-                for (i = 0; i < n; i++)
-                    w |= (uint32_t)(row[base + i] != 0) << i;
-            }
-            starts = w & ~((w << 1) | (uint32_t)(base > 0 && row[base - 1] != 0));
-            ends = w & ~((w >> 1) | (uint32_t)(n == 32 && base + 32 < cols && row[base + 32] != 0)
-                                         << 31);
+        const uint32_t *row = s->white + (size_t)(r + 1) * wpr;
+        const uint32_t *mrow = s->marks + (size_t)(r + 1) * wpr;
+        size_t k;
+        /* 32 padded bits at a time: only run starts (white, left black) can
+         * begin an outer border and only run ends (white, right black) a hole
+         * border. The padding bits are black, so bits outside the image never
+         * start or end a run and no edge needs a special case. */
+        for (k = (size_t)(c + 1) / 32u; k < wpr; k++) {
+            uint32_t w = row[k], starts, ends, ev;
+            starts = w & ~((w << 1) | (k > 0 ? row[k - 1] >> 31 : 0u));
+            ends = w & ~((w >> 1) | (k + 1 < wpr ? row[k + 1] << 31 : 0u));
             ev = starts | ends;
-            if (c > base)
-                ev &= ~0u << (c - base); /* resuming after an outer border */
+            if ((size_t)(c + 1) / 32u == k)
+                ev &= ~0u << ((size_t)(c + 1) % 32u); /* resuming after an outer border */
             while (ev) {
-                int cc;
-                unsigned v;
-                i = ctz32(ev);
+                int i = ctz32(ev), cc = (int)(k * 32u) + i - 1;
                 ev &= ev - 1u;
-                cc = base + i;
-                v = row[cc];
                 /* A black pixel whose four neighbours are white is a one-pixel
                  * hole (speckle makes many). Its border needs no walk: only
                  * the pixels left and right of it would consult its marks.
                  * The one right of it can then be unmarked, but its up-left
                  * neighbour (above the hole) is white, so it is not the first
                  * pixel of its blob; a white up-left neighbour always says so. */
-                if ((starts >> i & 1u) && v == PX_WHITE && !(r > 0 && cc > 0 && up[cc - 1])) {
+                if ((starts >> i & 1u) && !(mrow[k] >> i & 1u) &&
+                    !actag_bitmap_get(s->white, cols, r - 1, cc - 1)) {
                     /* First pixel of a new blob: its outer border. */
                     trace(s, r, cc, 4, pts, cap, info);
                     info->stored = info->npoints < cap ? info->npoints : cap;
@@ -294,8 +282,10 @@ int actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
                     s->c = cc + 1;
                     return 1;
                 }
-                if ((ends >> i & 1u) && v != PX_EAST &&
-                    !(inner && cc + 2 < cols && row[cc + 2] && up[cc + 1] && down[cc + 1])) {
+                if ((ends >> i & 1u) && !actag_bitmap_get(s->marks, cols, r, cc + 1) &&
+                    !(actag_bitmap_get(s->white, cols, r, cc + 2) &&
+                      actag_bitmap_get(s->white, cols, r - 1, cc + 1) &&
+                      actag_bitmap_get(s->white, cols, r + 1, cc + 1))) {
                     trace(s, r, cc, 0, NULL, 0, NULL); /* a hole border not traced yet */
                     s->holes++;
                 }

@@ -7,6 +7,7 @@
 
 typedef struct sampler {
     const uint8_t *img;
+    const uint32_t *bitmap; /* instead of img when not NULL */
     int rows, cols, stride;
     float H[9];
 } sampler;
@@ -16,6 +17,7 @@ static int sampler_init(sampler *s, const uint8_t *binary, int rows, int cols, i
                         const actag_point quad[4], int bits, int model)
 {
     s->img = binary;
+    s->bitmap = NULL;
     s->rows = rows;
     s->cols = cols;
     s->stride = stride;
@@ -37,6 +39,8 @@ static int sample_px(const sampler *s, float u, float v)
         c = s->cols - 1;
     if (r >= s->rows)
         r = s->rows - 1;
+    if (s->bitmap != NULL)
+        return actag_bitmap_get(s->bitmap, s->cols, r, c);
     return s->img[(size_t)r * (size_t)s->stride + (size_t)c] != 0;
 }
 
@@ -110,9 +114,43 @@ int actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
                                 ACTAG_DECODE_DEFAULT_MODEL, out);
 }
 
+static int decode_core(const uint8_t *binary, const uint32_t *bitmap, int rows, int cols,
+                       int stride, const actag_point quad[4], const actag_family *family,
+                       int max_corrections, int model, actag_decode_result *out);
+
 int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
                          const actag_point quad[4], const actag_family *family,
                          int max_corrections, int model, actag_decode_result *out)
+{
+    int rc;
+    if (binary == NULL || quad == NULL || family == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    rc = decode_check_frame_family(binary, rows, cols, stride, family);
+    if (rc != ACTAG_OK)
+        return rc;
+    return decode_core(binary, NULL, rows, cols, stride, quad, family, max_corrections, model,
+                       out);
+}
+
+int actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
+                             const actag_point quad[4], const actag_family *family,
+                             int max_corrections, actag_decode_result *out)
+{
+    int rc;
+    if (bitmap == NULL || quad == NULL || family == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    rc = decode_check_frame_family((const uint8_t *)(const void *)bitmap, rows, cols, cols,
+                                   family);
+    if (rc != ACTAG_OK)
+        return rc;
+    return decode_core(NULL, bitmap, rows, cols, cols, quad, family, max_corrections,
+                       ACTAG_DECODE_DEFAULT_MODEL, out);
+}
+
+/* actag_decode_quad_ex() on bytes (binary) or a bitmap, arguments checked. */
+static int decode_core(const uint8_t *binary, const uint32_t *bitmap, int rows, int cols,
+                       int stride, const actag_point quad[4], const actag_family *family,
+                       int max_corrections, int model, actag_decode_result *out)
 {
     sampler s;
     actag_point q[4];
@@ -120,11 +158,6 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     uint32_t w;
     int rc, maxc, bits, k, du, dm, cx, cy;
     int ring_n = 0, ring_black = 0, in_n = 0, in_white = 0;
-    if (binary == NULL || quad == NULL || family == NULL || out == NULL)
-        return ACTAG_ERR_NULL;
-    rc = decode_check_frame_family(binary, rows, cols, stride, family);
-    if (rc != ACTAG_OK)
-        return rc;
     maxc = actag_family_max_corrections(family);
     if (max_corrections < 0 || max_corrections > maxc)
         return ACTAG_ERR_CORRECTIONS;
@@ -139,6 +172,7 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
     rc = sampler_init(&s, binary, rows, cols, stride, q, bits, model);
     if (rc != ACTAG_OK)
         return rc;
+    s.bitmap = bitmap;
 
     w = read_word(&s, bits);
     /* Structure statistics (informative): black ring at distance 1, white

@@ -7,12 +7,19 @@
 
 #include <string.h>
 
-/* Workspace layout (see ACTAG_WORKSPACE_SIZE):
- *   [0..15 alignment][A: binary (16-bit input is converted here first)]
- *   [B: filtered][S: stage scratch, reused by each stage in turn]          */
+/* Workspace layout (see ACTAG_WORKSPACE_SIZE), each part 16-byte aligned:
+ *   [0..15 alignment]
+ *   [A: the binary bitmap (one bit per pixel, common.h), then M: the contour
+ *       scanner's marks bitmap; before the threshold, A and M together hold
+ *       the structure search's score map]
+ *   [B: filtered frame, one byte per pixel]
+ *   [S: stage scratch, reused by each stage in turn: the median's column
+ *       histograms (and the 16-bit input's row ring), the search's integral
+ *       image, the threshold's row buffers, contour points + quad scratch]  */
 typedef struct {
     uint8_t *a, *b, *s;
-    size_t s_size;
+    uint32_t *bin, *marks;
+    size_t a_size, s_size;
 } ws_layout;
 
 static uint8_t *align16(const void *p)
@@ -23,10 +30,12 @@ static uint8_t *align16(const void *p)
 
 static void ws_split(void *workspace, int rows, int cols, ws_layout *w)
 {
-    size_t img = ACTAG__ALIGN16((size_t)rows * (size_t)cols);
     w->a = align16(workspace);
-    w->b = w->a + img;
-    w->s = w->b + img;
+    w->a_size = ACTAG__BINARY_REGION(rows, cols);
+    w->bin = (uint32_t *)(void *)w->a;
+    w->marks = (uint32_t *)(void *)(w->a + ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)));
+    w->b = w->a + w->a_size;
+    w->s = w->b + ACTAG__ALIGN16((size_t)rows * (size_t)cols);
     w->s_size = ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols));
 }
 
@@ -46,13 +55,13 @@ const uint8_t *actag_workspace_filtered(const void *workspace, int rows, int col
     return w.b;
 }
 
-const uint8_t *actag_workspace_binary(const void *workspace, int rows, int cols)
+const uint32_t *actag_workspace_bitmap(const void *workspace, int rows, int cols)
 {
     ws_layout w;
     if (workspace == NULL || actag_workspace_size(rows, cols) == 0)
         return NULL;
     ws_split((void *)(uintptr_t)workspace, rows, cols, &w);
-    return w.a;
+    return w.bin;
 }
 
 void actag_tuning_default(actag_tuning *t)
@@ -109,36 +118,6 @@ void actag_params_default(actag_params *p)
 
 /* actag_params_validate(), actag_tuning_validate() and actag_check() are in
  * validate.c with the other rules. */
-
-/* 16-bit frames: scale by the frame's maximum into 8 bits (integer, exact).
- * Samples are read with memcpy, so a frame at an odd address is fine (no
- * misaligned uint16_t load, which faults on some cores); compilers turn it
- * into a plain halfword load where that is allowed. */
-static uint32_t load16(const uint8_t *p)
-{
-    uint16_t v;
-    memcpy(&v, p, sizeof v);
-    return v;
-}
-
-static void convert16(const actag_frame *f, uint8_t *dst)
-{
-    const uint8_t *src = (const uint8_t *)f->data;
-    uint32_t mx = 0;
-    int r, c;
-    for (r = 0; r < f->rows; r++)
-        for (c = 0; c < f->cols; c++) {
-            uint32_t v = load16(src + 2u * ((size_t)r * (size_t)f->stride + (size_t)c));
-            if (v > mx)
-                mx = v;
-        }
-    for (r = 0; r < f->rows; r++)
-        for (c = 0; c < f->cols; c++) {
-            uint32_t v = load16(src + 2u * ((size_t)r * (size_t)f->stride + (size_t)c));
-            dst[(size_t)r * (size_t)f->cols + (size_t)c] =
-                (uint8_t)(mx ? (v * 255u + mx / 2u) / mx : 0u);
-        }
-}
 
 /* Physical size filter (SPEC section 5): the white square's extents and area,
  * in pixels, must fit a tag of this size at this range. */
@@ -305,8 +284,8 @@ static int decode_any(const ws_layout *w, int rows, int cols, const actag_point 
     case ACTAG_DECODE_FIT:
         return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, dr);
     default:
-        return actag_decode_quad(w->a, rows, cols, cols, quad, params->family,
-                                 params->max_bit_corrections, dr);
+        return actag_decode_quad_bitmap(w->bin, rows, cols, quad, params->family,
+                                        params->max_bit_corrections, dr);
     }
 }
 
@@ -485,24 +464,17 @@ static void resolve_params(const actag_params *params, actag_params *pe)
     }
 }
 
-/* 1. median filter: the frame (16-bit frames scaled into A first) -> B.
- * B is not written again by any later stage, so several parameter sets can
- * share it. */
+/* 1. median filter: the frame -> B (16-bit frames scaled to 8 bits a row at
+ * a time inside the median's scratch). B is not written again by any later
+ * stage, so several parameter sets can share it. */
 static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, int cols,
                         int median_radius)
 {
-    const uint8_t *src;
-    int src_stride;
-    if (frame->depth == 16) {
-        convert16(frame, w->a);
-        src = w->a;
-        src_stride = cols;
-    } else {
-        src = (const uint8_t *)frame->data;
-        src_stride = frame->stride;
-    }
-    return actag_median_filter(src, rows, cols, src_stride, w->b, cols, median_radius, w->s,
-                               w->s_size);
+    if (frame->depth == 16)
+        return actag_median_filter16(frame->data, rows, cols, frame->stride, w->b, cols,
+                                     median_radius, w->s, w->s_size);
+    return actag_median_filter((const uint8_t *)frame->data, rows, cols, frame->stride, w->b,
+                               cols, median_radius, w->s, w->s_size);
 }
 
 /* The decoder reports mirroring relative to the image; flipping exactly one
@@ -581,12 +553,11 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     if (params->tuning.search_candidates > 0) {
         actag_search z;
         int ncand = 0;
-        /* the map uses A (free until the threshold), the integral image S;
-         * a frame too small or too tall for them is simply not searched */
+        /* the map uses A and M (free until the threshold), the integral
+         * image S; a frame too small for them is simply not searched */
         if (actag_search_map(&z, w.b, rows, cols, cols, geometry, params->tag_size,
                              params->family->bits,
-                             params->tuning.search_range_scale, w.a,
-                             ACTAG__ALIGN16((size_t)rows * (size_t)cols), w.s,
+                             params->tuning.search_range_scale, w.a, w.a_size, w.s,
                              w.s_size) == ACTAG_OK) {
             actag_point quad[4];
             while (ncand < params->tuning.search_candidates &&
@@ -627,9 +598,10 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 st.search_cap = 1;
         }
     }
-    /* 3. adaptive threshold: B -> A (A's 16-bit copy is no longer needed) */
-    rc = actag_adaptive_threshold(w.b, rows, cols, cols, w.a, cols, params->tuning.threshold_radius,
-                                  params->tuning.threshold_offset, w.s, w.s_size);
+    /* 3. adaptive threshold: B -> the bitmap A (the search map is done) */
+    rc = actag_adaptive_threshold_bitmap(w.b, rows, cols, cols, w.bin,
+                                         params->tuning.threshold_radius,
+                                         params->tuning.threshold_offset, w.s, w.s_size);
     if (rc != ACTAG_OK)
         return rc;
 
@@ -641,7 +613,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     qscratch = w.s + ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
     qscratch_size = w.s_size - ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
     frame_iters = params->tuning.limits.max_frame_iterations;
-    rc = actag_contour_scanner_init(&scan, w.a, rows, cols, cols);
+    rc = actag_contour_scanner_init(&scan, w.bin, w.marks, rows, cols);
     if (rc != ACTAG_OK)
         return rc;
     actag_rng_seed(&rng, params->seed);

@@ -43,6 +43,88 @@ static int clampi(int v, int lo, int hi)
     return v < lo ? lo : (v > hi ? hi : v);
 }
 
+/* ----------------------------------------------------------------------
+ * Source rows. 8-bit frames are read in place; 16-bit frames are scaled to
+ * 8 bits a row at a time into a ring of K rows in the scratch, and a row
+ * still in the ring is not converted again. The scaling is the library's
+ * (v * 255 + max / 2) / max, computed as a multiply and a shift that give
+ * the exact quotient for every numerator below 2^24 (Granlund and
+ * Montgomery 1994, theorem 4.2: m = floor(2^(24+l) / max) + 1 with
+ * 2^l >= max; the numerator is at most 65535 * 255 + 32767 < 2^24).
+ * ---------------------------------------------------------------------- */
+#define RING_MAX 32
+
+typedef struct {
+    const uint8_t *src8;  /* 8-bit frame, or NULL */
+    const uint8_t *src16; /* 16-bit frame (bytes; samples read with memcpy) */
+    size_t stride;        /* src8: bytes; src16: samples */
+    uint32_t half;        /* max / 2 */
+    uint64_t magic;       /* see above (0 when max is 0) */
+    unsigned shift;
+    uint8_t *ring;        /* K rows of cols bytes */
+    size_t cols;
+    int k;
+    int tag[RING_MAX];    /* row held by each ring slot, -1 for none */
+} rowsrc;
+
+/* Row r as 8-bit samples; for 16-bit frames not in ring slot `avoid` (so
+ * that two rows fetched together do not evict each other). */
+static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
+{
+    int slot, i;
+    uint8_t *d;
+    const uint8_t *p;
+    size_t c;
+    if (rs->src8 != NULL)
+        return rs->src8 + (size_t)r * rs->stride;
+    for (i = 0; i < rs->k; i++)
+        if (rs->tag[i] == r)
+            return rs->ring + (size_t)i * rs->cols;
+    slot = r % rs->k;
+    if (slot == avoid)
+        slot = (slot + 1) % rs->k;
+    d = rs->ring + (size_t)slot * rs->cols;
+    p = rs->src16 + 2u * (size_t)r * rs->stride;
+    for (c = 0; c < rs->cols; c++) {
+        uint16_t v;
+        memcpy(&v, p + 2u * c, sizeof v);
+        d[c] = (uint8_t)(((uint64_t)((uint32_t)v * 255u + rs->half) * rs->magic) >> rs->shift);
+    }
+    rs->tag[slot] = r;
+    return d;
+}
+
+/* The ring slot holding p (a row get_row returned), -1 for 8-bit frames. */
+static int row_slot(const rowsrc *rs, const uint8_t *p)
+{
+    return rs->src8 != NULL ? -1 : (int)((size_t)(p - rs->ring) / rs->cols);
+}
+
+/* Sets up the 16-bit scaling: the frame's maximum, the multiplier. */
+static void rowsrc_init16(rowsrc *rs, const uint8_t *src, int rows, int cols, size_t stride)
+{
+    uint32_t mx = 0;
+    unsigned l = 0;
+    int r, c;
+    for (r = 0; r < rows; r++)
+        for (c = 0; c < cols; c++) {
+            uint16_t v;
+            memcpy(&v, src + 2u * ((size_t)r * stride + (size_t)c), sizeof v);
+            if (v > mx)
+                mx = v;
+        }
+    rs->src8 = NULL;
+    rs->src16 = src;
+    rs->stride = stride;
+    rs->half = mx / 2u;
+    while (((uint32_t)1u << l) < mx)
+        l++;
+    rs->shift = 24u + l;
+    rs->magic = mx ? ((uint64_t)1u << rs->shift) / mx + 1u : 0u;
+    for (r = 0; r < RING_MAX; r++)
+        rs->tag[r] = -1;
+}
+
 /* step_mask[t][k] = (k >= t): adding step_mask[t] to a cumulative
  * histogram adds one sample to bin t. */
 static const uint8_t step_mask[16][16] = {
@@ -298,9 +380,11 @@ typedef uint64_t lanes_t;
 #define BELOW_ALL(medb, v) (((medb) - bcast16(v)) & (256u * LANES16))
 #endif
 
-static void median_quad(const uint8_t *src, int rows, int cols, size_t sstride, uint8_t *dst,
-                        size_t dstride, int R)
+static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
 {
+#ifdef MEDIAN_DSP
+    const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
+#endif
     uint32_t hist[256];
     const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
     uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
@@ -333,11 +417,16 @@ static void median_quad(const uint8_t *src, int rows, int cols, size_t sstride, 
         lanes_t medb = 0;
         int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
 #ifdef MEDIAN_DSP
-        /* every source row in the image: rowp[t] = rowp[0] + t * sstride */
-        const int interior = i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1;
+        /* every source row in the image: rowp[t] = rowp[0] + t * sstride
+         * (16-bit frames: when the rows do not wrap around the ring) */
+        int interior = i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1;
 #endif
         for (t = 0; t < nt; t++)
-            rowp[t] = src + (size_t)clampi(i0 - R + t, 0, rows - 1) * sstride;
+            rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
+#ifdef MEDIAN_DSP
+        if (rs->src8 == NULL && interior)
+            interior = rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride;
+#endif
 
         /* Windows of column 0: columns clamp(-R..R). */
         memset(hist, 0, sizeof hist);
@@ -457,9 +546,10 @@ static void median_quad(const uint8_t *src, int rows, int cols, size_t sstride, 
 
 #endif /* !MEDIAN_SSE2 */
 
-int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
-                        uint8_t *dst, int dst_stride, int radius,
-                        void *scratch, size_t scratch_size)
+/* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
+ * scaled through the ring in the scratch after the column histograms. */
+static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_stride, int radius,
+                       void *scratch, size_t scratch_size)
 {
     uint8_t *colc, *colf;
     h16 hf[16];    /* parked fine kernel histograms, per coarse bin */
@@ -467,36 +557,38 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
     h16 hc;        /* coarse kernel histogram */
     h16 cur;       /* fine kernel histogram of coarse bin curb */
     unsigned curb; /* coarse bin of the previous pixel's median */
-    size_t ucols, sstride, dstride;
+    size_t ucols, dstride;
     int i, j, k, R = radius;
     unsigned half;
 
-    if (src == NULL || dst == NULL || scratch == NULL)
-        return ACTAG_ERR_NULL;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
-        src_stride < cols || dst_stride < cols)
-        return ACTAG_ERR_SIZE;
-    if (radius < 0 || radius > ACTAG_MEDIAN_MAX_RADIUS || (const void *)src == (const void *)dst)
-        return ACTAG_ERR_PARAM;
-    if (scratch_size < ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols))
-        return ACTAG_ERR_WORKSPACE;
-
     ucols = (size_t)cols;
-    sstride = (size_t)src_stride;
     dstride = (size_t)dst_stride;
+    rs->cols = ucols;
     if (R == 0) {
+        rs->ring = (uint8_t *)scratch;
+        rs->k = 1;
         for (i = 0; i < rows; i++)
-            memcpy(dst + (size_t)i * dstride, src + (size_t)i * sstride, ucols);
+            memcpy(dst + (size_t)i * dstride, get_row(rs, i, -1), ucols);
         return ACTAG_OK;
     }
 #ifndef MEDIAN_SSE2
-    /* Without SIMD, radii up to 7 are faster with a sliding histogram. */
+    /* Without SIMD, radii up to 7 are faster with a sliding histogram (the
+     * ring, for 16-bit frames, then has the whole scratch: at least 274 rows,
+     * more than the 2R+4 <= 18 a block of four output rows reads). */
     if (R <= MEDIAN_QUAD_MAX_R) {
-        median_quad(src, rows, cols, sstride, dst, dstride, R);
+        size_t nk = scratch_size / ucols;
+        rs->ring = (uint8_t *)scratch;
+        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+        median_quad(rs, rows, cols, dst, dstride, R);
         return ACTAG_OK;
     }
 #endif
 
+    {   /* the ring after the column histograms: at least 2 rows */
+        size_t nk = (scratch_size - ucols * 272u) / ucols;
+        rs->ring = (uint8_t *)scratch + ucols * 272u;
+        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+    }
     colc = (uint8_t *)scratch;
     colf = colc + ucols * 16u;
     /* Rank (0-based) of the median among the (2R+1)^2 samples. */
@@ -505,7 +597,7 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
     /* Column histograms for row 0: rows clamp(-R..R). */
     memset(colc, 0, ucols * 272u);
     for (k = -R; k <= R; k++) {
-        const uint8_t *s = src + (size_t)clampi(k, 0, rows - 1) * sstride;
+        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1);
         size_t c;
         for (c = 0; c < ucols; c++) {
             unsigned v = s[c];
@@ -523,8 +615,8 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
             int rout = clampi(i - R - 1, 0, rows - 1);
             int rin = clampi(i + R, 0, rows - 1);
             if (rout != rin) {
-                const uint8_t *so = src + (size_t)rout * sstride;
-                const uint8_t *si = src + (size_t)rin * sstride;
+                const uint8_t *so = get_row(rs, rout, -1);
+                const uint8_t *si = get_row(rs, rin, row_slot(rs, so));
                 size_t c;
                 for (c = 0; c < ucols; c++) {
                     unsigned vin = si[c], vout = so[c];
@@ -591,4 +683,48 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
         }
     }
     return ACTAG_OK;
+}
+
+/* Argument checks shared by both entry points. */
+static int median_check(const void *src, int rows, int cols, int src_stride, const uint8_t *dst,
+                        int dst_stride, int radius, const void *scratch, size_t scratch_size)
+{
+    if (src == NULL || dst == NULL || scratch == NULL)
+        return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
+        src_stride < cols || dst_stride < cols)
+        return ACTAG_ERR_SIZE;
+    if (radius < 0 || radius > ACTAG_MEDIAN_MAX_RADIUS || src == (const void *)dst)
+        return ACTAG_ERR_PARAM;
+    if (scratch_size < ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols))
+        return ACTAG_ERR_WORKSPACE;
+    return ACTAG_OK;
+}
+
+int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
+                        uint8_t *dst, int dst_stride, int radius,
+                        void *scratch, size_t scratch_size)
+{
+    rowsrc rs;
+    int rc = median_check(src, rows, cols, src_stride, dst, dst_stride, radius, scratch,
+                          scratch_size);
+    if (rc != ACTAG_OK)
+        return rc;
+    memset(&rs, 0, sizeof rs);
+    rs.src8 = src;
+    rs.stride = (size_t)src_stride;
+    return median_core(&rs, rows, cols, dst, dst_stride, radius, scratch, scratch_size);
+}
+
+int actag_median_filter16(const void *src, int rows, int cols, int src_stride, uint8_t *dst,
+                          int dst_stride, int radius, void *scratch, size_t scratch_size)
+{
+    rowsrc rs;
+    int rc = median_check(src, rows, cols, src_stride, dst, dst_stride, radius, scratch,
+                          scratch_size);
+    if (rc != ACTAG_OK)
+        return rc;
+    memset(&rs, 0, sizeof rs);
+    rowsrc_init16(&rs, (const uint8_t *)src, rows, cols, (size_t)src_stride);
+    return median_core(&rs, rows, cols, dst, dst_stride, radius, scratch, scratch_size);
 }

@@ -378,22 +378,57 @@ static void row_threshold_doubling(uint8_t *restrict d, const uint8_t *restrict 
 }
 #endif
 
-int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
-                             uint8_t *dst, int dst_stride, int radius, int offset,
-                             void *scratch, size_t scratch_size)
+/* Bit i set when p[i] is 1, for i = 0..3 (bytes of 0 / 1; the multiply
+ * gathers bits 0, 8, 16, 24 into bits 24..27 without carries; any byte
+ * order, as the word is assembled bytewise). */
+static uint32_t gather4(const uint8_t *p)
 {
+    uint32_t x = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    return (x * 0x01020408u) >> 24;
+}
+
+/* Row i of a bitmap (common.h layout) from cols bytes of 0 / 1, padding
+ * bits 0: 32 pixels gathered into a word, shifted by the padding column. */
+static void pack_row(uint32_t *row, const uint8_t *d, size_t cols)
+{
+    uint32_t carry = 0u, g;
+    size_t c, i, k = 0;
+    for (c = 0; c + 32u <= cols; c += 32u) {
+        g = 0u;
+        for (i = 0; i < 32u; i += 4u)
+            g |= gather4(d + c + i) << i;
+        row[k++] = g << 1 | carry;
+        carry = g >> 31;
+    }
+    g = 0u;
+    for (i = 0; c + i < cols; i++)
+        g |= (uint32_t)d[c + i] << i;
+    row[k++] = g << 1 | carry;
+    for (; k < ACTAG_BITMAP_WORDS(cols); k++)
+        row[k] = 0u;
+}
+
+/* The threshold into bytes (bitmap == NULL: dst, dst_stride) or into a
+ * bitmap (each row through the cols bytes after the scratch's own). */
+static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
+                          int dst_stride, uint32_t *bitmap, int radius, int offset,
+                          void *scratch, size_t scratch_size)
+{
+    uint8_t *rowbuf;
     size_t ucols, sstride, dstride, nblk;
     uint8_t *sbuf_min, *sbuf_max, *pmin, *pmax, *hmin, *hmax, *hsmin, *hsmax;
     int rv, rh, wv, wh, i, j, sblk, phi, off2;
 
-    if (src == NULL || dst == NULL || scratch == NULL)
+    if (src == NULL || (dst == NULL && bitmap == NULL) || scratch == NULL)
         return ACTAG_ERR_NULL;
     if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
-        src_stride < cols || dst_stride < cols)
+        src_stride < cols || (bitmap == NULL && dst_stride < cols))
         return ACTAG_ERR_SIZE;
-    if (radius < 0 || (const void *)src == (const void *)dst)
+    if (radius < 0 || (bitmap == NULL ? (const void *)src == (const void *)dst
+                                      : (const void *)src == (const void *)bitmap))
         return ACTAG_ERR_PARAM;
-    if (scratch_size < ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, radius))
+    if (scratch_size < ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, radius) +
+                           (bitmap != NULL ? (size_t)cols : 0u))
         return ACTAG_ERR_WORKSPACE;
 
     /* A radius beyond the image gives the same windows as n-1. */
@@ -408,10 +443,22 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
     ucols = (size_t)cols;
     sstride = (size_t)src_stride;
     dstride = (size_t)dst_stride;
+    rowbuf = (uint8_t *)scratch + ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, radius);
+    if (bitmap != NULL) { /* the padding rows */
+        size_t wpr = ACTAG_BITMAP_WORDS(cols);
+        memset(bitmap, 0, wpr * 4u);
+        memset(bitmap + ((size_t)rows + 1u) * wpr, 0, wpr * 4u);
+    }
     if (rv == 0 && rh == 0) {
         /* 1 x 1 windows: mn = mx = x, so the answer is offset >= 0. */
-        for (i = 0; i < rows; i++)
-            memset(dst + (size_t)i * dstride, offset >= 0, ucols);
+        for (i = 0; i < rows; i++) {
+            if (bitmap != NULL) {
+                memset(rowbuf, offset >= 0, ucols);
+                pack_row(bitmap + ((size_t)i + 1u) * ACTAG_BITMAP_WORDS(cols), rowbuf, ucols);
+            } else {
+                memset(dst + (size_t)i * dstride, offset >= 0, ucols);
+            }
+        }
         return ACTAG_OK;
     }
     nblk = (size_t)(wv < rows ? wv : rows);
@@ -431,7 +478,7 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
         int hi = i + rv < rows - 1 ? i + rv : rows - 1;
         int bl = lo / wv;
         const uint8_t *x = src + (size_t)i * sstride;
-        uint8_t *d = dst + (size_t)i * dstride;
+        uint8_t *d = bitmap != NULL ? rowbuf : dst + (size_t)i * dstride;
 
         /* Vertical: suffix extrema of lo's block, computed when first needed
          * (lo only moves forward, so one block buffer suffices). */
@@ -513,6 +560,28 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
             d[j] = (uint8_t)(2 * x[j] + off2 >= mn + mx);
         }
 #endif
+        if (bitmap != NULL)
+            pack_row(bitmap + ((size_t)i + 1u) * ACTAG_BITMAP_WORDS(cols), d, ucols);
     }
     return ACTAG_OK;
+}
+
+int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
+                             uint8_t *dst, int dst_stride, int radius, int offset,
+                             void *scratch, size_t scratch_size)
+{
+    if (dst == NULL)
+        return ACTAG_ERR_NULL;
+    return threshold_core(src, rows, cols, src_stride, dst, dst_stride, NULL, radius, offset,
+                          scratch, scratch_size);
+}
+
+int actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols, int src_stride,
+                                    uint32_t *bitmap, int radius, int offset, void *scratch,
+                                    size_t scratch_size)
+{
+    if (bitmap == NULL)
+        return ACTAG_ERR_NULL;
+    return threshold_core(src, rows, cols, src_stride, NULL, 0, bitmap, radius, offset, scratch,
+                          scratch_size);
 }

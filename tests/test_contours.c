@@ -39,16 +39,6 @@ static timg timg_new(int rows, int cols, int pad)
     return t;
 }
 
-static timg timg_copy(const timg *a)
-{
-    timg t = *a;
-    size_t n = timg_bytes(a);
-    t.px = (uint8_t *)malloc(n);
-    TEST_ASSERT_NOT_NULL(t.px);
-    memcpy(t.px, a->px, n);
-    return t;
-}
-
 static int white(const timg *t, int r, int c)
 {
     if (r < 0 || c < 0 || r >= t->rows || c >= t->cols)
@@ -204,11 +194,52 @@ static void got_free(got *g)
 }
 
 #define GUARD 4
+
+/* The bitmap of t (actag_bitmap_pack), checked against t pixel by pixel and
+ * for zero padding, in a buffer of exactly ACTAG_BITMAP_SIZE bytes (so that
+ * reading beyond it is visible under ASan). */
+static uint32_t *pack_checked(const timg *t)
+{
+    size_t n = ACTAG_BITMAP_SIZE(t->rows, t->cols), wpr = ACTAG_BITMAP_WORDS(t->cols);
+    uint32_t *bm = (uint32_t *)malloc(n);
+    uint8_t *back = (uint8_t *)malloc((size_t)t->rows * (size_t)t->cols);
+    int r, c;
+    size_t b;
+    TEST_ASSERT_NOT_NULL(bm);
+    TEST_ASSERT_NOT_NULL(back);
+    memset(bm, 0xa5, n);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_bitmap_pack(t->px, t->rows, t->cols, t->stride, bm));
+    for (r = -1; r <= t->rows; r++)
+        for (b = 0; b < 32u * wpr; b++) {
+            int bit = (int)((bm[(size_t)(r + 1) * wpr + b / 32u] >> (b % 32u)) & 1u);
+            c = (int)b - 1;
+            TEST_ASSERT_EQUAL_INT(white(t, r, c), bit); /* padding: 0 */
+        }
+    for (r = 0; r < t->rows; r++)
+        for (c = 0; c < t->cols; c++)
+            TEST_ASSERT_EQUAL_INT(white(t, r, c), actag_bitmap_get(bm, t->cols, r, c));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_bitmap_unpack(bm, t->rows, t->cols, back, t->cols, 255u));
+    for (r = 0; r < t->rows; r++)
+        for (c = 0; c < t->cols; c++)
+            TEST_ASSERT_EQUAL_UINT8(white(t, r, c) ? 255u : 0u, back[(size_t)r * (size_t)t->cols + (size_t)c]);
+    free(back);
+    return bm;
+}
+
+/* A scanner over t: *bm its bitmap, *mk the marks (both to be freed). */
+static void scan_init(actag_contour_scanner *s, const timg *t, uint32_t **bm, uint32_t **mk)
+{
+    *bm = pack_checked(t);
+    *mk = (uint32_t *)malloc(ACTAG_BITMAP_SIZE(t->rows, t->cols));
+    TEST_ASSERT_NOT_NULL(*mk);
+    memset(*mk, 0x5a, ACTAG_BITMAP_SIZE(t->rows, t->cols)); /* init clears it */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(s, *bm, *mk, t->rows, t->cols));
+}
 /* Runs the scanner over a copy of t with buffer capacity cap (cap < 0: big
  * enough for any contour) and checks the marks and padding afterwards. */
 static got run_scanner(const timg *t, int cap)
 {
-    timg w = timg_copy(t);
+    uint32_t *bm, *mk;
     actag_contour_scanner s;
     got g;
     int alloc = 64, bigcap = 4 * t->rows * t->cols + 8, ucap = cap < 0 ? bigcap : cap;
@@ -218,7 +249,7 @@ static got run_scanner(const timg *t, int cap)
     g.n = 0;
     g.info = (actag_contour_info *)malloc((size_t)alloc * sizeof(actag_contour_info));
     g.pts = (actag_ipoint **)malloc((size_t)alloc * sizeof(actag_ipoint *));
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, w.px, w.rows, w.cols, w.stride));
+    scan_init(&s, t, &bm, &mk);
     for (i = 0; i < ucap + GUARD; i++) {
         buf[i].x = -7;
         buf[i].y = -9;
@@ -263,17 +294,25 @@ static got run_scanner(const timg *t, int cap)
         actag_contour_info tmp;
         TEST_ASSERT_EQUAL_INT(0, actag_contour_next(&s, cap == 0 ? NULL : buf, ucap, &tmp));
     }
-    /* Marks keep 0 / nonzero; padding untouched. */
-    for (r = 0; r < t->rows; r++)
-        for (c = 0; c < (r < t->rows - 1 ? t->stride : t->cols); c++) {
-            size_t o = (size_t)r * (size_t)t->stride + (size_t)c;
-            if (c < t->cols)
-                TEST_ASSERT_EQUAL_INT(t->px[o] != 0, w.px[o] != 0);
-            else
-                TEST_ASSERT_EQUAL_UINT8(t->px[o], w.px[o]);
-        }
+    /* The bitmap is unchanged; a mark is set only on a white pixel or on a
+     * black one (or the padding column right of the image) whose west
+     * neighbour is white, never elsewhere in the padding. */
+    {
+        uint32_t *again = pack_checked(t);
+        size_t wpr = ACTAG_BITMAP_WORDS(t->cols), b;
+        TEST_ASSERT_EQUAL_MEMORY(again, bm, ACTAG_BITMAP_SIZE(t->rows, t->cols));
+        free(again);
+        for (r = -1; r <= t->rows; r++)
+            for (b = 0; b < 32u * wpr; b++) {
+                c = (int)b - 1;
+                if ((mk[(size_t)(r + 1) * wpr + b / 32u] >> (b % 32u)) & 1u)
+                    TEST_ASSERT_TRUE(r >= 0 && r < t->rows && c >= 0 && c <= t->cols &&
+                                     (white(t, r, c) || white(t, r, c - 1)));
+            }
+    }
     free(buf);
-    free(w.px);
+    free(bm);
+    free(mk);
     return g;
 }
 
@@ -539,7 +578,8 @@ static void test_rectangle_geometry(void)
             for (r = 0; r < h; r++)
                 for (c = 0; c < w; c++)
                     setpx(&t, r + 1, c + 2, 1);
-            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, t.px, t.rows, t.cols, t.stride));
+            uint32_t *bm, *mk;
+            scan_init(&s, &t, &bm, &mk);
             TEST_ASSERT_EQUAL_INT(1, actag_contour_next(&s, pts, 64, &info));
             TEST_ASSERT_EQUAL_INT(per, info.npoints);
             TEST_ASSERT_EQUAL_FLOAT((float)((w - 1) * (h - 1)), info.area);
@@ -553,6 +593,8 @@ static void test_rectangle_geometry(void)
             }
             TEST_ASSERT_EQUAL_INT(0, actag_contour_next(&s, pts, 64, &info));
             free(t.px);
+            free(bm);
+            free(mk);
         }
 }
 
@@ -560,6 +602,7 @@ static void test_rectangle_geometry(void)
  * (checked on every image by check_image); here explicitly. */
 static void test_overflow_then_continue(void)
 {
+    uint32_t *bm, *mk;
     timg t;
     actag_contour_scanner s;
     actag_contour_info info;
@@ -579,7 +622,7 @@ static void test_overflow_then_continue(void)
     setpx(&t, 15, 1, 1); /* and a 2-pixel bar below. */
     setpx(&t, 15, 2, 1);
     TEST_ASSERT_EQUAL_INT(4, check_image(&t)); /* against the reference too */
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, t.px, t.rows, t.cols, t.stride));
+    scan_init(&s, &t, &bm, &mk);
     TEST_ASSERT_EQUAL_INT(1, actag_contour_next(&s, pts, 8, &info));
     TEST_ASSERT_EQUAL_INT(36, info.npoints);
     TEST_ASSERT_EQUAL_INT(8, info.stored);
@@ -604,6 +647,8 @@ static void test_overflow_then_continue(void)
     TEST_ASSERT_EQUAL_INT(0, actag_contour_next(&s, pts, 8, &info));
     TEST_ASSERT_EQUAL_INT(0, actag_contour_next(&s, pts, 8, &info));
     free(t.px);
+    free(bm);
+    free(mk);
 }
 
 /* Emulated: the reference needs ~20 MB for a whole frame, more than the
@@ -648,20 +693,34 @@ static void test_real_sonar_frames(void)
 static void test_errors(void)
 {
     uint8_t img[12] = {0, 1, 0, 1, 1, 1, 0, 0, 0, 0, 0, 1};
+    uint32_t bm[ACTAG_BITMAP_SIZE(3, 4) / 4], mk[ACTAG_BITMAP_SIZE(3, 4) / 4];
     actag_contour_scanner s;
     actag_contour_info info;
     actag_ipoint pts[4];
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(NULL, img, 3, 4, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(&s, NULL, 3, 4, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, 0, 4, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, 3, 0, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, -1, 4, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, 3, 4, 3));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, ACTAG_MAX_DIM + 1, 1, 1));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, 1, ACTAG_MAX_DIM + 1, ACTAG_MAX_DIM + 1));
+    uint8_t back[12];
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_bitmap_pack(NULL, 3, 4, 4, bm));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_bitmap_pack(img, 3, 4, 4, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_bitmap_pack(img, 0, 4, 4, bm));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_bitmap_pack(img, 3, 4, 3, bm));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_bitmap_pack(img, 3, ACTAG_MAX_DIM + 1, ACTAG_MAX_DIM + 1, bm));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_bitmap_unpack(NULL, 3, 4, back, 4, 1u));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_bitmap_unpack(bm, 3, 4, NULL, 4, 1u));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_bitmap_unpack(bm, 3, 4, back, 3, 1u));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_bitmap_unpack(bm, -1, 4, back, 4, 1u));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_bitmap_pack(img, 3, 4, 4, bm));
+    memset(mk, 0x77, sizeof mk);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(NULL, bm, mk, 3, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(&s, NULL, mk, 3, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(&s, bm, NULL, 3, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, bm, mk, 0, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, bm, mk, 3, 0));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, bm, mk, -1, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, bm, mk, ACTAG_MAX_DIM + 1, 1));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, bm, mk, 1, ACTAG_MAX_DIM + 1));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_contour_scanner_init(&s, bm, bm, 3, 4));
     /* Failed inits wrote nothing. */
-    TEST_ASSERT_EQUAL_UINT8(1, img[1]);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, img, 3, 4, 4));
+    TEST_ASSERT_EQUAL_HEX32(0x77777777u, mk[0]);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, bm, mk, 3, 4));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_next(NULL, pts, 4, &info));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_next(&s, pts, 4, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_next(&s, NULL, 4, &info));

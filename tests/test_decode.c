@@ -7,6 +7,7 @@
 
 #include <math.h>
 
+#include "actag/contours.h"
 #include "actag/decode.h"
 #include "actag/family.h"
 
@@ -851,7 +852,33 @@ static int decode_render(const uint8_t *img, const render_case *rc, const actag_
     if (turn == 2)
         return actag_decode_quad_ex(img, rc->rows, rc->cols, rc->stride, rc->quad, fam, maxc,
                                     ACTAG_DECODE_AFFINE, res);
-    return actag_decode_quad(img, rc->rows, rc->cols, rc->stride, rc->quad, fam, maxc, res);
+    {
+        /* the default map also through the bitmap entry point: same code,
+         * same result, field by field */
+        actag_decode_result rb;
+        uint32_t *bm = (uint32_t *)malloc(ACTAG_BITMAP_SIZE(rc->rows, rc->cols));
+        int rv = actag_decode_quad(img, rc->rows, rc->cols, rc->stride, rc->quad, fam, maxc, res);
+        int rvb;
+        TEST_ASSERT_NOT_NULL(bm);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_bitmap_pack(img, rc->rows, rc->cols, rc->stride, bm));
+        memset(&rb, 0, sizeof rb);
+        rvb = actag_decode_quad_bitmap(bm, rc->rows, rc->cols, rc->quad, fam, maxc, &rb);
+        TEST_ASSERT_EQUAL_INT(rv, rvb);
+        if (rv == ACTAG_OK) {
+            TEST_ASSERT_EQUAL_INT(res->id, rb.id);
+            TEST_ASSERT_EQUAL_INT(res->hamming, rb.hamming);
+            TEST_ASSERT_EQUAL_INT(res->mirrored, rb.mirrored);
+            TEST_ASSERT_EQUAL_UINT32(res->observed, rb.observed);
+            TEST_ASSERT_EQUAL_MEMORY(res->corners, rb.corners, sizeof rb.corners);
+            TEST_ASSERT_TRUE(res->ring_black == rb.ring_black &&
+                             res->interior_white == rb.interior_white &&
+                             res->decision_margin == rb.decision_margin);
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_decode_quad_bitmap(NULL, rc->rows, rc->cols,
+                                                                       rc->quad, fam, maxc, &rb));
+        free(bm);
+        return rv;
+    }
 }
 
 static void check_clean_decode(const render_case *rc, const actag_decode_result *res, int id,

@@ -265,7 +265,7 @@ static void test_errors_and_workspace_bounds(void)
     p.tuning.quad.inlier_ratio = 1.5f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &p, g_ws, need, det, 4, NULL));
     TEST_ASSERT_EQUAL_UINT(0, actag_workspace_size(0, 5));
-    TEST_ASSERT_NULL(actag_workspace_binary(NULL, 5, 5));
+    TEST_ASSERT_NULL(actag_workspace_bitmap(NULL, 5, 5));
 }
 
 static void test_tiny_and_constant_frames(void)

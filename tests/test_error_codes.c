@@ -330,17 +330,18 @@ static void test_detect_multi(void)
 static void test_workspace_images(void)
 {
     TEST_ASSERT_NULL(actag_workspace_filtered(NULL, R, C));
-    TEST_ASSERT_NULL(actag_workspace_binary(NULL, R, C));
+    TEST_ASSERT_NULL(actag_workspace_bitmap(NULL, R, C));
     TEST_ASSERT_NULL(actag_workspace_filtered(g_ws, 0, C));
-    TEST_ASSERT_NULL(actag_workspace_binary(g_ws, R, ACTAG_MAX_DIM + 1));
+    TEST_ASSERT_NULL(actag_workspace_bitmap(g_ws, R, ACTAG_MAX_DIM + 1));
     {
         const uint8_t *a = actag_workspace_filtered(g_ws, R, C);
-        const uint8_t *b = actag_workspace_binary(g_ws, R, C);
+        const uint8_t *b = (const uint8_t *)(const void *)actag_workspace_bitmap(g_ws, R, C);
         TEST_ASSERT_NOT_NULL(a);
         TEST_ASSERT_NOT_NULL(b);
         TEST_ASSERT_TRUE(a != b);
         TEST_ASSERT_TRUE(a >= g_ws && a + R * C <= g_ws + sizeof g_ws);
-        TEST_ASSERT_TRUE(b >= g_ws && b + R * C <= g_ws + sizeof g_ws);
+        TEST_ASSERT_TRUE(b >= g_ws && b + ACTAG_BITMAP_SIZE(R, C) <= g_ws + sizeof g_ws);
+        TEST_ASSERT_TRUE(b + ACTAG_BITMAP_SIZE(R, C) <= a || a + R * C <= b); /* apart */
     }
 }
 
@@ -589,25 +590,28 @@ static void test_adaptive_threshold(void)
 
 static void test_contour_scanner_init(void)
 {
-    static uint8_t img[4 * 4];
+    static uint32_t bm[ACTAG_BITMAP_SIZE(4, 4) / 4], mk[ACTAG_BITMAP_SIZE(4, 4) / 4];
     actag_contour_scanner s;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(NULL, img, 4, 4, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(&s, NULL, 4, 4, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, 0, 4, 4));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, img, 4, 4, 3));
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, img, 4, 4, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(NULL, bm, mk, 4, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(&s, NULL, mk, 4, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_scanner_init(&s, bm, NULL, 4, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_contour_scanner_init(&s, bm, mk, 0, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_contour_scanner_init(&s, bm, bm, 4, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, bm, mk, 4, 4));
 }
 
 static void test_contour_next(void)
 {
     static uint8_t img[4 * 4];
+    static uint32_t bm[ACTAG_BITMAP_SIZE(4, 4) / 4], mk[ACTAG_BITMAP_SIZE(4, 4) / 4];
     actag_contour_scanner s, zero;
     actag_contour_info info;
     actag_ipoint pts[16];
     memset(img, 0, sizeof img);
     img[5] = 200; /* one white pixel at (1, 1) */
     memset(&zero, 0, sizeof zero);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, img, 4, 4, 4));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_bitmap_pack(img, 4, 4, 4, bm));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, bm, mk, 4, 4));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_next(NULL, pts, 16, &info));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_next(&s, pts, 16, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_contour_next(&s, NULL, 16, &info));
@@ -643,6 +647,7 @@ static void test_quad_params(void)
 static int square_contour(actag_ipoint *pts, int cap)
 {
     static uint8_t img[40 * 40];
+    static uint32_t bm[ACTAG_BITMAP_SIZE(40, 40) / 4], mk[ACTAG_BITMAP_SIZE(40, 40) / 4];
     actag_contour_scanner s;
     actag_contour_info info;
     int r, c;
@@ -650,7 +655,8 @@ static int square_contour(actag_ipoint *pts, int cap)
     for (r = 10; r <= 30; r++)
         for (c = 10; c <= 30; c++)
             img[r * 40 + c] = 1;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, img, 40, 40, 40));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_bitmap_pack(img, 40, 40, 40, bm));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_contour_scanner_init(&s, bm, mk, 40, 40));
     TEST_ASSERT_EQUAL_INT(1, actag_contour_next(&s, pts, cap, &info));
     TEST_ASSERT_FALSE(info.overflow);
     return info.stored;

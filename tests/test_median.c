@@ -13,9 +13,14 @@ int actag_median_filter_portable(const uint8_t *src, int rows, int cols, int src
                                  uint8_t *dst, int dst_stride, int radius,
                                  void *scratch, size_t scratch_size);
 #define ACTAG_NO_SIMD 1
+int actag_median_filter16_portable(const void *src, int rows, int cols, int src_stride,
+                                   uint8_t *dst, int dst_stride, int radius, void *scratch,
+                                   size_t scratch_size);
 #define actag_median_filter actag_median_filter_portable
+#define actag_median_filter16 actag_median_filter16_portable
 #include "../src/median.c"
 #undef actag_median_filter
+#undef actag_median_filter16
 
 typedef int (*median_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, void *, size_t);
 
@@ -400,6 +405,120 @@ static void test_real_sonar_frame(void)
     free(scratch);
 }
 
+/* 16-bit frames: actag_median_filter16 (library and portable) against the
+ * documented scaling, v8 = (v * 255 + max / 2) / max by division, followed
+ * by the brute-force median; odd addresses, strides in samples, widths
+ * around the ring's and the histograms' sizes, radii of both paths. */
+typedef int (*median16_fn)(const void *, int, int, int, uint8_t *, int, int, void *, size_t);
+
+static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
+{
+    static const median16_fn F16[2] = {actag_median_filter16, actag_median_filter16_portable};
+    int stride = cols + sextra, f, r, c;
+    size_t n = (size_t)rows * (size_t)stride, scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+    uint8_t *raw = (uint8_t *)malloc(2u * n + 1u), *src = raw + 1; /* odd address */
+    uint8_t *s8 = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    uint8_t *want = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    uint8_t *out = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    uint8_t *scratch = (uint8_t *)malloc(scr);
+    uint32_t mx = 0;
+    char msg[160];
+    TEST_ASSERT_TRUE(raw && s8 && want && out && scratch);
+    for (r = 0; r < rows; r++)
+        for (c = 0; c < stride; c++) {
+            uint16_t v = (uint16_t)(maxv ? rnd() % (maxv + 1u) : 0u);
+            if (c < cols && v > mx)
+                mx = v;
+            memcpy(src + 2u * ((size_t)r * (size_t)stride + (size_t)c), &v, 2);
+        }
+    for (r = 0; r < rows; r++)
+        for (c = 0; c < cols; c++) {
+            uint16_t v;
+            memcpy(&v, src + 2u * ((size_t)r * (size_t)stride + (size_t)c), 2);
+            s8[(size_t)r * (size_t)cols + (size_t)c] =
+                (uint8_t)(mx ? ((uint32_t)v * 255u + mx / 2u) / mx : 0u);
+        }
+    brute_median(s8, rows, cols, cols, R, want, cols);
+    for (f = 0; f < 2; f++) {
+        memset(out, 0xA5, (size_t)rows * (size_t)cols);
+        memset(scratch, 0x5A, scr);
+        snprintf(msg, sizeof msg, "16-bit %s: %dx%d R=%d max=%u", FN_NAMES[f], rows, cols, R,
+                 (unsigned)maxv);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(
+            ACTAG_OK, F16[f](src, rows, cols, stride, out, cols, R, scratch, scr), msg);
+        TEST_ASSERT_EQUAL_MEMORY_MESSAGE(want, out, (size_t)rows * (size_t)cols, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_ERR_WORKSPACE,
+                                      F16[f](src, rows, cols, stride, out, cols, R, scratch,
+                                             scr - 1), msg);
+    }
+    free(raw);
+    free(s8);
+    free(want);
+    free(out);
+    free(scratch);
+}
+
+static void test_16bit_frames(void)
+{
+    static const int radii[] = {0, 1, 2, 4, 7, 8, 13};
+    static const uint32_t maxes[] = {0, 1, 2, 255, 256, 1000, 4095, 65535};
+    int i, k;
+    rng_state = 1616u;
+    for (i = 0; i < (int)(sizeof radii / sizeof radii[0]); i++)
+        for (k = 0; k < (int)(sizeof maxes / sizeof maxes[0]); k++)
+            check16(rnd_range(1, 40), rnd_range(1, 70), radii[i], maxes[k], rnd_range(0, 3));
+    check16(530, 300, 4, 65535, 0); /* a frame-sized case, 8-row ring blocks */
+    check16(37, 300, 8, 4095, 5);   /* the constant-time path, 2-row ring */
+    check16(1, 1, 4, 65535, 0);
+}
+
+/* The multiply-shift scaling equals the division for every maximum. */
+static void test_16bit_scaling_exact(void)
+{
+    uint32_t mx;
+    for (mx = 1; mx <= 65535u; mx++) {
+        rowsrc rs;
+        uint8_t one[2];
+        uint32_t probes[6], i;
+        uint16_t v16 = (uint16_t)mx;
+        memcpy(one, &v16, 2);
+        memset(&rs, 0, sizeof rs);
+        rowsrc_init16(&rs, one, 1, 1, 1); /* a 1-pixel frame of value mx */
+        probes[0] = 0;
+        probes[1] = 1u % (mx + 1u);
+        probes[2] = mx / 2u;
+        probes[3] = mx - 1u;
+        probes[4] = mx;
+        probes[5] = rnd() % (mx + 1u);
+        for (i = 0; i < 6; i++) {
+            uint32_t v = probes[i], want = (v * 255u + mx / 2u) / mx;
+            uint32_t got = (uint32_t)(((uint64_t)(v * 255u + rs.half) * rs.magic) >> rs.shift);
+            if (got != want) {
+                char msg[80];
+                snprintf(msg, sizeof msg, "max %u v %u: got %u want %u", (unsigned)mx,
+                         (unsigned)v, (unsigned)got, (unsigned)want);
+                TEST_FAIL_MESSAGE(msg);
+            }
+        }
+    }
+    { /* every sample for a few maxima */
+        static const uint32_t some[] = {3, 255, 257, 1023, 40000, 65535};
+        int k;
+        for (k = 0; k < 6; k++) {
+            rowsrc rs;
+            uint8_t one[2];
+            uint16_t v16 = (uint16_t)some[k];
+            uint32_t v;
+            memcpy(one, &v16, 2);
+            rowsrc_init16(&rs, one, 1, 1, 1);
+            for (v = 0; v <= some[k]; v++)
+                TEST_ASSERT_EQUAL_UINT32((v * 255u + some[k] / 2u) / some[k],
+                                         (uint32_t)(((uint64_t)(v * 255u + rs.half) * rs.magic) >>
+                                                    rs.shift));
+        }
+    }
+}
+
 static void test_errors(void)
 {
     uint8_t src[6 * 7], dst[6 * 7], dst_before[6 * 7];
@@ -407,7 +526,7 @@ static void test_errors(void)
     size_t scr = sizeof scratch;
     int f;
 
-    TEST_ASSERT_EQUAL_size_t(7u * 272u, scr);
+    TEST_ASSERT_EQUAL_size_t(7u * 274u, scr);
     rng_state = 5u;
     fill_image(src, 6, 7, 7, FILL_UNIFORM);
     for (f = 0; f < 2; f++) {
@@ -462,6 +581,8 @@ int main(void)
     RUN_TEST(test_wide_strides);
     RUN_TEST(test_every_small_radius_random);
     RUN_TEST(test_real_sonar_frame);
+    RUN_TEST(test_16bit_frames);
+    RUN_TEST(test_16bit_scaling_exact);
     RUN_TEST(test_errors);
     return UNITY_END();
 }

@@ -116,7 +116,7 @@ static void test_null_pointers(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect(&f, &g_geo, &g_p, ws, sizeof ws, det, -1, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_params_validate(NULL, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_geometry_validate(NULL, 32, 32, NULL));
-    TEST_ASSERT_NULL(actag_workspace_binary(NULL, 32, 32));
+    TEST_ASSERT_NULL(actag_workspace_bitmap(NULL, 32, 32));
     TEST_ASSERT_NULL(actag_workspace_filtered(ws, 0, 32));
 }
 

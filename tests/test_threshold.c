@@ -20,8 +20,10 @@ int actag_adaptive_threshold_portable(const uint8_t *src, int rows, int cols, in
  * SIMD tails) and block_prefix_suffix. */
 #define ACTAG_FORCE_SWAR 1
 #define actag_adaptive_threshold actag_adaptive_threshold_portable
+#define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_portable
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
+#undef actag_adaptive_threshold_bitmap
 
 /* The same variant with 4-byte words (what 32-bit cores such as Cortex-M
  * use), compiled in a second time with its static names renamed. */
@@ -47,9 +49,14 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define row_threshold_doubling row_threshold_doubling_w32
 #undef THRESHOLD_DSP
 #undef THRESHOLD_DOUBLING
+#define pack_row pack_row_w32
+#define gather4 gather4_w32
+#define threshold_core threshold_core_w32
 #define actag_adaptive_threshold actag_adaptive_threshold_swar32
+#define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_swar32
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
+#undef actag_adaptive_threshold_bitmap
 
 /* 4-byte words with the horizontal pass by doubling (what Cortex-M4/M7
  * use with their DSP min/max; here with the portable words). */
@@ -74,6 +81,12 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #undef gew
 #undef double_pass
 #undef row_threshold_doubling
+#undef pack_row
+#undef gather4
+#undef threshold_core
+#define pack_row pack_row_d32
+#define gather4 gather4_d32
+#define threshold_core threshold_core_d32
 #define ACTAG_THRESHOLD_DOUBLING 1
 #define min8 min8_d32
 #define max8 max8_d32
@@ -89,14 +102,31 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #define double_pass double_pass_d32
 #define row_threshold_doubling row_threshold_doubling_d32
 #define actag_adaptive_threshold actag_adaptive_threshold_dbl32
+#define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_dbl32
 #include "../src/threshold.c"
 #undef actag_adaptive_threshold
+#undef actag_adaptive_threshold_bitmap
+
+int actag_adaptive_threshold_bitmap_portable(const uint8_t *src, int rows, int cols,
+                                             int src_stride, uint32_t *bitmap, int radius,
+                                             int offset, void *scratch, size_t scratch_size);
+int actag_adaptive_threshold_bitmap_swar32(const uint8_t *src, int rows, int cols, int src_stride,
+                                           uint32_t *bitmap, int radius, int offset,
+                                           void *scratch, size_t scratch_size);
+int actag_adaptive_threshold_bitmap_dbl32(const uint8_t *src, int rows, int cols, int src_stride,
+                                          uint32_t *bitmap, int radius, int offset, void *scratch,
+                                          size_t scratch_size);
 
 typedef int (*threshold_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, int, void *, size_t);
+typedef int (*threshold_bitmap_fn)(const uint8_t *, int, int, int, uint32_t *, int, int, void *,
+                                   size_t);
 
 #define NFNS 4
 static const threshold_fn FNS[NFNS] = {actag_adaptive_threshold, actag_adaptive_threshold_portable,
                                        actag_adaptive_threshold_swar32, actag_adaptive_threshold_dbl32};
+static const threshold_bitmap_fn BFNS[NFNS] = {
+    actag_adaptive_threshold_bitmap, actag_adaptive_threshold_bitmap_portable,
+    actag_adaptive_threshold_bitmap_swar32, actag_adaptive_threshold_bitmap_dbl32};
 static const char *const FN_NAMES[NFNS] = {"library", "portable", "portable-32-bit-words",
                                            "portable-32-bit-words-doubling"};
 
@@ -192,6 +222,48 @@ static int random_offset(void)
     return rnd_range(-20, 20);
 }
 
+/* The bitmap variant of every path on src against want (the reference's
+ * bytes, stride wstride): each pixel bit, every padding bit 0, with the
+ * exact scratch size (one byte less fails and writes nothing). */
+static void check_bitmap(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
+                         const uint8_t *want, int wstride, const char *what)
+{
+    size_t n = ACTAG_BITMAP_SIZE(rows, cols), wpr = ACTAG_BITMAP_WORDS(cols), b;
+    size_t scr = ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, R);
+    uint32_t *bm = (uint32_t *)malloc(n);
+    uint8_t *scratch = (uint8_t *)malloc(scr);
+    char msg[240];
+    int f, r;
+    TEST_ASSERT_NOT_NULL(bm);
+    TEST_ASSERT_NOT_NULL(scratch);
+    for (f = 0; f < NFNS; f++) {
+        memset(bm, 0xA5, n);
+        memset(scratch, 0x5A, scr);
+        snprintf(msg, sizeof msg, "bitmap %s: %s", FN_NAMES[f], what);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_ERR_WORKSPACE,
+                                      BFNS[f](src, rows, cols, sstride, bm, R, offset, scratch,
+                                              scr - 1), msg);
+        TEST_ASSERT_EQUAL_HEX32_MESSAGE(0xA5A5A5A5u, bm[0], msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(
+            ACTAG_OK, BFNS[f](src, rows, cols, sstride, bm, R, offset, scratch, scr), msg);
+        for (r = -1; r <= rows; r++)
+            for (b = 0; b < 32u * wpr; b++) {
+                int c = (int)b - 1;
+                unsigned got = (bm[(size_t)(r + 1) * wpr + b / 32u] >> (b % 32u)) & 1u;
+                unsigned exp = r >= 0 && r < rows && c >= 0 && c < cols
+                                   ? want[(size_t)r * (size_t)wstride + (size_t)c]
+                                   : 0u;
+                if (got != exp) {
+                    snprintf(msg, sizeof msg, "bitmap %s: %s at (%d,%d): got %u want %u",
+                             FN_NAMES[f], what, r, c, got, exp);
+                    TEST_FAIL_MESSAGE(msg);
+                }
+            }
+    }
+    free(bm);
+    free(scratch);
+}
+
 /* Runs one case through both code paths with the exact radius-specific
  * scratch size, and checks every pixel and the untouched dst padding. */
 static void check_case(int rows, int cols, int R, int offset, int kind, int sextra, int dextra)
@@ -237,6 +309,9 @@ static void check_case(int rows, int cols, int R, int offset, int kind, int sext
             }
         }
     }
+    snprintf(msg, sizeof msg, "%dx%d R=%d off=%d kind=%d sstride=%d", rows, cols, R, offset,
+             kind, sstride);
+    check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
     free(src);
     free(want);
     free(out);
@@ -277,6 +352,8 @@ static void check_image(const uint8_t *src, int rows, int cols, int sstride, int
                 }
             }
     }
+    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d", what, rows, cols, R, offset);
+    check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
     free(want);
     free(out);
     free(scratch);
@@ -573,6 +650,25 @@ static void test_errors(void)
         TEST_ASSERT_EQUAL_MEMORY(dst_before, dst, sizeof dst);
 
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, fn(src, 6, 7, 7, dst, 7, 100, 1, scratch, scr));
+    }
+    for (f = 0; f < NFNS; f++) {
+        threshold_bitmap_fn fn = BFNS[f];
+        uint32_t bm[ACTAG_BITMAP_SIZE(6, 7) / 4];
+        uint8_t big[ACTAG_THRESHOLD_SCRATCH_SIZE(6, 7) + 7];
+        size_t bscr = sizeof big;
+        memset(bm, 0x77, sizeof bm);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(NULL, 6, 7, 7, bm, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(src, 6, 7, 7, NULL, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, fn(src, 6, 7, 7, bm, 1, 1, NULL, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 0, 7, 7, bm, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, fn(src, 6, 7, 6, bm, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, fn(src, 6, 7, 7, bm, -1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              fn(src, 6, 7, 7, (uint32_t *)(void *)src, 1, 1, big, bscr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
+                              fn(src, 6, 7, 7, bm, 100, 1, big, ACTAG_THRESHOLD_SCRATCH_SIZE(6, 7)));
+        TEST_ASSERT_EQUAL_HEX32(0x77777777u, bm[0]);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, fn(src, 6, 7, 7, bm, 100, 1, big, bscr));
     }
 }
 

@@ -94,9 +94,9 @@ static int check_frame(const uint8_t *px, int rows, int cols, const actag_sonar_
     TEST_ASSERT_EQUAL_MEMORY_MESSAGE(a, b, sizeof a, what);
     TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&sa, &sb, sizeof sa, what);
     /* the stage images are the same too */
-    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(actag_workspace_binary(g_ws, rows, cols),
-                                     actag_workspace_binary(g_ws2, rows, cols),
-                                     (size_t)rows * (size_t)cols, what);
+    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(actag_workspace_bitmap(g_ws, rows, cols),
+                                     actag_workspace_bitmap(g_ws2, rows, cols),
+                                     ACTAG_BITMAP_SIZE(rows, cols), what);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, t.bad, what);
     TEST_ASSERT_EQUAL_INT_MESSAGE(sa.contours, t.kind_count[ACTAG_TRACE_CONTOUR], what);
     TEST_ASSERT_EQUAL_INT_MESSAGE(sa.size_ok, t.contour_accepted, what);

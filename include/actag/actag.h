@@ -50,7 +50,9 @@
  *   re-entrant (use one workspace per concurrent call).
  *
  *   16-bit frames (depth 16) are first scaled to 8 bits by the frame's own
- *   maximum: v8 = (v * 255 + max/2) / max; the stages then run on 8 bits.
+ *   maximum: v8 = (v * 255 + max/2) / max; the stages then run on 8 bits
+ *   (the median filter scales a row at a time inside its scratch,
+ *   actag_median_filter16: no 8-bit copy of the frame is made).
  *   Alignment: none required. 16-bit samples are in host byte order and are
  *   read bytewise-safe, so frame->data may be at any address (an odd one
  *   included, e.g. a frame inside a packet after a 1-byte header).
@@ -284,7 +286,8 @@ typedef struct actag_params {
  *     and a quad reading replaces the search reading at the same place, so
  *     corners come from quads whenever one decodes (fitted-grid corners
  *     otherwise). Memory: the score map (int16, rows/4 x cols/4) uses the
- *     binary image's place before the threshold fills it, the integral
+ *     binary bitmap's and the contour marks' place before the threshold
+ *     fills them, the integral
  *     image (uint32, (rows/4+1) x (cols/4+1)) the stage scratch (both
  *     counted in ACTAG_WORKSPACE_SIZE); frames under 16 pixels in either
  *     direction are not searched. Cost: ~1.5 ms per 530 x 512 frame
@@ -378,16 +381,31 @@ typedef struct actag_stats {
 #define ACTAG__STAGE_SCRATCH(rows, cols)                                                     \
     ACTAG__MAX(ACTAG__MAX(ACTAG__MAX(ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols),                 \
                                      ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols)),               \
-                          ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols,                         \
+                          ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols,                  \
                                                          ACTAG_MAX_THRESHOLD_RADIUS)),      \
                ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint)) +       \
                    ACTAG_QUAD_SCRATCH_SIZE(ACTAG_CONTOUR_CAP(rows, cols)))
+/* The binary bitmap and the contour marks (each ACTAG_BITMAP_SIZE), which
+ * before the threshold hold the search's score map. */
+#define ACTAG__BINARY_REGION(rows, cols)                                                     \
+    ACTAG__MAX(2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)),                          \
+               ACTAG__ALIGN16(ACTAG_SEARCH_MAP_SIZE(rows, cols)))
 
 /* Workspace bytes for frames of up to rows x cols pixels (a constant
- * expression): the binary image, the filtered image and the largest stage
- * scratch, each 16-byte aligned, plus 16 bytes to align the start. */
+ * expression), each part 16-byte aligned, plus 16 bytes to align the start:
+ *   - the binary bitmap and the contour marks, one bit per pixel each
+ *     (ACTAG_BITMAP_SIZE: (rows + 2) * ((cols + 33) / 32) * 4 bytes): scale
+ *     with rows * cols, 1/4 byte per pixel together;
+ *   - the median-filtered frame, one byte per pixel: rows * cols;
+ *   - the largest stage scratch, which scales with cols only (the median's
+ *     column histograms, 274 bytes per column, and the threshold's row
+ *     buffers, (2 * min(2 * ACTAG_MAX_THRESHOLD_RADIUS + 1, rows) + 7) bytes
+ *     per column) or with rows + cols (the contour point buffer and the quad
+ *     scratch, ACTAG_CONTOUR_CAP points) or rows * cols / 16 (the search's
+ *     integral image), whichever is largest.
+ * 530 x 512: 72,352 + 271,360 + 140,288 + 16 = 484,016 bytes. */
 #define ACTAG_WORKSPACE_SIZE(rows, cols)                                                     \
-    (16u + 2u * ACTAG__ALIGN16((size_t)(rows) * (size_t)(cols)) +                           \
+    (16u + ACTAG__BINARY_REGION(rows, cols) + ACTAG__ALIGN16((size_t)(rows) * (size_t)(cols)) + \
      ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols)))
 
 /* ACTAG_WORKSPACE_SIZE at run time; 0 for sizes outside 1..ACTAG_MAX_DIM. */
@@ -454,11 +472,15 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
                        int *counts);
 
 /* After a successful actag_detect() on a rows x cols frame, these point at
- * the stage images inside the workspace (row stride = cols): the median
- * filtered frame, and the binary frame (0 = black, nonzero = white). They
- * return NULL for a NULL workspace or bad size. For debugging/overlays. */
+ * the stage images inside the workspace: actag_workspace_filtered() at the
+ * median-filtered frame (one byte per pixel, row stride = cols),
+ * actag_workspace_bitmap() at the binary frame as a bitmap (one bit per
+ * pixel, 1 = white, the layout in common.h; read a pixel with
+ * actag_bitmap_get(), or turn it into bytes with actag_bitmap_unpack(),
+ * contours.h). They return NULL for a NULL workspace or a size outside
+ * 1..ACTAG_MAX_DIM; no other error codes. For debugging/overlays. */
 const uint8_t *actag_workspace_filtered(const void *workspace, int rows, int cols);
-const uint8_t *actag_workspace_binary(const void *workspace, int rows, int cols);
+const uint32_t *actag_workspace_bitmap(const void *workspace, int rows, int cols);
 
 #ifdef __cplusplus
 }

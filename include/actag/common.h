@@ -50,6 +50,32 @@ extern "C" {
                                       returns it at present) */
 #define ACTAG_ERR_NO_QUAD (-10)    /* no quadrilateral could be fitted */
 
+/* Bitmaps: binary images at one bit per pixel (the adaptive threshold's
+ * output and the contour scanner's input, threshold.h and contours.h).
+ * A bitmap of rows x cols pixels is an array of uint32_t words, padded by one
+ * row above and below and one column left of the image:
+ *   ACTAG_BITMAP_WORDS(cols) = (cols + 33) / 32 words per row (room for
+ *       columns -1 .. cols + 1 and more, rounded up to whole words),
+ *   rows + 2 rows, ACTAG_BITMAP_SIZE(rows, cols) bytes in all (scales with
+ *       rows * cols: 1/8 byte per pixel plus the padding),
+ *   pixel (r, c) is bit (c + 1) % 32 of word
+ *       (r + 1) * ACTAG_BITMAP_WORDS(cols) + (c + 1) / 32,
+ *   1 = white, 0 = black. Every padding bit is 0 (black: outside the image
+ *   is black for the contour scanner), so readers need no bounds checks one
+ *   pixel beyond the image. actag_bitmap_get() reads one pixel;
+ *   actag_bitmap_pack() and actag_bitmap_unpack() (contours.h) convert from
+ *   and to one byte per pixel. */
+#define ACTAG_BITMAP_WORDS(cols) (((size_t)(cols) + 33u) / 32u)
+#define ACTAG_BITMAP_SIZE(rows, cols) (((size_t)(rows) + 2u) * ACTAG_BITMAP_WORDS(cols) * 4u)
+
+/* Pixel (r, c) of a bitmap of cols columns: 1 white, 0 black. r may be -1 ..
+ * rows and c -1 .. cols (the padding, always 0). No error codes. */
+static inline int actag_bitmap_get(const uint32_t *bitmap, int cols, int r, int c)
+{
+    size_t b = (size_t)(c + 1);
+    return (int)((bitmap[(size_t)(r + 1) * ACTAG_BITMAP_WORDS(cols) + b / 32u] >> (b % 32u)) & 1u);
+}
+
 /* A 2-D point in image coordinates (pixels, sub-pixel). */
 typedef struct actag_point {
     float x; /* column */

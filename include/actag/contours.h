@@ -2,9 +2,12 @@
  * actag/contours.h -- outer borders of the white blobs of a binary image.
  *
  * MANUAL
- *   Input: a binary image of rows x cols bytes, row r starting at
- *   binary + r * stride; 0 = black, any nonzero value = white. Pixels outside
- *   the image count as black (the frame of Suzuki & Abe 1985).
+ *   Input: a binary image of rows x cols pixels as a bitmap (one bit per
+ *   pixel, the layout in common.h: ACTAG_BITMAP_SIZE(rows, cols) bytes,
+ *   1 = white, padding 0), e.g. from actag_adaptive_threshold_bitmap()
+ *   (threshold.h) or actag_bitmap_pack() below. Pixels outside the image
+ *   count as black (the frame of Suzuki & Abe 1985). The scanner also needs
+ *   a second bitmap-sized buffer, `marks`, for its pixel marks.
  *
  *   The scanner walks the image in raster order and yields, one call at a
  *   time, the OUTER border of every white 8-connected component (blob):
@@ -16,8 +19,11 @@
  *     actag_contour_scanner s;
  *     actag_contour_info info;
  *     actag_ipoint pts[1024];
+ *     static uint32_t bin[ACTAG_BITMAP_SIZE(530, 512) / 4];
+ *     static uint32_t marks[ACTAG_BITMAP_SIZE(530, 512) / 4];
  *     int rc;
- *     if (actag_contour_scanner_init(&s, bin, rows, cols, stride) != ACTAG_OK) ...
+ *     actag_bitmap_pack(bytes, rows, cols, stride, bin);   (or the threshold)
+ *     if (actag_contour_scanner_init(&s, bin, marks, rows, cols) != ACTAG_OK) ...
  *     while ((rc = actag_contour_next(&s, pts, 1024, &info)) == 1) {
  *         if (info.overflow) continue;           (border longer than 1024)
  *         ...use pts[0 .. info.stored-1]...
@@ -33,30 +39,38 @@
  *   pixel is a 1-point contour. The set of points is exactly the set of the
  *   blob's pixels that are 4-adjacent to the black region around the blob.
  *
- *   Cost: O(rows * cols + total border length), no allocation, no limit on
- *   the number of contours (the scanner streams them). A whole scan of a
- *   530 x 512 thresholded sonar frame (hundreds to thousands of blobs) takes
- *   0.3-0.7 ms on one x86-64 server core (-O3), about 1 ms for the noisiest
- *   binarisations.
+ *   Cost: O(rows * cols / 32 + total border length), no allocation, no limit
+ *   on the number of contours (the scanner streams them): the raster scan
+ *   reads 32 pixels per bitmap word to find run starts and ends, the walks
+ *   read each border pixel's 3 x 3 neighbourhood as three 3-bit fields.
  *
  *   Hole borders are walked internally (one walk per enclosed black
  *   4-connected region of two or more pixels; one-pixel holes need none);
  *   scanner.holes counts the walks, for diagnostics and tests.
  *
- *   The image is MODIFIED: actag_contour_scanner_init() sets every nonzero
- *   pixel to 1, and tracing then marks border pixels with 2 or 3. Black stays
- *   0 and white stays nonzero, so later stages may still read the image as
- *   0 = black / nonzero = white. Bytes between cols and stride (row padding)
- *   are never read or written. Do not modify the image between
- *   actag_contour_scanner_init() and the end of the scan.
+ *   The bitmap is only read, never modified: later stages (the binary
+ *   decoder, debug pictures) still see the threshold's output.
+ *   actag_contour_scanner_init() zeroes `marks` (ACTAG_BITMAP_SIZE(rows, cols)
+ *   bytes, 4-byte aligned like the bitmap) and the walks set its bits: a
+ *   white pixel's bit once it is on a traced border, a black pixel's bit
+ *   when the white pixel left of it is on a traced border whose black side
+ *   it is (the padding column right of the image included). Do not modify
+ *   either buffer between actag_contour_scanner_init() and the end of the
+ *   scan. ACTAG_CONTOUR_WORKSPACE_BYTES(rows, cols) is the size of `marks`.
  *
- *   No workspace is needed beyond the scanner struct (caller-owned, a few
- *   words); ACTAG_CONTOUR_WORKSPACE_BYTES is 0 and exists for uniformity.
+ *   actag_bitmap_pack(img, rows, cols, stride, bitmap) sets the bitmap from
+ *   an image of one byte per pixel (nonzero = white; padding bits 0);
+ *   actag_bitmap_unpack(bitmap, rows, cols, dst, dst_stride, white) writes
+ *   it back as bytes, 0 for black and `white` (e.g. 1 or 255) for white.
+ *   Both return ACTAG_OK, ACTAG_ERR_NULL or ACTAG_ERR_SIZE (rows or cols < 1
+ *   or > ACTAG_MAX_DIM, stride < cols); bytes between cols and the stride
+ *   are never read or written.
  *
  * ERRORS
  *   ACTAG_ERR_NULL   a required pointer is NULL (pts may be NULL when cap == 0)
- *   ACTAG_ERR_SIZE   rows or cols < 1 or > ACTAG_MAX_DIM, or stride < cols
- *   ACTAG_ERR_PARAM  cap < 0, or the scanner was not initialised
+ *   ACTAG_ERR_SIZE   rows or cols < 1 or > ACTAG_MAX_DIM
+ *   ACTAG_ERR_PARAM  white == marks (init), cap < 0, or the scanner was not
+ *                    initialised
  */
 #ifndef ACTAG_CONTOURS_H
 #define ACTAG_CONTOURS_H
@@ -67,8 +81,9 @@
 extern "C" {
 #endif
 
-/* Scratch bytes the contour stage needs for a rows x cols image: none. */
-#define ACTAG_CONTOUR_WORKSPACE_BYTES(rows, cols) ((size_t)0)
+/* Scratch bytes the contour stage needs for a rows x cols image: the marks
+ * bitmap. */
+#define ACTAG_CONTOUR_WORKSPACE_BYTES(rows, cols) ACTAG_BITMAP_SIZE(rows, cols)
 
 /* What actag_contour_next() reports about one contour. npoints, the bounding
  * box and the area always describe the WHOLE traced border, even when only
@@ -85,21 +100,27 @@ typedef struct actag_contour_info {
 /* Scanner state; the caller owns it (e.g. on the stack). Fields are private
  * except holes, which may be read. */
 typedef struct actag_contour_scanner {
-    uint8_t *img;  /* image, row 0 */
+    const uint32_t *white; /* the binary bitmap */
+    uint32_t *marks;       /* the pixel marks, a bitmap of the same size */
     int rows;      /* image height, pixels */
     int cols;      /* image width, pixels */
-    int stride;    /* bytes from one row to the next */
     int r, c;      /* next pixel the raster scan examines */
     int holes;     /* statistics: hole borders walked so far (one per enclosed
                       black 4-connected region of 2+ pixels) */
     int magic;     /* set by init; guards against uninitialised use */
 } actag_contour_scanner;
 
-/* Prepares a scan of the binary image: validates the arguments and sets
- * every nonzero pixel to 1 (O(rows * cols)). Returns ACTAG_OK,
- * ACTAG_ERR_NULL or ACTAG_ERR_SIZE; on error nothing is written. */
-int actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows, int cols,
-                               int stride);
+/* Prepares a scan of the bitmap `white` (rows x cols pixels): validates
+ * the arguments and zeroes `marks` (ACTAG_BITMAP_SIZE(rows, cols) bytes).
+ * Returns ACTAG_OK, ACTAG_ERR_NULL, ACTAG_ERR_SIZE or ACTAG_ERR_PARAM (white
+ * == marks); on error nothing is written. */
+int actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white, uint32_t *marks,
+                               int rows, int cols);
+
+/* Bitmap from bytes (nonzero = white) and back (0 / white); see above. */
+int actag_bitmap_pack(const uint8_t *img, int rows, int cols, int stride, uint32_t *bitmap);
+int actag_bitmap_unpack(const uint32_t *bitmap, int rows, int cols, uint8_t *dst, int dst_stride,
+                        uint8_t white);
 
 /* Finds the next outer border in raster order and traces it completely.
  * Writes its first min(npoints, cap) points to pts (x = column, y = row) and

@@ -169,6 +169,14 @@ int actag_decode_quad_ex(const uint8_t *binary, int rows, int cols, int stride,
                          const actag_point quad[4], const actag_family *family,
                          int max_corrections, int model, actag_decode_result *out);
 
+/* actag_decode_quad() on a bitmap (common.h layout, 1 = white; e.g. the
+ * output of actag_adaptive_threshold_bitmap), rows x cols pixels: the same
+ * reading as actag_decode_quad() on the bitmap's bytes (actag_bitmap_unpack).
+ * Errors as actag_decode_quad (ACTAG_ERR_NULL for a NULL bitmap). */
+int actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
+                             const actag_point quad[4], const actag_family *family,
+                             int max_corrections, actag_decode_result *out);
+
 
 /* Largest k (bits / 4) the decoders handle. */
 #define ACTAG_DECODE_MAX_K 8

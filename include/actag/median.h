@@ -52,9 +52,9 @@
  *
  * MEMORY
  *   The caller provides `scratch` of at least
- *   ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) bytes (272 bytes per image column:
- *   8-bit column histograms; 139,264 bytes for 512 columns, whatever the
- *   number of rows or the radius). No alignment is required. The kernel
+ *   ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) bytes (274 bytes per image column:
+ *   8-bit column histograms and two rows for actag_median_filter16; 140,288
+ *   bytes for 512 columns, whatever the number of rows or the radius). No alignment is required. The kernel
  *   histograms live on the stack (under 1 KiB; the portable path's four-row
  *   histogram for R <= 7 under 1.5 KiB). scratch is checked for every
  *   radius, R = 0 included.
@@ -84,13 +84,24 @@ extern "C" {
 #define ACTAG_MEDIAN_MAX_RADIUS 127
 
 /* Scratch bytes for any radius <= ACTAG_MEDIAN_MAX_RADIUS: per column, a
- * 16-bin coarse and a 256-bin fine 8-bit histogram. rows is unused but kept
+ * 16-bin coarse and a 256-bin fine 8-bit histogram, and 2 bytes for the
+ * 16-bit input's row ring (actag_median_filter16). rows is unused but kept
  * so that every stage's macro has the same shape. */
-#define ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) ((size_t)(cols) * 272u)
+#define ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) ((size_t)(cols) * 274u)
 
 int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
                         uint8_t *dst, int dst_stride, int radius,
                         void *scratch, size_t scratch_size);
+
+/* The same filter on a 16-bit frame (host byte order, any alignment: read
+ * bytewise-safe; src_stride in samples), first scaled to 8 bits by the
+ * frame's maximum exactly as actag_detect() documents, v8 = (v * 255 +
+ * max / 2) / max (0 for an all-zero frame): the output equals
+ * actag_median_filter() on the scaled frame. The scaled rows are made one
+ * at a time in a ring of rows inside the scratch (no frame-sized copy);
+ * same scratch size, same errors. */
+int actag_median_filter16(const void *src, int rows, int cols, int src_stride, uint8_t *dst,
+                          int dst_stride, int radius, void *scratch, size_t scratch_size);
 
 #ifdef __cplusplus
 }

@@ -91,6 +91,22 @@ int actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_str
                              uint8_t *dst, int dst_stride, int radius, int offset,
                              void *scratch, size_t scratch_size);
 
+/* Scratch bytes of actag_adaptive_threshold_bitmap(): one row more. */
+#define ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, radius)                        \
+    (ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, radius) + (size_t)(cols))
+
+/* The same threshold written as a bitmap (common.h layout: one bit per
+ * pixel, 1 = white, ACTAG_BITMAP_SIZE(rows, cols) bytes, every padding bit
+ * 0), for the contour scanner (contours.h). Pixel (r, c) of the bitmap equals
+ * byte (r, c) of actag_adaptive_threshold()'s output. scratch: at least
+ * ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, radius) bytes (each row
+ * is computed as bytes in the last cols of them, then packed). Errors as
+ * actag_adaptive_threshold (ACTAG_ERR_PARAM for src == bitmap); on error
+ * the bitmap is left untouched. */
+int actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols, int src_stride,
+                                    uint32_t *bitmap, int radius, int offset, void *scratch,
+                                    size_t scratch_size);
+
 #ifdef __cplusplus
 }
 #endif

@@ -217,15 +217,14 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
     Py_END_ALLOW_THREADS
     if (n >= 0 && want_stages) {
         const uint8_t *f = actag_workspace_filtered(ws, view.frame.rows, view.frame.cols);
-        const uint8_t *b = actag_workspace_binary(ws, view.frame.rows, view.frame.cols);
+        const uint32_t *b = actag_workspace_bitmap(ws, view.frame.rows, view.frame.cols);
         Py_ssize_t sz = (Py_ssize_t)view.frame.rows * view.frame.cols;
         PyObject *fb = f ? PyBytes_FromStringAndSize((const char *)f, sz) : NULL;
-        PyObject *bb = b ? PyBytes_FromStringAndSize((const char *)b, sz) : NULL;
+        PyObject *bb = b ? PyBytes_FromStringAndSize(NULL, sz) : NULL;
         if (fb && bb) {
-            char *p = PyBytes_AsString(bb);
-            Py_ssize_t k;
-            for (k = 0; k < sz; k++) /* 0 = black, 255 = white */
-                p[k] = p[k] ? (char)255 : 0;
+            /* 0 = black, 255 = white */
+            actag_bitmap_unpack(b, view.frame.rows, view.frame.cols,
+                                (uint8_t *)PyBytes_AsString(bb), view.frame.cols, 255u);
             stages = Py_BuildValue("{sNsNsisi}", "filtered", fb, "binary", bb, "rows",
                                    view.frame.rows, "cols", view.frame.cols);
         } else {

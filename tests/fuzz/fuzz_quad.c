@@ -129,8 +129,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
 
         /* the scanner */
-        rc = actag_contour_scanner_init(&sc, img, rows, cols, stride);
-        FZ_CHECK(rc == ACTAG_OK, "scanner init %d", rc);
+        {
+            static uint32_t bm[ACTAG_BITMAP_SIZE(FQ_MAX, FQ_MAX) / 4];
+            static uint32_t mk[ACTAG_BITMAP_SIZE(FQ_MAX, FQ_MAX) / 4];
+            rc = actag_bitmap_pack(img, rows, cols, stride, bm);
+            FZ_CHECK(rc == ACTAG_OK, "bitmap pack %d", rc);
+            rc = actag_contour_scanner_init(&sc, bm, mk, rows, cols);
+            FZ_CHECK(rc == ACTAG_OK, "scanner init %d", rc);
+        }
         if (cap < 0) {
             rc = actag_contour_next(&sc, pts, cap, &ci);
             FZ_CHECK(rc == ACTAG_ERR_PARAM, "negative cap: %d", rc);

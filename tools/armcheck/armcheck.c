@@ -381,8 +381,8 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         hd = fnv1a(FNV_OFFSET, ac_det, (size_t)n * sizeof ac_det[0]);
         img = actag_workspace_filtered(ac_ws, rows, cols);
         hf = img != NULL ? fnv1a(FNV_OFFSET, img, (size_t)rows * (size_t)cols) : 0u;
-        img = actag_workspace_binary(ac_ws, rows, cols);
-        hb = img != NULL ? fnv1a(FNV_OFFSET, img, (size_t)rows * (size_t)cols) : 0u;
+        img = (const uint8_t *)(const void *)actag_workspace_bitmap(ac_ws, rows, cols);
+        hb = img != NULL ? fnv1a(FNV_OFFSET, img, ACTAG_BITMAP_SIZE(rows, cols)) : 0u;
         put_s("digest detections ");
         put_x64(hd);
         put_s(" filtered ");
