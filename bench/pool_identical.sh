@@ -4,13 +4,14 @@
 # usage: bench/pool_identical.sh BASE_ACTAG_DETECT NEW_ACTAG_DETECT [FRAME.pgm...]
 # (default frames: the example frame and the 58 pool frames of ../shared).
 # Compares --json output without the time_ms field; prints the verdict.
+# EXTRA="--range-ascending ..." adds options to both runs (flipped frames).
 set -eu
 base=$1; new=$2; shift 2
 if [ $# -eq 0 ]; then
   shared=$(dirname "$0")/../../shared/data/sonar
   set -- "$shared"/example/exampleSonarImage.pgm "$shared"/pool-video/f_*.pgm
 fi
-geo="--min-range 0.1 --max-range 1.5 --aperture-deg 60 --family AcTag24h10 --json"
+geo="${EXTRA:-} --min-range 0.1 --max-range 1.5 --aperture-deg 60 --family AcTag24h10 --json"
 a=$(mktemp); b=$(mktemp)
 trap 'rm -f "$a" "$b"' EXIT
 "$base" $geo "$@" | sed 's/, "time_ms": [0-9.]*//' > "$a"
