@@ -292,8 +292,10 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
 {
     /* Starting grids: as given, rotated by +-30 degrees, and sheared
      * (sonar images show tags as parallelograms) by b += +-a (lb / la);
-     * each on a quarter-cell lattice of shifts within +-1 cell along its
-     * own cell vectors (so the half-cell shifts share one lattice). */
+     * each on a quarter-cell lattice of shifts within +-1 cell (along the
+     * given grid's cell vectors). The given grid's half-cell shifts share
+     * one lattice (flattice); the others' do not, and shifting those along
+     * their own vectors instead lost a real pool frame (f_0301). */
     static const float rc[FIT_INITS] = {1.0f, 0.8660254f, 0.8660254f, 1.0f, 1.0f};
     static const float rs[FIT_INITS] = {0.0f, 0.5f, -0.5f, 0.0f, 0.0f};
     static const float hb[FIT_INITS] = {0.0f, 0.0f, 0.0f, 1.0f, -1.0f};
@@ -315,7 +317,7 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
             float bs = -1e30f, sc25[25];
             int pi, pj;
             /* all 25 scores from the lattice, one parity class at a time */
-            for (pj = 0; pj < 2; pj++)
+            for (pj = 0; pj < 2 && o == 0; pj++)
                 for (pi = 0; pi < 2; pi++) {
                     flattice(im, &gro, k, pi, pj, Q);
                     for (j = pj - 2; j <= 2; j += 2)
@@ -326,12 +328,14 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
                 }
             for (j = -2; j <= 2; j++)
                 for (i = -2; i <= 2; i++) {
-                    float sc = sc25[(j + 2) * 5 + i + 2];
+                    float sc;
+                    t = gro;
+                    t.mx += 0.5f * ((float)i * g0.ax + (float)j * g0.bx);
+                    t.my += 0.5f * ((float)i * g0.ay + (float)j * g0.by);
+                    sc = o == 0 ? sc25[(j + 2) * 5 + i + 2] : fscore(im, &t, k, m);
                     if (sc > bs) {
                         bs = sc;
-                        bo = gro;
-                        bo.mx += 0.5f * ((float)i * gro.ax + (float)j * gro.bx);
-                        bo.my += 0.5f * ((float)i * gro.ay + (float)j * gro.by);
+                        bo = t;
                     }
                 }
             for (j = -1; j <= 1; j++)
@@ -340,8 +344,8 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
                     if (i == 0 && j == 0)
                         continue;
                     t = bo;
-                    t.mx += 0.25f * ((float)i * gro.ax + (float)j * gro.bx);
-                    t.my += 0.25f * ((float)i * gro.ay + (float)j * gro.by);
+                    t.mx += 0.25f * ((float)i * g0.ax + (float)j * g0.bx);
+                    t.my += 0.25f * ((float)i * g0.ay + (float)j * g0.by);
                     sc = fscore(im, &t, k, m);
                     if (sc > bs) {
                         bs = sc;
