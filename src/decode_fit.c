@@ -540,7 +540,7 @@ static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint
  * both together within its corrections (3). On the simulator's labelled
  * frames (pool seed 5, paper seed 6, 300 views each) and the 58 pool frames
  * the fitted grids that read had at most 10 here; 12 skips the ascent for
- * 15-40 % of the wide searches (docs/decoder.md). */
+ * 15-41 % of the wide searches (docs/decoder.md). */
 #define FIT_HOPELESS 12
 
 static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float level,
