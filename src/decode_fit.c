@@ -4,6 +4,7 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/decode.h"
 #include "decode_common.h"
+#include "decode_fit_test.h"
 
 #include <string.h>
 
@@ -71,13 +72,18 @@ static float fsample_in(const fimg *im, float x, float y)
 
 /* Do all of a grid's sample points lie a pixel inside the image? (Then
  * fsample_in serves; the margin covers the rounding of the points.) */
-static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
+static int fgrid_inside_h(const fimg *im, const fgrid *gr, float h)
 {
-    float h = 0.5f * (float)(k + 1) + im->so; /* centre to the outermost samples, cells */
     float ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * h;
     float ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * h;
     return gr->mx - ex >= 1.0f && gr->mx + ex <= (float)(im->cols - 2) &&
            gr->my - ey >= 1.0f && gr->my + ey <= (float)(im->rows - 2);
+}
+
+/* h: centre to the outermost samples of a (k+1)^2 grid, cells */
+static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
+{
+    return fgrid_inside_h(im, gr, 0.5f * (float)(k + 1) + im->so);
 }
 
 /* One grey sample: the clamp-free sampler when the whole grid lies a pixel
@@ -87,8 +93,22 @@ static float fsample_at(const fimg *im, int inside, float x, float y)
     return inside ? fsample_in(im, x, y) : fsample(im, x, y);
 }
 
+/* The 5-sample mean (centre and the 4 diagonal points at +-so cell) of a
+ * cell centred at (x0, y0) of grid gr, as fcells() reads it with im->fast. */
+static inline float fcell5(const fimg *im, const fgrid *gr, int inside, float x0, float y0)
+{
+    float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
+    float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
+    float s = fsample_at(im, inside, x0, y0) + fsample_at(im, inside, x0 + dx1, y0 + dy1) +
+              fsample_at(im, inside, x0 - dx1, y0 - dy1) +
+              fsample_at(im, inside, x0 + dx2, y0 + dy2) +
+              fsample_at(im, inside, x0 - dx2, y0 - dy2);
+    return s * 0.2f;
+}
+
 /* fcells() on one sampler (inside: the clamp-free one). */
-static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside)
+static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside,
+                             int skip)
 {
     int cx, cy, a, b, n = k + 1;
     float g = 0.5f * (float)n;
@@ -105,15 +125,12 @@ static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, i
             float s = 0.0f, u0 = (float)cx + 0.5f - g, v0 = (float)cy + 0.5f - g;
             float x0 = gr->mx + gr->ax * u0 + gr->bx * v0;
             float y0 = gr->my + gr->ay * u0 + gr->by * v0;
+            if (skip && (cx == 0 || cx == k) && (cy == 0 || cy == k)) {
+                m[cy * n + cx] = 0.0f; /* an erased data corner: not read */
+                continue;
+            }
             if (im->fast) {
-                /* centre and the 4 diagonal points */
-                float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
-                float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
-                s = fsample_at(im, inside, x0, y0) + fsample_at(im, inside, x0 + dx1, y0 + dy1) +
-                    fsample_at(im, inside, x0 - dx1, y0 - dy1) +
-                    fsample_at(im, inside, x0 + dx2, y0 + dy2) +
-                    fsample_at(im, inside, x0 - dx2, y0 - dy2);
-                m[cy * n + cx] = s * 0.2f;
+                m[cy * n + cx] = fcell5(im, gr, inside, x0, y0);
                 continue;
             }
             for (b = 0; b < 3; b++)
@@ -126,13 +143,18 @@ static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, i
 /* Mean grey level of every cell of the (k+1)^2 grid over a 3x3 sample
  * pattern (+-so cell; im->fast: the centre and the 4 diagonal points),
  * m[cy * (k+1) + cx]. */
-static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
+static void fcells_x(const fimg *im, const fgrid *gr, int k, float *m, int skip)
 {
     /* two copies of the loops, one per sampler (constant inside) */
     if (fgrid_inside(im, gr, k))
-        fcells_on(im, gr, k, m, 1);
+        fcells_on(im, gr, k, m, 1, skip);
     else
-        fcells_on(im, gr, k, m, 0);
+        fcells_on(im, gr, k, m, 0, skip);
+}
+
+static void fcells(const fimg *im, const fgrid *gr, int k, float *m)
+{
+    fcells_x(im, gr, k, m, 0);
 }
 
 static int is_ring(int cx, int cy, int k)
@@ -173,11 +195,10 @@ static void flevels(const float *m, int k, float *black, float *white)
 /* Code-agnostic crispness of a grid: black ring cells below, interior
  * cells above the mid level, data cells far from it (either side, capped
  * at half the contrast so bright clutter cannot pull the grid). */
-static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
+static float fscore_of(const float *m, int k)
 {
     int cx, cy, n = k + 1;
     float black, white, t, half, s = 0.0f;
-    fcells(im, gr, k, m);
     flevels(m, k, &black, &white);
     t = black + FIT_MID_LEVEL * (white - black);
     half = FIT_MID_LEVEL * (white - black);
@@ -192,17 +213,94 @@ static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
     return s + (white - black) * (float)((k - 1) * (k - 1));
 }
 
+static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
+{
+    fcells(im, gr, k, m);
+    return fscore_of(m, k);
+}
+
+/* Lattice points per side of one parity class of the half-cell lattice. */
+#define FIT_LAT_MAX (ACTAG_DECODE_MAX_K + 3)
+
+/* The 25 half-cell shifts (i/2, j/2 cells, i, j in -2..2) of grid gr, in
+ * its own cell coordinates, put every cell centre on one half-cell lattice:
+ * cell cx of shift i sits at lattice column 2 cx + i + 2. Each lattice point
+ * is read once (5 samples), 4-5 times fewer reads than grid by grid. The
+ * shifts of one parity class (pi = i & 1, pj = j & 1) use one quarter of the
+ * lattice, (k+3-pi) x (k+3-pj) points: Q[r * FIT_LAT_MAX + c] is lattice
+ * column 2c + pi, row 2r + pj. The sample points equal those of the shifted
+ * grids up to the rounding of their coordinates. */
+static void flattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q)
+{
+    int c, r, n = k + 1;
+    float g = 0.5f * (float)n;
+    /* the union of the shifted grids' sample points lies within g + 1 + so */
+    int inside = fgrid_inside_h(im, gr, g + 1.0f + im->so);
+    for (r = 0; r < n + 2 - pj; r++)
+        for (c = 0; c < n + 2 - pi; c++) {
+            float u = (float)c + 0.5f * (float)pi - 0.5f - g;
+            float v = (float)r + 0.5f * (float)pj - 0.5f - g;
+            float x0 = gr->mx + gr->ax * u + gr->bx * v;
+            float y0 = gr->my + gr->ay * u + gr->by * v;
+            Q[r * FIT_LAT_MAX + c] = fcell5(im, gr, inside, x0, y0);
+        }
+}
+
+/* Cell means m of shift (i, j) from its parity class's lattice Q. */
+static void flattice_cells(const float *Q, int k, int i, int j, float *m)
+{
+    int cx, cy, n = k + 1, oi = (i + 2) >> 1, oj = (j + 2) >> 1;
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++)
+            m[cy * n + cx] = Q[(cy + oj) * FIT_LAT_MAX + cx + oi];
+}
+
+/* Test hook (tests/test_decode_lattice.c): the cell means of grid g =
+ * {mx, my, ax, ay, bx, by} shifted by (i/2, j/2) cells, from the lattice
+ * (lat) and read directly (direct), 5 samples a cell. */
+int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                           int k, float so, int i, int j, float *lat, float *direct)
+{
+    fimg im;
+    fgrid gr, t;
+    float Q[FIT_LAT_MAX * FIT_LAT_MAX];
+    if (k < 4 || k > ACTAG_DECODE_MAX_K || i < -2 || i > 2 || j < -2 || j > 2)
+        return ACTAG_ERR_PARAM;
+    im.img = img;
+    im.rows = rows;
+    im.cols = cols;
+    im.stride = stride;
+    im.so = so;
+    im.fast = 1;
+    gr.mx = g[0];
+    gr.my = g[1];
+    gr.ax = g[2];
+    gr.ay = g[3];
+    gr.bx = g[4];
+    gr.by = g[5];
+    flattice(&im, &gr, k, i & 1, j & 1, Q);
+    flattice_cells(Q, k, i, j, lat);
+    t = gr;
+    t.mx += 0.5f * ((float)i * gr.ax + (float)j * gr.bx);
+    t.my += 0.5f * ((float)i * gr.ay + (float)j * gr.by);
+    fcells(&im, &t, k, direct);
+    return ACTAG_OK;
+}
+
 /* Coarse translation search (+-1 cell, quarter-cell steps) by fscore. */
 static void fshift(const fimg *im, fgrid *gr, int k, float *m)
 {
     /* Starting grids: as given, rotated by +-30 degrees, and sheared
      * (sonar images show tags as parallelograms) by b += +-a (lb / la);
-     * each on a quarter-cell lattice of shifts within +-1 cell. */
+     * each on a quarter-cell lattice of shifts within +-1 cell (along the
+     * given grid's cell vectors). The given grid's half-cell shifts share
+     * one lattice (flattice); the others' do not, and shifting those along
+     * their own vectors instead lost a real pool frame (f_0301). */
     static const float rc[FIT_INITS] = {1.0f, 0.8660254f, 0.8660254f, 1.0f, 1.0f};
     static const float rs[FIT_INITS] = {0.0f, 0.5f, -0.5f, 0.0f, 0.0f};
     static const float hb[FIT_INITS] = {0.0f, 0.0f, 0.0f, 1.0f, -1.0f};
     fgrid g0 = *gr, t;
-    float best = -1e30f;
+    float best = -1e30f, Q[FIT_LAT_MAX * FIT_LAT_MAX];
     float la = actag_sqrtf(g0.ax * g0.ax + g0.ay * g0.ay), lb = actag_sqrtf(g0.bx * g0.bx + g0.by * g0.by);
     float q = la > 0.0f ? lb / la : 1.0f;
     int i, j, o;
@@ -216,14 +314,25 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
          * neighbours of the best point */
         {
             fgrid bo = gro;
-            float bs = -1e30f;
+            float bs = -1e30f, sc25[25];
+            int pi, pj;
+            /* all 25 scores from the lattice, one parity class at a time */
+            for (pj = 0; pj < 2 && o == 0; pj++)
+                for (pi = 0; pi < 2; pi++) {
+                    flattice(im, &gro, k, pi, pj, Q);
+                    for (j = pj - 2; j <= 2; j += 2)
+                        for (i = pi - 2; i <= 2; i += 2) {
+                            flattice_cells(Q, k, i, j, m);
+                            sc25[(j + 2) * 5 + i + 2] = fscore_of(m, k);
+                        }
+                }
             for (j = -2; j <= 2; j++)
                 for (i = -2; i <= 2; i++) {
                     float sc;
                     t = gro;
                     t.mx += 0.5f * ((float)i * g0.ax + (float)j * g0.bx);
                     t.my += 0.5f * ((float)i * g0.ay + (float)j * g0.by);
-                    sc = fscore(im, &t, k, m);
+                    sc = o == 0 ? sc25[(j + 2) * 5 + i + 2] : fscore(im, &t, k, m);
                     if (sc > bs) {
                         bs = sc;
                         bo = t;
@@ -253,6 +362,7 @@ static void fshift(const fimg *im, fgrid *gr, int k, float *m)
 
 static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
                     int erase);
+static float template_rss(const float *m, const uint8_t *L, int k, int erase, int *ncells);
 
 static float objective(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
                        int erase)
@@ -279,15 +389,34 @@ static float objective(const fimg *im, const fgrid *gr, int k, float *m, const u
  * moves as soon as a move improves (taking the best of all 12 moves per
  * step instead measured worse on the pool frames: 36-38 vs 37-39 of 47 over
  * flips and seeds). */
-static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
-                 int tight)
+/* The template check's refusal of a rival template whose rss is r (see
+ * actag_decode_quad_fit): r <= rss0, or its margin below min_margin. It only
+ * grows with r, and a polish only lowers r, so once a polish reaches it the
+ * final r would too. */
+typedef struct frefuse {
+    float rss0, s2, look, min_margin;
+} frefuse;
+
+static int frefused(const frefuse *rf, float r)
+{
+    return r <= rf->rss0 || 0.5f * (r - rf->rss0) / rf->s2 - rf->look < rf->min_margin;
+}
+
+/* m0: the cells of *gr when known (NULL: read them). rf (a template's
+ * polish, NULL: none): stop as soon as the template's rss is refused;
+ * returns 1 then, else 0. */
+static int ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
+                int tight, const float *m0, const frefuse *rf)
 {
     static const float scales[3] = {1.0f, 0.5f, 0.25f};
     fgrid g0 = *gr;
     float la = actag_sqrtf(gr->ax * gr->ax + gr->ay * gr->ay);
     float lb = actag_sqrtf(gr->bx * gr->bx + gr->by * gr->by);
-    float best = objective(im, gr, k, m, L, erase);
+    float best = m0 == NULL ? objective(im, gr, k, m, L, erase)
+                 : L ? -template_rss(m0, L, k, erase, NULL) : fscore_of(m0, k);
     int lvl, it, p, sgn;
+    if (rf && frefused(rf, -best))
+        return 1;
     for (lvl = tight ? 1 : 0; lvl < 3; lvl++) { /* a polish starts at half steps */
         for (it = 0; it < (tight ? FIT_POLISH_STEPS : FIT_ASCENT_STEPS); it++) {
             fgrid bt = *gr;
@@ -314,6 +443,8 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
                         bs = s;
                         bt = t;
                         *gr = bt; /* Gauss-Seidel sweep: move at once */
+                        if (rf && frefused(rf, -s))
+                            return 1;
                         break;
                     }
                 }
@@ -323,6 +454,7 @@ static void ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, i
             *gr = bt;
         }
     }
+    return 0;
 }
 
 /* Data cell i's reference cells: the black-ring cell next to it (towards the
@@ -397,8 +529,50 @@ static float template_rss(const float *m, const uint8_t *L, int k, int erase, in
 static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint8_t *L,
                     int erase)
 {
-    fcells(im, gr, k, m);
+    fcells_x(im, gr, k, m, erase); /* template_rss skips erased corners: do not read them */
     return -template_rss(m, L, k, erase, NULL);
+}
+
+/* A wide-search start no ascent is likely to make readable: after the
+ * lattice search, the black-ring cells above and interior cells below the
+ * mid level plus the corrected bits of the likeliest code (5 samples a
+ * cell, threshold 0) reach FIT_HOPELESS. An accepted wide reading needs
+ * both together within its corrections (3). On the simulator's labelled
+ * frames (pool seed 5, paper seed 6, 300 views each) and the 58 pool frames
+ * the fitted grids that read had at most 10 here; 12 skips the ascent for
+ * 15-41 % of the wide searches (docs/decoder.md). */
+#define FIT_HOPELESS 12
+
+static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float level,
+                     const actag_family *family, uint32_t keep, float *m, int *err)
+{
+    int cx, cy, i, n = k + 1, miss = 0;
+    float black, white, mid, c[32];
+    actag_soft_match r;
+    fcells(im, gr, k, m);
+    flevels(m, k, &black, &white);
+    if (!(white - black > 0.0f))
+        return 1;
+    mid = black + FIT_MID_LEVEL * (white - black);
+    for (cy = 1; cy < k; cy++)
+        for (cx = 1; cx < k; cx++) {
+            float v = m[cy * n + cx];
+            miss += is_ring(cx, cy, k) ? !(v < mid) : !(v > mid);
+        }
+    for (i = 0; i < 4 * k; i++) {
+        float t;
+        actag_tag_bit_cell(4 * k, i, &cx, &cy);
+        if (flags & ACTAG_FIT_LOCAL) {
+            int rx, ry, wx, wy;
+            fref_cells(i, k, &rx, &ry, &wx, &wy);
+            t = 0.5f * (m[ry * n + rx] + m[wy * n + wx]);
+        } else {
+            t = black + level * (white - black);
+        }
+        c[i] = (m[cy * n + cx] - t) / (white - black);
+    }
+    *err = actag_family_match_soft(family, c, keep, &r);
+    return *err == ACTAG_OK && miss + r.best.hamming >= FIT_HOPELESS;
 }
 
 void actag_fit_params_default(actag_fit_params *fp)
@@ -473,10 +647,21 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     if (flags & ACTAG_FIT_WIDE) {
         im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
         fshift(&im, &gr, k, m);
+        /* a hopeless start: no ascent, straight to the quad's own grid
+         * (the second grid, as if the fitted one had read nothing) */
+        if (!(flags & ACTAG_FIT_NO_SEARCH) &&
+            fhopeless(&im, &gr, k, flags, level, family, keep, m, &rc)) {
+            im.fast = 0;
+            regrid = 1;
+            gr = g_quad;
+            goto reread;
+        }
+        if (rc != ACTAG_OK)
+            return rc;
         im.fast = 0;
     }
     if (!(flags & ACTAG_FIT_NO_SEARCH)) {
-        ffit(&im, &gr, k, m, NULL, 0, 0);
+        ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL);
     }
 reread:
     fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
@@ -671,13 +856,21 @@ reread:
             }
             for (jj = 0; jj < ncand; jj++) {
                 float r;
+                frefuse rf;
                 layout_of(family, cid[jj], cview[jj], k, L);
+                rf.rss0 = rss0;
+                rf.s2 = s2;
+                rf.look = look;
+                rf.min_margin = fp->min_margin;
                 /* a polish near the grid the reading came from (after the
-                 * wide search, which may settle a cell off, the full range) */
+                 * wide search, which may settle a cell off, the full range);
+                 * m holds the cells of gr (the quad's grid after regrid) */
                 {
                     fgrid g = jj < ml.ntop ? gr : g_quad;
-                    ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE));
-                    fcells(&im, &g, k, mt);
+                    if (ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE),
+                             (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL))
+                        goto no_reading; /* refused before the polish ends */
+                    fcells_x(&im, &g, k, mt, erase);
                     r = template_rss(mt, L, k, erase, &nc);
                 }
                 if (jj == 0) {

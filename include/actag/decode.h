@@ -240,7 +240,14 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      written as centre + a (u - g) + b (v - g). With ACTAG_FIT_WIDE, first
  *      the best of 5 starting grids (as given, rotated +-30 degrees, sheared
  *      b += +-a lb/la) on a half-cell lattice of shifts within +-1 cell, then
- *      its quarter-cell neighbours. Then (unless ACTAG_FIT_NO_SEARCH) an
+ *      its quarter-cell neighbours (the given grid's 25 half-cell shifts are
+ *      read from one shared half-cell lattice of cell means, equal to
+ *      grid-by-grid reading up to the rounding of the sample points). A
+ *      start no ascent is likely to make readable (structure misses plus
+ *      the likeliest code's corrected bits, 5 samples a cell, reach 12;
+ *      readable fitted grids measured at most 10) skips the ascent and the
+ *      fitted grid: the quad's own grid is read as the second grid (below).
+ *      Then (unless ACTAG_FIT_NO_SEARCH) an
  *      ascent over the 6 affine numbers (steps 0.15 cell in position, 5 % of
  *      a side vector, halved twice), kept within half a cell of the start
  *      and 65-134 % of its side lengths. The objective is code-agnostic:
@@ -322,7 +329,8 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *   1.0), contrast, flip_weight = sum of |c_i| of the corrected bits,
  *   min_confidence = min |c_i|, fit_corners = the fitted grid's white-square
  *   corners in tag order.
- *   Deterministic: + - * / and sqrtf only. No memory beyond ~1 KB of stack.
+ *   Deterministic: + - * / and sqrtf only. No memory beyond ~1.6 KB of stack
+ *   (the lattice: (k+3)^2 + 25 floats, 584 bytes for k = 8).
  *   Cost: one fit is ~100-200 evaluations of 49 cells x 9 (5 during the
  *   ACTAG_FIT_WIDE search) bilinear samples, 0.1-0.4 ms on a desktop core.
  *   Errors: ACTAG_ERR_NULL (any pointer NULL), ACTAG_ERR_SIZE, ACTAG_ERR_FAMILY,

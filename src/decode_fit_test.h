@@ -1,0 +1,18 @@
+/*
+ * decode_fit_test.h -- internal: hooks of decode_fit.c for its unit tests
+ * (not part of the API).
+ */
+#ifndef ACTAG_SRC_DECODE_FIT_TEST_H
+#define ACTAG_SRC_DECODE_FIT_TEST_H
+
+#include "actag/common.h"
+
+/* The 5-sample cell means of grid g = {mx, my, ax, ay, bx, by} (image point
+ * of grid point (u, v): m + a (u - g) + b (v - g), as in decode_fit.c)
+ * shifted by (i/2, j/2) cells: from the wide search's half-cell lattice
+ * (lat) and read grid by grid (direct), (k+1)^2 floats each. k in 4..8,
+ * i, j in -2..2, so in 0..0.5; ACTAG_OK or ACTAG_ERR_PARAM. */
+int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                           int k, float so, int i, int j, float *lat, float *direct);
+
+#endif

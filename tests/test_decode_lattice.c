@@ -1,0 +1,136 @@
+/* The fit decoder's wide-search lattice (src/decode_fit.c, flattice): the
+ * 5-sample cell means of a grid's 25 half-cell shifts read from one shared
+ * lattice against the same shifts read grid by grid (the brute-force
+ * reference), on random images and grids, inside the frame and across its
+ * edges (edge replication). They may differ only by the rounding of the
+ * sample coordinates. */
+#include "../src/decode_fit_test.h"
+
+#include "unity.h"
+#include "test_util.h"
+
+#include <math.h>
+#include <string.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+#define R 96
+#define C 120
+
+static uint32_t lcg(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s >> 8;
+}
+
+static float unif(uint32_t *s, float lo, float hi)
+{
+    return lo + (hi - lo) * (float)(lcg(s) & 0xffffu) / 65535.0f;
+}
+
+/* blocky random grey levels (cells of 3 px) with speckle: strong gradients */
+static void fill_image(uint8_t *img, uint32_t *s)
+{
+    int r, c;
+    for (r = 0; r < R; r++)
+        for (c = 0; c < C; c++)
+            img[r * C + c] = (uint8_t)(((r / 3 * 7 + c / 3 * 13) * 37u + (lcg(s) & 31u)) & 255u);
+}
+
+static float compare(const uint8_t *img, const float g[6], int k, float so)
+{
+    float lat[81], dir[81], worst = 0.0f;
+    int i, j, c, n = k + 1;
+    for (j = -2; j <= 2; j++)
+        for (i = -2; i <= 2; i++) {
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                                  actag__fit_shift_cells(img, R, C, C, g, k, so, i, j, lat, dir));
+            for (c = 0; c < n * n; c++) {
+                float d = fabsf(lat[c] - dir[c]);
+                TEST_ASSERT_TRUE(dir[c] >= 0.0f && dir[c] <= 255.0f);
+                if (d > worst)
+                    worst = d;
+            }
+        }
+    return worst;
+}
+
+/* Random grids (cells 1.5-7 px, any rotation, sheared, k 4..8, sample
+ * offsets 0..0.5) wholly inside the frame: the lattice equals the direct
+ * reading within 0.02 grey levels. */
+static void test_lattice_equals_direct_inside(void)
+{
+    static uint8_t img[R * C];
+    uint32_t s = 12345u;
+    int trial;
+    fill_image(img, &s);
+    for (trial = 0; trial < 300; trial++) {
+        int k = 4 + (int)(lcg(&s) % 5u);
+        float cell = unif(&s, 1.5f, 7.0f), th = unif(&s, 0.0f, 6.2831853f);
+        float sh = unif(&s, -0.4f, 0.4f), so = (float)(lcg(&s) % 5u) * 0.125f;
+        float ext = cell * ((float)k + 4.0f) * 1.5f, g[6];
+        g[2] = cell * cosf(th);
+        g[3] = cell * sinf(th);
+        g[4] = -cell * sinf(th) + sh * g[2];
+        g[5] = cell * cosf(th) + sh * g[3];
+        if (ext > 0.45f * (float)R)
+            continue;
+        g[0] = unif(&s, ext, (float)C - ext);
+        g[1] = unif(&s, ext, (float)R - ext);
+        TEST_ASSERT_TRUE(compare(img, g, k, so) < 0.02f);
+    }
+}
+
+/* Grids centred near or beyond the frame's edges and corners: edge
+ * replication gives the same as grid by grid. */
+static void test_lattice_equals_direct_at_edges(void)
+{
+    static uint8_t img[R * C];
+    uint32_t s = 777u;
+    int trial;
+    fill_image(img, &s);
+    for (trial = 0; trial < 300; trial++) {
+        int k = 4 + (int)(lcg(&s) % 5u);
+        float cell = unif(&s, 1.5f, 9.0f), th = unif(&s, 0.0f, 6.2831853f), g[6];
+        g[2] = cell * cosf(th);
+        g[3] = cell * sinf(th);
+        g[4] = -cell * sinf(th);
+        g[5] = cell * cosf(th);
+        /* centre on a random border strip, partly off the frame */
+        g[0] = (lcg(&s) & 1u) ? unif(&s, -20.0f, 25.0f) : unif(&s, (float)C - 25.0f, (float)C + 20.0f);
+        g[1] = (lcg(&s) & 1u) ? unif(&s, -20.0f, 25.0f) : unif(&s, (float)R - 25.0f, (float)R + 20.0f);
+        TEST_ASSERT_TRUE(compare(img, g, k, 0.2f) < 0.02f);
+    }
+}
+
+/* A grid on an integer lattice of the pixels (axis-aligned, whole-pixel
+ * cells, half-cell shifts on whole pixels): both readings are exact, so
+ * they agree bit for bit. */
+static void test_lattice_exact_on_pixel_grid(void)
+{
+    static uint8_t img[R * C];
+    uint32_t s = 4242u;
+    float g[6] = {60.0f, 48.0f, 4.0f, 0.0f, 0.0f, 4.0f};
+    fill_image(img, &s);
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, compare(img, g, 6, 0.25f));
+}
+
+static void test_lattice_hook_rejects_bad_arguments(void)
+{
+    static uint8_t img[R * C];
+    float g[6] = {60.0f, 48.0f, 4.0f, 0.0f, 0.0f, 4.0f}, a[81], b[81];
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 9, 0.2f, 0, 0, a, b));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 6, 0.2f, 3, 0, a, b));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 6, 0.2f, 0, -3, a, b));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_lattice_equals_direct_inside);
+    RUN_TEST(test_lattice_equals_direct_at_edges);
+    RUN_TEST(test_lattice_exact_on_pixel_grid);
+    RUN_TEST(test_lattice_hook_rejects_bad_arguments);
+    return UNITY_END();
+}
