@@ -63,12 +63,14 @@ typedef struct {
     unsigned shift;
     uint8_t *ring;        /* K rows of cols bytes */
     size_t cols;
+    size_t c0, c1;        /* 16-bit: only columns c0 .. c1-1 are scaled */
     int k;
     int tag[RING_MAX];    /* row held by each ring slot, -1 for none */
 } rowsrc;
 
 /* Row r as 8-bit samples; for 16-bit frames not in ring slot `avoid` (so
- * that two rows fetched together do not evict each other). */
+ * that two rows fetched together do not evict each other), and only
+ * columns c0 .. c1-1 of it are valid (the strip being filtered). */
 static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
 {
     int slot, i;
@@ -85,7 +87,7 @@ static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
         slot = (slot + 1) % rs->k;
     d = rs->ring + (size_t)slot * rs->cols;
     p = rs->src16 + 2u * (size_t)r * rs->stride;
-    for (c = 0; c < rs->cols; c++) {
+    for (c = rs->c0; c < rs->c1; c++) {
         uint16_t v;
         memcpy(&v, p + 2u * c, sizeof v);
         d[c] = (uint8_t)(((uint64_t)((uint32_t)v * 255u + rs->half) * rs->magic) >> rs->shift);
@@ -546,60 +548,44 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
 
 #endif /* !MEDIAN_SSE2 */
 
-/* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
- * scaled through the ring in the scratch after the column histograms. */
-static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_stride, int radius,
-                       void *scratch, size_t scratch_size)
+/* Bytes of one column's histograms (16 coarse + 256 fine 8-bit lanes). */
+#define COL_BYTES 272u
+
+/* The constant-time filter on the output columns s0 .. s1-1 of every row,
+ * with the column histograms of columns hb .. he only (the strip and the R
+ * columns on each side that its windows and the first kernel slide read,
+ * clamped to the image), stored from `hist` on, column c at c - hb. */
+static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, int hb, int he,
+                         uint8_t *dst, size_t dstride, int R, uint8_t *hist)
 {
-    uint8_t *colc, *colf;
+    const size_t span = (size_t)(he - hb + 1);
+    uint8_t *const colc = hist;
+    uint8_t *const colf = hist + span * 16u;
     h16 hf[16];    /* parked fine kernel histograms, per coarse bin */
     int last[16];  /* column at which hf[b] was valid */
     h16 hc;        /* coarse kernel histogram */
     h16 cur;       /* fine kernel histogram of coarse bin curb */
     unsigned curb; /* coarse bin of the previous pixel's median */
-    size_t ucols, dstride;
-    int i, j, k, R = radius;
-    unsigned half;
-
-    ucols = (size_t)cols;
-    dstride = (size_t)dst_stride;
-    rs->cols = ucols;
-    if (R == 0) {
-        rs->ring = (uint8_t *)scratch;
-        rs->k = 1;
-        for (i = 0; i < rows; i++)
-            memcpy(dst + (size_t)i * dstride, get_row(rs, i, -1), ucols);
-        return ACTAG_OK;
-    }
-#ifndef MEDIAN_SSE2
-    /* Without SIMD, radii up to 7 are faster with a sliding histogram (the
-     * ring, for 16-bit frames, then has the whole scratch: at least 274 rows,
-     * more than the 2R+4 <= 18 a block of four output rows reads). */
-    if (R <= MEDIAN_QUAD_MAX_R) {
-        size_t nk = scratch_size / ucols;
-        rs->ring = (uint8_t *)scratch;
-        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-        median_quad(rs, rows, cols, dst, dstride, R);
-        return ACTAG_OK;
-    }
-#endif
-
-    {   /* the ring after the column histograms: at least 2 rows */
-        size_t nk = (scratch_size - ucols * 272u) / ucols;
-        rs->ring = (uint8_t *)scratch + ucols * 272u;
-        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-    }
-    colc = (uint8_t *)scratch;
-    colf = colc + ucols * 16u;
+    int i, j, k;
     /* Rank (0-based) of the median among the (2R+1)^2 samples. */
-    half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
+    const unsigned half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
+
+/* Histograms of image column c (hb <= c <= he). */
+#define CC(c) (colc + (size_t)((c) - hb) * 16u)
+#define CF(c, b) FINE(colf, (c) - hb, b)
+
+    /* 16-bit rows: scale the strip's columns only, none left in the ring */
+    rs->c0 = (size_t)hb;
+    rs->c1 = (size_t)he + 1u;
+    for (k = 0; k < RING_MAX; k++)
+        rs->tag[k] = -1;
 
     /* Column histograms for row 0: rows clamp(-R..R). */
-    memset(colc, 0, ucols * 272u);
+    memset(hist, 0, span * COL_BYTES);
     for (k = -R; k <= R; k++) {
-        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1);
+        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1) + hb;
         size_t c;
-        for (c = 0; c < ucols; c++) {
+        for (c = 0; c < span; c++) {
             unsigned v = s[c];
             step_add(colc + c * 16u, v >> 4);
             step_add(FINE(colf, c, v >> 4), v & 15u);
@@ -618,7 +604,9 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
                 const uint8_t *so = get_row(rs, rout, -1);
                 const uint8_t *si = get_row(rs, rin, row_slot(rs, so));
                 size_t c;
-                for (c = 0; c < ucols; c++) {
+                so += hb;
+                si += hb;
+                for (c = 0; c < span; c++) {
                     unsigned vin = si[c], vout = so[c];
                     col_update(colc + c * 16u, FINE(colf, c, vin >> 4), FINE(colf, c, vout >> 4),
                                vin, vout);
@@ -626,31 +614,31 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
             }
         }
 
-        /* Kernel histograms start at column -1 (columns clamp(-R-1..R-1)),
-         * so that the first slide gives column 0. cur starts as bin 0's fine
-         * histogram; the other bins are rebuilt on first use. */
+        /* Kernel histograms start at column s0-1 (columns clamp(s0-R-1 ..
+         * s0+R-1)), so that the first slide gives column s0. cur starts as
+         * bin 0's fine histogram; the other bins are rebuilt on first use. */
         h16_zero(&hc);
         h16_zero(&cur);
         curb = 0;
-        for (k = -R - 1; k <= R - 1; k++) {
+        for (k = s0 - R - 1; k <= s0 + R - 1; k++) {
             int c = clampi(k, 0, cols - 1);
-            h16_add(&hc, colc + (size_t)c * 16u);
-            h16_add(&cur, FINE(colf, c, 0));
+            h16_add(&hc, CC(c));
+            h16_add(&cur, CF(c, 0));
         }
         for (k = 0; k < 16; k++)
-            last[k] = -2 * R - 2;
+            last[k] = s0 - 2 * R - 2;
 
-        for (j = 0; j < cols; j++) {
+        for (j = s0; j < s1; j++) {
             unsigned b, f, below;
             int ca = j + R < cols ? j + R : cols - 1; /* column entering */
             int cr = j - R - 1 > 0 ? j - R - 1 : 0;   /* column leaving */
             h16 spec;
 
-            h16_slide(&hc, &hc, colc + (size_t)ca * 16u, colc + (size_t)cr * 16u);
+            h16_slide(&hc, &hc, CC(ca), CC(cr));
             /* Speculate that the median stays in coarse bin curb (it nearly
              * always does): sliding cur now, before the coarse search is
              * done, keeps the dependency chain per pixel short. */
-            h16_slide(&spec, &cur, FINE(colf, ca, curb), FINE(colf, cr, curb));
+            h16_slide(&spec, &cur, CF(ca, curb), CF(cr, curb));
 
             b = h16_count_le(&hc, half);
             if (b == curb) {
@@ -665,12 +653,12 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
                 if (2 * gap > 2 * R + 1) {
                     h16_zero(&cur);
                     for (k = j - R; k <= j + R; k++)
-                        h16_add(&cur, FINE(colf, clampi(k, 0, cols - 1), b));
+                        h16_add(&cur, CF(clampi(k, 0, cols - 1), b));
                 } else {
                     cur = hf[b];
                     for (k = last[b] + 1; k <= j; k++)
-                        h16_slide(&cur, &cur, FINE(colf, k + R < cols ? k + R : cols - 1, b),
-                                  FINE(colf, k - R - 1 > 0 ? k - R - 1 : 0, b));
+                        h16_slide(&cur, &cur, CF(k + R < cols ? k + R : cols - 1, b),
+                                  CF(k - R - 1 > 0 ? k - R - 1 : 0, b));
                 }
                 curb = b;
             }
@@ -681,6 +669,72 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
             f = h16_count_le(&cur, half - below);
             d[j] = (uint8_t)(curb * 16u + f);
         }
+    }
+#undef CC
+#undef CF
+}
+
+/* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
+ * scaled through the ring in the scratch after the column histograms. */
+static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_stride, int radius,
+                       void *scratch, size_t scratch_size)
+{
+    size_t ucols, dstride, hcap;
+    int i, s0, s1, R = radius;
+
+    ucols = (size_t)cols;
+    dstride = (size_t)dst_stride;
+    rs->cols = ucols;
+    rs->c0 = 0;
+    rs->c1 = ucols;
+    if (R == 0) {
+        rs->ring = (uint8_t *)scratch;
+        rs->k = 1;
+        for (i = 0; i < rows; i++)
+            memcpy(dst + (size_t)i * dstride, get_row(rs, i, -1), ucols);
+        return ACTAG_OK;
+    }
+#ifndef MEDIAN_SSE2
+    /* Without SIMD, radii up to 7 are faster with a sliding histogram. For
+     * 16-bit frames the ring then has the whole scratch and must hold the
+     * 2R+4 <= 18 rows a block of four output rows reads: true up to 4352
+     * columns (scratch / cols >= 2 + 69632 / cols); wider 16-bit frames
+     * take the constant-time path below (same output). */
+    if (R <= MEDIAN_QUAD_MAX_R) {
+        size_t nk = scratch_size / ucols;
+        if (rs->src8 != NULL || nk >= (size_t)(2 * R + 4)) {
+            rs->ring = (uint8_t *)scratch;
+            rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+            median_quad(rs, rows, cols, dst, dstride, R);
+            return ACTAG_OK;
+        }
+    }
+#endif
+
+    /* As many column histograms as the scratch holds next to a ring of two
+     * rows (at least min(cols, ACTAG_MEDIAN_HIST_COLS)); the ring gets the
+     * rest, at least 2 rows. */
+    hcap = (scratch_size - 2u * ucols) / COL_BYTES;
+    if (hcap > ucols)
+        hcap = ucols;
+    {
+        size_t nk = (scratch_size - hcap * COL_BYTES) / ucols;
+        rs->ring = (uint8_t *)scratch + hcap * COL_BYTES;
+        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+    }
+
+    /* Vertical strips: output columns s0 .. s1-1 need the histograms of
+     * columns hb = max(0, s0-R-1) .. min(cols-1, s1-1+R), at most hcap of
+     * them, so a strip is hcap - 2R - 1 >= 1 columns wide (hcap - R at
+     * the left edge); one strip when all the columns fit. */
+    for (s0 = 0; s0 < cols; s0 = s1) {
+        int hb = s0 - R - 1 > 0 ? s0 - R - 1 : 0, he;
+        if ((size_t)(cols - hb) <= hcap)
+            s1 = cols;
+        else
+            s1 = hb + (int)hcap - R;
+        he = s1 - 1 + R < cols ? s1 - 1 + R : cols - 1;
+        median_strip(rs, rows, cols, s0, s1, hb, he, dst, dstride, R, (uint8_t *)scratch);
     }
     return ACTAG_OK;
 }

@@ -87,7 +87,10 @@ extern "C" {
  * 16-bin coarse and a 256-bin fine 8-bit histogram, and 2 bytes for the
  * 16-bit input's row ring (actag_median_filter16). rows is unused but kept
  * so that every stage's macro has the same shape. */
-#define ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) ((size_t)(cols) * 274u)
+#define ACTAG_MEDIAN_HIST_COLS 256
+#define ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols)                                                    \
+    ((size_t)((cols) < ACTAG_MEDIAN_HIST_COLS ? (cols) : ACTAG_MEDIAN_HIST_COLS) * 272u +       \
+     (size_t)(cols) * 2u)
 
 int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
                         uint8_t *dst, int dst_stride, int radius,
