@@ -551,14 +551,17 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
 /* Bytes of one column's histograms (16 coarse + 256 fine 8-bit lanes). */
 #define COL_BYTES 272u
 
-/* The constant-time filter on the output columns s0 .. s1-1 of every row,
- * with the column histograms of columns hb .. he only (the strip and the R
- * columns on each side that its windows and the first kernel slide read,
- * clamped to the image), stored from `hist` on, column c at c - hb. */
-static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, int hb, int he,
+/* The constant-time filter on the output columns hb+s0 .. hb+s1-1 of every
+ * row, with the column histograms of image columns hb .. hb+span-1 only
+ * (the strip and the R columns on each side that its windows and the first
+ * kernel slide read, clamped to the image), stored from `hist` on. Column
+ * indices below are relative to hb (dst too points at column hb), and cols
+ * is the number of image columns from hb on: the clamp at the right edge
+ * is cols - 1, and the clamp at 0 is only reached when hb is 0 (when hb >
+ * 0, s0 = R + 1, so no window of the strip reaches left of hb). */
+static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, size_t hb, size_t span,
                          uint8_t *dst, size_t dstride, int R, uint8_t *hist)
 {
-    const size_t span = (size_t)(he - hb + 1);
     uint8_t *const colc = hist;
     uint8_t *const colf = hist + span * 16u;
     h16 hf[16];    /* parked fine kernel histograms, per coarse bin */
@@ -570,13 +573,13 @@ static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, int hb,
     /* Rank (0-based) of the median among the (2R+1)^2 samples. */
     const unsigned half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
 
-/* Histograms of image column c (hb <= c <= he). */
-#define CC(c) (colc + (size_t)((c) - hb) * 16u)
-#define CF(c, b) FINE(colf, (c) - hb, b)
+/* Histograms of column c (relative to hb). */
+#define CC(c) (colc + (size_t)(c) * 16u)
+#define CF(c, b) FINE(colf, c, b)
 
     /* 16-bit rows: scale the strip's columns only, none left in the ring */
-    rs->c0 = (size_t)hb;
-    rs->c1 = (size_t)he + 1u;
+    rs->c0 = hb;
+    rs->c1 = hb + span;
     for (k = 0; k < RING_MAX; k++)
         rs->tag[k] = -1;
 
@@ -734,7 +737,8 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         else
             s1 = hb + (int)hcap - R;
         he = s1 - 1 + R < cols ? s1 - 1 + R : cols - 1;
-        median_strip(rs, rows, cols, s0, s1, hb, he, dst, dstride, R, (uint8_t *)scratch);
+        median_strip(rs, rows, cols - hb, s0 - hb, s1 - hb, (size_t)hb, (size_t)(he - hb + 1),
+                     dst + hb, dstride, R, (uint8_t *)scratch);
     }
     return ACTAG_OK;
 }
