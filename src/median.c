@@ -1,6 +1,9 @@
 /* Constant-time median filter (Perreault & Hebert 2007), see actag/median.h.
  *
- * Scratch layout (all uint8_t, no alignment needed), 272 bytes per column:
+ * Scratch layout (all uint8_t, no alignment needed), 272 bytes for each of
+ * the H columns of a vertical strip (median_core: H >= min(cols, 256);
+ * column c of the strip at index c, colf after the strip's coarse ones),
+ * then the 16-bit ring (at least 2 rows of cols bytes):
  *   colc[c*16 + k]           cumulative coarse histogram of column c: the
  *                            number of its samples v with (v >> 4) <= k
  *   colf[(c*16 + b)*16 + k]  cumulative fine histogram of column c inside
