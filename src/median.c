@@ -169,8 +169,8 @@ static void step_add(uint8_t *cnt, unsigned t)
  *   block). The 8-bit lanes wrap modulo 256, but every final count is
  *   <= 2R+1 <= 255, so the result is exact.
  * h16: a kernel histogram, 16 lanes of 16-bit counts (<= 65025).
- *   h16_zero, h16_add (h += a), h16_slide (d = h + a - r, never leaves
- *   0..65025), h16_count_le (number of lanes <= rank of a nondecreasing
+ *   h16_zero, h16_add (h += a), h16_sub (h -= a), h16_slide (d = h + a -
+ *   r, never leaves 0..65025), h16_count_le (number of lanes <= rank of a nondecreasing
  *   histogram whose last lane exceeds rank: the bin holding the sample of
  *   that rank), h16_get (lane k).
  * ---------------------------------------------------------------------- */
@@ -211,6 +211,14 @@ static void h16_add(h16 *h, const uint8_t *a)
     __m128i va = load16(a);
     h->lo = _mm_add_epi16(h->lo, _mm_unpacklo_epi8(va, z));
     h->hi = _mm_add_epi16(h->hi, _mm_unpackhi_epi8(va, z));
+}
+
+static void h16_sub(h16 *h, const uint8_t *a)
+{
+    const __m128i z = _mm_setzero_si128();
+    __m128i va = load16(a);
+    h->lo = _mm_sub_epi16(h->lo, _mm_unpacklo_epi8(va, z));
+    h->hi = _mm_sub_epi16(h->hi, _mm_unpackhi_epi8(va, z));
 }
 
 static void h16_slide(h16 *d, const h16 *h, const uint8_t *a, const uint8_t *r)
@@ -293,6 +301,13 @@ static void h16_add(h16 *h, const uint8_t *restrict a)
     int k;
     for (k = 0; k < 16; k++)
         h->v[k] = (uint16_t)(h->v[k] + a[k]);
+}
+
+static void h16_sub(h16 *h, const uint8_t *restrict a)
+{
+    int k;
+    for (k = 0; k < 16; k++)
+        h->v[k] = (uint16_t)(h->v[k] - a[k]);
 }
 
 static void h16_slide(h16 *d, const h16 *h, const uint8_t *restrict a, const uint8_t *restrict r)
@@ -680,6 +695,142 @@ static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, size_t 
 #undef CF
 }
 
+/* Large radii (2R + 1 > H / 2 with H column histograms): strips of up to
+ * H / 2 output columns s0 .. s1-1 (absolute here, W = s1 - s0 <= 2R + 1),
+ * independent of R. A window position p stands for image column clamp(p).
+ * Of the positions a kernel of the strip covers, only those that leave as
+ * it slides, L = s0-R-1 .. s1-R-2, and those that enter, E = s0+R ..
+ * s1+R-1, need a histogram each (image columns lb .. le and eb .. ee, at
+ * most W each); the positions M = s1-R-1 .. s0+R-1 are in every kernel of
+ * the strip (its first one at s0 - 1 included) and are kept as one sum,
+ * with 16-bit counts (ac, af), slid down a sample per position and row. A
+ * kernel is rebuilt from M's sum and the L and E columns it covers. The
+ * counts are exact, so the output is that of median_strip. */
+static void median_strip_agg(rowsrc *rs, int rows, int cols, int s0, int s1, uint8_t *dst,
+                             size_t dstride, int R, uint8_t *hist)
+{
+    const int lb = clampi(s0 - R - 1, 0, cols - 1), le = clampi(s1 - R - 2, 0, cols - 1);
+    const int eb = clampi(s0 + R, 0, cols - 1), ee = clampi(s1 + R - 1, 0, cols - 1);
+    const int mlo = s1 - R - 1, mhi = s0 + R - 1; /* M; empty when W = 2R + 1 */
+    const size_t nl = (size_t)(le - lb + 1), ne = (size_t)(ee - eb + 1);
+    uint8_t *const colcl = hist, *const colfl = hist + nl * 16u;
+    uint8_t *const colce = hist + nl * COL_BYTES, *const colfe = colce + ne * 16u;
+    h16 ac, af[16]; /* M's coarse and fine histograms */
+    h16 hf[16], hc, cur;
+    int last[16];
+    unsigned curb;
+    int i, j, k, p;
+    const unsigned half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
+
+    rs->c0 = (size_t)lb;
+    rs->c1 = (size_t)ee + 1u;
+    for (k = 0; k < RING_MAX; k++)
+        rs->tag[k] = -1;
+
+    /* Column histograms and M's sum for row 0: rows clamp(-R..R). */
+    memset(hist, 0, (nl + ne) * COL_BYTES);
+    h16_zero(&ac);
+    for (k = 0; k < 16; k++)
+        h16_zero(&af[k]);
+    for (k = -R; k <= R; k++) {
+        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1);
+        size_t c;
+        for (c = 0; c < nl; c++) {
+            unsigned v = s[(size_t)lb + c];
+            step_add(colcl + c * 16u, v >> 4);
+            step_add(FINE(colfl, c, v >> 4), v & 15u);
+        }
+        for (c = 0; c < ne; c++) {
+            unsigned v = s[(size_t)eb + c];
+            step_add(colce + c * 16u, v >> 4);
+            step_add(FINE(colfe, c, v >> 4), v & 15u);
+        }
+        for (p = mlo; p <= mhi; p++) {
+            unsigned v = s[clampi(p, 0, cols - 1)];
+            h16_add(&ac, step_mask[v >> 4]);
+            h16_add(&af[v >> 4], step_mask[v & 15u]);
+        }
+    }
+
+    for (i = 0; i < rows; i++) {
+        uint8_t *d = dst + (size_t)i * dstride;
+
+        if (i > 0) {
+            int rout = clampi(i - R - 1, 0, rows - 1);
+            int rin = clampi(i + R, 0, rows - 1);
+            if (rout != rin) {
+                const uint8_t *so = get_row(rs, rout, -1);
+                const uint8_t *si = get_row(rs, rin, row_slot(rs, so));
+                size_t c;
+                for (c = 0; c < nl; c++) {
+                    unsigned vin = si[(size_t)lb + c], vout = so[(size_t)lb + c];
+                    col_update(colcl + c * 16u, FINE(colfl, c, vin >> 4),
+                               FINE(colfl, c, vout >> 4), vin, vout);
+                }
+                for (c = 0; c < ne; c++) {
+                    unsigned vin = si[(size_t)eb + c], vout = so[(size_t)eb + c];
+                    col_update(colce + c * 16u, FINE(colfe, c, vin >> 4),
+                               FINE(colfe, c, vout >> 4), vin, vout);
+                }
+                for (p = mlo; p <= mhi; p++) {
+                    int c2 = clampi(p, 0, cols - 1);
+                    unsigned vin = si[c2], vout = so[c2];
+                    h16_slide(&ac, &ac, step_mask[vin >> 4], step_mask[vout >> 4]);
+                    h16_add(&af[vin >> 4], step_mask[vin & 15u]);
+                    h16_sub(&af[vout >> 4], step_mask[vout & 15u]);
+                }
+            }
+        }
+
+        /* The kernel at s0 - 1: M's sum and the L positions. */
+        hc = ac;
+        cur = af[0];
+        curb = 0;
+        for (p = s0 - R - 1; p <= s1 - R - 2; p++) {
+            size_t c = (size_t)(clampi(p, 0, cols - 1) - lb);
+            h16_add(&hc, colcl + c * 16u);
+            h16_add(&cur, FINE(colfl, c, 0));
+        }
+        for (k = 0; k < 16; k++)
+            last[k] = s0 - 2 * R - 2;
+
+        for (j = s0; j < s1; j++) {
+            unsigned b, f, below;
+            size_t ca = (size_t)((j + R < cols ? j + R : cols - 1) - eb); /* entering, in E */
+            size_t cr = (size_t)((j - R - 1 > 0 ? j - R - 1 : 0) - lb);   /* leaving, in L */
+            h16 spec;
+
+            h16_slide(&hc, &hc, colce + ca * 16u, colcl + cr * 16u);
+            h16_slide(&spec, &cur, FINE(colfe, ca, curb), FINE(colfl, cr, curb));
+            b = h16_count_le(&hc, half);
+            if (b == curb) {
+                cur = spec;
+            } else {
+                int gap = j - last[b];
+                hf[curb] = cur;
+                last[curb] = j - 1;
+                if (2 * gap > s1 - s0 + 1) {
+                    /* positions j-R .. s1-R-2 (in L), M, s0+R .. j+R (in E) */
+                    cur = af[b];
+                    for (k = j - R; k <= s1 - R - 2; k++)
+                        h16_add(&cur, FINE(colfl, clampi(k, 0, cols - 1) - lb, b));
+                    for (k = s0 + R; k <= j + R; k++)
+                        h16_add(&cur, FINE(colfe, clampi(k, 0, cols - 1) - eb, b));
+                } else {
+                    cur = hf[b];
+                    for (k = last[b] + 1; k <= j; k++)
+                        h16_slide(&cur, &cur, FINE(colfe, (k + R < cols ? k + R : cols - 1) - eb, b),
+                                  FINE(colfl, (k - R - 1 > 0 ? k - R - 1 : 0) - lb, b));
+                }
+                curb = b;
+            }
+            below = curb > 0 ? h16_get(&hc, curb - 1) : 0u;
+            f = h16_count_le(&cur, half - below);
+            d[j] = (uint8_t)(curb * 16u + f);
+        }
+    }
+}
+
 /* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
  * scaled through the ring in the scratch after the column histograms. */
 static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_stride, int radius,
@@ -727,6 +878,17 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         size_t nk = (scratch_size - hcap * COL_BYTES) / ucols;
         rs->ring = (uint8_t *)scratch + hcap * COL_BYTES;
         rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+    }
+
+    /* Large radii: strips of H / 2 columns whatever R (median_strip_agg),
+     * when wider than those below. */
+    if (ucols > hcap && hcap / 2u > hcap - 2u * (size_t)R - 1u) {
+        int w = (int)(hcap / 2u);
+        for (s0 = 0; s0 < cols; s0 = s1) {
+            s1 = cols - s0 > w ? s0 + w : cols;
+            median_strip_agg(rs, rows, cols, s0, s1, dst, dstride, R, (uint8_t *)scratch);
+        }
+        return ACTAG_OK;
     }
 
     /* Vertical strips: output columns s0 .. s1-1 need the histograms of

@@ -384,17 +384,25 @@ static void test_max_counts(void)
 
 
 /* ------------------------------------------------------------ strips
- * Frames wider than ACTAG_MEDIAN_HIST_COLS (256) columns are filtered in
- * vertical strips (median.c: median_core): with hcap column histograms the
- * first strip is hcap - R columns wide, the others hcap - 2R - 1, and the
- * last strip is the one whose columns hb = s0 - R - 1 .. cols - 1 all fit.
- * The SSE2 path uses the strips at every R >= 1, the portable one at
- * R >= 8 (and for 16-bit frames too wide for its 4-row ring). */
+ * Frames wider than the H column histograms the scratch holds (H = 256 at
+ * the minimum size) are filtered in vertical strips (median.c:
+ * median_core). For R < 64 (at H = 256) a strip's histograms cover it and
+ * R + 1 columns left, R right: the first strip is H - R columns wide, the
+ * others H - 2R - 1, the last the one whose columns hb = s0 - R - 1 ..
+ * cols - 1 all fit. For larger R (H / 2 > H - 2R - 1) strips are H / 2
+ * wide, the columns that every window of the strip covers summed in one
+ * histogram (median_strip_agg). The SSE2 path uses the strips at every
+ * R >= 1, the portable one at R >= 8 (and for 16-bit frames too wide for
+ * its 4-row ring). */
 
 /* Number of strips for cols columns (the same rule as median_core). */
 static int strip_count(int cols, int R, int hcap)
 {
     int s0 = 0, s1, n = 0;
+    if (cols <= hcap)
+        return 1;
+    if (hcap / 2 > hcap - 2 * R - 1)
+        return (cols + hcap / 2 - 1) / (hcap / 2);
     for (; s0 < cols; s0 = s1, n++) {
         int hb = s0 - R - 1 > 0 ? s0 - R - 1 : 0;
         s1 = cols - hb <= hcap ? cols : hb + hcap - R;
@@ -402,15 +410,13 @@ static int strip_count(int cols, int R, int hcap)
     return n;
 }
 
-/* The widths where the k-th strip starts (k = 1, 2, 3): cols = T[k] needs
- * k strips, T[k] + 1 needs k + 1. */
-static void strip_thresholds(int R, int hcap, int T[3])
+/* The largest width that needs at most n strips. */
+static int strip_threshold(int n, int R, int hcap)
 {
-    int k;
-    T[0] = hcap;
-    T[1] = (hcap - R) - R - 1 + hcap;
-    for (k = 2; k < 3; k++)
-        T[k] = T[k - 1] + hcap - 2 * R - 1;
+    int cols = 1;
+    while (strip_count(cols + 1, R, hcap) <= n)
+        cols++;
+    return cols;
 }
 
 static void test_strip_boundaries(void)
@@ -423,38 +429,46 @@ static void test_strip_boundaries(void)
     int k, d;
     rng_state = 0x5781Bu;
     for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
-        int R = radii[r], T[3];
-        strip_thresholds(R, ACTAG_MEDIAN_HIST_COLS, T);
-        for (k = 0; k < 3; k++) {
+        int R = radii[r];
+        for (k = 1; k <= 3; k++) {
+            int T = strip_threshold(k, R, ACTAG_MEDIAN_HIST_COLS);
             for (d = -1; d <= 1; d++) {
-                int cols = T[k] + d;
                 int kind = d == 0 ? FILL_UNIFORM : (d < 0 ? FILL_BLOBS : FILL_TWOBINS);
-                /* the thresholds are where they are meant to be */
-                TEST_ASSERT_EQUAL_INT(k + 1 + (d > 0), strip_count(cols, R, ACTAG_MEDIAN_HIST_COLS));
-                check_case(2 * R + 3, cols, R, kind, d & 1, 1);
+                check_case(2 * R + 3, T + d, R, kind, d & 1, 1);
             }
         }
     }
+    TEST_ASSERT_EQUAL_INT(256, strip_threshold(1, 4, 256));
+    TEST_ASSERT_EQUAL_INT(503, strip_threshold(2, 4, 256));
 }
 
-static void test_narrow_strips(void)
+static void test_large_radius_strips(void)
 {
-    /* Large radii: strips of 255 - 2R columns (1 at R = 127), so most
-     * windows span several strips and every strip reaches both edges'
-     * clamping in some rows. */
-    static const int radii[] = {100, 120, 126, 127};
+    /* Large radii: R = 63, the narrowest strips of the first kind (129
+     * columns), and R >= 64, strips of 128 columns with the shared columns
+     * summed (at R = 127 all but 2 of a window's 255 columns), so most
+     * windows span several strips and reach both edges' clamping in some
+     * rows. Fills that move the median across coarse bins at these radii
+     * (gradients, blobs) as well as uniform noise. */
+    static const int radii[] = {63, 64, 100, 127};
     size_t r;
+    int k;
     rng_state = 0xA77u;
     for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
-        int R = radii[r], T[3];
+        int R = radii[r];
         int rows = TU_EMULATED ? 2 : 3;
-        strip_thresholds(R, ACTAG_MEDIAN_HIST_COLS, T);
-        check_case(rows, T[1] - 1, R, FILL_BLOBS, 1, 0);
-        check_case(rows, T[1] + 1, R, FILL_UNIFORM, 0, 3);
-        if (!TU_EMULATED)
-            check_case(rows, T[2] + 1, R, FILL_GRADIENT, 2, 0);
+        for (k = 1; k <= (TU_EMULATED ? 1 : 2); k++) {
+            int T = strip_threshold(k, R, ACTAG_MEDIAN_HIST_COLS);
+            check_case(rows, T, R, FILL_GRADIENT, 1, 0);
+            check_case(rows, T + 1, R, k == 1 ? FILL_BLOBS : FILL_UNIFORM, 0, 3);
+        }
     }
-    TEST_ASSERT_EQUAL_INT(4, strip_count(256 + 3, 127, ACTAG_MEDIAN_HIST_COLS));
+    if (!TU_EMULATED) {
+        check_case(2 * 64 + 5, 260, 64, FILL_GRADIENT, 0, 0); /* rows slide too */
+        check_case(7, 385, 127, FILL_BLOBS, 0, 0);            /* last strip 1 column */
+    }
+    TEST_ASSERT_EQUAL_INT(384, strip_threshold(3, 127, 256));
+    TEST_ASSERT_EQUAL_INT(2 * 256 - 2 * 63 - 1, strip_threshold(2, 63, 256));
 }
 
 static void test_strips_with_more_scratch(void)
@@ -468,6 +482,8 @@ static void test_strips_with_more_scratch(void)
         scratch_extra = extra[e];
         check_case(11, 530, 4, FILL_BLOBS, 1, 2);
         check_case(19, 541, 9, FILL_UNIFORM, 0, 0);
+        if (!TU_EMULATED)
+            check_case(3, 541, 90, FILL_GRADIENT, 0, 0);
     }
     scratch_extra = 0;
 }
@@ -590,7 +606,8 @@ static void test_16bit_frames(void)
     check16(21, 257, 4, 65535, 1);  /* two strips on the SSE2 path */
     check16(23, 504, 4, 4095, 0);   /* three */
     check16(21, 496, 8, 1000, 3);   /* two on both paths, the ring reused */
-    check16(3, 300, 127, 65535, 1); /* 1-column strips */
+    check16(3, 300, 127, 65535, 1); /* strips with the shared columns summed */
+    check16(5, 385, 64, 4095, 0);
     /* the portable 4-row path needs 2R+4 ring rows in the scratch: up to
      * 4352 columns at R = 7; wider frames take the constant-time path */
     check16(4, 4352, 7, 65535, 0);
@@ -711,7 +728,7 @@ int main(void)
     RUN_TEST(test_wide_strides);
     RUN_TEST(test_every_small_radius_random);
     RUN_TEST(test_strip_boundaries);
-    RUN_TEST(test_narrow_strips);
+    RUN_TEST(test_large_radius_strips);
     RUN_TEST(test_strips_with_more_scratch);
     RUN_TEST(test_strips_real_frame_wide);
     RUN_TEST(test_real_sonar_frame);
