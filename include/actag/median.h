@@ -60,7 +60,8 @@
  *   (70,656 bytes for 512 columns, 274 per column up to 256 columns, then 2
  *   more per column; whatever the number of rows or the radius). No
  *   alignment is required. The kernel histograms live on the stack (under
- *   1 KiB; the portable path's four-row histogram for R <= 7 under 1.5 KiB).
+ *   1 KiB; 1.4 KiB for the summed columns of R >= 64 on wide frames; the
+ *   portable path's four-row histogram for R <= 7 under 1.5 KiB).
  *   scratch is checked for every radius, R = 0 included.
  *
  *   Strips: with H column histograms (H = as many as fit next to the two
@@ -70,18 +71,21 @@
  *   left of it and R right of it (clamped at the image edges): the first
  *   strip is H - R columns wide, the others H - 2R - 1 (at 512 columns and
  *   R = 4: 3 strips, 530 column histograms slid per row instead of 512).
- *   The output is the same bytes whatever the strips. The strips cost
- *   little at small radii (SSE2 path, 530 x 512, R = 4: +1.4 % instructions
- *   in the filter; R = 16 about the same time) but they narrow as R grows:
- *   R = 64 about 1.3x the time of one strip, R = 100 2.3x, R = 120 7x, and
- *   at R = ACTAG_MEDIAN_MAX_RADIUS (127) the strips are 1 column wide and a
- *   530 x 512 frame takes ~100x as long (~350 ms instead of ~3.7 ms on one
- *   x86-64 core); pass a larger scratch (e.g. 274 * cols bytes: one strip)
- *   where such radii matter. The 16-bit ring converts only a strip's
- *   columns; rows are converted again for every strip. The portable path
- *   at R <= 7 (the Cortex-M default) needs no histograms: its 16-bit ring
- *   of 2R+4 rows fits the scratch up to 4352 columns, and wider 16-bit
- *   frames take the constant-time path.
+ *   When that would be narrower than H / 2 (R >= 64 at H = 256), strips
+ *   are H / 2 columns wide whatever R: only the columns that leave or enter
+ *   the window as it slides along the strip have histograms, and those
+ *   that every window of the strip covers are summed in one histogram of
+ *   16-bit counts (on the stack), slid down by a sample per column and row.
+ *   The output is the same bytes whatever the strips. Cost (SSE2 path, one
+ *   x86-64 core, 530 x 512, against one strip with 274 * cols bytes of
+ *   scratch): R = 4 +1.4 % instructions in the filter; R = 16 about the
+ *   same time; R = 32 to 127 about 1.2x to 1.7x the time (R = 127: ~10 ms
+ *   instead of ~6 ms on a loaded machine). Pass a larger scratch (e.g. 274
+ *   * cols bytes: one strip) to avoid the strips. The 16-bit ring converts
+ *   only a strip's columns; rows are converted again for every strip. The
+ *   portable path at R <= 7 (the Cortex-M default) needs no histograms:
+ *   its 16-bit ring of 2R+4 rows fits the scratch up to 4352 columns, and
+ *   wider 16-bit frames take the constant-time path.
  *
  * LIMITS
  *   0 <= radius <= ACTAG_MEDIAN_MAX_RADIUS (127): column histogram counters
