@@ -405,8 +405,8 @@ typedef struct actag_stats {
  *     + 1, rows) + 7) bytes per column) or with rows + cols (the contour
  *     point buffer and the quad scratch, ACTAG_CONTOUR_CAP points) or
  *     rows * cols / 16 (the search's integral image), whichever is largest;
- *     nothing scales with neither, except the 16 alignment bytes and the
- *     median's 256-column cap.
+ *   - fixed (neither rows nor cols): the 16 alignment bytes, and beyond 256
+ *     columns the median's 256 column histograms (69,632 bytes).
  * 530 x 512: 72,352 + 271,360 + 70,656 (the median; the threshold 70,144,
  * the search's integral image 68,628, contours + quads 55,020) + 16 =
  * 414,384 bytes. */
