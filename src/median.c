@@ -1,6 +1,9 @@
 /* Constant-time median filter (Perreault & Hebert 2007), see actag/median.h.
  *
- * Scratch layout (all uint8_t, no alignment needed), 272 bytes per column:
+ * Scratch layout (all uint8_t, no alignment needed), 272 bytes for each of
+ * the H columns of a vertical strip (median_core: H >= min(cols, 256);
+ * column c of the strip at index c, colf after the strip's coarse ones),
+ * then the 16-bit ring (at least 2 rows of cols bytes):
  *   colc[c*16 + k]           cumulative coarse histogram of column c: the
  *                            number of its samples v with (v >> 4) <= k
  *   colf[(c*16 + b)*16 + k]  cumulative fine histogram of column c inside
@@ -21,7 +24,10 @@
  *
  * Speed (x86-64, SSE2 path, gcc -O2/-O3, one core): about 1.7 ms for a
  * 530 x 512 sonar frame at R = 4 (the same up to R = 16; 3 ms at R = 127,
- * where the O(R) set-up per row shows). The portable path computes the
+ * where the O(R) set-up per row shows, with the whole frame in one strip;
+ * with the minimum scratch, 256 column histograms, frames wider than 256
+ * columns take 3 strips at R = 4, +1.4 % instructions, and up to ~1.7x the
+ * time at large radii: median_core, median_strip_agg). The portable path computes the
  * same bytes (tests check both); for R <= 7 it uses median_quad() below
  * (a sliding histogram shared by four rows), which without SIMD is about
  * 3x faster than the constant-time scheme at R = 4. */
@@ -63,12 +69,14 @@ typedef struct {
     unsigned shift;
     uint8_t *ring;        /* K rows of cols bytes */
     size_t cols;
+    size_t c0, c1;        /* 16-bit: only columns c0 .. c1-1 are scaled */
     int k;
     int tag[RING_MAX];    /* row held by each ring slot, -1 for none */
 } rowsrc;
 
 /* Row r as 8-bit samples; for 16-bit frames not in ring slot `avoid` (so
- * that two rows fetched together do not evict each other). */
+ * that two rows fetched together do not evict each other), and only
+ * columns c0 .. c1-1 of it are valid (the strip being filtered). */
 static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
 {
     int slot, i;
@@ -85,7 +93,7 @@ static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
         slot = (slot + 1) % rs->k;
     d = rs->ring + (size_t)slot * rs->cols;
     p = rs->src16 + 2u * (size_t)r * rs->stride;
-    for (c = 0; c < rs->cols; c++) {
+    for (c = rs->c0; c < rs->c1; c++) {
         uint16_t v;
         memcpy(&v, p + 2u * c, sizeof v);
         d[c] = (uint8_t)(((uint64_t)((uint32_t)v * 255u + rs->half) * rs->magic) >> rs->shift);
@@ -164,8 +172,8 @@ static void step_add(uint8_t *cnt, unsigned t)
  *   block). The 8-bit lanes wrap modulo 256, but every final count is
  *   <= 2R+1 <= 255, so the result is exact.
  * h16: a kernel histogram, 16 lanes of 16-bit counts (<= 65025).
- *   h16_zero, h16_add (h += a), h16_slide (d = h + a - r, never leaves
- *   0..65025), h16_count_le (number of lanes <= rank of a nondecreasing
+ *   h16_zero, h16_add (h += a), h16_sub (h -= a), h16_slide (d = h + a -
+ *   r, never leaves 0..65025), h16_count_le (number of lanes <= rank of a nondecreasing
  *   histogram whose last lane exceeds rank: the bin holding the sample of
  *   that rank), h16_get (lane k).
  * ---------------------------------------------------------------------- */
@@ -206,6 +214,14 @@ static void h16_add(h16 *h, const uint8_t *a)
     __m128i va = load16(a);
     h->lo = _mm_add_epi16(h->lo, _mm_unpacklo_epi8(va, z));
     h->hi = _mm_add_epi16(h->hi, _mm_unpackhi_epi8(va, z));
+}
+
+static void h16_sub(h16 *h, const uint8_t *a)
+{
+    const __m128i z = _mm_setzero_si128();
+    __m128i va = load16(a);
+    h->lo = _mm_sub_epi16(h->lo, _mm_unpacklo_epi8(va, z));
+    h->hi = _mm_sub_epi16(h->hi, _mm_unpackhi_epi8(va, z));
 }
 
 static void h16_slide(h16 *d, const h16 *h, const uint8_t *a, const uint8_t *r)
@@ -288,6 +304,13 @@ static void h16_add(h16 *h, const uint8_t *restrict a)
     int k;
     for (k = 0; k < 16; k++)
         h->v[k] = (uint16_t)(h->v[k] + a[k]);
+}
+
+static void h16_sub(h16 *h, const uint8_t *restrict a)
+{
+    int k;
+    for (k = 0; k < 16; k++)
+        h->v[k] = (uint16_t)(h->v[k] - a[k]);
 }
 
 static void h16_slide(h16 *d, const h16 *h, const uint8_t *restrict a, const uint8_t *restrict r)
@@ -546,60 +569,47 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
 
 #endif /* !MEDIAN_SSE2 */
 
-/* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
- * scaled through the ring in the scratch after the column histograms. */
-static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_stride, int radius,
-                       void *scratch, size_t scratch_size)
+/* Bytes of one column's histograms (16 coarse + 256 fine 8-bit lanes). */
+#define COL_BYTES 272u
+
+/* The constant-time filter on the output columns hb+s0 .. hb+s1-1 of every
+ * row, with the column histograms of image columns hb .. hb+span-1 only
+ * (the strip and the R columns on each side that its windows and the first
+ * kernel slide read, clamped to the image), stored from `hist` on. Column
+ * indices below are relative to hb (dst too points at column hb), and cols
+ * is the number of image columns from hb on: the clamp at the right edge
+ * is cols - 1, and the clamp at 0 is only reached when hb is 0 (when hb >
+ * 0, s0 = R + 1, so no window of the strip reaches left of hb). */
+static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, size_t hb, size_t span,
+                         uint8_t *dst, size_t dstride, int R, uint8_t *hist)
 {
-    uint8_t *colc, *colf;
+    uint8_t *const colc = hist;
+    uint8_t *const colf = hist + span * 16u;
     h16 hf[16];    /* parked fine kernel histograms, per coarse bin */
     int last[16];  /* column at which hf[b] was valid */
     h16 hc;        /* coarse kernel histogram */
     h16 cur;       /* fine kernel histogram of coarse bin curb */
     unsigned curb; /* coarse bin of the previous pixel's median */
-    size_t ucols, dstride;
-    int i, j, k, R = radius;
-    unsigned half;
-
-    ucols = (size_t)cols;
-    dstride = (size_t)dst_stride;
-    rs->cols = ucols;
-    if (R == 0) {
-        rs->ring = (uint8_t *)scratch;
-        rs->k = 1;
-        for (i = 0; i < rows; i++)
-            memcpy(dst + (size_t)i * dstride, get_row(rs, i, -1), ucols);
-        return ACTAG_OK;
-    }
-#ifndef MEDIAN_SSE2
-    /* Without SIMD, radii up to 7 are faster with a sliding histogram (the
-     * ring, for 16-bit frames, then has the whole scratch: at least 274 rows,
-     * more than the 2R+4 <= 18 a block of four output rows reads). */
-    if (R <= MEDIAN_QUAD_MAX_R) {
-        size_t nk = scratch_size / ucols;
-        rs->ring = (uint8_t *)scratch;
-        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-        median_quad(rs, rows, cols, dst, dstride, R);
-        return ACTAG_OK;
-    }
-#endif
-
-    {   /* the ring after the column histograms: at least 2 rows */
-        size_t nk = (scratch_size - ucols * 272u) / ucols;
-        rs->ring = (uint8_t *)scratch + ucols * 272u;
-        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-    }
-    colc = (uint8_t *)scratch;
-    colf = colc + ucols * 16u;
+    int i, j, k;
     /* Rank (0-based) of the median among the (2R+1)^2 samples. */
-    half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
+    const unsigned half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
+
+/* Histograms of column c (relative to hb). */
+#define CC(c) (colc + (size_t)(c) * 16u)
+#define CF(c, b) FINE(colf, c, b)
+
+    /* 16-bit rows: scale the strip's columns only, none left in the ring */
+    rs->c0 = hb;
+    rs->c1 = hb + span;
+    for (k = 0; k < RING_MAX; k++)
+        rs->tag[k] = -1;
 
     /* Column histograms for row 0: rows clamp(-R..R). */
-    memset(colc, 0, ucols * 272u);
+    memset(hist, 0, span * COL_BYTES);
     for (k = -R; k <= R; k++) {
-        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1);
+        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1) + hb;
         size_t c;
-        for (c = 0; c < ucols; c++) {
+        for (c = 0; c < span; c++) {
             unsigned v = s[c];
             step_add(colc + c * 16u, v >> 4);
             step_add(FINE(colf, c, v >> 4), v & 15u);
@@ -618,7 +628,9 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
                 const uint8_t *so = get_row(rs, rout, -1);
                 const uint8_t *si = get_row(rs, rin, row_slot(rs, so));
                 size_t c;
-                for (c = 0; c < ucols; c++) {
+                so += hb;
+                si += hb;
+                for (c = 0; c < span; c++) {
                     unsigned vin = si[c], vout = so[c];
                     col_update(colc + c * 16u, FINE(colf, c, vin >> 4), FINE(colf, c, vout >> 4),
                                vin, vout);
@@ -626,31 +638,31 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
             }
         }
 
-        /* Kernel histograms start at column -1 (columns clamp(-R-1..R-1)),
-         * so that the first slide gives column 0. cur starts as bin 0's fine
-         * histogram; the other bins are rebuilt on first use. */
+        /* Kernel histograms start at column s0-1 (columns clamp(s0-R-1 ..
+         * s0+R-1)), so that the first slide gives column s0. cur starts as
+         * bin 0's fine histogram; the other bins are rebuilt on first use. */
         h16_zero(&hc);
         h16_zero(&cur);
         curb = 0;
-        for (k = -R - 1; k <= R - 1; k++) {
+        for (k = s0 - R - 1; k <= s0 + R - 1; k++) {
             int c = clampi(k, 0, cols - 1);
-            h16_add(&hc, colc + (size_t)c * 16u);
-            h16_add(&cur, FINE(colf, c, 0));
+            h16_add(&hc, CC(c));
+            h16_add(&cur, CF(c, 0));
         }
         for (k = 0; k < 16; k++)
-            last[k] = -2 * R - 2;
+            last[k] = s0 - 2 * R - 2;
 
-        for (j = 0; j < cols; j++) {
+        for (j = s0; j < s1; j++) {
             unsigned b, f, below;
             int ca = j + R < cols ? j + R : cols - 1; /* column entering */
             int cr = j - R - 1 > 0 ? j - R - 1 : 0;   /* column leaving */
             h16 spec;
 
-            h16_slide(&hc, &hc, colc + (size_t)ca * 16u, colc + (size_t)cr * 16u);
+            h16_slide(&hc, &hc, CC(ca), CC(cr));
             /* Speculate that the median stays in coarse bin curb (it nearly
              * always does): sliding cur now, before the coarse search is
              * done, keeps the dependency chain per pixel short. */
-            h16_slide(&spec, &cur, FINE(colf, ca, curb), FINE(colf, cr, curb));
+            h16_slide(&spec, &cur, CF(ca, curb), CF(cr, curb));
 
             b = h16_count_le(&hc, half);
             if (b == curb) {
@@ -665,12 +677,12 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
                 if (2 * gap > 2 * R + 1) {
                     h16_zero(&cur);
                     for (k = j - R; k <= j + R; k++)
-                        h16_add(&cur, FINE(colf, clampi(k, 0, cols - 1), b));
+                        h16_add(&cur, CF(clampi(k, 0, cols - 1), b));
                 } else {
                     cur = hf[b];
                     for (k = last[b] + 1; k <= j; k++)
-                        h16_slide(&cur, &cur, FINE(colf, k + R < cols ? k + R : cols - 1, b),
-                                  FINE(colf, k - R - 1 > 0 ? k - R - 1 : 0, b));
+                        h16_slide(&cur, &cur, CF(k + R < cols ? k + R : cols - 1, b),
+                                  CF(k - R - 1 > 0 ? k - R - 1 : 0, b));
                 }
                 curb = b;
             }
@@ -681,6 +693,220 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
             f = h16_count_le(&cur, half - below);
             d[j] = (uint8_t)(curb * 16u + f);
         }
+    }
+#undef CC
+#undef CF
+}
+
+/* Large radii (2R + 1 > H / 2 with H column histograms): strips of up to
+ * H / 2 output columns s0 .. s1-1 (absolute here, W = s1 - s0 <= 2R + 1),
+ * independent of R. A window position p stands for image column clamp(p).
+ * Of the positions a kernel of the strip covers, only those that leave as
+ * it slides, L = s0-R-1 .. s1-R-2, and those that enter, E = s0+R ..
+ * s1+R-1, need a histogram each (image columns lb .. le and eb .. ee, at
+ * most W each); the positions M = s1-R-1 .. s0+R-1 are in every kernel of
+ * the strip (its first one at s0 - 1 included) and are kept as one sum,
+ * with 16-bit counts (ac, af), slid down a sample per position and row. A
+ * kernel is rebuilt from M's sum and the L and E columns it covers. The
+ * counts are exact, so the output is that of median_strip. */
+static void median_strip_agg(rowsrc *rs, int rows, int cols, int s0, int s1, uint8_t *dst,
+                             size_t dstride, int R, uint8_t *hist)
+{
+    const int lb = clampi(s0 - R - 1, 0, cols - 1), le = clampi(s1 - R - 2, 0, cols - 1);
+    const int eb = clampi(s0 + R, 0, cols - 1), ee = clampi(s1 + R - 1, 0, cols - 1);
+    const int mlo = s1 - R - 1, mhi = s0 + R - 1; /* M; empty when W = 2R + 1 */
+    const size_t nl = (size_t)(le - lb + 1), ne = (size_t)(ee - eb + 1);
+    uint8_t *const colcl = hist, *const colfl = hist + nl * 16u;
+    uint8_t *const colce = hist + nl * COL_BYTES, *const colfe = colce + ne * 16u;
+    h16 ac, af[16]; /* M's coarse and fine histograms */
+    h16 hf[16], hc, cur;
+    int last[16];
+    unsigned curb;
+    int i, j, k, p;
+    const unsigned half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
+
+    rs->c0 = (size_t)lb;
+    rs->c1 = (size_t)ee + 1u;
+    for (k = 0; k < RING_MAX; k++)
+        rs->tag[k] = -1;
+
+    /* Column histograms and M's sum for row 0: rows clamp(-R..R). */
+    memset(hist, 0, (nl + ne) * COL_BYTES);
+    h16_zero(&ac);
+    for (k = 0; k < 16; k++)
+        h16_zero(&af[k]);
+    for (k = -R; k <= R; k++) {
+        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1);
+        size_t c;
+        for (c = 0; c < nl; c++) {
+            unsigned v = s[(size_t)lb + c];
+            step_add(colcl + c * 16u, v >> 4);
+            step_add(FINE(colfl, c, v >> 4), v & 15u);
+        }
+        for (c = 0; c < ne; c++) {
+            unsigned v = s[(size_t)eb + c];
+            step_add(colce + c * 16u, v >> 4);
+            step_add(FINE(colfe, c, v >> 4), v & 15u);
+        }
+        for (p = mlo; p <= mhi; p++) {
+            unsigned v = s[clampi(p, 0, cols - 1)];
+            h16_add(&ac, step_mask[v >> 4]);
+            h16_add(&af[v >> 4], step_mask[v & 15u]);
+        }
+    }
+
+    for (i = 0; i < rows; i++) {
+        uint8_t *d = dst + (size_t)i * dstride;
+
+        if (i > 0) {
+            int rout = clampi(i - R - 1, 0, rows - 1);
+            int rin = clampi(i + R, 0, rows - 1);
+            if (rout != rin) {
+                const uint8_t *so = get_row(rs, rout, -1);
+                const uint8_t *si = get_row(rs, rin, row_slot(rs, so));
+                size_t c;
+                for (c = 0; c < nl; c++) {
+                    unsigned vin = si[(size_t)lb + c], vout = so[(size_t)lb + c];
+                    col_update(colcl + c * 16u, FINE(colfl, c, vin >> 4),
+                               FINE(colfl, c, vout >> 4), vin, vout);
+                }
+                for (c = 0; c < ne; c++) {
+                    unsigned vin = si[(size_t)eb + c], vout = so[(size_t)eb + c];
+                    col_update(colce + c * 16u, FINE(colfe, c, vin >> 4),
+                               FINE(colfe, c, vout >> 4), vin, vout);
+                }
+                for (p = mlo; p <= mhi; p++) {
+                    int c2 = clampi(p, 0, cols - 1);
+                    unsigned vin = si[c2], vout = so[c2];
+                    h16_slide(&ac, &ac, step_mask[vin >> 4], step_mask[vout >> 4]);
+                    h16_add(&af[vin >> 4], step_mask[vin & 15u]);
+                    h16_sub(&af[vout >> 4], step_mask[vout & 15u]);
+                }
+            }
+        }
+
+        /* The kernel at s0 - 1: M's sum and the L positions. */
+        hc = ac;
+        cur = af[0];
+        curb = 0;
+        for (p = s0 - R - 1; p <= s1 - R - 2; p++) {
+            size_t c = (size_t)(clampi(p, 0, cols - 1) - lb);
+            h16_add(&hc, colcl + c * 16u);
+            h16_add(&cur, FINE(colfl, c, 0));
+        }
+        for (k = 0; k < 16; k++)
+            last[k] = s0 - 2 * R - 2;
+
+        for (j = s0; j < s1; j++) {
+            unsigned b, f, below;
+            size_t ca = (size_t)((j + R < cols ? j + R : cols - 1) - eb); /* entering, in E */
+            size_t cr = (size_t)((j - R - 1 > 0 ? j - R - 1 : 0) - lb);   /* leaving, in L */
+            h16 spec;
+
+            h16_slide(&hc, &hc, colce + ca * 16u, colcl + cr * 16u);
+            h16_slide(&spec, &cur, FINE(colfe, ca, curb), FINE(colfl, cr, curb));
+            b = h16_count_le(&hc, half);
+            if (b == curb) {
+                cur = spec;
+            } else {
+                int gap = j - last[b];
+                hf[curb] = cur;
+                last[curb] = j - 1;
+                if (2 * gap > s1 - s0 + 1) {
+                    /* positions j-R .. s1-R-2 (in L), M, s0+R .. j+R (in E) */
+                    cur = af[b];
+                    for (k = j - R; k <= s1 - R - 2; k++)
+                        h16_add(&cur, FINE(colfl, clampi(k, 0, cols - 1) - lb, b));
+                    for (k = s0 + R; k <= j + R; k++)
+                        h16_add(&cur, FINE(colfe, clampi(k, 0, cols - 1) - eb, b));
+                } else {
+                    cur = hf[b];
+                    for (k = last[b] + 1; k <= j; k++)
+                        h16_slide(&cur, &cur, FINE(colfe, (k + R < cols ? k + R : cols - 1) - eb, b),
+                                  FINE(colfl, (k - R - 1 > 0 ? k - R - 1 : 0) - lb, b));
+                }
+                curb = b;
+            }
+            below = curb > 0 ? h16_get(&hc, curb - 1) : 0u;
+            f = h16_count_le(&cur, half - below);
+            d[j] = (uint8_t)(curb * 16u + f);
+        }
+    }
+}
+
+/* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
+ * scaled through the ring in the scratch after the column histograms. */
+static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_stride, int radius,
+                       void *scratch, size_t scratch_size)
+{
+    size_t ucols, dstride, hcap;
+    int i, s0, s1, R = radius;
+
+    ucols = (size_t)cols;
+    dstride = (size_t)dst_stride;
+    rs->cols = ucols;
+    rs->c0 = 0;
+    rs->c1 = ucols;
+    if (R == 0) {
+        rs->ring = (uint8_t *)scratch;
+        rs->k = 1;
+        for (i = 0; i < rows; i++)
+            memcpy(dst + (size_t)i * dstride, get_row(rs, i, -1), ucols);
+        return ACTAG_OK;
+    }
+#ifndef MEDIAN_SSE2
+    /* Without SIMD, radii up to 7 are faster with a sliding histogram. For
+     * 16-bit frames the ring then has the whole scratch and must hold the
+     * 2R+4 <= 18 rows a block of four output rows reads: true up to 4352
+     * columns (scratch / cols >= 2 + 69632 / cols); wider 16-bit frames
+     * take the constant-time path below (same output). */
+    if (R <= MEDIAN_QUAD_MAX_R) {
+        size_t nk = scratch_size / ucols;
+        if (rs->src8 != NULL || nk >= (size_t)(2 * R + 4)) {
+            rs->ring = (uint8_t *)scratch;
+            rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+            median_quad(rs, rows, cols, dst, dstride, R);
+            return ACTAG_OK;
+        }
+    }
+#endif
+
+    /* As many column histograms as the scratch holds next to a ring of two
+     * rows (at least min(cols, ACTAG_MEDIAN_HIST_COLS)); the ring gets the
+     * rest, at least 2 rows. */
+    hcap = (scratch_size - 2u * ucols) / COL_BYTES;
+    if (hcap > ucols)
+        hcap = ucols;
+    {
+        size_t nk = (scratch_size - hcap * COL_BYTES) / ucols;
+        rs->ring = (uint8_t *)scratch + hcap * COL_BYTES;
+        rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+    }
+
+    /* Large radii: strips of H / 2 columns whatever R (median_strip_agg),
+     * when wider than those below. */
+    if (ucols > hcap && hcap / 2u > hcap - 2u * (size_t)R - 1u) {
+        int w = (int)(hcap / 2u);
+        for (s0 = 0; s0 < cols; s0 = s1) {
+            s1 = cols - s0 > w ? s0 + w : cols;
+            median_strip_agg(rs, rows, cols, s0, s1, dst, dstride, R, (uint8_t *)scratch);
+        }
+        return ACTAG_OK;
+    }
+
+    /* Vertical strips: output columns s0 .. s1-1 need the histograms of
+     * columns hb = max(0, s0-R-1) .. min(cols-1, s1-1+R), at most hcap of
+     * them, so a strip is hcap - 2R - 1 >= 1 columns wide (hcap - R at
+     * the left edge); one strip when all the columns fit. */
+    for (s0 = 0; s0 < cols; s0 = s1) {
+        int hb = s0 - R - 1 > 0 ? s0 - R - 1 : 0, he;
+        if ((size_t)(cols - hb) <= hcap)
+            s1 = cols;
+        else
+            s1 = hb + (int)hcap - R;
+        he = s1 - 1 + R < cols ? s1 - 1 + R : cols - 1;
+        median_strip(rs, rows, cols - hb, s0 - hb, s1 - hb, (size_t)hb, (size_t)(he - hb + 1),
+                     dst + hb, dstride, R, (uint8_t *)scratch);
     }
     return ACTAG_OK;
 }

@@ -116,11 +116,15 @@ static void fill_image(uint8_t *img, int rows, int cols, int stride, int kind)
 
 /* Runs one case through both code paths and checks every pixel and that
  * the destination padding is untouched. */
+/* Bytes given to the filters beyond ACTAG_MEDIAN_SCRATCH_SIZE by
+ * check_case (more scratch: more column histograms, wider strips). */
+static size_t scratch_extra;
+
 static void check_case(int rows, int cols, int R, int kind, int sextra, int dextra)
 {
     int sstride = cols + sextra, dstride = cols + dextra, f;
     size_t ssize = (size_t)rows * (size_t)sstride, dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) + scratch_extra;
     uint8_t *src = (uint8_t *)malloc(ssize);
     uint8_t *want = (uint8_t *)malloc(dsize);
     uint8_t *out = (uint8_t *)malloc(dsize);
@@ -379,6 +383,134 @@ static void test_max_counts(void)
 }
 
 
+/* ------------------------------------------------------------ strips
+ * Frames wider than the H column histograms the scratch holds (H = 256 at
+ * the minimum size) are filtered in vertical strips (median.c:
+ * median_core). For R < 64 (at H = 256) a strip's histograms cover it and
+ * R + 1 columns left, R right: the first strip is H - R columns wide, the
+ * others H - 2R - 1, the last the one whose columns hb = s0 - R - 1 ..
+ * cols - 1 all fit. For larger R (H / 2 > H - 2R - 1) strips are H / 2
+ * wide, the columns that every window of the strip covers summed in one
+ * histogram (median_strip_agg). The SSE2 path uses the strips at every
+ * R >= 1, the portable one at R >= 8 (and for 16-bit frames too wide for
+ * its 4-row ring). */
+
+/* Number of strips for cols columns (the same rule as median_core). */
+static int strip_count(int cols, int R, int hcap)
+{
+    int s0 = 0, s1, n = 0;
+    if (cols <= hcap)
+        return 1;
+    if (hcap / 2 > hcap - 2 * R - 1)
+        return (cols + hcap / 2 - 1) / (hcap / 2);
+    for (; s0 < cols; s0 = s1, n++) {
+        int hb = s0 - R - 1 > 0 ? s0 - R - 1 : 0;
+        s1 = cols - hb <= hcap ? cols : hb + hcap - R;
+    }
+    return n;
+}
+
+/* The largest width that needs at most n strips. */
+static int strip_threshold(int n, int R, int hcap)
+{
+    int cols = 1;
+    while (strip_count(cols + 1, R, hcap) <= n)
+        cols++;
+    return cols;
+}
+
+static void test_strip_boundaries(void)
+{
+    /* Widths at each strip threshold -1, 0, +1 (one more strip past each),
+     * radii of both paths, fills that move the median across coarse bins
+     * (the lazy fine histograms restart at each strip), odd strides. */
+    static const int radii[] = {1, 4, 7, 8, 13};
+    size_t r;
+    int k, d;
+    rng_state = 0x5781Bu;
+    for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
+        int R = radii[r];
+        for (k = 1; k <= 3; k++) {
+            int T = strip_threshold(k, R, ACTAG_MEDIAN_HIST_COLS);
+            for (d = -1; d <= 1; d++) {
+                int kind = d == 0 ? FILL_UNIFORM : (d < 0 ? FILL_BLOBS : FILL_TWOBINS);
+                check_case(2 * R + 3, T + d, R, kind, d & 1, 1);
+            }
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(256, strip_threshold(1, 4, 256));
+    TEST_ASSERT_EQUAL_INT(503, strip_threshold(2, 4, 256));
+}
+
+static void test_large_radius_strips(void)
+{
+    /* Large radii: R = 63, the narrowest strips of the first kind (129
+     * columns), and R >= 64, strips of 128 columns with the shared columns
+     * summed (at R = 127 all but 2 of a window's 255 columns), so most
+     * windows span several strips and reach both edges' clamping in some
+     * rows. Fills that move the median across coarse bins at these radii
+     * (gradients, blobs) as well as uniform noise. */
+    static const int radii[] = {63, 64, 100, 127};
+    size_t r;
+    int k;
+    rng_state = 0xA77u;
+    for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
+        int R = radii[r];
+        int rows = TU_EMULATED ? 2 : 3;
+        for (k = 1; k <= (TU_EMULATED ? 1 : 2); k++) {
+            int T = strip_threshold(k, R, ACTAG_MEDIAN_HIST_COLS);
+            check_case(rows, T, R, FILL_GRADIENT, 1, 0);
+            check_case(rows, T + 1, R, k == 1 ? FILL_BLOBS : FILL_UNIFORM, 0, 3);
+        }
+    }
+    if (!TU_EMULATED) {
+        check_case(2 * 64 + 5, 260, 64, FILL_GRADIENT, 0, 0); /* rows slide too */
+        check_case(7, 385, 127, FILL_BLOBS, 0, 0);            /* last strip 1 column */
+    }
+    TEST_ASSERT_EQUAL_INT(384, strip_threshold(3, 127, 256));
+    TEST_ASSERT_EQUAL_INT(2 * 256 - 2 * 63 - 1, strip_threshold(2, 63, 256));
+}
+
+static void test_strips_with_more_scratch(void)
+{
+    /* Scratch beyond the minimum buys more column histograms: other strip
+     * widths, the same output (including one strip for the whole frame). */
+    static const size_t extra[] = {1, 271, 272, 272 * 7 + 5, 272 * 300};
+    size_t e;
+    rng_state = 0x3C3Cu;
+    for (e = 0; e < sizeof extra / sizeof extra[0]; e++) {
+        scratch_extra = extra[e];
+        check_case(11, 530, 4, FILL_BLOBS, 1, 2);
+        check_case(19, 541, 9, FILL_UNIFORM, 0, 0);
+        if (!TU_EMULATED)
+            check_case(3, 541, 90, FILL_GRADIENT, 0, 0);
+    }
+    scratch_extra = 0;
+}
+
+static void test_strips_real_frame_wide(void)
+{
+    /* A pool frame side by side with its mirror image (530 x 1024, 5
+     * strips at R = 4): bit-identical to the brute force. */
+    int rows, cols, i, j;
+    uint8_t *img = tu_read_pgm(TU_DATA "/pool-video/f_0001.pgm", &rows, &cols);
+    uint8_t *wide;
+    int wr = TU_EMULATED ? 40 : rows;
+    TEST_ASSERT_NOT_NULL(img);
+    wide = (uint8_t *)malloc((size_t)wr * (size_t)cols * 2u + 3u);
+    TEST_ASSERT_NOT_NULL(wide);
+    for (i = 0; i < wr; i++)
+        for (j = 0; j < cols; j++) {
+            uint8_t v = img[(size_t)(i + (rows - wr) / 2) * (size_t)cols + (size_t)j];
+            wide[(size_t)i * (size_t)cols * 2u + (size_t)j] = v;
+            wide[(size_t)i * (size_t)cols * 2u + (size_t)(2 * cols - 1 - j)] = v;
+        }
+    TEST_ASSERT_EQUAL_INT(5, strip_count(2 * cols, 4, ACTAG_MEDIAN_HIST_COLS));
+    check_image(wide, wr, 2 * cols - 1, 2 * cols, 4, 1, "mirrored pool frame");
+    free(wide);
+    free(img);
+}
+
 static void test_real_sonar_frame(void)
 {
     /* A full 530 x 512 pool frame at the paper's radius 4. */
@@ -470,6 +602,17 @@ static void test_16bit_frames(void)
     check16(530, 300, 4, 65535, 0); /* a frame-sized case, 8-row ring blocks */
     check16(37, 300, 8, 4095, 5);   /* the constant-time path, 2-row ring */
     check16(1, 1, 4, 65535, 0);
+    /* strips: 16-bit rows are scaled per strip (its columns only) */
+    check16(21, 257, 4, 65535, 1);  /* two strips on the SSE2 path */
+    check16(23, 504, 4, 4095, 0);   /* three */
+    check16(21, 496, 8, 1000, 3);   /* two on both paths, the ring reused */
+    check16(3, 300, 127, 65535, 1); /* strips with the shared columns summed */
+    check16(5, 385, 64, 4095, 0);
+    /* the portable 4-row path needs 2R+4 ring rows in the scratch: up to
+     * 4352 columns at R = 7; wider frames take the constant-time path */
+    check16(4, 4352, 7, 65535, 0);
+    check16(4, 4353, 7, 65535, 0);
+    check16(9, 4353, 2, 300, 1);
 }
 
 /* The multiply-shift scaling equals the division for every maximum. */
@@ -527,6 +670,10 @@ static void test_errors(void)
     int f;
 
     TEST_ASSERT_EQUAL_size_t(7u * 274u, scr);
+    /* 272 bytes per column up to 256 columns, then 2 per column */
+    TEST_ASSERT_EQUAL_size_t(256u * 274u, ACTAG_MEDIAN_SCRATCH_SIZE(1, 256));
+    TEST_ASSERT_EQUAL_size_t(256u * 272u + 257u * 2u, ACTAG_MEDIAN_SCRATCH_SIZE(1, 257));
+    TEST_ASSERT_EQUAL_size_t(70656u, ACTAG_MEDIAN_SCRATCH_SIZE(530, 512));
     rng_state = 5u;
     fill_image(src, 6, 7, 7, FILL_UNIFORM);
     for (f = 0; f < 2; f++) {
@@ -580,6 +727,10 @@ int main(void)
     RUN_TEST(test_constant_and_extreme_images);
     RUN_TEST(test_wide_strides);
     RUN_TEST(test_every_small_radius_random);
+    RUN_TEST(test_strip_boundaries);
+    RUN_TEST(test_large_radius_strips);
+    RUN_TEST(test_strips_with_more_scratch);
+    RUN_TEST(test_strips_real_frame_wide);
     RUN_TEST(test_real_sonar_frame);
     RUN_TEST(test_16bit_frames);
     RUN_TEST(test_16bit_scaling_exact);

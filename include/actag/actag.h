@@ -398,12 +398,18 @@ typedef struct actag_stats {
  *     with rows * cols, 1/4 byte per pixel together;
  *   - the median-filtered frame, one byte per pixel: rows * cols;
  *   - the largest stage scratch, which scales with cols only (the median's
- *     column histograms, 274 bytes per column, and the threshold's row
- *     buffers, (2 * min(2 * ACTAG_MAX_THRESHOLD_RADIUS + 1, rows) + 7) bytes
- *     per column) or with rows + cols (the contour point buffer and the quad
- *     scratch, ACTAG_CONTOUR_CAP points) or rows * cols / 16 (the search's
- *     integral image), whichever is largest.
- * 530 x 512: 72,352 + 271,360 + 140,288 + 16 = 484,016 bytes. */
+ *     column histograms, 272 bytes for each of at most 256 columns, wider
+ *     frames being filtered in vertical strips, and 2 bytes per column for
+ *     16-bit rows: 274 * cols up to 256 columns, 69,632 + 2 * cols beyond;
+ *     the threshold's row buffers, (2 * min(2 * ACTAG_MAX_THRESHOLD_RADIUS
+ *     + 1, rows) + 7) bytes per column) or with rows + cols (the contour
+ *     point buffer and the quad scratch, ACTAG_CONTOUR_CAP points) or
+ *     rows * cols / 16 (the search's integral image), whichever is largest;
+ *   - fixed (neither rows nor cols): the 16 alignment bytes, and beyond 256
+ *     columns the median's 256 column histograms (69,632 bytes).
+ * 530 x 512: 72,352 + 271,360 + 70,656 (the median; the threshold 70,144,
+ * the search's integral image 68,628, contours + quads 55,020) + 16 =
+ * 414,384 bytes. */
 #define ACTAG_WORKSPACE_SIZE(rows, cols)                                                     \
     (16u + ACTAG__BINARY_REGION(rows, cols) + ACTAG__ALIGN16((size_t)(rows) * (size_t)(cols)) + \
      ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols)))

@@ -24,7 +24,9 @@
  *   bins of 16 grey levels, 256 fine bins); the fine level of the kernel is
  *   only brought up to date, lazily, for the coarse bin that holds the
  *   median. Integer arithmetic only; the work per pixel does not depend on R
- *   (the set-up per row is O(R)). On x86-64 an SSE2 path is used (about
+ *   (the set-up per row is O(R)). Frames wider than ACTAG_MEDIAN_HIST_COLS
+ *   (256) columns are filtered in vertical strips, so that at most 256
+ *   column histograms exist at a time (see MEMORY). On x86-64 an SSE2 path is used (about
  *   1.7-1.8 ms for a 530 x 512 frame at R = 4 on one core); defining
  *   ACTAG_NO_SIMD when building the library selects the portable C path,
  *   which gives identical output.
@@ -52,12 +54,38 @@
  *
  * MEMORY
  *   The caller provides `scratch` of at least
- *   ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) bytes (274 bytes per image column:
- *   8-bit column histograms and two rows for actag_median_filter16; 140,288
- *   bytes for 512 columns, whatever the number of rows or the radius). No alignment is required. The kernel
- *   histograms live on the stack (under 1 KiB; the portable path's four-row
- *   histogram for R <= 7 under 1.5 KiB). scratch is checked for every
- *   radius, R = 0 included.
+ *   ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) bytes: 272 bytes of 8-bit column
+ *   histograms for each of min(cols, 256) columns and 2 bytes per column
+ *   for two rows of actag_median_filter16's ring; it scales with cols only
+ *   (70,656 bytes for 512 columns, 274 per column up to 256 columns, then 2
+ *   more per column; whatever the number of rows or the radius). No
+ *   alignment is required. The kernel histograms live on the stack (under
+ *   1 KiB; 1.4 KiB for the summed columns of R >= 64 on wide frames; the
+ *   portable path's four-row histogram for R <= 7 under 1.5 KiB).
+ *   scratch is checked for every radius, R = 0 included.
+ *
+ *   Strips: with H column histograms (H = as many as fit next to the two
+ *   ring rows, at least min(cols, 256); a larger scratch gives more), a
+ *   frame of cols <= H columns is one strip; wider frames are cut into
+ *   vertical strips whose histograms cover the strip and the R + 1 columns
+ *   left of it and R right of it (clamped at the image edges): the first
+ *   strip is H - R columns wide, the others H - 2R - 1 (at 512 columns and
+ *   R = 4: 3 strips, 530 column histograms slid per row instead of 512).
+ *   When that would be narrower than H / 2 (R >= 64 at H = 256), strips
+ *   are H / 2 columns wide whatever R: only the columns that leave or enter
+ *   the window as it slides along the strip have histograms, and those
+ *   that every window of the strip covers are summed in one histogram of
+ *   16-bit counts (on the stack), slid down by a sample per column and row.
+ *   The output is the same bytes whatever the strips. Cost (SSE2 path, one
+ *   x86-64 core, 530 x 512, against one strip with 274 * cols bytes of
+ *   scratch): R = 4 +1.4 % instructions in the filter; R = 16 about the
+ *   same time; R = 32 to 127 about 1.2x to 1.7x the time (R = 127: ~10 ms
+ *   instead of ~6 ms on a loaded machine). Pass a larger scratch (e.g. 274
+ *   * cols bytes: one strip) to avoid the strips. The 16-bit ring converts
+ *   only a strip's columns; rows are converted again for every strip. The
+ *   portable path at R <= 7 (the Cortex-M default) needs no histograms:
+ *   its 16-bit ring of 2R+4 rows fits the scratch up to 4352 columns, and
+ *   wider 16-bit frames take the constant-time path.
  *
  * LIMITS
  *   0 <= radius <= ACTAG_MEDIAN_MAX_RADIUS (127): column histogram counters
@@ -83,11 +111,18 @@ extern "C" {
 /* Largest radius: column histograms count up to 2R+1 samples in 8 bits. */
 #define ACTAG_MEDIAN_MAX_RADIUS 127
 
-/* Scratch bytes for any radius <= ACTAG_MEDIAN_MAX_RADIUS: per column, a
- * 16-bin coarse and a 256-bin fine 8-bit histogram, and 2 bytes for the
- * 16-bit input's row ring (actag_median_filter16). rows is unused but kept
- * so that every stage's macro has the same shape. */
-#define ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) ((size_t)(cols) * 274u)
+/* Scratch bytes for any radius <= ACTAG_MEDIAN_MAX_RADIUS (a constant
+ * expression; cols is evaluated more than once): for each of at most
+ * ACTAG_MEDIAN_HIST_COLS columns a 16-bin coarse and a 256-bin fine 8-bit
+ * histogram (272 bytes; wider frames are filtered in vertical strips), and
+ * 2 bytes per column for the 16-bit input's row ring
+ * (actag_median_filter16). Scales with cols only: 274 * cols up to 256
+ * columns, 69,632 + 2 * cols beyond. rows is unused but kept so that every
+ * stage's macro has the same shape. */
+#define ACTAG_MEDIAN_HIST_COLS 256
+#define ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols)                                                    \
+    ((size_t)((cols) < ACTAG_MEDIAN_HIST_COLS ? (cols) : ACTAG_MEDIAN_HIST_COLS) * 272u +       \
+     (size_t)(cols) * 2u)
 
 int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
                         uint8_t *dst, int dst_stride, int radius,
