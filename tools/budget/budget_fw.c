@@ -11,12 +11,15 @@
  * scaling, size and side filters, merging, geometry). The library itself is
  * the unchanged libactag.a of the build.
  *
- *   median     actag_median_filter
+ *   median     actag_median_filter, actag_median_filter16
  *   search     actag_search_map, actag_search_next
- *   threshold  actag_adaptive_threshold
+ *   threshold  actag_adaptive_threshold_bitmap
  *   contours   actag_contour_scanner_init, actag_contour_next
  *   ransac     actag_quad_fit
- *   decode     actag_decode_quad_fit, actag_decode_quad
+ *   decode     actag_decode_quad_fit, actag_decode_quad_bitmap
+ *   refine     actag_refine_corners_depth
+ * (budget.py checks that every stage function detect.c calls is wrapped:
+ * a renamed stage would otherwise be counted as "other".)
  *
  * Also the stack actag_detect used (painted before the call, high-water
  * mark after) and the workspace sizes of three frame sizes.
@@ -38,9 +41,9 @@
 #define MAX_COLS 620
 #define INSTR_PER_TICK 40u /* 25 MHz timer, 1 GHz of virtual instructions */
 
-enum { ST_MEDIAN, ST_SEARCH, ST_THRESHOLD, ST_CONTOURS, ST_RANSAC, ST_DECODE, ST_N };
-static const char *const stage_names[ST_N] = {"median", "search", "threshold",
-                                              "contours", "ransac", "decode"};
+enum { ST_MEDIAN, ST_SEARCH, ST_THRESHOLD, ST_CONTOURS, ST_RANSAC, ST_DECODE, ST_REFINE, ST_N };
+static const char *const stage_names[ST_N] = {"median", "search",   "threshold", "contours",
+                                              "ransac", "decode",   "refine"};
 static uint32_t stage_ticks[ST_N];
 
 static uint8_t ws[ACTAG_WORKSPACE_SIZE(MAX_ROWS, MAX_COLS)];
@@ -119,32 +122,32 @@ int __wrap_actag_search_next(actag_search *z, int min_score, const actag_sonar_g
     return rc;
 }
 
-int __real_actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
-                                    uint8_t *dst, int dst_stride, int radius, int offset,
-                                    void *scratch, size_t scratch_size);
-int __wrap_actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
-                                    uint8_t *dst, int dst_stride, int radius, int offset,
-                                    void *scratch, size_t scratch_size);
-int __wrap_actag_adaptive_threshold(const uint8_t *src, int rows, int cols, int src_stride,
-                                    uint8_t *dst, int dst_stride, int radius, int offset,
-                                    void *scratch, size_t scratch_size)
+int __real_actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols,
+                                           int src_stride, uint32_t *bitmap, int radius,
+                                           int offset, void *scratch, size_t scratch_size);
+int __wrap_actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols,
+                                           int src_stride, uint32_t *bitmap, int radius,
+                                           int offset, void *scratch, size_t scratch_size);
+int __wrap_actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols,
+                                           int src_stride, uint32_t *bitmap, int radius,
+                                           int offset, void *scratch, size_t scratch_size)
 {
     int rc;
-    TIMED(ST_THRESHOLD, __real_actag_adaptive_threshold(src, rows, cols, src_stride, dst,
-                                                        dst_stride, radius, offset, scratch,
-                                                        scratch_size));
+    TIMED(ST_THRESHOLD, __real_actag_adaptive_threshold_bitmap(src, rows, cols, src_stride, bitmap,
+                                                               radius, offset, scratch,
+                                                               scratch_size));
     return rc;
 }
 
-int __real_actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows,
-                                      int cols, int stride);
-int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows,
-                                      int cols, int stride);
-int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, uint8_t *binary, int rows,
-                                      int cols, int stride)
+int __real_actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white,
+                                      uint32_t *marks, int rows, int cols);
+int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white,
+                                      uint32_t *marks, int rows, int cols);
+int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white,
+                                      uint32_t *marks, int rows, int cols)
 {
     int rc;
-    TIMED(ST_CONTOURS, __real_actag_contour_scanner_init(s, binary, rows, cols, stride));
+    TIMED(ST_CONTOURS, __real_actag_contour_scanner_init(s, white, marks, rows, cols));
     return rc;
 }
 
@@ -191,19 +194,61 @@ int __wrap_actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int st
     return rc;
 }
 
-int __real_actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
-                             const actag_point quad[4], const actag_family *family,
-                             int max_corrections, actag_decode_result *out);
-int __wrap_actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
-                             const actag_point quad[4], const actag_family *family,
-                             int max_corrections, actag_decode_result *out);
-int __wrap_actag_decode_quad(const uint8_t *binary, int rows, int cols, int stride,
-                             const actag_point quad[4], const actag_family *family,
-                             int max_corrections, actag_decode_result *out)
+int __real_actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
+                                    const actag_point quad[4], const actag_family *family,
+                                    int max_corrections, actag_decode_result *out);
+int __wrap_actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
+                                    const actag_point quad[4], const actag_family *family,
+                                    int max_corrections, actag_decode_result *out);
+int __wrap_actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
+                                    const actag_point quad[4], const actag_family *family,
+                                    int max_corrections, actag_decode_result *out)
 {
     int rc;
-    TIMED(ST_DECODE, __real_actag_decode_quad(binary, rows, cols, stride, quad, family,
-                                              max_corrections, out));
+    TIMED(ST_DECODE, __real_actag_decode_quad_bitmap(bitmap, rows, cols, quad, family,
+                                                     max_corrections, out));
+    return rc;
+}
+
+int __real_actag_median_filter16(const void *src, int rows, int cols, int src_stride,
+                                 uint8_t *dst, int dst_stride, int radius, void *scratch,
+                                 size_t scratch_size);
+int __wrap_actag_median_filter16(const void *src, int rows, int cols, int src_stride,
+                                 uint8_t *dst, int dst_stride, int radius, void *scratch,
+                                 size_t scratch_size);
+int __wrap_actag_median_filter16(const void *src, int rows, int cols, int src_stride,
+                                 uint8_t *dst, int dst_stride, int radius, void *scratch,
+                                 size_t scratch_size)
+{
+    int rc;
+    TIMED(ST_MEDIAN, __real_actag_median_filter16(src, rows, cols, src_stride, dst, dst_stride,
+                                                  radius, scratch, scratch_size));
+    return rc;
+}
+
+int __real_actag_refine_corners_depth(const void *img, int depth, int rows, int cols, int stride,
+                                      const actag_sonar_geometry *geometry, float tag_size,
+                                      const actag_family *family, int id,
+                                      const actag_point corners[4],
+                                      const actag_refine_params *rp, actag_point out[4],
+                                      actag_refine_info *info);
+int __wrap_actag_refine_corners_depth(const void *img, int depth, int rows, int cols, int stride,
+                                      const actag_sonar_geometry *geometry, float tag_size,
+                                      const actag_family *family, int id,
+                                      const actag_point corners[4],
+                                      const actag_refine_params *rp, actag_point out[4],
+                                      actag_refine_info *info);
+int __wrap_actag_refine_corners_depth(const void *img, int depth, int rows, int cols, int stride,
+                                      const actag_sonar_geometry *geometry, float tag_size,
+                                      const actag_family *family, int id,
+                                      const actag_point corners[4],
+                                      const actag_refine_params *rp, actag_point out[4],
+                                      actag_refine_info *info)
+{
+    int rc;
+    TIMED(ST_REFINE, __real_actag_refine_corners_depth(img, depth, rows, cols, stride, geometry,
+                                                       tag_size, family, id, corners, rp, out,
+                                                       info));
     return rc;
 }
 
