@@ -383,16 +383,6 @@ static float objective(const fimg *im, const fgrid *gr, int k, float *m, const u
 #define FIT_POLISH_SHIFT2 0.0625f
 #define FIT_POLISH_HI 1.3225f
 #define FIT_POLISH_LO 0.7225f
-/* Grids compared at 5 samples a cell instead of 9 (the grid a reading or a
- * rival's rss is taken from is always read at 9). A rival template's polish
- * only has to find where that template fits best, and the coarse level of
- * a polish only to get near it: both at 5 read as many simulated views
- * (pool seed 31 927 -> 928, paper seed 32 469 -> 470). The code-agnostic
- * ascent's coarse level at 5 lost views (paper seed 32 469 -> 461, with a
- * mirror and a corner-order error), so it stays at 9. */
-#define FIT_FAST0_ASCENT 0
-#define FIT_FAST0_POLISH 1
-#define FIT_FAST_RIVAL 1
 
 /* Ascent of the objective (fscore, or tscore for a template L) over the 6
  * affine parameters, 3 step sizes, by Gauss-Seidel sweeps: each parameter
@@ -415,31 +405,19 @@ static int frefused(const frefuse *rf, float r)
 /* m0: the cells of *gr when known (NULL: read them). rf (a template's
  * polish, NULL: none): stop as soon as the template's rss is refused;
  * returns 1 then, else 0. */
-static int ffit(const fimg *im0, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
+static int ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
                 int tight, const float *m0, const frefuse *rf)
 {
     static const float scales[3] = {1.0f, 0.5f, 0.25f};
     fgrid g0 = *gr;
-    fimg imv = *im0;
-    const fimg *im = &imv;
     float la = actag_sqrtf(gr->ax * gr->ax + gr->ay * gr->ay);
     float lb = actag_sqrtf(gr->bx * gr->bx + gr->by * gr->by);
-    float best = 0.0f;
-    int lvl, it, p, sgn, fast0 = L ? FIT_FAST0_POLISH : FIT_FAST0_ASCENT;
+    float best = m0 == NULL ? objective(im, gr, k, m, L, erase)
+                 : L ? -template_rss(m0, L, k, erase, NULL) : fscore_of(m0, k);
+    int lvl, it, p, sgn;
+    if (rf && frefused(rf, -best))
+        return 1;
     for (lvl = tight ? 1 : 0; lvl < 3; lvl++) { /* a polish starts at half steps */
-        /* The coarse level compares grids 5 samples a cell (FIT_FAST0_*),
-         * the finer ones 9: the score of the current grid is read again
-         * whenever the sample count changes. */
-        int fast = (lvl == 0 && fast0) || (rf && FIT_FAST_RIVAL);
-        if (lvl == (tight ? 1 : 0) || imv.fast != fast) {
-            imv.fast = fast;
-            best = m0 == NULL || fast ? objective(im, gr, k, m, L, erase)
-                   : L ? -template_rss(m0, L, k, erase, NULL) : fscore_of(m0, k);
-            m0 = NULL; /* the cells of the starting grid only */
-            /* a 5-sample rss is no rival's final one: refuse on 9 only */
-            if (!fast && rf && frefused(rf, -best))
-                return 1;
-        }
         for (it = 0; it < (tight ? FIT_POLISH_STEPS : FIT_ASCENT_STEPS); it++) {
             fgrid bt = *gr;
             float bs = best;
@@ -465,7 +443,7 @@ static int ffit(const fimg *im0, fgrid *gr, int k, float *m, const uint8_t *L, i
                         bs = s;
                         bt = t;
                         *gr = bt; /* Gauss-Seidel sweep: move at once */
-                        if (!fast && rf && frefused(rf, -s))
+                        if (rf && frefused(rf, -s))
                             return 1;
                         break;
                     }
