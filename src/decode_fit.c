@@ -587,98 +587,40 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
 }
 
-int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
-                          const actag_point quad[4], const actag_family *family,
-                          int max_corrections, const actag_fit_params *fp,
-                          actag_decode_result *out)
+/* One reading of grid gr (9 samples a cell into m): levels, confidences,
+ * the likelihood match, the bit margin and the template check, as the
+ * manual in decode.h describes. regrid: this is the quad's own grid read
+ * after the fitted one read nothing (one more grid in the look-elsewhere
+ * allowance). Returns ACTAG_OK (out filled), ACTAG_ERR_NO_MATCH, or the
+ * matcher's error. */
+static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int k,
+                      const actag_family *family, int max_corrections,
+                      const actag_fit_params *fp, uint32_t keep, const actag_point q[4],
+                      int regrid, float *m, actag_decode_result *out)
 {
-    int flags, min_contrast;
-    float level;
-    fimg im;
-    fgrid gr, g_quad;
-    float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+    int flags = fp->flags, min_contrast = fp->min_contrast, bits = family->bits, n = k + 1;
+    float level = fp->level;
     float conf[32], black, white, contrast, flips = 0.0f, minc = 1e30f;
-    actag_point q[4];
     actag_soft_match ml;
     float margin = 0.0f, noise2 = 0.0f, look;
-    int nknown = 0;
+    int nknown = 0, rc, i, ring_ok = 0, in_ok = 0, cx, cy;
+    uint32_t w = 0, e, diff;
     memset(&ml, 0, sizeof ml);
-    uint32_t w = 0, e, diff, keep;
-    int rc, maxc, bits, k, n, i, ring_ok = 0, in_ok = 0, cx, cy;
-    int regrid = 0; /* 1: reading the quad's own grid after the fitted one read nothing */
-    if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
-        return ACTAG_ERR_NULL;
-    rc = decode_check_frame_family(grey, rows, cols, stride, family);
-    if (rc != ACTAG_OK)
-        return rc;
-    flags = fp->flags;
-    min_contrast = fp->min_contrast;
-    level = fp->level;
-    if (actag_fit_params_validate(fp, NULL) != ACTAG_OK)
-        return ACTAG_ERR_PARAM;
-    maxc = actag_family_max_corrections(family);
-    if (max_corrections < 0 || max_corrections > maxc)
-        return ACTAG_ERR_CORRECTIONS;
-    bits = family->bits;
-    k = bits / 4;
-    n = k + 1;
-    keep = actag_code_mask(bits);
-    if (flags & ACTAG_FIT_ERASE_CORNERS)
-        keep &= ~actag_code_corners(bits);
-    rc = actag_tag_quad_clockwise(quad, q);
-    if (rc != ACTAG_OK)
-        return rc;
-    rc = actag_tag_affine(q, bits, H);
-    if (rc != ACTAG_OK)
-        return rc;
-    im.img = grey;
-    im.rows = rows;
-    im.cols = cols;
-    im.stride = stride;
-    im.so = fp->sample_offset;
-    im.fast = 0;
-    gr.ax = H[0];
-    gr.bx = H[1];
-    gr.ay = H[3];
-    gr.by = H[4];
-    gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
-    gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
-    g_quad = gr; /* the quad's own grid: the template check's second start and the second grid */
-    if (flags & ACTAG_FIT_WIDE) {
-        im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
-        fshift(&im, &gr, k, m);
-        /* a hopeless start: no ascent, straight to the quad's own grid
-         * (the second grid, as if the fitted one had read nothing) */
-        if (!(flags & ACTAG_FIT_NO_SEARCH) &&
-            fhopeless(&im, &gr, k, flags, level, family, keep, m, &rc)) {
-            im.fast = 0;
-            regrid = 1;
-            gr = g_quad;
-            goto reread;
-        }
-        if (rc != ACTAG_OK)
-            return rc;
-        im.fast = 0;
-    }
-    if (!(flags & ACTAG_FIT_NO_SEARCH)) {
-        ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL);
-    }
-reread:
-    fcells(&im, &gr, k, m); /* the reading itself: all 9 samples per cell */
+    fcells(im, gr, k, m); /* the reading itself: all 9 samples per cell */
     /* The whole grid must lie in the image: a tag cut by the frame edge
      * cannot be read (edge replication would invent its data cells). */
     {
-        float ex = (gr.ax < 0.0f ? -gr.ax : gr.ax) + (gr.bx < 0.0f ? -gr.bx : gr.bx);
-        float ey = (gr.ay < 0.0f ? -gr.ay : gr.ay) + (gr.by < 0.0f ? -gr.by : gr.by);
+        float ex = (gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx);
+        float ey = (gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by);
         float hw = 0.5f * (float)k; /* centre to the data cells' centres, cells */
-        if (gr.mx - ex * hw < 0.0f || gr.mx + ex * hw > (float)(cols - 1) ||
-            gr.my - ey * hw < 0.0f || gr.my + ey * hw > (float)(rows - 1))
-            goto no_reading;
+        if (gr->mx - ex * hw < 0.0f || gr->mx + ex * hw > (float)(im->cols - 1) ||
+            gr->my - ey * hw < 0.0f || gr->my + ey * hw > (float)(im->rows - 1))
+            return ACTAG_ERR_NO_MATCH;
     }
     flevels(m, k, &black, &white);
     contrast = white - black;
     if (!(contrast >= (float)min_contrast) || !(contrast > 0.0f))
-        goto no_reading;
+        return ACTAG_ERR_NO_MATCH;
     for (cy = 1; cy < k; cy++)
         for (cx = 1; cx < k; cx++) {
             float v = m[cy * n + cx], d;
@@ -762,7 +704,7 @@ reread:
                 continue;
             /* A tie between the two handednesses is no reading. */
             if (r.other == dk)
-                goto no_reading;
+                return ACTAG_ERR_NO_MATCH;
             /* Splits that read as different tags (or poses): the threshold
              * decides the ID, so the reading is ambiguous unless one is
              * closer than every other by FIT_SPLIT_LEAD bits. */
@@ -786,9 +728,9 @@ reread:
             }
         }
         if (!have)
-            goto no_reading;
+            return ACTAG_ERR_NO_MATCH;
         if (od < 99 && od - kd < FIT_SPLIT_LEAD)
-            goto no_reading;
+            return ACTAG_ERR_NO_MATCH;
         w = 0;
         for (i = 0; i < bits; i++) { /* confidences relative to the chosen threshold */
             conf[i] -= tbest;
@@ -798,7 +740,7 @@ reread:
         }
         /* the bit margin needs no template check: refuse before it */
         if (ml.h2 - ml.best.hamming < fp->min_bit_margin)
-            goto no_reading;
+            return ACTAG_ERR_NO_MATCH;
         /* Look-elsewhere allowance: the best of N hypotheses (8 views of
          * every code, times the grids the wide search tries, times 2 on the
          * second grid) beats the next by ln N on pure noise; the margin
@@ -825,7 +767,7 @@ reread:
                 float cq[32], bq, wq;
                 actag_soft_match mq;
                 int a2, b2;
-                fcells(&im, &g_quad, k, mt);
+                fcells(im, g_quad, k, mt);
                 flevels(mt, k, &bq, &wq);
                 if (wq - bq > 0.0f) {
                     for (i = 0; i < bits; i++) {
@@ -866,11 +808,11 @@ reread:
                  * wide search, which may settle a cell off, the full range);
                  * m holds the cells of gr (the quad's grid after regrid) */
                 {
-                    fgrid g = jj < ml.ntop ? gr : g_quad;
-                    if (ffit(&im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE),
+                    fgrid g = jj < ml.ntop ? *gr : *g_quad;
+                    if (ffit(im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE),
                              (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL))
-                        goto no_reading; /* refused before the polish ends */
-                    fcells_x(&im, &g, k, mt, erase);
+                        return ACTAG_ERR_NO_MATCH; /* refused before the polish ends */
+                    fcells_x(im, &g, k, mt, erase);
                     r = template_rss(mt, L, k, erase, &nc);
                 }
                 if (jj == 0) {
@@ -888,7 +830,7 @@ reread:
                  * only falls as rss2 does, so the first such hypothesis
                  * decides exactly what the least one would. */
                 if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin)
-                    goto no_reading;
+                    return ACTAG_ERR_NO_MATCH;
                 if (r < rss2)
                     rss2 = r;
             }
@@ -896,7 +838,7 @@ reread:
         }
         margin -= look;
         if (margin < fp->min_margin)
-            goto no_reading;
+            return ACTAG_ERR_NO_MATCH;
         out->bit_margin = ml.h2 - ml.best.hamming;
     }
 
@@ -918,8 +860,8 @@ reread:
         static const int su[4] = {0, 1, 1, 0}, sv[4] = {0, 0, 1, 1};
         for (i = 0; i < 4; i++) {
             float u = su[i] ? hi : lo, v = sv[i] ? hi : lo;
-            fq[i].x = gr.mx + gr.ax * u + gr.bx * v;
-            fq[i].y = gr.my + gr.ay * u + gr.by * v;
+            fq[i].x = gr->mx + gr->ax * u + gr->bx * v;
+            fq[i].y = gr->my + gr->ay * u + gr->by * v;
         }
         actag_tag_corners(fq, out->rotation, out->mirrored, out->fit_corners);
     }
@@ -931,19 +873,82 @@ reread:
     out->flip_weight = flips;
     out->min_confidence = minc;
     return ACTAG_OK;
+}
 
-no_reading:
+int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
+                          const actag_point quad[4], const actag_family *family,
+                          int max_corrections, const actag_fit_params *fp,
+                          actag_decode_result *out)
+{
+    int flags;
+    float level;
+    fimg im;
+    fgrid gr, g_quad;
+    float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+    actag_point q[4];
+    uint32_t keep;
+    int rc, maxc, bits, k, n;
+    if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    rc = decode_check_frame_family(grey, rows, cols, stride, family);
+    if (rc != ACTAG_OK)
+        return rc;
+    flags = fp->flags;
+    level = fp->level;
+    if (actag_fit_params_validate(fp, NULL) != ACTAG_OK)
+        return ACTAG_ERR_PARAM;
+    maxc = actag_family_max_corrections(family);
+    if (max_corrections < 0 || max_corrections > maxc)
+        return ACTAG_ERR_CORRECTIONS;
+    bits = family->bits;
+    k = bits / 4;
+    n = k + 1;
+    keep = actag_code_mask(bits);
+    if (flags & ACTAG_FIT_ERASE_CORNERS)
+        keep &= ~actag_code_corners(bits);
+    rc = actag_tag_quad_clockwise(quad, q);
+    if (rc != ACTAG_OK)
+        return rc;
+    rc = actag_tag_affine(q, bits, H);
+    if (rc != ACTAG_OK)
+        return rc;
+    im.img = grey;
+    im.rows = rows;
+    im.cols = cols;
+    im.stride = stride;
+    im.so = fp->sample_offset;
+    im.fast = 0;
+    gr.ax = H[0];
+    gr.bx = H[1];
+    gr.ay = H[3];
+    gr.by = H[4];
+    gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
+    gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
+    g_quad = gr; /* the quad's own grid: the template check's second start and the second grid */
+    if (flags & ACTAG_FIT_WIDE) {
+        im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
+        fshift(&im, &gr, k, m);
+        /* a hopeless start: no ascent, straight to the quad's own grid
+         * (the second grid, as if the fitted one had read nothing) */
+        if (!(flags & ACTAG_FIT_NO_SEARCH) &&
+            fhopeless(&im, &gr, k, flags, level, family, keep, m, &rc)) {
+            im.fast = 0;
+            return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1,
+                              m, out);
+        }
+        if (rc != ACTAG_OK)
+            return rc;
+        im.fast = 0;
+    }
+    if (!(flags & ACTAG_FIT_NO_SEARCH)) {
+        ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL);
+    }
+    rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out);
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
-    if (!regrid && !(flags & ACTAG_FIT_NO_SEARCH)) {
-        regrid = 1;
-        gr = g_quad;
-        ring_ok = in_ok = nknown = 0;
-        noise2 = 0.0f;
-        minc = 1e30f;
-        w = 0;
-        goto reread;
-    }
-    return ACTAG_ERR_NO_MATCH;
+    if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH))
+        rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
+                        out);
+    return rc;
 }
