@@ -156,11 +156,11 @@ static int decode_core(const uint8_t *binary, const uint32_t *bitmap, int rows, 
     actag_point q[4];
     actag_match mu, mm;
     uint32_t w;
-    int rc, maxc, bits, k, du, dm, cx, cy;
+    int rc, bits, k, du, dm, cx, cy;
     int ring_n = 0, ring_black = 0, in_n = 0, in_white = 0;
-    maxc = actag_family_max_corrections(family);
-    if (max_corrections < 0 || max_corrections > maxc)
-        return ACTAG_ERR_CORRECTIONS;
+    rc = decode_check_corrections(family, max_corrections);
+    if (rc != ACTAG_OK)
+        return rc;
     bits = family->bits;
     k = bits / 4;
 
@@ -190,7 +190,8 @@ static int decode_core(const uint8_t *binary, const uint32_t *bitmap, int rows, 
         }
     }
 
-    rc = match_both(family, w, maxc, max_corrections, &mu, &du, &mm, &dm);
+    rc = match_both(family, w, actag_family_max_corrections(family), max_corrections, &mu, &du,
+                    &mm, &dm);
     if (rc != ACTAG_OK)
         return rc;
 

@@ -25,6 +25,13 @@ static inline int decode_check_frame_family(const uint8_t *img, int rows, int co
     return rc != ACTAG_OK ? rc : actag_family_validate(family);
 }
 
+/* max_corrections within 0..the family's largest (ACTAG_ERR_CORRECTIONS). */
+static inline int decode_check_corrections(const actag_family *family, int max_corrections)
+{
+    int maxc = actag_family_max_corrections(family);
+    return max_corrections < 0 || max_corrections > maxc ? ACTAG_ERR_CORRECTIONS : ACTAG_OK;
+}
+
 /* Fills id, hamming, mirrored, rotation, mirror_margin and the corners in
  * tag order from the clockwise-on-screen quad q, for reading m (m->mirrored:
  * P(observed) == rot^r(code)) whose other handedness is best at `other`

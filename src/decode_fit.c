@@ -887,7 +887,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     actag_point q[4];
     uint32_t keep;
-    int rc, maxc, bits, k, n;
+    int rc, bits, k, n;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -897,9 +897,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     level = fp->level;
     if (actag_fit_params_validate(fp, NULL) != ACTAG_OK)
         return ACTAG_ERR_PARAM;
-    maxc = actag_family_max_corrections(family);
-    if (max_corrections < 0 || max_corrections > maxc)
-        return ACTAG_ERR_CORRECTIONS;
+    rc = decode_check_corrections(family, max_corrections);
+    if (rc != ACTAG_OK)
+        return rc;
     bits = family->bits;
     k = bits / 4;
     n = k + 1;
