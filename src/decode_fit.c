@@ -404,9 +404,10 @@ static int frefused(const frefuse *rf, float r)
 
 /* m0: the cells of *gr when known (NULL: read them). rf (a template's
  * polish, NULL: none): stop as soon as the template's rss is refused;
- * returns 1 then, else 0. */
+ * returns 1 then, else 0. *score (if not NULL): the objective of the final
+ * *gr, which a read of that grid would give again bit for bit. */
 static int ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, int erase,
-                int tight, const float *m0, const frefuse *rf)
+                int tight, const float *m0, const frefuse *rf, float *score)
 {
     static const float scales[3] = {1.0f, 0.5f, 0.25f};
     fgrid g0 = *gr;
@@ -415,6 +416,10 @@ static int ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, in
     float best = m0 == NULL ? objective(im, gr, k, m, L, erase)
                  : L ? -template_rss(m0, L, k, erase, NULL) : fscore_of(m0, k);
     int lvl, it, p, sgn;
+    /* the grid before the last move, whose score is below best: a trial
+     * that lands on it bit for bit (the move undone, often exact in
+     * float) cannot improve and is not read */
+    fgrid gp = *gr;
     if (rf && frefused(rf, -best))
         return 1;
     for (lvl = tight ? 1 : 0; lvl < 3; lvl++) { /* a polish starts at half steps */
@@ -438,8 +443,11 @@ static int ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, in
                         t.bx * t.bx + t.by * t.by > (tight ? FIT_POLISH_HI : FIT_ASCENT_HI) * lb * lb ||
                         t.bx * t.bx + t.by * t.by < (tight ? FIT_POLISH_LO : FIT_ASCENT_LO) * lb * lb)
                         continue;
+                    if (memcmp(&t, &gp, sizeof t) == 0)
+                        continue;
                     s = objective(im, &t, k, m, L, erase);
                     if (s > bs) {
+                        gp = *gr;
                         bs = s;
                         bt = t;
                         *gr = bt; /* Gauss-Seidel sweep: move at once */
@@ -454,6 +462,8 @@ static int ffit(const fimg *im, fgrid *gr, int k, float *m, const uint8_t *L, in
             *gr = bt;
         }
     }
+    if (score)
+        *score = best;
     return 0;
 }
 
@@ -809,13 +819,16 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                  * m holds the cells of gr (the quad's grid after regrid) */
                 {
                     fgrid g = jj < ml.ntop ? *gr : *g_quad;
+                    float sc;
+                    /* the polish's own score of its final grid is that
+                     * grid's rss (no second read) */
                     if (ffit(im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE),
-                             (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL))
+                             (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL, &sc))
                         return ACTAG_ERR_NO_MATCH; /* refused before the polish ends */
-                    fcells_x(im, &g, k, mt, erase);
-                    r = template_rss(mt, L, k, erase, &nc);
+                    r = -sc;
                 }
                 if (jj == 0) {
+                    nc = n * n - (erase ? 4 : 0); /* the cells template_rss counts */
                     rss0 = r;
                     s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
                     floor2 = FIT_MIN_NOISE * 2.0f * contrast;
@@ -941,7 +954,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         im.fast = 0;
     }
     if (!(flags & ACTAG_FIT_NO_SEARCH)) {
-        ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL);
+        ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
     }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out);
     /* The code-agnostic fit can settle on a lattice where the tag does not
