@@ -806,7 +806,6 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                     }
                 }
             }
-            fgrid gpol = *gr;
             for (jj = 0; jj < ncand; jj++) {
                 float r;
                 frefuse rf;
@@ -819,16 +818,14 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                  * wide search, which may settle a cell off, the full range);
                  * m holds the cells of gr (the quad's grid after regrid) */
                 {
-                    fgrid g = jj == 0 ? *gr : jj < ml.ntop ? gpol : *g_quad;
+                    fgrid g = jj < ml.ntop ? *gr : *g_quad;
                     float sc;
                     /* the polish's own score of its final grid is that
                      * grid's rss (no second read) */
-                    if (ffit(im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE) || (jj > 0 && jj < ml.ntop),
-                             (jj == 0 || (jj >= ml.ntop && regrid)) ? m : NULL, jj ? &rf : NULL, &sc))
+                    if (ffit(im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE),
+                             (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL, &sc))
                         return ACTAG_ERR_NO_MATCH; /* refused before the polish ends */
                     r = -sc;
-                    if (jj == 0)
-                        gpol = g;
                 }
                 if (jj == 0) {
                     nc = n * n - (erase ? 4 : 0); /* the cells template_rss counts */
