@@ -375,18 +375,22 @@ static const uint64_t bcast16_tab[256] = {BC64(0), BC64(64), BC64(128), BC64(192
  * and the lane's mask byte (0x01) elsewhere: 5 instructions a sample
  * instead of about 10 with 64-bit arithmetic on a 32-bit core. The counts
  * are the same; ACTAG_NO_DSP selects the portable lanes there too. */
-#if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP)
+#if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
+    !defined(__ARM_BIG_ENDIAN)
 #define MEDIAN_DSP 1
 typedef uint32_t lanes_t;
 #define LANES_BIAS 0x40404040u /* 64 a lane: a step's changes stay in 0..128 */
 #define LANE_SHIFT 8
 #define LANE_MASK 0xFFu
+/* The broadcast is a MUL inside the asm: GCC otherwise spends two shifted
+ * adds on it. (Little-endian only: the median search reads lane p of
+ * hist[v] as byte p.) */
 static inline uint32_t below_lanes(unsigned v, uint32_t medb, uint32_t m)
 {
     uint32_t r;
-    __asm__("usub8 %0, %1, %2\n\tsel %0, %3, %4"
+    __asm__("mul %0, %1, %5\n\tusub8 %0, %0, %2\n\tsel %0, %3, %4"
             : "=&r"(r)
-            : "r"((uint32_t)v * 0x01010101u), "r"(medb), "r"(0u), "r"(m)
+            : "r"(v), "r"(medb), "r"(0u), "r"(m), "r"(0x01010101u)
             : "cc");
     return r;
 }
@@ -487,12 +491,12 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                      * with two pointers and the masks as constants: rows
                      * 0-2 are in windows 0..t, rows 3..n-1 in all four,
                      * rows n..n+2 in windows t-n+1..3. */
-                    const uint8_t *a = rowp[0] + ca, *b = rowp[0] + cr;
+                    const uint8_t *q = rowp[0] + cr, *qe;
+                    const size_t dq = ca - cr; /* one pointer: fewer registers */
 #define QSTEP(m)                                                                               \
     do {                                                                                       \
-        unsigned vi_ = *a, vo_ = *b;                                                           \
-        a += sstride;                                                                          \
-        b += sstride;                                                                          \
+        unsigned vi_ = q[dq], vo_ = *q;                                                        \
+        q += sstride;                                                                          \
         hist[vi_] += (m);                                                                      \
         hist[vo_] -= (m);                                                                      \
         acc += below_lanes(vi_, medb, (m));                                                    \
@@ -501,8 +505,11 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                     QSTEP(0x00000001u);
                     QSTEP(0x00000101u);
                     QSTEP(0x00010101u);
-                    for (t = 3; t < n; t++)
+                    /* n - 3 = 2R - 2 rows: two a turn (less loop overhead) */
+                    for (qe = q + (size_t)(n - 3) * sstride; q != qe;) {
                         QSTEP(0x01010101u);
+                        QSTEP(0x01010101u);
+                    }
                     QSTEP(0x01010100u);
                     QSTEP(0x01010000u);
                     QSTEP(0x01000000u);
@@ -537,9 +544,40 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                     acc += BELOW(medb, vin, m8, m16);
                     acc -= BELOW(medb, vout, m8, m16);
                 }
-#ifndef MEDIAN_DSP
+#ifdef MEDIAN_DSP
+                {
+                    /* The same search, lane p of hist[m] read as byte 4m + p
+                     * (little-endian): no shift per bin, the lanes unrolled. */
+                    const uint8_t *const h8 = (const uint8_t *)hist;
+                    uint32_t nb = 0;
+#define QLANE(p)                                                                               \
+    do {                                                                                       \
+        const uint8_t *h_ = h8 + 4u * med[p] + (p);                                            \
+        unsigned l_ = lt[p] + ((acc >> (8 * (p))) & 0xFFu) - 64u, c_;                          \
+        if (l_ > half) {                                                                       \
+            do {                                                                               \
+                h_ -= 4;                                                                       \
+                l_ -= *h_;                                                                     \
+            } while (l_ > half);                                                               \
+        } else {                                                                               \
+            while (l_ + (c_ = *h_) <= half) {                                                  \
+                l_ += c_;                                                                      \
+                h_ += 4;                                                                       \
+            }                                                                                  \
+        }                                                                                      \
+        med[p] = (unsigned)(h_ - h8) >> 2;                                                     \
+        lt[p] = l_;                                                                            \
+        nb |= (uint32_t)med[p] << (8 * (p));                                                   \
+    } while (0)
+                    QLANE(0);
+                    QLANE(1);
+                    QLANE(2);
+                    QLANE(3);
+#undef QLANE
+                    medb = nb;
+                }
+#else
                 acc >>= 8;
-#endif
                 medb = 0;
                 for (p = 0; p < 4; p++) {
                     unsigned sh = 8u * (unsigned)p;
@@ -560,6 +598,7 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                     lt[p] = l;
                     medb |= LANE_MED(m) << (LANE_SHIFT * p);
                 }
+#endif
             }
             for (p = 0; p < np; p++)
                 dst[(size_t)(i0 + p) * dstride + (size_t)j] = (uint8_t)med[p];
