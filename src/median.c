@@ -345,84 +345,22 @@ static unsigned h16_get(const h16 *h, unsigned k)
  * 8-bit counts of level v (a window holds (2R+1)^2 <= 225 samples); the
  * 2R+4 source rows of a block of four output rows enter the windows of the
  * rows they cover (mask[t], 0x01 per covered lane), so each sample costs
- * one histogram update for all four windows instead of up to four. The
- * number of samples below each window's median is updated for all four at
- * once with 16-bit lanes: lane p of medb is med[p] + 255, so bit 8 of lane
- * p of medb - v * 0x0001000100010001 is (v < med[p]) and no lane borrows.
+ * one histogram update for all four windows instead of up to four.
  * ---------------------------------------------------------------------- */
 #define MEDIAN_QUAD_MAX_R 7
-#define LANES16 0x0001000100010001ull
 
-#if !(defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP))
-/* bcast16[v]: v in each of four 16-bit lanes (a table: cheaper than the
- * multiply or shifts on both x86-64 and Cortex-M). */
-#define BC1(v) ((uint64_t)(v) * LANES16)
-#define BC4(v) BC1(v), BC1((v) + 1), BC1((v) + 2), BC1((v) + 3)
-#define BC16(v) BC4(v), BC4((v) + 4), BC4((v) + 8), BC4((v) + 12)
-#define BC64(v) BC16(v), BC16((v) + 16), BC16((v) + 32), BC16((v) + 48)
-static const uint64_t bcast16_tab[256] = {BC64(0), BC64(64), BC64(128), BC64(192)};
-#define bcast16(v) bcast16_tab[v]
-#endif
-
-/* The "samples below the median" counts of the four windows change by
- * below(acc, medb, v, m) per sample v entering (and minus it leaving):
- * lanes_t holds one counter per window, medb the four medians; m selects
- * the windows the sample's row belongs to.
- * Portable: 16-bit lanes of a 64-bit word, the borrow trick above (medb's
- * lane p is med[p] + 255; m is mask16 << 8, so the change is 256 per lane).
- * Cortex-M4/M7 (__ARM_FEATURE_SIMD32): 8-bit lanes of a 32-bit word, USUB8
- * sets the GE flag of lane p when v >= med[p] and SEL then picks 0 there
- * and the lane's mask byte (0x01) elsewhere: 5 instructions a sample
- * instead of about 10 with 64-bit arithmetic on a 32-bit core. The counts
- * are the same; ACTAG_NO_DSP selects the portable lanes there too. */
+/* Cortex-M4/M7 (__ARM_FEATURE_SIMD32, little-endian): median_quad_dsp();
+ * ACTAG_NO_DSP selects the portable median_quad() there too. */
 #if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
     !defined(__ARM_BIG_ENDIAN)
 #define MEDIAN_DSP 1
-typedef uint32_t lanes_t;
-#define LANES_BIAS 0x40404040u /* 64 a lane: a step's changes stay in 0..128 */
-#define LANE_SHIFT 8
-#define LANE_MASK 0xFFu
-/* The broadcast is a MUL inside the asm: GCC otherwise spends two shifted
- * adds on it. (Little-endian only: the median search reads lane p of
- * hist[v] as byte p.) */
-static inline uint32_t below_lanes(unsigned v, uint32_t medb, uint32_t m)
-{
-    uint32_t r;
-    __asm__("mul %0, %1, %5\n\tusub8 %0, %0, %2\n\tsel %0, %3, %4"
-            : "=&r"(r)
-            : "r"(v), "r"(medb), "r"(0u), "r"(m), "r"(0x01010101u)
-            : "cc");
-    return r;
-}
-#define LANE_MED(m) ((uint32_t)(m))
-#define BELOW(medb, v, m8, m16) below_lanes((v), (medb), (m8)) /* m16 not used */
-#define BELOW_ALL(medb, v) below_lanes((v), (medb), 0x01010101u)
-#else
-typedef uint64_t lanes_t;
-#define LANES_BIAS (64u * 256u * LANES16) /* 64 a lane, in units of 256 */
-#define LANE_SHIFT 16
-#define LANE_MASK 0xFFFFu
-#define LANE_MED(m) ((uint64_t)(m) + 255u)
-#define BELOW(medb, v, m8, m16) (((medb) - bcast16(v)) & ((m16) << 8))
-#define BELOW_ALL(medb, v) (((medb) - bcast16(v)) & (256u * LANES16))
 #endif
 
-static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+/* mask8[t]: 0x01 in lane p when source row t of a block is in window p. */
+static void quad_masks(int n, uint32_t *mask8, uint64_t *mask16)
 {
-#ifdef MEDIAN_DSP
-    const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
-#endif
-    uint32_t hist[256];
-    const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
-    uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
-#ifndef MEDIAN_DSP
-    uint64_t mask16[2 * MEDIAN_QUAD_MAX_R + 4];
-#endif
-    const int n = 2 * R + 1, nt = n + 3;
-    const unsigned half = (unsigned)(n * n) / 2u;
-    int i0, j, t, p;
-
-    for (t = 0; t < nt; t++) {
+    int t, p;
+    for (t = 0; t < n + 3; t++) {
         uint32_t m8 = 0;
         uint64_t m16 = 0;
         for (p = 0; p < 4; p++) {
@@ -432,28 +370,195 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
             }
         }
         mask8[t] = m8;
-#ifndef MEDIAN_DSP
-        mask16[t] = m16;
-#else
-        (void)m16;
-#endif
+        if (mask16 != NULL)
+            mask16[t] = m16;
     }
+}
 
+#ifdef MEDIAN_DSP
+/* The block's 2R+4 source rows; returns 1 when they are rows[0] + t *
+ * sstride (every row inside the image and, for 16-bit frames, not wrapped
+ * around the ring), so that one pointer can walk them. */
+static int quad_rows(rowsrc *rs, int rows, int i0, int R, const uint8_t **rowp, size_t sstride)
+{
+    const int nt = 2 * R + 4;
+    int t;
+    for (t = 0; t < nt; t++)
+        rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
+    return i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1 &&
+           rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride;
+}
+
+/* DSP path. leb packs the four windows' counts of samples <= their median
+ * (8-bit lanes: at most 225), medb the four medians. A sample v changes
+ * leb by the lanes where med[p] >= v: USUB8 (medb - v in each lane) sets
+ * GE there and SEL picks the row's mask byte, 0 elsewhere; MUL broadcasts
+ * v (GCC would spend two shifted adds). The lanes are added into leb as a
+ * plain 32-bit word: carries between lanes cancel, because every lane ends
+ * in 0..225 (the word is sum le[p] * 256^p modulo 2^32 throughout). The
+ * median of window p then moves from med[p] while le[p] <= half (up) or
+ * le[p] - hist_p[med[p]] > half (down); lane p of hist[m] is read as byte
+ * 4m + p. Cost at R = 4 on Cortex-M7 -O2 (QEMU -icount, tools/budget):
+ * see actag/median.h. */
+static inline uint32_t le_lanes(unsigned v, uint32_t medb, uint32_t m)
+{
+    uint32_t r;
+    __asm__("mul %0, %1, %5\n\tusub8 %0, %2, %0\n\tsel %0, %4, %3"
+            : "=&r"(r)
+            : "r"(v), "r"(medb), "r"(0u), "r"(m), "r"(0x01010101u)
+            : "cc");
+    return r;
+}
+
+static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+{
+    const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
+    uint32_t hist[256];
+    const uint8_t *const h8 = (const uint8_t *)hist;
+    const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
+    const int n = 2 * R + 1, nt = n + 3;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    int i0, j, t, p;
+
+    quad_masks(n, mask8, NULL);
+    for (i0 = 0; i0 < rows; i0 += 4) {
+        uint32_t medb = 0, leb = 0;
+        const int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
+        const int interior = quad_rows(rs, rows, i0, R, rowp, sstride);
+        uint8_t *const d0 = dst + (size_t)i0 * dstride;
+
+        /* Windows of column 0: columns clamp(-R..R). */
+        memset(hist, 0, sizeof hist);
+        for (t = 0; t < nt; t++) {
+            const uint8_t *s = rowp[t];
+            int b;
+            for (b = -R; b <= R; b++)
+                hist[s[clampi(b, 0, cols - 1)]] += mask8[t];
+        }
+        for (p = 0; p < 4; p++) {
+            unsigned m = 0, le = h8[p];
+            while (le <= half)
+                le += h8[4u * ++m + (unsigned)p];
+            medb |= (uint32_t)m << (8 * p);
+            leb |= (uint32_t)le << (8 * p);
+            if (p < np)
+                d0[(size_t)p * dstride] = (uint8_t)m;
+        }
+
+        for (j = 1; j < cols; j++) {
+            size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
+            size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+            uint8_t *const d = d0 + j;
+            uint32_t nb = 0, nl = 0;
+            if (ca == cr) {
+                for (p = 0; p < np; p++)
+                    d[(size_t)p * dstride] = (uint8_t)(medb >> (8 * p));
+                continue;
+            }
+            if (interior) {
+                /* Rows 0-2 are in windows 0..t, rows 3..n-1 in all four,
+                 * rows n..n+2 in windows t-n+1..3: the masks as constants,
+                 * the rows walked with one pointer. */
+                const uint8_t *q = rowp[0] + cr, *qe;
+                const size_t dq = ca - cr;
+#define QSTEP(m)                                                                               \
+    do {                                                                                       \
+        unsigned vi_ = q[dq], vo_ = *q;                                                        \
+        q += sstride;                                                                          \
+        hist[vi_] += (m);                                                                      \
+        hist[vo_] -= (m);                                                                      \
+        leb += le_lanes(vi_, medb, (m));                                                       \
+        leb -= le_lanes(vo_, medb, (m));                                                       \
+    } while (0)
+                QSTEP(0x00000001u);
+                QSTEP(0x00000101u);
+                QSTEP(0x00010101u);
+                /* n - 3 = 2R - 2 rows, two a turn (less loop overhead) */
+                for (qe = q + (size_t)(n - 3) * sstride; q != qe;) {
+                    QSTEP(0x01010101u);
+                    QSTEP(0x01010101u);
+                }
+                QSTEP(0x01010100u);
+                QSTEP(0x01010000u);
+                QSTEP(0x01000000u);
+#undef QSTEP
+            } else {
+                for (t = 0; t < nt; t++) {
+                    unsigned vin = rowp[t][ca], vout = rowp[t][cr];
+                    hist[vin] += mask8[t];
+                    hist[vout] -= mask8[t];
+                    leb += le_lanes(vin, medb, mask8[t]);
+                    leb -= le_lanes(vout, medb, mask8[t]);
+                }
+            }
+#define QLANE(p)                                                                               \
+    do {                                                                                       \
+        unsigned le_ = (leb >> (8 * (p))) & 0xFFu, m_;                                         \
+        const uint8_t *h_ = h8 + 4u * ((medb >> (8 * (p))) & 0xFFu) + (p);                     \
+        if (le_ <= half) {                                                                     \
+            do {                                                                               \
+                h_ += 4;                                                                       \
+                le_ += *h_;                                                                    \
+            } while (le_ <= half);                                                             \
+        } else {                                                                               \
+            unsigned c_ = *h_;                                                                 \
+            while (le_ - c_ > half) {                                                          \
+                le_ -= c_;                                                                     \
+                h_ -= 4;                                                                       \
+                c_ = *h_;                                                                      \
+            }                                                                                  \
+        }                                                                                      \
+        m_ = (unsigned)(h_ - h8) >> 2;                                                         \
+        nb |= (uint32_t)m_ << (8 * (p));                                                       \
+        nl |= (uint32_t)le_ << (8 * (p));                                                      \
+        if ((p) == 0 || (p) < np)                                                              \
+            d[(size_t)(p) * dstride] = (uint8_t)m_;                                            \
+    } while (0)
+            QLANE(0);
+            QLANE(1);
+            QLANE(2);
+            QLANE(3);
+#undef QLANE
+            medb = nb;
+            leb = nl;
+        }
+    }
+}
+
+#else /* !MEDIAN_DSP */
+/* Portable: the number of samples below each window's median is updated
+ * for all four at once with 16-bit lanes of a 64-bit word: lane p of medb
+ * is med[p] + 255, so bit 8 of lane p of medb - v * 0x0001000100010001 is
+ * (v < med[p]) and no lane borrows. */
+#define LANES16 0x0001000100010001ull
+
+/* bcast16[v]: v in each of four 16-bit lanes (a table: cheaper than the
+ * multiply or shifts on both x86-64 and Cortex-M). */
+#define BC1(v) ((uint64_t)(v) * LANES16)
+#define BC4(v) BC1(v), BC1((v) + 1), BC1((v) + 2), BC1((v) + 3)
+#define BC16(v) BC4(v), BC4((v) + 4), BC4((v) + 8), BC4((v) + 12)
+#define BC64(v) BC16(v), BC16((v) + 16), BC16((v) + 32), BC16((v) + 48)
+static const uint64_t bcast16_tab[256] = {BC64(0), BC64(64), BC64(128), BC64(192)};
+#define bcast16(v) bcast16_tab[v]
+
+static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+{
+    uint32_t hist[256];
+    const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint64_t mask16[2 * MEDIAN_QUAD_MAX_R + 4];
+    const int n = 2 * R + 1, nt = n + 3;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    int i0, j, t, p;
+
+    quad_masks(n, mask8, mask16);
     for (i0 = 0; i0 < rows; i0 += 4) {
         unsigned med[4], lt[4];
-        lanes_t medb = 0;
+        uint64_t medb = 0;
         int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
-#ifdef MEDIAN_DSP
-        /* every source row in the image: rowp[t] = rowp[0] + t * sstride
-         * (16-bit frames: when the rows do not wrap around the ring) */
-        int interior = i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1;
-#endif
         for (t = 0; t < nt; t++)
             rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
-#ifdef MEDIAN_DSP
-        if (rs->src8 == NULL && interior)
-            interior = rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride;
-#endif
 
         /* Windows of column 0: columns clamp(-R..R). */
         memset(hist, 0, sizeof hist);
@@ -471,7 +576,7 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
             }
             med[p] = m;
             lt[p] = l;
-            medb |= LANE_MED(m) << (LANE_SHIFT * p);
+            medb |= ((uint64_t)m + 255u) << (16 * p);
             if (p < np)
                 dst[(size_t)(i0 + p) * dstride] = (uint8_t)m;
         }
@@ -480,47 +585,13 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
             size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
             size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
             if (ca != cr) {
-                /* acc collects the change of lt per lane (portable: 256 *
-                 * the change per 16-bit lane); the lanes start at 64 so
-                 * that they never go negative (at most 2R+4 <= 18 samples
-                 * leave a window in one step). */
-                lanes_t acc = LANES_BIAS;
-#ifdef MEDIAN_DSP
-                if (interior) {
-                    /* The same updates in the same order, the rows walked
-                     * with two pointers and the masks as constants: rows
-                     * 0-2 are in windows 0..t, rows 3..n-1 in all four,
-                     * rows n..n+2 in windows t-n+1..3. */
-                    const uint8_t *q = rowp[0] + cr, *qe;
-                    const size_t dq = ca - cr; /* one pointer: fewer registers */
-#define QSTEP(m)                                                                               \
-    do {                                                                                       \
-        unsigned vi_ = q[dq], vo_ = *q;                                                        \
-        q += sstride;                                                                          \
-        hist[vi_] += (m);                                                                      \
-        hist[vo_] -= (m);                                                                      \
-        acc += below_lanes(vi_, medb, (m));                                                    \
-        acc -= below_lanes(vo_, medb, (m));                                                    \
-    } while (0)
-                    QSTEP(0x00000001u);
-                    QSTEP(0x00000101u);
-                    QSTEP(0x00010101u);
-                    /* n - 3 = 2R - 2 rows: two a turn (less loop overhead) */
-                    for (qe = q + (size_t)(n - 3) * sstride; q != qe;) {
-                        QSTEP(0x01010101u);
-                        QSTEP(0x01010101u);
-                    }
-                    QSTEP(0x01010100u);
-                    QSTEP(0x01010000u);
-                    QSTEP(0x01000000u);
-#undef QSTEP
-                } else
-#endif
+                /* acc collects 256 * the change of lt per 16-bit lane; the
+                 * lanes start at 64 so that they never go negative (at most
+                 * 2R+4 <= 18 samples leave a window in one step). */
+                uint64_t acc = 64u * 256u * LANES16;
                 for (t = 0; t < nt; t++) {
                     unsigned vin = rowp[t][ca], vout = rowp[t][cr];
-#ifndef MEDIAN_DSP
                     uint64_t m16 = mask16[t];
-#endif
                     uint32_t m8 = mask8[t];
                     if (t == 3 && n > 3) {
                         /* Rows 3 .. n-1 are in all four windows. */
@@ -529,60 +600,25 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                             vout = rowp[t][cr];
                             hist[vin] += 0x01010101u;
                             hist[vout] -= 0x01010101u;
-                            acc += BELOW_ALL(medb, vin);
-                            acc -= BELOW_ALL(medb, vout);
+                            acc += (medb - bcast16(vin)) & (256u * LANES16);
+                            acc -= (medb - bcast16(vout)) & (256u * LANES16);
                         }
                         vin = rowp[t][ca];
                         vout = rowp[t][cr];
-#ifndef MEDIAN_DSP
                         m16 = mask16[t];
-#endif
                         m8 = mask8[t];
                     }
                     hist[vin] += m8;
                     hist[vout] -= m8;
-                    acc += BELOW(medb, vin, m8, m16);
-                    acc -= BELOW(medb, vout, m8, m16);
+                    acc += (medb - bcast16(vin)) & (m16 << 8);
+                    acc -= (medb - bcast16(vout)) & (m16 << 8);
                 }
-#ifdef MEDIAN_DSP
-                {
-                    /* The same search, lane p of hist[m] read as byte 4m + p
-                     * (little-endian): no shift per bin, the lanes unrolled. */
-                    const uint8_t *const h8 = (const uint8_t *)hist;
-                    uint32_t nb = 0;
-#define QLANE(p)                                                                               \
-    do {                                                                                       \
-        const uint8_t *h_ = h8 + 4u * med[p] + (p);                                            \
-        unsigned l_ = lt[p] + ((acc >> (8 * (p))) & 0xFFu) - 64u, c_;                          \
-        if (l_ > half) {                                                                       \
-            do {                                                                               \
-                h_ -= 4;                                                                       \
-                l_ -= *h_;                                                                     \
-            } while (l_ > half);                                                               \
-        } else {                                                                               \
-            while (l_ + (c_ = *h_) <= half) {                                                  \
-                l_ += c_;                                                                      \
-                h_ += 4;                                                                       \
-            }                                                                                  \
-        }                                                                                      \
-        med[p] = (unsigned)(h_ - h8) >> 2;                                                     \
-        lt[p] = l_;                                                                            \
-        nb |= (uint32_t)med[p] << (8 * (p));                                                   \
-    } while (0)
-                    QLANE(0);
-                    QLANE(1);
-                    QLANE(2);
-                    QLANE(3);
-#undef QLANE
-                    medb = nb;
-                }
-#else
                 acc >>= 8;
                 medb = 0;
                 for (p = 0; p < 4; p++) {
                     unsigned sh = 8u * (unsigned)p;
                     unsigned m = med[p];
-                    unsigned l = lt[p] + (unsigned)((acc >> (LANE_SHIFT * p)) & LANE_MASK) - 64u;
+                    unsigned l = lt[p] + (unsigned)((acc >> (16 * p)) & 0xFFFFu) - 64u;
                     if (l > half) {
                         do {
                             m--;
@@ -596,15 +632,15 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                     }
                     med[p] = m;
                     lt[p] = l;
-                    medb |= LANE_MED(m) << (LANE_SHIFT * p);
+                    medb |= ((uint64_t)m + 255u) << (16 * p);
                 }
-#endif
             }
             for (p = 0; p < np; p++)
                 dst[(size_t)(i0 + p) * dstride + (size_t)j] = (uint8_t)med[p];
         }
     }
 }
+#endif /* MEDIAN_DSP */
 
 #endif /* !MEDIAN_SSE2 */
 
@@ -904,7 +940,11 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         if (rs->src8 != NULL || nk >= (size_t)(2 * R + 4)) {
             rs->ring = (uint8_t *)scratch;
             rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+#ifdef MEDIAN_DSP
+            median_quad_dsp(rs, rows, cols, dst, dstride, R);
+#else
             median_quad(rs, rows, cols, dst, dstride, R);
+#endif
             return ACTAG_OK;
         }
     }
