@@ -376,19 +376,6 @@ static void quad_masks(int n, uint32_t *mask8, uint64_t *mask16)
 }
 
 #ifdef MEDIAN_DSP
-/* The block's 2R+4 source rows; returns 1 when they are rows[0] + t *
- * sstride (every row inside the image and, for 16-bit frames, not wrapped
- * around the ring), so that one pointer can walk them. */
-static int quad_rows(rowsrc *rs, int rows, int i0, int R, const uint8_t **rowp, size_t sstride)
-{
-    const int nt = 2 * R + 4;
-    int t;
-    for (t = 0; t < nt; t++)
-        rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
-    return i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1 &&
-           rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride;
-}
-
 /* DSP path. leb packs the four windows' counts of samples <= their median
  * (8-bit lanes: at most 225), medb the four medians. A sample v changes
  * leb by the lanes where med[p] >= v: USUB8 (medb - v in each lane) sets
@@ -410,6 +397,139 @@ static inline uint32_t le_lanes(unsigned v, uint32_t medb, uint32_t m)
     return r;
 }
 
+/* Sample v of a row with mask m enters (+) or leaves (-) the windows. */
+#define QSAMPLE(op, v, m)                                                                      \
+    do {                                                                                       \
+        hist[v] op (m);                                                                        \
+        leb op le_lanes((v), medb, (m));                                                       \
+    } while (0)
+
+/* New median of window p from its old one (lane p of medb) and the count
+ * of samples <= it (lane p of leb); adds both to nb, nl. */
+#define QLANE(p, mout)                                                                         \
+    do {                                                                                       \
+        unsigned le_ = (leb >> (8 * (p))) & 0xFFu;                                             \
+        const uint8_t *h_ = h8 + 4u * ((medb >> (8 * (p))) & 0xFFu);                           \
+        if (le_ <= half) {                                                                     \
+            do {                                                                               \
+                h_ += 4;                                                                       \
+                le_ += h_[p];                                                                  \
+            } while (le_ <= half);                                                             \
+        } else {                                                                               \
+            unsigned c_ = h_[p];                                                               \
+            while (le_ - c_ > half) {                                                          \
+                le_ -= c_;                                                                     \
+                h_ -= 4;                                                                       \
+                c_ = h_[p];                                                                    \
+            }                                                                                  \
+        }                                                                                      \
+        mout = (unsigned)(h_ - h8) >> 2;                                                       \
+        nb |= (uint32_t)mout << (8 * (p));                                                     \
+        nl |= (uint32_t)le_ << (8 * (p));                                                      \
+    } while (0)
+
+/* One source row of an interior block: its samples q[dq] entering and
+ * q[0] leaving the windows of mask m; q moves to the next row. One asm
+ * block, 17 instructions: GCC, given the C, rematerialises the constants
+ * and re-extends the bytes (about 20). hist is written: "memory". */
+static inline void quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t sstride,
+                            uint32_t medb, uint32_t m, uint32_t *leb)
+{
+    uint32_t vi, vo, t;
+    __asm__("ldrb %[vi], [%[q], %[dq]]\n\t"
+            "ldrb %[vo], [%[q]]\n\t"
+            "add %[q], %[q], %[ss]\n\t"
+            "ldr %[t], [%[h], %[vi], lsl #2]\n\t"
+            "add %[t], %[t], %[m]\n\t"
+            "str %[t], [%[h], %[vi], lsl #2]\n\t"
+            "ldr %[t], [%[h], %[vo], lsl #2]\n\t"
+            "sub %[t], %[t], %[m]\n\t"
+            "str %[t], [%[h], %[vo], lsl #2]\n\t"
+            "mul %[vi], %[vi], %[k]\n\t"
+            "usub8 %[vi], %[medb], %[vi]\n\t"
+            "sel %[vi], %[m], %[z]\n\t"
+            "add %[le], %[le], %[vi]\n\t"
+            "mul %[vo], %[vo], %[k]\n\t"
+            "usub8 %[vo], %[medb], %[vo]\n\t"
+            "sel %[vo], %[m], %[z]\n\t"
+            "sub %[le], %[le], %[vo]"
+            : [vi] "=&r"(vi), [vo] "=&r"(vo), [t] "=&r"(t), [q] "+r"(*q), [le] "+r"(*leb)
+            : [dq] "r"(dq), [ss] "r"(sstride), [h] "r"(hist), [medb] "r"(medb), [m] "r"(m),
+              [k] "r"(0x01010101u), [z] "r"(0u)
+            : "cc", "memory");
+}
+
+/* Columns 1 .. cols-1 of a block whose 2R+4 source rows are all inside the
+ * image at row0 + t * sstride: the masks are constants, one pointer walks
+ * the rows, all four output rows are stored (a function of its own: fewer
+ * live values, so fewer spills). */
+static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, uint8_t *d0,
+                          size_t dstride, int cols, int R, uint32_t medb, uint32_t leb)
+{
+    const uint8_t *const h8 = (const uint8_t *)hist;
+    const int n = 2 * R + 1;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    const size_t midrows = (size_t)(n - 3) * sstride;
+    /* Columns jm0 .. jm1-1 clamp neither the entering nor the leaving
+     * column: there the leaving one is q and the entering one q + n. */
+    const int jm0 = R + 1 < cols ? R + 1 : cols;
+    const int jm1 = cols - R > jm0 ? cols - R : jm0;
+    int j;
+
+/* Column j: its samples q[dq] (entering) and q[0] (leaving) in each of
+ * the 2R+4 rows from q, and the four medians stored from d. Rows 0-2 are
+ * in windows 0..t, rows 3..n-1 in all four, rows n..n+2 in windows
+ * t-n+1..3. */
+#define QCOLUMN(q0, dq, d)                                                                     \
+    do {                                                                                       \
+        const uint8_t *q = (q0), *qe;                                                          \
+        uint32_t nb = 0, nl = 0;                                                               \
+        unsigned m0, m1, m2, m3;                                                               \
+        if ((dq) != 0) {                                                                       \
+            quad_row(hist, &q, (dq), sstride, medb, 0x00000001u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x00000101u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x00010101u, &leb);                        \
+            /* n - 3 = 2R - 2 rows, two a turn (less loop overhead) */                        \
+            for (qe = q + midrows; q != qe;) {                                                 \
+                quad_row(hist, &q, (dq), sstride, medb, 0x01010101u, &leb);                    \
+                quad_row(hist, &q, (dq), sstride, medb, 0x01010101u, &leb);                    \
+            }                                                                                  \
+            quad_row(hist, &q, (dq), sstride, medb, 0x01010100u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x01010000u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x01000000u, &leb);                        \
+        }                                                                                      \
+        QLANE(0, m0);                                                                          \
+        QLANE(1, m1);                                                                          \
+        QLANE(2, m2);                                                                          \
+        QLANE(3, m3);                                                                          \
+        medb = nb;                                                                             \
+        leb = nl;                                                                              \
+        (d)[0] = (uint8_t)m0;                                                                  \
+        (d)[dstride] = (uint8_t)m1;                                                            \
+        (d)[2u * dstride] = (uint8_t)m2;                                                       \
+        (d)[3u * dstride] = (uint8_t)m3;                                                       \
+    } while (0)
+
+    for (j = 1; j < cols; j++) {
+        const uint8_t *qc;
+        uint8_t *d;
+        if (j == jm0) {
+            /* no clamps: one pointer for the rows, one for the output */
+            for (qc = row0 + (jm0 - R - 1), d = d0 + jm0; qc != row0 + (jm1 - R - 1); qc++, d++)
+                QCOLUMN(qc, (size_t)n, d);
+            j = jm1;
+            if (j == cols)
+                break;
+        }
+        {
+            size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
+            size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+            QCOLUMN(row0 + cr, ca - cr, d0 + j);
+        }
+    }
+#undef QCOLUMN
+}
+
 static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
 {
     const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
@@ -425,14 +545,15 @@ static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t
     for (i0 = 0; i0 < rows; i0 += 4) {
         uint32_t medb = 0, leb = 0;
         const int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
-        const int interior = quad_rows(rs, rows, i0, R, rowp, sstride);
         uint8_t *const d0 = dst + (size_t)i0 * dstride;
 
         /* Windows of column 0: columns clamp(-R..R). */
         memset(hist, 0, sizeof hist);
         for (t = 0; t < nt; t++) {
-            const uint8_t *s = rowp[t];
+            const uint8_t *s;
             int b;
+            rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
+            s = rowp[t];
             for (b = -R; b <= R; b++)
                 hist[s[clampi(b, 0, cols - 1)]] += mask8[t];
         }
@@ -445,86 +566,35 @@ static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t
             if (p < np)
                 d0[(size_t)p * dstride] = (uint8_t)m;
         }
+        if (i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1 &&
+            rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride) {
+            quad_interior(hist, rowp[0], sstride, d0, dstride, cols, R, medb, leb);
+            continue;
+        }
 
         for (j = 1; j < cols; j++) {
             size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
             size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
-            uint8_t *const d = d0 + j;
             uint32_t nb = 0, nl = 0;
-            if (ca == cr) {
-                for (p = 0; p < np; p++)
-                    d[(size_t)p * dstride] = (uint8_t)(medb >> (8 * p));
-                continue;
+            unsigned m[4];
+            for (t = 0; t < nt && ca != cr; t++) {
+                unsigned vin = rowp[t][ca], vout = rowp[t][cr];
+                QSAMPLE(+=, vin, mask8[t]);
+                QSAMPLE(-=, vout, mask8[t]);
             }
-            if (interior) {
-                /* Rows 0-2 are in windows 0..t, rows 3..n-1 in all four,
-                 * rows n..n+2 in windows t-n+1..3: the masks as constants,
-                 * the rows walked with one pointer. */
-                const uint8_t *q = rowp[0] + cr, *qe;
-                const size_t dq = ca - cr;
-#define QSTEP(m)                                                                               \
-    do {                                                                                       \
-        unsigned vi_ = q[dq], vo_ = *q;                                                        \
-        q += sstride;                                                                          \
-        hist[vi_] += (m);                                                                      \
-        hist[vo_] -= (m);                                                                      \
-        leb += le_lanes(vi_, medb, (m));                                                       \
-        leb -= le_lanes(vo_, medb, (m));                                                       \
-    } while (0)
-                QSTEP(0x00000001u);
-                QSTEP(0x00000101u);
-                QSTEP(0x00010101u);
-                /* n - 3 = 2R - 2 rows, two a turn (less loop overhead) */
-                for (qe = q + (size_t)(n - 3) * sstride; q != qe;) {
-                    QSTEP(0x01010101u);
-                    QSTEP(0x01010101u);
-                }
-                QSTEP(0x01010100u);
-                QSTEP(0x01010000u);
-                QSTEP(0x01000000u);
-#undef QSTEP
-            } else {
-                for (t = 0; t < nt; t++) {
-                    unsigned vin = rowp[t][ca], vout = rowp[t][cr];
-                    hist[vin] += mask8[t];
-                    hist[vout] -= mask8[t];
-                    leb += le_lanes(vin, medb, mask8[t]);
-                    leb -= le_lanes(vout, medb, mask8[t]);
-                }
-            }
-#define QLANE(p)                                                                               \
-    do {                                                                                       \
-        unsigned le_ = (leb >> (8 * (p))) & 0xFFu, m_;                                         \
-        const uint8_t *h_ = h8 + 4u * ((medb >> (8 * (p))) & 0xFFu) + (p);                     \
-        if (le_ <= half) {                                                                     \
-            do {                                                                               \
-                h_ += 4;                                                                       \
-                le_ += *h_;                                                                    \
-            } while (le_ <= half);                                                             \
-        } else {                                                                               \
-            unsigned c_ = *h_;                                                                 \
-            while (le_ - c_ > half) {                                                          \
-                le_ -= c_;                                                                     \
-                h_ -= 4;                                                                       \
-                c_ = *h_;                                                                      \
-            }                                                                                  \
-        }                                                                                      \
-        m_ = (unsigned)(h_ - h8) >> 2;                                                         \
-        nb |= (uint32_t)m_ << (8 * (p));                                                       \
-        nl |= (uint32_t)le_ << (8 * (p));                                                      \
-        if ((p) == 0 || (p) < np)                                                              \
-            d[(size_t)(p) * dstride] = (uint8_t)m_;                                            \
-    } while (0)
-            QLANE(0);
-            QLANE(1);
-            QLANE(2);
-            QLANE(3);
-#undef QLANE
+            QLANE(0, m[0]);
+            QLANE(1, m[1]);
+            QLANE(2, m[2]);
+            QLANE(3, m[3]);
             medb = nb;
             leb = nl;
+            for (p = 0; p < np; p++)
+                dst[(size_t)(i0 + p) * dstride + (size_t)j] = (uint8_t)m[p];
         }
     }
 }
+#undef QSAMPLE
+#undef QLANE
 
 #else /* !MEDIAN_DSP */
 /* Portable: the number of samples below each window's median is updated
