@@ -459,6 +459,49 @@ static inline void quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t
             : "cc", "memory");
 }
 
+/* QLANE for the interior columns as one asm block: lanes of medb and leb
+ * updated in place (BFI) and only when the median moves, the median
+ * stored by `store` (d: column pointer of output row 0, ds: dstride). The
+ * usual case, no move, is 10 instructions. */
+#define QLANE_ASM(lane, store)                                                                    \
+    do {                                                                                       \
+        uint32_t le_, m_, h_, c_;                                                              \
+        __asm__("ubfx %[le], %[leb], #%c[sh], #8\n\t"                                           \
+                "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                           \
+                "add %[h], %[h8], %[m], lsl #2\n\t"                                             \
+                "cmp %[le], %[half]\n\t"                                                        \
+                "bls 2f\n\t"                                                                    \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
+                "sub %[c], %[le], %[c]\n\t"                                                     \
+                "cmp %[c], %[half]\n\t"                                                         \
+                "bls 4f\n"                                                                       \
+                "1:\n\t" /* down: le - hist_p[m] > half */                                      \
+                "mov %[le], %[c]\n\t"                                                           \
+                "sub %[h], %[h], #4\n\t"                                                        \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
+                "sub %[c], %[le], %[c]\n\t"                                                     \
+                "cmp %[c], %[half]\n\t"                                                         \
+                "bhi 1b\n\t"                                                                    \
+                "b 3f\n"                                                                         \
+                "2:\n\t" /* up: le <= half */                                                   \
+                "add %[h], %[h], #4\n\t"                                                        \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
+                "add %[le], %[le], %[c]\n\t"                                                    \
+                "cmp %[le], %[half]\n\t"                                                        \
+                "bls 2b\n"                                                                       \
+                "3:\n\t"                                                                        \
+                "sub %[m], %[h], %[h8]\n\t"                                                     \
+                "lsr %[m], %[m], #2\n\t"                                                        \
+                "bfi %[medb], %[m], #%c[sh], #8\n\t"                                            \
+                "bfi %[leb], %[le], #%c[sh], #8\n"                                               \
+                "4:\n\t" store                                                                  \
+                : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                 \
+                  [medb] "+r"(medb), [leb] "+r"(leb)                                           \
+                : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [ds] "r"(dstride),             \
+                  [sh] "i"(8 * (lane)), [lp] "i"(lane)                                                 \
+                : "cc", "memory");                                                             \
+    } while (0)
+
 /* Columns 1 .. cols-1 of a block whose 2R+4 source rows are all inside the
  * image at row0 + t * sstride: the masks are constants, one pointer walks
  * the rows, all four output rows are stored (a function of its own: fewer
@@ -483,8 +526,6 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 #define QCOLUMN(q0, dq, d)                                                                     \
     do {                                                                                       \
         const uint8_t *q = (q0), *qe;                                                          \
-        uint32_t nb = 0, nl = 0;                                                               \
-        unsigned m0, m1, m2, m3;                                                               \
         if ((dq) != 0) {                                                                       \
             quad_row(hist, &q, (dq), sstride, medb, 0x00000001u, &leb);                        \
             quad_row(hist, &q, (dq), sstride, medb, 0x00000101u, &leb);                        \
@@ -498,16 +539,13 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
             quad_row(hist, &q, (dq), sstride, medb, 0x01010000u, &leb);                        \
             quad_row(hist, &q, (dq), sstride, medb, 0x01000000u, &leb);                        \
         }                                                                                      \
-        QLANE(0, m0);                                                                          \
-        QLANE(1, m1);                                                                          \
-        QLANE(2, m2);                                                                          \
-        QLANE(3, m3);                                                                          \
-        medb = nb;                                                                             \
-        leb = nl;                                                                              \
-        (d)[0] = (uint8_t)m0;                                                                  \
-        (d)[dstride] = (uint8_t)m1;                                                            \
-        (d)[2u * dstride] = (uint8_t)m2;                                                       \
-        (d)[3u * dstride] = (uint8_t)m3;                                                       \
+        {                                                                                      \
+            uint8_t *const dcol = (d);                                                         \
+            QLANE_ASM(0, "strb %[m], [%[d]]");                                                 \
+            QLANE_ASM(1, "strb %[m], [%[d], %[ds]]");                                          \
+            QLANE_ASM(2, "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c]]");                \
+            QLANE_ASM(3, "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");         \
+        }                                                                                      \
     } while (0)
 
     for (j = 1; j < cols; j++) {
@@ -529,6 +567,7 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
     }
 #undef QCOLUMN
 }
+#undef QLANE_ASM
 
 static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
 {
