@@ -387,7 +387,8 @@ static void quad_masks(int n, uint32_t *mask8, uint64_t *mask16)
  * le[p] - hist_p[med[p]] > half (down); lane p of hist[m] is read as byte
  * 4m + p. Cost at R = 4 on Cortex-M7 -O2 (QEMU -icount, tools/budget):
  * see actag/median.h. */
-static inline uint32_t le_lanes(unsigned v, uint32_t medb, uint32_t m)
+__attribute__((always_inline)) static inline uint32_t
+le_lanes(unsigned v, uint32_t medb, uint32_t m)
 {
     uint32_t r;
     __asm__("mul %0, %1, %5\n\tusub8 %0, %2, %0\n\tsel %0, %4, %3"
@@ -431,9 +432,11 @@ static inline uint32_t le_lanes(unsigned v, uint32_t medb, uint32_t m)
 /* One source row of an interior block: its samples q[dq] entering and
  * q[0] leaving the windows of mask m; q moves to the next row. One asm
  * block, 17 instructions: GCC, given the C, rematerialises the constants
- * and re-extends the bytes (about 20). hist is written: "memory". */
-static inline void quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t sstride,
-                            uint32_t medb, uint32_t m, uint32_t *leb)
+ * and re-extends the bytes (about 20). hist is written: "memory".
+ * Always inlined: at -Os GCC calls it, with q and leb in memory. */
+__attribute__((always_inline)) static inline void
+quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t sstride, uint32_t medb, uint32_t m,
+         uint32_t *leb)
 {
     uint32_t vi, vo, t;
     __asm__("ldrb %[vi], [%[q], %[dq]]\n\t"
