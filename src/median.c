@@ -30,7 +30,8 @@
  * time at large radii: median_core, median_strip_agg). The portable path computes the
  * same bytes (tests check both); for R <= 7 it uses median_quad() below
  * (a sliding histogram shared by four rows), which without SIMD is about
- * 3x faster than the constant-time scheme at R = 4. */
+ * 3x faster than the constant-time scheme at R = 4, and on Cortex-M4/M7
+ * median_quad_dsp() (about 78 instructions per pixel at R = 4, -O2). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 
@@ -345,80 +346,22 @@ static unsigned h16_get(const h16 *h, unsigned k)
  * 8-bit counts of level v (a window holds (2R+1)^2 <= 225 samples); the
  * 2R+4 source rows of a block of four output rows enter the windows of the
  * rows they cover (mask[t], 0x01 per covered lane), so each sample costs
- * one histogram update for all four windows instead of up to four. The
- * number of samples below each window's median is updated for all four at
- * once with 16-bit lanes: lane p of medb is med[p] + 255, so bit 8 of lane
- * p of medb - v * 0x0001000100010001 is (v < med[p]) and no lane borrows.
+ * one histogram update for all four windows instead of up to four.
  * ---------------------------------------------------------------------- */
 #define MEDIAN_QUAD_MAX_R 7
-#define LANES16 0x0001000100010001ull
 
-#if !(defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP))
-/* bcast16[v]: v in each of four 16-bit lanes (a table: cheaper than the
- * multiply or shifts on both x86-64 and Cortex-M). */
-#define BC1(v) ((uint64_t)(v) * LANES16)
-#define BC4(v) BC1(v), BC1((v) + 1), BC1((v) + 2), BC1((v) + 3)
-#define BC16(v) BC4(v), BC4((v) + 4), BC4((v) + 8), BC4((v) + 12)
-#define BC64(v) BC16(v), BC16((v) + 16), BC16((v) + 32), BC16((v) + 48)
-static const uint64_t bcast16_tab[256] = {BC64(0), BC64(64), BC64(128), BC64(192)};
-#define bcast16(v) bcast16_tab[v]
-#endif
-
-/* The "samples below the median" counts of the four windows change by
- * below(acc, medb, v, m) per sample v entering (and minus it leaving):
- * lanes_t holds one counter per window, medb the four medians; m selects
- * the windows the sample's row belongs to.
- * Portable: 16-bit lanes of a 64-bit word, the borrow trick above (medb's
- * lane p is med[p] + 255; m is mask16 << 8, so the change is 256 per lane).
- * Cortex-M4/M7 (__ARM_FEATURE_SIMD32): 8-bit lanes of a 32-bit word, USUB8
- * sets the GE flag of lane p when v >= med[p] and SEL then picks 0 there
- * and the lane's mask byte (0x01) elsewhere: 5 instructions a sample
- * instead of about 10 with 64-bit arithmetic on a 32-bit core. The counts
- * are the same; ACTAG_NO_DSP selects the portable lanes there too. */
-#if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP)
+/* Cortex-M4/M7 (__ARM_FEATURE_SIMD32, little-endian): median_quad_dsp();
+ * ACTAG_NO_DSP selects the portable median_quad() there too. */
+#if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
+    !defined(__ARM_BIG_ENDIAN)
 #define MEDIAN_DSP 1
-typedef uint32_t lanes_t;
-#define LANES_BIAS 0x40404040u /* 64 a lane: a step's changes stay in 0..128 */
-#define LANE_SHIFT 8
-#define LANE_MASK 0xFFu
-static inline uint32_t below_lanes(unsigned v, uint32_t medb, uint32_t m)
-{
-    uint32_t r;
-    __asm__("usub8 %0, %1, %2\n\tsel %0, %3, %4"
-            : "=&r"(r)
-            : "r"((uint32_t)v * 0x01010101u), "r"(medb), "r"(0u), "r"(m)
-            : "cc");
-    return r;
-}
-#define LANE_MED(m) ((uint32_t)(m))
-#define BELOW(medb, v, m8, m16) below_lanes((v), (medb), (m8)) /* m16 not used */
-#define BELOW_ALL(medb, v) below_lanes((v), (medb), 0x01010101u)
-#else
-typedef uint64_t lanes_t;
-#define LANES_BIAS (64u * 256u * LANES16) /* 64 a lane, in units of 256 */
-#define LANE_SHIFT 16
-#define LANE_MASK 0xFFFFu
-#define LANE_MED(m) ((uint64_t)(m) + 255u)
-#define BELOW(medb, v, m8, m16) (((medb) - bcast16(v)) & ((m16) << 8))
-#define BELOW_ALL(medb, v) (((medb) - bcast16(v)) & (256u * LANES16))
 #endif
 
-static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+/* mask8[t]: 0x01 in lane p when source row t of a block is in window p. */
+static void quad_masks(int n, uint32_t *mask8, uint64_t *mask16)
 {
-#ifdef MEDIAN_DSP
-    const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
-#endif
-    uint32_t hist[256];
-    const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
-    uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
-#ifndef MEDIAN_DSP
-    uint64_t mask16[2 * MEDIAN_QUAD_MAX_R + 4];
-#endif
-    const int n = 2 * R + 1, nt = n + 3;
-    const unsigned half = (unsigned)(n * n) / 2u;
-    int i0, j, t, p;
-
-    for (t = 0; t < nt; t++) {
+    int t, p;
+    for (t = 0; t < n + 3; t++) {
         uint32_t m8 = 0;
         uint64_t m16 = 0;
         for (p = 0; p < 4; p++) {
@@ -428,28 +371,310 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
             }
         }
         mask8[t] = m8;
-#ifndef MEDIAN_DSP
-        mask16[t] = m16;
-#else
-        (void)m16;
-#endif
+        if (mask16 != NULL)
+            mask16[t] = m16;
     }
+}
 
+#ifdef MEDIAN_DSP
+/* DSP path. leb packs the four windows' counts of samples <= their median
+ * (8-bit lanes: at most 225), medb the four medians. A sample v changes
+ * leb by the lanes where med[p] >= v: USUB8 (medb - v in each lane) sets
+ * GE there and SEL picks the row's mask byte, 0 elsewhere; MUL broadcasts
+ * v (GCC would spend two shifted adds). The lanes are added into leb as a
+ * plain 32-bit word: carries between lanes cancel, because every lane ends
+ * in 0..225 (the word is sum le[p] * 256^p modulo 2^32 throughout). The
+ * median of window p then moves from med[p] while le[p] <= half (up) or
+ * le[p] - hist_p[med[p]] > half (down); lane p of hist[m] is read as byte
+ * 4m + p. Cost at R = 4, 530 x 512 (QEMU -icount, tools/budget): 21.1 M
+ * instructions per frame on Cortex-M7 -O2 (about 78 per pixel: per column
+ * of a block, 2R+4 rows at 17 each and about 11 per median), 21.7 M at
+ * -Os, 20.7 M on Cortex-M4 -O2; 30.1 M (111 per pixel) before the asm
+ * blocks. Stack: as median_quad (1.3 KiB, the 1 KiB histogram). */
+__attribute__((always_inline)) static inline uint32_t
+le_lanes(unsigned v, uint32_t medb, uint32_t m)
+{
+    uint32_t r;
+    __asm__("mul %0, %1, %5\n\tusub8 %0, %2, %0\n\tsel %0, %4, %3"
+            : "=&r"(r)
+            : "r"(v), "r"(medb), "r"(0u), "r"(m), "r"(0x01010101u)
+            : "cc");
+    return r;
+}
+
+/* Sample v of a row with mask m enters (+) or leaves (-) the windows. */
+#define QSAMPLE(op, v, m)                                                                      \
+    do {                                                                                       \
+        hist[v] op (m);                                                                        \
+        leb op le_lanes((v), medb, (m));                                                       \
+    } while (0)
+
+/* New median of window p from its old one (lane p of medb) and the count
+ * of samples <= it (lane p of leb); adds both to nb, nl. */
+#define QLANE(p, mout)                                                                         \
+    do {                                                                                       \
+        unsigned le_ = (leb >> (8 * (p))) & 0xFFu;                                             \
+        const uint8_t *h_ = h8 + 4u * ((medb >> (8 * (p))) & 0xFFu);                           \
+        if (le_ <= half) {                                                                     \
+            do {                                                                               \
+                h_ += 4;                                                                       \
+                le_ += h_[p];                                                                  \
+            } while (le_ <= half);                                                             \
+        } else {                                                                               \
+            unsigned c_ = h_[p];                                                               \
+            while (le_ - c_ > half) {                                                          \
+                le_ -= c_;                                                                     \
+                h_ -= 4;                                                                       \
+                c_ = h_[p];                                                                    \
+            }                                                                                  \
+        }                                                                                      \
+        mout = (unsigned)(h_ - h8) >> 2;                                                       \
+        nb |= (uint32_t)mout << (8 * (p));                                                     \
+        nl |= (uint32_t)le_ << (8 * (p));                                                      \
+    } while (0)
+
+/* One source row of an interior block: its samples q[dq] entering and
+ * q[0] leaving the windows of mask m; q moves to the next row. One asm
+ * block, 17 instructions: GCC, given the C, rematerialises the constants
+ * and re-extends the bytes (about 20). hist is written: "memory".
+ * Always inlined: at -Os GCC calls it, with q and leb in memory. */
+__attribute__((always_inline)) static inline void
+quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t sstride, uint32_t medb, uint32_t m,
+         uint32_t *leb)
+{
+    uint32_t vi, vo, t;
+    __asm__("ldrb %[vi], [%[q], %[dq]]\n\t"
+            "ldrb %[vo], [%[q]]\n\t"
+            "add %[q], %[q], %[ss]\n\t"
+            "ldr %[t], [%[h], %[vi], lsl #2]\n\t"
+            "add %[t], %[t], %[m]\n\t"
+            "str %[t], [%[h], %[vi], lsl #2]\n\t"
+            "ldr %[t], [%[h], %[vo], lsl #2]\n\t"
+            "sub %[t], %[t], %[m]\n\t"
+            "str %[t], [%[h], %[vo], lsl #2]\n\t"
+            "mul %[vi], %[vi], %[k]\n\t"
+            "usub8 %[vi], %[medb], %[vi]\n\t"
+            "sel %[vi], %[m], %[z]\n\t"
+            "add %[le], %[le], %[vi]\n\t"
+            "mul %[vo], %[vo], %[k]\n\t"
+            "usub8 %[vo], %[medb], %[vo]\n\t"
+            "sel %[vo], %[m], %[z]\n\t"
+            "sub %[le], %[le], %[vo]"
+            : [vi] "=&r"(vi), [vo] "=&r"(vo), [t] "=&r"(t), [q] "+r"(*q), [le] "+r"(*leb)
+            : [dq] "r"(dq), [ss] "r"(sstride), [h] "r"(hist), [medb] "r"(medb), [m] "r"(m),
+              [k] "r"(0x01010101u), [z] "r"(0u)
+            : "cc", "memory");
+}
+
+/* QLANE for the interior columns as one asm block: lanes of medb and leb
+ * updated in place (BFI) and only when the median moves, the median
+ * stored by `store` (d: column pointer of output row 0, ds: dstride). The
+ * usual case, no move, is 10 instructions. */
+#define QLANE_ASM(lane, store)                                                                    \
+    do {                                                                                       \
+        uint32_t le_, m_, h_, c_;                                                              \
+        __asm__("ubfx %[le], %[leb], #%c[sh], #8\n\t"                                           \
+                "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                           \
+                "add %[h], %[h8], %[m], lsl #2\n\t"                                             \
+                "cmp %[le], %[half]\n\t"                                                        \
+                "bls 2f\n\t"                                                                    \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
+                "sub %[c], %[le], %[c]\n\t"                                                     \
+                "cmp %[c], %[half]\n\t"                                                         \
+                "bls 4f\n"                                                                       \
+                "1:\n\t" /* down: le - hist_p[m] > half */                                      \
+                "mov %[le], %[c]\n\t"                                                           \
+                "sub %[h], %[h], #4\n\t"                                                        \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
+                "sub %[c], %[le], %[c]\n\t"                                                     \
+                "cmp %[c], %[half]\n\t"                                                         \
+                "bhi 1b\n\t"                                                                    \
+                "b 3f\n"                                                                         \
+                "2:\n\t" /* up: le <= half */                                                   \
+                "add %[h], %[h], #4\n\t"                                                        \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
+                "add %[le], %[le], %[c]\n\t"                                                    \
+                "cmp %[le], %[half]\n\t"                                                        \
+                "bls 2b\n"                                                                       \
+                "3:\n\t"                                                                        \
+                "sub %[m], %[h], %[h8]\n\t"                                                     \
+                "lsr %[m], %[m], #2\n\t"                                                        \
+                "bfi %[medb], %[m], #%c[sh], #8\n\t"                                            \
+                "bfi %[leb], %[le], #%c[sh], #8\n"                                               \
+                "4:\n\t" store                                                                  \
+                : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                 \
+                  [medb] "+r"(medb), [leb] "+r"(leb)                                           \
+                : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [ds] "r"(dstride),             \
+                  [sh] "i"(8 * (lane)), [lp] "i"(lane)                                                 \
+                : "cc", "memory");                                                             \
+    } while (0)
+
+/* Columns 1 .. cols-1 of a block whose 2R+4 source rows are all inside the
+ * image at row0 + t * sstride: the masks are constants, one pointer walks
+ * the rows, all four output rows are stored (a function of its own: fewer
+ * live values, so fewer spills). */
+static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, uint8_t *d0,
+                          size_t dstride, int cols, int R, uint32_t medb, uint32_t leb)
+{
+    const uint8_t *const h8 = (const uint8_t *)hist;
+    const int n = 2 * R + 1;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    const size_t midrows = (size_t)(n - 3) * sstride;
+    /* Columns jm0 .. jm1-1 clamp neither the entering nor the leaving
+     * column: there the leaving one is q and the entering one q + n. */
+    const int jm0 = R + 1 < cols ? R + 1 : cols;
+    const int jm1 = cols - R > jm0 ? cols - R : jm0;
+    int j;
+
+/* Column j: its samples q[dq] (entering) and q[0] (leaving) in each of
+ * the 2R+4 rows from q, and the four medians stored from d. Rows 0-2 are
+ * in windows 0..t, rows 3..n-1 in all four, rows n..n+2 in windows
+ * t-n+1..3. */
+#define QCOLUMN(q0, dq, d)                                                                     \
+    do {                                                                                       \
+        const uint8_t *q = (q0), *qe;                                                          \
+        if ((dq) != 0) {                                                                       \
+            quad_row(hist, &q, (dq), sstride, medb, 0x00000001u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x00000101u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x00010101u, &leb);                        \
+            /* n - 3 = 2R - 2 rows, two a turn (less loop overhead) */                        \
+            for (qe = q + midrows; q != qe;) {                                                 \
+                quad_row(hist, &q, (dq), sstride, medb, 0x01010101u, &leb);                    \
+                quad_row(hist, &q, (dq), sstride, medb, 0x01010101u, &leb);                    \
+            }                                                                                  \
+            quad_row(hist, &q, (dq), sstride, medb, 0x01010100u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x01010000u, &leb);                        \
+            quad_row(hist, &q, (dq), sstride, medb, 0x01000000u, &leb);                        \
+        }                                                                                      \
+        {                                                                                      \
+            uint8_t *const dcol = (d);                                                         \
+            QLANE_ASM(0, "strb %[m], [%[d]]");                                                 \
+            QLANE_ASM(1, "strb %[m], [%[d], %[ds]]");                                          \
+            QLANE_ASM(2, "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c]]");                \
+            QLANE_ASM(3, "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");         \
+        }                                                                                      \
+    } while (0)
+
+    for (j = 1; j < cols; j++) {
+        const uint8_t *qc;
+        uint8_t *d;
+        if (j == jm0) {
+            /* no clamps: one pointer for the rows, one for the output */
+            for (qc = row0 + (jm0 - R - 1), d = d0 + jm0; qc != row0 + (jm1 - R - 1); qc++, d++)
+                QCOLUMN(qc, (size_t)n, d);
+            j = jm1;
+            if (j == cols)
+                break;
+        }
+        {
+            size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
+            size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+            QCOLUMN(row0 + cr, ca - cr, d0 + j);
+        }
+    }
+#undef QCOLUMN
+}
+#undef QLANE_ASM
+
+static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+{
+    const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
+    uint32_t hist[256];
+    const uint8_t *const h8 = (const uint8_t *)hist;
+    const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
+    const int n = 2 * R + 1, nt = n + 3;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    int i0, j, t, p;
+
+    quad_masks(n, mask8, NULL);
+    for (i0 = 0; i0 < rows; i0 += 4) {
+        uint32_t medb = 0, leb = 0;
+        const int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
+        uint8_t *const d0 = dst + (size_t)i0 * dstride;
+
+        /* Windows of column 0: columns clamp(-R..R). */
+        memset(hist, 0, sizeof hist);
+        for (t = 0; t < nt; t++) {
+            const uint8_t *s;
+            int b;
+            rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
+            s = rowp[t];
+            for (b = -R; b <= R; b++)
+                hist[s[clampi(b, 0, cols - 1)]] += mask8[t];
+        }
+        for (p = 0; p < 4; p++) {
+            unsigned m = 0, le = h8[p];
+            while (le <= half)
+                le += h8[4u * ++m + (unsigned)p];
+            medb |= (uint32_t)m << (8 * p);
+            leb |= (uint32_t)le << (8 * p);
+            if (p < np)
+                d0[(size_t)p * dstride] = (uint8_t)m;
+        }
+        if (i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1 &&
+            rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride) {
+            quad_interior(hist, rowp[0], sstride, d0, dstride, cols, R, medb, leb);
+            continue;
+        }
+
+        for (j = 1; j < cols; j++) {
+            size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
+            size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+            uint32_t nb = 0, nl = 0;
+            unsigned m[4];
+            for (t = 0; t < nt && ca != cr; t++) {
+                unsigned vin = rowp[t][ca], vout = rowp[t][cr];
+                QSAMPLE(+=, vin, mask8[t]);
+                QSAMPLE(-=, vout, mask8[t]);
+            }
+            QLANE(0, m[0]);
+            QLANE(1, m[1]);
+            QLANE(2, m[2]);
+            QLANE(3, m[3]);
+            medb = nb;
+            leb = nl;
+            for (p = 0; p < np; p++)
+                dst[(size_t)(i0 + p) * dstride + (size_t)j] = (uint8_t)m[p];
+        }
+    }
+}
+#undef QSAMPLE
+#undef QLANE
+
+#else /* !MEDIAN_DSP */
+/* Portable: the number of samples below each window's median is updated
+ * for all four at once with 16-bit lanes of a 64-bit word: lane p of medb
+ * is med[p] + 255, so bit 8 of lane p of medb - v * 0x0001000100010001 is
+ * (v < med[p]) and no lane borrows. */
+#define LANES16 0x0001000100010001ull
+
+/* bcast16[v]: v in each of four 16-bit lanes (a table: cheaper than the
+ * multiply or shifts on both x86-64 and Cortex-M). */
+#define BC1(v) ((uint64_t)(v) * LANES16)
+#define BC4(v) BC1(v), BC1((v) + 1), BC1((v) + 2), BC1((v) + 3)
+#define BC16(v) BC4(v), BC4((v) + 4), BC4((v) + 8), BC4((v) + 12)
+#define BC64(v) BC16(v), BC16((v) + 16), BC16((v) + 32), BC16((v) + 48)
+static const uint64_t bcast16_tab[256] = {BC64(0), BC64(64), BC64(128), BC64(192)};
+#define bcast16(v) bcast16_tab[v]
+
+static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+{
+    uint32_t hist[256];
+    const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
+    uint64_t mask16[2 * MEDIAN_QUAD_MAX_R + 4];
+    const int n = 2 * R + 1, nt = n + 3;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    int i0, j, t, p;
+
+    quad_masks(n, mask8, mask16);
     for (i0 = 0; i0 < rows; i0 += 4) {
         unsigned med[4], lt[4];
-        lanes_t medb = 0;
+        uint64_t medb = 0;
         int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
-#ifdef MEDIAN_DSP
-        /* every source row in the image: rowp[t] = rowp[0] + t * sstride
-         * (16-bit frames: when the rows do not wrap around the ring) */
-        int interior = i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1;
-#endif
         for (t = 0; t < nt; t++)
             rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
-#ifdef MEDIAN_DSP
-        if (rs->src8 == NULL && interior)
-            interior = rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride;
-#endif
 
         /* Windows of column 0: columns clamp(-R..R). */
         memset(hist, 0, sizeof hist);
@@ -467,7 +692,7 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
             }
             med[p] = m;
             lt[p] = l;
-            medb |= LANE_MED(m) << (LANE_SHIFT * p);
+            medb |= ((uint64_t)m + 255u) << (16 * p);
             if (p < np)
                 dst[(size_t)(i0 + p) * dstride] = (uint8_t)m;
         }
@@ -476,44 +701,13 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
             size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
             size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
             if (ca != cr) {
-                /* acc collects the change of lt per lane (portable: 256 *
-                 * the change per 16-bit lane); the lanes start at 64 so
-                 * that they never go negative (at most 2R+4 <= 18 samples
-                 * leave a window in one step). */
-                lanes_t acc = LANES_BIAS;
-#ifdef MEDIAN_DSP
-                if (interior) {
-                    /* The same updates in the same order, the rows walked
-                     * with two pointers and the masks as constants: rows
-                     * 0-2 are in windows 0..t, rows 3..n-1 in all four,
-                     * rows n..n+2 in windows t-n+1..3. */
-                    const uint8_t *a = rowp[0] + ca, *b = rowp[0] + cr;
-#define QSTEP(m)                                                                               \
-    do {                                                                                       \
-        unsigned vi_ = *a, vo_ = *b;                                                           \
-        a += sstride;                                                                          \
-        b += sstride;                                                                          \
-        hist[vi_] += (m);                                                                      \
-        hist[vo_] -= (m);                                                                      \
-        acc += below_lanes(vi_, medb, (m));                                                    \
-        acc -= below_lanes(vo_, medb, (m));                                                    \
-    } while (0)
-                    QSTEP(0x00000001u);
-                    QSTEP(0x00000101u);
-                    QSTEP(0x00010101u);
-                    for (t = 3; t < n; t++)
-                        QSTEP(0x01010101u);
-                    QSTEP(0x01010100u);
-                    QSTEP(0x01010000u);
-                    QSTEP(0x01000000u);
-#undef QSTEP
-                } else
-#endif
+                /* acc collects 256 * the change of lt per 16-bit lane; the
+                 * lanes start at 64 so that they never go negative (at most
+                 * 2R+4 <= 18 samples leave a window in one step). */
+                uint64_t acc = 64u * 256u * LANES16;
                 for (t = 0; t < nt; t++) {
                     unsigned vin = rowp[t][ca], vout = rowp[t][cr];
-#ifndef MEDIAN_DSP
                     uint64_t m16 = mask16[t];
-#endif
                     uint32_t m8 = mask8[t];
                     if (t == 3 && n > 3) {
                         /* Rows 3 .. n-1 are in all four windows. */
@@ -522,29 +716,25 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                             vout = rowp[t][cr];
                             hist[vin] += 0x01010101u;
                             hist[vout] -= 0x01010101u;
-                            acc += BELOW_ALL(medb, vin);
-                            acc -= BELOW_ALL(medb, vout);
+                            acc += (medb - bcast16(vin)) & (256u * LANES16);
+                            acc -= (medb - bcast16(vout)) & (256u * LANES16);
                         }
                         vin = rowp[t][ca];
                         vout = rowp[t][cr];
-#ifndef MEDIAN_DSP
                         m16 = mask16[t];
-#endif
                         m8 = mask8[t];
                     }
                     hist[vin] += m8;
                     hist[vout] -= m8;
-                    acc += BELOW(medb, vin, m8, m16);
-                    acc -= BELOW(medb, vout, m8, m16);
+                    acc += (medb - bcast16(vin)) & (m16 << 8);
+                    acc -= (medb - bcast16(vout)) & (m16 << 8);
                 }
-#ifndef MEDIAN_DSP
                 acc >>= 8;
-#endif
                 medb = 0;
                 for (p = 0; p < 4; p++) {
                     unsigned sh = 8u * (unsigned)p;
                     unsigned m = med[p];
-                    unsigned l = lt[p] + (unsigned)((acc >> (LANE_SHIFT * p)) & LANE_MASK) - 64u;
+                    unsigned l = lt[p] + (unsigned)((acc >> (16 * p)) & 0xFFFFu) - 64u;
                     if (l > half) {
                         do {
                             m--;
@@ -558,7 +748,7 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
                     }
                     med[p] = m;
                     lt[p] = l;
-                    medb |= LANE_MED(m) << (LANE_SHIFT * p);
+                    medb |= ((uint64_t)m + 255u) << (16 * p);
                 }
             }
             for (p = 0; p < np; p++)
@@ -566,6 +756,7 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
         }
     }
 }
+#endif /* MEDIAN_DSP */
 
 #endif /* !MEDIAN_SSE2 */
 
@@ -865,7 +1056,11 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         if (rs->src8 != NULL || nk >= (size_t)(2 * R + 4)) {
             rs->ring = (uint8_t *)scratch;
             rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+#ifdef MEDIAN_DSP
+            median_quad_dsp(rs, rows, cols, dst, dstride, R);
+#else
             median_quad(rs, rows, cols, dst, dstride, R);
+#endif
             return ACTAG_OK;
         }
     }

@@ -8,11 +8,13 @@
 #include "test_util.h"
 
 /* The portable (non-SIMD) code path, compiled into this test under another
- * name so that both paths are checked on any machine. */
+ * name so that both paths are checked on any machine: without SSE2 on
+ * x86-64, without the DSP instructions (median_quad_dsp) on Cortex-M4/M7. */
 int actag_median_filter_portable(const uint8_t *src, int rows, int cols, int src_stride,
                                  uint8_t *dst, int dst_stride, int radius,
                                  void *scratch, size_t scratch_size);
 #define ACTAG_NO_SIMD 1
+#define ACTAG_NO_DSP 1
 int actag_median_filter16_portable(const void *src, int rows, int cols, int src_stride,
                                    uint8_t *dst, int dst_stride, int radius, void *scratch,
                                    size_t scratch_size);

@@ -41,13 +41,17 @@
  *   than the portable constant-time path (x86-64 gcc -O3: ~129 vs ~431 per
  *   pixel; ~128 vs ~534 with -fno-tree-vectorize, closer to a scalar core)
  *   and about 3x less time. A constant 2 KiB table (bcast16_tab) goes to
- *   read-only memory. On cores with the DSP extension (__ARM_FEATURE_SIMD32:
- *   Cortex-M4/M7) the four counts are 8-bit lanes of a 32-bit word updated
- *   with USUB8 + SEL (no table; ACTAG_NO_DSP: the 16-bit lanes): 31.2
- *   instead of 51.2 million instructions per 530 x 512 frame at R = 4 on a
- *   Cortex-M7 at -O2, about 115 per pixel (QEMU -icount, tools/budget). It needs no scratch (the scratch size
- *   is still checked, so that one size fits every radius). Radii >= 8 use
- *   the constant-time path.
+ *   read-only memory. On cores with the DSP extension (__ARM_FEATURE_SIMD32,
+ *   little-endian: Cortex-M4/M7) the four windows' counts of samples <= their
+ *   medians are 8-bit lanes of one word (MUL + USUB8 + SEL a sample, no
+ *   table), a source row's histogram and count update is one 17-instruction
+ *   asm block, and the median search reads a window's lane as a byte
+ *   (ACTAG_NO_DSP: the 16-bit lanes). At R = 4 on a 530 x 512 frame that is
+ *   21.1 million instructions on a Cortex-M7 at -O2, about 78 per pixel
+ *   (was 30.1 M, 111), 21.7 M at -Os, 20.7 M on a Cortex-M4 at -O2 (QEMU
+ *   -icount, tools/budget; the portable lanes: about 51 M). It needs no
+ *   scratch (the scratch size is still checked, so that one size fits every
+ *   radius). Radii >= 8 use the constant-time path.
  *
  *   src and dst must not overlap (src == dst is rejected with
  *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
