@@ -553,10 +553,33 @@ static float tscore(const fimg *im, const fgrid *gr, int k, float *m, const uint
  * 15-41 % of the wide searches (docs/decoder.md). */
 #define FIT_HOPELESS 12
 
+/* Each data cell's confidence, (mean - threshold) / (white - black): the
+ * threshold is level between the black ring and the white interior, or with
+ * ACTAG_FIT_LOCAL the mean of the cell's two reference cells (fref_cells).
+ * A clean bit reads +-0.5. white > black. */
+static void fconfidences(const float *m, int k, int flags, float level, float black, float white,
+                         float *c)
+{
+    int i, cx, cy, n = k + 1;
+    float contrast = white - black;
+    for (i = 0; i < 4 * k; i++) {
+        float t;
+        actag_tag_bit_cell(4 * k, i, &cx, &cy);
+        if (flags & ACTAG_FIT_LOCAL) {
+            int rx, ry, wx, wy;
+            fref_cells(i, k, &rx, &ry, &wx, &wy);
+            t = 0.5f * (m[ry * n + rx] + m[wy * n + wx]);
+        } else {
+            t = black + level * contrast;
+        }
+        c[i] = (m[cy * n + cx] - t) / contrast;
+    }
+}
+
 static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float level,
                      const actag_family *family, uint32_t keep, float *m, int *err)
 {
-    int cx, cy, i, n = k + 1, miss = 0;
+    int cx, cy, n = k + 1, miss = 0;
     float black, white, mid, c[32];
     actag_soft_match r;
     fcells(im, gr, k, m);
@@ -569,18 +592,7 @@ static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float le
             float v = m[cy * n + cx];
             miss += is_ring(cx, cy, k) ? !(v < mid) : !(v > mid);
         }
-    for (i = 0; i < 4 * k; i++) {
-        float t;
-        actag_tag_bit_cell(4 * k, i, &cx, &cy);
-        if (flags & ACTAG_FIT_LOCAL) {
-            int rx, ry, wx, wy;
-            fref_cells(i, k, &rx, &ry, &wx, &wy);
-            t = 0.5f * (m[ry * n + rx] + m[wy * n + wx]);
-        } else {
-            t = black + level * (white - black);
-        }
-        c[i] = (m[cy * n + cx] - t) / (white - black);
-    }
+    fconfidences(m, k, flags, level, black, white, c);
     *err = actag_family_match_soft(family, c, keep, &r);
     return *err == ACTAG_OK && miss + r.best.hamming >= FIT_HOPELESS;
 }
@@ -649,18 +661,9 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
     noise2 = noise2 / ((float)nknown * contrast * contrast);
     if (noise2 < FIT_MIN_NOISE * FIT_MIN_NOISE)
         noise2 = FIT_MIN_NOISE * FIT_MIN_NOISE;
+    fconfidences(m, k, flags, level, black, white, conf);
     for (i = 0; i < bits; i++) {
-        float t, c;
-        actag_tag_bit_cell(4 * k, i, &cx, &cy);
-        if (flags & ACTAG_FIT_LOCAL) {
-            int rx, ry, wx, wy;
-            fref_cells(i, k, &rx, &ry, &wx, &wy);
-            t = 0.5f * (m[ry * n + rx] + m[wy * n + wx]);
-        } else {
-            t = black + level * contrast;
-        }
-        c = (m[cy * n + cx] - t) / contrast;
-        conf[i] = c;
+        float c = conf[i];
         w = (w << 1) | (c > 0.0f ? 1u : 0u);
         c = c < 0.0f ? -c : c;
         if (c < minc)
@@ -780,18 +783,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 fcells(im, g_quad, k, mt);
                 flevels(mt, k, &bq, &wq);
                 if (wq - bq > 0.0f) {
-                    for (i = 0; i < bits; i++) {
-                        float t;
-                        actag_tag_bit_cell(4 * k, i, &cx, &cy);
-                        if (flags & ACTAG_FIT_LOCAL) {
-                            int rx, ry, wx, wy;
-                            fref_cells(i, k, &rx, &ry, &wx, &wy);
-                            t = 0.5f * (mt[ry * n + rx] + mt[wy * n + wx]);
-                        } else {
-                            t = bq + level * (wq - bq);
-                        }
-                        cq[i] = (mt[cy * n + cx] - t) / (wq - bq);
-                    }
+                    fconfidences(mt, k, flags, level, bq, wq, cq);
                     rc = actag_family_match_soft(family, cq, keep, &mq);
                     if (rc != ACTAG_OK)
                         return rc;
