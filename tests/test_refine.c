@@ -8,6 +8,7 @@
 
 #include "actag/actag.h"
 #include "actag/render.h"
+#include "test_util.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -94,17 +95,6 @@ static void random_map(actag_rng *r, int mirrored, amap *M)
     M->m[1] = 0.5f * RT_ROWS + 6.0f * (frand(r) - 0.5f);
 }
 
-static float max_err(const actag_point a[4], const actag_point b[4])
-{
-    float e = 0.0f;
-    int c;
-    for (c = 0; c < 4; c++) {
-        float d = hypotf(a[c].x - b[c].x, a[c].y - b[c].y);
-        e = d > e ? d : e;
-    }
-    return e;
-}
-
 /* Corners perturbed by up to `cells` of a cell in x and y each. */
 static void perturb(const actag_point t[4], float cell, float cells, actag_rng *r,
                     actag_point out[4])
@@ -140,7 +130,7 @@ static void test_recovers_true_corners(void)
         rc = actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS, NULL, 0.0f, &g_fam, id, s,
                                   &rp, f, NULL);
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc);
-        e = max_err(f, t);
+        e = tu_max_corner_error(f, t);
         if (noise > 0.0f)
             worst_noisy = e > worst_noisy ? e : worst_noisy;
         else

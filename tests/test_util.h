@@ -1,4 +1,4 @@
-/* Small helpers shared by the tests in tests/ (host only: stdio and malloc are
+/* Small helpers shared by the tests in tests/ and tools/sim/ (host only: stdio and malloc are
  * fine here). File reading goes through the host I/O library tools/hostio;
  * these wrappers fail the running Unity test with hostio's message (file and
  * value at fault) instead of returning NULL.
@@ -11,11 +11,13 @@
 #ifndef ACTAG_TEST_UTIL_H
 #define ACTAG_TEST_UTIL_H
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "actag/common.h"
 #include "hostio.h"
 #include "unity.h"
 
@@ -108,5 +110,17 @@ static inline int tu_run_gen(const char *args)
     return tu_run(cmd);
 }
 #endif
+
+/* The largest distance (pixels) between corresponding corners of two quads. */
+static inline float tu_max_corner_error(const actag_point a[4], const actag_point b[4])
+{
+    float e = 0.0f;
+    int c;
+    for (c = 0; c < 4; c++) {
+        float d = hypotf(a[c].x - b[c].x, a[c].y - b[c].y);
+        e = d > e ? d : e;
+    }
+    return e;
+}
 
 #endif

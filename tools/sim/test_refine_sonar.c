@@ -9,6 +9,7 @@
 
 #include "sim.h"
 #include "simio.h"
+#include "test_util.h"
 #include "unity.h"
 
 void setUp(void) {}
@@ -22,17 +23,6 @@ static void pool_sonar(sim_sonar *s, unsigned flags, const float *bearings)
     simio_pool_sonar(s);
     s->geo.flags = flags;
     s->geo.bearings = bearings;
-}
-
-static float maxerr(const actag_point a[4], const actag_point b[4])
-{
-    float e = 0.0f;
-    int c;
-    for (c = 0; c < 4; c++) {
-        float d = hypotf(a[c].x - b[c].x, a[c].y - b[c].y);
-        e = d > e ? d : e;
-    }
-    return e;
 }
 
 /* The refined corners lie within 0.3 px of the truth (the starts up to 1.5
@@ -102,8 +92,8 @@ static void test_sonar_views(void)
                                                              t.tag_size, &fam, t.id, start, &rp,
                                                              f2, NULL));
         TEST_ASSERT_EQUAL_MEMORY(f1, f2, sizeof f1);
-        e0 = maxerr(start, tr.px);
-        e1 = maxerr(f1, tr.px);
+        e0 = tu_max_corner_error(start, tr.px);
+        e1 = tu_max_corner_error(f1, tr.px);
         for (c = 0; c < 4; c++)
             sum += hypotf(f1[c].x - tr.px[c].x, f1[c].y - tr.px[c].y);
         worst = e1 > worst ? e1 : worst;
@@ -111,7 +101,7 @@ static void test_sonar_views(void)
          * the fan's keystone and the curvature leave pixels of error */
         if (actag_refine_corners(img, 530, 512, 512, NULL, 0.0f, &fam, t.id, start, &rp, f2,
                                  NULL) == ACTAG_OK)
-            TEST_ASSERT_TRUE(maxerr(f2, tr.px) > 3.0f * e1);
+            TEST_ASSERT_TRUE(tu_max_corner_error(f2, tr.px) > 3.0f * e1);
         TEST_ASSERT_TRUE(info.samples > 200);
         TEST_ASSERT_TRUE(e1 < e0);
         n++;
