@@ -34,6 +34,7 @@
  * median_quad_dsp() (about 78 instructions per pixel at R = 4, -O2). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
+#include "frame16.h"
 
 #include <string.h>
 
@@ -95,9 +96,8 @@ static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
     d = rs->ring + (size_t)slot * rs->cols;
     p = rs->src16 + 2u * (size_t)r * rs->stride;
     for (c = rs->c0; c < rs->c1; c++) {
-        uint16_t v;
-        memcpy(&v, p + 2u * c, sizeof v);
-        d[c] = (uint8_t)(((uint64_t)((uint32_t)v * 255u + rs->half) * rs->magic) >> rs->shift);
+        uint32_t v = frame16_load(p + 2u * c);
+        d[c] = (uint8_t)(((uint64_t)(v * 255u + rs->half) * rs->magic) >> rs->shift);
     }
     rs->tag[slot] = r;
     return d;
@@ -112,16 +112,9 @@ static int row_slot(const rowsrc *rs, const uint8_t *p)
 /* Sets up the 16-bit scaling: the frame's maximum, the multiplier. */
 static void rowsrc_init16(rowsrc *rs, const uint8_t *src, int rows, int cols, size_t stride)
 {
-    uint32_t mx = 0;
+    uint32_t mx = frame16_max(src, rows, cols, stride);
     unsigned l = 0;
-    int r, c;
-    for (r = 0; r < rows; r++)
-        for (c = 0; c < cols; c++) {
-            uint16_t v;
-            memcpy(&v, src + 2u * ((size_t)r * stride + (size_t)c), sizeof v);
-            if (v > mx)
-                mx = v;
-        }
+    int r;
     rs->src8 = NULL;
     rs->src16 = src;
     rs->stride = stride;

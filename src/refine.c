@@ -3,6 +3,7 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/refine.h"
 #include "actag/decode.h"
+#include "frame16.h"
 
 #include <string.h>
 
@@ -78,21 +79,12 @@ typedef struct rctx {
 
 static int finite_f(float x) { return x == x && x - x == 0.0f; }
 
-/* A 16-bit pixel in host byte order at any address (memcpy: no misaligned
- * halfword load, which faults on some cores). */
-static uint32_t rload16(const uint8_t *p)
-{
-    uint16_t v;
-    memcpy(&v, p, sizeof v);
-    return v;
-}
-
 /* A 16-bit pixel on the detector's 8-bit scale (actag.h: 16-bit frames are
  * scaled by their maximum, rounded), so a 16-bit frame refines exactly as
  * its 8-bit conversion does. */
 static uint32_t rscale16(const struct rctx *c, const uint8_t *p)
 {
-    return c->max16 ? (rload16(p) * 255u + c->max16 / 2u) / c->max16 : 0u;
+    return c->max16 ? (frame16_load(p) * 255u + c->max16 / 2u) / c->max16 : 0u;
 }
 
 /* sin, cos of a small angle (|d| <= 0.6: Taylor, error < 1e-8; |d| < 0.2,
@@ -883,14 +875,8 @@ int actag_refine_corners_depth(const void *img, int depth, int rows, int cols, i
     memset(&c, 0, sizeof c);
     c.img = (const uint8_t *)img;
     c.depth = depth;
-    if (depth == 16) {
-        uint32_t v;
-        int y, x;
-        for (y = 0; y < rows; y++)
-            for (x = 0; x < cols; x++)
-                if ((v = rload16(c.img + 2u * ((size_t)y * (size_t)stride + (size_t)x))) > c.max16)
-                    c.max16 = v;
-    }
+    if (depth == 16)
+        c.max16 = frame16_max(c.img, rows, cols, (size_t)stride);
     c.rows = rows;
     c.cols = cols;
     c.stride = stride;
