@@ -5,6 +5,9 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/actag.h"
 
+#include "frame16.h"
+#include "refine_frame.h"
+
 #include <string.h>
 
 /* Workspace layout (see ACTAG_WORKSPACE_SIZE), each part 16-byte aligned:
@@ -364,16 +367,16 @@ static void fill_det(actag_detection *d, const actag_decode_result *dr,
  * rounds corners and thins small cells: it biased the fitted shape); the
  * corners (and their range and azimuth) move when the fit is accepted,
  * nothing else. */
-static void refine_det(actag_detection *d, const actag_frame *frame,
+static void refine_det(actag_detection *d, const actag_frame *frame, uint32_t max16,
                        const actag_sonar_geometry *geometry, const actag_params *params)
 {
     actag_refine_params rp;
     actag_point fine[4];
     int c, rows = frame->rows, cols = frame->cols;
     actag_refine_params_default(&rp);
-    if (actag_refine_corners_depth(frame->data, frame->depth, rows, cols, frame->stride, geometry,
-                                   params->tag_size, params->family, d->id, d->corners, &rp, fine,
-                                   NULL) != ACTAG_OK)
+    if (actag__refine_corners_max16(frame->data, frame->depth, max16, rows, cols, frame->stride,
+                                    geometry, params->tag_size, params->family, d->id, d->corners,
+                                    &rp, fine, NULL) != ACTAG_OK)
         return;
     for (c = 0; c < 4; c++) {
         d->corners[c] = fine[c];
@@ -762,9 +765,14 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             record(out, max_out, &nout, &st, &sk[k]);
     /* 7. the reported tags' corners refined on the filtered frame (refine.h);
      * which tags, IDs, handedness and corner order stay as they are */
-    if (params->tuning.refine_corners)
+    if (params->tuning.refine_corners && nout > 0 && max_out > 0) {
+        /* a 16-bit frame's 8-bit scale: one scan for all the tags */
+        uint32_t max16 = frame->depth == 16 ? frame16_max((const uint8_t *)frame->data, rows, cols,
+                                                          (size_t)frame->stride)
+                                            : 0u;
         for (k = 0; k < nout && k < max_out; k++)
-            refine_det(&out[k], frame, geometry, params);
+            refine_det(&out[k], frame, max16, geometry, params);
+    }
     if (stats)
         *stats = st;
     return nout;

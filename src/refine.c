@@ -4,6 +4,7 @@
 #include "actag/refine.h"
 #include "actag/decode.h"
 #include "frame16.h"
+#include "refine_frame.h"
 
 #include <string.h>
 
@@ -840,6 +841,16 @@ int actag_refine_corners_depth(const void *img, int depth, int rows, int cols, i
                                const actag_refine_params *rp, actag_point out[4],
                                actag_refine_info *info)
 {
+    return actag__refine_corners_max16(img, depth, 0u, rows, cols, stride, geometry, tag_size,
+                                       family, id, corners, rp, out, info);
+}
+
+int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows, int cols,
+                                int stride, const actag_sonar_geometry *geometry, float tag_size,
+                                const actag_family *family, int id, const actag_point corners[4],
+                                const actag_refine_params *rp, actag_point out[4],
+                                actag_refine_info *info)
+{
     rctx c;
     rgrid G;
     float H[9], cl[6], rss = 0.0f, shift2 = 0.0f, cu[4], cv[4];
@@ -876,7 +887,7 @@ int actag_refine_corners_depth(const void *img, int depth, int rows, int cols, i
     c.img = (const uint8_t *)img;
     c.depth = depth;
     if (depth == 16)
-        c.max16 = frame16_max(c.img, rows, cols, (size_t)stride);
+        c.max16 = max16 ? max16 : frame16_max(c.img, rows, cols, (size_t)stride);
     c.rows = rows;
     c.cols = cols;
     c.stride = stride;

@@ -8,6 +8,7 @@
 
 #include "actag/actag.h"
 #include "actag/render.h"
+#include "../src/refine_frame.h"
 #include "test_util.h"
 #include "unity.h"
 
@@ -330,6 +331,26 @@ static void test_sixteen_bit_equals_its_conversion(void)
                               actag_refine_corners_depth(p16, 16, RT_ROWS, RT_COLS, stride, NULL,
                                                          0.0f, &g_fam, id, s, &rp, f16, NULL));
         TEST_ASSERT_EQUAL_MEMORY(f8, f16, sizeof f8);
+        /* the frame's maximum handed in (actag_detect's one scan per frame):
+         * the scale is the one given, here twice the frame's own */
+        for (y = 0; y < RT_ROWS; y++)
+            for (x = 0; x < RT_COLS; x++) {
+                uint32_t v = g_img[y * RT_COLS + x] * gain;
+                img8[y * RT_COLS + x] = (uint8_t)((v * 255u + mx) / (2u * mx));
+            }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img8, RT_ROWS, RT_COLS, RT_COLS, NULL,
+                                                             0.0f, &g_fam, id, s, &rp, f8, NULL));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__refine_corners_max16(p16, 16, 2u * mx, RT_ROWS,
+                                                                    RT_COLS, stride, NULL, 0.0f,
+                                                                    &g_fam, id, s, &rp, fd, NULL));
+        TEST_ASSERT_EQUAL_MEMORY(f8, fd, sizeof f8);
+        for (y = 0; y < RT_ROWS; y++) /* back to the frame's own scale */
+            for (x = 0; x < RT_COLS; x++) {
+                uint32_t v = g_img[y * RT_COLS + x] * gain;
+                img8[y * RT_COLS + x] = (uint8_t)((v * 255u + mx / 2u) / mx);
+            }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img8, RT_ROWS, RT_COLS, RT_COLS, NULL,
+                                                             0.0f, &g_fam, id, s, &rp, f8, NULL));
         TEST_ASSERT_EQUAL_INT(ACTAG_OK,
                               actag_refine_corners_depth(img8, 8, RT_ROWS, RT_COLS, RT_COLS, NULL,
                                                          0.0f, &g_fam, id, s, &rp, fd, NULL));

@@ -45,7 +45,7 @@ CORES = {
 STAGES = ["median", "search", "threshold", "contours", "ransac", "decode", "refine", "other"]
 # detect.c's calls into the stages; each must be wrapped (tools/budget/CMakeLists.txt),
 # or its instructions would silently count as "other"
-STAGE_CALL = re.compile(r"\b(actag_(?:median_filter\w*|adaptive_threshold\w*|contour_scanner_init|"
+STAGE_CALL = re.compile(r"\b(actag__?(?:median_filter\w*|adaptive_threshold\w*|contour_scanner_init|"
                         r"contour_next|quad_fit|decode_quad\w*|search_map|search_next|"
                         r"refine_corners\w*))\s*\(")
 

@@ -17,7 +17,7 @@
  *   contours   actag_contour_scanner_init, actag_contour_next
  *   ransac     actag_quad_fit
  *   decode     actag_decode_quad_fit, actag_decode_quad_bitmap
- *   refine     actag_refine_corners_depth
+ *   refine     actag__refine_corners_max16 (src/refine_frame.h)
  * (budget.py checks that every stage function detect.c calls is wrapped:
  * a renamed stage would otherwise be counted as "other".)
  *
@@ -226,29 +226,32 @@ int __wrap_actag_median_filter16(const void *src, int rows, int cols, int src_st
     return rc;
 }
 
-int __real_actag_refine_corners_depth(const void *img, int depth, int rows, int cols, int stride,
-                                      const actag_sonar_geometry *geometry, float tag_size,
-                                      const actag_family *family, int id,
-                                      const actag_point corners[4],
-                                      const actag_refine_params *rp, actag_point out[4],
-                                      actag_refine_info *info);
-int __wrap_actag_refine_corners_depth(const void *img, int depth, int rows, int cols, int stride,
-                                      const actag_sonar_geometry *geometry, float tag_size,
-                                      const actag_family *family, int id,
-                                      const actag_point corners[4],
-                                      const actag_refine_params *rp, actag_point out[4],
-                                      actag_refine_info *info);
-int __wrap_actag_refine_corners_depth(const void *img, int depth, int rows, int cols, int stride,
-                                      const actag_sonar_geometry *geometry, float tag_size,
-                                      const actag_family *family, int id,
-                                      const actag_point corners[4],
-                                      const actag_refine_params *rp, actag_point out[4],
-                                      actag_refine_info *info)
+int __real_actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows,
+                                       int cols, int stride,
+                                       const actag_sonar_geometry *geometry, float tag_size,
+                                       const actag_family *family, int id,
+                                       const actag_point corners[4],
+                                       const actag_refine_params *rp, actag_point out[4],
+                                       actag_refine_info *info);
+int __wrap_actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows,
+                                       int cols, int stride,
+                                       const actag_sonar_geometry *geometry, float tag_size,
+                                       const actag_family *family, int id,
+                                       const actag_point corners[4],
+                                       const actag_refine_params *rp, actag_point out[4],
+                                       actag_refine_info *info);
+int __wrap_actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows,
+                                       int cols, int stride,
+                                       const actag_sonar_geometry *geometry, float tag_size,
+                                       const actag_family *family, int id,
+                                       const actag_point corners[4],
+                                       const actag_refine_params *rp, actag_point out[4],
+                                       actag_refine_info *info)
 {
     int rc;
-    TIMED(ST_REFINE, __real_actag_refine_corners_depth(img, depth, rows, cols, stride, geometry,
-                                                       tag_size, family, id, corners, rp, out,
-                                                       info));
+    TIMED(ST_REFINE, __real_actag__refine_corners_max16(img, depth, max16, rows, cols, stride,
+                                                        geometry, tag_size, family, id, corners,
+                                                        rp, out, info));
     return rc;
 }
 
