@@ -118,7 +118,7 @@ static const field_case param_cases[] = {
     {"tuning.min_area_fraction", K_FLOAT, P(tuning.min_area_fraction), ACTAG_ERR_PARAM,
      {-0.1, 1e6, NAN_, INF_}, 4, {0, 1.0}, 2},
     {"tuning.max_area_fraction", K_FLOAT, P(tuning.max_area_fraction), ACTAG_ERR_PARAM,
-     {0.05, 1e6, NAN_, INF_, -1}, 5, {0.1, 999999}, 2},
+     {0.17, 1e6, NAN_, INF_, -1}, 5, {0.175, 999999}, 2}, /* >= the default min, 0.175 */
     {"tuning.quad.max_iterations", K_INT, P(tuning.quad.max_iterations), ACTAG_ERR_PARAM,
      {0, -1, ACTAG_QUAD_MAX_ITERATIONS + 1}, 3, {1, 2000}, 2},
     {"tuning.quad.sample_fraction", K_FLOAT, P(tuning.quad.sample_fraction), ACTAG_ERR_PARAM,

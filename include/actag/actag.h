@@ -181,10 +181,15 @@ typedef struct actag_tuning {
     float size_tolerance;       /* fraction, [0, 10) (default 0.2): slack of the physical size
                                    filter (extents and area). Raise it when the range or
                                    aperture is known only roughly. */
-    float min_area_fraction;    /* fraction, >= 0 (default 0.1): a contour's area must reach
+    float min_area_fraction;    /* fraction, >= 0 (default 0.175): a contour's area must reach
                                    this * diag_r_px * diag_az_px * (1 - size_tolerance), with
                                    diag_*_px the tag diagonal in pixels at the contour's range.
-                                   Lower it for strongly tilted tags. */
+                                   The white square fills half that box face-on and
+                                   0.5 cos(tilt) of it tilted: the default (0.14 of the box)
+                                   passes tilts up to 74 degrees, beyond which the decoder
+                                   read none in simulation. Lower it (the reference's 0.1)
+                                   only when flatter tags must be tried: each contour it
+                                   lets through costs RANSAC and a decode. */
     float max_area_fraction;    /* fraction, min_area_fraction..1e6 (default 1.0): ... at most
                                    this * diag_r_px * diag_az_px * (1 + size_tolerance). Raise
                                    it when blooming makes the white square look larger. */

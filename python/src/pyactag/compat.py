@@ -65,7 +65,8 @@ def _map_arguments(a, family):
     # ratio * (1 - area_tol) <= area / diag_area <= 1 + area_tol. libactag uses
     # one tolerance t and the fractions [lo, hi]: lo * (1 - t) <= ... <= hi * (1 + t),
     # so lo = ratio * (1 - area_tol) / (1 - t), hi = (1 + area_tol) / (1 + t). The
-    # reference's defaults (0.2, 0.2, 0.1) are libactag's (0.2, lo 0.1, hi 1.0).
+    # reference's defaults (0.2, 0.2, 0.1) map to libactag's (0.2, lo 0.1, hi 1.0);
+    # with none of them given, libactag's own defaults apply (lo 0.175, actag.h).
     st = 0.2 if a["contours_tag_size_tolerance"] is None else float(a["contours_tag_size_tolerance"])
     at = 0.2 if a["contours_tag_area_tolerance"] is None else float(a["contours_tag_area_tolerance"])
     ratio = 0.1 if a["contours_min_tag_area_ratio"] is None else float(a["contours_min_tag_area_ratio"])
