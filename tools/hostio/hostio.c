@@ -113,6 +113,21 @@ int hostio_mkdirs(const char *path, char *err)
     return HOSTIO_OK;
 }
 
+void hostio_json_string(FILE *stream, const char *s)
+{
+    fputc('"', stream);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(stream, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(stream, "\\u%04x", c);
+        else
+            fputc(c, stream);
+    }
+    fputc('"', stream);
+}
+
 /* Next header integer, skipping whitespace and comments; -1 when absent. */
 static long pgm_int(const uint8_t *b, size_t len, size_t *pos)
 {
@@ -615,4 +630,13 @@ long hostio_opt_long(const char *prog, const char *name, const char *s, long lo,
     if (hostio_parse_long(name, s, lo, hi, &v, err) != HOSTIO_OK)
         hostio_die(prog, err);
     return v;
+}
+
+void hostio_opt_mkdirs(const char *prog, const char *name, const char *path)
+{
+    char err[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
+    if (hostio_mkdirs(path, err) != HOSTIO_OK) {
+        snprintf(m, sizeof m, "%s: %s", name, err);
+        hostio_die(prog, m);
+    }
 }

@@ -60,6 +60,10 @@
  *   --format txt: '#' comment lines, blank lines, one code per line in ID
  *   order as 0x-prefixed hexadecimal)
  *     hostio_read_codes(path, codes, cap, &n, err)  at most cap codes
+ *   JSON output
+ *     hostio_json_string(stream, s)  s as a JSON string literal, quotes
+ *                            included ('"' and '\\' escaped, control
+ *                            characters as \u00XX; other bytes as they are)
  *   Subprocesses
  *     hostio_run(cmd, err)   runs a shell command line (system()); returns its
  *                            exit status 0..255, or -1 (and a message) when it
@@ -68,6 +72,7 @@
  *     hostio_die(prog, msg)
  *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
  *     hostio_opt_long(prog, name, s, lo, hi)     hostio_parse_long or die
+ *     hostio_opt_mkdirs(prog, name, path)  hostio_mkdirs or die ("name: ...")
  */
 #ifndef ACTAG_HOSTIO_H
 #define ACTAG_HOSTIO_H
@@ -157,6 +162,9 @@ int hostio_parse_list(const char *name, const char *s, double *out, int cap, int
 /* Family code list: *n codes stored (error when the file holds more than cap). */
 int hostio_read_codes(const char *path, uint32_t *codes, size_t cap, size_t *n, char *err);
 
+/* s as a JSON string literal (quotes included) on stream. */
+void hostio_json_string(FILE *stream, const char *s);
+
 /* Shell command line; exit status 0..255, or -1 when it did not run or exit. */
 int hostio_run(const char *cmd, char *err);
 
@@ -179,6 +187,9 @@ void hostio_die(const char *prog, const char *msg);
 double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
                          double hi);
 long hostio_opt_long(const char *prog, const char *name, const char *s, long lo, long hi);
+/* The folder of option `name` and its parents (hostio_mkdirs), or dies with
+ * "prog: name: <hostio_mkdirs' message>". */
+void hostio_opt_mkdirs(const char *prog, const char *name, const char *path);
 
 #ifdef __cplusplus
 }

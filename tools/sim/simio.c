@@ -32,27 +32,12 @@ void simio_pool_settings(sim_sonar *s, sim_view_params *v)
     v->max_incidence = 75.0f * DEGF;
 }
 
-static void json_str(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
-}
-
 void simio_truth_line(FILE *f, const char *file, int frame, uint32_t seed, const sim_sonar *s,
                       const sim_scene *scene)
 {
     int t, n, j;
     fprintf(f, "{\"file\": ");
-    json_str(f, file);
+    hostio_json_string(f, file);
     fprintf(f, ", \"frame\": %d, \"seed\": %u, \"rows\": %d, \"cols\": %d, \"clutter\": %d, "
                "\"coordinates\": \"x_col = column, y_row = row, pixels, centre of the top-left pixel at (0, 0)\", \"tags\": [",
             frame, (unsigned)seed, s->rows, s->cols, scene->npatches);
@@ -63,7 +48,7 @@ void simio_truth_line(FILE *f, const char *file, int frame, uint32_t seed, const
         sim_truth_of(s, tag, &tr);
         sim_pose_rpy(&tag->pose, rpy);
         fprintf(f, "%s{\"family\": ", t ? ", " : "");
-        json_str(f, tag->family.name);
+        hostio_json_string(f, tag->family.name);
         fprintf(f, ", \"id\": %d, \"tag_size\": %.9g, \"mirrored\": %d, \"visible\": %d, "
                    "\"distance\": %.6f, \"incidence_deg\": %.4f, \"pose\": {\"t\": [%.6f, %.6f, %.6f], "
                    "\"rpy_deg\": [%.4f, %.4f, %.4f], \"R\": [",
