@@ -673,11 +673,7 @@ static int process(const options *o, const char *file, const char *picname, int 
         snprintf(err, HOSTIO_ERRLEN, "%s: out of memory for the workspace", hostio_frame_name(file));
         goto fail;
     }
-    fr.data = im.data;
-    fr.rows = im.rows;
-    fr.cols = im.cols;
-    fr.stride = im.stride;
-    fr.depth = im.depth;
+    hostio_image_frame(&im, &fr);
     {
         actag_error_detail d;
         char m[HOSTIO_ERRLEN];

@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "hostio.h"
 
+#include "actag/actag.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -292,6 +294,15 @@ void hostio_image_free(hostio_image *img)
         free(img->data);
         img->data = NULL;
     }
+}
+
+void hostio_image_frame(const hostio_image *img, actag_frame *frame)
+{
+    frame->data = img->data;
+    frame->rows = img->rows;
+    frame->cols = img->cols;
+    frame->stride = img->stride;
+    frame->depth = img->depth;
 }
 
 /* Bytes of a raw frame of spec's layout: the whole frame (*full) and the

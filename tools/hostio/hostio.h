@@ -28,6 +28,8 @@
  *     hostio_pgm_fwrite(stream, name, &img, err)  the same to an open stream
  *                                           (e.g. stdout); name labels messages
  *     hostio_image_free(&img)
+ *     hostio_image_frame(&img, &frame)     the image as the library's
+ *                                           actag_frame (no copy)
  *     hostio_ppm_write(path, rgb, rows, cols, err)  a colour picture (P6,
  *                                           rows x cols RGB triplets)
  *   Frames (sonar tools: PGM by its magic, else headerless raw)
@@ -125,6 +127,10 @@ int hostio_pgm_read(const char *path, hostio_image *out, char *err);
 int hostio_pgm_write(const char *path, const hostio_image *img, char *err);
 int hostio_pgm_fwrite(FILE *stream, const char *name, const hostio_image *img, char *err);
 void hostio_image_free(hostio_image *img);
+struct actag_frame;
+/* The image as the core library's frame (actag/actag.h): data, rows, cols,
+ * stride and depth, the pixels not copied. */
+void hostio_image_frame(const hostio_image *img, struct actag_frame *frame);
 int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err);
 
 /* A PGM (by its P5 magic) or a raw frame (raw may be NULL: PGM only). The

@@ -44,6 +44,7 @@ static void test_frames(void)
     char err[HOSTIO_ERRLEN];
     hostio_image im;
     hostio_raw_spec raw = {2, 2, 16, 3}; /* 2 x 2, stride 3, 16-bit */
+    actag_frame fr;
     TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
     put("a.pgm", pgm8, sizeof pgm8 - 1);
     TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/a.pgm", &raw, &im, err), err);
@@ -51,6 +52,12 @@ static void test_frames(void)
     TEST_ASSERT_EQUAL_INT(3, im.cols);
     TEST_ASSERT_EQUAL_INT(8, im.depth);
     TEST_ASSERT_EQUAL_UINT8(6, ((uint8_t *)im.data)[5]);
+    hostio_image_frame(&im, &fr); /* the library's view of it */
+    TEST_ASSERT_TRUE(fr.data == im.data);
+    TEST_ASSERT_EQUAL_INT(2, fr.rows);
+    TEST_ASSERT_EQUAL_INT(3, fr.cols);
+    TEST_ASSERT_EQUAL_INT(3, fr.stride);
+    TEST_ASSERT_EQUAL_INT(8, fr.depth);
     hostio_image_free(&im);
     put("b.pgm", pgm16, sizeof pgm16 - 1);
     TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/b.pgm", NULL, &im, err), err);

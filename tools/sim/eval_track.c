@@ -339,11 +339,7 @@ int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
             hostio_image_free(&im);
             goto fail;
         }
-        fr.data = im.data;
-        fr.rows = im.rows;
-        fr.cols = im.cols;
-        fr.stride = im.stride;
-        fr.depth = im.depth;
+        hostio_image_frame(&im, &fr);
         te_frame(run, &fr, g, &p, &rp, ws, wss, NULL, visible ? visible[i] : 1, tag_id, out);
         hostio_image_free(&im);
     }

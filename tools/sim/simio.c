@@ -409,11 +409,7 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
             hostio_image_free(&im);
             continue;
         }
-        fr.data = im.data;
-        fr.rows = im.rows;
-        fr.cols = im.cols;
-        fr.stride = im.stride;
-        fr.depth = 8;
+        hostio_image_frame(&im, &fr); /* depth 8 */
         nd = actag_detect(&fr, &geo, &p, ws, ACTAG_WORKSPACE_SIZE(530, 512), det, 4, NULL);
         if (nd == 1 && simio_tag_stats_of((const uint8_t *)im.data, im.rows, im.cols,
                                           det[0].corners, 24, &ts) == 0) {
