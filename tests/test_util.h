@@ -60,6 +60,15 @@ static inline int tu_range(int lo, int hi) /* inclusive */
     return lo + (int)(tu_rand() % (uint32_t)(hi - lo + 1));
 }
 
+/* Set bits of v: the tests' reference, independent of actag_popcount32. */
+static inline int tu_popcount(uint32_t v)
+{
+    int n = 0;
+    for (; v; v &= v - 1)
+        n++;
+    return n;
+}
+
 /* A published family file (hostio_read_codes); returns the number of codes. */
 static inline int tu_read_codes(const char *path, uint32_t *codes, int cap)
 {
