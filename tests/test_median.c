@@ -94,48 +94,20 @@ static void fill_image(uint8_t *img, int rows, int cols, int stride, int kind)
     }
 }
 
-/* Runs one case through both code paths and checks every pixel and that
- * the destination padding is untouched. */
 /* Bytes given to the filters beyond ACTAG_MEDIAN_SCRATCH_SIZE by
- * check_case (more scratch: more column histograms, wider strips). */
+ * check_image (more scratch: more column histograms, wider strips). */
 static size_t scratch_extra;
 
-static void check_case(int rows, int cols, int R, int kind, int sextra, int dextra)
-{
-    int sstride = cols + sextra, dstride = cols + dextra, f;
-    size_t ssize = (size_t)rows * (size_t)sstride, dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) + scratch_extra;
-    uint8_t *src = (uint8_t *)fc_alloc(ssize);
-    uint8_t *want = (uint8_t *)fc_alloc(dsize);
-    uint8_t *out = (uint8_t *)fc_alloc(dsize);
-    uint8_t *scratch = (uint8_t *)fc_alloc(scr);
-    char msg[160];
-
-    fill_image(src, rows, cols, sstride, kind);
-    brute_median(src, rows, cols, sstride, R, want, dstride);
-    for (f = 0; f < 2; f++) {
-        memset(out, 0xA5, dsize);
-        memset(scratch, 0x5A, scr); /* the filter must not rely on zeroed scratch */
-        snprintf(msg, sizeof msg, "%s: %dx%d R=%d kind=%d sstride=%d dstride=%d", FN_NAMES[f], rows,
-                 cols, R, kind, sstride, dstride);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, scratch, scr),
-                                      msg);
-        fc_check_output(out, want, rows, cols, dstride, msg);
-    }
-    free(src);
-    free(want);
-    free(out);
-    free(scratch);
-}
-
 /* Checks both paths on a given image (stride sstride, padding already
- * filled by the caller) against the brute-force reference. */
+ * filled by the caller) against the brute-force reference: every pixel, the
+ * destination padding (dextra columns) untouched, with scratch_extra bytes
+ * of scratch beyond ACTAG_MEDIAN_SCRATCH_SIZE. */
 static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int dextra,
                         const char *what)
 {
     int dstride = cols + dextra, f;
     size_t dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) + scratch_extra;
     uint8_t *want = (uint8_t *)fc_alloc(dsize);
     uint8_t *out = (uint8_t *)fc_alloc(dsize);
     uint8_t *scratch = (uint8_t *)fc_alloc(scr);
@@ -144,9 +116,9 @@ static void check_image(const uint8_t *src, int rows, int cols, int sstride, int
     brute_median(src, rows, cols, sstride, R, want, dstride);
     for (f = 0; f < 2; f++) {
         memset(out, 0xA5, dsize);
-        memset(scratch, 0x5A, scr);
-        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d sstride=%d", FN_NAMES[f], what, rows, cols, R,
-                 sstride);
+        memset(scratch, 0x5A, scr); /* the filter must not rely on zeroed scratch */
+        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d sstride=%d dstride=%d", FN_NAMES[f], what,
+                 rows, cols, R, sstride, dstride);
         TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, scratch, scr),
                                       msg);
         fc_check_output(out, want, rows, cols, dstride, msg);
@@ -154,6 +126,19 @@ static void check_image(const uint8_t *src, int rows, int cols, int sstride, int
     free(want);
     free(out);
     free(scratch);
+}
+
+/* One case: an image of fill kind (row stride cols + sextra) through
+ * check_image. */
+static void check_case(int rows, int cols, int R, int kind, int sextra, int dextra)
+{
+    int sstride = cols + sextra;
+    uint8_t *src = (uint8_t *)fc_alloc((size_t)rows * (size_t)sstride);
+    char what[32];
+    fill_image(src, rows, cols, sstride, kind);
+    snprintf(what, sizeof what, "kind=%d", kind);
+    check_image(src, rows, cols, sstride, R, dextra, what);
+    free(src);
 }
 
 /* ------------------------------------------------------------ tests */

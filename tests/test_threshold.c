@@ -241,42 +241,10 @@ static void check_bitmap(const uint8_t *src, int rows, int cols, int sstride, in
     free(scratch);
 }
 
-/* Runs one case through both code paths with the exact radius-specific
- * scratch size, and checks every pixel and the untouched dst padding. */
-static void check_case(int rows, int cols, int R, int offset, int kind, int sextra, int dextra)
-{
-    int sstride = cols + sextra, dstride = cols + dextra, f;
-    size_t ssize = (size_t)rows * (size_t)sstride, dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, R);
-    uint8_t *src = (uint8_t *)fc_alloc(ssize);
-    uint8_t *want = (uint8_t *)fc_alloc(dsize);
-    uint8_t *out = (uint8_t *)fc_alloc(dsize);
-    uint8_t *scratch = (uint8_t *)fc_alloc(scr);
-    char msg[200];
-
-    TEST_ASSERT_TRUE(scr <= ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols));
-    fill_image(src, rows, cols, sstride, kind);
-    brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
-    for (f = 0; f < NFNS; f++) {
-        memset(out, 0xA5, dsize);
-        memset(scratch, 0x5A, scr);
-        snprintf(msg, sizeof msg, "%s: %dx%d R=%d off=%d kind=%d sstride=%d dstride=%d", FN_NAMES[f],
-                 rows, cols, R, offset, kind, sstride, dstride);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(
-            ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, offset, scratch, scr), msg);
-        fc_check_output(out, want, rows, cols, dstride, msg);
-    }
-    snprintf(msg, sizeof msg, "%dx%d R=%d off=%d kind=%d sstride=%d", rows, cols, R, offset,
-             kind, sstride);
-    check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
-    free(src);
-    free(want);
-    free(out);
-    free(scratch);
-}
-
-/* Checks both paths on a given image (stride sstride, padding already
- * filled by the caller) against the brute-force reference. */
+/* Checks every path on a given image (stride sstride, padding already
+ * filled by the caller) against the brute-force reference with the exact
+ * radius-specific scratch size: every pixel, the destination padding
+ * (dextra columns) untouched, and the bitmap variants (check_bitmap). */
 static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
                         int dextra, const char *what)
 {
@@ -288,20 +256,36 @@ static void check_image(const uint8_t *src, int rows, int cols, int sstride, int
     uint8_t *scratch = (uint8_t *)fc_alloc(scr);
     char msg[200];
 
+    TEST_ASSERT_TRUE(scr <= ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols));
     brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
     for (f = 0; f < NFNS; f++) {
         memset(out, 0xA5, dsize);
         memset(scratch, 0x5A, scr);
-        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d", FN_NAMES[f], what, rows, cols, R, offset);
+        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d sstride=%d dstride=%d", FN_NAMES[f],
+                 what, rows, cols, R, offset, sstride, dstride);
         TEST_ASSERT_EQUAL_INT_MESSAGE(
             ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, offset, scratch, scr), msg);
         fc_check_output(out, want, rows, cols, dstride, msg);
     }
-    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d", what, rows, cols, R, offset);
+    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d sstride=%d", what, rows, cols, R, offset,
+             sstride);
     check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
     free(want);
     free(out);
     free(scratch);
+}
+
+/* One case: an image of fill kind (row stride cols + sextra) through
+ * check_image. */
+static void check_case(int rows, int cols, int R, int offset, int kind, int sextra, int dextra)
+{
+    int sstride = cols + sextra;
+    uint8_t *src = (uint8_t *)fc_alloc((size_t)rows * (size_t)sstride);
+    char what[32];
+    fill_image(src, rows, cols, sstride, kind);
+    snprintf(what, sizeof what, "kind=%d", kind);
+    check_image(src, rows, cols, sstride, R, offset, dextra, what);
+    free(src);
 }
 
 /* ------------------------------------------------------------ tests */
