@@ -154,11 +154,7 @@ int main(int argc, char **argv)
             hostio_die(PROG, "frames of different sizes");
         }
         nfiles++;
-        f.data = im.data;
-        f.rows = im.rows;
-        f.cols = im.cols;
-        f.stride = im.stride;
-        f.depth = im.depth;
+        hostio_image_frame(&im, &f);
         n = bench_full(&f, &g, &p, ws, wss, det, 16);
         if (n < 0)
             hostio_die(PROG, actag_strerror(n));

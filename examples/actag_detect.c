@@ -348,13 +348,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
                               (float)(o->vertical_deg * 3.14159265358979323846 / 180.0));
     if (o->track && (o->overlay || o->stages))
         die("--track does not combine with --overlay or --stages");
-    if (o->stages) {
-        char err[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
-        if (hostio_mkdirs(o->stages, err) != HOSTIO_OK) {
-            snprintf(m, sizeof m, "--stages: %s", err);
-            die(m);
-        }
-    }
+    if (o->stages)
+        hostio_opt_mkdirs(PROG, "--stages", o->stages);
 }
 
 /* ------------------------------------------------------------------ names */
@@ -402,28 +397,13 @@ static void overlay_path(const char *overlay, int nfiles, const char *name, char
 
 /* ------------------------------------------------------------------ output */
 
-static void json_string(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
-}
-
 /* In --json mode every input file gets exactly one line, errors included. */
 static void json_error(const char *file, const char *msg)
 {
     printf("{\"file\": ");
-    json_string(stdout, file);
+    hostio_json_string(stdout, file);
     printf(", \"error\": ");
-    json_string(stdout, msg);
+    hostio_json_string(stdout, msg);
     printf("}\n");
     fflush(stdout);
 }
@@ -437,7 +417,7 @@ static void print_json(const char *file, const hostio_image *im, const actag_det
 {
     int k, c;
     printf("{\"file\": ");
-    json_string(stdout, file);
+    hostio_json_string(stdout, file);
     printf(", \"rows\": %d, \"cols\": %d, \"detections\": [", im->rows, im->cols);
     for (k = 0; k < n; k++) {
         printf("%s{\"id\": %d, \"hamming\": %d, \"decision_margin\": %.2f, \"mirrored\": %s, "
@@ -550,7 +530,7 @@ static int track_frame(actag_tracker *tr, const actag_frame *fr, const actag_son
     }
     if (o->json) {
         printf("{\"file\": ");
-        json_string(stdout, file);
+        hostio_json_string(stdout, file);
         printf(", \"frame\": %ld, \"tracks\": [", tr->frame - 1);
     } else if (n == 0) {
         printf("%s: no confirmed tracks", file);
@@ -693,11 +673,7 @@ static int process(const options *o, const char *file, const char *picname, int 
         snprintf(err, HOSTIO_ERRLEN, "%s: out of memory for the workspace", hostio_frame_name(file));
         goto fail;
     }
-    fr.data = im.data;
-    fr.rows = im.rows;
-    fr.cols = im.cols;
-    fr.stride = im.stride;
-    fr.depth = im.depth;
+    hostio_image_frame(&im, &fr);
     {
         actag_error_detail d;
         char m[HOSTIO_ERRLEN];
@@ -826,12 +802,10 @@ int main(int argc, char **argv)
     if (o.overlay) {
         const char *dot = strrchr(o.overlay, '/');
         if (dot) { /* the overlay's folder is created like --stages' */
-            char dir[4096], err[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
+            char dir[4096];
             snprintf(dir, sizeof dir, "%.*s", (int)(dot - o.overlay), o.overlay);
-            if (dir[0] && hostio_mkdirs(dir, err) != HOSTIO_OK) {
-                snprintf(m, sizeof m, "--overlay: %s", err);
-                die(m);
-            }
+            if (dir[0])
+                hostio_opt_mkdirs(PROG, "--overlay", dir);
         }
     }
     for (i = 0; i < nfiles; i++) {

@@ -1,9 +1,9 @@
-/* Shared by test_sonar_roundtrip_m24.c and test_sonar_roundtrip_m28.c: a
- * rendered tag (layout colours: white = foam) of any size through the whole
- * sonar pipeline (actag_detect with default parameters) in all 8
- * orientations (4 rotations, optionally mirrored); the ID, hamming 0, the
- * mirrored flag and the corners in tag order must come back. The same
- * construction as test_sonar_render.c, for 24 and 28 bits. */
+/* Shared by test_sonar_render.c and test_sonar_roundtrip_m*.c: a rendered
+ * tag (layout colours: white = foam) of any size through the whole sonar
+ * pipeline (actag_detect with default parameters) in all 8 orientations (4
+ * rotations, optionally mirrored); the ID, hamming 0, the mirrored flag and
+ * the corners in tag order must come back. The functions are static inline:
+ * a test uses those it needs. */
 #ifndef ACTAG_SONAR_ROUNDTRIP_H
 #define ACTAG_SONAR_ROUNDTRIP_H
 
@@ -15,13 +15,15 @@
 
 #define RT_CELL 10
 #define RT_MARGIN 25
+#ifndef RT_FRAME /* test_sonar_render.c (24-bit tags only): 160 */
 #define RT_FRAME 170 /* square frame; a 28-bit tag is 8*10 + 2*25 = 130 px */
+#endif
 #define RT_OFF 17
 #define RT_PX (0.13f / 30.0f) /* metres per pixel: 3 cells of 10 px = 0.13 m */
 
 static uint8_t rt_ws[ACTAG_WORKSPACE_SIZE(RT_FRAME, RT_FRAME)];
 
-static actag_sonar_geometry rt_geometry(void)
+static inline actag_sonar_geometry rt_geometry(void)
 {
     actag_sonar_geometry g;
     g.min_range = 1.0f;
@@ -34,7 +36,7 @@ static actag_sonar_geometry rt_geometry(void)
 
 /* Dihedral transform t (0..7) of a point: rotate by 90 degrees (t & 3)
  * times, then mirror left-right if t & 4. */
-static void rt_xform(int t, float x, float y, float *ox, float *oy)
+static inline void rt_xform(int t, float x, float y, float *ox, float *oy)
 {
     int r;
     float n = (float)(RT_FRAME - 1);
@@ -49,7 +51,8 @@ static void rt_xform(int t, float x, float y, float *ox, float *oy)
     *oy = y;
 }
 
-static void rt_check_tag(const actag_family *fam, int id)
+/* may_miss: no reading passes too (never a wrong one). */
+static inline void rt_check_tag_or_none(const actag_family *fam, int id, int may_miss)
 {
     static uint8_t tag[RT_FRAME * RT_FRAME], frame[RT_FRAME * RT_FRAME], out[RT_FRAME * RT_FRAME];
     actag_params p;
@@ -94,6 +97,8 @@ static void rt_check_tag(const actag_family *fam, int id)
         f.depth = 8;
         n = actag_detect(&f, &g, &p, rt_ws, sizeof rt_ws, det, 4, NULL);
         snprintf(msg, sizeof msg, "%s id %d transform %d", fam->name, id, t);
+        if (may_miss && n == 0)
+            continue;
         TEST_ASSERT_EQUAL_INT_MESSAGE(1, n, msg);
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[0].id, msg);
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, det[0].hamming, msg);
@@ -107,8 +112,13 @@ static void rt_check_tag(const actag_family *fam, int id)
     }
 }
 
+static inline void rt_check_tag(const actag_family *fam, int id)
+{
+    rt_check_tag_or_none(fam, id, 0);
+}
+
 /* ACTAG_FULL_ROUNDTRIP=1 in the environment: every ID of every family. */
-static int rt_full(void)
+static inline int rt_full(void)
 {
     const char *f = getenv("ACTAG_FULL_ROUNDTRIP");
     return f != NULL && strcmp(f, "1") == 0;
@@ -117,7 +127,7 @@ static int rt_full(void)
 /* Every ID of the family (step 1) or every step-th plus the last (every ID
  * with ACTAG_FULL_ROUNDTRIP=1; about 4 IDs per family in the emulated
  * suites, TU_EMULATED). */
-static void rt_check_family(const char *name, int step)
+static inline void rt_check_family(const char *name, int step)
 {
     actag_family fam;
     int id;

@@ -49,13 +49,6 @@ static uint32_t ref_rev(uint32_t w, int bits) /* SPEC's full reversal: s <- bits
         r = seq_set(r, bits, s, seq_get(w, bits, bits - 1 - s));
     return r;
 }
-static int ref_pop(uint32_t v)
-{
-    int n = 0;
-    for (; v; v >>= 1)
-        n += (int)(v & 1u);
-    return n;
-}
 
 /* Cell (cx,cy) -> sequence index for a ring cell, derived independently
  * (walk the ring clockwise from the top-left cell). */
@@ -291,7 +284,7 @@ static oracle_res oracle(const uint32_t *codes, int n, int bits, uint32_t w, int
             uint32_t c = codes[i];
             for (r = 0; r < 4; r++) {
                 uint32_t word = h ? ref_mirror(c, bits) : c;
-                int d = ref_pop(word ^ w);
+                int d = tu_popcount(word ^ w);
                 if (d < best[h]) {
                     best[h] = d;
                     bid[h] = i;
@@ -352,7 +345,7 @@ static int physical_min_distance(const uint32_t *codes, int n, int bits)
                     for (t = 0; t < (b & 3); t++) y = ref_rot(y, bits);
                     if (a & 4) x = ref_mirror(x, bits);
                     if (b & 4) y = ref_mirror(y, bits);
-                    d = ref_pop(x ^ y);
+                    d = tu_popcount(x ^ y);
                     if (d < best)
                         best = d;
                 }
@@ -993,7 +986,7 @@ static void run_flips(test_family *tf, int cases)
         int id = tu_range(0, tf->fam.ncodes - 1), d = tu_range(0, 7);
         int nflip = tu_range(0, maxc + 2), mc = tu_range(0, maxc), i, r;
         uint32_t flips = 0, w_exp;
-        while (ref_pop(flips) < nflip)
+        while (tu_popcount(flips) < nflip)
             flips |= 1u << tu_range(0, bits - 1);
         setup_case(&rc, k, d & 3, d >> 2, t % 3, 1);
         render(img, rc.rows, rc.cols, rc.stride, rc.T, k, tf->codes[id] ^ flips, 255);
@@ -1534,7 +1527,7 @@ static void test_fit_matching_vs_brute_force(void)
                 uint32_t cw = tf.codes[i];
                 for (rot = 0; rot < 4; rot++) {
                     uint32_t o = h ? ref_mirror(cw, bits) : cw;
-                    int d = ref_pop((o ^ w) & keep);
+                    int d = tu_popcount((o ^ w) & keep);
                     if (d < d1) {
                         d2 = d1;
                         d1 = d;

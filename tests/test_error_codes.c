@@ -8,6 +8,7 @@
  * this file. Small synthetic inputs only (no ../shared data); the AprilTag
  * adapter's functions are in optical/tests/test_optical_error_codes.c. */
 #include "unity.h"
+#include "test_util.h"
 
 #include "actag/actag.h"
 #include "actag/families.h"
@@ -38,18 +39,7 @@ static void setup(actag_frame *f, actag_sonar_geometry *g, actag_params *p)
     g_bad = g_fam;
     g_bad.bits = 18;
     memset(g_px, 0, sizeof g_px); /* all black: a valid frame without tags */
-    f->data = g_px;
-    f->rows = R;
-    f->cols = C;
-    f->stride = C;
-    f->depth = 8;
-    g->min_range = 0.1f;
-    g->max_range = 1.5f;
-    g->aperture = 1.0472f;
-    g->bearings = NULL;
-    g->flags = 0u;
-    actag_params_default(p);
-    p->family = &g_fam;
+    tu_valid_input(g_px, R, C, &g_fam, f, g, p);
 }
 
 /* ------------------------------------------------------------ common.h */

@@ -33,13 +33,6 @@ static uint32_t ref_rev(uint32_t w, int bits)
             r |= 1u << (bits - 1 - i);
     return r;
 }
-static int ref_pop(uint32_t v)
-{
-    int n = 0;
-    for (; v; v >>= 1)
-        n += (int)(v & 1u);
-    return n;
-}
 
 static void test_builtin_families_match_published(void)
 {
@@ -159,7 +152,7 @@ static void test_rotation_reverse_algebra(void)
                     rhs = actag_code_rot90(rhs, bits);
                 TEST_ASSERT_EQUAL_HEX32(lhs, rhs);
             }
-            TEST_ASSERT_EQUAL_INT(ref_pop(w), actag_popcount32(w));
+            TEST_ASSERT_EQUAL_INT(tu_popcount(w), actag_popcount32(w));
         }
     }
     TEST_ASSERT_EQUAL_HEX32(0xffffffffu, actag_code_mask(32));
@@ -244,7 +237,7 @@ static void test_random_words_against_brute_force(void)
                 w = tu_rand() & 0xffffffu;
             for (id = 0; id < fam.ncodes; id++)
                 for (o = 0; o < 8; o++) {
-                    int d = ref_pop(w ^ orient(fam.codes[id], o & 3, o >> 2, 24));
+                    int d = tu_popcount(w ^ orient(fam.codes[id], o & 3, o >> 2, 24));
                     if (d < best)
                         best = d;
                 }
@@ -255,7 +248,7 @@ static void test_random_words_against_brute_force(void)
             } else {
                 TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc);
                 TEST_ASSERT_EQUAL_INT(best, m.hamming);
-                TEST_ASSERT_EQUAL_INT(m.hamming, ref_pop(w ^ orient(fam.codes[m.id], m.rotation,
+                TEST_ASSERT_EQUAL_INT(m.hamming, tu_popcount(w ^ orient(fam.codes[m.id], m.rotation,
                                                                     m.mirrored, 24)));
                 accepted++;
             }
@@ -312,7 +305,7 @@ static void test_soft_match_against_brute_force(void)
                     if (v >> 2)
                         e = ref_P(e, 24);
                     mis = (e ^ w) & keep; /* keep is closed under rotation and P */
-                    h = ref_pop(mis);
+                    h = tu_popcount(mis);
                     for (i = 0; i < 24; i++)
                         if ((mis >> (23 - i)) & 1u)
                             d += q[i];
@@ -333,7 +326,7 @@ static void test_soft_match_against_brute_force(void)
                     int h;
                     if (v >> 2)
                         e = ref_P(e, 24);
-                    h = ref_pop((e ^ w) & keep);
+                    h = tu_popcount((e ^ w) & keep);
                     if ((v >> 2) != (bv >> 2) && h < other)
                         other = h;
                     if (!(id == bid && v == bv) && h < h2)

@@ -6,6 +6,7 @@
 #include "actag/median.h"
 #include "unity.h"
 #include "test_util.h"
+#include "filter_check.h"
 
 /* The portable (non-SIMD) code path, compiled into this test under another
  * name so that both paths are checked on any machine: without SSE2 on
@@ -33,29 +34,6 @@ void setUp(void) {}
 void tearDown(void) {}
 
 /* ------------------------------------------------------------ helpers */
-
-static uint32_t rng_state;
-
-static uint32_t rnd(void)
-{
-    /* xorshift32: deterministic on every platform. */
-    uint32_t x = rng_state;
-    x ^= x << 13;
-    x ^= x >> 17;
-    x ^= x << 5;
-    rng_state = x;
-    return x;
-}
-
-static int rnd_range(int lo, int hi) /* inclusive */
-{
-    return lo + (int)(rnd() % (uint32_t)(hi - lo + 1));
-}
-
-static int clamp(int v, int lo, int hi)
-{
-    return v < lo ? lo : (v > hi ? hi : v);
-}
 
 /* Reference: histogram of the clamped window, then the middle element. */
 static void brute_median(const uint8_t *src, int rows, int cols, int stride, int R, uint8_t *out,
@@ -116,98 +94,51 @@ static void fill_image(uint8_t *img, int rows, int cols, int stride, int kind)
     }
 }
 
-/* Runs one case through both code paths and checks every pixel and that
- * the destination padding is untouched. */
 /* Bytes given to the filters beyond ACTAG_MEDIAN_SCRATCH_SIZE by
- * check_case (more scratch: more column histograms, wider strips). */
+ * check_image (more scratch: more column histograms, wider strips). */
 static size_t scratch_extra;
 
-static void check_case(int rows, int cols, int R, int kind, int sextra, int dextra)
+/* Checks both paths on a given image (stride sstride, padding already
+ * filled by the caller) against the brute-force reference: every pixel, the
+ * destination padding (dextra columns) untouched, with scratch_extra bytes
+ * of scratch beyond ACTAG_MEDIAN_SCRATCH_SIZE. */
+static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int dextra,
+                        const char *what)
 {
-    int sstride = cols + sextra, dstride = cols + dextra, f;
-    size_t ssize = (size_t)rows * (size_t)sstride, dsize = (size_t)rows * (size_t)dstride;
+    int dstride = cols + dextra, f;
+    size_t dsize = (size_t)rows * (size_t)dstride;
     size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) + scratch_extra;
-    uint8_t *src = (uint8_t *)malloc(ssize);
-    uint8_t *want = (uint8_t *)malloc(dsize);
-    uint8_t *out = (uint8_t *)malloc(dsize);
-    uint8_t *scratch = (uint8_t *)malloc(scr);
-    char msg[160];
-    int i, j;
+    uint8_t *want = (uint8_t *)fc_alloc(dsize);
+    uint8_t *out = (uint8_t *)fc_alloc(dsize);
+    uint8_t *scratch = (uint8_t *)fc_alloc(scr);
+    char msg[200];
 
-    TEST_ASSERT_NOT_NULL(src);
-    TEST_ASSERT_NOT_NULL(want);
-    TEST_ASSERT_NOT_NULL(out);
-    TEST_ASSERT_NOT_NULL(scratch);
-    fill_image(src, rows, cols, sstride, kind);
     brute_median(src, rows, cols, sstride, R, want, dstride);
     for (f = 0; f < 2; f++) {
         memset(out, 0xA5, dsize);
         memset(scratch, 0x5A, scr); /* the filter must not rely on zeroed scratch */
-        snprintf(msg, sizeof msg, "%s: %dx%d R=%d kind=%d sstride=%d dstride=%d", FN_NAMES[f], rows,
-                 cols, R, kind, sstride, dstride);
+        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d sstride=%d dstride=%d", FN_NAMES[f], what,
+                 rows, cols, R, sstride, dstride);
         TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, scratch, scr),
                                       msg);
-        for (i = 0; i < rows; i++) {
-            for (j = 0; j < dstride; j++) {
-                size_t k = (size_t)i * (size_t)dstride + (size_t)j;
-                if (j < cols) {
-                    if (out[k] != want[k]) {
-                        snprintf(msg, sizeof msg, "%s: %dx%d R=%d kind=%d at (%d,%d): got %d want %d",
-                                 FN_NAMES[f], rows, cols, R, kind, i, j, out[k], want[k]);
-                        TEST_FAIL_MESSAGE(msg);
-                    }
-                } else if (out[k] != 0xA5) {
-                    snprintf(msg, sizeof msg, "%s: %dx%d R=%d padding written at (%d,%d)", FN_NAMES[f],
-                             rows, cols, R, i, j);
-                    TEST_FAIL_MESSAGE(msg);
-                }
-            }
-        }
+        fc_check_output(out, want, rows, cols, dstride, msg);
     }
-    free(src);
     free(want);
     free(out);
     free(scratch);
 }
 
-/* Checks both paths on a given image (stride sstride, padding already
- * filled by the caller) against the brute-force reference. */
-static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int dextra,
-                        const char *what)
+/* One case: an image of fill kind (row stride cols + sextra) through
+ * check_image. */
+static void check_case(int rows, int cols, int R, int kind, int sextra, int dextra)
 {
-    int dstride = cols + dextra, f, i, j;
-    size_t dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
-    uint8_t *want = (uint8_t *)malloc(dsize);
-    uint8_t *out = (uint8_t *)malloc(dsize);
-    uint8_t *scratch = (uint8_t *)malloc(scr);
-    char msg[200];
-
-    TEST_ASSERT_NOT_NULL(want);
-    TEST_ASSERT_NOT_NULL(out);
-    TEST_ASSERT_NOT_NULL(scratch);
-    brute_median(src, rows, cols, sstride, R, want, dstride);
-    for (f = 0; f < 2; f++) {
-        memset(out, 0xA5, dsize);
-        memset(scratch, 0x5A, scr);
-        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d sstride=%d", FN_NAMES[f], what, rows, cols, R,
-                 sstride);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, scratch, scr),
-                                      msg);
-        for (i = 0; i < rows; i++)
-            for (j = 0; j < dstride; j++) {
-                size_t k = (size_t)i * (size_t)dstride + (size_t)j;
-                uint8_t expect = j < cols ? want[k] : (uint8_t)0xA5;
-                if (out[k] != expect) {
-                    snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d at (%d,%d): got %d want %d",
-                             FN_NAMES[f], what, rows, cols, R, i, j, out[k], expect);
-                    TEST_FAIL_MESSAGE(msg);
-                }
-            }
-    }
-    free(want);
-    free(out);
-    free(scratch);
+    int sstride = cols + sextra;
+    uint8_t *src = (uint8_t *)fc_alloc((size_t)rows * (size_t)sstride);
+    char what[32];
+    fill_image(src, rows, cols, sstride, kind);
+    snprintf(what, sizeof what, "kind=%d", kind);
+    check_image(src, rows, cols, sstride, R, dextra, what);
+    free(src);
 }
 
 /* ------------------------------------------------------------ tests */
@@ -235,10 +166,9 @@ static void test_constant_and_extreme_images(void)
     static const int levels[] = {0, 255, 128};
     static const int shapes[][2] = {{1, 1}, {1, 37}, {37, 1}, {2, 50}, {50, 2}, {23, 31}, {64, 64}};
     static const int radii[] = {0, 1, 2, 3, 4, 5, 7, 8, 9, 16, 127};
-    uint8_t *img = (uint8_t *)malloc(64u * 80u);
+    uint8_t *img = (uint8_t *)fc_alloc(64u * 80u);
     size_t a, b, r;
     int i, j;
-    TEST_ASSERT_NOT_NULL(img);
     for (a = 0; a < sizeof shapes / sizeof shapes[0]; a++) {
         int rows = shapes[a][0], cols = shapes[a][1], sstride = cols + 7;
         for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
@@ -247,9 +177,7 @@ static void test_constant_and_extreme_images(void)
             if (TU_EMULATED && R > 64 && rows * cols > 100)
                 continue;
             for (b = 0; b < 3; b++) {
-                memset(img, levels[b], (size_t)rows * (size_t)sstride);
-                for (i = 0; i < rows; i++) /* padding of another level */
-                    memset(img + (size_t)i * (size_t)sstride + (size_t)cols, 255 - levels[b], 7);
+                fc_fill_constant(img, rows, cols, sstride, levels[b]);
                 check_image(img, rows, cols, sstride, R, 3, "constant");
             }
             for (b = 0; b < 4; b++) {
@@ -499,8 +427,7 @@ static void test_strips_real_frame_wide(void)
     uint8_t *wide;
     int wr = TU_EMULATED ? 40 : rows;
     TEST_ASSERT_NOT_NULL(img);
-    wide = (uint8_t *)malloc((size_t)wr * (size_t)cols * 2u + 3u);
-    TEST_ASSERT_NOT_NULL(wide);
+    wide = (uint8_t *)fc_alloc((size_t)wr * (size_t)cols * 2u + 3u);
     for (i = 0; i < wr; i++)
         for (j = 0; j < cols; j++) {
             uint8_t v = img[(size_t)(i + (rows - wr) / 2) * (size_t)cols + (size_t)j];
@@ -522,12 +449,9 @@ static void test_real_sonar_frame(void)
     size_t n, scr;
     n = (size_t)rows * (size_t)cols;
     scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
-    want = (uint8_t *)malloc(n);
-    out = (uint8_t *)malloc(n);
-    scratch = (uint8_t *)malloc(scr);
-    TEST_ASSERT_NOT_NULL(want);
-    TEST_ASSERT_NOT_NULL(out);
-    TEST_ASSERT_NOT_NULL(scratch);
+    want = (uint8_t *)fc_alloc(n);
+    out = (uint8_t *)fc_alloc(n);
+    scratch = (uint8_t *)fc_alloc(scr);
     brute_median(img, rows, cols, cols, 4, want, cols);
     for (f = 0; f < 2; f++) {
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](img, rows, cols, cols, out, cols, 4, scratch, scr));

@@ -7,6 +7,7 @@
 #include "actag/threshold.h"
 #include "unity.h"
 #include "test_util.h"
+#include "filter_check.h"
 
 /* The portable (non-SIMD) code path, compiled into this test under another
  * name so that both paths are checked on any machine. */
@@ -135,28 +136,6 @@ void tearDown(void) {}
 
 /* ------------------------------------------------------------ helpers */
 
-static uint32_t rng_state;
-
-static uint32_t rnd(void)
-{
-    uint32_t x = rng_state; /* xorshift32 */
-    x ^= x << 13;
-    x ^= x >> 17;
-    x ^= x << 5;
-    rng_state = x;
-    return x;
-}
-
-static int rnd_range(int lo, int hi) /* inclusive */
-{
-    return lo + (int)(rnd() % (uint32_t)(hi - lo + 1));
-}
-
-static int clamp(int v, int lo, int hi)
-{
-    return v < lo ? lo : (v > hi ? hi : v);
-}
-
 /* Reference: min and max over the clamped (edge-replicated) window, then
  * 2x >= mn + mx - 2 offset in 64-bit arithmetic (any int offset). */
 static void brute_threshold(const uint8_t *src, int rows, int cols, int stride, int R, int offset,
@@ -230,12 +209,10 @@ static void check_bitmap(const uint8_t *src, int rows, int cols, int sstride, in
 {
     size_t n = ACTAG_BITMAP_SIZE(rows, cols), wpr = ACTAG_BITMAP_WORDS(cols), b;
     size_t scr = ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, R);
-    uint32_t *bm = (uint32_t *)malloc(n);
-    uint8_t *scratch = (uint8_t *)malloc(scr);
+    uint32_t *bm = (uint32_t *)fc_alloc(n);
+    uint8_t *scratch = (uint8_t *)fc_alloc(scr);
     char msg[240];
     int f, r;
-    TEST_ASSERT_NOT_NULL(bm);
-    TEST_ASSERT_NOT_NULL(scratch);
     for (f = 0; f < NFNS; f++) {
         memset(bm, 0xA5, n);
         memset(scratch, 0x5A, scr);
@@ -264,99 +241,51 @@ static void check_bitmap(const uint8_t *src, int rows, int cols, int sstride, in
     free(scratch);
 }
 
-/* Runs one case through both code paths with the exact radius-specific
- * scratch size, and checks every pixel and the untouched dst padding. */
-static void check_case(int rows, int cols, int R, int offset, int kind, int sextra, int dextra)
+/* Checks every path on a given image (stride sstride, padding already
+ * filled by the caller) against the brute-force reference with the exact
+ * radius-specific scratch size: every pixel, the destination padding
+ * (dextra columns) untouched, and the bitmap variants (check_bitmap). */
+static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
+                        int dextra, const char *what)
 {
-    int sstride = cols + sextra, dstride = cols + dextra, f;
-    size_t ssize = (size_t)rows * (size_t)sstride, dsize = (size_t)rows * (size_t)dstride;
+    int dstride = cols + dextra, f;
+    size_t dsize = (size_t)rows * (size_t)dstride;
     size_t scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, R);
-    uint8_t *src = (uint8_t *)malloc(ssize);
-    uint8_t *want = (uint8_t *)malloc(dsize);
-    uint8_t *out = (uint8_t *)malloc(dsize);
-    uint8_t *scratch = (uint8_t *)malloc(scr);
+    uint8_t *want = (uint8_t *)fc_alloc(dsize);
+    uint8_t *out = (uint8_t *)fc_alloc(dsize);
+    uint8_t *scratch = (uint8_t *)fc_alloc(scr);
     char msg[200];
-    int i, j;
 
-    TEST_ASSERT_NOT_NULL(src);
-    TEST_ASSERT_NOT_NULL(want);
-    TEST_ASSERT_NOT_NULL(out);
-    TEST_ASSERT_NOT_NULL(scratch);
     TEST_ASSERT_TRUE(scr <= ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols));
-    fill_image(src, rows, cols, sstride, kind);
     brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
     for (f = 0; f < NFNS; f++) {
         memset(out, 0xA5, dsize);
         memset(scratch, 0x5A, scr);
-        snprintf(msg, sizeof msg, "%s: %dx%d R=%d off=%d kind=%d sstride=%d dstride=%d", FN_NAMES[f],
-                 rows, cols, R, offset, kind, sstride, dstride);
+        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d sstride=%d dstride=%d", FN_NAMES[f],
+                 what, rows, cols, R, offset, sstride, dstride);
         TEST_ASSERT_EQUAL_INT_MESSAGE(
             ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, offset, scratch, scr), msg);
-        for (i = 0; i < rows; i++) {
-            for (j = 0; j < dstride; j++) {
-                size_t k = (size_t)i * (size_t)dstride + (size_t)j;
-                if (j < cols) {
-                    if (out[k] != want[k]) {
-                        snprintf(msg, sizeof msg, "%s: %dx%d R=%d off=%d kind=%d at (%d,%d): got %d want %d",
-                                 FN_NAMES[f], rows, cols, R, offset, kind, i, j, out[k], want[k]);
-                        TEST_FAIL_MESSAGE(msg);
-                    }
-                } else if (out[k] != 0xA5) {
-                    snprintf(msg, sizeof msg, "%s: %dx%d R=%d padding written at (%d,%d)", FN_NAMES[f],
-                             rows, cols, R, i, j);
-                    TEST_FAIL_MESSAGE(msg);
-                }
-            }
-        }
+        fc_check_output(out, want, rows, cols, dstride, msg);
     }
-    snprintf(msg, sizeof msg, "%dx%d R=%d off=%d kind=%d sstride=%d", rows, cols, R, offset,
-             kind, sstride);
+    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d sstride=%d", what, rows, cols, R, offset,
+             sstride);
     check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
-    free(src);
     free(want);
     free(out);
     free(scratch);
 }
 
-/* Checks both paths on a given image (stride sstride, padding already
- * filled by the caller) against the brute-force reference. */
-static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
-                        int dextra, const char *what)
+/* One case: an image of fill kind (row stride cols + sextra) through
+ * check_image. */
+static void check_case(int rows, int cols, int R, int offset, int kind, int sextra, int dextra)
 {
-    int dstride = cols + dextra, f, i, j;
-    size_t dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, R);
-    uint8_t *want = (uint8_t *)malloc(dsize);
-    uint8_t *out = (uint8_t *)malloc(dsize);
-    uint8_t *scratch = (uint8_t *)malloc(scr);
-    char msg[200];
-
-    TEST_ASSERT_NOT_NULL(want);
-    TEST_ASSERT_NOT_NULL(out);
-    TEST_ASSERT_NOT_NULL(scratch);
-    brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
-    for (f = 0; f < NFNS; f++) {
-        memset(out, 0xA5, dsize);
-        memset(scratch, 0x5A, scr);
-        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d", FN_NAMES[f], what, rows, cols, R, offset);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(
-            ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, offset, scratch, scr), msg);
-        for (i = 0; i < rows; i++)
-            for (j = 0; j < dstride; j++) {
-                size_t k = (size_t)i * (size_t)dstride + (size_t)j;
-                uint8_t expect = j < cols ? want[k] : (uint8_t)0xA5;
-                if (out[k] != expect) {
-                    snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d at (%d,%d): got %d want %d",
-                             FN_NAMES[f], what, rows, cols, R, offset, i, j, out[k], expect);
-                    TEST_FAIL_MESSAGE(msg);
-                }
-            }
-    }
-    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d", what, rows, cols, R, offset);
-    check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
-    free(want);
-    free(out);
-    free(scratch);
+    int sstride = cols + sextra;
+    uint8_t *src = (uint8_t *)fc_alloc((size_t)rows * (size_t)sstride);
+    char what[32];
+    fill_image(src, rows, cols, sstride, kind);
+    snprintf(what, sizeof what, "kind=%d", kind);
+    check_image(src, rows, cols, sstride, R, offset, dextra, what);
+    free(src);
 }
 
 /* ------------------------------------------------------------ tests */
@@ -385,19 +314,16 @@ static void test_constant_and_extreme_images(void)
     static const int shapes[][2] = {{1, 1}, {1, 45}, {45, 1}, {2, 33}, {33, 2}, {19, 27}, {40, 64}};
     static const int radii[] = {0, 1, 2, 3, 7, 8, 9, 16, 32, 1000};
     static const int offs[] = {-1, 0, 1, 128, -255};
-    uint8_t *img = (uint8_t *)malloc(40u * 80u);
+    uint8_t *img = (uint8_t *)fc_alloc(40u * 80u);
     size_t a, b, r;
     int i, j;
-    TEST_ASSERT_NOT_NULL(img);
     for (a = 0; a < sizeof shapes / sizeof shapes[0]; a++) {
         int rows = shapes[a][0], cols = shapes[a][1], sstride = cols + 9;
         for (r = 0; r < sizeof radii / sizeof radii[0]; r++) {
             int R = radii[r];
             int off = offs[(a + r) % 5];
             for (b = 0; b < 3; b++) {
-                memset(img, levels[b], (size_t)rows * (size_t)sstride);
-                for (i = 0; i < rows; i++) /* padding of another level */
-                    memset(img + (size_t)i * (size_t)sstride + (size_t)cols, 255 - levels[b], 9);
+                fc_fill_constant(img, rows, cols, sstride, levels[b]);
                 check_image(img, rows, cols, sstride, R, off, 2, "constant");
             }
             for (b = 0; b < 4; b++) {
@@ -566,12 +492,9 @@ static void test_real_sonar_frame(void)
     size_t n, scr;
     n = (size_t)rows * (size_t)cols;
     scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, 8);
-    want = (uint8_t *)malloc(n);
-    out = (uint8_t *)malloc(n);
-    scratch = (uint8_t *)malloc(scr);
-    TEST_ASSERT_NOT_NULL(want);
-    TEST_ASSERT_NOT_NULL(out);
-    TEST_ASSERT_NOT_NULL(scratch);
+    want = (uint8_t *)fc_alloc(n);
+    out = (uint8_t *)fc_alloc(n);
+    scratch = (uint8_t *)fc_alloc(scr);
     brute_threshold(img, rows, cols, cols, 8, 1, want, cols);
     for (f = 0; f < NFNS; f++) {
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](img, rows, cols, cols, out, cols, 8, 1, scratch, scr));

@@ -34,18 +34,7 @@ static void base(actag_frame *f, actag_sonar_geometry *g, actag_params *p)
     for (r = 0; r < ROWS; r++) /* a little structure so that every stage runs */
         for (c = 0; c < COLS; c++)
             g_px[r * COLS + c] = (uint8_t)(((r / 6 + c / 7) & 1) ? 200 : 30);
-    f->data = g_px;
-    f->rows = ROWS;
-    f->cols = COLS;
-    f->stride = COLS;
-    f->depth = 8;
-    g->min_range = 0.1f;
-    g->max_range = 1.5f;
-    g->aperture = 1.0472f;
-    g->bearings = NULL;
-    g->flags = 0u;
-    actag_params_default(p);
-    p->family = &g_fam;
+    tu_valid_input(g_px, ROWS, COLS, &g_fam, f, g, p);
 }
 
 static int nan_or_equal(double a, double b) { return (a != a && b != b) || a == b; }

@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "hostio.h"
 
+#include "actag/actag.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -111,6 +113,21 @@ int hostio_mkdirs(const char *path, char *err)
     if (stat(path, &sb) != 0 || !S_ISDIR(sb.st_mode))
         return fail(err, "%s: exists and is not a folder", path);
     return HOSTIO_OK;
+}
+
+void hostio_json_string(FILE *stream, const char *s)
+{
+    fputc('"', stream);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(stream, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(stream, "\\u%04x", c);
+        else
+            fputc(c, stream);
+    }
+    fputc('"', stream);
 }
 
 /* Next header integer, skipping whitespace and comments; -1 when absent. */
@@ -277,6 +294,15 @@ void hostio_image_free(hostio_image *img)
         free(img->data);
         img->data = NULL;
     }
+}
+
+void hostio_image_frame(const hostio_image *img, actag_frame *frame)
+{
+    frame->data = img->data;
+    frame->rows = img->rows;
+    frame->cols = img->cols;
+    frame->stride = img->stride;
+    frame->depth = img->depth;
 }
 
 /* Bytes of a raw frame of spec's layout: the whole frame (*full) and the
@@ -615,4 +641,13 @@ long hostio_opt_long(const char *prog, const char *name, const char *s, long lo,
     if (hostio_parse_long(name, s, lo, hi, &v, err) != HOSTIO_OK)
         hostio_die(prog, err);
     return v;
+}
+
+void hostio_opt_mkdirs(const char *prog, const char *name, const char *path)
+{
+    char err[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
+    if (hostio_mkdirs(path, err) != HOSTIO_OK) {
+        snprintf(m, sizeof m, "%s: %s", name, err);
+        hostio_die(prog, m);
+    }
 }

@@ -28,6 +28,8 @@
  *     hostio_pgm_fwrite(stream, name, &img, err)  the same to an open stream
  *                                           (e.g. stdout); name labels messages
  *     hostio_image_free(&img)
+ *     hostio_image_frame(&img, &frame)     the image as the library's
+ *                                           actag_frame (no copy)
  *     hostio_ppm_write(path, rgb, rows, cols, err)  a colour picture (P6,
  *                                           rows x cols RGB triplets)
  *   Frames (sonar tools: PGM by its magic, else headerless raw)
@@ -60,6 +62,10 @@
  *   --format txt: '#' comment lines, blank lines, one code per line in ID
  *   order as 0x-prefixed hexadecimal)
  *     hostio_read_codes(path, codes, cap, &n, err)  at most cap codes
+ *   JSON output
+ *     hostio_json_string(stream, s)  s as a JSON string literal, quotes
+ *                            included ('"' and '\\' escaped, control
+ *                            characters as \u00XX; other bytes as they are)
  *   Subprocesses
  *     hostio_run(cmd, err)   runs a shell command line (system()); returns its
  *                            exit status 0..255, or -1 (and a message) when it
@@ -68,6 +74,7 @@
  *     hostio_die(prog, msg)
  *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
  *     hostio_opt_long(prog, name, s, lo, hi)     hostio_parse_long or die
+ *     hostio_opt_mkdirs(prog, name, path)  hostio_mkdirs or die ("name: ...")
  */
 #ifndef ACTAG_HOSTIO_H
 #define ACTAG_HOSTIO_H
@@ -120,6 +127,10 @@ int hostio_pgm_read(const char *path, hostio_image *out, char *err);
 int hostio_pgm_write(const char *path, const hostio_image *img, char *err);
 int hostio_pgm_fwrite(FILE *stream, const char *name, const hostio_image *img, char *err);
 void hostio_image_free(hostio_image *img);
+struct actag_frame;
+/* The image as the core library's frame (actag/actag.h): data, rows, cols,
+ * stride and depth, the pixels not copied. */
+void hostio_image_frame(const hostio_image *img, struct actag_frame *frame);
 int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err);
 
 /* A PGM (by its P5 magic) or a raw frame (raw may be NULL: PGM only). The
@@ -157,6 +168,9 @@ int hostio_parse_list(const char *name, const char *s, double *out, int cap, int
 /* Family code list: *n codes stored (error when the file holds more than cap). */
 int hostio_read_codes(const char *path, uint32_t *codes, size_t cap, size_t *n, char *err);
 
+/* s as a JSON string literal (quotes included) on stream. */
+void hostio_json_string(FILE *stream, const char *s);
+
 /* Shell command line; exit status 0..255, or -1 when it did not run or exit. */
 int hostio_run(const char *cmd, char *err);
 
@@ -179,6 +193,9 @@ void hostio_die(const char *prog, const char *msg);
 double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
                          double hi);
 long hostio_opt_long(const char *prog, const char *name, const char *s, long lo, long hi);
+/* The folder of option `name` and its parents (hostio_mkdirs), or dies with
+ * "prog: name: <hostio_mkdirs' message>". */
+void hostio_opt_mkdirs(const char *prog, const char *name, const char *path);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,6 @@
 /* The host I/O library's frame reader (PGM by magic, raw by layout, errors
- * naming the file and value), folder creation, number lists and PPM writer. */
+ * naming the file and value), folder creation, number lists, PPM writer and
+ * JSON strings. */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
 #include "hostio.h"
@@ -43,6 +44,7 @@ static void test_frames(void)
     char err[HOSTIO_ERRLEN];
     hostio_image im;
     hostio_raw_spec raw = {2, 2, 16, 3}; /* 2 x 2, stride 3, 16-bit */
+    actag_frame fr;
     TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
     put("a.pgm", pgm8, sizeof pgm8 - 1);
     TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/a.pgm", &raw, &im, err), err);
@@ -50,6 +52,12 @@ static void test_frames(void)
     TEST_ASSERT_EQUAL_INT(3, im.cols);
     TEST_ASSERT_EQUAL_INT(8, im.depth);
     TEST_ASSERT_EQUAL_UINT8(6, ((uint8_t *)im.data)[5]);
+    hostio_image_frame(&im, &fr); /* the library's view of it */
+    TEST_ASSERT_TRUE(fr.data == im.data);
+    TEST_ASSERT_EQUAL_INT(2, fr.rows);
+    TEST_ASSERT_EQUAL_INT(3, fr.cols);
+    TEST_ASSERT_EQUAL_INT(3, fr.stride);
+    TEST_ASSERT_EQUAL_INT(8, fr.depth);
     hostio_image_free(&im);
     put("b.pgm", pgm16, sizeof pgm16 - 1);
     TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/b.pgm", NULL, &im, err), err);
@@ -258,6 +266,29 @@ static void test_pgm_8bit_maxval(void)
 /* Raw size products (issue 10): 32767 rows x stride 2^20 x 2 bytes is 2^36
  * bytes, beyond a 32-bit long; the expected size is computed and reported
  * exactly (or, where size_t is 32 bits, the layout is refused as too large). */
+/* hostio_json_string: quotes, '"' and '\\' escaped, control characters as
+ * \u00XX, every other byte (UTF-8 included) as it is. */
+static void test_json_string(void)
+{
+    static const char in[] = "a\"b\\c\x01\td \xc3\xa9/";
+    static const char want[] = "\"a\\\"b\\\\c\\u0001\\u0009d \xc3\xa9/\"\"\"";
+    char err[HOSTIO_ERRLEN];
+    size_t len = 0;
+    uint8_t *got;
+    FILE *f;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
+    f = fopen(DIR "/json.txt", "w");
+    TEST_ASSERT_NOT_NULL(f);
+    hostio_json_string(f, in);
+    hostio_json_string(f, "");
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+    got = hostio_slurp(DIR "/json.txt", &len, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(got, err);
+    TEST_ASSERT_EQUAL_STRING(want, (const char *)got);
+    TEST_ASSERT_EQUAL_size_t(sizeof want - 1, len);
+    free(got);
+}
+
 static void test_raw_size_overflow(void)
 {
     static const uint8_t small[64] = {0};
@@ -296,5 +327,6 @@ int main(void)
     RUN_TEST(test_raw_frame_starting_with_p5);
     RUN_TEST(test_pgm_8bit_maxval);
     RUN_TEST(test_raw_size_overflow);
+    RUN_TEST(test_json_string);
     return UNITY_END();
 }

@@ -1230,11 +1230,8 @@ int main(int argc, char **argv)
     opts_t o;
     int i;
     parse_args(argc, argv, &o);
-    if (o.out_dir) {
-        char err[HOSTIO_ERRLEN];
-        if (hostio_mkdirs(o.out_dir, err) != HOSTIO_OK)
-            die("--out-dir: %s", err);
-    }
+    if (o.out_dir)
+        hostio_opt_mkdirs("actag-render", "--out-dir", o.out_dir);
     if (o.list_tabs) {
         static const char *const names[4] = {"TL", "TR", "BR", "BL"};
         for (i = 0; i < o.nids; i++) {

@@ -22,7 +22,6 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sim.h"
-#include "actag/version.h"
 #include "simio.h"
 #include "../hostio/hostio.h"
 #include "eval_track.h"
@@ -253,7 +252,6 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
     actag_params p;
     actag_frame fr;
     actag_detection det[16];
-    actag_rng g;
     uint32_t fs = sim_frame_seed(c->seed, (uint32_t)i);
     int nd, d, n;
     float cx = 0.0f, cy = 0.0f, diag;
@@ -263,8 +261,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
     memset(&tag, 0, sizeof tag);
     tag.family = c->fam;
     tag.tag_size = tag_size_default;
-    actag_rng_seed(&g, fs ^ 0x5bd1e995u);
-    tag.id = (int)actag_rng_below(&g, (uint32_t)c->fam.ncodes);
+    tag.id = simio_random_id(fs, c->fam.ncodes);
     if (sim_sample_view(&c->sonar, &c->view, fs, &tag, &sc) != 0)
         return;
     if (sim_render(&c->sonar, &sc, &c->app, fs, img, NULL, c->sonar.cols, err) != 0)
@@ -759,7 +756,7 @@ static void parse_free_families(eval_ctx *c, const char *list)
 int main(int argc, char **argv)
 {
     static eval_ctx c;
-    int i, threads = 2, json = 0, pool = 0, corrections_set = 0, free_rows = 530, free_cols = 512;
+    int i, threads = 2, json = 0, pool, corrections_set = 0, free_rows = 530, free_cols = 512;
     const char *family = "AcTag24h10", *svg = NULL, *free_list = "all", *failures = NULL,
                *pose_dump = NULL;
     const char *sweep_list = "AcTag24h4,AcTag24h6,AcTag24h8,AcTag24h10";
@@ -769,6 +766,7 @@ int main(int argc, char **argv)
     te_counts seq_counts, pool_counts;
     const char *pool_dir = NULL;
     int have_seq = 0, have_pool = 0;
+    const simio_cli cli = {PROG, usage, 16, 8192, &c.sonar, &c.view, &aperture_deg};
 
 #ifdef __GLIBC__
     /* The renderer's per-frame buffers (a few MB) would otherwise be mmap'ed
@@ -785,29 +783,12 @@ int main(int argc, char **argv)
     c.min_margin = c.search_min_margin = -1.0e6f;
     c.min_bit_margin = -1;
     c.min_structure = c.min_side = -1.0f;
-    c.sonar.rows = 1024;
-    c.sonar.cols = 512;
-    c.sonar.geo.min_range = 0.1f;
-    c.sonar.geo.max_range = 5.0f;
-    c.sonar.vertical_aperture = (float)(12.0 * DEG);
-    sim_appearance_default(&c.app);
-    sim_view_params_default(&c.view);
-    for (i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--pool"))
-            pool = 1;
-    if (pool)
-        simio_pool_settings(&c.sonar, &c.view);
+    pool = simio_opt_defaults(argc, argv, &c.sonar, &c.view, &c.app); /* --pool first */
     for (i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED() do { if (!v) { char m_[128]; snprintf(m_, sizeof m_, "%s: missing value", o); die(m_); } i++; } while (0)
-        if (!strcmp(o, "--help")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(o, "--version")) {
-            printf(PROG " %s\n", ACTAG_VERSION_STRING);
-            return 0;
-        } else if (!strcmp(o, "--pool")) {
+#define NEED() simio_opt_need(PROG, o, v, &i)
+        if (simio_opt_common(&cli, argc, argv, &i)) {
         } else if (!strcmp(o, "--frames")) {
             NEED();
             c.frames = (int)inum(o, v, 0, 10000000);
@@ -845,33 +826,6 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--threads")) {
             NEED();
             threads = (int)inum(o, v, 1, 16);
-        } else if (!strcmp(o, "--min-distance")) {
-            NEED();
-            c.view.min_distance = (float)num(o, v, 0.01, 1000.0);
-        } else if (!strcmp(o, "--max-distance")) {
-            NEED();
-            c.view.max_distance = (float)num(o, v, 0.01, 1000.0);
-        } else if (!strcmp(o, "--min-incidence-deg")) {
-            NEED();
-            c.view.min_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
-        } else if (!strcmp(o, "--max-incidence-deg")) {
-            NEED();
-            c.view.max_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
-        } else if (!strcmp(o, "--max-yaw-deg")) {
-            NEED();
-            c.view.max_yaw = (float)(num(o, v, 0.0, 180.0) * DEG);
-        } else if (!strcmp(o, "--mirror-fraction")) {
-            NEED();
-            c.view.mirror_fraction = (float)num(o, v, 0.0, 1.0);
-        } else if (!strcmp(o, "--clutter")) {
-            NEED();
-            c.view.clutter = (int)inum(o, v, 0, SIM_MAX_PATCHES / 2);
-        } else if (!strcmp(o, "--rows")) {
-            NEED();
-            c.sonar.rows = (int)inum(o, v, 16, 8192);
-        } else if (!strcmp(o, "--cols")) {
-            NEED();
-            c.sonar.cols = (int)inum(o, v, 16, 8192);
         } else if (!strcmp(o, "--sweep-families")) {
             NEED();
             sweep_list = v;
@@ -891,22 +845,6 @@ int main(int argc, char **argv)
                 die("--free-max-range: expected LO,HI with 0 < LO <= HI");
             c.free_min_max_range = (float)mm[0];
             c.free_max_max_range = (float)mm[1];
-        } else if (!strcmp(o, "--min-range")) {
-            NEED();
-            c.sonar.geo.min_range = (float)num(o, v, 0.0, 10000.0);
-        } else if (!strcmp(o, "--max-range")) {
-            NEED();
-            c.sonar.geo.max_range = (float)num(o, v, 0.0, 10000.0);
-        } else if (!strcmp(o, "--aperture-deg")) {
-            NEED();
-            aperture_deg = num(o, v, 0.01, 359.9);
-        } else if (!strcmp(o, "--vertical-aperture-deg")) {
-            NEED();
-            c.sonar.vertical_aperture = (float)(num(o, v, 0.1, 90.0) * DEG);
-        } else if (!strcmp(o, "--range-ascending")) {
-            c.sonar.geo.flags |= ACTAG_RANGE_ASCENDING;
-        } else if (!strcmp(o, "--azimuth-ascending")) {
-            c.sonar.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
         } else if (!strcmp(o, "--json")) {
             json = 1;
         } else if (!strcmp(o, "--svg")) {
@@ -950,9 +888,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--relax-roi")) {
             topt.relax_roi = 1;
         } else {
-            char m[300];
-            snprintf(m, sizeof m, "unknown option '%s' (see --help)", o);
-            die(m);
+            simio_opt_unknown(PROG, o);
         }
 #undef NEED
     }
@@ -960,15 +896,8 @@ int main(int argc, char **argv)
         c.sonar.geo.aperture = (float)(aperture_deg * DEG);
     if (!(c.sonar.geo.max_range > c.sonar.geo.min_range))
         die("--max-range: must be above --min-range");
-    if (c.view.max_distance < c.view.min_distance)
-        die("--max-distance: must be at least --min-distance");
-    if (c.view.max_incidence < c.view.min_incidence)
-        die("--max-incidence-deg: must be at least --min-incidence-deg");
-    if (actag_family_get(family, &c.fam) != ACTAG_OK) {
-        char m[300];
-        snprintf(m, sizeof m, "--family: unknown family '%s'", family);
-        die(m);
-    }
+    simio_opt_check_views(PROG, &c.view);
+    simio_opt_family(PROG, "--family", family, &c.fam);
     if (!corrections_set)
         c.corrections = ACTAG_CORRECTIONS_AUTO;
     else if (c.corrections > actag_family_max_corrections(&c.fam)) {
@@ -1018,13 +947,8 @@ int main(int argc, char **argv)
         die("--free-max-range: must be above --min-range");
     if (c.frames + c.tag_free == 0 && topt.sequences == 0 && !pool_dir)
         die("--frames, --tag-free and --sequences are 0 and no --pool-sequence: nothing to do");
-    if (svg) {
-        char e[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
-        if (hostio_mkdirs(svg, e) != HOSTIO_OK) { /* parents too */
-            snprintf(m, sizeof m, "--svg: %s", e);
-            die(m);
-        }
-    }
+    if (svg)
+        hostio_opt_mkdirs(PROG, "--svg", svg); /* parents too */
     c.tres = (tag_result *)calloc((size_t)(c.frames > 0 ? c.frames : 1), sizeof *c.tres);
     c.fres = (free_result *)calloc((size_t)(c.tag_free > 0 ? c.tag_free : 1), sizeof *c.fres);
     if (!c.tres || !c.fres)

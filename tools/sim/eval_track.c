@@ -1,6 +1,7 @@
 /* Tracking evaluation for actag-eval (see eval_track.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "eval_track.h"
+#include "simio.h"
 #include "../hostio/hostio.h"
 
 #include <math.h>
@@ -226,7 +227,6 @@ static void *te_worker(void *arg)
         te_counts cnt;
         uint32_t qs;
         sim_tag tag;
-        actag_rng g;
         pthread_mutex_lock(&c->lock);
         q = c->next++;
         pthread_mutex_unlock(&c->lock);
@@ -240,8 +240,7 @@ static void *te_worker(void *arg)
         memset(&tag, 0, sizeof tag);
         tag.family = *c->fam;
         tag.tag_size = c->tag_size;
-        actag_rng_seed(&g, qs ^ 0x5bd1e995u);
-        tag.id = (int)actag_rng_below(&g, (uint32_t)c->fam->ncodes);
+        tag.id = simio_random_id(qs, c->fam->ncodes);
         for (i = 0; i < c->o->length; i++) {
             sim_scene sc;
             sim_truth tr;
@@ -340,11 +339,7 @@ int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
             hostio_image_free(&im);
             goto fail;
         }
-        fr.data = im.data;
-        fr.rows = im.rows;
-        fr.cols = im.cols;
-        fr.stride = im.stride;
-        fr.depth = im.depth;
+        hostio_image_frame(&im, &fr);
         te_frame(run, &fr, g, &p, &rp, ws, wss, NULL, visible ? visible[i] : 1, tag_id, out);
         hostio_image_free(&im);
     }

@@ -10,7 +10,6 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sim.h"
-#include "actag/version.h"
 #include "simio.h"
 #include "../hostio/hostio.h"
 
@@ -168,7 +167,7 @@ int main(int argc, char **argv)
     sim_scene scene;
     static sim_tag tags[SIM_MAX_TAGS];
     int ntags = 0, i, nrandom = -1, nfree = -1, nseq = -1, frames = 1, raw = 0, depth = 8;
-    int quiet = 0, fixed_id = -1, seabed_mode = 1, pool = 0;
+    int quiet = 0, fixed_id = -1, seabed_mode = 1;
     double seabed_plane[4] = {0, 0, 1, 0};
     uint32_t seed = 1;
     const char *out_dir = NULL, *prefix = "sim", *bearings = NULL, *compare = NULL;
@@ -179,33 +178,14 @@ int main(int argc, char **argv)
     FILE *truth = NULL;
     uint8_t *img8 = NULL;
     uint16_t *img16 = NULL;
+    const simio_cli cli = {PROG, usage, 2, ACTAG_MAX_DIM, &sonar, &view, &aperture_deg};
 
-    memset(&sonar, 0, sizeof sonar);
-    sonar.rows = 1024;
-    sonar.cols = 512;
-    sonar.geo.min_range = 0.1f;
-    sonar.geo.max_range = 5.0f;
-    sonar.vertical_aperture = (float)(12.0 * DEG);
-    sim_appearance_default(&app);
-    sim_view_params_default(&view);
-    /* --pool first: later options override it */
-    for (i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--pool"))
-            pool = 1;
-    if (pool)
-        simio_pool_settings(&sonar, &view);
-
+    simio_opt_defaults(argc, argv, &sonar, &view, &app); /* --pool first */
     for (i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED() do { if (!v) { char m_[128]; snprintf(m_, sizeof m_, "%s: missing value", o); die(m_); } i++; } while (0)
-        if (!strcmp(o, "--help")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(o, "--version")) {
-            printf(PROG " %s\n", ACTAG_VERSION_STRING);
-            return 0;
-        } else if (!strcmp(o, "--pool")) {
+#define NEED() simio_opt_need(PROG, o, v, &i)
+        if (simio_opt_common(&cli, argc, argv, &i)) {
         } else if (!strcmp(o, "--tag")) {
             NEED();
             if (ntags >= SIM_MAX_TAGS)
@@ -243,52 +223,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--tag-size")) {
             NEED();
             tag_size = (float)num(o, v, 1e-3, 100.0);
-        } else if (!strcmp(o, "--min-distance")) {
-            NEED();
-            view.min_distance = (float)num(o, v, 0.01, 1000.0);
-        } else if (!strcmp(o, "--max-distance")) {
-            NEED();
-            view.max_distance = (float)num(o, v, 0.01, 1000.0);
-        } else if (!strcmp(o, "--min-incidence-deg")) {
-            NEED();
-            view.min_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
-        } else if (!strcmp(o, "--max-incidence-deg")) {
-            NEED();
-            view.max_incidence = (float)(num(o, v, 0.0, 89.9) * DEG);
-        } else if (!strcmp(o, "--max-yaw-deg")) {
-            NEED();
-            view.max_yaw = (float)(num(o, v, 0.0, 180.0) * DEG);
-        } else if (!strcmp(o, "--mirror-fraction")) {
-            NEED();
-            view.mirror_fraction = (float)num(o, v, 0.0, 1.0);
-        } else if (!strcmp(o, "--clutter")) {
-            NEED();
-            view.clutter = (int)inum(o, v, 0, SIM_MAX_PATCHES / 2);
-        } else if (!strcmp(o, "--rows")) {
-            NEED();
-            sonar.rows = (int)inum(o, v, 2, ACTAG_MAX_DIM);
-        } else if (!strcmp(o, "--cols")) {
-            NEED();
-            sonar.cols = (int)inum(o, v, 2, ACTAG_MAX_DIM);
-        } else if (!strcmp(o, "--min-range")) {
-            NEED();
-            sonar.geo.min_range = (float)num(o, v, 0.0, 10000.0);
-        } else if (!strcmp(o, "--max-range")) {
-            NEED();
-            sonar.geo.max_range = (float)num(o, v, 0.0, 10000.0);
-        } else if (!strcmp(o, "--aperture-deg")) {
-            NEED();
-            aperture_deg = num(o, v, 0.01, 359.9);
         } else if (!strcmp(o, "--bearings")) {
             NEED();
             bearings = v;
-        } else if (!strcmp(o, "--vertical-aperture-deg")) {
-            NEED();
-            sonar.vertical_aperture = (float)(num(o, v, 0.1, 90.0) * DEG);
-        } else if (!strcmp(o, "--range-ascending")) {
-            sonar.geo.flags |= ACTAG_RANGE_ASCENDING;
-        } else if (!strcmp(o, "--azimuth-ascending")) {
-            sonar.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
         } else if (!strcmp(o, "--gain")) {
             NEED();
             app.gain = (float)num(o, v, 0.0, 1e6);
@@ -347,9 +284,7 @@ int main(int argc, char **argv)
             NEED();
             montage = v;
         } else {
-            char m[300];
-            snprintf(m, sizeof m, "unknown option '%s' (see --help)", o);
-            die(m);
+            simio_opt_unknown(PROG, o);
         }
 #undef NEED
     }
@@ -359,10 +294,7 @@ int main(int argc, char **argv)
                  (double)sonar.geo.min_range, (double)sonar.geo.max_range);
         die(m);
     }
-    if (view.max_distance < view.min_distance)
-        die("--max-distance: must be at least --min-distance");
-    if (view.max_incidence < view.min_incidence)
-        die("--max-incidence-deg: must be at least --min-incidence-deg");
+    simio_opt_check_views(PROG, &view);
     if (bearings) {
         btab = load_bearings(bearings, sonar.cols);
         sonar.geo.bearings = btab;
@@ -395,13 +327,7 @@ int main(int argc, char **argv)
         die("give exactly one of --tag, --random, --tag-free, --sequence (see --help)");
     if (!out_dir)
         die("--out-dir: required");
-    {
-        char e[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 16];
-        if (hostio_mkdirs(out_dir, e) != HOSTIO_OK) { /* parents too */
-            snprintf(m, sizeof m, "--out-dir: %s", e);
-            die(m);
-        }
-    }
+    hostio_opt_mkdirs(PROG, "--out-dir", out_dir); /* parents too */
     {
         char path[1200];
         snprintf(path, sizeof path, "%s/truth.jsonl", out_dir);
@@ -425,11 +351,7 @@ int main(int argc, char **argv)
         sim_tag base;
         memset(&base, 0, sizeof base);
         if (ntags == 0 && nfree <= 0) {
-            if (actag_family_get(family, &fam) != ACTAG_OK) {
-                char m[300];
-                snprintf(m, sizeof m, "--family: unknown family '%s'", family);
-                die(m);
-            }
+            simio_opt_family(PROG, "--family", family, &fam);
             if (fixed_id >= fam.ncodes) {
                 char m[300];
                 snprintf(m, sizeof m, "--id: %s has IDs 0..%d (got %d)", family, fam.ncodes - 1,
@@ -470,9 +392,7 @@ int main(int argc, char **argv)
                 }
             } else if (nrandom > 0) {
                 sim_tag tg = base;
-                actag_rng g;
-                actag_rng_seed(&g, fs ^ 0x5bd1e995u);
-                tg.id = fixed_id >= 0 ? fixed_id : (int)actag_rng_below(&g, (uint32_t)fam.ncodes);
+                tg.id = fixed_id >= 0 ? fixed_id : simio_random_id(fs, fam.ncodes);
                 if (sim_sample_view(&sonar, &view, fs, &tg, &scene) != 0)
                     die("--random: no view keeps the whole tag in the field of view; widen "
                         "--min-distance/--max-distance or the apertures");

@@ -1,6 +1,8 @@
-/* Ground-truth JSON, pool settings, tag statistics, real-frame comparison. */
+/* Ground-truth JSON, pool settings, random IDs, the tools' shared options,
+ * tag statistics, real-frame comparison. */
 #define _POSIX_C_SOURCE 200809L
 #include "simio.h"
+#include "actag/version.h"
 #include "../hostio/hostio.h"
 
 #include <dirent.h>
@@ -9,6 +11,7 @@
 #include <string.h>
 
 #define DEGF (3.14159265358979f / 180.0f)
+#define DEG (3.14159265358979 / 180.0)
 
 void simio_pool_sonar(sim_sonar *s)
 {
@@ -32,27 +35,146 @@ void simio_pool_settings(sim_sonar *s, sim_view_params *v)
     v->max_incidence = 75.0f * DEGF;
 }
 
-static void json_str(FILE *f, const char *s)
+int simio_random_id(uint32_t seed, int ncodes)
 {
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-    fputc('"', f);
+    actag_rng g;
+    actag_rng_seed(&g, seed ^ 0x5bd1e995u);
+    return (int)actag_rng_below(&g, (uint32_t)ncodes);
 }
+
+/* ------------------------------------------------------------ options */
+
+int simio_opt_defaults(int argc, char **argv, sim_sonar *s, sim_view_params *v,
+                       sim_appearance *a)
+{
+    int i, pool = 0;
+    memset(s, 0, sizeof *s);
+    s->rows = 1024;
+    s->cols = 512;
+    s->geo.min_range = 0.1f;
+    s->geo.max_range = 5.0f;
+    s->vertical_aperture = (float)(12.0 * DEG);
+    sim_appearance_default(a);
+    sim_view_params_default(v);
+    for (i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--pool"))
+            pool = 1;
+    if (pool)
+        simio_pool_settings(s, v);
+    return pool;
+}
+
+void simio_opt_need(const char *prog, const char *opt, const char *value, int *i)
+{
+    if (!value) {
+        char m[128];
+        snprintf(m, sizeof m, "%s: missing value", opt);
+        hostio_die(prog, m);
+    }
+    (*i)++;
+}
+
+int simio_opt_common(const simio_cli *cli, int argc, char **argv, int *i)
+{
+    const char *prog = cli->prog, *o = argv[*i];
+    const char *val = *i + 1 < argc ? argv[*i + 1] : NULL;
+    sim_sonar *s = cli->sonar;
+    sim_view_params *v = cli->view;
+#define NEED() simio_opt_need(prog, o, val, i)
+#define num(lo, hi) hostio_opt_double(prog, o, val, (lo), (hi))
+#define inum(lo, hi) hostio_opt_long(prog, o, val, (lo), (hi))
+    if (!strcmp(o, "--help")) {
+        cli->usage(stdout);
+        exit(0);
+    } else if (!strcmp(o, "--version")) {
+        printf("%s %s\n", prog, ACTAG_VERSION_STRING);
+        exit(0);
+    } else if (!strcmp(o, "--pool")) {
+        /* applied first (simio_opt_defaults) */
+    } else if (!strcmp(o, "--min-distance")) {
+        NEED();
+        v->min_distance = (float)num(0.01, 1000.0);
+    } else if (!strcmp(o, "--max-distance")) {
+        NEED();
+        v->max_distance = (float)num(0.01, 1000.0);
+    } else if (!strcmp(o, "--min-incidence-deg")) {
+        NEED();
+        v->min_incidence = (float)(num(0.0, 89.9) * DEG);
+    } else if (!strcmp(o, "--max-incidence-deg")) {
+        NEED();
+        v->max_incidence = (float)(num(0.0, 89.9) * DEG);
+    } else if (!strcmp(o, "--max-yaw-deg")) {
+        NEED();
+        v->max_yaw = (float)(num(0.0, 180.0) * DEG);
+    } else if (!strcmp(o, "--mirror-fraction")) {
+        NEED();
+        v->mirror_fraction = (float)num(0.0, 1.0);
+    } else if (!strcmp(o, "--clutter")) {
+        NEED();
+        v->clutter = (int)inum(0, SIM_MAX_PATCHES / 2);
+    } else if (!strcmp(o, "--rows")) {
+        NEED();
+        s->rows = (int)inum(cli->min_dim, cli->max_dim);
+    } else if (!strcmp(o, "--cols")) {
+        NEED();
+        s->cols = (int)inum(cli->min_dim, cli->max_dim);
+    } else if (!strcmp(o, "--min-range")) {
+        NEED();
+        s->geo.min_range = (float)num(0.0, 10000.0);
+    } else if (!strcmp(o, "--max-range")) {
+        NEED();
+        s->geo.max_range = (float)num(0.0, 10000.0);
+    } else if (!strcmp(o, "--aperture-deg")) {
+        NEED();
+        *cli->aperture_deg = num(0.01, 359.9);
+    } else if (!strcmp(o, "--vertical-aperture-deg")) {
+        NEED();
+        s->vertical_aperture = (float)(num(0.1, 90.0) * DEG);
+    } else if (!strcmp(o, "--range-ascending")) {
+        s->geo.flags |= ACTAG_RANGE_ASCENDING;
+    } else if (!strcmp(o, "--azimuth-ascending")) {
+        s->geo.flags |= ACTAG_AZIMUTH_ASCENDING;
+    } else {
+        return 0;
+    }
+    return 1;
+#undef NEED
+#undef num
+#undef inum
+}
+
+void simio_opt_unknown(const char *prog, const char *opt)
+{
+    char m[300];
+    snprintf(m, sizeof m, "unknown option '%s' (see --help)", opt);
+    hostio_die(prog, m);
+}
+
+void simio_opt_check_views(const char *prog, const sim_view_params *v)
+{
+    if (v->max_distance < v->min_distance)
+        hostio_die(prog, "--max-distance: must be at least --min-distance");
+    if (v->max_incidence < v->min_incidence)
+        hostio_die(prog, "--max-incidence-deg: must be at least --min-incidence-deg");
+}
+
+void simio_opt_family(const char *prog, const char *opt, const char *name, actag_family *fam)
+{
+    if (actag_family_get(name, fam) != ACTAG_OK) {
+        char m[300];
+        snprintf(m, sizeof m, "%s: unknown family '%s'", opt, name);
+        hostio_die(prog, m);
+    }
+}
+
+/* ------------------------------------------------------------ ground truth */
 
 void simio_truth_line(FILE *f, const char *file, int frame, uint32_t seed, const sim_sonar *s,
                       const sim_scene *scene)
 {
     int t, n, j;
     fprintf(f, "{\"file\": ");
-    json_str(f, file);
+    hostio_json_string(f, file);
     fprintf(f, ", \"frame\": %d, \"seed\": %u, \"rows\": %d, \"cols\": %d, \"clutter\": %d, "
                "\"coordinates\": \"x_col = column, y_row = row, pixels, centre of the top-left pixel at (0, 0)\", \"tags\": [",
             frame, (unsigned)seed, s->rows, s->cols, scene->npatches);
@@ -63,7 +185,7 @@ void simio_truth_line(FILE *f, const char *file, int frame, uint32_t seed, const
         sim_truth_of(s, tag, &tr);
         sim_pose_rpy(&tag->pose, rpy);
         fprintf(f, "%s{\"family\": ", t ? ", " : "");
-        json_str(f, tag->family.name);
+        hostio_json_string(f, tag->family.name);
         fprintf(f, ", \"id\": %d, \"tag_size\": %.9g, \"mirrored\": %d, \"visible\": %d, "
                    "\"distance\": %.6f, \"incidence_deg\": %.4f, \"pose\": {\"t\": [%.6f, %.6f, %.6f], "
                    "\"rpy_deg\": [%.4f, %.4f, %.4f], \"R\": [",
@@ -287,11 +409,7 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
             hostio_image_free(&im);
             continue;
         }
-        fr.data = im.data;
-        fr.rows = im.rows;
-        fr.cols = im.cols;
-        fr.stride = im.stride;
-        fr.depth = 8;
+        hostio_image_frame(&im, &fr); /* depth 8 */
         nd = actag_detect(&fr, &geo, &p, ws, ACTAG_WORKSPACE_SIZE(530, 512), det, 4, NULL);
         if (nd == 1 && simio_tag_stats_of((const uint8_t *)im.data, im.rows, im.cols,
                                           det[0].corners, 24, &ts) == 0) {
