@@ -183,12 +183,15 @@ static void store16(uint8_t *p, __m128i v)
     _mm_storeu_si128((__m128i *)(void *)p, v);
 }
 
+/* (step_mask[v >> 4] is (v & 0xF0) bytes into the table, step_mask[v &
+ * 15] (v << 4) & 0xF0: offsets the compiler does not find by itself.) */
 static void col_update(uint8_t *cc, uint8_t *fin, uint8_t *fout, unsigned vin, unsigned vout)
 {
-    store16(cc, _mm_sub_epi8(_mm_add_epi8(load16(cc), load16(step_mask[vin >> 4])),
-                             load16(step_mask[vout >> 4])));
-    store16(fin, _mm_add_epi8(load16(fin), load16(step_mask[vin & 15u])));
-    store16(fout, _mm_sub_epi8(load16(fout), load16(step_mask[vout & 15u])));
+    const uint8_t *sm = step_mask[0];
+    store16(cc, _mm_sub_epi8(_mm_add_epi8(load16(cc), load16(sm + (vin & 0xF0u))),
+                             load16(sm + (vout & 0xF0u))));
+    store16(fin, _mm_add_epi8(load16(fin), load16(sm + ((vin << 4) & 0xF0u))));
+    store16(fout, _mm_sub_epi8(load16(fout), load16(sm + ((vout << 4) & 0xF0u))));
 }
 
 /* Every lane is biased by 0x8000 so that signed compares order the counts
@@ -756,6 +759,55 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
 /* Bytes of one column's histograms (16 coarse + 256 fine 8-bit lanes). */
 #define COL_BYTES 272u
 
+/* The column histograms of image columns hb .. hb+span-1 (stored from hist
+ * on, coarse ones first, see the top of the file) for output row 0: rows
+ * clamp(-R..R). For 16-bit frames, sets the ring to scale the strip's
+ * columns only, with no row left in it. */
+static void cols_init(rowsrc *rs, int rows, int R, size_t hb, size_t span, uint8_t *hist)
+{
+    uint8_t *const colc = hist;
+    uint8_t *const colf = hist + span * 16u;
+    int k;
+    rs->c0 = hb;
+    rs->c1 = hb + span;
+    for (k = 0; k < RING_MAX; k++)
+        rs->tag[k] = -1;
+    memset(hist, 0, span * COL_BYTES);
+    for (k = -R; k <= R; k++) {
+        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1) + hb;
+        size_t c;
+        for (c = 0; c < span; c++) {
+            unsigned v = s[c];
+            step_add(colc + c * 16u, v >> 4);
+            step_add(FINE(colf, c, v >> 4), v & 15u);
+        }
+    }
+}
+
+/* Slides every column histogram from output row i-1 down to row i. (A
+ * separate pass: doing it as the kernel reaches each column was slower.) */
+static void cols_slide(rowsrc *rs, int rows, int R, int i, size_t hb, size_t span, uint8_t *hist)
+{
+    uint8_t *const colc = hist;
+    uint8_t *const colf = hist + span * 16u;
+    int rout = clampi(i - R - 1, 0, rows - 1);
+    int rin = clampi(i + R, 0, rows - 1);
+    if (rout != rin) {
+        const uint8_t *so = get_row(rs, rout, -1);
+        const uint8_t *si = get_row(rs, rin, row_slot(rs, so));
+        size_t c;
+        so += hb;
+        si += hb;
+        /* Byte offsets: bin v >> 4's fine block of a column is (v & 0xF0)
+         * bytes after the column's first; FINE(colf, c, b) spelt out. */
+        for (c = 0; c < span; c++) {
+            unsigned vin = si[c], vout = so[c];
+            uint8_t *cf = colf + c * 256u;
+            col_update(colc + c * 16u, cf + (vin & 0xF0u), cf + (vout & 0xF0u), vin, vout);
+        }
+    }
+}
+
 /* The constant-time filter on the output columns hb+s0 .. hb+s1-1 of every
  * row, with the column histograms of image columns hb .. hb+span-1 only
  * (the strip and the R columns on each side that its windows and the first
@@ -782,45 +834,13 @@ static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, size_t 
 #define CC(c) (colc + (size_t)(c) * 16u)
 #define CF(c, b) FINE(colf, c, b)
 
-    /* 16-bit rows: scale the strip's columns only, none left in the ring */
-    rs->c0 = hb;
-    rs->c1 = hb + span;
-    for (k = 0; k < RING_MAX; k++)
-        rs->tag[k] = -1;
-
-    /* Column histograms for row 0: rows clamp(-R..R). */
-    memset(hist, 0, span * COL_BYTES);
-    for (k = -R; k <= R; k++) {
-        const uint8_t *s = get_row(rs, clampi(k, 0, rows - 1), -1) + hb;
-        size_t c;
-        for (c = 0; c < span; c++) {
-            unsigned v = s[c];
-            step_add(colc + c * 16u, v >> 4);
-            step_add(FINE(colf, c, v >> 4), v & 15u);
-        }
-    }
+    cols_init(rs, rows, R, hb, span, hist);
 
     for (i = 0; i < rows; i++) {
         uint8_t *d = dst + (size_t)i * dstride;
 
-        if (i > 0) {
-            /* Slide every column histogram down one row. (A separate pass:
-             * doing it as the kernel reaches each column was slower.) */
-            int rout = clampi(i - R - 1, 0, rows - 1);
-            int rin = clampi(i + R, 0, rows - 1);
-            if (rout != rin) {
-                const uint8_t *so = get_row(rs, rout, -1);
-                const uint8_t *si = get_row(rs, rin, row_slot(rs, so));
-                size_t c;
-                so += hb;
-                si += hb;
-                for (c = 0; c < span; c++) {
-                    unsigned vin = si[c], vout = so[c];
-                    col_update(colc + c * 16u, FINE(colf, c, vin >> 4), FINE(colf, c, vout >> 4),
-                               vin, vout);
-                }
-            }
-        }
+        if (i > 0)
+            cols_slide(rs, rows, R, i, hb, span, hist);
 
         /* Kernel histograms start at column s0-1 (columns clamp(s0-R-1 ..
          * s0+R-1)), so that the first slide gives column s0. cur starts as
@@ -881,6 +901,147 @@ static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, size_t 
 #undef CC
 #undef CF
 }
+
+#ifdef MEDIAN_SSE2
+/* Radii whose kernel holds at most 255 samples ((2R+1)^2 <= 225). */
+#define MEDIAN_H8_MAX_R 7
+
+/* bcast8[v]: 16 lanes of v, for the ranks 0 .. 112 (R <= 7). */
+#define BC8(v) {v, v, v, v, v, v, v, v, v, v, v, v, v, v, v, v}
+#define BC8x4(v) BC8(v), BC8((v) + 1), BC8((v) + 2), BC8((v) + 3)
+#define BC8x16(v) BC8x4(v), BC8x4((v) + 4), BC8x4((v) + 8), BC8x4((v) + 12)
+static const uint8_t bcast8[128][16] = {BC8x16(0),  BC8x16(16), BC8x16(32), BC8x16(48),
+                                        BC8x16(64), BC8x16(80), BC8x16(96), BC8x16(112)};
+#undef BC8x16
+#undef BC8x4
+#undef BC8
+
+/* Number of lanes <= rank in a nondecreasing 16-lane histogram of 8-bit
+ * counts whose last lane exceeds rank (unsigned compare: min(h, r) == h). */
+static unsigned h8_count_le(__m128i h, __m128i rank)
+{
+    unsigned m = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_min_epu8(h, rank), h));
+    /* The lanes <= rank form a prefix: count the one bits below it. */
+#if defined(__GNUC__)
+    return (unsigned)__builtin_ctz(~m);
+#else
+    unsigned n = 0;
+    while (n < 16u && (m & (1u << n)))
+        n++;
+    return n;
+#endif
+}
+
+/* median_strip for R <= MEDIAN_H8_MAX_R: the same column histograms and
+ * the same search, but the kernel histograms have 8-bit lanes (a kernel
+ * holds (2R+1)^2 <= 225 samples; lanes wrap modulo 256 between the add
+ * and the subtract of a slide, the results are exact), so a slide is one
+ * add and one subtract of a register, and a search a min, a compare and a
+ * mask (about half median_strip's instructions per pixel). Same output. */
+static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t hb, size_t span,
+                          uint8_t *dst, size_t dstride, int R, uint8_t *hist)
+{
+    uint8_t *const colc = hist;
+    uint8_t *const colf = hist + span * 16u;
+    __m128i hf[16];     /* parked fine kernel histograms, per coarse bin */
+    int last[16];       /* column at which hf[b] was valid */
+    __m128i hc;         /* coarse kernel histogram */
+    __m128i cur;        /* fine kernel histogram of coarse bin curb */
+    uint8_t below[17];  /* below[b]: kernel samples in coarse bins < b */
+    unsigned curb;      /* coarse bin of the previous pixel's median */
+    int i, j, k;
+    /* Rank (0-based) of the median among the (2R+1)^2 samples. */
+    const unsigned half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
+    const __m128i vhalf = _mm_set1_epi8((char)half);
+
+#define CC(c) (colc + (size_t)(c) * 16u)
+#define CF(c, b) FINE(colf, c, b)
+
+    cols_init(rs, rows, R, hb, span, hist);
+    below[0] = 0;
+
+    for (i = 0; i < rows; i++) {
+        uint8_t *d = dst + (size_t)i * dstride;
+
+        if (i > 0)
+            cols_slide(rs, rows, R, i, hb, span, hist);
+
+        /* As in median_strip: the kernels start at column s0-1. */
+        hc = cur = _mm_setzero_si128();
+        curb = 0;
+        for (k = s0 - R - 1; k <= s0 + R - 1; k++) {
+            int c = clampi(k, 0, cols - 1);
+            hc = _mm_add_epi8(hc, load16(CC(c)));
+            cur = _mm_add_epi8(cur, load16(CF(c, 0)));
+        }
+        for (k = 0; k < 16; k++)
+            last[k] = s0 - 2 * R - 2;
+
+        /* The column entering the kernel at pixel j is ca = min(j + R,
+         * cols - 1), the one leaving cr = max(j - R - 1, 0): both move on
+         * by one column per pixel, except ca from j = cols - 1 - R on and
+         * cr up to j = R + 1, so the row is cut into at most three runs
+         * with fixed pointer steps (no clamp per pixel). */
+        for (j = s0; j < s1;) {
+            const int ia = j < cols - 1 - R, ir = j >= R + 1;
+            const size_t sa = ia ? 16u : 0u, sr = ir ? 16u : 0u;
+            const size_t fa = ia ? 256u : 0u, fr = ir ? 256u : 0u;
+            int jend = s1;
+            const uint8_t *pca, *pcr, *pfa, *pfr;
+            if (!ir && jend > R + 1)
+                jend = R + 1;
+            if (ia && jend > cols - 1 - R)
+                jend = cols - 1 - R;
+            pca = CC(j + R < cols ? j + R : cols - 1);
+            pcr = CC(j - R - 1 > 0 ? j - R - 1 : 0);
+            pfa = CF(j + R < cols ? j + R : cols - 1, 0);
+            pfr = CF(j - R - 1 > 0 ? j - R - 1 : 0, 0);
+            for (; j < jend; j++) {
+                unsigned b, f;
+                __m128i spec;
+
+                hc = _mm_sub_epi8(_mm_add_epi8(hc, load16(pca)), load16(pcr));
+                spec = _mm_sub_epi8(_mm_add_epi8(cur, load16(pfa + curb * 16u)),
+                                    load16(pfr + curb * 16u));
+                pca += sa;
+                pcr += sr;
+                pfa += fa;
+                pfr += fr;
+
+                b = h8_count_le(hc, vhalf);
+                if (b == curb) {
+                    cur = spec;
+                } else {
+                    int gap = j - last[b];
+                    hf[curb] = cur;
+                    last[curb] = j - 1;
+                    if (2 * gap > 2 * R + 1) {
+                        cur = _mm_setzero_si128();
+                        for (k = j - R; k <= j + R; k++)
+                            cur = _mm_add_epi8(cur, load16(CF(clampi(k, 0, cols - 1), b)));
+                    } else {
+                        cur = hf[b];
+                        for (k = last[b] + 1; k <= j; k++)
+                            cur = _mm_sub_epi8(
+                                _mm_add_epi8(cur,
+                                             load16(CF(k + R < cols ? k + R : cols - 1, b))),
+                                load16(CF(k - R - 1 > 0 ? k - R - 1 : 0, b)));
+                    }
+                    curb = b;
+                }
+
+                /* The median is the sample of rank half - below[curb]
+                 * inside coarse bin curb (below[b] = hc's lane b - 1). */
+                store16(below + 1, hc);
+                f = h8_count_le(cur, load16(bcast8[half - below[curb]]));
+                d[j] = (uint8_t)(curb * 16u + f);
+            }
+        }
+    }
+#undef CC
+#undef CF
+}
+#endif /* MEDIAN_SSE2 */
 
 /* Large radii (2R + 1 > H / 2 with H column histograms): strips of up to
  * H / 2 output columns s0 .. s1-1 (absolute here, W = s1 - s0 <= 2R + 1),
@@ -1093,6 +1254,13 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         else
             s1 = hb + (int)hcap - R;
         he = s1 - 1 + R < cols ? s1 - 1 + R : cols - 1;
+#ifdef MEDIAN_SSE2
+        if (R <= MEDIAN_H8_MAX_R) {
+            median_strip8(rs, rows, cols - hb, s0 - hb, s1 - hb, (size_t)hb,
+                          (size_t)(he - hb + 1), dst + hb, dstride, R, (uint8_t *)scratch);
+            continue;
+        }
+#endif
         median_strip(rs, rows, cols - hb, s0 - hb, s1 - hb, (size_t)hb, (size_t)(he - hb + 1),
                      dst + hb, dstride, R, (uint8_t *)scratch);
     }

@@ -228,6 +228,24 @@ static void test_every_small_radius_random(void)
         }
 }
 
+static void test_every_width_small_radii(void)
+{
+    /* The SSE2 path at R <= 7 (8-bit kernel histograms, median_strip8)
+     * cuts each row into runs by where the entering and the leaving
+     * column stop being clamped (j = cols - 1 - R and j = R + 1): every
+     * width from 1 to 2R + 20 (runs empty, overlapping, one pixel long,
+     * all three) at R = 1..8, with fills that move the median across
+     * coarse bins, at row counts below and above 2R + 1. */
+    int R, cols;
+    rng_state = 0xC015u;
+    for (R = 1; R <= 8; R++)
+        for (cols = 1; cols <= 2 * R + 20; cols++) {
+            int rows = (cols & 1) ? rnd_range(1, 2 * R) : rnd_range(2 * R + 1, 2 * R + 9);
+            int kind = cols % 3 == 0 ? FILL_UNIFORM : (int)(rnd() % FILL_N);
+            check_case(rows, cols, R, kind, cols & 3, (cols >> 2) & 1);
+        }
+}
+
 static void test_random_images(void)
 {
     static const int radii[] = {0, 1, 2, 3, 4, 5, 8};
@@ -654,6 +672,7 @@ int main(void)
     RUN_TEST(test_constant_and_extreme_images);
     RUN_TEST(test_wide_strides);
     RUN_TEST(test_every_small_radius_random);
+    RUN_TEST(test_every_width_small_radii);
     RUN_TEST(test_strip_boundaries);
     RUN_TEST(test_large_radius_strips);
     RUN_TEST(test_strips_with_more_scratch);
