@@ -22,8 +22,10 @@
  * 2 min(gap, R+1) column reads, so over a row each bin costs O(cols) and
  * the total per pixel is bounded independently of R.
  *
- * Speed (x86-64, SSE2 path, gcc -O2/-O3, one core): about 1.7 ms for a
- * 530 x 512 sonar frame at R = 4 (the same up to R = 16; 3 ms at R = 127,
+ * Speed (x86-64, SSE2 path, gcc -O2/-O3, one core): 1.6-1.8 ms for a
+ * 530 x 512 sonar frame at R = 4 (2.1-3.4 ms before the kernel histograms
+ * took 8-bit lanes for R <= 7, median_strip8: 89 instead of 124
+ * instructions per pixel; about 2 ms up to R = 16; 3 ms at R = 127,
  * where the O(R) set-up per row shows, with the whole frame in one strip;
  * with the minimum scratch, 256 column histograms, frames wider than 256
  * columns take 3 strips at R = 4, +1.4 % instructions, and up to ~1.7x the
