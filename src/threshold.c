@@ -455,6 +455,94 @@ static void vertical_fused(uint8_t *restrict hmin, uint8_t *restrict hmax, uint8
     }
 }
 
+#ifdef THRESHOLD_DSP
+/* The DSP path's lines b = a + ROW_R8_D (an immediate offset of the loads
+ * below): a's n + 16 bytes and b's fit in the 5 lines from hmin on when
+ * 260 <= n <= 1008. */
+#define ROW_R8_D 1024
+#define ROW_R8_ASM_MIN_N 260u
+#define ROW_R8_ASM_MAX_N 1008u
+
+/* vertical_fused for the DSP path's lines in assembly (GCC's code for the
+ * C loop keeps its seven pointers poorly): hmax = hmin + ROW_R8_D, pmax =
+ * pmin + n, smax = smin + sdist. smin may be pmin (then sdist = n): it is
+ * read after pmin's word is stored, min(P, P) = P. n >= 4. */
+static void vertical_fused_asm(uint8_t *hmin, uint8_t *pmin, const uint8_t *smin, size_t sdist,
+                               const uint8_t *row, size_t n)
+{
+    size_t nw = n & ~(size_t)3u, c;
+    const uint8_t *end = row + nw;
+    const uint8_t *rp = row;
+    uint8_t *hp = hmin, *pp = pmin;
+    const uint8_t *sp = smin;
+    word_t v, pn, px, s1, s2;
+    __asm__ volatile("1:\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[pn], [%[pp]]\n\t"
+                     "ldr %[px], [%[pp], %[n]]\n\t"
+                     "usub8 %[s1], %[pn], %[v]\n\t"
+                     "sel %[pn], %[v], %[pn]\n\t"
+                     "usub8 %[s1], %[px], %[v]\n\t"
+                     "sel %[px], %[px], %[v]\n\t"
+                     "str %[px], [%[pp], %[n]]\n\t"
+                     "str %[pn], [%[pp]], #4\n\t"
+                     "ldr %[s1], [%[sp], %[sd]]\n\t"
+                     "ldr %[s2], [%[sp]], #4\n\t"
+                     "usub8 %[v], %[s2], %[pn]\n\t"
+                     "sel %[s2], %[pn], %[s2]\n\t"
+                     "usub8 %[v], %[s1], %[px]\n\t"
+                     "sel %[s1], %[s1], %[px]\n\t"
+                     "str %[s1], [%[hp], #1024]\n\t"
+                     "str %[s2], [%[hp]], #4\n\t"
+                     "cmp %[rp], %[end]\n\t"
+                     "bne 1b"
+                     : [rp] "+&r"(rp), [pp] "+&r"(pp), [sp] "+&r"(sp), [hp] "+&r"(hp),
+                       [v] "=&r"(v), [pn] "=&r"(pn), [px] "=&r"(px), [s1] "=&r"(s1),
+                       [s2] "=&r"(s2)
+                     : [end] "r"(end), [n] "r"(n), [sd] "r"(sdist)
+                     : "cc", "memory");
+    for (c = nw; c < n; c++) {
+        uint8_t a = min8(pmin[c], row[c]), b = max8(pmin[c + n], row[c]);
+        pmin[c] = a;
+        pmin[c + n] = b;
+        hmin[c] = min8(smin[c], a);
+        hmin[c + ROW_R8_D] = max8(smin[c + sdist], b);
+    }
+}
+
+/* smin = min(smin + n, row), smax = max(smax + n, row) over n bytes (the
+ * vertical block suffix extrema, one row up), n >= 4. */
+static void suffix_rows_asm(uint8_t *smin, uint8_t *smax, const uint8_t *row, size_t n)
+{
+    size_t nw = n & ~(size_t)3u, c;
+    const uint8_t *end = row + nw;
+    const uint8_t *rp = row;
+    uint8_t *mp = smin, *xp = smax;
+    word_t v, a, b, t;
+    __asm__ volatile("1:\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[a], [%[mp], %[n]]\n\t"
+                     "ldr %[b], [%[xp], %[n]]\n\t"
+                     "usub8 %[t], %[a], %[v]\n\t"
+                     "sel %[a], %[v], %[a]\n\t"
+                     "usub8 %[t], %[b], %[v]\n\t"
+                     "sel %[b], %[b], %[v]\n\t"
+                     "str %[a], [%[mp]], #4\n\t"
+                     "str %[b], [%[xp]], #4\n\t"
+                     "cmp %[rp], %[end]\n\t"
+                     "bne 1b"
+                     : [rp] "+&r"(rp), [mp] "+&r"(mp), [xp] "+&r"(xp), [v] "=&r"(v),
+                       [a] "=&r"(a), [b] "=&r"(b), [t] "=&r"(t)
+                     : [end] "r"(end), [n] "r"(n)
+                     : "cc", "memory");
+    (void)t;
+    for (c = nw; c < n; c++) {
+        smin[c] = min8(smin[c + n], row[c]);
+        smax[c] = max8(smax[c + n], row[c]);
+    }
+}
+#endif
+
 /* min over the 4 samples from p on, per lane (p[0..6] read). */
 static word_t min4w(const uint8_t *p)
 {
@@ -485,12 +573,6 @@ static uint32_t ge_top4(word_t a, word_t b)
 #endif
 
 #ifdef THRESHOLD_DSP
-/* The DSP path's lines b = a + ROW_R8_D (an immediate offset of the loads
- * below): a's n + 16 bytes and b's fit in the 5 lines from hmin on when
- * 260 <= n <= 1008. */
-#define ROW_R8_D 1024
-#define ROW_R8_ASM_MIN_N 260u
-#define ROW_R8_ASM_MAX_N 1008u
 
 /* The steps of row_r8_bitmap from p = a + j to end (words), off >= 0
  * (neg = 0) or < 0 (neg = 1), in assembly: GCC's code for the C steps keeps
@@ -801,6 +883,12 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
             for (t--; t >= 0; t--) {
                 uint8_t *smn = sbuf_min + (size_t)t * ucols, *smx = sbuf_max + (size_t)t * ucols;
                 row = src + (size_t)(b0 + t) * sstride;
+#ifdef THRESHOLD_DSP
+                if (ucols >= 4u) {
+                    suffix_rows_asm(smn, smx, row, ucols);
+                    continue;
+                }
+#endif
                 minmax_rows(smn, smx, smn + ucols, smx + ucols, row, row, ucols);
             }
             sblk = bl;
@@ -820,6 +908,26 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                 pb = hmin + ROW_R8_D;
                 asm_lines = 1;
             }
+#endif
+#ifdef THRESHOLD_DSP
+            /* One assembly pass wherever P advances by at most one row: lo
+             * in the block before hi's (S[lo] op P[hi]; a new block starts P
+             * from the identity; a row folded again changes nothing), or lo
+             * starting hi's block (P[hi] alone: S := the old P). */
+            if (asm_lines && (phi == hi - 1 || phi == hi) &&
+                (hi / wv != bl || (lo % wv == 0 && phi == hi - 1))) {
+                if (phi == hi - 1 && hi % wv == 0) {
+                    memset(pmin, 0xFF, ucols);
+                    memset(pmax, 0, ucols);
+                }
+                if (hi / wv != bl)
+                    vertical_fused_asm(pa + 8, pmin, smn, (size_t)(smx - smn),
+                                       src + (size_t)hi * sstride, ucols);
+                else
+                    vertical_fused_asm(pa + 8, pmin, pmin, ucols, src + (size_t)hi * sstride,
+                                       ucols);
+                phi = hi;
+            } else
 #endif
             if (phi == hi - 1 && hi % wv != 0 && hi / wv != bl) {
                 vertical_fused(pa + 8, pb + 8, pmin, pmax, smn, smx, src + (size_t)hi * sstride,

@@ -56,6 +56,8 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define vertical_fused vertical_fused_w32
 #define min4w min4w_w32
 #define ge_top4 ge_top4_w32
+#define vertical_fused_asm vertical_fused_asm_w32
+#define suffix_rows_asm suffix_rows_asm_w32
 #define row_r8_steps_asm row_r8_steps_asm_w32
 #define max4w max4w_w32
 #define row_r8_bitmap row_r8_bitmap_w32
@@ -101,6 +103,8 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #undef vertical_fused
 #undef min4w
 #undef ge_top4
+#undef vertical_fused_asm
+#undef suffix_rows_asm
 #undef row_r8_steps_asm
 #undef max4w
 #undef row_r8_bitmap
@@ -110,6 +114,8 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #define vertical_fused vertical_fused_d32
 #define min4w min4w_d32
 #define ge_top4 ge_top4_d32
+#define vertical_fused_asm vertical_fused_asm_d32
+#define suffix_rows_asm suffix_rows_asm_d32
 #define row_r8_steps_asm row_r8_steps_asm_d32
 #define max4w max4w_d32
 #define row_r8_bitmap row_r8_bitmap_d32
