@@ -457,10 +457,10 @@ static void vertical_fused(uint8_t *restrict hmin, uint8_t *restrict hmax, uint8
 
 #ifdef THRESHOLD_DSP
 /* The DSP path's lines b = a + ROW_R8_D (an immediate offset of the loads
- * below): a's n + 16 bytes and b's fit in the 5 lines from hmin on when
- * 260 <= n <= 1008. */
+ * below), a 32-byte aligned: a's n + 16 bytes and b's fit in the 5 lines
+ * from hmin on when 268 <= n <= 1008. */
 #define ROW_R8_D 1024
-#define ROW_R8_ASM_MIN_N 260u
+#define ROW_R8_ASM_MIN_N 268u
 #define ROW_R8_ASM_MAX_N 1008u
 
 /* vertical_fused for the DSP path's lines in assembly (GCC's code for the
@@ -578,9 +578,7 @@ static uint32_t ge_top4(word_t a, word_t b)
  * (neg = 0) or < 0 (neg = 1), in assembly: GCC's code for the C steps keeps
  * fewer values in registers. Same operations in the same order as the C
  * steps; acc takes the words' bits as there. */
-#define ROW_R8_ASM(CMP)                                                                      \
-    __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
-                     "1:\n\t"                                                                \
+#define ROW_R8_ASM_STEP(CMP)                                                                 \
                      "ldr %[h0], [%[p], #12]\n\t"                                            \
                      "ldr %[h1], [%[p], #13]\n\t"                                            \
                      "ldr %[h2], [%[p], #14]\n\t"                                            \
@@ -628,14 +626,55 @@ static uint32_t ge_top4(word_t a, word_t b)
                      "mrs %[t], APSR\n\t"                                                    \
                      "lsl %[t], %[t], #12\n\t"                                               \
                      "orr %[acc], %[t], %[acc], lsr #4\n\t"                                  \
-                     "adds %[p], %[p], #4\n\t"                                               \
-                     "cmp %[p], %[end]\n\t"                                                  \
+                     "adds %[p], %[p], #4\n\t"
+
+#define ROW_R8_ASM_OPERANDS                                                                  \
+    [p] "+&r"(p), [dx] "+&r"(dx), [acc] "+&r"(acc), [an8] "+&r"(an8), [bx8] "+&r"(bx8),        \
+        [h0] "=&r"(h0), [h1] "=&r"(h1), [h2] "=&r"(h2), [h3] "=&r"(h3), [t] "=&r"(t)
+
+/* Words from p to end (end > p). */
+#define ROW_R8_ASM(CMP)                                                                      \
+    __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
+                     "1:\n\t" ROW_R8_ASM_STEP(CMP) "cmp %[p], %[end]\n\t"                  \
                      "bne 1b"                                                                \
-                     : [p] "+&r"(p), [dx] "+&r"(dx), [acc] "+&r"(acc), [an8] "+&r"(an8),      \
-                       [bx8] "+&r"(bx8), [h0] "=&r"(h0), [h1] "=&r"(h1), [h2] "=&r"(h2),     \
-                       [h3] "=&r"(h3), [t] "=&r"(t)                                          \
+                     : ROW_R8_ASM_OPERANDS                                                   \
                      : [end] "r"(end), [offw] "r"(offw)                                      \
                      : "cc", "memory")
+
+/* Whole words of 32 pixels from p to end (p 32-byte aligned, end - p a
+ * positive multiple of 32), each word's acc stored at rp (raw). */
+#define ROW_R8_ASM32(CMP)                                                                    \
+    __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
+                     "1:\n\t" ROW_R8_ASM_STEP(CMP) "tst %[p], #31\n\t"                     \
+                     "bne 1b\n\t"                                                            \
+                     "str %[acc], [%[rp]], #4\n\t"                                           \
+                     "cmp %[p], %[end]\n\t"                                                  \
+                     "bne 1b"                                                                \
+                     : ROW_R8_ASM_OPERANDS, [rp] "+&r"(rp)                                   \
+                     : [end] "r"(end), [offw] "r"(offw)                                      \
+                     : "cc", "memory")
+
+static void row_r8_words32_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, word_t offw,
+                               int neg, uint32_t *rp, word_t *an8p, word_t *bx8p)
+{
+    uint32_t acc = 0u;
+    word_t an8 = *an8p, bx8 = *bx8p, h0, h1, h2, h3, t;
+    const uint8_t *dx = x;
+    if (!neg)
+        ROW_R8_ASM32("uqadd8 %[t], %[t], %[offw]\n\t"
+                     "usub8 %[t], %[t], %[h2]\n\t");
+    else
+        ROW_R8_ASM32("uqsub8 %[t], %[t], %[offw]\n\t"
+                     "usub8 %[t], %[h2], %[t]\n\t");
+    (void)h0;
+    (void)h1;
+    (void)h2;
+    (void)h3;
+    (void)t;
+    (void)acc;
+    *an8p = an8;
+    *bx8p = bx8;
+}
 
 static void row_r8_steps_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, word_t offw,
                              int neg, uint32_t *accp, word_t *an8p, word_t *bx8p)
@@ -659,6 +698,9 @@ static void row_r8_steps_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, w
     *bx8p = bx8;
 }
 #undef ROW_R8_ASM
+#undef ROW_R8_ASM32
+#undef ROW_R8_ASM_STEP
+#undef ROW_R8_ASM_OPERANDS
 #endif
 
 /* One bitmap row (common.h layout) at radius 8 from the row's vertical
@@ -704,16 +746,21 @@ static void row_r8_bitmap(uint32_t *restrict row, const uint8_t *restrict x, uin
         stw(b + 4, maxw(bx4, bx8));
     }
 #ifdef THRESHOLD_DSP
-    if (asm_lines) { /* b == a + ROW_R8_D */
-        for (j = 0; j < nw;) {
-            size_t e = nw - j >= 32u ? j + 32u : nw;
-            row_r8_steps_asm(a + j, a + e, x + j, offw, off < 0, &acc, &an8, &bx8);
-            j = e;
-            if ((j & 31u) == 0u) {
-                acc ^= flip;
-                row[k++] = acc << 1 | carry;
-                carry = acc >> 31;
+    if (asm_lines) { /* b == a + ROW_R8_D, a 32-byte aligned */
+        size_t n32 = nw & ~(size_t)31u;
+        j = 0;
+        if (n32 > 0u) {
+            row_r8_words32_asm(a, a + n32, x, offw, off < 0, row, &an8, &bx8);
+            for (; k < n32 / 32u; k++) {
+                g = row[k] ^ flip;
+                row[k] = g << 1 | carry;
+                carry = g >> 31;
             }
+            j = n32;
+        }
+        if (j < nw) {
+            row_r8_steps_asm(a + j, a + nw, x + j, offw, off < 0, &acc, &an8, &bx8);
+            j = nw;
         }
     } else
 #endif
@@ -904,8 +951,8 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
 #ifdef THRESHOLD_DSP
             /* hmin..hsmax and the bitmap's row bytes: 5 cols bytes */
             if (ucols >= ROW_R8_ASM_MIN_N && ucols <= ROW_R8_ASM_MAX_N) {
-                pa = hmin;
-                pb = hmin + ROW_R8_D;
+                pa = hmin + ((32u - ((uintptr_t)hmin & 31u)) & 31u);
+                pb = pa + ROW_R8_D;
                 asm_lines = 1;
             }
 #endif

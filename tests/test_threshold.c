@@ -56,6 +56,7 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define vertical_fused vertical_fused_w32
 #define min4w min4w_w32
 #define ge_top4 ge_top4_w32
+#define row_r8_words32_asm row_r8_words32_asm_w32
 #define vertical_fused_asm vertical_fused_asm_w32
 #define suffix_rows_asm suffix_rows_asm_w32
 #define row_r8_steps_asm row_r8_steps_asm_w32
@@ -103,6 +104,7 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #undef vertical_fused
 #undef min4w
 #undef ge_top4
+#undef row_r8_words32_asm
 #undef vertical_fused_asm
 #undef suffix_rows_asm
 #undef row_r8_steps_asm
@@ -114,6 +116,7 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #define vertical_fused vertical_fused_d32
 #define min4w min4w_d32
 #define ge_top4 ge_top4_d32
+#define row_r8_words32_asm row_r8_words32_asm_d32
 #define vertical_fused_asm vertical_fused_asm_d32
 #define suffix_rows_asm suffix_rows_asm_d32
 #define row_r8_steps_asm row_r8_steps_asm_d32
@@ -568,8 +571,8 @@ static void test_radius8_rows(void)
 {
     /* Radius 8 (the detector's) into a bitmap has its own code: rows of
      * words with tails of every length, the Cortex-M DSP path's row
-     * lengths (260..1008) and their neighbours, offsets of both signs. */
-    static const int widths[] = {16, 17, 18, 19, 31, 32, 33, 35, 259, 260, 261, 263, 300,
+     * lengths (268..1008) and their neighbours, offsets of both signs. */
+    static const int widths[] = {16, 17, 18, 19, 31, 32, 33, 35, 267, 268, 269, 271, 300,
                                  512, 530, 1005, 1008, 1009};
     static const int offsets[] = {1, 0, -1, 2, -2, 7, -9, 255, -256, 100, -100};
     size_t w;
