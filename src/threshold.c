@@ -83,6 +83,12 @@ static void stw(uint8_t *p, word_t w)
 #if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
     UINTPTR_MAX <= 0xFFFFFFFFu
 #define THRESHOLD_DSP 1
+#ifdef __OPTIMIZE__
+/* The radius-8 path's loops in assembly (below) need up to 13 registers,
+ * which GCC cannot give with the frame pointer of -O0: there the same
+ * steps in C. */
+#define THRESHOLD_DSP_ASM 1
+#endif
 /* Cortex-M4/M7 DSP byte instructions: USUB8 sets the GE flag of every byte
  * lane where a >= b, SEL picks per lane by it (2 instructions instead of
  * about 15). ACTAG_NO_DSP selects the portable words. */
@@ -455,7 +461,7 @@ static void vertical_fused(uint8_t *restrict hmin, uint8_t *restrict hmax, uint8
     }
 }
 
-#ifdef THRESHOLD_DSP
+#ifdef THRESHOLD_DSP_ASM
 /* The DSP path's lines b = a + ROW_R8_D (an immediate offset of the loads
  * below), a 32-byte aligned: a's n + 16 bytes and b's fit in the 5 lines
  * from hmin on when 268 <= n <= 1008. */
@@ -572,7 +578,7 @@ static uint32_t ge_top4(word_t a, word_t b)
 }
 #endif
 
-#ifdef THRESHOLD_DSP
+#ifdef THRESHOLD_DSP_ASM
 
 /* The steps of row_r8_bitmap from p = a + j to end (words), off >= 0
  * (neg = 0) or < 0 (neg = 1), in assembly: GCC's code for the C steps keeps
@@ -642,36 +648,136 @@ static uint32_t ge_top4(word_t a, word_t b)
                      : "cc", "memory")
 
 /* Whole words of 32 pixels from p to end (p 32-byte aligned, end - p a
- * positive multiple of 32), each word's acc stored at rp (raw). */
+ * positive multiple of 32), two steps per loop, with the two steps'
+ * m4(j + 8) in swapped registers (no moves) and 3 temporaries besides the
+ * minima: the same operations as ROW_R8_ASM_STEP. Each word's acc (raw) is
+ * stored over a at its last 4 bytes, which no later step reads. */
 #define ROW_R8_ASM32(CMP)                                                                    \
     __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
-                     "1:\n\t" ROW_R8_ASM_STEP(CMP) "tst %[p], #31\n\t"                     \
+                     "1:\n\t" \
+                     "ldr %[h0], [%[p], #12]\n\t" \
+                     "ldr %[h1], [%[p], #13]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h1], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], #14]\n\t" \
+                     "usub8 %[h1], %[h2], %[h0]\n\t" \
+                     "sel %[h1], %[h0], %[h2]\n\t" \
+                     "ldr %[h0], [%[p], #15]\n\t" \
+                     "usub8 %[anB], %[h1], %[h0]\n\t" \
+                     "sel %[anB], %[h0], %[h1]\n\t" \
+                     "usub8 %[h1], %[anA], %[anB]\n\t" \
+                     "sel %[h1], %[anB], %[anA]\n\t" \
+                     "ldr %[h0], [%[p]]\n\t" \
+                     "str %[h1], [%[p], #8]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h1], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], #16]\n\t" \
+                     "usub8 %[h3], %[h2], %[h0]\n\t" \
+                     "sel %[h3], %[h0], %[h2]\n\t" \
+                     "ldr %[h0], [%[p], #1036]\n\t" \
+                     "ldr %[h1], [%[p], #1037]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h0], %[h1]\n\t" \
+                     "ldr %[h0], [%[p], #1038]\n\t" \
+                     "usub8 %[h1], %[h2], %[h0]\n\t" \
+                     "sel %[h1], %[h2], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], #1039]\n\t" \
+                     "usub8 %[bxB], %[h1], %[h0]\n\t" \
+                     "sel %[bxB], %[h1], %[h0]\n\t" \
+                     "usub8 %[h1], %[bxA], %[bxB]\n\t" \
+                     "sel %[h1], %[bxA], %[bxB]\n\t" \
+                     "ldr %[h0], [%[p], #1024]\n\t" \
+                     "str %[h1], [%[p], #1032]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h0], %[h1]\n\t" \
+                     "ldr %[h0], [%[p], #1040]\n\t" \
+                     "usub8 %[h1], %[h2], %[h0]\n\t" \
+                     "sel %[h1], %[h2], %[h0]\n\t" \
+                     "uhsub8 %[h0], %[h3], %[h1]\n\t" \
+                     "usub8 %[h2], %[h3], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], %[dx]]\n\t" \
+                     CMP \
+                     "mrs %[h0], APSR\n\t" \
+                     "lsl %[h0], %[h0], #12\n\t" \
+                     "orr %[acc], %[h0], %[acc], lsr #4\n\t" \
+                     "adds %[p], %[p], #4\n\t" \
+                     "ldr %[h0], [%[p], #12]\n\t" \
+                     "ldr %[h1], [%[p], #13]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h1], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], #14]\n\t" \
+                     "usub8 %[h1], %[h2], %[h0]\n\t" \
+                     "sel %[h1], %[h0], %[h2]\n\t" \
+                     "ldr %[h0], [%[p], #15]\n\t" \
+                     "usub8 %[anA], %[h1], %[h0]\n\t" \
+                     "sel %[anA], %[h0], %[h1]\n\t" \
+                     "usub8 %[h1], %[anB], %[anA]\n\t" \
+                     "sel %[h1], %[anA], %[anB]\n\t" \
+                     "ldr %[h0], [%[p]]\n\t" \
+                     "str %[h1], [%[p], #8]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h1], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], #16]\n\t" \
+                     "usub8 %[h3], %[h2], %[h0]\n\t" \
+                     "sel %[h3], %[h0], %[h2]\n\t" \
+                     "ldr %[h0], [%[p], #1036]\n\t" \
+                     "ldr %[h1], [%[p], #1037]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h0], %[h1]\n\t" \
+                     "ldr %[h0], [%[p], #1038]\n\t" \
+                     "usub8 %[h1], %[h2], %[h0]\n\t" \
+                     "sel %[h1], %[h2], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], #1039]\n\t" \
+                     "usub8 %[bxA], %[h1], %[h0]\n\t" \
+                     "sel %[bxA], %[h1], %[h0]\n\t" \
+                     "usub8 %[h1], %[bxB], %[bxA]\n\t" \
+                     "sel %[h1], %[bxB], %[bxA]\n\t" \
+                     "ldr %[h0], [%[p], #1024]\n\t" \
+                     "str %[h1], [%[p], #1032]\n\t" \
+                     "usub8 %[h2], %[h0], %[h1]\n\t" \
+                     "sel %[h2], %[h0], %[h1]\n\t" \
+                     "ldr %[h0], [%[p], #1040]\n\t" \
+                     "usub8 %[h1], %[h2], %[h0]\n\t" \
+                     "sel %[h1], %[h2], %[h0]\n\t" \
+                     "uhsub8 %[h0], %[h3], %[h1]\n\t" \
+                     "usub8 %[h2], %[h3], %[h0]\n\t" \
+                     "ldr %[h0], [%[p], %[dx]]\n\t" \
+                     CMP \
+                     "mrs %[h0], APSR\n\t" \
+                     "lsl %[h0], %[h0], #12\n\t" \
+                     "orr %[acc], %[h0], %[acc], lsr #4\n\t" \
+                     "adds %[p], %[p], #4\n\t" \
+                     "tst %[p], #31\n\t"                                                     \
                      "bne 1b\n\t"                                                            \
-                     "str %[acc], [%[rp]], #4\n\t"                                           \
-                     "cmp %[p], %[end]\n\t"                                                  \
+                     "str %[acc], [%[p], #-4]\n\t"                                           \
+                     "ldr %[h0], %[end]\n\t"                                                 \
+                     "cmp %[p], %[h0]\n\t"                                                   \
                      "bne 1b"                                                                \
-                     : ROW_R8_ASM_OPERANDS, [rp] "+&r"(rp)                                   \
-                     : [end] "r"(end), [offw] "r"(offw)                                      \
+                     : [p] "+&r"(p), [dx] "+&r"(dx), [acc] "+&r"(acc), [anA] "+&r"(an8),      \
+                       [anB] "+&r"(an8b), [bxA] "+&r"(bx8), [bxB] "+&r"(bx8b), [h0] "=&r"(h0), \
+                       [h1] "=&r"(h1), [h2] "=&r"(h2), [h3] "=&r"(h3)                        \
+                     : [end] "m"(end), [offw] "r"(offw)                                      \
                      : "cc", "memory")
 
 static void row_r8_words32_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, word_t offw,
-                               int neg, uint32_t *rp, word_t *an8p, word_t *bx8p)
+                               int neg, word_t *an8p, word_t *bx8p)
 {
     uint32_t acc = 0u;
-    word_t an8 = *an8p, bx8 = *bx8p, h0, h1, h2, h3, t;
+    word_t an8 = *an8p, bx8 = *bx8p, an8b = 0u, bx8b = 0u, h0, h1, h2, h3;
     const uint8_t *dx = x;
     if (!neg)
-        ROW_R8_ASM32("uqadd8 %[t], %[t], %[offw]\n\t"
-                     "usub8 %[t], %[t], %[h2]\n\t");
+        ROW_R8_ASM32("uqadd8 %[h0], %[h0], %[offw]\n\t"
+                     "usub8 %[h0], %[h0], %[h2]\n\t");
     else
-        ROW_R8_ASM32("uqsub8 %[t], %[t], %[offw]\n\t"
-                     "usub8 %[t], %[h2], %[t]\n\t");
+        ROW_R8_ASM32("uqsub8 %[h0], %[h0], %[offw]\n\t"
+                     "usub8 %[h0], %[h2], %[h0]\n\t");
     (void)h0;
     (void)h1;
     (void)h2;
     (void)h3;
-    (void)t;
     (void)acc;
+    (void)an8b;
+    (void)bx8b;
     *an8p = an8;
     *bx8p = bx8;
 }
@@ -745,14 +851,15 @@ static void row_r8_bitmap(uint32_t *restrict row, const uint8_t *restrict x, uin
         stw(a + 4, minw(an4, an8));
         stw(b + 4, maxw(bx4, bx8));
     }
-#ifdef THRESHOLD_DSP
+#ifdef THRESHOLD_DSP_ASM
     if (asm_lines) { /* b == a + ROW_R8_D, a 32-byte aligned */
         size_t n32 = nw & ~(size_t)31u;
         j = 0;
         if (n32 > 0u) {
-            row_r8_words32_asm(a, a + n32, x, offw, off < 0, row, &an8, &bx8);
+            row_r8_words32_asm(a, a + n32, x, offw, off < 0, &an8, &bx8);
             for (; k < n32 / 32u; k++) {
-                g = row[k] ^ flip;
+                memcpy(&g, a + 32u * k + 28u, 4);
+                g ^= flip;
                 row[k] = g << 1 | carry;
                 carry = g >> 31;
             }
@@ -930,7 +1037,7 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
             for (t--; t >= 0; t--) {
                 uint8_t *smn = sbuf_min + (size_t)t * ucols, *smx = sbuf_max + (size_t)t * ucols;
                 row = src + (size_t)(b0 + t) * sstride;
-#ifdef THRESHOLD_DSP
+#ifdef THRESHOLD_DSP_ASM
                 if (ucols >= 4u) {
                     suffix_rows_asm(smn, smx, row, ucols);
                     continue;
@@ -948,7 +1055,7 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
             const uint8_t *smx = sbuf_max + (size_t)(lo - bl * wv) * ucols;
             uint8_t *pa = hsmin, *pb = hmin;
             int asm_lines = 0;
-#ifdef THRESHOLD_DSP
+#ifdef THRESHOLD_DSP_ASM
             /* hmin..hsmax and the bitmap's row bytes: 5 cols bytes */
             if (ucols >= ROW_R8_ASM_MIN_N && ucols <= ROW_R8_ASM_MAX_N) {
                 pa = hmin + ((32u - ((uintptr_t)hmin & 31u)) & 31u);
@@ -956,7 +1063,7 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                 asm_lines = 1;
             }
 #endif
-#ifdef THRESHOLD_DSP
+#ifdef THRESHOLD_DSP_ASM
             /* One assembly pass wherever P advances by at most one row: lo
              * in the block before hi's (S[lo] op P[hi]; a new block starts P
              * from the identity; a row folded again changes nothing), or lo
@@ -1002,10 +1109,19 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                     memcpy(pb + 8, smx, ucols);
                 }
             }
-            memset(pa, pa[8], 8);
-            memset(pa + 8 + ucols, pa[7 + ucols], 8);
-            memset(pb, pb[8], 8);
-            memset(pb + 8 + ucols, pb[7 + ucols], 8);
+            {
+                /* the edge padding: 8 copies of each end sample */
+                word_t e0 = (word_t)WORD_ONES * pa[8], e1 = (word_t)WORD_ONES * pa[7 + ucols];
+                word_t e2 = (word_t)WORD_ONES * pb[8], e3 = (word_t)WORD_ONES * pb[7 + ucols];
+                stw(pa, e0);
+                stw(pa + 4, e0);
+                stw(pa + 8 + ucols, e1);
+                stw(pa + 12 + ucols, e1);
+                stw(pb, e2);
+                stw(pb + 4, e2);
+                stw(pb + 8 + ucols, e3);
+                stw(pb + 12 + ucols, e3);
+            }
             row_r8_bitmap(bitmap + ((size_t)i + 1u) * ACTAG_BITMAP_WORDS(cols), x, pa, pb, ucols,
                           off2 / 2, asm_lines);
             continue;

@@ -48,6 +48,7 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define double_pass double_pass_w32
 #define row_threshold_doubling row_threshold_doubling_w32
 #undef THRESHOLD_DSP
+#undef THRESHOLD_DSP_ASM
 #undef THRESHOLD_DOUBLING
 #undef THRESHOLD_R8
 #define avgw avgw_w32
@@ -78,6 +79,7 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
                                    void *scratch, size_t scratch_size);
 #undef THRESHOLD_SCALAR
 #undef THRESHOLD_DSP
+#undef THRESHOLD_DSP_ASM
 #undef THRESHOLD_DOUBLING
 #undef WORD_ONES
 #undef WORD_HIGH
