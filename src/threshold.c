@@ -472,17 +472,35 @@ static void vertical_fused(uint8_t *restrict hmin, uint8_t *restrict hmax, uint8
 /* vertical_fused for the DSP path's lines in assembly (GCC's code for the
  * C loop keeps its seven pointers poorly): hmax = hmin + ROW_R8_D, pmax =
  * pmin + n, smax = smin + sdist. smin may be pmin (then sdist = n): it is
- * read after pmin's word is stored, min(P, P) = P. n >= 4. */
+ * read after pmin's word is stored, min(P, P) = P. Two words per loop,
+ * n >= 8; the last n % 8 bytes in C. */
 static void vertical_fused_asm(uint8_t *hmin, uint8_t *pmin, const uint8_t *smin, size_t sdist,
                                const uint8_t *row, size_t n)
 {
-    size_t nw = n & ~(size_t)3u, c;
+    size_t nw = n & ~(size_t)7u, c;
     const uint8_t *end = row + nw;
     const uint8_t *rp = row;
     uint8_t *hp = hmin, *pp = pmin;
     const uint8_t *sp = smin;
     word_t v, pn, px, s1, s2;
     __asm__ volatile("1:\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[pn], [%[pp]]\n\t"
+                     "ldr %[px], [%[pp], %[n]]\n\t"
+                     "usub8 %[s1], %[pn], %[v]\n\t"
+                     "sel %[pn], %[v], %[pn]\n\t"
+                     "usub8 %[s1], %[px], %[v]\n\t"
+                     "sel %[px], %[px], %[v]\n\t"
+                     "str %[px], [%[pp], %[n]]\n\t"
+                     "str %[pn], [%[pp]], #4\n\t"
+                     "ldr %[s1], [%[sp], %[sd]]\n\t"
+                     "ldr %[s2], [%[sp]], #4\n\t"
+                     "usub8 %[v], %[s2], %[pn]\n\t"
+                     "sel %[s2], %[pn], %[s2]\n\t"
+                     "usub8 %[v], %[s1], %[px]\n\t"
+                     "sel %[s1], %[s1], %[px]\n\t"
+                     "str %[s1], [%[hp], #1024]\n\t"
+                     "str %[s2], [%[hp]], #4\n\t"
                      "ldr %[v], [%[rp]], #4\n\t"
                      "ldr %[pn], [%[pp]]\n\t"
                      "ldr %[px], [%[pp], %[n]]\n\t"
@@ -517,15 +535,25 @@ static void vertical_fused_asm(uint8_t *hmin, uint8_t *pmin, const uint8_t *smin
 }
 
 /* smin = min(smin + n, row), smax = max(smax + n, row) over n bytes (the
- * vertical block suffix extrema, one row up), n >= 4. */
+ * vertical block suffix extrema, one row up). Two words per loop, n >= 8;
+ * the last n % 8 bytes in C. */
 static void suffix_rows_asm(uint8_t *smin, uint8_t *smax, const uint8_t *row, size_t n)
 {
-    size_t nw = n & ~(size_t)3u, c;
+    size_t nw = n & ~(size_t)7u, c;
     const uint8_t *end = row + nw;
     const uint8_t *rp = row;
     uint8_t *mp = smin, *xp = smax;
     word_t v, a, b, t;
     __asm__ volatile("1:\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[a], [%[mp], %[n]]\n\t"
+                     "ldr %[b], [%[xp], %[n]]\n\t"
+                     "usub8 %[t], %[a], %[v]\n\t"
+                     "sel %[a], %[v], %[a]\n\t"
+                     "usub8 %[t], %[b], %[v]\n\t"
+                     "sel %[b], %[b], %[v]\n\t"
+                     "str %[a], [%[mp]], #4\n\t"
+                     "str %[b], [%[xp]], #4\n\t"
                      "ldr %[v], [%[rp]], #4\n\t"
                      "ldr %[a], [%[mp], %[n]]\n\t"
                      "ldr %[b], [%[xp], %[n]]\n\t"
@@ -1038,7 +1066,7 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                 uint8_t *smn = sbuf_min + (size_t)t * ucols, *smx = sbuf_max + (size_t)t * ucols;
                 row = src + (size_t)(b0 + t) * sstride;
 #ifdef THRESHOLD_DSP_ASM
-                if (ucols >= 4u) {
+                if (ucols >= 8u) {
                     suffix_rows_asm(smn, smx, row, ucols);
                     continue;
                 }
