@@ -154,14 +154,18 @@ static word_t gew(word_t a, word_t b)
 #endif
 #endif
 
-/* The bitmap at radius 8 with 4-byte words (the DSP path; the tests also
- * run it with the portable words): the vertical prefix extrema and the
- * vertical window extrema in one pass over the row, written straight into
- * the edge-padded lines of the horizontal pass, and a horizontal pass that
- * keeps its running window extrema in registers and packs the bits itself
- * (row_r8_bitmap below). */
+/* The bitmap at radius 8 (the detector's) with 4-byte words (the DSP path;
+ * the tests also run it with the portable words): the vertical prefix
+ * extrema and the vertical window extrema in one pass over the row,
+ * written straight into the edge-padded lines of the horizontal pass
+ * (vertical_fused), and one horizontal pass per row that takes the 17-wide
+ * window extrema of a word from 4-sample extrema, thresholds and packs the
+ * bits itself (row_r8_bitmap). On the DSP path, when optimizing, these
+ * loops and the vertical block suffix rows are assembly (GCC's code for
+ * them spills); the C loops give the same bytes. */
 #if defined(THRESHOLD_DOUBLING) && WORD_ONES <= 0xFFFFFFFFu
 #define THRESHOLD_R8 1
+#ifndef THRESHOLD_DSP_ASM /* the C steps' word operations */
 #ifdef THRESHOLD_DSP
 /* ceil((a + b) / 2) per lane: a - floor((a - b) / 2), the halving
  * difference in [-128, 127] and the result in [0, 255]. */
@@ -201,6 +205,7 @@ static word_t qsubw(word_t a, word_t b)
 {
     return maxw(a, b) - b;
 }
+#endif
 #endif
 #endif
 
@@ -435,6 +440,7 @@ static void row_threshold_doubling(uint8_t *restrict d, const uint8_t *restrict 
 #endif
 
 #ifdef THRESHOLD_R8
+#ifndef THRESHOLD_DSP_ASM
 /* Vertical extrema of one row where hi's block prefix advances by exactly
  * one row within its block and lo lies in the block before: P = P op row
  * (pmin, pmax updated), then min(S[lo], P) and max(S[lo], P) into hmin and
@@ -460,8 +466,7 @@ static void vertical_fused(uint8_t *restrict hmin, uint8_t *restrict hmax, uint8
         hmax[c] = max8(smax[c], px);
     }
 }
-
-#ifdef THRESHOLD_DSP_ASM
+#else
 /* The DSP path's lines b = a + ROW_R8_D (an immediate offset of the loads
  * below), a 32-byte aligned: a's n + 16 bytes and b's fit in the 5 lines
  * from hmin on when 268 <= n <= 1008. */
@@ -588,6 +593,7 @@ static word_t max4w(const uint8_t *p)
     return maxw(maxw(ldw(p), ldw(p + 1)), maxw(ldw(p + 2), ldw(p + 3)));
 }
 
+#ifndef THRESHOLD_DSP_ASM
 /* Lane k's a >= b (unsigned) at bit 28 + k, every other bit 0. */
 #ifdef THRESHOLD_DSP
 static uint32_t ge_top4(word_t a, word_t b)
@@ -605,8 +611,7 @@ static uint32_t ge_top4(word_t a, word_t b)
     return (gew(a, b) * 0x10204080u) & 0xF0000000u;
 }
 #endif
-
-#ifdef THRESHOLD_DSP_ASM
+#else
 
 /* The steps of row_r8_bitmap from p = a + j to end (words), off >= 0
  * (neg = 0) or < 0 (neg = 1), in assembly: GCC's code for the C steps keeps
@@ -854,7 +859,7 @@ static void row_r8_steps_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, w
  * padding column. The last n % 4 pixels are done first, bytewise, before
  * the steps overwrite their samples. */
 static void row_r8_bitmap(uint32_t *restrict row, const uint8_t *restrict x, uint8_t *restrict a,
-                          uint8_t *restrict b, size_t n, int off, int asm_lines)
+                          uint8_t *restrict b, size_t n, int off)
 {
     const word_t offw = (word_t)WORD_ONES * (word_t)(off >= 0 ? off : -off - 1);
     const uint32_t flip = off >= 0 ? 0u : 0xFFFFFFFFu;
@@ -880,7 +885,7 @@ static void row_r8_bitmap(uint32_t *restrict row, const uint8_t *restrict x, uin
         stw(b + 4, maxw(bx4, bx8));
     }
 #ifdef THRESHOLD_DSP_ASM
-    if (asm_lines) { /* b == a + ROW_R8_D, a 32-byte aligned */
+    { /* b == a + ROW_R8_D, a 32-byte aligned, 268 <= n <= 1008 */
         size_t n32 = nw & ~(size_t)31u;
         j = 0;
         if (n32 > 0u) {
@@ -897,9 +902,8 @@ static void row_r8_bitmap(uint32_t *restrict row, const uint8_t *restrict x, uin
             row_r8_steps_asm(a + j, a + nw, x + j, offw, off < 0, &acc, &an8, &bx8);
             j = nw;
         }
-    } else
-#endif
-    {
+    }
+#else
     /* The minima first (their word j stored over a at j), then the maxima
      * and the threshold: fewer values live at once than in one loop. */
     for (j = 0; j < nw; j += 4u) {
@@ -934,8 +938,7 @@ static void row_r8_bitmap(uint32_t *restrict row, const uint8_t *restrict x, uin
         }
     }
 #undef ROW_R8_STEP
-    }
-    (void)asm_lines;
+#endif
     g = (j & 31u) != 0u ? (acc ^ flip) >> (32u - (j & 31u)) : 0u;
     g |= tail << (j & 31u); /* (j & 31) + n % 4 < 32 */
     row[k++] = g << 1 | carry;
@@ -1041,8 +1044,12 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
     hsmax = hsmin + ucols;
 
 #ifdef THRESHOLD_R8
-    /* hsmin..hsmax and hmin..hmax hold 2 cols bytes each (cols + 16 needed) */
+    /* hsmin..hsmax and hmin..hmax hold 2 cols bytes each (cols + 16 needed);
+     * the assembly's lines need 268 <= cols <= 1008 */
     fast8 = bitmap != NULL && rh == 8 && cols >= 16;
+#ifdef THRESHOLD_DSP_ASM
+    fast8 = fast8 && ucols >= ROW_R8_ASM_MIN_N && ucols <= ROW_R8_ASM_MAX_N;
+#endif
 #endif
     sblk = -1; /* block whose suffix extrema are in sbuf */
     phi = -1;  /* last row folded into pmin/pmax */
@@ -1081,22 +1088,15 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
         if (fast8) {
             const uint8_t *smn = sbuf_min + (size_t)(lo - bl * wv) * ucols;
             const uint8_t *smx = sbuf_max + (size_t)(lo - bl * wv) * ucols;
-            uint8_t *pa = hsmin, *pb = hmin;
-            int asm_lines = 0;
 #ifdef THRESHOLD_DSP_ASM
-            /* hmin..hsmax and the bitmap's row bytes: 5 cols bytes */
-            if (ucols >= ROW_R8_ASM_MIN_N && ucols <= ROW_R8_ASM_MAX_N) {
-                pa = hmin + ((32u - ((uintptr_t)hmin & 31u)) & 31u);
-                pb = pa + ROW_R8_D;
-                asm_lines = 1;
-            }
-#endif
-#ifdef THRESHOLD_DSP_ASM
-            /* One assembly pass wherever P advances by at most one row: lo
-             * in the block before hi's (S[lo] op P[hi]; a new block starts P
-             * from the identity; a row folded again changes nothing), or lo
-             * starting hi's block (P[hi] alone: S := the old P). */
-            if (asm_lines && (phi == hi - 1 || phi == hi) &&
+            /* The 5 cols bytes from hmin on (hmin..hsmax and the bitmap's
+             * row bytes), a 32-byte aligned. One assembly pass wherever P
+             * advances by at most one row: lo in the block before hi's
+             * (S[lo] op P[hi]; a new block starts P from the identity; a
+             * row folded again changes nothing), or lo starting hi's block
+             * (P[hi] alone: S := the old P, min(P, P op row) = P op row). */
+            uint8_t *pa = hmin + ((32u - ((uintptr_t)hmin & 31u)) & 31u), *pb = pa + ROW_R8_D;
+            if ((phi == hi - 1 || phi == hi) &&
                 (hi / wv != bl || (lo % wv == 0 && phi == hi - 1))) {
                 if (phi == hi - 1 && hi % wv == 0) {
                     memset(pmin, 0xFF, ucols);
@@ -1109,12 +1109,13 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                     vertical_fused_asm(pa + 8, pmin, pmin, ucols, src + (size_t)hi * sstride,
                                        ucols);
                 phi = hi;
-            } else
-#endif
+#else
+            uint8_t *pa = hsmin, *pb = hmin;
             if (phi == hi - 1 && hi % wv != 0 && hi / wv != bl) {
                 vertical_fused(pa + 8, pb + 8, pmin, pmax, smn, smx, src + (size_t)hi * sstride,
                                ucols);
                 phi = hi;
+#endif
             } else {
                 while (phi < hi) {
                     const uint8_t *row;
@@ -1151,7 +1152,7 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                 stw(pb + 12 + ucols, e3);
             }
             row_r8_bitmap(bitmap + ((size_t)i + 1u) * ACTAG_BITMAP_WORDS(cols), x, pa, pb, ucols,
-                          off2 / 2, asm_lines);
+                          off2 / 2);
             continue;
         }
 #endif
