@@ -615,8 +615,8 @@ static uint32_t ge_top4(word_t a, word_t b)
 
 /* The steps of row_r8_bitmap from p = a + j to end (words), off >= 0
  * (neg = 0) or < 0 (neg = 1), in assembly: GCC's code for the C steps keeps
- * fewer values in registers. Same operations in the same order as the C
- * steps; acc takes the words' bits as there. */
+ * fewer values in registers. The C steps' operations, min and max steps in
+ * one loop; acc takes the words' bits as there. */
 #define ROW_R8_ASM_STEP(CMP)                                                                 \
                      "ldr %[h0], [%[p], #12]\n\t"                                            \
                      "ldr %[h1], [%[p], #13]\n\t"                                            \
@@ -683,103 +683,103 @@ static uint32_t ge_top4(word_t a, word_t b)
 /* Whole words of 32 pixels from p to end (p 32-byte aligned, end - p a
  * positive multiple of 32), two steps per loop, with the two steps'
  * m4(j + 8) in swapped registers (no moves) and 3 temporaries besides the
- * minima: the same operations as ROW_R8_ASM_STEP. Each word's acc (raw) is
+ * minima: the same results as ROW_R8_ASM_STEP. Each word's acc (raw) is
  * stored over a at its last 4 bytes, which no later step reads. */
 #define ROW_R8_ASM32(CMP)                                                                    \
     __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
-                     "1:\n\t" \
-                     "ldr %[h0], [%[p], #12]\n\t" \
-                     "ldr %[h1], [%[p], #13]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h1], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], #14]\n\t" \
-                     "usub8 %[h1], %[h2], %[h0]\n\t" \
-                     "sel %[h1], %[h0], %[h2]\n\t" \
-                     "ldr %[h0], [%[p], #15]\n\t" \
-                     "usub8 %[anB], %[h1], %[h0]\n\t" \
-                     "sel %[anB], %[h0], %[h1]\n\t" \
-                     "usub8 %[h1], %[anA], %[anB]\n\t" \
-                     "sel %[h1], %[anB], %[anA]\n\t" \
-                     "ldr %[h0], [%[p]]\n\t" \
-                     "str %[h1], [%[p], #8]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h1], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], #16]\n\t" \
-                     "usub8 %[h3], %[h2], %[h0]\n\t" \
-                     "sel %[h3], %[h0], %[h2]\n\t" \
-                     "ldr %[h0], [%[p], #1036]\n\t" \
-                     "ldr %[h1], [%[p], #1037]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h0], %[h1]\n\t" \
-                     "ldr %[h0], [%[p], #1038]\n\t" \
-                     "usub8 %[h1], %[h2], %[h0]\n\t" \
-                     "sel %[h1], %[h2], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], #1039]\n\t" \
-                     "usub8 %[bxB], %[h1], %[h0]\n\t" \
-                     "sel %[bxB], %[h1], %[h0]\n\t" \
-                     "usub8 %[h1], %[bxA], %[bxB]\n\t" \
-                     "sel %[h1], %[bxA], %[bxB]\n\t" \
-                     "ldr %[h0], [%[p], #1024]\n\t" \
-                     "str %[h1], [%[p], #1032]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h0], %[h1]\n\t" \
-                     "ldr %[h0], [%[p], #1040]\n\t" \
-                     "usub8 %[h1], %[h2], %[h0]\n\t" \
-                     "sel %[h1], %[h2], %[h0]\n\t" \
-                     "uhsub8 %[h0], %[h3], %[h1]\n\t" \
-                     "usub8 %[h2], %[h3], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], %[dx]]\n\t" \
-                     CMP \
-                     "mrs %[h0], APSR\n\t" \
-                     "lsl %[h0], %[h0], #12\n\t" \
-                     "orr %[acc], %[h0], %[acc], lsr #4\n\t" \
-                     "adds %[p], %[p], #4\n\t" \
-                     "ldr %[h0], [%[p], #12]\n\t" \
-                     "ldr %[h1], [%[p], #13]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h1], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], #14]\n\t" \
-                     "usub8 %[h1], %[h2], %[h0]\n\t" \
-                     "sel %[h1], %[h0], %[h2]\n\t" \
-                     "ldr %[h0], [%[p], #15]\n\t" \
-                     "usub8 %[anA], %[h1], %[h0]\n\t" \
-                     "sel %[anA], %[h0], %[h1]\n\t" \
-                     "usub8 %[h1], %[anB], %[anA]\n\t" \
-                     "sel %[h1], %[anA], %[anB]\n\t" \
-                     "ldr %[h0], [%[p]]\n\t" \
-                     "str %[h1], [%[p], #8]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h1], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], #16]\n\t" \
-                     "usub8 %[h3], %[h2], %[h0]\n\t" \
-                     "sel %[h3], %[h0], %[h2]\n\t" \
-                     "ldr %[h0], [%[p], #1036]\n\t" \
-                     "ldr %[h1], [%[p], #1037]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h0], %[h1]\n\t" \
-                     "ldr %[h0], [%[p], #1038]\n\t" \
-                     "usub8 %[h1], %[h2], %[h0]\n\t" \
-                     "sel %[h1], %[h2], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], #1039]\n\t" \
-                     "usub8 %[bxA], %[h1], %[h0]\n\t" \
-                     "sel %[bxA], %[h1], %[h0]\n\t" \
-                     "usub8 %[h1], %[bxB], %[bxA]\n\t" \
-                     "sel %[h1], %[bxB], %[bxA]\n\t" \
-                     "ldr %[h0], [%[p], #1024]\n\t" \
-                     "str %[h1], [%[p], #1032]\n\t" \
-                     "usub8 %[h2], %[h0], %[h1]\n\t" \
-                     "sel %[h2], %[h0], %[h1]\n\t" \
-                     "ldr %[h0], [%[p], #1040]\n\t" \
-                     "usub8 %[h1], %[h2], %[h0]\n\t" \
-                     "sel %[h1], %[h2], %[h0]\n\t" \
-                     "uhsub8 %[h0], %[h3], %[h1]\n\t" \
-                     "usub8 %[h2], %[h3], %[h0]\n\t" \
-                     "ldr %[h0], [%[p], %[dx]]\n\t" \
-                     CMP \
-                     "mrs %[h0], APSR\n\t" \
-                     "lsl %[h0], %[h0], #12\n\t" \
-                     "orr %[acc], %[h0], %[acc], lsr #4\n\t" \
-                     "adds %[p], %[p], #4\n\t" \
+                     "1:\n\t"                                                                \
+                     "ldr %[h0], [%[p], #12]\n\t"                                            \
+                     "ldr %[h1], [%[p], #13]\n\t"                                            \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #14]\n\t"                                            \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #15]\n\t"                                            \
+                     "usub8 %[anB], %[h1], %[h0]\n\t"                                        \
+                     "sel %[anB], %[h0], %[h1]\n\t"                                          \
+                     "usub8 %[h1], %[anA], %[anB]\n\t"                                       \
+                     "sel %[h1], %[anB], %[anA]\n\t"                                         \
+                     "ldr %[h0], [%[p]]\n\t"                                                 \
+                     "str %[h1], [%[p], #8]\n\t"                                             \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #16]\n\t"                                            \
+                     "usub8 %[h3], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h3], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1036]\n\t"                                          \
+                     "ldr %[h1], [%[p], #1037]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1038]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1039]\n\t"                                          \
+                     "usub8 %[bxB], %[h1], %[h0]\n\t"                                        \
+                     "sel %[bxB], %[h1], %[h0]\n\t"                                          \
+                     "usub8 %[h1], %[bxA], %[bxB]\n\t"                                       \
+                     "sel %[h1], %[bxA], %[bxB]\n\t"                                         \
+                     "ldr %[h0], [%[p], #1024]\n\t"                                          \
+                     "str %[h1], [%[p], #1032]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1040]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "uhsub8 %[h0], %[h3], %[h1]\n\t"                                        \
+                     "usub8 %[h2], %[h3], %[h0]\n\t"                                         \
+                     "ldr %[h0], [%[p], %[dx]]\n\t"                                          \
+                     CMP                                                                     \
+                     "mrs %[h0], APSR\n\t"                                                   \
+                     "lsl %[h0], %[h0], #12\n\t"                                             \
+                     "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                 \
+                     "adds %[p], %[p], #4\n\t"                                               \
+                     "ldr %[h0], [%[p], #12]\n\t"                                            \
+                     "ldr %[h1], [%[p], #13]\n\t"                                            \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #14]\n\t"                                            \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #15]\n\t"                                            \
+                     "usub8 %[anA], %[h1], %[h0]\n\t"                                        \
+                     "sel %[anA], %[h0], %[h1]\n\t"                                          \
+                     "usub8 %[h1], %[anB], %[anA]\n\t"                                       \
+                     "sel %[h1], %[anA], %[anB]\n\t"                                         \
+                     "ldr %[h0], [%[p]]\n\t"                                                 \
+                     "str %[h1], [%[p], #8]\n\t"                                             \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #16]\n\t"                                            \
+                     "usub8 %[h3], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h3], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1036]\n\t"                                          \
+                     "ldr %[h1], [%[p], #1037]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1038]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1039]\n\t"                                          \
+                     "usub8 %[bxA], %[h1], %[h0]\n\t"                                        \
+                     "sel %[bxA], %[h1], %[h0]\n\t"                                          \
+                     "usub8 %[h1], %[bxB], %[bxA]\n\t"                                       \
+                     "sel %[h1], %[bxB], %[bxA]\n\t"                                         \
+                     "ldr %[h0], [%[p], #1024]\n\t"                                          \
+                     "str %[h1], [%[p], #1032]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1040]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "uhsub8 %[h0], %[h3], %[h1]\n\t"                                        \
+                     "usub8 %[h2], %[h3], %[h0]\n\t"                                         \
+                     "ldr %[h0], [%[p], %[dx]]\n\t"                                          \
+                     CMP                                                                     \
+                     "mrs %[h0], APSR\n\t"                                                   \
+                     "lsl %[h0], %[h0], #12\n\t"                                             \
+                     "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                 \
+                     "adds %[p], %[p], #4\n\t"                                               \
                      "tst %[p], #31\n\t"                                                     \
                      "bne 1b\n\t"                                                            \
                      "str %[acc], [%[p], #-4]\n\t"                                           \
