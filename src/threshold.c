@@ -83,6 +83,12 @@ static void stw(uint8_t *p, word_t w)
 #if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
     UINTPTR_MAX <= 0xFFFFFFFFu
 #define THRESHOLD_DSP 1
+#ifdef __OPTIMIZE__
+/* The radius-8 path's loops in assembly (below) need up to 13 registers,
+ * which GCC cannot give with the frame pointer of -O0: there the same
+ * steps in C. */
+#define THRESHOLD_DSP_ASM 1
+#endif
 /* Cortex-M4/M7 DSP byte instructions: USUB8 sets the GE flag of every byte
  * lane where a >= b, SEL picks per lane by it (2 instructions instead of
  * about 15). ACTAG_NO_DSP selects the portable words. */
@@ -145,6 +151,61 @@ static word_t gew(word_t a, word_t b)
  * portable 4-byte words too). */
 #if defined(THRESHOLD_DSP) || WORD_ONES > 0xFFFFFFFFu || defined(ACTAG_THRESHOLD_DOUBLING)
 #define THRESHOLD_DOUBLING 1
+#endif
+#endif
+
+/* The bitmap at radius 8 (the detector's) with 4-byte words (the DSP path;
+ * the tests also run it with the portable words): the vertical prefix
+ * extrema and the vertical window extrema in one pass over the row,
+ * written straight into the edge-padded lines of the horizontal pass
+ * (vertical_fused), and one horizontal pass per row that takes the 17-wide
+ * window extrema of a word from 4-sample extrema, thresholds and packs the
+ * bits itself (row_r8_bitmap). On the DSP path, when optimizing, these
+ * loops and the vertical block suffix rows are assembly (GCC's code for
+ * them spills); the C loops give the same bytes. */
+#if defined(THRESHOLD_DOUBLING) && WORD_ONES <= 0xFFFFFFFFu
+#define THRESHOLD_R8 1
+#ifndef THRESHOLD_DSP_ASM /* the C steps' word operations */
+#ifdef THRESHOLD_DSP
+/* ceil((a + b) / 2) per lane: a - floor((a - b) / 2), the halving
+ * difference in [-128, 127] and the result in [0, 255]. */
+static word_t avgw(word_t a, word_t b)
+{
+    word_t h, r;
+    __asm__("uhsub8 %0, %2, %3\n\tusub8 %1, %2, %0" : "=&r"(h), "=&r"(r) : "r"(a), "r"(b) : "cc");
+    return r;
+}
+
+/* min(a + b, 255) and max(a - b, 0) per lane. */
+static word_t qaddw(word_t a, word_t b)
+{
+    word_t r;
+    __asm__("uqadd8 %0, %1, %2" : "=r"(r) : "r"(a), "r"(b));
+    return r;
+}
+
+static word_t qsubw(word_t a, word_t b)
+{
+    word_t r;
+    __asm__("uqsub8 %0, %1, %2" : "=r"(r) : "r"(a), "r"(b));
+    return r;
+}
+#else
+static word_t avgw(word_t a, word_t b)
+{
+    return (a | b) - (((a ^ b) >> 1) & (WORD_ONES * 0x7Fu));
+}
+
+static word_t qaddw(word_t a, word_t b)
+{
+    return minw(a, ~b) + b;
+}
+
+static word_t qsubw(word_t a, word_t b)
+{
+    return maxw(a, b) - b;
+}
+#endif
 #endif
 #endif
 
@@ -378,6 +439,514 @@ static void row_threshold_doubling(uint8_t *restrict d, const uint8_t *restrict 
 }
 #endif
 
+#ifdef THRESHOLD_R8
+#ifndef THRESHOLD_DSP_ASM
+/* Vertical extrema of one row where hi's block prefix advances by exactly
+ * one row within its block and lo lies in the block before: P = P op row
+ * (pmin, pmax updated), then min(S[lo], P) and max(S[lo], P) into hmin and
+ * hmax. One pass, the row loaded once. */
+static void vertical_fused(uint8_t *restrict hmin, uint8_t *restrict hmax, uint8_t *restrict pmin,
+                           uint8_t *restrict pmax, const uint8_t *restrict smin,
+                           const uint8_t *restrict smax, const uint8_t *restrict row, size_t n)
+{
+    size_t c = 0;
+    for (; c + sizeof(word_t) <= n; c += sizeof(word_t)) {
+        word_t v = ldw(row + c);
+        word_t pn = minw(ldw(pmin + c), v), px = maxw(ldw(pmax + c), v);
+        stw(pmin + c, pn);
+        stw(pmax + c, px);
+        stw(hmin + c, minw(ldw(smin + c), pn));
+        stw(hmax + c, maxw(ldw(smax + c), px));
+    }
+    for (; c < n; c++) {
+        uint8_t pn = min8(pmin[c], row[c]), px = max8(pmax[c], row[c]);
+        pmin[c] = pn;
+        pmax[c] = px;
+        hmin[c] = min8(smin[c], pn);
+        hmax[c] = max8(smax[c], px);
+    }
+}
+#else
+/* The DSP path's lines b = a + ROW_R8_D (an immediate offset of the loads
+ * below), a 32-byte aligned: a's n + 16 bytes and b's fit in the 5 lines
+ * from hmin on when 268 <= n <= 1008. */
+#define ROW_R8_D 1024
+#define ROW_R8_ASM_MIN_N 268u
+#define ROW_R8_ASM_MAX_N 1008u
+
+/* vertical_fused for the DSP path's lines in assembly (GCC's code for the
+ * C loop keeps its seven pointers poorly): hmax = hmin + ROW_R8_D, pmax =
+ * pmin + n, smax = smin + sdist. smin may be pmin (then sdist = n): it is
+ * read after pmin's word is stored, min(P, P) = P. Two words per loop,
+ * n >= 8; the last n % 8 bytes in C. */
+static void vertical_fused_asm(uint8_t *hmin, uint8_t *pmin, const uint8_t *smin, size_t sdist,
+                               const uint8_t *row, size_t n)
+{
+    size_t nw = n & ~(size_t)7u, c;
+    const uint8_t *end = row + nw;
+    const uint8_t *rp = row;
+    uint8_t *hp = hmin, *pp = pmin;
+    const uint8_t *sp = smin;
+    word_t v, pn, px, s1, s2;
+    __asm__ volatile("1:\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[pn], [%[pp]]\n\t"
+                     "ldr %[px], [%[pp], %[n]]\n\t"
+                     "usub8 %[s1], %[pn], %[v]\n\t"
+                     "sel %[pn], %[v], %[pn]\n\t"
+                     "usub8 %[s1], %[px], %[v]\n\t"
+                     "sel %[px], %[px], %[v]\n\t"
+                     "str %[px], [%[pp], %[n]]\n\t"
+                     "str %[pn], [%[pp]], #4\n\t"
+                     "ldr %[s1], [%[sp], %[sd]]\n\t"
+                     "ldr %[s2], [%[sp]], #4\n\t"
+                     "usub8 %[v], %[s2], %[pn]\n\t"
+                     "sel %[s2], %[pn], %[s2]\n\t"
+                     "usub8 %[v], %[s1], %[px]\n\t"
+                     "sel %[s1], %[s1], %[px]\n\t"
+                     "str %[s1], [%[hp], #1024]\n\t"
+                     "str %[s2], [%[hp]], #4\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[pn], [%[pp]]\n\t"
+                     "ldr %[px], [%[pp], %[n]]\n\t"
+                     "usub8 %[s1], %[pn], %[v]\n\t"
+                     "sel %[pn], %[v], %[pn]\n\t"
+                     "usub8 %[s1], %[px], %[v]\n\t"
+                     "sel %[px], %[px], %[v]\n\t"
+                     "str %[px], [%[pp], %[n]]\n\t"
+                     "str %[pn], [%[pp]], #4\n\t"
+                     "ldr %[s1], [%[sp], %[sd]]\n\t"
+                     "ldr %[s2], [%[sp]], #4\n\t"
+                     "usub8 %[v], %[s2], %[pn]\n\t"
+                     "sel %[s2], %[pn], %[s2]\n\t"
+                     "usub8 %[v], %[s1], %[px]\n\t"
+                     "sel %[s1], %[s1], %[px]\n\t"
+                     "str %[s1], [%[hp], #1024]\n\t"
+                     "str %[s2], [%[hp]], #4\n\t"
+                     "cmp %[rp], %[end]\n\t"
+                     "bne 1b"
+                     : [rp] "+&r"(rp), [pp] "+&r"(pp), [sp] "+&r"(sp), [hp] "+&r"(hp),
+                       [v] "=&r"(v), [pn] "=&r"(pn), [px] "=&r"(px), [s1] "=&r"(s1),
+                       [s2] "=&r"(s2)
+                     : [end] "r"(end), [n] "r"(n), [sd] "r"(sdist)
+                     : "cc", "memory");
+    for (c = nw; c < n; c++) {
+        uint8_t a = min8(pmin[c], row[c]), b = max8(pmin[c + n], row[c]);
+        pmin[c] = a;
+        pmin[c + n] = b;
+        hmin[c] = min8(smin[c], a);
+        hmin[c + ROW_R8_D] = max8(smin[c + sdist], b);
+    }
+}
+
+/* smin = min(smin + n, row), smax = max(smax + n, row) over n bytes (the
+ * vertical block suffix extrema, one row up). Two words per loop, n >= 8;
+ * the last n % 8 bytes in C. */
+static void suffix_rows_asm(uint8_t *smin, uint8_t *smax, const uint8_t *row, size_t n)
+{
+    size_t nw = n & ~(size_t)7u, c;
+    const uint8_t *end = row + nw;
+    const uint8_t *rp = row;
+    uint8_t *mp = smin, *xp = smax;
+    word_t v, a, b, t;
+    __asm__ volatile("1:\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[a], [%[mp], %[n]]\n\t"
+                     "ldr %[b], [%[xp], %[n]]\n\t"
+                     "usub8 %[t], %[a], %[v]\n\t"
+                     "sel %[a], %[v], %[a]\n\t"
+                     "usub8 %[t], %[b], %[v]\n\t"
+                     "sel %[b], %[b], %[v]\n\t"
+                     "str %[a], [%[mp]], #4\n\t"
+                     "str %[b], [%[xp]], #4\n\t"
+                     "ldr %[v], [%[rp]], #4\n\t"
+                     "ldr %[a], [%[mp], %[n]]\n\t"
+                     "ldr %[b], [%[xp], %[n]]\n\t"
+                     "usub8 %[t], %[a], %[v]\n\t"
+                     "sel %[a], %[v], %[a]\n\t"
+                     "usub8 %[t], %[b], %[v]\n\t"
+                     "sel %[b], %[b], %[v]\n\t"
+                     "str %[a], [%[mp]], #4\n\t"
+                     "str %[b], [%[xp]], #4\n\t"
+                     "cmp %[rp], %[end]\n\t"
+                     "bne 1b"
+                     : [rp] "+&r"(rp), [mp] "+&r"(mp), [xp] "+&r"(xp), [v] "=&r"(v),
+                       [a] "=&r"(a), [b] "=&r"(b), [t] "=&r"(t)
+                     : [end] "r"(end), [n] "r"(n)
+                     : "cc", "memory");
+    (void)t;
+    for (c = nw; c < n; c++) {
+        smin[c] = min8(smin[c + n], row[c]);
+        smax[c] = max8(smax[c + n], row[c]);
+    }
+}
+#endif
+
+/* min over the 4 samples from p on, per lane (p[0..6] read). */
+static word_t min4w(const uint8_t *p)
+{
+    return minw(minw(ldw(p), ldw(p + 1)), minw(ldw(p + 2), ldw(p + 3)));
+}
+
+static word_t max4w(const uint8_t *p)
+{
+    return maxw(maxw(ldw(p), ldw(p + 1)), maxw(ldw(p + 2), ldw(p + 3)));
+}
+
+#ifndef THRESHOLD_DSP_ASM
+/* Lane k's a >= b (unsigned) at bit 28 + k, every other bit 0. */
+#ifdef THRESHOLD_DSP
+static uint32_t ge_top4(word_t a, word_t b)
+{
+    /* MRS APSR: NZCVQ in bits 27..31, the GE flags of USUB8 in 16..19,
+     * the other bits 0 */
+    uint32_t r;
+    __asm__("usub8 %0, %1, %2\n\tmrs %0, APSR" : "=&r"(r) : "r"(a), "r"(b) : "cc");
+    return r << 12;
+}
+#else
+static uint32_t ge_top4(word_t a, word_t b)
+{
+    /* the multiply puts lane k's bit 8k at bit 28 + k, without carries */
+    return (gew(a, b) * 0x10204080u) & 0xF0000000u;
+}
+#endif
+#else
+
+/* The steps of row_r8_bitmap from p = a + j to end (words), off >= 0
+ * (neg = 0) or < 0 (neg = 1), in assembly: GCC's code for the C steps keeps
+ * fewer values in registers. The C steps' operations, min and max steps in
+ * one loop; acc takes the words' bits as there. */
+#define ROW_R8_ASM_STEP(CMP)                                                                 \
+                     "ldr %[h0], [%[p], #12]\n\t"                                            \
+                     "ldr %[h1], [%[p], #13]\n\t"                                            \
+                     "ldr %[h2], [%[p], #14]\n\t"                                            \
+                     "ldr %[h3], [%[p], #15]\n\t"                                            \
+                     "usub8 %[t], %[h0], %[h1]\n\t"                                          \
+                     "sel %[t], %[h1], %[h0]\n\t"                                            \
+                     "usub8 %[h0], %[h2], %[h3]\n\t"                                         \
+                     "sel %[h0], %[h3], %[h2]\n\t"                                           \
+                     "usub8 %[h1], %[t], %[h0]\n\t"                                          \
+                     "sel %[h1], %[h0], %[t]\n\t"                                            \
+                     "usub8 %[t], %[an8], %[h1]\n\t"                                         \
+                     "sel %[t], %[h1], %[an8]\n\t"                                           \
+                     "mov %[an8], %[h1]\n\t"                                                 \
+                     "ldr %[h0], [%[p]]\n\t"                                                 \
+                     "ldr %[h1], [%[p], #16]\n\t"                                            \
+                     "str %[t], [%[p], #8]\n\t"                                              \
+                     "usub8 %[h2], %[h0], %[t]\n\t"                                          \
+                     "sel %[h2], %[t], %[h0]\n\t"                                            \
+                     "usub8 %[h3], %[h2], %[h1]\n\t"                                         \
+                     "sel %[h3], %[h1], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1024+12]\n\t"                                       \
+                     "ldr %[h1], [%[p], #1024+13]\n\t"                                       \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1024+14]\n\t"                                       \
+                     "ldr %[h1], [%[p], #1024+15]\n\t"                                       \
+                     "usub8 %[t], %[h0], %[h1]\n\t"                                          \
+                     "sel %[t], %[h0], %[h1]\n\t"                                            \
+                     "usub8 %[h0], %[h2], %[t]\n\t"                                          \
+                     "sel %[h0], %[h2], %[t]\n\t"                                            \
+                     "usub8 %[h1], %[bx8], %[h0]\n\t"                                        \
+                     "sel %[h1], %[bx8], %[h0]\n\t"                                          \
+                     "mov %[bx8], %[h0]\n\t"                                                 \
+                     "ldr %[h0], [%[p], #1024]\n\t"                                          \
+                     "ldr %[h2], [%[p], #1024+16]\n\t"                                       \
+                     "str %[h1], [%[p], #1024+8]\n\t"                                        \
+                     "usub8 %[t], %[h0], %[h1]\n\t"                                          \
+                     "sel %[t], %[h0], %[h1]\n\t"                                            \
+                     "usub8 %[h1], %[t], %[h2]\n\t"                                          \
+                     "sel %[h1], %[t], %[h2]\n\t"                                            \
+                     "uhsub8 %[h0], %[h3], %[h1]\n\t"                                        \
+                     "usub8 %[h2], %[h3], %[h0]\n\t"                                         \
+                     "ldr %[t], [%[p], %[dx]]\n\t"                                           \
+                     CMP                                                                     \
+                     "mrs %[t], APSR\n\t"                                                    \
+                     "lsl %[t], %[t], #12\n\t"                                               \
+                     "orr %[acc], %[t], %[acc], lsr #4\n\t"                                  \
+                     "adds %[p], %[p], #4\n\t"
+
+#define ROW_R8_ASM_OPERANDS                                                                  \
+    [p] "+&r"(p), [dx] "+&r"(dx), [acc] "+&r"(acc), [an8] "+&r"(an8), [bx8] "+&r"(bx8),        \
+        [h0] "=&r"(h0), [h1] "=&r"(h1), [h2] "=&r"(h2), [h3] "=&r"(h3), [t] "=&r"(t)
+
+/* Words from p to end (end > p). */
+#define ROW_R8_ASM(CMP)                                                                      \
+    __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
+                     "1:\n\t" ROW_R8_ASM_STEP(CMP) "cmp %[p], %[end]\n\t"                  \
+                     "bne 1b"                                                                \
+                     : ROW_R8_ASM_OPERANDS                                                   \
+                     : [end] "r"(end), [offw] "r"(offw)                                      \
+                     : "cc", "memory")
+
+/* Whole words of 32 pixels from p to end (p 32-byte aligned, end - p a
+ * positive multiple of 32), two steps per loop, with the two steps'
+ * m4(j + 8) in swapped registers (no moves) and 3 temporaries besides the
+ * minima: the same results as ROW_R8_ASM_STEP. Each word's acc (raw) is
+ * stored over a at its last 4 bytes, which no later step reads. */
+#define ROW_R8_ASM32(CMP)                                                                    \
+    __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
+                     "1:\n\t"                                                                \
+                     "ldr %[h0], [%[p], #12]\n\t"                                            \
+                     "ldr %[h1], [%[p], #13]\n\t"                                            \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #14]\n\t"                                            \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #15]\n\t"                                            \
+                     "usub8 %[anB], %[h1], %[h0]\n\t"                                        \
+                     "sel %[anB], %[h0], %[h1]\n\t"                                          \
+                     "usub8 %[h1], %[anA], %[anB]\n\t"                                       \
+                     "sel %[h1], %[anB], %[anA]\n\t"                                         \
+                     "ldr %[h0], [%[p]]\n\t"                                                 \
+                     "str %[h1], [%[p], #8]\n\t"                                             \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #16]\n\t"                                            \
+                     "usub8 %[h3], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h3], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1036]\n\t"                                          \
+                     "ldr %[h1], [%[p], #1037]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1038]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1039]\n\t"                                          \
+                     "usub8 %[bxB], %[h1], %[h0]\n\t"                                        \
+                     "sel %[bxB], %[h1], %[h0]\n\t"                                          \
+                     "usub8 %[h1], %[bxA], %[bxB]\n\t"                                       \
+                     "sel %[h1], %[bxA], %[bxB]\n\t"                                         \
+                     "ldr %[h0], [%[p], #1024]\n\t"                                          \
+                     "str %[h1], [%[p], #1032]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1040]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "uhsub8 %[h0], %[h3], %[h1]\n\t"                                        \
+                     "usub8 %[h2], %[h3], %[h0]\n\t"                                         \
+                     "ldr %[h0], [%[p], %[dx]]\n\t"                                          \
+                     CMP                                                                     \
+                     "mrs %[h0], APSR\n\t"                                                   \
+                     "lsl %[h0], %[h0], #12\n\t"                                             \
+                     "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                 \
+                     "adds %[p], %[p], #4\n\t"                                               \
+                     "ldr %[h0], [%[p], #12]\n\t"                                            \
+                     "ldr %[h1], [%[p], #13]\n\t"                                            \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #14]\n\t"                                            \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #15]\n\t"                                            \
+                     "usub8 %[anA], %[h1], %[h0]\n\t"                                        \
+                     "sel %[anA], %[h0], %[h1]\n\t"                                          \
+                     "usub8 %[h1], %[anB], %[anA]\n\t"                                       \
+                     "sel %[h1], %[anA], %[anB]\n\t"                                         \
+                     "ldr %[h0], [%[p]]\n\t"                                                 \
+                     "str %[h1], [%[p], #8]\n\t"                                             \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #16]\n\t"                                            \
+                     "usub8 %[h3], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h3], %[h0], %[h2]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1036]\n\t"                                          \
+                     "ldr %[h1], [%[p], #1037]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1038]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1039]\n\t"                                          \
+                     "usub8 %[bxA], %[h1], %[h0]\n\t"                                        \
+                     "sel %[bxA], %[h1], %[h0]\n\t"                                          \
+                     "usub8 %[h1], %[bxB], %[bxA]\n\t"                                       \
+                     "sel %[h1], %[bxB], %[bxA]\n\t"                                         \
+                     "ldr %[h0], [%[p], #1024]\n\t"                                          \
+                     "str %[h1], [%[p], #1032]\n\t"                                          \
+                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
+                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
+                     "ldr %[h0], [%[p], #1040]\n\t"                                          \
+                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
+                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
+                     "uhsub8 %[h0], %[h3], %[h1]\n\t"                                        \
+                     "usub8 %[h2], %[h3], %[h0]\n\t"                                         \
+                     "ldr %[h0], [%[p], %[dx]]\n\t"                                          \
+                     CMP                                                                     \
+                     "mrs %[h0], APSR\n\t"                                                   \
+                     "lsl %[h0], %[h0], #12\n\t"                                             \
+                     "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                 \
+                     "adds %[p], %[p], #4\n\t"                                               \
+                     "tst %[p], #31\n\t"                                                     \
+                     "bne 1b\n\t"                                                            \
+                     "str %[acc], [%[p], #-4]\n\t"                                           \
+                     "ldr %[h0], %[end]\n\t"                                                 \
+                     "cmp %[p], %[h0]\n\t"                                                   \
+                     "bne 1b"                                                                \
+                     : [p] "+&r"(p), [dx] "+&r"(dx), [acc] "+&r"(acc), [anA] "+&r"(an8),      \
+                       [anB] "+&r"(an8b), [bxA] "+&r"(bx8), [bxB] "+&r"(bx8b), [h0] "=&r"(h0), \
+                       [h1] "=&r"(h1), [h2] "=&r"(h2), [h3] "=&r"(h3)                        \
+                     : [end] "m"(end), [offw] "r"(offw)                                      \
+                     : "cc", "memory")
+
+static void row_r8_words32_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, word_t offw,
+                               int neg, word_t *an8p, word_t *bx8p)
+{
+    uint32_t acc = 0u;
+    word_t an8 = *an8p, bx8 = *bx8p, an8b = 0u, bx8b = 0u, h0, h1, h2, h3;
+    const uint8_t *dx = x;
+    if (!neg)
+        ROW_R8_ASM32("uqadd8 %[h0], %[h0], %[offw]\n\t"
+                     "usub8 %[h0], %[h0], %[h2]\n\t");
+    else
+        ROW_R8_ASM32("uqsub8 %[h0], %[h0], %[offw]\n\t"
+                     "usub8 %[h0], %[h2], %[h0]\n\t");
+    (void)h0;
+    (void)h1;
+    (void)h2;
+    (void)h3;
+    (void)acc;
+    (void)an8b;
+    (void)bx8b;
+    *an8p = an8;
+    *bx8p = bx8;
+}
+
+static void row_r8_steps_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, word_t offw,
+                             int neg, uint32_t *accp, word_t *an8p, word_t *bx8p)
+{
+    uint32_t acc = *accp;
+    word_t an8 = *an8p, bx8 = *bx8p, h0, h1, h2, h3, t;
+    const uint8_t *dx = x;
+    if (!neg) /* min(x + off, 255) >= avg */
+        ROW_R8_ASM("uqadd8 %[t], %[t], %[offw]\n\t"
+                   "usub8 %[t], %[t], %[h2]\n\t");
+    else /* avg >= max(x - q, 0), inverted by the caller */
+        ROW_R8_ASM("uqsub8 %[t], %[t], %[offw]\n\t"
+                   "usub8 %[t], %[h2], %[t]\n\t");
+    (void)h0;
+    (void)h1;
+    (void)h2;
+    (void)h3;
+    (void)t;
+    *accp = acc;
+    *an8p = an8;
+    *bx8p = bx8;
+}
+#undef ROW_R8_ASM
+#undef ROW_R8_ASM32
+#undef ROW_R8_ASM_STEP
+#undef ROW_R8_ASM_OPERANDS
+#endif
+
+/* One bitmap row (common.h layout) at radius 8 from the row's vertical
+ * extrema padded with 8 copies of the edge sample on each side (a: min,
+ * b: max, n + 16 bytes each, n >= 16; overwritten) and the row's pixels x.
+ * The window of pixel j is [j, j + 16] of the padded lines; for the word of
+ * pixels j..j+3 it is the union of the 4-sample windows at j, j + 4, j + 8,
+ * j + 12 and the sample j + 16: with m4(p) the 4-sample extrema and m8(p) =
+ * m4(p) op m4(p + 4), the word's extrema are m8(j) op m8(j + 8) op h(j +
+ * 16). The step for word j computes m4(j + 12) (m4(j + 8) is the step
+ * before's) and m8(j + 8), which it stores over a and b at j + 8, where
+ * the step for j + 8 reads it (the samples below j + 16 are not needed any
+ * more). Then, per lane, x + off >= ceil((mn + mx) / 2), which is 2x + 2 off
+ * >= mn + mx: for off >= 0, min(x + off, 255) >= avg; for off < 0, with
+ * q = -off - 1 in [0, 255], not avg >= max(x - q, 0). The bits of 8 words
+ * gather into one word of 32 pixels, which goes to the row shifted by the
+ * padding column. The last n % 4 pixels are done first, bytewise, before
+ * the steps overwrite their samples. */
+static void row_r8_bitmap(uint32_t *restrict row, const uint8_t *restrict x, uint8_t *restrict a,
+                          uint8_t *restrict b, size_t n, int off)
+{
+    const word_t offw = (word_t)WORD_ONES * (word_t)(off >= 0 ? off : -off - 1);
+    const uint32_t flip = off >= 0 ? 0u : 0xFFFFFFFFu;
+    const size_t nw = n & ~(size_t)3u;
+    word_t an8 = min4w(a + 8), bx8 = max4w(b + 8);
+    uint32_t acc = 0u, carry = 0u, tail = 0u, g;
+    size_t j, k = 0, i;
+
+    for (j = nw; j < n; j++) {
+        int mn = a[j], mx = b[j];
+        for (i = 1; i <= 16u; i++) {
+            mn = min8((uint8_t)mn, a[j + i]);
+            mx = max8((uint8_t)mx, b[j + i]);
+        }
+        tail |= (uint32_t)(2 * x[j] + 2 * off >= mn + mx) << (j - nw);
+    }
+    {
+        word_t an4 = min4w(a + 4), bx4 = max4w(b + 4);
+        word_t an0 = min4w(a), bx0 = max4w(b);
+        stw(a, minw(an0, an4));
+        stw(b, maxw(bx0, bx4));
+        stw(a + 4, minw(an4, an8));
+        stw(b + 4, maxw(bx4, bx8));
+    }
+#ifdef THRESHOLD_DSP_ASM
+    { /* b == a + ROW_R8_D, a 32-byte aligned, 268 <= n <= 1008 */
+        size_t n32 = nw & ~(size_t)31u;
+        j = 0;
+        if (n32 > 0u) {
+            row_r8_words32_asm(a, a + n32, x, offw, off < 0, &an8, &bx8);
+            for (; k < n32 / 32u; k++) {
+                memcpy(&g, a + 32u * k + 28u, 4);
+                g ^= flip;
+                row[k] = g << 1 | carry;
+                carry = g >> 31;
+            }
+            j = n32;
+        }
+        if (j < nw) {
+            row_r8_steps_asm(a + j, a + nw, x + j, offw, off < 0, &acc, &an8, &bx8);
+            j = nw;
+        }
+    }
+#else
+    /* The minima first (their word j stored over a at j), then the maxima
+     * and the threshold: fewer values live at once than in one loop. */
+    for (j = 0; j < nw; j += 4u) {
+        word_t an12 = min4w(a + j + 12), am = minw(an8, an12);
+        word_t mn = minw(minw(ldw(a + j), am), ldw(a + j + 16));
+        stw(a + j + 8, am);
+        stw(a + j, mn);
+        an8 = an12;
+    }
+#define ROW_R8_STEP(THR)                                                                     \
+    {                                                                                        \
+        word_t bx12 = max4w(b + j + 12), bm = maxw(bx8, bx12);                               \
+        word_t mx = maxw(maxw(ldw(b + j), bm), ldw(b + j + 16)), avg = avgw(ldw(a + j), mx);  \
+        stw(b + j + 8, bm);                                                                  \
+        bx8 = bx12;                                                                          \
+        acc = (acc >> 4) | (THR);                                                            \
+    }
+    j = 0;
+    while (j < nw) {
+        size_t e = nw - j >= 32u ? j + 32u : nw;
+        if (off >= 0) {
+            for (; j < e; j += 4u)
+                ROW_R8_STEP(ge_top4(qaddw(ldw(x + j), offw), avg))
+        } else {
+            for (; j < e; j += 4u)
+                ROW_R8_STEP(ge_top4(avg, qsubw(ldw(x + j), offw)))
+        }
+        if ((j & 31u) == 0u) {
+            acc ^= flip;
+            row[k++] = acc << 1 | carry;
+            carry = acc >> 31;
+        }
+    }
+#undef ROW_R8_STEP
+#endif
+    g = (j & 31u) != 0u ? (acc ^ flip) >> (32u - (j & 31u)) : 0u;
+    g |= tail << (j & 31u); /* (j & 31) + n % 4 < 32 */
+    row[k++] = g << 1 | carry;
+    for (; k < ACTAG_BITMAP_WORDS(n); k++)
+        row[k] = 0u;
+}
+#endif
+
 /* Bit i set when p[i] is 1, for i = 0..3 (bytes of 0 / 1; the multiply
  * gathers bits 0, 8, 16, 24 into bits 24..27 without carries; any byte
  * order, as the word is assembled bytewise). */
@@ -418,6 +987,9 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
     size_t ucols, sstride, dstride, nblk;
     uint8_t *sbuf_min, *sbuf_max, *pmin, *pmax, *hmin, *hmax, *hsmin, *hsmax;
     int rv, rh, wv, wh, i, j, sblk, phi, off2;
+#ifdef THRESHOLD_R8
+    int fast8;
+#endif
 
     if (src == NULL || (dst == NULL && bitmap == NULL) || scratch == NULL)
         return ACTAG_ERR_NULL;
@@ -471,6 +1043,14 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
     hsmin = hmax + ucols;
     hsmax = hsmin + ucols;
 
+#ifdef THRESHOLD_R8
+    /* hsmin..hsmax and hmin..hmax hold 2 cols bytes each (cols + 16 needed);
+     * the assembly's lines need 268 <= cols <= 1008 */
+    fast8 = bitmap != NULL && rh == 8 && cols >= 16;
+#ifdef THRESHOLD_DSP_ASM
+    fast8 = fast8 && ucols >= ROW_R8_ASM_MIN_N && ucols <= ROW_R8_ASM_MAX_N;
+#endif
+#endif
     sblk = -1; /* block whose suffix extrema are in sbuf */
     phi = -1;  /* last row folded into pmin/pmax */
     for (i = 0; i < rows; i++) {
@@ -492,10 +1072,90 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
             for (t--; t >= 0; t--) {
                 uint8_t *smn = sbuf_min + (size_t)t * ucols, *smx = sbuf_max + (size_t)t * ucols;
                 row = src + (size_t)(b0 + t) * sstride;
+#ifdef THRESHOLD_DSP_ASM
+                if (ucols >= 8u) {
+                    suffix_rows_asm(smn, smx, row, ucols);
+                    continue;
+                }
+#endif
                 minmax_rows(smn, smx, smn + ucols, smx + ucols, row, row, ucols);
             }
             sblk = bl;
         }
+#ifdef THRESHOLD_R8
+        /* Radius 8 into a bitmap: the edge-padded vertical extrema in
+         * hsmin..hsmax (min) and hmin..hmax (max), 2 cols bytes each. */
+        if (fast8) {
+            const uint8_t *smn = sbuf_min + (size_t)(lo - bl * wv) * ucols;
+            const uint8_t *smx = sbuf_max + (size_t)(lo - bl * wv) * ucols;
+#ifdef THRESHOLD_DSP_ASM
+            /* The 5 cols bytes from hmin on (hmin..hsmax and the bitmap's
+             * row bytes), a 32-byte aligned. One assembly pass wherever P
+             * advances by at most one row: lo in the block before hi's
+             * (S[lo] op P[hi]; a new block starts P from the identity; a
+             * row folded again changes nothing), or lo starting hi's block
+             * (P[hi] alone: S := the old P, min(P, P op row) = P op row). */
+            uint8_t *pa = hmin + ((32u - ((uintptr_t)hmin & 31u)) & 31u), *pb = pa + ROW_R8_D;
+            if ((phi == hi - 1 || phi == hi) &&
+                (hi / wv != bl || (lo % wv == 0 && phi == hi - 1))) {
+                if (phi == hi - 1 && hi % wv == 0) {
+                    memset(pmin, 0xFF, ucols);
+                    memset(pmax, 0, ucols);
+                }
+                if (hi / wv != bl)
+                    vertical_fused_asm(pa + 8, pmin, smn, (size_t)(smx - smn),
+                                       src + (size_t)hi * sstride, ucols);
+                else
+                    vertical_fused_asm(pa + 8, pmin, pmin, ucols, src + (size_t)hi * sstride,
+                                       ucols);
+                phi = hi;
+#else
+            uint8_t *pa = hsmin, *pb = hmin;
+            if (phi == hi - 1 && hi % wv != 0 && hi / wv != bl) {
+                vertical_fused(pa + 8, pb + 8, pmin, pmax, smn, smx, src + (size_t)hi * sstride,
+                               ucols);
+                phi = hi;
+#endif
+            } else {
+                while (phi < hi) {
+                    const uint8_t *row;
+                    phi++;
+                    row = src + (size_t)phi * sstride;
+                    if (phi % wv == 0) {
+                        memcpy(pmin, row, ucols);
+                        memcpy(pmax, row, ucols);
+                    } else {
+                        minmax_rows(pmin, pmax, pmin, pmax, row, row, ucols);
+                    }
+                }
+                if (hi / wv != bl) {
+                    minmax_rows(pa + 8, pb + 8, smn, smx, pmin, pmax, ucols);
+                } else if (lo % wv == 0) {
+                    memcpy(pa + 8, pmin, ucols);
+                    memcpy(pb + 8, pmax, ucols);
+                } else {
+                    memcpy(pa + 8, smn, ucols);
+                    memcpy(pb + 8, smx, ucols);
+                }
+            }
+            {
+                /* the edge padding: 8 copies of each end sample */
+                word_t e0 = (word_t)WORD_ONES * pa[8], e1 = (word_t)WORD_ONES * pa[7 + ucols];
+                word_t e2 = (word_t)WORD_ONES * pb[8], e3 = (word_t)WORD_ONES * pb[7 + ucols];
+                stw(pa, e0);
+                stw(pa + 4, e0);
+                stw(pa + 8 + ucols, e1);
+                stw(pa + 12 + ucols, e1);
+                stw(pb, e2);
+                stw(pb + 4, e2);
+                stw(pb + 8 + ucols, e3);
+                stw(pb + 12 + ucols, e3);
+            }
+            row_r8_bitmap(bitmap + ((size_t)i + 1u) * ACTAG_BITMAP_WORDS(cols), x, pa, pb, ucols,
+                          off2 / 2);
+            continue;
+        }
+#endif
         /* Vertical: prefix extrema of hi's block up to hi. */
         while (phi < hi) {
             const uint8_t *row;

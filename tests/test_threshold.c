@@ -49,7 +49,21 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define double_pass double_pass_w32
 #define row_threshold_doubling row_threshold_doubling_w32
 #undef THRESHOLD_DSP
+#undef THRESHOLD_DSP_ASM
 #undef THRESHOLD_DOUBLING
+#undef THRESHOLD_R8
+#define avgw avgw_w32
+#define qaddw qaddw_w32
+#define qsubw qsubw_w32
+#define vertical_fused vertical_fused_w32
+#define min4w min4w_w32
+#define ge_top4 ge_top4_w32
+#define row_r8_words32_asm row_r8_words32_asm_w32
+#define vertical_fused_asm vertical_fused_asm_w32
+#define suffix_rows_asm suffix_rows_asm_w32
+#define row_r8_steps_asm row_r8_steps_asm_w32
+#define max4w max4w_w32
+#define row_r8_bitmap row_r8_bitmap_w32
 #define pack_row pack_row_w32
 #define gather4 gather4_w32
 #define threshold_core threshold_core_w32
@@ -66,6 +80,7 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
                                    void *scratch, size_t scratch_size);
 #undef THRESHOLD_SCALAR
 #undef THRESHOLD_DSP
+#undef THRESHOLD_DSP_ASM
 #undef THRESHOLD_DOUBLING
 #undef WORD_ONES
 #undef WORD_HIGH
@@ -85,6 +100,31 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #undef pack_row
 #undef gather4
 #undef threshold_core
+#undef THRESHOLD_R8
+#undef avgw
+#undef qaddw
+#undef qsubw
+#undef vertical_fused
+#undef min4w
+#undef ge_top4
+#undef row_r8_words32_asm
+#undef vertical_fused_asm
+#undef suffix_rows_asm
+#undef row_r8_steps_asm
+#undef max4w
+#undef row_r8_bitmap
+#define avgw avgw_d32
+#define qaddw qaddw_d32
+#define qsubw qsubw_d32
+#define vertical_fused vertical_fused_d32
+#define min4w min4w_d32
+#define ge_top4 ge_top4_d32
+#define row_r8_words32_asm row_r8_words32_asm_d32
+#define vertical_fused_asm vertical_fused_asm_d32
+#define suffix_rows_asm suffix_rows_asm_d32
+#define row_r8_steps_asm row_r8_steps_asm_d32
+#define max4w max4w_d32
+#define row_r8_bitmap row_r8_bitmap_d32
 #define pack_row pack_row_d32
 #define gather4 gather4_d32
 #define threshold_core threshold_core_d32
@@ -455,6 +495,25 @@ static void test_wide_rows(void)
     check_case(600, 40, 8, 1, FILL_UNIFORM, 0, 0);
 }
 
+static void test_radius8_rows(void)
+{
+    /* Radius 8 (the detector's) into a bitmap has its own code: rows of
+     * words with tails of every length, the Cortex-M DSP path's row
+     * lengths (268..1008) and their neighbours, offsets of both signs. */
+    static const int widths[] = {16, 17, 18, 19, 31, 32, 33, 35, 267, 268, 269, 271, 300,
+                                 512, 530, 1005, 1008, 1009};
+    static const int offsets[] = {1, 0, -1, 2, -2, 7, -9, 255, -256, 100, -100};
+    size_t w;
+    rng_state = 88u;
+    for (w = 0; w < sizeof widths / sizeof widths[0]; w++) {
+        int c = widths[w];
+        check_case(19 + (int)(w % 5u) * 7, c, 8, offsets[w % (sizeof offsets / sizeof offsets[0])],
+                   (int)(w % 6u), (int)(w & 3u), 0);
+        check_case(9 + (int)(w % 3u), c, 8, offsets[(w + 5u) % (sizeof offsets / sizeof offsets[0])],
+                   FILL_UNIFORM, 0, 1);
+    }
+}
+
 static void test_output_is_binary(void)
 {
     /* Output bytes are exactly 0 or 1 (covered by the comparisons above,
@@ -604,6 +663,7 @@ int main(void)
     RUN_TEST(test_thin_images);
     RUN_TEST(test_radius_beyond_image);
     RUN_TEST(test_wide_rows);
+    RUN_TEST(test_radius8_rows);
     RUN_TEST(test_every_width_and_radius);
     RUN_TEST(test_constant_and_extreme_images);
     RUN_TEST(test_wide_strides);

@@ -49,7 +49,13 @@
  *   USUB8 + SEL, 2 instructions (ACTAG_NO_DSP: the portable words), and the
  *   horizontal pass works by doubling, a word at a time: 10.9 instead of
  *   19.5 million instructions per 530 x 512 frame at R = 8 on a Cortex-M7 at
- *   -O2 (QEMU -icount, tools/budget). Every variant gives the same bytes.
+ *   -O2 (QEMU -icount, tools/budget). At R = 8 into a bitmap (the
+ *   detector's case) the DSP path goes further: the vertical prefix and
+ *   window extrema in one pass into edge-padded lines, then per row one
+ *   pass that takes each word's 17-wide window extrema from 4-sample ones,
+ *   thresholds and packs the bits (assembly loops when optimizing, for
+ *   268 to 1008 columns): 5.4 instead of 11.6 million instructions per
+ *   frame. Every variant gives the same bytes.
  *
  *   src and dst must not overlap (src == dst is rejected with
  *   ACTAG_ERR_PARAM; other overlaps are undefined behaviour).
