@@ -474,6 +474,26 @@ static void vertical_fused(uint8_t *restrict hmin, uint8_t *restrict hmax, uint8
 #define ROW_R8_ASM_MIN_N 268u
 #define ROW_R8_ASM_MAX_N 1008u
 
+/* One word of vertical_fused_asm's loop (the loop does two). */
+#define VERTICAL_FUSED_WORD                                                                  \
+    "ldr %[v], [%[rp]], #4\n\t"                                                              \
+    "ldr %[pn], [%[pp]]\n\t"                                                                 \
+    "ldr %[px], [%[pp], %[n]]\n\t"                                                           \
+    "usub8 %[s1], %[pn], %[v]\n\t"                                                           \
+    "sel %[pn], %[v], %[pn]\n\t"                                                             \
+    "usub8 %[s1], %[px], %[v]\n\t"                                                           \
+    "sel %[px], %[px], %[v]\n\t"                                                             \
+    "str %[px], [%[pp], %[n]]\n\t"                                                           \
+    "str %[pn], [%[pp]], #4\n\t"                                                             \
+    "ldr %[s1], [%[sp], %[sd]]\n\t"                                                          \
+    "ldr %[s2], [%[sp]], #4\n\t"                                                             \
+    "usub8 %[v], %[s2], %[pn]\n\t"                                                           \
+    "sel %[s2], %[pn], %[s2]\n\t"                                                            \
+    "usub8 %[v], %[s1], %[px]\n\t"                                                           \
+    "sel %[s1], %[s1], %[px]\n\t"                                                            \
+    "str %[s1], [%[hp], #1024]\n\t"                                                          \
+    "str %[s2], [%[hp]], #4\n\t"
+
 /* vertical_fused for the DSP path's lines in assembly (GCC's code for the
  * C loop keeps its seven pointers poorly): hmax = hmin + ROW_R8_D, pmax =
  * pmin + n, smax = smin + sdist. smin may be pmin (then sdist = n): it is
@@ -489,40 +509,7 @@ static void vertical_fused_asm(uint8_t *hmin, uint8_t *pmin, const uint8_t *smin
     const uint8_t *sp = smin;
     word_t v, pn, px, s1, s2;
     __asm__ volatile("1:\n\t"
-                     "ldr %[v], [%[rp]], #4\n\t"
-                     "ldr %[pn], [%[pp]]\n\t"
-                     "ldr %[px], [%[pp], %[n]]\n\t"
-                     "usub8 %[s1], %[pn], %[v]\n\t"
-                     "sel %[pn], %[v], %[pn]\n\t"
-                     "usub8 %[s1], %[px], %[v]\n\t"
-                     "sel %[px], %[px], %[v]\n\t"
-                     "str %[px], [%[pp], %[n]]\n\t"
-                     "str %[pn], [%[pp]], #4\n\t"
-                     "ldr %[s1], [%[sp], %[sd]]\n\t"
-                     "ldr %[s2], [%[sp]], #4\n\t"
-                     "usub8 %[v], %[s2], %[pn]\n\t"
-                     "sel %[s2], %[pn], %[s2]\n\t"
-                     "usub8 %[v], %[s1], %[px]\n\t"
-                     "sel %[s1], %[s1], %[px]\n\t"
-                     "str %[s1], [%[hp], #1024]\n\t"
-                     "str %[s2], [%[hp]], #4\n\t"
-                     "ldr %[v], [%[rp]], #4\n\t"
-                     "ldr %[pn], [%[pp]]\n\t"
-                     "ldr %[px], [%[pp], %[n]]\n\t"
-                     "usub8 %[s1], %[pn], %[v]\n\t"
-                     "sel %[pn], %[v], %[pn]\n\t"
-                     "usub8 %[s1], %[px], %[v]\n\t"
-                     "sel %[px], %[px], %[v]\n\t"
-                     "str %[px], [%[pp], %[n]]\n\t"
-                     "str %[pn], [%[pp]], #4\n\t"
-                     "ldr %[s1], [%[sp], %[sd]]\n\t"
-                     "ldr %[s2], [%[sp]], #4\n\t"
-                     "usub8 %[v], %[s2], %[pn]\n\t"
-                     "sel %[s2], %[pn], %[s2]\n\t"
-                     "usub8 %[v], %[s1], %[px]\n\t"
-                     "sel %[s1], %[s1], %[px]\n\t"
-                     "str %[s1], [%[hp], #1024]\n\t"
-                     "str %[s2], [%[hp]], #4\n\t"
+                     VERTICAL_FUSED_WORD VERTICAL_FUSED_WORD
                      "cmp %[rp], %[end]\n\t"
                      "bne 1b"
                      : [rp] "+&r"(rp), [pp] "+&r"(pp), [sp] "+&r"(sp), [hp] "+&r"(hp),
@@ -539,6 +526,18 @@ static void vertical_fused_asm(uint8_t *hmin, uint8_t *pmin, const uint8_t *smin
     }
 }
 
+/* One word of suffix_rows_asm's loop (the loop does two). */
+#define SUFFIX_ROWS_WORD                                                                     \
+    "ldr %[v], [%[rp]], #4\n\t"                                                              \
+    "ldr %[a], [%[mp], %[n]]\n\t"                                                            \
+    "ldr %[b], [%[xp], %[n]]\n\t"                                                            \
+    "usub8 %[t], %[a], %[v]\n\t"                                                             \
+    "sel %[a], %[v], %[a]\n\t"                                                               \
+    "usub8 %[t], %[b], %[v]\n\t"                                                             \
+    "sel %[b], %[b], %[v]\n\t"                                                               \
+    "str %[a], [%[mp]], #4\n\t"                                                              \
+    "str %[b], [%[xp]], #4\n\t"
+
 /* smin = min(smin + n, row), smax = max(smax + n, row) over n bytes (the
  * vertical block suffix extrema, one row up). Two words per loop, n >= 8;
  * the last n % 8 bytes in C. */
@@ -550,24 +549,7 @@ static void suffix_rows_asm(uint8_t *smin, uint8_t *smax, const uint8_t *row, si
     uint8_t *mp = smin, *xp = smax;
     word_t v, a, b, t;
     __asm__ volatile("1:\n\t"
-                     "ldr %[v], [%[rp]], #4\n\t"
-                     "ldr %[a], [%[mp], %[n]]\n\t"
-                     "ldr %[b], [%[xp], %[n]]\n\t"
-                     "usub8 %[t], %[a], %[v]\n\t"
-                     "sel %[a], %[v], %[a]\n\t"
-                     "usub8 %[t], %[b], %[v]\n\t"
-                     "sel %[b], %[b], %[v]\n\t"
-                     "str %[a], [%[mp]], #4\n\t"
-                     "str %[b], [%[xp]], #4\n\t"
-                     "ldr %[v], [%[rp]], #4\n\t"
-                     "ldr %[a], [%[mp], %[n]]\n\t"
-                     "ldr %[b], [%[xp], %[n]]\n\t"
-                     "usub8 %[t], %[a], %[v]\n\t"
-                     "sel %[a], %[v], %[a]\n\t"
-                     "usub8 %[t], %[b], %[v]\n\t"
-                     "sel %[b], %[b], %[v]\n\t"
-                     "str %[a], [%[mp]], #4\n\t"
-                     "str %[b], [%[xp]], #4\n\t"
+                     SUFFIX_ROWS_WORD SUFFIX_ROWS_WORD
                      "cmp %[rp], %[end]\n\t"
                      "bne 1b"
                      : [rp] "+&r"(rp), [mp] "+&r"(mp), [xp] "+&r"(xp), [v] "=&r"(v),
