@@ -179,13 +179,20 @@ static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, __m128i wmul, __m
 }
 
 /* fcells_on(im, gr, k, m, 1, skip), four cells at a time in row order (the
- * last group repeats the last cell in its spare lanes). */
+ * last group repeats the last cell in its spare lanes). Lane counters cx, cy
+ * step by 4 cells, wrapping at most once a row as n >= 5. */
 static void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int skip)
 {
-    int i, j, a, b, n = k + 1, nn = n * n, cx = 0, cy = 0;
+    int i, j, a, b, n = k + 1, nn = n * n;
     float g = 0.5f * (float)n;
     __m128 ou[3], ov[3], pu[3], pv[3];
+    __m128 half = _mm_set1_ps(0.5f), gv = _mm_set1_ps(g);
+    __m128 mx = _mm_set1_ps(gr->mx), my = _mm_set1_ps(gr->my);
+    __m128 ax = _mm_set1_ps(gr->ax), ay = _mm_set1_ps(gr->ay);
+    __m128 bx = _mm_set1_ps(gr->bx), by = _mm_set1_ps(gr->by);
     __m128i wmul = _mm_set1_epi32(1 | im->stride << 16);
+    __m128i cx = _mm_setr_epi32(0, 1, 2, 3), cy = _mm_setzero_si128();
+    __m128i nv = _mm_set1_epi32(n), last = _mm_set1_epi32(n - 1), four = _mm_set1_epi32(4);
     for (a = 0; a < 3; a++) {
         float u = (float)(a - 1) * im->so;
         ou[a] = _mm_set1_ps(gr->ax * u);
@@ -194,27 +201,36 @@ static void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int sk
         pv[a] = _mm_set1_ps(gr->by * u);
     }
     for (i = 0; i < nn; i += 4) {
-        float xs[4], ys[4], r[4];
-        __m128 x0, y0, s;
-        for (j = 0; j < 4; j++) {
-            float u0 = (float)cx + 0.5f - g, v0 = (float)cy + 0.5f - g;
-            xs[j] = gr->mx + gr->ax * u0 + gr->bx * v0;
-            ys[j] = gr->my + gr->ay * u0 + gr->by * v0;
-            if (i + j + 1 < nn && ++cx == n) {
-                cx = 0;
-                cy++;
-            }
+        float r[4];
+        __m128i lx = cx, ly = cy, wrap;
+        __m128 x0, y0, u0, v0, s;
+        if (i + 4 > nn) { /* lanes past the last cell (cy == n): the last cell */
+            __m128i over = _mm_cmpgt_epi32(ly, last);
+            lx = _mm_or_si128(_mm_andnot_si128(over, lx), _mm_and_si128(over, last));
+            ly = _mm_or_si128(_mm_andnot_si128(over, ly), _mm_and_si128(over, last));
         }
-        x0 = _mm_loadu_ps(xs);
-        y0 = _mm_loadu_ps(ys);
+        /* u0 = (float)cx + 0.5f - g, x0 = mx + ax * u0 + bx * v0 */
+        u0 = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(lx), half), gv);
+        v0 = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(ly), half), gv);
+        x0 = _mm_add_ps(_mm_add_ps(mx, _mm_mul_ps(ax, u0)), _mm_mul_ps(bx, v0));
+        y0 = _mm_add_ps(_mm_add_ps(my, _mm_mul_ps(ay, u0)), _mm_mul_ps(by, v0));
+        cx = _mm_add_epi32(cx, four);
+        wrap = _mm_cmpgt_epi32(cx, last);
+        cx = _mm_sub_epi32(cx, _mm_and_si128(wrap, nv));
+        cy = _mm_sub_epi32(cy, wrap);
         if (im->fast) {
             s = fcell5_4(im, gr, wmul, x0, y0);
         } else {
+            __m128 xa[3], ya[3]; /* x0 + ou[a], as the scalar sum's first step */
+            for (a = 0; a < 3; a++) {
+                xa[a] = _mm_add_ps(x0, ou[a]);
+                ya[a] = _mm_add_ps(y0, ov[a]);
+            }
             s = _mm_setzero_ps();
             for (b = 0; b < 3; b++)
                 for (a = 0; a < 3; a++)
-                    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(_mm_add_ps(x0, ou[a]), pu[b]),
-                                                  _mm_add_ps(_mm_add_ps(y0, ov[a]), pv[b])));
+                    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(xa[a], pu[b]),
+                                                  _mm_add_ps(ya[a], pv[b])));
             s = _mm_mul_ps(s, _mm_set1_ps(1.0f / 9.0f));
         }
         if (i + 4 <= nn) {
