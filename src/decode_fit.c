@@ -8,6 +8,10 @@
 
 #include <string.h>
 
+#if ACTAG__FIT_SIMD
+#include <emmintrin.h>
+#endif
+
 /* The affine tag grid: image point of grid point (u, v) is
  * m + a (u - g) + b (v - g), g the grid centre. */
 typedef struct fgrid {
@@ -19,6 +23,9 @@ typedef struct fimg {
     int rows, cols, stride;
     float so; /* sample offset, cells */
     int fast; /* 1: 5 samples per cell instead of 9 */
+#if ACTAG__FIT_SIMD
+    int simd; /* 1: the SSE2 sampler serves grids inside the frame (fsimd_ok) */
+#endif
 } fimg;
 
 /* Bilinear grey level at (x, y), pixel centres on integers; edge pixels
@@ -106,6 +113,144 @@ static inline float fcell5(const fimg *im, const fgrid *gr, int inside, float x0
     return s * 0.2f;
 }
 
+#if ACTAG__FIT_SIMD
+/* x86-64 (SSE2): the clamp-free reads of fcell5 and fcells_on four cells at
+ * a time, one cell per lane. Every lane does exactly the scalar code's
+ * float operations in the same order (vector addps / subps / mulps /
+ * cvttps2dq / cvtdq2ps round per lane as the scalar SSE instructions do,
+ * and fpmath.h rules out contraction), each cell's samples are summed in
+ * the scalar order, so the cell means are bit-identical
+ * (tests/test_decode_lattice.c compares them). Only for grids inside the
+ * frame (fsample_in's domain). */
+
+/* Can the lanes form a pixel's offset y * stride + x by one PMADDWD (signed
+ * 16-bit x, y and stride)? rows and cols are at most ACTAG_MAX_DIM. */
+static int fsimd_ok(int rows, int cols, int stride)
+{
+    return rows <= 32767 && cols <= 32767 && stride > 0 && stride <= 32767;
+}
+
+static inline int fld16(const uint8_t *p)
+{
+    uint16_t v;
+    memcpy(&v, p, sizeof v);
+    return (int)v;
+}
+
+/* fsample_in at four points (x, y) (wmul: 1 | stride << 16 per lane). Not
+ * inlined: the 9 or 5 inlined copies of a cell read spill many vectors
+ * (GCC 12 -O3: a 736-byte frame for fcells_simd, 496 without, same speed). */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static __m128 fsample4_in(const fimg *im, __m128i wmul, __m128 x, __m128 y)
+{
+    __m128i xi = _mm_cvttps_epi32(x), yi = _mm_cvttps_epi32(y), w, byte = _mm_set1_epi32(0xff);
+    __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(xi)), fy = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
+    __m128 v00, v01, v10, v11;
+    const uint8_t *p = im->img;
+    size_t st = (size_t)im->stride;
+    int o[4];
+    _mm_storeu_si128((__m128i *)(void *)o, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(yi, 16)), wmul));
+    /* lane i: bytes r0[0], r0[1], r1[0], r1[1] of its point */
+    w = _mm_cvtsi32_si128(fld16(p + o[0]));
+    w = _mm_insert_epi16(w, fld16(p + o[0] + st), 1);
+    w = _mm_insert_epi16(w, fld16(p + o[1]), 2);
+    w = _mm_insert_epi16(w, fld16(p + o[1] + st), 3);
+    w = _mm_insert_epi16(w, fld16(p + o[2]), 4);
+    w = _mm_insert_epi16(w, fld16(p + o[2] + st), 5);
+    w = _mm_insert_epi16(w, fld16(p + o[3]), 6);
+    w = _mm_insert_epi16(w, fld16(p + o[3] + st), 7);
+    v00 = _mm_cvtepi32_ps(_mm_and_si128(w, byte));
+    v01 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 8), byte));
+    v10 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 16), byte));
+    v11 = _mm_cvtepi32_ps(_mm_srli_epi32(w, 24));
+    v00 = _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v01, v00), fx));
+    v10 = _mm_add_ps(v10, _mm_mul_ps(_mm_sub_ps(v11, v10), fx));
+    return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
+}
+
+/* fcell5 (inside) of four cells centred at (x0, y0). */
+static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, __m128i wmul, __m128 x0, __m128 y0)
+{
+    __m128 dx1 = _mm_set1_ps(im->so * (gr->ax + gr->bx)), dy1 = _mm_set1_ps(im->so * (gr->ay + gr->by));
+    __m128 dx2 = _mm_set1_ps(im->so * (gr->ax - gr->bx)), dy2 = _mm_set1_ps(im->so * (gr->ay - gr->by));
+    __m128 s = fsample4_in(im, wmul, x0, y0);
+    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(x0, dx1), _mm_add_ps(y0, dy1)));
+    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_sub_ps(x0, dx1), _mm_sub_ps(y0, dy1)));
+    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(x0, dx2), _mm_add_ps(y0, dy2)));
+    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_sub_ps(x0, dx2), _mm_sub_ps(y0, dy2)));
+    return _mm_mul_ps(s, _mm_set1_ps(0.2f));
+}
+
+/* fcells_on(im, gr, k, m, 1, skip), four cells at a time in row order (the
+ * last group repeats the last cell in its spare lanes). Lane counters cx, cy
+ * step by 4 cells, wrapping at most once a row as n >= 5. */
+static void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int skip)
+{
+    int i, j, a, b, n = k + 1, nn = n * n;
+    float g = 0.5f * (float)n;
+    __m128 ou[3], ov[3], pu[3], pv[3];
+    __m128 half = _mm_set1_ps(0.5f), gv = _mm_set1_ps(g);
+    __m128 mx = _mm_set1_ps(gr->mx), my = _mm_set1_ps(gr->my);
+    __m128 ax = _mm_set1_ps(gr->ax), ay = _mm_set1_ps(gr->ay);
+    __m128 bx = _mm_set1_ps(gr->bx), by = _mm_set1_ps(gr->by);
+    __m128i wmul = _mm_set1_epi32(1 | im->stride << 16);
+    __m128i cx = _mm_setr_epi32(0, 1, 2, 3), cy = _mm_setzero_si128();
+    __m128i nv = _mm_set1_epi32(n), last = _mm_set1_epi32(n - 1), four = _mm_set1_epi32(4);
+    for (a = 0; a < 3; a++) {
+        float u = (float)(a - 1) * im->so;
+        ou[a] = _mm_set1_ps(gr->ax * u);
+        ov[a] = _mm_set1_ps(gr->ay * u);
+        pu[a] = _mm_set1_ps(gr->bx * u);
+        pv[a] = _mm_set1_ps(gr->by * u);
+    }
+    for (i = 0; i < nn; i += 4) {
+        float r[4];
+        __m128i lx = cx, ly = cy, wrap;
+        __m128 x0, y0, u0, v0, s;
+        if (i + 4 > nn) { /* lanes past the last cell (cy == n): the last cell */
+            __m128i over = _mm_cmpgt_epi32(ly, last);
+            lx = _mm_or_si128(_mm_andnot_si128(over, lx), _mm_and_si128(over, last));
+            ly = _mm_or_si128(_mm_andnot_si128(over, ly), _mm_and_si128(over, last));
+        }
+        /* u0 = (float)cx + 0.5f - g, x0 = mx + ax * u0 + bx * v0 */
+        u0 = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(lx), half), gv);
+        v0 = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(ly), half), gv);
+        x0 = _mm_add_ps(_mm_add_ps(mx, _mm_mul_ps(ax, u0)), _mm_mul_ps(bx, v0));
+        y0 = _mm_add_ps(_mm_add_ps(my, _mm_mul_ps(ay, u0)), _mm_mul_ps(by, v0));
+        cx = _mm_add_epi32(cx, four);
+        wrap = _mm_cmpgt_epi32(cx, last);
+        cx = _mm_sub_epi32(cx, _mm_and_si128(wrap, nv));
+        cy = _mm_sub_epi32(cy, wrap);
+        if (im->fast) {
+            s = fcell5_4(im, gr, wmul, x0, y0);
+        } else {
+            __m128 xa[3], ya[3]; /* x0 + ou[a], as the scalar sum's first step */
+            for (a = 0; a < 3; a++) {
+                xa[a] = _mm_add_ps(x0, ou[a]);
+                ya[a] = _mm_add_ps(y0, ov[a]);
+            }
+            s = _mm_setzero_ps();
+            for (b = 0; b < 3; b++)
+                for (a = 0; a < 3; a++)
+                    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(xa[a], pu[b]),
+                                                  _mm_add_ps(ya[a], pv[b])));
+            s = _mm_mul_ps(s, _mm_set1_ps(1.0f / 9.0f));
+        }
+        if (i + 4 <= nn) {
+            _mm_storeu_ps(m + i, s);
+        } else {
+            _mm_storeu_ps(r, s);
+            for (j = 0; i + j < nn; j++)
+                m[i + j] = r[j];
+        }
+    }
+    if (skip) /* erased data corners: not read */
+        m[0] = m[k] = m[k * n] = m[k * n + k] = 0.0f;
+}
+#endif
+
 /* fcells() on one sampler (inside: the clamp-free one). */
 static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside,
                              int skip)
@@ -145,6 +290,12 @@ static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, i
  * m[cy * (k+1) + cx]. */
 static void fcells_x(const fimg *im, const fgrid *gr, int k, float *m, int skip)
 {
+#if ACTAG__FIT_SIMD
+    if (im->simd && fgrid_inside(im, gr, k)) {
+        fcells_simd(im, gr, k, m, skip);
+        return;
+    }
+#endif
     /* two copies of the loops, one per sampler (constant inside) */
     if (fgrid_inside(im, gr, k))
         fcells_on(im, gr, k, m, 1, skip);
@@ -230,12 +381,47 @@ static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
  * lattice, (k+3-pi) x (k+3-pj) points: Q[r * FIT_LAT_MAX + c] is lattice
  * column 2c + pi, row 2r + pj. The sample points equal those of the shifted
  * grids up to the rounding of their coordinates. */
+#if ACTAG__FIT_SIMD
+/* flattice of a grid inside the frame, four lattice points at a time in
+ * row order (the last group repeats the last point in its spare lanes). */
+static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q)
+{
+    int i, j, n = k + 1, nc = n + 2 - pi, nq = (n + 2 - pj) * nc, c = 0, r = 0;
+    float g = 0.5f * (float)n;
+    __m128i wmul = _mm_set1_epi32(1 | im->stride << 16);
+    for (i = 0; i < nq; i += 4) {
+        float xs[4], ys[4], q[4];
+        int at[4];
+        for (j = 0; j < 4; j++) {
+            float u = (float)c + 0.5f * (float)pi - 0.5f - g;
+            float v = (float)r + 0.5f * (float)pj - 0.5f - g;
+            xs[j] = gr->mx + gr->ax * u + gr->bx * v;
+            ys[j] = gr->my + gr->ay * u + gr->by * v;
+            at[j] = r * FIT_LAT_MAX + c;
+            if (i + j + 1 < nq && ++c == nc) {
+                c = 0;
+                r++;
+            }
+        }
+        _mm_storeu_ps(q, fcell5_4(im, gr, wmul, _mm_loadu_ps(xs), _mm_loadu_ps(ys)));
+        for (j = 0; j < 4 && i + j < nq; j++)
+            Q[at[j]] = q[j];
+    }
+}
+#endif
+
 static void flattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q)
 {
     int c, r, n = k + 1;
     float g = 0.5f * (float)n;
     /* the union of the shifted grids' sample points lies within g + 1 + so */
     int inside = fgrid_inside_h(im, gr, g + 1.0f + im->so);
+#if ACTAG__FIT_SIMD
+    if (inside && im->simd) {
+        flattice_simd(im, gr, k, pi, pj, Q);
+        return;
+    }
+#endif
     for (r = 0; r < n + 2 - pj; r++)
         for (c = 0; c < n + 2 - pi; c++) {
             float u = (float)c + 0.5f * (float)pi - 0.5f - g;
@@ -272,6 +458,9 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
     im.stride = stride;
     im.so = so;
     im.fast = 1;
+#if ACTAG__FIT_SIMD
+    im.simd = fsimd_ok(rows, cols, stride);
+#endif
     gr.mx = g[0];
     gr.my = g[1];
     gr.ax = g[2];
@@ -286,6 +475,50 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
     fcells(&im, &t, k, direct);
     return ACTAG_OK;
 }
+
+#if ACTAG__FIT_SIMD
+/* Test hook (tests/test_decode_lattice.c): decode_fit_test.h. */
+int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                          int k, float so, int what, float *portable, float *simd)
+{
+    fimg im;
+    fgrid gr;
+    float Q[FIT_LAT_MAX * FIT_LAT_MAX];
+    int pass, pi = what & 1, pj = (what >> 1) & 1, n = k + 1, r, c;
+    if (k < 4 || k > ACTAG_DECODE_MAX_K || what < 0 || what > 7 || what == 3 ||
+        !fsimd_ok(rows, cols, stride))
+        return ACTAG_ERR_PARAM;
+    im.img = img;
+    im.rows = rows;
+    im.cols = cols;
+    im.stride = stride;
+    im.so = so;
+    im.fast = what == 1 || what >= 4;
+    gr.mx = g[0];
+    gr.my = g[1];
+    gr.ax = g[2];
+    gr.ay = g[3];
+    gr.bx = g[4];
+    gr.by = g[5];
+    if (what < 4 ? !fgrid_inside(&im, &gr, k)
+                 : !fgrid_inside_h(&im, &gr, 0.5f * (float)n + 1.0f + im.so))
+        return ACTAG_ERR_PARAM;
+    for (pass = 0; pass < 2; pass++) {
+        float *out = pass ? simd : portable;
+        im.simd = pass;
+        if (what < 4) {
+            fcells_x(&im, &gr, k, out, what == 2);
+            continue;
+        }
+        memset(Q, pass ? 0x5a : 0xa5, sizeof Q); /* no value left from the other pass */
+        flattice(&im, &gr, k, pi, pj, Q);
+        for (r = 0; r < n + 2 - pj; r++)
+            for (c = 0; c < n + 2 - pi; c++)
+                *out++ = Q[r * FIT_LAT_MAX + c];
+    }
+    return ACTAG_OK;
+}
+#endif
 
 /* Coarse translation search (+-1 cell, quarter-cell steps) by fscore. */
 static void fshift(const fimg *im, fgrid *gr, int k, float *m)
@@ -923,6 +1156,9 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     im.stride = stride;
     im.so = fp->sample_offset;
     im.fast = 0;
+#if ACTAG__FIT_SIMD
+    im.simd = fsimd_ok(rows, cols, stride);
+#endif
     gr.ax = H[0];
     gr.bx = H[1];
     gr.ay = H[3];

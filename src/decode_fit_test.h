@@ -15,4 +15,18 @@
 int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                            int k, float so, int i, int j, float *lat, float *direct);
 
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
+#define ACTAG__FIT_SIMD 1
+/* The SSE2 cell reads against the portable ones, bit for bit: what 0: the
+ * 9-sample cell means, 1: the 5-sample ones (fcell5), 2: 9 samples with the
+ * data corners erased (fcells_x's skip), 4 + pi + 2 pj: the half-cell
+ * lattice of parity class (pi, pj) (flattice, (k+3-pi) x (k+3-pj) points in
+ * row order). Grid and image as for actag__fit_shift_cells; portable and
+ * simd receive the same number of floats (at most (k+3)^2). ACTAG_OK, or
+ * ACTAG_ERR_PARAM for bad arguments and for grids whose samples leave the
+ * frame (the SIMD path does not serve them). */
+int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                          int k, float so, int what, float *portable, float *simd);
+#endif
+
 #endif

@@ -116,6 +116,61 @@ static void test_lattice_exact_on_pixel_grid(void)
     TEST_ASSERT_EQUAL_FLOAT(0.0f, compare(img, g, 6, 0.25f));
 }
 
+#if ACTAG__FIT_SIMD
+#define BR 530
+#define BC 700
+#define BS 712
+
+/* The x86-64 SSE2 cell reads (four cells a lane each) against the portable
+ * scalar reads, bit for bit: 9-sample cells, 5-sample cells, erased data
+ * corners and the four lattice parity classes, on random grids wholly
+ * inside a large frame of random bytes (row padding filled too: a wrong
+ * offset or lane order reads other bytes), some on quarter-pixel
+ * coordinates (bilinear weights 0 and exact sums). */
+static void test_simd_cells_equal_portable(void)
+{
+    static uint8_t img[BR * BS];
+    static const int whats[7] = {0, 1, 2, 4, 5, 6, 7};
+    uint32_t s = 2718u;
+    int trial, i, ok = 0, nonzero = 0;
+    for (i = 0; i < BR * BS; i++)
+        img[i] = (uint8_t)(lcg(&s) & 255u);
+    for (trial = 0; trial < 3000; trial++) {
+        int k = 4 + (int)(lcg(&s) % 5u), what = whats[lcg(&s) % 7u], n = k + 1, cnt, c, rc;
+        float cell = unif(&s, 0.7f, 12.0f), th = unif(&s, 0.0f, 6.2831853f);
+        float sh = unif(&s, -0.5f, 0.5f), so = unif(&s, 0.0f, 0.5f), g[6];
+        float a[(ACTAG_DECODE_MAX_K + 3) * (ACTAG_DECODE_MAX_K + 3)];
+        float b[(ACTAG_DECODE_MAX_K + 3) * (ACTAG_DECODE_MAX_K + 3)];
+        g[2] = cell * cosf(th);
+        g[3] = cell * sinf(th);
+        g[4] = -cell * sinf(th) + sh * g[2];
+        g[5] = cell * cosf(th) + sh * g[3];
+        g[0] = unif(&s, 0.0f, (float)BC);
+        g[1] = unif(&s, 0.0f, (float)BR);
+        if (trial % 4 == 0) /* quarter-pixel points: axis-aligned, quarter-pixel cells */
+            for (c = 0; c < 6; c++)
+                g[c] = c == 3 || c == 4 ? 0.0f : floorf(g[c] * 4.0f) * 0.25f;
+        memset(a, 0xa5, sizeof a);
+        memset(b, 0x5a, sizeof b);
+        rc = actag__fit_simd_cells(img, BR, BC, BS, g, k, so, what, a, b);
+        if (rc != ACTAG_OK)
+            continue; /* a grid leaving the frame: the portable reads serve it */
+        ok++;
+        cnt = what < 4 ? n * n : (n + 2 - (what & 1)) * (n + 2 - ((what >> 1) & 1));
+        TEST_ASSERT_EQUAL_MEMORY(a, b, (size_t)cnt * sizeof(float));
+        for (c = 0; c < cnt; c++)
+            nonzero += a[c] != 0.0f;
+    }
+    TEST_ASSERT_TRUE(ok > 2000); /* most grids served */
+    TEST_ASSERT_TRUE(nonzero > 50 * ok);
+}
+#else
+static void test_simd_cells_equal_portable(void)
+{
+    TEST_IGNORE_MESSAGE("no SIMD cell reads in this build");
+}
+#endif
+
 static void test_lattice_hook_rejects_bad_arguments(void)
 {
     static uint8_t img[R * C];
@@ -123,6 +178,15 @@ static void test_lattice_hook_rejects_bad_arguments(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 9, 0.2f, 0, 0, a, b));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 6, 0.2f, 3, 0, a, b));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 6, 0.2f, 0, -3, a, b));
+#if ACTAG__FIT_SIMD
+    {
+        float far[6] = {3.0f, 48.0f, 4.0f, 0.0f, 0.0f, 4.0f}; /* crosses the left edge */
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__fit_simd_cells(img, R, C, C, g, 6, 0.2f, 0, a, b));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_simd_cells(img, R, C, C, g, 6, 0.2f, 3, a, b));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_simd_cells(img, R, C, C, g, 9, 0.2f, 0, a, b));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_simd_cells(img, R, C, C, far, 6, 0.2f, 0, a, b));
+    }
+#endif
 }
 
 int main(void)
@@ -131,6 +195,7 @@ int main(void)
     RUN_TEST(test_lattice_equals_direct_inside);
     RUN_TEST(test_lattice_equals_direct_at_edges);
     RUN_TEST(test_lattice_exact_on_pixel_grid);
+    RUN_TEST(test_simd_cells_equal_portable);
     RUN_TEST(test_lattice_hook_rejects_bad_arguments);
     return UNITY_END();
 }
