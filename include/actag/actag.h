@@ -156,14 +156,14 @@ typedef struct actag_limits {
     int max_frame_iterations;   /* RANSAC iterations per frame (default 6000)
                                    (stats.frame_budget) */
     int max_decodes;            /* decoder calls per frame: quads, search candidates and
-                                   extreme-point guesses (default 48) (stats.decode_cap) */
+                                   extreme-point guesses (default 40) (stats.decode_cap) */
 } actag_limits;
 
 #define ACTAG_LIMIT_CONTOURS 20000
 #define ACTAG_LIMIT_CONTOUR_POINTS 4096
 #define ACTAG_LIMIT_CONTOUR_ITERATIONS 1000
 #define ACTAG_LIMIT_FRAME_ITERATIONS 6000
-#define ACTAG_LIMIT_DECODES 48
+#define ACTAG_LIMIT_DECODES 40
 
 /* Tuning of the pipeline stages: the values the defaults were measured with
  * (see DEFAULTS AND WHY below). actag_tuning_default() fills them; most
