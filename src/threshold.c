@@ -662,6 +662,57 @@ static uint32_t ge_top4(word_t a, word_t b)
                      : [end] "r"(end), [offw] "r"(offw)                                      \
                      : "cc", "memory")
 
+/* One step of ROW_R8_ASM32: m4(j + 8) of the minima into operand AN, of
+ * the maxima into BN, the previous step's in AP and BP; the loop runs it
+ * twice with the roles swapped, so no register moves. */
+#define ROW_R8_ASM32_STEP(CMP, AN, AP, BN, BP)                                               \
+    "ldr %[h0], [%[p], #12]\n\t"                                                             \
+    "ldr %[h1], [%[p], #13]\n\t"                                                             \
+    "usub8 %[h2], %[h0], %[h1]\n\t"                                                          \
+    "sel %[h2], %[h1], %[h0]\n\t"                                                            \
+    "ldr %[h0], [%[p], #14]\n\t"                                                             \
+    "usub8 %[h1], %[h2], %[h0]\n\t"                                                          \
+    "sel %[h1], %[h0], %[h2]\n\t"                                                            \
+    "ldr %[h0], [%[p], #15]\n\t"                                                             \
+    "usub8 %[" AN "], %[h1], %[h0]\n\t"                                                      \
+    "sel %[" AN "], %[h0], %[h1]\n\t"                                                        \
+    "usub8 %[h1], %[" AP "], %[" AN "]\n\t"                                                  \
+    "sel %[h1], %[" AN "], %[" AP "]\n\t"                                                    \
+    "ldr %[h0], [%[p]]\n\t"                                                                  \
+    "str %[h1], [%[p], #8]\n\t"                                                              \
+    "usub8 %[h2], %[h0], %[h1]\n\t"                                                          \
+    "sel %[h2], %[h1], %[h0]\n\t"                                                            \
+    "ldr %[h0], [%[p], #16]\n\t"                                                             \
+    "usub8 %[h3], %[h2], %[h0]\n\t"                                                          \
+    "sel %[h3], %[h0], %[h2]\n\t"                                                            \
+    "ldr %[h0], [%[p], #1036]\n\t"                                                           \
+    "ldr %[h1], [%[p], #1037]\n\t"                                                           \
+    "usub8 %[h2], %[h0], %[h1]\n\t"                                                          \
+    "sel %[h2], %[h0], %[h1]\n\t"                                                            \
+    "ldr %[h0], [%[p], #1038]\n\t"                                                           \
+    "usub8 %[h1], %[h2], %[h0]\n\t"                                                          \
+    "sel %[h1], %[h2], %[h0]\n\t"                                                            \
+    "ldr %[h0], [%[p], #1039]\n\t"                                                           \
+    "usub8 %[" BN "], %[h1], %[h0]\n\t"                                                      \
+    "sel %[" BN "], %[h1], %[h0]\n\t"                                                        \
+    "usub8 %[h1], %[" BP "], %[" BN "]\n\t"                                                  \
+    "sel %[h1], %[" BP "], %[" BN "]\n\t"                                                    \
+    "ldr %[h0], [%[p], #1024]\n\t"                                                           \
+    "str %[h1], [%[p], #1032]\n\t"                                                           \
+    "usub8 %[h2], %[h0], %[h1]\n\t"                                                          \
+    "sel %[h2], %[h0], %[h1]\n\t"                                                            \
+    "ldr %[h0], [%[p], #1040]\n\t"                                                           \
+    "usub8 %[h1], %[h2], %[h0]\n\t"                                                          \
+    "sel %[h1], %[h2], %[h0]\n\t"                                                            \
+    "uhsub8 %[h0], %[h3], %[h1]\n\t"                                                         \
+    "usub8 %[h2], %[h3], %[h0]\n\t"                                                          \
+    "ldr %[h0], [%[p], %[dx]]\n\t"                                                           \
+    CMP                                                                                      \
+    "mrs %[h0], APSR\n\t"                                                                    \
+    "lsl %[h0], %[h0], #12\n\t"                                                              \
+    "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                                  \
+    "adds %[p], %[p], #4\n\t"
+
 /* Whole words of 32 pixels from p to end (p 32-byte aligned, end - p a
  * positive multiple of 32), two steps per loop, with the two steps'
  * m4(j + 8) in swapped registers (no moves) and 3 temporaries besides the
@@ -670,98 +721,8 @@ static uint32_t ge_top4(word_t a, word_t b)
 #define ROW_R8_ASM32(CMP)                                                                    \
     __asm__ volatile("sub %[dx], %[dx], %[p]\n"                                              \
                      "1:\n\t"                                                                \
-                     "ldr %[h0], [%[p], #12]\n\t"                                            \
-                     "ldr %[h1], [%[p], #13]\n\t"                                            \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
-                     "ldr %[h0], [%[p], #14]\n\t"                                            \
-                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h1], %[h0], %[h2]\n\t"                                           \
-                     "ldr %[h0], [%[p], #15]\n\t"                                            \
-                     "usub8 %[anB], %[h1], %[h0]\n\t"                                        \
-                     "sel %[anB], %[h0], %[h1]\n\t"                                          \
-                     "usub8 %[h1], %[anA], %[anB]\n\t"                                       \
-                     "sel %[h1], %[anB], %[anA]\n\t"                                         \
-                     "ldr %[h0], [%[p]]\n\t"                                                 \
-                     "str %[h1], [%[p], #8]\n\t"                                             \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
-                     "ldr %[h0], [%[p], #16]\n\t"                                            \
-                     "usub8 %[h3], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h3], %[h0], %[h2]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1036]\n\t"                                          \
-                     "ldr %[h1], [%[p], #1037]\n\t"                                          \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1038]\n\t"                                          \
-                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1039]\n\t"                                          \
-                     "usub8 %[bxB], %[h1], %[h0]\n\t"                                        \
-                     "sel %[bxB], %[h1], %[h0]\n\t"                                          \
-                     "usub8 %[h1], %[bxA], %[bxB]\n\t"                                       \
-                     "sel %[h1], %[bxA], %[bxB]\n\t"                                         \
-                     "ldr %[h0], [%[p], #1024]\n\t"                                          \
-                     "str %[h1], [%[p], #1032]\n\t"                                          \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1040]\n\t"                                          \
-                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
-                     "uhsub8 %[h0], %[h3], %[h1]\n\t"                                        \
-                     "usub8 %[h2], %[h3], %[h0]\n\t"                                         \
-                     "ldr %[h0], [%[p], %[dx]]\n\t"                                          \
-                     CMP                                                                     \
-                     "mrs %[h0], APSR\n\t"                                                   \
-                     "lsl %[h0], %[h0], #12\n\t"                                             \
-                     "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                 \
-                     "adds %[p], %[p], #4\n\t"                                               \
-                     "ldr %[h0], [%[p], #12]\n\t"                                            \
-                     "ldr %[h1], [%[p], #13]\n\t"                                            \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
-                     "ldr %[h0], [%[p], #14]\n\t"                                            \
-                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h1], %[h0], %[h2]\n\t"                                           \
-                     "ldr %[h0], [%[p], #15]\n\t"                                            \
-                     "usub8 %[anA], %[h1], %[h0]\n\t"                                        \
-                     "sel %[anA], %[h0], %[h1]\n\t"                                          \
-                     "usub8 %[h1], %[anB], %[anA]\n\t"                                       \
-                     "sel %[h1], %[anA], %[anB]\n\t"                                         \
-                     "ldr %[h0], [%[p]]\n\t"                                                 \
-                     "str %[h1], [%[p], #8]\n\t"                                             \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h1], %[h0]\n\t"                                           \
-                     "ldr %[h0], [%[p], #16]\n\t"                                            \
-                     "usub8 %[h3], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h3], %[h0], %[h2]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1036]\n\t"                                          \
-                     "ldr %[h1], [%[p], #1037]\n\t"                                          \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1038]\n\t"                                          \
-                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1039]\n\t"                                          \
-                     "usub8 %[bxA], %[h1], %[h0]\n\t"                                        \
-                     "sel %[bxA], %[h1], %[h0]\n\t"                                          \
-                     "usub8 %[h1], %[bxB], %[bxA]\n\t"                                       \
-                     "sel %[h1], %[bxB], %[bxA]\n\t"                                         \
-                     "ldr %[h0], [%[p], #1024]\n\t"                                          \
-                     "str %[h1], [%[p], #1032]\n\t"                                          \
-                     "usub8 %[h2], %[h0], %[h1]\n\t"                                         \
-                     "sel %[h2], %[h0], %[h1]\n\t"                                           \
-                     "ldr %[h0], [%[p], #1040]\n\t"                                          \
-                     "usub8 %[h1], %[h2], %[h0]\n\t"                                         \
-                     "sel %[h1], %[h2], %[h0]\n\t"                                           \
-                     "uhsub8 %[h0], %[h3], %[h1]\n\t"                                        \
-                     "usub8 %[h2], %[h3], %[h0]\n\t"                                         \
-                     "ldr %[h0], [%[p], %[dx]]\n\t"                                          \
-                     CMP                                                                     \
-                     "mrs %[h0], APSR\n\t"                                                   \
-                     "lsl %[h0], %[h0], #12\n\t"                                             \
-                     "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                 \
-                     "adds %[p], %[p], #4\n\t"                                               \
+                     ROW_R8_ASM32_STEP(CMP, "anB", "anA", "bxB", "bxA")                      \
+                     ROW_R8_ASM32_STEP(CMP, "anA", "anB", "bxA", "bxB")                      \
                      "tst %[p], #31\n\t"                                                     \
                      "bne 1b\n\t"                                                            \
                      "str %[acc], [%[p], #-4]\n\t"                                           \
@@ -820,6 +781,7 @@ static void row_r8_steps_asm(uint8_t *p, const uint8_t *end, const uint8_t *x, w
 }
 #undef ROW_R8_ASM
 #undef ROW_R8_ASM32
+#undef ROW_R8_ASM32_STEP
 #undef ROW_R8_ASM_STEP
 #undef ROW_R8_ASM_OPERANDS
 #endif
