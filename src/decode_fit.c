@@ -441,6 +441,29 @@ static void flattice_cells(const float *Q, int k, int i, int j, float *m)
             m[cy * n + cx] = Q[(cy + oj) * FIT_LAT_MAX + cx + oi];
 }
 
+/* The test hooks' sampler and grid: the frame, sample offset so (5
+ * samples a cell, SIMD where the frame allows) and g = {mx, my, ax, ay,
+ * bx, by}. */
+static void fhook_setup(const uint8_t *img, int rows, int cols, int stride, float so,
+                        const float g[6], fimg *im, fgrid *gr)
+{
+    im->img = img;
+    im->rows = rows;
+    im->cols = cols;
+    im->stride = stride;
+    im->so = so;
+    im->fast = 1;
+#if ACTAG__FIT_SIMD
+    im->simd = fsimd_ok(rows, cols, stride);
+#endif
+    gr->mx = g[0];
+    gr->my = g[1];
+    gr->ax = g[2];
+    gr->ay = g[3];
+    gr->bx = g[4];
+    gr->by = g[5];
+}
+
 /* Test hook (tests/test_decode_lattice.c): the cell means of grid g =
  * {mx, my, ax, ay, bx, by} shifted by (i/2, j/2) cells, from the lattice
  * (lat) and read directly (direct), 5 samples a cell. */
@@ -452,21 +475,7 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
     float Q[FIT_LAT_MAX * FIT_LAT_MAX];
     if (k < 4 || k > ACTAG_DECODE_MAX_K || i < -2 || i > 2 || j < -2 || j > 2)
         return ACTAG_ERR_PARAM;
-    im.img = img;
-    im.rows = rows;
-    im.cols = cols;
-    im.stride = stride;
-    im.so = so;
-    im.fast = 1;
-#if ACTAG__FIT_SIMD
-    im.simd = fsimd_ok(rows, cols, stride);
-#endif
-    gr.mx = g[0];
-    gr.my = g[1];
-    gr.ax = g[2];
-    gr.ay = g[3];
-    gr.bx = g[4];
-    gr.by = g[5];
+    fhook_setup(img, rows, cols, stride, so, g, &im, &gr);
     flattice(&im, &gr, k, i & 1, j & 1, Q);
     flattice_cells(Q, k, i, j, lat);
     t = gr;
@@ -488,18 +497,8 @@ int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, co
     if (k < 4 || k > ACTAG_DECODE_MAX_K || what < 0 || what > 7 || what == 3 ||
         !fsimd_ok(rows, cols, stride))
         return ACTAG_ERR_PARAM;
-    im.img = img;
-    im.rows = rows;
-    im.cols = cols;
-    im.stride = stride;
-    im.so = so;
+    fhook_setup(img, rows, cols, stride, so, g, &im, &gr);
     im.fast = what == 1 || what >= 4;
-    gr.mx = g[0];
-    gr.my = g[1];
-    gr.ax = g[2];
-    gr.ay = g[3];
-    gr.bx = g[4];
-    gr.by = g[5];
     if (what < 4 ? !fgrid_inside(&im, &gr, k)
                  : !fgrid_inside_h(&im, &gr, 0.5f * (float)n + 1.0f + im.so))
         return ACTAG_ERR_PARAM;
