@@ -46,9 +46,11 @@ int actag_adaptive_threshold_bitmap_portable(const uint8_t *src, int rows, int c
 #define ACTAG_NO_SIMD 1
 #define actag_median_filter actag_median_filter_portable
 #define actag_median_filter16 actag_median_filter16_portable
+#define actag__median_filter16_max actag__median_filter16_max_portable
 #include "../src/median.c"
 #undef actag_median_filter
 #undef actag_median_filter16
+#undef actag__median_filter16_max
 #define actag_adaptive_threshold actag_adaptive_threshold_portable
 #define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_portable
 #include "../src/threshold.c"

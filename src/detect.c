@@ -457,7 +457,8 @@ static void trace_contour(const tracer *tr, int outcome, const actag_ipoint *pts
 
 static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry *geometry,
                            const actag_params *params,
-                           const ws_layout *wl, int rows, int cols, int flip_mirror,
+                           const ws_layout *wl, uint32_t max16, int rows, int cols,
+                           int flip_mirror,
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr);
 
@@ -472,14 +473,18 @@ static void resolve_params(const actag_params *params, actag_params *pe)
 }
 
 /* 1. median filter: the frame -> B (16-bit frames scaled to 8 bits a row at
- * a time inside the median's scratch). B is not written again by any later
- * stage, so several parameter sets can share it. */
+ * a time inside the median's scratch, by the frame's maximum, *max16, which
+ * the corner refinement uses again; 0 for 8-bit frames). B is not written
+ * again by any later stage, so several parameter sets can share it. */
 static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, int cols,
-                        int median_radius)
+                        int median_radius, uint32_t *max16)
 {
-    if (frame->depth == 16)
-        return actag_median_filter16(frame->data, rows, cols, frame->stride, w->b, cols,
-                                     median_radius, w->s, w->s_size);
+    *max16 = 0u;
+    if (frame->depth == 16) {
+        *max16 = frame16_max((const uint8_t *)frame->data, rows, cols, (size_t)frame->stride);
+        return actag__median_filter16_max(frame->data, *max16, rows, cols, frame->stride, w->b,
+                                          cols, median_radius, w->s, w->s_size);
+    }
     return actag_median_filter((const uint8_t *)frame->data, rows, cols, frame->stride, w->b,
                                cols, median_radius, w->s, w->s_size);
 }
@@ -511,6 +516,7 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
     tracer tr;
     actag_params pe;
     ws_layout w;
+    uint32_t max16;
     int rc, rows, cols, flip_mirror;
 
     if (stats)
@@ -524,20 +530,21 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
     cols = frame->cols;
     resolve_params(params, &pe);
     ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, pe.tuning.median_radius);
+    rc = filter_frame(frame, &w, rows, cols, pe.tuning.median_radius, &max16);
     if (rc != ACTAG_OK)
         return rc;
     flip_mirror = mirror_flip(geometry, cols);
     tr.fn = trace;
     tr.user = user;
-    return detect_filtered(frame, geometry, &pe, &w, rows, cols, flip_mirror, out, max_out, stats,
-                           trace ? &tr : NULL);
+    return detect_filtered(frame, geometry, &pe, &w, max16, rows, cols, flip_mirror, out, max_out,
+                           stats, trace ? &tr : NULL);
 }
 
 /* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */
 static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry *geometry,
                            const actag_params *params,
-                           const ws_layout *wl, int rows, int cols, int flip_mirror,
+                           const ws_layout *wl, uint32_t max16, int rows, int cols,
+                           int flip_mirror,
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr)
 {
@@ -767,16 +774,12 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     for (k = 0; k < nsk; k++)
         if (!sk_used[k])
             record(out, max_out, &nout, &st, &sk[k]);
-    /* 7. the reported tags' corners refined on the filtered frame (refine.h);
-     * which tags, IDs, handedness and corner order stay as they are */
-    if (params->tuning.refine_corners && nout > 0 && max_out > 0) {
-        /* a 16-bit frame's 8-bit scale: one scan for all the tags */
-        uint32_t max16 = frame->depth == 16 ? frame16_max((const uint8_t *)frame->data, rows, cols,
-                                                          (size_t)frame->stride)
-                                            : 0u;
+    /* 7. the reported tags' corners refined on the caller's frame (refine.h;
+     * a 16-bit frame at the median's scale, max16); which tags, IDs,
+     * handedness and corner order stay as they are */
+    if (params->tuning.refine_corners)
         for (k = 0; k < nout && k < max_out; k++)
             refine_det(&out[k], frame, max16, geometry, params);
-    }
     if (stats)
         *stats = st;
     return nout;
@@ -788,6 +791,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
                        int *counts)
 {
     ws_layout w;
+    uint32_t max16;
     int rc, rows, cols, flip_mirror, i;
     if (params == NULL || workspace == NULL || counts == NULL ||
         (out == NULL && max_out_each > 0))
@@ -804,14 +808,14 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
     rows = frame->rows;
     cols = frame->cols;
     ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, params[0].tuning.median_radius);
+    rc = filter_frame(frame, &w, rows, cols, params[0].tuning.median_radius, &max16);
     if (rc != ACTAG_OK)
         return rc;
     flip_mirror = mirror_flip(geometry, cols);
     for (i = 0; i < nparams; i++) {
         actag_params pe;
         resolve_params(&params[i], &pe);
-        rc = detect_filtered(frame, geometry, &pe, &w, rows, cols, flip_mirror,
+        rc = detect_filtered(frame, geometry, &pe, &w, max16, rows, cols, flip_mirror,
                              out ? out + (size_t)i * (size_t)max_out_each : NULL, max_out_each,
                              NULL, NULL);
         if (rc < 0)

@@ -30,4 +30,12 @@ static inline uint32_t frame16_max(const uint8_t *src, int rows, int cols, size_
     return mx;
 }
 
+/* actag_median_filter16() (median.h) for a frame whose largest sample is
+ * max16 (0: scan the frame for it, as actag_median_filter16 does): the same
+ * results. actag_detect scans a 16-bit frame once for the median and the
+ * corner refinement (refine_frame.h). */
+int actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
+                               int src_stride, uint8_t *dst, int dst_stride, int radius,
+                               void *scratch, size_t scratch_size);
+
 #endif

@@ -111,10 +111,9 @@ static int row_slot(const rowsrc *rs, const uint8_t *p)
     return rs->src8 != NULL ? -1 : (int)((size_t)(p - rs->ring) / rs->cols);
 }
 
-/* Sets up the 16-bit scaling: the frame's maximum, the multiplier. */
-static void rowsrc_init16(rowsrc *rs, const uint8_t *src, int rows, int cols, size_t stride)
+/* Sets up the 16-bit scaling by the frame's maximum mx: the multiplier. */
+static void rowsrc_init16(rowsrc *rs, const uint8_t *src, size_t stride, uint32_t mx)
 {
-    uint32_t mx = frame16_max(src, rows, cols, stride);
     unsigned l = 0;
     int r;
     rs->src8 = NULL;
@@ -1303,12 +1302,22 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
 int actag_median_filter16(const void *src, int rows, int cols, int src_stride, uint8_t *dst,
                           int dst_stride, int radius, void *scratch, size_t scratch_size)
 {
+    return actag__median_filter16_max(src, 0u, rows, cols, src_stride, dst, dst_stride, radius,
+                                      scratch, scratch_size);
+}
+
+int actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
+                               int src_stride, uint8_t *dst, int dst_stride, int radius,
+                               void *scratch, size_t scratch_size)
+{
     rowsrc rs;
     int rc = median_check(src, rows, cols, src_stride, dst, dst_stride, radius, scratch,
                           scratch_size);
     if (rc != ACTAG_OK)
         return rc;
+    if (max16 == 0u)
+        max16 = frame16_max((const uint8_t *)src, rows, cols, (size_t)src_stride);
     memset(&rs, 0, sizeof rs);
-    rowsrc_init16(&rs, (const uint8_t *)src, rows, cols, (size_t)src_stride);
+    rowsrc_init16(&rs, (const uint8_t *)src, (size_t)src_stride, max16);
     return median_core(&rs, rows, cols, dst, dst_stride, radius, scratch, scratch_size);
 }

@@ -7,6 +7,7 @@
 #include "unity.h"
 #include "test_util.h"
 #include "filter_check.h"
+#include "../src/frame16.h" /* actag__median_filter16_max, the library's */
 
 /* The portable (non-SIMD) code path, compiled into this test under another
  * name so that both paths are checked on any machine: without SSE2 on
@@ -19,11 +20,16 @@ int actag_median_filter_portable(const uint8_t *src, int rows, int cols, int src
 int actag_median_filter16_portable(const void *src, int rows, int cols, int src_stride,
                                    uint8_t *dst, int dst_stride, int radius, void *scratch,
                                    size_t scratch_size);
+int actag__median_filter16_max_portable(const void *src, uint32_t max16, int rows, int cols,
+                                        int src_stride, uint8_t *dst, int dst_stride, int radius,
+                                        void *scratch, size_t scratch_size);
 #define actag_median_filter actag_median_filter_portable
 #define actag_median_filter16 actag_median_filter16_portable
+#define actag__median_filter16_max actag__median_filter16_max_portable
 #include "../src/median.c"
 #undef actag_median_filter
 #undef actag_median_filter16
+#undef actag__median_filter16_max
 
 typedef int (*median_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, void *, size_t);
 
@@ -486,6 +492,8 @@ static void test_real_sonar_frame(void)
  * by the brute-force median; odd addresses, strides in samples, widths
  * around the ring's and the histograms' sizes, radii of both paths. */
 typedef int (*median16_fn)(const void *, int, int, int, uint8_t *, int, int, void *, size_t);
+typedef int (*median16max_fn)(const void *, uint32_t, int, int, int, uint8_t *, int, int, void *,
+                               size_t);
 
 static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
 {
@@ -527,6 +535,30 @@ static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
         TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_ERR_WORKSPACE,
                                       F16[f](src, rows, cols, stride, out, cols, R, scratch,
                                              scr - 1), msg);
+    }
+    if (mx > 0u) {
+        /* a maximum handed in (actag_detect's one scan per frame) is the
+         * scale used: here twice the frame's own */
+        static const median16max_fn M16[2] = {actag__median_filter16_max,
+                                              actag__median_filter16_max_portable};
+        for (r = 0; r < rows; r++)
+            for (c = 0; c < cols; c++) {
+                uint16_t v;
+                memcpy(&v, src + 2u * ((size_t)r * (size_t)stride + (size_t)c), 2);
+                s8[(size_t)r * (size_t)cols + (size_t)c] =
+                    (uint8_t)(((uint32_t)v * 255u + mx) / (2u * mx));
+            }
+        brute_median(s8, rows, cols, cols, R, want, cols);
+        for (f = 0; f < 2; f++) {
+            memset(out, 0xA5, (size_t)rows * (size_t)cols);
+            snprintf(msg, sizeof msg, "16-bit %s, max handed in: %dx%d R=%d max=%u", FN_NAMES[f],
+                     rows, cols, R, (unsigned)maxv);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK,
+                                          M16[f](src, 2u * mx, rows, cols, stride, out, cols, R,
+                                                 scratch, scr),
+                                          msg);
+            TEST_ASSERT_EQUAL_MEMORY_MESSAGE(want, out, (size_t)rows * (size_t)cols, msg);
+        }
     }
     free(raw);
     free(s8);
@@ -571,7 +603,7 @@ static void test_16bit_scaling_exact(void)
         uint16_t v16 = (uint16_t)mx;
         memcpy(one, &v16, 2);
         memset(&rs, 0, sizeof rs);
-        rowsrc_init16(&rs, one, 1, 1, 1); /* a 1-pixel frame of value mx */
+        rowsrc_init16(&rs, one, 1, mx); /* a 1-pixel frame of value mx */
         probes[0] = 0;
         probes[1] = 1u % (mx + 1u);
         probes[2] = mx / 2u;
@@ -598,7 +630,7 @@ static void test_16bit_scaling_exact(void)
             uint16_t v16 = (uint16_t)some[k];
             uint32_t v;
             memcpy(one, &v16, 2);
-            rowsrc_init16(&rs, one, 1, 1, 1);
+            rowsrc_init16(&rs, one, 1, some[k]);
             for (v = 0; v <= some[k]; v++)
                 TEST_ASSERT_EQUAL_UINT32((v * 255u + some[k] / 2u) / some[k],
                                          (uint32_t)(((uint64_t)(v * 255u + rs.half) * rs.magic) >>

@@ -11,7 +11,8 @@
  * scaling, size and side filters, merging, geometry). The library itself is
  * the unchanged libactag.a of the build.
  *
- *   median     actag_median_filter, actag_median_filter16
+ *   median     actag_median_filter, actag__median_filter16_max (src/frame16.h;
+ *              the 16-bit frame's maximum, scanned in detect.c, counts as other)
  *   search     actag_search_map, actag_search_next
  *   threshold  actag_adaptive_threshold_bitmap
  *   contours   actag_contour_scanner_init, actag_contour_next
@@ -210,19 +211,20 @@ int __wrap_actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
     return rc;
 }
 
-int __real_actag_median_filter16(const void *src, int rows, int cols, int src_stride,
-                                 uint8_t *dst, int dst_stride, int radius, void *scratch,
-                                 size_t scratch_size);
-int __wrap_actag_median_filter16(const void *src, int rows, int cols, int src_stride,
-                                 uint8_t *dst, int dst_stride, int radius, void *scratch,
-                                 size_t scratch_size);
-int __wrap_actag_median_filter16(const void *src, int rows, int cols, int src_stride,
-                                 uint8_t *dst, int dst_stride, int radius, void *scratch,
-                                 size_t scratch_size)
+int __real_actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
+                                      int src_stride, uint8_t *dst, int dst_stride, int radius,
+                                      void *scratch, size_t scratch_size);
+int __wrap_actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
+                                      int src_stride, uint8_t *dst, int dst_stride, int radius,
+                                      void *scratch, size_t scratch_size);
+int __wrap_actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
+                                      int src_stride, uint8_t *dst, int dst_stride, int radius,
+                                      void *scratch, size_t scratch_size)
 {
     int rc;
-    TIMED(ST_MEDIAN, __real_actag_median_filter16(src, rows, cols, src_stride, dst, dst_stride,
-                                                  radius, scratch, scratch_size));
+    TIMED(ST_MEDIAN, __real_actag__median_filter16_max(src, max16, rows, cols, src_stride, dst,
+                                                       dst_stride, radius, scratch,
+                                                       scratch_size));
     return rc;
 }
 
