@@ -85,8 +85,11 @@ static void fill_frame(const fzd_case *c, uint8_t *buf, size_t bytes, int rows, 
         tagside = actag_render_side(fam->bits, cell, cell);
         if (tagside > 0 && tagside <= 400) {
             tagimg = (uint8_t *)malloc((size_t)tagside * (size_t)tagside);
+            /* the family may be one of the harness's invalid ones (no codes):
+             * ID 0 then, and actag_render_tag must refuse it */
+            int id = fam->ncodes > 0 ? (int)(c->pix_seed % (uint32_t)fam->ncodes) : 0;
             if (tagimg &&
-                actag_render_tag(fam, (int)(c->pix_seed % (uint32_t)fam->ncodes), cell, cell, 0,
+                actag_render_tag(fam, id, cell, cell, 0,
                                  0, tagimg, tagside,
                                  (size_t)tagside * (size_t)tagside) != ACTAG_OK) {
                 free(tagimg);

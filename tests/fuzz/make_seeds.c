@@ -260,6 +260,14 @@ static void synthetic(void)
     c.pix_a = 3;
     c.pix_b = 40 | (40 << 8);
     put_case("synthetic-tag", &c);
+    /* the tag pattern with each of the harness's invalid families (the
+     * harness once divided by a family's zero code count here) */
+    for (i = 0; i < 5; i++) {
+        c.fam_sel = actag_family_count() + i;
+        snprintf(name, sizeof name, "synthetic-tag-bad-family-%d", i);
+        put_case(name, &c);
+    }
+    c.fam_sel = 3;
     c.pix_mode = FZD_PIX_CONST;
     c.pix_a = 255;
     put_case("all-white", &c);
