@@ -68,194 +68,80 @@ static void timer_start(void)
 
 /* ------------------------------------------------------------ wrappers */
 
-#define TIMED(stage, call)                                                                     \
-    do {                                                                                       \
+/* WRAPPED(stage, name, (parameters), (arguments)) defines __wrap_name, which
+ * the linker puts in place of every call to name (-Wl,--wrap=name); it
+ * calls the library's __real_name and adds the ticks to the stage. Each
+ * parameter list is written once, so the three declarations cannot drift
+ * apart (a list that differs from a public header's fails to compile). */
+#define WRAPPED(stage, name, params, args)                                                     \
+    int __real_##name params;                                                                  \
+    int __wrap_##name params;                                                                  \
+    int __wrap_##name params                                                                   \
+    {                                                                                          \
         uint32_t t0_ = ticks();                                                                \
-        rc = call;                                                                             \
+        int rc_ = __real_##name args;                                                          \
         stage_ticks[stage] += ticks() - t0_;                                                   \
-    } while (0)
+        return rc_;                                                                            \
+    }
 
-int __real_actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
-                               int dst_stride, int radius, void *scratch, size_t scratch_size);
-int __wrap_actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
-                               int dst_stride, int radius, void *scratch, size_t scratch_size);
-int __wrap_actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
-                               int dst_stride, int radius, void *scratch, size_t scratch_size)
-{
-    int rc;
-    TIMED(ST_MEDIAN, __real_actag_median_filter(src, rows, cols, src_stride, dst, dst_stride,
-                                                radius, scratch, scratch_size));
-    return rc;
-}
+WRAPPED(ST_MEDIAN, actag_median_filter,
+        (const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst, int dst_stride,
+         int radius, void *scratch, size_t scratch_size),
+        (src, rows, cols, src_stride, dst, dst_stride, radius, scratch, scratch_size))
 
-int __real_actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
-                            const actag_sonar_geometry *g, float tag_size, int bits,
-                            float range_scale, void *map, size_t map_size, void *scratch,
-                            size_t scratch_size);
-int __wrap_actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
-                            const actag_sonar_geometry *g, float tag_size, int bits,
-                            float range_scale, void *map, size_t map_size, void *scratch,
-                            size_t scratch_size);
-int __wrap_actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
-                            const actag_sonar_geometry *g, float tag_size, int bits,
-                            float range_scale, void *map, size_t map_size, void *scratch,
-                            size_t scratch_size)
-{
-    int rc;
-    TIMED(ST_SEARCH, __real_actag_search_map(z, img, rows, cols, stride, g, tag_size, bits,
-                                             range_scale, map, map_size, scratch, scratch_size));
-    return rc;
-}
+WRAPPED(ST_MEDIAN, actag__median_filter16_max,
+        (const void *src, uint32_t max16, int rows, int cols, int src_stride, uint8_t *dst,
+         int dst_stride, int radius, void *scratch, size_t scratch_size),
+        (src, max16, rows, cols, src_stride, dst, dst_stride, radius, scratch, scratch_size))
 
-int __real_actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
-                             float tag_size, float range_scale, int rows, int cols,
-                             actag_point quad[4]);
-int __wrap_actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
-                             float tag_size, float range_scale, int rows, int cols,
-                             actag_point quad[4]);
-int __wrap_actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
-                             float tag_size, float range_scale, int rows, int cols,
-                             actag_point quad[4])
-{
-    int rc;
-    TIMED(ST_SEARCH, __real_actag_search_next(z, min_score, g, tag_size, range_scale, rows, cols,
-                                              quad));
-    return rc;
-}
+WRAPPED(ST_SEARCH, actag_search_map,
+        (actag_search *z, const uint8_t *img, int rows, int cols, int stride,
+         const actag_sonar_geometry *g, float tag_size, int bits, float range_scale, void *map,
+         size_t map_size, void *scratch, size_t scratch_size),
+        (z, img, rows, cols, stride, g, tag_size, bits, range_scale, map, map_size, scratch,
+         scratch_size))
 
-int __real_actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols,
-                                           int src_stride, uint32_t *bitmap, int radius,
-                                           int offset, void *scratch, size_t scratch_size);
-int __wrap_actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols,
-                                           int src_stride, uint32_t *bitmap, int radius,
-                                           int offset, void *scratch, size_t scratch_size);
-int __wrap_actag_adaptive_threshold_bitmap(const uint8_t *src, int rows, int cols,
-                                           int src_stride, uint32_t *bitmap, int radius,
-                                           int offset, void *scratch, size_t scratch_size)
-{
-    int rc;
-    TIMED(ST_THRESHOLD, __real_actag_adaptive_threshold_bitmap(src, rows, cols, src_stride, bitmap,
-                                                               radius, offset, scratch,
-                                                               scratch_size));
-    return rc;
-}
+WRAPPED(ST_SEARCH, actag_search_next,
+        (actag_search *z, int min_score, const actag_sonar_geometry *g, float tag_size,
+         float range_scale, int rows, int cols, actag_point quad[4]),
+        (z, min_score, g, tag_size, range_scale, rows, cols, quad))
 
-int __real_actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white,
-                                      uint32_t *marks, int rows, int cols);
-int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white,
-                                      uint32_t *marks, int rows, int cols);
-int __wrap_actag_contour_scanner_init(actag_contour_scanner *s, const uint32_t *white,
-                                      uint32_t *marks, int rows, int cols)
-{
-    int rc;
-    TIMED(ST_CONTOURS, __real_actag_contour_scanner_init(s, white, marks, rows, cols));
-    return rc;
-}
+WRAPPED(ST_THRESHOLD, actag_adaptive_threshold_bitmap,
+        (const uint8_t *src, int rows, int cols, int src_stride, uint32_t *bitmap, int radius,
+         int offset, void *scratch, size_t scratch_size),
+        (src, rows, cols, src_stride, bitmap, radius, offset, scratch, scratch_size))
 
-int __real_actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
-                              actag_contour_info *info);
-int __wrap_actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
-                              actag_contour_info *info);
-int __wrap_actag_contour_next(actag_contour_scanner *s, actag_ipoint *pts, int cap,
-                              actag_contour_info *info)
-{
-    int rc;
-    TIMED(ST_CONTOURS, __real_actag_contour_next(s, pts, cap, info));
-    return rc;
-}
+WRAPPED(ST_CONTOURS, actag_contour_scanner_init,
+        (actag_contour_scanner *s, const uint32_t *white, uint32_t *marks, int rows, int cols),
+        (s, white, marks, rows, cols))
 
-int __real_actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
-                          actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
-int __wrap_actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
-                          actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
-int __wrap_actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
-                          actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out)
-{
-    int rc;
-    TIMED(ST_RANSAC, __real_actag_quad_fit(pts, npoints, params, rng, scratch, scratch_size, out));
-    return rc;
-}
+WRAPPED(ST_CONTOURS, actag_contour_next,
+        (actag_contour_scanner *s, actag_ipoint *pts, int cap, actag_contour_info *info),
+        (s, pts, cap, info))
 
-int __real_actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
-                                 const actag_point quad[4], const actag_family *family,
-                                 int max_corrections, const actag_fit_params *fp,
-                                 actag_decode_result *out);
-int __wrap_actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
-                                 const actag_point quad[4], const actag_family *family,
-                                 int max_corrections, const actag_fit_params *fp,
-                                 actag_decode_result *out);
-int __wrap_actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
-                                 const actag_point quad[4], const actag_family *family,
-                                 int max_corrections, const actag_fit_params *fp,
-                                 actag_decode_result *out)
-{
-    int rc;
-    TIMED(ST_DECODE, __real_actag_decode_quad_fit(grey, rows, cols, stride, quad, family,
-                                                  max_corrections, fp, out));
-    return rc;
-}
+WRAPPED(ST_RANSAC, actag_quad_fit,
+        (const actag_ipoint *pts, int npoints, const actag_quad_params *params, actag_rng *rng,
+         void *scratch, size_t scratch_size, actag_quad *out),
+        (pts, npoints, params, rng, scratch, scratch_size, out))
 
-int __real_actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
-                                    const actag_point quad[4], const actag_family *family,
-                                    int max_corrections, actag_decode_result *out);
-int __wrap_actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
-                                    const actag_point quad[4], const actag_family *family,
-                                    int max_corrections, actag_decode_result *out);
-int __wrap_actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
-                                    const actag_point quad[4], const actag_family *family,
-                                    int max_corrections, actag_decode_result *out)
-{
-    int rc;
-    TIMED(ST_DECODE, __real_actag_decode_quad_bitmap(bitmap, rows, cols, quad, family,
-                                                     max_corrections, out));
-    return rc;
-}
+WRAPPED(ST_DECODE, actag_decode_quad_fit,
+        (const uint8_t *grey, int rows, int cols, int stride, const actag_point quad[4],
+         const actag_family *family, int max_corrections, const actag_fit_params *fp,
+         actag_decode_result *out),
+        (grey, rows, cols, stride, quad, family, max_corrections, fp, out))
 
-int __real_actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
-                                      int src_stride, uint8_t *dst, int dst_stride, int radius,
-                                      void *scratch, size_t scratch_size);
-int __wrap_actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
-                                      int src_stride, uint8_t *dst, int dst_stride, int radius,
-                                      void *scratch, size_t scratch_size);
-int __wrap_actag__median_filter16_max(const void *src, uint32_t max16, int rows, int cols,
-                                      int src_stride, uint8_t *dst, int dst_stride, int radius,
-                                      void *scratch, size_t scratch_size)
-{
-    int rc;
-    TIMED(ST_MEDIAN, __real_actag__median_filter16_max(src, max16, rows, cols, src_stride, dst,
-                                                       dst_stride, radius, scratch,
-                                                       scratch_size));
-    return rc;
-}
+WRAPPED(ST_DECODE, actag_decode_quad_bitmap,
+        (const uint32_t *bitmap, int rows, int cols, const actag_point quad[4],
+         const actag_family *family, int max_corrections, actag_decode_result *out),
+        (bitmap, rows, cols, quad, family, max_corrections, out))
 
-int __real_actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows,
-                                       int cols, int stride,
-                                       const actag_sonar_geometry *geometry, float tag_size,
-                                       const actag_family *family, int id,
-                                       const actag_point corners[4],
-                                       const actag_refine_params *rp, actag_point out[4],
-                                       actag_refine_info *info);
-int __wrap_actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows,
-                                       int cols, int stride,
-                                       const actag_sonar_geometry *geometry, float tag_size,
-                                       const actag_family *family, int id,
-                                       const actag_point corners[4],
-                                       const actag_refine_params *rp, actag_point out[4],
-                                       actag_refine_info *info);
-int __wrap_actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows,
-                                       int cols, int stride,
-                                       const actag_sonar_geometry *geometry, float tag_size,
-                                       const actag_family *family, int id,
-                                       const actag_point corners[4],
-                                       const actag_refine_params *rp, actag_point out[4],
-                                       actag_refine_info *info)
-{
-    int rc;
-    TIMED(ST_REFINE, __real_actag__refine_corners_max16(img, depth, max16, rows, cols, stride,
-                                                        geometry, tag_size, family, id, corners,
-                                                        rp, out, info));
-    return rc;
-}
+WRAPPED(ST_REFINE, actag__refine_corners_max16,
+        (const void *img, int depth, uint32_t max16, int rows, int cols, int stride,
+         const actag_sonar_geometry *geometry, float tag_size, const actag_family *family, int id,
+         const actag_point corners[4], const actag_refine_params *rp, actag_point out[4],
+         actag_refine_info *info),
+        (img, depth, max16, rows, cols, stride, geometry, tag_size, family, id, corners, rp, out,
+         info))
 
 /* ------------------------------------------------------------ stack paint */
 
