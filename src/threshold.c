@@ -1095,41 +1095,36 @@ static uint32_t bits16_sse2(const uint8_t *xp, const uint8_t *a, const uint8_t *
  * passes: into bytes d (bitmap row NULL) or into the bitmap row (common.h
  * layout, padding bits 0), 32 pixels to a word. For off < 0 the masks are
  * of the pixels that fail, inverted at the end. The last n % 16 (bytes) or
- * n % 32 (bitmap) pixels go through a local copy, so x and d are not
- * accessed beyond n. */
+ * n % 32 (bitmap) pixels are read through a local copy (their bytes then
+ * written one at a time), so x and d are not accessed beyond n. */
 static void row_threshold_sse2(uint8_t *d, uint32_t *row, const uint8_t *x, const uint8_t *a,
                                const uint8_t *b, size_t n, const sse2_geom *g, int off)
 {
     const __m128i ov = _mm_set1_epi8((char)(off < 0 ? -off - 1 : off)), one = _mm_set1_epi8(1);
     const uint32_t flip = off < 0 ? 0xFFFFFFFFu : 0u;
-    uint8_t xb[32], db[16];
+    uint8_t xb[32];
     size_t q = 0, k = 0, rem;
     uint32_t carry = 0u, m;
 
     if (row == NULL) {
-        for (;;) {
-            __m128i xv, z;
-            rem = n - q;
-            if (rem == 0u)
-                break;
-            if (rem >= 16u) {
-                xv = ld(x + q);
-            } else {
-                memset(xb, 0, 16);
-                memcpy(xb, x + q, rem);
-                xv = ld(xb);
+        if (off < 0) {
+            for (; q + 16u <= n; q += 16u) {
+                __m128i z = fails16_sse2(ld(x + q), avg16_sse2(a, b, q, g), ov);
+                st(d + q, _mm_andnot_si128(z, one));
             }
-            if (off < 0)
-                z = _mm_andnot_si128(fails16_sse2(xv, avg16_sse2(a, b, q, g), ov), one);
-            else
-                z = _mm_and_si128(holds16_sse2(xv, avg16_sse2(a, b, q, g), ov), one);
-            if (rem < 16u) {
-                st(db, z);
-                memcpy(d + q, db, rem);
-                break;
+        } else {
+            for (; q + 16u <= n; q += 16u) {
+                __m128i z = holds16_sse2(ld(x + q), avg16_sse2(a, b, q, g), ov);
+                st(d + q, _mm_and_si128(z, one));
             }
-            st(d + q, z);
-            q += 16u;
+        }
+        rem = n - q; /* 0..15 */
+        if (rem > 0u) {
+            memset(xb, 0, 16);
+            memcpy(xb, x + q, rem);
+            m = bits16_sse2(xb, a, b, q, g, ov, off < 0) ^ flip;
+            for (k = 0; k < rem; k++)
+                d[q + k] = (uint8_t)(m >> k & 1u);
         }
         return;
     }

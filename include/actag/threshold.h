@@ -43,8 +43,8 @@
  *   bytes at R = 8 (from 22 to 112 over R = 1 .. 33); narrower rows take
  *   the van Herk rows. A 530 x 512 frame at R = 8 on one core of our 2.3
  *   GHz VMs: about 0.09 ms into a bitmap and 0.10 ms into bytes, 5.3 and
- *   5.7 instructions per pixel (callgrind on the 58 pool frames), against
- *   0.42 ms and about 28 per pixel with van Herk's horizontal scans.
+ *   5.2 instructions per pixel (callgrind on the 58 pool frames), against
+ *   0.40-0.42 ms and 28-29 per pixel with van Herk's horizontal scans.
  *   ACTAG_NO_SIMD selects the portable C path, identical output.
  *
  *   Portable C path: where the compiler has a vector unit to vectorize
