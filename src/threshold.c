@@ -921,6 +921,243 @@ static void pack_row(uint32_t *row, const uint8_t *d, size_t cols)
         row[k] = 0u;
 }
 
+#ifdef THRESHOLD_SSE2
+/* The SSE2 row path (any radius >= 1, bytes or bitmap, where the scratch
+ * holds its two lines): the vertical extrema of a row go straight into
+ * lines padded with r copies of the edge sample on each side (window
+ * extrema with edge replication), and the horizontal pass works by
+ * doubling, 16 lanes at a time (van Herk's block prefix and suffix scans
+ * go along the row a byte at a time; the doubling passes do not). With h
+ * the smallest power of two such that 3h >= w = 2r + 1, passes s = 1, 2,
+ * .., h/2 take the lines, in place, from extrema over s samples to
+ * extrema over 2s; the window [j, j + w) of pixel j in the padded line is
+ * then the union of the h-sample windows at j, j + o1 and j + o2, o1 =
+ * min(h, w - h), o2 = w - h (at r = 8: 3 passes, windows at 0, 8, 9). */
+typedef struct {
+    size_t r;   /* horizontal radius, >= 1 */
+    size_t h;   /* extrema over h samples after the passes */
+    size_t o1;  /* the second window's offset */
+    size_t o2;  /* the last window's offset */
+    size_t end; /* the passes run over [0, end), whole pairs of vectors */
+    size_t len; /* bytes of a line, its padding and slack included */
+} sse2_geom;
+
+/* The geometry of the lines for n pixels at radius r. The pixels below n
+ * need the h-sample extrema below n + w - h; a pass over [0, end) leaves
+ * the extrema over 2s samples correct below end - (2s - 2), so end >= n +
+ * 2r - 1 suffices. Reads reach end + h/2 (passes) and n16 + w - h (the
+ * last vector of pixels, n16 = n rounded up to 16; its lanes from n on
+ * are junk, never used); the padding stores (r <= 16) reach n + r + 16. */
+static sse2_geom sse2_geometry(size_t n, size_t r)
+{
+    sse2_geom g;
+    size_t w = 2u * r + 1u, e;
+    g.r = r;
+    g.h = 1u;
+    while (3u * g.h < w)
+        g.h *= 2u;
+    g.o2 = w - g.h;
+    g.o1 = g.h < g.o2 ? g.h : g.o2;
+    g.end = (n + 2u * r - 1u + 31u) & ~(size_t)31u;
+    g.len = g.end + g.h / 2u;
+    e = ((n + 15u) & ~(size_t)15u) + g.o2;
+    if (e > g.len)
+        g.len = e;
+    e = r <= 16u ? n + r + 16u : n + 2u * r;
+    if (e > g.len)
+        g.len = e;
+    return g;
+}
+
+/* The vertical extrema of one row where hi's block prefix advances by one
+ * row and lo lies in the block before (S[lo] op P[hi]): P op= row into
+ * pmin and pmax, then min(S, P) and max(S, P) into vmin and vmax, the row
+ * loaded once; vector c of it. */
+static void vertical_vec_sse2(uint8_t *restrict vmin, uint8_t *restrict vmax,
+                              uint8_t *restrict pmin, uint8_t *restrict pmax,
+                              const uint8_t *restrict smin, const uint8_t *restrict smax,
+                              const uint8_t *restrict row, size_t c)
+{
+    __m128i v = ld(row + c);
+    __m128i pn = _mm_min_epu8(ld(pmin + c), v), px = _mm_max_epu8(ld(pmax + c), v);
+    st(pmin + c, pn);
+    st(pmax + c, px);
+    st(vmin + c, _mm_min_epu8(ld(smin + c), pn));
+    st(vmax + c, _mm_max_epu8(ld(smax + c), px));
+}
+
+/* The whole row (n >= 16). min and max are idempotent, so the last
+ * vector may overlap the one before. */
+static void vertical_fused_sse2(uint8_t *restrict vmin, uint8_t *restrict vmax,
+                                uint8_t *restrict pmin, uint8_t *restrict pmax,
+                                const uint8_t *restrict smin, const uint8_t *restrict smax,
+                                const uint8_t *restrict row, size_t n)
+{
+    size_t c;
+    for (c = 0; c + 16u < n; c += 16u)
+        vertical_vec_sse2(vmin, vmax, pmin, pmax, smin, smax, row, c);
+    vertical_vec_sse2(vmin, vmax, pmin, pmax, smin, smax, row, n - 16u);
+}
+
+/* One row of the vertical block suffix extrema, one row up from the
+ * last: smin = min(smin + n, row), smax = max(smax + n, row), the row
+ * loaded once (n >= 16; the last vector may overlap the one before). */
+static void suffix_vec_sse2(uint8_t *smin, uint8_t *smax, const uint8_t *row, size_t n, size_t c)
+{
+    __m128i v = ld(row + c);
+    __m128i mn = _mm_min_epu8(ld(smin + n + c), v), mx = _mm_max_epu8(ld(smax + n + c), v);
+    st(smin + c, mn);
+    st(smax + c, mx);
+}
+
+static void suffix_row_sse2(uint8_t *smin, uint8_t *smax, const uint8_t *row, size_t n)
+{
+    size_t c;
+    for (c = 0; c + 16u < n; c += 16u)
+        suffix_vec_sse2(smin, smax, row, n, c);
+    suffix_vec_sse2(smin, smax, row, n, n - 16u);
+}
+
+/* Edge padding of a line (vertical extrema at l + r, n of them): r copies
+ * of each end sample; for r <= 16 one vector store on each side (the left
+ * one reaches 16 - r bytes before the line, the right one 16 - r after
+ * the padding: room of the caller's layout). */
+static void pad_line_sse2(uint8_t *l, size_t n, size_t r)
+{
+    if (r <= 16u) {
+        st(l + r - 16u, _mm_set1_epi8((char)l[r]));
+        st(l + r + n, _mm_set1_epi8((char)l[r + n - 1u]));
+    } else {
+        memset(l, l[r], r);
+        memset(l + r + n, l[r + n - 1u], r);
+    }
+}
+
+/* The doubling passes over both lines, in place (a vector's loads come
+ * before its store, and the next vector's samples are not yet
+ * overwritten); two vectors per loop. */
+static void double_lines_sse2(uint8_t *restrict a, uint8_t *restrict b, const sse2_geom *g)
+{
+    size_t s, t;
+    for (s = 1u; s < g->h; s *= 2u)
+        for (t = 0; t < g->end; t += 32u) {
+            __m128i mn0 = _mm_min_epu8(ld(a + t), ld(a + t + s));
+            __m128i mx0 = _mm_max_epu8(ld(b + t), ld(b + t + s));
+            __m128i mn1 = _mm_min_epu8(ld(a + t + 16u), ld(a + t + 16u + s));
+            __m128i mx1 = _mm_max_epu8(ld(b + t + 16u), ld(b + t + 16u + s));
+            st(a + t, mn0);
+            st(b + t, mx0);
+            st(a + t + 16u, mn1);
+            st(b + t + 16u, mx1);
+        }
+}
+
+/* ceil((mn + mx) / 2) of the windows of pixels q..q+15 after the passes. */
+static __m128i avg16_sse2(const uint8_t *a, const uint8_t *b, size_t q, const sse2_geom *g)
+{
+    __m128i mn = _mm_min_epu8(_mm_min_epu8(ld(a + q), ld(a + q + g->o1)), ld(a + q + g->o2));
+    __m128i mx = _mm_max_epu8(_mm_max_epu8(ld(b + q), ld(b + q + g->o1)), ld(b + q + g->o2));
+    return _mm_avg_epu8(mn, mx);
+}
+
+/* Per lane x + off >= avg, which is 2x + 2 off >= mn + mx (the left side
+ * an integer). off >= 0 (ov = off): 0xFF where it holds, min(x + off, 255)
+ * >= avg. off < 0 (ov = -off - 1 in [0, 255]): 0xFF where it fails, avg >=
+ * max(x - ov, 0) (for x <= ov both fail, as avg >= 0 > x + off). */
+static __m128i holds16_sse2(__m128i xv, __m128i avg, __m128i ov)
+{
+    __m128i u = _mm_adds_epu8(xv, ov);
+    return _mm_cmpeq_epi8(_mm_max_epu8(u, avg), u);
+}
+
+static __m128i fails16_sse2(__m128i xv, __m128i avg, __m128i ov)
+{
+    __m128i u = _mm_subs_epu8(xv, ov);
+    return _mm_cmpeq_epi8(_mm_max_epu8(u, avg), avg);
+}
+
+/* The mask bits of pixels q..q+15 (xp: their pixels). */
+static uint32_t bits16_sse2(const uint8_t *xp, const uint8_t *a, const uint8_t *b, size_t q,
+                            const sse2_geom *g, __m128i ov, int neg)
+{
+    __m128i avg = avg16_sse2(a, b, q, g);
+    return (uint32_t)_mm_movemask_epi8(neg ? fails16_sse2(ld(xp), avg, ov)
+                                           : holds16_sse2(ld(xp), avg, ov));
+}
+
+/* The mask bits of pixels q..q+31, bit k for pixel q + k (xp: their
+ * pixels); CMP holds16_sse2 or fails16_sse2. */
+#define BITS32_SSE2(CMP, xp)                                                                 \
+    ((uint32_t)_mm_movemask_epi8(CMP(ld(xp), avg16_sse2(a, b, q, g), ov)) |                    \
+     (uint32_t)_mm_movemask_epi8(CMP(ld((xp) + 16), avg16_sse2(a, b, q + 16u, g), ov)) << 16)
+
+/* The threshold of one row of n pixels x from the lines a, b after the
+ * passes: into bytes d (bitmap row NULL) or into the bitmap row (common.h
+ * layout, padding bits 0), 32 pixels to a word. For off < 0 the masks are
+ * of the pixels that fail, inverted at the end. The last n % 16 (bytes) or
+ * n % 32 (bitmap) pixels are read through a local copy (their bytes then
+ * written one at a time), so x and d are not accessed beyond n. */
+static void row_threshold_sse2(uint8_t *d, uint32_t *row, const uint8_t *x, const uint8_t *a,
+                               const uint8_t *b, size_t n, const sse2_geom *g, int off)
+{
+    const __m128i ov = _mm_set1_epi8((char)(off < 0 ? -off - 1 : off)), one = _mm_set1_epi8(1);
+    const uint32_t flip = off < 0 ? 0xFFFFFFFFu : 0u;
+    uint8_t xb[32];
+    size_t q = 0, k = 0, rem;
+    uint32_t carry = 0u, m;
+
+    if (row == NULL) {
+        if (off < 0) {
+            for (; q + 16u <= n; q += 16u) {
+                __m128i z = fails16_sse2(ld(x + q), avg16_sse2(a, b, q, g), ov);
+                st(d + q, _mm_andnot_si128(z, one));
+            }
+        } else {
+            for (; q + 16u <= n; q += 16u) {
+                __m128i z = holds16_sse2(ld(x + q), avg16_sse2(a, b, q, g), ov);
+                st(d + q, _mm_and_si128(z, one));
+            }
+        }
+        rem = n - q; /* 0..15 */
+        if (rem > 0u) {
+            memset(xb, 0, 16);
+            memcpy(xb, x + q, rem);
+            m = bits16_sse2(xb, a, b, q, g, ov, off < 0) ^ flip;
+            for (k = 0; k < rem; k++)
+                d[q + k] = (uint8_t)(m >> k & 1u);
+        }
+        return;
+    }
+    if (off < 0) {
+        for (; q + 32u <= n; q += 32u) {
+            m = ~BITS32_SSE2(fails16_sse2, x + q);
+            row[k++] = m << 1 | carry;
+            carry = m >> 31;
+        }
+    } else {
+        for (; q + 32u <= n; q += 32u) {
+            m = BITS32_SSE2(holds16_sse2, x + q);
+            row[k++] = m << 1 | carry;
+            carry = m >> 31;
+        }
+    }
+    rem = n - q; /* 0..31 */
+    m = 0u;
+    if (rem > 0u) {
+        memset(xb, 0, sizeof xb);
+        memcpy(xb, x + q, rem);
+        m = bits16_sse2(xb, a, b, q, g, ov, off < 0);
+        if (rem > 16u) /* (no vector of pixels from n16 on: see sse2_geometry) */
+            m |= bits16_sse2(xb + 16, a, b, q + 16u, g, ov, off < 0) << 16;
+        m = (m ^ flip) & ((1u << rem) - 1u);
+    }
+    row[k++] = m << 1 | carry;
+    for (; k < ACTAG_BITMAP_WORDS(n); k++)
+        row[k] = 0u;
+}
+#undef BITS32_SSE2
+#endif
+
 /* The threshold into bytes (bitmap == NULL: dst, dst_stride) or into a
  * bitmap (each row through the cols bytes after the scratch's own). */
 static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
@@ -933,6 +1170,11 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
     int rv, rh, wv, wh, i, j, sblk, phi, off2;
 #ifdef THRESHOLD_R8
     int fast8;
+#endif
+#ifdef THRESHOLD_SSE2
+    sse2_geom geo;
+    uint8_t *la = NULL, *lb = NULL;
+    int fastx = 0;
 #endif
 
     if (src == NULL || (dst == NULL && bitmap == NULL) || scratch == NULL)
@@ -995,6 +1237,23 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
     fast8 = fast8 && ucols >= ROW_R8_ASM_MIN_N && ucols <= ROW_R8_ASM_MAX_N;
 #endif
 #endif
+#ifdef THRESHOLD_SSE2
+    /* The SSE2 row path where its two lines fit in the 4 cols bytes from
+     * hmin on (5 with the bitmap's row bytes, which it does not use): 16
+     * bytes before each line for the left padding store. The lines' slack
+     * is cleared once, so that the junk lanes read only defined bytes. */
+    if (rh >= 1 && cols >= 16) {
+        size_t full = ucols + 2u * (size_t)rh;
+        geo = sse2_geometry(ucols, (size_t)rh);
+        if (32u + 2u * geo.len <= (bitmap != NULL ? 5u : 4u) * ucols) {
+            fastx = 1;
+            la = hmin + 16;
+            lb = la + geo.len + 16u;
+            memset(la + full, 0, geo.len - full);
+            memset(lb + full, 0, geo.len - full);
+        }
+    }
+#endif
     sblk = -1; /* block whose suffix extrema are in sbuf */
     phi = -1;  /* last row folded into pmin/pmax */
     for (i = 0; i < rows; i++) {
@@ -1022,10 +1281,56 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                     continue;
                 }
 #endif
+#ifdef THRESHOLD_SSE2
+                if (ucols >= 16u) {
+                    suffix_row_sse2(smn, smx, row, ucols);
+                    continue;
+                }
+#endif
                 minmax_rows(smn, smx, smn + ucols, smx + ucols, row, row, ucols);
             }
             sblk = bl;
         }
+#ifdef THRESHOLD_SSE2
+        if (fastx) {
+            const uint8_t *smn = sbuf_min + (size_t)(lo - bl * wv) * ucols;
+            const uint8_t *smx = sbuf_max + (size_t)(lo - bl * wv) * ucols;
+            uint8_t *va = la + geo.r, *vb = lb + geo.r;
+            if (phi == hi - 1 && hi % wv != 0 && hi / wv != bl) {
+                vertical_fused_sse2(va, vb, pmin, pmax, smn, smx, src + (size_t)hi * sstride,
+                                    ucols);
+                phi = hi;
+            } else {
+                while (phi < hi) {
+                    const uint8_t *row;
+                    phi++;
+                    row = src + (size_t)phi * sstride;
+                    if (phi % wv == 0) {
+                        memcpy(pmin, row, ucols);
+                        memcpy(pmax, row, ucols);
+                    } else {
+                        minmax_rows(pmin, pmax, pmin, pmax, row, row, ucols);
+                    }
+                }
+                if (hi / wv != bl) {
+                    minmax_rows(va, vb, smn, smx, pmin, pmax, ucols);
+                } else if (lo % wv == 0) {
+                    memcpy(va, pmin, ucols);
+                    memcpy(vb, pmax, ucols);
+                } else {
+                    memcpy(va, smn, ucols);
+                    memcpy(vb, smx, ucols);
+                }
+            }
+            pad_line_sse2(la, ucols, geo.r);
+            pad_line_sse2(lb, ucols, geo.r);
+            double_lines_sse2(la, lb, &geo);
+            row_threshold_sse2(
+                d, bitmap != NULL ? bitmap + ((size_t)i + 1u) * ACTAG_BITMAP_WORDS(cols) : NULL, x,
+                la, lb, ucols, &geo, off2 / 2);
+            continue;
+        }
+#endif
 #ifdef THRESHOLD_R8
         /* Radius 8 into a bitmap: the edge-padded vertical extrema in
          * hsmin..hsmax (min) and hmin..hmax (max), 2 cols bytes each. */

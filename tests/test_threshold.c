@@ -514,6 +514,47 @@ static void test_radius8_rows(void)
     }
 }
 
+static void test_every_width_to_70(void)
+{
+    /* The SSE2 row path (x86-64 builds) takes rows from about 22 to 112
+     * columns on, by radius and by output (bytes or bitmap: its two lines
+     * must fit in the scratch); narrower rows take the van Herk rows. Every
+     * width 1..70 on both sides of those limits, at radii on both sides of
+     * the steps of its doubling (extrema over h = 1, 2, 4, 8, 16, 32
+     * samples), 1 to 4 rows, source and destination strides beyond cols,
+     * offsets of both signs and beyond the clamping bounds. */
+    static const int radii[] = {1, 2, 3, 4, 5, 6, 8, 11, 12, 16, 17, 23, 24};
+    int cols, k;
+    rng_state = 0x70u;
+    for (cols = 1; cols <= 70; cols++)
+        for (k = 0; k < (int)(sizeof radii / sizeof radii[0]); k++) {
+            int rows = rnd_range(1, 4);
+            int off = random_offset();
+            int kind = (int)(rnd() % FILL_N);
+            check_case(rows, cols, radii[k], off, kind, (cols + k) % 3 == 0 ? 0 : rnd_range(1, 40),
+                       (cols + k) % 4 == 0 ? rnd_range(1, 9) : 0);
+        }
+}
+
+static void test_wide_rows_every_radius(void)
+{
+    /* Wider rows at larger radii (the SSE2 row path's limits up to 112
+     * columns at R = 33), tails of every length of the vectors; at the
+     * smaller radii enough rows for the vertical blocks of 2R + 1 rows to
+     * repeat. */
+    static const int radii[] = {7, 8, 9, 17, 20, 24, 32, 33, 40};
+    int cols, k;
+    rng_state = 0x71u;
+    for (k = 0; k < (int)(sizeof radii / sizeof radii[0]); k++)
+        for (cols = 60 + k; cols <= 140; cols += 7) {
+            int R = radii[k];
+            int rows = cols % 3 == 0 || R > 9 ? rnd_range(1, 6) : rnd_range(2 * R + 2, 3 * R + 4);
+            int off = random_offset();
+            int kind = (int)(rnd() % FILL_N);
+            check_case(rows, cols, R, off, kind, cols % 2 ? 3 : 0, cols % 5 == 0 ? 1 : 0);
+        }
+}
+
 static void test_output_is_binary(void)
 {
     /* Output bytes are exactly 0 or 1 (covered by the comparisons above,
@@ -665,6 +706,8 @@ int main(void)
     RUN_TEST(test_wide_rows);
     RUN_TEST(test_radius8_rows);
     RUN_TEST(test_every_width_and_radius);
+    RUN_TEST(test_every_width_to_70);
+    RUN_TEST(test_wide_rows_every_radius);
     RUN_TEST(test_constant_and_extreme_images);
     RUN_TEST(test_wide_strides);
     RUN_TEST(test_output_is_binary);
