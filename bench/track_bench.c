@@ -83,7 +83,7 @@ int main(int argc, char **argv)
     long px_full = 0, px_track = 0, px_tracked = 0;
     char err[HOSTIO_ERRLEN];
     actag_track_params_default(&tp);
-    for (i = 1; i < argc; i++) {
+    for (i = 1; i < argc; i += 2) { /* --option value pairs */
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (o[0] != '-' || o[1] != '-')
             break;
@@ -114,7 +114,6 @@ int main(int argc, char **argv)
             snprintf(m, sizeof m, "unknown option '%s'", o);
             hostio_die(PROG, m);
         }
-        i++;
     }
     if (i >= argc)
         hostio_die(PROG, "no frames (usage: see the comment at the top of bench/track_bench.c)");
