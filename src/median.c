@@ -22,17 +22,25 @@
  * 2 min(gap, R+1) column reads, so over a row each bin costs O(cols) and
  * the total per pixel is bounded independently of R.
  *
- * Speed (x86-64, SSE2 path, gcc -O2/-O3, one core): 1.6-1.8 ms for a
- * 530 x 512 sonar frame at R = 4 (2.1-3.4 ms before the kernel histograms
- * took 8-bit lanes for R <= 7, median_strip8: 89 instead of 124
- * instructions per pixel; about 2 ms up to R = 16; 3 ms at R = 127,
- * where the O(R) set-up per row shows, with the whole frame in one strip;
- * with the minimum scratch, 256 column histograms, frames wider than 256
- * columns take 3 strips at R = 4, +1.4 % instructions, and up to ~1.7x the
- * time at large radii: median_core, median_strip_agg). The portable path computes the
- * same bytes (tests check both); for R <= 7 it uses median_quad() below
- * (a sliding histogram shared by four rows), which without SIMD is about
- * 3x faster than the constant-time scheme at R = 4, and on Cortex-M4/M7
+ * Speed (x86-64, SSE2 path, gcc -O3, one core): radii up to 7 take
+ * median_rows16() below, a sliding histogram shared by 16 output rows: at
+ * R = 4 on the 58 pool frames (530 x 512) 43.8 instructions per pixel
+ * (callgrind), against 91.3 for the constant-time median_strip8 that
+ * served them before (which had taken 124 to 89 with 8-bit kernel lanes),
+ * and about 1.5x less time. Its cost depends on the content: the medians of
+ * 16 neighbouring rows are found by a scan of the levels between them, so
+ * images whose rows alternate between several far apart levels (synthetic
+ * bands of 3-5 grey levels a few rows high) take up to about 2x the
+ * constant-time path's instructions; every frame of bench/worst_bench
+ * (checkerboards, speckle, blobs, stripes) takes fewer. Radii >= 8 use the
+ * constant-time path (about 2 ms up to R = 16; 3 ms at R = 127, where the
+ * O(R) set-up per row shows, with the whole frame in one strip; with the
+ * minimum scratch, 256 column histograms, frames wider than 256 columns
+ * take strips, up to ~1.7x the time at large radii: median_core,
+ * median_strip_agg). The portable path computes the same bytes (tests
+ * check both); for R <= 7 it uses median_quad() below (a sliding
+ * histogram shared by four rows), which without SIMD is about 3x faster
+ * than the constant-time scheme at R = 4, and on Cortex-M4/M7
  * median_quad_dsp() (about 78 instructions per pixel at R = 4, -O2). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
@@ -1042,6 +1050,332 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
 #undef CC
 #undef CF
 }
+
+/* ----------------------------------------------------------------------
+ * Radii up to 7 on x86-64: Huang's sliding histogram shared by sixteen
+ * output rows (the portable path's median_quad with 16 lanes instead of
+ * four). hist[v] holds, in byte lane p, the count of level v in the window
+ * of output row i0 + p (at most (2R+1)^2 <= 225). Moving the 16 windows
+ * one column right, each of the 2R+16 source rows of the block adds its
+ * sample of the entering column and removes that of the leaving one in
+ * the windows that contain the row (a lane mask): two 16-byte
+ * read-modify-writes a row, 48 per 16 pixels at R = 4, instead of a column
+ * histogram update, two kernel slides and two searches per pixel
+ * (median_strip8). No count is kept per sample: the 16 medians are then
+ * found together by a vector scan of the levels near the previous
+ * column's lowest median (r16_medians). Both were measured against the
+ * alternatives: per-sample counts below each median (a compare a sample)
+ * cost 7 instructions a row, and walking each lane's median in scalar
+ * code mispredicted about one branch in two pixels. The medians are
+ * collected column by column and transposed into the output 16 x 16 bytes
+ * at a time.
+ * ---------------------------------------------------------------------- */
+#define MEDIAN_R16_MAX_R 7
+#define R16_NT_MAX (2 * MEDIAN_R16_MAX_R + 16) /* source rows of a block */
+#define R16_CHUNK 64                            /* columns between transposes */
+
+/* Writes np rows of the n <= R16_CHUNK columns of medians col[0..n-1]
+ * (lane p: output row p) from d on. Full groups of 16 columns: a 16 x 16
+ * byte transpose, four rounds of interleaving vector k with vector k + 8
+ * (each round rotates the 8-bit (vector, lane) index left by one bit). */
+static void r16_store(const __m128i *col, int n, uint8_t *d, size_t dstride, int np)
+{
+    int g, k, p, c;
+    for (g = 0; g + 16 <= n; g += 16) {
+        __m128i a[16], b[16];
+        int round;
+        for (k = 0; k < 16; k++)
+            a[k] = col[g + k];
+        for (round = 0; round < 4; round++) {
+            for (k = 0; k < 8; k++) {
+                b[2 * k] = _mm_unpacklo_epi8(a[k], a[k + 8]);
+                b[2 * k + 1] = _mm_unpackhi_epi8(a[k], a[k + 8]);
+            }
+            for (k = 0; k < 16; k++)
+                a[k] = b[k];
+        }
+        for (p = 0; p < np; p++)
+            store16(d + (size_t)p * dstride + (size_t)g, a[p]);
+    }
+    for (c = g; c < n; c++) {
+        const uint8_t *m = (const uint8_t *)&col[c];
+        for (p = 0; p < np; p++)
+            d[(size_t)p * dstride + (size_t)c] = m[p];
+    }
+}
+
+/* Source row t: its sample of column ca enters, that of cr leaves the
+ * windows of mask[t] (0xFF lanes: subtracting adds one). When the two are
+ * equal (v) both go to spare level 256 + (v ^ t) instead, which stays
+ * zero: in a flat region (the black corners of a sonar fan) the same level
+ * would be read and written 2 (2R + 16) times a column, each load waiting
+ * for the previous store; spread over the rows' spare levels the updates
+ * are independent. Selected with a mask, not a branch (equal samples come
+ * and go at random in noise). */
+#define R16_ROW(t)                                                                             \
+    do {                                                                                       \
+        const uint8_t *s_ = rowp[t];                                                           \
+        const __m128i m_ = mask[t];                                                            \
+        const size_t vi_ = s_[ca], vo_ = s_[cr];                                               \
+        const size_t sp_ = ((size_t)0 - (size_t)(vi_ == vo_)) & (size_t)(256 | (t));          \
+        __m128i *const hi_ = &hist[vi_ ^ sp_];                                                 \
+        __m128i *const ho_ = &hist[vo_ ^ sp_];                                                 \
+        *hi_ = _mm_sub_epi8(*hi_, m_);                                                         \
+        *ho_ = _mm_add_epi8(*ho_, m_);                                                         \
+    } while (0)
+
+/* Per lane, the samples below level ref: the sum of the levels below ref,
+ * or all the samples (N per lane) less those at or above ref, whichever
+ * is fewer levels (two sums in flight). */
+static __m128i r16_below(const __m128i *hist, unsigned ref, __m128i vn)
+{
+    __m128i a = _mm_setzero_si128(), b = _mm_setzero_si128();
+    unsigned L;
+    if (ref <= 128u) {
+        for (L = 0; L + 4 <= ref; L += 4) {
+            a = _mm_add_epi8(a, _mm_add_epi8(hist[L], hist[L + 2]));
+            b = _mm_add_epi8(b, _mm_add_epi8(hist[L + 1], hist[L + 3]));
+        }
+        for (; L < ref; L++)
+            a = _mm_add_epi8(a, hist[L]);
+        return _mm_add_epi8(a, b);
+    }
+    /* levels 256 .. 258 are spare ones: zero */
+    for (L = ref; L < 256u; L += 4) {
+        a = _mm_add_epi8(a, _mm_add_epi8(hist[L], hist[L + 2]));
+        b = _mm_add_epi8(b, _mm_add_epi8(hist[L + 1], hist[L + 3]));
+    }
+    return _mm_sub_epi8(vn, _mm_add_epi8(a, b));
+}
+
+/* Lowest and highest lane. */
+static unsigned r16_hmin(__m128i v)
+{
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 8));
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 4));
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 2));
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 1));
+    return (unsigned)_mm_cvtsi128_si32(v) & 0xFFu;
+}
+
+static unsigned r16_hmax(__m128i v)
+{
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 8));
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 4));
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 2));
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 1));
+    return (unsigned)_mm_cvtsi128_si32(v) & 0xFFu;
+}
+
+/* Where the scans of r16_medians start: lo <= the median of every lane of
+ * the low group, hi >= that of every lane of the high group; when grouped,
+ * the lanes whose median is >= mid form the high group. */
+typedef struct {
+    unsigned lo, hi, mid, grouped;
+} r16_refs;
+
+/* The 16 windows' medians, all lanes at once, by a scan of the levels up
+ * from lo: the medians of 16 neighbouring rows are close (about 10 levels
+ * apart on sonar frames), so a scan from the lowest one is short. d =
+ * half - the lane's samples below the level, in -113 .. 112: the lane's
+ * median is above the level while d stays >= 0 after subtracting the
+ * level's count (sign bits: movemask). When the medians lie far apart
+ * (bright and dark rows in one block) the scan would cross the levels
+ * between them every column: the lanes are then grouped, each column, by
+ * the side of mid (the middle of their range) their median is on (a sum
+ * of the levels below mid), and the high group is scanned down from hi.
+ * Levels 256 .. 258 of hist are read by the unrolled scan and must be
+ * zero. */
+static __m128i r16_medians(const __m128i *hist, r16_refs *rf, __m128i vhalf, __m128i vn)
+{
+    const __m128i m1 = _mm_set1_epi8(-1);
+    unsigned lbits = 0xFFFFu, hbits = 0, k = 0;
+    __m128i gh = _mm_setzero_si128(), med = _mm_setzero_si128();
+
+    if (rf->grouped) {
+        const __m128i dm = _mm_sub_epi8(vhalf, r16_below(hist, rf->mid, vn));
+        hbits = ~(unsigned)_mm_movemask_epi8(dm) & 0xFFFFu;
+        lbits = 0xFFFFu & ~hbits;
+        gh = _mm_cmpgt_epi8(dm, m1);
+    }
+    if (lbits != 0) {
+        /* Low group: lo down while a lane has more than half its samples
+         * below it, then up to the group's lowest median. */
+        unsigned ref = rf->lo;
+        const __m128i *hp;
+        __m128i d = _mm_sub_epi8(vhalf, r16_below(hist, ref, vn)), e;
+        while ((unsigned)_mm_movemask_epi8(d) & lbits) {
+            d = _mm_add_epi8(d, hist[--ref]);
+            k++;
+        }
+        for (;;) {
+            e = _mm_sub_epi8(d, hist[ref]);
+            if ((unsigned)_mm_movemask_epi8(e) & lbits)
+                break;
+            d = e;
+            ref++;
+            k++;
+        }
+        /* Each lane's median: ref + the levels above ref that leave its
+         * d >= 0. Four levels a test. */
+        med = _mm_set1_epi8((char)ref);
+        for (hp = &hist[ref + 1]; ((unsigned)_mm_movemask_epi8(e) & lbits) != lbits;
+             hp += 4, k += 4) {
+            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
+            e = _mm_sub_epi8(e, hp[0]);
+            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
+            e = _mm_sub_epi8(e, hp[1]);
+            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
+            e = _mm_sub_epi8(e, hp[2]);
+            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
+            e = _mm_sub_epi8(e, hp[3]);
+        }
+        rf->lo = ref;
+    }
+    if (hbits != 0) {
+        /* High group, mirrored: u = half - the samples above the level; a
+         * lane's median is the highest level whose count leaves u < 0. */
+        unsigned refh = rf->hi;
+        const __m128i *hp;
+        __m128i u, f, medh;
+        u = _mm_sub_epi8(vhalf, _mm_sub_epi8(_mm_sub_epi8(vn, r16_below(hist, refh, vn)),
+                                             hist[refh]));
+        while ((unsigned)_mm_movemask_epi8(u) & hbits) {
+            u = _mm_add_epi8(u, hist[++refh]);
+            k++;
+        }
+        for (;;) {
+            f = _mm_sub_epi8(u, hist[refh]);
+            if ((unsigned)_mm_movemask_epi8(f) & hbits)
+                break;
+            u = f;
+            refh--;
+            k++;
+        }
+        /* one level a test: no read below level 0 */
+        medh = _mm_set1_epi8((char)refh);
+        for (hp = &hist[refh]; ((unsigned)_mm_movemask_epi8(f) & hbits) != hbits; k++) {
+            medh = _mm_add_epi8(medh, _mm_cmpgt_epi8(f, m1));
+            f = _mm_sub_epi8(f, *--hp);
+        }
+        rf->hi = refh;
+        med = _mm_or_si128(_mm_andnot_si128(gh, med), _mm_and_si128(gh, medh));
+        if (lbits != 0 && refh >= rf->lo && refh - rf->lo < 32u)
+            rf->grouped = 0; /* close again: one group (lo <= every median) */
+    }
+    if (k > 24) {
+        /* k levels scanned: when many, group the lanes if their medians
+         * are far apart (or move the groups' split). */
+        unsigned mn = r16_hmin(med), mx = r16_hmax(med);
+        rf->grouped = mx - mn > 48u;
+        if (rf->grouped) {
+            rf->lo = mn;
+            rf->hi = mx;
+            rf->mid = (mn + mx) / 2u + 1u;
+        }
+    }
+    return med;
+}
+
+static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+{
+    __m128i hist[512];        /* levels: 0 .. 255 counts, 256 .. 511 spare (zero) */
+    __m128i mask[R16_NT_MAX]; /* 0xFF in lane p when source row t is in window p */
+    __m128i mbuf[R16_CHUNK];  /* medians of a chunk of columns */
+    const uint8_t *rowp[R16_NT_MAX];
+    const int n = 2 * R + 1, nt = n + 15;
+    const __m128i vhalf = _mm_set1_epi8((char)((n * n) / 2));
+    const __m128i vn = _mm_set1_epi8((char)(n * n));
+    int i0, j0, j, t, p;
+
+    for (t = 0; t < nt; t++) {
+        uint8_t mb[16];
+        for (p = 0; p < 16; p++)
+            mb[p] = (uint8_t)(p <= t && t <= p + n - 1 ? 0xFF : 0);
+        mask[t] = load16(mb);
+    }
+    memset(hist, 0, sizeof hist);
+    for (i0 = 0; i0 < rows; i0 += 16) {
+        const int np = rows - i0 < 16 ? rows - i0 : 16; /* output rows in this block */
+        r16_refs rf;
+        for (t = 0; t < nt; t++)
+            rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
+
+        /* Windows of column 0: columns clamp(-R..R). Only levels 0 .. 255
+         * are cleared: the spare ones are back to zero after every row
+         * (each takes a sample and gives it back). */
+        memset(hist, 0, 256 * sizeof hist[0]);
+        rf.lo = rf.hi = rf.mid = rf.grouped = 0;
+        for (t = 0; t < nt; t++) {
+            int b;
+            for (b = -R; b <= R; b++) {
+                unsigned v = rowp[t][clampi(b, 0, cols - 1)];
+                hist[v] = _mm_sub_epi8(hist[v], mask[t]);
+            }
+        }
+
+        for (j0 = 0; j0 < cols; j0 += R16_CHUNK) {
+            const int jn = cols - j0 < R16_CHUNK ? cols - j0 : R16_CHUNK;
+            for (j = j0; j < j0 + jn; j++) {
+                size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
+                size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+                if (j > 0 && ca != cr) {
+                    /* The 2R + 16 rows unrolled (in any order: the sums
+                     * commute), entered by R: a loop's exit was
+                     * mispredicted about once a column. */
+                    switch (R) {
+                    case 7:
+                        R16_ROW(29);
+                        R16_ROW(28);
+                        /* fall through */
+                    case 6:
+                        R16_ROW(27);
+                        R16_ROW(26);
+                        /* fall through */
+                    case 5:
+                        R16_ROW(25);
+                        R16_ROW(24);
+                        /* fall through */
+                    case 4:
+                        R16_ROW(23);
+                        R16_ROW(22);
+                        /* fall through */
+                    case 3:
+                        R16_ROW(21);
+                        R16_ROW(20);
+                        /* fall through */
+                    case 2:
+                        R16_ROW(19);
+                        R16_ROW(18);
+                        /* fall through */
+                    default:
+                        R16_ROW(17);
+                        R16_ROW(16);
+                    }
+                    R16_ROW(15);
+                    R16_ROW(14);
+                    R16_ROW(13);
+                    R16_ROW(12);
+                    R16_ROW(11);
+                    R16_ROW(10);
+                    R16_ROW(9);
+                    R16_ROW(8);
+                    R16_ROW(7);
+                    R16_ROW(6);
+                    R16_ROW(5);
+                    R16_ROW(4);
+                    R16_ROW(3);
+                    R16_ROW(2);
+                    R16_ROW(1);
+                    R16_ROW(0);
+                }
+                mbuf[j - j0] = r16_medians(hist, &rf, vhalf, vn);
+            }
+            r16_store(mbuf, jn, dst + (size_t)i0 * dstride + (size_t)j0, dstride, np);
+        }
+    }
+}
+#undef R16_ROW
 #endif /* MEDIAN_SSE2 */
 
 /* Large radii (2R + 1 > H / 2 with H column histograms): strips of up to
@@ -1216,6 +1550,23 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
 #else
             median_quad(rs, rows, cols, dst, dstride, R);
 #endif
+            return ACTAG_OK;
+        }
+    }
+#endif
+
+#ifdef MEDIAN_SSE2
+    /* Radii up to 7: a sliding histogram shared by 16 rows (no column
+     * histograms). For 16-bit frames the ring then has the whole scratch
+     * and must hold the 2R+16 <= 30 rows of a block: true up to 2486
+     * columns (scratch / cols >= 2 + 69632 / cols); wider 16-bit frames
+     * take the constant-time path below (same output). */
+    if (R <= MEDIAN_R16_MAX_R) {
+        size_t nk = scratch_size / ucols;
+        if (rs->src8 != NULL || nk >= (size_t)(2 * R + 16)) {
+            rs->ring = (uint8_t *)scratch;
+            rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
+            median_rows16(rs, rows, cols, dst, dstride, R);
             return ACTAG_OK;
         }
     }

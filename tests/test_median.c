@@ -252,6 +252,68 @@ static void test_every_width_small_radii(void)
         }
 }
 
+static void test_sixteen_row_blocks(void)
+{
+    /* The SSE2 path at R <= 7 filters blocks of 16 output rows (a 16-lane
+     * histogram; rows not a multiple of 16 leave a partial block) and
+     * writes the medians through 16 x 16 transposes (columns not a
+     * multiple of 16 leave a partial group): every row count 1..40 and
+     * every width 1..70 at every radius 1..7, the other size random,
+     * random fills, strides beyond cols on both sides. */
+    int n, R, step = TU_EMULATED ? 5 : 1;
+    rng_state = 0x16B0u;
+    for (R = 1; R <= 7; R++) {
+        for (n = 1; n <= 40; n += step) {
+            int cols = rnd_range(1, 70);
+            int kind = (int)(rnd() % FILL_N);
+            check_case(n, cols, R, kind, n & 1 ? rnd_range(1, 20) : 0, n & 2 ? 3 : 0);
+        }
+        for (n = 1; n <= 70; n += step) {
+            int rows = rnd_range(1, 40);
+            int kind = n % 3 == 0 ? FILL_UNIFORM : (int)(rnd() % FILL_N);
+            check_case(rows, n, R, kind, n & 2 ? rnd_range(1, 20) : 0, n & 1 ? 5 : 0);
+        }
+    }
+}
+
+static void test_far_apart_medians(void)
+{
+    /* Windows of one 16-row block whose medians lie far apart (bright and
+     * dark bands across the rows, checkerboards whose cells swap the
+     * bands' medians from column to column, several levels of bands):
+     * the SSE2 path's scans then split the block's rows into two groups,
+     * the high one scanned down from its highest median, and regroup them
+     * when they change sides. Bands of every height 1..9 at R = 1..7. */
+    static const uint8_t levels4[4] = {0, 85, 170, 255};
+    int R, band, shape;
+    uint8_t *img = (uint8_t *)fc_alloc(48u * 90u);
+    rng_state = 0xFA2Au;
+    for (R = 1; R <= 7; R++)
+        for (band = 1; band <= 9; band += TU_EMULATED ? 4 : 1)
+            for (shape = 0; shape < 5; shape++) {
+                int rows = rnd_range(17, 48), cols = rnd_range(20, 80), sstride = cols + 3;
+                int i, j;
+                for (i = 0; i < rows; i++)
+                    for (j = 0; j < sstride; j++) {
+                        int v;
+                        switch (shape) {
+                        case 0: v = ((i / band) & 1) ? 255 : 0; break; /* bands */
+                        case 1: v = (((i / band) + (j / (R + band))) & 1) ? 255 : 0; break;
+                        case 2: v = levels4[(i / band) % 4] ^ (int)(rnd() & 3u); break;
+                        case 3: /* dark noise and bright noise bands */
+                            v = ((i / band) & 1) ? 200 + (int)(rnd() % 56u) : (int)(rnd() % 30u);
+                            break;
+                        default: /* bands that end part way along the row */
+                            v = ((i / band) & 1) && j < cols / 2 ? 250 : (j * 3) & 31;
+                            break;
+                        }
+                        img[(size_t)i * (size_t)sstride + (size_t)j] = (uint8_t)v;
+                    }
+                check_image(img, rows, cols, sstride, R, 2, "far-apart medians");
+            }
+    free(img);
+}
+
 static void test_random_images(void)
 {
     static const int radii[] = {0, 1, 2, 3, 4, 5, 8};
@@ -590,6 +652,13 @@ static void test_16bit_frames(void)
     check16(4, 4352, 7, 65535, 0);
     check16(4, 4353, 7, 65535, 0);
     check16(9, 4353, 2, 300, 1);
+    /* the SSE2 16-row path needs 2R+16 ring rows: up to 2486 columns at
+     * R = 7 (3165 at R = 4); wider frames take the constant-time path */
+    check16(40, 2486, 7, 65535, 0);
+    check16(40, 2487, 7, 65535, 2);
+    check16(35, 3165, 4, 4095, 0);
+    check16(35, 3166, 4, 4095, 1);
+    check16(40, 70, 3, 65535, 3); /* a partial block of 8 rows, the ring reused */
 }
 
 /* The multiply-shift scaling equals the division for every maximum. */
@@ -701,6 +770,8 @@ int main(void)
     RUN_TEST(test_wide_and_tall);
     RUN_TEST(test_max_counts);
     RUN_TEST(test_partial_row_blocks);
+    RUN_TEST(test_sixteen_row_blocks);
+    RUN_TEST(test_far_apart_medians);
     RUN_TEST(test_constant_and_extreme_images);
     RUN_TEST(test_wide_strides);
     RUN_TEST(test_every_small_radius_random);

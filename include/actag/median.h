@@ -26,10 +26,28 @@
  *   median. Integer arithmetic only; the work per pixel does not depend on R
  *   (the set-up per row is O(R)). Frames wider than ACTAG_MEDIAN_HIST_COLS
  *   (256) columns are filtered in vertical strips, so that at most 256
- *   column histograms exist at a time (see MEMORY). On x86-64 an SSE2 path is used (about
- *   1.7-1.8 ms for a 530 x 512 frame at R = 4 on one core); defining
- *   ACTAG_NO_SIMD when building the library selects the portable C path,
- *   which gives identical output.
+ *   column histograms exist at a time (see MEMORY). On x86-64 an SSE2 path is used
+ *   (radii >= 8: this scheme in 16-byte lanes; radii 1..7: below);
+ *   defining ACTAG_NO_SIMD when building the library selects the portable
+ *   C path, which gives identical output.
+ *
+ *   SSE2 path, radii 1..7: Huang's sliding histogram shared by 16 output
+ *   rows, one 16-byte vector of the 16 windows' 8-bit counts per grey
+ *   level; moving the windows one column right, each of the 2R+16 source
+ *   rows of the block adds its entering sample to and removes its leaving
+ *   one from the windows that hold the row (a lane mask), and the 16
+ *   medians are found together by a vector scan of the levels from the
+ *   previous column's lowest median (rows far apart: two groups, one
+ *   scanned down from the top). On the 58 pool frames (530 x 512, gcc -O3,
+ *   callgrind) 43.8 instructions per pixel at R = 4 instead of 91.3 for
+ *   the constant-time SSE2 path (R = 1: 43 vs 90, R = 7: 49 vs 93, first
+ *   10 frames), and about 1.0 ms per frame instead of 1.5-1.6 at R = 4 on
+ *   one core of a 2-core VM (stage_bench; ranges in the commit). The
+ *   cost depends on the content, unlike the constant-time path: images
+ *   whose neighbouring rows alternate between 3 or more far apart grey
+ *   levels (synthetic bands a few rows high) take up to about 2x the
+ *   constant-time path's instructions; every frame of bench/worst_bench
+ *   (checkerboards, speckle, blobs, stripes, noise) takes fewer.
  *
  *   Portable path (no SSE2: ARM, Cortex-M, or ACTAG_NO_SIMD), radii 1..7:
  *   Huang's sliding histogram instead, one 256-bin histogram shared by four
@@ -65,7 +83,10 @@
  *   more per column; whatever the number of rows or the radius). No
  *   alignment is required. The kernel histograms live on the stack (under
  *   1 KiB; 1.4 KiB for the summed columns of R >= 64 on wide frames; the
- *   portable path's four-row histogram for R <= 7 under 1.5 KiB).
+ *   portable path's four-row histogram for R <= 7 under 1.5 KiB; the SSE2
+ *   path's 16-row histogram for R <= 7 about 11 KiB: 512 levels of 16
+ *   lanes, half of them spare, and the medians of 64 columns awaiting
+ *   their transposition into the output).
  *   scratch is checked for every radius, R = 0 included.
  *
  *   Strips: with H column histograms (H = as many as fit next to the two
@@ -82,14 +103,16 @@
  *   16-bit counts (on the stack), slid down by a sample per column and row.
  *   The output is the same bytes whatever the strips. Cost (SSE2 path, one
  *   x86-64 core, 530 x 512, against one strip with 274 * cols bytes of
- *   scratch): R = 4 +1.4 % instructions in the filter; R = 16 about the
- *   same time; R = 32 to 127 about 1.2x to 1.7x the time (R = 127: ~10 ms
- *   instead of ~6 ms on a loaded machine). Pass a larger scratch (e.g. 274
- *   * cols bytes: one strip) to avoid the strips. The 16-bit ring converts
- *   only a strip's columns; rows are converted again for every strip. The
- *   portable path at R <= 7 (the Cortex-M default) needs no histograms:
- *   its 16-bit ring of 2R+4 rows fits the scratch up to 4352 columns, and
- *   wider 16-bit frames take the constant-time path.
+ *   scratch): R = 16 about the same time; R = 32 to 127 about 1.2x to
+ *   1.7x the time (R = 127: ~10 ms instead of ~6 ms on a loaded machine);
+ *   R = 4, when it took this path, +1.4 % instructions. Pass a larger
+ *   scratch (e.g. 274 * cols bytes: one strip) to avoid the strips. The
+ *   16-bit ring converts only a strip's columns; rows are converted again
+ *   for every strip. At R <= 7 neither path needs column histograms (so
+ *   no strips): the portable path's 16-bit ring of 2R+4 rows fits the
+ *   scratch up to 4352 columns, the SSE2 path's of 2R+16 rows up to 2486
+ *   columns at R = 7 (3165 at R = 4), and wider 16-bit frames take the
+ *   constant-time path.
  *
  * LIMITS
  *   0 <= radius <= ACTAG_MEDIAN_MAX_RADIUS (127): column histogram counters
