@@ -1160,6 +1160,36 @@ static void row_threshold_sse2(uint8_t *d, uint32_t *row, const uint8_t *x, cons
 
 /* The threshold into bytes (bitmap == NULL: dst, dst_stride) or into a
  * bitmap (each row through the cols bytes after the scratch's own). */
+/* The vertical extrema of rows lo..hi into vmin/vmax: the rows up to hi
+ * folded into hi's block prefix extrema pmin/pmax (from *phi, the last row
+ * folded, on), then combined with lo's block suffix extrema smn/smx (or
+ * either alone when lo and hi share a block). */
+static void vertical_window(uint8_t *vmin, uint8_t *vmax, uint8_t *pmin, uint8_t *pmax,
+                            const uint8_t *smn, const uint8_t *smx, const uint8_t *src,
+                            size_t sstride, int *phi, int lo, int hi, int wv, size_t ucols)
+{
+    while (*phi < hi) {
+        const uint8_t *row;
+        ++*phi;
+        row = src + (size_t)*phi * sstride;
+        if (*phi % wv == 0) {
+            memcpy(pmin, row, ucols);
+            memcpy(pmax, row, ucols);
+        } else {
+            minmax_rows(pmin, pmax, pmin, pmax, row, row, ucols);
+        }
+    }
+    if (hi / wv != lo / wv) {
+        minmax_rows(vmin, vmax, smn, smx, pmin, pmax, ucols);
+    } else if (lo % wv == 0) { /* lo starts hi's block */
+        memcpy(vmin, pmin, ucols);
+        memcpy(vmax, pmax, ucols);
+    } else { /* same block, cut at the bottom */
+        memcpy(vmin, smn, ucols);
+        memcpy(vmax, smx, ucols);
+    }
+}
+
 static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride, uint8_t *dst,
                           int dst_stride, uint32_t *bitmap, int radius, int offset,
                           void *scratch, size_t scratch_size)
@@ -1213,7 +1243,7 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
             if (bitmap != NULL) {
                 memset(rowbuf, offset >= 0, ucols);
                 pack_row(bitmap + ((size_t)i + 1u) * ACTAG_BITMAP_WORDS(cols), rowbuf, ucols);
-            } else {
+            } else if (dst != NULL) { /* always, without a bitmap (GCC cannot tell) */
                 memset(dst + (size_t)i * dstride, offset >= 0, ucols);
             }
         }
@@ -1301,26 +1331,8 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                                     ucols);
                 phi = hi;
             } else {
-                while (phi < hi) {
-                    const uint8_t *row;
-                    phi++;
-                    row = src + (size_t)phi * sstride;
-                    if (phi % wv == 0) {
-                        memcpy(pmin, row, ucols);
-                        memcpy(pmax, row, ucols);
-                    } else {
-                        minmax_rows(pmin, pmax, pmin, pmax, row, row, ucols);
-                    }
-                }
-                if (hi / wv != bl) {
-                    minmax_rows(va, vb, smn, smx, pmin, pmax, ucols);
-                } else if (lo % wv == 0) {
-                    memcpy(va, pmin, ucols);
-                    memcpy(vb, pmax, ucols);
-                } else {
-                    memcpy(va, smn, ucols);
-                    memcpy(vb, smx, ucols);
-                }
+                vertical_window(va, vb, pmin, pmax, smn, smx, src, sstride, &phi, lo, hi, wv,
+                                ucols);
             }
             pad_line_sse2(la, ucols, geo.r);
             pad_line_sse2(lb, ucols, geo.r);
@@ -1366,26 +1378,8 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
                 phi = hi;
 #endif
             } else {
-                while (phi < hi) {
-                    const uint8_t *row;
-                    phi++;
-                    row = src + (size_t)phi * sstride;
-                    if (phi % wv == 0) {
-                        memcpy(pmin, row, ucols);
-                        memcpy(pmax, row, ucols);
-                    } else {
-                        minmax_rows(pmin, pmax, pmin, pmax, row, row, ucols);
-                    }
-                }
-                if (hi / wv != bl) {
-                    minmax_rows(pa + 8, pb + 8, smn, smx, pmin, pmax, ucols);
-                } else if (lo % wv == 0) {
-                    memcpy(pa + 8, pmin, ucols);
-                    memcpy(pb + 8, pmax, ucols);
-                } else {
-                    memcpy(pa + 8, smn, ucols);
-                    memcpy(pb + 8, smx, ucols);
-                }
+                vertical_window(pa + 8, pb + 8, pmin, pmax, smn, smx, src, sstride, &phi, lo, hi,
+                                wv, ucols);
             }
             {
                 /* the edge padding: 8 copies of each end sample */
@@ -1405,31 +1399,10 @@ static int threshold_core(const uint8_t *src, int rows, int cols, int src_stride
             continue;
         }
 #endif
-        /* Vertical: prefix extrema of hi's block up to hi. */
-        while (phi < hi) {
-            const uint8_t *row;
-            phi++;
-            row = src + (size_t)phi * sstride;
-            if (phi % wv == 0) {
-                memcpy(pmin, row, ucols);
-                memcpy(pmax, row, ucols);
-            } else {
-                minmax_rows(pmin, pmax, pmin, pmax, row, row, ucols);
-            }
-        }
-        {
-            const uint8_t *smn = sbuf_min + (size_t)(lo - bl * wv) * ucols;
-            const uint8_t *smx = sbuf_max + (size_t)(lo - bl * wv) * ucols;
-            if (hi / wv != bl) {
-                minmax_rows(hmin, hmax, smn, smx, pmin, pmax, ucols);
-            } else if (lo % wv == 0) { /* lo starts hi's block */
-                memcpy(hmin, pmin, ucols);
-                memcpy(hmax, pmax, ucols);
-            } else { /* same block, cut at the bottom */
-                memcpy(hmin, smn, ucols);
-                memcpy(hmax, smx, ucols);
-            }
-        }
+        /* Vertical: the window's rows lo..hi */
+        vertical_window(hmin, hmax, pmin, pmax, sbuf_min + (size_t)(lo - bl * wv) * ucols,
+                        sbuf_max + (size_t)(lo - bl * wv) * ucols, src, sstride, &phi, lo, hi,
+                        wv, ucols);
 
         /* Horizontal, then the threshold: 2x + 2 offset >= mn + mx. */
 #ifdef THRESHOLD_SCALAR

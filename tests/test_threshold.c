@@ -66,6 +66,7 @@ int actag_adaptive_threshold_swar32(const uint8_t *src, int rows, int cols, int 
 #define row_r8_bitmap row_r8_bitmap_w32
 #define pack_row pack_row_w32
 #define gather4 gather4_w32
+#define vertical_window vertical_window_w32
 #define threshold_core threshold_core_w32
 #define actag_adaptive_threshold actag_adaptive_threshold_swar32
 #define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_swar32
@@ -99,6 +100,7 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #undef row_threshold_doubling
 #undef pack_row
 #undef gather4
+#undef vertical_window
 #undef threshold_core
 #undef THRESHOLD_R8
 #undef avgw
@@ -127,6 +129,7 @@ int actag_adaptive_threshold_dbl32(const uint8_t *src, int rows, int cols, int s
 #define row_r8_bitmap row_r8_bitmap_d32
 #define pack_row pack_row_d32
 #define gather4 gather4_d32
+#define vertical_window vertical_window_d32
 #define threshold_core threshold_core_d32
 #define ACTAG_THRESHOLD_DOUBLING 1
 #define min8 min8_d32
