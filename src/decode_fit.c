@@ -179,10 +179,23 @@ static __m128 fsample4_in(const fimg *im, __m128i wmul, __m128 x, __m128 y)
  * exactly (small integers), as fsample's v00 + (v01 - v00) * 0 is v00, so
  * the row values, and the result, are bit-identical and no load leaves the
  * frame. */
+typedef struct fclamp { /* fsample4_cl's limits, set once a grid (fclamp_of) */
+    __m128 xmax, ymax;    /* cols - 1, rows - 1 */
+    __m128i x0max, y0max; /* cols - 2, rows - 1 */
+} fclamp;
+
+static void fclamp_of(const fimg *im, fclamp *cl)
+{
+    cl->xmax = _mm_set1_ps((float)(im->cols - 1));
+    cl->ymax = _mm_set1_ps((float)(im->rows - 1));
+    cl->x0max = _mm_set1_epi32(im->cols - 2);
+    cl->y0max = _mm_set1_epi32(im->rows - 1);
+}
+
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-static __m128 fsample4_cl(const fimg *im, __m128i wmul, __m128 x, __m128 y)
+static __m128 fsample4_cl(const fimg *im, const fclamp *cl, __m128i wmul, __m128 x, __m128 y)
 {
     __m128 zero = _mm_setzero_ps(), fx, fy, v00, v01, v10, v11;
     __m128i xi, yi, y1, w, byte = _mm_set1_epi32(0xff);
@@ -190,14 +203,14 @@ static __m128 fsample4_cl(const fimg *im, __m128i wmul, __m128 x, __m128 y)
     int o[4], q[4];
     x = _mm_and_ps(_mm_cmpge_ps(x, zero), x);
     y = _mm_and_ps(_mm_cmpge_ps(y, zero), y);
-    x = _mm_min_ps(_mm_set1_ps((float)(im->cols - 1)), x);
-    y = _mm_min_ps(_mm_set1_ps((float)(im->rows - 1)), y);
+    x = _mm_min_ps(cl->xmax, x);
+    y = _mm_min_ps(cl->ymax, y);
     xi = _mm_cvttps_epi32(x);
     yi = _mm_cvttps_epi32(y);
     /* x0 at most cols - 2 (signed compare: 0 <= x0 < cols) */
-    xi = _mm_add_epi32(xi, _mm_cmpgt_epi32(xi, _mm_set1_epi32(im->cols - 2)));
+    xi = _mm_add_epi32(xi, _mm_cmpgt_epi32(xi, cl->x0max));
     /* y1 = y0 + 1 where y0 + 1 < rows */
-    y1 = _mm_sub_epi32(yi, _mm_cmplt_epi32(yi, _mm_set1_epi32(im->rows - 1)));
+    y1 = _mm_sub_epi32(yi, _mm_cmplt_epi32(yi, cl->y0max));
     fx = _mm_sub_ps(x, _mm_cvtepi32_ps(xi));
     fy = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
     _mm_storeu_si128((__m128i *)(void *)o, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(yi, 16)), wmul));
@@ -220,31 +233,31 @@ static __m128 fsample4_cl(const fimg *im, __m128i wmul, __m128 x, __m128 y)
     return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
 }
 
-/* The SIMD counterpart of fsample_at (clamp: the grid leaves the frame). */
-static inline __m128 fsample4(const fimg *im, int clamp, __m128i wmul, __m128 x, __m128 y)
+/* The SIMD counterpart of fsample_at (cl: the grid leaves the frame). */
+static inline __m128 fsample4(const fimg *im, const fclamp *cl, __m128i wmul, __m128 x, __m128 y)
 {
-    return clamp ? fsample4_cl(im, wmul, x, y) : fsample4_in(im, wmul, x, y);
+    return cl ? fsample4_cl(im, cl, wmul, x, y) : fsample4_in(im, wmul, x, y);
 }
 
 /* fcell5 of four cells centred at (x0, y0). */
-static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, int clamp, __m128i wmul, __m128 x0,
-                              __m128 y0)
+static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, const fclamp *cl, __m128i wmul,
+                              __m128 x0, __m128 y0)
 {
     __m128 dx1 = _mm_set1_ps(im->so * (gr->ax + gr->bx)), dy1 = _mm_set1_ps(im->so * (gr->ay + gr->by));
     __m128 dx2 = _mm_set1_ps(im->so * (gr->ax - gr->bx)), dy2 = _mm_set1_ps(im->so * (gr->ay - gr->by));
-    __m128 s = fsample4(im, clamp, wmul, x0, y0);
-    s = _mm_add_ps(s, fsample4(im, clamp, wmul, _mm_add_ps(x0, dx1), _mm_add_ps(y0, dy1)));
-    s = _mm_add_ps(s, fsample4(im, clamp, wmul, _mm_sub_ps(x0, dx1), _mm_sub_ps(y0, dy1)));
-    s = _mm_add_ps(s, fsample4(im, clamp, wmul, _mm_add_ps(x0, dx2), _mm_add_ps(y0, dy2)));
-    s = _mm_add_ps(s, fsample4(im, clamp, wmul, _mm_sub_ps(x0, dx2), _mm_sub_ps(y0, dy2)));
+    __m128 s = fsample4(im, cl, wmul, x0, y0);
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(x0, dx1), _mm_add_ps(y0, dy1)));
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_sub_ps(x0, dx1), _mm_sub_ps(y0, dy1)));
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(x0, dx2), _mm_add_ps(y0, dy2)));
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_sub_ps(x0, dx2), _mm_sub_ps(y0, dy2)));
     return _mm_mul_ps(s, _mm_set1_ps(0.2f));
 }
 
-/* fcells_on(im, gr, k, m, !clamp, skip), four cells at a time in row order
+/* fcells_on(im, gr, k, m, !cl, skip), four cells at a time in row order
  * (the last group repeats the last cell in its spare lanes). Lane counters
  * cx, cy step by 4 cells, wrapping at most once a row as n >= 5. */
 static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int skip,
-                               int clamp)
+                               const fclamp *cl)
 {
     int i, j, a, b, n = k + 1, nn = n * n;
     float g = 0.5f * (float)n;
@@ -282,7 +295,7 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
         cx = _mm_sub_epi32(cx, _mm_and_si128(wrap, nv));
         cy = _mm_sub_epi32(cy, wrap);
         if (im->fast) {
-            s = fcell5_4(im, gr, clamp, wmul, x0, y0);
+            s = fcell5_4(im, gr, cl, wmul, x0, y0);
         } else {
             __m128 xa[3], ya[3]; /* x0 + ou[a], as the scalar sum's first step */
             for (a = 0; a < 3; a++) {
@@ -292,7 +305,7 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
             s = _mm_setzero_ps();
             for (b = 0; b < 3; b++)
                 for (a = 0; a < 3; a++)
-                    s = _mm_add_ps(s, fsample4(im, clamp, wmul, _mm_add_ps(xa[a], pu[b]),
+                    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(xa[a], pu[b]),
                                                _mm_add_ps(ya[a], pv[b])));
             s = _mm_mul_ps(s, _mm_set1_ps(1.0f / 9.0f));
         }
@@ -349,13 +362,16 @@ static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, i
 static void fcells_x(const fimg *im, const fgrid *gr, int k, float *m, int skip)
 {
 #if ACTAG__FIT_SIMD
-    if (im->simd) { /* one copy of the loops per sampler (constant clamp) */
-        if (fgrid_inside(im, gr, k))
-            fcells_simd(im, gr, k, m, skip, 0);
-        else if (im->cols >= 2) /* fsample4_cl's column pair */
-            fcells_simd(im, gr, k, m, skip, 1);
-        else
+    if (im->simd) { /* one copy of the loops per sampler (cl null or not) */
+        fclamp cl;
+        if (fgrid_inside(im, gr, k)) {
+            fcells_simd(im, gr, k, m, skip, NULL);
+        } else if (im->cols >= 2) { /* fsample4_cl's column pair */
+            fclamp_of(im, &cl);
+            fcells_simd(im, gr, k, m, skip, &cl);
+        } else {
             fcells_on(im, gr, k, m, 0, skip);
+        }
         return;
     }
 #endif
@@ -446,9 +462,9 @@ static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
  * grids up to the rounding of their coordinates. */
 #if ACTAG__FIT_SIMD
 /* flattice, four lattice points at a time in row order (the last group
- * repeats the last point in its spare lanes); clamp: not inside. */
+ * repeats the last point in its spare lanes); cl: not inside. */
 static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q,
-                          int clamp)
+                          const fclamp *cl)
 {
     int i, j, n = k + 1, nc = n + 2 - pi, nq = (n + 2 - pj) * nc, c = 0, r = 0;
     float g = 0.5f * (float)n;
@@ -467,7 +483,7 @@ static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj
                 r++;
             }
         }
-        _mm_storeu_ps(q, fcell5_4(im, gr, clamp, wmul, _mm_loadu_ps(xs), _mm_loadu_ps(ys)));
+        _mm_storeu_ps(q, fcell5_4(im, gr, cl, wmul, _mm_loadu_ps(xs), _mm_loadu_ps(ys)));
         for (j = 0; j < 4 && i + j < nq; j++)
             Q[at[j]] = q[j];
     }
@@ -482,7 +498,10 @@ static void flattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, flo
     int inside = fgrid_inside_h(im, gr, g + 1.0f + im->so);
 #if ACTAG__FIT_SIMD
     if (im->simd && (inside || im->cols >= 2)) {
-        flattice_simd(im, gr, k, pi, pj, Q, !inside);
+        fclamp cl;
+        if (!inside)
+            fclamp_of(im, &cl);
+        flattice_simd(im, gr, k, pi, pj, Q, inside ? NULL : &cl);
         return;
     }
 #endif
