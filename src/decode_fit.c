@@ -24,7 +24,7 @@ typedef struct fimg {
     float so; /* sample offset, cells */
     int fast; /* 1: 5 samples per cell instead of 9 */
 #if ACTAG__FIT_SIMD
-    int simd; /* 1: the SSE2 sampler serves grids inside the frame (fsimd_ok) */
+    int simd; /* 1: the SSE2 samplers serve the cell reads (fsimd_ok) */
 #endif
 } fimg;
 
@@ -114,14 +114,14 @@ static inline float fcell5(const fimg *im, const fgrid *gr, int inside, float x0
 }
 
 #if ACTAG__FIT_SIMD
-/* x86-64 (SSE2): the clamp-free reads of fcell5 and fcells_on four cells at
+/* x86-64 (SSE2): the reads of fcell5 and fcells_on four cells at
  * a time, one cell per lane. Every lane does exactly the scalar code's
  * float operations in the same order (vector addps / subps / mulps /
  * cvttps2dq / cvtdq2ps round per lane as the scalar SSE instructions do,
  * and fpmath.h rules out contraction), each cell's samples are summed in
  * the scalar order, so the cell means are bit-identical
- * (tests/test_decode_lattice.c compares them). Only for grids inside the
- * frame (fsample_in's domain). */
+ * (tests/test_decode_lattice.c compares them). Grids inside the frame:
+ * fsample4_in; grids that leave it: fsample4_cl (fsample's clamps). */
 
 /* Can the lanes form a pixel's offset y * stride + x by one PMADDWD (signed
  * 16-bit x, y and stride)? rows and cols are at most ACTAG_MAX_DIM. */
@@ -170,23 +170,94 @@ static __m128 fsample4_in(const fimg *im, __m128i wmul, __m128 x, __m128 y)
     return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
 }
 
-/* fcell5 (inside) of four cells centred at (x0, y0). */
-static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, __m128i wmul, __m128 x0, __m128 y0)
+/* fsample (the clamping sampler) at four points, for grids that leave the
+ * frame; cols >= 2. The clamps are fsample's comparisons (cmpge maps NaN
+ * to 0 as !(x >= 0) does; minps(c, x) is x > c ? c : x). The row pair is
+ * y0, y1 = min(y0 + 1, rows - 1). For the column pair, loaded as two
+ * adjacent bytes, x0 = cols - 1 (only at x = cols - 1, fx = 0) becomes
+ * x0 = cols - 2, fx = 1: v00 + (v01 - v00) * 1 is then v01 = r[cols - 1]
+ * exactly (small integers), as fsample's v00 + (v01 - v00) * 0 is v00, so
+ * the row values, and the result, are bit-identical and no load leaves the
+ * frame. */
+typedef struct fclamp { /* fsample4_cl's limits, set once a grid (fclamp_of) */
+    __m128 xmax, ymax;    /* cols - 1, rows - 1 */
+    __m128i x0max, y0max; /* cols - 2, rows - 1 */
+} fclamp;
+
+static void fclamp_of(const fimg *im, fclamp *cl)
+{
+    cl->xmax = _mm_set1_ps((float)(im->cols - 1));
+    cl->ymax = _mm_set1_ps((float)(im->rows - 1));
+    cl->x0max = _mm_set1_epi32(im->cols - 2);
+    cl->y0max = _mm_set1_epi32(im->rows - 1);
+}
+
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static __m128 fsample4_cl(const fimg *im, const fclamp *cl, __m128i wmul, __m128 x, __m128 y)
+{
+    __m128 zero = _mm_setzero_ps(), fx, fy, v00, v01, v10, v11;
+    __m128i xi, yi, y1, w, byte = _mm_set1_epi32(0xff);
+    const uint8_t *p = im->img;
+    int o[4], q[4];
+    x = _mm_and_ps(_mm_cmpge_ps(x, zero), x);
+    y = _mm_and_ps(_mm_cmpge_ps(y, zero), y);
+    x = _mm_min_ps(cl->xmax, x);
+    y = _mm_min_ps(cl->ymax, y);
+    xi = _mm_cvttps_epi32(x);
+    yi = _mm_cvttps_epi32(y);
+    /* x0 at most cols - 2 (signed compare: 0 <= x0 < cols) */
+    xi = _mm_add_epi32(xi, _mm_cmpgt_epi32(xi, cl->x0max));
+    /* y1 = y0 + 1 where y0 + 1 < rows */
+    y1 = _mm_sub_epi32(yi, _mm_cmplt_epi32(yi, cl->y0max));
+    fx = _mm_sub_ps(x, _mm_cvtepi32_ps(xi));
+    fy = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
+    _mm_storeu_si128((__m128i *)(void *)o, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(yi, 16)), wmul));
+    _mm_storeu_si128((__m128i *)(void *)q, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(y1, 16)), wmul));
+    /* lane i: bytes r0[x0], r0[x0 + 1], r1[x0], r1[x0 + 1] of its point */
+    w = _mm_cvtsi32_si128(fld16(p + o[0]));
+    w = _mm_insert_epi16(w, fld16(p + q[0]), 1);
+    w = _mm_insert_epi16(w, fld16(p + o[1]), 2);
+    w = _mm_insert_epi16(w, fld16(p + q[1]), 3);
+    w = _mm_insert_epi16(w, fld16(p + o[2]), 4);
+    w = _mm_insert_epi16(w, fld16(p + q[2]), 5);
+    w = _mm_insert_epi16(w, fld16(p + o[3]), 6);
+    w = _mm_insert_epi16(w, fld16(p + q[3]), 7);
+    v00 = _mm_cvtepi32_ps(_mm_and_si128(w, byte));
+    v01 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 8), byte));
+    v10 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 16), byte));
+    v11 = _mm_cvtepi32_ps(_mm_srli_epi32(w, 24));
+    v00 = _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v01, v00), fx));
+    v10 = _mm_add_ps(v10, _mm_mul_ps(_mm_sub_ps(v11, v10), fx));
+    return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
+}
+
+/* The SIMD counterpart of fsample_at (cl: the grid leaves the frame). */
+static inline __m128 fsample4(const fimg *im, const fclamp *cl, __m128i wmul, __m128 x, __m128 y)
+{
+    return cl ? fsample4_cl(im, cl, wmul, x, y) : fsample4_in(im, wmul, x, y);
+}
+
+/* fcell5 of four cells centred at (x0, y0). */
+static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, const fclamp *cl, __m128i wmul,
+                              __m128 x0, __m128 y0)
 {
     __m128 dx1 = _mm_set1_ps(im->so * (gr->ax + gr->bx)), dy1 = _mm_set1_ps(im->so * (gr->ay + gr->by));
     __m128 dx2 = _mm_set1_ps(im->so * (gr->ax - gr->bx)), dy2 = _mm_set1_ps(im->so * (gr->ay - gr->by));
-    __m128 s = fsample4_in(im, wmul, x0, y0);
-    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(x0, dx1), _mm_add_ps(y0, dy1)));
-    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_sub_ps(x0, dx1), _mm_sub_ps(y0, dy1)));
-    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(x0, dx2), _mm_add_ps(y0, dy2)));
-    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_sub_ps(x0, dx2), _mm_sub_ps(y0, dy2)));
+    __m128 s = fsample4(im, cl, wmul, x0, y0);
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(x0, dx1), _mm_add_ps(y0, dy1)));
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_sub_ps(x0, dx1), _mm_sub_ps(y0, dy1)));
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(x0, dx2), _mm_add_ps(y0, dy2)));
+    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_sub_ps(x0, dx2), _mm_sub_ps(y0, dy2)));
     return _mm_mul_ps(s, _mm_set1_ps(0.2f));
 }
 
-/* fcells_on(im, gr, k, m, 1, skip), four cells at a time in row order (the
- * last group repeats the last cell in its spare lanes). Lane counters cx, cy
- * step by 4 cells, wrapping at most once a row as n >= 5. */
-static void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int skip)
+/* fcells_on(im, gr, k, m, !cl, skip), four cells at a time in row order
+ * (the last group repeats the last cell in its spare lanes). Lane counters
+ * cx, cy step by 4 cells, wrapping at most once a row as n >= 5. */
+static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int skip,
+                               const fclamp *cl)
 {
     int i, j, a, b, n = k + 1, nn = n * n;
     float g = 0.5f * (float)n;
@@ -224,7 +295,7 @@ static void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int sk
         cx = _mm_sub_epi32(cx, _mm_and_si128(wrap, nv));
         cy = _mm_sub_epi32(cy, wrap);
         if (im->fast) {
-            s = fcell5_4(im, gr, wmul, x0, y0);
+            s = fcell5_4(im, gr, cl, wmul, x0, y0);
         } else {
             __m128 xa[3], ya[3]; /* x0 + ou[a], as the scalar sum's first step */
             for (a = 0; a < 3; a++) {
@@ -234,8 +305,8 @@ static void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int sk
             s = _mm_setzero_ps();
             for (b = 0; b < 3; b++)
                 for (a = 0; a < 3; a++)
-                    s = _mm_add_ps(s, fsample4_in(im, wmul, _mm_add_ps(xa[a], pu[b]),
-                                                  _mm_add_ps(ya[a], pv[b])));
+                    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(xa[a], pu[b]),
+                                               _mm_add_ps(ya[a], pv[b])));
             s = _mm_mul_ps(s, _mm_set1_ps(1.0f / 9.0f));
         }
         if (i + 4 <= nn) {
@@ -291,8 +362,16 @@ static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, i
 static void fcells_x(const fimg *im, const fgrid *gr, int k, float *m, int skip)
 {
 #if ACTAG__FIT_SIMD
-    if (im->simd && fgrid_inside(im, gr, k)) {
-        fcells_simd(im, gr, k, m, skip);
+    if (im->simd) { /* one copy of the loops per sampler (cl null or not) */
+        fclamp cl;
+        if (fgrid_inside(im, gr, k)) {
+            fcells_simd(im, gr, k, m, skip, NULL);
+        } else if (im->cols >= 2) { /* fsample4_cl's column pair */
+            fclamp_of(im, &cl);
+            fcells_simd(im, gr, k, m, skip, &cl);
+        } else {
+            fcells_on(im, gr, k, m, 0, skip);
+        }
         return;
     }
 #endif
@@ -382,9 +461,10 @@ static float fscore(const fimg *im, const fgrid *gr, int k, float *m)
  * column 2c + pi, row 2r + pj. The sample points equal those of the shifted
  * grids up to the rounding of their coordinates. */
 #if ACTAG__FIT_SIMD
-/* flattice of a grid inside the frame, four lattice points at a time in
- * row order (the last group repeats the last point in its spare lanes). */
-static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q)
+/* flattice, four lattice points at a time in row order (the last group
+ * repeats the last point in its spare lanes); cl: not inside. */
+static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q,
+                          const fclamp *cl)
 {
     int i, j, n = k + 1, nc = n + 2 - pi, nq = (n + 2 - pj) * nc, c = 0, r = 0;
     float g = 0.5f * (float)n;
@@ -403,7 +483,7 @@ static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj
                 r++;
             }
         }
-        _mm_storeu_ps(q, fcell5_4(im, gr, wmul, _mm_loadu_ps(xs), _mm_loadu_ps(ys)));
+        _mm_storeu_ps(q, fcell5_4(im, gr, cl, wmul, _mm_loadu_ps(xs), _mm_loadu_ps(ys)));
         for (j = 0; j < 4 && i + j < nq; j++)
             Q[at[j]] = q[j];
     }
@@ -417,8 +497,11 @@ static void flattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, flo
     /* the union of the shifted grids' sample points lies within g + 1 + so */
     int inside = fgrid_inside_h(im, gr, g + 1.0f + im->so);
 #if ACTAG__FIT_SIMD
-    if (inside && im->simd) {
-        flattice_simd(im, gr, k, pi, pj, Q);
+    if (im->simd && (inside || im->cols >= 2)) {
+        fclamp cl;
+        if (!inside)
+            fclamp_of(im, &cl);
+        flattice_simd(im, gr, k, pi, pj, Q, inside ? NULL : &cl);
         return;
     }
 #endif
@@ -499,9 +582,6 @@ int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, co
         return ACTAG_ERR_PARAM;
     fhook_setup(img, rows, cols, stride, so, g, &im, &gr);
     im.fast = what == 1 || what >= 4;
-    if (what < 4 ? !fgrid_inside(&im, &gr, k)
-                 : !fgrid_inside_h(&im, &gr, 0.5f * (float)n + 1.0f + im.so))
-        return ACTAG_ERR_PARAM;
     for (pass = 0; pass < 2; pass++) {
         float *out = pass ? simd : portable;
         im.simd = pass;

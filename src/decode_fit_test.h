@@ -22,9 +22,9 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
  * data corners erased (fcells_x's skip), 4 + pi + 2 pj: the half-cell
  * lattice of parity class (pi, pj) (flattice, (k+3-pi) x (k+3-pj) points in
  * row order). Grid and image as for actag__fit_shift_cells; portable and
- * simd receive the same number of floats (at most (k+3)^2). ACTAG_OK, or
- * ACTAG_ERR_PARAM for bad arguments and for grids whose samples leave the
- * frame (the SIMD path does not serve them). */
+ * simd receive the same number of floats (at most (k+3)^2). Any grid:
+ * inside the frame, across its edges or wholly outside (edge replication),
+ * any rows, cols >= 1. ACTAG_OK, or ACTAG_ERR_PARAM for bad arguments. */
 int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                           int k, float so, int what, float *portable, float *simd);
 #endif
