@@ -90,6 +90,10 @@ static void usage(FILE *f)
         "  --sequences N          N simulated sonar passes (sim_sequence_view) through the\n"
         "                         tracker beside whole-frame detection (default 0)\n"
         "  --sequence-length L    frames per pass (default 100)\n"
+        "  --sequence-failures FILE  JSON lines of pass frames with a wrong ID or a false tag\n"
+        "                         (whole frame or tracker); pass Q's frames are those of\n"
+        "                         actag-sim --sequence LENGTH --seed SEQUENCE_SEED --id ID\n"
+        "                         with the same sonar options\n"
         "  --pool-sequence DIR    DIR's f_*.pgm in name order as one sequence (the pool\n"
         "                         recording: 530 x 512, 0.1-1.5 m, 60 degrees, tag ID 0;\n"
         "                         its 6 tag-free and 5 partial frames are not counted)\n"
@@ -757,6 +761,7 @@ int main(int argc, char **argv)
 {
     static eval_ctx c;
     int i, threads = 2, json = 0, pool, corrections_set = 0, free_rows = 530, free_cols = 512;
+    const char *seq_failures = NULL;
     const char *family = "AcTag24h10", *svg = NULL, *free_list = "all", *failures = NULL,
                *pose_dump = NULL;
     const char *sweep_list = "AcTag24h4,AcTag24h6,AcTag24h8,AcTag24h10";
@@ -861,6 +866,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--sequences")) {
             NEED();
             topt.sequences = (int)inum(o, v, 0, 100000);
+        } else if (!strcmp(o, "--sequence-failures")) {
+            NEED();
+            seq_failures = v;
         } else if (!strcmp(o, "--sequence-length")) {
             NEED();
             topt.length = (int)inum(o, v, 1, 100000);
@@ -961,9 +969,23 @@ int main(int argc, char **argv)
         pthread_join(th[i], NULL);
     /* ---- tracking */
     topt.threads = threads;
+    if (seq_failures && topt.sequences == 0)
+        die("--sequence-failures needs --sequences N (N > 0)");
     if (topt.sequences > 0) {
+        if (seq_failures) {
+            topt.failures = fopen(seq_failures, "w");
+            if (!topt.failures) {
+                char m[600];
+                snprintf(m, sizeof m, "--sequence-failures: cannot write '%s': %s",
+                         seq_failures, strerror(errno));
+                die(m);
+            }
+        }
         te_run_sequences(&c.sonar, &c.view, &c.app, &c.fam, tag_size_default, c.seed, &topt,
                          &seq_counts, c.quiet);
+        if (topt.failures)
+            fclose(topt.failures);
+        topt.failures = NULL;
         have_seq = 1;
     }
     if (pool_dir) {

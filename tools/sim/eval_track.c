@@ -255,7 +255,30 @@ static void *te_worker(void *arg)
             fr.cols = c->s->cols;
             fr.stride = c->s->cols;
             fr.depth = 8;
-            te_frame(run, &fr, &c->s->geo, &p, &rp, ws, wss, tr.px, tr.visible, tag.id, &cnt);
+            {
+                te_counts before = cnt;
+                te_frame(run, &fr, &c->s->geo, &p, &rp, ws, wss, tr.px, tr.visible, tag.id,
+                         &cnt);
+                if (c->o->failures && (cnt.full_wrong > before.full_wrong ||
+                                       cnt.full_false > before.full_false ||
+                                       cnt.track_wrong > before.track_wrong ||
+                                       cnt.track_false > before.track_false)) {
+                    /* reproducible: actag-sim --sequence LENGTH --seed SEQUENCE_SEED --id ID
+                     * with the same sonar options writes this pass; FRAME is its file */
+                    pthread_mutex_lock(&c->lock);
+                    fprintf(c->o->failures,
+                            "{\"sequence\": %d, \"frame\": %d, \"sequence_seed\": %u, "
+                            "\"length\": %d, \"id\": %d, \"visible\": %d, "
+                            "\"whole_frame_wrong_ids\": %d, \"whole_frame_false_tags\": %d, "
+                            "\"tracker_wrong_ids\": %d, \"tracker_false_tags\": %d}\n",
+                            q, i, (unsigned)qs, c->o->length, tag.id, tr.visible,
+                            cnt.full_wrong - before.full_wrong,
+                            cnt.full_false - before.full_false,
+                            cnt.track_wrong - before.track_wrong,
+                            cnt.track_false - before.track_false);
+                    pthread_mutex_unlock(&c->lock);
+                }
+            }
         }
         pthread_mutex_lock(&c->lock);
         te_add(&c->sum, &cnt);

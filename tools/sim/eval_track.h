@@ -47,6 +47,7 @@ typedef struct te_options {
     int relax_roi;        /* 1: ROI searches with min_margin -2 and search_min_margin 0 */
     int sequences, length;
     int threads;
+    FILE *failures;       /* not NULL: one JSON line per pass frame with a wrong ID or a false tag */
 } te_options;
 
 void te_options_default(te_options *o);

@@ -133,6 +133,28 @@ static void test_pose_dump(void)
     free(dump);
 }
 
+/* --sequence-failures: the file is written (one pass, a few frames), and
+ * every line it holds names the pass's seed and ID for actag-sim. */
+static void test_sequence_failures_file(void)
+{
+    char args[1200], path[512];
+    char *txt, *line;
+    snprintf(path, sizeof path, "%s/eval_seq_failures.jsonl", ACTAG_BINARY_DIR);
+    remove(path);
+    snprintf(args, sizeof args,
+             "--pool --frames 0 --sequences 1 --sequence-length 4 --seed 3 --quiet "
+             "--sequence-failures \"%s\"",
+             path);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    txt = slurp(path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(txt, "--sequence-failures wrote no file");
+    for (line = txt; (line = strstr(line, "{\"sequence\": ")) != NULL; line++) {
+        TEST_ASSERT_NOT_NULL(strstr(line, "\"sequence_seed\": "));
+        TEST_ASSERT_NOT_NULL(strstr(line, "\"id\": "));
+    }
+    free(txt);
+}
+
 /* actag-sim writes frames and one truth line per frame. */
 static void test_sim_writes_frames_and_truth(void)
 {
@@ -183,6 +205,11 @@ static void test_bad_options(void)
     expect_error(ACTAG_EVAL_PATH, "--bogus", "--bogus");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --pose-dump /nonexistent-dir/p.jsonl",
                  "/nonexistent-dir/p.jsonl");
+    expect_error(ACTAG_EVAL_PATH, "--frames 2 --sequence-failures x.jsonl", "--sequence-failures");
+    expect_error(ACTAG_EVAL_PATH,
+                 "--frames 0 --sequences 1 --sequence-length 2 --sequence-failures "
+                 "/nonexistent-dir/s.jsonl",
+                 "/nonexistent-dir/s.jsonl");
     expect_error(ACTAG_SIM_PATH, "--random 2", "--out-dir");
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:99:1,0,0,0,0,0 --out-dir /tmp", "99");
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0 --out-dir /tmp", "--tag pose");
@@ -196,6 +223,7 @@ int main(void)
     RUN_TEST(test_tag_free_and_threads);
     RUN_TEST(test_svg_output);
     RUN_TEST(test_pose_dump);
+    RUN_TEST(test_sequence_failures_file);
     RUN_TEST(test_sim_writes_frames_and_truth);
     RUN_TEST(test_bad_options);
     return UNITY_END();
