@@ -1514,6 +1514,22 @@ static void median_strip_agg(rowsrc *rs, int rows, int cols, int s0, int s1, uin
     }
 }
 
+/* The row-block median of the build (see median_core): its rows a pass,
+ * the largest radius it serves, and the function. */
+#if defined(MEDIAN_SSE2)
+#define MEDIAN_BLOCK_ROWS 16
+#define MEDIAN_BLOCK_MAX_R MEDIAN_R16_MAX_R
+#define MEDIAN_BLOCK median_rows16
+#elif defined(MEDIAN_DSP)
+#define MEDIAN_BLOCK_ROWS 4
+#define MEDIAN_BLOCK_MAX_R MEDIAN_QUAD_MAX_R
+#define MEDIAN_BLOCK median_quad_dsp
+#else
+#define MEDIAN_BLOCK_ROWS 4
+#define MEDIAN_BLOCK_MAX_R MEDIAN_QUAD_MAX_R
+#define MEDIAN_BLOCK median_quad
+#endif
+
 /* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
  * scaled through the ring in the scratch after the column histograms. */
 static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_stride, int radius,
@@ -1534,43 +1550,23 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
             memcpy(dst + (size_t)i * dstride, get_row(rs, i, -1), ucols);
         return ACTAG_OK;
     }
-#ifndef MEDIAN_SSE2
-    /* Without SIMD, radii up to 7 are faster with a sliding histogram. For
-     * 16-bit frames the ring then has the whole scratch and must hold the
-     * 2R+4 <= 18 rows a block of four output rows reads: true up to 4352
-     * columns (scratch / cols >= 2 + 69632 / cols); wider 16-bit frames
-     * take the constant-time path below (same output). */
-    if (R <= MEDIAN_QUAD_MAX_R) {
+    /* Radii up to 7 are faster with a sliding histogram shared by a block
+     * of output rows (no column histograms): 16 rows with SSE2
+     * (median_rows16), 4 without (median_quad, median_quad_dsp on Cortex-M).
+     * For 16-bit frames the ring then has the whole scratch and must hold
+     * the 2R + block rows a block reads (scratch / cols >= 2 + 69632 /
+     * cols: true up to 2486 columns for 16-row blocks, 4352 for 4-row
+     * ones); wider 16-bit frames take the constant-time path below (same
+     * output). */
+    if (R <= MEDIAN_BLOCK_MAX_R) {
         size_t nk = scratch_size / ucols;
-        if (rs->src8 != NULL || nk >= (size_t)(2 * R + 4)) {
+        if (rs->src8 != NULL || nk >= (size_t)(2 * R + MEDIAN_BLOCK_ROWS)) {
             rs->ring = (uint8_t *)scratch;
             rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-#ifdef MEDIAN_DSP
-            median_quad_dsp(rs, rows, cols, dst, dstride, R);
-#else
-            median_quad(rs, rows, cols, dst, dstride, R);
-#endif
+            MEDIAN_BLOCK(rs, rows, cols, dst, dstride, R);
             return ACTAG_OK;
         }
     }
-#endif
-
-#ifdef MEDIAN_SSE2
-    /* Radii up to 7: a sliding histogram shared by 16 rows (no column
-     * histograms). For 16-bit frames the ring then has the whole scratch
-     * and must hold the 2R+16 <= 30 rows of a block: true up to 2486
-     * columns (scratch / cols >= 2 + 69632 / cols); wider 16-bit frames
-     * take the constant-time path below (same output). */
-    if (R <= MEDIAN_R16_MAX_R) {
-        size_t nk = scratch_size / ucols;
-        if (rs->src8 != NULL || nk >= (size_t)(2 * R + 16)) {
-            rs->ring = (uint8_t *)scratch;
-            rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-            median_rows16(rs, rows, cols, dst, dstride, R);
-            return ACTAG_OK;
-        }
-    }
-#endif
 
     /* As many column histograms as the scratch holds next to a ring of two
      * rows (at least min(cols, ACTAG_MEDIAN_HIST_COLS)); the ring gets the
