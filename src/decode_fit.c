@@ -137,6 +137,32 @@ static inline int fld16(const uint8_t *p)
     return (int)v;
 }
 
+/* The bilinear value of four points from their pixel pairs: lane i's row
+ * pair starts at r0 + o[i] (bytes x0, x0 + 1) and r1 + q[i], fx and fy its
+ * fractions; fsample's float operations in fsample's order. */
+static inline __m128 flerp4(const uint8_t *r0, const int *o, const uint8_t *r1, const int *q,
+                            __m128 fx, __m128 fy)
+{
+    __m128i byte = _mm_set1_epi32(0xff), w;
+    __m128 v00, v01, v10, v11;
+    /* lane i: bytes r0[x0], r0[x0 + 1], r1[x0], r1[x0 + 1] of its point */
+    w = _mm_cvtsi32_si128(fld16(r0 + o[0]));
+    w = _mm_insert_epi16(w, fld16(r1 + q[0]), 1);
+    w = _mm_insert_epi16(w, fld16(r0 + o[1]), 2);
+    w = _mm_insert_epi16(w, fld16(r1 + q[1]), 3);
+    w = _mm_insert_epi16(w, fld16(r0 + o[2]), 4);
+    w = _mm_insert_epi16(w, fld16(r1 + q[2]), 5);
+    w = _mm_insert_epi16(w, fld16(r0 + o[3]), 6);
+    w = _mm_insert_epi16(w, fld16(r1 + q[3]), 7);
+    v00 = _mm_cvtepi32_ps(_mm_and_si128(w, byte));
+    v01 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 8), byte));
+    v10 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 16), byte));
+    v11 = _mm_cvtepi32_ps(_mm_srli_epi32(w, 24));
+    v00 = _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v01, v00), fx));
+    v10 = _mm_add_ps(v10, _mm_mul_ps(_mm_sub_ps(v11, v10), fx));
+    return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
+}
+
 /* fsample_in at four points (x, y) (wmul: 1 | stride << 16 per lane). Not
  * inlined: the 9 or 5 inlined copies of a cell read spill many vectors
  * (GCC 12 -O3: a 736-byte frame for fcells_simd, 496 without, same speed). */
@@ -145,29 +171,13 @@ __attribute__((noinline))
 #endif
 static __m128 fsample4_in(const fimg *im, __m128i wmul, __m128 x, __m128 y)
 {
-    __m128i xi = _mm_cvttps_epi32(x), yi = _mm_cvttps_epi32(y), w, byte = _mm_set1_epi32(0xff);
+    __m128i xi = _mm_cvttps_epi32(x), yi = _mm_cvttps_epi32(y);
     __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(xi)), fy = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
-    __m128 v00, v01, v10, v11;
     const uint8_t *p = im->img;
     size_t st = (size_t)im->stride;
     int o[4];
     _mm_storeu_si128((__m128i *)(void *)o, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(yi, 16)), wmul));
-    /* lane i: bytes r0[0], r0[1], r1[0], r1[1] of its point */
-    w = _mm_cvtsi32_si128(fld16(p + o[0]));
-    w = _mm_insert_epi16(w, fld16(p + o[0] + st), 1);
-    w = _mm_insert_epi16(w, fld16(p + o[1]), 2);
-    w = _mm_insert_epi16(w, fld16(p + o[1] + st), 3);
-    w = _mm_insert_epi16(w, fld16(p + o[2]), 4);
-    w = _mm_insert_epi16(w, fld16(p + o[2] + st), 5);
-    w = _mm_insert_epi16(w, fld16(p + o[3]), 6);
-    w = _mm_insert_epi16(w, fld16(p + o[3] + st), 7);
-    v00 = _mm_cvtepi32_ps(_mm_and_si128(w, byte));
-    v01 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 8), byte));
-    v10 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 16), byte));
-    v11 = _mm_cvtepi32_ps(_mm_srli_epi32(w, 24));
-    v00 = _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v01, v00), fx));
-    v10 = _mm_add_ps(v10, _mm_mul_ps(_mm_sub_ps(v11, v10), fx));
-    return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
+    return flerp4(p, o, p + st, o, fx, fy);
 }
 
 /* fsample (the clamping sampler) at four points, for grids that leave the
@@ -197,8 +207,8 @@ __attribute__((noinline))
 #endif
 static __m128 fsample4_cl(const fimg *im, const fclamp *cl, __m128i wmul, __m128 x, __m128 y)
 {
-    __m128 zero = _mm_setzero_ps(), fx, fy, v00, v01, v10, v11;
-    __m128i xi, yi, y1, w, byte = _mm_set1_epi32(0xff);
+    __m128 zero = _mm_setzero_ps(), fx, fy;
+    __m128i xi, yi, y1;
     const uint8_t *p = im->img;
     int o[4], q[4];
     x = _mm_and_ps(_mm_cmpge_ps(x, zero), x);
@@ -215,22 +225,7 @@ static __m128 fsample4_cl(const fimg *im, const fclamp *cl, __m128i wmul, __m128
     fy = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
     _mm_storeu_si128((__m128i *)(void *)o, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(yi, 16)), wmul));
     _mm_storeu_si128((__m128i *)(void *)q, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(y1, 16)), wmul));
-    /* lane i: bytes r0[x0], r0[x0 + 1], r1[x0], r1[x0 + 1] of its point */
-    w = _mm_cvtsi32_si128(fld16(p + o[0]));
-    w = _mm_insert_epi16(w, fld16(p + q[0]), 1);
-    w = _mm_insert_epi16(w, fld16(p + o[1]), 2);
-    w = _mm_insert_epi16(w, fld16(p + q[1]), 3);
-    w = _mm_insert_epi16(w, fld16(p + o[2]), 4);
-    w = _mm_insert_epi16(w, fld16(p + q[2]), 5);
-    w = _mm_insert_epi16(w, fld16(p + o[3]), 6);
-    w = _mm_insert_epi16(w, fld16(p + q[3]), 7);
-    v00 = _mm_cvtepi32_ps(_mm_and_si128(w, byte));
-    v01 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 8), byte));
-    v10 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 16), byte));
-    v11 = _mm_cvtepi32_ps(_mm_srli_epi32(w, 24));
-    v00 = _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v01, v00), fx));
-    v10 = _mm_add_ps(v10, _mm_mul_ps(_mm_sub_ps(v11, v10), fx));
-    return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
+    return flerp4(p, o, p, q, fx, fy);
 }
 
 /* The SIMD counterpart of fsample_at (cl: the grid leaves the frame). */
