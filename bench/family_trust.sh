@@ -27,10 +27,12 @@ d = json.load(sys.stdin)
 bad = d["wrong_ids"] + d["false_tags"] + d["mirror_errors"] + d["corner_order_errors"]
 print("%d %d %d %d %d %d %d" % (d["frames"], d["detected"], d["wrong_ids"], d["false_tags"],
                                 d["mirror_errors"], d["corner_order_errors"], bad))')
-      set -- $line
+      read -r nframes det wrong false_tags mirror order bad <<EOF2
+$line
+EOF2
       printf 'family_trust: %-11s %-5s seed %s: detected %4d of %d, wrong IDs %d, false tags %d, mirror errors %d, order errors %d\n' \
-        "$fam" "$settings" "$seed" "$2" "$1" "$3" "$4" "$5" "$6"
-      [ "$7" -eq 0 ] || fail=1
+        "$fam" "$settings" "$seed" "$det" "$nframes" "$wrong" "$false_tags" "$mirror" "$order"
+      [ "$bad" -eq 0 ] || fail=1
     done
   done
 done
