@@ -6,6 +6,9 @@
 #include <string.h>
 
 #define T_MIN_ROI 24 /* pixels per side: the structure search wants >= 16 */
+/* cells of the track's template that may disagree in a verify reading
+ * (t_verify): twice the whole-frame budget */
+#define T_VERIFY_BUDGET(limit) (2 * (limit))
 
 void actag_track_params_default(actag_track_params *p)
 {
@@ -70,6 +73,29 @@ static float t_diag(const actag_point c[4])
 {
     float a = t_dist2(c[0], c[2]), b = t_dist2(c[1], c[3]);
     return actag_sqrtf(a > b ? a : b);
+}
+
+/* Reading-to-track distance limit (pixels): `gate` predicted diagonals,
+ * widening while the track coasts. */
+static float t_gate(const actag_tracker *t, const actag_track *k, const actag_point pred[4])
+{
+    return t->params.gate * t_diag(pred) * (float)(1 + k->missed) + 2.0f;
+}
+
+/* Is there a reading of track k (its ID and handedness) within its gate
+ * among the frame's first npool readings? */
+static int t_in_pool(const actag_tracker *t, const actag_track *k, int npool)
+{
+    actag_point pred[4];
+    float gate;
+    int j;
+    t_predict(k, pred);
+    gate = t_gate(t, k, pred);
+    for (j = 0; j < npool; j++)
+        if (t->pool[j].id == k->id && t->pool[j].mirrored == k->mirrored &&
+            t_dist2(t_centre(t->pool[j].corners), t_centre(pred)) <= gate * gate)
+            return 1;
+    return 0;
 }
 
 /* Detections are the same tag: same ID and handedness, centres within a
@@ -234,10 +260,18 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
         limit = m < ACTAG_AUTO_CORRECTIONS ? m : ACTAG_AUTO_CORRECTIONS;
     }
     {
+        /* Only the track's own code is a hypothesis here: another ID at the
+         * prediction could not update the track anyway, so the reading is
+         * judged against "no tag" (the decision margin) and the orientations
+         * of this one code, not against the family's other codes. */
         actag_fit_params fp = p->tuning.fit;
+        actag_family own = *p->family;
+        own.codes = p->family->codes + k->id;
+        own.ncodes = 1;
         fp.min_margin = p->min_margin; /* the user's margin wins, as in actag_detect */
-        if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &fp, &dr) != ACTAG_OK)
+        if (actag_decode_quad_fit(grey, h, w, w, q, &own, limit, &fp, &dr) != ACTAG_OK)
             return 0;
+        dr.id = k->id;
     }
     /* handedness relative to the reference orientation (as actag_detect) */
     flip = (g->bearings ? (frame->cols > 1 && g->bearings[frame->cols - 1] > g->bearings[0])
@@ -248,9 +282,14 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     in = (float)((kk - 3) * (kk - 3));
     misses = (int)((1.0f - dr.ring_black) * ring + 0.5f) +
              (int)((1.0f - dr.interior_white) * in + 0.5f);
-    if (dr.id != k->id || (dr.mirrored ^ flip) != k->mirrored ||
-        dr.ring_black < p->tuning.min_structure || dr.interior_white < p->tuning.min_structure ||
-        misses + dr.hamming > limit)
+    /* One template of bits + ring + interior cells (49 for 24-bit tags)
+     * instead of the family's codes: T_VERIFY_BUDGET(limit) cells may
+     * disagree in all (ring, interior and data together), where a whole-frame
+     * reading may have `limit`. By chance a pattern of random cells lies that
+     * close to one given 49-cell template with probability
+     * sum_{e<=6} C(49,e) / 2^49 < 1e-7 per verify. */
+    if ((dr.mirrored ^ flip) != k->mirrored || dr.ring_black < p->tuning.min_structure ||
+        dr.interior_white < p->tuning.min_structure || misses + dr.hamming > T_VERIFY_BUDGET(limit))
         return 0;
     memset(&t->det[0], 0, sizeof t->det[0]);
     t->det[0].id = dr.id;
@@ -372,6 +411,12 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         st.readings += n;
         t_pool_add(t, &npool, n, 0, 0, -1);
         t->last_full = cur;
+        /* a confirmed track the whole frame did not read is still read
+         * where it is predicted (one window and one decode) */
+        for (i = 0; i < t->ntracks; i++)
+            if (t->tracks[i].confirmed && !t_in_pool(t, &t->tracks[i], npool) &&
+                t_verify(t, &t->tracks[i], frame, geometry, rp, workspace, &st))
+                t_pool_add(t, &npool, 1, 0, 0, i);
     }
 
     /* 3. assign readings to tracks: own ID and handedness, nearest to the
@@ -386,7 +431,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         t_predict(&t->tracks[i], pred);
         pc = t_centre(pred);
         /* the gate widens while a track coasts */
-        gate = t->params.gate * t_diag(pred) * (float)(1 + t->tracks[i].missed) + 2.0f;
+        gate = t_gate(t, &t->tracks[i], pred);
         for (j = 0; j < npool; j++) {
             float d2;
             if (used[j] || t->pool[j].id != t->tracks[i].id ||
@@ -411,7 +456,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             actag_point pred[4];
             float gate;
             t_predict(&t->tracks[i], pred);
-            gate = t->params.gate * t_diag(pred) * (float)(1 + t->tracks[i].missed) + 2.0f;
+            gate = t_gate(t, &t->tracks[i], pred);
             if (t_dist2(t_centre(t->pool[j].corners), t_centre(pred)) <= gate * gate)
                 break;
         }

@@ -6,12 +6,19 @@
  *   order; for each frame the tracker
  *     1. reads every confirmed track where it is predicted ("verify"): the
  *        window around the predicted tag is median-filtered and the
- *        grid-fitting decoder (decode.h) starts on the predicted corners,
- *        under the pipeline's trust rules (likelihood match, template check,
- *        decision margin, structure budget); only the track's own ID and
- *        handedness count. This skips the structure search, the threshold,
- *        the contours and RANSAC, which is where most of a frame's work is
- *        (docs/tracking.md);
+ *        grid-fitting decoder (decode.h) starts on the predicted corners.
+ *        The only hypotheses are the track's own code (in its 8 views) and
+ *        "no tag": a reading of another ID could not update the track, so
+ *        the family's other codes are not candidates. The reading must keep
+ *        the track's handedness, at most the corrections limit in data bits,
+ *        the decision margin over "no tag" (min_margin) and the likelihood
+ *        and template checks; black-ring misses, interior misses and
+ *        corrected bits together may reach twice the corrections limit (6
+ *        for AcTag24h10; the whole-frame pipeline allows the limit): a
+ *        random 49-cell pattern is that close to one given template with
+ *        probability below 1e-7. This skips the structure search, the
+ *        threshold, the contours and RANSAC, which is where most of a frame's
+ *        work is (docs/tracking.md);
  *     2. for tracks not read so (and tentative ones), runs actag_detect() on
  *        a region of interest (ROI) around the prediction: a sub-frame view
  *        of the caller's frame (same data and stride, offset start) with
@@ -20,7 +27,8 @@
  *     3. runs actag_detect() on the whole frame every `full_every` frames,
  *        whenever no confirmed track exists, and when a confirmed track has
  *        gone `refind_after` frames in a row without a reading (a tag that
- *        moved more than foreseen).
+ *        moved more than foreseen); a confirmed track that the whole frame
+ *        did not read is then verified as in step 1.
  *
  *   Tracks. A reading that matches no track starts a tentative track; it is
  *   confirmed after `confirm_frames` consecutive frames with a consistent

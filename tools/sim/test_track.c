@@ -5,6 +5,7 @@
 #include "sim.h"
 #include "simio.h"
 #include "actag/track.h"
+#include "actag/tag_grid.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -258,6 +259,156 @@ static void test_roi_readings_agree_with_whole_frame(void)
     TEST_ASSERT_TRUE(compared >= 3);
 }
 
+/* Paints cells (cx, cy) of the tag in image img (grid of actag/tag_grid.h,
+ * through the truth's inner-square corners) with grey level v. */
+static void paint_cell(uint8_t *img, const sim_truth *t, int cx, int cy, uint8_t v)
+{
+    float H[9];
+    int a, b;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_homography(t->px, fam.bits, H));
+    for (b = 0; b <= 40; b++)
+        for (a = 0; a <= 40; a++) {
+            actag_point q;
+            int x, y;
+            actag_homography_apply(H, (float)cx + 0.025f * (float)a, (float)cy + 0.025f * (float)b,
+                                   &q);
+            x = (int)(q.x + 0.5f);
+            y = (int)(q.y + 0.5f);
+            if (x >= 0 && y >= 0 && x < sonar.cols && y < sonar.rows)
+                img[(size_t)y * (size_t)sonar.cols + (size_t)x] = v;
+        }
+}
+
+/* Mean grey level of cell (cx, cy) of the tag in frame i. */
+static float cell_mean(int i, int cx, int cy)
+{
+    float H[9], sum = 0.0f;
+    int a, b, n = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_homography(truth[i].px, fam.bits, H));
+    for (b = 1; b < 10; b++)
+        for (a = 1; a < 10; a++) {
+            actag_point q;
+            int x, y;
+            actag_homography_apply(H, (float)cx + 0.1f * (float)a, (float)cy + 0.1f * (float)b, &q);
+            x = (int)(q.x + 0.5f);
+            y = (int)(q.y + 0.5f);
+            if (x >= 0 && y >= 0 && x < sonar.cols && y < sonar.rows) {
+                sum += (float)frames[i][(size_t)y * (size_t)sonar.cols + (size_t)x];
+                n++;
+            }
+        }
+    return n ? sum / (float)n : 0.0f;
+}
+
+/* A copy of frame i with 2 interior cells and 2 white data cells of tag 5
+ * painted at the black ring's mean level: 4 cells wrong, one more than the
+ * whole-frame budget of 3, within the verify's 6 (track.h). */
+static uint8_t *damaged(int i)
+{
+    uint8_t *img = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+    int bit, painted = 0, k = fam.bits / 4;
+    uint8_t black = (uint8_t)(0.25f * (cell_mean(i, 1, 1) + cell_mean(i, k - 1, 1) +
+                                      cell_mean(i, 1, k - 1) + cell_mean(i, k - 1, k - 1)));
+    TEST_ASSERT_NOT_NULL(img);
+    memcpy(img, frames[i], (size_t)sonar.rows * (size_t)sonar.cols);
+    paint_cell(img, &truth[i], 2, 3, black);
+    paint_cell(img, &truth[i], k - 2, 3, black);
+    for (bit = 1; bit < fam.bits && painted < 2; bit += 3) {
+        int cx, cy;
+        actag_tag_bit_cell(fam.bits, bit, &cx, &cy);
+        if (actag_tag_cell_value(fam.codes[5], fam.bits, cx, cy)) {
+            paint_cell(img, &truth[i], cx, cy, black);
+            painted++;
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(2, painted);
+    return img;
+}
+
+/* The verify step reads a tracked tag that the whole-frame pipeline may not
+ * (4 wrong cells), also on frames where the whole frame is searched. */
+static void test_a_damaged_tag_is_read_where_it_is_predicted(void)
+{
+    static actag_tracker tr;
+    int every;
+    for (every = 1; every <= 10; every += 9) {
+        actag_track_params tp;
+        actag_params p;
+        actag_track out[ACTAG_TRACK_MAX];
+        actag_detection det[8];
+        int i, k, n, nd, tried = 0, read = 0;
+        params_of(&p);
+        actag_track_params_default(&tp);
+        tp.full_every = every; /* 1: every frame is searched whole */
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+        for (i = 0; i < NSEQ; i++) {
+            actag_frame f = frame_of(frames[i]);
+            uint8_t *img = NULL;
+            int tracked = 0;
+            for (k = 0; k < tr.ntracks; k++)
+                tracked |= tr.tracks[k].confirmed && tr.tracks[k].id == 5;
+            if (tracked && truth[i].visible && i % 2 == 1) {
+                img = damaged(i);
+                f = frame_of(img);
+                nd = actag_detect(&f, &sonar.geo, &p, ws, wss, det, 8, NULL);
+                TEST_ASSERT_TRUE(nd >= 0);
+                for (k = 0; k < nd; k++)
+                    TEST_ASSERT_TRUE(det[k].id != 5); /* the damage is beyond the pipeline's budget */
+                tried++;
+            }
+            n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                     NULL);
+            TEST_ASSERT_TRUE(n >= 0);
+            for (k = 0; k < n; k++) {
+                TEST_ASSERT_EQUAL_INT(5, out[k].id);
+                read += img != NULL && out[k].measured;
+            }
+            free(img);
+        }
+        printf("full_every %d: damaged frames %d, read by the tracker %d\n", every, tried, read);
+        TEST_ASSERT_TRUE(tried >= 5);
+        /* 5 of 10 and 1 of 10 here; none before the verify's own budget
+         * and its run on whole-frame frames */
+        TEST_ASSERT_TRUE(every == 1 ? 2 * read >= tried : read >= 1);
+    }
+}
+
+/* Another tag where a tracked one was predicted is never read as the
+ * tracked tag: the verify judges only the track's own code. */
+static void test_another_tag_at_the_prediction_is_not_the_tracked_one(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    uint8_t *other[NSEQ];
+    int i, k, n, tracked = 0, seen2 = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    TEST_ASSERT_EQUAL_INT(0, render_pass(7u, 2, NSEQ, other, NULL)); /* same poses, tag 2 */
+    for (i = 0; i < NSEQ; i++) {
+        actag_frame f = frame_of(i < NSEQ / 2 ? frames[i] : other[i]);
+        n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_TRUE(n >= 0);
+        for (k = 0; k < n; k++) {
+            if (i < NSEQ / 2) {
+                tracked += out[k].id == 5 && out[k].measured;
+                continue;
+            }
+            if (out[k].id == 5)
+                TEST_ASSERT_EQUAL_INT(0, out[k].measured); /* coasting at most */
+            seen2 += out[k].id == 2 && out[k].measured;
+        }
+    }
+    for (i = 0; i < NSEQ; i++)
+        free(other[i]);
+    printf("tag 5 tracked in %d frames; after the swap tag 2 read in %d\n", tracked, seen2);
+    TEST_ASSERT_TRUE(tracked >= 5);
+    TEST_ASSERT_TRUE(seen2 >= 3);
+}
+
 static void test_errors(void)
 {
     static actag_tracker tr;
@@ -314,6 +465,8 @@ int main(void)
     RUN_TEST(test_identical_input_identical_output);
     RUN_TEST(test_track_ends_when_the_tag_leaves_and_ids_never_switch);
     RUN_TEST(test_roi_readings_agree_with_whole_frame);
+    RUN_TEST(test_a_damaged_tag_is_read_where_it_is_predicted);
+    RUN_TEST(test_another_tag_at_the_prediction_is_not_the_tracked_one);
     RUN_TEST(test_errors);
     for (i = 0; i < NSEQ; i++)
         free(frames[i]);
