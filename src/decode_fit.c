@@ -127,6 +127,9 @@ FIT_INLINE float fsample_at(const fimg *im, int inside, float x, float y)
 typedef struct fpat {
     float ou[3], ov[3], pu[3], pv[3];
     float dx1, dy1, dx2, dy2;
+    /* a cell is read clamp-free when x0 - ex >= 1, x0 + ex <= xmax (and y):
+     * its samples lie a pixel inside (fbox_inside, h = so) */
+    float ex, ey, xmax, ymax;
 } fpat;
 
 static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
@@ -143,6 +146,10 @@ static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
     p->dy1 = im->so * (gr->ay + gr->by);
     p->dx2 = im->so * (gr->ax - gr->bx);
     p->dy2 = im->so * (gr->ay - gr->by);
+    p->ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * im->so;
+    p->ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * im->so;
+    p->xmax = (float)(im->cols - 2);
+    p->ymax = (float)(im->rows - 2);
 }
 
 /* The 5-sample mean (centre and the 4 diagonal points at +-so cell) of a
@@ -176,10 +183,9 @@ FIT_INLINE float fcell9(const fimg *im, const fpat *p, int inside, float x0, flo
 /* One cell (fast: fcell5, else fcell9) of a grid that leaves the frame:
  * the clamp-free reads when the cell's samples (within so cell along a and
  * b of its centre) lie a pixel inside, the clamping ones otherwise. */
-static float fcell_edge(const fimg *im, const fgrid *gr, const fpat *p, int fast, float x0,
-                        float y0)
+static float fcell_edge(const fimg *im, const fpat *p, int fast, float x0, float y0)
 {
-    if (fbox_inside(im, gr, x0, y0, im->so))
+    if (x0 - p->ex >= 1.0f && x0 + p->ex <= p->xmax && y0 - p->ey >= 1.0f && y0 + p->ey <= p->ymax)
         return fast ? fcell5(im, p, 1, x0, y0) : fcell9(im, p, 1, x0, y0);
     return fast ? fcell5(im, p, 0, x0, y0) : fcell9(im, p, 0, x0, y0);
 }
@@ -420,7 +426,7 @@ static void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int insi
         row[0] = row[k] = 0.0f;
         if (!inside) {
             for (cx = c0; cx <= c1; cx++)
-                row[cx] = fcell_edge(im, gr, &p, im->fast, xu[cx] + xv, yu[cx] + yv);
+                row[cx] = fcell_edge(im, &p, im->fast, xu[cx] + xv, yu[cx] + yv);
         } else if (im->fast) { /* one loop per kind of cell: no tests per cell */
             frow_in(im, &p, xu, yu, xv, yv, c0, c1, row, 1);
         } else {
@@ -605,7 +611,7 @@ static void flattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, flo
             continue;
         }
         for (c = 0; c < nc; c++)
-            row[c] = fcell_edge(im, gr, &p, 1, xu[c] + xv, yu[c] + yv);
+            row[c] = fcell_edge(im, &p, 1, xu[c] + xv, yu[c] + yv);
     }
 }
 
@@ -962,11 +968,6 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
  * that only a misaligned grid supports loses to the right one; the margin
  * is the log-likelihood ratio of the best against the next hypothesis
  * under Gaussian cell noise estimated from the best one's residual. */
-static int is_data_corner(int cx, int cy, int k)
-{
-    return (cx == 0 || cx == k) && (cy == 0 || cy == k);
-}
-
 static void layout_of(const actag_family *family, int id, int view, int k, uint8_t *L)
 {
     int bits = 4 * k, n = k + 1, i, cx, cy;
@@ -986,11 +987,10 @@ static float template_rss(const float *m, const uint8_t *L, int k, int erase, in
 {
     int n = k + 1, cx, cy, nw = 0, nb = 0;
     float sw = 0.0f, sb = 0.0f, ss = 0.0f;
-    for (cy = 0; cy < n; cy++)
-        for (cx = 0; cx < n; cx++) {
+    for (cy = 0; cy < n; cy++) {
+        int c0 = erase && (cy == 0 || cy == k); /* erased corners: by the row's bounds */
+        for (cx = c0; cx <= k - c0; cx++) {
             float v = m[cy * n + cx];
-            if (erase && is_data_corner(cx, cy, k))
-                continue;
             ss += v * v;
             if (L[cy * n + cx]) {
                 sw += v;
@@ -1000,6 +1000,7 @@ static float template_rss(const float *m, const uint8_t *L, int k, int erase, in
                 nb++;
             }
         }
+    }
     if (ncells)
         *ncells = nw + nb;
     return ss - (nw ? sw * sw / (float)nw : 0.0f) - (nb ? sb * sb / (float)nb : 0.0f);
