@@ -73,18 +73,32 @@ static float fsample(const fimg *im, float x, float y)
     return v00 + (v10 - v00) * fy;
 }
 
+/* A grid's sample pattern offsets, computed once a grid by the expressions
+ * the cell reads used per cell (so the same floats): the 3x3 pattern's
+ * offsets along a (ou, ov) and b (pu, pv), the 5-sample pattern's
+ * diagonals (d1, d2). */
+typedef struct fpat {
+    float ou[3], ov[3], pu[3], pv[3];
+    float dx1, dy1, dx2, dy2;
+    /* a cell is read clamp-free when x0 - ex >= 1, x0 + ex <= xmax (and y):
+     * its samples lie a pixel inside (fbox_inside, h = so) */
+    float ex, ey, xmax, ymax;
+    /* fsample_in's pixels (x0, y0), (x0 + 1, y0), (x0, y0 + 1), (x0 + 1, y0 + 1)
+     * are r00[o] .. r11[o], o = y0 stride + x0: one address a sample */
+    const uint8_t *r00, *r01, *r10, *r11;
+} fpat;
+
 /* fsample for a point known to lie in [0, cols-1) x [0, rows-1): the same
  * arithmetic without the clamps (the result is bit-identical there). */
-FIT_INLINE float fsample_in(const fimg *im, float x, float y)
+FIT_INLINE float fsample_in(const fimg *im, const fpat *p, float x, float y)
 {
     int x0 = (int)x, y0 = (int)y;
     float fx = x - (float)x0, fy = y - (float)y0, v00, v01, v10, v11;
-    const uint8_t *r0 = im->img + (size_t)y0 * (size_t)im->stride + x0;
-    const uint8_t *r1 = r0 + im->stride;
-    v00 = (float)r0[0];
-    v01 = (float)r0[1];
-    v10 = (float)r1[0];
-    v11 = (float)r1[1];
+    size_t o = (size_t)y0 * (size_t)im->stride + (size_t)x0;
+    v00 = (float)p->r00[o];
+    v01 = (float)p->r01[o];
+    v10 = (float)p->r10[o];
+    v11 = (float)p->r11[o];
     v00 += (v01 - v00) * fx;
     v10 += (v11 - v10) * fx;
     return v00 + (v10 - v00) * fy;
@@ -115,22 +129,10 @@ static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
 
 /* One grey sample: the clamp-free sampler when the whole grid (or cell)
  * lies a pixel inside the frame (bit-identical there, and cheaper). */
-FIT_INLINE float fsample_at(const fimg *im, int inside, float x, float y)
+FIT_INLINE float fsample_at(const fimg *im, const fpat *p, int inside, float x, float y)
 {
-    return inside ? fsample_in(im, x, y) : fsample(im, x, y);
+    return inside ? fsample_in(im, p, x, y) : fsample(im, x, y);
 }
-
-/* A grid's sample pattern offsets, computed once a grid by the expressions
- * the cell reads used per cell (so the same floats): the 3x3 pattern's
- * offsets along a (ou, ov) and b (pu, pv), the 5-sample pattern's
- * diagonals (d1, d2). */
-typedef struct fpat {
-    float ou[3], ov[3], pu[3], pv[3];
-    float dx1, dy1, dx2, dy2;
-    /* a cell is read clamp-free when x0 - ex >= 1, x0 + ex <= xmax (and y):
-     * its samples lie a pixel inside (fbox_inside, h = so) */
-    float ex, ey, xmax, ymax;
-} fpat;
 
 static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
 {
@@ -150,16 +152,22 @@ static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
     p->ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * im->so;
     p->xmax = (float)(im->cols - 2);
     p->ymax = (float)(im->rows - 2);
+    p->r00 = p->r01 = p->r10 = p->r11 = im->img;
+    if (im->rows >= 2 && im->cols >= 2) { /* else no cell lies a pixel inside: unused */
+        p->r01 = im->img + 1;
+        p->r10 = im->img + im->stride;
+        p->r11 = im->img + im->stride + 1;
+    }
 }
 
 /* The 5-sample mean (centre and the 4 diagonal points at +-so cell) of a
  * cell centred at (x0, y0), as fcells() reads it with im->fast. */
 FIT_INLINE float fcell5(const fimg *im, const fpat *p, int inside, float x0, float y0)
 {
-    float s = fsample_at(im, inside, x0, y0) + fsample_at(im, inside, x0 + p->dx1, y0 + p->dy1) +
-              fsample_at(im, inside, x0 - p->dx1, y0 - p->dy1) +
-              fsample_at(im, inside, x0 + p->dx2, y0 + p->dy2) +
-              fsample_at(im, inside, x0 - p->dx2, y0 - p->dy2);
+    float s = fsample_at(im, p, inside, x0, y0) + fsample_at(im, p, inside, x0 + p->dx1, y0 + p->dy1) +
+              fsample_at(im, p, inside, x0 - p->dx1, y0 - p->dy1) +
+              fsample_at(im, p, inside, x0 + p->dx2, y0 + p->dy2) +
+              fsample_at(im, p, inside, x0 - p->dx2, y0 - p->dy2);
     return s * 0.2f;
 }
 
@@ -173,9 +181,9 @@ FIT_INLINE float fcell9(const fimg *im, const fpat *p, int inside, float x0, flo
     int b;
     for (b = 0; b < 3; b++) {
         float pu = p->pu[b], pv = p->pv[b];
-        s += fsample_at(im, inside, xa0 + pu, ya0 + pv);
-        s += fsample_at(im, inside, xa1 + pu, ya1 + pv);
-        s += fsample_at(im, inside, xa2 + pu, ya2 + pv);
+        s += fsample_at(im, p, inside, xa0 + pu, ya0 + pv);
+        s += fsample_at(im, p, inside, xa1 + pu, ya1 + pv);
+        s += fsample_at(im, p, inside, xa2 + pu, ya2 + pv);
     }
     return s * (1.0f / 9.0f);
 }
