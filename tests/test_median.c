@@ -68,83 +68,66 @@ static void brute_median(const uint8_t *src, int rows, int cols, int stride, int
     }
 }
 
-enum { FILL_UNIFORM, FILL_CONST, FILL_BINARY, FILL_ONEBIN, FILL_TWOBINS, FILL_GRADIENT, FILL_BLOBS, FILL_N };
+enum { FILL_ONEBIN = FC_FILL_OWN, FILL_TWOBINS, FILL_GRADIENT, FILL_BLOBS, FILL_N };
 
-static void fill_image(uint8_t *img, int rows, int cols, int stride, int kind)
+/* Drawn for each image before its pixels: a coarse bin, two levels. */
+static void own_draws(int v[4])
 {
-    int i, j;
-    uint8_t c = (uint8_t)rnd();
-    int base = rnd_range(0, 15) * 16;
-    int lo = rnd_range(0, 255), hi = rnd_range(0, 255);
-    for (i = 0; i < rows; i++) {
-        for (j = 0; j < stride; j++) {
-            uint8_t v;
-            if (j >= cols) {
-                v = (uint8_t)rnd(); /* padding garbage: must be ignored */
-            } else {
-                switch (kind) {
-                case FILL_CONST: v = c; break;
-                case FILL_BINARY: v = (rnd() & 1u) ? 255 : 0; break;
-                case FILL_ONEBIN: v = (uint8_t)(base + (int)(rnd() & 15u)); break;
-                case FILL_TWOBINS: v = (uint8_t)((rnd() & 1u) ? lo : hi); break;
-                case FILL_GRADIENT: v = (uint8_t)((i * 7 + j * 3 + (int)(rnd() % 5u)) & 255); break;
-                case FILL_BLOBS:
-                    /* Dark speckle with bright patches: sonar-like. */
-                    v = (uint8_t)(((i / 5 + j / 7) % 3 == 0) ? 150 + (int)(rnd() % 100u) : (int)(rnd() % 40u));
-                    break;
-                default: v = (uint8_t)rnd(); break;
-                }
-            }
-            img[(size_t)i * (size_t)stride + (size_t)j] = v;
-        }
+    v[0] = rnd_range(0, 15) * 16;
+    v[1] = rnd_range(0, 255);
+    v[2] = rnd_range(0, 255);
+}
+
+static uint8_t own_pixel(int kind, int i, int j, const int v[4])
+{
+    switch (kind) {
+    case FILL_ONEBIN: return (uint8_t)(v[0] + (int)(rnd() & 15u));
+    case FILL_TWOBINS: return (uint8_t)((rnd() & 1u) ? v[1] : v[2]);
+    case FILL_GRADIENT: return (uint8_t)((i * 7 + j * 3 + (int)(rnd() % 5u)) & 255);
+    case FILL_BLOBS:
+        /* Dark speckle with bright patches: sonar-like. */
+        return (uint8_t)(((i / 5 + j / 7) % 3 == 0) ? 150 + (int)(rnd() % 100u) : (int)(rnd() % 40u));
+    default: return (uint8_t)rnd();
     }
 }
 
 /* Bytes given to the filters beyond ACTAG_MEDIAN_SCRATCH_SIZE by
- * check_image (more scratch: more column histograms, wider strips). */
+ * fc_check_image (more scratch: more column histograms, wider strips). */
 static size_t scratch_extra;
 
-/* Checks both paths on a given image (stride sstride, padding already
- * filled by the caller) against the brute-force reference: every pixel, the
- * destination padding (dextra columns) untouched, with scratch_extra bytes
- * of scratch beyond ACTAG_MEDIAN_SCRATCH_SIZE. */
-static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int dextra,
-                        const char *what)
+static int run_path(int path, const uint8_t *src, int rows, int cols, int sstride, uint8_t *dst,
+                    int dstride, int R, int offset, void *scratch, size_t scratch_size)
 {
-    int dstride = cols + dextra, f;
-    size_t dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) + scratch_extra;
-    uint8_t *want = (uint8_t *)fc_alloc(dsize);
-    uint8_t *out = (uint8_t *)fc_alloc(dsize);
-    uint8_t *scratch = (uint8_t *)fc_alloc(scr);
-    char msg[200];
-
-    brute_median(src, rows, cols, sstride, R, want, dstride);
-    for (f = 0; f < 2; f++) {
-        memset(out, 0xA5, dsize);
-        memset(scratch, 0x5A, scr); /* the filter must not rely on zeroed scratch */
-        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d sstride=%d dstride=%d", FN_NAMES[f], what,
-                 rows, cols, R, sstride, dstride);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, scratch, scr),
-                                      msg);
-        fc_check_output(out, want, rows, cols, dstride, msg);
-    }
-    free(want);
-    free(out);
-    free(scratch);
+    (void)offset; /* the median filter takes none */
+    return FNS[path](src, rows, cols, sstride, dst, dstride, R, scratch, scratch_size);
 }
 
+static void reference(const uint8_t *src, int rows, int cols, int stride, int R, int offset,
+                      uint8_t *out, int ostride)
+{
+    (void)offset;
+    brute_median(src, rows, cols, stride, R, out, ostride);
+}
+
+static size_t scratch_size(int rows, int cols, int R)
+{
+    (void)rows; /* the size depends on the width only */
+    (void)R;
+    return ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) + scratch_extra;
+}
+
+/* Both paths against the brute-force reference, with scratch_extra bytes of
+ * scratch beyond ACTAG_MEDIAN_SCRATCH_SIZE; images and cases through
+ * fc_fill, fc_check_image and fc_check_case (filter_check.h). */
+static const fc_filter FILTER = {
+    .npaths = 2, .names = FN_NAMES, .run = run_path, .reference = reference,
+    .scratch_size = scratch_size, .nkinds = FILL_N, .own_draws = own_draws, .own_pixel = own_pixel};
+
 /* One case: an image of fill kind (row stride cols + sextra) through
- * check_image. */
+ * fc_check_image. */
 static void check_case(int rows, int cols, int R, int kind, int sextra, int dextra)
 {
-    int sstride = cols + sextra;
-    uint8_t *src = (uint8_t *)fc_alloc((size_t)rows * (size_t)sstride);
-    char what[32];
-    fill_image(src, rows, cols, sstride, kind);
-    snprintf(what, sizeof what, "kind=%d", kind);
-    check_image(src, rows, cols, sstride, R, dextra, what);
-    free(src);
+    fc_check_case(&FILTER, rows, cols, R, 0, kind, sextra, dextra);
 }
 
 /* ------------------------------------------------------------ tests */
@@ -184,7 +167,7 @@ static void test_constant_and_extreme_images(void)
                 continue;
             for (b = 0; b < 3; b++) {
                 fc_fill_constant(img, rows, cols, sstride, levels[b]);
-                check_image(img, rows, cols, sstride, R, 3, "constant");
+                fc_check_image(&FILTER, img, rows, cols, sstride, R, 0, 3, "constant");
             }
             for (b = 0; b < 4; b++) {
                 for (i = 0; i < rows; i++)
@@ -198,7 +181,7 @@ static void test_constant_and_extreme_images(void)
                         }
                         img[(size_t)i * (size_t)sstride + (size_t)j] = on ? 255 : 0;
                     }
-                check_image(img, rows, cols, sstride, R, 0, "0/255 pattern");
+                fc_check_image(&FILTER, img, rows, cols, sstride, R, 0, 0, "0/255 pattern");
             }
         }
     }
@@ -207,17 +190,8 @@ static void test_constant_and_extreme_images(void)
 
 static void test_wide_strides(void)
 {
-    /* Strides much larger than cols (sub-images of a larger buffer), the
-     * padding full of random bytes that must be neither read nor written. */
-    static const int radii[] = {0, 1, 4, 7, 8, 20};
-    int t;
-    rng_state = 0xD00Du;
-    for (t = 0; t < 24; t++) {
-        int rows = rnd_range(1, 30), cols = rnd_range(1, 30);
-        int sextra = rnd_range(30, 200), dextra = rnd_range(30, 200);
-        int kind = (int)(rnd() % FILL_N);
-        check_case(rows, cols, radii[t % 6], kind, sextra, dextra);
-    }
+    static const int radii[6] = {0, 1, 4, 7, 8, 20};
+    fc_test_wide_strides(&FILTER, 0xD00Du, 24, radii);
 }
 
 static void test_every_small_radius_random(void)
@@ -309,7 +283,7 @@ static void test_far_apart_medians(void)
                         }
                         img[(size_t)i * (size_t)sstride + (size_t)j] = (uint8_t)v;
                     }
-                check_image(img, rows, cols, sstride, R, 2, "far-apart medians");
+                fc_check_image(&FILTER, img, rows, cols, sstride, R, 0, 2, "far-apart medians");
             }
     free(img);
 }
@@ -317,16 +291,7 @@ static void test_far_apart_medians(void)
 static void test_random_images(void)
 {
     static const int radii[] = {0, 1, 2, 3, 4, 5, 8};
-    int t;
-    rng_state = 0x12345678u;
-    for (t = 0; t < 300; t++) {
-        int rows = rnd_range(1, 40), cols = rnd_range(1, 40);
-        int R = (t % 4 == 3) ? rnd_range(0, 20) : radii[rnd() % 7u];
-        int kind = (t % 3 == 0) ? (int)(rnd() % FILL_N) : FILL_UNIFORM;
-        int sextra = (t & 1) ? rnd_range(1, 9) : 0;
-        int dextra = (t & 2) ? rnd_range(1, 9) : 0;
-        check_case(rows, cols, R, kind, sextra, dextra);
-    }
+    fc_test_random_images(&FILTER, 0x12345678u, 300, 40, radii, 7, 20);
 }
 
 static void test_value_patterns(void)
@@ -521,7 +486,7 @@ static void test_strips_real_frame_wide(void)
             wide[(size_t)i * (size_t)cols * 2u + (size_t)(2 * cols - 1 - j)] = v;
         }
     TEST_ASSERT_EQUAL_INT(5, strip_count(2 * cols, 4, ACTAG_MEDIAN_HIST_COLS));
-    check_image(wide, wr, 2 * cols - 1, 2 * cols, 4, 1, "mirrored pool frame");
+    fc_check_image(&FILTER, wide, wr, 2 * cols - 1, 2 * cols, 4, 0, 1, "mirrored pool frame");
     free(wide);
     free(img);
 }
@@ -529,24 +494,11 @@ static void test_strips_real_frame_wide(void)
 static void test_real_sonar_frame(void)
 {
     /* A full 530 x 512 pool frame at the paper's radius 4. */
-    int rows, cols, f;
+    int rows, cols;
     uint8_t *img = tu_read_pgm(TU_DATA "/pool-video/f_0001.pgm", &rows, &cols);
-    uint8_t *want, *out, *scratch;
-    size_t n, scr;
-    n = (size_t)rows * (size_t)cols;
-    scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
-    want = (uint8_t *)fc_alloc(n);
-    out = (uint8_t *)fc_alloc(n);
-    scratch = (uint8_t *)fc_alloc(scr);
-    brute_median(img, rows, cols, cols, 4, want, cols);
-    for (f = 0; f < 2; f++) {
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](img, rows, cols, cols, out, cols, 4, scratch, scr));
-        TEST_ASSERT_EQUAL_MEMORY_MESSAGE(want, out, n, FN_NAMES[f]);
-    }
+    scratch_extra = 0; /* the exact scratch size */
+    fc_check_image(&FILTER, img, rows, cols, cols, 4, 0, 0, "pool frame f_0001");
     free(img);
-    free(want);
-    free(out);
-    free(scratch);
 }
 
 /* 16-bit frames: actag_median_filter16 (library and portable) against the
@@ -721,7 +673,7 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_size_t(256u * 272u + 257u * 2u, ACTAG_MEDIAN_SCRATCH_SIZE(1, 257));
     TEST_ASSERT_EQUAL_size_t(70656u, ACTAG_MEDIAN_SCRATCH_SIZE(530, 512));
     rng_state = 5u;
-    fill_image(src, 6, 7, 7, FILL_UNIFORM);
+    fc_fill(&FILTER, src, 6, 7, 7, FILL_UNIFORM);
     for (f = 0; f < 2; f++) {
         median_fn fn = FNS[f];
         memset(dst, 0x77, sizeof dst);

@@ -208,31 +208,17 @@ static void brute_threshold(const uint8_t *src, int rows, int cols, int stride, 
     }
 }
 
-enum { FILL_UNIFORM, FILL_CONST, FILL_BINARY, FILL_FEW, FILL_GRADIENT, FILL_BLOBS, FILL_N };
+enum { FILL_FEW = FC_FILL_OWN, FILL_GRADIENT, FILL_BLOBS, FILL_N };
 
-static void fill_image(uint8_t *img, int rows, int cols, int stride, int kind)
+static uint8_t own_pixel(int kind, int i, int j, const int v[4])
 {
-    int i, j;
-    uint8_t c = (uint8_t)rnd();
-    for (i = 0; i < rows; i++) {
-        for (j = 0; j < stride; j++) {
-            uint8_t v;
-            if (j >= cols) {
-                v = (uint8_t)rnd(); /* padding garbage: must be ignored */
-            } else {
-                switch (kind) {
-                case FILL_CONST: v = c; break;
-                case FILL_BINARY: v = (rnd() & 1u) ? 255 : 0; break;
-                case FILL_FEW: v = (uint8_t)(100 + (int)(rnd() % 4u)); break;
-                case FILL_GRADIENT: v = (uint8_t)((i * 5 + j * 3) & 255); break;
-                case FILL_BLOBS:
-                    v = (uint8_t)(((i / 4 + j / 6) % 3 == 0) ? 150 + (int)(rnd() % 100u) : (int)(rnd() % 40u));
-                    break;
-                default: v = (uint8_t)rnd(); break;
-                }
-            }
-            img[(size_t)i * (size_t)stride + (size_t)j] = v;
-        }
+    (void)v; /* nothing drawn before the pixels but the constant level */
+    switch (kind) {
+    case FILL_FEW: return (uint8_t)(100 + (int)(rnd() % 4u));
+    case FILL_GRADIENT: return (uint8_t)((i * 5 + j * 3) & 255);
+    case FILL_BLOBS:
+        return (uint8_t)(((i / 4 + j / 6) % 3 == 0) ? 150 + (int)(rnd() % 100u) : (int)(rnd() % 40u));
+    default: return (uint8_t)rnd();
     }
 }
 
@@ -254,7 +240,7 @@ static void check_bitmap(const uint8_t *src, int rows, int cols, int sstride, in
     size_t scr = ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, R);
     uint32_t *bm = (uint32_t *)fc_alloc(n);
     uint8_t *scratch = (uint8_t *)fc_alloc(scr);
-    char msg[240];
+    char msg[320];
     int f, r;
     for (f = 0; f < NFNS; f++) {
         memset(bm, 0xA5, n);
@@ -284,51 +270,43 @@ static void check_bitmap(const uint8_t *src, int rows, int cols, int sstride, in
     free(scratch);
 }
 
-/* Checks every path on a given image (stride sstride, padding already
- * filled by the caller) against the brute-force reference with the exact
- * radius-specific scratch size: every pixel, the destination padding
- * (dextra columns) untouched, and the bitmap variants (check_bitmap). */
-static void check_image(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
-                        int dextra, const char *what)
+static int run_path(int path, const uint8_t *src, int rows, int cols, int sstride, uint8_t *dst,
+                    int dstride, int R, int offset, void *scratch, size_t scratch_size)
 {
-    int dstride = cols + dextra, f;
-    size_t dsize = (size_t)rows * (size_t)dstride;
-    size_t scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, R);
-    uint8_t *want = (uint8_t *)fc_alloc(dsize);
-    uint8_t *out = (uint8_t *)fc_alloc(dsize);
-    uint8_t *scratch = (uint8_t *)fc_alloc(scr);
-    char msg[200];
-
-    TEST_ASSERT_TRUE(scr <= ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols));
-    brute_threshold(src, rows, cols, sstride, R, offset, want, dstride);
-    for (f = 0; f < NFNS; f++) {
-        memset(out, 0xA5, dsize);
-        memset(scratch, 0x5A, scr);
-        snprintf(msg, sizeof msg, "%s: %s %dx%d R=%d off=%d sstride=%d dstride=%d", FN_NAMES[f],
-                 what, rows, cols, R, offset, sstride, dstride);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(
-            ACTAG_OK, FNS[f](src, rows, cols, sstride, out, dstride, R, offset, scratch, scr), msg);
-        fc_check_output(out, want, rows, cols, dstride, msg);
-    }
-    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d sstride=%d", what, rows, cols, R, offset,
-             sstride);
-    check_bitmap(src, rows, cols, sstride, R, offset, want, dstride, msg);
-    free(want);
-    free(out);
-    free(scratch);
+    return FNS[path](src, rows, cols, sstride, dst, dstride, R, offset, scratch, scratch_size);
 }
 
+/* The exact radius-specific size, within the documented bound for any radius. */
+static size_t scratch_size(int rows, int cols, int R)
+{
+    size_t scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, R);
+    TEST_ASSERT_TRUE(scr <= ACTAG_THRESHOLD_SCRATCH_SIZE(rows, cols));
+    return scr;
+}
+
+/* After every path: the bitmap variants (check_bitmap). */
+static void more_checks(const uint8_t *src, int rows, int cols, int sstride, int R, int offset,
+                        const uint8_t *want, int wstride, const char *what)
+{
+    char msg[200];
+    snprintf(msg, sizeof msg, "%s %dx%d R=%d off=%d sstride=%d", what, rows, cols, R, offset,
+             sstride);
+    check_bitmap(src, rows, cols, sstride, R, offset, want, wstride, msg);
+}
+
+/* Every path against the brute-force reference with the exact
+ * radius-specific scratch size, then the bitmap variants; images and cases
+ * through fc_fill, fc_check_image and fc_check_case (filter_check.h). */
+static const fc_filter FILTER = {
+    .npaths = NFNS, .names = FN_NAMES, .run = run_path, .reference = brute_threshold,
+    .scratch_size = scratch_size, .more_checks = more_checks, .draw_offset = random_offset,
+    .nkinds = FILL_N, .own_pixel = own_pixel};
+
 /* One case: an image of fill kind (row stride cols + sextra) through
- * check_image. */
+ * fc_check_image. */
 static void check_case(int rows, int cols, int R, int offset, int kind, int sextra, int dextra)
 {
-    int sstride = cols + sextra;
-    uint8_t *src = (uint8_t *)fc_alloc((size_t)rows * (size_t)sstride);
-    char what[32];
-    fill_image(src, rows, cols, sstride, kind);
-    snprintf(what, sizeof what, "kind=%d", kind);
-    check_image(src, rows, cols, sstride, R, offset, dextra, what);
-    free(src);
+    fc_check_case(&FILTER, rows, cols, R, offset, kind, sextra, dextra);
 }
 
 /* ------------------------------------------------------------ tests */
@@ -367,7 +345,7 @@ static void test_constant_and_extreme_images(void)
             int off = offs[(a + r) % 5];
             for (b = 0; b < 3; b++) {
                 fc_fill_constant(img, rows, cols, sstride, levels[b]);
-                check_image(img, rows, cols, sstride, R, off, 2, "constant");
+                fc_check_image(&FILTER, img, rows, cols, sstride, R, off, 2, "constant");
             }
             for (b = 0; b < 4; b++) {
                 for (i = 0; i < rows; i++)
@@ -381,7 +359,7 @@ static void test_constant_and_extreme_images(void)
                         }
                         img[(size_t)i * (size_t)sstride + (size_t)j] = on ? 255 : 0;
                     }
-                check_image(img, rows, cols, sstride, R, off, 0, "0/255 pattern");
+                fc_check_image(&FILTER, img, rows, cols, sstride, R, off, 0, "0/255 pattern");
             }
         }
     }
@@ -390,33 +368,14 @@ static void test_constant_and_extreme_images(void)
 
 static void test_wide_strides(void)
 {
-    /* Strides much larger than cols (sub-images of a larger buffer), the
-     * padding full of random bytes that must be neither read nor written. */
-    static const int radii[] = {0, 1, 3, 8, 16, 100};
-    int t;
-    rng_state = 0xFACEu;
-    for (t = 0; t < 30; t++) {
-        int rows = rnd_range(1, 30), cols = rnd_range(1, 30);
-        int sextra = rnd_range(30, 200), dextra = rnd_range(30, 200);
-        int off = random_offset();
-        int kind = (int)(rnd() % FILL_N);
-        check_case(rows, cols, radii[t % 6], off, kind, sextra, dextra);
-    }
+    static const int radii[6] = {0, 1, 3, 8, 16, 100};
+    fc_test_wide_strides(&FILTER, 0xFACEu, 30, radii);
 }
 
 static void test_random_images(void)
 {
     static const int radii[] = {0, 1, 2, 3, 4, 8};
-    int t;
-    rng_state = 0xC0FFEEu;
-    for (t = 0; t < 400; t++) {
-        int rows = rnd_range(1, 50), cols = rnd_range(1, 50);
-        int R = (t % 4 == 3) ? rnd_range(0, 60) : radii[rnd() % 6u];
-        int kind = (t % 3 == 0) ? (int)(rnd() % FILL_N) : FILL_UNIFORM;
-        int sextra = (t & 1) ? rnd_range(1, 9) : 0;
-        int dextra = (t & 2) ? rnd_range(1, 9) : 0;
-        check_case(rows, cols, R, random_offset(), kind, sextra, dextra);
-    }
+    fc_test_random_images(&FILTER, 0xC0FFEEu, 400, 50, radii, 6, 60);
 }
 
 static void test_every_radius_and_shape(void)
@@ -577,7 +536,7 @@ static void test_output_is_binary(void)
             TEST_ASSERT_EQUAL_UINT8(0, dst[k]);
     }
     rng_state = 3u;
-    fill_image(src, 12, 13, 13, FILL_UNIFORM);
+    fc_fill(&FILTER, src, 12, 13, 13, FILL_UNIFORM);
     for (f = 0; f < NFNS; f++) {
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](src, 12, 13, 13, dst, 13, 2, 5, scratch, sizeof scratch));
         for (k = 0; k < sizeof dst; k++)
@@ -589,24 +548,10 @@ static void test_output_is_binary(void)
 static void test_real_sonar_frame(void)
 {
     /* A full 530 x 512 pool frame at the paper's radius 8, offset 1. */
-    int rows, cols, f;
+    int rows, cols;
     uint8_t *img = tu_read_pgm(TU_DATA "/pool-video/f_0011.pgm", &rows, &cols);
-    uint8_t *want, *out, *scratch;
-    size_t n, scr;
-    n = (size_t)rows * (size_t)cols;
-    scr = ACTAG_THRESHOLD_SCRATCH_SIZE_R(rows, cols, 8);
-    want = (uint8_t *)fc_alloc(n);
-    out = (uint8_t *)fc_alloc(n);
-    scratch = (uint8_t *)fc_alloc(scr);
-    brute_threshold(img, rows, cols, cols, 8, 1, want, cols);
-    for (f = 0; f < NFNS; f++) {
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, FNS[f](img, rows, cols, cols, out, cols, 8, 1, scratch, scr));
-        TEST_ASSERT_EQUAL_MEMORY_MESSAGE(want, out, n, FN_NAMES[f]);
-    }
+    fc_check_image(&FILTER, img, rows, cols, cols, 8, 1, 0, "pool frame f_0011");
     free(img);
-    free(want);
-    free(out);
-    free(scratch);
 }
 
 static void test_scratch_sizes(void)
@@ -623,7 +568,7 @@ static void test_scratch_sizes(void)
     TEST_ASSERT_EQUAL_size_t(sizeof scratch, ACTAG_THRESHOLD_SCRATCH_SIZE_R(10, 11, INT_MAX));
     TEST_ASSERT_EQUAL_size_t(8u * 11u, ACTAG_THRESHOLD_SCRATCH_SIZE_R(10, 11, 0));
     rng_state = 11u;
-    fill_image(src, 10, 11, 11, FILL_UNIFORM);
+    fc_fill(&FILTER, src, 10, 11, 11, FILL_UNIFORM);
     for (f = 0; f < NFNS; f++) {
         for (R = 0; R <= 6; R++) {
             size_t need = ACTAG_THRESHOLD_SCRATCH_SIZE_R(10, 11, R);
@@ -645,7 +590,7 @@ static void test_errors(void)
     int f;
 
     rng_state = 5u;
-    fill_image(src, 6, 7, 7, FILL_UNIFORM);
+    fc_fill(&FILTER, src, 6, 7, 7, FILL_UNIFORM);
     for (f = 0; f < NFNS; f++) {
         threshold_fn fn = FNS[f];
         memset(dst, 0x77, sizeof dst);

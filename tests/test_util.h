@@ -122,9 +122,9 @@ static inline int tu_run_gen(const char *args)
 #else
 /* Cross builds (the emulated suites): actag-familygen is a host program, so
  * the tests that run it run in the host suite only. There a generator
- * test's main() returns tu_main_without_generator(__FILE__): one test that
- * reports IGNORE, and exit status 77, which CTest shows as skipped
- * (SKIP_RETURN_CODE). */
+ * test's main() returns tu_main_without_generator(__FILE__) (familygen_test.h
+ * has that main() for the actag-familygen tests): one test that reports
+ * IGNORE, and exit status 77, which CTest shows as skipped (SKIP_RETURN_CODE). */
 static inline void test_needs_the_host_generator(void)
 {
     TEST_IGNORE_MESSAGE("actag-familygen is a host program: see the host suite");

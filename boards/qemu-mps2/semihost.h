@@ -1,7 +1,8 @@
 /*
- * semihost.h -- ARM semihosting calls for the QEMU board support: BKPT 0xAB
- * with the operation in r0 and a pointer to the argument block in r1; the
- * result comes back in r0. QEMU serves them with
+ * semihost.h -- ARM semihosting calls for the QEMU board support (and the
+ * armcheck firmware, tools/armcheck, which links this board's startup.c):
+ * BKPT 0xAB with the operation in r0 and a pointer to the argument block in
+ * r1; the result comes back in r0. QEMU serves them with
  * -semihosting-config enable=on,target=native (files are opened on the
  * host, relative to QEMU's working directory).
  */
@@ -25,6 +26,10 @@
 #define SH_SYS_GET_CMDLINE 0x15
 #define SH_SYS_EXIT 0x18
 #define SH_SYS_EXIT_EXTENDED 0x20
+
+/* SYS_OPEN modes (ISO C fopen modes by index) */
+#define SH_MODE_RB 1
+#define SH_MODE_WB 5
 
 /* SYS_EXIT reasons */
 #define SH_ADP_STOPPED_APPLICATION_EXIT 0x20026

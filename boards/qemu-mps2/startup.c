@@ -1,7 +1,10 @@
 /*
  * startup.c -- vector table and reset code of the QEMU mps2 board support
  * (mps2-an386: Cortex-M4F, mps2-an500: Cortex-M7), used only by the tests
- * and examples built with cmake/toolchains/cortex-m4.cmake or cortex-m7.cmake.
+ * and examples built with cmake/toolchains/cortex-m4.cmake or cortex-m7.cmake
+ * and by the armcheck firmware (tools/armcheck/build.sh, with its own
+ * armcheck.ld: it needs __stack_top, __data_start/_end/_load and
+ * __bss_start/_end from the linker script).
  *
  * Reset: grant the FPU (CPACR CP10/CP11 full access) before any
  * floating-point instruction can run, copy .data from its load address,

@@ -118,7 +118,9 @@ int _close(int fd)
     return semihost_call(SH_SYS_CLOSE, args) == 0 ? 0 : -1;
 }
 
-int _read(int fd, char *buf, int len)
+/* SYS_READ or SYS_WRITE (op) of len bytes at buf on fd: the number of bytes
+ * moved (the file position advances by as many), or -1. */
+static int transfer(int fd, int32_t op, const void *buf, int len)
 {
     uint32_t args[3];
     int32_t h = handle_of(fd), left;
@@ -129,7 +131,7 @@ int _read(int fd, char *buf, int len)
     args[0] = (uint32_t)h;
     args[1] = (uint32_t)(uintptr_t)buf;
     args[2] = (uint32_t)len;
-    left = semihost_call(SH_SYS_READ, args); /* bytes NOT read */
+    left = semihost_call(op, args); /* bytes NOT read / written */
     if (left < 0 || left > len) {
         errno = EIO;
         return -1;
@@ -138,25 +140,9 @@ int _read(int fd, char *buf, int len)
     return len - left;
 }
 
-int _write(int fd, const char *buf, int len)
-{
-    uint32_t args[3];
-    int32_t h = handle_of(fd), left;
-    if (h < 0) {
-        errno = EBADF;
-        return -1;
-    }
-    args[0] = (uint32_t)h;
-    args[1] = (uint32_t)(uintptr_t)buf;
-    args[2] = (uint32_t)len;
-    left = semihost_call(SH_SYS_WRITE, args); /* bytes NOT written */
-    if (left < 0 || left > len) {
-        errno = EIO;
-        return -1;
-    }
-    files[fd].pos += len - left;
-    return len - left;
-}
+int _read(int fd, char *buf, int len) { return transfer(fd, SH_SYS_READ, buf, len); }
+
+int _write(int fd, const char *buf, int len) { return transfer(fd, SH_SYS_WRITE, buf, len); }
 
 int _lseek(int fd, int off, int whence)
 {

@@ -6,8 +6,9 @@
  * azimuth, inlier ratio) with floats as C99 hex floats (exact), the call's
  * counters, and FNV-1a 64-bit digests of the raw detection structs and of
  * the workspace's filtered and binary stage images. The same file is built
- * natively (io_host.c) and for a Cortex-M (io_semihost.c, startup.c, run
- * under QEMU); .ci/armcheck requires the two reports to be byte-identical.
+ * natively (io_host.c) and for a Cortex-M (io_semihost.c and the board
+ * support's boards/qemu-mps2/startup.c, run under QEMU); .ci/armcheck
+ * requires the two reports to be byte-identical.
  *
  * The report is formatted here without printf, so both builds use the same
  * formatting code (newlib's and glibc's printf need not agree on "%a"); the

@@ -33,11 +33,16 @@ ${CC:-cc} $warn -O2 -DARMCHECK_HOST -I"$root/include" -I"$host_build/include" \
   "$here/armcheck.c" "$here/io_host.c" "$host_build/libactag.a" -lm \
   -o "$out/armcheck-host"
 
-# ARM: own startup and semihosting I/O, newlib only for memcpy/strcmp/sqrtf.
+# ARM: the QEMU board support's startup code and semihosting calls
+# (boards/qemu-mps2: reset, argv from the semihosting command line, exit
+# status = main's return value, faults end QEMU with status 99), armcheck's
+# own semihosting I/O and memory layout (armcheck.ld: no heap, no newlib
+# system calls), newlib only for memcpy/strcmp/sqrtf.
+board="$root/boards/qemu-mps2"
 # shellcheck disable=SC2086
 arm-none-eabi-gcc $cpu_flags $warn -O2 -ffunction-sections -fdata-sections \
-  -I"$root/include" -I"$arm_build/include" \
-  "$here/armcheck.c" "$here/io_semihost.c" "$here/startup.c" \
+  -I"$root/include" -I"$arm_build/include" -I"$board" \
+  "$here/armcheck.c" "$here/io_semihost.c" "$board/startup.c" \
   -nostartfiles -T "$here/armcheck.ld" -Wl,--gc-sections -Wl,-Map="$out/armcheck.map" \
   "$arm_build/libactag.a" -Wl,--start-group -lc -lm -lgcc -Wl,--end-group \
   -o "$out/armcheck.elf"

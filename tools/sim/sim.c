@@ -61,25 +61,20 @@ void sim_view_params_default(sim_view_params *v)
 
 static float dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-static void mat_vec(const float *R, const float *v, float *out)
+/* out = M v, M the 3 x 3 matrix whose element (i, j) is R[i * rs + j * cs]:
+ * R itself (rs 3, cs 1) or its transpose (rs 1, cs 3). out may be v. */
+static void mat_vec_strided(const float *R, int rs, int cs, const float *v, float *out)
 {
-    float o0 = R[0] * v[0] + R[1] * v[1] + R[2] * v[2];
-    float o1 = R[3] * v[0] + R[4] * v[1] + R[5] * v[2];
-    float o2 = R[6] * v[0] + R[7] * v[1] + R[8] * v[2];
-    out[0] = o0;
-    out[1] = o1;
-    out[2] = o2;
+    float o[3];
+    int i;
+    for (i = 0; i < 3; i++)
+        o[i] = R[i * rs] * v[0] + R[i * rs + cs] * v[1] + R[i * rs + 2 * cs] * v[2];
+    memcpy(out, o, sizeof o);
 }
 
-static void mat_t_vec(const float *R, const float *v, float *out)
-{
-    float o0 = R[0] * v[0] + R[3] * v[1] + R[6] * v[2];
-    float o1 = R[1] * v[0] + R[4] * v[1] + R[7] * v[2];
-    float o2 = R[2] * v[0] + R[5] * v[1] + R[8] * v[2];
-    out[0] = o0;
-    out[1] = o1;
-    out[2] = o2;
-}
+static void mat_vec(const float *R, const float *v, float *out) { mat_vec_strided(R, 3, 1, v, out); }
+
+static void mat_t_vec(const float *R, const float *v, float *out) { mat_vec_strided(R, 1, 3, v, out); }
 
 static void mat_mul(const float *A, const float *B, float *out)
 {
