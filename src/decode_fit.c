@@ -28,8 +28,21 @@ typedef struct fimg {
 #endif
 } fimg;
 
+/* Forced inlining of the per-sample steps of the cell reads: GCC -O2 for
+ * Cortex-M7 otherwise calls one sampler per sample with the choice of
+ * sampler made at run time (about 50 instead of 35 instructions a sample). */
+#if defined(__GNUC__)
+#define FIT_INLINE __attribute__((always_inline)) static inline
+#else
+#define FIT_INLINE static inline
+#endif
+
 /* Bilinear grey level at (x, y), pixel centres on integers; edge pixels
- * are replicated outside the image. Only + - * decide it. */
+ * are replicated outside the image. Only + - * decide it. Not inlined: the
+ * cell reads take it only near the frame's edges. */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
 static float fsample(const fimg *im, float x, float y)
 {
     int x0, y0, x1, y1;
@@ -60,31 +73,52 @@ static float fsample(const fimg *im, float x, float y)
     return v00 + (v10 - v00) * fy;
 }
 
+/* A grid's sample pattern offsets, computed once a grid by the expressions
+ * the cell reads used per cell (so the same floats): the 3x3 pattern's
+ * offsets along a (ou, ov) and b (pu, pv), the 5-sample pattern's
+ * diagonals (d1, d2). */
+typedef struct fpat {
+    float ou[3], ov[3], pu[3], pv[3];
+    float dx1, dy1, dx2, dy2;
+    /* a cell is read clamp-free when x0 - ex >= 1, x0 + ex <= xmax (and y):
+     * its samples lie a pixel inside (fbox_inside, h = so) */
+    float ex, ey, xmax, ymax;
+    /* fsample_in's pixels (x0, y0), (x0 + 1, y0), (x0, y0 + 1), (x0 + 1, y0 + 1)
+     * are r00[o] .. r11[o], o = y0 stride + x0: one address a sample */
+    const uint8_t *r00, *r01, *r10, *r11;
+} fpat;
+
 /* fsample for a point known to lie in [0, cols-1) x [0, rows-1): the same
  * arithmetic without the clamps (the result is bit-identical there). */
-static float fsample_in(const fimg *im, float x, float y)
+FIT_INLINE float fsample_in(const fimg *im, const fpat *p, float x, float y)
 {
     int x0 = (int)x, y0 = (int)y;
     float fx = x - (float)x0, fy = y - (float)y0, v00, v01, v10, v11;
-    const uint8_t *r0 = im->img + (size_t)y0 * (size_t)im->stride + x0;
-    const uint8_t *r1 = r0 + im->stride;
-    v00 = (float)r0[0];
-    v01 = (float)r0[1];
-    v10 = (float)r1[0];
-    v11 = (float)r1[1];
+    size_t o = (size_t)y0 * (size_t)im->stride + (size_t)x0;
+    v00 = (float)p->r00[o];
+    v01 = (float)p->r01[o];
+    v10 = (float)p->r10[o];
+    v11 = (float)p->r11[o];
     v00 += (v01 - v00) * fx;
     v10 += (v11 - v10) * fx;
     return v00 + (v10 - v00) * fy;
 }
 
-/* Do all of a grid's sample points lie a pixel inside the image? (Then
- * fsample_in serves; the margin covers the rounding of the points.) */
-static int fgrid_inside_h(const fimg *im, const fgrid *gr, float h)
+/* Do all points within h cells (along a and b) of (x, y) lie a pixel inside
+ * the image? (Then fsample_in serves; the margin covers the rounding of the
+ * points. NaN or infinite coordinates fail.) */
+static int fbox_inside(const fimg *im, const fgrid *gr, float x, float y, float h)
 {
     float ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * h;
     float ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * h;
-    return gr->mx - ex >= 1.0f && gr->mx + ex <= (float)(im->cols - 2) &&
-           gr->my - ey >= 1.0f && gr->my + ey <= (float)(im->rows - 2);
+    return x - ex >= 1.0f && x + ex <= (float)(im->cols - 2) && y - ey >= 1.0f &&
+           y + ey <= (float)(im->rows - 2);
+}
+
+/* Do all of a grid's sample points lie a pixel inside the image? */
+static int fgrid_inside_h(const fimg *im, const fgrid *gr, float h)
+{
+    return fbox_inside(im, gr, gr->mx, gr->my, h);
 }
 
 /* h: centre to the outermost samples of a (k+1)^2 grid, cells */
@@ -93,24 +127,75 @@ static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
     return fgrid_inside_h(im, gr, 0.5f * (float)(k + 1) + im->so);
 }
 
-/* One grey sample: the clamp-free sampler when the whole grid lies a pixel
- * inside the frame (bit-identical there, and cheaper). */
-static float fsample_at(const fimg *im, int inside, float x, float y)
+/* One grey sample: the clamp-free sampler when the whole grid (or cell)
+ * lies a pixel inside the frame (bit-identical there, and cheaper). */
+FIT_INLINE float fsample_at(const fimg *im, const fpat *p, int inside, float x, float y)
 {
-    return inside ? fsample_in(im, x, y) : fsample(im, x, y);
+    return inside ? fsample_in(im, p, x, y) : fsample(im, x, y);
+}
+
+static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
+{
+    int a;
+    for (a = 0; a < 3; a++) {
+        float u = (float)(a - 1) * im->so;
+        p->ou[a] = gr->ax * u;
+        p->ov[a] = gr->ay * u;
+        p->pu[a] = gr->bx * u;
+        p->pv[a] = gr->by * u;
+    }
+    p->dx1 = im->so * (gr->ax + gr->bx);
+    p->dy1 = im->so * (gr->ay + gr->by);
+    p->dx2 = im->so * (gr->ax - gr->bx);
+    p->dy2 = im->so * (gr->ay - gr->by);
+    p->ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * im->so;
+    p->ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * im->so;
+    p->xmax = (float)(im->cols - 2);
+    p->ymax = (float)(im->rows - 2);
+    p->r00 = p->r01 = p->r10 = p->r11 = im->img;
+    if (im->rows >= 2 && im->cols >= 2) { /* else no cell lies a pixel inside: unused */
+        p->r01 = im->img + 1;
+        p->r10 = im->img + im->stride;
+        p->r11 = im->img + im->stride + 1;
+    }
 }
 
 /* The 5-sample mean (centre and the 4 diagonal points at +-so cell) of a
- * cell centred at (x0, y0) of grid gr, as fcells() reads it with im->fast. */
-static inline float fcell5(const fimg *im, const fgrid *gr, int inside, float x0, float y0)
+ * cell centred at (x0, y0), as fcells() reads it with im->fast. */
+FIT_INLINE float fcell5(const fimg *im, const fpat *p, int inside, float x0, float y0)
 {
-    float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
-    float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
-    float s = fsample_at(im, inside, x0, y0) + fsample_at(im, inside, x0 + dx1, y0 + dy1) +
-              fsample_at(im, inside, x0 - dx1, y0 - dy1) +
-              fsample_at(im, inside, x0 + dx2, y0 + dy2) +
-              fsample_at(im, inside, x0 - dx2, y0 - dy2);
+    float s = fsample_at(im, p, inside, x0, y0) + fsample_at(im, p, inside, x0 + p->dx1, y0 + p->dy1) +
+              fsample_at(im, p, inside, x0 - p->dx1, y0 - p->dy1) +
+              fsample_at(im, p, inside, x0 + p->dx2, y0 + p->dy2) +
+              fsample_at(im, p, inside, x0 - p->dx2, y0 - p->dy2);
     return s * 0.2f;
+}
+
+/* The 9-sample mean (3x3 pattern, +-so cell) of a cell centred at (x0, y0):
+ * sample (a, b) at x0 + ou[a] + pu[b], summed b-major from 0. The a loop
+ * written out keeps its sums in registers. */
+FIT_INLINE float fcell9(const fimg *im, const fpat *p, int inside, float x0, float y0)
+{
+    float xa0 = x0 + p->ou[0], xa1 = x0 + p->ou[1], xa2 = x0 + p->ou[2];
+    float ya0 = y0 + p->ov[0], ya1 = y0 + p->ov[1], ya2 = y0 + p->ov[2], s = 0.0f;
+    int b;
+    for (b = 0; b < 3; b++) {
+        float pu = p->pu[b], pv = p->pv[b];
+        s += fsample_at(im, p, inside, xa0 + pu, ya0 + pv);
+        s += fsample_at(im, p, inside, xa1 + pu, ya1 + pv);
+        s += fsample_at(im, p, inside, xa2 + pu, ya2 + pv);
+    }
+    return s * (1.0f / 9.0f);
+}
+
+/* One cell (fast: fcell5, else fcell9) of a grid that leaves the frame:
+ * the clamp-free reads when the cell's samples (within so cell along a and
+ * b of its centre) lie a pixel inside, the clamping ones otherwise. */
+static float fcell_edge(const fimg *im, const fpat *p, int fast, float x0, float y0)
+{
+    if (x0 - p->ex >= 1.0f && x0 + p->ex <= p->xmax && y0 - p->ey >= 1.0f && y0 + p->ey <= p->ymax)
+        return fast ? fcell5(im, p, 1, x0, y0) : fcell9(im, p, 1, x0, y0);
+    return fast ? fcell5(im, p, 0, x0, y0) : fcell9(im, p, 0, x0, y0);
 }
 
 #if ACTAG__FIT_SIMD
@@ -317,38 +402,45 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
 }
 #endif
 
-/* fcells() on one sampler (inside: the clamp-free one). */
-static inline void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside,
-                             int skip)
+/* Cells c0..c1 of a row of a grid inside the frame (fast: fcell5, else
+ * fcell9), centres (xu[c] + xv, yu[c] + yv). */
+FIT_INLINE void frow_in(const fimg *im, const fpat *p, const float *xu, const float *yu, float xv,
+                        float yv, int c0, int c1, float *row, int fast)
 {
-    int cx, cy, a, b, n = k + 1;
-    float g = 0.5f * (float)n;
-    float ou[3], ov[3], pu[3], pv[3]; /* the 3x3 pattern's offsets along a and b */
-    for (a = 0; a < 3; a++) {
-        float u = (float)(a - 1) * im->so;
-        ou[a] = gr->ax * u;
-        ov[a] = gr->ay * u;
-        pu[a] = gr->bx * u;
-        pv[a] = gr->by * u;
+    int c;
+    for (c = c0; c <= c1; c++)
+        row[c] = fast ? fcell5(im, p, 1, xu[c] + xv, yu[c] + yv)
+                      : fcell9(im, p, 1, xu[c] + xv, yu[c] + yv);
+}
+
+/* fcells() without SIMD. inside: the whole grid lies a pixel inside the
+ * frame (else each cell chooses its sampler, fcell_edge). A cell centre is
+ * (mx + ax u0) + bx v0: the first sum once a column, bx v0 once a row. */
+static void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside, int skip)
+{
+    int cx, cy, n = k + 1;
+    float g = 0.5f * (float)n, xu[ACTAG_DECODE_MAX_K + 1], yu[ACTAG_DECODE_MAX_K + 1];
+    fpat p;
+    fpat_of(im, gr, &p);
+    for (cx = 0; cx < n; cx++) {
+        float u0 = (float)cx + 0.5f - g;
+        xu[cx] = gr->mx + gr->ax * u0;
+        yu[cx] = gr->my + gr->ay * u0;
     }
-    for (cy = 0; cy < n; cy++)
-        for (cx = 0; cx < n; cx++) {
-            float s = 0.0f, u0 = (float)cx + 0.5f - g, v0 = (float)cy + 0.5f - g;
-            float x0 = gr->mx + gr->ax * u0 + gr->bx * v0;
-            float y0 = gr->my + gr->ay * u0 + gr->by * v0;
-            if (skip && (cx == 0 || cx == k) && (cy == 0 || cy == k)) {
-                m[cy * n + cx] = 0.0f; /* an erased data corner: not read */
-                continue;
-            }
-            if (im->fast) {
-                m[cy * n + cx] = fcell5(im, gr, inside, x0, y0);
-                continue;
-            }
-            for (b = 0; b < 3; b++)
-                for (a = 0; a < 3; a++)
-                    s += fsample_at(im, inside, x0 + ou[a] + pu[b], y0 + ov[a] + pv[b]);
-            m[cy * n + cx] = s * (1.0f / 9.0f);
+    for (cy = 0; cy < n; cy++) {
+        float v0 = (float)cy + 0.5f - g, xv = gr->bx * v0, yv = gr->by * v0, *row = m + cy * n;
+        /* erased data corners (skip) are not read */
+        int c0 = skip && (cy == 0 || cy == k), c1 = k - c0;
+        row[0] = row[k] = 0.0f;
+        if (!inside) {
+            for (cx = c0; cx <= c1; cx++)
+                row[cx] = fcell_edge(im, &p, im->fast, xu[cx] + xv, yu[cx] + yv);
+        } else if (im->fast) { /* one loop per kind of cell: no tests per cell */
+            frow_in(im, &p, xu, yu, xv, yv, c0, c1, row, 1);
+        } else {
+            frow_in(im, &p, xu, yu, xv, yv, c0, c1, row, 0);
         }
+    }
 }
 
 /* Mean grey level of every cell of the (k+1)^2 grid over a 3x3 sample
@@ -388,23 +480,26 @@ static int is_ring(int cx, int cy, int k)
            cx <= k - 1 && cy <= k - 1;
 }
 
-/* Black ring mean and white interior mean of the cell means. */
+/* Black ring mean and white interior mean of the cell means. Each sum
+ * adds its cells in row order (as a scan of all cells with is_ring would),
+ * visiting only them; k >= 4 (bits 16..32), so the ring's rows 1 and k-1
+ * differ. */
 static void flevels(const float *m, int k, float *black, float *white)
 {
-    int cx, cy, n = k + 1, nr = 0, ni = 0;
+    int cx, cy, n = k + 1;
     float sr = 0.0f, si = 0.0f;
-    for (cy = 1; cy < k; cy++)
-        for (cx = 1; cx < k; cx++) {
-            if (is_ring(cx, cy, k)) {
-                sr += m[cy * n + cx];
-                nr++;
-            } else {
-                si += m[cy * n + cx];
-                ni++;
-            }
-        }
-    *black = sr / (float)nr;
-    *white = si / (float)ni;
+    for (cx = 1; cx < k; cx++)
+        sr += m[n + cx];
+    for (cy = 2; cy < k - 1; cy++) {
+        sr += m[cy * n + 1];
+        sr += m[cy * n + k - 1];
+        for (cx = 2; cx < k - 1; cx++)
+            si += m[cy * n + cx];
+    }
+    for (cx = 1; cx < k; cx++)
+        sr += m[(k - 1) * n + cx];
+    *black = sr / (float)(4 * (k - 2));
+    *white = si / (float)((k - 3) * (k - 3));
 }
 
 #define FIT_INITS 5
@@ -417,9 +512,18 @@ static void flevels(const float *m, int k, float *black, float *white)
  * (1): the grid score's data-cell distance and the ring / interior counts. */
 #define FIT_MID_LEVEL 0.5f
 
+/* fscore_of's term of one border cell */
+static inline float fedge(float v, float t, float half)
+{
+    v -= t;
+    v = v < 0.0f ? -v : v;
+    return v < half ? v : half;
+}
+
 /* Code-agnostic crispness of a grid: black ring cells below, interior
  * cells above the mid level, data cells far from it (either side, capped
- * at half the contrast so bright clutter cannot pull the grid). */
+ * at half the contrast so bright clutter cannot pull the grid). The border
+ * cells are summed in row order, visiting only them. */
 static float fscore_of(const float *m, int k)
 {
     int cx, cy, n = k + 1;
@@ -427,14 +531,14 @@ static float fscore_of(const float *m, int k)
     flevels(m, k, &black, &white);
     t = black + FIT_MID_LEVEL * (white - black);
     half = FIT_MID_LEVEL * (white - black);
-    for (cy = 0; cy < n; cy++)
-        for (cx = 0; cx < n; cx++) {
-            float v = m[cy * n + cx] - t;
-            if (cx == 0 || cy == 0 || cx == k || cy == k) {
-                v = v < 0.0f ? -v : v;
-                s += v < half ? v : half;
-            }
-        }
+    for (cx = 0; cx < n; cx++)
+        s += fedge(m[cx], t, half);
+    for (cy = 1; cy < k; cy++) {
+        s += fedge(m[cy * n], t, half);
+        s += fedge(m[cy * n + k], t, half);
+    }
+    for (cx = 0; cx < n; cx++)
+        s += fedge(m[k * n + cx], t, half);
     return s + (white - black) * (float)((k - 1) * (k - 1));
 }
 
@@ -487,8 +591,9 @@ static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj
 
 static void flattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q)
 {
-    int c, r, n = k + 1;
-    float g = 0.5f * (float)n;
+    int c, r, n = k + 1, nc = n + 2 - pi;
+    float g = 0.5f * (float)n, xu[FIT_LAT_MAX], yu[FIT_LAT_MAX];
+    fpat p;
     /* the union of the shifted grids' sample points lies within g + 1 + so */
     int inside = fgrid_inside_h(im, gr, g + 1.0f + im->so);
 #if ACTAG__FIT_SIMD
@@ -500,14 +605,22 @@ static void flattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, flo
         return;
     }
 #endif
-    for (r = 0; r < n + 2 - pj; r++)
-        for (c = 0; c < n + 2 - pi; c++) {
-            float u = (float)c + 0.5f * (float)pi - 0.5f - g;
-            float v = (float)r + 0.5f * (float)pj - 0.5f - g;
-            float x0 = gr->mx + gr->ax * u + gr->bx * v;
-            float y0 = gr->my + gr->ay * u + gr->by * v;
-            Q[r * FIT_LAT_MAX + c] = fcell5(im, gr, inside, x0, y0);
+    fpat_of(im, gr, &p);
+    for (c = 0; c < nc; c++) { /* a point is (mx + ax u) + bx v: the first sum once a column */
+        float u = (float)c + 0.5f * (float)pi - 0.5f - g;
+        xu[c] = gr->mx + gr->ax * u;
+        yu[c] = gr->my + gr->ay * u;
+    }
+    for (r = 0; r < n + 2 - pj; r++) {
+        float v = (float)r + 0.5f * (float)pj - 0.5f - g, xv = gr->bx * v, yv = gr->by * v;
+        float *row = Q + r * FIT_LAT_MAX;
+        if (inside) {
+            frow_in(im, &p, xu, yu, xv, yv, 0, nc - 1, row, 1);
+            continue;
         }
+        for (c = 0; c < nc; c++)
+            row[c] = fcell_edge(im, &p, 1, xu[c] + xv, yu[c] + yv);
+    }
 }
 
 /* Cell means m of shift (i, j) from its parity class's lattice Q. */
@@ -560,6 +673,69 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
     t.mx += 0.5f * ((float)i * gr.ax + (float)j * gr.bx);
     t.my += 0.5f * ((float)i * gr.ay + (float)j * gr.by);
     fcells(&im, &t, k, direct);
+    return ACTAG_OK;
+}
+
+/* The straightforward cell read the scalar ones (fcells_on, flattice) must
+ * equal bit for bit: every sample by the clamping fsample, the offsets and
+ * the sums written per sample as the decoder first had them. */
+static float fref_cell(const fimg *im, const fgrid *gr, float x0, float y0)
+{
+    float s = 0.0f;
+    int a, b;
+    if (im->fast) {
+        float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
+        float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
+        s = fsample(im, x0, y0) + fsample(im, x0 + dx1, y0 + dy1) + fsample(im, x0 - dx1, y0 - dy1) +
+            fsample(im, x0 + dx2, y0 + dy2) + fsample(im, x0 - dx2, y0 - dy2);
+        return s * 0.2f;
+    }
+    for (b = 0; b < 3; b++)
+        for (a = 0; a < 3; a++) {
+            float u = (float)(a - 1) * im->so, w = (float)(b - 1) * im->so;
+            s += fsample(im, x0 + gr->ax * u + gr->bx * w, y0 + gr->ay * u + gr->by * w);
+        }
+    return s * (1.0f / 9.0f);
+}
+
+/* Test hook (tests/test_decode_lattice.c): decode_fit_test.h. */
+int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                            int k, float so, int what, float *ref, float *scalar)
+{
+    fimg im;
+    fgrid gr;
+    float Q[FIT_LAT_MAX * FIT_LAT_MAX];
+    int pi = what & 1, pj = (what >> 1) & 1, n = k + 1, r, c, nr, nc;
+    float gc = 0.5f * (float)n;
+    if (k < 4 || k > ACTAG_DECODE_MAX_K || what < 0 || what > 7 || what == 3 || rows < 1 ||
+        cols < 1 || stride < cols)
+        return ACTAG_ERR_PARAM;
+    fhook_setup(img, rows, cols, stride, so, g, &im, &gr);
+#if ACTAG__FIT_SIMD
+    im.simd = 0;
+#endif
+    im.fast = what == 1 || what >= 4;
+    nr = what < 4 ? n : n + 2 - pj;
+    nc = what < 4 ? n : n + 2 - pi;
+    for (r = 0; r < nr; r++)
+        for (c = 0; c < nc; c++) {
+            /* a cell (u0 = c + 1/2 - g) or a lattice point (c + pi/2 - 1/2 - g) */
+            float u = what < 4 ? (float)c + 0.5f - gc : (float)c + 0.5f * (float)pi - 0.5f - gc;
+            float v = what < 4 ? (float)r + 0.5f - gc : (float)r + 0.5f * (float)pj - 0.5f - gc;
+            int corner = (c == 0 || c == k) && (r == 0 || r == k);
+            ref[r * nc + c] = what == 2 && corner ? 0.0f
+                              : fref_cell(&im, &gr, gr.mx + gr.ax * u + gr.bx * v,
+                                          gr.my + gr.ay * u + gr.by * v);
+        }
+    if (what < 4) {
+        fcells_x(&im, &gr, k, scalar, what == 2);
+        return ACTAG_OK;
+    }
+    memset(Q, 0xa5, sizeof Q);
+    flattice(&im, &gr, k, pi, pj, Q);
+    for (r = 0; r < nr; r++)
+        for (c = 0; c < nc; c++)
+            *scalar++ = Q[r * FIT_LAT_MAX + c];
     return ACTAG_OK;
 }
 
@@ -800,11 +976,6 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
  * that only a misaligned grid supports loses to the right one; the margin
  * is the log-likelihood ratio of the best against the next hypothesis
  * under Gaussian cell noise estimated from the best one's residual. */
-static int is_data_corner(int cx, int cy, int k)
-{
-    return (cx == 0 || cx == k) && (cy == 0 || cy == k);
-}
-
 static void layout_of(const actag_family *family, int id, int view, int k, uint8_t *L)
 {
     int bits = 4 * k, n = k + 1, i, cx, cy;
@@ -824,11 +995,10 @@ static float template_rss(const float *m, const uint8_t *L, int k, int erase, in
 {
     int n = k + 1, cx, cy, nw = 0, nb = 0;
     float sw = 0.0f, sb = 0.0f, ss = 0.0f;
-    for (cy = 0; cy < n; cy++)
-        for (cx = 0; cx < n; cx++) {
+    for (cy = 0; cy < n; cy++) {
+        int c0 = erase && (cy == 0 || cy == k); /* erased corners: by the row's bounds */
+        for (cx = c0; cx <= k - c0; cx++) {
             float v = m[cy * n + cx];
-            if (erase && is_data_corner(cx, cy, k))
-                continue;
             ss += v * v;
             if (L[cy * n + cx]) {
                 sw += v;
@@ -838,6 +1008,7 @@ static float template_rss(const float *m, const uint8_t *L, int k, int erase, in
                 nb++;
             }
         }
+    }
     if (ncells)
         *ncells = nw + nb;
     return ss - (nw ? sw * sw / (float)nw : 0.0f) - (nb ? sb * sb / (float)nb : 0.0f);

@@ -15,6 +15,14 @@
 int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                            int k, float so, int i, int j, float *lat, float *direct);
 
+/* The scalar cell reads (the ones without SIMD: fcells_on, flattice, the
+ * Cortex-M path) against the straightforward code, every sample by the
+ * clamping sampler (fsample), bit for bit; what, grid, image and outputs as
+ * for actag__fit_simd_cells (any rows, cols >= 1, stride >= cols). ACTAG_OK,
+ * or ACTAG_ERR_PARAM for bad arguments. */
+int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                            int k, float so, int what, float *ref, float *scalar);
+
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define ACTAG__FIT_SIMD 1
 /* The SSE2 cell reads against the portable ones, bit for bit: what 0: the

@@ -117,26 +117,29 @@ static void test_lattice_exact_on_pixel_grid(void)
     TEST_ASSERT_EQUAL_FLOAT(0.0f, compare(img, g, 6, 0.25f));
 }
 
-#if ACTAG__FIT_SIMD
 #define BR 530
 #define BC 700
 #define BS 712
 
-/* The x86-64 SSE2 cell reads (four cells a lane each) against the portable
- * scalar reads, bit for bit: 9-sample cells, 5-sample cells, erased data
- * corners and the four lattice parity classes, on random grids over a
- * large frame of random bytes (most inside, some across its edges) (row padding filled too: a wrong
- * offset or lane order reads other bytes), some on quarter-pixel
- * coordinates (bilinear weights 0 and exact sums). */
-static void test_simd_cells_equal_portable(void)
+/* A hook reading one grid two ways (actag__fit_simd_cells: portable and
+ * SSE2; actag__fit_scalar_cells: straightforward and scalar). */
+typedef int (*cells_hook)(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                          int k, float so, int what, float *a, float *b);
+
+/* Two cell reads of a hook, bit for bit: 9-sample cells, 5-sample cells,
+ * erased data corners and the four lattice parity classes, on random grids
+ * over a large frame of random bytes (most inside, some across its edges)
+ * (row padding filled too: a wrong offset or lane order reads other bytes),
+ * some on quarter-pixel coordinates (bilinear weights 0 and exact sums). */
+static void cells_equal_big_frame(cells_hook hook)
 {
     static uint8_t img[BR * BS];
     static const int whats[7] = {0, 1, 2, 4, 5, 6, 7};
     uint32_t s = 2718u;
-    int trial, i, nonzero = 0;
+    int trial, i, nonzero = 0, trials = TU_TRIALS(3000, 10); /* the scalar reads run emulated too */
     for (i = 0; i < BR * BS; i++)
         img[i] = (uint8_t)(lcg(&s) & 255u);
-    for (trial = 0; trial < 3000; trial++) {
+    for (trial = 0; trial < trials; trial++) {
         int k = 4 + (int)(lcg(&s) % 5u), what = whats[lcg(&s) % 7u], n = k + 1, cnt, c, rc;
         float cell = unif(&s, 0.7f, 12.0f), th = unif(&s, 0.0f, 6.2831853f);
         float sh = unif(&s, -0.5f, 0.5f), so = unif(&s, 0.0f, 0.5f), g[6];
@@ -153,43 +156,43 @@ static void test_simd_cells_equal_portable(void)
                 g[c] = c == 3 || c == 4 ? 0.0f : floorf(g[c] * 4.0f) * 0.25f;
         memset(a, 0xa5, sizeof a);
         memset(b, 0x5a, sizeof b);
-        rc = actag__fit_simd_cells(img, BR, BC, BS, g, k, so, what, a, b);
+        rc = hook(img, BR, BC, BS, g, k, so, what, a, b);
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc); /* inside or across the edges: both served */
         cnt = what < 4 ? n * n : (n + 2 - (what & 1)) * (n + 2 - ((what >> 1) & 1));
         TEST_ASSERT_EQUAL_MEMORY(a, b, (size_t)cnt * sizeof(float));
         for (c = 0; c < cnt; c++)
             nonzero += a[c] != 0.0f;
     }
-    TEST_ASSERT_TRUE(nonzero > 50 * 3000);
+    TEST_ASSERT_TRUE(nonzero > 50 * trials);
 }
 
-/* One grid's SIMD and portable reads on one frame, bit for bit. */
-static void simd_check(const uint8_t *img, int rows, int cols, int stride, const float g[6], int k,
-                       float so, int what)
+/* One grid's two reads (hook) on one frame, bit for bit. */
+static void cells_check(cells_hook hook, const uint8_t *img, int rows, int cols, int stride,
+                        const float g[6], int k, float so, int what)
 {
     float a[(ACTAG_DECODE_MAX_K + 3) * (ACTAG_DECODE_MAX_K + 3)];
     float b[(ACTAG_DECODE_MAX_K + 3) * (ACTAG_DECODE_MAX_K + 3)];
     int n = k + 1, cnt = what < 4 ? n * n : (n + 2 - (what & 1)) * (n + 2 - ((what >> 1) & 1));
     memset(a, 0xa5, sizeof a);
     memset(b, 0x5a, sizeof b);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__fit_simd_cells(img, rows, cols, stride, g, k, so, what, a, b));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, hook(img, rows, cols, stride, g, k, so, what, a, b));
     TEST_ASSERT_EQUAL_MEMORY(a, b, (size_t)cnt * sizeof(float));
 }
 
-/* Grids that leave the frame (the clamping SIMD sampler, fsample's edge
- * replication): centred near and beyond every edge and corner, across the
- * whole frame, wholly outside; frames of 1..5 rows and columns allocated
+/* Grids that leave the frame (the clamping SIMD sampler, the scalar reads'
+ * choice of sampler per cell, fsample's edge replication): centred near
+ * and beyond every edge and corner, across the whole frame, wholly outside; frames of 1..5 rows and columns allocated
  * to their last byte (an over-read shows under valgrind / ASan); sample
  * points on the last row and column exactly (quarter-pixel grids: x = cols - 1
  * where fsample's column pair degenerates); huge, infinite and NaN
  * coordinates. */
-static void test_simd_cells_equal_portable_off_frame(void)
+static void cells_equal_off_frame(cells_hook hook)
 {
     static const int whats[7] = {0, 1, 2, 4, 5, 6, 7};
     static const float odd[6] = {1e30f, -1e30f, 3e9f, -3e9f, 0.0f, 0.0f};
     uint32_t s = 31415u;
     int trial, i, rows, cols;
-    for (trial = 0; trial < 6000; trial++) {
+    for (trial = 0; trial < TU_TRIALS(6000, 10); trial++) {
         int big = trial % 3 != 0, stride, k = 4 + (int)(lcg(&s) % 5u), what = whats[lcg(&s) % 7u];
         float cell, th, sh, so = unif(&s, 0.0f, 0.5f), g[6], ext;
         uint8_t *img;
@@ -241,9 +244,34 @@ static void test_simd_cells_equal_portable_off_frame(void)
             if (lcg(&s) & 1u)
                 g[(int)(lcg(&s) % 6u)] = (float)NAN;
         }
-        simd_check(img, rows, cols, stride, g, k, so, what);
+        cells_check(hook, img, rows, cols, stride, g, k, so, what);
         free(img);
     }
+}
+/* The scalar reads (fcells_on, flattice: the Cortex-M path, hoisted
+ * offsets and a sampler chosen per grid and per cell) against the
+ * straightforward code, every sample by the clamping sampler. */
+static void test_scalar_cells_equal_straightforward(void)
+{
+    cells_equal_big_frame(actag__fit_scalar_cells);
+}
+
+static void test_scalar_cells_equal_straightforward_off_frame(void)
+{
+    cells_equal_off_frame(actag__fit_scalar_cells);
+}
+
+#if ACTAG__FIT_SIMD
+/* The x86-64 SSE2 cell reads (four cells a lane each) against the portable
+ * scalar reads. */
+static void test_simd_cells_equal_portable(void)
+{
+    cells_equal_big_frame(actag__fit_simd_cells);
+}
+
+static void test_simd_cells_equal_portable_off_frame(void)
+{
+    cells_equal_off_frame(actag__fit_simd_cells);
 }
 #else
 static void test_simd_cells_equal_portable(void)
@@ -264,6 +292,10 @@ static void test_lattice_hook_rejects_bad_arguments(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 9, 0.2f, 0, 0, a, b));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 6, 0.2f, 3, 0, a, b));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_shift_cells(img, R, C, C, g, 6, 0.2f, 0, -3, a, b));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__fit_scalar_cells(img, R, C, C, g, 6, 0.2f, 0, a, b));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_scalar_cells(img, R, C, C, g, 6, 0.2f, 3, a, b));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_scalar_cells(img, R, C, C, g, 9, 0.2f, 0, a, b));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_scalar_cells(img, R, C, C - 1, g, 6, 0.2f, 0, a, b));
 #if ACTAG__FIT_SIMD
     {
         float far[6] = {3.0f, 48.0f, 4.0f, 0.0f, 0.0f, 4.0f}; /* crosses the left edge: served */
@@ -282,6 +314,8 @@ int main(void)
     RUN_TEST(test_lattice_equals_direct_inside);
     RUN_TEST(test_lattice_equals_direct_at_edges);
     RUN_TEST(test_lattice_exact_on_pixel_grid);
+    RUN_TEST(test_scalar_cells_equal_straightforward);
+    RUN_TEST(test_scalar_cells_equal_straightforward_off_frame);
     RUN_TEST(test_simd_cells_equal_portable);
     RUN_TEST(test_simd_cells_equal_portable_off_frame);
     RUN_TEST(test_lattice_hook_rejects_bad_arguments);
