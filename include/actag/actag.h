@@ -455,7 +455,8 @@ void actag_params_default(actag_params *p);
 void actag_tuning_default(actag_tuning *t);
 
 /* Checks *p alone (no frame or geometry): family, max_bit_corrections,
- * tag_size finite and > 0, min_margin in [-1e6, 1e6], then the tuning
+ * tag_size finite and > 0, min_margin in [-1e6, 1e6], handedness one of
+ * ACTAG_HANDEDNESS_ANY, _UNMIRRORED, _MIRRORED, then the tuning
  * (actag_tuning_validate, fields named "tuning.*"). Returns ACTAG_OK or
  * ACTAG_ERR_NULL (p or p->family), _FAMILY, _CORRECTIONS, _PARAM; fills
  * *detail when not NULL (ERROR DETAILS above). */
