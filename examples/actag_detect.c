@@ -54,7 +54,8 @@ static void usage(FILE *f)
             "  --azimuth-ascending    column 0 is the most negative bearing (default: +aperture/2)\n"
             "Raw frames:\n"
             "  --rows R --cols C [--depth 8|16] [--stride S]  (16-bit raw is little-endian;\n"
-            "                         stride in pixels, default C)\n"
+            "                         stride in pixels, default C)\n");
+    fprintf(f,
             "Tags and pipeline:\n"
             "  --family NAME          tag family (default AcTag24h10)\n"
             "  --tag-size M           side of the inner white square, metres (default 0.130628571)\n"
@@ -66,6 +67,8 @@ static void usage(FILE *f)
             "  --search N             structure-search candidates per frame, 0 (off) to 8 (default 2)\n"
             "  --min-margin F         least decision margin (log-likelihood ratio) of a reading\n"
             "                         (default 2); --search-min-margin F for search readings (1)\n"
+            "  --handedness any|unmirrored|mirrored  the views the sonar's mounting can show\n"
+            "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
             "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
@@ -112,6 +115,7 @@ static const hostio_optname option_names[] = {
     {"max_bit_corrections", "--bit-corrections", 0},
     {"seed", "--seed", 0},
     {"min_margin", "--min-margin", 0},
+    {"handedness", "--handedness", 0},
     {"tuning.decode_mode", "--decode", 0},
     {"tuning.search_candidates", "--search", 0},
     {"tuning.min_structure", "--min-structure", 0},
@@ -263,6 +267,20 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--search-min-margin") == 0) {
             NEEDV();
             o->params.tuning.search_min_margin = fnum(a, v);
+        } else if (strcmp(a, "--handedness") == 0) {
+            NEEDV();
+            if (strcmp(v, "any") == 0)
+                o->params.handedness = ACTAG_HANDEDNESS_ANY;
+            else if (strcmp(v, "unmirrored") == 0)
+                o->params.handedness = ACTAG_HANDEDNESS_UNMIRRORED;
+            else if (strcmp(v, "mirrored") == 0)
+                o->params.handedness = ACTAG_HANDEDNESS_MIRRORED;
+            else {
+                char m[128];
+                snprintf(m, sizeof m,
+                         "--handedness: must be any, unmirrored or mirrored (got '%.40s')", v);
+                die(m);
+            }
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
             o->params.seed = (uint32_t)inum(a, v, 0, 4294967295L);

@@ -1054,6 +1054,16 @@ static void fconfidences(const float *m, int k, int flags, float level, float bl
     }
 }
 
+/* The views a reading may take under the handedness flags. */
+static unsigned fit_views(int flags)
+{
+    if (flags & ACTAG_FIT_ONLY_UNMIRRORED)
+        return ACTAG_VIEWS_UNMIRRORED;
+    if (flags & ACTAG_FIT_ONLY_MIRRORED)
+        return ACTAG_VIEWS_MIRRORED;
+    return ACTAG_VIEWS_ALL;
+}
+
 static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float level,
                      const actag_family *family, uint32_t keep, float *m, int *err)
 {
@@ -1071,7 +1081,7 @@ static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float le
             miss += is_ring(cx, cy, k) ? !(v < mid) : !(v > mid);
         }
     fconfidences(m, k, flags, level, black, white, c);
-    *err = actag_family_match_soft(family, c, keep, &r);
+    *err = actag_family_match_soft_views(family, c, keep, fit_views(flags), &r);
     return *err == ACTAG_OK && miss + r.best.hamming >= FIT_HOPELESS;
 }
 
@@ -1187,7 +1197,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
             }
             for (a = 0; a < bits; a++)
                 ct[a] = conf[a] - t;
-            rc = actag_family_match_soft(family, ct, keep, &r);
+            rc = actag_family_match_soft_views(family, ct, keep, fit_views(flags), &r);
             if (rc != ACTAG_OK)
                 return rc;
             dk = r.best.hamming;
@@ -1262,7 +1272,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 flevels(mt, k, &bq, &wq);
                 if (wq - bq > 0.0f) {
                     fconfidences(mt, k, flags, level, bq, wq, cq);
-                    rc = actag_family_match_soft(family, cq, keep, &mq);
+                    rc = actag_family_match_soft_views(family, cq, keep, fit_views(flags), &mq);
                     if (rc != ACTAG_OK)
                         return rc;
                     for (a2 = 0; a2 < mq.ntop; a2++) {

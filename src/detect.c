@@ -290,9 +290,17 @@ static int decode_any(const ws_layout *w, int rows, int cols, const actag_point 
     switch (params->tuning.decode_mode) {
     case ACTAG_DECODE_FIT:
         return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, dr);
-    default:
-        return actag_decode_quad_bitmap(w->bin, rows, cols, quad, params->family,
-                                        params->max_bit_corrections, dr);
+    default: {
+        /* the paper's decoder has no hypothesis set to restrict: its
+         * readings of the other handedness are dropped */
+        int f = params->tuning.fit.flags, rc;
+        rc = actag_decode_quad_bitmap(w->bin, rows, cols, quad, params->family,
+                                      params->max_bit_corrections, dr);
+        if (rc == ACTAG_OK && (((f & ACTAG_FIT_ONLY_UNMIRRORED) && dr->mirrored) ||
+                               ((f & ACTAG_FIT_ONLY_MIRRORED) && !dr->mirrored)))
+            rc = ACTAG_ERR_NO_MATCH;
+        return rc;
+    }
     }
 }
 
@@ -462,10 +470,18 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr);
 
-/* *params (validated) with ACTAG_CORRECTIONS_AUTO resolved, into *pe. */
-static void resolve_params(const actag_params *params, actag_params *pe)
+/* *params (validated) with ACTAG_CORRECTIONS_AUTO resolved and the
+ * handedness prior turned into the fit decoder's on-screen flags (the
+ * decoder's handedness is the reported one, flipped when flip_mirror),
+ * into *pe. */
+static void resolve_params(const actag_params *params, int flip_mirror, actag_params *pe)
 {
     *pe = *params;
+    if (pe->handedness != ACTAG_HANDEDNESS_ANY) {
+        int mirrored = (pe->handedness == ACTAG_HANDEDNESS_MIRRORED) ^ (flip_mirror != 0);
+        pe->tuning.fit.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
+        pe->tuning.fit.flags |= mirrored ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;
+    }
     if (pe->max_bit_corrections == ACTAG_CORRECTIONS_AUTO) {
         int maxc = actag_family_max_corrections(pe->family);
         pe->max_bit_corrections = maxc < ACTAG_AUTO_CORRECTIONS ? maxc : ACTAG_AUTO_CORRECTIONS;
@@ -528,12 +544,12 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
         return rc;
     rows = frame->rows;
     cols = frame->cols;
-    resolve_params(params, &pe);
+    flip_mirror = mirror_flip(geometry, cols);
+    resolve_params(params, flip_mirror, &pe);
     ws_split(workspace, rows, cols, &w);
     rc = filter_frame(frame, &w, rows, cols, pe.tuning.median_radius, &max16);
     if (rc != ACTAG_OK)
         return rc;
-    flip_mirror = mirror_flip(geometry, cols);
     tr.fn = trace;
     tr.user = user;
     return detect_filtered(frame, geometry, &pe, &w, max16, rows, cols, flip_mirror, out, max_out,
@@ -814,7 +830,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
     flip_mirror = mirror_flip(geometry, cols);
     for (i = 0; i < nparams; i++) {
         actag_params pe;
-        resolve_params(&params[i], &pe);
+        resolve_params(&params[i], flip_mirror, &pe);
         rc = detect_filtered(frame, geometry, &pe, &w, max16, rows, cols, flip_mirror,
                              out ? out + (size_t)i * (size_t)max_out_each : NULL, max_out_each,
                              NULL, NULL);

@@ -128,7 +128,8 @@ static void undo_views(uint32_t w, uint32_t wm, int bits, uint32_t obs[8])
     }
 }
 
-/* The one scan behind every matcher: each code against views 0 .. nv-1,
+/* The one scan behind every matcher: each code against the views v whose
+ * bit (1 << v) is set in `views`,
  * counting the bits in keep. A reading's cost is the summed weight of its
  * disagreeing bits, the weights (0..31) given as bit planes pl[v][b] (bit b
  * of every bit's weight, in view v's order); without planes every bit
@@ -140,15 +141,17 @@ static void undo_views(uint32_t w, uint32_t wm, int bits, uint32_t obs[8])
  * than the runner-up's cost and, unless the list is full, than the last
  * kept one's: exact for the best two, so the rest of a full list may miss
  * readings. Returns the number kept. */
-static int scan_codes(const actag_family *family, const uint32_t *obs, int nv, uint32_t keep,
-                      const uint32_t (*pl)[5], const int *lb, actag_soft_reading *top,
-                      int maxtop)
+static int scan_codes(const actag_family *family, const uint32_t *obs, unsigned views,
+                      uint32_t keep, const uint32_t (*pl)[5], const int *lb,
+                      actag_soft_reading *top, int maxtop)
 {
     int i, v, b, ntop = 0;
     for (i = 0; i < family->ncodes; i++) {
         uint32_t c = family->codes[i];
-        for (v = 0; v < nv; v++) {
+        for (v = 0; v < 8; v++) {
             uint32_t mis = (c ^ obs[v]) & keep;
+            if (!(views & (1u << v)))
+                continue;
             int h = actag_popcount32(mis), d = h, j;
             if (lb && ntop > 1 && lb[h] >= top[1].d &&
                 (ntop == maxtop || lb[h] >= top[ntop - 1].d))
@@ -198,7 +201,8 @@ static int match_orientations(const actag_family *family, uint32_t observed, int
     /* observed == rev(rot^r(c))  <=>  rot^-r(rev(observed)) == c */
     w = observed & actag_code_mask(family->bits);
     undo_views(w, actag_code_reverse(w, family->bits), family->bits, obs);
-    scan_codes(family, obs, norient, 0xffffffffu, NULL, NULL, &best, 1);
+    scan_codes(family, obs, norient == 4 ? ACTAG_VIEWS_UNMIRRORED : ACTAG_VIEWS_ALL,
+               0xffffffffu, NULL, NULL, &best, 1);
     out->id = best.id;
     out->rotation = best.view & 3;
     out->mirrored = best.view >> 2;
@@ -223,6 +227,12 @@ int actag_family_match_rotations(const actag_family *family, uint32_t observed,
 int actag_family_match_soft(const actag_family *family, const float *conf, uint32_t keep,
                             actag_soft_match *res)
 {
+    return actag_family_match_soft_views(family, conf, keep, ACTAG_VIEWS_ALL, res);
+}
+
+int actag_family_match_soft_views(const actag_family *family, const float *conf, uint32_t keep,
+                                  unsigned views, actag_soft_match *res)
+{
     int bits, i, b, v, nk = 0, q[32], lb[33], rc;
     uint32_t w = 0, plane[5] = {0, 0, 0, 0, 0}, obs[8], pl[8][5];
     if (family == NULL || conf == NULL || res == NULL)
@@ -230,6 +240,9 @@ int actag_family_match_soft(const actag_family *family, const float *conf, uint3
     rc = actag_family_validate(family);
     if (rc != ACTAG_OK)
         return rc;
+    views &= ACTAG_VIEWS_ALL;
+    if (views == 0u)
+        return ACTAG_ERR_PARAM;
     bits = family->bits;
     res->other = 33;
     /* the reading's signs, and its weights |c_i| in 1/ACTAG_SOFT_SCALE as
@@ -264,7 +277,7 @@ int actag_family_match_soft(const actag_family *family, const float *conf, uint3
         for (v = 0; v < 8; v++)
             pl[v][b] = pv[v];
     }
-    res->ntop = scan_codes(family, obs, 8, keep, (const uint32_t(*)[5])pl, lb, res->top,
+    res->ntop = scan_codes(family, obs, views, keep, (const uint32_t(*)[5])pl, lb, res->top,
                            ACTAG_SOFT_TOP);
     res->d1 = res->top[0].d; /* ncodes >= 1: at least one reading */
     res->d2 = res->ntop > 1 ? res->top[1].d : 1 << 28;
@@ -279,6 +292,8 @@ int actag_family_match_soft(const actag_family *family, const float *conf, uint3
         uint32_t c = family->codes[i];
         for (v = 0; v < 8; v++) {
             int h = actag_popcount32((c ^ obs[v]) & keep);
+            if (!(views & (1u << v)))
+                continue;
             if ((v >> 2) != res->best.mirrored && h < res->other)
                 res->other = h;
             if (h < res->h2 && !(i == res->best.id && (v & 3) == res->best.rotation &&

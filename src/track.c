@@ -259,24 +259,28 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
         int m = actag_family_max_corrections(p->family);
         limit = m < ACTAG_AUTO_CORRECTIONS ? m : ACTAG_AUTO_CORRECTIONS;
     }
+    /* handedness relative to the reference orientation (as actag_detect) */
+    flip = (g->bearings ? (frame->cols > 1 && g->bearings[frame->cols - 1] > g->bearings[0])
+                        : (g->flags & ACTAG_AZIMUTH_ASCENDING) != 0u) ^
+           ((g->flags & ACTAG_RANGE_ASCENDING) != 0u);
     {
         /* Only the track's own code is a hypothesis here: another ID at the
          * prediction could not update the track anyway, so the reading is
-         * judged against "no tag" (the decision margin) and the orientations
-         * of this one code, not against the family's other codes. */
+         * judged against "no tag" (the decision margin) and the rotations
+         * of this one code in the track's handedness, not against the
+         * family's other codes. */
         actag_fit_params fp = p->tuning.fit;
         actag_family own = *p->family;
         own.codes = p->family->codes + k->id;
         own.ncodes = 1;
         fp.min_margin = p->min_margin; /* the user's margin wins, as in actag_detect */
+        /* and in the track's own handedness only (on screen: flipped with the image) */
+        fp.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
+        fp.flags |= (k->mirrored ^ flip) ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;
         if (actag_decode_quad_fit(grey, h, w, w, q, &own, limit, &fp, &dr) != ACTAG_OK)
             return 0;
         dr.id = k->id;
     }
-    /* handedness relative to the reference orientation (as actag_detect) */
-    flip = (g->bearings ? (frame->cols > 1 && g->bearings[frame->cols - 1] > g->bearings[0])
-                        : (g->flags & ACTAG_AZIMUTH_ASCENDING) != 0u) ^
-           ((g->flags & ACTAG_RANGE_ASCENDING) != 0u);
     kk = p->family->bits / 4;
     ring = (float)(4 * (kk - 2));
     in = (float)((kk - 3) * (kk - 3));

@@ -124,6 +124,9 @@ static int fit_check(const actag_fit_params *f, int lv, actag_error_detail *d)
     if (f->min_bit_margin < 0 || f->min_bit_margin > 32)
         return fail(d, ACTAG_ERR_PARAM, FN(lv, "min_bit_margin"), f->min_bit_margin,
                     "must be an integer from 0 to 32 (bits)");
+    if ((f->flags & ACTAG_FIT_ONLY_UNMIRRORED) && (f->flags & ACTAG_FIT_ONLY_MIRRORED))
+        return fail(d, ACTAG_ERR_PARAM, FN(lv, "flags"), f->flags,
+                    "must not hold both ACTAG_FIT_ONLY_UNMIRRORED and ACTAG_FIT_ONLY_MIRRORED");
     return set_ok(d);
 }
 
@@ -255,6 +258,10 @@ int actag_params_validate(const actag_params *p, actag_error_detail *d)
     if (!in_range(p->min_margin, -1.0e6f, 1.0e6f))
         return fail(d, ACTAG_ERR_PARAM, "min_margin", p->min_margin,
                     "must be a number from -1e6 to 1e6");
+    if (p->handedness != ACTAG_HANDEDNESS_ANY && p->handedness != ACTAG_HANDEDNESS_UNMIRRORED &&
+        p->handedness != ACTAG_HANDEDNESS_MIRRORED)
+        return fail(d, ACTAG_ERR_PARAM, "handedness", p->handedness,
+                    "must be ACTAG_HANDEDNESS_ANY (0), _UNMIRRORED (1) or _MIRRORED (2)");
     return tuning_check(&p->tuning, 1, d);
 }
 

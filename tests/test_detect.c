@@ -190,6 +190,54 @@ static void test_orientation_flags(void)
     free(flip);
 }
 
+/* The handedness prior (actag_params.handedness) in every frame
+ * orientation: the tag's own handedness keeps it (same ID, corners within a
+ * pixel), the other one removes it, and the paper's binary decoder obeys it
+ * too. */
+static void test_handedness_prior(void)
+{
+    actag_detection a[8], b[8];
+    actag_sonar_geometry g2 = g_geo;
+    actag_params keep = g_p;
+    uint8_t *flip;
+    int r, c, k, na, mode, dm;
+    load_example();
+    flip = (uint8_t *)malloc((size_t)g_rows * (size_t)g_cols);
+    TEST_ASSERT_NOT_NULL(flip);
+    na = detect8(g_img, g_cols, &g_geo, a, 8);
+    TEST_ASSERT_EQUAL_INT(1, na);
+    for (dm = 0; dm < 2; dm++)
+        for (mode = 0; mode <= 3; mode++) {
+            int fr = mode & 1, fc = mode >> 1;
+            for (r = 0; r < g_rows; r++)
+                for (c = 0; c < g_cols; c++)
+                    flip[(size_t)(fr ? g_rows - 1 - r : r) * (size_t)g_cols +
+                         (size_t)(fc ? g_cols - 1 - c : c)] =
+                        g_img[(size_t)r * (size_t)g_cols + (size_t)c];
+            g2.flags = (fr ? ACTAG_RANGE_ASCENDING : 0u) | (fc ? ACTAG_AZIMUTH_ASCENDING : 0u);
+            g_p.tuning.decode_mode = dm ? ACTAG_DECODE_BINARY : ACTAG_DECODE_FIT;
+            g_p.handedness = a[0].mirrored ? ACTAG_HANDEDNESS_MIRRORED : ACTAG_HANDEDNESS_UNMIRRORED;
+            if (dm == 0) {
+                TEST_ASSERT_EQUAL_INT(1, detect8(flip, g_cols, &g2, b, 8));
+                TEST_ASSERT_EQUAL_INT(a[0].id, b[0].id);
+                TEST_ASSERT_EQUAL_INT(a[0].mirrored, b[0].mirrored);
+                for (k = 0; k < 4; k++) {
+                    TEST_ASSERT_FLOAT_WITHIN(0.006f, a[0].range[k], b[0].range[k]);
+                    TEST_ASSERT_FLOAT_WITHIN(0.006f, a[0].azimuth[k], b[0].azimuth[k]);
+                }
+            } else {
+                int nb = detect8(flip, g_cols, &g2, b, 8);
+                TEST_ASSERT_TRUE(nb >= 0);
+                for (k = 0; k < nb; k++)
+                    TEST_ASSERT_EQUAL_INT(a[0].mirrored, b[k].mirrored);
+            }
+            g_p.handedness = a[0].mirrored ? ACTAG_HANDEDNESS_UNMIRRORED : ACTAG_HANDEDNESS_MIRRORED;
+            TEST_ASSERT_EQUAL_INT(0, detect8(flip, g_cols, &g2, b, 8));
+            g_p = keep;
+        }
+    free(flip);
+}
+
 static void test_bearing_table_equivalent_to_aperture(void)
 {
     actag_detection a[8], b[8];
@@ -442,6 +490,7 @@ int main(int argc, char **argv)
     RUN_TEST(test_stride_with_garbage_padding);
     RUN_TEST(test_16bit_frame_matches_8bit);
     RUN_TEST(test_orientation_flags);
+    RUN_TEST(test_handedness_prior);
     RUN_TEST(test_bearing_table_equivalent_to_aperture);
     RUN_TEST(test_errors_and_workspace_bounds);
     RUN_TEST(test_tiny_and_constant_frames);

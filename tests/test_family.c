@@ -284,6 +284,10 @@ static void test_soft_match_against_brute_force(void)
             uint32_t keep = (t & 1) ? 0xffffffu & ~actag_code_corners(24) : 0xffffffu, w = 0;
             int bd = 1 << 30, bh = 0, bid = -1, bv = -1, d2 = 1 << 28, other = 33, h2 = 33;
             actag_soft_match r;
+            /* all views (the plain matcher), one handedness, or any other mask */
+            static const unsigned masks[3] = {ACTAG_VIEWS_ALL, ACTAG_VIEWS_UNMIRRORED,
+                                              ACTAG_VIEWS_MIRRORED};
+            unsigned views = t % 5 < 3 ? masks[t % 5] : (unsigned)tu_range(1, 255);
             uint32_t c0 = orient(fam.codes[tu_range(0, fam.ncodes - 1)], tu_range(0, 3), 0, 24);
             if (tu_range(0, 1))
                 c0 = ref_P(c0, 24);
@@ -297,11 +301,17 @@ static void test_soft_match_against_brute_force(void)
                 if (conf[i] > 0.0f)
                     w |= 1u << (23 - i);
             }
-            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft(&fam, conf, keep, &r));
+            if (views == ACTAG_VIEWS_ALL)
+                TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft(&fam, conf, keep, &r));
+            else
+                TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                                      actag_family_match_soft_views(&fam, conf, keep, views, &r));
             for (id = 0; id < fam.ncodes; id++)
                 for (v = 0; v < 8; v++) {
                     uint32_t e = orient(fam.codes[id], v & 3, 0, 24), mis;
                     int d = 0, h;
+                    if (!(views & (1u << v)))
+                        continue; /* not a hypothesis */
                     if (v >> 2)
                         e = ref_P(e, 24);
                     mis = (e ^ w) & keep; /* keep is closed under rotation and P */
@@ -324,6 +334,8 @@ static void test_soft_match_against_brute_force(void)
                 for (v = 0; v < 8; v++) {
                     uint32_t e = orient(fam.codes[id], v & 3, 0, 24);
                     int h;
+                    if (!(views & (1u << v)))
+                        continue;
                     if (v >> 2)
                         e = ref_P(e, 24);
                     h = tu_popcount((e ^ w) & keep);
@@ -345,6 +357,18 @@ static void test_soft_match_against_brute_force(void)
         }
     }
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft(NULL, NULL, 0u, NULL));
+    {
+        actag_family fam;
+        actag_soft_match r;
+        float conf[24] = {0};
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              actag_family_match_soft_views(&fam, conf, 0xffffffu, 0u, &r));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, /* only bits above the 8 views */
+                              actag_family_match_soft_views(&fam, conf, 0xffffffu, 0x100u, &r));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft_views(
+                                                  &fam, NULL, 0xffffffu, ACTAG_VIEWS_ALL, &r));
+    }
 }
 
 static void test_match_errors(void)

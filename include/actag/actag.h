@@ -254,8 +254,21 @@ typedef struct actag_params {
                                    (e.g. 3) for fewer chance readings in clutter, lower it
                                    (e.g. -2) for recall on clean scenes. This one wins over
                                    tuning.fit.min_margin. */
+    int handedness;             /* which views the sonar's mounting can show: ACTAG_HANDEDNESS_ANY
+                                   (0, default), _UNMIRRORED or _MIRRORED (detection's
+                                   `mirrored` = 0 or 1). A sonar upright above tags on the
+                                   seabed sees every tag unmirrored, one mounted upside down
+                                   every tag mirrored (docs/pose.md); saying so removes the
+                                   other handedness from the decoder's hypotheses, and most
+                                   wrong IDs on simulated frames were readings of that other
+                                   handedness (docs/families.md). */
     actag_tuning tuning;        /* stage tuning (actag_tuning_default) */
 } actag_params;
+
+/* actag_params.handedness */
+#define ACTAG_HANDEDNESS_ANY 0
+#define ACTAG_HANDEDNESS_UNMIRRORED 1
+#define ACTAG_HANDEDNESS_MIRRORED 2
 
 /* decode_mode:
  *   ACTAG_DECODE_FIT     the grid-fitting grey decoder, actag_decode_quad_fit()
@@ -442,7 +455,8 @@ void actag_params_default(actag_params *p);
 void actag_tuning_default(actag_tuning *t);
 
 /* Checks *p alone (no frame or geometry): family, max_bit_corrections,
- * tag_size finite and > 0, min_margin in [-1e6, 1e6], then the tuning
+ * tag_size finite and > 0, min_margin in [-1e6, 1e6], handedness one of
+ * ACTAG_HANDEDNESS_ANY, _UNMIRRORED, _MIRRORED, then the tuning
  * (actag_tuning_validate, fields named "tuning.*"). Returns ACTAG_OK or
  * ACTAG_ERR_NULL (p or p->family), _FAMILY, _CORRECTIONS, _PARAM; fills
  * *detail when not NULL (ERROR DETAILS above). */

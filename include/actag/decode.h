@@ -188,6 +188,12 @@ int actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
 #define ACTAG_FIT_WIDE 16         /* start with a +-1 cell position / rotation / shear search */
 #define ACTAG_FIT_ERASE_CORNERS 64 /* the data ring's 4 corner cells do not count */
 #define ACTAG_FIT_VERIFY 128      /* template check of the likeliest readings (see below) */
+/* Handedness prior (on screen, as the result's `mirrored`): the other
+ * handedness' views are no hypotheses (actag_family_match_soft_views);
+ * setting both is ACTAG_ERR_PARAM. actag_detect() sets them from
+ * actag_params.handedness. */
+#define ACTAG_FIT_ONLY_UNMIRRORED 256
+#define ACTAG_FIT_ONLY_MIRRORED 512
 #define ACTAG_FIT_DEFAULT_FLAGS \
     (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS | ACTAG_FIT_VERIFY)
 

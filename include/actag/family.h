@@ -86,6 +86,10 @@
  *   the runner-up's are skipped unscored, so best, d1 and d2 are exact and
  *   top[2 ..] of a full list may miss readings. Cost: 8 ncodes views, five
  *   popcounts each unless skipped, then one more popcount pass.
+ *   actag_family_match_soft_views() is the same over a subset of the 8
+ *   views (ACTAG_VIEWS_UNMIRRORED, ACTAG_VIEWS_MIRRORED or any bit mask):
+ *   the views left out are not hypotheses at all, so they are neither the
+ *   best nor the runner-up (actag_params.handedness uses it).
  *
  *   actag_family is a small value the caller owns; it points into the const
  *   code tables. (The tables are reached through functions rather than const
@@ -98,6 +102,7 @@
  *   ACTAG_ERR_NULL         a pointer argument is NULL
  *   ACTAG_ERR_CORRECTIONS  max_corrections < 0 or above actag_family_max_corrections()
  *   ACTAG_ERR_NO_MATCH     no code within max_corrections in any orientation
+ *   ACTAG_ERR_PARAM        actag_family_match_soft_views(): no view in the mask
  *   (actag_family_match_soft: only ACTAG_ERR_NULL and ACTAG_ERR_FAMILY; it
  *   always reports the likeliest reading.)
  */
@@ -225,6 +230,20 @@ typedef struct actag_soft_match {
  * distance. Returns ACTAG_OK (*out filled), ACTAG_ERR_NULL or ACTAG_ERR_FAMILY. */
 int actag_family_match_soft(const actag_family *family, const float *conf, uint32_t keep,
                             actag_soft_match *out);
+
+/* View masks of actag_family_match_soft_views(): bit v stands for view v
+ * (rotation v & 3, mirrored v >> 2, as actag_soft_reading.view). */
+#define ACTAG_VIEWS_ALL 0xffu
+#define ACTAG_VIEWS_UNMIRRORED 0x0fu /* views 0..3: the reading as printed, turned */
+#define ACTAG_VIEWS_MIRRORED 0xf0u   /* views 4..7: the reflection P, turned */
+
+/* actag_family_match_soft() over the views in `views` only (a prior: e.g. a
+ * sonar mounting that shows every tag with one handedness); the runner-up,
+ * `other` and h2 are taken over those views too (`other` is 33 when they
+ * hold one handedness). views is masked to 8 bits. Returns ACTAG_OK,
+ * ACTAG_ERR_NULL, ACTAG_ERR_FAMILY, or ACTAG_ERR_PARAM when no view is left. */
+int actag_family_match_soft_views(const actag_family *family, const float *conf, uint32_t keep,
+                                  unsigned views, actag_soft_match *out);
 
 #ifdef __cplusplus
 }

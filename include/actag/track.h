@@ -7,10 +7,11 @@
  *     1. reads every confirmed track where it is predicted ("verify"): the
  *        window around the predicted tag is median-filtered and the
  *        grid-fitting decoder (decode.h) starts on the predicted corners.
- *        The only hypotheses are the track's own code (in its 8 views) and
- *        "no tag": a reading of another ID could not update the track, so
- *        the family's other codes are not candidates. The reading must keep
- *        the track's handedness, at most the corrections limit in data bits,
+ *        The only hypotheses are the track's own code (its 4 rotations in
+ *        the track's handedness) and "no tag": a reading of another ID or
+ *        handedness could not update the track, so the family's other codes
+ *        and the mirror views are not candidates. The reading must keep at
+ *        most the corrections limit in data bits,
  *        the decision margin over "no tag" (min_margin) and the likelihood
  *        and template checks; black-ring misses, interior misses and
  *        corrected bits together may reach twice the corrections limit (6

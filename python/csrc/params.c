@@ -3,7 +3,7 @@
  *
  * The one place that knows the parameter names: a table of (name, C type,
  * offset into actag_params). Python names are the C field names: the user
- * settings of actag_params (tag_size, max_bit_corrections, seed, min_margin)
+ * settings of actag_params (tag_size, max_bit_corrections, seed, min_margin, handedness)
  * and the fields of actag_params.tuning, nested structs flattened with their
  * prefix (tuning.quad.inlier_ratio -> quad_inlier_ratio, tuning.fit.level ->
  * fit_level). When actag_params changes layout, only the table changes.
@@ -36,6 +36,7 @@ static const field fields[] = {
     F("max_bit_corrections", K_CORRECTIONS, max_bit_corrections, 0),
     F("seed", K_U32, seed, 0),
     F("min_margin", K_FLOAT, min_margin, 0),
+    F("handedness", K_INT, handedness, 0),
     F("median_radius", K_INT, tuning.median_radius, 1),
     F("threshold_radius", K_INT, tuning.threshold_radius, 1),
     F("threshold_offset", K_INT, tuning.threshold_offset, 1),

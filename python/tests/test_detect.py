@@ -112,7 +112,7 @@ def test_defaults_are_the_c_defaults():
                               pyactag._core.FIT_ERASE_CORNERS | pyactag._core.FIT_VERIFY)
     assert pyactag.Detector(**GEOMETRY).params == p
     # actag_params: the user settings, then actag_tuning.
-    user = {"tag_size", "max_bit_corrections", "seed", "min_margin"}
+    user = {"tag_size", "max_bit_corrections", "seed", "min_margin", "handedness"}
     assert set(pyactag.tuning_names()) == set(p) - user
 
 

@@ -67,6 +67,9 @@ static void usage(FILE *f)
         "  --corrections N        bit corrections for the tagged frames (default: the\n"
         "                         library's default for the family)\n"
         "  --min-margin F --search-min-margin F  least decision margins (library defaults)\n"
+        "  --handedness any|unmirrored|mirrored  the views the decoder may read (actag_params\n"
+        "                         handedness; default any). The tagged frames of a run with\n"
+        "                         unmirrored want --mirror-fraction 0\n"
         "  --min-bit-margin N     least lead in corrected bits over the runner-up\n"
         "  --min-structure F --min-side-fraction F  the pipeline's structure and side gates\n"
         "  --seed S (default 1)   --threads N (default 2)\n"
@@ -145,6 +148,7 @@ typedef struct {
     int corrections;
     float min_margin, search_min_margin; /* < 0: the library's defaults */
     int min_bit_margin;                  /* < 0: the library's default */
+    int handedness;                      /* actag_params.handedness (default any) */
     float min_structure, min_side;       /* < 0: the library's defaults */
     actag_family free_fam[MAX_FAM];
     int nfree_fam;
@@ -289,6 +293,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
         p.tuning.min_side_fraction = c->min_side;
     if (c->search_min_margin > -1e5f)
         p.tuning.search_min_margin = c->search_min_margin;
+    p.handedness = c->handedness;
     fr.data = img;
     fr.rows = c->sonar.rows;
     fr.cols = c->sonar.cols;
@@ -420,6 +425,7 @@ static void eval_free_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t w
                 p[np].family = &c->free_fam[f];
                 p[np].tag_size = tag_size_default;
                 p[np].max_bit_corrections = corr;
+                p[np].handedness = c->handedness;
                 slot[f][k] = np++;
             }
         det = (actag_detection *)malloc((size_t)np * 16u * sizeof *det);
@@ -825,6 +831,19 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--search-min-margin")) {
             NEED();
             c.search_min_margin = (float)num(o, v, -1e6, 1e6);
+        } else if (!strcmp(o, "--handedness")) {
+            NEED();
+            if (!strcmp(v, "any"))
+                c.handedness = ACTAG_HANDEDNESS_ANY;
+            else if (!strcmp(v, "unmirrored"))
+                c.handedness = ACTAG_HANDEDNESS_UNMIRRORED;
+            else if (!strcmp(v, "mirrored"))
+                c.handedness = ACTAG_HANDEDNESS_MIRRORED;
+            else {
+                char m[200];
+                snprintf(m, sizeof m, "--handedness: '%s' is not any, unmirrored or mirrored", v);
+                die(m);
+            }
         } else if (!strcmp(o, "--seed")) {
             NEED();
             c.seed = (uint32_t)inum(o, v, 0, 4294967295L);
@@ -953,6 +972,7 @@ int main(int argc, char **argv)
     }
     if (!(c.free_min_max_range > c.sonar.geo.min_range))
         die("--free-max-range: must be above --min-range");
+    topt.handedness = c.handedness;
     if (c.frames + c.tag_free == 0 && topt.sequences == 0 && !pool_dir)
         die("--frames, --tag-free and --sequences are 0 and no --pool-sequence: nothing to do");
     if (svg)

@@ -54,6 +54,7 @@ static void te_params(const actag_family *fam, float tag_size, const te_options 
     actag_params_default(p);
     p->family = fam;
     p->tag_size = tag_size;
+    p->handedness = o->handedness;
     *rp = *p;
     if (o->relax_roi) {
         rp->min_margin = -2.0f;

@@ -45,6 +45,7 @@ typedef struct te_counts {
 typedef struct te_options {
     actag_track_params track;
     int relax_roi;        /* 1: ROI searches with min_margin -2 and search_min_margin 0 */
+    int handedness;       /* actag_params.handedness of both parameter sets */
     int sequences, length;
     int threads;
     FILE *failures;       /* not NULL: one JSON line per pass frame with a wrong ID or a false tag */
