@@ -231,7 +231,8 @@ typedef struct actag_fit_params {
 void actag_fit_params_default(actag_fit_params *fp);
 
 /* Checks *fp: level in [0, 1], min_contrast 0..255, sample_offset in
- * [0, 0.5], min_margin in [-1e6, 1e6], min_bit_margin 0..32 (unknown flag
+ * [0, 0.5], min_margin in [-1e6, 1e6], min_bit_margin 0..32, not both
+ * ACTAG_FIT_ONLY_UNMIRRORED and ACTAG_FIT_ONLY_MIRRORED (other unknown flag
  * bits are ignored). Returns ACTAG_OK, ACTAG_ERR_NULL or ACTAG_ERR_PARAM;
  * fills *detail (common.h; field names as "level") when not NULL.
  * actag_decode_quad_fit() applies the same rules. */

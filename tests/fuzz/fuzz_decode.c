@@ -167,7 +167,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fp_ok = fp.min_contrast >= 0 && fp.min_contrast <= 255 && fp.level >= 0.0f &&
             fp.level <= 1.0f && fp.sample_offset >= 0.0f && fp.sample_offset <= 0.5f &&
             fp.min_margin >= -1.0e6f && fp.min_margin <= 1.0e6f && fp.min_bit_margin >= 0 &&
-            fp.min_bit_margin <= 32;
+            fp.min_bit_margin <= 32 &&
+            !((fp.flags & ACTAG_FIT_ONLY_UNMIRRORED) && (fp.flags & ACTAG_FIT_ONLY_MIRRORED));
 
     /* the quad */
     {
