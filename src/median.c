@@ -41,7 +41,9 @@
  * check both); for R <= 7 it uses median_quad() below (a sliding
  * histogram shared by four rows), which without SIMD is about 3x faster
  * than the constant-time scheme at R = 4, and on Cortex-M4/M7
- * median_quad_dsp() (about 78 instructions per pixel at R = 4, -O2). */
+ * median_quad_dsp(), which at R >= 3 takes eight rows a pass where it can
+ * (oct_block; about 68 instructions per pixel at R = 4, -O2, 78 with four
+ * rows). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 #include "frame16.h"
@@ -391,11 +393,13 @@ static void quad_masks(int n, uint32_t *mask8, uint64_t *mask16)
  * in 0..225 (the word is sum le[p] * 256^p modulo 2^32 throughout). The
  * median of window p then moves from med[p] while le[p] <= half (up) or
  * le[p] - hist_p[med[p]] > half (down); lane p of hist[m] is read as byte
- * 4m + p. Cost at R = 4, 530 x 512 (QEMU -icount, tools/budget): 21.1 M
- * instructions per frame on Cortex-M7 -O2 (about 78 per pixel: per column
- * of a block, 2R+4 rows at 17 each and about 11 per median), 21.7 M at
- * -Os, 20.7 M on Cortex-M4 -O2; 30.1 M (111 per pixel) before the asm
- * blocks. Stack: as median_quad (1.3 KiB, the 1 KiB histogram). */
+ * 4m + p. Cost at R = 4, 530 x 512 (QEMU -icount, tools/budget), four-row
+ * blocks only: 21.1 M instructions per frame on Cortex-M7 -O2 (about 78
+ * per pixel: per column of a block, 2R+4 rows at 17 each and about 11 per
+ * median), 21.7 M at -Os, 20.7 M on Cortex-M4 -O2; 30.1 M (111 per pixel)
+ * before the asm blocks. With oct_block for the interior eight-row blocks
+ * (below): 18.4 M on M7 -O2 (about 68 per pixel), 19.5 M at -Os, 18.3 M on
+ * M4 -O2. Stack: 2.4 KiB (oct_block's 2 KiB histogram). */
 __attribute__((always_inline)) static inline uint32_t
 le_lanes(unsigned v, uint32_t medb, uint32_t m)
 {
@@ -581,25 +585,252 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 }
 #undef QLANE_ASM
 
+/* Eight output rows a pass (R >= 3, 8-bit frames, all 2R+8 source rows of
+ * the block inside the image): windows 0-3 in the low word of a 64-bit
+ * histogram entry (hist[2v], lanes as in median_quad_dsp), windows 4-7 in
+ * the high word (hist[2v+1]). Source rows 4 .. 2R+3 are in windows of both
+ * halves: one sample load, one broadcast, one LDRD/STRD serve both words,
+ * so a row there costs 27 instructions against 2 x 17 for two four-row
+ * blocks. Rows 0-3 touch only the low word, rows 2R+4 .. 2R+7 only the
+ * high one. R >= 3 gives the fixed row pattern the asm spells out (rows
+ * 4-6 full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6
+ * rows full in both). The lane counts use UQSUB8 twice instead of
+ * USUB8/SEL: lane p of uqsub8(m, uqsub8(v, med)) is m[p] when v <= med[p]
+ * and 0 otherwise, and needs no zero register (the column update is one
+ * asm block that already holds 13 registers). The asm blocks are volatile:
+ * they store (histogram, medians) and their register outputs can all be
+ * dead at the last column, where GCC would otherwise delete them. */
+#define OCT_MIN_R 3
+/* Unoptimised builds keep a frame pointer and cannot give the column's asm
+ * its 13 registers: four-row blocks only there. */
+#if defined(__OPTIMIZE__)
+#define MEDIAN_OCT 1
+#endif
+
+#ifdef MEDIAN_OCT
+
+/* A row in one half only (h at that half's word): sample q[dq] enters and
+ * q[0] leaves the windows of mask M; median word MB, count word LB. */
+#define OROW1(M, MB, LB)                                                                       \
+    "ldrb %[v], [%[q], %[dq]]\n\t"                                                             \
+    "ldr %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
+    "add %[t0], %[t0], %[" M "]\n\t"                                                           \
+    "str %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
+    "mul %[v], %[v], %[k]\n\t"                                                                 \
+    "uqsub8 %[v], %[v], %[" MB "]\n\t"                                                         \
+    "uqsub8 %[v], %[" M "], %[v]\n\t"                                                          \
+    "add %[" LB "], %[" LB "], %[v]\n\t"                                                       \
+    "ldrb %[v], [%[q]]\n\t"                                                                    \
+    "add %[q], %[q], %[ss]\n\t"                                                                \
+    "ldr %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
+    "sub %[t0], %[t0], %[" M "]\n\t"                                                           \
+    "str %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
+    "mul %[v], %[v], %[k]\n\t"                                                                 \
+    "uqsub8 %[v], %[v], %[" MB "]\n\t"                                                         \
+    "uqsub8 %[v], %[" M "], %[v]\n\t"                                                          \
+    "sub %[" LB "], %[" LB "], %[v]\n\t"
+
+/* One sample of a row in both halves (masks A low, B high). */
+#define OSAMPLE2(LOAD, OP, A, B)                                                               \
+    LOAD                                                                                       \
+    "mul %[t1], %[v], %[k]\n\t"                                                                \
+    "uqsub8 %[t0], %[t1], %[ml]\n\t"                                                           \
+    "uqsub8 %[t0], %[" A "], %[t0]\n\t"                                                        \
+    OP " %[ll], %[ll], %[t0]\n\t"                                                              \
+    "uqsub8 %[t0], %[t1], %[mh]\n\t"                                                           \
+    "uqsub8 %[t0], %[" B "], %[t0]\n\t"                                                        \
+    OP " %[lh], %[lh], %[t0]\n\t"                                                              \
+    "add %[v], %[h], %[v], lsl #3\n\t"                                                         \
+    "ldrd %[t0], %[t1], [%[v]]\n\t"                                                            \
+    OP " %[t0], %[t0], %[" A "]\n\t"                                                           \
+    OP " %[t1], %[t1], %[" B "]\n\t"                                                           \
+    "strd %[t0], %[t1], [%[v]]\n\t"
+#define OROW2(A, B)                                                                            \
+    OSAMPLE2("ldrb %[v], [%[q], %[dq]]\n\t", "add", A, B)                                      \
+    OSAMPLE2("ldrb %[v], [%[q]]\n\tadd %[q], %[q], %[ss]\n\t", "sub", A, B)
+
+/* Median of window `lane` (0-7; MB, LB its half's words) as QLANE_ASM,
+ * with 8-byte histogram entries. */
+#define OLANE_ASM(lane, MB, LB, store)                                                         \
+    do {                                                                                       \
+        uint32_t le_, m_, h_, c_;                                                              \
+        __asm__ volatile("ubfx %[le], %[leb], #%c[sh], #8\n\t"                                 \
+                "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                          \
+                "add %[h], %[h8], %[m], lsl #3\n\t"                                            \
+                "cmp %[le], %[half]\n\t"                                                       \
+                "bls 2f\n\t"                                                                   \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                               \
+                "sub %[c], %[le], %[c]\n\t"                                                    \
+                "cmp %[c], %[half]\n\t"                                                        \
+                "bls 4f\n"                                                                     \
+                "1:\n\t"                                                                       \
+                "mov %[le], %[c]\n\t"                                                          \
+                "sub %[h], %[h], #8\n\t"                                                       \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                               \
+                "sub %[c], %[le], %[c]\n\t"                                                    \
+                "cmp %[c], %[half]\n\t"                                                        \
+                "bhi 1b\n\t"                                                                   \
+                "b 3f\n"                                                                       \
+                "2:\n\t"                                                                       \
+                "add %[h], %[h], #8\n\t"                                                       \
+                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                               \
+                "add %[le], %[le], %[c]\n\t"                                                   \
+                "cmp %[le], %[half]\n\t"                                                       \
+                "bls 2b\n"                                                                     \
+                "3:\n\t"                                                                       \
+                "sub %[m], %[h], %[h8]\n\t"                                                    \
+                "lsr %[m], %[m], #3\n\t"                                                       \
+                "bfi %[medb], %[m], #%c[sh], #8\n\t"                                           \
+                "bfi %[leb], %[le], #%c[sh], #8\n"                                             \
+                "4:\n\t" store                                                                 \
+                : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                \
+                  [medb] "+r"(MB), [leb] "+r"(LB)                                              \
+                : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [d4] "r"(dcol4),             \
+                  [ds] "r"(dstride), [sh] "i"(8 * ((lane) & 3)), [lp] "i"(lane)                \
+                : "cc", "memory");                                                             \
+    } while (0)
+
+/* Output rows i0 .. i0+7, source rows from row0 = row i0 - R (all inside
+ * the image, sstride apart); hist: 513 words of scratch (the last one
+ * holds a loop count: a memory operand would need a 14th register).
+ * noinline: inlined into median_quad_dsp, GCC spills more around the asm
+ * (18.7 against 18.4 M instructions a frame on M7 -O2). */
+__attribute__((noinline)) static void oct_block(uint32_t *hist, const uint8_t *row0,
+                                                size_t sstride, uint8_t *d0, size_t dstride,
+                                                int cols, int R, const uint32_t *mask8)
+{
+    const uint8_t *const h8 = (const uint8_t *)hist;
+    const int n = 2 * R + 1, nt = n + 7;
+    const unsigned half = (unsigned)(n * n) / 2u;
+    uint32_t medlo = 0, medhi = 0, lelo = 0, lehi = 0;
+    int t, b, p, j;
+
+    /* Windows of column 0: columns clamp(-R..R). */
+    memset(hist, 0, 512u * sizeof *hist);
+    hist[512] = (uint32_t)(n - 7); /* rows in all eight windows, read by the asm */
+    for (t = 0; t < nt; t++) {
+        const uint8_t *s = row0 + (size_t)t * sstride;
+        const uint32_t ml = t <= n + 2 ? mask8[t] : 0u, mh = t >= 4 ? mask8[t - 4] : 0u;
+        for (b = -R; b <= R; b++) {
+            unsigned v = s[clampi(b, 0, cols - 1)];
+            hist[2u * v] += ml;
+            hist[2u * v + 1u] += mh;
+        }
+    }
+    for (p = 0; p < 8; p++) {
+        unsigned m = 0, le = h8[p];
+        const unsigned sh = 8u * ((unsigned)p & 3u);
+        while (le <= half)
+            le += h8[8u * ++m + (unsigned)p];
+        if (p < 4) {
+            medlo |= (uint32_t)m << sh;
+            lelo |= (uint32_t)le << sh;
+        } else {
+            medhi |= (uint32_t)m << sh;
+            lehi |= (uint32_t)le << sh;
+        }
+        d0[(size_t)p * dstride] = (uint8_t)m;
+    }
+
+/* Column j: rows from q0 (entering sample at +dq), medians stored from d. */
+#define OCOLUMN(q0, dq_, d)                                                                    \
+    do {                                                                                       \
+        const uint8_t *q = (q0);                                                               \
+        const size_t dq = (dq_);                                                               \
+        if (dq != 0) {                                                                         \
+            uint32_t v_, t0_, t1_, k_, p_;                                                     \
+            uint32_t *h = hist;                                                                \
+            __asm__ volatile("mov %[k], #0x01010101\n\t"                                       \
+                    "mov %[p], #1\n\t" OROW1("p", "ml", "ll")                                  \
+                    "movw %[p], #0x101\n\t" OROW1("p", "ml", "ll")                             \
+                    "add %[p], %[p], #0x10000\n\t" OROW1("p", "ml", "ll")                      \
+                    OROW1("k", "ml", "ll")                                                     \
+                    "mov %[p], #1\n\t" OROW2("k", "p")                                         \
+                    "movw %[p], #0x101\n\t" OROW2("k", "p")                                    \
+                    "add %[p], %[p], #0x10000\n\t" OROW2("k", "p")                             \
+                    "ldr %[p], [%[h], #2048]\n\t"                                              \
+                    "cmp %[p], #0\n\t"                                                         \
+                    "beq 2f\n"                                                                 \
+                    "1:\n\t" OROW2("k", "k")                                                   \
+                    "subs %[p], %[p], #1\n\t"                                                  \
+                    "bne 1b\n"                                                                 \
+                    "2:\n\t"                                                                   \
+                    "bic %[p], %[k], #0xFF\n\t" OROW2("p", "k")                                \
+                    "bic %[p], %[p], #0x100\n\t" OROW2("p", "k")                               \
+                    "mov %[p], #0x01000000\n\t" OROW2("p", "k")                                \
+                    "add %[h], %[h], #4\n\t" OROW1("k", "mh", "lh")                            \
+                    "bic %[p], %[k], #0xFF\n\t" OROW1("p", "mh", "lh")                         \
+                    "bic %[p], %[p], #0x100\n\t" OROW1("p", "mh", "lh")                        \
+                    "mov %[p], #0x01000000\n\t" OROW1("p", "mh", "lh")                         \
+                    : [v] "=&r"(v_), [t0] "=&r"(t0_), [t1] "=&r"(t1_), [k] "=&r"(k_),          \
+                      [p] "=&r"(p_), [q] "+r"(q), [h] "+r"(h), [ll] "+r"(lelo),                \
+                      [lh] "+r"(lehi)                                                          \
+                    : [dq] "r"(dq), [ss] "r"(sstride), [ml] "r"(medlo), [mh] "r"(medhi)        \
+                    : "cc", "memory");                                                         \
+        }                                                                                      \
+        {                                                                                      \
+            uint8_t *const dcol = (d);                                                         \
+            uint8_t *const dcol4 = dcol + 4u * dstride;                                        \
+            OLANE_ASM(0, medlo, lelo, "strb %[m], [%[d]]");                                    \
+            OLANE_ASM(1, medlo, lelo, "strb %[m], [%[d], %[ds]]");                             \
+            OLANE_ASM(2, medlo, lelo, "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c]]");   \
+            OLANE_ASM(3, medlo, lelo,                                                          \
+                      "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");            \
+            OLANE_ASM(4, medhi, lehi, "strb %[m], [%[d4]]");                                   \
+            OLANE_ASM(5, medhi, lehi, "strb %[m], [%[d4], %[ds]]");                            \
+            OLANE_ASM(6, medhi, lehi, "add %[c], %[d4], %[ds], lsl #1\n\tstrb %[m], [%[c]]");  \
+            OLANE_ASM(7, medhi, lehi,                                                          \
+                      "add %[c], %[d4], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");           \
+        }                                                                                      \
+    } while (0)
+
+    /* One expansion of the column (oct_block is 2.3 KB at -O2): a second
+     * one for the unclamped columns, as in quad_interior, measured 18.2
+     * instead of 18.4 M instructions a frame (M7 -O2) for 2.2 KB more. */
+    for (j = 1; j < cols; j++) {
+        size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
+        size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+        OCOLUMN(row0 + cr, ca - cr, d0 + j);
+    }
+#undef OCOLUMN
+}
+#undef OLANE_ASM
+#undef OROW1
+#undef OSAMPLE2
+#undef OROW2
+#endif /* MEDIAN_OCT */
+
 static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
 {
     const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
-    uint32_t hist[256];
+    uint32_t hist[513]; /* oct_block's 64-bit entries and count; four-row blocks use 256 */
     const uint8_t *const h8 = (const uint8_t *)hist;
     const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
     uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
     const int n = 2 * R + 1, nt = n + 3;
     const unsigned half = (unsigned)(n * n) / 2u;
-    int i0, j, t, p;
+    int i0, j, t, p, step;
 
     quad_masks(n, mask8, NULL);
-    for (i0 = 0; i0 < rows; i0 += 4) {
+    for (i0 = 0; i0 < rows; i0 += step) {
         uint32_t medb = 0, leb = 0;
         const int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
         uint8_t *const d0 = dst + (size_t)i0 * dstride;
 
+        /* Eight rows at once where their 2R+8 source rows are in the frame
+         * (8-bit frames: rows in place, sstride apart). */
+#ifdef MEDIAN_OCT
+        if (R >= OCT_MIN_R && rs->src8 != NULL && i0 - R >= 0 && i0 + 7 + R <= rows - 1) {
+            oct_block(hist, rs->src8 + (size_t)(i0 - R) * sstride, sstride, d0, dstride, cols,
+                      R, mask8);
+            step = 8;
+            continue;
+        }
+#endif
+        step = 4;
+
         /* Windows of column 0: columns clamp(-R..R). */
-        memset(hist, 0, sizeof hist);
+        memset(hist, 0, 256u * sizeof *hist);
         for (t = 0; t < nt; t++) {
             const uint8_t *s;
             int b;

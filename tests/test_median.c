@@ -250,6 +250,27 @@ static void test_sixteen_row_blocks(void)
     }
 }
 
+static void test_eight_row_blocks(void)
+{
+    /* Cortex-M DSP path at R = 3..7: blocks of eight output rows where
+     * their 2R+8 source rows are inside the frame, four-row blocks at the
+     * top and bottom. Row counts from 2R+7 (no eight-row block) to 2R+26
+     * (several, then 0-3 and 4-7 rows left for the four-row blocks), widths
+     * from 1 (every column clamped on both sides) past 2R+2, all fills
+     * (constant, binary, random, ...), with and without padding. */
+    int R, extra, w;
+    rng_state = 0x0C7Au;
+    for (R = 1; R <= 7; R++)
+        for (extra = 0; extra <= 19; extra += TU_EMULATED ? 3 : 1)
+            for (w = 0; w < 4; w++) {
+                static const int fixed[3] = {1, 2, 3};
+                int rows = 2 * R + 7 + extra;
+                int cols = w < 3 ? fixed[w] + (w == 2 ? 2 * R : 0) : rnd_range(R + 1, 48);
+                int kind = (extra + w) % FILL_N;
+                check_case(rows, cols, R, kind, w & 1 ? rnd_range(1, 9) : 0, extra & 1 ? 3 : 0);
+            }
+}
+
 static void test_far_apart_medians(void)
 {
     /* Windows of one 16-row block whose medians lie far apart (bright and
@@ -723,6 +744,7 @@ int main(void)
     RUN_TEST(test_max_counts);
     RUN_TEST(test_partial_row_blocks);
     RUN_TEST(test_sixteen_row_blocks);
+    RUN_TEST(test_eight_row_blocks);
     RUN_TEST(test_far_apart_medians);
     RUN_TEST(test_constant_and_extreme_images);
     RUN_TEST(test_wide_strides);
