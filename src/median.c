@@ -475,46 +475,54 @@ quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t sstride, uint32_t 
             : "cc", "memory");
 }
 
+/* The median search of one window's lane as asm text, shared by the four-
+ * and eight-row blocks: ES bytes per histogram entry (1 << LG). Walk the
+ * cumulative count down while le - hist_p[m] > half (label 1), up while
+ * le <= half (label 2); the moved median and count go back into their
+ * lanes of medb and leb (BFI); label 4 is where the store follows. */
+#define LANE_SEARCH_ASM(ES, LG)                                                                \
+    "ubfx %[le], %[leb], #%c[sh], #8\n\t"                                                       \
+    "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                                       \
+    "add %[h], %[h8], %[m], lsl #" #LG "\n\t"                                                   \
+    "cmp %[le], %[half]\n\t"                                                                    \
+    "bls 2f\n\t"                                                                                \
+    "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                            \
+    "sub %[c], %[le], %[c]\n\t"                                                                 \
+    "cmp %[c], %[half]\n\t"                                                                     \
+    "bls 4f\n"                                                                                   \
+    "1:\n\t"                                                                                    \
+    "mov %[le], %[c]\n\t"                                                                       \
+    "sub %[h], %[h], #" #ES "\n\t"                                                              \
+    "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                            \
+    "sub %[c], %[le], %[c]\n\t"                                                                 \
+    "cmp %[c], %[half]\n\t"                                                                     \
+    "bhi 1b\n\t"                                                                                \
+    "b 3f\n"                                                                                     \
+    "2:\n\t"                                                                                    \
+    "add %[h], %[h], #" #ES "\n\t"                                                              \
+    "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                            \
+    "add %[le], %[le], %[c]\n\t"                                                                \
+    "cmp %[le], %[half]\n\t"                                                                    \
+    "bls 2b\n"                                                                                   \
+    "3:\n\t"                                                                                    \
+    "sub %[m], %[h], %[h8]\n\t"                                                                 \
+    "lsr %[m], %[m], #" #LG "\n\t"                                                              \
+    "bfi %[medb], %[m], #%c[sh], #8\n\t"                                                        \
+    "bfi %[leb], %[le], #%c[sh], #8\n"                                                           \
+    "4:\n\t"
+
 /* QLANE for the interior columns as one asm block: lanes of medb and leb
  * updated in place (BFI) and only when the median moves, the median
  * stored by `store` (d: column pointer of output row 0, ds: dstride). The
  * usual case, no move, is 10 instructions. */
-#define QLANE_ASM(lane, store)                                                                    \
+#define QLANE_ASM(lane, store)                                                                 \
     do {                                                                                       \
         uint32_t le_, m_, h_, c_;                                                              \
-        __asm__("ubfx %[le], %[leb], #%c[sh], #8\n\t"                                           \
-                "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                           \
-                "add %[h], %[h8], %[m], lsl #2\n\t"                                             \
-                "cmp %[le], %[half]\n\t"                                                        \
-                "bls 2f\n\t"                                                                    \
-                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
-                "sub %[c], %[le], %[c]\n\t"                                                     \
-                "cmp %[c], %[half]\n\t"                                                         \
-                "bls 4f\n"                                                                       \
-                "1:\n\t" /* down: le - hist_p[m] > half */                                      \
-                "mov %[le], %[c]\n\t"                                                           \
-                "sub %[h], %[h], #4\n\t"                                                        \
-                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
-                "sub %[c], %[le], %[c]\n\t"                                                     \
-                "cmp %[c], %[half]\n\t"                                                         \
-                "bhi 1b\n\t"                                                                    \
-                "b 3f\n"                                                                         \
-                "2:\n\t" /* up: le <= half */                                                   \
-                "add %[h], %[h], #4\n\t"                                                        \
-                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                                 \
-                "add %[le], %[le], %[c]\n\t"                                                    \
-                "cmp %[le], %[half]\n\t"                                                        \
-                "bls 2b\n"                                                                       \
-                "3:\n\t"                                                                        \
-                "sub %[m], %[h], %[h8]\n\t"                                                     \
-                "lsr %[m], %[m], #2\n\t"                                                        \
-                "bfi %[medb], %[m], #%c[sh], #8\n\t"                                            \
-                "bfi %[leb], %[le], #%c[sh], #8\n"                                               \
-                "4:\n\t" store                                                                  \
-                : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                 \
+        __asm__(LANE_SEARCH_ASM(4, 2) store                                                    \
+                : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                \
                   [medb] "+r"(medb), [leb] "+r"(leb)                                           \
-                : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [ds] "r"(dstride),             \
-                  [sh] "i"(8 * (lane)), [lp] "i"(lane)                                                 \
+                : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [ds] "r"(dstride),            \
+                  [sh] "i"(8 * (lane)), [lp] "i"(lane)                                         \
                 : "cc", "memory");                                                             \
     } while (0)
 
@@ -654,35 +662,7 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 #define OLANE_ASM(lane, MB, LB, store)                                                         \
     do {                                                                                       \
         uint32_t le_, m_, h_, c_;                                                              \
-        __asm__ volatile("ubfx %[le], %[leb], #%c[sh], #8\n\t"                                 \
-                "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                          \
-                "add %[h], %[h8], %[m], lsl #3\n\t"                                            \
-                "cmp %[le], %[half]\n\t"                                                       \
-                "bls 2f\n\t"                                                                   \
-                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                               \
-                "sub %[c], %[le], %[c]\n\t"                                                    \
-                "cmp %[c], %[half]\n\t"                                                        \
-                "bls 4f\n"                                                                     \
-                "1:\n\t"                                                                       \
-                "mov %[le], %[c]\n\t"                                                          \
-                "sub %[h], %[h], #8\n\t"                                                       \
-                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                               \
-                "sub %[c], %[le], %[c]\n\t"                                                    \
-                "cmp %[c], %[half]\n\t"                                                        \
-                "bhi 1b\n\t"                                                                   \
-                "b 3f\n"                                                                       \
-                "2:\n\t"                                                                       \
-                "add %[h], %[h], #8\n\t"                                                       \
-                "ldrb %[c], [%[h], #%c[lp]]\n\t"                                               \
-                "add %[le], %[le], %[c]\n\t"                                                   \
-                "cmp %[le], %[half]\n\t"                                                       \
-                "bls 2b\n"                                                                     \
-                "3:\n\t"                                                                       \
-                "sub %[m], %[h], %[h8]\n\t"                                                    \
-                "lsr %[m], %[m], #3\n\t"                                                       \
-                "bfi %[medb], %[m], #%c[sh], #8\n\t"                                           \
-                "bfi %[leb], %[le], #%c[sh], #8\n"                                             \
-                "4:\n\t" store                                                                 \
+        __asm__ volatile(LANE_SEARCH_ASM(8, 3) store                                           \
                 : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                \
                   [medb] "+r"(MB), [leb] "+r"(LB)                                              \
                 : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [d4] "r"(dcol4),             \
