@@ -158,6 +158,18 @@ static void test_16bit_frame_matches_8bit(void)
     free(norm8);
 }
 
+/* The example frame in orientation `mode` (bit 0: rows flipped, bit 1:
+ * columns flipped) into flip, and the geometry flags that say so. */
+static unsigned flip_example(int mode, uint8_t *flip)
+{
+    int r, c, fr = mode & 1, fc = mode >> 1;
+    for (r = 0; r < g_rows; r++)
+        for (c = 0; c < g_cols; c++)
+            flip[(size_t)(fr ? g_rows - 1 - r : r) * (size_t)g_cols +
+                 (size_t)(fc ? g_cols - 1 - c : c)] = g_img[(size_t)r * (size_t)g_cols + (size_t)c];
+    return (fr ? ACTAG_RANGE_ASCENDING : 0u) | (fc ? ACTAG_AZIMUTH_ASCENDING : 0u);
+}
+
 /* Flipping the frame and saying so with the flags gives the same tag, the
  * same polar corners and the same mirrored flag. */
 static void test_orientation_flags(void)
@@ -165,19 +177,14 @@ static void test_orientation_flags(void)
     actag_detection a[8], b[8];
     actag_sonar_geometry g2 = g_geo;
     uint8_t *flip;
-    int r, c, k, na, nb, mode;
+    int k, na, nb, mode;
     load_example();
     flip = (uint8_t *)malloc((size_t)g_rows * (size_t)g_cols);
     TEST_ASSERT_NOT_NULL(flip);
     na = detect8(g_img, g_cols, &g_geo, a, 8);
     TEST_ASSERT_EQUAL_INT(1, na);
     for (mode = 1; mode <= 3; mode++) {
-        int fr = mode & 1, fc = mode >> 1;
-        for (r = 0; r < g_rows; r++)
-            for (c = 0; c < g_cols; c++)
-                flip[(size_t)(fr ? g_rows - 1 - r : r) * (size_t)g_cols +
-                     (size_t)(fc ? g_cols - 1 - c : c)] = g_img[(size_t)r * (size_t)g_cols + (size_t)c];
-        g2.flags = (fr ? ACTAG_RANGE_ASCENDING : 0u) | (fc ? ACTAG_AZIMUTH_ASCENDING : 0u);
+        g2.flags = flip_example(mode, flip);
         nb = detect8(flip, g_cols, &g2, b, 8);
         TEST_ASSERT_EQUAL_INT(1, nb);
         TEST_ASSERT_EQUAL_INT(a[0].id, b[0].id);
@@ -200,7 +207,7 @@ static void test_handedness_prior(void)
     actag_sonar_geometry g2 = g_geo;
     actag_params keep = g_p;
     uint8_t *flip;
-    int r, c, k, na, mode, dm;
+    int k, na, mode, dm;
     load_example();
     flip = (uint8_t *)malloc((size_t)g_rows * (size_t)g_cols);
     TEST_ASSERT_NOT_NULL(flip);
@@ -208,13 +215,7 @@ static void test_handedness_prior(void)
     TEST_ASSERT_EQUAL_INT(1, na);
     for (dm = 0; dm < 2; dm++)
         for (mode = 0; mode <= 3; mode++) {
-            int fr = mode & 1, fc = mode >> 1;
-            for (r = 0; r < g_rows; r++)
-                for (c = 0; c < g_cols; c++)
-                    flip[(size_t)(fr ? g_rows - 1 - r : r) * (size_t)g_cols +
-                         (size_t)(fc ? g_cols - 1 - c : c)] =
-                        g_img[(size_t)r * (size_t)g_cols + (size_t)c];
-            g2.flags = (fr ? ACTAG_RANGE_ASCENDING : 0u) | (fc ? ACTAG_AZIMUTH_ASCENDING : 0u);
+            g2.flags = flip_example(mode, flip);
             g_p.tuning.decode_mode = dm ? ACTAG_DECODE_BINARY : ACTAG_DECODE_FIT;
             g_p.handedness = a[0].mirrored ? ACTAG_HANDEDNESS_MIRRORED : ACTAG_HANDEDNESS_UNMIRRORED;
             if (dm == 0) {
