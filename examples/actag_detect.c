@@ -109,6 +109,9 @@ static void usage(FILE *f)
 #define fnum(opt, s) ((float)num((opt), (s), -FLT_MAX, FLT_MAX))
 #define anyint(opt, s) ((int)inum((opt), (s), INT_MIN, INT_MAX))
 
+/* --handedness: ACTAG_HANDEDNESS_ANY, _UNMIRRORED, _MIRRORED in order. */
+static const char *const handedness_words[3] = {"any", "unmirrored", "mirrored"};
+
 /* The options that set library fields, for the library's error details. */
 static const hostio_optname option_names[] = {
     {"tag_size", "--tag-size", 0},
@@ -268,19 +271,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             NEEDV();
             o->params.tuning.search_min_margin = fnum(a, v);
         } else if (strcmp(a, "--handedness") == 0) {
-            NEEDV();
-            if (strcmp(v, "any") == 0)
-                o->params.handedness = ACTAG_HANDEDNESS_ANY;
-            else if (strcmp(v, "unmirrored") == 0)
-                o->params.handedness = ACTAG_HANDEDNESS_UNMIRRORED;
-            else if (strcmp(v, "mirrored") == 0)
-                o->params.handedness = ACTAG_HANDEDNESS_MIRRORED;
-            else {
-                char m[128];
-                snprintf(m, sizeof m,
-                         "--handedness: must be any, unmirrored or mirrored (got '%.40s')", v);
-                die(m);
-            }
+            NEEDV(); /* the words in ACTAG_HANDEDNESS_* order */
+            o->params.handedness = hostio_opt_choice(PROG, a, v, handedness_words, 3);
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
             o->params.seed = (uint32_t)inum(a, v, 0, 4294967295L);

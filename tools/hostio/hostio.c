@@ -496,6 +496,30 @@ int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v
     return HOSTIO_OK;
 }
 
+int hostio_parse_choice(const char *name, const char *s, const char *const *choices, int n,
+                        int *index, char *err)
+{
+    char words[HOSTIO_ERRLEN / 2];
+    size_t used = 0;
+    int i;
+    if (!s)
+        return fail(err, "%s: missing value", name);
+    for (i = 0; i < n; i++)
+        if (strcmp(s, choices[i]) == 0) {
+            *index = i;
+            return HOSTIO_OK;
+        }
+    words[0] = '\0';
+    for (i = 0; i < n && used < sizeof words; i++) {
+        int w = snprintf(words + used, sizeof words - used, "%s%s",
+                         i == 0 ? "" : (i == n - 1 ? " or " : ", "), choices[i]);
+        if (w < 0)
+            break;
+        used += (size_t)w;
+    }
+    return fail(err, "%s: must be %s (got '%.40s')", name, words, s);
+}
+
 int hostio_parse_doubles(const char *name, const char *s, char sep, double *out, int n,
                          char *err)
 {
@@ -641,6 +665,16 @@ long hostio_opt_long(const char *prog, const char *name, const char *s, long lo,
     if (hostio_parse_long(name, s, lo, hi, &v, err) != HOSTIO_OK)
         hostio_die(prog, err);
     return v;
+}
+
+int hostio_opt_choice(const char *prog, const char *name, const char *s,
+                      const char *const *choices, int n)
+{
+    char err[HOSTIO_ERRLEN];
+    int i = 0;
+    if (hostio_parse_choice(name, s, choices, n, &i, err) != HOSTIO_OK)
+        hostio_die(prog, err);
+    return i;
 }
 
 void hostio_opt_mkdirs(const char *prog, const char *name, const char *path)

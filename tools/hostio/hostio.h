@@ -165,6 +165,10 @@ int hostio_parse_doubles(const char *name, const char *s, char sep, double *out,
 
 int hostio_parse_list(const char *name, const char *s, double *out, int cap, int *n,
                       char *err);
+/* One of n words (choices[0 .. n-1]): *index is its position. The message
+ * of a miss names the option, the words and the value. */
+int hostio_parse_choice(const char *name, const char *s, const char *const *choices, int n,
+                        int *index, char *err);
 /* Family code list: *n codes stored (error when the file holds more than cap). */
 int hostio_read_codes(const char *path, uint32_t *codes, size_t cap, size_t *n, char *err);
 
@@ -193,6 +197,9 @@ void hostio_die(const char *prog, const char *msg);
 double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
                          double hi);
 long hostio_opt_long(const char *prog, const char *name, const char *s, long lo, long hi);
+/* hostio_parse_choice's index, or dies with its message. */
+int hostio_opt_choice(const char *prog, const char *name, const char *s,
+                      const char *const *choices, int n);
 /* The folder of option `name` and its parents (hostio_mkdirs), or dies with
  * "prog: name: <hostio_mkdirs' message>". */
 void hostio_opt_mkdirs(const char *prog, const char *name, const char *path);

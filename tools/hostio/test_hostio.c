@@ -316,6 +316,23 @@ static void test_raw_size_overflow(void)
     TEST_ASSERT_EQUAL_STRING("r.raw: raw frame size 40000 x 32767 outside 1..32767", err);
 }
 
+static void test_parse_choice(void)
+{
+    static const char *const words[3] = {"any", "unmirrored", "mirrored"};
+    char err[HOSTIO_ERRLEN];
+    int i = -1;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_choice("--h", "mirrored", words, 3, &i, err));
+    TEST_ASSERT_EQUAL_INT(2, i);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_choice("--h", "any", words, 3, &i, err));
+    TEST_ASSERT_EQUAL_INT(0, i);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_choice("--h", "Mirrored", words, 3, &i, err));
+    TEST_ASSERT_EQUAL_STRING("--h: must be any, unmirrored or mirrored (got 'Mirrored')", err);
+    TEST_ASSERT_EQUAL_INT(0, i); /* unchanged on a miss */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_choice("--h", "", words, 3, &i, err));
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_choice("--h", NULL, words, 3, &i, err));
+    TEST_ASSERT_EQUAL_STRING("--h: missing value", err);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -328,5 +345,6 @@ int main(void)
     RUN_TEST(test_pgm_8bit_maxval);
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
+    RUN_TEST(test_parse_choice);
     return UNITY_END();
 }

@@ -832,18 +832,9 @@ int main(int argc, char **argv)
             NEED();
             c.search_min_margin = (float)num(o, v, -1e6, 1e6);
         } else if (!strcmp(o, "--handedness")) {
-            NEED();
-            if (!strcmp(v, "any"))
-                c.handedness = ACTAG_HANDEDNESS_ANY;
-            else if (!strcmp(v, "unmirrored"))
-                c.handedness = ACTAG_HANDEDNESS_UNMIRRORED;
-            else if (!strcmp(v, "mirrored"))
-                c.handedness = ACTAG_HANDEDNESS_MIRRORED;
-            else {
-                char m[200];
-                snprintf(m, sizeof m, "--handedness: '%s' is not any, unmirrored or mirrored", v);
-                die(m);
-            }
+            static const char *const words[3] = {"any", "unmirrored", "mirrored"};
+            NEED(); /* the words in ACTAG_HANDEDNESS_* order */
+            c.handedness = hostio_opt_choice(PROG, o, v, words, 3);
         } else if (!strcmp(o, "--seed")) {
             NEED();
             c.seed = (uint32_t)inum(o, v, 0, 4294967295L);
