@@ -291,9 +291,10 @@ int actag_family_match_soft_views(const actag_family *family, const float *conf,
     for (i = 0; i < family->ncodes; i++) {
         uint32_t c = family->codes[i];
         for (v = 0; v < 8; v++) {
-            int h = actag_popcount32((c ^ obs[v]) & keep);
+            int h;
             if (!(views & (1u << v)))
-                continue;
+                continue; /* not a hypothesis */
+            h = actag_popcount32((c ^ obs[v]) & keep);
             if ((v >> 2) != res->best.mirrored && h < res->other)
                 res->other = h;
             if (h < res->h2 && !(i == res->best.id && (v & 3) == res->best.rotation &&
