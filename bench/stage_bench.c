@@ -47,10 +47,15 @@ int actag_adaptive_threshold_bitmap_portable(const uint8_t *src, int rows, int c
 #define actag_median_filter actag_median_filter_portable
 #define actag_median_filter16 actag_median_filter16_portable
 #define actag__median_filter16_max actag__median_filter16_max_portable
+#define actag_median_filter_inplace actag_median_filter_inplace_portable
+int actag_median_filter_inplace_portable(void *frame, int depth, int rows, int cols, int stride,
+                                         uint32_t max16, int radius, void *scratch,
+                                         size_t scratch_size);
 #include "../src/median.c"
 #undef actag_median_filter
 #undef actag_median_filter16
 #undef actag__median_filter16_max
+#undef actag_median_filter_inplace
 #define actag_adaptive_threshold actag_adaptive_threshold_portable
 #define actag_adaptive_threshold_bitmap actag_adaptive_threshold_bitmap_portable
 #include "../src/threshold.c"

@@ -89,6 +89,10 @@ static void usage(FILE *f)
             "                         \"id\", \"mirrored\", \"measured\", \"hits\", \"missed\",\n"
             "                         \"decision_margin\", \"corners\"[, \"pose\"]}], \"whole_frame\",\n"
             "                         \"pixels\", \"time_ms\"} (no --overlay or --stages)\n"
+            "  --inplace              detect as firmware with little RAM does (actag_detect_inplace:\n"
+            "                         the filtered frame overwrites the pixels, workspace\n"
+            "                         ACTAG_WORKSPACE_SIZE_INPLACE; corners refined on the\n"
+            "                         filtered frame); not with --track, --overlay or --stages\n"
             "  --overlay OUT.ppm      picture: the polar frame and the fan (sonar below, +azimuth\n"
             "                         left) side by side, tag edges, corners, sampled bits, and a\n"
             "                         legend with ID, hamming, margin, mirrored per tag. Several\n"
@@ -149,6 +153,7 @@ typedef struct options {
     int have_min, have_max, have_aperture;
     double aperture_deg;
     int pose, track;                 /* --pose, --track */
+    int inplace;                     /* --inplace */
     double vertical_deg;             /* --vertical-aperture-deg */
     actag_pose_params pose_params;
 } options;
@@ -190,6 +195,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->pose = 1;
         } else if (strcmp(a, "--track") == 0) {
             o->track = 1;
+        } else if (strcmp(a, "--inplace") == 0) {
+            o->inplace = 1;
         } else if (strcmp(a, "--vertical-aperture-deg") == 0) {
             NEEDV();
             o->vertical_deg = num(a, v, 1e-3, 179.999);
@@ -358,6 +365,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
                               (float)(o->vertical_deg * 3.14159265358979323846 / 180.0));
     if (o->track && (o->overlay || o->stages))
         die("--track does not combine with --overlay or --stages");
+    if (o->inplace && (o->track || o->overlay || o->stages))
+        die("--inplace does not combine with --track, --overlay or --stages");
     if (o->stages)
         hostio_opt_mkdirs(PROG, "--stages", o->stages);
 }
@@ -677,7 +686,8 @@ static int process(const options *o, const char *file, const char *picname, int 
             goto fail;
         geo.bearings = bearings;
     }
-    wsize = actag_workspace_size(im.rows, im.cols);
+    wsize = o->inplace ? actag_workspace_size_inplace(im.rows, im.cols)
+                       : actag_workspace_size(im.rows, im.cols);
     ws = malloc(wsize);
     if (!ws) {
         snprintf(err, HOSTIO_ERRLEN, "%s: out of memory for the workspace", hostio_frame_name(file));
@@ -687,7 +697,8 @@ static int process(const options *o, const char *file, const char *picname, int 
     {
         actag_error_detail d;
         char m[HOSTIO_ERRLEN];
-        if (actag_check(&fr, &geo, &o->params, wsize, MAX_DETECTIONS, &d) != ACTAG_OK) {
+        if ((o->inplace ? actag_check_inplace : actag_check)(&fr, &geo, &o->params, wsize,
+                                                             MAX_DETECTIONS, &d) != ACTAG_OK) {
             const char *name = hostio_frame_name(file);
             size_t ml, nl, room;
             hostio_detail_message(&d, option_names, NOPTION_NAMES, m);
@@ -718,8 +729,11 @@ static int process(const options *o, const char *file, const char *picname, int 
     }
     pic_trace_init(&trace, o->stages != NULL);
     t0 = now_ms();
-    n = actag_detect_traced(&fr, &geo, &o->params, ws, wsize, det, MAX_DETECTIONS, &st,
-                            pictures ? pic_trace_event : NULL, pictures ? &trace : NULL);
+    if (o->inplace) /* the image's own pixel buffer, overwritten */
+        n = actag_detect_inplace(&fr, &geo, &o->params, ws, wsize, det, MAX_DETECTIONS, &st);
+    else
+        n = actag_detect_traced(&fr, &geo, &o->params, ws, wsize, det, MAX_DETECTIONS, &st,
+                                pictures ? pic_trace_event : NULL, pictures ? &trace : NULL);
     t1 = now_ms();
     if (n < 0) {
         snprintf(err, HOSTIO_ERRLEN, "%s: %s", hostio_frame_name(file), actag_strerror(n));

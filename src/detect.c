@@ -23,6 +23,9 @@ typedef struct {
     uint8_t *a, *b, *s;
     uint32_t *bin, *marks;
     size_t a_size, s_size;
+    /* where each stage's own buffers go (the two layouts differ) */
+    uint8_t *map, *ii, *th; /* search score map, its integral image, threshold scratch */
+    size_t map_size, ii_size, th_size;
 } ws_layout;
 
 static uint8_t *align16(const void *p)
@@ -40,6 +43,34 @@ static void ws_split(void *workspace, int rows, int cols, ws_layout *w)
     w->b = w->a + w->a_size;
     w->s = w->b + ACTAG__ALIGN16((size_t)rows * (size_t)cols);
     w->s_size = ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols));
+    w->map = w->a;
+    w->map_size = w->a_size;
+    w->ii = w->th = w->s;
+    w->ii_size = w->th_size = w->s_size;
+}
+
+/* In-place layout (ACTAG_WORKSPACE_SIZE_INPLACE): B is the caller's frame
+ * buffer (actag_median_filter_inplace), the workspace one region U = A, M,
+ * S used in turn: the median's copy of source rows (all of U); the search
+ * map at U's start and its integral image after it; the bitmap in A with
+ * the threshold's scratch in M and S; then A, M and the contour and quad
+ * buffers in S, as in the other layout. */
+static void ws_split_inplace(void *workspace, uint8_t *b, int rows, int cols, ws_layout *w)
+{
+    size_t bm = ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols));
+    w->a = align16(workspace);
+    w->a_size = 2u * bm;
+    w->bin = (uint32_t *)(void *)w->a;
+    w->marks = (uint32_t *)(void *)(w->a + bm);
+    w->b = b;
+    w->s = w->a + w->a_size;
+    w->s_size = ACTAG__ALIGN16(ACTAG__INPLACE_SCRATCH(rows, cols));
+    w->map = w->a;
+    w->map_size = ACTAG__ALIGN16(ACTAG_SEARCH_MAP_SIZE(rows, cols));
+    w->ii = w->a + w->map_size;
+    w->ii_size = w->a_size + w->s_size - w->map_size;
+    w->th = w->a + bm;
+    w->th_size = bm + w->s_size;
 }
 
 size_t actag_workspace_size(int rows, int cols)
@@ -47,6 +78,13 @@ size_t actag_workspace_size(int rows, int cols)
     if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM)
         return 0;
     return ACTAG_WORKSPACE_SIZE(rows, cols);
+}
+
+size_t actag_workspace_size_inplace(int rows, int cols)
+{
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM)
+        return 0;
+    return ACTAG_WORKSPACE_SIZE_INPLACE(rows, cols);
 }
 
 const uint8_t *actag_workspace_filtered(const void *workspace, int rows, int cols)
@@ -556,6 +594,44 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
                            stats, trace ? &tr : NULL);
 }
 
+int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                         const actag_params *params, void *workspace, size_t workspace_size,
+                         actag_detection *out, int max_out, actag_stats *stats)
+{
+    actag_params pe;
+    actag_frame fb;
+    ws_layout w;
+    uint8_t *b;
+    int rc, rows, cols, flip_mirror;
+
+    if (stats)
+        memset(stats, 0, sizeof *stats);
+    if (workspace == NULL || (out == NULL && max_out > 0))
+        return ACTAG_ERR_NULL;
+    rc = actag_check_inplace(frame, geometry, params, workspace_size, max_out, NULL);
+    if (rc != ACTAG_OK)
+        return rc;
+    rows = frame->rows;
+    cols = frame->cols;
+    flip_mirror = mirror_flip(geometry, cols);
+    resolve_params(params, flip_mirror, &pe);
+    /* the caller's buffer, writable by this function's contract */
+    b = (uint8_t *)(uintptr_t)frame->data;
+    ws_split_inplace(workspace, b, rows, cols, &w);
+    rc = actag_median_filter_inplace(b, frame->depth, rows, cols, frame->stride, 0u,
+                                     pe.tuning.median_radius, w.a, w.a_size + w.s_size);
+    if (rc != ACTAG_OK)
+        return rc;
+    /* the raw frame is gone: the corners are refined on B */
+    fb.data = b;
+    fb.rows = rows;
+    fb.cols = cols;
+    fb.stride = cols;
+    fb.depth = 8;
+    return detect_filtered(&fb, geometry, &pe, &w, 0u, rows, cols, flip_mirror, out, max_out,
+                           stats, NULL);
+}
+
 /* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */
 static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry *geometry,
                            const actag_params *params,
@@ -587,8 +663,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
          * image S; a frame too small for them is simply not searched */
         if (actag_search_map(&z, w.b, rows, cols, cols, geometry, params->tag_size,
                              params->family->bits,
-                             params->tuning.search_range_scale, w.a, w.a_size, w.s,
-                             w.s_size) == ACTAG_OK) {
+                             params->tuning.search_range_scale, w.map, w.map_size, w.ii,
+                             w.ii_size) == ACTAG_OK) {
             actag_point quad[4];
             while (ncand < params->tuning.search_candidates &&
                    actag_search_next(&z, params->tuning.search_min_score * 8, geometry,
@@ -631,7 +707,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     /* 3. adaptive threshold: B -> the bitmap A (the search map is done) */
     rc = actag_adaptive_threshold_bitmap(w.b, rows, cols, cols, w.bin,
                                          params->tuning.threshold_radius,
-                                         params->tuning.threshold_offset, w.s, w.s_size);
+                                         params->tuning.threshold_offset, w.th, w.th_size);
     if (rc != ACTAG_OK)
         return rc;
 

@@ -88,6 +88,16 @@ typedef struct {
     int tag[RING_MAX];    /* row held by each ring slot, -1 for none */
 } rowsrc;
 
+/* Columns c0 .. c1-1 of the 16-bit row at p, scaled to 8 bits into d. */
+static void scale_row16(const rowsrc *rs, const uint8_t *p, uint8_t *d)
+{
+    size_t c;
+    for (c = rs->c0; c < rs->c1; c++) {
+        uint32_t v = frame16_load(p + 2u * c);
+        d[c] = (uint8_t)(((uint64_t)(v * 255u + rs->half) * rs->magic) >> rs->shift);
+    }
+}
+
 /* Row r as 8-bit samples; for 16-bit frames not in ring slot `avoid` (so
  * that two rows fetched together do not evict each other), and only
  * columns c0 .. c1-1 of it are valid (the strip being filtered). */
@@ -96,7 +106,6 @@ static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
     int slot, i;
     uint8_t *d;
     const uint8_t *p;
-    size_t c;
     if (rs->src8 != NULL)
         return rs->src8 + (size_t)r * rs->stride;
     for (i = 0; i < rs->k; i++)
@@ -107,10 +116,7 @@ static const uint8_t *get_row(rowsrc *rs, int r, int avoid)
         slot = (slot + 1) % rs->k;
     d = rs->ring + (size_t)slot * rs->cols;
     p = rs->src16 + 2u * (size_t)r * rs->stride;
-    for (c = rs->c0; c < rs->c1; c++) {
-        uint32_t v = frame16_load(p + 2u * c);
-        d[c] = (uint8_t)(((uint64_t)(v * 255u + rs->half) * rs->magic) >> rs->shift);
-    }
+    scale_row16(rs, p, d);
     rs->tag[slot] = r;
     return d;
 }
@@ -780,7 +786,8 @@ __attribute__((noinline)) static void oct_block(uint32_t *hist, const uint8_t *r
 #undef OROW2
 #endif /* MEDIAN_OCT */
 
-static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
+                            int y0, int y1)
 {
     const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
     uint32_t hist[513]; /* oct_block's 64-bit entries and count; four-row blocks use 256 */
@@ -792,15 +799,16 @@ static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t
     int i0, j, t, p, step;
 
     quad_masks(n, mask8, NULL);
-    for (i0 = 0; i0 < rows; i0 += step) {
+    for (i0 = y0; i0 < y1; i0 += step) {
         uint32_t medb = 0, leb = 0;
-        const int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
+        const int np = y1 - i0 < 4 ? y1 - i0 : 4; /* output rows in this block */
         uint8_t *const d0 = dst + (size_t)i0 * dstride;
 
         /* Eight rows at once where their 2R+8 source rows are in the frame
          * (8-bit frames: rows in place, sstride apart). */
 #ifdef MEDIAN_OCT
-        if (R >= OCT_MIN_R && rs->src8 != NULL && i0 - R >= 0 && i0 + 7 + R <= rows - 1) {
+        if (R >= OCT_MIN_R && rs->src8 != NULL && i0 - R >= 0 && i0 + 7 + R <= rows - 1 &&
+            i0 + 8 <= y1) {
             oct_block(hist, rs->src8 + (size_t)(i0 - R) * sstride, sstride, d0, dstride, cols,
                       R, mask8);
             step = 8;
@@ -828,7 +836,7 @@ static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t
             if (p < np)
                 d0[(size_t)p * dstride] = (uint8_t)m;
         }
-        if (i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1 &&
+        if (np == 4 && i0 - R >= 0 && i0 - R + nt - 1 <= rows - 1 &&
             rowp[nt - 1] == rowp[0] + (size_t)(nt - 1) * sstride) {
             quad_interior(hist, rowp[0], sstride, d0, dstride, cols, R, medb, leb);
             continue;
@@ -874,7 +882,8 @@ static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t
 static const uint64_t bcast16_tab[256] = {BC64(0), BC64(64), BC64(128), BC64(192)};
 #define bcast16(v) bcast16_tab[v]
 
-static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
+                        int y0, int y1)
 {
     uint32_t hist[256];
     const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
@@ -885,10 +894,10 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
     int i0, j, t, p;
 
     quad_masks(n, mask8, mask16);
-    for (i0 = 0; i0 < rows; i0 += 4) {
+    for (i0 = y0; i0 < y1; i0 += 4) {
         unsigned med[4], lt[4];
         uint64_t medb = 0;
-        int np = rows - i0 < 4 ? rows - i0 : 4; /* output rows in this block */
+        int np = y1 - i0 < 4 ? y1 - i0 : 4; /* output rows in this block */
         for (t = 0; t < nt; t++)
             rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
 
@@ -1488,7 +1497,8 @@ static __m128i r16_medians(const __m128i *hist, r16_refs *rf, __m128i vhalf, __m
     return med;
 }
 
-static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R)
+static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
+                          int y0, int y1)
 {
     __m128i hist[512];        /* levels: 0 .. 255 counts, 256 .. 511 spare (zero) */
     __m128i mask[R16_NT_MAX]; /* 0xFF in lane p when source row t is in window p */
@@ -1506,8 +1516,8 @@ static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t d
         mask[t] = load16(mb);
     }
     memset(hist, 0, sizeof hist);
-    for (i0 = 0; i0 < rows; i0 += 16) {
-        const int np = rows - i0 < 16 ? rows - i0 : 16; /* output rows in this block */
+    for (i0 = y0; i0 < y1; i0 += 16) {
+        const int np = y1 - i0 < 16 ? y1 - i0 : 16; /* output rows in this block */
         r16_refs rf;
         for (t = 0; t < nt; t++)
             rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
@@ -1774,7 +1784,7 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         if (rs->src8 != NULL || nk >= (size_t)(2 * R + MEDIAN_BLOCK_ROWS)) {
             rs->ring = (uint8_t *)scratch;
             rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-            MEDIAN_BLOCK(rs, rows, cols, dst, dstride, R);
+            MEDIAN_BLOCK(rs, rows, cols, dst, dstride, R, 0, rows);
             return ACTAG_OK;
         }
     }
@@ -1878,4 +1888,81 @@ int actag__median_filter16_max(const void *src, uint32_t max16, int rows, int co
     memset(&rs, 0, sizeof rs);
     rowsrc_init16(&rs, (const uint8_t *)src, (size_t)src_stride, max16);
     return median_core(&rs, rows, cols, dst, dst_stride, radius, scratch, scratch_size);
+}
+
+/* ----------------------------------------------------------------------
+ * In place (actag_median_filter_inplace): bands of H output rows. A band
+ * [y0, y1) reads source rows [y0 - R, y1 + R); they are gathered (16-bit
+ * ones scaled) into a contiguous copy in the scratch: the R rows above the
+ * band from the previous band's copy (the frame no longer holds them), the
+ * others from the frame, which the output has not reached yet. The block
+ * median then writes the band's rows straight into the frame: output row y
+ * takes bytes [y * cols, (y + 1) * cols), which lie before every source
+ * row a later band reads (y1 * cols <= y1 * stride bytes for 8-bit frames,
+ * and under half of that for 16-bit ones). Every output row is computed
+ * once, as by actag_median_filter; the extra work is copying each source
+ * row once, and the 2R halo rows once more per band.
+ * ---------------------------------------------------------------------- */
+int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int stride,
+                                uint32_t max16, int radius, void *scratch, size_t scratch_size)
+{
+    uint8_t *buf = (uint8_t *)frame, *tmp = (uint8_t *)scratch;
+    size_t ucols = (size_t)cols, cap;
+    rowsrc conv, rs;
+    int R = radius, H, y0, y1, t0 = 0, t1 = 0;
+    if (frame == NULL || scratch == NULL)
+        return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
+        return ACTAG_ERR_SIZE;
+    if ((depth != 8 && depth != 16) || radius < 0 || radius > ACTAG_MEDIAN_INPLACE_MAX_RADIUS)
+        return ACTAG_ERR_PARAM;
+    if (scratch_size < ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols))
+        return ACTAG_ERR_WORKSPACE;
+    memset(&conv, 0, sizeof conv);
+    if (depth == 16) {
+        if (max16 == 0u)
+            max16 = frame16_max(buf, rows, cols, (size_t)stride);
+        rowsrc_init16(&conv, buf, (size_t)stride, max16);
+        conv.c0 = 0;
+        conv.c1 = ucols;
+    }
+    /* band height: what the copy holds besides the 2R halo rows, in whole
+     * blocks (30 * cols bytes hold at least one 16-row block at R = 7) */
+    cap = scratch_size / ucols;
+    if (cap > (size_t)rows + 2u * (size_t)R)
+        cap = (size_t)rows + 2u * (size_t)R;
+    H = (int)cap - 2 * R;
+    if (H > MEDIAN_BLOCK_ROWS)
+        H -= H % MEDIAN_BLOCK_ROWS;
+    memset(&rs, 0, sizeof rs);
+    rs.src8 = tmp;
+    rs.stride = ucols;
+    rs.cols = ucols;
+    rs.c1 = ucols;
+    for (y0 = 0; y0 < rows; y0 = y1) {
+        int s0 = y0 - R > 0 ? y0 - R : 0, s1, r;
+        y1 = rows - y0 > H ? y0 + H : rows;
+        s1 = rows - y1 > R ? y1 + R : rows;
+        /* rows s0 .. t1-1 are in the copy already (rows t0 .. t1-1) */
+        r = s0;
+        if (t1 > s0) {
+            memmove(tmp, tmp + (size_t)(s0 - t0) * ucols, (size_t)(t1 - s0) * ucols);
+            r = t1;
+        }
+        for (; r < s1; r++) {
+            uint8_t *d = tmp + (size_t)(r - s0) * ucols;
+            if (depth == 8)
+                memcpy(d, buf + (size_t)r * (size_t)stride, ucols);
+            else
+                scale_row16(&conv, buf + 2u * (size_t)r * (size_t)stride, d);
+        }
+        t0 = s0;
+        t1 = s1;
+        if (R == 0)
+            memcpy(buf + (size_t)y0 * ucols, tmp, (size_t)(y1 - y0) * ucols);
+        else
+            MEDIAN_BLOCK(&rs, s1 - s0, cols, buf + (size_t)s0 * ucols, ucols, R, y0 - s0,
+                         y1 - s0);
+    }
+    return ACTAG_OK;
 }

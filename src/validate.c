@@ -354,11 +354,11 @@ int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols,
 
 /* ------------------------------------------------------------ the whole call */
 
-int actag_check(const actag_frame *f, const actag_sonar_geometry *g, const actag_params *p,
-                size_t workspace_size, int max_out, actag_error_detail *d)
+/* actag_check and actag_check_inplace: everything but the workspace size */
+static int check_call(const actag_frame *f, const actag_sonar_geometry *g, const actag_params *p,
+                      int max_out, actag_error_detail *d)
 {
     int rc, bytes;
-    size_t need;
     if (f == NULL)
         return fail(d, ACTAG_ERR_NULL, "frame", 0.0, "must not be NULL");
     if (g == NULL)
@@ -399,10 +399,40 @@ int actag_check(const actag_frame *f, const actag_sonar_geometry *g, const actag
                        "must be at most sqrt(2) * geometry.max_range (a larger white square "
                        "cannot lie within the sonar's range)",
                        "geometry.max_range", (double)(SQRT2 * g->max_range));
+    return ACTAG_OK;
+}
+
+int actag_check(const actag_frame *f, const actag_sonar_geometry *g, const actag_params *p,
+                size_t workspace_size, int max_out, actag_error_detail *d)
+{
+    size_t need;
+    int rc = check_call(f, g, p, max_out, d);
+    if (rc != ACTAG_OK)
+        return rc;
     need = actag_workspace_size(f->rows, f->cols);
     if (workspace_size < need)
         return fail_vs(d, ACTAG_ERR_WORKSPACE, "workspace_size", (double)workspace_size,
                        "must be at least actag_workspace_size(rows, cols) (bytes)", "frame",
                        (double)need);
+    return set_ok(d);
+}
+
+int actag_check_inplace(const actag_frame *f, const actag_sonar_geometry *g,
+                        const actag_params *p, size_t workspace_size, int max_out,
+                        actag_error_detail *d)
+{
+    size_t need;
+    int rc = check_call(f, g, p, max_out, d);
+    if (rc != ACTAG_OK)
+        return rc;
+    if (p->tuning.median_radius > ACTAG_MEDIAN_INPLACE_MAX_RADIUS)
+        return fail(d, ACTAG_ERR_PARAM, "tuning.median_radius", p->tuning.median_radius,
+                    "must be at most ACTAG_MEDIAN_INPLACE_MAX_RADIUS (" STR(
+                        ACTAG_MEDIAN_INPLACE_MAX_RADIUS) ") for actag_detect_inplace");
+    need = actag_workspace_size_inplace(f->rows, f->cols);
+    if (workspace_size < need)
+        return fail_vs(d, ACTAG_ERR_WORKSPACE, "workspace_size", (double)workspace_size,
+                       "must be at least actag_workspace_size_inplace(rows, cols) (bytes)",
+                       "frame", (double)need);
     return set_ok(d);
 }

@@ -26,10 +26,15 @@ int actag__median_filter16_max_portable(const void *src, uint32_t max16, int row
 #define actag_median_filter actag_median_filter_portable
 #define actag_median_filter16 actag_median_filter16_portable
 #define actag__median_filter16_max actag__median_filter16_max_portable
+int actag_median_filter_inplace_portable(void *frame, int depth, int rows, int cols, int stride,
+                                         uint32_t max16, int radius, void *scratch,
+                                         size_t scratch_size);
+#define actag_median_filter_inplace actag_median_filter_inplace_portable
 #include "../src/median.c"
 #undef actag_median_filter
 #undef actag_median_filter16
 #undef actag__median_filter16_max
+#undef actag_median_filter_inplace
 
 typedef int (*median_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, void *, size_t);
 
@@ -681,6 +686,110 @@ static void test_16bit_scaling_exact(void)
     }
 }
 
+/* ------------------------------------------------------------ in place */
+
+typedef int (*inplace_fn)(void *, int, int, int, int, uint32_t, int, void *, size_t);
+static const inplace_fn FIP[2] = {actag_median_filter_inplace,
+                                  actag_median_filter_inplace_portable};
+
+/* actag_median_filter_inplace on a random frame (depth 8 or 16, row stride
+ * cols + sextra samples, largest sample maxv for 16-bit frames) against the
+ * brute-force median of the frame (16-bit: scaled by the division the
+ * manual gives, with max16 passed as given or 0 = found by the filter), on
+ * both paths, with `scratch` bytes of scratch (bands of a few rows at the
+ * least scratch). The output is the first rows * cols bytes, stride cols. */
+static void check_inplace(int depth, int rows, int cols, int R, uint32_t maxv, int pass_max,
+                          int sextra, size_t scratch)
+{
+    int stride = cols + sextra, f, r, c;
+    size_t bps = depth == 16 ? 2u : 1u, n = (size_t)rows * (size_t)stride * bps;
+    uint8_t *orig = (uint8_t *)malloc(n + 1u), *raw = (uint8_t *)malloc(n + 1u);
+    uint8_t *s8 = (uint8_t *)calloc((size_t)rows * (size_t)cols, 1);
+    uint8_t *want = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    uint8_t *scr = (uint8_t *)malloc(scratch);
+    uint32_t mx = 0;
+    char msg[160];
+    TEST_ASSERT_TRUE(orig && raw && s8 && want && scr);
+    for (r = 0; r < rows; r++)
+        for (c = 0; c < stride; c++) {
+            size_t o = (size_t)r * (size_t)stride + (size_t)c;
+            if (depth == 8) {
+                orig[1 + o] = (uint8_t)((r / 3 + c / 4) % 3 == 0 ? 150 + (int)(rnd() % 100u)
+                                                                : (int)(rnd() % 60u));
+                if (c < cols)
+                    s8[(size_t)r * (size_t)cols + (size_t)c] = orig[1 + o];
+            } else {
+                uint16_t v = (uint16_t)(maxv ? rnd() % (maxv + 1u) : 0u);
+                if (c < cols && v > mx)
+                    mx = v;
+                memcpy(orig + 1 + 2u * o, &v, 2);
+            }
+        }
+    if (depth == 16)
+        for (r = 0; r < rows; r++)
+            for (c = 0; c < cols; c++) {
+                uint16_t v;
+                memcpy(&v, orig + 1 + 2u * ((size_t)r * (size_t)stride + (size_t)c), 2);
+                s8[(size_t)r * (size_t)cols + (size_t)c] =
+                    (uint8_t)(mx ? ((uint32_t)v * 255u + mx / 2u) / mx : 0u);
+            }
+    brute_median(s8, rows, cols, cols, R, want, cols);
+    for (f = 0; f < 2; f++) {
+        memcpy(raw, orig, n + 1u); /* raw + 1: an odd address for 16-bit samples */
+        memset(scr, 0x5A, scratch);
+        snprintf(msg, sizeof msg, "in place %s: depth %d %dx%d stride %d R=%d scratch %lu",
+                 FN_NAMES[f], depth, rows, cols, stride, R, (unsigned long)scratch);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FIP[f](raw + 1, depth, rows, cols, stride,
+                                                       pass_max ? mx : 0u, R, scr, scratch),
+                                      msg);
+        TEST_ASSERT_EQUAL_UINT8_ARRAY_MESSAGE(want, raw + 1, (size_t)rows * (size_t)cols, msg);
+    }
+    free(orig);
+    free(raw);
+    free(s8);
+    free(want);
+    free(scr);
+}
+
+static void test_inplace_equals_brute_force(void)
+{
+    /* every radius the in-place filter takes, both depths, strides from
+     * cols, heights from 1 across several bands at the least scratch (bands
+     * of 16 rows or fewer), partial blocks, and more scratch (taller bands) */
+    int R, k, trials = TU_TRIALS(12, 4);
+    rng_state = 0x1A9Cu;
+    for (R = 0; R <= ACTAG_MEDIAN_INPLACE_MAX_RADIUS; R++)
+        for (k = 0; k < trials; k++) {
+            int depth = k & 1 ? 16 : 8, rows = rnd_range(1, 75), cols = rnd_range(1, 40);
+            size_t least = ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols);
+            size_t scratch = k % 3 == 0 ? least : least + (size_t)rnd_range(1, 40 * cols);
+            check_inplace(depth, rows, cols, R, k % 4 == 1 ? 255u : 65535u, k % 5 == 0,
+                          rnd_range(0, 3), scratch);
+        }
+    check_inplace(8, 530, 64, 4, 0, 0, 0, ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(64));
+    check_inplace(16, 97, 33, 7, 4095, 1, 2, ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(33));
+    check_inplace(16, 40, 20, 3, 0, 0, 1, ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(20)); /* all zero */
+    check_inplace(8, 1, 1, 7, 0, 0, 0, ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(1));
+}
+
+static void test_inplace_errors(void)
+{
+    uint8_t img[64], scr[ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(8)], before[64];
+    int i;
+    for (i = 0; i < 64; i++)
+        img[i] = before[i] = (uint8_t)(i * 37);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_median_filter_inplace(NULL, 8, 8, 8, 8, 0, 1, scr, sizeof scr));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, NULL, sizeof scr));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_median_filter_inplace(img, 8, 0, 8, 8, 0, 1, scr, sizeof scr));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_median_filter_inplace(img, 8, 8, 8, 7, 0, 1, scr, sizeof scr));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_median_filter_inplace(img, 12, 8, 8, 8, 0, 1, scr, sizeof scr));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, -1, scr, sizeof scr));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 1, scr, sizeof scr));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, scr, sizeof scr - 1));
+    TEST_ASSERT_EQUAL_UINT8_ARRAY(before, img, 64); /* untouched on error */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, scr, sizeof scr));
+}
+
 static void test_errors(void)
 {
     uint8_t src[6 * 7], dst[6 * 7], dst_before[6 * 7];
@@ -757,6 +866,8 @@ int main(void)
     RUN_TEST(test_real_sonar_frame);
     RUN_TEST(test_16bit_frames);
     RUN_TEST(test_16bit_scaling_exact);
+    RUN_TEST(test_inplace_equals_brute_force);
+    RUN_TEST(test_inplace_errors);
     RUN_TEST(test_errors);
     return UNITY_END();
 }

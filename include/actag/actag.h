@@ -446,6 +446,39 @@ typedef struct actag_stats {
 /* ACTAG_WORKSPACE_SIZE at run time; 0 for sizes outside 1..ACTAG_MAX_DIM. */
 size_t actag_workspace_size(int rows, int cols);
 
+#define ACTAG__SUBSAT(a, b) ((a) > (b) ? (a) - (b) : 0u)
+/* The in-place layout's S (see ACTAG_WORKSPACE_SIZE_INPLACE): the contour and
+ * quad buffers, or what the other stages need beyond the two bitmaps. */
+#define ACTAG__INPLACE_SCRATCH(rows, cols)                                                   \
+    ACTAG__MAX(ACTAG__MAX(ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint)) + \
+                              ACTAG_QUAD_SCRATCH_SIZE(ACTAG_CONTOUR_CAP(rows, cols)),          \
+                          ACTAG__SUBSAT(ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(                 \
+                                            rows, cols, ACTAG_MAX_THRESHOLD_RADIUS),           \
+                                        ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)))),       \
+               ACTAG__SUBSAT(ACTAG__MAX(ACTAG__ALIGN16(ACTAG_SEARCH_MAP_SIZE(rows, cols)) +    \
+                                            ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols),           \
+                                        ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols)),              \
+                             2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols))))
+
+/* Workspace bytes of actag_detect_inplace() for frames of up to rows x cols
+ * pixels (a constant expression): the two bitmaps as in
+ * ACTAG_WORKSPACE_SIZE, and no filtered frame (it goes into the caller's
+ * buffer), so the largest of the contour point and quad buffers (ACTAG_
+ * CONTOUR_CAP points: 13 bytes each), the threshold's row buffers at
+ * ACTAG_MAX_THRESHOLD_RADIUS, the search's score map and integral image and
+ * the median's row copy, less what of them the bitmaps' bytes hold while
+ * those are free, plus 16 alignment bytes. 530 x 512: 16 + 72,352 +
+ * 55,024 (the contour and quad buffers) = 127,392 bytes (a 128 KiB DTCM
+ * holds it); 256 x 256: 35,776; 1024 x 1024: 384,064 (there the search's
+ * integral image decides). */
+#define ACTAG_WORKSPACE_SIZE_INPLACE(rows, cols)                                             \
+    (16u + 2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)) +                             \
+     ACTAG__ALIGN16(ACTAG__INPLACE_SCRATCH(rows, cols)))
+
+/* ACTAG_WORKSPACE_SIZE_INPLACE at run time; 0 for sizes outside
+ * 1..ACTAG_MAX_DIM. */
+size_t actag_workspace_size_inplace(int rows, int cols);
+
 /* Fill *p with the defaults (paper Table I; family NULL: set it). No-op for
  * NULL; no error codes. */
 void actag_params_default(actag_params *p);
@@ -482,6 +515,34 @@ int actag_check(const actag_frame *frame, const actag_sonar_geometry *geometry,
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  const actag_params *params, void *workspace, size_t workspace_size,
                  actag_detection *out, int max_out, actag_stats *stats);
+
+/* actag_check() for actag_detect_inplace(): the same checks, then
+ * tuning.median_radius at most ACTAG_MEDIAN_INPLACE_MAX_RADIUS (7; the
+ * default is 4) else ACTAG_ERR_PARAM, and workspace_size at least
+ * actag_workspace_size_inplace(rows, cols) else ACTAG_ERR_WORKSPACE. */
+int actag_check_inplace(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                        const actag_params *params, size_t workspace_size, int max_out,
+                        actag_error_detail *detail);
+
+/* actag_detect() for firmware that can give up the frame buffer: the
+ * median-filtered frame is written over the caller's pixels
+ * (actag_median_filter_inplace, median.h) instead of into the workspace, so
+ * the workspace is ACTAG_WORKSPACE_SIZE_INPLACE(rows, cols) bytes (127,392
+ * at 530 x 512, against 414,384 for actag_detect).
+ *   frame->data must point to WRITABLE memory (not a frame in flash): on
+ *   return its first rows * cols bytes hold the filtered 8-bit frame, stride
+ *   cols, and the rest of the buffer is unspecified (on an error code
+ *   before the filter, e.g. ACTAG_ERR_WORKSPACE, it is untouched).
+ *   Results: the same tags, IDs, handedness, corner order, margins and
+ *   statistics as actag_detect() with the same arguments; only the corner
+ *   refinement (tuning.refine_corners) differs, as it reads the filtered
+ *   frame instead of the raw one (the corners move by a fraction of a pixel;
+ *   docs/memory.md gives the figures). With refine_corners 0 the output is
+ *   identical.
+ *   Errors: those of actag_check_inplace(). No tracer; stats may be NULL. */
+int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                         const actag_params *params, void *workspace, size_t workspace_size,
+                         actag_detection *out, int max_out, actag_stats *stats);
 
 /* actag_detect() with a callback that sees every candidate (trace.h); trace
  * may be NULL. Same results, same errors. */

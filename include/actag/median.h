@@ -165,6 +165,31 @@ int actag_median_filter(const uint8_t *src, int rows, int cols, int src_stride,
 int actag_median_filter16(const void *src, int rows, int cols, int src_stride, uint8_t *dst,
                           int dst_stride, int radius, void *scratch, size_t scratch_size);
 
+/* The same filter in place, for callers that can give up the frame (the
+ * detector's actag_detect_inplace, so that no frame-sized buffer is needed
+ * besides the caller's): on return the first rows * cols bytes of `frame`
+ * hold the filtered 8-bit frame, row-major with stride cols, byte for byte
+ * what actag_median_filter() (depth 8) or actag_median_filter16() (depth 16,
+ * scaled by max16, or by the frame's maximum when max16 is 0) would have
+ * written; the rest of the buffer is left in an unspecified state.
+ *   frame    depth 8: bytes, stride in bytes; depth 16: samples in host byte
+ *            order at any alignment, stride in samples
+ *   radius   0 .. ACTAG_MEDIAN_INPLACE_MAX_RADIUS (the row-block paths)
+ *   scratch  at least ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols) bytes, any
+ *            alignment: a copy of the source rows of one band of output
+ *            rows (a larger scratch gives taller bands, fewer halo copies)
+ * Work: the filter's, plus copying each source row once (and 2R rows once
+ * more per band). Errors: ACTAG_ERR_NULL (frame or scratch), _SIZE (rows or
+ * cols < 1 or > ACTAG_MAX_DIM, stride < cols), _PARAM (depth not 8 or 16,
+ * radius out of range), _WORKSPACE (scratch too small); on error the frame
+ * is untouched. */
+#define ACTAG_MEDIAN_INPLACE_MAX_RADIUS 7
+#define ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols)                                                  \
+    ((size_t)(2 * ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 16) * (size_t)(cols))
+
+int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int stride,
+                                uint32_t max16, int radius, void *scratch, size_t scratch_size);
+
 #ifdef __cplusplus
 }
 #endif
