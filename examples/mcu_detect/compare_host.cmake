@@ -1,6 +1,7 @@
 # Runs the mcu_detect firmware under the emulator and the host tool on the
 # same frame (from the source folder) and requires the same JSON line, but
 # for time_ms. -DEMULATOR=<list> -DFIRMWARE= -DHOST_DETECT= -DFRAME=
+# [-DHOST_FLAGS=--inplace] (more options for the host tool)
 # Without HOST_DETECT the firmware's line is printed and the test reports
 # itself skipped (SKIP_REGULAR_EXPRESSION on the message below).
 execute_process(COMMAND ${EMULATOR} ${FIRMWARE} RESULT_VARIABLE frc
@@ -12,7 +13,8 @@ endif()
 if(NOT HOST_DETECT)
   message(FATAL_ERROR "mcu_detect: no ACTAG_HOST_DETECT given: nothing to compare with (SKIPPED)")
 endif()
-execute_process(COMMAND ${HOST_DETECT} --json --min-range 0.1 --max-range 1.5 --aperture-deg 60 ${FRAME}
+execute_process(COMMAND ${HOST_DETECT} --json --min-range 0.1 --max-range 1.5 --aperture-deg 60
+                        ${HOST_FLAGS} ${FRAME}
                 RESULT_VARIABLE hrc OUTPUT_VARIABLE host ERROR_VARIABLE herr)
 message("host     (exit ${hrc}): ${host}${herr}")
 if(NOT hrc EQUAL 0)

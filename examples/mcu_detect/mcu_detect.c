@@ -17,6 +17,13 @@
  *
  * Built only in cross builds with cmake/toolchains/cortex-m4.cmake or
  * cortex-m7.cmake; run under qemu-system-arm (test mcu_detect_matches_host).
+ *
+ * MCU_INPLACE (the mcu_detect_inplace firmware): the frame is first copied
+ * into RAM, as a sonar driver's DMA buffer would hold it, and detected with
+ * actag_detect_inplace, which filters it in place: the workspace is then
+ * ACTAG_WORKSPACE_SIZE_INPLACE (127,392 bytes at 530 x 512, a 128 KiB DTCM)
+ * instead of ACTAG_WORKSPACE_SIZE. The line equals the host tool's with
+ * --inplace (test mcu_detect_inplace_matches_host).
  */
 #include "actag/actag.h"
 #include "actag/families.h"
@@ -31,7 +38,12 @@
 
 #define MAX_DET 8
 
+#ifdef MCU_INPLACE
+static uint8_t workspace[ACTAG_WORKSPACE_SIZE_INPLACE(MCU_FRAME_ROWS, MCU_FRAME_COLS)];
+static uint8_t frame_ram[(unsigned long)MCU_FRAME_ROWS * MCU_FRAME_COLS]; /* the "DMA buffer" */
+#else
 static uint8_t workspace[ACTAG_WORKSPACE_SIZE(MCU_FRAME_ROWS, MCU_FRAME_COLS)];
+#endif
 
 /* ------------------------------------------------------------ the board's timer */
 
@@ -163,7 +175,13 @@ int main(void)
     geo.aperture = (float)(60.0 * 3.14159265358979323846 / 180.0);
     geo.bearings = 0;
     geo.flags = 0u;
+#ifdef MCU_INPLACE
+    for (k = 0; k < MCU_FRAME_ROWS * MCU_FRAME_COLS; k++)
+        frame_ram[k] = mcu_frame[k];
+    frame.data = frame_ram;
+#else
     frame.data = mcu_frame;
+#endif
     frame.rows = MCU_FRAME_ROWS;
     frame.cols = MCU_FRAME_COLS;
     frame.stride = MCU_FRAME_COLS;
@@ -171,7 +189,12 @@ int main(void)
 
     timer_start();
     t0 = timer_ticks();
+#ifdef MCU_INPLACE
+    n = actag_detect_inplace(&frame, &geo, &params, workspace, sizeof workspace, det, MAX_DET,
+                             &stats);
+#else
     n = actag_detect(&frame, &geo, &params, workspace, sizeof workspace, det, MAX_DET, &stats);
+#endif
     t1 = timer_ticks();
 
     put_s("{\"file\": \"" MCU_FRAME_NAME "\"");
