@@ -19,7 +19,11 @@
  *   write
  *       static uint8_t ws[ACTAG_WORKSPACE_SIZE(530, 512)];
  *   and a workspace sized for the largest frame serves every smaller frame.
- *   actag_workspace_size() returns the same number at run time.
+ *   actag_workspace_size() returns the same number at run time (414,384
+ *   bytes at 530 x 512: the filtered frame is most of it). Firmware that can
+ *   let the library overwrite the frame buffer calls actag_detect_inplace()
+ *   instead, with ACTAG_WORKSPACE_SIZE_INPLACE(rows, cols) bytes (127,392 at
+ *   530 x 512: a 128 KiB DTCM) and the same tags.
  *
  *   Typical use:
  *       actag_family fam;
@@ -467,10 +471,13 @@ size_t actag_workspace_size(int rows, int cols);
  * CONTOUR_CAP points: 13 bytes each), the threshold's row buffers at
  * ACTAG_MAX_THRESHOLD_RADIUS, the search's score map and integral image and
  * the median's row copy, less what of them the bitmaps' bytes hold while
- * those are free, plus 16 alignment bytes. 530 x 512: 16 + 72,352 +
- * 55,024 (the contour and quad buffers) = 127,392 bytes (a 128 KiB DTCM
- * holds it); 256 x 256: 35,776; 1024 x 1024: 384,064 (there the search's
- * integral image decides). */
+ * those are free, plus 16 alignment bytes. Scales like the bitmaps (rows x
+ * cols / 4 bytes) plus the contour buffers (13 bytes per point of
+ * ACTAG_CONTOUR_CAP, about 52 (rows + cols)); for large frames the search's
+ * map and integral image (3/8 byte a pixel) decide. 530 x 512: 16 + 72,352
+ * + 55,024 (the contour and quad buffers) = 127,392 bytes (a 128 KiB DTCM
+ * holds it); 256 x 256: 46,080; 1024 x 1024: 395,296 (there the search
+ * decides). */
 #define ACTAG_WORKSPACE_SIZE_INPLACE(rows, cols)                                             \
     (16u + 2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)) +                             \
      ACTAG__ALIGN16(ACTAG__INPLACE_SCRATCH(rows, cols)))

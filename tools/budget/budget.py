@@ -14,7 +14,9 @@ reports:
   - the worst-case stack of actag_detect from GCC's call graph
     (-fcallgraph-info=su: every path from actag_detect, each function's
     static frame), next to the high-water mark measured on the frames;
-  - the workspace bytes for 256x256, 530x512 and 1024x1024 frames;
+  - the workspace bytes for 256x256, 530x512 and 1024x1024 frames, for
+    actag_detect and for actag_detect_inplace (which also gets its own stack
+    and instruction rows; it must find the same tags, or the script fails);
   - instructions per frame and per stage (median, search, threshold,
     contours, RANSAC, decode, other) from qemu-system-arm -icount shift=0
     runs of tools/budget/budget_fw.c over the pool frames, mean and worst,
@@ -157,9 +159,10 @@ def stack(b):
         return memo[fn]
 
     total, path = worst("actag_detect")
+    total_ip, _ = worst("actag_detect_inplace")
     if dynamic:
         sys.exit("budget: functions with dynamic stack: %s" % ", ".join(sorted(dynamic)))
-    return total, [p.split(":")[-1] for p in path], sorted(unknown)
+    return total, [p.split(":")[-1] for p in path], sorted(unknown), total_ip
 
 
 def instructions(b, core, frames_dir):
@@ -177,18 +180,24 @@ def instructions(b, core, frames_dir):
     if not cal or abs(int(cal.group(1)) - 10000000) > 1000:
         sys.exit("budget: the timer does not count instructions (QEMU -icount?):\n" + out[:500])
     ws = dict(re.findall(r"(\d+x\d+) (\d+)", re.search(r"^workspace .*$", out, re.M).group(0)))
-    rows = []
+    ws_ip = dict(re.findall(r"(\d+x\d+) (\d+)",
+                            re.search(r"^workspace_inplace .*$", out, re.M).group(0)))
+    rows, rows_ip = [], []
     for line in out.splitlines():
-        if not line.startswith("frame "):
+        if not line.startswith(("frame ", "inplace ")):
             continue
         if "unreadable" in line:
             sys.exit("budget: " + line)
         f = line.split()
         d = dict(zip(f[2::2], f[3::2]))
-        rows.append({k: int(d[k]) for k in ["rows", "cols", "tags", "total", "stack"] + STAGES})
-    if len(rows) != len(names):
-        sys.exit("budget: %d of %d frames reported:\n%s" % (len(rows), len(names), out[-2000:]))
-    return rows, {k: int(v) for k, v in ws.items()}
+        (rows if f[0] == "frame" else rows_ip).append(
+            {k: int(d[k]) for k in ["rows", "cols", "tags", "total", "stack"] + STAGES})
+    if len(rows) != len(names) or len(rows_ip) != len(names):
+        sys.exit("budget: %d and %d of %d frames reported:\n%s"
+                 % (len(rows), len(rows_ip), len(names), out[-2000:]))
+    if [r["tags"] for r in rows] != [r["tags"] for r in rows_ip]:
+        sys.exit("budget: actag_detect_inplace found other tags than actag_detect")
+    return rows, rows_ip, {k: int(v) for k, v in ws.items()}, {k: int(v) for k, v in ws_ip.items()}
 
 
 def summary(rows):
@@ -222,12 +231,14 @@ def main():
         print("budget: %s: building" % cfg, file=sys.stderr)
         b = build(core, opt)
         core_sz, fam_sz = sizes(b)
-        st, path, leaves = stack(b)
+        st, path, leaves, st_ip = stack(b)
         print("budget: %s: running the frames under QEMU -icount" % cfg, file=sys.stderr)
-        rows, ws = instructions(b, core, a.frames)
+        rows, rows_ip, ws, ws_ip = instructions(b, core, a.frames)
         results[cfg] = {"library": core_sz, "families": fam_sz, "linked_mcu_detect": linked(b),
                         "stack_static": st, "stack_path": path, "stack_leaves_not_counted": leaves,
-                        "workspace": ws, "instructions": summary(rows), "per_frame": rows}
+                        "workspace": ws, "instructions": summary(rows), "per_frame": rows,
+                        "stack_static_inplace": st_ip, "workspace_inplace": ws_ip,
+                        "instructions_inplace": summary(rows_ip), "per_frame_inplace": rows_ip}
     md = []
     cfgs = list(results)
     md.append("| | " + " | ".join(c.replace("-", " -") for c in cfgs) + " |")
@@ -251,6 +262,16 @@ def main():
     for k in ["total"] + STAGES:
         row("%s, M instructions per frame (mean / worst)" % k,
             lambda r, k=k: "%s / %s" % (mi(r["instructions"][k]["mean"]), mi(r["instructions"][k]["worst"])))
+    # actag_detect_inplace (the filtered frame over the caller's pixels)
+    for wsz in ("256x256", "530x512", "1024x1024"):
+        row("actag_detect_inplace: workspace %s (bytes)" % wsz,
+            lambda r, w=wsz: str(r["workspace_inplace"][w]))
+    row("actag_detect_inplace: stack, call graph / measured (bytes)",
+        lambda r: "%d / %d" % (r["stack_static_inplace"], r["instructions_inplace"]["stack_measured"]))
+    for k in ("total", "median", "refine"):
+        row("actag_detect_inplace: %s, M instructions per frame (mean / worst)" % k,
+            lambda r, k=k: "%s / %s" % (mi(r["instructions_inplace"][k]["mean"]),
+                                        mi(r["instructions_inplace"][k]["worst"])))
     for mhz in (480, 168):
         row("frames/s at %d MHz, 1 instr/cycle (mean / worst frame)" % mhz,
             lambda r, m=mhz: "%.1f / %.1f" % (m * 1e6 / r["instructions"]["total"]["mean"],

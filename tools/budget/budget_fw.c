@@ -49,6 +49,9 @@ static uint32_t stage_ticks[ST_N];
 
 static uint8_t ws[ACTAG_WORKSPACE_SIZE(MAX_ROWS, MAX_COLS)];
 static uint8_t px[MAX_ROWS * MAX_COLS];
+/* actag_detect_inplace: its workspace, and the copy of the frame it filters */
+static uint8_t ws_ip[ACTAG_WORKSPACE_SIZE_INPLACE(MAX_ROWS, MAX_COLS)];
+static uint8_t px_ip[MAX_ROWS * MAX_COLS];
 
 /* ------------------------------------------------------------ timer */
 
@@ -93,6 +96,11 @@ WRAPPED(ST_MEDIAN, actag__median_filter16_max,
         (const void *src, uint32_t max16, int rows, int cols, int src_stride, uint8_t *dst,
          int dst_stride, int radius, void *scratch, size_t scratch_size),
         (src, max16, rows, cols, src_stride, dst, dst_stride, radius, scratch, scratch_size))
+
+WRAPPED(ST_MEDIAN, actag_median_filter_inplace,
+        (void *frame, int depth, int rows, int cols, int stride, uint32_t max16, int radius,
+         void *scratch, size_t scratch_size),
+        (frame, depth, rows, cols, stride, max16, radius, scratch, scratch_size))
 
 WRAPPED(ST_SEARCH, actag_search_map,
         (actag_search *z, const uint8_t *img, int rows, int cols, int stride,
@@ -219,6 +227,10 @@ int main(int argc, char **argv)
     printf("workspace 256x256 %lu 530x512 %lu 1024x1024 %lu\n",
            (unsigned long)actag_workspace_size(256, 256), (unsigned long)actag_workspace_size(530, 512),
            (unsigned long)actag_workspace_size(1024, 1024));
+    printf("workspace_inplace 256x256 %lu 530x512 %lu 1024x1024 %lu\n",
+           (unsigned long)actag_workspace_size_inplace(256, 256),
+           (unsigned long)actag_workspace_size_inplace(530, 512),
+           (unsigned long)actag_workspace_size_inplace(1024, 1024));
     if (actag_family_AcTag24h10(&fam) != ACTAG_OK)
         return 1;
     actag_params_default(&p);
@@ -256,6 +268,29 @@ int main(int argc, char **argv)
                (unsigned long)used);
         if (n < 0)
             status = 1;
+        /* actag_detect_inplace on a copy (the same tags: docs/memory.md) */
+        {
+            int n2;
+            memcpy(px_ip, px, (size_t)rows * (size_t)cols);
+            f.data = px_ip;
+            memset(stage_ticks, 0, sizeof stage_ticks);
+            sum = 0u;
+            top = paint_stack();
+            t0 = ticks();
+            n2 = actag_detect_inplace(&f, &g, &p, ws_ip, sizeof ws_ip, det, 8, NULL);
+            t = ticks() - t0;
+            used = stack_used(top);
+            if (used >= PAINT_WORDS * 4u || n2 != n)
+                status = 1;
+            printf("inplace %s rows %d cols %d tags %d total %lu", argv[i], rows, cols, n2,
+                   (unsigned long)(t * INSTR_PER_TICK));
+            for (k = 0; k < ST_N; k++) {
+                printf(" %s %lu", stage_names[k], (unsigned long)(stage_ticks[k] * INSTR_PER_TICK));
+                sum += stage_ticks[k];
+            }
+            printf(" other %lu stack %lu\n", (unsigned long)((t - sum) * INSTR_PER_TICK),
+                   (unsigned long)used);
+        }
     }
     return status;
 }
