@@ -17,7 +17,12 @@
  *     hamming within the corrections, finite corners, polar values from the
  *     geometry) and consistent counters; the same result again after the
  *     workspace was filled with garbage;
- *   - with actag_detect_multi: each set exactly its own actag_detect call.
+ *   - with actag_detect_multi: each set exactly its own actag_detect call;
+ *   - actag_detect_inplace (median radius <= 7) on a guarded copy of the
+ *     frame with a guarded workspace of exactly its size: writes only within
+ *     the frame's extent and the workspace, and gives actag_detect's tags,
+ *     IDs, handedness, hamming, margins, support and statistics (the
+ *     corners too when refine_corners is 0; refined, they are finite).
  * Validator completeness: when the validators accept, the stages accept the
  * same parameters too (RANSAC, the fit decoder, threshold, median filter):
  * an accepted parameter that a stage rejects would be swallowed as "no tags".
@@ -249,6 +254,46 @@ static void check_detections(const actag_detection *det, int n, const actag_para
     }
 }
 
+/* actag_detect_inplace against the call that gave out[0..n-1] (*st when not
+ * NULL); the frame's fbytes bytes are copied into a guarded buffer. */
+static void check_inplace(const actag_frame *frame, const actag_sonar_geometry *geo,
+                          const actag_params *p, size_t fbytes, unsigned fmis, unsigned wmis,
+                          const actag_detection *out, int n, int max_out, const actag_stats *st)
+{
+    fz_guarded gf = {0}, gw = {0};
+    actag_frame f = *frame;
+    actag_stats s2;
+    actag_detection *o2 = (actag_detection *)malloc(((size_t)max_out + 1) * sizeof *o2);
+    size_t wsz = actag_workspace_size_inplace(frame->rows, frame->cols);
+    uint8_t *buf = fz_guard_alloc(&gf, fbytes, fmis);
+    void *w = fz_guard_alloc(&gw, wsz, wmis);
+    int n2, i, c;
+    FZ_CHECK(o2 != NULL, "oom");
+    memcpy(buf, frame->data, fbytes);
+    f.data = buf;
+    n2 = actag_detect_inplace(&f, geo, p, w, wsz, o2, max_out, &s2);
+    fz_guard_check(&gf, "frame (in place)");
+    fz_guard_check(&gw, "workspace (in place)");
+    FZ_CHECK(n2 == n, "in place: %d tags (%s), actag_detect %d", n2,
+             n2 < 0 ? actag_strerror(n2) : "ok", n);
+    FZ_CHECK(!st || memcmp(st, &s2, sizeof s2) == 0, "in place: other stats");
+    for (i = 0; i < n; i++) {
+        FZ_CHECK(o2[i].id == out[i].id && o2[i].hamming == out[i].hamming &&
+                     o2[i].mirrored == out[i].mirrored &&
+                     memcmp(&o2[i].decision_margin, &out[i].decision_margin, sizeof(float)) == 0 &&
+                     memcmp(&o2[i].inlier_ratio, &out[i].inlier_ratio, sizeof(float)) == 0,
+                 "in place: detection %d differs", i);
+        for (c = 0; c < 4; c++)
+            FZ_CHECK(isfinite(o2[i].corners[c].x) && isfinite(o2[i].corners[c].y),
+                     "in place: detection %d corner %d not finite", i, c);
+    }
+    FZ_CHECK(p->tuning.refine_corners || n == 0 || memcmp(o2, out, (size_t)n * sizeof *out) == 0,
+             "in place, no refinement: other detections");
+    free(o2);
+    fz_guard_free(&gf);
+    fz_guard_free(&gw);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -436,6 +481,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                      "second call on a scrambled workspace: other stats");
             fz_guard_check(&gws, "workspace (second call)");
         }
+
+        /* in place: the same tags from the small workspace */
+        if (params.tuning.median_radius <= ACTAG_MEDIAN_INPLACE_MAX_RADIUS)
+            check_inplace(framep, geop, &params, fbytes, c.frame_misalign, c.ws_misalign,
+                          out, n, max_out, stp);
 
         /* several sets at once: each exactly its own call */
         if (c.multi && max_out > 0) {

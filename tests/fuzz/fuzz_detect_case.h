@@ -16,7 +16,9 @@
  *              fz_float around its default)
  *   call:      max_out (fz_int), workspace mode (u8), workspace extra (u16),
  *              workspace misalignment (u8 % 16), stats (u8: odd = none),
- *              multi (u8: >= 224 also runs actag_detect_multi)
+ *              multi (u8: >= 224 also runs actag_detect_multi; below 224, the
+ *              value % 3 is params.handedness and bit 2 set turns
+ *              tuning.refine_corners off)
  *   pixels:    the rest of the input (pixel mode 0 cycles through it).
  */
 #ifndef ACTAG_FUZZ_DETECT_CASE_H
@@ -60,6 +62,7 @@ typedef struct fzd_case {
     unsigned ws_misalign;
     int no_stats;
     int multi;
+    int handedness, no_refine; /* from the multi byte when below 224 */
     const uint8_t *pixels;
     size_t npixels;
 } fzd_case;
@@ -132,7 +135,15 @@ static inline void fzd_decode(fzd_case *c, const uint8_t *data, size_t size)
     c->ws_extra = fz_u16(&r);
     c->ws_misalign = fz_u8(&r) & 15u;
     c->no_stats = fz_u8(&r) & 1;
-    c->multi = fz_u8(&r) >= 224;
+    m = fz_u8(&r);
+    c->multi = m >= 224;
+    if (m < 224) {
+        c->handedness = m % 3; /* ACTAG_HANDEDNESS_ANY, _UNMIRRORED, _MIRRORED */
+        c->no_refine = (m >> 2) & 1;
+        c->p.handedness = c->handedness;
+        if (c->no_refine)
+            c->p.tuning.refine_corners = 0;
+    }
     c->pixels = fz_rest(&r, &c->npixels);
 }
 
@@ -198,7 +209,7 @@ static inline size_t fzd_encode(const fzd_case *c, uint8_t *buf)
     at = fz_put_u16(buf, at, (uint16_t)c->ws_extra);
     at = fz_put_u8(buf, at, (uint8_t)c->ws_misalign);
     at = fz_put_u8(buf, at, (uint8_t)c->no_stats);
-    at = fz_put_u8(buf, at, (uint8_t)(c->multi ? 255 : 0));
+    at = fz_put_u8(buf, at, (uint8_t)(c->multi ? 255 : c->handedness % 3 + 12 * (c->no_refine != 0)));
     if (c->npixels)
         memcpy(buf + at, c->pixels, c->npixels);
     return at + c->npixels;
