@@ -124,7 +124,12 @@ int main(int argc, char **argv)
         rows = im.rows;
         cols = im.cols;
         wsize = actag_workspace_size(rows, cols);
-        ssize = ACTAG__STAGE_SCRATCH(rows, cols);
+        /* one scratch for the median, the threshold and the contour points */
+        ssize = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+        if (ssize < ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, p.tuning.threshold_radius))
+            ssize = ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols, p.tuning.threshold_radius);
+        if (ssize < ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint))
+            ssize = ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint);
         ws = malloc(wsize);
         filt = (uint8_t *)malloc((size_t)rows * (size_t)cols);
         bin = (uint32_t *)malloc(ACTAG_BITMAP_SIZE(rows, cols));

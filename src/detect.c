@@ -10,20 +10,24 @@
 
 #include <string.h>
 
-/* Workspace layout (see ACTAG_WORKSPACE_SIZE), each part 16-byte aligned:
+/* Workspace layout (ACTAG_WORKSPACE_SIZE, ACTAG_WORKSPACE_SIZE_INPLACE), each
+ * part 16-byte aligned:
  *   [0..15 alignment]
- *   [A: the binary bitmap (one bit per pixel, common.h), then M: the contour
- *       scanner's marks bitmap; before the threshold, A and M together hold
- *       the structure search's score map]
- *   [B: filtered frame, one byte per pixel]
- *   [S: stage scratch, reused by each stage in turn: the median's column
- *       histograms (and the 16-bit input's row ring), the search's integral
- *       image, the threshold's row buffers, contour points + quad scratch]  */
+ *   [U: one region the stages use in turn:
+ *       A: the binary bitmap (one bit per pixel, common.h),
+ *       M: the contour scanner's marks bitmap,
+ *       S: the contour points and the quad scratch;
+ *     before A and M hold bitmaps, U is the median's scratch (column
+ *     histograms, or actag_median_filter_inplace's copy of source rows),
+ *     then the search's score map (at U's start) and integral image (after
+ *     it); the threshold's row buffers are M and S]
+ *   [B: the filtered frame, one byte per pixel (actag_detect); in place it
+ *     is the caller's frame buffer instead]  */
 typedef struct {
     uint8_t *a, *b, *s;
     uint32_t *bin, *marks;
-    size_t a_size, s_size;
-    /* where each stage's own buffers go (the two layouts differ) */
+    size_t a_size, s_size, u_size; /* A + M, S, and all of U */
+    /* each stage's own buffers inside U */
     uint8_t *map, *ii, *th; /* search score map, its integral image, threshold scratch */
     size_t map_size, ii_size, th_size;
 } ws_layout;
@@ -34,43 +38,37 @@ static uint8_t *align16(const void *p)
     return (uint8_t *)(((u + 15u) & ~(uintptr_t)15u));
 }
 
-static void ws_split(void *workspace, int rows, int cols, ws_layout *w)
-{
-    w->a = align16(workspace);
-    w->a_size = ACTAG__BINARY_REGION(rows, cols);
-    w->bin = (uint32_t *)(void *)w->a;
-    w->marks = (uint32_t *)(void *)(w->a + ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)));
-    w->b = w->a + w->a_size;
-    w->s = w->b + ACTAG__ALIGN16((size_t)rows * (size_t)cols);
-    w->s_size = ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols));
-    w->map = w->a;
-    w->map_size = w->a_size;
-    w->ii = w->th = w->s;
-    w->ii_size = w->th_size = w->s_size;
-}
-
-/* In-place layout (ACTAG_WORKSPACE_SIZE_INPLACE): B is the caller's frame
- * buffer (actag_median_filter_inplace), the workspace one region U = A, M,
- * S used in turn: the median's copy of source rows (all of U); the search
- * map at U's start and its integral image after it; the bitmap in A with
- * the threshold's scratch in M and S; then A, M and the contour and quad
- * buffers in S, as in the other layout. */
-static void ws_split_inplace(void *workspace, uint8_t *b, int rows, int cols, ws_layout *w)
+/* U with an S of s_size bytes; B after it, or b when not NULL (in place). */
+static void ws_layout_of(void *workspace, uint8_t *b, int rows, int cols, size_t s_size,
+                         ws_layout *w)
 {
     size_t bm = ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols));
     w->a = align16(workspace);
     w->a_size = 2u * bm;
     w->bin = (uint32_t *)(void *)w->a;
     w->marks = (uint32_t *)(void *)(w->a + bm);
-    w->b = b;
     w->s = w->a + w->a_size;
-    w->s_size = ACTAG__ALIGN16(ACTAG__INPLACE_SCRATCH(rows, cols));
+    w->s_size = s_size;
+    w->u_size = w->a_size + s_size;
+    w->b = b != NULL ? b : w->s + s_size;
     w->map = w->a;
     w->map_size = ACTAG__ALIGN16(ACTAG_SEARCH_MAP_SIZE(rows, cols));
     w->ii = w->a + w->map_size;
-    w->ii_size = w->a_size + w->s_size - w->map_size;
+    w->ii_size = w->u_size - w->map_size;
     w->th = w->a + bm;
-    w->th_size = bm + w->s_size;
+    w->th_size = bm + s_size;
+}
+
+static void ws_split(void *workspace, int rows, int cols, ws_layout *w)
+{
+    ws_layout_of(workspace, NULL, rows, cols, ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols)),
+                 w);
+}
+
+static void ws_split_inplace(void *workspace, uint8_t *b, int rows, int cols, ws_layout *w)
+{
+    ws_layout_of(workspace, b, rows, cols, ACTAG__ALIGN16(ACTAG__INPLACE_SCRATCH(rows, cols)),
+                 w);
 }
 
 size_t actag_workspace_size(int rows, int cols)
@@ -537,10 +535,10 @@ static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, 
     if (frame->depth == 16) {
         *max16 = frame16_max((const uint8_t *)frame->data, rows, cols, (size_t)frame->stride);
         return actag__median_filter16_max(frame->data, *max16, rows, cols, frame->stride, w->b,
-                                          cols, median_radius, w->s, w->s_size);
+                                          cols, median_radius, w->a, w->u_size);
     }
     return actag_median_filter((const uint8_t *)frame->data, rows, cols, frame->stride, w->b,
-                               cols, median_radius, w->s, w->s_size);
+                               cols, median_radius, w->a, w->u_size);
 }
 
 /* The decoder reports mirroring relative to the image; flipping exactly one
@@ -619,7 +617,7 @@ int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *g
     b = (uint8_t *)(uintptr_t)frame->data;
     ws_split_inplace(workspace, b, rows, cols, &w);
     rc = actag_median_filter_inplace(b, frame->depth, rows, cols, frame->stride, 0u,
-                                     pe.tuning.median_radius, w.a, w.a_size + w.s_size);
+                                     pe.tuning.median_radius, w.a, w.u_size);
     if (rc != ACTAG_OK)
         return rc;
     /* the raw frame is gone: the corners are refined on B */

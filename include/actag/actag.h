@@ -19,7 +19,7 @@
  *   write
  *       static uint8_t ws[ACTAG_WORKSPACE_SIZE(530, 512)];
  *   and a workspace sized for the largest frame serves every smaller frame.
- *   actag_workspace_size() returns the same number at run time (414,384
+ *   actag_workspace_size() returns the same number at run time (398,752
  *   bytes at 530 x 512: the filtered frame is most of it). Firmware that can
  *   let the library overwrite the frame buffer calls actag_detect_inplace()
  *   instead, with ACTAG_WORKSPACE_SIZE_INPLACE(rows, cols) bytes (127,392 at
@@ -411,48 +411,9 @@ typedef struct actag_stats {
 
 #define ACTAG__ALIGN16(n) ((((size_t)(n)) + 15u) & ~(size_t)15u)
 #define ACTAG__MAX(a, b) ((a) > (b) ? (a) : (b))
-#define ACTAG__STAGE_SCRATCH(rows, cols)                                                     \
-    ACTAG__MAX(ACTAG__MAX(ACTAG__MAX(ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols),                 \
-                                     ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols)),               \
-                          ACTAG_THRESHOLD_BITMAP_SCRATCH_SIZE_R(rows, cols,                  \
-                                                         ACTAG_MAX_THRESHOLD_RADIUS)),      \
-               ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint)) +       \
-                   ACTAG_QUAD_SCRATCH_SIZE(ACTAG_CONTOUR_CAP(rows, cols)))
-/* The binary bitmap and the contour marks (each ACTAG_BITMAP_SIZE), which
- * before the threshold hold the search's score map. */
-#define ACTAG__BINARY_REGION(rows, cols)                                                     \
-    ACTAG__MAX(2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)),                          \
-               ACTAG__ALIGN16(ACTAG_SEARCH_MAP_SIZE(rows, cols)))
-
-/* Workspace bytes for frames of up to rows x cols pixels (a constant
- * expression), each part 16-byte aligned, plus 16 bytes to align the start:
- *   - the binary bitmap and the contour marks, one bit per pixel each
- *     (ACTAG_BITMAP_SIZE: (rows + 2) * ((cols + 33) / 32) * 4 bytes): scale
- *     with rows * cols, 1/4 byte per pixel together;
- *   - the median-filtered frame, one byte per pixel: rows * cols;
- *   - the largest stage scratch, which scales with cols only (the median's
- *     column histograms, 272 bytes for each of at most 256 columns, wider
- *     frames being filtered in vertical strips, and 2 bytes per column for
- *     16-bit rows: 274 * cols up to 256 columns, 69,632 + 2 * cols beyond;
- *     the threshold's row buffers, (2 * min(2 * ACTAG_MAX_THRESHOLD_RADIUS
- *     + 1, rows) + 7) bytes per column) or with rows + cols (the contour
- *     point buffer and the quad scratch, ACTAG_CONTOUR_CAP points) or
- *     rows * cols / 16 (the search's integral image), whichever is largest;
- *   - fixed (neither rows nor cols): the 16 alignment bytes, and beyond 256
- *     columns the median's 256 column histograms (69,632 bytes).
- * 530 x 512: 72,352 + 271,360 + 70,656 (the median; the threshold 70,144,
- * the search's integral image 68,628, contours + quads 55,020) + 16 =
- * 414,384 bytes. */
-#define ACTAG_WORKSPACE_SIZE(rows, cols)                                                     \
-    (16u + ACTAG__BINARY_REGION(rows, cols) + ACTAG__ALIGN16((size_t)(rows) * (size_t)(cols)) + \
-     ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols)))
-
-/* ACTAG_WORKSPACE_SIZE at run time; 0 for sizes outside 1..ACTAG_MAX_DIM. */
-size_t actag_workspace_size(int rows, int cols);
-
 #define ACTAG__SUBSAT(a, b) ((a) > (b) ? (a) - (b) : 0u)
-/* The in-place layout's S (see ACTAG_WORKSPACE_SIZE_INPLACE): the contour and
- * quad buffers, or what the other stages need beyond the two bitmaps. */
+/* actag_detect_inplace's S (see ACTAG_WORKSPACE_SIZE_INPLACE): the contour
+ * and quad buffers, or what the other stages need beyond the two bitmaps. */
 #define ACTAG__INPLACE_SCRATCH(rows, cols)                                                   \
     ACTAG__MAX(ACTAG__MAX(ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint)) + \
                               ACTAG_QUAD_SCRATCH_SIZE(ACTAG_CONTOUR_CAP(rows, cols)),          \
@@ -463,6 +424,39 @@ size_t actag_workspace_size(int rows, int cols);
                                             ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols),           \
                                         ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols)),              \
                              2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols))))
+
+/* actag_detect's S: the same, and the median's column histograms beyond
+ * what the bitmaps hold (the median fills B, so A, M and S are its scratch). */
+#define ACTAG__STAGE_SCRATCH(rows, cols)                                                     \
+    ACTAG__MAX(ACTAG__INPLACE_SCRATCH(rows, cols),                                          \
+               ACTAG__SUBSAT(ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols),                         \
+                             2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols))))
+
+/* Workspace bytes for frames of up to rows x cols pixels (a constant
+ * expression), each part 16-byte aligned, plus 16 bytes to align the start:
+ *   - A, the binary bitmap, and M, the contour marks, one bit per pixel each
+ *     (ACTAG_BITMAP_SIZE: (rows + 2) * ((cols + 33) / 32) * 4 bytes): scale
+ *     with rows * cols, 1/4 byte per pixel together;
+ *   - S, the contour point buffer and the quad scratch (ACTAG_CONTOUR_CAP
+ *     points, 13 bytes each: about 52 (rows + cols) bytes), or what the
+ *     other stages need beyond A and M while those are free, whichever is
+ *     larger: A, M and S are one region each stage uses in turn (the
+ *     median's column histograms, 272 bytes for each of at most 256
+ *     columns, and 2 bytes per column for 16-bit rows; the search's score
+ *     map and integral image, 3/8 byte a pixel; the threshold's row buffers
+ *     in M and S, (2 * min(2 * ACTAG_MAX_THRESHOLD_RADIUS + 1, rows) + 7)
+ *     bytes per column);
+ *   - B, the median-filtered frame, one byte per pixel: rows * cols.
+ * 530 x 512: 72,352 + 55,024 (contours + quads 55,020; the median 70,656,
+ * the threshold 70,144 and the search 102,420 fit A, M and S) + 271,360 +
+ * 16 = 398,752 bytes. */
+#define ACTAG_WORKSPACE_SIZE(rows, cols)                                                     \
+    (16u + 2u * ACTAG__ALIGN16(ACTAG_BITMAP_SIZE(rows, cols)) +                             \
+     ACTAG__ALIGN16(ACTAG__STAGE_SCRATCH(rows, cols)) +                                     \
+     ACTAG__ALIGN16((size_t)(rows) * (size_t)(cols)))
+
+/* ACTAG_WORKSPACE_SIZE at run time; 0 for sizes outside 1..ACTAG_MAX_DIM. */
+size_t actag_workspace_size(int rows, int cols);
 
 /* Workspace bytes of actag_detect_inplace() for frames of up to rows x cols
  * pixels (a constant expression): the two bitmaps as in
@@ -535,7 +529,7 @@ int actag_check_inplace(const actag_frame *frame, const actag_sonar_geometry *ge
  * median-filtered frame is written over the caller's pixels
  * (actag_median_filter_inplace, median.h) instead of into the workspace, so
  * the workspace is ACTAG_WORKSPACE_SIZE_INPLACE(rows, cols) bytes (127,392
- * at 530 x 512, against 414,384 for actag_detect).
+ * at 530 x 512, against 398,752 for actag_detect).
  *   frame->data must point to WRITABLE memory (not a frame in flash): on
  *   return its first rows * cols bytes hold the filtered 8-bit frame, stride
  *   cols, and the rest of the buffer is unspecified (on an error code
