@@ -560,6 +560,28 @@ int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                                stats, NULL, NULL);
 }
 
+/* What actag_detect_traced and actag_detect_inplace do before the median:
+ * zeroed stats, the checks (actag_check or, in place, actag_check_inplace),
+ * the resolved parameters *pe and the frame's handedness flip. */
+static int detect_begin(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                        const actag_params *params, const void *workspace,
+                        size_t workspace_size, const actag_detection *out, int max_out,
+                        actag_stats *stats, int inplace, actag_params *pe, int *flip_mirror)
+{
+    int rc;
+    if (stats)
+        memset(stats, 0, sizeof *stats);
+    if (workspace == NULL || (out == NULL && max_out > 0))
+        return ACTAG_ERR_NULL;
+    rc = (inplace ? actag_check_inplace : actag_check)(frame, geometry, params, workspace_size,
+                                                       max_out, NULL);
+    if (rc != ACTAG_OK)
+        return rc;
+    *flip_mirror = mirror_flip(geometry, frame->cols);
+    resolve_params(params, *flip_mirror, pe);
+    return ACTAG_OK;
+}
+
 int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *geometry,
                         const actag_params *params, void *workspace, size_t workspace_size,
                         actag_detection *out, int max_out, actag_stats *stats,
@@ -569,27 +591,20 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
     actag_params pe;
     ws_layout w;
     uint32_t max16;
-    int rc, rows, cols, flip_mirror;
+    int rc, flip_mirror;
 
-    if (stats)
-        memset(stats, 0, sizeof *stats);
-    if (workspace == NULL || (out == NULL && max_out > 0))
-        return ACTAG_ERR_NULL;
-    rc = actag_check(frame, geometry, params, workspace_size, max_out, NULL);
+    rc = detect_begin(frame, geometry, params, workspace, workspace_size, out, max_out, stats, 0,
+                      &pe, &flip_mirror);
     if (rc != ACTAG_OK)
         return rc;
-    rows = frame->rows;
-    cols = frame->cols;
-    flip_mirror = mirror_flip(geometry, cols);
-    resolve_params(params, flip_mirror, &pe);
-    ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, pe.tuning.median_radius, &max16);
+    ws_split(workspace, frame->rows, frame->cols, &w);
+    rc = filter_frame(frame, &w, frame->rows, frame->cols, pe.tuning.median_radius, &max16);
     if (rc != ACTAG_OK)
         return rc;
     tr.fn = trace;
     tr.user = user;
-    return detect_filtered(frame, geometry, &pe, &w, max16, rows, cols, flip_mirror, out, max_out,
-                           stats, trace ? &tr : NULL);
+    return detect_filtered(frame, geometry, &pe, &w, max16, frame->rows, frame->cols,
+                           flip_mirror, out, max_out, stats, trace ? &tr : NULL);
 }
 
 int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *geometry,
@@ -600,34 +615,27 @@ int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *g
     actag_frame fb;
     ws_layout w;
     uint8_t *b;
-    int rc, rows, cols, flip_mirror;
+    int rc, flip_mirror;
 
-    if (stats)
-        memset(stats, 0, sizeof *stats);
-    if (workspace == NULL || (out == NULL && max_out > 0))
-        return ACTAG_ERR_NULL;
-    rc = actag_check_inplace(frame, geometry, params, workspace_size, max_out, NULL);
+    rc = detect_begin(frame, geometry, params, workspace, workspace_size, out, max_out, stats, 1,
+                      &pe, &flip_mirror);
     if (rc != ACTAG_OK)
         return rc;
-    rows = frame->rows;
-    cols = frame->cols;
-    flip_mirror = mirror_flip(geometry, cols);
-    resolve_params(params, flip_mirror, &pe);
-    /* the caller's buffer, writable by this function's contract */
+    /* the caller's buffer, writable by this function's contract; the
+     * filtered frame B goes there (stride cols) */
     b = (uint8_t *)(uintptr_t)frame->data;
-    ws_split_inplace(workspace, b, rows, cols, &w);
-    rc = actag_median_filter_inplace(b, frame->depth, rows, cols, frame->stride, 0u,
-                                     pe.tuning.median_radius, w.a, w.u_size);
+    ws_split_inplace(workspace, b, frame->rows, frame->cols, &w);
+    rc = actag_median_filter_inplace(b, frame->depth, frame->rows, frame->cols, frame->stride,
+                                     0u, pe.tuning.median_radius, w.a, w.u_size);
     if (rc != ACTAG_OK)
         return rc;
     /* the raw frame is gone: the corners are refined on B */
+    fb = *frame;
     fb.data = b;
-    fb.rows = rows;
-    fb.cols = cols;
-    fb.stride = cols;
+    fb.stride = frame->cols;
     fb.depth = 8;
-    return detect_filtered(&fb, geometry, &pe, &w, 0u, rows, cols, flip_mirror, out, max_out,
-                           stats, NULL);
+    return detect_filtered(&fb, geometry, &pe, &w, 0u, frame->rows, frame->cols, flip_mirror,
+                           out, max_out, stats, NULL);
 }
 
 /* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */

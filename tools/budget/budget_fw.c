@@ -209,12 +209,40 @@ static __attribute__((noinline)) void spin(uint32_t n)
     __asm__ volatile("1: subs %0, %0, #1\n\tbne 1b" : "+r"(n) : : "cc");
 }
 
+/* One detection (in place or not) on *f, timed per stage, with the stack
+ * painted; prints "<label> NAME rows R cols C tags N total T <stage> T ...
+ * other T stack S" and returns the number of tags (-1 when the stack went
+ * deeper than the painted area: no measurement). */
+static int run_frame(const char *label, const char *name, const actag_frame *f,
+                     const actag_sonar_geometry *g, const actag_params *p, int inplace)
+{
+    actag_detection det[8];
+    uint32_t t0, t, sum = 0u, used, *top;
+    int n, k;
+    memset(stage_ticks, 0, sizeof stage_ticks);
+    top = paint_stack();
+    t0 = ticks();
+    n = inplace ? actag_detect_inplace(f, g, p, ws_ip, sizeof ws_ip, det, 8, NULL)
+                : actag_detect(f, g, p, ws, sizeof ws, det, 8, NULL);
+    t = ticks() - t0;
+    used = stack_used(top);
+    printf("%s %s rows %d cols %d tags %d total %lu", label, name, f->rows, f->cols, n,
+           (unsigned long)(t * INSTR_PER_TICK));
+    for (k = 0; k < ST_N; k++) {
+        printf(" %s %lu", stage_names[k], (unsigned long)(stage_ticks[k] * INSTR_PER_TICK));
+        sum += stage_ticks[k];
+    }
+    printf(" other %lu stack %lu\n", (unsigned long)((t - sum) * INSTR_PER_TICK),
+           (unsigned long)used);
+    return used >= PAINT_WORDS * 4u ? -1 : n;
+}
+
 int main(int argc, char **argv)
 {
     actag_family fam;
     actag_params p;
     actag_sonar_geometry g = {0.1f, 1.5f, 1.0471976f, NULL, 0u};
-    int i, k, status = 0;
+    int i, status = 0;
 
     timer_start();
     {
@@ -237,9 +265,7 @@ int main(int argc, char **argv)
     p.family = &fam;
     for (i = 1; i < argc; i++) {
         actag_frame f;
-        actag_detection det[8];
         int rows, cols, n;
-        uint32_t t0, t, sum = 0u, used, *top;
         if (read_pgm(argv[i], &rows, &cols) != 0) {
             printf("frame %s unreadable\n", argv[i]);
             status = 1;
@@ -250,47 +276,14 @@ int main(int argc, char **argv)
         f.cols = cols;
         f.stride = cols;
         f.depth = 8;
-        memset(stage_ticks, 0, sizeof stage_ticks);
-        top = paint_stack();
-        t0 = ticks();
-        n = actag_detect(&f, &g, &p, ws, sizeof ws, det, 8, NULL);
-        t = ticks() - t0;
-        used = stack_used(top);
-        if (used >= PAINT_WORDS * 4u)
-            status = 1; /* deeper than the painted area: no measurement */
-        printf("frame %s rows %d cols %d tags %d total %lu", argv[i], rows, cols, n,
-               (unsigned long)(t * INSTR_PER_TICK));
-        for (k = 0; k < ST_N; k++) {
-            printf(" %s %lu", stage_names[k], (unsigned long)(stage_ticks[k] * INSTR_PER_TICK));
-            sum += stage_ticks[k];
-        }
-        printf(" other %lu stack %lu\n", (unsigned long)((t - sum) * INSTR_PER_TICK),
-               (unsigned long)used);
+        n = run_frame("frame", argv[i], &f, &g, &p, 0);
         if (n < 0)
             status = 1;
         /* actag_detect_inplace on a copy (the same tags: docs/memory.md) */
-        {
-            int n2;
-            memcpy(px_ip, px, (size_t)rows * (size_t)cols);
-            f.data = px_ip;
-            memset(stage_ticks, 0, sizeof stage_ticks);
-            sum = 0u;
-            top = paint_stack();
-            t0 = ticks();
-            n2 = actag_detect_inplace(&f, &g, &p, ws_ip, sizeof ws_ip, det, 8, NULL);
-            t = ticks() - t0;
-            used = stack_used(top);
-            if (used >= PAINT_WORDS * 4u || n2 != n)
-                status = 1;
-            printf("inplace %s rows %d cols %d tags %d total %lu", argv[i], rows, cols, n2,
-                   (unsigned long)(t * INSTR_PER_TICK));
-            for (k = 0; k < ST_N; k++) {
-                printf(" %s %lu", stage_names[k], (unsigned long)(stage_ticks[k] * INSTR_PER_TICK));
-                sum += stage_ticks[k];
-            }
-            printf(" other %lu stack %lu\n", (unsigned long)((t - sum) * INSTR_PER_TICK),
-                   (unsigned long)used);
-        }
+        memcpy(px_ip, px, (size_t)rows * (size_t)cols);
+        f.data = px_ip;
+        if (run_frame("inplace", argv[i], &f, &g, &p, 1) != n)
+            status = 1;
     }
     return status;
 }
