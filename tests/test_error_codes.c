@@ -137,8 +137,11 @@ static void test_tuning_validate(void)
 
 /* The pipeline entry points share actag_check's codes; `which` selects
  * actag_check, actag_detect, actag_detect_traced, actag_detect_multi (one
- * set) or actag_tracker_update (a fresh tracker). */
-enum { E_CHECK, E_DETECT, E_TRACED, E_MULTI, E_TRACK, E_COUNT };
+ * set), actag_tracker_update (a fresh tracker), actag_check_inplace or
+ * actag_detect_inplace (on g_px, a black frame, which the filter leaves
+ * black). The in-place ones are given ACTAG_WORKSPACE_SIZE_INPLACE for
+ * sizeof g_ws, and one byte less for sizeof g_ws - 1. */
+enum { E_CHECK, E_DETECT, E_TRACED, E_MULTI, E_TRACK, E_CHECK_INPLACE, E_INPLACE, E_COUNT };
 
 static int entry(int which, const actag_frame *f, const actag_sonar_geometry *g,
                  const actag_params *p, void *ws, size_t wss, int max_out)
@@ -147,7 +150,12 @@ static int entry(int which, const actag_frame *f, const actag_sonar_geometry *g,
     actag_track trk[4];
     actag_track_params tp;
     int counts[1];
+    if (which == E_CHECK_INPLACE || which == E_INPLACE)
+        wss = wss == sizeof g_ws ? ACTAG_WORKSPACE_SIZE_INPLACE(R, C)
+                                 : ACTAG_WORKSPACE_SIZE_INPLACE(R, C) - (sizeof g_ws - wss);
     switch (which) {
+    case E_CHECK_INPLACE: return actag_check_inplace(f, g, p, wss, max_out, NULL);
+    case E_INPLACE: return actag_detect_inplace(f, g, p, ws, wss, det, max_out, NULL);
     case E_CHECK: return actag_check(f, g, p, wss, max_out, NULL);
     case E_DETECT: return actag_detect(f, g, p, ws, wss, det, max_out, NULL);
     case E_TRACED: return actag_detect_traced(f, g, p, ws, wss, det, max_out, NULL, NULL, NULL);
@@ -222,7 +230,7 @@ static void entry_codes(int which)
     /* ACTAG_ERR_WORKSPACE: one byte too small */
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, entry(which, &f, &g, &p, g_ws, sizeof g_ws - 1, 4));
     /* success: a black frame has no tags */
-    TEST_ASSERT_EQUAL_INT(which == E_CHECK ? ACTAG_OK : 0,
+    TEST_ASSERT_EQUAL_INT(which == E_CHECK || which == E_CHECK_INPLACE ? ACTAG_OK : 0,
                           entry(which, &f, &g, &p, g_ws, sizeof g_ws, 4));
 }
 
@@ -255,6 +263,67 @@ static void test_detect(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g, &p, NULL, sizeof g_ws, det, 1, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g, &p, g_ws, sizeof g_ws, NULL, 1, NULL));
     TEST_ASSERT_EQUAL_INT(0, actag_detect(&f, &g, &p, g_ws, sizeof g_ws, NULL, 0, NULL));
+}
+
+static void test_check_inplace(void)
+{
+    actag_frame f;
+    actag_sonar_geometry g;
+    actag_params p;
+    actag_error_detail d;
+    entry_codes(E_CHECK_INPLACE);
+    setup(&f, &g, &p);
+    /* its own rules: the median radius, the smaller workspace */
+    p.tuning.median_radius = ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_check_inplace(&f, &g, &p, sizeof g_ws, 4, &d));
+    TEST_ASSERT_EQUAL_INT(0, strcmp(d.field, "tuning.median_radius"));
+    p.tuning.median_radius = ACTAG_MEDIAN_INPLACE_MAX_RADIUS;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
+                          actag_check_inplace(&f, &g, &p, ACTAG_WORKSPACE_SIZE_INPLACE(R, C) - 1u,
+                                              4, &d));
+    TEST_ASSERT_EQUAL_INT(0, strcmp(d.field, "workspace_size"));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                          actag_check_inplace(&f, &g, &p, ACTAG_WORKSPACE_SIZE_INPLACE(R, C), 4, &d));
+}
+
+static void test_detect_inplace(void)
+{
+    actag_frame f;
+    actag_sonar_geometry g;
+    actag_params p;
+    actag_detection det[1];
+    entry_codes(E_INPLACE);
+    setup(&f, &g, &p);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect_inplace(&f, &g, &p, NULL, sizeof g_ws, det,
+                                                               1, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect_inplace(&f, &g, &p, g_ws, sizeof g_ws,
+                                                               NULL, 1, NULL));
+    p.tuning.median_radius = ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect_inplace(&f, &g, &p, g_ws, sizeof g_ws,
+                                                                det, 1, NULL));
+}
+
+static void test_workspace_size_inplace(void)
+{
+    TEST_ASSERT_EQUAL_size_t(0, actag_workspace_size_inplace(0, C));
+    TEST_ASSERT_EQUAL_size_t(0, actag_workspace_size_inplace(R, ACTAG_MAX_DIM + 1));
+    TEST_ASSERT_EQUAL_size_t(ACTAG_WORKSPACE_SIZE_INPLACE(R, C), actag_workspace_size_inplace(R, C));
+}
+
+static void test_median_filter_inplace(void)
+{
+    static uint8_t img[8 * 8], scratch[ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(8)];
+    memset(img, 7, sizeof img);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_median_filter_inplace(NULL, 8, 8, 8, 8, 0, 1, scratch, sizeof scratch));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, NULL, sizeof scratch));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_median_filter_inplace(img, 8, 0, 8, 8, 0, 1, scratch, sizeof scratch));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_median_filter_inplace(img, 8, 8, 8, 7, 0, 1, scratch, sizeof scratch));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_median_filter_inplace(img, 10, 8, 8, 8, 0, 1, scratch, sizeof scratch));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 1, scratch, sizeof scratch));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, scratch, sizeof scratch - 1));
+    img[27] = 200; /* one outlier: the median removes it */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, scratch, sizeof scratch));
+    TEST_ASSERT_EQUAL_UINT8(7, img[27]);
 }
 
 static int g_events;
@@ -1113,11 +1182,14 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_strerror);
     RUN_TEST(test_workspace_size);
+    RUN_TEST(test_workspace_size_inplace);
     RUN_TEST(test_params_and_tuning_default);
     RUN_TEST(test_params_validate);
     RUN_TEST(test_tuning_validate);
     RUN_TEST(test_check);
     RUN_TEST(test_detect);
+    RUN_TEST(test_check_inplace);
+    RUN_TEST(test_detect_inplace);
     RUN_TEST(test_detect_traced);
     RUN_TEST(test_detect_multi);
     RUN_TEST(test_workspace_images);
@@ -1133,6 +1205,7 @@ int main(void)
     RUN_TEST(test_geometry_mapping);
     RUN_TEST(test_rng);
     RUN_TEST(test_median_filter);
+    RUN_TEST(test_median_filter_inplace);
     RUN_TEST(test_adaptive_threshold);
     RUN_TEST(test_contour_scanner_init);
     RUN_TEST(test_contour_next);
