@@ -541,16 +541,6 @@ static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, 
                                cols, median_radius, w->a, w->u_size);
 }
 
-/* The decoder reports mirroring relative to the image; flipping exactly one
- * image axis relative to the reference orientation mirrors it again. */
-static int mirror_flip(const actag_sonar_geometry *geometry, int cols)
-{
-    int az_asc = geometry->bearings
-                     ? (cols > 1 && geometry->bearings[cols - 1] > geometry->bearings[0])
-                     : (geometry->flags & ACTAG_AZIMUTH_ASCENDING) != 0u;
-    int r_asc = (geometry->flags & ACTAG_RANGE_ASCENDING) != 0u;
-    return az_asc ^ r_asc;
-}
 
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  const actag_params *params, void *workspace, size_t workspace_size,
@@ -577,7 +567,7 @@ static int detect_begin(const actag_frame *frame, const actag_sonar_geometry *ge
                                                        max_out, NULL);
     if (rc != ACTAG_OK)
         return rc;
-    *flip_mirror = mirror_flip(geometry, frame->cols);
+    *flip_mirror = actag_geometry_mirrors(geometry, frame->cols);
     resolve_params(params, *flip_mirror, pe);
     return ACTAG_OK;
 }
@@ -909,7 +899,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
     rc = filter_frame(frame, &w, rows, cols, params[0].tuning.median_radius, &max16);
     if (rc != ACTAG_OK)
         return rc;
-    flip_mirror = mirror_flip(geometry, cols);
+    flip_mirror = actag_geometry_mirrors(geometry, cols);
     for (i = 0; i < nparams; i++) {
         actag_params pe;
         resolve_params(&params[i], flip_mirror, &pe);

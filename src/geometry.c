@@ -50,3 +50,11 @@ float actag_geometry_azimuth_step(const actag_sonar_geometry *geo, int cols, flo
     }
     return d < 0.0f ? -d : d;
 }
+
+int actag_geometry_mirrors(const actag_sonar_geometry *geo, int cols)
+{
+    int az_asc = geo->bearings ? (cols > 1 && geo->bearings[cols - 1] > geo->bearings[0])
+                               : (geo->flags & ACTAG_AZIMUTH_ASCENDING) != 0u;
+    int r_asc = (geo->flags & ACTAG_RANGE_ASCENDING) != 0u;
+    return az_asc ^ r_asc;
+}

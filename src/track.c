@@ -260,9 +260,7 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
         limit = m < ACTAG_AUTO_CORRECTIONS ? m : ACTAG_AUTO_CORRECTIONS;
     }
     /* handedness relative to the reference orientation (as actag_detect) */
-    flip = (g->bearings ? (frame->cols > 1 && g->bearings[frame->cols - 1] > g->bearings[0])
-                        : (g->flags & ACTAG_AZIMUTH_ASCENDING) != 0u) ^
-           ((g->flags & ACTAG_RANGE_ASCENDING) != 0u);
+    flip = actag_geometry_mirrors(g, frame->cols);
     {
         /* Only the track's own code is a hypothesis here: another ID at the
          * prediction could not update the track anyway, so the reading is

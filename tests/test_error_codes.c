@@ -589,6 +589,7 @@ static void test_geometry_mapping(void)
     TEST_ASSERT_EQUAL_FLOAT(0.1f, actag_geometry_azimuth_step(&g, 11, 3.0f));
     TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_range_step(&g, 1));
     TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_azimuth_step(&g, 1, 0.0f));
+    TEST_ASSERT_EQUAL_INT(0, actag_geometry_mirrors(&g, 11));
 }
 
 /* ------------------------------------------------------------ rng.h */

@@ -90,12 +90,38 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 10, NULL));
 }
 
+/* actag_geometry_mirrors against the mapping itself: the frame is a mirror
+ * image of the reference orientation when azimuth-per-column times
+ * range-per-row has the other sign (the reference's two are both negative);
+ * every flag pair, with and without bearing tables of either direction. */
+static void test_mirrors_from_the_mapping(void)
+{
+    static float up[64], down[64];
+    int f, b, c;
+    for (c = 0; c < 64; c++) {
+        up[c] = -0.5f + 0.015f * (float)c;
+        down[c] = 0.5f - 0.015f * (float)c;
+    }
+    for (b = 0; b < 3; b++)
+        for (f = 0; f < 4; f++) {
+            actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, (unsigned)f};
+            float daz, dr;
+            g.bearings = b == 0 ? NULL : b == 1 ? up : down;
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 40, 64, NULL));
+            daz = actag_geometry_azimuth(&g, 64, 1.0f) - actag_geometry_azimuth(&g, 64, 0.0f);
+            dr = actag_geometry_range(&g, 40, 1.0f) - actag_geometry_range(&g, 40, 0.0f);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(daz * dr < 0.0f, actag_geometry_mirrors(&g, 64),
+                                          b == 0 ? "flags" : "bearing table");
+        }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_reference_mapping);
     RUN_TEST(test_orientation_flags_mirror_the_axes);
     RUN_TEST(test_bearing_table);
+    RUN_TEST(test_mirrors_from_the_mapping);
     RUN_TEST(test_errors);
     return UNITY_END();
 }

@@ -91,6 +91,14 @@ float actag_geometry_range_step(const actag_sonar_geometry *geo, int rows);
 /* Radians per column near sub-pixel column x (always >= 0; 0 when cols < 2). */
 float actag_geometry_azimuth_step(const actag_sonar_geometry *geo, int cols, float x);
 
+/* 1 when the frame's orientation is a mirror image of the reference one
+ * (exactly one of its axes reversed: ACTAG_RANGE_ASCENDING, or azimuth
+ * ascending along the columns, by the flag or by the bearing table), else 0.
+ * A tag's handedness as seen in such a frame is the other one, so the
+ * detector flips the decoder's `mirrored` (and its handedness prior) by it.
+ * Assumes a validated geometry for a frame of `cols` columns. */
+int actag_geometry_mirrors(const actag_sonar_geometry *geo, int cols);
+
 #ifdef __cplusplus
 }
 #endif
