@@ -1101,12 +1101,16 @@ void actag_fit_params_default(actag_fit_params *fp)
  * the likelihood match, the bit margin and the template check, as the
  * manual in decode.h describes. regrid: this is the quad's own grid read
  * after the fitted one read nothing (one more grid in the look-elsewhere
- * allowance). Returns ACTAG_OK (out filled), ACTAG_ERR_NO_MATCH, or the
- * matcher's error. */
+ * allowance). *ambig (if not NULL) is set to 1 when the template check
+ * refused the reading because a rival template came within the margin.
+ * recheck: before accepting a tightly polished reading, polish every
+ * template again over the ascent's full range (see the template check).
+ * Returns ACTAG_OK (out filled), ACTAG_ERR_NO_MATCH, or the matcher's
+ * error. */
 static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int k,
                       const actag_family *family, int max_corrections,
                       const actag_fit_params *fp, uint32_t keep, const actag_point q[4],
-                      int regrid, float *m, actag_decode_result *out)
+                      int regrid, float *m, actag_decode_result *out, int *ambig, int recheck)
 {
     int flags = fp->flags, min_contrast = fp->min_contrast, bits = family->bits, n = k + 1;
     float level = fp->level;
@@ -1254,7 +1258,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
         if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
             uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
             float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
-            float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, floor2;
+            float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, floor2 = 0.0f;
             int jj, nc = 1, erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
             int cid[2 * ACTAG_SOFT_TOP], cview[2 * ACTAG_SOFT_TOP], ncand = 0;
             /* candidates: the likeliest readings on the fitted grid, and on
@@ -1303,8 +1307,11 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                     /* the polish's own score of its final grid is that
                      * grid's rss (no second read) */
                     if (ffit(im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE),
-                             (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL, &sc))
+                             (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL, &sc)) {
+                        if (ambig)
+                            *ambig = 1;
                         return ACTAG_ERR_NO_MATCH; /* refused before the polish ends */
+                    }
                     r = -sc;
                 }
                 if (jj == 0) {
@@ -1322,12 +1329,51 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                  * trusted), or too nearly as well: refuse now. The margin
                  * only falls as rss2 does, so the first such hypothesis
                  * decides exactly what the least one would. */
-                if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin)
+                if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin) {
+                    if (ambig)
+                        *ambig = 1;
                     return ACTAG_ERR_NO_MATCH;
+                }
                 if (r < rss2)
                     rss2 = r;
             }
             margin = 0.5f * (rss2 - rss0) / s2;
+            /* Full-range re-check (recheck: the quad's own grid read after
+             * the fitted grid's template check found a rival within the
+             * margin). A quad reading polishes each template only a
+             * quarter cell and +-15 % from the grid it came from, so a
+             * hypothesis whose alignment lies farther away (a quad of an
+             * eroded or bloomed white square, a fifth of a side short or
+             * rotated) is judged at a grid that does not fit it: the
+             * ranking then reflects the start grid, not the cells. That
+             * two grids of one quad rank the same two hypotheses so
+             * differently is the sign of it. Each template is polished
+             * again from its start over the full range of the
+             * code-agnostic ascent (half a cell, 65-134 % of the sides);
+             * if a rival then explains the cells better than the reading
+             * (each at its own best grid), there is no reading, as in the
+             * tight check. (Simulated frame 444 of actag-eval --seed 102,
+             * docs/decoder.md: a mirrored tag 3 read as tag 2 at margin
+             * 6.3 on the second grid; at full range tag 3's rss 408 beats
+             * tag 2's 479.) */
+            if (recheck && !(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
+                float f0 = 0.0f;
+                for (jj = 0; jj < ncand; jj++) {
+                    fgrid g = jj < ml.ntop ? *gr : *g_quad;
+                    float sc;
+                    frefuse rf;
+                    layout_of(family, cid[jj], cview[jj], k, L);
+                    rf.rss0 = f0;
+                    rf.s2 = 1.0f;
+                    rf.look = 0.0f;
+                    rf.min_margin = -1e30f; /* refused only when r <= f0 */
+                    if (ffit(im, &g, k, mt, L, erase, 0, (jj < ml.ntop || regrid) ? m : NULL,
+                             jj ? &rf : NULL, &sc))
+                        return ACTAG_ERR_NO_MATCH; /* a rival explains the cells better */
+                    if (jj == 0)
+                        f0 = -sc;
+                }
+            }
         }
         margin -= look;
         if (margin < fp->min_margin)
@@ -1380,7 +1426,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     actag_point q[4];
     uint32_t keep;
-    int rc, bits, k, n;
+    int rc, bits, k, n, ambig = 0;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -1430,7 +1476,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             fhopeless(&im, &gr, k, flags, level, family, keep, m, &rc)) {
             im.fast = 0;
             return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1,
-                              m, out);
+                              m, out, NULL, 0);
         }
         if (rc != ACTAG_OK)
             return rc;
@@ -1439,12 +1485,13 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     if (!(flags & ACTAG_FIT_NO_SEARCH)) {
         ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
     }
-    rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out);
+    rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
+                    &ambig, 0);
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
     if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH))
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
-                        out);
+                        out, NULL, ambig);
     return rc;
 }
