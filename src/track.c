@@ -376,8 +376,19 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
                 need_full = 1;
                 continue;
             }
-            n = t_detect_roi(t, frame, geometry, rp, workspace, workspace_size, x0, y0, x1, y1,
-                             &ds);
+            {
+                /* A track never changes handedness, so its window is read in
+                 * the track's own: the other handedness' views (for the
+                 * published families, the nearest rivals of a code) are no
+                 * hypotheses there. Tags of the other handedness in the
+                 * window are left to the whole-frame searches. */
+                actag_params rk = *rp;
+                if (rk.handedness == ACTAG_HANDEDNESS_ANY)
+                    rk.handedness = t->tracks[i].mirrored ? ACTAG_HANDEDNESS_MIRRORED
+                                                          : ACTAG_HANDEDNESS_UNMIRRORED;
+                n = t_detect_roi(t, frame, geometry, &rk, workspace, workspace_size, x0, y0, x1,
+                                 y1, &ds);
+            }
             t_add_stats(&st, &ds);
             st.rois++;
             st.pixels += (long)(x1 - x0 + 1) * (long)(y1 - y0 + 1);

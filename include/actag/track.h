@@ -24,7 +24,12 @@
  *        a region of interest (ROI) around the prediction: a sub-frame view
  *        of the caller's frame (same data and stride, offset start) with
  *        the sonar geometry of that window (the range limits of its rows and
- *        a bearing table of its columns, kept in the tracker state);
+ *        a bearing table of its columns, kept in the tracker state), in the
+ *        track's handedness (params.handedness of the ROI search set to it
+ *        when the caller's is ACTAG_HANDEDNESS_ANY: a track never changes
+ *        handedness, and the other one's views are the published
+ *        families' nearest rivals of a code; a tag of the other handedness
+ *        in the window is left to the whole-frame searches);
  *     3. runs actag_detect() on the whole frame every `full_every` frames,
  *        whenever no confirmed track exists, and when a confirmed track has
  *        gone `refind_after` frames in a row without a reading (a tag that

@@ -409,6 +409,79 @@ static void test_another_tag_at_the_prediction_is_not_the_tracked_one(void)
     TEST_ASSERT_TRUE(seen2 >= 3);
 }
 
+/* A window around a track is read in the track's handedness only: after the
+ * tracked tag is swapped for its mirror image at the same place (the frame's
+ * columns reversed around the tag), a window search returns no reading of
+ * the other handedness than its track's (before, it read the mirrored tag
+ * in the old track's window and the tracker had to ignore it as a
+ * conflict); the whole-frame searches find it and start its own track. */
+static void test_windows_are_read_in_the_tracks_handedness(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    uint8_t *img = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+    int i, n, tracked = 0, roi_frames = 0, roi_readings = 0, full_mirrored = 0;
+    TEST_ASSERT_NOT_NULL(img);
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.verify = 0; /* the window searches alone */
+    tp.refind_after = 0;
+    tp.full_every = 1000;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < NSEQ; i++) {
+        actag_frame f;
+        actag_track_stats st;
+        int r, c, k;
+        memcpy(img, frames[i], (size_t)sonar.rows * (size_t)sonar.cols);
+        if (i >= NSEQ / 2) { /* the tag mirrored in place */
+            float cx = 0.0f, w = 0.0f;
+            int c0, c1;
+            for (k = 0; k < 4; k++)
+                cx += 0.25f * truth[i].px[k].x;
+            for (k = 0; k < 4; k++)
+                w = fmaxf(w, fabsf(truth[i].px[k].x - cx));
+            c0 = (int)(cx - 2.5f * w - 8.0f);
+            c1 = (int)(cx + 2.5f * w + 8.0f);
+            if (c0 < 0 || c1 >= sonar.cols)
+                continue; /* not wholly flippable here */
+            for (r = 0; r < sonar.rows; r++)
+                for (c = c0; c < c0 + (c1 - c0 + 1) / 2; c++) {
+                    uint8_t *row = img + (size_t)r * (size_t)sonar.cols, v = row[c];
+                    row[c] = row[c0 + c1 - c];
+                    row[c0 + c1 - c] = v;
+                }
+        }
+        f = frame_of(img);
+        n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 &st);
+        TEST_ASSERT_TRUE(n >= 0);
+        for (k = 0; k < n; k++)
+            if (i < NSEQ / 2)
+                tracked += out[k].measured;
+            else if (out[k].measured && out[k].mirrored != truth[0].mirrored)
+                full_mirrored += st.full_frame;
+        /* every reading of a window has its track's handedness */
+        if (i >= NSEQ / 2 && st.rois > 0) {
+            int q;
+            roi_frames++;
+            for (q = 0; q < st.readings && q < ACTAG_TRACK_MAX_DET; q++) {
+                int ti = tr.pool_from_roi[q];
+                if (ti >= 0)
+                    roi_readings += tr.pool[q].mirrored != tr.tracks[ti].mirrored;
+            }
+        }
+    }
+    free(img);
+    printf("tracked in %d frames; after the mirror swap %d frames with windows, %d window "
+           "readings of the other handedness; the mirrored tag from whole frames %d times\n",
+           tracked, roi_frames, roi_readings, full_mirrored);
+    TEST_ASSERT_TRUE(tracked >= 5);
+    TEST_ASSERT_TRUE(roi_frames >= 3);
+    TEST_ASSERT_EQUAL_INT(0, roi_readings);
+}
+
 static void test_errors(void)
 {
     static actag_tracker tr;
@@ -467,6 +540,7 @@ int main(void)
     RUN_TEST(test_roi_readings_agree_with_whole_frame);
     RUN_TEST(test_a_damaged_tag_is_read_where_it_is_predicted);
     RUN_TEST(test_another_tag_at_the_prediction_is_not_the_tracked_one);
+    RUN_TEST(test_windows_are_read_in_the_tracks_handedness);
     RUN_TEST(test_errors);
     for (i = 0; i < NSEQ; i++)
         free(frames[i]);
