@@ -8,6 +8,7 @@
 # Frames are flipped with a small awk PGM rewriter so the same physical scene is
 # fed in each orientation with the matching --range-ascending/--azimuth-ascending.
 # Prints one line per orientation and seed; exit 1 on a wrong ID or a false tag.
+# POOL_RECALL_FLAGS="--handedness mirrored" adds options to every run.
 set -eu
 det=$1; shift
 [ $# -eq 0 ] && set -- 1
@@ -31,7 +32,7 @@ for orient in none rows cols both; do
   done
   for seed in "$@"; do
     "$det" --json --min-range 0.1 --max-range 1.5 --aperture-deg 60 --seed "$seed" \
-      $flags "$tmp/$orient"/f_*.pgm > "$tmp/out.json"
+      $flags ${POOL_RECALL_FLAGS:-} "$tmp/$orient"/f_*.pgm > "$tmp/out.json"
     python3 - "$tmp/out.json" "$orient" "$seed" "$free" "$partial" <<'PY' || fail=1
 import json, sys, os
 path, orient, seed, free, partial = sys.argv[1:6]
