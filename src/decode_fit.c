@@ -1100,10 +1100,6 @@ void actag_fit_params_default(actag_fit_params *fp)
 /* fread_grid's recheck bits */
 #define FIT_RECHECK 1     /* the full-range re-check of a second-grid reading */
 #define FIT_RECHECK_ALL 2 /* every hypothesis at full range (a far from affine quad) */
-/* Most hypotheses (codes x allowed views) FIT_RECHECK_ALL polishes: the
- * families of up to 9 codes (AcTag24h10 7, AcTag24m8 9, AcTag24m10 1,
- * AcTag28m10 6); larger ones get FIT_RECHECK instead (their candidates) */
-#define FIT_RECHECK_ALL_MAX 72
 
 /* One reading of grid gr (9 samples a cell into m): levels, confidences,
  * the likelihood match, the bit margin and the template check, as the
@@ -1532,12 +1528,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         float la2 = gr.ax * gr.ax + gr.ay * gr.ay, lb2 = gr.bx * gr.bx + gr.by * gr.by;
         if ((dx * dx + dy * dy) * (1.0f / 16.0f) >
             FIT_POLISH_SHIFT2 * actag_sqrtf(la2) * actag_sqrtf(lb2))
-            /* every hypothesis where a family is small enough (AcTag24h10:
-             * 55 polishes at most); larger families' candidates only, so
-             * that the work per decoder call stays bounded */
-            all = actag_popcount32(fit_views(flags)) * family->ncodes <= FIT_RECHECK_ALL_MAX
-                      ? FIT_RECHECK_ALL
-                      : FIT_RECHECK;
+            all = FIT_RECHECK_ALL;
     }
     if (flags & ACTAG_FIT_WIDE) {
         im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
