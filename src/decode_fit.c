@@ -1097,20 +1097,14 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
 }
 
-/* fread_grid's recheck bits */
-#define FIT_RECHECK 1     /* the full-range re-check of a second-grid reading */
-#define FIT_RECHECK_ALL 2 /* every hypothesis at full range (a far from affine quad) */
-
 /* One reading of grid gr (9 samples a cell into m): levels, confidences,
  * the likelihood match, the bit margin and the template check, as the
  * manual in decode.h describes. regrid: this is the quad's own grid read
  * after the fitted one read nothing (one more grid in the look-elsewhere
  * allowance). *ambig (if not NULL) is set to 1 when the template check
  * refused the reading because a rival template came within the margin.
- * recheck (bits): FIT_RECHECK, before accepting a tightly polished
- * reading, polish every candidate template again over the ascent's full
- * range; FIT_RECHECK_ALL, polish every allowed template over the full range
- * (see the template check).
+ * recheck: before accepting a tightly polished reading, polish every
+ * template again over the ascent's full range (see the template check).
  * Returns ACTAG_OK (out filled), ACTAG_ERR_NO_MATCH, or the matcher's
  * error. */
 static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int k,
@@ -1362,8 +1356,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
              * docs/decoder.md: a mirrored tag 3 read as tag 2 at margin
              * 6.3 on the second grid; at full range tag 3's rss 408 beats
              * tag 2's 479.) */
-            if ((recheck & FIT_RECHECK) && !(flags & ACTAG_FIT_WIDE) &&
-                margin - look >= fp->min_margin) {
+            if (recheck && !(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
                 float f0 = 0.0f;
                 for (jj = 0; jj < ncand; jj++) {
                     fgrid g = jj < ml.ntop ? *gr : *g_quad;
@@ -1380,50 +1373,6 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                     if (jj == 0)
                         f0 = -sc;
                 }
-            }
-            /* Every hypothesis at its own full-range grid (FIT_RECHECK_ALL:
-             * a quad too far from any affine grid for the tight polish,
-             * see actag_decode_quad_fit). The candidates above are the
-             * likeliest readings on the reading's grid and the quad's, and
-             * each is polished a quarter cell and +-15 % from there; when
-             * that grid misses the quad's corners by more than a quarter
-             * cell, the
-             * right hypothesis may be neither a candidate nor within reach,
-             * and the margin then measures the grid, not the cells. So the
-             * reading's template and every other allowed one are polished
-             * over the ascent's full range (rivals from the quad's grid),
-             * and the reading must beat the best of them by the least
-             * margin after the look-elsewhere allowance, as in the tight
-             * check. (Simulated frame 673 of actag-eval --pool --seed 105,
-             * docs/decoder.md: an unmirrored tag 4 read as a mirrored tag 5
-             * at margin 14.1; tag 4 was no candidate, and at full range its
-             * rss 12,280 is within 2.0 nats of tag 5's 11,228.) */
-            if ((recheck & FIT_RECHECK_ALL) && !(flags & ACTAG_FIT_WIDE) &&
-                margin - look >= fp->min_margin) {
-                unsigned views = fit_views(flags);
-                int id2, v2;
-                float f0, sc;
-                fgrid g = *gr;
-                frefuse rf;
-                layout_of(family, ml.best.id, ml.top[0].view, k, L);
-                ffit(im, &g, k, mt, L, erase, 0, m, NULL, &sc);
-                f0 = -sc;
-                rf.rss0 = f0;
-                rf.s2 = f0 / (float)(nc > 3 ? nc - 2 : 1);
-                if (rf.s2 < floor2)
-                    rf.s2 = floor2;
-                rf.look = look;
-                rf.min_margin = fp->min_margin;
-                for (id2 = 0; id2 < family->ncodes; id2++)
-                    for (v2 = 0; v2 < 8; v2++) {
-                        if (!(views & (1u << v2)) ||
-                            (id2 == ml.top[0].id && v2 == ml.top[0].view))
-                            continue;
-                        layout_of(family, id2, v2, k, L);
-                        g = *g_quad;
-                        if (ffit(im, &g, k, mt, L, erase, 0, regrid ? m : NULL, &rf, NULL))
-                            return ACTAG_ERR_NO_MATCH; /* a rival within the margin */
-                    }
             }
         }
         margin -= look;
@@ -1477,7 +1426,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     actag_point q[4];
     uint32_t keep;
-    int rc, bits, k, n, ambig = 0, all = 0;
+    int rc, bits, k, n, ambig = 0;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -1518,18 +1467,6 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
     gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
     g_quad = gr; /* the quad's own grid: the template check's second start and the second grid */
-    {
-        /* A quad no affine grid fits to within the tight polish's reach:
-         * the least-squares grid misses each corner by a quarter of
-         * d = q0 - q1 + q2 - q3 (an affine grid's corners have d = 0), so
-         * when |d| / 4 exceeds the polish's quarter-cell shift the
-         * template check cannot trust its start (FIT_RECHECK_ALL). */
-        float dx = q[0].x - q[1].x + q[2].x - q[3].x, dy = q[0].y - q[1].y + q[2].y - q[3].y;
-        float la2 = gr.ax * gr.ax + gr.ay * gr.ay, lb2 = gr.bx * gr.bx + gr.by * gr.by;
-        if ((dx * dx + dy * dy) * (1.0f / 16.0f) >
-            FIT_POLISH_SHIFT2 * actag_sqrtf(la2) * actag_sqrtf(lb2))
-            all = FIT_RECHECK_ALL;
-    }
     if (flags & ACTAG_FIT_WIDE) {
         im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
         fshift(&im, &gr, k, m);
@@ -1549,12 +1486,12 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
     }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
-                    &ambig, all);
+                    &ambig, 0);
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
     if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH))
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
-                        out, NULL, (ambig ? FIT_RECHECK : 0) | all);
+                        out, NULL, ambig);
     return rc;
 }
