@@ -541,7 +541,6 @@ static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, 
                                cols, median_radius, w->a, w->u_size);
 }
 
-
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
                  const actag_params *params, void *workspace, size_t workspace_size,
                  actag_detection *out, int max_out, actag_stats *stats)
