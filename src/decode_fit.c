@@ -1097,14 +1097,25 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
 }
 
+/* fread_grid's recheck bits */
+#define FIT_RECHECK 1     /* the full-range re-check of a second-grid reading */
+#define FIT_RECHECK_FAR 2 /* rivals by template: a quad far from affine */
+/* Rivals a far-from-affine quad's reading is checked against: as many as
+ * the likeliest readings of one grid (the Cortex-M7 budget's worst pool
+ * frame: 123.9 M instructions with 6, 145.1 M with 12). */
+#define FIT_FAR_RIVALS ACTAG_SOFT_TOP
+
 /* One reading of grid gr (9 samples a cell into m): levels, confidences,
  * the likelihood match, the bit margin and the template check, as the
  * manual in decode.h describes. regrid: this is the quad's own grid read
  * after the fitted one read nothing (one more grid in the look-elsewhere
  * allowance). *ambig (if not NULL) is set to 1 when the template check
  * refused the reading because a rival template came within the margin.
- * recheck: before accepting a tightly polished reading, polish every
- * template again over the ascent's full range (see the template check).
+ * recheck (bits): FIT_RECHECK, before accepting a tightly polished
+ * reading, polish every candidate template again over the ascent's full
+ * range; FIT_RECHECK_FAR, polish the reading's template and its
+ * FIT_FAR_RIVALS likeliest rivals over the full range (see the template
+ * check).
  * Returns ACTAG_OK (out filled), ACTAG_ERR_NO_MATCH, or the matcher's
  * error. */
 static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int k,
@@ -1356,7 +1367,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
              * docs/decoder.md: a mirrored tag 3 read as tag 2 at margin
              * 6.3 on the second grid; at full range tag 3's rss 408 beats
              * tag 2's 479.) */
-            if (recheck && !(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
+            if ((recheck & FIT_RECHECK) && !(flags & ACTAG_FIT_WIDE) &&
+                margin - look >= fp->min_margin) {
                 float f0 = 0.0f;
                 for (jj = 0; jj < ncand; jj++) {
                     fgrid g = jj < ml.ntop ? *gr : *g_quad;
@@ -1372,6 +1384,70 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                         return ACTAG_ERR_NO_MATCH; /* a rival explains the cells better */
                     if (jj == 0)
                         f0 = -sc;
+                }
+            }
+            /* Rivals by template for a quad no affine grid fits
+             * (FIT_RECHECK_FAR, see actag_decode_quad_fit). The candidates
+             * above are the likeliest by the bits read on the reading's
+             * grid and the quad's, each polished a quarter cell from there;
+             * when the quad's corners lie farther than that from any
+             * affine grid, the right hypothesis may be neither a candidate
+             * nor within reach, and the margin then measures the grid,
+             * not the cells. So the FIT_FAR_RIVALS hypotheses that best
+             * explain the cells of the reading's grid as whole templates
+             * (rss, as many as one grid's likeliest readings) are polished over
+             * the ascent's full range, as is the reading's own, which must
+             * beat each by the least margin after the look-elsewhere
+             * allowance. Bounded: at most FIT_FAR_RIVALS + 1 polishes.
+             * (Simulated frame 673 of actag-eval --pool --seed 105,
+             * docs/decoder.md: an unmirrored tag 4 read as a mirrored tag 5
+             * at margin 14.1; tag 4 was no candidate, ranks 5th here, and
+             * at full range comes within 1.3 nats of tag 5.) */
+            if ((recheck & FIT_RECHECK_FAR) && !(flags & ACTAG_FIT_WIDE) &&
+                margin - look >= fp->min_margin) {
+                unsigned views = fit_views(flags);
+                int rid[FIT_FAR_RIVALS], rview[FIT_FAR_RIVALS], nr = 0, id2, v2, ia;
+                float rr[FIT_FAR_RIVALS], f0, sc, s2f;
+                fgrid g = *gr;
+                frefuse rf;
+                for (id2 = 0; id2 < family->ncodes; id2++)
+                    for (v2 = 0; v2 < 8; v2++) {
+                        float r;
+                        if (!(views & (1u << v2)) ||
+                            (id2 == ml.top[0].id && v2 == ml.top[0].view))
+                            continue;
+                        layout_of(family, id2, v2, k, L);
+                        r = template_rss(m, L, k, erase, NULL);
+                        /* insert into the sorted list of the lowest rss
+                         * (ties: the earlier template first) */
+                        if (nr == FIT_FAR_RIVALS && !(r < rr[nr - 1]))
+                            continue;
+                        ia = nr < FIT_FAR_RIVALS ? nr++ : nr - 1;
+                        for (; ia > 0 && r < rr[ia - 1]; ia--) {
+                            rr[ia] = rr[ia - 1];
+                            rid[ia] = rid[ia - 1];
+                            rview[ia] = rview[ia - 1];
+                        }
+                        rr[ia] = r;
+                        rid[ia] = id2;
+                        rview[ia] = v2;
+                    }
+                layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
+                ffit(im, &g, k, mt, L, erase, 0, m, NULL, &sc);
+                f0 = -sc;
+                s2f = f0 / (float)(nc > 3 ? nc - 2 : 1);
+                rf.rss0 = f0;
+                rf.s2 = s2f < floor2 ? floor2 : s2f;
+                rf.look = look;
+                rf.min_margin = fp->min_margin;
+                for (ia = 0; ia < nr; ia++) {
+                    layout_of(family, rid[ia], rview[ia], k, L);
+                    g = *gr;
+                    if (ffit(im, &g, k, mt, L, erase, 0, m, &rf, NULL)) {
+                        if (ambig)
+                            *ambig = 1;
+                        return ACTAG_ERR_NO_MATCH; /* a rival within the margin */
+                    }
                 }
             }
         }
@@ -1426,7 +1502,7 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     actag_point q[4];
     uint32_t keep;
-    int rc, bits, k, n, ambig = 0;
+    int rc, bits, k, n, ambig = 0, far = 0;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -1467,6 +1543,19 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
     gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
     gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
     g_quad = gr; /* the quad's own grid: the template check's second start and the second grid */
+    {
+        /* A quad no affine grid fits to within the tight polish's reach:
+         * the least-squares affine grid misses each corner by a quarter of
+         * d = q0 - q1 + q2 - q3 (an affine grid's corners have d = 0), so
+         * when |d| / 4 exceeds the polish's quarter cell (its shift limit,
+         * FIT_POLISH_SHIFT2 of la * lb) the template check cannot trust its
+         * start (FIT_RECHECK_FAR). */
+        float dx = q[0].x - q[1].x + q[2].x - q[3].x, dy = q[0].y - q[1].y + q[2].y - q[3].y;
+        float la2 = gr.ax * gr.ax + gr.ay * gr.ay, lb2 = gr.bx * gr.bx + gr.by * gr.by;
+        if ((dx * dx + dy * dy) * (1.0f / 16.0f) >
+            FIT_POLISH_SHIFT2 * actag_sqrtf(la2) * actag_sqrtf(lb2))
+            far = FIT_RECHECK_FAR;
+    }
     if (flags & ACTAG_FIT_WIDE) {
         im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
         fshift(&im, &gr, k, m);
@@ -1486,12 +1575,12 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
         ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
     }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
-                    &ambig, 0);
+                    &ambig, far);
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
     if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH))
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
-                        out, NULL, ambig);
+                        out, NULL, (ambig ? FIT_RECHECK : 0) | far);
     return rc;
 }

@@ -463,6 +463,58 @@ static void test_regression_seed102_frame444(void)
     }
 }
 
+/* actag-eval --pool --seed 105, frame 673 (as actag-eval renders it): an
+ * unmirrored AcTag24h10 tag 4 at 1.22 m and 62.5 degrees whose RANSAC quad
+ * has one corner 20 px (1.2 cells) inside the tag, was read as a mirrored
+ * tag 5 at margin 14.1 (tag 4 no candidate of the template check). Whatever
+ * is read there now must be the tag, in its handedness. */
+static void test_regression_pool_seed105_frame673(void)
+{
+    static uint8_t img[1024 * 1024];
+    static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
+    char arg0[] = "test_sim", arg1[] = "--pool";
+    char *argv[3] = {arg0, arg1, NULL};
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    sim_truth tr;
+    actag_family fam;
+    actag_params p;
+    actag_frame f;
+    actag_detection det[8];
+    uint32_t fs = sim_frame_seed(105u, 673u);
+    int n, k;
+    /* the pool recording's settings, as actag-eval --pool sets them */
+    TEST_ASSERT_EQUAL_INT(1, simio_opt_defaults(2, argv, &s, &v, &a));
+    TEST_ASSERT_TRUE(s.rows <= 1024 && s.cols <= 1024);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    memset(&t, 0, sizeof t);
+    t.family = fam;
+    t.tag_size = 0.130628571f;
+    t.id = simio_random_id(fs, fam.ncodes);
+    TEST_ASSERT_EQUAL_INT(4, t.id);
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, fs, img, NULL, s.cols, NULL));
+    sim_truth_of(&s, &t, &tr);
+    TEST_ASSERT_EQUAL_INT(0, tr.mirrored);
+    actag_params_default(&p);
+    p.family = &fam;
+    p.tag_size = t.tag_size;
+    f.data = img;
+    f.rows = s.rows;
+    f.cols = s.cols;
+    f.stride = s.cols;
+    f.depth = 8;
+    n = actag_detect(&f, &s.geo, &p, ws, sizeof ws, det, 8, NULL);
+    TEST_ASSERT_GREATER_OR_EQUAL(0, n);
+    for (k = 0; k < n; k++) {
+        TEST_ASSERT_EQUAL_INT_MESSAGE(4, det[k].id, "the wrong ID of pool seed 105 frame 673");
+        TEST_ASSERT_EQUAL_INT(0, det[k].mirrored);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -474,5 +526,6 @@ int main(void)
     RUN_TEST(test_detect_multi_equals_separate_calls);
     RUN_TEST(test_render_errors);
     RUN_TEST(test_regression_seed102_frame444);
+    RUN_TEST(test_regression_pool_seed105_frame673);
     return UNITY_END();
 }
