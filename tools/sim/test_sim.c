@@ -410,65 +410,13 @@ static void test_render_errors(void)
     TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 1u, img, NULL, 64, err));
 }
 
-/* Regression (docs/decoder.md, the full-range re-check): frame 444 of
- * `actag-eval --frames 1000 --seed 102` (the paper's settings), a mirrored
- * AcTag24h10 tag 3 at 3.68 m and 63 degrees whose RANSAC quad is a fifth of
- * a side short, was read as tag 2 at margin 6.3 from the quad's own grid.
- * Whatever is read there now must be the tag, in its handedness. */
-static void test_regression_seed102_frame444(void)
-{
-    static uint8_t img[1024 * 1024];
-    static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
-    char arg0[] = "test_sim";
-    char *argv[2] = {arg0, NULL};
-    sim_sonar s;
-    sim_view_params v;
-    sim_appearance a;
-    sim_tag t;
-    sim_scene sc;
-    sim_truth tr;
-    actag_family fam;
-    actag_params p;
-    actag_frame f;
-    actag_detection det[8];
-    uint32_t fs = sim_frame_seed(102u, 444u);
-    int n, k;
-    /* the paper's settings, as actag-eval sets them (its 60 degree aperture) */
-    TEST_ASSERT_EQUAL_INT(0, simio_opt_defaults(1, argv, &s, &v, &a));
-    s.geo.aperture = (float)(60.0 * (3.14159265358979 / 180.0));
-    TEST_ASSERT_TRUE(s.rows <= 1024 && s.cols <= 1024);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
-    memset(&t, 0, sizeof t);
-    t.family = fam;
-    t.tag_size = 0.130628571f;
-    t.id = simio_random_id(fs, fam.ncodes);
-    TEST_ASSERT_EQUAL_INT(3, t.id);
-    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
-    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, fs, img, NULL, s.cols, NULL));
-    sim_truth_of(&s, &t, &tr);
-    TEST_ASSERT_EQUAL_INT(1, tr.mirrored);
-    actag_params_default(&p);
-    p.family = &fam;
-    p.tag_size = t.tag_size;
-    f.data = img;
-    f.rows = s.rows;
-    f.cols = s.cols;
-    f.stride = s.cols;
-    f.depth = 8;
-    n = actag_detect(&f, &s.geo, &p, ws, sizeof ws, det, 8, NULL);
-    TEST_ASSERT_GREATER_OR_EQUAL(0, n);
-    for (k = 0; k < n; k++) {
-        TEST_ASSERT_EQUAL_INT_MESSAGE(3, det[k].id, "the wrong ID of seed 102 frame 444");
-        TEST_ASSERT_EQUAL_INT(1, det[k].mirrored);
-    }
-}
-
-/* actag-eval --pool --seed 105, frame 673 (as actag-eval renders it): an
- * unmirrored AcTag24h10 tag 4 at 1.22 m and 62.5 degrees whose RANSAC quad
- * has one corner 20 px (1.2 cells) inside the tag, was read as a mirrored
- * tag 5 at margin 14.1 (tag 4 no candidate of the template check). Whatever
- * is read there now must be the tag, in its handedness. */
-static void test_regression_pool_seed105_frame673(void)
+/* Frame `frame` of `actag-eval [--pool] --seed seed`, rendered as actag-eval
+ * renders it (pool: the pool recording's settings; else the paper's with
+ * actag-eval's 60 degree aperture), must hold tag `id` seen with the
+ * mirrored flag `mirrored`, and whatever actag_detect reads there must be
+ * that tag in that handedness (a wrong reading fails with `what`). */
+static void check_sim_frame(int pool, uint32_t seed, uint32_t frame, int id, int mirrored,
+                            const char *what)
 {
     static uint8_t img[1024 * 1024];
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
@@ -484,21 +432,24 @@ static void test_regression_pool_seed105_frame673(void)
     actag_params p;
     actag_frame f;
     actag_detection det[8];
-    uint32_t fs = sim_frame_seed(105u, 673u);
+    uint32_t fs = sim_frame_seed(seed, frame);
     int n, k;
-    /* the pool recording's settings, as actag-eval --pool sets them */
-    TEST_ASSERT_EQUAL_INT(1, simio_opt_defaults(2, argv, &s, &v, &a));
+    if (!pool)
+        argv[1] = NULL;
+    TEST_ASSERT_EQUAL_INT(pool, simio_opt_defaults(pool ? 2 : 1, argv, &s, &v, &a));
+    if (!pool)
+        s.geo.aperture = (float)(60.0 * (3.14159265358979 / 180.0));
     TEST_ASSERT_TRUE(s.rows <= 1024 && s.cols <= 1024);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
     memset(&t, 0, sizeof t);
     t.family = fam;
     t.tag_size = 0.130628571f;
     t.id = simio_random_id(fs, fam.ncodes);
-    TEST_ASSERT_EQUAL_INT(4, t.id);
+    TEST_ASSERT_EQUAL_INT(id, t.id);
     TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
     TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, fs, img, NULL, s.cols, NULL));
     sim_truth_of(&s, &t, &tr);
-    TEST_ASSERT_EQUAL_INT(0, tr.mirrored);
+    TEST_ASSERT_EQUAL_INT(mirrored, tr.mirrored);
     actag_params_default(&p);
     p.family = &fam;
     p.tag_size = t.tag_size;
@@ -510,9 +461,26 @@ static void test_regression_pool_seed105_frame673(void)
     n = actag_detect(&f, &s.geo, &p, ws, sizeof ws, det, 8, NULL);
     TEST_ASSERT_GREATER_OR_EQUAL(0, n);
     for (k = 0; k < n; k++) {
-        TEST_ASSERT_EQUAL_INT_MESSAGE(4, det[k].id, "the wrong ID of pool seed 105 frame 673");
-        TEST_ASSERT_EQUAL_INT(0, det[k].mirrored);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
+        TEST_ASSERT_EQUAL_INT(mirrored, det[k].mirrored);
     }
+}
+
+/* actag-eval --seed 102, frame 444: a mirrored AcTag24h10 tag 3 at 3.68 m
+ * and 63 degrees whose RANSAC quad is a fifth of a side short, was read as
+ * tag 2 at margin 6.3 from the quad's own grid. */
+static void test_regression_seed102_frame444(void)
+{
+    check_sim_frame(0, 102u, 444u, 3, 1, "the wrong ID of seed 102 frame 444");
+}
+
+/* actag-eval --pool --seed 105, frame 673: an unmirrored AcTag24h10 tag 4 at
+ * 1.22 m and 62.5 degrees whose RANSAC quad has one corner 20 px (1.2 cells)
+ * inside the tag, was read as a mirrored tag 5 at margin 14.1 (tag 4 no
+ * candidate of the template check). */
+static void test_regression_pool_seed105_frame673(void)
+{
+    check_sim_frame(1, 105u, 673u, 4, 0, "the wrong ID of pool seed 105 frame 673");
 }
 
 int main(void)
