@@ -3,9 +3,11 @@
  *
  * Runs actag_detect() on a few real sonar frames with fixed parameters and
  * writes a report: every detection (id, hamming, mirrored, corners, range,
- * azimuth, inlier ratio) with floats as C99 hex floats (exact), the call's
- * counters, and FNV-1a 64-bit digests of the raw detection structs and of
- * the workspace's filtered and binary stage images. The same file is built
+ * azimuth, inlier ratio) and its sonar pose (actag_pose_from_detection:
+ * position, rotation, elevation band, residual, flags) with floats as C99
+ * hex floats (exact), the call's counters, and FNV-1a 64-bit digests of the
+ * raw detection and pose structs and of the workspace's filtered and binary
+ * stage images. The same file is built
  * natively (io_host.c) and for a Cortex-M (io_semihost.c and the board
  * support's boards/qemu-mps2/startup.c, run under QEMU); .ci/armcheck
  * requires the two reports to be byte-identical.
@@ -21,6 +23,7 @@
  *   returned >= 0.
  */
 #include "actag/actag.h"
+#include "actag/pose.h"
 #include "actag/version.h" /* generated: the build passes -I<build>/include */
 #include "armcheck_io.h"
 
@@ -38,6 +41,11 @@
 static uint8_t ac_ws[ACTAG_WORKSPACE_SIZE(AC_MAX_ROWS, AC_MAX_COLS)];
 static unsigned char ac_file[AC_FILE_CAP];
 static actag_detection ac_det[AC_MAX_DET];
+static actag_pose ac_pose[AC_MAX_DET];
+/* The pose's vertical aperture (rad): 20 degrees, a typical imaging sonar's
+ * (the pool recording's is not published; any aperture exercises the same
+ * arithmetic). */
+#define AC_VERTICAL_APERTURE 0.34906585f
 
 static const char *const ac_default_frames[] = {
     "example/exampleSonarImage.pgm",
@@ -306,7 +314,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         actag_params p;
         actag_stats st;
         int n, i, k;
-        uint64_t hd, hf, hb;
+        uint64_t hd, hf, hb, hp;
         const uint8_t *img;
 
         actag_params_default(&p);
@@ -379,6 +387,48 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
                 end_line();
             }
         }
+        /* the sonar pose of every detection (pose.h): float arithmetic and
+         * the library's own trigonometry, so bit-identical as well */
+        memset(ac_pose, 0, sizeof ac_pose); /* no stale bytes in the digest */
+        for (i = 0; i < n; i++) {
+            actag_pose_params pp;
+            const actag_pose *q = &ac_pose[i];
+            int prc;
+            actag_pose_params_default(&pp, fam, p.tag_size, AC_VERTICAL_APERTURE);
+            prc = actag_pose_from_detection(&ac_det[i], &pp, &ac_pose[i]);
+            put_s("pose ");
+            put_d(i);
+            put_s(" result ");
+            put_d(prc);
+            put_s(" flags ");
+            put_u(q->flags);
+            put_s(" iterations ");
+            put_d(q->iterations);
+            end_line();
+            put_s("  t");
+            for (k = 0; k < 3; k++) {
+                put_s(" ");
+                put_f(q->t[k]);
+            }
+            put_s(" elevation ");
+            put_f(q->elevation);
+            put_s(" band ");
+            put_f(q->elevation_lo);
+            put_s(" ");
+            put_f(q->elevation_hi);
+            put_s(" residual ");
+            put_f(q->residual);
+            put_s(" chi2 ");
+            put_f(q->chi2);
+            end_line();
+            put_s("  R");
+            for (k = 0; k < 9; k++) {
+                put_s(" ");
+                put_f(q->R[k]);
+            }
+            end_line();
+        }
+        hp = fnv1a(FNV_OFFSET, ac_pose, (size_t)n * sizeof ac_pose[0]);
         hd = fnv1a(FNV_OFFSET, ac_det, (size_t)n * sizeof ac_det[0]);
         img = actag_workspace_filtered(ac_ws, rows, cols);
         hf = img != NULL ? fnv1a(FNV_OFFSET, img, (size_t)rows * (size_t)cols) : 0u;
@@ -390,8 +440,11 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         put_x64(hf);
         put_s(" binary ");
         put_x64(hb);
+        put_s(" poses ");
+        put_x64(hp);
         end_line();
         total = fnv1a(total, &hd, sizeof hd);
+        total = fnv1a(total, &hp, sizeof hp);
         total = fnv1a(total, &hf, sizeof hf);
         total = fnv1a(total, &hb, sizeof hb);
     }
