@@ -4,6 +4,7 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/decode.h"
 #include "decode_common.h"
+#include "decode_fit_grids.h"
 #include "decode_fit_test.h"
 
 #include <string.h>
@@ -1495,6 +1496,16 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                           int max_corrections, const actag_fit_params *fp,
                           actag_decode_result *out)
 {
+    return actag__decode_quad_fit_grids(grey, rows, cols, stride, quad, family, max_corrections,
+                                        fp, out, NULL);
+}
+
+/* decode_fit_grids.h */
+int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int stride,
+                                 const actag_point quad[4], const actag_family *family,
+                                 int max_corrections, const actag_fit_params *fp,
+                                 actag_decode_result *out, actag__fit_grids *grids)
+{
     int flags;
     float level;
     fimg im;
@@ -1556,23 +1567,47 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
             FIT_POLISH_SHIFT2 * actag_sqrtf(la2) * actag_sqrtf(lb2))
             far = FIT_RECHECK_FAR;
     }
-    if (flags & ACTAG_FIT_WIDE) {
-        im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
-        fshift(&im, &gr, k, m);
-        /* a hopeless start: no ascent, straight to the quad's own grid
-         * (the second grid, as if the fitted one had read nothing) */
-        if (!(flags & ACTAG_FIT_NO_SEARCH) &&
-            fhopeless(&im, &gr, k, flags, level, family, keep, m, &rc)) {
-            im.fast = 0;
+    if (grids && (flags & ACTAG_FIT_WIDE) && grids->state != 0) {
+        /* the wide search of an earlier reading of this candidate */
+        if (grids->state == 2)
             return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1,
                               m, out, NULL, 0);
+        gr.mx = grids->g[0];
+        gr.my = grids->g[1];
+        gr.ax = grids->g[2];
+        gr.ay = grids->g[3];
+        gr.bx = grids->g[4];
+        gr.by = grids->g[5];
+    } else {
+        if (flags & ACTAG_FIT_WIDE) {
+            im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
+            fshift(&im, &gr, k, m);
+            /* a hopeless start: no ascent, straight to the quad's own grid
+             * (the second grid, as if the fitted one had read nothing) */
+            if (!(flags & ACTAG_FIT_NO_SEARCH) &&
+                fhopeless(&im, &gr, k, flags, level, family, keep, m, &rc)) {
+                im.fast = 0;
+                if (grids)
+                    grids->state = 2;
+                return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q,
+                                  1, m, out, NULL, 0);
+            }
+            if (rc != ACTAG_OK)
+                return rc;
+            im.fast = 0;
         }
-        if (rc != ACTAG_OK)
-            return rc;
-        im.fast = 0;
-    }
-    if (!(flags & ACTAG_FIT_NO_SEARCH)) {
-        ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
+        if (!(flags & ACTAG_FIT_NO_SEARCH)) {
+            ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
+        }
+        if (grids && (flags & ACTAG_FIT_WIDE)) {
+            grids->g[0] = gr.mx;
+            grids->g[1] = gr.my;
+            grids->g[2] = gr.ax;
+            grids->g[3] = gr.ay;
+            grids->g[4] = gr.bx;
+            grids->g[5] = gr.by;
+            grids->state = 1;
+        }
     }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
                     &ambig, far);

@@ -4,11 +4,17 @@
  *
  * MANUAL
  *   actag_detect_traced() is actag_detect() with a callback that sees every
- *   candidate the pipeline examines, in the order it examines them:
+ *   candidate the pipeline examines, in the order it examines them (search
+ *   positions read tentatively: at the end, see below):
  *
  *     ACTAG_TRACE_SEARCH   a structure-search position (search.h): its
  *                          axis-aligned white-square quad and what the fit
- *                          decoder made of it.
+ *                          decoder made of it. A position is first read
+ *                          without the template check: a refusal is traced
+ *                          at once; a tentative reading after the contours,
+ *                          as ACTAG_TRACE_ACCEPTED with that reading when a
+ *                          quad's reading superseded it, else with the
+ *                          outcome of its reading with the check.
  *     ACTAG_TRACE_CONTOUR  an outer border of the binary frame (contours.h):
  *                          its points, bounding box and whether it passed the
  *                          physical size filter.

@@ -17,7 +17,8 @@
  *   threshold  actag_adaptive_threshold_bitmap
  *   contours   actag_contour_scanner_init, actag_contour_next
  *   ransac     actag_quad_fit
- *   decode     actag_decode_quad_fit, actag_decode_quad_bitmap
+ *   decode     actag__decode_quad_fit_grids (src/decode_fit_grids.h: the fit
+ *              decoder as detect.c calls it), actag_decode_quad_bitmap
  *   refine     actag__refine_corners_max16 (src/refine_frame.h)
  * (budget.py checks that every stage function detect.c calls is wrapped:
  * a renamed stage would otherwise be counted as "other".)
@@ -33,6 +34,7 @@
  */
 #include "actag/actag.h"
 #include "actag/families.h"
+#include "../../src/decode_fit_grids.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -132,11 +134,11 @@ WRAPPED(ST_RANSAC, actag_quad_fit,
          void *scratch, size_t scratch_size, actag_quad *out),
         (pts, npoints, params, rng, scratch, scratch_size, out))
 
-WRAPPED(ST_DECODE, actag_decode_quad_fit,
+WRAPPED(ST_DECODE, actag__decode_quad_fit_grids,
         (const uint8_t *grey, int rows, int cols, int stride, const actag_point quad[4],
          const actag_family *family, int max_corrections, const actag_fit_params *fp,
-         actag_decode_result *out),
-        (grey, rows, cols, stride, quad, family, max_corrections, fp, out))
+         actag_decode_result *out, actag__fit_grids *grids),
+        (grey, rows, cols, stride, quad, family, max_corrections, fp, out, grids))
 
 WRAPPED(ST_DECODE, actag_decode_quad_bitmap,
         (const uint32_t *bitmap, int rows, int cols, const actag_point quad[4],

@@ -1,0 +1,35 @@
+/*
+ * decode_fit_grids.h -- internal: a wide reading's grids, kept for a second
+ * reading of the same candidate (not part of the API).
+ *
+ * The wide search of actag_decode_quad_fit (the lattice of shifted starting
+ * grids, the hopeless test and the code-agnostic ascent) does not depend on
+ * ACTAG_FIT_VERIFY or on the corrections limit. detect.c reads a search
+ * candidate first without the template check (a tentative reading, which
+ * steers RANSAC's effort) and, only when the reading is reported, again
+ * with it: the second reading starts from the grids the first one found, bit
+ * for bit the grids it would find again.
+ */
+#ifndef ACTAG_SRC_DECODE_FIT_GRIDS_H
+#define ACTAG_SRC_DECODE_FIT_GRIDS_H
+
+#include "actag/decode.h"
+
+typedef struct actag__fit_grids {
+    float g[6];    /* the ascent's grid: mx, my, ax, ay, bx, by */
+    int state;     /* 0: not searched yet; 1: g holds the ascent's grid;
+                      2: the start was hopeless (the quad's own grid is read) */
+} actag__fit_grids;
+
+/* actag_decode_quad_fit() (same arguments, result and errors) that, with
+ * ACTAG_FIT_WIDE and grids not NULL, stores the wide search's outcome in
+ * *grids when grids->state is 0 and starts from it otherwise. grids->state
+ * must be 0 before the first reading of a candidate; the second reading
+ * must pass the same frame, quad, family and fit flags other than
+ * ACTAG_FIT_VERIFY. grids NULL: actag_decode_quad_fit(). */
+int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int stride,
+                                 const actag_point quad[4], const actag_family *family,
+                                 int max_corrections, const actag_fit_params *fp,
+                                 actag_decode_result *out, actag__fit_grids *grids);
+
+#endif
