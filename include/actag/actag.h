@@ -160,7 +160,9 @@ typedef struct actag_limits {
     int max_frame_iterations;   /* RANSAC iterations per frame (default 6000)
                                    (stats.frame_budget) */
     int max_decodes;            /* decoder calls per frame: quads, search candidates and
-                                   extreme-point guesses (default 40) (stats.decode_cap) */
+                                   extreme-point guesses (default 40) (stats.decode_cap); a
+                                   search candidate's second reading, with the template
+                                   check, counts with its first (at most search_candidates) */
 } actag_limits;
 
 #define ACTAG_LIMIT_CONTOURS 20000
@@ -302,12 +304,16 @@ typedef struct actag_params {
  *     frame score every position by mean(3x3-cell box) - mean(ring of cells
  *     around it) at the tag's physical size (range extent scaled by
  *     search_range_scale); the best search_candidates separated maxima are
- *     decoded with ACTAG_FIT_WIDE. It finds tags whose white square merged
- *     with data cells or clutter in the binary frame (no quad). A contour
- *     containing a search hit gets up to 10 RANSAC quads until one decodes,
- *     and a quad reading replaces the search reading at the same place, so
- *     corners come from quads whenever one decodes (fitted-grid corners
- *     otherwise). Memory: the score map (int16, rows/4 x cols/4) uses the
+ *     decoded with ACTAG_FIT_WIDE, first without the template check (a
+ *     tentative reading). It finds tags whose white square merged with data
+ *     cells or clutter in the binary frame (no quad). A contour containing a
+ *     tentative reading gets up to 10 RANSAC quads until one decodes, and a
+ *     quad reading replaces the search reading at the same place, so corners
+ *     come from quads whenever one decodes; a tentative reading no quad
+ *     replaced is read again with the template check (from the grids the
+ *     first reading found) and reported with fitted-grid corners if it
+ *     passes. Most search readings of a tag are replaced, so their template
+ *     check, the costliest part of a wide reading, is skipped. Memory: the score map (int16, rows/4 x cols/4) uses the
  *     binary bitmap's and the contour marks' place before the threshold
  *     fills them, the integral
  *     image (uint32, (rows/4+1) x (cols/4+1)) the stage scratch (both
