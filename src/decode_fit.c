@@ -881,6 +881,14 @@ typedef struct frefuse {
     float rss0, s2, look, min_margin;
 } frefuse;
 
+/* The cell noise variance (grey levels^2) of a template fit whose residual
+ * is rss over nc cells (two levels fitted), at least floor2. */
+static float fcell_noise2(float rss, int nc, float floor2)
+{
+    float s2 = rss / (float)(nc > 3 ? nc - 2 : 1);
+    return s2 < floor2 ? floor2 : s2;
+}
+
 static int frefused(const frefuse *rf, float r)
 {
     return r <= rf->rss0 || 0.5f * (r - rf->rss0) / rf->s2 - rf->look < rf->min_margin;
@@ -1329,11 +1337,9 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 if (jj == 0) {
                     nc = n * n - (erase ? 4 : 0); /* the cells template_rss counts */
                     rss0 = r;
-                    s2 = rss0 / (float)(nc > 3 ? nc - 2 : 1);
                     floor2 = FIT_MIN_NOISE * 2.0f * contrast;
                     floor2 *= floor2;
-                    if (s2 < floor2)
-                        s2 = floor2;
+                    s2 = fcell_noise2(rss0, nc, floor2);
                     continue;
                 }
                 /* Another hypothesis explains the cells better once each
@@ -1408,7 +1414,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 margin - look >= fp->min_margin) {
                 unsigned views = fit_views(flags);
                 int rid[FIT_FAR_RIVALS], rview[FIT_FAR_RIVALS], nr = 0, id2, v2, ia;
-                float rr[FIT_FAR_RIVALS], f0, sc, s2f;
+                float rr[FIT_FAR_RIVALS], f0, sc;
                 fgrid g = *gr;
                 frefuse rf;
                 for (id2 = 0; id2 < family->ncodes; id2++)
@@ -1436,9 +1442,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
                 ffit(im, &g, k, mt, L, erase, 0, m, NULL, &sc);
                 f0 = -sc;
-                s2f = f0 / (float)(nc > 3 ? nc - 2 : 1);
                 rf.rss0 = f0;
-                rf.s2 = s2f < floor2 ? floor2 : s2f;
+                rf.s2 = fcell_noise2(f0, nc, floor2);
                 rf.look = look;
                 rf.min_margin = fp->min_margin;
                 for (ia = 0; ia < nr; ia++) {
@@ -1491,6 +1496,31 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
     return ACTAG_OK;
 }
 
+/* From the quad's grid *gr: with ACTAG_FIT_WIDE the lattice search
+ * (fshift) and the hopeless test, then (unless ACTAG_FIT_NO_SEARCH) the
+ * code-agnostic ascent. Returns 1 for a hopeless start (*gr then the
+ * lattice's best, no ascent), 0, or the matcher's negative error. */
+static int fsearch(fimg *im, fgrid *gr, int k, int flags, float level,
+                   const actag_family *family, uint32_t keep, float *m)
+{
+    int rc = ACTAG_OK;
+    if (flags & ACTAG_FIT_WIDE) {
+        im->fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
+        fshift(im, gr, k, m);
+        if (!(flags & ACTAG_FIT_NO_SEARCH) &&
+            fhopeless(im, gr, k, flags, level, family, keep, m, &rc)) {
+            im->fast = 0;
+            return 1;
+        }
+        im->fast = 0;
+        if (rc != ACTAG_OK)
+            return rc;
+    }
+    if (!(flags & ACTAG_FIT_NO_SEARCH))
+        ffit(im, gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
+    return 0;
+}
+
 int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                           const actag_point quad[4], const actag_family *family,
                           int max_corrections, const actag_fit_params *fp,
@@ -1513,7 +1543,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     actag_point q[4];
     uint32_t keep;
-    int rc, bits, k, n, ambig = 0, far = 0;
+    int rc, bits, k, n, ambig = 0, far = 0, hopeless;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -1569,9 +1599,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     }
     if (grids && (flags & ACTAG_FIT_WIDE) && grids->state != 0) {
         /* the wide search of an earlier reading of this candidate */
-        if (grids->state == 2)
-            return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1,
-                              m, out, NULL, 0);
+        hopeless = grids->state == 2;
         gr.mx = grids->g[0];
         gr.my = grids->g[1];
         gr.ax = grids->g[2];
@@ -1579,26 +1607,9 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
         gr.bx = grids->g[4];
         gr.by = grids->g[5];
     } else {
-        if (flags & ACTAG_FIT_WIDE) {
-            im.fast = 1; /* the coarse search compares grids: 5 samples a cell suffice */
-            fshift(&im, &gr, k, m);
-            /* a hopeless start: no ascent, straight to the quad's own grid
-             * (the second grid, as if the fitted one had read nothing) */
-            if (!(flags & ACTAG_FIT_NO_SEARCH) &&
-                fhopeless(&im, &gr, k, flags, level, family, keep, m, &rc)) {
-                im.fast = 0;
-                if (grids)
-                    grids->state = 2;
-                return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q,
-                                  1, m, out, NULL, 0);
-            }
-            if (rc != ACTAG_OK)
-                return rc;
-            im.fast = 0;
-        }
-        if (!(flags & ACTAG_FIT_NO_SEARCH)) {
-            ffit(&im, &gr, k, m, NULL, 0, 0, NULL, NULL, NULL);
-        }
+        hopeless = fsearch(&im, &gr, k, flags, level, family, keep, m);
+        if (hopeless < 0)
+            return hopeless;
         if (grids && (flags & ACTAG_FIT_WIDE)) {
             grids->g[0] = gr.mx;
             grids->g[1] = gr.my;
@@ -1606,9 +1617,14 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
             grids->g[3] = gr.ay;
             grids->g[4] = gr.bx;
             grids->g[5] = gr.by;
-            grids->state = 1;
+            grids->state = hopeless ? 2 : 1;
         }
     }
+    /* a hopeless start: straight to the quad's own grid (the second grid,
+     * as if the fitted one had read nothing) */
+    if (hopeless)
+        return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
+                          out, NULL, 0);
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
                     &ambig, far);
     /* The code-agnostic fit can settle on a lattice where the tag does not
