@@ -181,6 +181,16 @@ static void put_f(float f)
     put_s(t);
 }
 
+/* " v0 v1 ...": n floats, each after a space */
+static void put_floats(const float *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        put_s(" ");
+        put_f(v[i]);
+    }
+}
+
 static void end_line(void)
 {
     ac_line[ac_len++] = '\n';
@@ -406,10 +416,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
             put_d(q->iterations);
             end_line();
             put_s("  t");
-            for (k = 0; k < 3; k++) {
-                put_s(" ");
-                put_f(q->t[k]);
-            }
+            put_floats(q->t, 3);
             put_s(" elevation ");
             put_f(q->elevation);
             put_s(" band ");
@@ -422,10 +429,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
             put_f(q->chi2);
             end_line();
             put_s("  R");
-            for (k = 0; k < 9; k++) {
-                put_s(" ");
-                put_f(q->R[k]);
-            }
+            put_floats(q->R, 9);
             end_line();
         }
         hp = fnv1a(FNV_OFFSET, ac_pose, (size_t)n * sizeof ac_pose[0]);
