@@ -24,6 +24,8 @@ typedef struct fimg {
     int rows, cols, stride;
     float so; /* sample offset, cells */
     int fast; /* 1: 5 samples per cell instead of 9 */
+    float looks; /* 2: the candidate was read before by other means (a
+                    second look: the allowance counts both), else 1 */
 #if ACTAG__FIT_SIMD
     int simd; /* 1: the SSE2 samplers serve the cell reads (fsimd_ok) */
 #endif
@@ -1106,6 +1108,23 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
 }
 
+/* The affine grid of a clockwise white-square quad q (actag_tag_affine):
+ * grid point (u, v) at m + a (u - n/2) + b (v - n/2), n = bits / 4 + 1. */
+static int fgrid_of_quad(const actag_point q[4], int bits, fgrid *g)
+{
+    float H[9];
+    int n = bits / 4 + 1, rc = actag_tag_affine(q, bits, H);
+    if (rc != ACTAG_OK)
+        return rc;
+    g->ax = H[0];
+    g->bx = H[1];
+    g->ay = H[3];
+    g->by = H[4];
+    g->mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
+    g->my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
+    return ACTAG_OK;
+}
+
 /* fread_grid's recheck bits */
 #define FIT_RECHECK 1     /* the full-range re-check of a second-grid reading */
 #define FIT_RECHECK_FAR 2 /* rivals by template: a quad far from affine */
@@ -1272,7 +1291,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
          * counts what is left. */
         look = actag_logf(8.0f * (float)family->ncodes *
                           ((flags & ACTAG_FIT_WIDE) ? (float)FIT_WIDE_GRIDS : 1.0f) *
-                          (regrid ? 2.0f : 1.0f));
+                          (regrid ? 2.0f : 1.0f) * im->looks);
         /* log-likelihood ratio best : runner-up under Gaussian cell noise */
         margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ACTAG_SOFT_SCALE) / noise2;
         if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
@@ -1455,6 +1474,54 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                         return ACTAG_ERR_NO_MATCH; /* a rival within the margin */
                     }
                 }
+                /* The quad's parallelograms: a quad this far from affine
+                 * has a corner cut (eroded) or grown (bloomed), and the
+                 * parallelogram through its other three corners is then
+                 * near the tag, a cell or more from the reading's grid,
+                 * out of the polish's reach. From each of the four, the
+                 * hypothesis that best explains its cells (the reading
+                 * excepted) is polished over the full range and must
+                 * stay below the reading by the least margin. Bounded: 4
+                 * more polishes. (Simulated frame 586 of actag-eval --pool
+                 * --seed 122: an unmirrored tag 4 whose quad has one
+                 * corner 1.3 cells inside, read as a mirrored tag 5 at
+                 * margin 9.9; tag 4 ranks 8th on the reading's grid, first
+                 * on the parallelogram without that corner, and comes
+                 * within 0.7 nats of tag 5 there.) The cells of each go
+                 * to m: the reading's own are not read again. */
+                for (ia = 0; ia < 4; ia++) {
+                    float *mc = m, rb = 0.0f;
+                    actag_point qc[4];
+                    int bid = -1, bv = 0;
+                    memcpy(qc, q, sizeof qc);
+                    qc[ia].x = q[(ia + 3) & 3].x + q[(ia + 1) & 3].x - q[(ia + 2) & 3].x;
+                    qc[ia].y = q[(ia + 3) & 3].y + q[(ia + 1) & 3].y - q[(ia + 2) & 3].y;
+                    if (fgrid_of_quad(qc, bits, &g) != ACTAG_OK)
+                        continue;
+                    fcells(im, &g, k, mc);
+                    for (id2 = 0; id2 < family->ncodes; id2++)
+                        for (v2 = 0; v2 < 8; v2++) {
+                            float r;
+                            if (!(views & (1u << v2)) ||
+                                (id2 == ml.top[0].id && v2 == ml.top[0].view))
+                                continue;
+                            layout_of(family, id2, v2, k, L);
+                            r = template_rss(mc, L, k, erase, NULL);
+                            if (bid < 0 || r < rb) { /* ties: the earlier */
+                                rb = r;
+                                bid = id2;
+                                bv = v2;
+                            }
+                        }
+                    if (bid < 0)
+                        continue;
+                    layout_of(family, bid, bv, k, L);
+                    if (ffit(im, &g, k, mt, L, erase, 0, mc, &rf, NULL)) {
+                        if (ambig)
+                            *ambig = 1;
+                        return ACTAG_ERR_NO_MATCH;
+                    }
+                }
             }
         }
         margin -= look;
@@ -1540,10 +1607,10 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     float level;
     fimg im;
     fgrid gr, g_quad;
-    float H[9], m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+    float m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     actag_point q[4];
     uint32_t keep;
-    int rc, bits, k, n, ambig = 0, far = 0, hopeless;
+    int rc, bits, k, ambig = 0, far = 0, hopeless;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -1558,14 +1625,13 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
         return rc;
     bits = family->bits;
     k = bits / 4;
-    n = k + 1;
     keep = actag_code_mask(bits);
     if (flags & ACTAG_FIT_ERASE_CORNERS)
         keep &= ~actag_code_corners(bits);
     rc = actag_tag_quad_clockwise(quad, q);
     if (rc != ACTAG_OK)
         return rc;
-    rc = actag_tag_affine(q, bits, H);
+    rc = fgrid_of_quad(q, bits, &gr);
     if (rc != ACTAG_OK)
         return rc;
     im.img = grey;
@@ -1574,15 +1640,10 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     im.stride = stride;
     im.so = fp->sample_offset;
     im.fast = 0;
+    im.looks = grids && grids->read_before ? 2.0f : 1.0f;
 #if ACTAG__FIT_SIMD
     im.simd = fsimd_ok(rows, cols, stride);
 #endif
-    gr.ax = H[0];
-    gr.bx = H[1];
-    gr.ay = H[3];
-    gr.by = H[4];
-    gr.mx = H[2] + (H[0] + H[1]) * 0.5f * (float)n;
-    gr.my = H[5] + (H[3] + H[4]) * 0.5f * (float)n;
     g_quad = gr; /* the quad's own grid: the template check's second start and the second grid */
     {
         /* A quad no affine grid fits to within the tight polish's reach:

@@ -19,6 +19,11 @@ typedef struct actag__fit_grids {
     float g[6];    /* the ascent's grid: mx, my, ax, ay, bx, by */
     int state;     /* 0: not searched yet; 1: g holds the ascent's grid;
                       2: the start was hopeless (the quad's own grid is read) */
+    int read_before; /* in, any reading: 1 when the candidate was read before
+                        by other means (the quads of the contour whose extreme
+                        points are the quad): the look-elsewhere allowance
+                        then counts twice the hypotheses, as for the second
+                        grid; 0 otherwise */
 } actag__fit_grids;
 
 /* actag_decode_quad_fit() (same arguments, result and errors) that, with
@@ -26,7 +31,8 @@ typedef struct actag__fit_grids {
  * *grids when grids->state is 0 and starts from it otherwise. grids->state
  * must be 0 before the first reading of a candidate; the second reading
  * must pass the same frame, quad, family and fit flags other than
- * ACTAG_FIT_VERIFY. grids NULL: actag_decode_quad_fit(). */
+ * ACTAG_FIT_VERIFY (and the same read_before). grids NULL:
+ * actag_decode_quad_fit(). */
 int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int stride,
                                  const actag_point quad[4], const actag_family *family,
                                  int max_corrections, const actag_fit_params *fp,

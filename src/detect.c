@@ -691,7 +691,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     break;
                 }
                 st.searched++;
-                sk_grids[nsk].state = 0;
+                memset(&sk_grids[nsk], 0, sizeof sk_grids[nsk]); /* state 0, not read before */
                 verdict = read_wide(w.b, rows, cols, quad, geometry, params, 0, &sk_grids[nsk],
                                     &dr);
                 if (verdict != ACTAG_TRACE_ACCEPTED) {
@@ -739,7 +739,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             const actag_point *corners = NULL;
             float ratio = 0.0f;
             int tries, contour_iters = params->tuning.limits.max_contour_iterations,
-                contour_limited = 0;
+                contour_limited = 0, decoded_quads = 0;
 
             if (st.contours >= params->tuning.limits.max_contours) {
                 st.contour_cap = 1; /* the rest of the frame is not examined */
@@ -814,6 +814,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     break;
                 }
                 rc = decode_any(&w, rows, cols, q.corners, params, &dr);
+                decoded_quads++;
                 if (rc != ACTAG_OK) {
                     trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_NO_MATCH, q.corners,
                                q.inlier_ratio, NULL);
@@ -844,8 +845,12 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 actag_point gq[4];
                 if (extreme_quad(pts, ci.stored, gq) && decode_budget(&st, params)) {
                     int verdict;
+                    /* after quads of the blob were read, one more look */
+                    actag__fit_grids gg;
+                    memset(&gg, 0, sizeof gg);
+                    gg.read_before = decoded_quads > 0;
                     nguess++;
-                    verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, NULL, &dr);
+                    verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &dr);
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED) {

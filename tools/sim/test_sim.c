@@ -483,6 +483,17 @@ static void test_regression_pool_seed105_frame673(void)
     check_sim_frame(1, 105u, 673u, 4, 0, "the wrong ID of pool seed 105 frame 673");
 }
 
+/* actag-eval --pool --seed 122, frame 586: an unmirrored AcTag24h10 tag 4
+ * at 1.27 m and 69 degrees whose RANSAC quad has one corner 1.3 cells inside
+ * the tag, was read as a mirrored tag 5 at margin 9.9 (the far-quad check's
+ * rivals, polished from the reading's grid, did not reach tag 4), and, once
+ * the parallelograms of the quad refused that, by the contour's grid guess
+ * at margin 2.2. */
+static void test_regression_pool_seed122_frame586(void)
+{
+    check_sim_frame(1, 122u, 586u, 4, 0, "the wrong ID of pool seed 122 frame 586");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -495,5 +506,6 @@ int main(void)
     RUN_TEST(test_render_errors);
     RUN_TEST(test_regression_seed102_frame444);
     RUN_TEST(test_regression_pool_seed105_frame673);
+    RUN_TEST(test_regression_pool_seed122_frame586);
     return UNITY_END();
 }
