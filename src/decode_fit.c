@@ -1125,6 +1125,37 @@ static int fgrid_of_quad(const actag_point q[4], int bits, fgrid *g)
     return ACTAG_OK;
 }
 
+/* The at most nmax templates (allowed views, the reading's (id0, view0)
+ * excepted) that best explain the cells m as whole templates, by rss,
+ * lowest first (ties: the earlier template first), into id, view, rss;
+ * L is scratch for a layout. Returns how many. */
+static int frivals(const actag_family *family, unsigned views, int id0, int view0,
+                   const float *m, int k, int erase, uint8_t *L, int nmax, int *id, int *view,
+                   float *rss)
+{
+    int nr = 0, id2, v2, ia;
+    for (id2 = 0; id2 < family->ncodes; id2++)
+        for (v2 = 0; v2 < 8; v2++) {
+            float r;
+            if (!(views & (1u << v2)) || (id2 == id0 && v2 == view0))
+                continue;
+            layout_of(family, id2, v2, k, L);
+            r = template_rss(m, L, k, erase, NULL);
+            if (nr == nmax && !(r < rss[nr - 1]))
+                continue;
+            ia = nr < nmax ? nr++ : nr - 1;
+            for (; ia > 0 && r < rss[ia - 1]; ia--) {
+                rss[ia] = rss[ia - 1];
+                id[ia] = id[ia - 1];
+                view[ia] = view[ia - 1];
+            }
+            rss[ia] = r;
+            id[ia] = id2;
+            view[ia] = v2;
+        }
+    return nr;
+}
+
 /* fread_grid's recheck bits */
 #define FIT_RECHECK 1     /* the full-range re-check of a second-grid reading */
 #define FIT_RECHECK_FAR 2 /* rivals by template: a quad far from affine */
@@ -1432,32 +1463,12 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
             if ((recheck & FIT_RECHECK_FAR) && !(flags & ACTAG_FIT_WIDE) &&
                 margin - look >= fp->min_margin) {
                 unsigned views = fit_views(flags);
-                int rid[FIT_FAR_RIVALS], rview[FIT_FAR_RIVALS], nr = 0, id2, v2, ia;
+                int rid[FIT_FAR_RIVALS], rview[FIT_FAR_RIVALS], nr, ia;
                 float rr[FIT_FAR_RIVALS], f0, sc;
                 fgrid g = *gr;
                 frefuse rf;
-                for (id2 = 0; id2 < family->ncodes; id2++)
-                    for (v2 = 0; v2 < 8; v2++) {
-                        float r;
-                        if (!(views & (1u << v2)) ||
-                            (id2 == ml.top[0].id && v2 == ml.top[0].view))
-                            continue;
-                        layout_of(family, id2, v2, k, L);
-                        r = template_rss(m, L, k, erase, NULL);
-                        /* insert into the sorted list of the lowest rss
-                         * (ties: the earlier template first) */
-                        if (nr == FIT_FAR_RIVALS && !(r < rr[nr - 1]))
-                            continue;
-                        ia = nr < FIT_FAR_RIVALS ? nr++ : nr - 1;
-                        for (; ia > 0 && r < rr[ia - 1]; ia--) {
-                            rr[ia] = rr[ia - 1];
-                            rid[ia] = rid[ia - 1];
-                            rview[ia] = rview[ia - 1];
-                        }
-                        rr[ia] = r;
-                        rid[ia] = id2;
-                        rview[ia] = v2;
-                    }
+                nr = frivals(family, views, ml.top[0].id, ml.top[0].view, m, k, erase, L,
+                             FIT_FAR_RIVALS, rid, rview, rr);
                 layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
                 ffit(im, &g, k, mt, L, erase, 0, m, NULL, &sc);
                 f0 = -sc;
@@ -1490,30 +1501,17 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                  * within 0.7 nats of tag 5 there.) The cells of each go
                  * to m: the reading's own are not read again. */
                 for (ia = 0; ia < 4; ia++) {
-                    float *mc = m, rb = 0.0f;
+                    float *mc = m, rb;
                     actag_point qc[4];
-                    int bid = -1, bv = 0;
+                    int bid, bv;
                     memcpy(qc, q, sizeof qc);
                     qc[ia].x = q[(ia + 3) & 3].x + q[(ia + 1) & 3].x - q[(ia + 2) & 3].x;
                     qc[ia].y = q[(ia + 3) & 3].y + q[(ia + 1) & 3].y - q[(ia + 2) & 3].y;
                     if (fgrid_of_quad(qc, bits, &g) != ACTAG_OK)
                         continue;
                     fcells(im, &g, k, mc);
-                    for (id2 = 0; id2 < family->ncodes; id2++)
-                        for (v2 = 0; v2 < 8; v2++) {
-                            float r;
-                            if (!(views & (1u << v2)) ||
-                                (id2 == ml.top[0].id && v2 == ml.top[0].view))
-                                continue;
-                            layout_of(family, id2, v2, k, L);
-                            r = template_rss(mc, L, k, erase, NULL);
-                            if (bid < 0 || r < rb) { /* ties: the earlier */
-                                rb = r;
-                                bid = id2;
-                                bv = v2;
-                            }
-                        }
-                    if (bid < 0)
+                    if (frivals(family, views, ml.top[0].id, ml.top[0].view, mc, k, erase, L,
+                                1, &bid, &bv, &rb) < 1)
                         continue;
                     layout_of(family, bid, bv, k, L);
                     if (ffit(im, &g, k, mt, L, erase, 0, mc, &rf, NULL)) {
