@@ -1156,6 +1156,12 @@ static int frivals(const actag_family *family, unsigned views, int id0, int view
     return nr;
 }
 
+/* Quad readings whose decision margin is below the least margin plus this
+ * (nats) get the full-range re-check of their candidates (fread_grid).
+ * Twice the default least margin: on simulated and real frames it refused
+ * no right reading (docs/decoder.md); 2.5 and more cost real pool frames. */
+#define FIT_RECHECK_BAND 2.0f
+
 /* fread_grid's recheck bits */
 #define FIT_RECHECK 1     /* the full-range re-check of a second-grid reading */
 #define FIT_RECHECK_FAR 2 /* rivals by template: a quad far from affine */
@@ -1423,14 +1429,26 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
              * tight check. (Simulated frame 444 of actag-eval --seed 102,
              * docs/decoder.md: a mirrored tag 3 read as tag 2 at margin
              * 6.3 on the second grid; at full range tag 3's rss 408 beats
-             * tag 2's 479.) */
-            if ((recheck & FIT_RECHECK) && !(flags & ACTAG_FIT_WIDE) &&
-                margin - look >= fp->min_margin) {
+             * tag 2's 479.) The same, against the other IDs among the
+             * candidates, for every quad reading whose margin lies within
+             * FIT_RECHECK_BAND of the least: a thin lead over another ID
+             * won with tight polishes is no lead when the rival's own grid
+             * lies farther away (the reading's other views keep the tight
+             * check: a tracker's verify, which reads one code, is not
+             * weakened). (Simulated frame 803 of actag-eval --seed 121:
+             * a mirrored tag 1 at 3.67 m and 72 degrees read as tag 5 at
+             * margin 3.07 from a good quad; at full range tag 1's rss 292
+             * beats tag 5's 304.) */
+            if (((recheck & FIT_RECHECK) || margin - look < fp->min_margin + FIT_RECHECK_BAND) &&
+                !(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
                 float f0 = 0.0f;
+                int other_ids = !(recheck & FIT_RECHECK); /* the thin margin's check */
                 for (jj = 0; jj < ncand; jj++) {
                     fgrid g = jj < ml.ntop ? *gr : *g_quad;
                     float sc;
                     frefuse rf;
+                    if (jj && other_ids && cid[jj] == cid[0])
+                        continue;
                     layout_of(family, cid[jj], cview[jj], k, L);
                     rf.rss0 = f0;
                     rf.s2 = 1.0f;
