@@ -320,6 +320,15 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      grids after ACTAG_FIT_WIDE, times 2 after the second grid): pure
  *      noise reaches about 0. A reading
  *      needs decision_margin >= min_margin (default ACTAG_FIT_MIN_MARGIN, 2).
+ *      Re-checks at the full range (without ACTAG_FIT_WIDE), refusing a
+ *      reading that a rival then explains better: every candidate of a
+ *      second-grid reading after a rival came within the margin on the
+ *      first grid; the candidates of other IDs when decision_margin is
+ *      below min_margin + 2; and, for a quad whose corners miss every
+ *      affine grid by over a quarter cell, the 6 templates that best fit
+ *      the reading's cells and the best one on each of the 4
+ *      parallelograms through three of the quad's corners (these must
+ *      also trail by the least margin). docs/decoder.md has the cases.
  *      Without ACTAG_FIT_VERIFY the margin is the soft-distance lead over
  *      the runner-up divided by the cell noise (from the ring and interior
  *      cells), less the same allowance.
