@@ -1516,10 +1516,10 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                  * corner 1.3 cells inside, read as a mirrored tag 5 at
                  * margin 9.9; tag 4 ranks 8th on the reading's grid, first
                  * on the parallelogram without that corner, and comes
-                 * within 0.7 nats of tag 5 there.) The cells of each go
-                 * to m: the reading's own are not read again. */
+                 * within 0.7 nats of tag 5 there.) The cells of each are
+                 * read into m: the reading's own are not needed again. */
                 for (ia = 0; ia < 4; ia++) {
-                    float *mc = m, rb;
+                    float rb;
                     actag_point qc[4];
                     int bid, bv;
                     memcpy(qc, q, sizeof qc);
@@ -1527,12 +1527,12 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                     qc[ia].y = q[(ia + 3) & 3].y + q[(ia + 1) & 3].y - q[(ia + 2) & 3].y;
                     if (fgrid_of_quad(qc, bits, &g) != ACTAG_OK)
                         continue;
-                    fcells(im, &g, k, mc);
-                    if (frivals(family, views, ml.top[0].id, ml.top[0].view, mc, k, erase, L,
-                                1, &bid, &bv, &rb) < 1)
+                    fcells(im, &g, k, m);
+                    if (frivals(family, views, ml.top[0].id, ml.top[0].view, m, k, erase, L, 1,
+                                &bid, &bv, &rb) < 1)
                         continue;
                     layout_of(family, bid, bv, k, L);
-                    if (ffit(im, &g, k, mt, L, erase, 0, mc, &rf, NULL)) {
+                    if (ffit(im, &g, k, mt, L, erase, 0, m, &rf, NULL)) {
                         if (ambig)
                             *ambig = 1;
                         return ACTAG_ERR_NO_MATCH;
