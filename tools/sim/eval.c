@@ -79,6 +79,10 @@ static void usage(FILE *f)
         "  --max-yaw-deg D --mirror-fraction F --clutter N --rows R --cols C --min-range M --max-range M\n"
         "  --aperture-deg D --vertical-aperture-deg D --range-ascending --azimuth-ascending\n"
         "  --pool                 the pool recording's sonar and views (see actag-sim)\n"
+        "Appearance (defaults: actag-sim's, tuned to the pool frames):\n"
+        "  --gain G --noise N --bands RATE --psf-azimuth RAD --psf-range M (beam sigma)\n"
+        "  --foam F --seabed-level S --metal-specular M --metal-diffuse D --spreading P --looks N\n");
+    fprintf(f, /* two strings: C99 compilers need not take longer ones */
         "Output:\n"
         "  --json                 one JSON summary object on stdout (instead of text)\n"
         "  --svg DIR              error histograms and rate-versus-distance/incidence curves\n"
@@ -87,7 +91,8 @@ static void usage(FILE *f)
         "                         orientation errors, rotation error vector, pose flags\n"
         "  --failures FILE        JSON lines of frames with a wrong ID, false tag, order or\n"
         "                         mirror error; frame F of run seed S is frame F of\n"
-        "                         actag-sim --seed S --random F+1 with the same sonar options\n"
+        "                         actag-sim --seed S --random F+1 with the same sonar, view\n"
+        "                         and appearance options\n"
         "  --quiet                no progress on stderr\n"
         "Tracking (track.h; the tag frames' pose figures are always printed):\n"
         "  --sequences N          N simulated sonar passes (sim_sequence_view) through the\n"
@@ -96,7 +101,7 @@ static void usage(FILE *f)
         "  --sequence-failures FILE  JSON lines of pass frames with a wrong ID or a false tag\n"
         "                         (whole frame or tracker); pass Q's frames are those of\n"
         "                         actag-sim --sequence LENGTH --seed SEQUENCE_SEED --id ID\n"
-        "                         with the same sonar options\n"
+        "                         with the same sonar, view and appearance options\n"
         "  --pool-sequence DIR    DIR's f_*.pgm in name order as one sequence (the pool\n"
         "                         recording: 530 x 512, 0.1-1.5 m, 60 degrees, tag ID 0;\n"
         "                         its 6 tag-free and 5 partial frames are not counted)\n"
@@ -860,6 +865,39 @@ int main(int argc, char **argv)
                 die("--free-max-range: expected LO,HI with 0 < LO <= HI");
             c.free_min_max_range = (float)mm[0];
             c.free_max_max_range = (float)mm[1];
+        } else if (!strcmp(o, "--gain")) { /* appearance: actag-sim's ranges */
+            NEED();
+            c.app.gain = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--noise")) {
+            NEED();
+            c.app.noise = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--bands")) {
+            NEED();
+            c.app.band_rate = (float)num(o, v, 0.0, 20.0);
+        } else if (!strcmp(o, "--psf-azimuth")) {
+            NEED();
+            c.app.psf_azimuth = (float)num(o, v, 0.0, 0.5);
+        } else if (!strcmp(o, "--psf-range")) {
+            NEED();
+            c.app.psf_range = (float)num(o, v, 0.0, 1.0);
+        } else if (!strcmp(o, "--foam")) {
+            NEED();
+            c.app.foam = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--seabed-level")) {
+            NEED();
+            c.app.seabed = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--metal-specular")) {
+            NEED();
+            c.app.metal_specular = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--metal-diffuse")) {
+            NEED();
+            c.app.metal_diffuse = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--spreading")) {
+            NEED();
+            c.app.spreading = (float)num(o, v, -4.0, 4.0);
+        } else if (!strcmp(o, "--looks")) {
+            NEED();
+            c.app.looks = (int)inum(o, v, 1, 8);
         } else if (!strcmp(o, "--json")) {
             json = 1;
         } else if (!strcmp(o, "--svg")) {

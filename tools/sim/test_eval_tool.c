@@ -1,7 +1,7 @@
 /* actag-eval and actag-sim as a user runs them: a small seeded evaluation
  * with fixed bounds on error and detection rate, the tag-free run, the SVG
- * output, ground truth written by actag-sim, and bad options (exit 2, a
- * message naming the option and the value). */
+ * output, ground truth written by actag-sim, bad options (exit 2, a
+ * message naming the option and the value) and the appearance options. */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
 #include "hostio.h"
@@ -196,6 +196,19 @@ static void expect_error(const char *tool, const char *args, const char *what)
     free(e);
 }
 
+/* expect_error, the message also naming the value (or saying it is missing). */
+static void expect_error_of(const char *tool, const char *args, const char *what,
+                            const char *value)
+{
+    char *e;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run(tool, args), args);
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, what), e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, value), e);
+    free(e);
+}
+
 static void test_bad_options(void)
 {
     expect_error(ACTAG_EVAL_PATH, "--frames -1", "--frames");
@@ -216,6 +229,35 @@ static void test_bad_options(void)
     expect_error(ACTAG_SIM_PATH, "--random 2 --aperture-deg 400 --out-dir /tmp", "--aperture-deg");
 }
 
+/* The appearance options (actag-sim's): a bad value exits with status 2 and a
+ * message naming the option and the value; a value changes the frames (8 pool
+ * views, seed 3: receiver noise far above the default, 0.0006, drowns the
+ * tags, so fewer are found than at the defaults). */
+static void test_appearance_options(void)
+{
+    char *js;
+    int plain, noisy;
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 1 --noise -1", "--noise", "-1");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 1 --looks 9", "--looks", "9");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 1 --psf-azimuth abc", "--psf-azimuth", "abc");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 1 --spreading 5", "--spreading", "5");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 1 --gain", "--gain", "missing value");
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH,
+                                 "--pool --frames 8 --seed 3 --json --quiet --threads 1"));
+    js = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(js);
+    plain = (int)json_num(js, "detected");
+    free(js);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--pool --frames 8 --seed 3 --json --quiet "
+                                                  "--threads 1 --noise 1"));
+    js = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(js);
+    noisy = (int)json_num(js, "detected");
+    free(js);
+    TEST_ASSERT_TRUE_MESSAGE(plain >= 6, "default appearance: most of 8 pool views found");
+    TEST_ASSERT_TRUE_MESSAGE(2 * noisy <= plain, "--noise 1 must lower the detections");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -226,5 +268,6 @@ int main(void)
     RUN_TEST(test_sequence_failures_file);
     RUN_TEST(test_sim_writes_frames_and_truth);
     RUN_TEST(test_bad_options);
+    RUN_TEST(test_appearance_options);
     return UNITY_END();
 }
