@@ -1712,3 +1712,78 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
                         out, NULL, (ambig ? FIT_RECHECK : 0) | far);
     return rc;
 }
+
+/* decode_fit_grids.h */
+int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int stride,
+                              const actag_family *family, const actag_fit_params *fp, int id,
+                              const actag_point corners[4], int id2,
+                              const actag_point corners2[4], float *rss, float *rss2)
+{
+    uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+    float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)], r[2];
+    fgrid g[4];
+    fimg im;
+    int rc, k, h, s, erase;
+    if (grey == NULL || family == NULL || fp == NULL || corners == NULL || corners2 == NULL ||
+        rss == NULL || rss2 == NULL)
+        return ACTAG_ERR_NULL;
+    rc = decode_check_frame_family(grey, rows, cols, stride, family);
+    if (rc != ACTAG_OK)
+        return rc;
+    if (actag_fit_params_validate(fp, NULL) != ACTAG_OK || id < 0 || id >= family->ncodes ||
+        id2 < 0 || id2 >= family->ncodes)
+        return ACTAG_ERR_PARAM;
+    k = family->bits / 4;
+    erase = (fp->flags & ACTAG_FIT_ERASE_CORNERS) != 0;
+    /* g[2 h + s]: reading h's template at reading s's place, in reading h's
+     * rotation and handedness (s's corners in the corner order nearest h's:
+     * its grid then carries h's orientation) */
+    for (h = 0; h < 2; h++)
+        for (s = 0; s < 2; s++) {
+            const actag_point *ch = h ? corners2 : corners, *cs = s ? corners2 : corners;
+            actag_point q[4];
+            int i, p, best = 0;
+            float dbest = 0.0f;
+            for (p = 0; p < 8; p++) { /* 4 rotations, then 4 reflections of the order */
+                float d = 0.0f;
+                for (i = 0; i < 4; i++) {
+                    const actag_point *c = &cs[p < 4 ? (i + p) & 3 : (p - i) & 3];
+                    d += (c->x - ch[i].x) * (c->x - ch[i].x) + (c->y - ch[i].y) * (c->y - ch[i].y);
+                }
+                if (p == 0 || d < dbest) {
+                    dbest = d;
+                    best = p;
+                }
+            }
+            for (i = 0; i < 4; i++)
+                q[i] = cs[best < 4 ? (i + best) & 3 : (best - i) & 3];
+            if (fgrid_of_quad(q, family->bits, &g[2 * h + s]) != ACTAG_OK)
+                return ACTAG_ERR_PARAM;
+        }
+    im.img = grey;
+    im.rows = rows;
+    im.cols = cols;
+    im.stride = stride;
+    im.so = fp->sample_offset;
+    im.fast = 0;
+    im.looks = 1.0f;
+#if ACTAG__FIT_SIMD
+    im.simd = fsimd_ok(rows, cols, stride);
+#endif
+    /* each reading's template, view 0 (the grid carries rotation and
+     * handedness), polished over the full range from either place */
+    for (h = 0; h < 2; h++) {
+        layout_of(family, h ? id2 : id, 0, k, L);
+        r[h] = 1e30f;
+        for (s = 0; s < 2; s++) {
+            fgrid t = g[2 * h + s];
+            float sc;
+            ffit(&im, &t, k, mt, L, erase, 0, NULL, NULL, &sc);
+            if (-sc < r[h])
+                r[h] = -sc;
+        }
+    }
+    *rss = r[0];
+    *rss2 = r[1];
+    return r[1] <= r[0];
+}

@@ -38,4 +38,23 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
                                  int max_corrections, const actag_fit_params *fp,
                                  actag_decode_result *out, actag__fit_grids *grids);
 
+/* Two readings of one place that disagree (another ID, handedness or
+ * rotation; detect.c: a quad's or a contour guess's reading and the
+ * structure search's tentative one). Each reading is a whole template: its
+ * code (id, as printed) on the grid through its white square's corners in
+ * tag order (fit_corners: TL TR BR BL as printed, so the grid's handedness
+ * is the reading's), polished over the code-agnostic ascent's full range
+ * from both readings' places (the better of the two starts; at the other
+ * reading's place its corners are taken in the order nearest this
+ * reading's, so the start keeps this reading's rotation and handedness and
+ * the two templates are each judged at both places). *rss, *rss2:
+ * the residual of reading 1 and of reading 2 (grey levels^2, two levels
+ * fitted). Returns 1 when reading 2 explains the cells at least as well as
+ * reading 1 (rss2 <= rss), 0 when not, or ACTAG_ERR_NULL / ACTAG_ERR_PARAM
+ * (bad frame, family, ID, corners or fit parameters). */
+int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int stride,
+                              const actag_family *family, const actag_fit_params *fp, int id,
+                              const actag_point corners[4], int id2,
+                              const actag_point corners2[4], float *rss, float *rss2);
+
 #endif

@@ -401,6 +401,52 @@ static int better(int hamming, float ratio, const actag_detection *d)
     return hamming < d->hamming || (hamming == d->hamming && ratio > d->inlier_ratio);
 }
 
+/* Do two readings of one place name different tags, handedness or corner
+ * order? Corner order: reading b's first corner is not the nearest of a's
+ * corners to a's first. */
+static int readings_disagree(const actag_decode_result *a, const actag_decode_result *b)
+{
+    int j, near = 0;
+    if (a->id != b->id || a->mirrored != b->mirrored)
+        return 1;
+    for (j = 1; j < 4; j++)
+        if (dist2(a->fit_corners[0], b->fit_corners[j]) <
+            dist2(a->fit_corners[0], b->fit_corners[near]))
+            near = j;
+    return near != 0;
+}
+
+/* A reading (a quad's or a contour guess's, *dr, reported at corners) at
+ * the place of a tentative search reading that disagrees with it: each is
+ * a whole template on its own grid, polished over the full range from both
+ * grids (actag__fit_rival_explains); when the search's explains the cells
+ * at least as well, the place has two readings and neither has the lead
+ * the decision margin stands for, so this one is refused (the search's is
+ * then judged by its own template check, as if no quad had read there).
+ * (Simulated frame 408 of actag-eval --seed 311: an unmirrored tag 4 at
+ * 2.5 m whose thresholded white square lost a fifth of its height on both
+ * sides; the quad read tag 5 at margin 6.3 on the short grid, the search
+ * tag 4 on the grid of the right height: at full range tag 4's template
+ * explains the cells better.) Returns 1 to refuse the reading. */
+static int rival_search(const ws_layout *w, int rows, int cols, const actag_params *params,
+                        const actag_decode_result *dr, const actag_decode_result *sk_dr,
+                        int nsk, const actag_point corners[4])
+{
+    int k;
+    if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
+        return 0;
+    for (k = 0; k < nsk; k++) {
+        float r1, r2;
+        if (!same_place(corners, sk_dr[k].fit_corners) || !readings_disagree(dr, &sk_dr[k]))
+            continue;
+        if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family,
+                                      &params->tuning.fit, dr->id, dr->fit_corners,
+                                      sk_dr[k].id, sk_dr[k].fit_corners, &r1, &r2) == 1)
+            return 1;
+    }
+    return 0;
+}
+
 /* A detection from a decoder result, its corners and quad support. */
 static void fill_det(actag_detection *d, const actag_decode_result *dr,
                      const actag_point corners[4], float ratio,
@@ -829,6 +875,14 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     rc = ACTAG_ERR_NO_MATCH;
                     continue;
                 }
+                /* a search reading here that disagrees and explains the
+                 * cells at least as well: no reading (another quad may) */
+                if (rival_search(&w, rows, cols, params, &dr, sk_dr, nsk, dr.corners)) {
+                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
+                               q.inlier_ratio, &dr);
+                    rc = ACTAG_ERR_NO_MATCH;
+                    continue;
+                }
                 trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_ACCEPTED, q.corners,
                            q.inlier_ratio, &dr);
                 break;
@@ -851,6 +905,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     gg.read_before = decoded_quads > 0;
                     nguess++;
                     verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &dr);
+                    if (verdict == ACTAG_TRACE_ACCEPTED &&
+                        rival_search(&w, rows, cols, params, &dr, sk_dr, nsk, dr.fit_corners))
+                        verdict = ACTAG_TRACE_RIVAL;
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED) {

@@ -309,7 +309,13 @@ typedef struct actag_params {
  *     cells or clutter in the binary frame (no quad). A contour containing a
  *     tentative reading gets up to 10 RANSAC quads until one decodes, and a
  *     quad reading replaces the search reading at the same place, so corners
- *     come from quads whenever one decodes; a tentative reading no quad
+ *     come from quads whenever one decodes. A quad's (or contour guess's)
+ *     reading that names another ID, handedness or corner order than the
+ *     search's there is refused when the search's template, polished over
+ *     the full range at both places, explains the cells at least as well
+ *     (two readings of one place, neither with the lead its margin claims;
+ *     the contour's next quad may read; trace outcome ACTAG_TRACE_RIVAL).
+ *     A tentative reading no quad
  *     replaced is read again with the template check (from the grids the
  *     first reading found) and reported with fitted-grid corners if it
  *     passes. Most search readings of a tag are replaced, so their template

@@ -1,0 +1,200 @@
+/* Two readings of one place that disagree (src/decode_fit_grids.h,
+ * actag__fit_rival_explains; detect.c refuses a quad's reading when the
+ * structure search's reading there explains the cells at least as well).
+ * On rendered tags (any ID, plain or mirrored, clean or speckled) the right
+ * reading must beat another ID, the other handedness and every other corner
+ * order on the same corners, and lose to itself (a tie counts for the
+ * rival); each residual, polished from the reading's own grid, is at most
+ * the brute-force residual of that grid (cell means by the straightforward
+ * sampler of decode_fit_test.h, a two-level least-squares fit written out
+ * here); bad arguments are errors. */
+#include "../src/decode_fit_grids.h"
+#include "../src/decode_fit_test.h"
+#include "actag/render.h"
+#include "actag/tag_grid.h"
+
+#include "unity.h"
+#include "test_util.h"
+
+#include <string.h>
+
+void setUp(void) {}
+void tearDown(void) {}
+
+#define CELL 9
+#define MARGIN 14
+#define SIDE_MAX 160
+
+static uint8_t g_img[SIDE_MAX * SIDE_MAX];
+
+/* Tag `id` rendered (mirrored left-right if asked) with speckle of +-noise;
+ * returns the side. */
+static int make_tag(const actag_family *fam, int id, int mirror, int noise)
+{
+    static uint8_t t[SIDE_MAX * SIDE_MAX];
+    int side = actag_render_side(fam->bits, CELL, MARGIN), r, c;
+    TEST_ASSERT_TRUE(side > 0 && side <= SIDE_MAX);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(fam, id, CELL, MARGIN, 40, 0, t, side,
+                                                     sizeof t));
+    for (r = 0; r < side; r++)
+        for (c = 0; c < side; c++) {
+            int v = (int)t[r * side + (mirror ? side - 1 - c : c)] * 3 / 4 + 20 +
+                    tu_range(-noise, noise);
+            g_img[r * side + c] = (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : v);
+        }
+    return side;
+}
+
+/* The white square's corners in tag order (TL TR BR BL as printed) of the
+ * tag make_tag rendered. */
+static void tag_corners(int bits, int side, int mirror, actag_point q[4])
+{
+    int k = bits / 4, i;
+    float lo = (float)(MARGIN + 2 * CELL) - 0.5f, hi = (float)(MARGIN + (k - 1) * CELL) - 0.5f;
+    static const int sx[4] = {0, 1, 1, 0}, sy[4] = {0, 0, 1, 1};
+    for (i = 0; i < 4; i++) {
+        float x = sx[i] ? hi : lo;
+        q[i].x = mirror ? (float)(side - 1) - x : x;
+        q[i].y = sy[i] ? hi : lo;
+    }
+}
+
+/* Brute-force residual of the template of `code` on the grid of make_tag's
+ * tag: 9-sample cell means by decode_fit_test.h's reference sampler, the
+ * erased data corners left out, black and white levels by least squares. */
+static float brute_rss(const actag_family *fam, uint32_t code, int side, int mirror,
+                       const actag_fit_params *fp)
+{
+    float m[81], unused[81], g[6], sw = 0.0f, sb = 0.0f, ss = 0.0f;
+    int k = fam->bits / 4, n = k + 1, cx, cy, nw = 0, nb = 0;
+    int erase = (fp->flags & ACTAG_FIT_ERASE_CORNERS) != 0;
+    float centre = (float)MARGIN + 0.5f * (float)(n * CELL) - 0.5f;
+    g[0] = mirror ? (float)(side - 1) - centre : centre;
+    g[1] = centre;
+    g[2] = mirror ? -(float)CELL : (float)CELL;
+    g[3] = 0.0f;
+    g[4] = 0.0f;
+    g[5] = (float)CELL;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__fit_scalar_cells(g_img, side, side, side, g, k,
+                                                            fp->sample_offset, 0, m, unused));
+    for (cy = 0; cy < n; cy++)
+        for (cx = 0; cx < n; cx++) {
+            float v = m[cy * n + cx];
+            if (erase && (cx == 0 || cx == k) && (cy == 0 || cy == k))
+                continue;
+            ss += v * v;
+            if (actag_tag_cell_value(code, fam->bits, cx, cy)) {
+                sw += v;
+                nw++;
+            } else {
+                sb += v;
+                nb++;
+            }
+        }
+    return ss - sw * sw / (float)nw - sb * sb / (float)nb;
+}
+
+static void check_family(const char *name, int trials)
+{
+    actag_family fam;
+    actag_fit_params fp;
+    int t;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(name, &fam));
+    actag_fit_params_default(&fp);
+    for (t = 0; t < trials; t++) {
+        int id = tu_range(0, fam.ncodes - 1), other = tu_range(0, fam.ncodes - 2);
+        int mirror = t & 1, noise = (t & 2) ? 12 : 0, side, i, s;
+        actag_point q[4], alt[4];
+        float r1, r2, ref;
+        if (other >= id)
+            other++;
+        side = make_tag(&fam, id, mirror, noise);
+        tag_corners(fam.bits, side, mirror, q);
+        /* another ID on the same corners: the right reading wins both ways round */
+        TEST_ASSERT_EQUAL_INT(0, actag__fit_rival_explains(g_img, side, side, side, &fam, &fp, id,
+                                                           q, other, q, &r1, &r2));
+        TEST_ASSERT_TRUE(r1 < r2);
+        ref = brute_rss(&fam, fam.codes[id], side, mirror, &fp);
+        TEST_ASSERT_TRUE(r1 <= ref * 1.0001f + 1e-3f);
+        TEST_ASSERT_EQUAL_INT(1, actag__fit_rival_explains(g_img, side, side, side, &fam, &fp,
+                                                           other, q, id, q, &r1, &r2));
+        TEST_ASSERT_TRUE(r2 < r1);
+        /* itself: a tie is the rival's */
+        TEST_ASSERT_EQUAL_INT(1, actag__fit_rival_explains(g_img, side, side, side, &fam, &fp, id,
+                                                           q, id, q, &r1, &r2));
+        TEST_ASSERT_EQUAL_FLOAT(r1, r2);
+        /* the other handedness (TR TL BL BR) and the three other corner orders */
+        alt[0] = q[1];
+        alt[1] = q[0];
+        alt[2] = q[3];
+        alt[3] = q[2];
+        TEST_ASSERT_EQUAL_INT(0, actag__fit_rival_explains(g_img, side, side, side, &fam, &fp, id,
+                                                           q, id, alt, &r1, &r2));
+        for (s = 1; s < 4; s++) {
+            for (i = 0; i < 4; i++)
+                alt[i] = q[(i + s) & 3];
+            TEST_ASSERT_EQUAL_INT(0, actag__fit_rival_explains(g_img, side, side, side, &fam,
+                                                               &fp, id, q, id, alt, &r1, &r2));
+        }
+    }
+}
+
+static void test_right_reading_beats_rivals_24h10(void)
+{
+    tu_seed(11);
+    check_family("AcTag24h10", 24);
+}
+
+static void test_right_reading_beats_rivals_other_sizes(void)
+{
+    tu_seed(12);
+    check_family("AcTag28m10", 8);
+    check_family("AcTag24h4", 8);
+}
+
+static void test_errors(void)
+{
+    actag_family fam;
+    actag_fit_params fp, bad;
+    actag_point q[4];
+    float r1, r2;
+    int side;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    actag_fit_params_default(&fp);
+    side = make_tag(&fam, 0, 0, 0);
+    tag_corners(fam.bits, side, 0, q);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_rival_explains(NULL, side, side, side, &fam,
+                                                                    &fp, 0, q, 1, q, &r1, &r2));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_rival_explains(g_img, side, side, side, &fam,
+                                                                    &fp, 0, q, 1, NULL, &r1, &r2));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_rival_explains(g_img, side, side, side, &fam,
+                                                                    &fp, 0, q, 1, q, &r1, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_rival_explains(g_img, side, side, side, &fam,
+                                                                     &fp, -1, q, 1, q, &r1, &r2));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag__fit_rival_explains(g_img, side, side, side, &fam, &fp, 0, q,
+                                                    fam.ncodes, q, &r1, &r2));
+    bad = fp;
+    bad.sample_offset = 0.9f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_rival_explains(g_img, side, side, side, &fam,
+                                                                     &bad, 0, q, 1, q, &r1, &r2));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag__fit_rival_explains(g_img, 0, side, side, &fam,
+                                                                     &fp, 0, q, 1, q, &r1, &r2));
+    /* a degenerate quad (all corners at one point) has no grid */
+    {
+        actag_point z[4];
+        memset(z, 0, sizeof z);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              actag__fit_rival_explains(g_img, side, side, side, &fam, &fp, 0, z,
+                                                        1, q, &r1, &r2));
+    }
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_right_reading_beats_rivals_24h10);
+    RUN_TEST(test_right_reading_beats_rivals_other_sizes);
+    RUN_TEST(test_errors);
+    return UNITY_END();
+}
