@@ -64,7 +64,8 @@ static void on_event(void *user, const actag_trace_event *e)
             t->acc_id[t->nacc] = e->decoded->id;
             t->nacc++;
         }
-    } else if ((e->outcome == ACTAG_TRACE_STRUCTURE || e->outcome == ACTAG_TRACE_MARGIN) &&
+    } else if ((e->outcome == ACTAG_TRACE_STRUCTURE || e->outcome == ACTAG_TRACE_MARGIN ||
+                e->outcome == ACTAG_TRACE_RIVAL) &&
                e->decoded == NULL) {
         t->bad++;
     }
