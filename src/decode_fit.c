@@ -1170,6 +1170,33 @@ static int frivals(const actag_family *family, unsigned views, int id0, int view
  * frame: 123.9 M instructions with 6, 145.1 M with 12). */
 #define FIT_FAR_RIVALS ACTAG_SOFT_TOP
 
+/* The white-square corners of grid gr in tag order for a reading in view
+ * (rotation, mirrored). */
+static void fgrid_tag_corners(const fgrid *gr, int k, int rotation, int mirrored,
+                              actag_point corners[4])
+{
+    actag_point fq[4];
+    float lo = 2.0f - 0.5f * (float)(k + 1), hi = (float)(k - 1) - 0.5f * (float)(k + 1);
+    static const int su[4] = {0, 1, 1, 0}, sv[4] = {0, 0, 1, 1};
+    int i;
+    for (i = 0; i < 4; i++) {
+        float u = su[i] ? hi : lo, v = sv[i] ? hi : lo;
+        fq[i].x = gr->mx + gr->ax * u + gr->bx * v;
+        fq[i].y = gr->my + gr->ay * u + gr->by * v;
+    }
+    actag_tag_corners(fq, rotation, mirrored, corners);
+}
+
+/* A hypothesis (id, view) on grid g as a reading: id, rotation, mirrored
+ * and fit_corners (the other fields are left as they are). */
+static void famb_set(actag_decode_result *a, const fgrid *g, int k, int id, int view)
+{
+    a->id = id;
+    a->rotation = view & 3;
+    a->mirrored = view >> 2;
+    fgrid_tag_corners(g, k, a->rotation, a->mirrored, a->fit_corners);
+}
+
 /* One reading of grid gr (9 samples a cell into m): levels, confidences,
  * the likelihood match, the bit margin and the template check, as the
  * manual in decode.h describes. regrid: this is the quad's own grid read
@@ -1180,13 +1207,17 @@ static int frivals(const actag_family *family, unsigned views, int id0, int view
  * reading, polish every candidate template again over the ascent's full
  * range; FIT_RECHECK_FAR, polish the reading's template and its
  * FIT_FAR_RIVALS likeliest rivals over the full range (see the template
- * check).
+ * check). amb (if not NULL, 2 readings): once the template check starts,
+ * amb[0] is the reading it judges, and when it refuses it as ambiguous
+ * (*ambig), amb[1] is the rival that did (famb_set: id, rotation, mirrored,
+ * fit_corners on the grid its polish started from).
  * Returns ACTAG_OK (out filled), ACTAG_ERR_NO_MATCH, or the matcher's
  * error. */
 static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int k,
                       const actag_family *family, int max_corrections,
                       const actag_fit_params *fp, uint32_t keep, const actag_point q[4],
-                      int regrid, float *m, actag_decode_result *out, int *ambig, int recheck)
+                      int regrid, float *m, actag_decode_result *out, int *ambig, int recheck,
+                      actag_decode_result *amb)
 {
     int flags = fp->flags, min_contrast = fp->min_contrast, bits = family->bits, n = k + 1;
     float level = fp->level;
@@ -1344,6 +1375,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 cid[ncand] = ml.top[jj].id;
                 cview[ncand++] = ml.top[jj].view;
             }
+            if (amb) /* the reading the check judges, should it refuse it */
+                famb_set(&amb[0], gr, k, cid[0], cview[0]);
             {
                 float cq[32], bq, wq;
                 actag_soft_match mq;
@@ -1386,6 +1419,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                              (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL, &sc)) {
                         if (ambig)
                             *ambig = 1;
+                        if (amb)
+                            famb_set(&amb[1], jj < ml.ntop ? gr : g_quad, k, cid[jj], cview[jj]);
                         return ACTAG_ERR_NO_MATCH; /* refused before the polish ends */
                     }
                     r = -sc;
@@ -1406,6 +1441,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin) {
                     if (ambig)
                         *ambig = 1;
+                    if (amb)
+                        famb_set(&amb[1], jj < ml.ntop ? gr : g_quad, k, cid[jj], cview[jj]);
                     return ACTAG_ERR_NO_MATCH;
                 }
                 if (r < rss2)
@@ -1500,6 +1537,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                     if (ffit(im, &g, k, mt, L, erase, 0, m, &rf, NULL)) {
                         if (ambig)
                             *ambig = 1;
+                        if (amb)
+                            famb_set(&amb[1], gr, k, rid[ia], rview[ia]);
                         return ACTAG_ERR_NO_MATCH; /* a rival within the margin */
                     }
                 }
@@ -1532,6 +1571,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                                 &bid, &bv, &rb) < 1)
                         continue;
                     layout_of(family, bid, bv, k, L);
+                    if (amb) /* the parallelogram's grid, before the polish moves it */
+                        famb_set(&amb[1], &g, k, bid, bv);
                     if (ffit(im, &g, k, mt, L, erase, 0, m, &rf, NULL)) {
                         if (ambig)
                             *ambig = 1;
@@ -1557,18 +1598,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
         e = actag_code_rot90(e, bits);
     if (out->mirrored)
         e = actag_decode_mirror(e, bits);
-    {
-        /* the fitted grid's white-square corners, in the same tag order */
-        actag_point fq[4];
-        float lo = 2.0f - 0.5f * (float)n, hi = (float)(k - 1) - 0.5f * (float)n;
-        static const int su[4] = {0, 1, 1, 0}, sv[4] = {0, 0, 1, 1};
-        for (i = 0; i < 4; i++) {
-            float u = su[i] ? hi : lo, v = sv[i] ? hi : lo;
-            fq[i].x = gr->mx + gr->ax * u + gr->bx * v;
-            fq[i].y = gr->my + gr->ay * u + gr->by * v;
-        }
-        actag_tag_corners(fq, out->rotation, out->mirrored, out->fit_corners);
-    }
+    /* the fitted grid's white-square corners, in the same tag order */
+    fgrid_tag_corners(gr, k, out->rotation, out->mirrored, out->fit_corners);
     diff = (w ^ e) & keep;
     for (i = 0; i < bits; i++)
         if (diff & ((uint32_t)1u << (bits - 1 - i)))
@@ -1699,17 +1730,32 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     }
     /* a hopeless start: straight to the quad's own grid (the second grid,
      * as if the fitted one had read nothing) */
-    if (hopeless)
-        return fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
-                          out, NULL, 0);
+    if (grids)
+        grids->amb = 0;
+    if (hopeless) {
+        rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
+                        out, &ambig, 0, grids ? grids->amb_reading : NULL);
+        if (grids && rc == ACTAG_ERR_NO_MATCH && ambig)
+            grids->amb = 1;
+        return rc;
+    }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
-                    &ambig, far);
+                    &ambig, far, grids ? grids->amb_reading : NULL);
+    if (grids && rc == ACTAG_ERR_NO_MATCH && ambig)
+        grids->amb = 1;
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
-    if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH))
+    if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH)) {
+        int ambig2 = 0;
+        actag_decode_result amb2[2];
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
-                        out, NULL, (ambig ? FIT_RECHECK : 0) | far);
+                        out, &ambig2, (ambig ? FIT_RECHECK : 0) | far, grids ? amb2 : NULL);
+        if (grids && rc == ACTAG_ERR_NO_MATCH && ambig2 && !grids->amb) {
+            grids->amb = 1;
+            memcpy(grids->amb_reading, amb2, sizeof amb2);
+        }
+    }
     return rc;
 }
 

@@ -24,6 +24,15 @@ typedef struct actag__fit_grids {
                         points are the quad): the look-elsewhere allowance
                         then counts twice the hypotheses, as for the second
                         grid; 0 otherwise */
+    /* out, any reading (wide or not): amb is 1 when the template check
+     * refused the reading because a rival template came within the margin;
+     * amb_reading[0] is then the refused reading's best hypothesis and
+     * amb_reading[1] the rival that refused it, each as id, rotation,
+     * mirrored and fit_corners (its white-square corners in tag order on
+     * the grid its polish started from; the other fields undefined). 0
+     * otherwise. */
+    int amb;
+    actag_decode_result amb_reading[2];
 } actag__fit_grids;
 
 /* actag_decode_quad_fit() (same arguments, result and errors) that, with

@@ -290,6 +290,10 @@ static int decode_budget(actag_stats *st, const actag_params *p)
     return 1;
 }
 
+/* Hypotheses of one contour's ambiguous quad readings kept for the rival
+ * check (the best and its rival, two quads). */
+#define ACTAG_AMB_MAX 4
+
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
 
@@ -326,11 +330,12 @@ static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point
 
 /* The configured decoder on one quad. */
 static int decode_any(const ws_layout *w, int rows, int cols, const actag_point quad[4],
-                      const actag_params *params, actag_decode_result *dr)
+                      const actag_params *params, actag__fit_grids *grids,
+                      actag_decode_result *dr)
 {
     switch (params->tuning.decode_mode) {
     case ACTAG_DECODE_FIT:
-        return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, 1, NULL,
+        return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, 1, grids,
                           dr);
     default: {
         /* the paper's decoder has no hypothesis set to restrict: its
@@ -417,31 +422,36 @@ static int readings_disagree(const actag_decode_result *a, const actag_decode_re
 }
 
 /* A reading (a quad's or a contour guess's, *dr, reported at corners) at
- * the place of a tentative search reading that disagrees with it: each is
- * a whole template on its own grid, polished over the full range from both
- * grids (actag__fit_rival_explains); when the search's explains the cells
- * at least as well, the place has two readings and neither has the lead
- * the decision margin stands for, so this one is refused (the search's is
- * then judged by its own template check, as if no quad had read there).
- * (Simulated frame 408 of actag-eval --seed 311: an unmirrored tag 4 at
- * 2.5 m whose thresholded white square lost a fifth of its height on both
- * sides; the quad read tag 5 at margin 6.3 on the short grid, the search
- * tag 4 on the grid of the right height: at full range tag 4's template
- * explains the cells better.) Returns 1 to refuse the reading. */
-static int rival_search(const ws_layout *w, int rows, int cols, const actag_params *params,
-                        const actag_decode_result *dr, const actag_decode_result *sk_dr,
-                        int nsk, const actag_point corners[4])
+ * the place of other readings (other[0..nother-1]) that disagree with it:
+ * each disagreeing pair is judged as whole templates, polished over the
+ * full range at both places (actag__fit_rival_explains); when the other
+ * explains the cells at least as well, the place has two readings and
+ * neither has the lead its decision margin stands for. The others are the
+ * tentative search readings (for quads and guesses: a search reading is
+ * then judged by its own template check, as if no quad had read there) and,
+ * for a contour's grid guess, the hypotheses of the contour's quads that
+ * the template check refused as too close to call (the reading and the
+ * rival that refused it). (Simulated frame 408 of actag-eval --seed 311:
+ * an unmirrored tag 4 at 2.5 m whose thresholded white square lost a fifth
+ * of its height at both range edges; the quad read tag 5 at margin 6.3 on
+ * the short grid, the search tag 4 on a grid of the right height. Frame 62
+ * of pass 17 of actag-eval --pool --sequences 20 --seed 81: the quads found
+ * tag 2 and a mirrored tag 6 too close to call, the guess read tag 6 at
+ * margin 7.4 on a grid a quarter short.) Returns 1 to refuse the reading. */
+static int rival_explains(const ws_layout *w, int rows, int cols, const actag_params *params,
+                          const actag_decode_result *dr, const actag_decode_result *other,
+                          int nother, const actag_point corners[4])
 {
     int k;
     if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
         return 0;
-    for (k = 0; k < nsk; k++) {
+    for (k = 0; k < nother; k++) {
         float r1, r2;
-        if (!same_place(corners, sk_dr[k].fit_corners) || !readings_disagree(dr, &sk_dr[k]))
+        if (!same_place(corners, other[k].fit_corners) || !readings_disagree(dr, &other[k]))
             continue;
         if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family,
                                       &params->tuning.fit, dr->id, dr->fit_corners,
-                                      sk_dr[k].id, sk_dr[k].fit_corners, &r1, &r2) == 1)
+                                      other[k].id, other[k].fit_corners, &r1, &r2) == 1)
             return 1;
     }
     return 0;
@@ -785,7 +795,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             const actag_point *corners = NULL;
             float ratio = 0.0f;
             int tries, contour_iters = params->tuning.limits.max_contour_iterations,
-                contour_limited = 0, decoded_quads = 0;
+                contour_limited = 0, decoded_quads = 0, namb = 0;
+            /* best hypotheses of this contour's quads refused as ambiguous */
+            actag_decode_result amb[ACTAG_AMB_MAX];
 
             if (st.contours >= params->tuning.limits.max_contours) {
                 st.contour_cap = 1; /* the rest of the frame is not examined */
@@ -859,7 +871,15 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     rc = ACTAG_ERR_NO_MATCH;
                     break;
                 }
-                rc = decode_any(&w, rows, cols, q.corners, params, &dr);
+                {
+                    actag__fit_grids qg;
+                    memset(&qg, 0, sizeof qg);
+                    rc = decode_any(&w, rows, cols, q.corners, params, &qg, &dr);
+                    if (rc == ACTAG_ERR_NO_MATCH && qg.amb && namb + 2 <= ACTAG_AMB_MAX) {
+                        amb[namb++] = qg.amb_reading[0];
+                        amb[namb++] = qg.amb_reading[1];
+                    }
+                }
                 decoded_quads++;
                 if (rc != ACTAG_OK) {
                     trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_NO_MATCH, q.corners,
@@ -877,7 +897,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 }
                 /* a search reading here that disagrees and explains the
                  * cells at least as well: no reading (another quad may) */
-                if (rival_search(&w, rows, cols, params, &dr, sk_dr, nsk, dr.corners)) {
+                if (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, dr.corners)) {
                     trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
                                q.inlier_ratio, &dr);
                     rc = ACTAG_ERR_NO_MATCH;
@@ -906,7 +926,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     nguess++;
                     verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED &&
-                        rival_search(&w, rows, cols, params, &dr, sk_dr, nsk, dr.fit_corners))
+                        (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, dr.fit_corners) ||
+                         rival_explains(&w, rows, cols, params, &dr, amb, namb, dr.fit_corners)))
                         verdict = ACTAG_TRACE_RIVAL;
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);

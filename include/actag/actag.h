@@ -315,6 +315,9 @@ typedef struct actag_params {
  *     the full range at both places, explains the cells at least as well
  *     (two readings of one place, neither with the lead its margin claims;
  *     the contour's next quad may read; trace outcome ACTAG_TRACE_RIVAL).
+ *     A contour guess's reading is judged so against the search's reading
+ *     and against the hypotheses of the contour's quads that the template
+ *     check refused as too close to call.
  *     A tentative reading no quad
  *     replaced is read again with the template check (from the grids the
  *     first reading found) and reported with fitted-grid corners if it

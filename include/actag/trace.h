@@ -72,10 +72,12 @@ extern "C" {
                                      failed the structure budget */
 #define ACTAG_TRACE_MARGIN 6      /* decoded, but decision margin too small */
 #define ACTAG_TRACE_RIVAL 7       /* a quad's or guess's reading where a search
-                                     position read another tag, handedness or
-                                     corner order, whose template explains the
+                                     position (or, for a guess, one of the
+                                     contour's quads refused as too close to
+                                     call) read another tag, handedness or
+                                     corner order whose template explains the
                                      cells at least as well (both polished over
-                                     the full range): no reading */
+                                     the full range at both places): no reading */
 
 typedef struct actag_trace_event {
     int kind;                           /* ACTAG_TRACE_SEARCH / _CONTOUR / _QUAD / _GUESS */
