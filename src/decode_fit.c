@@ -1748,13 +1748,12 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
      * grid in the look-elsewhere allowance). */
     if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH)) {
         int ambig2 = 0;
-        actag_decode_result amb2[2];
+        /* the first grid's ambiguity, if any, is the one reported */
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
-                        out, &ambig2, (ambig ? FIT_RECHECK : 0) | far, grids ? amb2 : NULL);
-        if (grids && rc == ACTAG_ERR_NO_MATCH && ambig2 && !grids->amb) {
+                        out, &ambig2, (ambig ? FIT_RECHECK : 0) | far,
+                        grids && !grids->amb ? grids->amb_reading : NULL);
+        if (grids && rc == ACTAG_ERR_NO_MATCH && ambig2)
             grids->amb = 1;
-            memcpy(grids->amb_reading, amb2, sizeof amb2);
-        }
     }
     return rc;
 }
