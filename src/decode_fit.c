@@ -995,9 +995,32 @@ static void layout_of(const actag_family *family, int id, int view, int k, uint8
         e = actag_code_rot90(e, bits);
     if (view >> 2)
         e = actag_code_mirror(e, bits);
-    for (cy = 0; cy < n; cy++)
-        for (cx = 0; cx < n; cx++)
-            L[cy * n + cx] = (uint8_t)actag_tag_cell_value(e, bits, cx, cy);
+    /* actag_tag_cell_value's layout, written side by side: black ring and
+     * white interior, then the data ring clockwise from the top-left
+     * corner, each side's k cells from its first corner, bit i of the ring
+     * being bit (bits - 1 - i) of e (tests/test_decode_rival.c compares
+     * every code and view with actag_tag_cell_value) */
+    for (cy = 1; cy < k; cy++)
+        for (cx = 1; cx < k; cx++)
+            L[cy * n + cx] = (uint8_t)!(cx == 1 || cy == 1 || cx == k - 1 || cy == k - 1);
+    for (i = 0; i < k; i++) {
+        L[i] = (uint8_t)((e >> (bits - 1 - i)) & 1u);
+        L[i * n + k] = (uint8_t)((e >> (bits - 1 - (k + i))) & 1u);
+        L[k * n + (k - i)] = (uint8_t)((e >> (bits - 1 - (2 * k + i))) & 1u);
+        L[(k - i) * n] = (uint8_t)((e >> (bits - 1 - (3 * k + i))) & 1u);
+    }
+}
+
+/* decode_fit_test.h */
+int actag__fit_layout(const actag_family *family, int id, int view, uint8_t *L)
+{
+    if (family == NULL || L == NULL)
+        return ACTAG_ERR_NULL;
+    if (family->bits < 16 || family->bits > 32 || family->bits % 4 != 0 || id < 0 ||
+        id >= family->ncodes || view < 0 || view > 7)
+        return ACTAG_ERR_PARAM;
+    layout_of(family, id, view, family->bits / 4, L);
+    return ACTAG_OK;
 }
 
 /* Residual of the cell means against a layout after a two-level (black,
@@ -1196,6 +1219,19 @@ static void famb_set(actag_decode_result *a, const fgrid *g, int k, int id, int 
     a->mirrored = view >> 2;
     fgrid_tag_corners(g, k, a->rotation, a->mirrored, a->fit_corners);
 }
+
+/* The stretched-grid check of a quad reading (fread_grid): the factors a
+ * grid is stretched by along one axis, the rivals taken per start, the
+ * most rivals polished, and the gate: a rival whose unpolished residual is
+ * more than FIT_STRETCH_GATE times the reading's polished one is not
+ * polished (its polish would have to lower it below the reading's by the
+ * allowance; the polishes seen lowered a rival's residual by up to 3x, and
+ * on the 58 pool frames every rival found lay beyond 2x: a cost gate, so
+ * that correct readings pay 12 cell reads and no polish). */
+#define FIT_STRETCH {1.25f, 1.5f}
+#define FIT_STRETCH_RIVALS 2
+#define FIT_STRETCH_MAX 4
+#define FIT_STRETCH_GATE 2.0f
 
 /* One reading of grid gr (9 samples a cell into m): levels, confidences,
  * the likelihood match, the bit margin and the template check, as the
@@ -1576,6 +1612,100 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                     if (ffit(im, &g, k, mt, L, erase, 0, m, &rf, NULL)) {
                         if (ambig)
                             *ambig = 1;
+                        return ACTAG_ERR_NO_MATCH;
+                    }
+                }
+            }
+            /* Stretched grids (a quad reading that would be accepted): a
+             * white square eroded along one axis (the tag's near and far
+             * edges lost to the threshold, or one of them) gives a quad, and
+             * a grid, that is short along that axis; the right template's
+             * grid then lies beyond the polishes' reach (65-134 % of the
+             * sides), and a wrong one fits the misplaced cells. So the grid
+             * is stretched along each axis by FIT_STRETCH (a quarter, a
+             * half), about its centre and about either end (12 starts);
+             * on each, the FIT_STRETCH_RIVALS templates other than the
+             * reading that best explain the cells are the rivals. A rival
+             * that explains them better than the reading's own template
+             * there (both unpolished) and within FIT_STRETCH_GATE of the
+             * reading's polished residual is polished over the full range
+             * from that start, as is the reading's template; when the
+             * rival then beats the reading (its best of the two polishes)
+             * by more than the allowance for the starts and rivals tried
+             * (ln 24 nats), there is no reading. (Simulated frame 810 of
+             * actag-eval --pool --seed 91: a mirrored tag 6 at 0.94 m and
+             * 70 degrees whose quad is a quarter short in range, read as
+             * an unmirrored tag 5 at margin 4.11; from the grid stretched
+             * by a quarter about its near end, tag 6's template explains
+             * the cells by 7.8 nats better. The same on frame 408 of
+             * --seed 311 with --seabed-level 0.18 or --gain 130
+             * --metal-specular 1.2 --seabed-level 0.18.) */
+            if (!(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
+                static const float fac[2] = FIT_STRETCH;
+                unsigned views = fit_views(flags);
+                int ax2, fi, an, nst = 0, ci, j3;
+                int sid[FIT_STRETCH_MAX], sview[FIT_STRETCH_MAX];
+                float sgap[FIT_STRETCH_MAX], half = 0.5f * (float)n;
+                fgrid sg[FIT_STRETCH_MAX];
+                for (ax2 = 0; ax2 < 2; ax2++)
+                    for (fi = 0; fi < 2; fi++)
+                        for (an = -1; an <= 1; an++) {
+                            fgrid g = *gr;
+                            float rr3[FIT_STRETCH_RIVALS], rown;
+                            float sx = ax2 ? gr->bx : gr->ax, sy = ax2 ? gr->by : gr->ay;
+                            int id3[FIT_STRETCH_RIVALS], v3[FIT_STRETCH_RIVALS], nr3;
+                            if (ax2) {
+                                g.bx *= fac[fi];
+                                g.by *= fac[fi];
+                            } else {
+                                g.ax *= fac[fi];
+                                g.ay *= fac[fi];
+                            }
+                            /* an = -1 / +1: the low / high end stays */
+                            g.mx += (float)an * (fac[fi] - 1.0f) * half * sx;
+                            g.my += (float)an * (fac[fi] - 1.0f) * half * sy;
+                            fcells(im, &g, k, mt);
+                            nr3 = frivals(family, views, ml.top[0].id, ml.top[0].view, mt, k,
+                                          erase, L, FIT_STRETCH_RIVALS, id3, v3, rr3);
+                            layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
+                            rown = template_rss(mt, L, k, erase, NULL);
+                            for (j3 = 0; j3 < nr3; j3++) {
+                                float gap = rown - rr3[j3];
+                                if (!(gap > 0.0f) || !(rr3[j3] < FIT_STRETCH_GATE * rss0))
+                                    continue;
+                                /* each rival once, from its start of largest lead */
+                                for (ci = 0; ci < nst; ci++)
+                                    if (sid[ci] == id3[j3] && sview[ci] == v3[j3])
+                                        break;
+                                if (ci < nst) {
+                                    if (gap > sgap[ci]) {
+                                        sgap[ci] = gap;
+                                        sg[ci] = g;
+                                    }
+                                } else if (nst < FIT_STRETCH_MAX) {
+                                    sid[nst] = id3[j3];
+                                    sview[nst] = v3[j3];
+                                    sgap[nst] = gap;
+                                    sg[nst++] = g;
+                                }
+                            }
+                        }
+                for (ci = 0; ci < nst; ci++) {
+                    fgrid g = sg[ci];
+                    float sc, f0, rr;
+                    layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
+                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
+                    f0 = -sc < rss0 ? -sc : rss0;
+                    g = sg[ci];
+                    layout_of(family, sid[ci], sview[ci], k, L);
+                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
+                    rr = -sc;
+                    if (0.5f * (f0 - rr) / s2 >
+                        actag_logf(12.0f * (float)FIT_STRETCH_RIVALS)) {
+                        if (ambig)
+                            *ambig = 1;
+                        if (amb)
+                            famb_set(&amb[1], &sg[ci], k, sid[ci], sview[ci]);
                         return ACTAG_ERR_NO_MATCH;
                     }
                 }

@@ -23,6 +23,13 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
 int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                             int k, float so, int what, float *ref, float *scalar);
 
+/* The template layout of code `id` of `family` in view `view` (0..3: that
+ * many quarter turns, 4..7: the same after the physical mirror) as the
+ * template check builds it: (bits/4 + 1)^2 cells in row order, 1 white, 0
+ * black. ACTAG_OK, ACTAG_ERR_NULL or ACTAG_ERR_PARAM. */
+struct actag_family;
+int actag__fit_layout(const struct actag_family *family, int id, int view, uint8_t *L);
+
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define ACTAG__FIT_SIMD 1
 /* The SSE2 cell reads against the portable ones, bit for bit: what 0: the

@@ -12,6 +12,7 @@
 #include "../src/decode_fit_test.h"
 #include "actag/render.h"
 #include "actag/tag_grid.h"
+#include "actag/family.h"
 
 #include "unity.h"
 #include "test_util.h"
@@ -152,6 +153,39 @@ static void test_right_reading_beats_rivals_other_sizes(void)
     check_family("AcTag24h4", 8);
 }
 
+/* The template layouts the check builds (decode_fit.c's layout_of, written
+ * side by side) against actag_tag_cell_value cell by cell: every code of
+ * every built-in family in all 8 views. */
+static void test_layouts_match_cell_values(void)
+{
+    static const char *const names[] = {"AcTag24h4", "AcTag24h10", "AcTag24m4", "AcTag28m4",
+                                        "AcTag28m10"};
+    size_t f;
+    for (f = 0; f < sizeof names / sizeof names[0]; f++) {
+        actag_family fam;
+        int id, view, bits, k, cx, cy, i;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
+        bits = fam.bits;
+        k = bits / 4;
+        for (id = 0; id < fam.ncodes; id++)
+            for (view = 0; view < 8; view++) {
+                uint8_t L[81];
+                uint32_t e = fam.codes[id];
+                memset(L, 0xaa, sizeof L);
+                TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__fit_layout(&fam, id, view, L));
+                for (i = 0; i < (view & 3); i++)
+                    e = actag_code_rot90(e, bits);
+                if (view >> 2)
+                    e = actag_code_mirror(e, bits);
+                for (cy = 0; cy <= k; cy++)
+                    for (cx = 0; cx <= k; cx++)
+                        if (L[cy * (k + 1) + cx] != actag_tag_cell_value(e, bits, cx, cy)) {
+                            TEST_FAIL_MESSAGE(names[f]);
+                        }
+            }
+    }
+}
+
 static void test_errors(void)
 {
     actag_family fam;
@@ -180,6 +214,14 @@ static void test_errors(void)
                                                                      &bad, 0, q, 1, q, &r1, &r2));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag__fit_rival_explains(g_img, 0, side, side, &fam,
                                                                      &fp, 0, q, 1, q, &r1, &r2));
+    {
+        uint8_t L[81];
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_layout(NULL, 0, 0, L));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_layout(&fam, 0, 0, NULL));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_layout(&fam, fam.ncodes, 0, L));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_layout(&fam, 0, 8, L));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_layout(&fam, -1, 0, L));
+    }
     /* a degenerate quad (all corners at one point) has no grid */
     {
         actag_point z[4];
@@ -195,6 +237,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_right_reading_beats_rivals_24h10);
     RUN_TEST(test_right_reading_beats_rivals_other_sizes);
+    RUN_TEST(test_layouts_match_cell_values);
     RUN_TEST(test_errors);
     return UNITY_END();
 }
