@@ -1210,9 +1210,8 @@ static void fgrid_tag_corners(const fgrid *gr, int k, int rotation, int mirrored
     actag_tag_corners(fq, rotation, mirrored, corners);
 }
 
-/* A hypothesis (id, view) on grid g as a reading: id, rotation, mirrored
- * and fit_corners (the other fields are left as they are). */
-static void famb_set(actag_decode_result *a, const fgrid *g, int k, int id, int view)
+/* A hypothesis (id, view) on grid g as a rival record. */
+static void famb_set(actag__fit_rival *a, const fgrid *g, int k, int id, int view)
 {
     a->id = id;
     a->rotation = view & 3;
@@ -1253,7 +1252,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                       const actag_family *family, int max_corrections,
                       const actag_fit_params *fp, uint32_t keep, const actag_point q[4],
                       int regrid, float *m, actag_decode_result *out, int *ambig, int recheck,
-                      actag_decode_result *amb)
+                      actag__fit_rival *amb)
 {
     int flags = fp->flags, min_contrast = fp->min_contrast, bits = family->bits, n = k + 1;
     float level = fp->level;
@@ -1771,14 +1770,15 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                           actag_decode_result *out)
 {
     return actag__decode_quad_fit_grids(grey, rows, cols, stride, quad, family, max_corrections,
-                                        fp, out, NULL);
+                                        fp, out, NULL, NULL);
 }
 
 /* decode_fit_grids.h */
 int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int stride,
                                  const actag_point quad[4], const actag_family *family,
                                  int max_corrections, const actag_fit_params *fp,
-                                 actag_decode_result *out, actag__fit_grids *grids)
+                                 actag_decode_result *out, actag__fit_grids *grids,
+                                 actag__fit_amb *amb)
 {
     int flags;
     float level;
@@ -1860,19 +1860,19 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     }
     /* a hopeless start: straight to the quad's own grid (the second grid,
      * as if the fitted one had read nothing) */
-    if (grids)
-        grids->amb = 0;
+    if (amb)
+        amb->amb = 0;
     if (hopeless) {
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
-                        out, &ambig, 0, grids ? grids->amb_reading : NULL);
-        if (grids && rc == ACTAG_ERR_NO_MATCH && ambig)
-            grids->amb = 1;
+                        out, &ambig, 0, amb ? amb->r : NULL);
+        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig)
+            amb->amb = 1;
         return rc;
     }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
-                    &ambig, far, grids ? grids->amb_reading : NULL);
-    if (grids && rc == ACTAG_ERR_NO_MATCH && ambig)
-        grids->amb = 1;
+                    &ambig, far, amb ? amb->r : NULL);
+    if (amb && rc == ACTAG_ERR_NO_MATCH && ambig)
+        amb->amb = 1;
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
@@ -1881,9 +1881,9 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
         /* the first grid's ambiguity, if any, is the one reported */
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
                         out, &ambig2, (ambig ? FIT_RECHECK : 0) | far,
-                        grids && !grids->amb ? grids->amb_reading : NULL);
-        if (grids && rc == ACTAG_ERR_NO_MATCH && ambig2)
-            grids->amb = 1;
+                        amb && !amb->amb ? amb->r : NULL);
+        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig2)
+            amb->amb = 1;
     }
     return rc;
 }

@@ -24,16 +24,23 @@ typedef struct actag__fit_grids {
                         points are the quad): the look-elsewhere allowance
                         then counts twice the hypotheses, as for the second
                         grid; 0 otherwise */
-    /* out, any reading (wide or not): amb is 1 when the template check
-     * refused the reading because a rival template came within the margin;
-     * amb_reading[0] is then the refused reading's best hypothesis and
-     * amb_reading[1] the rival that refused it, each as id, rotation,
-     * mirrored and fit_corners (its white-square corners in tag order on
-     * the grid its polish started from; the other fields undefined). 0
-     * otherwise. */
-    int amb;
-    actag_decode_result amb_reading[2];
 } actag__fit_grids;
+
+/* A hypothesis of a refused reading: its code (id), its view (rotation,
+ * mirrored) and its white-square corners in tag order on the grid its
+ * polish started from. */
+typedef struct actag__fit_rival {
+    int id, rotation, mirrored;
+    actag_point fit_corners[4];
+} actag__fit_rival;
+
+/* Out: when the template check refused a reading because a rival template
+ * came within the margin (too close to call), amb = 1, r[0] the reading's
+ * hypothesis and r[1] the rival that refused it; else amb = 0. */
+typedef struct actag__fit_amb {
+    int amb;
+    actag__fit_rival r[2];
+} actag__fit_amb;
 
 /* actag_decode_quad_fit() (same arguments, result and errors) that, with
  * ACTAG_FIT_WIDE and grids not NULL, stores the wide search's outcome in
@@ -41,11 +48,12 @@ typedef struct actag__fit_grids {
  * must be 0 before the first reading of a candidate; the second reading
  * must pass the same frame, quad, family and fit flags other than
  * ACTAG_FIT_VERIFY (and the same read_before). grids NULL:
- * actag_decode_quad_fit(). */
+ * actag_decode_quad_fit(). amb (may be NULL): see actag__fit_amb. */
 int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int stride,
                                  const actag_point quad[4], const actag_family *family,
                                  int max_corrections, const actag_fit_params *fp,
-                                 actag_decode_result *out, actag__fit_grids *grids);
+                                 actag_decode_result *out, actag__fit_grids *grids,
+                                 actag__fit_amb *amb);
 
 /* Two readings of one place that disagree (another ID, handedness or
  * rotation; detect.c: a quad's or a contour guess's reading and the

@@ -317,7 +317,7 @@ static int structure_ok(const actag_decode_result *dr, const actag_params *p, in
  * grids kept for a second reading (decode_fit_grids.h), or NULL. */
 static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
                       const actag_params *p, int max_corrections, int extra_flags, int verify,
-                      actag__fit_grids *grids, actag_decode_result *dr)
+                      actag__fit_grids *grids, actag__fit_amb *amb, actag_decode_result *dr)
 {
     actag_fit_params fp = p->tuning.fit;
     fp.flags |= extra_flags;
@@ -325,18 +325,19 @@ static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point
         fp.flags &= ~ACTAG_FIT_VERIFY;
     fp.min_margin = p->min_margin; /* the user's margin wins over the tuning's */
     return actag__decode_quad_fit_grids(grey, rows, cols, cols, quad, p->family, max_corrections,
-                                        &fp, dr, grids);
+                                        &fp, dr, grids, amb);
 }
 
 /* The configured decoder on one quad. */
 static int decode_any(const ws_layout *w, int rows, int cols, const actag_point quad[4],
-                      const actag_params *params, actag__fit_grids *grids,
-                      actag_decode_result *dr)
+                      const actag_params *params, actag__fit_amb *amb, actag_decode_result *dr)
 {
+    if (amb)
+        amb->amb = 0;
     switch (params->tuning.decode_mode) {
     case ACTAG_DECODE_FIT:
-        return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, 1, grids,
-                          dr);
+        return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, 1, NULL,
+                          amb, dr);
     default: {
         /* the paper's decoder has no hypothesis set to restrict: its
          * readings of the other handedness are dropped */
@@ -366,7 +367,7 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
     int lim = params->tuning.search_max_corrections < params->max_bit_corrections
                   ? params->tuning.search_max_corrections
                   : params->max_bit_corrections;
-    if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, verify, grids, dr) !=
+    if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, verify, grids, NULL, dr) !=
         ACTAG_OK)
         return ACTAG_TRACE_NO_MATCH;
     if (!(dr->decision_margin >= params->tuning.search_min_margin))
@@ -406,10 +407,21 @@ static int better(int hamming, float ratio, const actag_detection *d)
     return hamming < d->hamming || (hamming == d->hamming && ratio > d->inlier_ratio);
 }
 
+/* A reading as the rival check sees it (decode_fit_grids.h). */
+static actag__fit_rival rival_of(const actag_decode_result *r)
+{
+    actag__fit_rival v;
+    v.id = r->id;
+    v.rotation = r->rotation;
+    v.mirrored = r->mirrored;
+    memcpy(v.fit_corners, r->fit_corners, sizeof v.fit_corners);
+    return v;
+}
+
 /* Do two readings of one place name different tags, handedness or corner
- * order? Corner order: reading b's first corner is not the nearest of a's
- * corners to a's first. */
-static int readings_disagree(const actag_decode_result *a, const actag_decode_result *b)
+ * order? Corner order: b's first corner is not the nearest of a's corners
+ * to a's first. */
+static int readings_disagree(const actag__fit_rival *a, const actag__fit_rival *b)
 {
     int j, near = 0;
     if (a->id != b->id || a->mirrored != b->mirrored)
@@ -439,19 +451,22 @@ static int readings_disagree(const actag_decode_result *a, const actag_decode_re
  * tag 2 and a mirrored tag 6 too close to call, the guess read tag 6 at
  * margin 7.4 on a grid a quarter short.) Returns 1 to refuse the reading. */
 static int rival_explains(const ws_layout *w, int rows, int cols, const actag_params *params,
-                          const actag_decode_result *dr, const actag_decode_result *other,
-                          int nother, const actag_point corners[4])
+                          const actag_decode_result *dr, const actag_decode_result *sk,
+                          int nsk, const actag__fit_rival *amb, int namb,
+                          const actag_point corners[4])
 {
+    actag__fit_rival a = rival_of(dr), o;
     int k;
     if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
         return 0;
-    for (k = 0; k < nother; k++) {
+    for (k = 0; k < nsk + namb; k++) {
         float r1, r2;
-        if (!same_place(corners, other[k].fit_corners) || !readings_disagree(dr, &other[k]))
+        o = k < nsk ? rival_of(&sk[k]) : amb[k - nsk];
+        if (!same_place(corners, o.fit_corners) || !readings_disagree(&a, &o))
             continue;
         if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family,
-                                      &params->tuning.fit, dr->id, dr->fit_corners,
-                                      other[k].id, other[k].fit_corners, &r1, &r2) == 1)
+                                      &params->tuning.fit, a.id, a.fit_corners, o.id,
+                                      o.fit_corners, &r1, &r2) == 1)
             return 1;
     }
     return 0;
@@ -796,8 +811,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             float ratio = 0.0f;
             int tries, contour_iters = params->tuning.limits.max_contour_iterations,
                 contour_limited = 0, decoded_quads = 0, namb = 0;
-            /* best hypotheses of this contour's quads refused as ambiguous */
-            actag_decode_result amb[ACTAG_AMB_MAX];
+            /* hypotheses of this contour's quads refused as too close to call */
+            actag__fit_rival amb[ACTAG_AMB_MAX];
 
             if (st.contours >= params->tuning.limits.max_contours) {
                 st.contour_cap = 1; /* the rest of the frame is not examined */
@@ -872,12 +887,11 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     break;
                 }
                 {
-                    actag__fit_grids qg;
-                    memset(&qg, 0, sizeof qg);
-                    rc = decode_any(&w, rows, cols, q.corners, params, &qg, &dr);
-                    if (rc == ACTAG_ERR_NO_MATCH && qg.amb && namb + 2 <= ACTAG_AMB_MAX) {
-                        amb[namb++] = qg.amb_reading[0];
-                        amb[namb++] = qg.amb_reading[1];
+                    actag__fit_amb qa;
+                    rc = decode_any(&w, rows, cols, q.corners, params, &qa, &dr);
+                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && namb + 2 <= ACTAG_AMB_MAX) {
+                        amb[namb++] = qa.r[0];
+                        amb[namb++] = qa.r[1];
                     }
                 }
                 decoded_quads++;
@@ -897,7 +911,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 }
                 /* a search reading here that disagrees and explains the
                  * cells at least as well: no reading (another quad may) */
-                if (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, dr.corners)) {
+                if (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, NULL, 0, dr.corners)) {
                     trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
                                q.inlier_ratio, &dr);
                     rc = ACTAG_ERR_NO_MATCH;
@@ -926,8 +940,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     nguess++;
                     verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED &&
-                        (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, dr.fit_corners) ||
-                         rival_explains(&w, rows, cols, params, &dr, amb, namb, dr.fit_corners)))
+                        rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, namb,
+                                       dr.fit_corners))
                         verdict = ACTAG_TRACE_RIVAL;
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);

@@ -73,11 +73,11 @@ static int compare(const actag_family *fam, int side, const actag_point q[4], in
     rc_ref = actag_decode_quad_fit(g_img, side, side, side, q, fam, corrections, &fp, &ref);
     memset(&grids, 0, sizeof grids); /* state 0: not searched yet */
     rc_first = actag__decode_quad_fit_grids(g_img, side, side, side, q, fam, corrections, &tent,
-                                            &first, &grids);
+                                            &first, &grids, NULL);
     TEST_ASSERT_TRUE(rc_first == ACTAG_OK || rc_first == ACTAG_ERR_NO_MATCH);
     TEST_ASSERT_TRUE(grids.state == 1 || grids.state == 2);
     rc = actag__decode_quad_fit_grids(g_img, side, side, side, q, fam, corrections, &fp,
-                                      &resumed, &grids);
+                                      &resumed, &grids, NULL);
     TEST_ASSERT_EQUAL_INT(rc_ref, rc);
     if (rc == ACTAG_OK)
         TEST_ASSERT_EQUAL_MEMORY(&ref, &resumed, sizeof ref);
