@@ -18,7 +18,8 @@
  *   contours   actag_contour_scanner_init, actag_contour_next
  *   ransac     actag_quad_fit
  *   decode     actag__decode_quad_fit_grids (src/decode_fit_grids.h: the fit
- *              decoder as detect.c calls it), actag_decode_quad_bitmap
+ *              decoder as detect.c calls it), actag__fit_rival_explains (the
+ *              rival check of two readings of one place), actag_decode_quad_bitmap
  *   refine     actag__refine_corners_max16 (src/refine_frame.h)
  * (budget.py checks that every stage function detect.c calls is wrapped:
  * a renamed stage would otherwise be counted as "other".)
@@ -137,8 +138,14 @@ WRAPPED(ST_RANSAC, actag_quad_fit,
 WRAPPED(ST_DECODE, actag__decode_quad_fit_grids,
         (const uint8_t *grey, int rows, int cols, int stride, const actag_point quad[4],
          const actag_family *family, int max_corrections, const actag_fit_params *fp,
-         actag_decode_result *out, actag__fit_grids *grids),
-        (grey, rows, cols, stride, quad, family, max_corrections, fp, out, grids))
+         actag_decode_result *out, actag__fit_grids *grids, actag__fit_amb *amb),
+        (grey, rows, cols, stride, quad, family, max_corrections, fp, out, grids, amb))
+
+WRAPPED(ST_DECODE, actag__fit_rival_explains,
+        (const uint8_t *grey, int rows, int cols, int stride, const actag_family *family,
+         const actag_fit_params *fp, int id, const actag_point corners[4], int id2,
+         const actag_point corners2[4], float *rss, float *rss2),
+        (grey, rows, cols, stride, family, fp, id, corners, id2, corners2, rss, rss2))
 
 WRAPPED(ST_DECODE, actag_decode_quad_bitmap,
         (const uint32_t *bitmap, int rows, int cols, const actag_point quad[4],
