@@ -1232,6 +1232,38 @@ static void famb_set(actag__fit_rival *a, const fgrid *g, int k, int id, int vie
 #define FIT_STRETCH_MAX 4
 #define FIT_STRETCH_GATE 2.0f
 
+/* The stretched-grid check's rivals on cells m: the FIT_STRETCH_RIVALS
+ * likeliest readings of the cells by the family matcher (as the template
+ * check's candidates are found; a scan of every template, as frivals does,
+ * costs 8 ncodes templates a grid: 71,280 for AcTag28m4), the reading
+ * (id0, view0) excepted, with their template rss, in the matcher's
+ * order. Returns how many, or the matcher's negative error. */
+static int fstretch_rivals(const actag_family *family, unsigned views, int flags, float level,
+                           uint32_t keep, int id0, int view0, const float *m, int k, int erase,
+                           uint8_t *L, int *id, int *view, float *rss)
+{
+    float conf[32], black, white;
+    actag_soft_match mq;
+    int a, nr = 0, rc;
+    flevels(m, k, &black, &white);
+    if (!(white - black > 0.0f))
+        return 0;
+    fconfidences(m, k, flags, level, black, white, conf);
+    rc = actag_family_match_soft_views(family, conf, keep, views, &mq);
+    if (rc != ACTAG_OK)
+        return rc;
+    for (a = 0; a < mq.ntop && nr < FIT_STRETCH_RIVALS; a++) {
+        if (mq.top[a].id == id0 && mq.top[a].view == view0)
+            continue;
+        id[nr] = mq.top[a].id;
+        view[nr] = mq.top[a].view;
+        layout_of(family, id[nr], view[nr], k, L);
+        rss[nr] = template_rss(m, L, k, erase, NULL);
+        nr++;
+    }
+    return nr;
+}
+
 /* One reading of grid gr (9 samples a cell into m): levels, confidences,
  * the likelihood match, the bit margin and the template check, as the
  * manual in decode.h describes. regrid: this is the quad's own grid read
@@ -1664,8 +1696,10 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                             g.mx += (float)an * (fac[fi] - 1.0f) * half * sx;
                             g.my += (float)an * (fac[fi] - 1.0f) * half * sy;
                             fcells(im, &g, k, mt);
-                            nr3 = frivals(family, views, ml.top[0].id, ml.top[0].view, mt, k,
-                                          erase, L, FIT_STRETCH_RIVALS, id3, v3, rr3);
+                            nr3 = fstretch_rivals(family, views, flags, level, keep, ml.top[0].id,
+                                                  ml.top[0].view, mt, k, erase, L, id3, v3, rr3);
+                            if (nr3 < 0)
+                                return nr3;
                             layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
                             rown = template_rss(mt, L, k, erase, NULL);
                             for (j3 = 0; j3 < nr3; j3++) {
