@@ -1773,6 +1773,23 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
     return ACTAG_OK;
 }
 
+/* The frame as the cell reads see it: 9 samples a cell, looks as given
+ * (2: a second look, see fimg), the SSE2 samplers where they apply. */
+static void fimg_of(const uint8_t *grey, int rows, int cols, int stride,
+                    const actag_fit_params *fp, float looks, fimg *im)
+{
+    im->img = grey;
+    im->rows = rows;
+    im->cols = cols;
+    im->stride = stride;
+    im->so = fp->sample_offset;
+    im->fast = 0;
+    im->looks = looks;
+#if ACTAG__FIT_SIMD
+    im->simd = fsimd_ok(rows, cols, stride);
+#endif
+}
+
 /* From the quad's grid *gr: with ACTAG_FIT_WIDE the lattice search
  * (fshift) and the hopeless test, then (unless ACTAG_FIT_NO_SEARCH) the
  * code-agnostic ascent. Returns 1 for a hopeless start (*gr then the
@@ -1845,16 +1862,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     rc = fgrid_of_quad(q, bits, &gr);
     if (rc != ACTAG_OK)
         return rc;
-    im.img = grey;
-    im.rows = rows;
-    im.cols = cols;
-    im.stride = stride;
-    im.so = fp->sample_offset;
-    im.fast = 0;
-    im.looks = grids && grids->read_before ? 2.0f : 1.0f;
-#if ACTAG__FIT_SIMD
-    im.simd = fsimd_ok(rows, cols, stride);
-#endif
+    fimg_of(grey, rows, cols, stride, fp, grids && grids->read_before ? 2.0f : 1.0f, &im);
     g_quad = gr; /* the quad's own grid: the template check's second start and the second grid */
     {
         /* A quad no affine grid fits to within the tight polish's reach:
@@ -1969,16 +1977,7 @@ int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int strid
             if (fgrid_of_quad(q, family->bits, &g[2 * h + s]) != ACTAG_OK)
                 return ACTAG_ERR_PARAM;
         }
-    im.img = grey;
-    im.rows = rows;
-    im.cols = cols;
-    im.stride = stride;
-    im.so = fp->sample_offset;
-    im.fast = 0;
-    im.looks = 1.0f;
-#if ACTAG__FIT_SIMD
-    im.simd = fsimd_ok(rows, cols, stride);
-#endif
+    fimg_of(grey, rows, cols, stride, fp, 1.0f, &im);
     /* each reading's template, view 0 (the grid carries rotation and
      * handedness), polished over the full range from either place */
     for (h = 0; h < 2; h++) {
