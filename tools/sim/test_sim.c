@@ -410,60 +410,76 @@ static void test_render_errors(void)
     TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 1u, img, NULL, 64, err));
 }
 
-/* Frame `frame` of `actag-eval [--pool] --seed seed`, rendered as actag-eval
- * renders it (pool: the pool recording's settings; else the paper's with
- * actag-eval's 60 degree aperture), must hold tag `id` seen with the
- * mirrored flag `mirrored`, and whatever actag_detect reads there must be
- * that tag in that handedness (a wrong reading fails with `what`). */
-static void check_sim_frame(int pool, uint32_t seed, uint32_t frame, int id, int mirrored,
-                            const char *what)
+/* Scene sc rendered with frame seed fs must show tag t wholly in view with
+ * the mirrored flag `mirrored`, and whatever actag_detect reads there must
+ * be tag `id` in that handedness (a wrong reading fails with `what`). */
+static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
+                        uint32_t fs, const sim_tag *t, int id, int mirrored, const char *what)
 {
     static uint8_t img[1024 * 1024];
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
-    char arg0[] = "test_sim", arg1[] = "--pool";
-    char *argv[3] = {arg0, arg1, NULL};
-    sim_sonar s;
-    sim_view_params v;
-    sim_appearance a;
-    sim_tag t;
-    sim_scene sc;
     sim_truth tr;
-    actag_family fam;
     actag_params p;
     actag_frame f;
     actag_detection det[8];
-    uint32_t fs = sim_frame_seed(seed, frame);
     int n, k;
-    if (!pool)
-        argv[1] = NULL;
-    TEST_ASSERT_EQUAL_INT(pool, simio_opt_defaults(pool ? 2 : 1, argv, &s, &v, &a));
-    if (!pool)
-        s.geo.aperture = (float)(60.0 * (3.14159265358979 / 180.0));
-    TEST_ASSERT_TRUE(s.rows <= 1024 && s.cols <= 1024);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
-    memset(&t, 0, sizeof t);
-    t.family = fam;
-    t.tag_size = 0.130628571f;
-    t.id = simio_random_id(fs, fam.ncodes);
-    TEST_ASSERT_EQUAL_INT(id, t.id);
-    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
-    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, fs, img, NULL, s.cols, NULL));
-    sim_truth_of(&s, &t, &tr);
+    TEST_ASSERT_TRUE(s->rows <= 1024 && s->cols <= 1024);
+    TEST_ASSERT_EQUAL_INT(0, sim_render(s, sc, a, fs, img, NULL, s->cols, NULL));
+    sim_truth_of(s, t, &tr);
     TEST_ASSERT_EQUAL_INT(mirrored, tr.mirrored);
+    TEST_ASSERT_EQUAL_INT(1, tr.visible);
     actag_params_default(&p);
-    p.family = &fam;
-    p.tag_size = t.tag_size;
+    p.family = &t->family;
+    p.tag_size = t->tag_size;
     f.data = img;
-    f.rows = s.rows;
-    f.cols = s.cols;
-    f.stride = s.cols;
+    f.rows = s->rows;
+    f.cols = s->cols;
+    f.stride = s->cols;
     f.depth = 8;
-    n = actag_detect(&f, &s.geo, &p, ws, sizeof ws, det, 8, NULL);
+    n = actag_detect(&f, &s->geo, &p, ws, sizeof ws, det, 8, NULL);
     TEST_ASSERT_GREATER_OR_EQUAL(0, n);
     for (k = 0; k < n; k++) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
         TEST_ASSERT_EQUAL_INT(mirrored, det[k].mirrored);
     }
+}
+
+/* The sonar, view and appearance settings of actag-eval [--pool] (pool:
+ * the pool recording's; else the paper's with actag-eval's 60 degree
+ * aperture), and an AcTag24h10 tag of the default size, no ID yet. */
+static void eval_settings(int pool, sim_sonar *s, sim_view_params *v, sim_appearance *a,
+                          sim_tag *t)
+{
+    char arg0[] = "test_sim", arg1[] = "--pool";
+    char *argv[3] = {arg0, arg1, NULL};
+    if (!pool)
+        argv[1] = NULL;
+    TEST_ASSERT_EQUAL_INT(pool, simio_opt_defaults(pool ? 2 : 1, argv, s, v, a));
+    if (!pool)
+        s->geo.aperture = (float)(60.0 * (3.14159265358979 / 180.0));
+    memset(t, 0, sizeof *t);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &t->family));
+    t->tag_size = 0.130628571f;
+}
+
+/* Frame `frame` of `actag-eval [--pool] --seed seed`, rendered as actag-eval
+ * renders it, must hold tag `id` seen with the mirrored flag `mirrored`,
+ * and whatever actag_detect reads there must be that tag in that
+ * handedness (check_scene). */
+static void check_sim_frame(int pool, uint32_t seed, uint32_t frame, int id, int mirrored,
+                            const char *what)
+{
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    uint32_t fs = sim_frame_seed(seed, frame);
+    eval_settings(pool, &s, &v, &a, &t);
+    t.id = simio_random_id(fs, t.family.ncodes);
+    TEST_ASSERT_EQUAL_INT(id, t.id);
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+    check_scene(&s, &sc, &a, fs, &t, id, mirrored, what);
 }
 
 /* actag-eval --seed 102, frame 444: a mirrored AcTag24h10 tag 3 at 3.68 m
@@ -515,47 +531,17 @@ static void test_regression_seed121_frame803(void)
  * rival_explains against the contour's ambiguous quad readings). */
 static void test_regression_pool_sequence_seed81_frame62(void)
 {
-    static uint8_t img[1024 * 1024];
-    static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
-    char arg0[] = "test_sim", arg1[] = "--pool";
-    char *argv[3] = {arg0, arg1, NULL};
     sim_sonar s;
     sim_view_params v;
     sim_appearance a;
     sim_tag t;
     sim_scene sc;
-    sim_truth tr;
-    actag_family fam;
-    actag_params p;
-    actag_frame f;
-    actag_detection det[8];
-    uint32_t seed = 276524742u, fs = sim_frame_seed(seed, 62u);
-    int n, k;
-    TEST_ASSERT_EQUAL_INT(1, simio_opt_defaults(2, argv, &s, &v, &a));
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
-    memset(&t, 0, sizeof t);
-    t.family = fam;
-    t.tag_size = 0.130628571f;
+    uint32_t seed = 276524742u;
+    eval_settings(1, &s, &v, &a, &t);
     t.id = 2;
     sim_sequence_view(&s, &v, seed, 62, 100, &t, &sc);
-    TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, fs, img, NULL, s.cols, NULL));
-    sim_truth_of(&s, &t, &tr);
-    TEST_ASSERT_EQUAL_INT(0, tr.mirrored);
-    TEST_ASSERT_EQUAL_INT(1, tr.visible);
-    actag_params_default(&p);
-    p.family = &fam;
-    p.tag_size = t.tag_size;
-    f.data = img;
-    f.rows = s.rows;
-    f.cols = s.cols;
-    f.stride = s.cols;
-    f.depth = 8;
-    n = actag_detect(&f, &s.geo, &p, ws, sizeof ws, det, 8, NULL);
-    TEST_ASSERT_GREATER_OR_EQUAL(0, n);
-    for (k = 0; k < n; k++) {
-        TEST_ASSERT_EQUAL_INT_MESSAGE(2, det[k].id, "the wrong ID of sequence seed 81 frame 62");
-        TEST_ASSERT_EQUAL_INT(0, det[k].mirrored);
-    }
+    check_scene(&s, &sc, &a, sim_frame_seed(seed, 62u), &t, 2, 0,
+                "the wrong ID of sequence seed 81 frame 62");
 }
 
 /* actag-eval --seed 311, frame 408 (the paper's settings, a seed nobody
