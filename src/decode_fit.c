@@ -1129,6 +1129,8 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->sample_offset = 0.2f;
     fp->min_margin = ACTAG_FIT_MIN_MARGIN;
     fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
+    fp->many_corrections = ACTAG_FIT_MANY_CORRECTIONS;
+    fp->many_corrections_margin = ACTAG_FIT_MANY_CORRECTIONS_MARGIN;
 }
 
 /* The affine grid of a clockwise white-square quad q (actag_tag_affine):
@@ -1746,6 +1748,11 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
         }
         margin -= look;
         if (margin < fp->min_margin)
+            return ACTAG_ERR_NO_MATCH;
+        /* at the correction limit another code may be as near as the read
+         * one: the soft evidence must lead by more (decode.h) */
+        if (ml.best.hamming >= fp->many_corrections &&
+            margin < fp->min_margin + fp->many_corrections_margin)
             return ACTAG_ERR_NO_MATCH;
         out->bit_margin = ml.h2 - ml.best.hamming;
     }

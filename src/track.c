@@ -272,6 +272,9 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
         own.codes = p->family->codes + k->id;
         own.ncodes = 1;
         fp.min_margin = p->min_margin; /* the user's margin wins, as in actag_detect */
+        /* no other code is a hypothesis, so none can lie as near as the
+         * read one: the extra margin at the correction limit is moot */
+        fp.many_corrections_margin = 0.0f;
         /* and in the track's own handedness only (on screen: flipped with the image) */
         fp.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
         fp.flags |= (k->mirrored ^ flip) ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;

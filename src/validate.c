@@ -124,6 +124,12 @@ static int fit_check(const actag_fit_params *f, int lv, actag_error_detail *d)
     if (f->min_bit_margin < 0 || f->min_bit_margin > 32)
         return fail(d, ACTAG_ERR_PARAM, FN(lv, "min_bit_margin"), f->min_bit_margin,
                     "must be an integer from 0 to 32 (bits)");
+    if (f->many_corrections < 0 || f->many_corrections > 33)
+        return fail(d, ACTAG_ERR_PARAM, FN(lv, "many_corrections"), f->many_corrections,
+                    "must be an integer from 0 to 33 (bits; 33: never)");
+    if (!in_range(f->many_corrections_margin, 0.0f, 1.0e6f))
+        return fail(d, ACTAG_ERR_PARAM, FN(lv, "many_corrections_margin"),
+                    f->many_corrections_margin, "must be a number from 0 to 1e6");
     if ((f->flags & ACTAG_FIT_ONLY_UNMIRRORED) && (f->flags & ACTAG_FIT_ONLY_MIRRORED))
         return fail(d, ACTAG_ERR_PARAM, FN(lv, "flags"), f->flags,
                     "must not hold both ACTAG_FIT_ONLY_UNMIRRORED and ACTAG_FIT_ONLY_MIRRORED");

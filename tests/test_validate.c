@@ -134,6 +134,10 @@ static const field_case param_cases[] = {
      {NAN_, 1.1e6, -INF_}, 3, {-1e6, 1e6}, 2},
     {"tuning.fit.min_bit_margin", K_INT, P(tuning.fit.min_bit_margin), ACTAG_ERR_PARAM, {-1, 33},
      2, {0, 32}, 2},
+    {"tuning.fit.many_corrections", K_INT, P(tuning.fit.many_corrections), ACTAG_ERR_PARAM,
+     {-1, 34}, 2, {0, 33}, 2},
+    {"tuning.fit.many_corrections_margin", K_FLOAT, P(tuning.fit.many_corrections_margin),
+     ACTAG_ERR_PARAM, {-0.01, 1.1e6, NAN_}, 3, {0, 1e6}, 2},
     {"tuning.fit.flags", K_INT, P(tuning.fit.flags), ACTAG_ERR_PARAM,
      {ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED,
       ACTAG_FIT_DEFAULT_FLAGS | ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED}, 2,
@@ -688,7 +692,7 @@ static void test_fit_decoder_rejects_what_the_validator_rejects(void)
     actag_params p;
     int k;
     base(&f, &g, &p);
-    for (k = 0; k < 6; k++) {
+    for (k = 0; k < 8; k++) {
         int rc, v;
         actag_fit_params_default(&fp);
         switch (k) {
@@ -697,11 +701,13 @@ static void test_fit_decoder_rejects_what_the_validator_rejects(void)
         case 2: fp.sample_offset = NAN; break;
         case 3: fp.min_margin = INFINITY; break;
         case 4: fp.min_bit_margin = -1; break;
+        case 5: fp.many_corrections = 34; break;
+        case 6: fp.many_corrections_margin = -1.0f; break;
         default: break; /* valid */
         }
         v = actag_fit_params_validate(&fp, NULL);
         rc = actag_decode_quad_fit(g_px, ROWS, COLS, COLS, q, &g_fam, 2, &fp, &res);
-        if (k < 5) {
+        if (k < 7) {
             TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, v);
             TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, rc);
         } else {

@@ -213,6 +213,21 @@ int actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
 /* Default least lead in corrected bits of a fit-decoder reading. */
 #define ACTAG_FIT_MIN_BIT_MARGIN 2
 
+/* Defaults of the extra margin a reading at the correction limit needs
+ * (actag_fit_params.many_corrections, .many_corrections_margin): with 3 or
+ * more corrected bits a reading must lead by min_margin + 1.5. Over the 20
+ * cells the decoder reads, a physically mirrored AcTag24h10 view is 5 bits
+ * from another ID (docs/families.md), so a reading with 3 corrections may
+ * lie as near another code as its own; its margin then rests on the soft
+ * cell evidence alone, whose noise model is optimistic on speckle.
+ * Measured on 24,000 simulated views (actag-eval at the paper's settings,
+ * seeds 313-316, six appearances): 7 wrong IDs and 1 wrong handedness, all
+ * with 3 corrections at margins 2.05-3.42, against 162 of the 8,098 right
+ * readings (2 %) with 3 corrections below 3.5 (docs/decoder.md, "Readings
+ * at the correction limit"). */
+#define ACTAG_FIT_MANY_CORRECTIONS 3
+#define ACTAG_FIT_MANY_CORRECTIONS_MARGIN 1.5f
+
 /* Options of actag_decode_quad_fit(). */
 typedef struct actag_fit_params {
     int flags;           /* ACTAG_FIT_* (default ACTAG_FIT_DEFAULT_FLAGS) */
@@ -225,13 +240,21 @@ typedef struct actag_fit_params {
                             actag_params.min_margin instead. */
     int min_bit_margin;  /* least lead in corrected bits over any other reading
                             (ACTAG_FIT_MIN_BIT_MARGIN, 2) */
+    int many_corrections; /* a reading with at least this many corrected bits ... (0..33;
+                             default ACTAG_FIT_MANY_CORRECTIONS, 3; 33 turns the rule off) */
+    float many_corrections_margin; /* ... needs decision_margin >= min_margin + this
+                             (0..1e6; default ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1.5).
+                             Lower it (0 turns the rule off) for recall of far or
+                             grazing tags where a wrong ID does little harm; raise it on
+                             murky sonars (more blur or speckle than the pool recording) */
 } actag_fit_params;
 
 /* Fills *fp with the defaults above (no-op for NULL). */
 void actag_fit_params_default(actag_fit_params *fp);
 
 /* Checks *fp: level in [0, 1], min_contrast 0..255, sample_offset in
- * [0, 0.5], min_margin in [-1e6, 1e6], min_bit_margin 0..32, not both
+ * [0, 0.5], min_margin in [-1e6, 1e6], min_bit_margin 0..32,
+ * many_corrections 0..33, many_corrections_margin in [0, 1e6], not both
  * ACTAG_FIT_ONLY_UNMIRRORED and ACTAG_FIT_ONLY_MIRRORED (other unknown flag
  * bits are ignored). Returns ACTAG_OK, ACTAG_ERR_NULL or ACTAG_ERR_PARAM;
  * fills *detail (common.h; field names as "level") when not NULL.
@@ -319,7 +342,9 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      look-elsewhere allowance for the N = 8 ncodes hypotheses (times 165
  *      grids after ACTAG_FIT_WIDE, times 2 after the second grid): pure
  *      noise reaches about 0. A reading
- *      needs decision_margin >= min_margin (default ACTAG_FIT_MIN_MARGIN, 2).
+ *      needs decision_margin >= min_margin (default ACTAG_FIT_MIN_MARGIN, 2),
+ *      and one with at least fp->many_corrections corrected bits (3)
+ *      decision_margin >= min_margin + fp->many_corrections_margin (1.5).
  *      Re-checks at the full range (without ACTAG_FIT_WIDE), refusing a
  *      reading that a rival then explains better: every candidate of a
  *      second-grid reading after a rival came within the margin on the

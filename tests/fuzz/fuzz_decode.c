@@ -147,6 +147,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fp.sample_offset = fz_float(&r, fp.sample_offset, 0.0f, 0.5f);
     fp.min_margin = fz_float(&r, fp.min_margin, -10.0f, 30.0f);
     fp.min_bit_margin = fz_int(&r, fp.min_bit_margin, 0, 32);
+    fp.many_corrections = fz_int(&r, fp.many_corrections, 0, 33);
 
     /* family: built-in, or an invalid one */
     actag_family_get_at((sel >> 2) % nfam, &fam);
@@ -167,7 +168,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fp_ok = fp.min_contrast >= 0 && fp.min_contrast <= 255 && fp.level >= 0.0f &&
             fp.level <= 1.0f && fp.sample_offset >= 0.0f && fp.sample_offset <= 0.5f &&
             fp.min_margin >= -1.0e6f && fp.min_margin <= 1.0e6f && fp.min_bit_margin >= 0 &&
-            fp.min_bit_margin <= 32 &&
+            fp.min_bit_margin <= 32 && fp.many_corrections >= 0 && fp.many_corrections <= 33 &&
             !((fp.flags & ACTAG_FIT_ONLY_UNMIRRORED) && (fp.flags & ACTAG_FIT_ONLY_MIRRORED));
 
     /* the quad */

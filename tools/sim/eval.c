@@ -87,6 +87,7 @@ static void usage(FILE *f)
         "  --json                 one JSON summary object on stdout (instead of text)\n"
         "  --svg DIR              error histograms and rate-versus-distance/incidence curves\n"
         "  --pose-dump FILE       JSON lines, one per right reading: distance, incidence,\n"
+        "                         hamming, decision margin, read by the search or not,\n"
         "                         true and estimated centre elevation and band, position and\n"
         "                         orientation errors, rotation error vector, pose flags\n"
         "  --failures FILE        JSON lines of frames with a wrong ID, false tag, order or\n"
@@ -1155,13 +1156,14 @@ int main(int argc, char **argv)
                         "\"w\": [%.6f, %.6f, %.6f], \"flags\": %d, "
                         "\"range_errors\": [%.6f, %.6f, %.6f, %.6f], "
                         "\"azimuth_errors\": [%.7f, %.7f, %.7f, %.7f], "
-                        "\"m2\": [%.3f, %.3f, %.3f]}\n",
+                        "\"m2\": [%.3f, %.3f, %.3f], \"hamming\": %d, "
+                        "\"decision_margin\": %.3f, \"from_search\": %d}\n",
                         i, R->distance, R->incidence / DEG, R->range_true, R->mirrored,
                         R->el_true, R->el_est, R->el_lo, R->el_hi, R->pos_err, R->ori_err,
                         R->w_err[0], R->w_err[1], R->w_err[2], R->pose_flags, R->range_err[0],
                         R->range_err[1], R->range_err[2], R->range_err[3], R->az_err[0],
                         R->az_err[1], R->az_err[2], R->az_err[3], R->m2_pos, R->m2_ori,
-                        R->m2_all);
+                        R->m2_all, R->hamming, R->margin, R->found_search);
             }
             fclose(pf);
         }

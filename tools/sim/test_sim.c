@@ -411,18 +411,20 @@ static void test_render_errors(void)
 }
 
 /* Scene sc rendered with frame seed fs must show tag t wholly in view with
- * the mirrored flag `mirrored`, and whatever actag_detect reads there must
- * be tag `id` in that handedness (a wrong reading fails with `what`). */
-static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
-                        uint32_t fs, const sim_tag *t, int id, int mirrored, const char *what)
+ * the mirrored flag `mirrored`; det[] gets what actag_detect reads there
+ * with the default parameters, except that the extra margin of readings at
+ * the correction limit is `limit_margin` (decode.h,
+ * ACTAG_FIT_MANY_CORRECTIONS_MARGIN). Returns the number of detections. */
+static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
+                        uint32_t fs, const sim_tag *t, int mirrored, float limit_margin,
+                        actag_detection det[8])
 {
     static uint8_t img[1024 * 1024];
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
     sim_truth tr;
     actag_params p;
     actag_frame f;
-    actag_detection det[8];
-    int n, k;
+    int n;
     TEST_ASSERT_TRUE(s->rows <= 1024 && s->cols <= 1024);
     TEST_ASSERT_EQUAL_INT(0, sim_render(s, sc, a, fs, img, NULL, s->cols, NULL));
     sim_truth_of(s, t, &tr);
@@ -431,6 +433,7 @@ static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appea
     actag_params_default(&p);
     p.family = &t->family;
     p.tag_size = t->tag_size;
+    p.tuning.fit.many_corrections_margin = limit_margin;
     f.data = img;
     f.rows = s->rows;
     f.cols = s->cols;
@@ -438,6 +441,18 @@ static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appea
     f.depth = 8;
     n = actag_detect(&f, &s->geo, &p, ws, sizeof ws, det, 8, NULL);
     TEST_ASSERT_GREATER_OR_EQUAL(0, n);
+    return n;
+}
+
+/* Scene sc rendered with frame seed fs must show tag t wholly in view with
+ * the mirrored flag `mirrored`, and whatever actag_detect reads there must
+ * be tag `id` in that handedness (a wrong reading fails with `what`). */
+static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
+                        uint32_t fs, const sim_tag *t, int id, int mirrored, const char *what)
+{
+    actag_detection det[8];
+    int n, k;
+    n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det);
     for (k = 0; k < n; k++) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
         TEST_ASSERT_EQUAL_INT(mirrored, det[k].mirrored);
@@ -569,6 +584,55 @@ static void test_regression_pool_seed91_frame810(void)
     check_sim_frame(1, 91u, 810u, 6, 1, "the wrong ID of pool seed 91 frame 810");
 }
 
+/* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
+ * appearance) holds tag `id` with the mirrored flag `mirrored`. Without the
+ * extra margin at the correction limit it is misread (another ID or the
+ * other handedness) with that many corrections at a margin below
+ * min_margin + ACTAG_FIT_MANY_CORRECTIONS_MARGIN; with it, whatever is read
+ * there is right. */
+static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored,
+                             const char *what)
+{
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    actag_detection det[8];
+    uint32_t fs = sim_frame_seed(seed, frame);
+    int n, k, wrong = 0;
+    eval_settings(0, &s, &v, &a, &t);
+    t.id = simio_random_id(fs, t.family.ncodes);
+    TEST_ASSERT_EQUAL_INT(id, t.id);
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, det);
+    for (k = 0; k < n; k++)
+        if (det[k].id != id || det[k].mirrored != mirrored) {
+            TEST_ASSERT_TRUE(det[k].hamming >= ACTAG_FIT_MANY_CORRECTIONS);
+            TEST_ASSERT_TRUE(det[k].decision_margin <
+                             ACTAG_FIT_MIN_MARGIN + ACTAG_FIT_MANY_CORRECTIONS_MARGIN);
+            wrong++;
+        }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, wrong, what);
+    check_scene(&s, &sc, &a, fs, &t, id, mirrored, what);
+}
+
+/* actag-eval --seed 313, frame 860 (a seed nobody tuned on, default
+ * appearance): an unmirrored AcTag24h10 tag 3 at 3.0 m and 46 degrees, read
+ * from a good quad as tag 6 turned a quarter, hamming 3, margin 2.79. */
+static void test_regression_seed313_frame860(void)
+{
+    check_limit_rule(313u, 860u, 3, 0, "the wrong ID of seed 313 frame 860");
+}
+
+/* actag-eval --seed 314, frame 920: a mirrored AcTag24h10 tag 6 at 3.77 m
+ * and 71 degrees (contrast 11 grey levels), read with the right ID but
+ * unmirrored (so in the wrong corner order), hamming 3, margin 3.42. */
+static void test_regression_seed314_frame920(void)
+{
+    check_limit_rule(314u, 920u, 6, 1, "the wrong handedness of seed 314 frame 920");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -584,6 +648,8 @@ int main(void)
     RUN_TEST(test_regression_pool_seed122_frame586);
     RUN_TEST(test_regression_seed121_frame803);
     RUN_TEST(test_regression_seed311_frame408);
+    RUN_TEST(test_regression_seed313_frame860);
+    RUN_TEST(test_regression_seed314_frame920);
     RUN_TEST(test_regression_pool_sequence_seed81_frame62);
     RUN_TEST(test_regression_pool_seed91_frame810);
     return UNITY_END();
