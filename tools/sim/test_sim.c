@@ -477,6 +477,21 @@ static void eval_settings(int pool, sim_sonar *s, sim_view_params *v, sim_appear
     t->tag_size = 0.130628571f;
 }
 
+/* Frame `frame` of `actag-eval [--pool] --seed seed` as actag-eval samples
+ * it: its sonar, appearance, tag (which must be `id`) and scene; returns the
+ * frame seed. */
+static uint32_t eval_frame(int pool, uint32_t seed, uint32_t frame, int id, sim_sonar *s,
+                           sim_appearance *a, sim_tag *t, sim_scene *sc)
+{
+    sim_view_params v;
+    uint32_t fs = sim_frame_seed(seed, frame);
+    eval_settings(pool, s, &v, a, t);
+    t->id = simio_random_id(fs, t->family.ncodes);
+    TEST_ASSERT_EQUAL_INT(id, t->id);
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(s, &v, fs, t, sc));
+    return fs;
+}
+
 /* Frame `frame` of `actag-eval [--pool] --seed seed`, rendered as actag-eval
  * renders it, must hold tag `id` seen with the mirrored flag `mirrored`,
  * and whatever actag_detect reads there must be that tag in that
@@ -485,15 +500,10 @@ static void check_sim_frame(int pool, uint32_t seed, uint32_t frame, int id, int
                             const char *what)
 {
     sim_sonar s;
-    sim_view_params v;
     sim_appearance a;
     sim_tag t;
     sim_scene sc;
-    uint32_t fs = sim_frame_seed(seed, frame);
-    eval_settings(pool, &s, &v, &a, &t);
-    t.id = simio_random_id(fs, t.family.ncodes);
-    TEST_ASSERT_EQUAL_INT(id, t.id);
-    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+    uint32_t fs = eval_frame(pool, seed, frame, id, &s, &a, &t, &sc);
     check_scene(&s, &sc, &a, fs, &t, id, mirrored, what);
 }
 
@@ -594,17 +604,12 @@ static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored
                              const char *what)
 {
     sim_sonar s;
-    sim_view_params v;
     sim_appearance a;
     sim_tag t;
     sim_scene sc;
     actag_detection det[8];
-    uint32_t fs = sim_frame_seed(seed, frame);
     int n, k, wrong = 0;
-    eval_settings(0, &s, &v, &a, &t);
-    t.id = simio_random_id(fs, t.family.ncodes);
-    TEST_ASSERT_EQUAL_INT(id, t.id);
-    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+    uint32_t fs = eval_frame(0, seed, frame, id, &s, &a, &t, &sc);
     n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, det);
     for (k = 0; k < n; k++)
         if (det[k].id != id || det[k].mirrored != mirrored) {
