@@ -66,7 +66,9 @@ static void usage(FILE *f)
             "                         reading of the binary frame\n"
             "  --search N             structure-search candidates per frame, 0 (off) to 8 (default 2)\n"
             "  --min-margin F         least decision margin (log-likelihood ratio) of a reading\n"
-            "                         (default 2); --search-min-margin F for search readings (1)\n"
+            "                         (default 2); --search-min-margin F for search readings (1);\n"
+            "                         --many-corrections-margin F: readings with 3 or more\n"
+            "                         corrected bits need min-margin + F (default 1.5)\n"
             "  --handedness any|unmirrored|mirrored  the views the sonar's mounting can show\n"
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
@@ -128,6 +130,7 @@ static const hostio_optname option_names[] = {
     {"tuning.min_structure", "--min-structure", 0},
     {"tuning.min_side_fraction", "--min-side-fraction", 0},
     {"tuning.search_min_margin", "--search-min-margin", 0},
+    {"tuning.fit.many_corrections_margin", "--many-corrections-margin", 0},
     {"tuning.median_radius", "--median-radius", 0},
     {"tuning.threshold_radius", "--threshold-radius", 0},
     {"tuning.threshold_offset", "--threshold-offset", 0},
@@ -277,6 +280,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--search-min-margin") == 0) {
             NEEDV();
             o->params.tuning.search_min_margin = fnum(a, v);
+        } else if (strcmp(a, "--many-corrections-margin") == 0) {
+            NEEDV();
+            o->params.tuning.fit.many_corrections_margin = fnum(a, v);
         } else if (strcmp(a, "--handedness") == 0) {
             NEEDV(); /* the words in ACTAG_HANDEDNESS_* order */
             o->params.handedness = hostio_opt_choice(PROG, a, v, handedness_words, 3);

@@ -539,6 +539,8 @@ static void test_bad_options(void)
                         "--search: must be an integer from 0 to ACTAG_SEARCH_MAX (8) (got 9)");
     expect_option_error(GEO " --min-structure 1.5 " EXAMPLE,
                         "--min-structure: must be a number from 0 to 1 (got 1.5)");
+    expect_option_error(GEO " --many-corrections-margin -1 " EXAMPLE,
+                        "--many-corrections-margin: must be a number from 0 to 1e6 (got -1)");
     expect_option_error("--min-range -1 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
                         "--min-range: must be a finite number >= 0 (metres) (got -1)");
     expect_option_error("--min-range 0.1 --max-range 1.5 --aperture-deg 400 " EXAMPLE,

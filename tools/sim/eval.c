@@ -67,6 +67,8 @@ static void usage(FILE *f)
         "  --corrections N        bit corrections for the tagged frames (default: the\n"
         "                         library's default for the family)\n"
         "  --min-margin F --search-min-margin F  least decision margins (library defaults)\n"
+        "  --many-corrections-margin F  extra margin of readings with 3 or more corrected\n"
+        "                         bits (library default 1.5; 0: none)\n"
         "  --handedness any|unmirrored|mirrored  the views the decoder may read (actag_params\n"
         "                         handedness; default any). The tagged frames of a run with\n"
         "                         unmirrored want --mirror-fraction 0\n"
@@ -153,6 +155,7 @@ typedef struct {
     actag_family fam;
     int corrections;
     float min_margin, search_min_margin; /* < 0: the library's defaults */
+    float many_margin;                   /* < 0: the library's default */
     int min_bit_margin;                  /* < 0: the library's default */
     int handedness;                      /* actag_params.handedness (default any) */
     float min_structure, min_side;       /* < 0: the library's defaults */
@@ -299,6 +302,8 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
         p.tuning.min_side_fraction = c->min_side;
     if (c->search_min_margin > -1e5f)
         p.tuning.search_min_margin = c->search_min_margin;
+    if (c->many_margin >= 0.0f)
+        p.tuning.fit.many_corrections_margin = c->many_margin;
     p.handedness = c->handedness;
     fr.data = img;
     fr.rows = c->sonar.rows;
@@ -798,6 +803,7 @@ int main(int argc, char **argv)
     c.frames = 1000;
     c.seed = 1;
     c.min_margin = c.search_min_margin = -1.0e6f;
+    c.many_margin = -1.0f;
     c.min_bit_margin = -1;
     c.min_structure = c.min_side = -1.0f;
     pool = simio_opt_defaults(argc, argv, &c.sonar, &c.view, &c.app); /* --pool first */
@@ -837,6 +843,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--search-min-margin")) {
             NEED();
             c.search_min_margin = (float)num(o, v, -1e6, 1e6);
+        } else if (!strcmp(o, "--many-corrections-margin")) {
+            NEED();
+            c.many_margin = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--handedness")) {
             static const char *const words[3] = {"any", "unmirrored", "mirrored"};
             NEED(); /* the words in ACTAG_HANDEDNESS_* order */

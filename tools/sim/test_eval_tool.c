@@ -215,6 +215,8 @@ static void test_bad_options(void)
     expect_error(ACTAG_EVAL_PATH, "--frames 10 --family AcTag99h1", "AcTag99h1");
     expect_error(ACTAG_EVAL_PATH, "--max-range 0.05", "--max-range");
     expect_error(ACTAG_EVAL_PATH, "--corrections 9", "--corrections");
+    expect_error_of(ACTAG_EVAL_PATH, "--many-corrections-margin -1", "--many-corrections-margin",
+                    "-1");
     expect_error(ACTAG_EVAL_PATH, "--bogus", "--bogus");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --pose-dump /nonexistent-dir/p.jsonl",
                  "/nonexistent-dir/p.jsonl");
