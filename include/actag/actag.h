@@ -210,7 +210,10 @@ typedef struct actag_tuning {
                                    margin from actag_params.min_margin, which wins, and does not
                                    read fit.min_margin (it is there for direct callers of
                                    actag_decode_quad_fit; actag_tuning_default sets it to the
-                                   same default). Change only to study the decoder. */
+                                   same default). Change only to study the decoder, except
+                                   fit.many_corrections_margin (1.5): the extra margin a
+                                   reading with 3 or more corrected bits needs, raise it on
+                                   murky sonars, 0 for recall where a wrong ID costs little. */
     float min_structure;        /* fraction, 0..1 (default 0): the fit decoder's black-ring
                                    and white-interior fractions must reach this; the misses
                                    below 1 are charged to the corrections budget anyway, which
