@@ -79,6 +79,11 @@ def test_parameter_errors():
         pyactag.Detector(quad_inlier_distance=1e7)  # RANSAC would refuse it: an error now
     assert ei.value.field == "quad_inlier_distance"
     with pytest.raises(pyactag.ActagError) as ei:
+        pyactag.Detector(fit_many_corrections_margin=-1.0)
+    library_error(ei, "ACTAG_ERR_PARAM")
+    assert ei.value.field == "fit_many_corrections_margin"
+    assert "must be a number from 0 to 1e6 (got -1)" in str(ei.value)
+    with pytest.raises(pyactag.ActagError) as ei:
         pyactag.Detector("AcTag99h1")
     library_error(ei, "ACTAG_ERR_FAMILY")
     assert "unknown family 'AcTag99h1'" in str(ei.value) and "AcTag24h10" in str(ei.value)
