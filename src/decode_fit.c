@@ -1098,25 +1098,44 @@ static unsigned fit_views(int flags)
     return ACTAG_VIEWS_ALL;
 }
 
+/* The family matcher's reading of cells m: their levels (*black, *white),
+ * the data cells' confidences and the soft match over `views` into *r.
+ * Returns 1, 0 when the cells show no contrast (white not above black; *r
+ * untouched), or the matcher's negative error. */
+static int fmatch_cells(const float *m, int k, int flags, float level, const actag_family *family,
+                        uint32_t keep, unsigned views, float *black, float *white,
+                        actag_soft_match *r)
+{
+    float c[32];
+    int rc;
+    flevels(m, k, black, white);
+    if (!(*white - *black > 0.0f))
+        return 0;
+    fconfidences(m, k, flags, level, *black, *white, c);
+    rc = actag_family_match_soft_views(family, c, keep, views, r);
+    return rc == ACTAG_OK ? 1 : rc;
+}
+
 static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float level,
                      const actag_family *family, uint32_t keep, float *m, int *err)
 {
-    int cx, cy, n = k + 1, miss = 0;
-    float black, white, mid, c[32];
+    int cx, cy, n = k + 1, miss = 0, rc;
+    float black, white, mid;
     actag_soft_match r;
     fcells(im, gr, k, m);
-    flevels(m, k, &black, &white);
-    if (!(white - black > 0.0f))
+    rc = fmatch_cells(m, k, flags, level, family, keep, fit_views(flags), &black, &white, &r);
+    *err = rc < 0 ? rc : ACTAG_OK;
+    if (rc == 0)
         return 1;
+    if (rc < 0)
+        return 0;
     mid = black + FIT_MID_LEVEL * (white - black);
     for (cy = 1; cy < k; cy++)
         for (cx = 1; cx < k; cx++) {
             float v = m[cy * n + cx];
             miss += is_ring(cx, cy, k) ? !(v < mid) : !(v > mid);
         }
-    fconfidences(m, k, flags, level, black, white, c);
-    *err = actag_family_match_soft_views(family, c, keep, fit_views(flags), &r);
-    return *err == ACTAG_OK && miss + r.best.hamming >= FIT_HOPELESS;
+    return miss + r.best.hamming >= FIT_HOPELESS;
 }
 
 void actag_fit_params_default(actag_fit_params *fp)
@@ -1244,15 +1263,11 @@ static int fstretch_rivals(const actag_family *family, unsigned views, int flags
                            uint32_t keep, int id0, int view0, const float *m, int k, int erase,
                            uint8_t *L, int *id, int *view, float *rss)
 {
-    float conf[32], black, white;
+    float black, white;
     actag_soft_match mq;
     int a, nr = 0, rc;
-    flevels(m, k, &black, &white);
-    if (!(white - black > 0.0f))
-        return 0;
-    fconfidences(m, k, flags, level, black, white, conf);
-    rc = actag_family_match_soft_views(family, conf, keep, views, &mq);
-    if (rc != ACTAG_OK)
+    rc = fmatch_cells(m, k, flags, level, family, keep, views, &black, &white, &mq);
+    if (rc <= 0)
         return rc;
     for (a = 0; a < mq.ntop && nr < FIT_STRETCH_RIVALS; a++) {
         if (mq.top[a].id == id0 && mq.top[a].view == view0)
@@ -1447,16 +1462,15 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
             if (amb) /* the reading the check judges, should it refuse it */
                 famb_set(&amb[0], gr, k, cid[0], cview[0]);
             {
-                float cq[32], bq, wq;
+                float bq, wq;
                 actag_soft_match mq;
                 int a2, b2;
                 fcells(im, g_quad, k, mt);
-                flevels(mt, k, &bq, &wq);
-                if (wq - bq > 0.0f) {
-                    fconfidences(mt, k, flags, level, bq, wq, cq);
-                    rc = actag_family_match_soft_views(family, cq, keep, fit_views(flags), &mq);
-                    if (rc != ACTAG_OK)
-                        return rc;
+                rc = fmatch_cells(mt, k, flags, level, family, keep, fit_views(flags), &bq, &wq,
+                                  &mq);
+                if (rc < 0)
+                    return rc;
+                if (rc == 1) {
                     for (a2 = 0; a2 < mq.ntop; a2++) {
                         int dup = 0;
                         for (b2 = 0; b2 < ncand; b2++)
@@ -1747,12 +1761,11 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
             }
         }
         margin -= look;
-        if (margin < fp->min_margin)
-            return ACTAG_ERR_NO_MATCH;
         /* at the correction limit another code may be as near as the read
          * one: the soft evidence must lead by more (decode.h) */
-        if (ml.best.hamming >= fp->many_corrections &&
-            margin < fp->min_margin + fp->many_corrections_margin)
+        if (margin < fp->min_margin + (ml.best.hamming >= fp->many_corrections
+                                           ? fp->many_corrections_margin
+                                           : 0.0f))
             return ACTAG_ERR_NO_MATCH;
         out->bit_margin = ml.h2 - ml.best.hamming;
     }
