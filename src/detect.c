@@ -439,21 +439,27 @@ static int readings_disagree(const actag__fit_rival *a, const actag__fit_rival *
  * full range at both places (actag__fit_rival_explains); when the other
  * explains the cells at least as well, the place has two readings and
  * neither has the lead its decision margin stands for. The others are the
- * tentative search readings (for quads and guesses: a search reading is
- * then judged by its own template check, as if no quad had read there) and,
- * for a contour's grid guess, the hypotheses of the contour's quads that
- * the template check refused as too close to call (the reading and the
- * rival that refused it). (Simulated frame 408 of actag-eval --seed 311:
+ * tentative search readings and, for a contour's grid guess, the
+ * hypotheses of the contour's quads that the template check refused as too
+ * close to call (the reading and the rival that refused it). A search
+ * reading that refuses a reading here is marked in contested[] (nsk
+ * entries): the place then has two readings that each passed their own
+ * checks, and neither is reported (detect_filtered). (Simulated frame 408 of actag-eval --seed 311:
  * an unmirrored tag 4 at 2.5 m whose thresholded white square lost a fifth
  * of its height at both range edges; the quad read tag 5 at margin 6.3 on
  * the short grid, the search tag 4 on a grid of the right height. Frame 62
  * of pass 17 of actag-eval --pool --sequences 20 --seed 81: the quads found
  * tag 2 and a mirrored tag 6 too close to call, the guess read tag 6 at
- * margin 7.4 on a grid a quarter short.) Returns 1 to refuse the reading. */
+ * margin 7.4 on a grid a quarter short. Frame 672 of actag-eval --seed 401
+ * --family AcTag24h8: an unmirrored tag 5 at 1.03 m and 68 degrees, read
+ * right by its quad at margin 25.9, hamming 0; the search, whose grids are
+ * not sheared like the tag's image, read tag 32 turned half a turn at
+ * margin 23.3, and its template explained the filtered cells better, so
+ * tag 32 was reported.) Returns 1 to refuse the reading. */
 static int rival_explains(const ws_layout *w, int rows, int cols, const actag_params *params,
                           const actag_decode_result *dr, const actag_decode_result *sk,
                           int nsk, const actag__fit_rival *amb, int namb,
-                          const actag_point corners[4])
+                          const actag_point corners[4], int *contested)
 {
     actag__fit_rival a = rival_of(dr), o;
     int k;
@@ -466,8 +472,11 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
             continue;
         if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family,
                                       &params->tuning.fit, a.id, a.fit_corners, o.id,
-                                      o.fit_corners, &r1, &r2) == 1)
+                                      o.fit_corners, &r1, &r2) == 1) {
+            if (k < nsk)
+                contested[k] = 1;
             return 1;
+        }
     }
     return 0;
 }
@@ -723,6 +732,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     actag_point sk_box[ACTAG_SEARCH_MAX][4];
     actag__fit_grids sk_grids[ACTAG_SEARCH_MAX];
     int sk_used[ACTAG_SEARCH_MAX] = {0};
+    /* search readings that refused another reading at their place */
+    int sk_contested[ACTAG_SEARCH_MAX] = {0};
     actag_contour_scanner scan;
     actag_ipoint *pts;
     void *qscratch;
@@ -911,7 +922,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 }
                 /* a search reading here that disagrees and explains the
                  * cells at least as well: no reading (another quad may) */
-                if (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, NULL, 0, dr.corners)) {
+                if (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, NULL, 0, dr.corners,
+                                   sk_contested)) {
                     trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
                                q.inlier_ratio, &dr);
                     rc = ACTAG_ERR_NO_MATCH;
@@ -941,7 +953,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED &&
                         rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, namb,
-                                       dr.fit_corners))
+                                       dr.fit_corners, sk_contested))
                         verdict = ACTAG_TRACE_RIVAL;
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
@@ -969,7 +981,10 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
 
     /* search readings that no quad superseded: read again with the template
      * check from their grids; of those at one place, record keeps the one
-     * with the fewest corrections */
+     * with the fewest corrections. A contested one (it refused a quad's or
+     * guess's reading that disagreed with it: rival_explains) is not: two
+     * readings of one place that each pass their own checks give no reading
+     * (a wrong ID is worse than a miss). */
     for (k = 0; k < nsk; k++) {
         actag_decode_result dr;
         actag_detection d;
@@ -977,6 +992,10 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
         if (sk_used[k]) { /* the tentative reading went on, a quad's superseded it */
             st.decoded++;
             trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_ACCEPTED, sk_box[k], 0.0f, &sk_dr[k]);
+            continue;
+        }
+        if (sk_contested[k]) {
+            trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_RIVAL, sk_box[k], 0.0f, &sk_dr[k]);
             continue;
         }
         verdict = read_wide(w.b, rows, cols, sk_box[k], geometry, params, 1, &sk_grids[k], &dr);

@@ -317,7 +317,9 @@ typedef struct actag_params {
  *     search's there is refused when the search's template, polished over
  *     the full range at both places, explains the cells at least as well
  *     (two readings of one place, neither with the lead its margin claims;
- *     the contour's next quad may read; trace outcome ACTAG_TRACE_RIVAL).
+ *     the contour's next quad may read; trace outcome ACTAG_TRACE_RIVAL),
+ *     and the search's reading is then not reported either: both readings
+ *     passed their own checks, so the place gives no reading.
  *     A contour guess's reading is judged so against the search's reading
  *     and against the hypotheses of the contour's quads that the template
  *     check refused as too close to call.

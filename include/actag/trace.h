@@ -13,8 +13,11 @@
  *                          without the template check: a refusal is traced
  *                          at once; a tentative reading after the contours,
  *                          as ACTAG_TRACE_ACCEPTED with that reading when a
- *                          quad's reading superseded it, else with the
- *                          outcome of its reading with the check.
+ *                          quad's reading superseded it, as
+ *                          ACTAG_TRACE_RIVAL when it refused a quad's or
+ *                          guess's reading of its place (contested: not
+ *                          reported either), else with the outcome of its
+ *                          reading with the check.
  *     ACTAG_TRACE_CONTOUR  an outer border of the binary frame (contours.h):
  *                          its points, bounding box and whether it passed the
  *                          physical size filter.
@@ -77,7 +80,10 @@ extern "C" {
                                      call) read another tag, handedness or
                                      corner order whose template explains the
                                      cells at least as well (both polished over
-                                     the full range at both places): no reading */
+                                     the full range at both places): no reading;
+                                     for a search position, its reading did
+                                     that to another reading of its place
+                                     (contested): it is not reported either */
 
 typedef struct actag_trace_event {
     int kind;                           /* ACTAG_TRACE_SEARCH / _CONTOUR / _QUAD / _GUESS */
