@@ -324,9 +324,9 @@ typedef struct actag_params {
  *     and against the hypotheses of the contour's quads that the template
  *     check refused as too close to call.
  *     A tentative reading no quad
- *     replaced is read again with the template check (from the grids the
- *     first reading found) and reported with fitted-grid corners if it
- *     passes. Most search readings of a tag are replaced, so their template
+ *     replaced, and that refused no quad's or guess's reading, is read
+ *     again with the template check (from the grids the first reading
+ *     found) and reported with fitted-grid corners if it passes. Most search readings of a tag are replaced, so their template
  *     check, the costliest part of a wide reading, is skipped. Memory: the score map (int16, rows/4 x cols/4) uses the
  *     binary bitmap's and the contour marks' place before the threshold
  *     fills them, the integral
