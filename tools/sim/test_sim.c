@@ -447,18 +447,26 @@ static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appea
 
 /* Scene sc rendered with frame seed fs must show tag t wholly in view with
  * the mirrored flag `mirrored`, and whatever actag_detect reads there must
- * be tag `id` in that handedness (a wrong reading fails with `what`). */
-static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
-                        uint32_t fs, const sim_tag *t, int id, int mirrored, const char *what)
+ * be tag `id` in that handedness (a wrong reading fails with `what`);
+ * trace (may be NULL) sees the candidates. */
+static void check_scene_traced(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
+                               uint32_t fs, const sim_tag *t, int id, int mirrored,
+                               const char *what, actag_trace_fn trace, void *user)
 {
     actag_detection det[8];
     int n, k;
-    n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det, NULL,
-                     NULL);
+    n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det, trace,
+                     user);
     for (k = 0; k < n; k++) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
         TEST_ASSERT_EQUAL_INT(mirrored, det[k].mirrored);
     }
+}
+
+static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
+                        uint32_t fs, const sim_tag *t, int id, int mirrored, const char *what)
+{
+    check_scene_traced(s, sc, a, fs, t, id, mirrored, what, NULL, NULL);
 }
 
 /* The sonar, view and appearance settings of actag-eval [--pool] (pool:
@@ -668,18 +676,11 @@ static void test_regression_h8_seed401_frame672(void)
     sim_appearance a;
     sim_tag t;
     sim_scene sc;
-    actag_detection det[8];
     contested_log log;
-    int n, k;
     uint32_t fs = eval_frame(0, "AcTag24h8", 401u, 672u, 5, &s, &a, &t, &sc);
     memset(&log, 0, sizeof log);
-    n = detect_scene(&s, &sc, &a, fs, &t, 0, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det,
-                     log_contested, &log);
-    for (k = 0; k < n; k++) {
-        TEST_ASSERT_EQUAL_INT_MESSAGE(5, det[k].id,
-                                      "the wrong ID of AcTag24h8 seed 401 frame 672");
-        TEST_ASSERT_EQUAL_INT(0, det[k].mirrored);
-    }
+    check_scene_traced(&s, &sc, &a, fs, &t, 5, 0, "the wrong ID of AcTag24h8 seed 401 frame 672",
+                       log_contested, &log);
     /* the case the rule is for, not a frame where nothing read */
     TEST_ASSERT_EQUAL_INT(1, log.n);
     TEST_ASSERT_EQUAL_INT(32, log.id[0]);
