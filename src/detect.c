@@ -274,6 +274,25 @@ static int extreme_quad(const actag_ipoint *pts, int n, actag_point q[4])
     return 1;
 }
 
+/* Does a guess's corner (a contour point) lie on the frame's border? The
+ * blob then reaches the frame's edge: either it is a white square whose
+ * black ring and data cells lie outside the frame (the fit decoder reads no
+ * grid whose data cells leave the frame), or the extreme point belongs to
+ * something the blob merged with, not to the tag. On the simulator's
+ * labelled frames no such guess read (0 of 53: 400 frames at the paper's
+ * settings, 400 at the pool's), while a third of the pool frames' guesses
+ * are such blobs (near-range returns and the fan's edges) and each costs a
+ * wide search. */
+static int guess_on_border(const actag_point q[4], int rows, int cols)
+{
+    int i;
+    for (i = 0; i < 4; i++)
+        if (q[i].x <= 0.0f || q[i].y <= 0.0f || q[i].x >= (float)(cols - 1) ||
+            q[i].y >= (float)(rows - 1))
+            return 1;
+    return 0;
+}
+
 /* Contours per frame whose extreme points are tried as a grid guess when
  * RANSAC gives no reading (each a wide-search decode, ~0.1 ms). */
 #define ACTAG_GUESS_MAX 16
@@ -943,7 +962,11 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 /* no quad reads: the blob's extreme points as a first guess
                  * for the wide grid search, judged like a search reading */
                 actag_point gq[4];
-                if (extreme_quad(pts, ci.stored, gq) && decode_budget(&st, params)) {
+                int have = extreme_quad(pts, ci.stored, gq);
+                if (have && guess_on_border(gq, rows, cols)) {
+                    /* not read, and not counted against ACTAG_GUESS_MAX */
+                    trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
+                } else if (have && decode_budget(&st, params)) {
                     int verdict;
                     /* after quads of the blob were read, one more look */
                     actag__fit_grids gg;

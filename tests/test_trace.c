@@ -25,10 +25,27 @@ typedef struct {
     int nacc;
     actag_point acc_corners[MAX_ACC][4]; /* corners of accepted readings */
     int acc_id[MAX_ACC];
+    int rows, cols;       /* the frame's, for the border rule of guesses */
 } tally;
 
 /* Events seen over all frames checked so far, by kind and outcome. */
-static int g_seen[5][8];
+#define N_OUTCOMES (ACTAG_TRACE_BORDER + 1)
+static int g_seen[5][N_OUTCOMES];
+
+/* Reference for the border rule: a corner on the frame's first or last
+ * row or column (guess corners are contour points, so integers). */
+static int corner_on_border(const actag_point q[4], int rows, int cols)
+{
+    int i;
+    for (i = 0; i < 4; i++) {
+        int x = (int)q[i].x, y = (int)q[i].y;
+        if ((float)x != q[i].x || (float)y != q[i].y)
+            return -1; /* not a contour point */
+        if (x == 0 || y == 0 || x == cols - 1 || y == rows - 1)
+            return 1;
+    }
+    return 0;
+}
 
 static void on_event(void *user, const actag_trace_event *e)
 {
@@ -38,8 +55,18 @@ static void on_event(void *user, const actag_trace_event *e)
         return;
     }
     t->kind_count[e->kind]++;
-    if (e->outcome >= 0 && e->outcome < 8)
+    if (e->outcome >= 0 && e->outcome < N_OUTCOMES)
         g_seen[e->kind][e->outcome]++;
+    else
+        t->bad++;
+    /* a guess is skipped exactly when a corner lies on the border, and then
+     * carries no reading */
+    if (e->kind == ACTAG_TRACE_GUESS) {
+        int b = corner_on_border(e->quad, t->rows, t->cols);
+        if (b < 0 || b != (e->outcome == ACTAG_TRACE_BORDER) ||
+            (b && e->decoded != NULL))
+            t->bad++;
+    }
     if (e->kind == ACTAG_TRACE_CONTOUR) {
         if (e->contour == NULL)
             t->bad++;
@@ -88,6 +115,8 @@ static int check_frame(const uint8_t *px, int rows, int cols, const actag_sonar_
     memset(a, 0, sizeof a);
     memset(b, 0, sizeof b);
     memset(&t, 0, sizeof t);
+    t.rows = rows;
+    t.cols = cols;
     na = actag_detect(&f, geo, p, g_ws, sizeof g_ws, a, 32, &sa);
     nb = actag_detect_traced(&f, geo, p, g_ws2, sizeof g_ws2, b, 32, &sb, on_event, &t);
     TEST_ASSERT_EQUAL_INT_MESSAGE(na, nb, what);
@@ -192,7 +221,7 @@ static void test_pool_frames(void)
     TEST_ASSERT_TRUE(total > 0);
     { /* the ragged pool outlines exercise the extreme-point grid guesses */
         int k, guesses = 0;
-        for (k = 0; k < 8; k++)
+        for (k = 0; k < N_OUTCOMES; k++)
             guesses += g_seen[ACTAG_TRACE_GUESS][k];
         TEST_ASSERT_TRUE(guesses > 0);
     }
@@ -240,6 +269,10 @@ static void test_synthetic_frames(void)
     TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_SEARCH][ACTAG_TRACE_NO_MATCH] +
                          g_seen[ACTAG_TRACE_SEARCH][ACTAG_TRACE_MARGIN] +
                          g_seen[ACTAG_TRACE_SEARCH][ACTAG_TRACE_STRUCTURE] > 0);
+    /* squares at the frame's edge: guesses skipped by the border rule, and
+     * guesses inside read as usual */
+    TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_GUESS][ACTAG_TRACE_BORDER] > 0);
+    TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_GUESS][ACTAG_TRACE_NO_MATCH] > 0);
 }
 
 /* Errors come back exactly as from actag_detect, with no event. */

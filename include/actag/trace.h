@@ -84,6 +84,9 @@ extern "C" {
                                      for a search position, its reading did
                                      that to another reading of its place
                                      (contested): it is not reported either */
+#define ACTAG_TRACE_BORDER 8      /* a guess with a corner on the frame's
+                                     border: not read (its tag's data cells
+                                     would leave the frame) */
 
 typedef struct actag_trace_event {
     int kind;                           /* ACTAG_TRACE_SEARCH / _CONTOUR / _QUAD / _GUESS */
