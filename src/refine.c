@@ -56,6 +56,7 @@ typedef struct rgrid {
 #define RROW_MAX 128 /* lattice rows */
 #define RCOL_MAX 255 /* lattice columns (uint8_t intervals) */
 #define RL_PAD (RN_MAX + 2) /* the layout with a ring of zero cells */
+#define RDIR_MAX 128 /* lattice columns whose directions are cached (stack) */
 
 typedef struct rctx {
     const uint8_t *img;              /* 8- or 16-bit pixels (bytes) */
@@ -76,6 +77,8 @@ typedef struct rctx {
     float wu, wv;                    /* template edge half-widths, cells */
     float iwu, iwv;                  /* their inverses */
     float rx, ry, ra[4];             /* level ramps: (u', v') = ra (X - rx, Y - ry) */
+    int ndir;                        /* lattice columns 0..ndir-1 have dir[] */
+    float dir[2 * RDIR_MAX];         /* their cos, sin off the centre beam (rcolumn_dir) */
 } rctx;
 
 static int finite_f(float x) { return x == x && x - x == 0.0f; }
@@ -372,19 +375,39 @@ static float rmap_w(const rmap *q, float X, float Y, float w[2], float t0, int n
     return t;
 }
 
-/* Fan-plane point of lattice row (range r or pixel row y) and column. */
-static int rlattice_plane(const rctx *c, float rr, int x, float *X, float *Y)
+/* cos and sin of lattice column j's azimuth off the centre beam (cos -1:
+ * too far off it); 0 without a geometry */
+static int rcolumn_dir(const rctx *c, int j, float *cs, float *sn)
 {
-    float d, sn, cs;
+    float d = actag_geometry_azimuth(c->geo, c->cols, (float)(c->x0 + j * c->step)) - c->ac;
+    if (!(d >= -0.6f && d <= 0.6f)) {
+        *cs = -1.0f;
+        *sn = 0.0f;
+        return 0;
+    }
+    rsincos(d, sn, cs);
+    return 1;
+}
+
+/* Fan-plane point of lattice row (range r or pixel row y) and column j
+ * (x0 + j step): the column's direction from the cache where it holds it
+ * (the same floats rcolumn_dir gives). */
+static int rlattice_plane(const rctx *c, float rr, int j, float *X, float *Y)
+{
+    float sn, cs;
     if (c->geo == NULL) {
-        *X = (float)x;
+        *X = (float)(c->x0 + j * c->step);
         *Y = rr;
         return 1;
     }
-    d = actag_geometry_azimuth(c->geo, c->cols, (float)x) - c->ac;
-    if (!(d >= -0.6f && d <= 0.6f))
+    if (j < c->ndir) {
+        cs = c->dir[2 * j];
+        sn = c->dir[2 * j + 1];
+        if (cs < 0.0f)
+            return 0;
+    } else if (!rcolumn_dir(c, j, &cs, &sn)) {
         return 0;
-    rsincos(d, &sn, &cs);
+    }
     *X = rr * cs;
     *Y = rr * sn;
     return 1;
@@ -396,12 +419,12 @@ static float rrange(const rctx *c, int y)
     return c->geo == NULL ? (float)y : actag_geometry_range(c->geo, c->rows, (float)y);
 }
 
-/* Is lattice point (x, y) (range rr) in the pixel set: its grid position
- * under the start grid within [lo, hi] in u and v. */
-static int rmember(const rctx *c, const rmap *q0, float rr, int x)
+/* Is lattice point (column j, range rr) in the pixel set: its grid
+ * position under the start grid within [lo, hi] in u and v. */
+static int rmember(const rctx *c, const rmap *q0, float rr, int j)
 {
     float X, Y, w[2];
-    if (!rlattice_plane(c, rr, x, &X, &Y))
+    if (!rlattice_plane(c, rr, j, &X, &Y))
         return 0;
     rmap_w(q0, X, Y, w, 0.0f, 3);
     return w[0] + c->g >= c->lo && w[0] + c->g <= c->hi && w[1] + c->g >= c->lo &&
@@ -573,7 +596,7 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
         for (; j <= c->jb[i]; j += sub) {
             int x = c->x0 + j * c->step;
             float X, Y, w[2], P, pu, pv, up, vp, I, R[6], J[6];
-            if (!rlattice_plane(c, rr, x, &X, &Y))
+            if (!rlattice_plane(c, rr, j, &X, &Y))
                 continue;
             /* 3 steps from the affine w at a row's first pixel, then 2
              * from the previous pixel's curvature */
@@ -996,13 +1019,20 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
         int ncol = (c.x1 - c.x0) / c.step + 1, r;
         if (!rmap_init(&c.G0, &q0))
             return ACTAG_ERR_NO_MATCH;
+        /* every sweep visits the same columns: their directions once */
+        c.ndir = 0;
+        if (c.geo != NULL) {
+            c.ndir = ncol < RDIR_MAX ? ncol : RDIR_MAX;
+            for (r = 0; r < c.ndir; r++)
+                (void)rcolumn_dir(&c, r, &c.dir[2 * r], &c.dir[2 * r + 1]);
+        }
         c.nrow = (c.y1 - c.y0) / c.step + 1;
         for (r = 0; r < c.nrow; r++) {
             float rr = rrange(&c, c.y0 + r * c.step);
             int a = 0, b = ncol - 1;
-            while (a < ncol && !rmember(&c, &q0, rr, c.x0 + a * c.step))
+            while (a < ncol && !rmember(&c, &q0, rr, a))
                 a++;
-            while (b > a && !rmember(&c, &q0, rr, c.x0 + b * c.step))
+            while (b > a && !rmember(&c, &q0, rr, b))
                 b--;
             if (a < ncol) {
                 c.ja[r] = (uint8_t)a;
