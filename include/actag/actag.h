@@ -344,7 +344,11 @@ typedef struct actag_params {
  *     raised the detection rate from 77 % to 87 % and at the paper's
  *     settings (seed 2) from 36 % to 38 %, with 0 wrong IDs, 0 mirror and 0
  *     order errors, and 0 false detections on 2,000 tag-free frames for
- *     every family; it costs ~60 % more decoder work per frame.
+ *     every family; it costs ~60 % more decoder work per frame. A guess
+ *     with a corner (an extreme point) on the frame's first or last row or
+ *     column is not read (trace outcome ACTAG_TRACE_BORDER): the blob
+ *     reaches the frame's edge, so its tag's data cells would lie outside
+ *     the frame, or the point belongs to something the blob merged with.
  *   - Size filter's least area (min_area_fraction 0.175, the paper's 0.1
  *     before): a contour must reach 0.14 of the box of the tag's diagonal
  *     (with the 20 % tolerance), the white square seen 74 degrees off its
