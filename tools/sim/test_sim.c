@@ -686,6 +686,52 @@ static void test_regression_h8_seed401_frame672(void)
     TEST_ASSERT_EQUAL_INT(32, log.id[0]);
 }
 
+/* Near tags at grazing incidence are wide and thin in the polar frame:
+ * `actag-sim --seed 931 --random 92 --rows 530 --cols 512 --min-range 0.1
+ * --max-range 3.5 --min-distance 0.5 --max-distance 1`, frames 24 (tag 4,
+ * 0.83 m, 77 degrees) and 91 (tag 5, 0.74 m, 77 degrees) span 220 and 240
+ * lattice columns in the corner refinement, more than it keeps column
+ * directions for (refine.c, RDIR_MAX 128), so both its cached and its
+ * computed directions serve. The quads' corners are 5.2 and 8.3 px off the
+ * truth at worst; refined, every corner lies within 0.75 px of it. */
+static void test_refined_corners_of_wide_near_tags(void)
+{
+    static const uint32_t frames[2] = {24u, 91u};
+    static const int ids[2] = {4, 5};
+    int i;
+    for (i = 0; i < 2; i++) {
+        sim_sonar s;
+        sim_view_params v;
+        sim_appearance a;
+        sim_tag t;
+        sim_scene sc;
+        sim_truth tr;
+        actag_detection det[8];
+        uint32_t fs = sim_frame_seed(931u, frames[i]);
+        int n, c;
+        eval_settings(0, "AcTag24h10", &s, &v, &a, &t);
+        s.rows = 530; /* the options above, as actag-sim sets them */
+        s.cols = 512;
+        s.geo.min_range = 0.1f;
+        s.geo.max_range = 3.5f;
+        v.min_distance = 0.5f;
+        v.max_distance = 1.0f;
+        t.id = simio_random_id(fs, t.family.ncodes);
+        TEST_ASSERT_EQUAL_INT(ids[i], t.id);
+        TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+        n = detect_scene(&s, &sc, &a, fs, &t, 0, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det, NULL,
+                         NULL);
+        TEST_ASSERT_EQUAL_INT(1, n);
+        TEST_ASSERT_EQUAL_INT(ids[i], det[0].id);
+        sim_truth_of(&s, &t, &tr);
+        for (c = 0; c < 4; c++) {
+            float dx = det[0].corners[c].x - tr.px[c].x, dy = det[0].corners[c].y - tr.px[c].y;
+            TEST_ASSERT_TRUE_MESSAGE(dx * dx + dy * dy <= 0.75f * 0.75f,
+                                     "refined corner more than 0.75 px off the truth");
+        }
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -704,6 +750,7 @@ int main(void)
     RUN_TEST(test_regression_seed313_frame860);
     RUN_TEST(test_regression_seed314_frame920);
     RUN_TEST(test_regression_h8_seed401_frame672);
+    RUN_TEST(test_refined_corners_of_wide_near_tags);
     RUN_TEST(test_regression_pool_sequence_seed81_frame62);
     RUN_TEST(test_regression_pool_seed91_frame810);
     return UNITY_END();
