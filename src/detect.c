@@ -522,9 +522,14 @@ static void fill_det(actag_detection *d, const actag_decode_result *dr,
  * caller's frame as the sonar gave it (the median filter, a detection aid,
  * rounds corners and thins small cells: it biased the fitted shape); the
  * corners (and their range and azimuth) move when the fit is accepted,
- * nothing else. */
+ * nothing else. When the fit from the reported corners is refused, second
+ * (if not NULL: the decoder's fitted grid's corners, in the same order) is
+ * tried as the start: a RANSAC quad of a thin, grazing tag can lie more
+ * than a cell off in range, beyond the refinement's reach, where the
+ * decoder's grid is not. */
 static void refine_det(actag_detection *d, const actag_frame *frame, uint32_t max16,
-                       const actag_sonar_geometry *geometry, const actag_params *params)
+                       const actag_sonar_geometry *geometry, const actag_params *params,
+                       const actag_point *second)
 {
     actag_refine_params rp;
     actag_point fine[4];
@@ -532,7 +537,11 @@ static void refine_det(actag_detection *d, const actag_frame *frame, uint32_t ma
     actag_refine_params_default(&rp);
     if (actag__refine_corners_max16(frame->data, frame->depth, max16, rows, cols, frame->stride,
                                     geometry, params->tag_size, params->family, d->id, d->corners,
-                                    &rp, fine, NULL) != ACTAG_OK)
+                                    &rp, fine, NULL) != ACTAG_OK &&
+        (second == NULL || memcmp(second, d->corners, sizeof d->corners) == 0 ||
+         actag__refine_corners_max16(frame->data, frame->depth, max16, rows, cols, frame->stride,
+                                     geometry, params->tag_size, params->family, d->id, second,
+                                     &rp, fine, NULL) != ACTAG_OK))
         return;
     for (c = 0; c < 4; c++) {
         d->corners[c] = fine[c];
@@ -541,10 +550,15 @@ static void refine_det(actag_detection *d, const actag_frame *frame, uint32_t ma
     }
 }
 
+/* Detections whose refinement may start a second time from the decoder's
+ * fitted grid (kept on the stack, 32 bytes each). */
+#define REFINE_STARTS 8
+
 /* Adds a detection to out[], or replaces the reading at the same place
- * when this one is better. */
-static void record(actag_detection *out, int max_out, int *nout, actag_stats *st,
-                   const actag_detection *d)
+ * when this one is better. Returns its index in out[], or -1 when it was
+ * not recorded. */
+static int record(actag_detection *out, int max_out, int *nout, actag_stats *st,
+                  const actag_detection *d)
 {
     int k, dup = -1;
     /* Two tags cannot overlap: a reading at the place of an earlier one is
@@ -558,16 +572,17 @@ static void record(actag_detection *out, int max_out, int *nout, actag_stats *st
     if (dup >= 0) {
         st->duplicates++;
         if (!better(d->hamming, d->inlier_ratio, &out[dup]))
-            return;
+            return -1;
         k = dup;
     } else {
         if (*nout >= max_out) {
             st->dropped++;
-            return;
+            return -1;
         }
         k = (*nout)++;
     }
     out[k] = *d;
+    return k;
 }
 
 /* The optional candidate callback of actag_detect_traced() (trace.h). */
@@ -745,7 +760,10 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
 {
     actag_stats st;
     ws_layout w = *wl;
-    int rc, nout = 0, nsk = 0, k, nguess = 0;
+    int rc, nout = 0, nsk = 0, k, j, nguess = 0;
+    /* the decoder's fitted-grid corners of out[0 .. REFINE_STARTS-1]: the
+     * refinement's second start (refine_det) */
+    actag_point fit_start[REFINE_STARTS][4];
     /* the search's tentative readings, their search boxes and kept grids */
     actag_decode_result sk_dr[ACTAG_SEARCH_MAX];
     actag_point sk_box[ACTAG_SEARCH_MAX][4];
@@ -997,7 +1015,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 for (k = 0; k < nsk; k++)
                     if (same_place(d.corners, sk_dr[k].fit_corners))
                         sk_used[k] = 1;
-                record(out, max_out, &nout, &st, &d);
+                k = record(out, max_out, &nout, &st, &d);
+                if (k >= 0 && k < REFINE_STARTS)
+                    memcpy(fit_start[k], dr.fit_corners, sizeof fit_start[k]);
             }
         }
     }
@@ -1028,14 +1048,17 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             continue;
         st.decoded++;
         fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols, flip_mirror);
-        record(out, max_out, &nout, &st, &d);
+        j = record(out, max_out, &nout, &st, &d);
+        if (j >= 0 && j < REFINE_STARTS)
+            memcpy(fit_start[j], dr.fit_corners, sizeof fit_start[j]);
     }
     /* 7. the reported tags' corners refined on the caller's frame (refine.h;
      * a 16-bit frame at the median's scale, max16); which tags, IDs,
      * handedness and corner order stay as they are */
     if (params->tuning.refine_corners)
         for (k = 0; k < nout && k < max_out; k++)
-            refine_det(&out[k], frame, max16, geometry, params);
+            refine_det(&out[k], frame, max16, geometry, params,
+                       k < REFINE_STARTS ? &fit_start[k][0] : NULL);
     if (stats)
         *stats = st;
     return nout;

@@ -688,18 +688,23 @@ static void test_regression_h8_seed401_frame672(void)
 
 /* Near tags at grazing incidence are wide and thin in the polar frame:
  * `actag-sim --seed 931 --random 92 --rows 530 --cols 512 --min-range 0.1
- * --max-range 3.5 --min-distance 0.5 --max-distance 1`, frames 24 (tag 4,
- * 0.83 m, 77 degrees) and 91 (tag 5, 0.74 m, 77 degrees) span 220 and 240
- * lattice columns in the corner refinement, more than it keeps column
- * directions for (refine.c, RDIR_MAX 128), so both its cached and its
- * computed directions serve. The quads' corners are 5.2 and 8.3 px off the
- * truth at worst; refined, every corner lies within 0.75 px of it. */
+ * --max-range 3.5 --min-distance 0.5 --max-distance 1`.
+ * - Frames 24 (tag 4, 0.83 m, 77 degrees) and 91 (tag 5, 0.74 m, 77
+ *   degrees) span 220 and 240 lattice columns in the corner refinement,
+ *   more than it keeps column directions for (refine.c, RDIR_MAX 128), so
+ *   both its cached and its computed directions serve. Their quads' corners
+ *   are 5.2 and 8.3 px off the truth at worst.
+ * - Frames 18 and 48 (tag 1, mirrored, 0.93 and 0.76 m): the refinement
+ *   from the quad's corners (a cell off in range) was refused, and the
+ *   quad's corners, 6.0 and 6.2 px off, were reported; it now starts again
+ *   from the decoder's fitted grid (detect.c, refine_det).
+ * Refined, every corner lies within 0.75 px of the truth. */
 static void test_refined_corners_of_wide_near_tags(void)
 {
-    static const uint32_t frames[2] = {24u, 91u};
-    static const int ids[2] = {4, 5};
+    static const uint32_t frames[4] = {24u, 91u, 18u, 48u};
+    static const int ids[4] = {4, 5, 1, 1}, mirrored[4] = {0, 0, 1, 1};
     int i;
-    for (i = 0; i < 2; i++) {
+    for (i = 0; i < 4; i++) {
         sim_sonar s;
         sim_view_params v;
         sim_appearance a;
@@ -719,8 +724,8 @@ static void test_refined_corners_of_wide_near_tags(void)
         t.id = simio_random_id(fs, t.family.ncodes);
         TEST_ASSERT_EQUAL_INT(ids[i], t.id);
         TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
-        n = detect_scene(&s, &sc, &a, fs, &t, 0, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det, NULL,
-                         NULL);
+        n = detect_scene(&s, &sc, &a, fs, &t, mirrored[i], ACTAG_FIT_MANY_CORRECTIONS_MARGIN,
+                         det, NULL, NULL);
         TEST_ASSERT_EQUAL_INT(1, n);
         TEST_ASSERT_EQUAL_INT(ids[i], det[0].id);
         sim_truth_of(&s, &t, &tr);
