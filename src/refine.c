@@ -848,6 +848,18 @@ static void rwidths(rctx *c, const rgrid *G, float px, float cells_min)
     c->iwv = 1.0f / c->wv;
 }
 
+/* A cell side grown by more than 25 % from the start, from l2 to l2n
+ * (squared): accepted when it is still a side a tag of this size can show.
+ * The sonar's projection along the elevation arcs only shortens the tag's
+ * sides, so a fitted side up to the cell size (10 % more for the noise) is
+ * a possible view even when the start was too short (a RANSAC quad of a
+ * white square thinned in range); a longer one is a fit gone astray. At
+ * most 50 % growth. Without a geometry the size is unknown: refused. */
+static int rgrown_ok(const rctx *c, float l2, float l2n)
+{
+    return c->cell2 > 0.0f && l2n <= 1.21f * c->cell2 && l2n <= 2.25f * l2;
+}
+
 int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
                          const actag_sonar_geometry *geometry, float tag_size,
                          const actag_family *family, int id, const actag_point corners[4],
@@ -1075,8 +1087,9 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
     iters += steps;
     DBG("refine: pass 2: %d steps, %d pixels\n", steps, count);
 
-    /* acceptance: finite, same handedness, cell sides within 25 %, white
-     * brighter than black, no corner moved more than max_shift cells */
+    /* acceptance: finite, same handedness, cell sides within 25 % (or grown
+     * to at most the tag's own cell size: rgrown_ok), white brighter than
+     * black, no corner moved more than max_shift cells */
     {
         const rgrid *S = &c.G0;
         float la = S->p[2] * S->p[2] + S->p[3] * S->p[3];
@@ -1089,8 +1102,9 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
         if ((G.p[2] * G.p[5] - G.p[4] * G.p[3]) * (S->p[2] * S->p[5] - S->p[4] * S->p[3]) <=
             0.0f)
             return ACTAG_ERR_NO_MATCH;
-        if (la2 > 1.5625f * la || la2 < 0.5625f * la || lb2 > 1.5625f * lb ||
-            lb2 < 0.5625f * lb) {
+        if (la2 < 0.5625f * la || lb2 < 0.5625f * lb ||
+            (la2 > 1.5625f * la && !rgrown_ok(&c, la, la2)) ||
+            (lb2 > 1.5625f * lb && !rgrown_ok(&c, lb, lb2))) {
             DBG("refine: sides %g %g\n", (double)(la2 / la), (double)(lb2 / lb));
             return ACTAG_ERR_NO_MATCH;
         }

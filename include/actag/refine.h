@@ -57,7 +57,10 @@
  *
  *   Safety. The refined corners are returned only when the fit converged
  *   to a proper grid (finite, the same handedness as the start, side
- *   lengths within 25 % of the start's) and no corner moved more than
+ *   lengths within 25 % of the start's; with a geometry, a side may also
+ *   grow by up to 50 % when it stays within 10 % of the tag's own cell
+ *   size, since the sonar's projection only shortens sides and a RANSAC
+ *   start can be short) and no corner moved more than
  *   max_shift cells from its start; otherwise the start corners are copied
  *   to out and ACTAG_ERR_NO_MATCH returned. The ID, handedness and corner
  *   order are never changed: this stage moves corners only.
