@@ -555,10 +555,11 @@ static void refine_det(actag_detection *d, const actag_frame *frame, uint32_t ma
 #define REFINE_STARTS 8
 
 /* Adds a detection to out[], or replaces the reading at the same place
- * when this one is better. Returns its index in out[], or -1 when it was
- * not recorded. */
-static int record(actag_detection *out, int max_out, int *nout, actag_stats *st,
-                  const actag_detection *d)
+ * when this one is better; when it lands in out[0 .. REFINE_STARTS-1], its
+ * reading's fitted-grid corners (fit) go to fit_start at the same index. */
+static void record(actag_detection *out, int max_out, int *nout, actag_stats *st,
+                   const actag_detection *d, const actag_point fit[4],
+                   actag_point fit_start[REFINE_STARTS][4])
 {
     int k, dup = -1;
     /* Two tags cannot overlap: a reading at the place of an earlier one is
@@ -572,17 +573,18 @@ static int record(actag_detection *out, int max_out, int *nout, actag_stats *st,
     if (dup >= 0) {
         st->duplicates++;
         if (!better(d->hamming, d->inlier_ratio, &out[dup]))
-            return -1;
+            return;
         k = dup;
     } else {
         if (*nout >= max_out) {
             st->dropped++;
-            return -1;
+            return;
         }
         k = (*nout)++;
     }
     out[k] = *d;
-    return k;
+    if (k < REFINE_STARTS)
+        memcpy(fit_start[k], fit, sizeof fit_start[k]);
 }
 
 /* The optional candidate callback of actag_detect_traced() (trace.h). */
@@ -760,7 +762,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
 {
     actag_stats st;
     ws_layout w = *wl;
-    int rc, nout = 0, nsk = 0, k, j, nguess = 0;
+    int rc, nout = 0, nsk = 0, k, nguess = 0;
     /* the decoder's fitted-grid corners of out[0 .. REFINE_STARTS-1]: the
      * refinement's second start (refine_det) */
     actag_point fit_start[REFINE_STARTS][4];
@@ -1015,9 +1017,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 for (k = 0; k < nsk; k++)
                     if (same_place(d.corners, sk_dr[k].fit_corners))
                         sk_used[k] = 1;
-                k = record(out, max_out, &nout, &st, &d);
-                if (k >= 0 && k < REFINE_STARTS)
-                    memcpy(fit_start[k], dr.fit_corners, sizeof fit_start[k]);
+                record(out, max_out, &nout, &st, &d, dr.fit_corners, fit_start);
             }
         }
     }
@@ -1048,9 +1048,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             continue;
         st.decoded++;
         fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols, flip_mirror);
-        j = record(out, max_out, &nout, &st, &d);
-        if (j >= 0 && j < REFINE_STARTS)
-            memcpy(fit_start[j], dr.fit_corners, sizeof fit_start[j]);
+        record(out, max_out, &nout, &st, &d, dr.fit_corners, fit_start);
     }
     /* 7. the reported tags' corners refined on the caller's frame (refine.h;
      * a 16-bit frame at the median's scale, max16); which tags, IDs,

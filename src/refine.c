@@ -375,8 +375,8 @@ static float rmap_w(const rmap *q, float X, float Y, float w[2], float t0, int n
     return t;
 }
 
-/* cos and sin of lattice column j's azimuth off the centre beam (cos -1:
- * too far off it); 0 without a geometry */
+/* cos and sin of lattice column j's azimuth off the centre beam; returns
+ * 0 (cos -1) when the column is too far off it. Needs the geometry. */
 static int rcolumn_dir(const rctx *c, int j, float *cs, float *sn)
 {
     float d = actag_geometry_azimuth(c->geo, c->cols, (float)(c->x0 + j * c->step)) - c->ac;
