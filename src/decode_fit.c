@@ -1249,6 +1249,10 @@ static void famb_set(actag__fit_rival *a, const fgrid *g, int k, int id, int vie
  * on the 58 pool frames every rival found lay beyond 2x: a cost gate, so
  * that correct readings pay 12 cell reads and no polish). */
 #define FIT_STRETCH {1.25f, 1.5f}
+/* the axes stretched: the grid's two (a, b), and the frame's rows (range:
+ * the sonar erodes a white square at its near and far ranges, which is a
+ * grid axis only when the tag stands upright in the image) */
+#define FIT_STRETCH_AXES 3
 #define FIT_STRETCH_RIVALS 2
 #define FIT_STRETCH_MAX 4
 #define FIT_STRETCH_GATE 2.0f
@@ -1669,17 +1673,29 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
              * a grid, that is short along that axis; the right template's
              * grid then lies beyond the polishes' reach (65-134 % of the
              * sides), and a wrong one fits the misplaced cells. So the grid
-             * is stretched along each axis by FIT_STRETCH (a quarter, a
-             * half), about its centre and about either end (12 starts);
+             * is stretched along each of its axes and along the frame's
+             * rows (FIT_STRETCH_AXES; a tag turned in the image is eroded
+             * in range, across its axes) by FIT_STRETCH (a quarter, a
+             * half), about its centre and about either end (18 starts);
              * on each, the FIT_STRETCH_RIVALS templates other than the
              * reading that best explain the cells are the rivals. A rival
              * that explains them better than the reading's own template
              * there (both unpolished) and within FIT_STRETCH_GATE of the
              * reading's polished residual is polished over the full range
              * from that start, as is the reading's template; when the
-             * rival then beats the reading (its best of the two polishes)
-             * by more than the allowance for the starts and rivals tried
-             * (ln 24 nats), there is no reading. (Simulated frame 810 of
+             * rival then explains the cells better than the reading (its
+             * best of the two polishes), there is no reading: the reading
+             * has lost its lead to a hypothesis at a grid the sonar can
+             * show. (Before 2026-12-03's seventh session the rival had to
+             * win by ln 24 nats, an allowance for the starts tried; frame
+             * 378 of actag-eval --seed 1009 --rows 530 --cols 512
+             * --min-range 0.1 --max-range 3.5 --min-distance 0.5
+             * --max-distance 3 --range-ascending: an unmirrored tag 4 at
+             * 1.71 m and 79 degrees, turned 37 degrees in the image, its
+             * quad two thirds of the tag's height in range, read as tag 5
+             * at margin 6.0; from the grid stretched by a half along the
+             * rows tag 4's template explains the cells 0.9 nats better.)
+             * (Simulated frame 810 of
              * actag-eval --pool --seed 91: a mirrored tag 6 at 0.94 m and
              * 70 degrees whose quad is a quarter short in range, read as
              * an unmirrored tag 5 at margin 4.11; from the grid stretched
@@ -1694,14 +1710,22 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 int sid[FIT_STRETCH_MAX], sview[FIT_STRETCH_MAX];
                 float sgap[FIT_STRETCH_MAX], half = 0.5f * (float)n;
                 fgrid sg[FIT_STRETCH_MAX];
-                for (ax2 = 0; ax2 < 2; ax2++)
+                for (ax2 = 0; ax2 < FIT_STRETCH_AXES; ax2++)
                     for (fi = 0; fi < 2; fi++)
                         for (an = -1; an <= 1; an++) {
                             fgrid g = *gr;
                             float rr3[FIT_STRETCH_RIVALS], rown;
-                            float sx = ax2 ? gr->bx : gr->ax, sy = ax2 ? gr->by : gr->ay;
+                            float sx = ax2 == 1 ? gr->bx : gr->ax, sy = ax2 == 1 ? gr->by : gr->ay;
                             int id3[FIT_STRETCH_RIVALS], v3[FIT_STRETCH_RIVALS], nr3;
-                            if (ax2) {
+                            if (ax2 == 2) {
+                                /* along the rows only: the grid's extent in y
+                                 * scales, its x stays */
+                                sx = 0.0f;
+                                sy = (gr->ay < 0.0f ? -gr->ay : gr->ay) +
+                                     (gr->by < 0.0f ? -gr->by : gr->by);
+                                g.ay *= fac[fi];
+                                g.by *= fac[fi];
+                            } else if (ax2) {
                                 g.bx *= fac[fi];
                                 g.by *= fac[fi];
                             } else {
@@ -1749,8 +1773,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                     layout_of(family, sid[ci], sview[ci], k, L);
                     ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
                     rr = -sc;
-                    if (0.5f * (f0 - rr) / s2 >
-                        actag_logf(12.0f * (float)FIT_STRETCH_RIVALS)) {
+                    if (rr < f0) {
                         if (ambig)
                             *ambig = 1;
                         if (amb)

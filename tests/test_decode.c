@@ -1469,15 +1469,21 @@ static void test_fit_renders(void)
  * cells do not count) to every code in all 8 physical orientations. The
  * decoder accepts only the unique nearest reading within the corrections
  * (then with the reference's ID, distance, handedness and bit margin),
- * never a tie or a reading beyond the limit, and always one that leads the
- * runner-up clearly (2 bits with at most 2 flipped, or 4 bits). */
+ * never a tie or a reading beyond the limit, and one that leads the
+ * runner-up clearly (2 bits with at most 2 flipped, or 4 bits): always with
+ * at most 1 flipped cell; with 2 or more, the stretched-grid check
+ * (decode_fit.c) may find another template on a grid stretched along range
+ * or a tag axis that explains the cells better than the reading's own (the
+ * flipped cells are whole-cell errors, which spread partial mismatches
+ * explain more cheaply) and refuse, a miss: in at most 1 of 50 of those
+ * cases (2 of 357 on the host). */
 static void test_fit_matching_vs_brute_force(void)
 {
     enum { CS = 9, MG = 6 };
     static uint8_t img[(8 * CS + 2 * MG) * (8 * CS + 2 * MG + 5)];
     test_family tf;
     int bits = 24, k = 6, side = (k + 1) * CS + 2 * MG, stride = side + 5, t;
-    int checked = 0, accepted = 0;
+    int checked = 0, accepted = 0, clear_flipped = 0, clear_refused = 0;
     uint32_t keep = 0xffffffu & ~((1u << 23) | (1u << 17) | (1u << 11) | (1u << 5));
     actag_fit_params fp;
     actag_point q[4];
@@ -1564,10 +1570,20 @@ static void test_fit_matching_vs_brute_force(void)
             rc2 = actag_decode_quad_fit(img, side, side, stride, q, &tf.fam, maxc, &f2, &r2);
             snprintf(msg, sizeof msg, "t %d d1 %d d2 %d maxc %d; without margin rc %d margin %.2f",
                      t, d1, d2, maxc, rc2, (double)r2.decision_margin);
-            TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, rcode, msg);
+            if (d1 <= 1) {
+                TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, rcode, msg);
+            } else {
+                clear_flipped++;
+                if (rcode != ACTAG_OK) {
+                    TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_ERR_NO_MATCH, rcode, msg);
+                    clear_refused++;
+                }
+            }
         }
         checked++;
     }
+    TEST_ASSERT_TRUE_MESSAGE(clear_refused * 50 <= clear_flipped,
+                             "too many clear readings with flipped cells refused");
     TEST_ASSERT_GREATER_THAN_INT(TU_TRIALS(3000, 6) * 2 / 3, checked); /* host: 2000 */
     TEST_ASSERT_GREATER_THAN_INT(TU_TRIALS(3000, 6) / 6, accepted);    /* host: 500 */
     TEST_ASSERT_LESS_THAN_INT(checked, accepted);

@@ -355,14 +355,14 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      parallelograms through three of the quad's corners (these must
  *      also trail by the least margin). And for every quad reading (without
  *      ACTAG_FIT_WIDE) about to be accepted, the stretched-grid check: the
- *      grid stretched by 1.25 and 1.5 along each axis, about its centre
- *      and either end (12 grids); a rival template that explains such a
- *      grid's cells better than the reading's own, within twice the
- *      reading's residual, is polished over the full range there, as is the
- *      reading's template, and must not beat the reading by more than
- *      ln 24 nats (a white square eroded along one axis makes a short quad
- *      whose right grid lies beyond the polishes). docs/decoder.md has the
- *      cases.
+ *      grid stretched by 1.25 and 1.5 along each of its axes and along the
+ *      frame's rows (range), about its centre and either end (18 grids); a
+ *      rival template that explains such a grid's cells better than the
+ *      reading's own, within twice the reading's residual, is polished over
+ *      the full range there, as is the reading's template, and must not
+ *      explain the cells better than the reading (a white square eroded in
+ *      range makes a short quad whose right grid lies beyond the polishes).
+ *      docs/decoder.md has the cases.
  *      Without ACTAG_FIT_VERIFY the margin is the soft-distance lead over
  *      the runner-up divided by the cell noise (from the ring and interior
  *      cells), less the same allowance.

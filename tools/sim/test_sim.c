@@ -605,14 +605,45 @@ static void test_regression_pool_seed91_frame810(void)
     check_sim_frame(1, 91u, 810u, 6, 1, "the wrong ID of pool seed 91 frame 810");
 }
 
+/* actag-eval --seed 1009 --rows 530 --cols 512 --min-range 0.1 --max-range
+ * 3.5 --min-distance 0.5 --max-distance 3 --range-ascending, frame 378 (the
+ * coarser sonar of issue 8's independent simulator, row 0 the nearest
+ * range): an unmirrored AcTag24h10 tag 4 at 1.71 m and 79 degrees, turned 37
+ * degrees in the image, whose RANSAC quad is two thirds of the tag's height
+ * in range, was read from that quad as tag 5 turned half way, hamming 2,
+ * margin 6.0. Stretched by a half along the frame's rows (range, not a tag
+ * axis here), tag 4's template explains the cells 0.9 nats better than tag
+ * 5's: no reading (decode_fit.c, the stretched-grid check). */
+static void test_regression_coarse_seed1009_frame378(void)
+{
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    uint32_t fs = sim_frame_seed(1009u, 378u);
+    eval_settings(0, "AcTag24h10", &s, &v, &a, &t);
+    s.rows = 530;
+    s.cols = 512;
+    s.geo.min_range = 0.1f;
+    s.geo.max_range = 3.5f;
+    s.geo.flags |= ACTAG_RANGE_ASCENDING;
+    v.min_distance = 0.5f;
+    v.max_distance = 3.0f;
+    t.id = simio_random_id(fs, t.family.ncodes);
+    TEST_ASSERT_EQUAL_INT(4, t.id);
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+    check_scene(&s, &sc, &a, fs, &t, 4, 0, "the wrong ID of coarse seed 1009 frame 378");
+}
+
 /* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
  * appearance) holds tag `id` with the mirrored flag `mirrored`. Without the
  * extra margin at the correction limit it is misread (another ID or the
- * other handedness) with that many corrections at a margin below
- * min_margin + ACTAG_FIT_MANY_CORRECTIONS_MARGIN; with it, whatever is read
- * there is right. */
+ * other handedness) `wrong_without` times (0 or 1), each with that many
+ * corrections at a margin below min_margin + ACTAG_FIT_MANY_CORRECTIONS_MARGIN;
+ * with it, whatever is read there is right. */
 static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored,
-                             const char *what)
+                             int wrong_without, const char *what)
 {
     sim_sonar s;
     sim_appearance a;
@@ -629,16 +660,20 @@ static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored
                              ACTAG_FIT_MIN_MARGIN + ACTAG_FIT_MANY_CORRECTIONS_MARGIN);
             wrong++;
         }
-    TEST_ASSERT_EQUAL_INT_MESSAGE(1, wrong, what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(wrong_without, wrong, what);
     check_scene(&s, &sc, &a, fs, &t, id, mirrored, what);
 }
 
 /* actag-eval --seed 313, frame 860 (a seed nobody tuned on, default
  * appearance): an unmirrored AcTag24h10 tag 3 at 3.0 m and 46 degrees, read
- * from a good quad as tag 6 turned a quarter, hamming 3, margin 2.79. */
+ * from a good quad as tag 6 turned a quarter, hamming 3, margin 2.79.
+ * Since 2026-12-03's seventh session the stretched-grid check refuses that
+ * reading even without the limit's margin (a rival at a stretched grid
+ * explains the cells better; it had to by ln 24 nats before), so nothing
+ * wrong is read there either way. */
 static void test_regression_seed313_frame860(void)
 {
-    check_limit_rule(313u, 860u, 3, 0, "the wrong ID of seed 313 frame 860");
+    check_limit_rule(313u, 860u, 3, 0, 0, "the wrong ID of seed 313 frame 860");
 }
 
 /* actag-eval --seed 314, frame 920: a mirrored AcTag24h10 tag 6 at 3.77 m
@@ -646,7 +681,7 @@ static void test_regression_seed313_frame860(void)
  * unmirrored (so in the wrong corner order), hamming 3, margin 3.42. */
 static void test_regression_seed314_frame920(void)
 {
-    check_limit_rule(314u, 920u, 6, 1, "the wrong handedness of seed 314 frame 920");
+    check_limit_rule(314u, 920u, 6, 1, 1, "the wrong handedness of seed 314 frame 920");
 }
 
 /* Search readings refused at the end as contested (trace callback). */
@@ -773,5 +808,6 @@ int main(void)
     RUN_TEST(test_refined_corners_of_hard_views);
     RUN_TEST(test_regression_pool_sequence_seed81_frame62);
     RUN_TEST(test_regression_pool_seed91_frame810);
+    RUN_TEST(test_regression_coarse_seed1009_frame378);
     return UNITY_END();
 }
