@@ -593,6 +593,21 @@ static void test_regression_seed311_frame408(void)
     check_sim_frame(0, 311u, 408u, 4, 0, "the wrong ID of seed 311 frame 408");
 }
 
+/* The same frame with 3x the noise (actag-eval --seed 311 --noise 0.0018):
+ * still read as tag 5 until 2026-12-03's seventh session, when a rival on
+ * a stretched grid that explains the cells better refuses the reading by
+ * any amount, not only by ln 24 nats (decode_fit.c). */
+static void test_regression_seed311_frame408_noisy(void)
+{
+    sim_sonar s;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    uint32_t fs = eval_frame(0, "AcTag24h10", 311u, 408u, 4, &s, &a, &t, &sc);
+    a.noise = 0.0018f;
+    check_scene(&s, &sc, &a, fs, &t, 4, 0, "the wrong ID of seed 311 frame 408, noise x3");
+}
+
 /* actag-eval --pool --seed 91, frame 810: a mirrored AcTag24h10 tag 6 at
  * 0.94 m and 70 degrees whose RANSAC quad is a quarter short in range (the
  * white square's far edge lost to the threshold) was read as an unmirrored
@@ -802,6 +817,7 @@ int main(void)
     RUN_TEST(test_regression_pool_seed122_frame586);
     RUN_TEST(test_regression_seed121_frame803);
     RUN_TEST(test_regression_seed311_frame408);
+    RUN_TEST(test_regression_seed311_frame408_noisy);
     RUN_TEST(test_regression_seed313_frame860);
     RUN_TEST(test_regression_seed314_frame920);
     RUN_TEST(test_regression_h8_seed401_frame672);
