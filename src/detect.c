@@ -313,6 +313,11 @@ static int decode_budget(actag_stats *st, const actag_params *p)
  * check (the best and its rival, two quads). */
 #define ACTAG_AMB_MAX 4
 
+/* Readings of quads and contour guesses that the template check refused
+ * as too close to call, kept per frame so that a search reading of their
+ * place must explain the cells better than each (held_contests). */
+#define ACTAG_HELD_MAX 4
+
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
 
@@ -376,17 +381,22 @@ static int decode_any(const ws_layout *w, int rows, int cols, const actag_point 
  * the wide-search corrections, search_min_margin, the structure budget and
  * the fitted grid's sides. verify 0: without the template check (a
  * tentative reading, see detect_filtered), 1: with it as configured. grids:
- * as for decode_fit. Returns ACTAG_TRACE_ACCEPTED or the reason for
- * refusing it; *dr is filled unless ACTAG_TRACE_NO_MATCH. */
+ * as for decode_fit. amb (or NULL): the template check's hypotheses when
+ * it refused the reading as too close to call (amb->amb 1). Returns
+ * ACTAG_TRACE_ACCEPTED or the reason for refusing it; *dr is filled unless
+ * ACTAG_TRACE_NO_MATCH. */
 static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
                      const actag_sonar_geometry *geometry, const actag_params *params,
-                     int verify, actag__fit_grids *grids, actag_decode_result *dr)
+                     int verify, actag__fit_grids *grids, actag__fit_amb *amb,
+                     actag_decode_result *dr)
 {
     /* search_max_corrections, capped by max_bit_corrections */
     int lim = params->tuning.search_max_corrections < params->max_bit_corrections
                   ? params->tuning.search_max_corrections
                   : params->max_bit_corrections;
-    if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, verify, grids, NULL, dr) !=
+    if (amb)
+        amb->amb = 0;
+    if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, verify, grids, amb, dr) !=
         ACTAG_OK)
         return ACTAG_TRACE_NO_MATCH;
     if (!(dr->decision_margin >= params->tuning.search_min_margin))
@@ -496,6 +506,38 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
                 contested[k] = 1;
             return 1;
         }
+    }
+    return 0;
+}
+
+/* A search reading *dr about to be reported after the contours (no quad
+ * or guess read its place) against the hypotheses the template check
+ * refused there as too close to call (held[0..nheld-1]: the reading each
+ * check judged, on its own grid): one that names another tag, handedness
+ * or corner order and, polished over the full range at both places,
+ * explains the cells at least as well as the search reading leaves the
+ * place without a reading, as when a quad's reading disagrees
+ * (rival_explains). (Simulated frame 15 of actag-eval --pool --seed 3005
+ * --clutter 12 --azimuth-ascending: an unmirrored tag 0 at 1.23 m; its
+ * contour guess read tag 0 on the right grid, residual 4,806, and was
+ * refused as too close to call; the search read the mirrored tag 5 on a
+ * grid where tag 0 was no candidate, margin 9.2, and was reported.)
+ * Returns 1 to refuse the reading. */
+static int held_contests(const ws_layout *w, int rows, int cols, const actag_params *params,
+                         const actag_decode_result *dr, const actag__fit_rival *held,
+                         int nheld)
+{
+    actag__fit_rival a = rival_of(dr);
+    int k;
+    for (k = 0; k < nheld; k++) {
+        float r1, r2;
+        if (!same_place(dr->fit_corners, held[k].fit_corners) ||
+            !readings_disagree(&a, &held[k]))
+            continue;
+        if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family,
+                                      &params->tuning.fit, a.id, a.fit_corners, held[k].id,
+                                      held[k].fit_corners, &r1, &r2) == 1)
+            return 1;
     }
     return 0;
 }
@@ -773,6 +815,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     int sk_used[ACTAG_SEARCH_MAX] = {0};
     /* search readings that refused another reading at their place */
     int sk_contested[ACTAG_SEARCH_MAX] = {0};
+    /* quad and guess readings refused as too close to call (held_contests) */
+    actag__fit_rival held[ACTAG_HELD_MAX];
+    int nheld = 0;
     actag_contour_scanner scan;
     actag_ipoint *pts;
     void *qscratch;
@@ -814,7 +859,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 st.searched++;
                 memset(&sk_grids[nsk], 0, sizeof sk_grids[nsk]); /* state 0, not read before */
                 verdict = read_wide(w.b, rows, cols, quad, geometry, params, 0, &sk_grids[nsk],
-                                    &dr);
+                                    NULL, &dr);
                 if (verdict != ACTAG_TRACE_ACCEPTED) {
                     /* the check only refuses: no reading either way */
                     trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, quad, 0.0f,
@@ -943,6 +988,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                         amb[namb++] = qa.r[0];
                         amb[namb++] = qa.r[1];
                     }
+                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && nheld < ACTAG_HELD_MAX)
+                        held[nheld++] = qa.r[0];
                 }
                 decoded_quads++;
                 if (rc != ACTAG_OK) {
@@ -990,10 +1037,13 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     int verdict;
                     /* after quads of the blob were read, one more look */
                     actag__fit_grids gg;
+                    actag__fit_amb ga;
                     memset(&gg, 0, sizeof gg);
                     gg.read_before = decoded_quads > 0;
                     nguess++;
-                    verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &dr);
+                    verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &ga, &dr);
+                    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb && nheld < ACTAG_HELD_MAX)
+                        held[nheld++] = ga.r[0];
                     if (verdict == ACTAG_TRACE_ACCEPTED &&
                         rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, namb,
                                        dr.fit_corners, sk_contested))
@@ -1041,7 +1091,10 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_RIVAL, sk_box[k], 0.0f, &sk_dr[k]);
             continue;
         }
-        verdict = read_wide(w.b, rows, cols, sk_box[k], geometry, params, 1, &sk_grids[k], &dr);
+        verdict = read_wide(w.b, rows, cols, sk_box[k], geometry, params, 1, &sk_grids[k], NULL,
+                            &dr);
+        if (verdict == ACTAG_TRACE_ACCEPTED && held_contests(&w, rows, cols, params, &dr, held, nheld))
+            verdict = ACTAG_TRACE_RIVAL;
         trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, sk_box[k], 0.0f,
                    verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
         if (verdict != ACTAG_TRACE_ACCEPTED)

@@ -16,8 +16,10 @@
  *                          quad's reading superseded it, as
  *                          ACTAG_TRACE_RIVAL when it refused a quad's or
  *                          guess's reading of its place (contested: not
- *                          reported either), else with the outcome of its
- *                          reading with the check.
+ *                          reported either) or when a quad's or guess's
+ *                          hypothesis there, refused as too close to call,
+ *                          explains the cells at least as well, else with
+ *                          the outcome of its reading with the check.
  *     ACTAG_TRACE_CONTOUR  an outer border of the binary frame (contours.h):
  *                          its points, bounding box and whether it passed the
  *                          physical size filter.
@@ -83,7 +85,10 @@ extern "C" {
                                      the full range at both places): no reading;
                                      for a search position, its reading did
                                      that to another reading of its place
-                                     (contested): it is not reported either */
+                                     (contested), or a quad's or guess's
+                                     hypothesis refused there as too close
+                                     to call did it to the search reading:
+                                     it is not reported either */
 #define ACTAG_TRACE_BORDER 8      /* a guess with a corner on the frame's
                                      border: not read (its tag's data cells
                                      would leave the frame) */

@@ -651,6 +651,30 @@ static void test_regression_coarse_seed1009_frame378(void)
     check_scene(&s, &sc, &a, fs, &t, 4, 0, "the wrong ID of coarse seed 1009 frame 378");
 }
 
+/* actag-eval --pool --seed 3005 --clutter 12 --azimuth-ascending, frame 15:
+ * an unmirrored AcTag24h10 tag 0 at 1.23 m and 64 degrees. Its contour
+ * guess read tag 0 on the right grid and was refused as too close to call;
+ * the structure search read the mirrored tag 5 on a grid where tag 0 was
+ * no candidate (hamming 2, margin 9.2), and with no quad or guess reading
+ * of its place to contest it, it was reported. The guess's refused
+ * hypothesis now contests it (detect.c, held_contests). */
+static void test_regression_pool_seed3005_frame15(void)
+{
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    uint32_t fs = sim_frame_seed(3005u, 15u);
+    eval_settings(1, "AcTag24h10", &s, &v, &a, &t);
+    v.clutter = 12;
+    s.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
+    t.id = simio_random_id(fs, t.family.ncodes);
+    TEST_ASSERT_EQUAL_INT(0, t.id);
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+    check_scene(&s, &sc, &a, fs, &t, 0, 0, "the wrong ID of pool seed 3005 frame 15");
+}
+
 /* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
  * appearance) holds tag `id` with the mirrored flag `mirrored`. Without the
  * extra margin at the correction limit it is misread (another ID or the
@@ -825,5 +849,6 @@ int main(void)
     RUN_TEST(test_regression_pool_sequence_seed81_frame62);
     RUN_TEST(test_regression_pool_seed91_frame810);
     RUN_TEST(test_regression_coarse_seed1009_frame378);
+    RUN_TEST(test_regression_pool_seed3005_frame15);
     return UNITY_END();
 }
