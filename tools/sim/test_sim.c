@@ -491,16 +491,50 @@ static void eval_settings(int pool, const char *family, sim_sonar *s, sim_view_p
 /* Frame `frame` of `actag-eval [--pool] --seed seed` as actag-eval samples
  * it: its sonar, appearance, tag (which must be `id`) and scene; returns the
  * frame seed. */
+/* The view of frame seed fs as actag-eval samples it with sonar s and
+ * view limits v: the tag's ID (which must be `id`), its pose and the scene. */
+static void sample_frame(const sim_sonar *s, const sim_view_params *v, uint32_t fs, int id,
+                         sim_tag *t, sim_scene *sc)
+{
+    t->id = simio_random_id(fs, t->family.ncodes);
+    TEST_ASSERT_EQUAL_INT(id, t->id);
+    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(s, v, fs, t, sc));
+}
+
 static uint32_t eval_frame(int pool, const char *family, uint32_t seed, uint32_t frame, int id,
                            sim_sonar *s, sim_appearance *a, sim_tag *t, sim_scene *sc)
 {
     sim_view_params v;
     uint32_t fs = sim_frame_seed(seed, frame);
     eval_settings(pool, family, s, &v, a, t);
-    t->id = simio_random_id(fs, t->family.ncodes);
-    TEST_ASSERT_EQUAL_INT(id, t->id);
-    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(s, &v, fs, t, sc));
+    sample_frame(s, &v, fs, id, t, sc);
     return fs;
+}
+
+/* One frame of actag-eval with settings changed from its defaults: set
+ * them (case_settings: [--pool] and the frame's seed), change s, v or a,
+ * then case_check samples the view as actag-eval would and checks it. */
+typedef struct sim_case {
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    uint32_t fs;
+} sim_case;
+
+static void case_settings(sim_case *c, int pool, uint32_t seed, uint32_t frame)
+{
+    eval_settings(pool, "AcTag24h10", &c->s, &c->v, &c->a, &c->t);
+    c->fs = sim_frame_seed(seed, frame);
+}
+
+/* The case's frame must hold tag `id` with the mirrored flag `mirrored`,
+ * and whatever actag_detect reads there must be that tag (check_scene). */
+static void case_check(sim_case *c, int id, int mirrored, const char *what)
+{
+    sample_frame(&c->s, &c->v, c->fs, id, &c->t, &c->sc);
+    check_scene(&c->s, &c->sc, &c->a, c->fs, &c->t, id, mirrored, what);
 }
 
 /* Frame `frame` of `actag-eval [--pool] --seed seed`, rendered as actag-eval
@@ -631,24 +665,16 @@ static void test_regression_pool_seed91_frame810(void)
  * 5's: no reading (decode_fit.c, the stretched-grid check). */
 static void test_regression_coarse_seed1009_frame378(void)
 {
-    sim_sonar s;
-    sim_view_params v;
-    sim_appearance a;
-    sim_tag t;
-    sim_scene sc;
-    uint32_t fs = sim_frame_seed(1009u, 378u);
-    eval_settings(0, "AcTag24h10", &s, &v, &a, &t);
-    s.rows = 530;
-    s.cols = 512;
-    s.geo.min_range = 0.1f;
-    s.geo.max_range = 3.5f;
-    s.geo.flags |= ACTAG_RANGE_ASCENDING;
-    v.min_distance = 0.5f;
-    v.max_distance = 3.0f;
-    t.id = simio_random_id(fs, t.family.ncodes);
-    TEST_ASSERT_EQUAL_INT(4, t.id);
-    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
-    check_scene(&s, &sc, &a, fs, &t, 4, 0, "the wrong ID of coarse seed 1009 frame 378");
+    sim_case c;
+    case_settings(&c, 0, 1009u, 378u);
+    c.s.rows = 530;
+    c.s.cols = 512;
+    c.s.geo.min_range = 0.1f;
+    c.s.geo.max_range = 3.5f;
+    c.s.geo.flags |= ACTAG_RANGE_ASCENDING;
+    c.v.min_distance = 0.5f;
+    c.v.max_distance = 3.0f;
+    case_check(&c, 4, 0, "the wrong ID of coarse seed 1009 frame 378");
 }
 
 /* actag-eval --pool --seed 3005 --clutter 12 --azimuth-ascending, frame 15:
@@ -660,19 +686,11 @@ static void test_regression_coarse_seed1009_frame378(void)
  * hypothesis now contests it (detect.c, held_contests). */
 static void test_regression_pool_seed3005_frame15(void)
 {
-    sim_sonar s;
-    sim_view_params v;
-    sim_appearance a;
-    sim_tag t;
-    sim_scene sc;
-    uint32_t fs = sim_frame_seed(3005u, 15u);
-    eval_settings(1, "AcTag24h10", &s, &v, &a, &t);
-    v.clutter = 12;
-    s.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
-    t.id = simio_random_id(fs, t.family.ncodes);
-    TEST_ASSERT_EQUAL_INT(0, t.id);
-    TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
-    check_scene(&s, &sc, &a, fs, &t, 0, 0, "the wrong ID of pool seed 3005 frame 15");
+    sim_case c;
+    case_settings(&c, 1, 3005u, 15u);
+    c.v.clutter = 12;
+    c.s.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
+    case_check(&c, 0, 0, "the wrong ID of pool seed 3005 frame 15");
 }
 
 /* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
@@ -810,9 +828,7 @@ static void test_refined_corners_of_hard_views(void)
             v.min_distance = 0.5f;
             v.max_distance = 1.0f;
         }
-        t.id = simio_random_id(fs, t.family.ncodes);
-        TEST_ASSERT_EQUAL_INT(cases[i].id, t.id);
-        TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, fs, &t, &sc));
+        sample_frame(&s, &v, fs, cases[i].id, &t, &sc);
         n = detect_scene(&s, &sc, &a, fs, &t, cases[i].mirrored,
                          ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det, NULL, NULL);
         TEST_ASSERT_EQUAL_INT(1, n);
