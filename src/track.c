@@ -553,11 +553,14 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         st.confirmed += k->confirmed;
     }
 
-    /* 6. report the confirmed tracks */
+    /* 6. report the confirmed tracks; a coasting one only once it has a
+     * velocity (two readings): after a single reading its prediction is
+     * that reading's place, wherever the tag has moved since (it stays a
+     * track, and its window is still searched) */
     for (i = 0; i < t->ntracks; i++) {
         actag_track *k = &t->tracks[i];
         t_polar(geometry, frame->rows, frame->cols, k);
-        if (!k->confirmed)
+        if (!k->confirmed || (!k->measured && k->hits < 2))
             continue;
         if (nout < max_out)
             out[nout] = *k;

@@ -43,7 +43,10 @@
  *   missed), or at once when its decision margin reaches `confirm_margin`.
  *   A tentative track that misses a frame is dropped; a confirmed one after
  *   more than `max_missed` consecutive frames without a reading (meanwhile
- *   it is reported as coasting, measured = 0). A track's tag ID and
+ *   it is reported as coasting, measured = 0, once it has been read twice:
+ *   a track of one reading has no velocity, and its prediction would be
+ *   the place of that reading however far the tag has moved; it is kept
+ *   and searched, not reported). A track's tag ID and
  *   handedness never change: a reading of another ID (or the other
  *   handedness) at a tracked tag's place is ignored and counted
  *   (stats.conflicts), never assigned. Corners are smoothed by an alpha-beta

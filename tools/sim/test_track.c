@@ -152,6 +152,55 @@ static void test_identical_input_identical_output(void)
     TEST_ASSERT_EQUAL_MEMORY(&a, &b, sizeof a);
 }
 
+/* A frame of seabed only (no tag), malloc'd. */
+static uint8_t *render_empty(void)
+{
+    uint8_t *empty = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+    char err[256];
+    sim_scene sc;
+    TEST_ASSERT_NOT_NULL(empty);
+    sim_sample_empty(&sonar, &view, 99u, &sc);
+    TEST_ASSERT_EQUAL_INT(0, sim_render(&sonar, &sc, &app, 99u, empty, NULL, sonar.cols, err));
+    return empty;
+}
+
+/* Feeds frames[from..] until the tracker reports a track it read in that
+ * frame; returns the next frame index (or NSEQ when none was read). */
+static int feed_until_read(actag_tracker *tr, const actag_params *p, int from)
+{
+    actag_track out[ACTAG_TRACK_MAX];
+    int i, n;
+    for (i = from; i < NSEQ; i++) {
+        actag_frame f = frame_of(frames[i]);
+        n = actag_tracker_update(tr, &f, &sonar.geo, p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_TRUE(n >= 0);
+        if (n == 1 && out[0].measured)
+            return i + 1;
+    }
+    return NSEQ;
+}
+
+/* Frames of seabed only after the track's readings: how many of them
+ * report the track (coasting), and the tracks left at the end. */
+static int coast_reports(actag_tracker *tr, const actag_params *p, const uint8_t *empty,
+                         int nframes)
+{
+    actag_track out[ACTAG_TRACK_MAX];
+    int i, n, reported = 0;
+    for (i = 0; i < nframes; i++) {
+        actag_frame f = frame_of(empty);
+        n = actag_tracker_update(tr, &f, &sonar.geo, p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_TRUE(n >= 0 && n <= 1);
+        if (n == 1) {
+            TEST_ASSERT_EQUAL_INT(0, out[0].measured);
+            reported++;
+        }
+    }
+    return reported;
+}
+
 /* The tag leaves (frames of seabed only): the track coasts max_missed
  * frames and is dropped; then another ID at the same place gets a new track,
  * never the old one's. */
@@ -161,15 +210,10 @@ static void test_track_ends_when_the_tag_leaves_and_ids_never_switch(void)
     actag_track_params tp;
     actag_params p;
     actag_track out[ACTAG_TRACK_MAX];
-    uint8_t *empty = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+    uint8_t *empty = render_empty();
     uint8_t *other[12];
     uint32_t first = 0;
-    int i, n, k, coast = 0;
-    char err[256];
-    sim_scene sc;
-    TEST_ASSERT_NOT_NULL(empty);
-    sim_sample_empty(&sonar, &view, 99u, &sc);
-    TEST_ASSERT_EQUAL_INT(0, sim_render(&sonar, &sc, &app, 99u, empty, NULL, sonar.cols, err));
+    int i, n, k;
     params_of(&p);
     actag_track_params_default(&tp);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
@@ -182,17 +226,7 @@ static void test_track_ends_when_the_tag_leaves_and_ids_never_switch(void)
             first = out[0].track_id;
     }
     TEST_ASSERT_TRUE(first != 0);
-    for (i = 0; i < tp.max_missed + 3; i++) {
-        actag_frame f = frame_of(empty);
-        n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
-                                 NULL);
-        TEST_ASSERT_TRUE(n >= 0 && n <= 1);
-        if (n == 1) {
-            TEST_ASSERT_EQUAL_INT(0, out[0].measured);
-            coast++;
-        }
-    }
-    TEST_ASSERT_TRUE(coast <= tp.max_missed);
+    TEST_ASSERT_TRUE(coast_reports(&tr, &p, empty, tp.max_missed + 3) <= tp.max_missed);
     TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
     /* the same pass with tag 2 instead of 5: it must become a new track */
     TEST_ASSERT_EQUAL_INT(0, render_pass(7u, 2, 12, other, NULL));
@@ -207,6 +241,41 @@ static void test_track_ends_when_the_tag_leaves_and_ids_never_switch(void)
         }
         free(other[i]);
     }
+    free(empty);
+}
+
+/* A track confirmed by one reading has no velocity, so while it coasts its
+ * prediction is that reading's place wherever the tag went (actag-eval
+ * --frames 0 --sequences 10 --seed 5001 --range-ascending, pass 0 frame
+ * 29: reported 5 frames at its reading's place, the tag 30 px away): it is
+ * kept and searched but not reported; a track read twice is reported
+ * coasting as before. */
+static void test_a_track_of_one_reading_is_not_reported_coasting(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    uint8_t *empty = render_empty();
+    int next;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.confirm_frames = 1; /* confirmed by its first reading */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    next = feed_until_read(&tr, &p, 0);
+    TEST_ASSERT_TRUE(next < NSEQ);
+    TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
+    TEST_ASSERT_EQUAL_INT(1, tr.tracks[0].hits);
+    /* kept while it may be found again, never reported */
+    TEST_ASSERT_EQUAL_INT(0, coast_reports(&tr, &p, empty, 1));
+    TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
+    TEST_ASSERT_EQUAL_INT(0, coast_reports(&tr, &p, empty, tp.max_missed + 2));
+    TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
+    /* two readings: reported while it coasts */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    next = feed_until_read(&tr, &p, feed_until_read(&tr, &p, next));
+    TEST_ASSERT_TRUE(next < NSEQ);
+    TEST_ASSERT_TRUE(tr.tracks[0].hits >= 2);
+    TEST_ASSERT_TRUE(coast_reports(&tr, &p, empty, 1) == 1);
     free(empty);
 }
 
@@ -537,6 +606,7 @@ int main(void)
     RUN_TEST(test_a_pass_is_tracked_without_switches);
     RUN_TEST(test_identical_input_identical_output);
     RUN_TEST(test_track_ends_when_the_tag_leaves_and_ids_never_switch);
+    RUN_TEST(test_a_track_of_one_reading_is_not_reported_coasting);
     RUN_TEST(test_roi_readings_agree_with_whole_frame);
     RUN_TEST(test_a_damaged_tag_is_read_where_it_is_predicted);
     RUN_TEST(test_another_tag_at_the_prediction_is_not_the_tracked_one);
