@@ -315,7 +315,7 @@ static int decode_budget(actag_stats *st, const actag_params *p)
 
 /* Readings of quads and contour guesses that the template check refused
  * as too close to call, kept per frame so that a search reading of their
- * place must explain the cells better than each (held_contests). */
+ * place must explain the cells better than each (rival_explains). */
 #define ACTAG_HELD_MAX 4
 
 /* RANSAC iterations multiplier for contours at a tag the search found. */
@@ -470,7 +470,10 @@ static int readings_disagree(const actag__fit_rival *a, const actag__fit_rival *
  * neither has the lead its decision margin stands for. The others are the
  * tentative search readings and, for a contour's grid guess, the
  * hypotheses of the contour's quads that the template check refused as too
- * close to call (the reading and the rival that refused it). A search
+ * close to call (the reading and the rival that refused it); for a search
+ * reading reported after the contours (nsk 0), the readings that the
+ * template checks of the frame's quads and guesses judged and refused as
+ * too close to call (held, detect_filtered). A search
  * reading that refuses a reading here is marked in contested[] (nsk
  * entries): the place then has two readings that each passed their own
  * checks, and neither is reported (detect_filtered). (Simulated frame 408 of actag-eval --seed 311:
@@ -484,7 +487,11 @@ static int readings_disagree(const actag__fit_rival *a, const actag__fit_rival *
  * right by its quad at margin 25.9, hamming 0; the search, whose grids are
  * not sheared like the tag's image, read tag 32 turned half a turn at
  * margin 23.3, and its template explained the filtered cells better, so
- * tag 32 was reported.) Returns 1 to refuse the reading. */
+ * tag 32 was reported. Frame 15 of actag-eval --pool --seed 3005 --clutter
+ * 12 --azimuth-ascending: an unmirrored tag 0 at 1.23 m whose guess read
+ * tag 0 on the right grid, residual 4,806, and was refused as too close to
+ * call; the search read the mirrored tag 5 on a grid where tag 0 was no
+ * candidate, margin 9.2, and nothing contested it.) Returns 1 to refuse the reading. */
 static int rival_explains(const ws_layout *w, int rows, int cols, const actag_params *params,
                           const actag_decode_result *dr, const actag_decode_result *sk,
                           int nsk, const actag__fit_rival *amb, int namb,
@@ -506,38 +513,6 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
                 contested[k] = 1;
             return 1;
         }
-    }
-    return 0;
-}
-
-/* A search reading *dr about to be reported after the contours (no quad
- * or guess read its place) against the hypotheses the template check
- * refused there as too close to call (held[0..nheld-1]: the reading each
- * check judged, on its own grid): one that names another tag, handedness
- * or corner order and, polished over the full range at both places,
- * explains the cells at least as well as the search reading leaves the
- * place without a reading, as when a quad's reading disagrees
- * (rival_explains). (Simulated frame 15 of actag-eval --pool --seed 3005
- * --clutter 12 --azimuth-ascending: an unmirrored tag 0 at 1.23 m; its
- * contour guess read tag 0 on the right grid, residual 4,806, and was
- * refused as too close to call; the search read the mirrored tag 5 on a
- * grid where tag 0 was no candidate, margin 9.2, and was reported.)
- * Returns 1 to refuse the reading. */
-static int held_contests(const ws_layout *w, int rows, int cols, const actag_params *params,
-                         const actag_decode_result *dr, const actag__fit_rival *held,
-                         int nheld)
-{
-    actag__fit_rival a = rival_of(dr);
-    int k;
-    for (k = 0; k < nheld; k++) {
-        float r1, r2;
-        if (!same_place(dr->fit_corners, held[k].fit_corners) ||
-            !readings_disagree(&a, &held[k]))
-            continue;
-        if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family,
-                                      &params->tuning.fit, a.id, a.fit_corners, held[k].id,
-                                      held[k].fit_corners, &r1, &r2) == 1)
-            return 1;
     }
     return 0;
 }
@@ -815,7 +790,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     int sk_used[ACTAG_SEARCH_MAX] = {0};
     /* search readings that refused another reading at their place */
     int sk_contested[ACTAG_SEARCH_MAX] = {0};
-    /* quad and guess readings refused as too close to call (held_contests) */
+    /* quad and guess readings refused as too close to call (rival_explains) */
     actag__fit_rival held[ACTAG_HELD_MAX];
     int nheld = 0;
     actag_contour_scanner scan;
@@ -1093,7 +1068,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
         }
         verdict = read_wide(w.b, rows, cols, sk_box[k], geometry, params, 1, &sk_grids[k], NULL,
                             &dr);
-        if (verdict == ACTAG_TRACE_ACCEPTED && held_contests(&w, rows, cols, params, &dr, held, nheld))
+        if (verdict == ACTAG_TRACE_ACCEPTED &&
+            rival_explains(&w, rows, cols, params, &dr, NULL, 0, held, nheld, dr.fit_corners,
+                           NULL))
             verdict = ACTAG_TRACE_RIVAL;
         trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, sk_box[k], 0.0f,
                    verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);

@@ -488,9 +488,6 @@ static void eval_settings(int pool, const char *family, sim_sonar *s, sim_view_p
     t->tag_size = 0.130628571f;
 }
 
-/* Frame `frame` of `actag-eval [--pool] --seed seed` as actag-eval samples
- * it: its sonar, appearance, tag (which must be `id`) and scene; returns the
- * frame seed. */
 /* The view of frame seed fs as actag-eval samples it with sonar s and
  * view limits v: the tag's ID (which must be `id`), its pose and the scene. */
 static void sample_frame(const sim_sonar *s, const sim_view_params *v, uint32_t fs, int id,
@@ -501,6 +498,9 @@ static void sample_frame(const sim_sonar *s, const sim_view_params *v, uint32_t 
     TEST_ASSERT_EQUAL_INT(0, sim_sample_view(s, v, fs, t, sc));
 }
 
+/* Frame `frame` of `actag-eval [--pool] --seed seed` as actag-eval samples
+ * it: its sonar, appearance, tag (which must be `id`) and scene; returns the
+ * frame seed. */
 static uint32_t eval_frame(int pool, const char *family, uint32_t seed, uint32_t frame, int id,
                            sim_sonar *s, sim_appearance *a, sim_tag *t, sim_scene *sc)
 {
@@ -683,7 +683,7 @@ static void test_regression_coarse_seed1009_frame378(void)
  * the structure search read the mirrored tag 5 on a grid where tag 0 was
  * no candidate (hamming 2, margin 9.2), and with no quad or guess reading
  * of its place to contest it, it was reported. The guess's refused
- * hypothesis now contests it (detect.c, held_contests). */
+ * hypothesis now contests it (detect.c, rival_explains). */
 static void test_regression_pool_seed3005_frame15(void)
 {
     sim_case c;

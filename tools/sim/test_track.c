@@ -181,8 +181,8 @@ static int feed_until_read(actag_tracker *tr, const actag_params *p, int from)
     return NSEQ;
 }
 
-/* Frames of seabed only after the track's readings: how many of them
- * report the track (coasting), and the tracks left at the end. */
+/* Feeds nframes frames of seabed only; returns how many of them report a
+ * track (each must be coasting, at most one a frame). */
 static int coast_reports(actag_tracker *tr, const actag_params *p, const uint8_t *empty,
                          int nframes)
 {
