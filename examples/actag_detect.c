@@ -69,6 +69,9 @@ static void usage(FILE *f)
             "                         (default 2); --search-min-margin F for search readings (1);\n"
             "                         --many-corrections-margin F: readings with 3 or more\n"
             "                         corrected bits need min-margin + F (default 1.5)\n"
+            "  --min-bit-margin N     least lead in corrected bits of a reading over the next,\n"
+            "                         0..32 (default 2; 3 where a wrong ID must not happen with\n"
+            "                         a dense family: docs/families.md)\n"
             "  --handedness any|unmirrored|mirrored  the views the sonar's mounting can show\n"
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
@@ -131,6 +134,7 @@ static const hostio_optname option_names[] = {
     {"tuning.min_side_fraction", "--min-side-fraction", 0},
     {"tuning.search_min_margin", "--search-min-margin", 0},
     {"tuning.fit.many_corrections_margin", "--many-corrections-margin", 0},
+    {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
     {"tuning.median_radius", "--median-radius", 0},
     {"tuning.threshold_radius", "--threshold-radius", 0},
     {"tuning.threshold_offset", "--threshold-offset", 0},
@@ -283,6 +287,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--many-corrections-margin") == 0) {
             NEEDV();
             o->params.tuning.fit.many_corrections_margin = fnum(a, v);
+        } else if (strcmp(a, "--min-bit-margin") == 0) {
+            NEEDV();
+            o->params.tuning.fit.min_bit_margin = anyint(a, v);
         } else if (strcmp(a, "--handedness") == 0) {
             NEEDV(); /* the words in ACTAG_HANDEDNESS_* order */
             o->params.handedness = hostio_opt_choice(PROG, a, v, handedness_words, 3);

@@ -139,6 +139,30 @@ static void test_json_on_example(void)
     free(o);
 }
 
+/* --min-bit-margin reaches the decoder: the example's tag 0 (hamming 2) leads
+ * its runner-up by fewer than 20 bits, so asking for 20 leaves no reading,
+ * and 2 (the default) gives the same line as no option. */
+static void test_min_bit_margin_option(void)
+{
+    char *o, *o2, *b, *b2;
+    TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " --min-bit-margin 20 " EXAMPLE));
+    o = out_text();
+    TEST_ASSERT_NOT_NULL(strstr(o, "\"detections\": []"));
+    free(o);
+    TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " --min-bit-margin 2 " EXAMPLE));
+    o = out_text();
+    TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " " EXAMPLE));
+    o2 = out_text();
+    b = json_body(o);
+    b2 = json_body(o2);
+    TEST_ASSERT_EQUAL_STRING(b2, b);
+    assert_reference_tag(o);
+    free(b);
+    free(b2);
+    free(o);
+    free(o2);
+}
+
 /* The text output says its convention and lists x (column) first. */
 static void test_text_output_convention(void)
 {
@@ -541,6 +565,10 @@ static void test_bad_options(void)
                         "--min-structure: must be a number from 0 to 1 (got 1.5)");
     expect_option_error(GEO " --many-corrections-margin -1 " EXAMPLE,
                         "--many-corrections-margin: must be a number from 0 to 1e6 (got -1)");
+    expect_option_error(GEO " --min-bit-margin 33 " EXAMPLE,
+                        "--min-bit-margin: must be an integer from 0 to 32 (bits) (got 33)");
+    expect_option_error(GEO " --min-bit-margin x " EXAMPLE,
+                        "--min-bit-margin: must be an integer (got 'x')");
     expect_option_error("--min-range -1 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
                         "--min-range: must be a finite number >= 0 (metres) (got -1)");
     expect_option_error("--min-range 0.1 --max-range 1.5 --aperture-deg 400 " EXAMPLE,
@@ -570,6 +598,7 @@ int main(void)
     RUN_TEST(test_bad_files_are_reported_and_the_rest_processed);
     RUN_TEST(test_bearing_table_file);
     RUN_TEST(test_bad_options);
+    RUN_TEST(test_min_bit_margin_option);
     RUN_TEST(test_version);
     return UNITY_END();
 }
