@@ -1703,6 +1703,60 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
              * the cells by 7.8 nats better. The same on frame 408 of
              * --seed 311 with --seabed-level 0.18 or --gain 130
              * --metal-specular 1.2 --seabed-level 0.18.) */
+            /* The reading's own other handedness, for a wide reading (a
+             * search position or contour guess, which the quad checks
+             * below do not cover) and for a quad reading with a thin
+             * margin (the band above): the same code in each allowed
+             * view of the other handedness (the same corners labelled in
+             * reflected orders) is polished over the full range from the
+             * reading's grid, as is the reading's template; when one
+             * explains the cells better, there is no reading. AcTag24h10's
+             * codes lie only 4 of the 20 read bits from their own mirror
+             * images (docs/families.md), and the bit-by-bit reading can
+             * favour the wrong one where the cells as a whole do not; the
+             * soft match ranks the right view far down (6 bits), so it is
+             * no candidate of the checks above, and unpolished on the
+             * reading's grid its template explains the cells 2-3 times
+             * worse. At most 5 polishes a reading.
+             * (Simulated frame 905 of actag-eval --seed 9210 on the 530 x
+             * 512 sonar with both orientation flags: a mirrored tag 5 at
+             * 2.33 m read unmirrored, top for bottom, at margin 2.2; the
+             * quad's own grid then reads it mirrored at margin 5.4. Frame
+             * 920 of --seed 314: a mirrored tag 6 read unmirrored at margin
+             * 3.4, which the extra margin at the correction limit refused.
+             * Frame 230 of --seed 311 --gain 520 --bands 5 --looks 1: a
+             * mirrored tag 5 read unmirrored by the structure search at
+             * margin 6.5. Checking every quad reading too cost 5.4 M
+             * Cortex-M7 instructions a pool frame, these 1.2 M.) */
+            if (margin - look >= fp->min_margin &&
+                ((flags & ACTAG_FIT_WIDE) || margin - look < fp->min_margin + FIT_RECHECK_BAND)) {
+                unsigned views = fit_views(flags);
+                int v2, mir = ml.top[0].view >> 2, polished = 0;
+                float f0 = 0.0f, sc;
+                fgrid g;
+                for (v2 = 0; v2 < 8; v2++) {
+                    if ((v2 >> 2) == mir || !(views & (1u << v2)))
+                        continue;
+                    layout_of(family, ml.top[0].id, v2, k, L);
+                    if (!polished) {
+                        uint8_t L0[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
+                        layout_of(family, ml.top[0].id, ml.top[0].view, k, L0);
+                        g = *gr;
+                        ffit(im, &g, k, mt, L0, erase, 0, NULL, NULL, &sc);
+                        f0 = -sc < rss0 ? -sc : rss0;
+                        polished = 1;
+                    }
+                    g = *gr;
+                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
+                    if (-sc < f0) {
+                        if (ambig)
+                            *ambig = 1;
+                        if (amb)
+                            famb_set(&amb[1], gr, k, ml.top[0].id, v2);
+                        return ACTAG_ERR_NO_MATCH;
+                    }
+                }
+            }
             if (!(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
                 static const float fac[2] = FIT_STRETCH;
                 unsigned views = fit_views(flags);

@@ -362,6 +362,13 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      the full range there, as is the reading's template, and must not
  *      explain the cells better than the reading (a white square eroded in
  *      range makes a short quad whose right grid lies beyond the polishes).
+ *      And for every reading with ACTAG_FIT_WIDE, and every other whose
+ *      decision_margin is below min_margin + 2: the reading's own code in
+ *      each allowed view of the
+ *      other handedness (the same corners labelled in reflected orders;
+ *      AcTag24h10's codes lie 4 read bits from their own mirror images) is
+ *      polished over the full range from the reading's grid, as is the
+ *      reading's template, and must not explain the cells better.
  *      docs/decoder.md has the cases.
  *      Without ACTAG_FIT_VERIFY the margin is the soft-distance lead over
  *      the runner-up divided by the cell noise (from the ring and interior

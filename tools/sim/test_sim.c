@@ -642,6 +642,26 @@ static void test_regression_seed311_frame408_noisy(void)
     check_scene(&s, &sc, &a, fs, &t, 4, 0, "the wrong ID of seed 311 frame 408, noise x3");
 }
 
+/* actag-eval --seed 311 --gain 520 --bands 5 --looks 1, frame 230: a
+ * mirrored AcTag24h10 tag 5 at 2.15 m and 58 degrees, read unmirrored (its
+ * corners labelled top for bottom) by the structure search, hamming 2,
+ * margin 6.5. Wide readings (and quad readings with thin margins) must now
+ * explain the cells better than their own code in the other handedness,
+ * polished over the full range (decode_fit.c); here it explains them
+ * better, and nothing is read. */
+static void test_regression_seed311_frame230_bright(void)
+{
+    sim_sonar s;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    uint32_t fs = eval_frame(0, "AcTag24h10", 311u, 230u, 5, &s, &a, &t, &sc);
+    a.gain = 520.0f;
+    a.band_rate = 5.0f;
+    a.looks = 1;
+    check_scene(&s, &sc, &a, fs, &t, 5, 1, "the wrong handedness of seed 311 frame 230, bright");
+}
+
 /* actag-eval --pool --seed 91, frame 810: a mirrored AcTag24h10 tag 6 at
  * 0.94 m and 70 degrees whose RANSAC quad is a quarter short in range (the
  * white square's far edge lost to the threshold) was read as an unmirrored
@@ -675,6 +695,28 @@ static void test_regression_coarse_seed1009_frame378(void)
     c.v.min_distance = 0.5f;
     c.v.max_distance = 3.0f;
     case_check(&c, 4, 0, "the wrong ID of coarse seed 1009 frame 378");
+}
+
+/* actag-eval --seed 9210 on the 530 x 512 sonar (0.1-3.5 m, tags at 0.5-3 m)
+ * with --range-ascending --azimuth-ascending, frame 905: a mirrored
+ * AcTag24h10 tag 5 at 2.33 m and 68 degrees read as an unmirrored tag 5 with
+ * its corners labelled top for bottom, by a quad at margin 2.2 (and by the
+ * structure search at 32.9). The same code at the same corners in the other
+ * handedness, polished over the full range, explains the cells better, so
+ * that reading is refused (decode_fit.c, the reading's own other handedness
+ * in the thin-margin band) and the quad's own grid reads the mirrored tag 5. */
+static void test_regression_coarse_seed9210_frame905(void)
+{
+    sim_case c;
+    case_settings(&c, 0, 9210u, 905u);
+    c.s.rows = 530;
+    c.s.cols = 512;
+    c.s.geo.min_range = 0.1f;
+    c.s.geo.max_range = 3.5f;
+    c.s.geo.flags |= ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING;
+    c.v.min_distance = 0.5f;
+    c.v.max_distance = 3.0f;
+    case_check(&c, 5, 1, "the wrong handedness of coarse seed 9210 frame 905");
 }
 
 /* actag-eval --pool --seed 3005 --clutter 12 --azimuth-ascending, frame 15:
@@ -735,10 +777,14 @@ static void test_regression_seed313_frame860(void)
 
 /* actag-eval --seed 314, frame 920: a mirrored AcTag24h10 tag 6 at 3.77 m
  * and 71 degrees (contrast 11 grey levels), read with the right ID but
- * unmirrored (so in the wrong corner order), hamming 3, margin 3.42. */
+ * unmirrored (so in the wrong corner order), hamming 3, margin 3.42.
+ * Since 2026-12-04's eighth session the reading's own other handedness at
+ * the same corners is a rival of thin-margin readings (decode_fit.c) and
+ * explains the cells better, so nothing wrong is read there even without
+ * the limit's margin. */
 static void test_regression_seed314_frame920(void)
 {
-    check_limit_rule(314u, 920u, 6, 1, 1, "the wrong handedness of seed 314 frame 920");
+    check_limit_rule(314u, 920u, 6, 1, 0, "the wrong handedness of seed 314 frame 920");
 }
 
 /* Search readings refused at the end as contested (trace callback). */
@@ -858,6 +904,7 @@ int main(void)
     RUN_TEST(test_regression_seed121_frame803);
     RUN_TEST(test_regression_seed311_frame408);
     RUN_TEST(test_regression_seed311_frame408_noisy);
+    RUN_TEST(test_regression_seed311_frame230_bright);
     RUN_TEST(test_regression_seed313_frame860);
     RUN_TEST(test_regression_seed314_frame920);
     RUN_TEST(test_regression_h8_seed401_frame672);
@@ -866,5 +913,6 @@ int main(void)
     RUN_TEST(test_regression_pool_seed91_frame810);
     RUN_TEST(test_regression_coarse_seed1009_frame378);
     RUN_TEST(test_regression_pool_seed3005_frame15);
+    RUN_TEST(test_regression_coarse_seed9210_frame905);
     return UNITY_END();
 }
