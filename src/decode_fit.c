@@ -2000,7 +2000,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     /* a hopeless start: straight to the quad's own grid (the second grid,
      * as if the fitted one had read nothing) */
     if (amb)
-        amb->amb = 0;
+        amb->amb = amb->amb2 = 0;
     if (hopeless) {
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
                         out, &ambig, 0, amb ? amb->r : NULL);
@@ -2016,13 +2016,18 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
     if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH)) {
-        int ambig2 = 0;
-        /* the first grid's ambiguity, if any, is the one reported */
+        int ambig2 = 0, first = amb && amb->amb;
+        /* the first grid's ambiguity, if any, stays in r; the second's
+         * goes to r (none before) or r2 */
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
                         out, &ambig2, (ambig ? FIT_RECHECK : 0) | far,
-                        amb && !amb->amb ? amb->r : NULL);
-        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig2)
-            amb->amb = 1;
+                        amb ? (first ? amb->r2 : amb->r) : NULL);
+        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig2) {
+            if (first)
+                amb->amb2 = 1;
+            else
+                amb->amb = 1;
+        }
     }
     return rc;
 }

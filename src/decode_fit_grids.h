@@ -36,10 +36,17 @@ typedef struct actag__fit_rival {
 
 /* Out: when the template check refused a reading because a rival template
  * came within the margin (too close to call), amb = 1, r[0] the reading's
- * hypothesis and r[1] the rival that refused it; else amb = 0. */
+ * hypothesis and r[1] the rival that refused it; else amb = 0. When the
+ * quad's own grid (the second grid) was read after such a refusal and its
+ * reading was refused so too, amb2 = 1 and r2 holds that pair (the two
+ * grids can read different tags: simulated frame 149 of actag-eval --seed
+ * 9213 on the 530 x 512 sonar, both orientation flags, where the fitted
+ * grid read tag 5 and the quad's grid the true tag 1); else amb2 = 0. */
 typedef struct actag__fit_amb {
     int amb;
     actag__fit_rival r[2];
+    int amb2;
+    actag__fit_rival r2[2];
 } actag__fit_amb;
 
 /* actag_decode_quad_fit() (same arguments, result and errors) that, with

@@ -310,8 +310,9 @@ static int decode_budget(actag_stats *st, const actag_params *p)
 }
 
 /* Hypotheses of one contour's ambiguous quad readings kept for the rival
- * check (the best and its rival, two quads). */
-#define ACTAG_AMB_MAX 4
+ * check (the reading and its rival, for each of the two grids of two
+ * quads). */
+#define ACTAG_AMB_MAX 8
 
 /* Readings of quads and contour guesses that the template check refused
  * as too close to call, kept per frame so that a search reading of their
@@ -357,7 +358,7 @@ static int decode_any(const ws_layout *w, int rows, int cols, const actag_point 
                       const actag_params *params, actag__fit_amb *amb, actag_decode_result *dr)
 {
     if (amb)
-        amb->amb = 0;
+        amb->amb = amb->amb2 = 0;
     switch (params->tuning.decode_mode) {
     case ACTAG_DECODE_FIT:
         return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, 1, NULL,
@@ -395,7 +396,7 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
                   ? params->tuning.search_max_corrections
                   : params->max_bit_corrections;
     if (amb)
-        amb->amb = 0;
+        amb->amb = amb->amb2 = 0;
     if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, verify, grids, amb, dr) !=
         ACTAG_OK)
         return ACTAG_TRACE_NO_MATCH;
@@ -963,8 +964,15 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                         amb[namb++] = qa.r[0];
                         amb[namb++] = qa.r[1];
                     }
+                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && qa.amb2 &&
+                        namb + 2 <= ACTAG_AMB_MAX) {
+                        amb[namb++] = qa.r2[0];
+                        amb[namb++] = qa.r2[1];
+                    }
                     if (rc == ACTAG_ERR_NO_MATCH && qa.amb && nheld < ACTAG_HELD_MAX)
                         held[nheld++] = qa.r[0];
+                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && qa.amb2 && nheld < ACTAG_HELD_MAX)
+                        held[nheld++] = qa.r2[0];
                 }
                 decoded_quads++;
                 if (rc != ACTAG_OK) {

@@ -719,6 +719,30 @@ static void test_regression_coarse_seed9210_frame905(void)
     case_check(&c, 5, 1, "the wrong handedness of coarse seed 9210 frame 905");
 }
 
+/* actag-eval --seed 9213 on the 530 x 512 sonar with --range-ascending
+ * --azimuth-ascending, frame 149: an unmirrored AcTag24h10 tag 1 at 2.28 m
+ * and 51 degrees. Both RANSAC quads lie within 2 px of the true corners;
+ * on each, the fitted grid read tag 5 (tag 1's mirror partner) and was
+ * refused as too close to call, then the quad's own grid read tag 1 and
+ * was refused so too. Only the first grid's pair was kept, so the
+ * contour's grid guess, which read the mirrored tag 5 on a turned grid
+ * (hamming 3, margin 4.4), met no hypothesis of tag 1 and was reported.
+ * Both grids' pairs are now kept (actag__fit_amb.r2), and tag 1 at the
+ * quad's grid explains the cells better than the guess's tag 5. */
+static void test_regression_coarse_seed9213_frame149(void)
+{
+    sim_case c;
+    case_settings(&c, 0, 9213u, 149u);
+    c.s.rows = 530;
+    c.s.cols = 512;
+    c.s.geo.min_range = 0.1f;
+    c.s.geo.max_range = 3.5f;
+    c.s.geo.flags |= ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING;
+    c.v.min_distance = 0.5f;
+    c.v.max_distance = 3.0f;
+    case_check(&c, 1, 0, "the wrong ID of coarse seed 9213 frame 149");
+}
+
 /* actag-eval --pool --seed 3005 --clutter 12 --azimuth-ascending, frame 15:
  * an unmirrored AcTag24h10 tag 0 at 1.23 m and 64 degrees. Its contour
  * guess read tag 0 on the right grid and was refused as too close to call;
@@ -914,5 +938,6 @@ int main(void)
     RUN_TEST(test_regression_coarse_seed1009_frame378);
     RUN_TEST(test_regression_pool_seed3005_frame15);
     RUN_TEST(test_regression_coarse_seed9210_frame905);
+    RUN_TEST(test_regression_coarse_seed9213_frame149);
     return UNITY_END();
 }
