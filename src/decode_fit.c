@@ -1730,22 +1730,22 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
              * Cortex-M7 instructions a pool frame, these 1.2 M.) */
             if (margin - look >= fp->min_margin &&
                 ((flags & ACTAG_FIT_WIDE) || margin - look < fp->min_margin + FIT_RECHECK_BAND)) {
-                unsigned views = fit_views(flags);
-                int v2, mir = ml.top[0].view >> 2, polished = 0;
+                int mir = ml.top[0].view >> 2, v2;
+                /* the allowed views of the other handedness */
+                unsigned others = fit_views(flags) & (mir ? ACTAG_VIEWS_UNMIRRORED
+                                                          : ACTAG_VIEWS_MIRRORED);
                 float f0 = 0.0f, sc;
                 fgrid g;
+                if (others) { /* the reading's template, polished once */
+                    layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
+                    g = *gr;
+                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
+                    f0 = -sc < rss0 ? -sc : rss0;
+                }
                 for (v2 = 0; v2 < 8; v2++) {
-                    if ((v2 >> 2) == mir || !(views & (1u << v2)))
+                    if (!(others & (1u << v2)))
                         continue;
                     layout_of(family, ml.top[0].id, v2, k, L);
-                    if (!polished) {
-                        uint8_t L0[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
-                        layout_of(family, ml.top[0].id, ml.top[0].view, k, L0);
-                        g = *gr;
-                        ffit(im, &g, k, mt, L0, erase, 0, NULL, NULL, &sc);
-                        f0 = -sc < rss0 ? -sc : rss0;
-                        polished = 1;
-                    }
                     g = *gr;
                     ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
                     if (-sc < f0) {

@@ -960,19 +960,22 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 {
                     actag__fit_amb qa;
                     rc = decode_any(&w, rows, cols, q.corners, params, &qa, &dr);
-                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && namb + 2 <= ACTAG_AMB_MAX) {
-                        amb[namb++] = qa.r[0];
-                        amb[namb++] = qa.r[1];
+                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb) {
+                        /* each grid's refused pair: the reading, its rival */
+                        const actag__fit_rival *pair[2];
+                        int np = 0, ip;
+                        pair[np++] = qa.r;
+                        if (qa.amb2)
+                            pair[np++] = qa.r2;
+                        for (ip = 0; ip < np; ip++) {
+                            if (namb + 2 <= ACTAG_AMB_MAX) {
+                                amb[namb++] = pair[ip][0];
+                                amb[namb++] = pair[ip][1];
+                            }
+                            if (nheld < ACTAG_HELD_MAX)
+                                held[nheld++] = pair[ip][0];
+                        }
                     }
-                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && qa.amb2 &&
-                        namb + 2 <= ACTAG_AMB_MAX) {
-                        amb[namb++] = qa.r2[0];
-                        amb[namb++] = qa.r2[1];
-                    }
-                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && nheld < ACTAG_HELD_MAX)
-                        held[nheld++] = qa.r[0];
-                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb && qa.amb2 && nheld < ACTAG_HELD_MAX)
-                        held[nheld++] = qa.r2[0];
                 }
                 decoded_quads++;
                 if (rc != ACTAG_OK) {

@@ -529,6 +529,21 @@ static void case_settings(sim_case *c, int pool, uint32_t seed, uint32_t frame)
     c->fs = sim_frame_seed(seed, frame);
 }
 
+/* Frame `frame` of `actag-eval --seed seed` on issue 8's 530 x 512 sonar
+ * (--rows 530 --cols 512 --min-range 0.1 --max-range 3.5 --min-distance 0.5
+ * --max-distance 3) with the orientation flags `flags`. */
+static void coarse_case_settings(sim_case *c, uint32_t seed, uint32_t frame, unsigned flags)
+{
+    case_settings(c, 0, seed, frame);
+    c->s.rows = 530;
+    c->s.cols = 512;
+    c->s.geo.min_range = 0.1f;
+    c->s.geo.max_range = 3.5f;
+    c->s.geo.flags |= flags;
+    c->v.min_distance = 0.5f;
+    c->v.max_distance = 3.0f;
+}
+
 /* The case's frame must hold tag `id` with the mirrored flag `mirrored`,
  * and whatever actag_detect reads there must be that tag (check_scene). */
 static void case_check(sim_case *c, int id, int mirrored, const char *what)
@@ -686,14 +701,7 @@ static void test_regression_pool_seed91_frame810(void)
 static void test_regression_coarse_seed1009_frame378(void)
 {
     sim_case c;
-    case_settings(&c, 0, 1009u, 378u);
-    c.s.rows = 530;
-    c.s.cols = 512;
-    c.s.geo.min_range = 0.1f;
-    c.s.geo.max_range = 3.5f;
-    c.s.geo.flags |= ACTAG_RANGE_ASCENDING;
-    c.v.min_distance = 0.5f;
-    c.v.max_distance = 3.0f;
+    coarse_case_settings(&c, 1009u, 378u, ACTAG_RANGE_ASCENDING);
     case_check(&c, 4, 0, "the wrong ID of coarse seed 1009 frame 378");
 }
 
@@ -708,14 +716,7 @@ static void test_regression_coarse_seed1009_frame378(void)
 static void test_regression_coarse_seed9210_frame905(void)
 {
     sim_case c;
-    case_settings(&c, 0, 9210u, 905u);
-    c.s.rows = 530;
-    c.s.cols = 512;
-    c.s.geo.min_range = 0.1f;
-    c.s.geo.max_range = 3.5f;
-    c.s.geo.flags |= ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING;
-    c.v.min_distance = 0.5f;
-    c.v.max_distance = 3.0f;
+    coarse_case_settings(&c, 9210u, 905u, ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING);
     case_check(&c, 5, 1, "the wrong handedness of coarse seed 9210 frame 905");
 }
 
@@ -732,14 +733,7 @@ static void test_regression_coarse_seed9210_frame905(void)
 static void test_regression_coarse_seed9213_frame149(void)
 {
     sim_case c;
-    case_settings(&c, 0, 9213u, 149u);
-    c.s.rows = 530;
-    c.s.cols = 512;
-    c.s.geo.min_range = 0.1f;
-    c.s.geo.max_range = 3.5f;
-    c.s.geo.flags |= ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING;
-    c.v.min_distance = 0.5f;
-    c.v.max_distance = 3.0f;
+    coarse_case_settings(&c, 9213u, 149u, ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING);
     case_check(&c, 1, 0, "the wrong ID of coarse seed 9213 frame 149");
 }
 
