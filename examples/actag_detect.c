@@ -76,7 +76,8 @@ static void usage(FILE *f)
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
-            "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
+            "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n");
+    fprintf(f,
             "Output (coordinates: x = column, y = row, pixels, centre of the top-left pixel at\n"
             "(0,0); corners in the tag's order TL TR BR BL as printed):\n"
             "  (default)              one line per tag: id, hamming, margin, mirrored, corners\n"
@@ -88,6 +89,11 @@ static void usage(FILE *f)
             "  --pose                 each tag's 6-DOF pose in the sonar frame with its covariance\n"
             "                         (actag/pose.h: x forward, y left, z up; JSON member \"pose\")\n"
             "  --vertical-aperture-deg D  the sonar's vertical aperture for --pose (default 12)\n"
+            "  --plane NX,NY,NZ,D --plane-sd M --plane-tilt-deg D  for --pose: the plane the tags\n"
+            "                         lie on, n.p = D in the sonar frame (a seabed at altitude H\n"
+            "                         under an upright sonar: 0,0,1,-H), with the sd of its\n"
+            "                         offset (m) and of its tilt (degrees); pins the elevation\n"
+            "                         one ping leaves free (pose.h, KNOWN PLANE)\n"
             "  --track                the files are consecutive frames of one stream: report the\n"
             "                         tracker's confirmed tracks (actag/track.h) instead of the\n"
             "                         detections; JSON {\"file\", \"frame\", \"tracks\": [{\"track\",\n"
@@ -162,6 +168,7 @@ typedef struct options {
     int pose, track;                 /* --pose, --track */
     int inplace;                     /* --inplace */
     double vertical_deg;             /* --vertical-aperture-deg */
+    double plane[4], plane_sd, plane_tilt_deg; /* --plane, --plane-sd, --plane-tilt-deg */
     actag_pose_params pose_params;
 } options;
 
@@ -207,6 +214,17 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--vertical-aperture-deg") == 0) {
             NEEDV();
             o->vertical_deg = num(a, v, 1e-3, 179.999);
+        } else if (strcmp(a, "--plane") == 0) {
+            char pm[HOSTIO_ERRLEN];
+            NEEDV();
+            if (hostio_parse_doubles(a, v, ',', o->plane, 4, pm) != HOSTIO_OK)
+                die(pm);
+        } else if (strcmp(a, "--plane-sd") == 0) {
+            NEEDV();
+            o->plane_sd = num(a, v, 0.0, 1e6);
+        } else if (strcmp(a, "--plane-tilt-deg") == 0) {
+            NEEDV();
+            o->plane_tilt_deg = num(a, v, 0.0, 180.0);
         } else if (strcmp(a, "--range-ascending") == 0) {
             o->geo.flags |= ACTAG_RANGE_ASCENDING;
         } else if (strcmp(a, "--azimuth-ascending") == 0) {
@@ -376,6 +394,15 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
     }
     actag_pose_params_default(&o->pose_params, &o->fam, o->params.tag_size,
                               (float)(o->vertical_deg * 3.14159265358979323846 / 180.0));
+    if (o->plane_sd > 0.0 || o->plane_tilt_deg > 0.0) {
+        int j;
+        if (o->plane[0] == 0.0 && o->plane[1] == 0.0 && o->plane[2] == 0.0)
+            die("--plane-sd/--plane-tilt-deg need --plane NX,NY,NZ,D with a non-zero normal");
+        for (j = 0; j < 4; j++)
+            o->pose_params.plane[j] = (float)o->plane[j];
+        o->pose_params.plane_sd = (float)o->plane_sd;
+        o->pose_params.plane_tilt_sd = (float)(o->plane_tilt_deg * 3.14159265358979323846 / 180.0);
+    }
     if (o->track && (o->overlay || o->stages))
         die("--track does not combine with --overlay or --stages");
     if (o->inplace && (o->track || o->overlay || o->stages))
@@ -492,8 +519,8 @@ static void print_text(const char *file, const actag_family *fam, const actag_de
 
 /* ---- --pose and --track: kept apart from the rest of the output ---- */
 
-static const char *const pose_flag_names[5] = {"degenerate", "elevation", "not_converged",
-                                               "mirror_conflict", "no_covariance"};
+static const char *const pose_flag_names[6] = {"degenerate", "elevation", "not_converged",
+                                               "mirror_conflict", "no_covariance", "plane"};
 
 /* JSON: ", \"pose\": {...}"; text: an indented line. */
 static void print_pose(const float range[4], const float azimuth[4], int mirrored,
@@ -517,7 +544,7 @@ static void print_pose(const float range[4], const float azimuth[4], int mirrore
                (double)P.elevation_hi, sqrt((double)P.cov[0]), sqrt((double)P.cov[7]),
                sqrt((double)P.cov[14]), sqrt((double)P.cov[21]), sqrt((double)P.cov[28]),
                sqrt((double)P.cov[35]), (double)P.residual);
-        for (i = 0; i < 5; i++)
+        for (i = 0; i < 6; i++)
             if (P.flags & (1u << i))
                 printf(" [%s]", pose_flag_names[i]);
         printf("\n");
@@ -535,7 +562,7 @@ static void print_pose(const float range[4], const float azimuth[4], int mirrore
         printf("%s%.4e", i ? ", " : "", (double)P.cov[i]);
     printf("], \"residual_m\": %.5f, \"chi2\": %.3f, \"flags\": [", (double)P.residual,
            (double)P.chi2);
-    for (i = 0; i < 5; i++)
+    for (i = 0; i < 6; i++)
         if (P.flags & (1u << i)) {
             printf("%s\"%s\"", first ? "" : ", ", pose_flag_names[i]);
             first = 0;

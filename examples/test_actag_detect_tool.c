@@ -163,6 +163,51 @@ static void test_min_bit_margin_option(void)
     free(o2);
 }
 
+/* --pose with a known plane (pose.h KNOWN PLANE): the example tag's centre
+ * moves onto the plane z = -0.03 m (1.2 cm from its plane-free elevation,
+ * inside the band), its elevation sd shrinks from the band's to about the
+ * plane's; bad plane options are refused with exit status 2 naming them. */
+static void test_pose_plane_options(void)
+{
+    char *o, *e;
+    float t0[3], t1[3], s0, s1;
+    const char *p;
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose " EXAMPLE));
+    o = out_text();
+    p = strstr(o, "pose: t (");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_EQUAL_INT(3, sscanf(p, "pose: t (%f, %f, %f)", &t0[0], &t0[1], &t0[2]));
+    p = strstr(p, "sd t (");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_EQUAL_INT(1, sscanf(p, "sd t (%*f, %*f, %f)", &s0));
+    free(o);
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose --plane 0,0,1,-0.03 --plane-sd 0.005 " EXAMPLE));
+    o = out_text();
+    p = strstr(o, "pose: t (");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_EQUAL_INT(3, sscanf(p, "pose: t (%f, %f, %f)", &t1[0], &t1[1], &t1[2]));
+    p = strstr(p, "sd t (");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_EQUAL_INT(1, sscanf(p, "sd t (%*f, %*f, %f)", &s1));
+    TEST_ASSERT_FLOAT_WITHIN(0.005f, -0.03f, t1[2]);
+    TEST_ASSERT_TRUE(t0[2] - t1[2] > 0.02f);
+    TEST_ASSERT_TRUE(s1 < 0.5f * s0);
+    TEST_ASSERT_NULL(strstr(o, "[plane]"));
+    free(o);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --pose --plane 0,0,1 --plane-sd 0.005 " EXAMPLE));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(e, "--plane: expected 4 numbers"));
+    free(e);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --pose --plane-tilt-deg 1 " EXAMPLE));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(e, "need --plane NX,NY,NZ,D"));
+    free(e);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --pose --plane 0,0,1,0 --plane-sd -1 " EXAMPLE));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(e, "--plane-sd: must be from 0"));
+    free(e);
+}
+
 /* The text output says its convention and lists x (column) first. */
 static void test_text_output_convention(void)
 {
@@ -599,6 +644,7 @@ int main(void)
     RUN_TEST(test_bearing_table_file);
     RUN_TEST(test_bad_options);
     RUN_TEST(test_min_bit_margin_option);
+    RUN_TEST(test_pose_plane_options);
     RUN_TEST(test_version);
     return UNITY_END();
 }

@@ -8,7 +8,7 @@
 #define P_PIO2_HI 1.57079637e+00f  /* float(pi/2) */
 #define P_PIO2_LO -4.37113883e-08f /* pi/2 - P_PIO2_HI */
 #define P_NPAR 6
-#define P_NRES 9 /* 8 corner residuals + the elevation prior */
+#define P_NRES 12 /* 8 corner residuals, the elevation prior, the plane's offset and tilt */
 #define P_PASSES 3
 #define P_STARTS 5 /* start elevations across the band */
 
@@ -249,6 +249,9 @@ typedef struct {
     float s, E, half_v;  /* tag size, outline extent (tag sizes), half aperture */
     float sr, sa;        /* noise sds */
     float mu, sp;        /* elevation prior: mean, sd (rad) */
+    /* the plane prior (params.plane): unit normal n, offset d (n.p = d), the
+     * normal's two unit tangents u, v, and the sds' inverses (0: unused) */
+    float n[3], d, u[3], v[3], wd, wt;
 } p_model;
 
 typedef struct {
@@ -362,6 +365,37 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
             J[8 * P_NPAR + 0] = J[8 * P_NPAR + 1] = J[8 * P_NPAR + 2] = 0.0f;
         }
         J[8 * P_NPAR + 3] = J[8 * P_NPAR + 4] = J[8 * P_NPAR + 5] = 0.0f;
+    }
+    /* the plane prior: the face centre's offset from the plane (d/dt = n,
+     * d/dw = 0: the centre is t), and the face normal z = R e3 along n, its
+     * components along the tangents u, v (d/dw of z = -[z]x, so d(u.z)/dw =
+     * z x u); rows of an unused term stay zero and change no sum */
+    for (i = 9; i < P_NRES; i++)
+        f[i] = 0.0f;
+    if (J)
+        for (i = 9 * P_NPAR; i < P_NRES * P_NPAR; i++)
+            J[i] = 0.0f;
+    if (m->wd > 0.0f) {
+        f[9] = (dot3(m->n, x->t) - m->d) * m->wd;
+        if (J)
+            for (j = 0; j < 3; j++)
+                J[9 * P_NPAR + j] = m->n[j] * m->wd;
+    }
+    if (m->wt > 0.0f) {
+        float z[3], w[3];
+        z[0] = x->R[2];
+        z[1] = x->R[5];
+        z[2] = x->R[8];
+        f[10] = dot3(m->u, z) * m->wt;
+        f[11] = dot3(m->v, z) * m->wt;
+        if (J) {
+            cross3(z, m->u, w);
+            for (j = 0; j < 3; j++)
+                J[10 * P_NPAR + 3 + j] = w[j] * m->wt;
+            cross3(z, m->v, w);
+            for (j = 0; j < 3; j++)
+                J[11 * P_NPAR + 3 + j] = w[j] * m->wt;
+        }
     }
     for (i = 0; i < P_NRES; i++)
         cost += f[i] * f[i];
@@ -611,6 +645,63 @@ static void p_start(const p_model *m, float e, p_state *x, float *winding)
         x->t[j] = rbar * ur[j];
 }
 
+/* ------------------------------------------------------------ plane prior */
+
+/* The plane of params into m: unit normal, offset, tangents, weights.
+ * Returns -1 when the plane is not finite or its normal is zero. */
+static int p_plane_of(const actag_pose_params *p, p_model *m)
+{
+    float nn, a[3] = {0.0f, 0.0f, 0.0f};
+    int j;
+    for (j = 0; j < 4; j++)
+        if (!p_finite(p->plane[j]))
+            return -1;
+    nn = norm3(p->plane);
+    if (!(nn > 0.0f) || !p_finite(nn))
+        return -1;
+    for (j = 0; j < 3; j++)
+        m->n[j] = p->plane[j] / nn;
+    m->d = p->plane[3] / nn;
+    /* u: n x (the axis least along n), v = n x u */
+    a[(m->n[0] < 0.0f ? -m->n[0] : m->n[0]) < 0.9f ? 0 : 1] = 1.0f;
+    cross3(m->n, a, m->u);
+    nn = norm3(m->u);
+    for (j = 0; j < 3; j++)
+        m->u[j] /= nn;
+    cross3(m->n, m->u, m->v);
+    m->wd = p->plane_sd > 0.0f ? 1.0f / p->plane_sd : 0.0f;
+    m->wt = p->plane_tilt_sd > 0.0f ? 1.0f / p->plane_tilt_sd : 0.0f;
+    return 0;
+}
+
+/* Elevation k (0, 1) at which the ray of the corners' mean range and
+ * azimuth meets the plane: n . (r (cos a cos e, sin a cos e, sin e)) = d,
+ * i.e. A cos e + B sin e = d / r. Returns 0 when there is none within twice
+ * the half aperture. */
+static int p_plane_elevation(const p_model *m, int k, float *e)
+{
+    float rbar = 0.0f, abar = 0.0f, sa, ca, A, B, h, q, phi, al;
+    int i;
+    for (i = 0; i < 4; i++) {
+        rbar += 0.25f * m->r[i];
+        abar += 0.25f * p_wrap(m->az[i] - m->az[0]);
+    }
+    abar = p_wrap(abar + m->az[0]);
+    p_sincos(abar, &sa, &ca);
+    A = m->n[0] * ca + m->n[1] * sa;
+    B = m->n[2];
+    h = sqrtf(A * A + B * B);
+    if (!(h > 0.0f) || !(rbar > 0.0f))
+        return 0;
+    q = m->d / (rbar * h);
+    if (!(q >= -1.0f && q <= 1.0f))
+        return 0;
+    phi = p_atan2(B, A);
+    al = 0.5f * P_PI - p_asin(q); /* acos(q) */
+    *e = p_wrap(k ? phi - al : phi + al);
+    return *e >= -4.0f * m->half_v && *e <= 4.0f * m->half_v;
+}
+
 /* ------------------------------------------------------------ public */
 
 void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
@@ -628,6 +719,9 @@ void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
     p->range_sd = ACTAG_POSE_RANGE_SD;
     p->azimuth_sd = ACTAG_POSE_AZIMUTH_SD;
     p->max_iterations = 20;
+    p->plane[0] = p->plane[1] = p->plane[2] = p->plane[3] = 0.0f;
+    p->plane_sd = 0.0f;
+    p->plane_tilt_sd = 0.0f;
 }
 
 int actag_pose_estimate(const float range[4], const float azimuth[4], int mirrored,
@@ -649,6 +743,14 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         !(p->range_sd > 0.0f) || !p_finite(p->azimuth_sd) || !(p->azimuth_sd > 0.0f) ||
         p->max_iterations < 1 || p->max_iterations > 100)
         return ACTAG_ERR_PARAM;
+    if (!p_finite(p->plane_sd) || !(p->plane_sd >= 0.0f) || !p_finite(p->plane_tilt_sd) ||
+        !(p->plane_tilt_sd >= 0.0f))
+        return ACTAG_ERR_PARAM;
+    m.wd = m.wt = 0.0f;
+    if (p->plane_sd > 0.0f || p->plane_tilt_sd > 0.0f) {
+        if (p_plane_of(p, &m) != 0)
+            return ACTAG_ERR_PARAM;
+    }
     for (i = 0; i < (int)sizeof *out; i++)
         ((unsigned char *)out)[i] = 0;
     for (i = 0; i < 4; i++) {
@@ -676,6 +778,21 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         for (k = 0; k < P_STARTS; k++) {
             p_state y;
             float cy, e = m.mu + m.sp * 1.73205081f * ((float)k / (float)(P_STARTS - 1) * 2.0f - 1.0f);
+            p_start(&m, e, &y, &winding);
+            it = p_lm(&m, &y, p->max_iterations);
+            total += it > 0 ? it : -it;
+            cy = p_eval(&m, &y, f0, NULL);
+            if (cy < best) {
+                best = cy;
+                x0 = y;
+            }
+        }
+        /* with a plane: also from the elevations where the centre's ray meets it */
+        for (k = 0; k < 2 && m.wd > 0.0f; k++) {
+            p_state y;
+            float cy, e;
+            if (!p_plane_elevation(&m, k, &e))
+                continue;
             p_start(&m, e, &y, &winding);
             it = p_lm(&m, &y, p->max_iterations);
             total += it > 0 ? it : -it;
@@ -771,6 +888,8 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
     out->residual = sqrtf(0.25f * res2);
     if (!(hi > lo) || out->elevation < lo - 2.0f * m.sp || out->elevation > hi + 2.0f * m.sp)
         out->flags |= ACTAG_POSE_ELEVATION;
+    if (f[9] * f[9] > 9.0f || f[10] * f[10] + f[11] * f[11] > 9.0f)
+        out->flags |= ACTAG_POSE_PLANE;
     return ACTAG_OK;
 }
 

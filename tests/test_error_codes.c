@@ -1124,6 +1124,27 @@ static void test_pose_estimate(void)
     b = pp;
     b.max_iterations = 101;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    /* the known plane (pose.h KNOWN PLANE): each sd, and the plane when used */
+    b = pp;
+    b.plane_sd = -0.01f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b = pp;
+    b.plane_tilt_sd = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b = pp;
+    b.plane_sd = INFINITY;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b = pp;
+    b.plane_sd = 0.01f; /* normal (0, 0, 0) */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane[2] = 1.0f;
+    b.plane[3] = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane[3] = -0.2f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
+    b = pp; /* both sds 0: the plane is not read */
+    b.plane[0] = NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &pp, &pose));
     TEST_ASSERT_FLOAT_WITHIN(0.1f, 1.0f, pose.range);
 }

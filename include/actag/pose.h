@@ -99,6 +99,26 @@
  *     (resolution, range) deserve their own figures: the covariance scales
  *     with them.
  *
+ *   KNOWN PLANE (optional: params.plane, plane_sd, plane_tilt_sd)
+ *     A vehicle often knows what one ping cannot show: a tag lying on a flat
+ *     seabed is in the plane its altitude (DVL) and attitude (IMU) give, in
+ *     the sonar's frame n . p = d (for an upright sonar at altitude h over
+ *     level ground: n = (0, 0, 1), d = -h). With plane_sd > 0 the face
+ *     centre's offset from that plane enters the fit as one more residual of
+ *     sd plane_sd; with plane_tilt_sd > 0 the face normal's angle from n
+ *     enters as two (its components across n, sd plane_tilt_sd). Either one
+ *     pins the elevation slide that the corners leave free (the slide turns
+ *     the tag and moves its centre across the plane), so the position error
+ *     falls from the elevation band's to about the plane's own error (see
+ *     docs/pose.md for figures). The band prior stays; the covariance
+ *     carries the plane terms. ACTAG_POSE_PLANE is set when the fit sits more
+ *     than 3 sds off the plane (offset, or tilt): the plane, the corners or
+ *     the tag's placement disagree (a plane outside the aperture may show as
+ *     ACTAG_POSE_ELEVATION instead, when the plane wins over the band). The
+ *     sds are the plane's errors at the tag: an attitude error a at range r
+ *     adds r a to the offset's. The plane cannot pin the slide when it
+ *     contains the elevation direction at the tag (an edge-on image). Only
+ *     the plane's orientation and offset matter, not the sign of n.
  *   CAMERA POSES
  *     actag_pose_from_camera() turns a camera pose of the same tag frame
  *     (AprilTag's estimate_tag_pose, optical frame) into the sensor frame
@@ -112,7 +132,7 @@
  *       Defaults: the given tag size (m) and vertical aperture (rad, full
  *       width), extent = the family's full tag side over tag_size ((k+1)/(k-3)
  *       for 4k bits: 7/3 for 24 bits; 1 when family is NULL), the noise
- *       defaults above, 20 iterations. NULL p: nothing.
+ *       defaults above, 20 iterations, no known plane. NULL p: nothing.
  *   int actag_pose_estimate(const float range[4], const float azimuth[4], int mirrored,
  *                           const actag_pose_params *p, actag_pose *out)
  *       Pose from the four corners in tag order (metres, radians, as in
@@ -121,7 +141,9 @@
  *       finite, a range <= 0, an azimuth outside (-4 pi, 4 pi), tag_size not
  *       finite or <= 0, vertical_aperture outside
  *       (0, pi), extent < 1, a noise sd <= 0 or not finite, max_iterations
- *       outside 1..100). Degenerate geometry is not an error: out is filled
+ *       outside 1..100, plane_sd or plane_tilt_sd negative or not finite,
+ *       or, when either is > 0, plane not finite or its normal zero).
+ *       Degenerate geometry is not an error: out is filled
  *       as well as possible and flagged.
  *   int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
  *                                 actag_pose *out)
@@ -163,6 +185,8 @@ extern "C" {
 #define ACTAG_POSE_NOT_CONVERGED 4u    /* the iteration cap was reached before convergence */
 #define ACTAG_POSE_MIRROR_CONFLICT 8u  /* the corners' winding contradicts `mirrored` */
 #define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed (camera poses) */
+#define ACTAG_POSE_PLANE 32u           /* the fit left the known plane by more than 3 of its
+                                          sds (offset, or tilt): plane or corners wrong */
 
 typedef struct actag_pose_params {
     float tag_size;          /* m, side of the inner white square */
@@ -172,6 +196,12 @@ typedef struct actag_pose_params {
     float range_sd;          /* m, corner range noise (ACTAG_POSE_RANGE_SD) */
     float azimuth_sd;        /* rad, corner azimuth noise (ACTAG_POSE_AZIMUTH_SD) */
     int max_iterations;      /* trial steps per pass, 1..100 (20) */
+    /* Optional: what the vehicle knows of the plane the tag lies on (see KNOWN PLANE).
+     * Unused while plane_sd and plane_tilt_sd are both 0 (the default). */
+    float plane[4];          /* (nx, ny, nz, d): the tag's face lies in n . p = d, sensor
+                                frame, metres; n any length but not zero */
+    float plane_sd;          /* m, sd of the face centre's offset from the plane; 0: unused */
+    float plane_tilt_sd;     /* rad, sd of the angle between the face normal and n; 0: unused */
 } actag_pose_params;
 
 typedef struct actag_pose {

@@ -73,6 +73,9 @@ static void usage(FILE *f)
         "                         handedness; default any). The tagged frames of a run with\n"
         "                         unmirrored want --mirror-fraction 0\n"
         "  --min-bit-margin N     least lead in corrected bits over the runner-up\n"
+        "  --plane-sd M --plane-tilt-deg D  give each pose fit the tag's plane as a vehicle\n"
+        "                         would know it (pose.h KNOWN PLANE): the true face plane,\n"
+        "                         its offset and normal perturbed by these sds (default: none)\n"
         "  --min-structure F --min-side-fraction F  the pipeline's structure and side gates\n"
         "  --seed S (default 1)   --threads N (default 2)\n"
         "Views and sonar (defaults: the paper's: 0.1-5 m, 60 x 12 degrees, 1024 x 512,\n"
@@ -157,6 +160,7 @@ typedef struct {
     float min_margin, search_min_margin; /* < 0: the library's defaults */
     float many_margin;                   /* < 0: the library's default */
     int min_bit_margin;                  /* < 0: the library's default */
+    float plane_sd, plane_tilt;          /* --plane-sd (m), --plane-tilt-deg (rad); 0: off */
     int handedness;                      /* actag_params.handedness (default any) */
     float min_structure, min_side;       /* < 0: the library's defaults */
     actag_family free_fam[MAX_FAM];
@@ -224,6 +228,59 @@ static float mahalanobis2(const float *cov, const double *e6, int first, int n)
     return (float)m;
 }
 
+/* A standard normal deviate (Box-Muller) from the call's own generator. */
+static double normal_of(actag_rng *g)
+{
+    double u1 = ((double)actag_rng_next(g) + 1.0) / 4294967297.0;
+    double u2 = (double)actag_rng_next(g) / 4294967296.0;
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
+/* --plane-sd/--plane-tilt-deg: what a vehicle would know of the tag's plane
+ * (its altitude and attitude over a flat seabed): the true face plane in the
+ * sonar frame, its normal turned about the tag's centre by a normal deviate
+ * of sd plane_tilt about each of two axes across it, then moved along it by
+ * one of sd plane_sd: the errors the fit's plane terms assume (pose.h; an
+ * attitude error a at range r adds r a to a real plane's offset error).
+ * Seeded by the frame: the same plane at any --threads. */
+static void known_plane(const eval_ctx *c, const sim_tag *tag, uint32_t seed,
+                        actag_pose_params *pp)
+{
+    actag_rng g;
+    double n[3], a[3] = {0.0, 0.0, 0.0}, u[3], v[3], nn, d;
+    int q;
+    actag_rng_seed(&g, seed ^ 0x9E3779B9u);
+    for (q = 0; q < 3; q++)
+        n[q] = tag->pose.R[3 * q + 2]; /* the face normal, R e3 */
+    d = n[0] * tag->pose.t[0] + n[1] * tag->pose.t[1] + n[2] * tag->pose.t[2];
+    a[fabs(n[0]) < 0.9 ? 0 : 1] = 1.0;
+    u[0] = n[1] * a[2] - n[2] * a[1];
+    u[1] = n[2] * a[0] - n[0] * a[2];
+    u[2] = n[0] * a[1] - n[1] * a[0];
+    nn = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (q = 0; q < 3; q++)
+        u[q] /= nn;
+    v[0] = n[1] * u[2] - n[2] * u[1];
+    v[1] = n[2] * u[0] - n[0] * u[2];
+    v[2] = n[0] * u[1] - n[1] * u[0];
+    {
+        double e1 = normal_of(&g) * c->plane_tilt, e2 = normal_of(&g) * c->plane_tilt;
+        double dd = normal_of(&g) * c->plane_sd;
+        double m[3], mm;
+        for (q = 0; q < 3; q++)
+            m[q] = n[q] + e1 * u[q] + e2 * v[q];
+        mm = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        /* turned about the tag's centre, then moved along the new normal */
+        d = (m[0] * tag->pose.t[0] + m[1] * tag->pose.t[1] + m[2] * tag->pose.t[2]) / mm + dd;
+        for (q = 0; q < 3; q++)
+            pp->plane[q] = (float)(m[q] / mm);
+        pp->plane[3] = (float)d;
+    }
+    /* the fit assumes the sds the plane was drawn with (0: that term off) */
+    pp->plane_sd = c->plane_sd;
+    pp->plane_tilt_sd = c->plane_tilt;
+}
+
 static void pose_errors(const eval_ctx *c, const sim_tag *tag, const actag_detection *d,
                         tag_result *R)
 {
@@ -233,6 +290,8 @@ static void pose_errors(const eval_ctx *c, const sim_tag *tag, const actag_detec
     float w[3], el_true;
     int q;
     actag_pose_params_default(&pp, &c->fam, tag->tag_size, c->sonar.vertical_aperture);
+    if (c->plane_sd > 0.0f || c->plane_tilt > 0.0f)
+        known_plane(c, tag, R->seed, &pp);
     if (actag_pose_from_detection(d, &pp, &P) != ACTAG_OK)
         die("actag_pose_from_detection failed");
     actag_pose_rotation_vector(tag->pose.R, P.R, w);
@@ -837,6 +896,12 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--min-side-fraction")) {
             NEED();
             c.min_side = (float)num(o, v, 0.0, 10.0);
+        } else if (!strcmp(o, "--plane-sd")) {
+            NEED();
+            c.plane_sd = (float)num(o, v, 0.0, 100.0);
+        } else if (!strcmp(o, "--plane-tilt-deg")) {
+            NEED();
+            c.plane_tilt = (float)(num(o, v, 0.0, 90.0) * DEG);
         } else if (!strcmp(o, "--min-bit-margin")) {
             NEED();
             c.min_bit_margin = (int)inum(o, v, 0, 32);

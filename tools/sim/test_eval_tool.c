@@ -133,6 +133,31 @@ static void test_pose_dump(void)
     free(dump);
 }
 
+/* --plane-sd/--plane-tilt-deg: the same readings, each pose fitted with the
+ * tag's plane as a vehicle would know it; the median position error falls
+ * (20 frames at the paper's settings: the elevation is the error there). */
+static void test_known_plane_options(void)
+{
+    char *a, *b;
+    double ea, eb;
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--frames 30 --seed 3 --json --quiet"));
+    a = slurp(out_path);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--frames 30 --seed 3 --json --quiet "
+                                                  "--plane-sd 0.01 --plane-tilt-deg 0.5"));
+    b = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL(b);
+    TEST_ASSERT_EQUAL_INT((int)json_num(strstr(a, "\"pose\""), "readings"),
+                          (int)json_num(strstr(b, "\"pose\""), "readings"));
+    TEST_ASSERT_TRUE(json_num(strstr(a, "\"pose\""), "readings") >= 5);
+    ea = json_num(strstr(a, "\"pose\""), "median_position_error_pct_of_range");
+    eb = json_num(strstr(b, "\"pose\""), "median_position_error_pct_of_range");
+    printf("median position error: %.2f %% of range without a plane, %.2f %% with\n", ea, eb);
+    TEST_ASSERT_TRUE(eb < 0.5 * ea);
+    free(a);
+    free(b);
+}
+
 /* --sequence-failures: the file is written (one pass, a few frames), and
  * every line it holds names the pass's seed and ID for actag-sim. */
 static void test_sequence_failures_file(void)
@@ -218,6 +243,8 @@ static void test_bad_options(void)
     expect_error_of(ACTAG_EVAL_PATH, "--many-corrections-margin -1", "--many-corrections-margin",
                     "-1");
     expect_error(ACTAG_EVAL_PATH, "--bogus", "--bogus");
+    expect_error(ACTAG_EVAL_PATH, "--frames 2 --plane-sd -0.1", "--plane-sd");
+    expect_error(ACTAG_EVAL_PATH, "--frames 2 --plane-tilt-deg 91", "--plane-tilt-deg");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --pose-dump /nonexistent-dir/p.jsonl",
                  "/nonexistent-dir/p.jsonl");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --sequence-failures x.jsonl", "--sequence-failures");
@@ -267,6 +294,7 @@ int main(void)
     RUN_TEST(test_tag_free_and_threads);
     RUN_TEST(test_svg_output);
     RUN_TEST(test_pose_dump);
+    RUN_TEST(test_known_plane_options);
     RUN_TEST(test_sequence_failures_file);
     RUN_TEST(test_sim_writes_frames_and_truth);
     RUN_TEST(test_bad_options);
