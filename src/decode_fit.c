@@ -2097,3 +2097,11 @@ int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int strid
     *rss2 = r[1];
     return r[1] <= r[0];
 }
+
+float actag__fit_rss_llr(const actag_family *family, const actag_fit_params *fp, float rss,
+                         float rss2)
+{
+    int n = family->bits / 4 + 1;
+    int nc = n * n - ((fp->flags & ACTAG_FIT_ERASE_CORNERS) ? 4 : 0);
+    return 0.5f * (rss2 - rss) / fcell_noise2(rss, nc, 1e-6f);
+}

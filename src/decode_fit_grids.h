@@ -81,4 +81,12 @@ int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int strid
                               const actag_point corners[4], int id2,
                               const actag_point corners2[4], float *rss, float *rss2);
 
+/* The log-likelihood ratio (nats) of reading 1 over reading 2 from their
+ * rss (actag__fit_rival_explains), under Gaussian cell noise of the
+ * variance reading 1 leaves (the template check's noise model: its rss
+ * over the cells less the two fitted levels). family and fp as given to
+ * actag__fit_rival_explains (valid: not checked). */
+float actag__fit_rss_llr(const actag_family *family, const actag_fit_params *fp, float rss,
+                         float rss2);
+
 #endif

@@ -322,6 +322,10 @@ static int decode_budget(actag_stats *st, const actag_params *p)
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
 
+/* A quad reading with this many corrected bits or more is checked against
+ * its contour's grid guess (detect_filtered, "cross-check"). */
+#define ACTAG_CROSS_HAMMING 2
+
 /* The structure budget: black-ring cells read white, interior cells read
  * black and corrected bits together may not exceed the reading's
  * corrections limit, and each structure fraction must reach min_structure.
@@ -407,6 +411,41 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
     if (!sides_plausible(dr->fit_corners, geometry, params, rows, cols))
         return ACTAG_TRACE_SIDES;
     return ACTAG_TRACE_ACCEPTED;
+}
+
+/* contour_guess's outcomes besides read_wide's verdicts (ACTAG_TRACE_*) */
+#define GUESS_UNREAD (-1) /* no extreme points, or the decode budget is spent */
+#define GUESS_BORDER (-2) /* a corner on the frame's border: not read */
+
+/* A contour's grid guess: its extreme points (gq) read with the wide
+ * search and the template check (read_wide, into *dr); read_before: a
+ * quad of the contour was read before (one more look). A guess on the
+ * frame's border is not read and not counted against ACTAG_GUESS_MAX. A
+ * reading the template check refused as too close to call is held for the
+ * search readings' rival check. Returns read_wide's verdict, GUESS_UNREAD
+ * or GUESS_BORDER. */
+static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipoint *pts,
+                         int npts, const actag_sonar_geometry *geometry,
+                         const actag_params *params, actag_stats *st, int read_before,
+                         int *nguess, actag__fit_rival *held, int *nheld, actag_point gq[4],
+                         actag_decode_result *dr)
+{
+    actag__fit_grids gg;
+    actag__fit_amb ga;
+    int verdict;
+    if (!extreme_quad(pts, npts, gq))
+        return GUESS_UNREAD;
+    if (guess_on_border(gq, rows, cols))
+        return GUESS_BORDER;
+    if (!decode_budget(st, params))
+        return GUESS_UNREAD;
+    memset(&gg, 0, sizeof gg);
+    gg.read_before = read_before;
+    (*nguess)++;
+    verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, &gg, &ga, dr);
+    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb && *nheld < ACTAG_HELD_MAX)
+        held[(*nheld)++] = ga.r[0];
+    return verdict;
 }
 
 static float dist2(actag_point a, actag_point b)
@@ -884,6 +923,10 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 contour_limited = 0, decoded_quads = 0, namb = 0;
             /* hypotheses of this contour's quads refused as too close to call */
             actag__fit_rival amb[ACTAG_AMB_MAX];
+            /* the contour's grid guess, once read (cross-check or no quad) */
+            int guess_read = 0, gverdict = GUESS_UNREAD;
+            actag_point gq[4];
+            actag_decode_result gdr;
 
             if (st.contours >= params->tuning.limits.max_contours) {
                 st.contour_cap = 1; /* the rest of the frame is not examined */
@@ -1001,35 +1044,70 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     rc = ACTAG_ERR_NO_MATCH;
                     continue;
                 }
+                /* Cross-check: a reading with corrected bits is read once
+                 * more from the contour's own grid guess (the wide search,
+                 * other grids than the quad's). When that reads another
+                 * tag, handedness or corner order here, the two are judged
+                 * as whole templates, each polished over the full range at
+                 * both places: unless the quad's leads by the least
+                 * decision margin (the log-likelihood ratio under the
+                 * template check's noise model; each reading paid its
+                 * look-elsewhere allowance in its own check), the place has
+                 * two readings and the quad's is refused; the guess is then
+                 * judged in its place, against the quad's reading (amb), so
+                 * it is reported only when it explains the cells better.
+                 * (Frame 435 of bench/heldout_sweep.py's seed 9609, pool
+                 * sonar, AcTag24h8: a mirrored tag 27 whose quad read tag 8
+                 * unmirrored at hamming 2, margin 4.6; the guess reads tag
+                 * 27 at hamming 1, margin 9.9; as templates tag 8 leads by
+                 * 1.0 nat: no reading.) */
+                if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
+                    dr.hamming >= ACTAG_CROSS_HAMMING && !guess_read &&
+                    nguess < ACTAG_GUESS_MAX) {
+                    guess_read = 1;
+                    gverdict = contour_guess(&w, rows, cols, pts, ci.stored, geometry, params,
+                                             &st, 1, &nguess, held, &nheld, gq, &gdr);
+                    if (gverdict == ACTAG_TRACE_ACCEPTED) {
+                        actag__fit_rival a = rival_of(&dr), o = rival_of(&gdr);
+                        float r1, r2;
+                        if (same_place(dr.corners, gdr.fit_corners) && readings_disagree(&a, &o) &&
+                            actag__fit_rival_explains(w.b, rows, cols, cols, params->family,
+                                                      &params->tuning.fit, a.id, a.fit_corners,
+                                                      o.id, o.fit_corners, &r1, &r2) >= 0 &&
+                            actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2) <
+                                params->min_margin) {
+                            trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
+                                       q.inlier_ratio, &dr);
+                            if (namb < ACTAG_AMB_MAX)
+                                amb[namb++] = a;
+                            rc = ACTAG_ERR_NO_MATCH;
+                            break; /* the guess is judged below */
+                        }
+                    }
+                }
                 trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_ACCEPTED, q.corners,
                            q.inlier_ratio, &dr);
                 break;
             }
             if (rc != ACTAG_OK && params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-                nguess >= ACTAG_GUESS_MAX)
+                !guess_read && nguess >= ACTAG_GUESS_MAX)
                 st.guess_cap++;
             if (rc == ACTAG_OK) {
                 corners = dr.corners;
                 ratio = q.inlier_ratio;
-            } else if (params->tuning.decode_mode == ACTAG_DECODE_FIT && nguess < ACTAG_GUESS_MAX) {
+            } else if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
+                       (guess_read || nguess < ACTAG_GUESS_MAX)) {
                 /* no quad reads: the blob's extreme points as a first guess
-                 * for the wide grid search, judged like a search reading */
-                actag_point gq[4];
-                int have = extreme_quad(pts, ci.stored, gq);
-                if (have && guess_on_border(gq, rows, cols)) {
-                    /* not read, and not counted against ACTAG_GUESS_MAX */
+                 * for the wide grid search, judged like a search reading
+                 * (read already when it cross-checked a quad's reading) */
+                int verdict = guess_read ? gverdict
+                                         : contour_guess(&w, rows, cols, pts, ci.stored, geometry,
+                                                         params, &st, decoded_quads > 0, &nguess,
+                                                         held, &nheld, gq, &gdr);
+                if (verdict == GUESS_BORDER) {
                     trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
-                } else if (have && decode_budget(&st, params)) {
-                    int verdict;
-                    /* after quads of the blob were read, one more look */
-                    actag__fit_grids gg;
-                    actag__fit_amb ga;
-                    memset(&gg, 0, sizeof gg);
-                    gg.read_before = decoded_quads > 0;
-                    nguess++;
-                    verdict = read_wide(w.b, rows, cols, gq, geometry, params, 1, &gg, &ga, &dr);
-                    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb && nheld < ACTAG_HELD_MAX)
-                        held[nheld++] = ga.r[0];
+                } else if (verdict != GUESS_UNREAD) {
+                    dr = gdr;
                     if (verdict == ACTAG_TRACE_ACCEPTED &&
                         rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, namb,
                                        dr.fit_corners, sk_contested))
