@@ -418,7 +418,9 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
 #define GUESS_BORDER (-2) /* a corner on the frame's border: not read */
 
 /* A contour's grid guess: its extreme points (gq) read with the wide
- * search and the template check (read_wide, into *dr); read_before: a
+ * search (read_wide, into *dr), with the template check (verify 1) or
+ * tentatively (verify 0: the cross-check's first look; *gg keeps its grids
+ * for a second reading with the check, read_guess_again); read_before: a
  * quad of the contour was read before (one more look). A guess on the
  * frame's border is not read and not counted against ACTAG_GUESS_MAX. A
  * reading the template check refused as too close to call is held for the
@@ -426,11 +428,10 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
  * or GUESS_BORDER. */
 static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipoint *pts,
                          int npts, const actag_sonar_geometry *geometry,
-                         const actag_params *params, actag_stats *st, int read_before,
-                         int *nguess, actag__fit_rival *held, int *nheld, actag_point gq[4],
-                         actag_decode_result *dr)
+                         const actag_params *params, actag_stats *st, int read_before, int verify,
+                         actag__fit_grids *gg, int *nguess, actag__fit_rival *held, int *nheld,
+                         actag_point gq[4], actag_decode_result *dr)
 {
-    actag__fit_grids gg;
     actag__fit_amb ga;
     int verdict;
     if (!extreme_quad(pts, npts, gq))
@@ -439,10 +440,29 @@ static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipo
         return GUESS_BORDER;
     if (!decode_budget(st, params))
         return GUESS_UNREAD;
-    memset(&gg, 0, sizeof gg);
-    gg.read_before = read_before;
+    memset(gg, 0, sizeof *gg);
+    gg->read_before = read_before;
     (*nguess)++;
-    verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, &gg, &ga, dr);
+    verdict = read_wide(w->b, rows, cols, gq, geometry, params, verify, gg, verify ? &ga : NULL, dr);
+    if (verify && verdict == ACTAG_TRACE_NO_MATCH && ga.amb && *nheld < ACTAG_HELD_MAX)
+        held[(*nheld)++] = ga.r[0];
+    return verdict;
+}
+
+/* The second reading of a guess read tentatively (contour_guess, verify 0),
+ * now with the template check, from the grids the first one kept: what a
+ * first reading with the check would have given (decode_fit_grids.h).
+ * Returns read_wide's verdict or GUESS_UNREAD (decode budget spent). */
+static int read_guess_again(const ws_layout *w, int rows, int cols,
+                            const actag_sonar_geometry *geometry, const actag_params *params,
+                            actag_stats *st, actag__fit_grids *gg, actag__fit_rival *held,
+                            int *nheld, const actag_point gq[4], actag_decode_result *dr)
+{
+    actag__fit_amb ga;
+    int verdict;
+    if (!decode_budget(st, params))
+        return GUESS_UNREAD;
+    verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
     if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb && *nheld < ACTAG_HELD_MAX)
         held[(*nheld)++] = ga.r[0];
     return verdict;
@@ -923,10 +943,13 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 contour_limited = 0, decoded_quads = 0, namb = 0;
             /* hypotheses of this contour's quads refused as too close to call */
             actag__fit_rival amb[ACTAG_AMB_MAX];
-            /* the contour's grid guess, once read (cross-check or no quad) */
+            /* the contour's grid guess, once read tentatively by the
+             * cross-check (guess_read 1), and kept for the guess stage when
+             * it refused the quad's reading (2) */
             int guess_read = 0, gverdict = GUESS_UNREAD;
             actag_point gq[4];
             actag_decode_result gdr;
+            actag__fit_grids ggx;
 
             if (st.contours >= params->tuning.limits.max_contours) {
                 st.contour_cap = 1; /* the rest of the frame is not examined */
@@ -1066,7 +1089,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     nguess < ACTAG_GUESS_MAX) {
                     guess_read = 1;
                     gverdict = contour_guess(&w, rows, cols, pts, ci.stored, geometry, params,
-                                             &st, 1, &nguess, held, &nheld, gq, &gdr);
+                                             &st, 1, 0, &ggx, &nguess, held, &nheld, gq, &gdr);
                     if (gverdict == ACTAG_TRACE_ACCEPTED) {
                         actag__fit_rival a = rival_of(&dr), o = rival_of(&gdr);
                         float r1, r2;
@@ -1080,8 +1103,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                                        q.inlier_ratio, &dr);
                             if (namb < ACTAG_AMB_MAX)
                                 amb[namb++] = a;
+                            guess_read = 2;
                             rc = ACTAG_ERR_NO_MATCH;
-                            break; /* the guess is judged below */
+                            break; /* the guess is read with the check below */
                         }
                     }
                 }
@@ -1090,20 +1114,25 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 break;
             }
             if (rc != ACTAG_OK && params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-                !guess_read && nguess >= ACTAG_GUESS_MAX)
+                guess_read != 2 && nguess >= ACTAG_GUESS_MAX)
                 st.guess_cap++;
             if (rc == ACTAG_OK) {
                 corners = dr.corners;
                 ratio = q.inlier_ratio;
             } else if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-                       (guess_read || nguess < ACTAG_GUESS_MAX)) {
+                       (guess_read == 2 || nguess < ACTAG_GUESS_MAX)) {
                 /* no quad reads: the blob's extreme points as a first guess
                  * for the wide grid search, judged like a search reading
-                 * (read already when it cross-checked a quad's reading) */
-                int verdict = guess_read ? gverdict
-                                         : contour_guess(&w, rows, cols, pts, ci.stored, geometry,
-                                                         params, &st, decoded_quads > 0, &nguess,
-                                                         held, &nheld, gq, &gdr);
+                 * (after the cross-check's tentative reading, read again
+                 * with the template check from its grids) */
+                actag__fit_grids gg;
+                int verdict =
+                    guess_read == 2
+                        ? read_guess_again(&w, rows, cols, geometry, params, &st, &ggx, held,
+                                           &nheld, gq, &gdr)
+                        : contour_guess(&w, rows, cols, pts, ci.stored, geometry, params, &st,
+                                        decoded_quads > 0, 1, &gg, &nguess, held, &nheld, gq,
+                                        &gdr);
                 if (verdict == GUESS_BORDER) {
                     trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
                 } else if (verdict != GUESS_UNREAD) {
