@@ -418,17 +418,15 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
 #define GUESS_BORDER (-2) /* a corner on the frame's border: not read */
 
 /* A contour's grid guess: its extreme points (gq) read with the wide
- * search (read_wide, into *dr), with the template check (verify 1) or
- * tentatively (verify 0: the cross-check's first look; *gg keeps its grids
- * for a second reading with the check, read_guess_again); read_before: a
- * quad of the contour was read before (one more look). A guess on the
+ * search and the template check (read_wide, into *dr; *gg: its grids);
+ * read_before: a quad of the contour was read before (one more look). A guess on the
  * frame's border is not read and not counted against ACTAG_GUESS_MAX. A
  * reading the template check refused as too close to call is held for the
  * search readings' rival check. Returns read_wide's verdict, GUESS_UNREAD
  * or GUESS_BORDER. */
 static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipoint *pts,
                          int npts, const actag_sonar_geometry *geometry,
-                         const actag_params *params, actag_stats *st, int read_before, int verify,
+                         const actag_params *params, actag_stats *st, int read_before,
                          actag__fit_grids *gg, int *nguess, actag__fit_rival *held, int *nheld,
                          actag_point gq[4], actag_decode_result *dr)
 {
@@ -443,13 +441,13 @@ static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipo
     memset(gg, 0, sizeof *gg);
     gg->read_before = read_before;
     (*nguess)++;
-    verdict = read_wide(w->b, rows, cols, gq, geometry, params, verify, gg, verify ? &ga : NULL, dr);
-    if (verify && verdict == ACTAG_TRACE_NO_MATCH && ga.amb && *nheld < ACTAG_HELD_MAX)
+    verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
+    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb && *nheld < ACTAG_HELD_MAX)
         held[(*nheld)++] = ga.r[0];
     return verdict;
 }
 
-/* The second reading of a guess read tentatively (contour_guess, verify 0),
+/* The second reading of a guess read tentatively (cross_check),
  * now with the template check, from the grids the first one kept: what a
  * first reading with the check would have given (decode_fit_grids.h).
  * Returns read_wide's verdict or GUESS_UNREAD (decode budget spent). */
@@ -575,6 +573,44 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
         }
     }
     return 0;
+}
+
+/* The cross-check of a quad reading *qdr (detect_filtered): its contour's
+ * grid guess read tentatively, without the template check (gq and *gg keep
+ * it for read_guess_again). Returns 1 when the guess reads another tag,
+ * handedness or corner order at the quad's place and the quad's template
+ * does not lead the guess's by the least decision margin (both polished
+ * over the full range at both places): the quad's reading is to be
+ * refused. Its own frame keeps the guess's reading off detect_filtered's. */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static int cross_check(const ws_layout *w, int rows, int cols, const actag_ipoint *pts, int npts,
+                       const actag_sonar_geometry *geometry, const actag_params *params,
+                       actag_stats *st, int *nguess, const actag_decode_result *qdr,
+                       actag_point gq[4], actag__fit_grids *gg)
+{
+    actag_decode_result gdr;
+    actag__fit_rival a, o;
+    float r1, r2;
+    /* contour_guess without the template check, in this frame: a border guess
+     * is not read, no refused hypothesis is held from a tentative read */
+    if (!extreme_quad(pts, npts, gq) || guess_on_border(gq, rows, cols) ||
+        !decode_budget(st, params))
+        return 0;
+    memset(gg, 0, sizeof *gg);
+    gg->read_before = 1;
+    (*nguess)++;
+    if (read_wide(w->b, rows, cols, gq, geometry, params, 0, gg, NULL, &gdr) != ACTAG_TRACE_ACCEPTED)
+        return 0;
+    a = rival_of(qdr);
+    o = rival_of(&gdr);
+    if (!same_place(qdr->corners, gdr.fit_corners) || !readings_disagree(&a, &o))
+        return 0;
+    if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family, &params->tuning.fit, a.id,
+                                  a.fit_corners, o.id, o.fit_corners, &r1, &r2) < 0)
+        return 0;
+    return actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2) < params->min_margin;
 }
 
 /* A detection from a decoder result, its corners and quad support. */
@@ -946,9 +982,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             /* the contour's grid guess, once read tentatively by the
              * cross-check (guess_read 1), and kept for the guess stage when
              * it refused the quad's reading (2) */
-            int guess_read = 0, gverdict = GUESS_UNREAD;
+            int guess_read = 0;
             actag_point gq[4];
-            actag_decode_result gdr;
             actag__fit_grids ggx;
 
             if (st.contours >= params->tuning.limits.max_contours) {
@@ -1088,25 +1123,15 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     dr.hamming >= ACTAG_CROSS_HAMMING && !guess_read &&
                     nguess < ACTAG_GUESS_MAX) {
                     guess_read = 1;
-                    gverdict = contour_guess(&w, rows, cols, pts, ci.stored, geometry, params,
-                                             &st, 1, 0, &ggx, &nguess, held, &nheld, gq, &gdr);
-                    if (gverdict == ACTAG_TRACE_ACCEPTED) {
-                        actag__fit_rival a = rival_of(&dr), o = rival_of(&gdr);
-                        float r1, r2;
-                        if (same_place(dr.corners, gdr.fit_corners) && readings_disagree(&a, &o) &&
-                            actag__fit_rival_explains(w.b, rows, cols, cols, params->family,
-                                                      &params->tuning.fit, a.id, a.fit_corners,
-                                                      o.id, o.fit_corners, &r1, &r2) >= 0 &&
-                            actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2) <
-                                params->min_margin) {
-                            trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
-                                       q.inlier_ratio, &dr);
-                            if (namb < ACTAG_AMB_MAX)
-                                amb[namb++] = a;
-                            guess_read = 2;
-                            rc = ACTAG_ERR_NO_MATCH;
-                            break; /* the guess is read with the check below */
-                        }
+                    if (cross_check(&w, rows, cols, pts, ci.stored, geometry, params, &st,
+                                    &nguess, &dr, gq, &ggx)) {
+                        trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
+                                   q.inlier_ratio, &dr);
+                        if (namb < ACTAG_AMB_MAX)
+                            amb[namb++] = rival_of(&dr);
+                        guess_read = 2;
+                        rc = ACTAG_ERR_NO_MATCH;
+                        break; /* the guess is read with the check below */
                     }
                 }
                 trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_ACCEPTED, q.corners,
@@ -1125,18 +1150,15 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                  * for the wide grid search, judged like a search reading
                  * (after the cross-check's tentative reading, read again
                  * with the template check from its grids) */
-                actag__fit_grids gg;
                 int verdict =
                     guess_read == 2
                         ? read_guess_again(&w, rows, cols, geometry, params, &st, &ggx, held,
-                                           &nheld, gq, &gdr)
+                                           &nheld, gq, &dr)
                         : contour_guess(&w, rows, cols, pts, ci.stored, geometry, params, &st,
-                                        decoded_quads > 0, 1, &gg, &nguess, held, &nheld, gq,
-                                        &gdr);
+                                        decoded_quads > 0, &ggx, &nguess, held, &nheld, gq, &dr);
                 if (verdict == GUESS_BORDER) {
                     trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
                 } else if (verdict != GUESS_UNREAD) {
-                    dr = gdr;
                     if (verdict == ACTAG_TRACE_ACCEPTED &&
                         rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, namb,
                                        dr.fit_corners, sk_contested))
