@@ -314,10 +314,11 @@ static int decode_budget(actag_stats *st, const actag_params *p)
  * quads). */
 #define ACTAG_AMB_MAX 8
 
-/* Readings of quads and contour guesses that the template check refused
- * as too close to call, kept per frame so that a search reading of their
- * place must explain the cells better than each (rival_explains). */
-#define ACTAG_HELD_MAX 4
+/* Hypotheses of quad and contour-guess readings that the template check
+ * refused as too close to call (the reading and the rival that refused
+ * it), kept per frame so that a search reading of their place must explain
+ * the cells better than each (rival_explains). */
+#define ACTAG_HELD_MAX 8
 
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
@@ -413,6 +414,21 @@ static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point 
     return ACTAG_TRACE_ACCEPTED;
 }
 
+static int same_place(const actag_point *d, const actag_point *c);
+
+/* Keeps hypothesis h in held[] (ACTAG_HELD_MAX) unless one of the same
+ * tag, handedness and rotation at the same place is kept already. */
+static void hold(actag__fit_rival *held, int *nheld, const actag__fit_rival *h)
+{
+    int i;
+    for (i = 0; i < *nheld; i++)
+        if (held[i].id == h->id && held[i].mirrored == h->mirrored &&
+            held[i].rotation == h->rotation && same_place(held[i].fit_corners, h->fit_corners))
+            return;
+    if (*nheld < ACTAG_HELD_MAX)
+        held[(*nheld)++] = *h;
+}
+
 /* contour_guess's outcomes besides read_wide's verdicts (ACTAG_TRACE_*) */
 #define GUESS_UNREAD (-1) /* no extreme points, or the decode budget is spent */
 #define GUESS_BORDER (-2) /* a corner on the frame's border: not read */
@@ -442,8 +458,10 @@ static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipo
     gg->read_before = read_before;
     (*nguess)++;
     verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
-    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb && *nheld < ACTAG_HELD_MAX)
-        held[(*nheld)++] = ga.r[0];
+    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb) {
+        hold(held, nheld, &ga.r[0]);
+        hold(held, nheld, &ga.r[1]);
+    }
     return verdict;
 }
 
@@ -461,8 +479,10 @@ static int read_guess_again(const ws_layout *w, int rows, int cols,
     if (!decode_budget(st, params))
         return GUESS_UNREAD;
     verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
-    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb && *nheld < ACTAG_HELD_MAX)
-        held[(*nheld)++] = ga.r[0];
+    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb) {
+        hold(held, nheld, &ga.r[0]);
+        hold(held, nheld, &ga.r[1]);
+    }
     return verdict;
 }
 
@@ -529,9 +549,11 @@ static int readings_disagree(const actag__fit_rival *a, const actag__fit_rival *
  * tentative search readings and, for a contour's grid guess, the
  * hypotheses of the contour's quads that the template check refused as too
  * close to call (the reading and the rival that refused it); for a search
- * reading reported after the contours (nsk 0), the readings that the
- * template checks of the frame's quads and guesses judged and refused as
- * too close to call (held, detect_filtered). A search
+ * reading reported after the contours (nsk 0), the hypotheses of the
+ * readings that the template checks of the frame's quads and guesses
+ * refused as too close to call, each reading and its rival (held,
+ * detect_filtered; heldout seed 9722 frame 177 of bench/heldout_sweep.py
+ * --mix c24h10: the rival was the truth). A search
  * reading that refuses a reading here is marked in contested[] (nsk
  * entries): the place then has two readings that each passed their own
  * checks, and neither is reported (detect_filtered). (Simulated frame 408 of actag-eval --seed 311:
@@ -1073,8 +1095,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                                 amb[namb++] = pair[ip][0];
                                 amb[namb++] = pair[ip][1];
                             }
-                            if (nheld < ACTAG_HELD_MAX)
-                                held[nheld++] = pair[ip][0];
+                            hold(held, &nheld, &pair[ip][0]);
+                            hold(held, &nheld, &pair[ip][1]);
                         }
                     }
                 }

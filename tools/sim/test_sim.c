@@ -753,6 +753,28 @@ static void test_regression_pool_seed3005_frame15(void)
     case_check(&c, 0, 0, "the wrong ID of pool seed 3005 frame 15");
 }
 
+/* Frame 177 of bench/heldout_sweep.py --mix c24h10's seed 9722 (the 530 x
+ * 512 sonar, --range-ascending --gain 330 --noise 0.0006 --looks 3
+ * --clutter 12 --mirror-fraction 1 --bands 1): a mirrored tag 4 at 2.30 m
+ * and 56 degrees. Every RANSAC quad's template check refused its reading,
+ * tag 5, as too close to call against the rival tag 4; only the refused
+ * reading (tag 5) was held for the search readings, so the structure
+ * search's tag 5 (hamming 3, margin 9.7) met no disagreeing hypothesis and
+ * was reported, though tag 4 at the true corners explains the cells by 4.9
+ * nats better. Both hypotheses of a refused pair are now held. */
+static void test_regression_coarse_seed9722_frame177(void)
+{
+    sim_case c;
+    coarse_case_settings(&c, 9722u, 177u, ACTAG_RANGE_ASCENDING);
+    c.a.gain = 330.0f;
+    c.a.noise = 0.0006f;
+    c.a.looks = 3;
+    c.a.band_rate = 1.0f;
+    c.v.clutter = 12;
+    c.v.mirror_fraction = 1.0f;
+    case_check(&c, 4, 1, "the wrong ID of heldout seed 9722 frame 177");
+}
+
 /* Frame 435 of bench/heldout_sweep.py's seed 9609 (actag-eval --pool
  * --azimuth-ascending --gain 400 --noise 0.0003 --psf-azimuth 0.002
  * --psf-range 0.004 --looks 2 --clutter 10 --foam 1 --metal-specular 4
@@ -963,5 +985,6 @@ int main(void)
     RUN_TEST(test_regression_coarse_seed9210_frame905);
     RUN_TEST(test_regression_coarse_seed9213_frame149);
     RUN_TEST(test_regression_pool_h8_seed9609_frame435);
+    RUN_TEST(test_regression_coarse_seed9722_frame177);
     return UNITY_END();
 }
