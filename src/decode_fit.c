@@ -2038,6 +2038,16 @@ int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int strid
                               const actag_point corners[4], int id2,
                               const actag_point corners2[4], float *rss, float *rss2)
 {
+    return actag__fit_rival_explains_own(grey, rows, cols, stride, family, fp, id, corners, id2,
+                                         corners2, rss, rss2, NULL);
+}
+
+int actag__fit_rival_explains_own(const uint8_t *grey, int rows, int cols, int stride,
+                                  const actag_family *family, const actag_fit_params *fp, int id,
+                                  const actag_point corners[4], int id2,
+                                  const actag_point corners2[4], float *rss, float *rss2,
+                                  float *own)
+{
     uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)], r[2];
     fgrid g[4];
@@ -2086,11 +2096,19 @@ int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int strid
         layout_of(family, h ? id2 : id, 0, k, L);
         r[h] = 1e30f;
         for (s = 0; s < 2; s++) {
-            fgrid t = g[2 * h + s];
-            float sc;
-            ffit(&im, &t, k, mt, L, erase, 0, NULL, NULL, &sc);
-            if (-sc < r[h])
-                r[h] = -sc;
+            float v;
+            if (h == 0 && s == 0 && own != NULL && *own >= 0.0f) {
+                v = *own; /* reading 1 at its own place: polished before */
+            } else {
+                fgrid t = g[2 * h + s];
+                float sc;
+                ffit(&im, &t, k, mt, L, erase, 0, NULL, NULL, &sc);
+                v = -sc;
+                if (h == 0 && s == 0 && own != NULL)
+                    *own = v;
+            }
+            if (v < r[h])
+                r[h] = v;
         }
     }
     *rss = r[0];

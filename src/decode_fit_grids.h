@@ -81,6 +81,16 @@ int actag__fit_rival_explains(const uint8_t *grey, int rows, int cols, int strid
                               const actag_point corners[4], int id2,
                               const actag_point corners2[4], float *rss, float *rss2);
 
+/* actag__fit_rival_explains with reading 1's polish at its own place kept
+ * in *own between calls that judge one reading against several others
+ * (bit for bit what it would polish again): *own < 0 on the first call.
+ * own NULL: actag__fit_rival_explains. */
+int actag__fit_rival_explains_own(const uint8_t *grey, int rows, int cols, int stride,
+                                  const actag_family *family, const actag_fit_params *fp, int id,
+                                  const actag_point corners[4], int id2,
+                                  const actag_point corners2[4], float *rss, float *rss2,
+                                  float *own);
+
 /* The log-likelihood ratio (nats) of reading 1 over reading 2 from their
  * rss (actag__fit_rival_explains), under Gaussian cell noise of the
  * variance reading 1 leaves (the template check's noise model: its rss

@@ -579,6 +579,7 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
 {
     actag__fit_rival a = rival_of(dr), o;
     int k;
+    float own = -1.0f; /* the reading's polish at its own place, once */
     if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
         return 0;
     for (k = 0; k < nsk + namb; k++) {
@@ -586,9 +587,9 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
         o = k < nsk ? rival_of(&sk[k]) : amb[k - nsk];
         if (!same_place(corners, o.fit_corners) || !readings_disagree(&a, &o))
             continue;
-        if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family,
-                                      &params->tuning.fit, a.id, a.fit_corners, o.id,
-                                      o.fit_corners, &r1, &r2) == 1) {
+        if (actag__fit_rival_explains_own(w->b, rows, cols, cols, params->family,
+                                          &params->tuning.fit, a.id, a.fit_corners, o.id,
+                                          o.fit_corners, &r1, &r2, &own) == 1) {
             if (k < nsk)
                 contested[k] = 1;
             return 1;
@@ -629,8 +630,9 @@ static int cross_check(const ws_layout *w, int rows, int cols, const actag_ipoin
     o = rival_of(&gdr);
     if (!same_place(qdr->corners, gdr.fit_corners) || !readings_disagree(&a, &o))
         return 0;
-    if (actag__fit_rival_explains(w->b, rows, cols, cols, params->family, &params->tuning.fit, a.id,
-                                  a.fit_corners, o.id, o.fit_corners, &r1, &r2) < 0)
+    if (actag__fit_rival_explains_own(w->b, rows, cols, cols, params->family, &params->tuning.fit,
+                                      a.id, a.fit_corners, o.id, o.fit_corners, &r1, &r2,
+                                      NULL) < 0)
         return 0;
     return actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2) < params->min_margin;
 }

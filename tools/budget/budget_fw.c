@@ -18,7 +18,7 @@
  *   contours   actag_contour_scanner_init, actag_contour_next
  *   ransac     actag_quad_fit
  *   decode     actag__decode_quad_fit_grids (src/decode_fit_grids.h: the fit
- *              decoder as detect.c calls it), actag__fit_rival_explains (the
+ *              decoder as detect.c calls it), actag__fit_rival_explains_own (the
  *              rival check of two readings of one place), actag_decode_quad_bitmap
  *   refine     actag__refine_corners_max16 (src/refine_frame.h)
  * (budget.py checks that every stage function detect.c calls is wrapped:
@@ -141,11 +141,11 @@ WRAPPED(ST_DECODE, actag__decode_quad_fit_grids,
          actag_decode_result *out, actag__fit_grids *grids, actag__fit_amb *amb),
         (grey, rows, cols, stride, quad, family, max_corrections, fp, out, grids, amb))
 
-WRAPPED(ST_DECODE, actag__fit_rival_explains,
+WRAPPED(ST_DECODE, actag__fit_rival_explains_own,
         (const uint8_t *grey, int rows, int cols, int stride, const actag_family *family,
          const actag_fit_params *fp, int id, const actag_point corners[4], int id2,
-         const actag_point corners2[4], float *rss, float *rss2),
-        (grey, rows, cols, stride, family, fp, id, corners, id2, corners2, rss, rss2))
+         const actag_point corners2[4], float *rss, float *rss2, float *own),
+        (grey, rows, cols, stride, family, fp, id, corners, id2, corners2, rss, rss2, own))
 
 WRAPPED(ST_DECODE, actag_decode_quad_bitmap,
         (const uint32_t *bitmap, int rows, int cols, const actag_point quad[4],
