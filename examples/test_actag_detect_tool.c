@@ -163,6 +163,17 @@ static void test_min_bit_margin_option(void)
     free(o2);
 }
 
+/* The first tag's pose line of text output o: its t and the sd of t_z. */
+static void pose_line(const char *o, float t[3], float *sd_z)
+{
+    const char *p = strstr(o, "pose: t (");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_EQUAL_INT(3, sscanf(p, "pose: t (%f, %f, %f)", &t[0], &t[1], &t[2]));
+    p = strstr(p, "sd t (");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_EQUAL_INT(1, sscanf(p, "sd t (%*f, %*f, %f)", sd_z));
+}
+
 /* --pose with a known plane (pose.h KNOWN PLANE): the example tag's centre
  * moves onto the plane z = -0.03 m (1.2 cm from its plane-free elevation,
  * inside the band), its elevation sd shrinks from the band's to about the
@@ -171,24 +182,13 @@ static void test_pose_plane_options(void)
 {
     char *o, *e;
     float t0[3], t1[3], s0, s1;
-    const char *p;
     TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose " EXAMPLE));
     o = out_text();
-    p = strstr(o, "pose: t (");
-    TEST_ASSERT_NOT_NULL(p);
-    TEST_ASSERT_EQUAL_INT(3, sscanf(p, "pose: t (%f, %f, %f)", &t0[0], &t0[1], &t0[2]));
-    p = strstr(p, "sd t (");
-    TEST_ASSERT_NOT_NULL(p);
-    TEST_ASSERT_EQUAL_INT(1, sscanf(p, "sd t (%*f, %*f, %f)", &s0));
+    pose_line(o, t0, &s0);
     free(o);
     TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose --plane 0,0,1,-0.03 --plane-sd 0.005 " EXAMPLE));
     o = out_text();
-    p = strstr(o, "pose: t (");
-    TEST_ASSERT_NOT_NULL(p);
-    TEST_ASSERT_EQUAL_INT(3, sscanf(p, "pose: t (%f, %f, %f)", &t1[0], &t1[1], &t1[2]));
-    p = strstr(p, "sd t (");
-    TEST_ASSERT_NOT_NULL(p);
-    TEST_ASSERT_EQUAL_INT(1, sscanf(p, "sd t (%*f, %*f, %f)", &s1));
+    pose_line(o, t1, &s1);
     TEST_ASSERT_FLOAT_WITHIN(0.005f, -0.03f, t1[2]);
     TEST_ASSERT_TRUE(t0[2] - t1[2] > 0.02f);
     TEST_ASSERT_TRUE(s1 < 0.5f * s0);

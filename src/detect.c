@@ -429,25 +429,27 @@ static void hold(actag__fit_rival *held, int *nheld, const actag__fit_rival *h)
         held[(*nheld)++] = *h;
 }
 
+/* Keeps both hypotheses of a reading refused as too close to call (the
+ * reading and the rival that refused it: pair[0], pair[1]). */
+static void hold_pair(actag__fit_rival *held, int *nheld, const actag__fit_rival pair[2])
+{
+    hold(held, nheld, &pair[0]);
+    hold(held, nheld, &pair[1]);
+}
+
 /* contour_guess's outcomes besides read_wide's verdicts (ACTAG_TRACE_*) */
 #define GUESS_UNREAD (-1) /* no extreme points, or the decode budget is spent */
 #define GUESS_BORDER (-2) /* a corner on the frame's border: not read */
 
-/* A contour's grid guess: its extreme points (gq) read with the wide
- * search and the template check (read_wide, into *dr; *gg: its grids);
- * read_before: a quad of the contour was read before (one more look). A guess on the
- * frame's border is not read and not counted against ACTAG_GUESS_MAX. A
- * reading the template check refused as too close to call is held for the
- * search readings' rival check. Returns read_wide's verdict, GUESS_UNREAD
- * or GUESS_BORDER. */
-static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipoint *pts,
-                         int npts, const actag_sonar_geometry *geometry,
-                         const actag_params *params, actag_stats *st, int read_before,
-                         actag__fit_grids *gg, int *nguess, actag__fit_rival *held, int *nheld,
-                         actag_point gq[4], actag_decode_result *dr)
+/* The start of a contour's grid guess: its extreme points (gq), not on
+ * the frame's border (such a guess is not read and not counted against
+ * ACTAG_GUESS_MAX), within the decode budget; *gg is cleared for the read
+ * (read_before: a quad of the contour was read before: one more look) and
+ * the guess counted. Returns 0, GUESS_UNREAD or GUESS_BORDER. */
+static int guess_start(const actag_ipoint *pts, int npts, int rows, int cols,
+                       const actag_params *params, actag_stats *st, int read_before,
+                       actag__fit_grids *gg, int *nguess, actag_point gq[4])
 {
-    actag__fit_amb ga;
-    int verdict;
     if (!extreme_quad(pts, npts, gq))
         return GUESS_UNREAD;
     if (guess_on_border(gq, rows, cols))
@@ -457,33 +459,48 @@ static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipo
     memset(gg, 0, sizeof *gg);
     gg->read_before = read_before;
     (*nguess)++;
-    verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
-    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb) {
-        hold(held, nheld, &ga.r[0]);
-        hold(held, nheld, &ga.r[1]);
-    }
+    return 0;
+}
+
+/* A guess gq read with the wide search and the template check (read_wide,
+ * into *dr; *gg: its grids, kept or found); a reading the check refused
+ * as too close to call is held for the search readings' rival check.
+ * Returns read_wide's verdict. */
+static int read_guess(const ws_layout *w, int rows, int cols, const actag_sonar_geometry *geometry,
+                      const actag_params *params, actag__fit_grids *gg, actag__fit_rival *held,
+                      int *nheld, const actag_point gq[4], actag_decode_result *dr)
+{
+    actag__fit_amb ga;
+    int verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
+    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb)
+        hold_pair(held, nheld, ga.r);
     return verdict;
 }
 
-/* The second reading of a guess read tentatively (cross_check),
- * now with the template check, from the grids the first one kept: what a
- * first reading with the check would have given (decode_fit_grids.h).
- * Returns read_wide's verdict or GUESS_UNREAD (decode budget spent). */
+/* A contour's grid guess (guess_start, then read_guess). Returns
+ * read_wide's verdict, GUESS_UNREAD or GUESS_BORDER. */
+static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipoint *pts,
+                         int npts, const actag_sonar_geometry *geometry,
+                         const actag_params *params, actag_stats *st, int read_before,
+                         actag__fit_grids *gg, int *nguess, actag__fit_rival *held, int *nheld,
+                         actag_point gq[4], actag_decode_result *dr)
+{
+    int rc = guess_start(pts, npts, rows, cols, params, st, read_before, gg, nguess, gq);
+    return rc ? rc : read_guess(w, rows, cols, geometry, params, gg, held, nheld, gq, dr);
+}
+
+/* The second reading of a guess read tentatively (cross_check), now with
+ * the template check, from the grids the first one kept: what a first
+ * reading with the check would have given (decode_fit_grids.h). Returns
+ * read_wide's verdict or GUESS_UNREAD (decode budget spent). */
 static int read_guess_again(const ws_layout *w, int rows, int cols,
                             const actag_sonar_geometry *geometry, const actag_params *params,
                             actag_stats *st, actag__fit_grids *gg, actag__fit_rival *held,
                             int *nheld, const actag_point gq[4], actag_decode_result *dr)
 {
-    actag__fit_amb ga;
-    int verdict;
     if (!decode_budget(st, params))
         return GUESS_UNREAD;
-    verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
-    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb) {
-        hold(held, nheld, &ga.r[0]);
-        hold(held, nheld, &ga.r[1]);
-    }
-    return verdict;
+    return read_guess(w, rows, cols, geometry, params, gg, held, nheld, gq, dr);
 }
 
 static float dist2(actag_point a, actag_point b)
@@ -616,14 +633,10 @@ static int cross_check(const ws_layout *w, int rows, int cols, const actag_ipoin
     actag_decode_result gdr;
     actag__fit_rival a, o;
     float r1, r2;
-    /* contour_guess without the template check, in this frame: a border guess
-     * is not read, no refused hypothesis is held from a tentative read */
-    if (!extreme_quad(pts, npts, gq) || guess_on_border(gq, rows, cols) ||
-        !decode_budget(st, params))
+    /* read without the template check, in this frame: no refused
+     * hypothesis is held from a tentative read */
+    if (guess_start(pts, npts, rows, cols, params, st, 1, gg, nguess, gq) != 0)
         return 0;
-    memset(gg, 0, sizeof *gg);
-    gg->read_before = 1;
-    (*nguess)++;
     if (read_wide(w->b, rows, cols, gq, geometry, params, 0, gg, NULL, &gdr) != ACTAG_TRACE_ACCEPTED)
         return 0;
     a = rival_of(qdr);
@@ -1097,8 +1110,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                                 amb[namb++] = pair[ip][0];
                                 amb[namb++] = pair[ip][1];
                             }
-                            hold(held, &nheld, &pair[ip][0]);
-                            hold(held, &nheld, &pair[ip][1]);
+                            hold_pair(held, &nheld, pair[ip]);
                         }
                     }
                 }

@@ -772,28 +772,19 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
     if (!(hi > lo))
         out->flags |= ACTAG_POSE_ELEVATION; /* the corners' own tilt: taller than the fan */
     {
-        float best = 3.0e38f, f0[P_NRES];
+        float best = 3.0e38f, f0[P_NRES], es[P_STARTS + 2];
         p_state x0 = x;
-        int k;
-        for (k = 0; k < P_STARTS; k++) {
-            p_state y;
-            float cy, e = m.mu + m.sp * 1.73205081f * ((float)k / (float)(P_STARTS - 1) * 2.0f - 1.0f);
-            p_start(&m, e, &y, &winding);
-            it = p_lm(&m, &y, p->max_iterations);
-            total += it > 0 ? it : -it;
-            cy = p_eval(&m, &y, f0, NULL);
-            if (cy < best) {
-                best = cy;
-                x0 = y;
-            }
-        }
+        int k, ns = 0;
+        for (k = 0; k < P_STARTS; k++)
+            es[ns++] = m.mu + m.sp * 1.73205081f * ((float)k / (float)(P_STARTS - 1) * 2.0f - 1.0f);
         /* with a plane: also from the elevations where the centre's ray meets it */
-        for (k = 0; k < 2 && m.wd > 0.0f; k++) {
+        for (k = 0; k < 2 && m.wd > 0.0f; k++)
+            if (p_plane_elevation(&m, k, &es[ns]))
+                ns++;
+        for (k = 0; k < ns; k++) {
             p_state y;
-            float cy, e;
-            if (!p_plane_elevation(&m, k, &e))
-                continue;
-            p_start(&m, e, &y, &winding);
+            float cy;
+            p_start(&m, es[k], &y, &winding);
             it = p_lm(&m, &y, p->max_iterations);
             total += it > 0 ? it : -it;
             cy = p_eval(&m, &y, f0, NULL);
