@@ -169,6 +169,8 @@ typedef struct options {
     int inplace;                     /* --inplace */
     double vertical_deg;             /* --vertical-aperture-deg */
     double plane[4], plane_sd, plane_tilt_deg; /* --plane, --plane-sd, --plane-tilt-deg */
+    /* given on the command line (options that only apply with others) */
+    int have_plane, have_plane_sd, have_plane_tilt, have_vertical, have_depth, have_stride;
     actag_pose_params pose_params;
 } options;
 
@@ -214,17 +216,21 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--vertical-aperture-deg") == 0) {
             NEEDV();
             o->vertical_deg = num(a, v, 1e-3, 179.999);
+            o->have_vertical = 1;
         } else if (strcmp(a, "--plane") == 0) {
             char pm[HOSTIO_ERRLEN];
             NEEDV();
             if (hostio_parse_doubles(a, v, ',', o->plane, 4, pm) != HOSTIO_OK)
                 die(pm);
+            o->have_plane = 1;
         } else if (strcmp(a, "--plane-sd") == 0) {
             NEEDV();
             o->plane_sd = num(a, v, 0.0, 1e6);
+            o->have_plane_sd = 1;
         } else if (strcmp(a, "--plane-tilt-deg") == 0) {
             NEEDV();
             o->plane_tilt_deg = num(a, v, 0.0, 180.0);
+            o->have_plane_tilt = 1;
         } else if (strcmp(a, "--range-ascending") == 0) {
             o->geo.flags |= ACTAG_RANGE_ASCENDING;
         } else if (strcmp(a, "--azimuth-ascending") == 0) {
@@ -264,9 +270,11 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
                 snprintf(m, sizeof m, "--depth: must be 8 or 16 (got %s)", v);
                 die(m);
             }
+            o->have_depth = 1;
         } else if (strcmp(a, "--stride") == 0) {
             NEEDV();
             o->raw.stride = (int)inum(a, v, 1, 1 << 20);
+            o->have_stride = 1;
         } else if (strcmp(a, "--family") == 0) {
             NEEDV();
             o->family_name = v;
@@ -392,14 +400,39 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             die(m);
         }
     }
+    /* options that only apply with others: refused alone, never ignored */
+    if ((o->raw.rows > 0) != (o->raw.cols > 0))
+        die("--rows and --cols go together (the layout of raw frames)");
+    if ((o->have_depth || o->have_stride) && o->raw.rows == 0)
+        die("--depth and --stride describe raw frames: they need --rows and --cols");
+    if (o->show_rejected && !o->overlay && !o->stages)
+        die("--show-rejected draws into pictures: it needs --overlay or --stages");
+    if (!o->pose && (o->have_vertical || o->have_plane || o->have_plane_sd || o->have_plane_tilt))
+        die("--vertical-aperture-deg, --plane, --plane-sd and --plane-tilt-deg need --pose");
+    if ((o->have_plane_sd || o->have_plane_tilt) && !o->have_plane)
+        die("--plane-sd and --plane-tilt-deg need --plane NX,NY,NZ,D");
     actag_pose_params_default(&o->pose_params, &o->fam, o->params.tag_size,
                               (float)(o->vertical_deg * 3.14159265358979323846 / 180.0));
-    if (o->plane_sd > 0.0 || o->plane_tilt_deg > 0.0) {
+    if (o->have_plane) {
+        double nn = sqrt(o->plane[0] * o->plane[0] + o->plane[1] * o->plane[1] +
+                         o->plane[2] * o->plane[2]);
+        char m[HOSTIO_ERRLEN];
         int j;
-        if (o->plane[0] == 0.0 && o->plane[1] == 0.0 && o->plane[2] == 0.0)
-            die("--plane-sd/--plane-tilt-deg need --plane NX,NY,NZ,D with a non-zero normal");
+        /* the plane is used through its sds: both 0 would leave it unused */
+        if (!(o->plane_sd > 0.0 || o->plane_tilt_deg > 0.0))
+            die("--plane needs --plane-sd M and/or --plane-tilt-deg D above 0 (how well the "
+                "plane is known; a plane known exactly: give small ones, e.g. 0.001)");
+        /* normalised here, in double: a tiny normal would put the plane at
+         * an infinite offset in float */
+        if (!(nn > 1e-6) || !(fabs(o->plane[3]) / nn <= 1000.0)) {
+            snprintf(m, sizeof m,
+                     "--plane: the normal (%g, %g, %g) must be non-zero and the plane within "
+                     "1000 m of the sonar (got offset %g m)",
+                     o->plane[0], o->plane[1], o->plane[2], nn > 0.0 ? o->plane[3] / nn : 0.0);
+            die(m);
+        }
         for (j = 0; j < 4; j++)
-            o->pose_params.plane[j] = (float)o->plane[j];
+            o->pose_params.plane[j] = (float)(o->plane[j] / nn);
         o->pose_params.plane_sd = (float)o->plane_sd;
         o->pose_params.plane_tilt_sd = (float)(o->plane_tilt_deg * 3.14159265358979323846 / 180.0);
     }
@@ -716,6 +749,12 @@ static int process(const options *o, const char *file, const char *picname, int 
 
     if (hostio_frame_read(file, &o->raw, &im, err) != HOSTIO_OK)
         goto fail;
+    if (o->raw.rows > 0 && (im.rows != o->raw.rows || im.cols != o->raw.cols ||
+                            im.depth != o->raw.depth)) /* read as a PGM: say so */
+        fprintf(stderr,
+                PROG ": %s: a PGM of %d x %d, %d bit: --rows/--cols/--depth/--stride (raw "
+                "frames) do not apply to it\n",
+                hostio_frame_name(file), im.cols, im.rows, im.depth);
     if (o->bearings_path) {
         bearings = (float *)malloc((size_t)im.cols * sizeof(float));
         if (!bearings) {
@@ -741,7 +780,16 @@ static int process(const options *o, const char *file, const char *picname, int 
                                                              MAX_DETECTIONS, &d) != ACTAG_OK) {
             const char *name = hostio_frame_name(file);
             size_t ml, nl, room;
-            hostio_detail_message(&d, option_names, NOPTION_NAMES, m);
+            hostio_optname map[NOPTION_NAMES];
+            char bopt[300];
+            int j;
+            /* a bad bearing table is named by its own file, not the frame's */
+            memcpy(map, option_names, sizeof map);
+            snprintf(bopt, sizeof bopt, "--bearings %.280s", o->bearings_path ? o->bearings_path : "");
+            for (j = 0; j < NOPTION_NAMES; j++)
+                if (o->bearings_path && strcmp(map[j].field, "geometry.bearings") == 0)
+                    map[j].option = bopt;
+            hostio_detail_message(&d, map, NOPTION_NAMES, m);
             /* "name: message", the message whole and the name cut to fit
              * (copied by hand: snprintf's truncation warning at -O1) */
             ml = strlen(m);
@@ -877,6 +925,12 @@ int main(int argc, char **argv)
         picture_name(files, nfiles, i, picname, sizeof picname);
         if (process(&o, files[i], picname, nfiles, &tracker) != 0)
             status = 2;
+        if (ferror(stdout)) /* a full disk or a closed pipe: the results are lost */
+            break;
+    }
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, PROG ": standard output: write error (results not written)\n");
+        status = 2;
     }
     return status;
 }

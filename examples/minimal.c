@@ -22,19 +22,36 @@
 static uint8_t pixels[MAX_ROWS * MAX_COLS];
 static uint8_t ws[ACTAG_WORKSPACE_SIZE(MAX_ROWS, MAX_COLS)];
 
-/* A bare-bones P5 reader (8 bit, no comment lines in the header). */
-static int read_pgm(const char *path, int *rows, int *cols)
+/* The next header number of a PGM, after whitespace and '#' comment lines. */
+static int header_int(FILE *f, int *v)
+{
+    int ch;
+    while ((ch = fgetc(f)) == '#' || ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r')
+        if (ch == '#')
+            while ((ch = fgetc(f)) != '\n' && ch != EOF)
+                ;
+    return ch != EOF && ungetc(ch, f) != EOF && fscanf(f, "%d", v) == 1;
+}
+
+/* A bare-bones P5 reader (8 bit). Returns NULL, or why the file is refused. */
+static const char *read_pgm(const char *path, int *rows, int *cols)
 {
     FILE *f = fopen(path, "rb");
-    int maxval = 0, ok;
+    const char *why = NULL;
+    int maxval = 0;
     if (!f)
-        return 0;
-    ok = fscanf(f, "P5 %d %d %d", cols, rows, &maxval) == 3 && fgetc(f) != EOF &&
-         *rows >= 1 && *rows <= MAX_ROWS && *cols >= 1 && *cols <= MAX_COLS &&
-         maxval >= 1 && maxval <= 255 &&
-         fread(pixels, 1, (size_t)*rows * (size_t)*cols, f) == (size_t)*rows * (size_t)*cols;
+        return "cannot open it";
+    if (fgetc(f) != 'P' || fgetc(f) != '5' || !header_int(f, cols) || !header_int(f, rows) ||
+        !header_int(f, &maxval) || fgetc(f) == EOF)
+        why = "not a binary (P5) PGM";
+    else if (*rows < 1 || *rows > MAX_ROWS || *cols < 1 || *cols > MAX_COLS)
+        why = "larger than 1024 x 1024 pixels (or empty)";
+    else if (maxval < 1 || maxval > 255)
+        why = "not an 8-bit PGM (maxval above 255)";
+    else if (fread(pixels, 1, (size_t)*rows * (size_t)*cols, f) != (size_t)*rows * (size_t)*cols)
+        why = "cut short (fewer pixels than its header says)";
     fclose(f);
-    return ok;
+    return why;
 }
 
 int main(int argc, char **argv)
@@ -45,10 +62,15 @@ int main(int argc, char **argv)
     actag_frame frame;
     actag_detection det[8];
     int rows, cols, n, i, c;
+    const char *why;
 
-    if (argc != 2 || !read_pgm(argv[1], &rows, &cols)) {
+    if (argc != 2 || argv[1][0] == '-') { /* --help, --version, anything else */
         fprintf(stderr, "usage: minimal FRAME.pgm (8-bit binary PGM, at most %d x %d)\n",
                 MAX_COLS, MAX_ROWS);
+        return 2;
+    }
+    if ((why = read_pgm(argv[1], &rows, &cols)) != NULL) {
+        fprintf(stderr, "minimal: %s: %s\n", argv[1], why);
         return 2;
     }
     frame.data = pixels;
@@ -63,8 +85,8 @@ int main(int argc, char **argv)
     p.tag_size = 0.130628571f; /* side of the inner white square, m */
     n = actag_detect(&frame, &geo, &p, ws, sizeof ws, det, 8, NULL);
     if (n < 0) {
-        fprintf(stderr, "minimal: %s\n", actag_strerror(n));
-        return 1;
+        fprintf(stderr, "minimal: %s: %s\n", argv[1], actag_strerror(n));
+        return 2;
     }
     printf("%s: %d tag%s\n", argv[1], n, n == 1 ? "" : "s");
     for (i = 0; i < n; i++) {

@@ -534,9 +534,14 @@ static void test_bearing_table_file(void)
     fclose(f);
     TEST_ASSERT_EQUAL_INT(2, run(args));
     a = err_text();
-    TEST_ASSERT_EQUAL_STRING("actag_detect: " EXAMPLE ": --bearings: value 301 must be below the "
-                             "previous bearing (the table must be strictly monotonic: it "
-                             "decreases) (got 0.202 after 0.201)\n", a);
+    {   /* named by the table's file, not only by the frame's */
+        char want[1400];
+        snprintf(want, sizeof want,
+                 "actag_detect: " EXAMPLE ": --bearings %s: value 301 must be below the "
+                 "previous bearing (the table must be strictly monotonic: it "
+                 "decreases) (got 0.202 after 0.201)\n", path);
+        TEST_ASSERT_EQUAL_STRING(want, a);
+    }
     free(a);
     /* the per-column azimuth step depends on the frame: checked per frame */
     TEST_ASSERT_EQUAL_INT(2, run("--min-range 0.1 --max-range 1.5 --aperture-deg 1e-7 " EXAMPLE));
@@ -621,6 +626,79 @@ static void test_bad_options(void)
     TEST_ASSERT_EQUAL_INT(0, run("--help"));
 }
 
+/* Options that apply only with others are refused alone, never ignored
+ * (each was once accepted and dropped), and write errors on stdout and
+ * several frames in one file are errors. */
+static void test_options_that_need_others(void)
+{
+    char *e, args[1400];
+    FILE *f;
+    expect_option_error(GEO " --show-rejected " EXAMPLE, "--show-rejected draws into pictures: it "
+                        "needs --overlay or --stages");
+    expect_option_error(GEO " --vertical-aperture-deg 2.5 " EXAMPLE, "need --pose");
+    expect_option_error(GEO " --plane 0,0,1,-0.3 --plane-sd 0.02 " EXAMPLE, "need --pose");
+    expect_option_error(GEO " --pose --plane-sd 0 " EXAMPLE, "need --plane NX,NY,NZ,D");
+    expect_option_error(GEO " --pose --plane 0,0,1,-0.3 " EXAMPLE,
+                        "--plane needs --plane-sd M and/or --plane-tilt-deg D above 0");
+    expect_option_error(GEO " --pose --plane 0,0,1,-0.3 --plane-sd 0 --plane-tilt-deg 0 " EXAMPLE,
+                        "--plane needs --plane-sd M and/or --plane-tilt-deg D above 0");
+    expect_option_error(GEO " --pose --plane 0,0,0,1 --plane-sd 0.02 " EXAMPLE,
+                        "--plane: the normal (0, 0, 0) must be non-zero");
+    expect_option_error(GEO " --pose --plane 1e-20,0,0,1 --plane-sd 0.02 " EXAMPLE,
+                        "(got offset 1e+20 m)");
+    expect_option_error(GEO " --rows 463 " EXAMPLE, "--rows and --cols go together");
+    expect_option_error(GEO " --stride 700 " EXAMPLE, "--depth and --stride describe raw frames");
+    /* a plane given with an unnormalised normal: the same pose */
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose --plane 0,0,1,-0.03 --plane-sd 0.005 " EXAMPLE));
+    e = out_text();
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose --plane 0,0,4,-0.12 --plane-sd 0.005 " EXAMPLE));
+    {
+        char *o2 = out_text(), *p1 = strstr(e, "pose:"), *p2 = strstr(o2, "pose:");
+        TEST_ASSERT_NOT_NULL(p1);
+        TEST_ASSERT_NOT_NULL(p2);
+        TEST_ASSERT_EQUAL_STRING(p1, p2);
+        free(o2);
+    }
+    free(e);
+    /* raw layout options with a PGM: read as the PGM, and said so */
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --rows 530 --cols 512 " EXAMPLE));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "a PGM of 620 x 463, 8 bit: --rows/--cols/--depth/"
+                                           "--stride (raw frames) do not apply to it"), e);
+    free(e);
+    /* two frames in one stream: an error, not the first frame alone */
+    snprintf(args, sizeof args, GEO " - < \"%s/two_frames.pgm\"", ACTAG_BINARY_DIR);
+    {
+        char path[600], cmd[2000];
+        snprintf(path, sizeof path, "%s/two_frames.pgm", ACTAG_BINARY_DIR);
+        snprintf(cmd, sizeof cmd, "cat \"%s\" \"%s\" > \"%s\"", EXAMPLE, EXAMPLE, path);
+        TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    }
+    TEST_ASSERT_EQUAL_INT(2, run(args));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "stdin: 287075 bytes after the PGM's 287060 pixel bytes "
+                                           "(one frame per file)"), e);
+    free(e);
+    /* results that cannot be written: status 2 and a message */
+    f = fopen("/dev/full", "w");
+    if (!f)
+        TEST_IGNORE_MESSAGE("no /dev/full");
+    fclose(f);
+    {
+        char cmd[2000];
+        int st;
+        snprintf(cmd, sizeof cmd, "\"%s\" " GEO " --json " EXAMPLE " > /dev/full 2> \"%s/full_err.txt\"",
+                 ACTAG_DETECT_PATH, ACTAG_BINARY_DIR);
+        st = system(cmd);
+        TEST_ASSERT_TRUE(st != -1 && WIFEXITED(st));
+        TEST_ASSERT_EQUAL_INT(2, WEXITSTATUS(st));
+        snprintf(cmd, sizeof cmd, "%s/full_err.txt", ACTAG_BINARY_DIR);
+        e = slurp(cmd);
+        TEST_ASSERT_NOT_NULL(strstr(e, "actag_detect: standard output: write error"));
+        free(e);
+    }
+}
+
 static void test_version(void)
 {
     char *o;
@@ -645,6 +723,7 @@ int main(void)
     RUN_TEST(test_bad_options);
     RUN_TEST(test_min_bit_margin_option);
     RUN_TEST(test_pose_plane_options);
+    RUN_TEST(test_options_that_need_others);
     RUN_TEST(test_version);
     return UNITY_END();
 }

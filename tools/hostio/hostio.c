@@ -25,6 +25,14 @@ static int fail(char *err, const char *fmt, ...)
     return -1;
 }
 
+void hostio_remove_partial(const char *path)
+{
+    struct stat st;
+    /* only a regular file: never a device such as /dev/full or a FIFO */
+    if (path && strcmp(path, "-") != 0 && stat(path, &st) == 0 && S_ISREG(st.st_mode))
+        remove(path);
+}
+
 const char *hostio_frame_name(const char *path)
 {
     return (path && strcmp(path, "-") == 0) ? "stdin" : path;
@@ -45,11 +53,20 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
         size_t got;
         if (n + 65536 + 1 > cap) {
             size_t ncap = cap ? cap * 2 : 65536 * 2;
-            uint8_t *nb = (uint8_t *)realloc(buf, ncap);
+            uint8_t *nb;
+            if (ncap > (size_t)HOSTIO_MAX_FILE + 65536 + 1) { /* /dev/zero, a stray pipe */
+                free(buf);
+                if (!is_stdin)
+                    fclose(f);
+                fail(err, "%s: larger than %lu bytes: not a file the tools read", path,
+                     (unsigned long)HOSTIO_MAX_FILE);
+                return NULL;
+            }
+            nb = (uint8_t *)realloc(buf, ncap);
             if (!nb) {
                 free(buf);
                 if (!is_stdin)
-                fclose(f);
+                    fclose(f);
                 fail(err, "%s: out of memory", path);
                 return NULL;
             }
@@ -60,16 +77,24 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
         n += got;
         if (got == 0)
             break;
+        if (n > (size_t)HOSTIO_MAX_FILE) {
+            free(buf);
+            if (!is_stdin)
+                fclose(f);
+            fail(err, "%s: larger than %lu bytes: not a file the tools read", path,
+                 (unsigned long)HOSTIO_MAX_FILE);
+            return NULL;
+        }
     }
     if (ferror(f)) {
         free(buf);
         if (!is_stdin)
-                fclose(f);
+            fclose(f);
         fail(err, "%s: read error", path);
         return NULL;
     }
     if (!is_stdin)
-                fclose(f);
+        fclose(f);
     buf[n] = 0;
     if (len)
         *len = n;
@@ -83,10 +108,13 @@ int hostio_write_file(const char *path, const void *data, size_t n, char *err)
         return fail(err, "%s: cannot write: %s", path, strerror(errno));
     if (fwrite(data, 1, n, f) != n) {
         fclose(f);
+        hostio_remove_partial(path); /* no half-written file left behind */
         return fail(err, "%s: write error", path);
     }
-    if (fclose(f) != 0)
+    if (fclose(f) != 0) {
+        hostio_remove_partial(path);
         return fail(err, "%s: write error", path);
+    }
     return HOSTIO_OK;
 }
 
@@ -130,11 +158,16 @@ void hostio_json_string(FILE *stream, const char *s)
     fputc('"', stream);
 }
 
-/* Next header integer, skipping whitespace and comments; -1 when absent. */
-static long pgm_int(const uint8_t *b, size_t len, size_t *pos)
+/* Next header field (after whitespace and comments) as an integer in
+ * lo..hi; else fails with a message quoting the text found there (at most
+ * 20 characters, unprintable bytes as '?') or saying it is missing. */
+static int pgm_field(const uint8_t *b, size_t len, size_t *pos, const char *nm,
+                     const char *what, long lo, long hi, long *v, char *err)
 {
-    long v = 0;
-    int digits = 0;
+    size_t start, i;
+    char tok[24];
+    int bad = 0;
+    long val = 0;
     while (*pos < len) {
         if (b[*pos] == '#') {
             while (*pos < len && b[*pos] != '\n')
@@ -145,15 +178,27 @@ static long pgm_int(const uint8_t *b, size_t len, size_t *pos)
             break;
         }
     }
-    while (*pos < len && b[*pos] >= '0' && b[*pos] <= '9') {
-        if (digits < 9)
-            v = v * 10 + (b[*pos] - '0');
-        else
-            v = 1000000000L; /* too long: report as huge */
+    start = *pos;
+    while (*pos < len && !(b[*pos] == ' ' || b[*pos] == '\t' || b[*pos] == '\n' ||
+                           b[*pos] == '\r' || b[*pos] == '#')) {
+        if (b[*pos] < '0' || b[*pos] > '9')
+            bad = 1;
+        else if (val <= hi) /* stops growing once above hi: no overflow */
+            val = val * 10 + (b[*pos] - '0');
         (*pos)++;
-        digits++;
     }
-    return digits ? v : -1;
+    if (*pos == start)
+        return fail(err, "%s: PGM %s missing (the header ends)", nm, what);
+    for (i = 0; i < 20 && start + i < *pos; i++)
+        tok[i] = b[start + i] >= 0x20 && b[start + i] < 0x7f ? (char)b[start + i] : '?';
+    if (start + i < *pos)
+        tok[i++] = '.', tok[i++] = '.', tok[i++] = '.';
+    tok[i] = '\0';
+    if (bad || val < lo || val > hi)
+        return fail(err, "%s: PGM %s '%s' is not a whole number in %ld..%ld", nm, what, tok, lo,
+                    hi);
+    *v = val;
+    return HOSTIO_OK;
 }
 
 int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pgm_view *out,
@@ -167,15 +212,10 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
     if (len < 3 || buf[0] != 'P' || buf[1] != '5' ||
         !(buf[2] == ' ' || buf[2] == '\t' || buf[2] == '\n' || buf[2] == '\r' || buf[2] == '#'))
         return fail(err, "%s: not a binary PGM (no P5 magic)", nm);
-    w = pgm_int(buf, len, &pos);
-    h = pgm_int(buf, len, &pos);
-    maxv = pgm_int(buf, len, &pos);
-    if (w < 1 || w > 32767)
-        return fail(err, "%s: PGM width %ld outside 1..32767", nm, w);
-    if (h < 1 || h > 32767)
-        return fail(err, "%s: PGM height %ld outside 1..32767", nm, h);
-    if (maxv < 1 || maxv > 65535)
-        return fail(err, "%s: PGM maxval %ld outside 1..65535", nm, maxv);
+    if (pgm_field(buf, len, &pos, nm, "width", 1, 32767, &w, err) != HOSTIO_OK ||
+        pgm_field(buf, len, &pos, nm, "height", 1, 32767, &h, err) != HOSTIO_OK ||
+        pgm_field(buf, len, &pos, nm, "maxval", 1, 65535, &maxv, err) != HOSTIO_OK)
+        return -1;
     if (pos >= len)
         return fail(err, "%s: PGM header ends without pixel data", nm);
     if (!(buf[pos] == ' ' || buf[pos] == '\t' || buf[pos] == '\n' || buf[pos] == '\r'))
@@ -186,6 +226,9 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
     if (len - pos < need)
         return fail(err, "%s: PGM has %lu pixel bytes, its header needs %lu", nm,
                     (unsigned long)(len - pos), (unsigned long)need);
+    if (len - pos > need) /* more frames, or junk: nothing is dropped silently */
+        return fail(err, "%s: %lu bytes after the PGM's %lu pixel bytes (one frame per file)",
+                    nm, (unsigned long)(len - pos - need), (unsigned long)need);
     out->pixels = buf + pos;
     out->rows = (int)h;
     out->cols = (int)w;
@@ -235,7 +278,8 @@ int hostio_pgm_fwrite(FILE *f, const char *name, const hostio_image *img, char *
         (img->depth != 8 && img->depth != 16))
         return fail(err, "%s: bad image to write", nm);
     maxv = img->maxval > 0 ? img->maxval : (img->depth == 8 ? 255 : 65535);
-    fprintf(f, "P5\n%d %d\n%d\n", img->cols, img->rows, maxv);
+    if (fprintf(f, "P5\n%d %d\n%d\n", img->cols, img->rows, maxv) < 0)
+        return fail(err, "%s: write error", nm);
     for (r = 0; r < img->rows; r++) {
         if (img->depth == 8) {
             const uint8_t *row = (const uint8_t *)img->data + (size_t)r * (size_t)img->stride;
@@ -266,7 +310,9 @@ int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
         return fail(err, "%s: cannot write: %s", path, strerror(errno));
     rc = hostio_pgm_fwrite(f, path, img, err);
     if (fclose(f) != 0 && rc == HOSTIO_OK)
-        return fail(err, "%s: write error", path);
+        rc = fail(err, "%s: write error", path);
+    if (rc != HOSTIO_OK)
+        hostio_remove_partial(path); /* no half-written file left behind */
     return rc;
 }
 
@@ -283,8 +329,10 @@ int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, c
     fprintf(f, "P6\n%d %d\n255\n", cols, rows);
     bad = fwrite(rgb, 3, n, f) != n;
     bad |= ferror(f);
-    if (fclose(f) != 0 || bad)
+    if (fclose(f) != 0 || bad) {
+        hostio_remove_partial(path); /* no half-written file left behind */
         return fail(err, "%s: write error", path);
+    }
     return HOSTIO_OK;
 }
 

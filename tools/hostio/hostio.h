@@ -15,13 +15,18 @@
  *
  *   Files (the path "-" reads standard input)
  *     hostio_slurp(path, &len, err)        whole file, malloc'd, NUL-terminated
- *     hostio_write_file(path, data, n, err)
+ *                                           (at most HOSTIO_MAX_FILE bytes)
+ *     hostio_write_file(path, data, n, err)  the writers remove what they
+ *                                           wrote when writing fails
+ *     hostio_remove_partial(path)          removes a regular file a failed write
+ *                                           left (devices, FIFOs and "-" are kept)
  *     hostio_mkdirs(path, err)             creates a folder and its parents
  *                                           (like mkdir -p; fine when it exists)
  *   PGM (binary P5, 8 or 16 bit; 16-bit samples big-endian as the format says)
  *     hostio_pgm_parse(buf, len, &view, err)  parses a buffer in place, no
  *                                           allocation (usable on bare metal):
- *                                           view.pixels points into buf
+ *                                           view.pixels points into buf; one
+ *                                           frame: bytes after it are an error
  *     hostio_pgm_read(path, &img, err)     reads a file into a malloc'd image
  *                                           (16-bit samples in host order)
  *     hostio_pgm_write(path, &img, err)    writes an image (depth 8 or 16)
@@ -89,6 +94,10 @@ extern "C" {
 
 #define HOSTIO_OK 0
 #define HOSTIO_ERRLEN 256 /* a good size for err buffers */
+/* Largest file hostio_slurp (and so every reader here) takes, bytes: far
+ * above any frame (a 16-bit 8192 x 8192 PGM is 128 MiB), and a bound on
+ * what reading /dev/zero or a runaway pipe can cost. */
+#define HOSTIO_MAX_FILE (512ul * 1024ul * 1024ul)
 
 /* A frame in memory: rows x cols pixels, row stride in pixels. */
 typedef struct hostio_image {
@@ -118,6 +127,9 @@ typedef struct hostio_raw_spec {
 /* Whole file ("-": standard input), malloc'd with a terminating NUL (not counted in *len). */
 uint8_t *hostio_slurp(const char *path, size_t *len, char *err);
 int hostio_write_file(const char *path, const void *data, size_t n, char *err);
+/* After a failed write: removes path if it is a regular file (not "-", a
+ * device or a FIFO), so that no half-written output is left behind. */
+void hostio_remove_partial(const char *path);
 int hostio_mkdirs(const char *path, char *err);
 
 /* `name` labels messages (usually the file name; NULL for "PGM"). */

@@ -9,7 +9,9 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 void setUp(void) {}
@@ -83,7 +85,7 @@ static void test_frames(void)
     put("d.pgm", "P2\n1 1\n255\n0\n", 12);
     expect_error("d.pgm", &raw, "a P2 image: only binary PGM (P5) is supported");
     put("e.pgm", "P5\n4 4\n0\n", 9);
-    expect_error("e.pgm", NULL, "PGM maxval 0 outside 1..65535");
+    expect_error("e.pgm", NULL, "PGM maxval '0' is not a whole number in 1..65535");
     expect_error("missing.pgm", NULL, "No such file");
 }
 
@@ -216,12 +218,11 @@ static void test_raw_frame_starting_with_p5(void)
     for (i = 0; i < 16; i++)
         TEST_ASSERT_EQUAL_UINT8(rawp5[i], ((uint8_t *)im.data)[i]);
     hostio_image_free(&im);
-    /* without a raw layout the same bytes are a 2 x 1 PGM (with 3 bytes over) */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/p5.raw", NULL, &im, err), err);
-    TEST_ASSERT_EQUAL_INT(1, im.rows);
-    TEST_ASSERT_EQUAL_INT(2, im.cols);
-    TEST_ASSERT_EQUAL_UINT8(7, ((uint8_t *)im.data)[0]);
-    hostio_image_free(&im);
+    /* without a raw layout the same bytes are a 2 x 1 PGM with 3 bytes over:
+     * refused, not read with the rest dropped */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_read(DIR "/p5.raw", NULL, &im, err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "3 bytes after the PGM's 2 pixel bytes"), err);
+    TEST_ASSERT_NULL(im.data);
     /* the buffer form gives the same */
     TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK,
                                   hostio_frame_parse(rawp5, sizeof rawp5, "buf", &raw, &im, err), err);
@@ -333,6 +334,75 @@ static void test_parse_choice(void)
     TEST_ASSERT_EQUAL_STRING("--h: missing value", err);
 }
 
+/* PGM header faults quote the text found (they once reported -1 for "abc"
+ * and 1000000000 for 4294967296), and bytes after the frame are an error
+ * (a second frame in one file was dropped silently). */
+static void test_pgm_header_messages(void)
+{
+    static const uint8_t two[] = "P5\n2 1\n255\n\x01\x02P5\n2 1\n255\n\x03\x04";
+    put("h1.pgm", "P5\nabc 4\n255\n", 14);
+    expect_error("h1.pgm", NULL, "PGM width 'abc' is not a whole number in 1..32767");
+    put("h2.pgm", "P5\n-620 4\n255\n", 15);
+    expect_error("h2.pgm", NULL, "PGM width '-620' is not a whole number in 1..32767");
+    put("h3.pgm", "P5\n4294967296 2\n255\n", 21);
+    expect_error("h3.pgm", NULL, "PGM width '4294967296' is not a whole number in 1..32767");
+    put("h4.pgm", "P5\n512 ", 7);
+    expect_error("h4.pgm", NULL, "PGM height missing (the header ends)");
+    put("h5.pgm", "P5\n2 1\n70000\n", 15);
+    expect_error("h5.pgm", NULL, "PGM maxval '70000' is not a whole number in 1..65535");
+    put("h6.pgm", "P5\n2 1#c\n255\n\x01\x02", 15); /* a comment right after a number */
+    {
+        char err[HOSTIO_ERRLEN];
+        hostio_image im;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/h6.pgm", NULL, &im, err),
+                                      err);
+        TEST_ASSERT_EQUAL_INT(2, im.cols);
+        hostio_image_free(&im);
+    }
+    put("h7.pgm", two, sizeof two - 1);
+    expect_error("h7.pgm", NULL, "13 bytes after the PGM's 2 pixel bytes (one frame per file)");
+}
+
+/* A write that fails part way leaves no file (the writers remove it), and
+ * a device given as the path is never removed. The failure is a file size
+ * limit (RLIMIT_FSIZE, SIGXFSZ ignored): the writes past it fail. */
+static void test_failed_write_leaves_nothing(void)
+{
+    static uint8_t px[64 * 64];
+    char err[HOSTIO_ERRLEN];
+    hostio_image img = {px, 64, 64, 64, 8, 255};
+    struct rlimit old, lim;
+    struct stat st;
+    void (*prev)(int);
+    int a, b, c;
+    if (getrlimit(RLIMIT_FSIZE, &old) != 0 || (old.rlim_max != RLIM_INFINITY &&
+                                               old.rlim_max < 100000))
+        TEST_IGNORE_MESSAGE("no file size limit to lower");
+    prev = signal(SIGXFSZ, SIG_IGN);
+    lim = old;
+    lim.rlim_cur = 1000; /* bytes: the 4 KiB frame cannot be written */
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &lim));
+    a = hostio_pgm_write(DIR "/big.pgm", &img, err);
+    b = hostio_ppm_write(DIR "/big.ppm", px, 32, 32, err);
+    c = hostio_write_file(DIR "/big.raw", px, sizeof px, err);
+    setrlimit(RLIMIT_FSIZE, &old);
+    signal(SIGXFSZ, prev);
+    TEST_ASSERT_EQUAL_INT(-1, a);
+    TEST_ASSERT_EQUAL_INT(-1, b);
+    TEST_ASSERT_EQUAL_INT(-1, c);
+    TEST_ASSERT_NOT_NULL(strstr(err, "big.raw: write error"));
+    TEST_ASSERT_NOT_EQUAL(0, stat(DIR "/big.pgm", &st));
+    TEST_ASSERT_NOT_EQUAL(0, stat(DIR "/big.ppm", &st));
+    TEST_ASSERT_NOT_EQUAL(0, stat(DIR "/big.raw", &st));
+    /* the same writes within the limit succeed */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_write(DIR "/big.pgm", &img, err), err);
+    TEST_ASSERT_EQUAL_INT(0, stat(DIR "/big.pgm", &st));
+    if (stat("/dev/full", &st) == 0) { /* a device: the error, and the device stays */
+        TEST_ASSERT_EQUAL_INT(-1, hostio_write_file("/dev/full", px, sizeof px, err));
+        TEST_ASSERT_EQUAL_INT(0, stat("/dev/full", &st));
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -346,5 +416,7 @@ int main(void)
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
     RUN_TEST(test_parse_choice);
+    RUN_TEST(test_pgm_header_messages);
+    RUN_TEST(test_failed_write_leaves_nothing);
     return UNITY_END();
 }
