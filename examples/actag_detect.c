@@ -59,7 +59,7 @@ static void usage(FILE *f)
             "Tags and pipeline:\n"
             "  --family NAME          tag family (default AcTag24h10)\n"
             "  --tag-size M           side of the inner white square, metres (default 0.130628571)\n"
-            "  --bit-corrections N    allowed corrected bits (default: min(3, family maximum))\n"
+            "  --bit-corrections N    allowed corrected bits (default, or -1: min(3, family maximum))\n"
             "  --seed N               RANSAC seed (default 1)\n"
             "  --decode fit|binary    fit (default): fit the cell grid to the filtered frame and\n"
             "                         read each bit against its neighbours; binary: the paper's\n"

@@ -604,7 +604,7 @@ static void test_bad_options(void)
     expect_option_error(GEO " --inlier-ratio 2 " EXAMPLE,
                         "--inlier-ratio: must be a number > 0 and <= 1 (got 2)");
     expect_option_error(GEO " --inlier-distance 1e7 " EXAMPLE,
-                        "--inlier-distance: must be a number of pixels > 0 and <= 1e6 (got 1e+07)");
+                        "--inlier-distance: must be a number of pixels > 0 and <= 1e6 (got 10000000)");
     expect_option_error(GEO " --ransac-iterations 0 " EXAMPLE,
                         "--ransac-iterations: must be an integer from 1 to 1000000 (got 0)");
     expect_option_error(GEO " --median-radius 128 " EXAMPLE,
@@ -619,6 +619,8 @@ static void test_bad_options(void)
                         "--min-bit-margin: must be an integer from 0 to 32 (bits) (got 33)");
     expect_option_error(GEO " --min-bit-margin x " EXAMPLE,
                         "--min-bit-margin: must be an integer (got 'x')");
+    /* whole numbers echoed in full (%g once printed -2.14748e+09) */
+    expect_option_error(GEO " --bit-corrections -2147483648 " EXAMPLE, "(got -2147483648, limit 4)");
     expect_option_error("--min-range -1 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
                         "--min-range: must be a finite number >= 0 (metres) (got -1)");
     expect_option_error("--min-range 0.1 --max-range 1.5 --aperture-deg 400 " EXAMPLE,

@@ -54,6 +54,17 @@ static void translate(const char *rule, const hostio_optname *map, int nmap, cha
     out[o] = '\0';
 }
 
+/* A value as the user would write it: whole numbers in full (%g printed
+ * -2147483648 as -2.14748e+09), others as %g. */
+static const char *num_text(double v, char *buf, size_t n)
+{
+    if (v == (double)(long long)v && v > -1e15 && v < 1e15)
+        snprintf(buf, n, "%lld", (long long)v);
+    else
+        snprintf(buf, n, "%g", v);
+    return buf;
+}
+
 int hostio_detail_message(const struct actag_error_detail *d, const hostio_optname *map,
                           int nmap, char *err)
 {
@@ -61,6 +72,7 @@ int hostio_detail_message(const struct actag_error_detail *d, const hostio_optna
     const char *name, *other;
     char rule[HOSTIO_ERRLEN];
     double scale;
+    char vt[40], lt[40];
     int len;
     if (d == NULL || err == NULL)
         return -1;
@@ -75,19 +87,22 @@ int hostio_detail_message(const struct actag_error_detail *d, const hostio_optna
     scale = f && f->scale != 0.0 ? f->scale : 1.0;
     translate(d->rule ? d->rule : "is invalid", map, nmap, rule, sizeof rule);
     if (d->index >= 0)
-        len = snprintf(err, HOSTIO_ERRLEN, "%s: value %d %s (got %g", name, d->index + 1, rule,
-                       d->value * scale);
+        len = snprintf(err, HOSTIO_ERRLEN, "%s: value %d %s (got %s", name, d->index + 1, rule,
+                       num_text(d->value * scale, vt, sizeof vt));
     else if (g != NULL && g != f && strcmp(g->option, name) != 0)
-        len = snprintf(err, HOSTIO_ERRLEN, "%s/%s: %s (got %g", name, other, rule,
-                       d->value * scale);
+        len = snprintf(err, HOSTIO_ERRLEN, "%s/%s: %s (got %s", name, other, rule,
+                       num_text(d->value * scale, vt, sizeof vt));
     else
-        len = snprintf(err, HOSTIO_ERRLEN, "%s: %s (got %g", name, rule, d->value * scale);
+        len = snprintf(err, HOSTIO_ERRLEN, "%s: %s (got %s", name, rule,
+                       num_text(d->value * scale, vt, sizeof vt));
     if (len < 0 || len >= HOSTIO_ERRLEN)
         return 0;
     if (d->other != NULL && d->field != NULL && strcmp(d->other, d->field) == 0)
-        snprintf(err + len, (size_t)(HOSTIO_ERRLEN - len), " after %g)", d->limit * scale);
+        snprintf(err + len, (size_t)(HOSTIO_ERRLEN - len), " after %s)",
+                 num_text(d->limit * scale, lt, sizeof lt));
     else if (d->other != NULL)
-        snprintf(err + len, (size_t)(HOSTIO_ERRLEN - len), ", limit %g)", d->limit * scale);
+        snprintf(err + len, (size_t)(HOSTIO_ERRLEN - len), ", limit %s)",
+                 num_text(d->limit * scale, lt, sizeof lt));
     else
         snprintf(err + len, (size_t)(HOSTIO_ERRLEN - len), ")");
     return 0;
