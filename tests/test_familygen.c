@@ -1,11 +1,13 @@
 /* actag-familygen: published families reproduced bit for bit (and fast),
  * checked-in tables equal the generator's output, the mirror / excluded-cell
  * rules equal an independent naive greedy search, argument errors exit with
- * status 2. (The 28-bit tables: test_familygen_28.) */
+ * status 2 and name the bad value, a failed run leaves no output file.
+ * (The 28-bit tables: test_familygen_28.) */
 #define _POSIX_C_SOURCE 200809L
 #include "familygen_test.h"
 
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <time.h>
 
 /* Cross builds: only familygen_test.h's main(); the host suite runs these. */
@@ -212,7 +214,7 @@ static void check_against_naive(int bits, int h, int physical, const char *exclu
         n = naive_family(bits, h, physical, keep, want, 4096);
         printf("naive %s: %d codes, %.2f s\n", args, n, (double)(clock() - t0) / CLOCKS_PER_SEC);
     }
-    TEST_ASSERT_EQUAL_INT_MESSAGE(n > 0 ? 0 : 1, tu_run_gen(args), msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(n > 0 ? 0 : 2, tu_run_gen(args), msg); /* empty: a usage error */
     m = n > 0 ? tu_read_codes(path, got, 4096) : 0;
     TEST_ASSERT_EQUAL_INT_MESSAGE(n, m, msg);
     for (i = 0; i < n; i++)
@@ -225,7 +227,7 @@ static void test_rules_equal_naive_search(void)
     uint32_t c20 = 0x84210u;               /* positions 0, 5, 10, 15 */
     int h;
     check_against_naive(16, 2, 1, "corners", m16 & ~c16); /* (h2 without exclusion: 10 s) */
-    for (h = 3; h <= 7; h++) { /* h7 with corners excluded is empty: exit status 1 */
+    for (h = 3; h <= 7; h++) { /* h7 with corners excluded is empty: exit status 2 */
         check_against_naive(16, h, 0, "none", m16);
         check_against_naive(16, h, 1, "none", m16);
         check_against_naive(16, h, 1, "corners", m16 & ~c16);
@@ -348,9 +350,106 @@ static void test_argument_errors(void)
         TEST_ASSERT_NULL(strchr(s, '\n') + 1 < s + n ? strchr(strchr(s, '\n') + 1, '\n') : NULL);
         free(s);
     }
-    /* an empty family is an error, not an empty table */
-    TEST_ASSERT_EQUAL_INT(1, tu_run_gen("--bits 16 --hamming 17 > /dev/null 2>&1"));
+    /* an empty family is an error (of the options), not an empty table */
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 16 --hamming 17 > /dev/null 2>&1"));
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen("--bits 16 --hamming 16 > /dev/null 2>&1"));
     TEST_ASSERT_EQUAL_INT(0, tu_run_gen("--help > /dev/null"));
+}
+
+static int gen_file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* Runs the generator with args, stderr to gen_msg.txt; returns the exit
+ * status and the message (malloc'd; "" when none) in *msg. */
+static int gen_message(const char *args, char **msg)
+{
+    char path[256], cmd[1024];
+    int st;
+    snprintf(path, sizeof path, "%s/gen_msg.txt", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd, "%s > /dev/null 2> '%s'", args, path);
+    st = tu_run_gen(cmd);
+    *msg = tu_slurp(path, NULL);
+    TEST_ASSERT_NOT_NULL(*msg);
+    return st;
+}
+
+/* Bad, missing and impossible values: status 2 and a message that names the
+ * option and the value (a negative --bits or --hamming was once reported as
+ * missing, and a --hamming no code can meet exited with status 1). */
+static void test_bad_values_are_named(void)
+{
+    static const struct {
+        const char *args, *want;
+    } cases[] = {
+        {"--bits 24 --hamming -1", "--hamming -1"},
+        {"--bits -1 --hamming 4", "--bits -1"},
+        {"--hamming -1 --bits 24", "--hamming -1"},
+        {"--bits 24", "--hamming is required"},
+        {"--hamming 4", "--bits is required"},
+        /* more than the counted bits: decided before any search */
+        {"--bits 24 --hamming 99", "--hamming 99"},
+        {"--bits 24 --hamming 25", "--hamming 25"},
+        {"--bits 24 --hamming 21 --mirror physical --exclude corners", "--hamming 21"},
+        /* within the bits but met by no code: the search finds the family empty */
+        {"--bits 16 --hamming 16", "--hamming 16"},
+        {"--bits 16 --hamming 4 --min-complexity 1", "--min-complexity 1"},
+        {"--bits 24 --hamming 4 --out /nonexistent-actag-dir/x.txt", "/nonexistent-actag-dir/x.txt"},
+    };
+    size_t i;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *msg = NULL, what[512];
+        int st = gen_message(cases[i].args, &msg);
+        snprintf(what, sizeof what, "%s: status %d, '%.300s'", cases[i].args, st, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, what);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(msg, cases[i].want), what);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(msg, "actag-familygen: ", 17), what);
+        free(msg);
+    }
+    {
+        /* the limit is the number of counted bits: 24 itself is allowed
+         * (the search finds no code, status 2 with the empty-family message) */
+        char *msg = NULL;
+        TEST_ASSERT_EQUAL_INT(2, gen_message("--bits 24 --hamming 24", &msg));
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(msg, "would be empty"), msg);
+        free(msg);
+    }
+}
+
+/* A run that fails after opening --out removes the file: an empty family,
+ * and a write that fails (a file-size limit, ulimit -f, with SIGXFSZ
+ * ignored so that the write returns an error instead of killing the
+ * program). A file that already existed is not left truncated either. */
+static void test_failed_run_leaves_no_file(void)
+{
+    char path[256], args[1024], cmd[2048];
+    FILE *f;
+    snprintf(path, sizeof path, "%s/gen_fail.txt", ACTAG_BINARY_DIR);
+    f = fopen(path, "w");
+    TEST_ASSERT_NOT_NULL(f);
+    fputs("an older file\n", f);
+    fclose(f);
+    snprintf(args, sizeof args, "--bits 16 --hamming 16 --out '%s' 2>/dev/null", path);
+    TEST_ASSERT_EQUAL_INT(2, tu_run_gen(args));
+    TEST_ASSERT_FALSE_MESSAGE(gen_file_exists(path), "empty family: output file left behind");
+
+    /* the 24-bit h4 table is about 55 KB: 4 blocks of 512 bytes do not hold it */
+    snprintf(cmd, sizeof cmd,
+             "(trap '' XFSZ; ulimit -f 4 && exec \"%s\" --bits 24 --hamming 4 --out '%s') "
+             "2>/dev/null",
+             ACTAG_FAMILYGEN_PATH, path);
+    TEST_ASSERT_EQUAL_INT(2, tu_run(cmd));
+    TEST_ASSERT_FALSE_MESSAGE(gen_file_exists(path), "failed write: truncated file left behind");
+    /* the same with room for it: written (the limit was what failed) */
+    snprintf(cmd, sizeof cmd,
+             "(trap '' XFSZ; ulimit -f 100000 && exec \"%s\" --bits 24 --hamming 4 --out '%s') "
+             "2>/dev/null",
+             ACTAG_FAMILYGEN_PATH, path);
+    TEST_ASSERT_EQUAL_INT(0, tu_run(cmd));
+    TEST_ASSERT_TRUE(gen_file_exists(path));
+    remove(path);
 }
 
 int main(void)
@@ -363,6 +462,8 @@ int main(void)
     RUN_TEST(test_apriltag_format_is_static);
     RUN_TEST(test_other_sizes);
     RUN_TEST(test_argument_errors);
+    RUN_TEST(test_bad_values_are_named);
+    RUN_TEST(test_failed_run_leaves_no_file);
     return UNITY_END();
 }
 #endif

@@ -52,8 +52,10 @@
  * (how many more there will be nobody knows in advance; they thin out as
  * the search goes on).
  *
- * Exit status: 0 success; 2 bad arguments or unwritable output; 1 when the
- * family would be empty or memory runs out.
+ * Exit status: 0 success; 2 bad arguments (options no code can satisfy, so
+ * that the family would be empty, included) or unwritable output; 1 when
+ * memory runs out. An output file is removed again when the run fails after
+ * opening it (no empty or half-written family file is left behind).
  *
  * Host-only tool: uses the standard library freely.
  */
@@ -64,6 +66,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "actag/version.h"
@@ -85,11 +88,40 @@
     PROG " --bits N --hamming H [--mirror reverse|physical] [--exclude none|corners|LIST] "   \
          "[--min-complexity F] [--format txt|c|apriltag] [--name NAME] [--out FILE]"
 
+/* The --out file while it is open (NULL for standard output) and its path
+ * when it may be removed (removable()): die() removes it, so that a failed
+ * run leaves no empty or truncated family file behind. */
+static FILE *g_out;
+static const char *g_out_remove;
+
+static void discard_output(void)
+{
+    if (g_out) {
+        fclose(g_out);
+        g_out = NULL;
+    }
+    if (g_out_remove) {
+        remove(g_out_remove);
+        g_out_remove = NULL;
+    }
+}
+
+/* May a failed output file be removed? Only a regular file that the path
+ * itself names: never a device (/dev/null, /dev/full) nor a symbolic link
+ * such as /dev/stdout, whose removal would delete the link, not the output. */
+static int removable(FILE *f, const char *path)
+{
+    struct stat fs, ls;
+    return fstat(fileno(f), &fs) == 0 && lstat(path, &ls) == 0 && S_ISREG(fs.st_mode) &&
+           S_ISREG(ls.st_mode) && fs.st_dev == ls.st_dev && fs.st_ino == ls.st_ino;
+}
+
 static void die(int status, const char *fmt, const char *arg)
 {
     fprintf(stderr, PROG ": ");
     fprintf(stderr, fmt, arg);
     fputc('\n', stderr);
+    discard_output();
     exit(status);
 }
 
@@ -488,7 +520,7 @@ static void fmt_secs(char *buf, size_t n, double s)
 
 int main(int argc, char **argv)
 {
-    int bits = -1, h = -1, i, physical = 0, emin, energy_first;
+    int bits = 0, h = 0, have_bits = 0, have_h = 0, i, physical = 0, emin, energy_first;
     const char *format = "txt", *name = NULL, *outpath = NULL, *exclude = "none";
     char default_name[64], rule[160], letter;
     layout L;
@@ -512,7 +544,9 @@ int main(int argc, char **argv)
         }
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             printf("usage: " USAGE "\n"
-                   "  N: data bits, a multiple of 4 from 16 to 32; H: minimum Hamming distance >= 1\n"
+                   "  N: data bits, a multiple of 4 from 16 to 32; H: minimum Hamming distance,\n"
+                   "    1 to the number of counted bits (N less the --exclude cells); options no\n"
+                   "    code can meet (an empty family) are an error, exit status 2\n"
                    "  --mirror: the mirror image the distance must hold for: reverse (default,\n"
                    "    the published families: bit i <-> bit N-1-i) or physical (the reflection\n"
                    "    a sonar shows: sequence position s <-> -s mod N)\n"
@@ -533,11 +567,13 @@ int main(int argc, char **argv)
             usage_error("unknown option '%s'", a);
         if (i + 1 >= argc)
             usage_error("%s needs a value", a);
-        if (strcmp(a, "--bits") == 0)
+        if (strcmp(a, "--bits") == 0) {
             bits = parse_int(a, argv[++i]);
-        else if (strcmp(a, "--hamming") == 0)
+            have_bits = 1;
+        } else if (strcmp(a, "--hamming") == 0) {
             h = parse_int(a, argv[++i]);
-        else if (strcmp(a, "--format") == 0)
+            have_h = 1;
+        } else if (strcmp(a, "--format") == 0)
             format = argv[++i];
         else if (strcmp(a, "--name") == 0)
             name = argv[++i];
@@ -558,9 +594,9 @@ int main(int argc, char **argv)
         } else
             outpath = argv[++i];
     }
-    if (bits == -1)
+    if (!have_bits)
         usage_error("%s", "--bits is required");
-    if (h == -1)
+    if (!have_h)
         usage_error("%s", "--hamming is required");
     if (bits % 4 != 0 || bits < 16 || bits > 32) {
         snprintf(default_name, sizeof default_name, "%d", bits);
@@ -599,6 +635,14 @@ int main(int argc, char **argv)
     if (L.keep == 0)
         usage_error("--exclude '%s' leaves no cell to count", exclude);
     layout_runs(&L);
+    if (h > L.nkeep) {
+        /* two orientations of a code differ in at most the counted bits */
+        char msg[200];
+        snprintf(msg, sizeof msg,
+                 "--hamming %d: must be at most %d, the number of counted bits (--bits %d%s)",
+                 h, L.nkeep, bits, excluded_pos ? " without the --exclude cells" : "");
+        usage_error("%s", msg);
+    }
 
     /* names and their rules */
     letter = rule_letter(&L, excluded_pos, complexity);
@@ -645,8 +689,15 @@ int main(int argc, char **argv)
     }
     if (outpath) {
         out = fopen(outpath, "w");
-        if (!out)
-            usage_error("cannot write '%s'", outpath);
+        if (!out) {
+            char msg[HOSTIO_ERRLEN + 64];
+            snprintf(msg, sizeof msg, "--out '%.200s': cannot write: %s", outpath,
+                     strerror(errno));
+            die(2, "%s", msg);
+        }
+        g_out = out;
+        if (removable(out, outpath))
+            g_out_remove = outpath;
     }
 
     total = 1ull << bits;
@@ -780,11 +831,17 @@ int main(int argc, char **argv)
     free(F.bitmap);
     free(F.pats);
     if (ncodes == 0) {
-        if (outpath) {
-            fclose(out);
-            remove(outpath);
-        }
-        die(1, "%s has no code at all: lower --hamming", name);
+        /* The first code that passes the complexity test and differs from
+         * its own orientations in >= H bits is always accepted: none did. */
+        char msg[300];
+        snprintf(msg, sizeof msg,
+                 "%s would be empty: no %d-bit code differs from its own rotations and "
+                 "mirror images in at least --hamming %d counted bits while meeting "
+                 "--min-complexity %g; lower --hamming%s",
+                 name, bits, h, complexity,
+                 complexity > 0.0 ? " or --min-complexity" : "");
+        free(codes);
+        die(2, "%s", msg);
     }
     if (strcmp(format, "txt") == 0)
         write_txt(out, &L, codes, ncodes);
@@ -793,7 +850,31 @@ int main(int argc, char **argv)
     else
         write_apriltag(out, &L, h, rule, name, codes, ncodes);
     free(codes);
-    if (fflush(out) != 0 || ferror(out) || (outpath && fclose(out) != 0))
-        die(2, "error writing '%s'", outpath ? outpath : "standard output");
+    {
+        /* a write error shows in fflush, the stream's error flag or fclose;
+         * a failed file is removed by die() (closed here, not twice) */
+        int failed, why = 0;
+        errno = 0;
+        failed = fflush(out) != 0;
+        if (failed)
+            why = errno;
+        failed |= ferror(out) != 0;
+        if (outpath) {
+            g_out = NULL;
+            errno = 0;
+            if (fclose(out) != 0 && !failed) {
+                failed = 1;
+                why = errno;
+            }
+        }
+        if (failed) {
+            char msg[HOSTIO_ERRLEN + 64];
+            snprintf(msg, sizeof msg, "error writing '%.200s'%s%s",
+                     outpath ? outpath : "standard output", why ? ": " : "",
+                     why ? strerror(why) : "");
+            die(2, "%s", msg);
+        }
+    }
+    g_out_remove = NULL;
     return 0;
 }

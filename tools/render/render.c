@@ -17,9 +17,12 @@
  *   --list-tabs    print which selected IDs need corner tabs ("ID TL,BR").
  *   --sheet        several tags per page (images or cut files), each labelled.
  *
- * Host tool: uses stdio and malloc. Errors: one line on stderr, exit status 2.
- * Run with --help for the options.
+ * Host tool: uses stdio and malloc. Errors: one line on stderr, exit status 2
+ * (an option the chosen output does not use is an error too, never silently
+ * ignored); a file whose writing fails is removed again, not left half
+ * written. Run with --help for the options.
  */
+#define _POSIX_C_SOURCE 200809L /* fileno, fstat: is the output a regular file? */
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -27,8 +30,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "hostio.h"
+#include <sys/stat.h>
 
 #include "actag/family.h"
 #include "actag/render.h"
@@ -59,7 +61,8 @@ typedef struct {
     double hole_xy[2 * MAX_HOLES];
     int nhole_list;
     double hole_d, tab_w;
-    int tab_set;
+    int tab_set, hole_d_set, cell_px_set, tag_size_set;
+    const char *margin_colour; /* the --margin-colour value, NULL when not given */
     int sheet, columns, rows;
     double page_w, page_h, gap;
     int page_set, gap_set;
@@ -90,6 +93,13 @@ typedef struct {
 
 /* ------------------------------------------------------------------ errors */
 
+/* The output file being written (open_out .. close_out) and its path when it
+ * is a regular file: die() closes and removes it, so that a failed write
+ * leaves no truncated file behind (a device such as /dev/null is never
+ * removed; files of a run that were finished before the error stay). */
+static FILE *g_out;
+static const char *g_out_remove;
+
 static void die(const char *fmt, ...)
 {
     va_list ap;
@@ -98,6 +108,14 @@ static void die(const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     va_end(ap);
     fputc('\n', stderr);
+    if (g_out) {
+        fclose(g_out);
+        g_out = NULL;
+    }
+    if (g_out_remove) {
+        remove(g_out_remove);
+        g_out_remove = NULL;
+    }
     exit(2);
 }
 
@@ -120,27 +138,32 @@ static void usage(FILE *f)
         "  --cut                  face plate cut file (dxf by default, or svg)\n"
         "  --back-plate           back plate cut file (outline and screw holes)\n"
         "size\n"
-        "  --cell-px N            pixels per cell in PGM images (default 20)\n"
-        "  --tag-size M           side of the inner white square in metres\n"
+        "  --cell-px N            pixels per cell in PGM images (default 20; PGM only)\n"
+        "  --tag-size M           side of the inner white square in metres, for the\n"
+        "                         millimetres of SVG and DXF (not PGM: --cell-px)\n"
         "                         (default 0.130628571 = 3/7 ft, a 1 ft 24-bit tag)\n"
         "  --margin-cells X       border around the tag, in cells (default 1 for\n"
         "                         images, 0 for cut files; cut margins are metal)\n"
-        "  --margin-colour metal|foam   colour of an image's border (default metal)\n"
+        "  --margin-colour metal|foam   colour of an image's border (default metal;\n"
+        "                         images only: cut-file margins are metal)\n"
         "plates\n"
         "  --screw-holes SPEC     corners (default: centres of the 4 corner cells of\n"
         "                         the black ring), none, or X,Y[,X,Y...] in mm from\n"
         "                         the tag's top-left corner (x right, y down)\n"
         "  --hole-diameter MM     screw hole diameter (default 3.4)\n"
         "  --tab-width MM         side of the square tab that holds an isolated\n"
-        "                         black corner bit (default 0.15 cell; 0 = none)\n"
+        "                         black corner bit (default 0.15 cell; 0 = none;\n"
+        "                         face plates only: the back plate has no tabs)\n"
         "  --list-tabs            only list the selected IDs whose face plate needs\n"
-        "                         corner tabs: 'ID TL,TR,BR,BL' lines on stdout\n"
+        "                         corner tabs: 'ID TL,TR,BR,BL' lines on stdout (takes\n"
+        "                         no output, size or plate option; --cut is allowed)\n"
         "sheets\n"
         "  --sheet                several tags per page, each labelled\n"
         "  --columns N --rows N   tags per row / rows per page (PGM default 4 x 5;\n"
         "                         SVG/DXF default: as many as fit)\n"
         "  --page-width MM --page-height MM   SVG/DXF page (default 210 x 297)\n"
-        "  --gap MM               space between tags and page margin (default 10)\n"
+        "  --gap MM               space between tags and page margin (default 10;\n"
+        "                         SVG/DXF: a PGM sheet's gap is one cell)\n"
         "output\n"
         "  --out FILE             output file (default stdout). A sheet that fits one\n"
         "                         page is FILE itself; a longer one is FILE with -p1,\n"
@@ -263,6 +286,7 @@ static const char *need_arg(int argc, char **argv, int *i)
 static void parse_args(int argc, char **argv, opts_t *o)
 {
     const char *ids_arg = NULL, *fmt = NULL, *holes = NULL;
+    const char *shaping = NULL; /* the first option that shapes a file (not --list-tabs') */
     int i, have_id = 0, all = 0, id = 0, cut = 0, back = 0;
     memset(o, 0, sizeof *o);
     o->cell_px = DEFAULT_CELL_PX;
@@ -275,6 +299,10 @@ static void parse_args(int argc, char **argv, opts_t *o)
         die("no arguments (try --help)");
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
+        if (shaping == NULL && strncmp(a, "--", 2) == 0 && strcmp(a, "--family") != 0 &&
+            strcmp(a, "--id") != 0 && strcmp(a, "--ids") != 0 && strcmp(a, "--all") != 0 &&
+            strcmp(a, "--cut") != 0 && strcmp(a, "--list-tabs") != 0)
+            shaping = a;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
             exit(0);
@@ -300,11 +328,13 @@ static void parse_args(int argc, char **argv, opts_t *o)
             back = 1;
         } else if (strcmp(a, "--cell-px") == 0) {
             o->cell_px = parse_int(a, need_arg(argc, argv, &i), 1, 4096);
+            o->cell_px_set = 1;
         } else if (strcmp(a, "--margin-cells") == 0) {
             o->margin_cells = parse_real(a, need_arg(argc, argv, &i), 0.0, 100.0);
             o->margin_set = 1;
         } else if (strcmp(a, "--margin-colour") == 0 || strcmp(a, "--margin-color") == 0) {
             const char *v = need_arg(argc, argv, &i);
+            o->margin_colour = v;
             if (strcmp(v, "metal") == 0 || strcmp(v, "black") == 0)
                 o->margin_foam = 0;
             else if (strcmp(v, "foam") == 0 || strcmp(v, "white") == 0)
@@ -313,10 +343,12 @@ static void parse_args(int argc, char **argv, opts_t *o)
                 die("%s: expected metal or foam, got '%s'", a, v);
         } else if (strcmp(a, "--tag-size") == 0) {
             o->tag_size_m = parse_real(a, need_arg(argc, argv, &i), 1e-4, 100.0);
+            o->tag_size_set = 1;
         } else if (strcmp(a, "--screw-holes") == 0) {
             holes = need_arg(argc, argv, &i);
         } else if (strcmp(a, "--hole-diameter") == 0) {
             o->hole_d = parse_real(a, need_arg(argc, argv, &i), 0.01, 1e5);
+            o->hole_d_set = 1;
         } else if (strcmp(a, "--tab-width") == 0) {
             o->tab_w = parse_real(a, need_arg(argc, argv, &i), 0.0, 1e5);
             if (o->tab_w > 0.0 && o->tab_w < 0.01)
@@ -369,6 +401,13 @@ static void parse_args(int argc, char **argv, opts_t *o)
     } else {
         parse_ids(o, ids_arg, o->fam.ncodes);
     }
+    if (o->list_tabs) {
+        /* a list on stdout: nothing to write, size or plate */
+        if (shaping)
+            die("--list-tabs only prints the IDs that need corner tabs on stdout: it takes no "
+                "%s", shaping);
+        return;
+    }
 
     if (cut && back)
         die("--cut and --back-plate are separate files: choose one");
@@ -395,12 +434,36 @@ static void parse_args(int argc, char **argv, opts_t *o)
         o->tab_w = 0.15 * cell_mm(o);
     if (holes)
         parse_holes(o, holes);
-    if (o->mode == MODE_IMAGE && (holes || o->tab_set))
-        die("--screw-holes and --tab-width apply to cut files (--cut, --back-plate)");
+    /* options the chosen output would not use are refused, not ignored */
+    if (o->format == FMT_PGM && o->tag_size_set)
+        die("--tag-size %g: PGM images are sized in pixels (--cell-px); --tag-size applies "
+            "to SVG and DXF (millimetres)", o->tag_size_m);
+    if (o->format != FMT_PGM && o->cell_px_set)
+        die("--cell-px %d: applies to PGM images; %s files are sized in millimetres "
+            "(--tag-size)", o->cell_px, o->format == FMT_SVG ? "SVG" : "DXF");
+    if (o->mode != MODE_IMAGE && o->margin_colour)
+        die("--margin-colour %s: applies to images; cut-file margins are metal",
+            o->margin_colour);
+    if (o->mode == MODE_IMAGE && o->margin_colour && o->margin_set && o->margin_cells == 0.0)
+        die("--margin-colour %s: the image has no margin (--margin-cells 0)", o->margin_colour);
+    if (o->mode == MODE_IMAGE && holes)
+        die("--screw-holes %s: applies to cut files (--cut, --back-plate), not images", holes);
+    if (o->mode == MODE_IMAGE && o->hole_d_set)
+        die("--hole-diameter %g: applies to cut files (--cut, --back-plate), not images",
+            o->hole_d);
+    if (o->mode != MODE_FACE && o->tab_set)
+        die("--tab-width %g: applies to face plates (--cut); %s", o->tab_w,
+            o->mode == MODE_BACK ? "the back plate has no tabs" : "an image has no tabs");
+    if (o->hole_d_set && o->holes_mode == HOLES_NONE)
+        die("--hole-diameter %g: there are no screw holes (--screw-holes none)", o->hole_d);
     if (!o->sheet && (o->columns || o->rows || o->page_set || o->gap_set))
         die("--columns, --rows, --page-width, --page-height and --gap need --sheet");
     if (o->sheet && o->format == FMT_PGM && o->page_set)
-        die("PGM sheets are sized with --columns and --rows, not in mm");
+        die("--page-width/--page-height %g x %g mm: PGM sheets are sized with --columns and "
+            "--rows, not in mm", o->page_w, o->page_h);
+    if (o->sheet && o->format == FMT_PGM && o->gap_set)
+        die("--gap %g mm: PGM sheets are sized with --columns and --rows (the gap is one "
+            "cell), not in mm", o->gap);
     if (o->out && o->out_dir)
         die("give --out or --out-dir, not both");
     if (!o->sheet && !o->list_tabs && o->nids > 1 && o->out_dir == NULL)
@@ -696,6 +759,18 @@ static const char *fnum(char *buf, double v)
     return buf;
 }
 
+/* May a failed output file be removed? Only a regular file that the path
+ * itself names: never a device (/dev/null, /dev/full) nor a symbolic link
+ * such as /dev/stdout, whose removal would delete the link, not the output. */
+static int removable(FILE *f, const char *path)
+{
+    struct stat fs, ls;
+    return fstat(fileno(f), &fs) == 0 && lstat(path, &ls) == 0 && S_ISREG(fs.st_mode) &&
+           S_ISREG(ls.st_mode) && fs.st_dev == ls.st_dev && fs.st_ino == ls.st_ino;
+}
+
+/* The output stream (stdout for a NULL path). Until close_out() a regular
+ * file is removed again when the tool dies (g_out, g_out_remove). */
 static FILE *open_out(const char *path)
 {
     FILE *f;
@@ -704,22 +779,27 @@ static FILE *open_out(const char *path)
     f = fopen(path, "wb");
     if (f == NULL)
         die("cannot write '%s': %s", path, strerror(errno));
+    g_out = f;
+    if (removable(f, path))
+        g_out_remove = path;
     return f;
 }
 
 static void close_out(FILE *f, const char *path)
 {
+    int failed;
     if (f == stdout) {
         if (fflush(f) != 0 || ferror(f))
             die("cannot write to stdout");
         return;
     }
-    if (ferror(f)) {
-        fclose(f);
-        die("cannot write '%s'", path);
-    }
+    failed = ferror(f) != 0;
+    g_out = NULL; /* closed here: die() must not close it again */
     if (fclose(f) != 0)
         die("cannot write '%s': %s", path, strerror(errno));
+    if (failed)
+        die("cannot write '%s'", path);
+    g_out_remove = NULL;
 }
 
 static const char *ext_of(int format)
@@ -775,6 +855,7 @@ static void draw_text(uint8_t *img, long w, long h, long x0, long y0, int s, con
     }
 }
 
+/* A failed write dies, and die() removes the partial file (open_out). */
 static void write_pgm(FILE *f, const char *path, const uint8_t *img, long w, long h)
 {
     hostio_image im;

@@ -3,7 +3,8 @@
  * structure checker and geometry checks written here (areas, positions,
  * holes, tabs), its SVG files with a tag-balance checker (and Python's
  * minidom when python3 is there), its sheets, --list-tabs for every code of
- * every family, and its error exits. */
+ * every family, and its error exits: options the output does not use are
+ * refused, and a failed write leaves no file behind. */
 #define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
 #include <errno.h>
@@ -1047,6 +1048,191 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_INT(0, run("--help"));
 }
 
+/* An option the chosen output does not use is refused (status 2, one line
+ * naming the option and its value), never silently ignored, and no file is
+ * written. (--tag-size with a PGM image, --hole-diameter with an image and
+ * --tab-width with a back plate once gave files byte-identical to the
+ * defaults; --list-tabs --out FILE printed to stdout and made no file.) */
+static void test_unused_options_refused(void)
+{
+    static const struct {
+        const char *args, *opt, *value;
+    } bad[] = {
+        {"--id 3 --tag-size 2.5", "--tag-size", "2.5"},
+        {"--ids 0-3 --sheet --tag-size 0.05", "--tag-size", "0.05"},
+        {"--id 3 --hole-diameter 9", "--hole-diameter", "9"},
+        {"--id 3 --format svg --hole-diameter 9", "--hole-diameter", "9"},
+        {"--id 3 --screw-holes corners", "--screw-holes", "corners"},
+        {"--id 3 --back-plate --tab-width 5", "--tab-width", "5"},
+        {"--id 3 --back-plate --format svg --tab-width 0", "--tab-width", "0"},
+        {"--id 3 --format svg --tab-width 5", "--tab-width", "5"},
+        {"--id 3 --cut --screw-holes none --hole-diameter 5", "--hole-diameter", "5"},
+        {"--id 3 --format svg --cell-px 50", "--cell-px", "50"},
+        {"--id 3 --cut --cell-px 50", "--cell-px", "50"},
+        {"--id 3 --cut --margin-colour foam", "--margin-colour", "foam"},
+        {"--id 3 --back-plate --margin-colour metal", "--margin-colour", "metal"},
+        {"--id 3 --margin-cells 0 --margin-colour foam", "--margin-colour", "foam"},
+        {"--ids 0-3 --sheet --gap 3", "--gap", "3"},
+        {"--ids 0-3 --sheet --page-width 300", "--page-width", "300"},
+        {"--all --list-tabs", "--list-tabs", "--out"}, /* --out FILE appended below */
+        {"--all --list-tabs --format svg", "--list-tabs", "--format"},
+        {"--all --list-tabs --back-plate", "--list-tabs", "--back-plate"},
+        {"--all --list-tabs --tab-width 3", "--list-tabs", "--tab-width"},
+        {NULL, NULL, NULL}};
+    char args[2048], msg[1200];
+    int i;
+    for (i = 0; bad[i].args; i++) {
+        int st;
+        path_of(msg, sizeof msg, "unused.out");
+        remove(msg);
+        snprintf(args, sizeof args, "--family AcTag24h10 %s --out '%s/unused.out'", bad[i].args,
+                 dir);
+        st = run(args);
+        snprintf(msg, sizeof msg, "args '%s': status %d, stderr '%.400s'", bad[i].args, st,
+                 errtext);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(errtext), msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].opt), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].value), msg);
+        TEST_ASSERT_FALSE_MESSAGE(file_exists("unused.out"), msg);
+    }
+    /* --list-tabs --out-dir: refused before the folder is made */
+    snprintf(args, sizeof args, "rm -rf '%s/unused-dir'", dir);
+    TEST_ASSERT_EQUAL_INT(0, system(args));
+    snprintf(args, sizeof args, "--family AcTag24h10 --all --list-tabs --out-dir '%s/unused-dir'",
+             dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run(args), errtext);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, "--out-dir"), errtext);
+    TEST_ASSERT_FALSE(file_exists("unused-dir"));
+
+    /* where they apply, the same options are taken: --list-tabs with --cut
+     * (face plates are what it is about) lists the same, --hole-diameter
+     * sizes the back plate's holes, --margin-colour an image's margin */
+    {
+        char *plain, *cut;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run("--family AcTag24h10 --all --list-tabs"), errtext);
+        plain = slurp("stdout.bin", NULL);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run("--family AcTag24h10 --all --list-tabs --cut"), errtext);
+        cut = slurp("stdout.bin", NULL);
+        TEST_ASSERT_NOT_NULL(plain);
+        TEST_ASSERT_NOT_NULL(cut);
+        TEST_ASSERT_TRUE(strlen(plain) > 0);
+        TEST_ASSERT_EQUAL_STRING(plain, cut);
+        free(plain);
+        free(cut);
+    }
+    snprintf(args, sizeof args,
+             "--family AcTag24h10 --id 3 --back-plate --hole-diameter 5 --out '%s/unused-b.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    {
+        dxf_t d;
+        int h;
+        TEST_ASSERT_NULL(check_dxf("unused-b.dxf", &d));
+        TEST_ASSERT_EQUAL_INT(4, d.ncircles);
+        for (h = 0; h < d.ncircles; h++)
+            TEST_ASSERT_FLOAT_WITHIN(1e-6f, 2.5f, (float)d.cr[h]);
+        free_dxf(&d);
+    }
+    snprintf(args, sizeof args,
+             "--family AcTag24h10 --id 3 --format svg --tag-size 0.05 --margin-colour foam "
+             "--out '%s/unused-i.svg'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    TEST_ASSERT_TRUE(file_exists("unused-i.svg"));
+}
+
+/* run() under a file-size limit of `blocks` 512-byte blocks (POSIX sh
+ * ulimit -f) with SIGXFSZ ignored, so that a write past the limit fails
+ * with an error (EFBIG) instead of killing the tool. */
+static int run_limited(int blocks, const char *args)
+{
+    char cmd[8192], errf[1200], outf[1200];
+    char *e;
+    int st;
+    path_of(errf, sizeof errf, "stderr.txt");
+    path_of(outf, sizeof outf, "stdout.bin");
+    snprintf(cmd, sizeof cmd, "(trap '' XFSZ; ulimit -f %d && exec '%s' %s) > '%s' 2> '%s'",
+             blocks, ACTAG_RENDER_PATH, args, outf, errf);
+    st = hostio_run(cmd, NULL);
+    errtext[0] = '\0';
+    e = (char *)hostio_slurp(errf, NULL, NULL);
+    if (e) {
+        snprintf(errtext, sizeof errtext, "%s", e);
+        free(e);
+    }
+    return st;
+}
+
+/* A write that fails leaves no file: the tool exits with status 2 and
+ * removes what it had written (a 1800 x 1800 PGM under a 100 KB limit was
+ * once left truncated). PGM images (written by tools/hostio), SVG and DXF
+ * (written here), a sheet page; a file that existed before is not left
+ * truncated either. Paths that cannot be opened make no file at all. */
+static void test_failed_write_leaves_no_file(void)
+{
+    static const struct {
+        const char *args, *name;
+        int blocks;
+    } cases[] = {
+        {"--family AcTag24h10 --id 3 --cell-px 200", "big.pgm", 200},
+        {"--family AcTag24h4 --id 6000 --format svg", "big.svg", 1},
+        {"--family AcTag24h4 --id 6000 --cut", "big.dxf", 1},
+        {"--family AcTag24h4 --id 6000 --back-plate --format svg", "big-back.svg", 1},
+        {"--family AcTag24h10 --ids 0-5 --sheet --cell-px 20", "big-sheet.pgm", 20},
+        {NULL, NULL, 0}};
+    char args[2048], p[1200], msg[1200], sh[2200];
+    int i;
+    for (i = 0; cases[i].args; i++) {
+        FILE *f;
+        int st;
+        /* an older file of that name: opened, truncated, then removed */
+        path_of(p, sizeof p, cases[i].name);
+        f = fopen(p, "w");
+        TEST_ASSERT_NOT_NULL(f);
+        fputs("older\n", f);
+        fclose(f);
+        snprintf(args, sizeof args, "%s --out '%s'", cases[i].args, p);
+        st = run_limited(cases[i].blocks, args);
+        snprintf(msg, sizeof msg, "'%.600s' under ulimit -f %d: status %d, stderr '%.400s'", args,
+                 cases[i].blocks, st, errtext);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(errtext), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, cases[i].name), msg);
+        TEST_ASSERT_FALSE_MESSAGE(file_exists(cases[i].name), msg);
+        /* with room for it the same command writes the file: the limit was
+         * what failed */
+        st = run_limited(1 << 20, args);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, st, errtext);
+        TEST_ASSERT_TRUE_MESSAGE(file_exists(cases[i].name), args);
+        remove(p);
+    }
+    /* --out-dir: the first file fails, is removed, and the tool stops */
+    snprintf(sh, sizeof sh, "rm -rf '%s/limited' && mkdir '%s/limited'", dir, dir);
+    TEST_ASSERT_EQUAL_INT(0, system(sh));
+    snprintf(args, sizeof args, "--family AcTag24h10 --ids 1,2 --cut --out-dir '%s/limited'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run_limited(1, args), errtext);
+    TEST_ASSERT_FALSE(file_exists("limited/AcTag24h10-1-face.dxf"));
+    TEST_ASSERT_FALSE(file_exists("limited/AcTag24h10-2-face.dxf"));
+
+    /* places that cannot be written: a missing folder, a path under a
+     * regular file (never creatable) */
+    snprintf(args, sizeof args, "--family AcTag24h10 --id 3 --out '%s/no-such-dir/x.pgm'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run(args), errtext);
+    TEST_ASSERT_EQUAL_INT(1, count_lines(errtext));
+    TEST_ASSERT_FALSE(file_exists("no-such-dir/x.pgm"));
+    TEST_ASSERT_FALSE(file_exists("no-such-dir"));
+    path_of(p, sizeof p, "plain-file");
+    {
+        FILE *f = fopen(p, "w");
+        TEST_ASSERT_NOT_NULL(f);
+        fclose(f);
+    }
+    snprintf(args, sizeof args, "--family AcTag24h10 --id 3 --cut --out '%s/x.dxf'", p);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run(args), errtext);
+    TEST_ASSERT_EQUAL_INT(1, count_lines(errtext));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, "plain-file/x.dxf"), errtext);
+}
+
 static void test_dxf_checker_rejects(void)
 {
     /* The checker must be able to fail. */
@@ -1172,6 +1358,8 @@ int main(void)
     RUN_TEST(test_svg);
     RUN_TEST(test_sheets);
     RUN_TEST(test_errors);
+    RUN_TEST(test_unused_options_refused);
+    RUN_TEST(test_failed_write_leaves_no_file);
     RUN_TEST(test_dxf_checker_rejects);
     RUN_TEST(test_readme_commands_write_what_they_say);
     RUN_TEST(test_pages_folders_version);
