@@ -18,7 +18,8 @@
  * through the tracker (track.h) beside whole-frame detection
  * (eval_track.h). Frames are independent streams of the seed, so the
  * figures do not depend on --threads. Progress on stderr. Exit status 0,
- * 2 on bad options.
+ * 2 on bad options or when an output (a file, standard output) cannot be
+ * written.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sim.h"
@@ -122,6 +123,30 @@ static void usage(FILE *f)
 #define die(msg) hostio_die(PROG, (msg))
 #define num(opt, s, lo, hi) hostio_opt_double(PROG, (opt), (s), (lo), (hi))
 #define inum(opt, s, lo, hi) hostio_opt_long(PROG, (opt), (s), (lo), (hi))
+
+/* Closes an output file; a write error (a full disk) exits with status 2
+ * naming the option and file, and removes a regular file rather than leave
+ * it half-written (never a device such as /dev/full). */
+static void close_output(FILE *f, const char *opt, const char *path)
+{
+    struct stat st;
+    char m[1300];
+    int bad, e;
+    errno = 0;
+    bad = fflush(f) != 0 || ferror(f);
+    e = errno;
+    if (fclose(f) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
+    if (!bad)
+        return;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
+        remove(path);
+    snprintf(m, sizeof m, "%s: cannot write '%s': %s", opt, path,
+             e ? strerror(e) : "write error");
+    die(m);
+}
 
 /* ------------------------------------------------------------ per frame */
 
@@ -609,6 +634,13 @@ static FILE *svg_open(const char *dir, const char *name, const char *title, int 
     return f;
 }
 
+static void svg_close(FILE *f, const char *dir, const char *name)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    close_output(f, "--svg", path);
+}
+
 /* Histogram of v (n values) over [lo, hi] in nb bins. */
 static void svg_histogram(const char *dir, const char *name, const char *title, const char *xlabel,
                           const double *v, int n, double lo, double hi, int nb)
@@ -646,7 +678,7 @@ static void svg_histogram(const char *dir, const char *name, const char *title, 
     fprintf(f, "<text x=\"14\" y=\"%d\" transform=\"rotate(-90 14 %d)\" text-anchor=\"middle\">"
                "corners</text>\n</svg>\n",
             H / 2, H / 2);
-    fclose(f);
+    svg_close(f, dir, name);
 }
 
 /* Detection rate (0..1) per bin, with the number of frames per bin. */
@@ -685,7 +717,7 @@ static void svg_rate(const char *dir, const char *name, const char *title, const
     fprintf(f, "<text x=\"14\" y=\"%d\" transform=\"rotate(-90 14 %d)\" text-anchor=\"middle\">"
                "detection rate</text>\n</svg>\n",
             H / 2, H / 2);
-    fclose(f);
+    svg_close(f, dir, name);
 }
 
 /* ------------------------------------------------------------ pose summary */
@@ -807,6 +839,18 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
 
 /* ------------------------------------------------------------ main */
 
+/* A family list with an empty name ("A,", ",A", "A,,B") is refused, not
+ * read as the names it has. */
+static void check_names(const char *opt, const char *list)
+{
+    size_t L = strlen(list);
+    if (L > 0 && (list[0] == ',' || list[L - 1] == ',' || strstr(list, ",,"))) {
+        char m[1200];
+        snprintf(m, sizeof m, "%s: empty family name in '%.1000s'", opt, list);
+        die(m);
+    }
+}
+
 static void parse_free_families(eval_ctx *c, const char *list)
 {
     if (!strcmp(list, "all")) {
@@ -846,6 +890,7 @@ int main(int argc, char **argv)
     te_options topt;
     te_counts seq_counts, pool_counts;
     const char *pool_dir = NULL;
+    const char *free_opt = NULL, *track_opt = NULL, *length_opt = NULL; /* given, for checks */
     int have_seq = 0, have_pool = 0;
     const simio_cli cli = {PROG, usage, 16, 8192, &c.sonar, &c.view, &aperture_deg};
 
@@ -881,6 +926,7 @@ int main(int argc, char **argv)
             NEED();
             family = v;
         } else if (!strcmp(o, "--tag-free-families")) {
+            free_opt = o;
             NEED();
             free_list = v;
         } else if (!strcmp(o, "--corrections")) {
@@ -922,17 +968,21 @@ int main(int argc, char **argv)
             NEED();
             threads = (int)inum(o, v, 1, 16);
         } else if (!strcmp(o, "--sweep-families")) {
+            free_opt = o;
             NEED();
             sweep_list = v;
         } else if (!strcmp(o, "--free-rows")) {
+            free_opt = o;
             NEED();
             free_rows = (int)inum(o, v, 16, 8192);
         } else if (!strcmp(o, "--free-cols")) {
+            free_opt = o;
             NEED();
             free_cols = (int)inum(o, v, 16, 8192);
         } else if (!strcmp(o, "--free-max-range")) {
             double mm[2];
             char e2[HOSTIO_ERRLEN];
+            free_opt = o;
             NEED();
             if (hostio_parse_doubles(o, v, ',', mm, 2, e2) != HOSTIO_OK)
                 die(e2);
@@ -993,30 +1043,38 @@ int main(int argc, char **argv)
             NEED();
             seq_failures = v;
         } else if (!strcmp(o, "--sequence-length")) {
+            length_opt = o;
             NEED();
             topt.length = (int)inum(o, v, 1, 100000);
         } else if (!strcmp(o, "--pool-sequence")) {
             NEED();
             pool_dir = v;
         } else if (!strcmp(o, "--full-every")) {
+            track_opt = o;
             NEED();
             topt.track.full_every = (int)inum(o, v, 1, 100000);
         } else if (!strcmp(o, "--confirm-frames")) {
+            track_opt = o;
             NEED();
             topt.track.confirm_frames = (int)inum(o, v, 1, 1000);
         } else if (!strcmp(o, "--confirm-margin")) {
+            track_opt = o;
             NEED();
             topt.track.confirm_margin = (float)num(o, v, -1e6, 1e6);
         } else if (!strcmp(o, "--max-missed")) {
+            track_opt = o;
             NEED();
             topt.track.max_missed = (int)inum(o, v, 0, 1000);
         } else if (!strcmp(o, "--roi-scale")) {
+            track_opt = o;
             NEED();
             topt.track.roi_scale = (float)num(o, v, 0.01, 10.0);
         } else if (!strcmp(o, "--refind-after")) {
+            track_opt = o;
             NEED();
             topt.track.refind_after = (int)inum(o, v, 0, 1000);
         } else if (!strcmp(o, "--relax-roi")) {
+            track_opt = o;
             topt.relax_roi = 1;
         } else {
             simio_opt_unknown(PROG, o);
@@ -1037,6 +1095,25 @@ int main(int argc, char **argv)
                  actag_family_max_corrections(&c.fam), c.corrections);
         die(m);
     }
+    /* options of runs that are not made would be ignored: refuse them */
+    if (free_opt && c.tag_free == 0) {
+        char m[200];
+        snprintf(m, sizeof m, "%s: applies to tag-free frames only; it needs --tag-free N (N > 0)",
+                 free_opt);
+        die(m);
+    }
+    if (track_opt && topt.sequences == 0 && !pool_dir) {
+        char m[200];
+        snprintf(m, sizeof m, "%s: a tracker setting; it needs --sequences N (N > 0) or "
+                 "--pool-sequence DIR", track_opt);
+        die(m);
+    }
+    if (length_opt && topt.sequences == 0)
+        die("--sequence-length needs --sequences N (N > 0)");
+    if (seq_failures && topt.sequences == 0)
+        die("--sequence-failures needs --sequences N (N > 0)");
+    check_names("--tag-free-families", free_list);
+    check_names("--sweep-families", sweep_list);
     parse_free_families(&c, free_list);
     if (c.nfree_fam == 0)
         die("--tag-free-families: no family given");
@@ -1093,8 +1170,6 @@ int main(int argc, char **argv)
         pthread_join(th[i], NULL);
     /* ---- tracking */
     topt.threads = threads;
-    if (seq_failures && topt.sequences == 0)
-        die("--sequence-failures needs --sequences N (N > 0)");
     if (topt.sequences > 0) {
         if (seq_failures) {
             topt.failures = fopen(seq_failures, "w");
@@ -1108,7 +1183,7 @@ int main(int argc, char **argv)
         te_run_sequences(&c.sonar, &c.view, &c.app, &c.fam, tag_size_default, c.seed, &topt,
                          &seq_counts, c.quiet);
         if (topt.failures)
-            fclose(topt.failures);
+            close_output(topt.failures, "--sequence-failures", seq_failures);
         topt.failures = NULL;
         have_seq = 1;
     }
@@ -1239,7 +1314,7 @@ int main(int argc, char **argv)
                         R->az_err[1], R->az_err[2], R->az_err[3], R->m2_pos, R->m2_ori,
                         R->m2_all, R->hamming, R->margin, R->found_search);
             }
-            fclose(pf);
+            close_output(pf, "--pose-dump", pose_dump);
         }
         if (failures) {
             ff = fopen(failures, "w");
@@ -1321,7 +1396,7 @@ int main(int argc, char **argv)
             }
         }
         if (ff)
-            fclose(ff);
+            close_output(ff, "--failures", failures);
         rs = stats_of(re, nerr);
         as = stats_of(ae, nerr);
         for (i = 0; i < nbd; i++) {
@@ -1519,5 +1594,13 @@ int main(int argc, char **argv)
     }
     free(c.tres);
     free(c.fres);
+    /* a summary lost to a full disk or a closed pipe is an error, not exit 0 */
+    errno = 0;
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        char m[300];
+        snprintf(m, sizeof m, "standard output: cannot write: %s",
+                 errno ? strerror(errno) : "write error");
+        die(m);
+    }
     return 0;
 }

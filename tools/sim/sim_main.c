@@ -57,7 +57,7 @@ static void usage(FILE *f)
         "Sonar (defaults: the paper's settings, 1024 x 512):\n"
         "  --rows R --cols C      range bins, beams\n"
         "  --min-range M --max-range M   (default 0.1, 5)\n"
-        "  --aperture-deg D       horizontal aperture (default 60) or\n"
+        "  --aperture-deg D       horizontal aperture (default 60) or (not both)\n"
         "  --bearings FILE        one azimuth per column in radians\n"
         "  --vertical-aperture-deg D  (default 12)\n"
         "  --range-ascending --azimuth-ascending   orientation flags (see geometry.h)\n"
@@ -112,6 +112,23 @@ static void parse_tag(const char *spec, sim_tag *t)
     t->id = (int)idv;
     if (hostio_parse_doubles("--tag pose", pose, ',', p, 6, err) != HOSTIO_OK)
         die(err);
+    {
+        /* finite is not enough: 1e30 m gives "distance": inf in the truth */
+        static const char *const names[6] = {"X", "Y", "Z", "ROLL", "PITCH", "YAW"};
+        const char *tok = pose;
+        int k;
+        for (k = 0; k < 6; k++) {
+            double lim = k < 3 ? 1000.0 : 360.0;
+            if (k > 0)
+                tok = strchr(tok, ',') + 1; /* six numbers: five commas */
+            if (fabs(p[k]) > lim) {
+                snprintf(msg, sizeof msg, "--tag pose: %s must be from %g to %g %s (got %.*s)",
+                         names[k], -lim, lim, k < 3 ? "metres" : "degrees",
+                         (int)strcspn(tok, ","), tok);
+                die(msg);
+            }
+        }
+    }
     t->tag_size = size ? (float)num("--tag SIZE", size, 1e-3, 100.0) : 0.130628571f;
     sim_pose_from_rpy((float)p[0], (float)p[1], (float)p[2], (float)(p[3] * DEG),
                       (float)(p[4] * DEG), (float)(p[5] * DEG), &t->pose);
@@ -168,13 +185,21 @@ int main(int argc, char **argv)
     static sim_tag tags[SIM_MAX_TAGS];
     int ntags = 0, i, nrandom = -1, nfree = -1, nseq = -1, frames = 1, raw = 0, depth = 8;
     int quiet = 0, fixed_id = -1, seabed_mode = 1;
+    /* options given, so that one the scene would ignore is refused */
+    int frames_set = 0, seabed_set = 0, aperture_set = 0;
+    const char *random_opt = NULL; /* --family, --id or --tag-size */
+    const char *view_opt = NULL;   /* a random view's limit (--min-distance ...) */
+    static const char *const view_opts[] = {"--min-distance", "--max-distance",
+        "--min-incidence-deg", "--max-incidence-deg", "--max-yaw-deg", "--mirror-fraction",
+        "--clutter"};
+    const char *tag_spec[SIM_MAX_TAGS];
     double seabed_plane[4] = {0, 0, 1, 0};
     uint32_t seed = 1;
     const char *out_dir = NULL, *prefix = "sim", *bearings = NULL, *compare = NULL;
     const char *montage = NULL, *family = "AcTag24h10";
     float tag_size = 0.130628571f, *btab = NULL;
     double aperture_deg = 60.0;
-    char err[HOSTIO_ERRLEN];
+    char err[HOSTIO_ERRLEN], truth_path[1200];
     FILE *truth = NULL;
     uint8_t *img8 = NULL;
     uint16_t *img16 = NULL;
@@ -186,10 +211,17 @@ int main(int argc, char **argv)
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
 #define NEED() simio_opt_need(PROG, o, v, &i)
         if (simio_opt_common(&cli, argc, argv, &i)) {
+            size_t k;
+            if (!strcmp(o, "--aperture-deg"))
+                aperture_set = 1;
+            for (k = 0; k < sizeof view_opts / sizeof view_opts[0]; k++)
+                if (!strcmp(o, view_opts[k]))
+                    view_opt = o;
         } else if (!strcmp(o, "--tag")) {
             NEED();
             if (ntags >= SIM_MAX_TAGS)
                 die("--tag: at most 16 tags");
+            tag_spec[ntags] = v;
             parse_tag(v, &tags[ntags++]);
         } else if (!strcmp(o, "--random")) {
             NEED();
@@ -203,8 +235,10 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--frames")) {
             NEED();
             frames = (int)inum(o, v, 1, 10000000);
+            frames_set = 1;
         } else if (!strcmp(o, "--seabed")) {
             NEED();
+            seabed_set = 1;
             if (!strcmp(v, "none"))
                 seabed_mode = 0;
             else if (!strcmp(v, "tag"))
@@ -216,12 +250,15 @@ int main(int argc, char **argv)
             }
         } else if (!strcmp(o, "--family")) {
             NEED();
+            random_opt = o;
             family = v;
         } else if (!strcmp(o, "--id")) {
             NEED();
+            random_opt = o;
             fixed_id = (int)inum(o, v, 0, 1000000);
         } else if (!strcmp(o, "--tag-size")) {
             NEED();
+            random_opt = o;
             tag_size = (float)num(o, v, 1e-3, 100.0);
         } else if (!strcmp(o, "--bearings")) {
             NEED();
@@ -295,6 +332,10 @@ int main(int argc, char **argv)
         die(m);
     }
     simio_opt_check_views(PROG, &view);
+    if (aperture_set && bearings)
+        die("--aperture-deg and --bearings exclude each other: give one");
+    if (montage && !compare)
+        die("--montage: needs --compare-real DIR (it shows real and simulated frames)");
     if (bearings) {
         btab = load_bearings(bearings, sonar.cols);
         sonar.geo.bearings = btab;
@@ -325,18 +366,46 @@ int main(int argc, char **argv)
     }
     if ((ntags > 0) + (nrandom > 0) + (nfree > 0) + (nseq > 0) != 1)
         die("give exactly one of --tag, --random, --tag-free, --sequence (see --help)");
+    /* options the chosen scene would ignore */
+    if (frames_set && ntags == 0)
+        die("--frames: applies only with --tag (--random, --tag-free and --sequence take "
+            "their frame count)");
+    if (seabed_set && ntags == 0)
+        die("--seabed: applies only with --tag (the other scenes draw their own seabed)");
+    if (random_opt && (ntags > 0 || nfree > 0)) {
+        char m[200];
+        snprintf(m, sizeof m, "%s: applies only with --random or --sequence (not with "
+                 "--tag or --tag-free)", random_opt);
+        die(m);
+    }
+    if (view_opt && ntags > 0) {
+        char m[200];
+        snprintf(m, sizeof m, "%s: a random view's setting; --tag gives the pose itself",
+                 view_opt);
+        die(m);
+    }
     if (!out_dir)
         die("--out-dir: required");
+    for (i = 0; i < ntags; i++) {
+        /* a tag out of view or turned away is a valid scene, but rarely the
+         * one meant: say so (the truth's "visible" is 0, or its incidence
+         * above 90 degrees) */
+        sim_truth tr;
+        sim_truth_of(&sonar, &tags[i], &tr);
+        if (!tr.visible)
+            fprintf(stderr, PROG ": warning: --tag %s: the tag is not wholly in the sonar's "
+                    "field of view (truth \"visible\": 0)\n", tag_spec[i]);
+        if (tr.incidence >= (float)(90.0 * DEG))
+            fprintf(stderr, PROG ": warning: --tag %s: the tag's face is turned away from the "
+                    "sonar (incidence %.1f degrees)\n", tag_spec[i], (double)tr.incidence / DEG);
+    }
     hostio_opt_mkdirs(PROG, "--out-dir", out_dir); /* parents too */
-    {
-        char path[1200];
-        snprintf(path, sizeof path, "%s/truth.jsonl", out_dir);
-        truth = fopen(path, "w");
-        if (!truth) {
-            char m[1300];
-            snprintf(m, sizeof m, "%s: cannot write: %s", path, strerror(errno));
-            die(m);
-        }
+    snprintf(truth_path, sizeof truth_path, "%s/truth.jsonl", out_dir);
+    truth = fopen(truth_path, "w");
+    if (!truth) {
+        char m[1300];
+        snprintf(m, sizeof m, "%s: cannot write: %s", truth_path, strerror(errno));
+        die(m);
     }
     if (depth == 16)
         img16 = (uint16_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols * 2);
@@ -427,8 +496,12 @@ int main(int argc, char **argv)
                 fprintf(stderr, PROG ": %d/%d frames\n", i + 1, total);
         }
     }
-    if (fclose(truth) != 0)
-        die("truth.jsonl: write error");
+    /* an earlier failed write sets the error flag: fclose alone may miss it */
+    if (ferror(truth) | (fclose(truth) != 0)) {
+        char m[1300];
+        snprintf(m, sizeof m, "%s: write error", truth_path);
+        die(m);
+    }
     free(img8);
     free(img16);
     free(btab);

@@ -10,20 +10,26 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 void setUp(void) {}
 void tearDown(void) {}
 
 static char out_path[512], err_path[512];
 
-static int run(const char *tool, const char *args)
+/* The tool with its standard output to `out` (NULL: out_path), prefixed by
+ * the shell commands `pre` (NULL: none). */
+static int run_with(const char *pre, const char *tool, const char *args, const char *out)
 {
     char cmd[4096];
     snprintf(out_path, sizeof out_path, "%s/eval_out.txt", ACTAG_BINARY_DIR);
     snprintf(err_path, sizeof err_path, "%s/eval_err.txt", ACTAG_BINARY_DIR);
-    snprintf(cmd, sizeof cmd, "\"%s\" %s > \"%s\" 2> \"%s\"", tool, args, out_path, err_path);
+    snprintf(cmd, sizeof cmd, "%s \"%s\" %s > \"%s\" 2> \"%s\"", pre ? pre : "", tool, args,
+             out ? out : out_path, err_path);
     return hostio_run(cmd, NULL);
 }
+
+static int run(const char *tool, const char *args) { return run_with(NULL, tool, args, NULL); }
 
 /* A whole output file as a string (NULL when it cannot be read). */
 static char *slurp(const char *path) { return (char *)hostio_slurp(path, NULL, NULL); }
@@ -204,11 +210,20 @@ static void test_sim_writes_frames_and_truth(void)
     TEST_ASSERT_NOT_NULL(t);
     TEST_ASSERT_EQUAL_INT(0, strncmp(t, "P5\n512 530\n255\n", 15));
     free(t);
-    /* a fixed tag pose */
+    /* a fixed tag pose, wholly in view and facing the sonar: no warning */
     snprintf(args, sizeof args,
-             "--pool --tag AcTag24h10:3:1.0,0,-0.3,0,-20,0 --quiet --out-dir \"%s/sim_out2\"",
+             "--pool --tag AcTag24h10:3:1.2,0.1,-0.04,180,-25,0 --quiet --out-dir \"%s/sim_out2\"",
              ACTAG_BINARY_DIR);
     TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+    snprintf(path, sizeof path, "%s/sim_out2/truth.jsonl", ACTAG_BINARY_DIR);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL(t);
+    TEST_ASSERT_NOT_NULL(strstr(t, "\"visible\": 1"));
+    free(t);
+    t = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(t);
+    TEST_ASSERT_NULL_MESSAGE(strstr(t, "warning"), t);
+    free(t);
 }
 
 static void expect_error(const char *tool, const char *args, const char *what)
@@ -287,6 +302,190 @@ static void test_appearance_options(void)
     TEST_ASSERT_TRUE_MESSAGE(2 * noisy <= plain, "--noise 1 must lower the detections");
 }
 
+/* Output lost to a full disk is an error (exit 2, a message naming the file
+ * or "standard output"), not exit 0: /dev/full stands for the full disk. */
+static void test_eval_write_errors(void)
+{
+    char args[1200], dir[600], link_path[700];
+    struct stat st;
+    char *e;
+    if (stat("/dev/full", &st) != 0)
+        TEST_IGNORE_MESSAGE("no /dev/full");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --threads 1 --quiet --pose-dump /dev/full",
+                    "--pose-dump", "/dev/full");
+    /* AcTag24h4 with no margins: frames 6 and 7 of 10 give wrong IDs, so
+     * failure lines are written */
+    expect_error_of(ACTAG_EVAL_PATH,
+                    "--frames 10 --threads 1 --quiet --family AcTag24h4 --min-margin -100 "
+                    "--search-min-margin -100 --min-bit-margin 0 --many-corrections-margin 0 "
+                    "--failures /dev/full",
+                    "--failures", "/dev/full");
+    TEST_ASSERT_EQUAL_INT(2, run_with(NULL, ACTAG_EVAL_PATH, "--frames 2 --threads 1 --quiet",
+                                      "/dev/full"));
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "standard output"), e);
+    free(e);
+    TEST_ASSERT_EQUAL_INT(2, run_with(NULL, ACTAG_EVAL_PATH,
+                                      "--frames 2 --threads 1 --quiet --json", "/dev/full"));
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "standard output"), e);
+    free(e);
+    /* --svg on a full disk: one of its files leads to /dev/full */
+    snprintf(dir, sizeof dir, "%s/eval_svg_full", ACTAG_BINARY_DIR);
+    mkdir(dir, 0777);
+    snprintf(link_path, sizeof link_path, "%s/range_error.svg", dir);
+    remove(link_path);
+    TEST_ASSERT_EQUAL_INT(0, symlink("/dev/full", link_path));
+    snprintf(args, sizeof args, "--frames 2 --threads 1 --quiet --svg \"%s\"", dir);
+    expect_error_of(ACTAG_EVAL_PATH, args, "--svg", "range_error.svg");
+    remove(link_path);
+    /* actag-sim's truth file on a full disk (6 lines: past the first buffer) */
+    snprintf(dir, sizeof dir, "%s/sim_full", ACTAG_BINARY_DIR);
+    mkdir(dir, 0777);
+    snprintf(link_path, sizeof link_path, "%s/truth.jsonl", dir);
+    remove(link_path);
+    TEST_ASSERT_EQUAL_INT(0, symlink("/dev/full", link_path));
+    snprintf(args, sizeof args, "--pool --random 6 --quiet --out-dir \"%s\"", dir);
+    expect_error(ACTAG_SIM_PATH, args, link_path);
+    remove(link_path);
+    /* a device is never removed as a half-written file */
+    TEST_ASSERT_EQUAL_INT(0, stat("/dev/full", &st));
+    TEST_ASSERT_TRUE(S_ISCHR(st.st_mode));
+}
+
+/* A file cut short by a write error is removed, not left half-written
+ * (ulimit -f 1: writes past the first block fail with EFBIG, SIGXFSZ
+ * ignored so that the tool sees the error). */
+static void test_eval_write_error_removes_file(void)
+{
+    char args[1200], path[512];
+    struct stat st;
+    char *e;
+    snprintf(path, sizeof path, "%s/eval_pose_cut.jsonl", ACTAG_BINARY_DIR);
+    remove(path);
+    snprintf(args, sizeof args,
+             "--pool --frames 20 --seed 3 --threads 1 --quiet --pose-dump \"%s\"", path);
+    TEST_ASSERT_EQUAL_INT(2, run_with("ulimit -f 1; trap '' XFSZ;", ACTAG_EVAL_PATH, args,
+                                      "/dev/null"));
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "--pose-dump"), e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, path), e);
+    free(e);
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(path, &st), "a half-written --pose-dump was left");
+}
+
+/* actag-eval options of runs that are not made are refused, not ignored. */
+static void test_eval_options_without_their_run(void)
+{
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --tag-free-families AcTag24h10",
+                    "--tag-free-families", "--tag-free N");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --free-rows 100", "--free-rows", "--tag-free N");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --sweep-families all", "--sweep-families",
+                    "--tag-free N");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --relax-roi", "--relax-roi", "--sequences N");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --full-every 3", "--full-every",
+                    "--pool-sequence");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --roi-scale 2", "--roi-scale", "--sequences N");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --sequence-length 5", "--sequence-length",
+                    "--sequences N");
+    /* an empty family name is not skipped */
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --tag-free 1 --tag-free-families AcTag24h10,",
+                    "--tag-free-families", "AcTag24h10,");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --tag-free 1 --sweep-families ,AcTag24h10",
+                    "--sweep-families", ",AcTag24h10");
+}
+
+/* actag-sim --tag: pose numbers far outside any sonar's reach are refused
+ * (1e30 m wrote "distance": inf), and a tag out of view or turned away is
+ * written with a warning. */
+static void test_sim_tag_pose_checks(void)
+{
+    char args[1024], path[1024];
+    char *t;
+    expect_error_of(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1e30,0,0,0,0,0 --out-dir sim_refused",
+                    "--tag pose: X", "1e30");
+    expect_error_of(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,-1001,0,0,0 --out-dir sim_refused",
+                    "--tag pose: Z", "-1001");
+    expect_error_of(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0,-360.5,0,0 --out-dir sim_refused",
+                    "--tag pose: ROLL", "-360.5");
+    expect_error_of(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0,0,0,400 --out-dir sim_refused",
+                    "--tag pose: YAW", "400");
+    /* 16.7 degrees below a 12-degree beam, the face turned away */
+    snprintf(args, sizeof args,
+             "--tag AcTag24h10:3:1.0,0,-0.3,0,-20,0 --quiet --out-dir \"%s/sim_out3\"",
+             ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+    t = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(t);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(t, "warning: --tag AcTag24h10:3:1.0,0,-0.3,0,-20,0"), t);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(t, "\"visible\": 0"), t);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(t, "turned away"), t);
+    free(t);
+    snprintf(path, sizeof path, "%s/sim_out3/truth.jsonl", ACTAG_BINARY_DIR);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL(t);
+    TEST_ASSERT_NOT_NULL(strstr(t, "\"visible\": 0"));
+    free(t);
+    /* docs/evaluation.md's example: in view at the paper's settings */
+    snprintf(args, sizeof args,
+             "--tag AcTag24h10:3:1.5,0.2,-0.05,180,-25,0 --quiet --out-dir \"%s/sim_out4\"",
+             ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+    t = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(t);
+    TEST_ASSERT_NULL_MESSAGE(strstr(t, "warning"), t);
+    free(t);
+    snprintf(path, sizeof path, "%s/sim_out4/truth.jsonl", ACTAG_BINARY_DIR);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL(t);
+    TEST_ASSERT_NOT_NULL(strstr(t, "\"visible\": 1"));
+    free(t);
+}
+
+/* actag-sim options the chosen scene would ignore are refused before
+ * anything is written. */
+static void test_sim_options_the_scene_ignores(void)
+{
+    char args[1400], dir[600], bpath[700];
+    struct stat st;
+    FILE *f;
+    int c;
+    snprintf(dir, sizeof dir, "%s/sim_refused", ACTAG_BINARY_DIR);
+    snprintf(bpath, sizeof bpath, "%s/truth.jsonl", dir); /* an earlier run's */
+    remove(bpath);
+    snprintf(bpath, sizeof bpath, "%s/sim_0000.pgm", dir);
+    remove(bpath);
+    rmdir(dir);
+    snprintf(args, sizeof args, "--random 1 --frames 3 --out-dir \"%s\"", dir);
+    expect_error(ACTAG_SIM_PATH, args, "--frames");
+    snprintf(args, sizeof args, "--random 1 --montage \"%s.pgm\" --out-dir \"%s\"", dir, dir);
+    expect_error(ACTAG_SIM_PATH, args, "--montage");
+    snprintf(args, sizeof args, "--random 1 --seabed none --out-dir \"%s\"", dir);
+    expect_error(ACTAG_SIM_PATH, args, "--seabed");
+    snprintf(args, sizeof args, "--tag-free 1 --id 3 --out-dir \"%s\"", dir);
+    expect_error(ACTAG_SIM_PATH, args, "--id");
+    snprintf(args, sizeof args,
+             "--tag AcTag24h10:3:1.5,0.2,-0.05,180,-25,0 --clutter 2 --out-dir \"%s\"", dir);
+    expect_error(ACTAG_SIM_PATH, args, "--clutter");
+    /* a good bearing table (512 columns, 60 degrees), refused beside --aperture-deg */
+    snprintf(bpath, sizeof bpath, "%s/sim_bearings.txt", ACTAG_BINARY_DIR);
+    f = fopen(bpath, "w");
+    TEST_ASSERT_NOT_NULL(f);
+    for (c = 0; c < 512; c++)
+        fprintf(f, "%.6f\n", 0.5235988 - 1.0471976 * c / 511.0);
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+    snprintf(args, sizeof args, "--random 1 --aperture-deg 60 --bearings \"%s\" --out-dir \"%s\"",
+             bpath, dir);
+    expect_error(ACTAG_SIM_PATH, args, "--bearings");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "a refused run created --out-dir");
+    snprintf(args, sizeof args, "--random 1 --quiet --bearings \"%s\" --out-dir \"%s\"", bpath,
+             dir);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -299,5 +498,10 @@ int main(void)
     RUN_TEST(test_sim_writes_frames_and_truth);
     RUN_TEST(test_bad_options);
     RUN_TEST(test_appearance_options);
+    RUN_TEST(test_eval_write_errors);
+    RUN_TEST(test_eval_write_error_removes_file);
+    RUN_TEST(test_eval_options_without_their_run);
+    RUN_TEST(test_sim_tag_pose_checks);
+    RUN_TEST(test_sim_options_the_scene_ignores);
     return UNITY_END();
 }
