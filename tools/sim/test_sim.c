@@ -775,6 +775,37 @@ static void test_regression_coarse_seed9722_frame177(void)
     case_check(&c, 4, 1, "the wrong ID of heldout seed 9722 frame 177");
 }
 
+/* Frames 948 of bench/heldout_sweep.py --mix c24h10's seed 9710 (the 530 x
+ * 512 sonar, --azimuth-ascending --gain 200 --noise 0.0006 --looks 2
+ * --clutter 8 --mirror-fraction 0.5 --bands 1) and 631 of seed 9729
+ * (--range-ascending --azimuth-ascending --gain 200 --noise 0.0006 --looks
+ * 3 --clutter 8 --mirror-fraction 0.5 --bands 2): mirrored tags 5 at 2.76
+ * and 2.83 m read unmirrored, top for bottom (a mirrored-flag and a
+ * corner-order error), by RANSAC quads at hamming 1 and 2, margins 6.2 and
+ * 4.9, above the band in which a quad reading's own other handedness was
+ * tried. It is now tried for every quad reading with a corrected bit, and
+ * it explains the cells better there: nothing is read. */
+static void test_regression_coarse_own_handedness(void)
+{
+    sim_case c;
+    coarse_case_settings(&c, 9710u, 948u, ACTAG_AZIMUTH_ASCENDING);
+    c.a.gain = 200.0f;
+    c.a.noise = 0.0006f;
+    c.a.looks = 2;
+    c.a.band_rate = 1.0f;
+    c.v.clutter = 8;
+    c.v.mirror_fraction = 0.5f;
+    case_check(&c, 5, 1, "the wrong handedness of heldout seed 9710 frame 948");
+    coarse_case_settings(&c, 9729u, 631u, ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING);
+    c.a.gain = 200.0f;
+    c.a.noise = 0.0006f;
+    c.a.looks = 3;
+    c.a.band_rate = 2.0f;
+    c.v.clutter = 8;
+    c.v.mirror_fraction = 0.5f;
+    case_check(&c, 5, 1, "the wrong handedness of heldout seed 9729 frame 631");
+}
+
 /* Frame 435 of bench/heldout_sweep.py's seed 9609 (actag-eval --pool
  * --azimuth-ascending --gain 400 --noise 0.0003 --psf-azimuth 0.002
  * --psf-range 0.004 --looks 2 --clutter 10 --foam 1 --metal-specular 4
@@ -986,5 +1017,6 @@ int main(void)
     RUN_TEST(test_regression_coarse_seed9213_frame149);
     RUN_TEST(test_regression_pool_h8_seed9609_frame435);
     RUN_TEST(test_regression_coarse_seed9722_frame177);
+    RUN_TEST(test_regression_coarse_own_handedness);
     return UNITY_END();
 }
