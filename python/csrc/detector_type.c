@@ -14,8 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_DETECTIONS_LIMIT 4096
-
 typedef struct detobj {
     PyObject_HEAD
     actag_params params;
@@ -72,7 +70,8 @@ static void detector_dealloc(PyObject *o)
     Py_DECREF(tp);
 }
 
-/* Bearing table: an iterable of exactly `cols` finite numbers (radians). */
+/* Bearing table: an iterable of exactly `cols` numbers (radians); an element
+ * that is no real number (a str, a bool) is a TypeError naming bearings[i]. */
 static float *read_bearings(PyObject *obj, int cols)
 {
     PyObject *it = PyObject_GetIter(obj), *item;
@@ -87,10 +86,14 @@ static float *read_bearings(PyObject *obj, int cols)
         return NULL;
     }
     while ((item = PyIter_Next(it)) != NULL) {
-        double d = PyFloat_AsDouble(item);
-        Py_DECREF(item);
-        if (d == -1.0 && PyErr_Occurred())
+        double d = PyBool_Check(item) ? -1.0 : PyFloat_AsDouble(item);
+        if (PyBool_Check(item) || (d == -1.0 && PyErr_Occurred())) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "bearings[%d] must be a real number, got %R", n, item);
+            Py_DECREF(item);
             break;
+        }
+        Py_DECREF(item);
         if (n < cols)
             b[n] = (float)d;
         n++;
@@ -154,8 +157,8 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
                                      &min_range, &max_range, &aperture_o, &bearings_o,
                                      &range_asc, &az_asc, &max_out, &want_stages))
         return NULL;
-    if (max_out < 0 || max_out > MAX_DETECTIONS_LIMIT) {
-        PyErr_Format(PyExc_ValueError, "max_detections must be 0..%d", MAX_DETECTIONS_LIMIT);
+    if (max_out < 0 || max_out > PYACTAG_MAX_DETECTIONS) {
+        PyErr_Format(PyExc_ValueError, "max_detections must be 0..%d", PYACTAG_MAX_DETECTIONS);
         return NULL;
     }
     if ((aperture_o == Py_None) == (bearings_o == Py_None)) {

@@ -5,6 +5,7 @@
  */
 #include "pyactag.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,16 +26,21 @@ const actag_family *pyactag_family_of(PyObject *obj)
 static PyObject *family_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"name", "codes", "bits", "hamming", "mirror", "excluded", NULL};
-    PyObject *name_o, *codes_o = Py_None;
+    PyObject *name_o, *codes_o = Py_None, *excluded_o = Py_None;
     int bits = 0, hamming = 0, mirror = 0;
-    unsigned long excluded = 0;
+    uint32_t excluded = 0;
     allocfunc alloc;
     famobj *self;
     int rc;
 
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "U|Oiiik:Family", kwlist, &name_o, &codes_o,
-                                     &bits, &hamming, &mirror, &excluded))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "U|OiiiO:Family", kwlist, &name_o, &codes_o,
+                                     &bits, &hamming, &mirror, &excluded_o))
         return NULL;
+    if (PyUnicode_FindChar(name_o, 0, 0, PyUnicode_GetLength(name_o), 1) != -1) {
+        if (!PyErr_Occurred()) /* C would cut the name at the NUL */
+            PyErr_Format(PyExc_ValueError, "family name %R contains a NUL character", name_o);
+        return NULL;
+    }
     alloc = (allocfunc)PyType_GetSlot(type, Py_tp_alloc);
     self = (famobj *)alloc(type, 0);
     if (self == NULL)
@@ -46,7 +52,7 @@ static PyObject *family_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
         return NULL;
     }
     if (codes_o == Py_None) {
-        if (bits || hamming || mirror || excluded) {
+        if (bits || hamming || mirror || excluded_o != Py_None) {
             PyErr_SetString(PyExc_TypeError,
                             "bits, hamming, mirror and excluded describe caller-supplied codes; "
                             "a built-in family takes only its name");
@@ -82,7 +88,6 @@ static PyObject *family_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
     } else {
         PyObject *it, *item;
         Py_ssize_t n, i = 0;
-        uint32_t mask;
         n = PyObject_Length(codes_o);
         if (n < 0) {
             Py_DECREF(self);
@@ -104,7 +109,11 @@ static PyObject *family_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
             Py_DECREF(self);
             return NULL;
         }
-        mask = actag_code_mask(bits);
+        if (excluded_o != Py_None &&
+            pyactag_code_arg(excluded_o, "excluded", bits, &excluded) != 0) {
+            Py_DECREF(self);
+            return NULL;
+        }
         self->codes_owned = (uint32_t *)malloc((size_t)n * sizeof(uint32_t));
         if (self->codes_owned == NULL) {
             Py_DECREF(self);
@@ -116,24 +125,20 @@ static PyObject *family_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
             return NULL;
         }
         while ((item = PyIter_Next(it)) != NULL) {
-            PyObject *idx = PyNumber_Index(item);
-            unsigned long long c;
+            char what[40];
+            uint32_t c = 0;
+            int bad;
+            snprintf(what, sizeof what, "codes[%zd]", i);
+            bad = i >= n || pyactag_code_arg(item, what, bits, &c) != 0;
             Py_DECREF(item);
-            if (idx == NULL) {
-                Py_DECREF(it);
-                Py_DECREF(self);
-                return NULL;
-            }
-            c = PyLong_AsUnsignedLongLong(idx);
-            Py_DECREF(idx);
-            if (PyErr_Occurred() || c > mask || i >= n) {
+            if (bad) {
                 Py_DECREF(it);
                 if (!PyErr_Occurred())
-                    PyErr_Format(PyExc_ValueError, "code %zd does not fit in %d bits", i, bits);
+                    PyErr_SetString(PyExc_ValueError, "codes changed length while being read");
                 Py_DECREF(self);
                 return NULL;
             }
-            self->codes_owned[i++] = (uint32_t)c;
+            self->codes_owned[i++] = c;
         }
         Py_DECREF(it);
         if (PyErr_Occurred() || i != n) {
@@ -148,7 +153,7 @@ static PyObject *family_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
         self->fam.ncodes = (int)n;
         self->fam.codes = self->codes_owned;
         self->fam.mirror = mirror;
-        self->fam.excluded = (uint32_t)excluded & mask;
+        self->fam.excluded = excluded;
         rc = actag_family_validate(&self->fam);
         if (rc != ACTAG_OK) {
             Py_DECREF(self);
@@ -261,19 +266,18 @@ static PyObject *family_match(PyObject *o, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"word", "max_corrections", "rotations_only", NULL};
     famobj *self = (famobj *)o;
-    unsigned long long word;
+    PyObject *word_o;
+    uint32_t word;
     int maxc = -1, rot_only = 0, rc;
     actag_match m;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "K|ip:match", kwlist, &word, &maxc, &rot_only))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O|ip:match", kwlist, &word_o, &maxc, &rot_only))
         return NULL;
-    if (word > actag_code_mask(self->fam.bits)) {
-        PyErr_Format(PyExc_ValueError, "word does not fit in %d bits", self->fam.bits);
+    if (pyactag_code_arg(word_o, "word", self->fam.bits, &word) != 0)
         return NULL;
-    }
     if (maxc < 0)
         maxc = actag_family_max_corrections(&self->fam);
-    rc = rot_only ? actag_family_match_rotations(&self->fam, (uint32_t)word, maxc, &m)
-                  : actag_family_match(&self->fam, (uint32_t)word, maxc, &m);
+    rc = rot_only ? actag_family_match_rotations(&self->fam, word, maxc, &m)
+                  : actag_family_match(&self->fam, word, maxc, &m);
     if (rc == ACTAG_ERR_NO_MATCH)
         Py_RETURN_NONE;
     if (rc != ACTAG_OK)

@@ -57,11 +57,14 @@ PyObject *pyactag_raise_detail(const char *context, const actag_error_detail *d)
     size_t i, o = 0;
     PyObject *msg, *type, *value, *tb, *fo;
     /* library names -> Python keywords: tuning.quad.inlier_ratio ->
-     * quad_inlier_ratio, geometry.min_range -> min_range */
+     * quad_inlier_ratio, geometry.min_range -> min_range,
+     * tuning.limits.max_decodes -> max_decodes */
     if (strncmp(f, "tuning.", 7) == 0)
         f += 7;
     else if (strncmp(f, "geometry.", 9) == 0)
         f += 9;
+    if (strncmp(f, "limits.", 7) == 0) /* tuning.limits.max_contours -> max_contours */
+        f += 7;
     for (i = 0; f[i] && o + 1 < sizeof field; i++)
         field[o++] = f[i] == '.' ? '_' : f[i];
     field[o] = '\0';
@@ -111,6 +114,11 @@ char *pyactag_strdup(PyObject *str)
         return NULL;
     s = PyBytes_AsString(b);
     n = strlen(s);
+    if ((Py_ssize_t)n != PyBytes_Size(b)) { /* C would stop at the NUL */
+        PyErr_Format(PyExc_ValueError, "%R contains a NUL character", str);
+        Py_DECREF(b);
+        return NULL;
+    }
     out = (char *)malloc(n + 1);
     if (out == NULL) {
         Py_DECREF(b);
@@ -176,49 +184,79 @@ static PyObject *m_strerror(PyObject *self, PyObject *args)
     return PyUnicode_FromString(actag_strerror(code));
 }
 
-static int code_args(PyObject *args, const char *fmt, unsigned long long *code, int *bits)
+int pyactag_code_arg(PyObject *obj, const char *name, int bits, uint32_t *out)
 {
-    if (!PyArg_ParseTuple(args, fmt, code, bits))
-        return -1;
-    if (*bits < 1 || *bits > 32 || *code > actag_code_mask(*bits)) {
-        PyErr_SetString(PyExc_ValueError, "code must fit in bits (1..32)");
+    PyObject *idx;
+    unsigned long long c;
+    if (PyBool_Check(obj) || PyFloat_Check(obj)) {
+        PyErr_Format(PyExc_TypeError, "%s must be an integer, got %R", name, obj);
         return -1;
     }
+    idx = PyNumber_Index(obj);
+    if (idx == NULL) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "%s must be an integer, got %R", name, obj);
+        return -1;
+    }
+    c = PyLong_AsUnsignedLongLong(idx); /* negative or >= 2**64: OverflowError */
+    if (PyErr_Occurred() || c > actag_code_mask(bits)) {
+        char mask[16]; /* PyErr_Format has no %lx */
+        snprintf(mask, sizeof mask, "0x%lx", (unsigned long)actag_code_mask(bits));
+        PyErr_Clear();
+        PyErr_Format(PyExc_ValueError, "%s must fit in %d bits (0..%s), got %R", name, bits, mask,
+                     idx);
+        Py_DECREF(idx);
+        return -1;
+    }
+    Py_DECREF(idx);
+    *out = (uint32_t)c;
     return 0;
+}
+
+static int code_args(PyObject *args, const char *fmt, uint32_t *code, int *bits)
+{
+    PyObject *code_o;
+    if (!PyArg_ParseTuple(args, fmt, &code_o, bits))
+        return -1;
+    if (*bits < 1 || *bits > 32) {
+        PyErr_Format(PyExc_ValueError, "bits must be 1..32, got %d", *bits);
+        return -1;
+    }
+    return pyactag_code_arg(code_o, "code", *bits, code);
 }
 
 static PyObject *m_code_rot90(PyObject *self, PyObject *args)
 {
-    unsigned long long c;
+    uint32_t c;
     int bits;
     (void)self;
-    if (code_args(args, "Ki:code_rot90", &c, &bits) != 0)
+    if (code_args(args, "Oi:code_rot90", &c, &bits) != 0)
         return NULL;
     if (bits % 4 != 0) {
         PyErr_SetString(PyExc_ValueError, "bits must be a multiple of 4");
         return NULL;
     }
-    return PyLong_FromUnsignedLong(actag_code_rot90((uint32_t)c, bits));
+    return PyLong_FromUnsignedLong(actag_code_rot90(c, bits));
 }
 
 static PyObject *m_code_reverse(PyObject *self, PyObject *args)
 {
-    unsigned long long c;
+    uint32_t c;
     int bits;
     (void)self;
-    if (code_args(args, "Ki:code_reverse", &c, &bits) != 0)
+    if (code_args(args, "Oi:code_reverse", &c, &bits) != 0)
         return NULL;
-    return PyLong_FromUnsignedLong(actag_code_reverse((uint32_t)c, bits));
+    return PyLong_FromUnsignedLong(actag_code_reverse(c, bits));
 }
 
 static PyObject *m_code_mirror(PyObject *self, PyObject *args)
 {
-    unsigned long long c;
+    uint32_t c;
     int bits;
     (void)self;
-    if (code_args(args, "Ki:code_mirror", &c, &bits) != 0)
+    if (code_args(args, "Oi:code_mirror", &c, &bits) != 0)
         return NULL;
-    return PyLong_FromUnsignedLong(actag_code_mirror((uint32_t)c, bits));
+    return PyLong_FromUnsignedLong(actag_code_mirror(c, bits));
 }
 
 static PyObject *m_code_corners(PyObject *self, PyObject *args)
@@ -297,6 +335,7 @@ PyMODINIT_FUNC PyInit__core(void)
         goto fail;
     if (PyModule_AddStringConstant(m, "LIBRARY_VERSION", ACTAG_VERSION_STRING) != 0 ||
         PyModule_AddIntConstant(m, "MAX_DIM", ACTAG_MAX_DIM) != 0 ||
+        PyModule_AddIntConstant(m, "MAX_DETECTIONS", PYACTAG_MAX_DETECTIONS) != 0 ||
         PyModule_AddIntConstant(m, "SEARCH_MAX", ACTAG_SEARCH_MAX) != 0 ||
         PyModule_AddIntConstant(m, "MAX_THRESHOLD_RADIUS", ACTAG_MAX_THRESHOLD_RADIUS) != 0 ||
         PyModule_AddIntConstant(m, "MIRROR_REVERSE", ACTAG_MIRROR_REVERSE) != 0 ||

@@ -23,6 +23,9 @@
 #include "actag/render.h"
 #include "actag/version.h"
 
+/* Most detections one call returns (pyactag._core.MAX_DETECTIONS). */
+#define PYACTAG_MAX_DETECTIONS 4096
+
 /* Module state shared by the types (one interpreter; the types are heap types). */
 extern PyObject *pyactag_error;      /* pyactag.ActagError (a ValueError) */
 extern PyObject *pyactag_family_type; /* pyactag._core.Family */
@@ -43,8 +46,14 @@ PyObject *pyactag_raise_message(int code, PyObject *msg);
 /* Name of an ACTAG_* code ("ACTAG_ERR_PARAM"), or "ACTAG_ERR_UNKNOWN". */
 const char *pyactag_code_name(int code);
 
-/* A Python str -> new UTF-8 copy (malloc); NULL with an exception set. */
+/* A Python str -> new UTF-8 copy (malloc); NULL with an exception set
+ * (ValueError for a str holding a NUL character, which C would cut there). */
 char *pyactag_strdup(PyObject *str);
+
+/* A code word argument (a Python integer, not bool or float) that fits in
+ * `bits` bits: TypeError or ValueError naming `name` and the value, never
+ * reduced modulo 2**64. Returns 0, or -1 with an exception. */
+int pyactag_code_arg(PyObject *obj, const char *name, int bits, uint32_t *out);
 
 /* ---------------------------------------------------------------- params.c */
 

@@ -107,6 +107,12 @@ def test_family_file_argument(tmp_path, example_frame):
     tag = pyactag.AcTag(0.1, 1.5, APERTURE, str(path), 0.130628571)
     assert not tag.family.builtin
     assert [t[0] for t in tag.run_detection(example_frame)] == [0]
+    tag = pyactag.AcTag(0.1, 1.5, APERTURE, path, 0.130628571)  # a pathlib.Path
+    assert tag.family.codes == fam.codes and not tag.family.builtin
+    with pytest.raises(TypeError, match="tag_family must be a family name or a file path"):
+        pyactag.AcTag(0.1, 1.5, APERTURE, 24, 0.130628571)
+    with pytest.raises(TypeError, match="horizontal_aperture must be a real number, got '1'"):
+        pyactag.AcTag(0.1, 1.5, "1", "AcTag24h10", 0.130628571)
 
 
 def test_image_types(example_frame):

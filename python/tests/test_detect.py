@@ -115,6 +115,7 @@ def test_defaults_are_the_c_defaults():
     # actag_params: the user settings, then actag_tuning.
     user = {"tag_size", "max_bit_corrections", "seed", "min_margin", "handedness"}
     assert set(pyactag.tuning_names()) == set(p) - user
+    assert all(u in pyactag.tuning_names.__doc__ for u in user)  # its docstring lists them
 
 
 def test_keyword_parameters_and_tuning_dict(example_frame):

@@ -2,7 +2,7 @@
 import pytest
 
 import pyactag
-from conftest import GEOMETRY
+from conftest import GEOMETRY, REPO, detections_key
 
 np = pytest.importorskip("numpy")
 
@@ -119,3 +119,101 @@ def test_errors_leave_detector_usable(example_frame):
     with pytest.raises(TypeError):
         det.detect(example_frame.astype(np.float32))
     assert len(det.detect(example_frame)) == 1
+
+
+def test_geometry_types_refused(example_frame):
+    # bool("False") is True: a str flag would flip the orientation silently.
+    with pytest.raises(TypeError, match="range_ascending must be a bool, got 'False'"):
+        pyactag.detect(example_frame, range_ascending="False", **GEOMETRY)
+    with pytest.raises(TypeError, match="azimuth_ascending must be a bool, got 1"):
+        pyactag.Detector(azimuth_ascending=1)
+    with pytest.raises(TypeError, match="range_ascending must be a bool, got None"):
+        pyactag.Detector(**GEOMETRY).detect(example_frame, range_ascending=None)
+    with pytest.raises(TypeError, match="min_range must be a real number, got True"):
+        pyactag.Detector(min_range=True, max_range=1.5, aperture_deg=60)
+    with pytest.raises(TypeError, match="aperture_deg must be a real number, got '60'"):
+        pyactag.Detector(min_range=0.1, max_range=1.5, aperture_deg="60")
+    with pytest.raises(TypeError, match="aperture must be a real number, got '1'"):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1.5, aperture="1")
+    with pytest.raises(TypeError, match="max_range must be a real number, got '1.5'"):
+        pyactag.Detector(**GEOMETRY).detect(example_frame, max_range="1.5")
+    bearings = list(np.linspace(0.5, -0.5, 620))
+    for bad, shown in (("a", "'a'"), (True, "True"), (None, "None")):
+        with pytest.raises(TypeError, match=r"bearings\[7\] must be a real number, got " + shown):
+            pyactag.detect(example_frame, min_range=0.1, max_range=1.5,
+                           bearings=bearings[:7] + [bad] + bearings[8:])
+    with pytest.raises(TypeError, match="bearings must be a sequence"):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings="0.5")
+    # numpy numbers and bools are numbers and bools.
+    flipped = np.ascontiguousarray(example_frame[::-1])
+    assert (detections_key(pyactag.detect(flipped, range_ascending=np.bool_(True),
+                                          min_range=np.float32(0.1), max_range=np.int64(1) + 0.5,
+                                          aperture_deg=np.float64(60))) ==
+            detections_key(pyactag.detect(flipped, range_ascending=True, **GEOMETRY)))
+
+
+def test_per_frame_field_of_view_replaces_the_stored_one(example_frame):
+    cols = example_frame.shape[1]
+    bearings = np.linspace(np.radians(30), -np.radians(30), cols)
+    ref = detections_key(pyactag.detect(example_frame, **GEOMETRY))
+    assert ref
+    det = pyactag.Detector(**GEOMETRY)  # aperture_deg stored
+    assert detections_key(det.detect(example_frame, aperture=np.radians(60))) == ref
+    wide = detections_key(pyactag.detect(example_frame, min_range=0.1, max_range=1.5,
+                                         bearings=bearings * 1.2))
+    assert detections_key(det.detect(example_frame, bearings=bearings * 1.2)) == wide
+    byrad = pyactag.Detector(min_range=0.1, max_range=1.5, aperture=1.0)
+    assert detections_key(byrad.detect(example_frame, aperture_deg=60)) == ref
+    bybearings = pyactag.Detector(min_range=0.1, max_range=1.5, bearings=bearings * 1.2)
+    assert detections_key(bybearings.detect(example_frame, aperture_deg=60)) == ref
+    assert detections_key(bybearings.detect(example_frame)) == wide  # the stored form is kept
+    # Two forms in one call (or one constructor) stay an error.
+    with pytest.raises(ValueError, match="not both"):
+        det.detect(example_frame, aperture=1.0, aperture_deg=60)
+    with pytest.raises(ValueError, match="not both"):
+        det.detect(example_frame, aperture=1.0, bearings=bearings)
+    with pytest.raises(ValueError, match="not both"):
+        pyactag.Detector(min_range=0.1, max_range=1.5, aperture=1.0, aperture_deg=60)
+
+
+@pytest.mark.parametrize("name", ["max_contours", "max_contour_points", "max_contour_iterations",
+                                  "max_frame_iterations", "max_decodes"])
+def test_limit_errors_name_the_keyword(name):
+    with pytest.raises(pyactag.ActagError) as ei:
+        pyactag.Detector(**{name: 0})
+    library_error(ei, "ACTAG_ERR_PARAM")
+    assert ei.value.field == name
+    assert "invalid parameters: {} must be an integer >= 1 (got 0)".format(name) in str(ei.value)
+    assert "limits" not in str(ei.value)
+    assert name in pyactag.tuning_names()
+    readme = (REPO / "python" / "README.md").read_text()
+    assert "`{}`".format(name) in readme
+
+
+@pytest.mark.parametrize("value, error", [(None, TypeError), ("x", TypeError), (2.7, TypeError),
+                                          (float("nan"), TypeError), (True, TypeError),
+                                          (2 ** 40, ValueError), (-1, ValueError),
+                                          (4097, ValueError)])
+def test_max_detections_checked(example_frame, value, error):
+    with pytest.raises(error, match="max_detections"):
+        pyactag.detect(example_frame, max_detections=value, **GEOMETRY)
+    with pytest.raises(error, match="max_detections"):
+        pyactag.Detector(max_detections=value)
+    if value is not None:  # run(max_detections=None) is the detector's own
+        with pytest.raises(error, match="max_detections"):
+            pyactag.Detector(**GEOMETRY).run(example_frame, max_detections=value)
+
+
+def test_max_detections_accepts_integers(example_frame):
+    assert len(pyactag.detect(example_frame, max_detections=np.int32(1), **GEOMETRY)) == 1
+    assert pyactag.Detector(max_detections=4096).max_detections == 4096
+    assert pyactag.Detector(**GEOMETRY).run(example_frame, max_detections=0).detections == []
+
+
+def test_nul_in_names_refused():
+    with pytest.raises(ValueError, match=r"family name 'AcTag24h10\\x00junk' contains a NUL"):
+        pyactag.Family("AcTag24h10\x00junk")
+    with pytest.raises(ValueError, match="NUL"):
+        pyactag.Family.from_codes("Mine\x00", [1], bits=24, hamming=4)
+    with pytest.raises(ValueError, match="NUL"):
+        pyactag.Detector(**{"median_radius\x00junk": 3})

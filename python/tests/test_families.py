@@ -115,12 +115,34 @@ def test_layout_and_render():
     assert f.render(0).shape == (70, 70)
     tabs = f.corner_tabs(0)
     assert 0 <= tabs <= 15
-    with pytest.raises(pyactag.ActagError) as ei:
-        f.render(f.ncodes)
-    assert ei.value.name == "ACTAG_ERR_FAMILY"
-    with pytest.raises(pyactag.ActagError) as ei:
-        f.render(0, cell_px=0)
-    assert ei.value.name == "ACTAG_ERR_PARAM"
+
+
+def test_tag_id_and_render_arguments_named():
+    f = pyactag.Family("AcTag24h10")
+    msg = r"tag ID {} is outside 0\.\.6 \(family AcTag24h10 has 7 codes\)"
+    for call, bad in ((lambda: f.render(99), 99), (lambda: f.layout(-1), -1),
+                      (lambda: f.corner_tabs(7), 7), (lambda: f.layout_cell(7, 0, 0), 7),
+                      (lambda: f.render(f.ncodes), 7)):
+        with pytest.raises(ValueError, match=msg.format(bad)) as ei:
+            call()
+        assert not isinstance(ei.value, pyactag.ActagError)
+    for kw, message in ((dict(cell_px=0), r"cell_px must be 1\.\.32767, got 0"),
+                        (dict(margin_px=-1), r"margin_px must be 0\.\.32767, got -1"),
+                        (dict(margin_value=300), r"margin_value must be 0\.\.255, got 300"),
+                        (dict(cell_px=5000), "cell_px 5000 and margin_px 0 make an image of "
+                                             "side 35000 pixels")):
+        with pytest.raises(ValueError, match=message):
+            f.render(0, **kw)
+    with pytest.raises(ValueError, match=r"x must be 0\.\.6, got 7"):
+        f.layout_cell(0, 7, 0)
+    for kw, message in ((dict(cell_px=2.5), "cell_px must be an integer, got 2.5"),
+                        (dict(margin_value="0"), "margin_value must be an integer, got '0'"),
+                        (dict(camera="False"), "camera must be a bool, got 'False'")):
+        with pytest.raises(TypeError, match=message):
+            f.render(0, **kw)
+    with pytest.raises(TypeError, match="tag ID must be an integer, got 1.0"):
+        f.render(1.0)
+    assert f.render(np.int64(1), cell_px=np.uint8(3), camera=np.bool_(True)).shape == (21, 21)
 
 
 def test_corner_tabs_rule():
@@ -160,3 +182,52 @@ def test_matcher_and_code_helpers():
         assert pyactag.code_mirror(pyactag.code_mirror(code, 24), 24) == code
     with pytest.raises(ValueError):
         f.match(1 << 24)
+
+
+def test_codes_do_not_wrap():
+    f = pyactag.Family("AcTag24h10")
+    c = f.codes[3]
+    with pytest.raises(ValueError, match=r"word must fit in 24 bits \(0\.\.0xffffff\), got "
+                                         + str(2 ** 64 + c)):
+        f.match(2 ** 64 + c)
+    with pytest.raises(ValueError, match="word must fit in 24 bits"):
+        f.match(-1)
+    for fn in (pyactag.code_rot90, pyactag.code_reverse, pyactag.code_mirror):
+        with pytest.raises(ValueError, match="code must fit in 24 bits"):
+            fn(2 ** 64 + c, 24)
+        with pytest.raises(ValueError, match="code must fit in 24 bits"):
+            fn(-c, 24)
+        with pytest.raises(TypeError, match="code must be an integer, got True"):
+            fn(True, 24)
+    assert pyactag.code_rot90(np.uint32(c), 24) == pyactag.code_rot90(c, 24)
+    assert pyactag.code_reverse(2 ** 32 - 1, 32) == 2 ** 32 - 1
+    with pytest.raises(TypeError, match="word must be an integer, got 1.0"):
+        f.match(1.0)
+    with pytest.raises(ValueError, match=r"codes\[1\] must fit in 24 bits"):
+        pyactag.Family.from_codes("X", [1, 2 ** 64 + 1], bits=24, hamming=4)
+    with pytest.raises(ValueError, match=r"codes\[0\] must fit in 24 bits"):
+        pyactag.Family.from_codes("X", [-1], bits=24, hamming=4)
+    with pytest.raises(ValueError, match="excluded must fit in 24 bits"):
+        pyactag.Family.from_codes("X", [1], bits=24, hamming=4, excluded=2 ** 64 + 1)
+
+
+def test_family_files_as_path_objects(tmp_path):
+    f = pyactag.Family("AcTag24h10")
+    path = tmp_path / "AcTag24h10.txt"
+    path.write_text("\n".join(hex(c) for c in f.codes) + "\n")
+    assert pyactag.Family.from_file(path).codes == f.codes  # a pathlib.Path
+    assert pyactag.Family.from_file(bytes(path)).codes == f.codes
+    # A name that does not say bits and hamming: the message says how to give them.
+    mine = tmp_path / "mine.txt"
+    mine.write_text(path.read_text())
+    with pytest.raises(ValueError, match="name 'mine' does not say bits and hamming.*pass bits= "
+                                         "and hamming="):
+        pyactag.Family.from_file(mine)
+    m = pyactag.Family.from_file(mine, bits=24, hamming=10)
+    assert (m.name, m.codes, m.bits, m.hamming) == ("mine", f.codes, 24, 10)
+    bad = tmp_path / "AcTag24h10b.txt"
+    bad.write_text("0x123\nzz\n")
+    with pytest.raises(ValueError, match=r"AcTag24h10b.txt:2: 'zz' is not a code"):
+        pyactag.Family.from_file(bad, bits=24, hamming=10)
+    with pytest.raises(ValueError, match="not AcTag"):
+        pyactag.rule_of_name("AcTag24h10\n")

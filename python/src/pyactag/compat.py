@@ -26,8 +26,10 @@ when set to something other than the reference's default (see
 1 (libactag is deterministic), not a random seed.
 """
 
+import os
 import warnings
 
+from ._args import as_real
 from .detection import Detector
 from .families import Family, family_names
 
@@ -39,7 +41,12 @@ except ImportError:  # pragma: no cover
 
 def _family_from_argument(tag_family):
     """A built-in family by name, or a family file (.java from the reference
-    package, .txt from actag-familygen)."""
+    package, .txt from actag-familygen; a str or os.PathLike path)."""
+    if isinstance(tag_family, os.PathLike):
+        tag_family = os.fsdecode(tag_family)
+    if not isinstance(tag_family, str):
+        raise TypeError("tag_family must be a family name or a file path, got {!r}".format(
+            tag_family))
     if tag_family.endswith(".java") or tag_family.endswith(".txt"):
         return Family.from_file(tag_family)
     if tag_family in family_names():
@@ -124,7 +131,7 @@ class AcTag:
     :param horizontal_aperture: horizontal aperture (rad); column 0 is +aperture/2.
     :param tag_family: a built-in family name ("AcTag24h10", see
         ``pyactag.family_names()``) or a .java (reference) / .txt
-        (actag-familygen) family file.
+        (actag-familygen) family file (str or ``os.PathLike``).
     :param tag_size: side of the inner white square (m).
     The other parameters: see the module documentation.
     ``libactag_params`` (keyword only, not in the reference) is a dict of
@@ -161,10 +168,10 @@ class AcTag:
                  libactag_params=None):
         args = dict(locals())
         del args["self"]
-        self.min_range = float(min_range)
-        self.max_range = float(max_range)
-        self.horizontal_aperture = float(horizontal_aperture)
-        self.tag_size = float(tag_size)
+        self.min_range = as_real("min_range", min_range)
+        self.max_range = as_real("max_range", max_range)
+        self.horizontal_aperture = as_real("horizontal_aperture", horizontal_aperture)
+        self.tag_size = as_real("tag_size", tag_size)
         self.family = _family_from_argument(tag_family)
         params = _map_arguments(args, self.family)
         extra = dict(libactag_params or {})

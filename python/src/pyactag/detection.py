@@ -4,6 +4,7 @@ import math
 from collections import namedtuple
 
 from . import _core
+from ._args import as_bool, as_int, as_real
 from ._arrays import array2d
 from .families import Family
 
@@ -43,7 +44,7 @@ def default_params():
 def tuning_names():
     """Names of the stage tuning fields (``actag_params.tuning`` in C), also
     accepted in a ``tuning`` dict; the other parameters are the user settings
-    tag_size, max_bit_corrections, seed and min_margin."""
+    tag_size, max_bit_corrections, seed, min_margin and handedness."""
     return _core.tuning_names()
 
 
@@ -156,29 +157,61 @@ def _split_params(params, tuning):
     return merged
 
 
-def _geometry(base, overrides):
-    g = dict(base)
-    for k, v in overrides.items():
-        if k not in GEOMETRY_KEYS:
-            raise TypeError("unknown sonar geometry keyword '{}'".format(k))
-        g[k] = v
+#: The three forms of the horizontal field of view: one of them is given.
+_APERTURE_FORMS = ("aperture", "aperture_deg", "bearings")
+
+
+def _check_geometry(g):
+    """Type checks of the geometry keywords given (None: not given)."""
+    for k in ("min_range", "max_range", "aperture", "aperture_deg"):
+        if g.get(k) is not None:
+            as_real(k, g[k])
+    for k in ("range_ascending", "azimuth_ascending"):
+        if k in g:
+            as_bool(k, g[k])
+    bearings = g.get("bearings")
+    if isinstance(bearings, (str, bytes)):
+        raise TypeError("bearings must be a sequence of azimuths (radians), got {!r}".format(
+            bearings))
     if g.get("aperture") is not None and g.get("aperture_deg") is not None:
         raise ValueError("give aperture (radians) or aperture_deg, not both")
+    if bearings is not None and (g.get("aperture") is not None or
+                                 g.get("aperture_deg") is not None):
+        raise ValueError("sonar geometry: give aperture or bearings, not both")
+
+
+def _geometry(base, overrides):
+    for k in overrides:
+        if k not in GEOMETRY_KEYS:
+            raise TypeError("unknown sonar geometry keyword '{}'".format(k))
+    _check_geometry(overrides)
+    g = dict(base)
+    # A field of view given for this frame replaces the stored one, whichever
+    # form either is in; two forms in the same call stay an error.
+    if any(overrides.get(k) is not None for k in _APERTURE_FORMS):
+        for k in _APERTURE_FORMS:
+            g[k] = None
+    g.update(overrides)
     aperture = g.get("aperture")
+    if aperture is not None:
+        aperture = as_real("aperture", aperture)
     if g.get("aperture_deg") is not None:
-        aperture = math.radians(float(g["aperture_deg"]))
+        aperture = math.radians(as_real("aperture_deg", g["aperture_deg"]))
     if g.get("min_range") is None or g.get("max_range") is None:
         raise ValueError("sonar geometry: min_range and max_range (metres) are required")
     bearings = g.get("bearings")
-    if bearings is not None and aperture is not None:
-        raise ValueError("sonar geometry: give aperture or bearings, not both")
     if bearings is None and aperture is None:
         raise ValueError("sonar geometry: give aperture (radians), aperture_deg, or bearings "
                          "(one azimuth per column)")
-    return dict(min_range=float(g["min_range"]), max_range=float(g["max_range"]),
+    return dict(min_range=as_real("min_range", g["min_range"]),
+                max_range=as_real("max_range", g["max_range"]),
                 aperture=aperture, bearings=bearings,
-                range_ascending=bool(g.get("range_ascending", False)),
-                azimuth_ascending=bool(g.get("azimuth_ascending", False)))
+                range_ascending=as_bool("range_ascending", g.get("range_ascending", False)),
+                azimuth_ascending=as_bool("azimuth_ascending", g.get("azimuth_ascending", False)))
+
+
+def _max_detections(n):
+    return as_int("max_detections", n, 0, _core.MAX_DETECTIONS)
 
 
 class Detector:
@@ -192,7 +225,10 @@ class Detector:
     orientation: row 0 = max_range, column 0 = +aperture/2; the flags select
     the other ones. ``bearings`` is one azimuth per column (radians,
     strictly monotonic) instead of a uniform aperture. Geometry given here
-    is the default of every ``detect()`` call, which may override it.
+    is the default of every ``detect()`` call, which may override it: an
+    ``aperture``, ``aperture_deg`` or ``bearings`` given to a call replaces
+    the stored field of view, whichever of the three forms it was given in.
+    Numbers must be real numbers and the flags bools (TypeError otherwise).
 
     ``params``: any name of ``default_params()``: the user settings
     ``tag_size`` (metres, side of the inner white square),
@@ -210,11 +246,12 @@ class Detector:
                  tuning=None, min_range=None, max_range=None, aperture=None, aperture_deg=None,
                  bearings=None, range_ascending=False, azimuth_ascending=False, **params):
         self._core = _core.Detector(_family(family), _split_params(params, tuning))
-        self.max_detections = int(max_detections)
+        self.max_detections = _max_detections(max_detections)
         self._geometry = dict(min_range=min_range, max_range=max_range, aperture=aperture,
                               aperture_deg=aperture_deg, bearings=bearings,
                               range_ascending=range_ascending,
                               azimuth_ascending=azimuth_ascending)
+        _check_geometry(self._geometry)
 
     @property
     def family(self):
@@ -239,11 +276,11 @@ class Detector:
         ``geometry``: overrides of the constructor's sonar geometry.
         """
         g = _geometry(self._geometry, geometry)
-        n = self.max_detections if max_detections is None else int(max_detections)
+        n = self.max_detections if max_detections is None else _max_detections(max_detections)
         raw, stats, images = self._core.detect(frame, g["min_range"], g["max_range"],
                                                g["aperture"], g["bearings"],
                                                g["range_ascending"], g["azimuth_ascending"], n,
-                                               bool(stages))
+                                               as_bool("stages", stages))
         dets = [Detection(*t) for t in raw]
         if images is not None:
             rows, cols = images["rows"], images["cols"]
