@@ -5,6 +5,8 @@
 #include "actag/decode.h"
 #include "decode_common.h"
 
+#include <string.h>
+
 typedef struct sampler {
     const uint8_t *img;
     const uint32_t *bitmap; /* instead of img when not NULL */
@@ -208,5 +210,9 @@ static int decode_core(const uint8_t *binary, const uint32_t *bitmap, int rows, 
         decode_set_reading(out, q, &mu, dm);
     }
     out->decision_margin = (float)out->mirror_margin; /* the hard decoder: other handedness */
+    out->bit_margin = 0; /* no runner-up reading (decode.h) */
+    /* no fitted grid: its corners are the reading's (the detector refines
+     * from them; they were left unset once) */
+    memcpy(out->fit_corners, out->corners, sizeof out->fit_corners);
     return ACTAG_OK;
 }

@@ -835,12 +835,13 @@ static int detect_begin(const actag_frame *frame, const actag_sonar_geometry *ge
     int rc;
     if (stats)
         memset(stats, 0, sizeof *stats);
-    if (workspace == NULL || (out == NULL && max_out > 0))
-        return ACTAG_ERR_NULL;
+    /* actag_check's checks first, so that it returns what this would */
     rc = (inplace ? actag_check_inplace : actag_check)(frame, geometry, params, workspace_size,
                                                        max_out, NULL);
     if (rc != ACTAG_OK)
         return rc;
+    if (workspace == NULL || (out == NULL && max_out > 0))
+        return ACTAG_ERR_NULL;
     *flip_mirror = actag_geometry_mirrors(geometry, frame->cols);
     resolve_params(params, *flip_mirror, pe);
     return ACTAG_OK;

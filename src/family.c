@@ -31,11 +31,14 @@ int actag_family_get_at(int i, actag_family *out)
 int actag_family_get(const char *name, actag_family *out)
 {
     int i, n = actag_builtin_family_count();
+    actag_family f;
     if (name == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     for (i = 0; i < n; i++) {
-        if (fill(i, out) == ACTAG_OK && strcmp(out->name, name) == 0)
+        if (fill(i, &f) == ACTAG_OK && strcmp(f.name, name) == 0) {
+            *out = f; /* only on success: an unknown name leaves *out as it was */
             return ACTAG_OK;
+        }
     }
     return ACTAG_ERR_FAMILY;
 }
@@ -203,12 +206,12 @@ static int match_orientations(const actag_family *family, uint32_t observed, int
     undo_views(w, actag_code_reverse(w, family->bits), family->bits, obs);
     scan_codes(family, obs, norient == 4 ? ACTAG_VIEWS_UNMIRRORED : ACTAG_VIEWS_ALL,
                0xffffffffu, NULL, NULL, &best, 1);
+    if (best.h > max_corrections) /* *out untouched, as on every error */
+        return ACTAG_ERR_NO_MATCH;
     out->id = best.id;
     out->rotation = best.view & 3;
     out->mirrored = best.view >> 2;
     out->hamming = best.h;
-    if (best.h > max_corrections)
-        return ACTAG_ERR_NO_MATCH;
     return ACTAG_OK;
 }
 
@@ -249,7 +252,10 @@ int actag_family_match_soft_views(const actag_family *family, const float *conf,
      * bit planes: a soft distance is then five masked popcounts */
     for (i = 0; i < bits; i++) {
         float a = conf[i] < 0.0f ? -conf[i] : conf[i];
-        int qi = a >= 1.0f ? ACTAG_SOFT_SCALE : (int)(a * (float)ACTAG_SOFT_SCALE + 0.5f);
+        /* a NaN confidence weighs 0 (no evidence; its conversion to int
+         * would be undefined), an infinite one 1 */
+        int qi = a >= 1.0f ? ACTAG_SOFT_SCALE
+                 : a >= 0.0f ? (int)(a * (float)ACTAG_SOFT_SCALE + 0.5f) : 0;
         uint32_t bit = (uint32_t)1u << (bits - 1 - i);
         if (conf[i] > 0.0f)
             w |= bit;

@@ -876,6 +876,11 @@ int actag_refine_corners_depth(const void *img, int depth, int rows, int cols, i
                                const actag_refine_params *rp, actag_point out[4],
                                actag_refine_info *info)
 {
+    /* a caller's geometry is checked here (the detector checked its own) */
+    if (geometry != NULL && img != NULL && family != NULL && corners != NULL && rp != NULL &&
+        out != NULL && rows >= 1 && cols >= 1 && rows <= ACTAG_MAX_DIM && cols <= ACTAG_MAX_DIM &&
+        actag_geometry_validate(geometry, rows, cols, NULL) != ACTAG_OK)
+        return ACTAG_ERR_GEOMETRY;
     return actag__refine_corners_max16(img, depth, 0u, rows, cols, stride, geometry, tag_size,
                                        family, id, corners, rp, out, info);
 }

@@ -337,11 +337,11 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     memset(&st, 0, sizeof st);
     if (stats)
         *stats = st;
-    if (t == NULL || (out == NULL && max_out > 0))
+    if (t == NULL)
         return ACTAG_ERR_NULL;
-    cur = t->frame++;
+    cur = t->frame++; /* every frame fed counts, failed ones too (track.h) */
     if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
-        frame->data == NULL)
+        frame->data == NULL || (out == NULL && max_out > 0))
         return ACTAG_ERR_NULL;
     if (max_out < 0)
         return ACTAG_ERR_PARAM;

@@ -263,6 +263,12 @@ static void test_detect(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g, &p, NULL, sizeof g_ws, det, 1, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_detect(&f, &g, &p, g_ws, sizeof g_ws, NULL, 1, NULL));
     TEST_ASSERT_EQUAL_INT(0, actag_detect(&f, &g, &p, g_ws, sizeof g_ws, NULL, 0, NULL));
+    /* actag_check's code first, as actag.h promises (a NULL workspace
+     * with a bad frame once gave ACTAG_ERR_NULL here, ACTAG_ERR_SIZE there) */
+    f.rows = 0;
+    TEST_ASSERT_EQUAL_INT(actag_check(&f, &g, &p, sizeof g_ws, 1, NULL),
+                          actag_detect(&f, &g, &p, NULL, sizeof g_ws, det, 1, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_detect(&f, &g, &p, NULL, sizeof g_ws, NULL, 1, NULL));
 }
 
 static void test_check_inplace(void)
@@ -443,6 +449,9 @@ static void test_tracker_update(void)
                                                                sizeof g_ws, NULL, 2, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tracker_update(&g_trk, &f, &g, &p, NULL, NULL,
                                                                sizeof g_ws, out, 2, NULL));
+    /* every failed frame counts (track.h: frames fed, including failed ones;
+     * a NULL out was once not counted) */
+    TEST_ASSERT_EQUAL_INT(2, (int)g_trk.frame);
     /* roi_params are checked as well */
     roi = p;
     roi.max_bit_corrections = 5;

@@ -6,6 +6,9 @@
 #include "actag/families.h"
 #include "actag/family.h"
 
+#include <math.h>
+#include <string.h>
+
 void setUp(void) {}
 void tearDown(void) {}
 
@@ -387,6 +390,48 @@ static void test_match_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_family_match(&fam, 0, 0, &m));
 }
 
+/* Outputs are written only on success (they were filled on ACTAG_ERR_NO_MATCH
+ * and, for an unknown name, with the last family tried), and NaN
+ * confidences weigh 0 (their conversion to int was undefined). */
+static void test_outputs_untouched_on_errors(void)
+{
+    actag_family fam, f2;
+    actag_match m, m0;
+    actag_soft_match sm;
+    float conf[24];
+    int i, j;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    memset(&f2, 0x5b, sizeof f2);
+    memcpy(&m0, &f2, sizeof m0);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_get("AcTag24h11", &f2));
+    for (i = 0; i < (int)sizeof f2; i++)
+        TEST_ASSERT_EQUAL_HEX8(0x5b, ((const unsigned char *)&f2)[i]);
+    memset(&m, 0x5b, sizeof m);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_family_match(&fam, 0, 0, &m));
+    TEST_ASSERT_EQUAL_MEMORY(&m0, &m, sizeof m);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_family_match_rotations(&fam, 0, 0, &m));
+    TEST_ASSERT_EQUAL_MEMORY(&m0, &m, sizeof m);
+    /* NaN confidences: as 0 (no evidence), so all-NaN reads like all-zero */
+    for (j = 0; j < 2; j++) {
+        actag_soft_match ref;
+        for (i = 0; i < 24; i++)
+            conf[i] = j ? 0.0f : (float)NAN;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft(&fam, conf, 0xffffffu, j ? &ref : &sm));
+        if (j) {
+            TEST_ASSERT_EQUAL_INT(ref.d1, sm.d1);
+            TEST_ASSERT_EQUAL_INT(ref.d2, sm.d2);
+            TEST_ASSERT_EQUAL_INT(ref.best.id, sm.best.id);
+            TEST_ASSERT_EQUAL_INT(ref.best.hamming, sm.best.hamming);
+        }
+    }
+    /* one NaN among clear confidences: the code is still read */
+    for (i = 0; i < 24; i++)
+        conf[i] = ((fam.codes[5] >> (23 - i)) & 1u) ? 0.9f : -0.9f;
+    conf[7] = (float)NAN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft(&fam, conf, 0xffffffu, &sm));
+    TEST_ASSERT_EQUAL_INT(5, sm.best.id);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -398,6 +443,7 @@ int main(void)
     RUN_TEST(test_every_code_every_orientation);
     RUN_TEST(test_random_words_against_brute_force);
     RUN_TEST(test_match_errors);
+    RUN_TEST(test_outputs_untouched_on_errors);
     RUN_TEST(test_soft_match_against_brute_force);
     return UNITY_END();
 }

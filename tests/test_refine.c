@@ -259,6 +259,26 @@ static void test_refusals_and_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS,
                                                                 NULL, 0.0f, &g_fam, 0, s, &bad, f,
                                                                 NULL));
+    {   /* a caller's geometry is validated (it was used unchecked), and
+         * tag_size checked with it; the documented defaults hold */
+        actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, 0u};
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS, &geo, 0.0f,
+                                                   &g_fam, 0, s, &rp, f, NULL));
+        geo.min_range = 2.0f; /* above max_range */
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY,
+                              actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS, &geo, 0.13f,
+                                                   &g_fam, 0, s, &rp, f, NULL));
+        geo.min_range = (float)NAN;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY,
+                              actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS, &geo, 0.13f,
+                                                   &g_fam, 0, s, &rp, f, NULL));
+        TEST_ASSERT_EQUAL_FLOAT(1.0f, rp.max_shift);
+        TEST_ASSERT_EQUAL_FLOAT(2.0f, rp.blur);
+        TEST_ASSERT_EQUAL_FLOAT(0.3f, rp.margin);
+        TEST_ASSERT_EQUAL_INT(8, rp.max_iterations);
+        TEST_ASSERT_EQUAL_INT(6000, rp.max_samples);
+    }
     s[2] = s[0]; /* degenerate quad */
     TEST_ASSERT_TRUE(actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS, NULL, 0.0f, &g_fam, 0,
                                           s, &rp, f, NULL) < 0);

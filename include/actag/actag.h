@@ -85,8 +85,8 @@
  *   actag_check(frame, geometry, params, workspace_size, max_out, &detail)
  *   runs exactly the checks actag_detect() runs before it touches a pixel,
  *   in the same order, and returns the same code (ACTAG_OK when actag_detect
- *   would run; actag_detect's only further checks are workspace and out
- *   being NULL). It also fills the optional actag_error_detail (common.h):
+ *   would run; actag_detect's only further checks, after these, are
+ *   workspace and out being NULL). It also fills the optional actag_error_detail (common.h):
  *       actag_error_detail d;
  *       if (actag_check(&f, &g, &p, sizeof ws, 8, &d) != ACTAG_OK)
  *           printf("%s: %s (got %g)\n", d.field, d.rule, d.value);
@@ -187,7 +187,7 @@ typedef struct actag_tuning {
     float size_tolerance;       /* fraction, [0, 10) (default 0.2): slack of the physical size
                                    filter (extents and area). Raise it when the range or
                                    aperture is known only roughly. */
-    float min_area_fraction;    /* fraction, >= 0 (default 0.175): a contour's area must reach
+    float min_area_fraction;    /* fraction, [0, 1e6) (default 0.175): a contour's area must reach
                                    this * diag_r_px * diag_az_px * (1 - size_tolerance), with
                                    diag_*_px the tag diagonal in pixels at the contour's range.
                                    The white square fills half that box face-on and
@@ -196,7 +196,7 @@ typedef struct actag_tuning {
                                    read none in simulation. Lower it (the reference's 0.1)
                                    only when flatter tags must be tried: each contour it
                                    lets through costs RANSAC and a decode. */
-    float max_area_fraction;    /* fraction, min_area_fraction..1e6 (default 1.0): ... at most
+    float max_area_fraction;    /* fraction, [min_area_fraction, 1e6) (default 1.0): ... at most
                                    this * diag_r_px * diag_az_px * (1 + size_tolerance). Raise
                                    it when blooming makes the white square look larger. */
     actag_quad_params quad;     /* RANSAC quadrilateral (quad.h; here: 100 iterations, sample
@@ -219,10 +219,10 @@ typedef struct actag_tuning {
                                    below 1 are charged to the corrections budget anyway, which
                                    is the gate by default (1.0 refuses any miss, as before
                                    issue 8). */
-    float min_side_fraction;    /* fraction of tag_size, >= 0 (default 0.5): each quad side,
+    float min_side_fraction;    /* fraction of tag_size, [0, 1e6] (default 0.5): each quad side,
                                    measured in metres, must reach this * tag_size. Lower it
                                    (0.4) for tags seen at grazing angles. */
-    float max_side_fraction;    /* fraction of tag_size, >= min_side_fraction (default 1.6):
+    float max_side_fraction;    /* fraction of tag_size, [min_side_fraction, 1e6] (default 1.6):
                                    ... and stay within this * tag_size. Raise it when blooming
                                    is strong (near range, high gain). */
     int search_candidates;      /* structure search: positions decoded per frame, 0..ACTAG_SEARCH_MAX
@@ -241,8 +241,9 @@ typedef struct actag_tuning {
                                    tag / tag_size in the search (tilted tags look shorter in
                                    range). Lower it for tags seen mostly edge-on in range. */
     int refine_corners;         /* 0 or 1 (default 1): each detection's corners refined by
-                                   fitting its decoded template to the filtered frame
-                                   (refine.h); the corners move, nothing else changes. 0
+                                   fitting its decoded template to the caller's frame (the
+                                   filtered one in actag_detect_inplace; refine.h); the
+                                   corners move, nothing else changes. 0
                                    reports the quad's or the fit decoder's corners. */
     actag_limits limits;        /* work limits per call (see actag_limits above). Raise them
                                    only if stats report a limit reached on real frames. */

@@ -76,7 +76,8 @@
  *                  Unmirrored: corners[n] = quad[(n - rotation) mod 4];
  *                  mirrored:   corners[n] = quad[(rotation - n) mod 4]
  *                  (quad here in its clockwise-on-screen order).
- *     mirror_margin  d_other - hamming (>= 0), where d_other is the best
+ *     mirror_margin  d_other - hamming (>= 0; the fit decoder's differs, see
+ *                  actag_decode_quad_fit), where d_other is the best
  *                  distance of the OTHER handedness (mirrored if this reading
  *                  is unmirrored and vice versa); 0 means both fit equally
  *                  well (the unmirrored one was taken). When the other
@@ -139,8 +140,8 @@ typedef struct actag_decode_result {
     int mirror_margin;      /* best other-handedness distance minus hamming */
     float ring_black;       /* fraction of black-ring samples read black */
     float interior_white;   /* fraction of white-square samples read white */
-    /* Filled by actag_decode_quad_fit() only (0 from the other decoders,
-     * fit_corners then undefined): */
+    /* Filled by actag_decode_quad_fit() (0 from the other decoders, whose
+     * fit_corners are their corners): */
     float contrast;         /* white-interior minus black-ring mean, grey levels */
     float flip_weight;      /* sum of the corrected bits' confidences (see fit decoder) */
     float min_confidence;   /* smallest data-bit confidence */
@@ -381,7 +382,11 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      the 39 pool-frame readings kept (the others: hamming 3 or little
  *      evidence).
  *   Results as for actag_decode_quad (corners[] are the given quad's points
- *   in tag order), plus: ring_black / interior_white = fractions of the
+ *   in tag order), except mirror_margin: the other handedness' best hard
+ *   distance over the read bits minus hamming, not capped at m + 1, and
+ *   negative when the likelihood prefers the reading with more flipped
+ *   bits; 33 when ACTAG_FIT_ONLY_UNMIRRORED / _MIRRORED leaves the other
+ *   handedness no hypothesis. Plus: ring_black / interior_white = fractions of the
  *   ring / interior CELLS on the right side of mid (the pipeline requires
  *   1.0), contrast, flip_weight = sum of |c_i| of the corrected bits,
  *   min_confidence = min |c_i|, fit_corners = the fitted grid's white-square

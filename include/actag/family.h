@@ -140,7 +140,8 @@ typedef struct actag_match {
 } actag_match;
 
 /* Fill *out with the built-in family of that exact name ("AcTag24h10").
- * Returns ACTAG_OK, ACTAG_ERR_FAMILY if it is not built in, or ACTAG_ERR_NULL. */
+ * Returns ACTAG_OK, ACTAG_ERR_FAMILY if it is not built in, or ACTAG_ERR_NULL
+ * (*out untouched on an error). */
 int actag_family_get(const char *name, actag_family *out);
 
 /* Number of built-in families (ACTAG_FAMILIES at build time); no error codes. */
@@ -190,7 +191,8 @@ int actag_popcount32(uint32_t v);
  * orientation, unmirrored first), ACTAG_ERR_NO_MATCH if nothing is within
  * max_corrections, ACTAG_ERR_NULL (family or out NULL), ACTAG_ERR_FAMILY (the
  * family fails actag_family_validate) or ACTAG_ERR_CORRECTIONS (max_corrections
- * < 0 or above actag_family_max_corrections). */
+ * < 0 or above actag_family_max_corrections); *out is written only with
+ * ACTAG_OK. */
 int actag_family_match(const actag_family *family, uint32_t observed,
                        int max_corrections, actag_match *out);
 
@@ -227,7 +229,9 @@ typedef struct actag_soft_match {
 
 /* Matches a reading given as per-bit confidences (conf[0 .. bits-1], bit 0
  * the MSB) over the bits set in keep, in the 8 physical views, by soft
- * distance. Returns ACTAG_OK (*out filled), ACTAG_ERR_NULL or ACTAG_ERR_FAMILY. */
+ * distance. A confidence's weight is min(|c_i|, 1); a NaN confidence weighs
+ * 0 and reads as bit 0. Returns ACTAG_OK (*out filled), ACTAG_ERR_NULL or
+ * ACTAG_ERR_FAMILY. */
 int actag_family_match_soft(const actag_family *family, const float *conf, uint32_t keep,
                             actag_soft_match *out);
 

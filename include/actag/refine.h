@@ -18,9 +18,12 @@
  *     actag_refine_params rp;
  *     actag_point fine[4];
  *     actag_refine_params_default(&rp);
- *     if (actag_refine_corners(grey, rows, cols, cols, &fam, det.id, det.corners,
- *                              &rp, fine, NULL) == ACTAG_OK)
+ *     if (actag_refine_corners(grey, rows, cols, cols, &geo, tag_size, &fam, det.id,
+ *                              det.corners, &rp, fine, NULL) == ACTAG_OK)
  *         ... fine[0..3] replace det.corners ...
+ *   (geo: the frame's sonar geometry, or NULL to fit in pixels without the
+ *   range curvature and the side rule below; tag_size: the white square's
+ *   side in metres, used only with a geometry.)
  *
  *   Model. The tag's cell grid (u, v in cells, 0 .. k+1 on the grid lines,
  *   u to the right and v down as printed, decode.h) maps into the image by
@@ -73,8 +76,9 @@
  *
  *   actag_refine_params_default(&rp)
  *       blur 2 px, margin 0.3 cell, max_iterations 8 per pass, max_shift
- *       0.5 cell, max_samples 6000.
- *   actag_refine_corners(img, rows, cols, stride, family, id, corners, rp, out, info)
+ *       1 cell, max_samples 6000.
+ *   actag_refine_corners(img, rows, cols, stride, geometry, tag_size, family, id,
+ *                        corners, rp, out, info)
  *       img: 8-bit grey image (the detector passes the caller's frame as
  *       it came from the sonar, not its median-filtered copy: the 9 x 9
  *       median rounds the white square's corners and thins cells of 3-4
@@ -99,7 +103,10 @@
  *   ACTAG_ERR_PARAM   depth not 8 or 16, id outside the family, bits not 16..32 (multiple of 4),
  *                     a non-finite or degenerate corner quad, rp out of range
  *                     (blur in [0.25, 20], margin in [0, 1], max_iterations
- *                     1..50, max_shift in (0, 2], max_samples 64..100000)
+ *                     1..50, max_shift in (0, 2], max_samples 64..100000),
+ *                     with a geometry: tag_size not in (0, 1000) metres
+ *   ACTAG_ERR_GEOMETRY the geometry (when not NULL) fails
+ *                     actag_geometry_validate() for rows x cols
  *   ACTAG_ERR_NO_MATCH the fit did not give acceptable corners (out = corners)
  */
 #ifndef ACTAG_REFINE_H
@@ -117,7 +124,7 @@ typedef struct actag_refine_params {
     float blur;         /* template edge half-width, pixels (2) */
     float margin;       /* cells left out inside the tag's outline (0.3) */
     int max_iterations; /* Gauss-Newton steps per pass (8) */
-    float max_shift;    /* largest corner move accepted, cells (0.5) */
+    float max_shift;    /* largest corner move accepted, cells (1) */
     int max_samples;    /* most pixels used (6000) */
 } actag_refine_params;
 
