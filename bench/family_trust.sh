@@ -2,10 +2,10 @@
 # Detection rate and every kind of error (wrong IDs, mirrored-flag and
 # corner-order errors) of each built-in family at its default corrections, on
 # simulated frames at the pool recording's settings and at the paper's
-# (actag-eval; docs/evaluation.md "Families other than AcTag24h10").
+# (actag-eval; docs/families.md "On simulated sonar frames: wrong IDs per family").
 # usage: bench/family_trust.sh ACTAG_EVAL [FRAMES [SEED...]]   (500, seed 71)
 # Prints one line per family, settings and seed; exit 1 when any run reports
-# an error of any kind (the table in docs/evaluation.md says which do).
+# an error of any kind (the table in docs/families.md says which do).
 set -eu
 eval_tool=$1
 frames=${2:-500}

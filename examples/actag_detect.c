@@ -76,7 +76,11 @@ static void usage(FILE *f)
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
-            "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n");
+            "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
+            "  --min-structure F      least fraction of ring / interior cells read right, 0..1\n"
+            "                         (default 0: the corrections budget is the gate)\n"
+            "  --min-side-fraction F  least quad side / tag size (default 0.5; 0.4 for grazing\n"
+            "                         views)\n");
     fprintf(f,
             "Output (coordinates: x = column, y = row, pixels, centre of the top-left pixel at\n"
             "(0,0); corners in the tag's order TL TR BR BL as printed):\n"
@@ -114,7 +118,7 @@ static void usage(FILE *f)
             "  --stages DIR           every stage as DIR/NAME-1-input.pgm, -2-median.pgm,\n"
             "                         -3-search.ppm, -4-binary.pgm, -5-contours.ppm, -6-quads.ppm,\n"
             "                         -7-decoded.ppm (DIR is created)\n"
-            "  --help  --version\n");
+            "  --help (-h)  --version\n");
 }
 
 #define die(msg) hostio_die(PROG, (msg))

@@ -554,6 +554,8 @@ int main(int argc, char **argv)
                    "    4 data-ring corners the default sonar decoder ignores) or a list of\n"
                    "    sequence positions (0 = top-left cell), e.g. 0,6,12,18\n"
                    "  --min-complexity F: layout energy >= F * 2(k+1)^2 (default 0.3333)\n"
+                   "  --name NAME: the family's name in the output (default: from the rule, below)\n"
+                   "  --out FILE: write there instead of standard output\n"
                    "  names: AcTag<N>h<H> reverse, all cells (published); AcTag<N>p<H> physical,\n"
                    "    all cells; AcTag<N>m<H> physical, corners excluded (mirror-safe)\n"
                    "  txt: one 0x code per line in ID order; c: libactag table; apriltag: an\n"

@@ -131,6 +131,7 @@ static void usage(FILE *f)
 {
     fputs(
         "usage: actag-render --family NAME (--id N | --ids LIST | --all) [options]\n"
+        "  LIST: IDs and ranges separated by commas, e.g. 0,3,5-9\n"
         "\n"
         "what to make\n"
         "  --format pgm|svg|dxf   output format (default pgm; dxf implies --cut)\n"
@@ -145,7 +146,8 @@ static void usage(FILE *f)
         "  --margin-cells X       border around the tag, in cells (default 1 for\n"
         "                         images, 0 for cut files; cut margins are metal)\n"
         "  --margin-colour metal|foam   colour of an image's border (default metal;\n"
-        "                         images only: cut-file margins are metal)\n"
+        "                         images only: cut-file margins are metal; also spelt\n"
+        "                         --margin-color, and black|white)\n"
         "plates\n"
         "  --screw-holes SPEC     corners (default: centres of the 4 corner cells of\n"
         "                         the black ring), none, or X,Y[,X,Y...] in mm from\n"
