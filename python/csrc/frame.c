@@ -301,10 +301,40 @@ static int from_memoryview(PyObject *obj, pyactag_frame_view *v)
     return fill(v, PyBytes_AsString(bytes), shape[0], shape[1], shape[1], 8 * isize);
 }
 
+/* Objects whose pixels would be read as something they are not: a numpy
+ * masked array (its __array_interface__ does not carry the mask, so the
+ * masked pixels would be read) and a Pillow palette image (its bytes are
+ * palette indices, not grey levels). 1 when refused (TypeError set). */
+static int refused_kind(PyObject *obj)
+{
+    PyObject *mode;
+    if (PyObject_HasAttrString(obj, "mask") && PyObject_HasAttrString(obj, "filled") &&
+        PyObject_HasAttrString(obj, "__array_interface__")) {
+        bad_type("masked arrays are not supported (pass .filled(value) or .data)");
+        return 1;
+    }
+    mode = PyObject_HasAttrString(obj, "getpalette") ? PyObject_GetAttrString(obj, "mode") : NULL;
+    if (mode == NULL) {
+        PyErr_Clear();
+        return 0;
+    }
+    if (PyUnicode_Check(mode) && (PyUnicode_CompareWithASCIIString(mode, "P") == 0 ||
+                                  PyUnicode_CompareWithASCIIString(mode, "PA") == 0)) {
+        Py_DECREF(mode);
+        bad_type("a palette image (mode 'P') holds palette indices, not grey levels: "
+                 "convert it with .convert('L') first");
+        return 1;
+    }
+    Py_DECREF(mode);
+    return 0;
+}
+
 int pyactag_frame_get(PyObject *obj, pyactag_frame_view *v)
 {
     PyObject *ai;
     memset(v, 0, sizeof *v);
+    if (refused_kind(obj))
+        return -1;
     ai = PyObject_GetAttrString(obj, "__array_interface__");
     if (ai != NULL) {
         int rc = from_array_interface(obj, ai, v);

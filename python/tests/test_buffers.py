@@ -130,3 +130,19 @@ def test_array_interface_with_bytes(example_frame, reference):
     short.__array_interface__["data"] = short.__array_interface__["data"][:-1]
     with pytest.raises(TypeError, match="smaller than its shape"):
         pyactag.detect(short, **GEOMETRY)
+
+
+def test_masked_array_refused(example_frame):
+    # the mask is not in __array_interface__: the masked pixels were read
+    m = np.ma.masked_array(np.asarray(example_frame), mask=False)
+    with pytest.raises(TypeError, match="masked arrays are not supported"):
+        pyactag.detect(m, **GEOMETRY)
+
+
+def test_palette_image_refused(example_frame):
+    Image = pytest.importorskip("PIL.Image")
+    img = Image.fromarray(np.asarray(example_frame)).convert("P")
+    with pytest.raises(TypeError, match="palette image"):
+        pyactag.detect(img, **GEOMETRY)
+    # the grey conversion is read as usual
+    assert pyactag.detect(img.convert("L"), **GEOMETRY)
