@@ -58,7 +58,7 @@ static void translate(const char *rule, const hostio_optname *map, int nmap, cha
  * -2147483648 as -2.14748e+09), others as %g. */
 static const char *num_text(double v, char *buf, size_t n)
 {
-    if (v == (double)(long long)v && v > -1e15 && v < 1e15)
+    if (v > -1e15 && v < 1e15 && v == (double)(long long)v) /* range first: the cast */
         snprintf(buf, n, "%lld", (long long)v);
     else
         snprintf(buf, n, "%g", v);

@@ -337,20 +337,23 @@ static void test_parse_choice(void)
 /* PGM header faults quote the text found (they once reported -1 for "abc"
  * and 1000000000 for 4294967296), and bytes after the frame are an error
  * (a second frame in one file was dropped silently). */
+/* a string literal's bytes, without its terminating NUL */
+#define PUT_TEXT(name, lit) put((name), (lit), sizeof(lit) - 1)
+
 static void test_pgm_header_messages(void)
 {
     static const uint8_t two[] = "P5\n2 1\n255\n\x01\x02P5\n2 1\n255\n\x03\x04";
-    put("h1.pgm", "P5\nabc 4\n255\n", 14);
+    PUT_TEXT("h1.pgm", "P5\nabc 4\n255\n");
     expect_error("h1.pgm", NULL, "PGM width 'abc' is not a whole number in 1..32767");
-    put("h2.pgm", "P5\n-620 4\n255\n", 15);
+    PUT_TEXT("h2.pgm", "P5\n-620 4\n255\n");
     expect_error("h2.pgm", NULL, "PGM width '-620' is not a whole number in 1..32767");
-    put("h3.pgm", "P5\n4294967296 2\n255\n", 21);
+    PUT_TEXT("h3.pgm", "P5\n4294967296 2\n255\n");
     expect_error("h3.pgm", NULL, "PGM width '4294967296' is not a whole number in 1..32767");
-    put("h4.pgm", "P5\n512 ", 7);
+    PUT_TEXT("h4.pgm", "P5\n512 ");
     expect_error("h4.pgm", NULL, "PGM height missing (the header ends)");
-    put("h5.pgm", "P5\n2 1\n70000\n", 15);
+    PUT_TEXT("h5.pgm", "P5\n2 1\n70000\n");
     expect_error("h5.pgm", NULL, "PGM maxval '70000' is not a whole number in 1..65535");
-    put("h6.pgm", "P5\n2 1#c\n255\n\x01\x02", 15); /* a comment right after a number */
+    PUT_TEXT("h6.pgm", "P5\n2 1#c\n255\n\x01\x02"); /* a comment right after a number */
     {
         char err[HOSTIO_ERRLEN];
         hostio_image im;
