@@ -28,8 +28,10 @@ static int fail(char *err, const char *fmt, ...)
 void hostio_remove_partial(const char *path)
 {
     struct stat st;
-    /* only a regular file: never a device such as /dev/full or a FIFO */
-    if (path && strcmp(path, "-") != 0 && stat(path, &st) == 0 && S_ISREG(st.st_mode))
+    /* only a regular file the path itself names (lstat: a symbolic link such
+     * as /dev/stdout is neither followed nor removed), never a device such as
+     * /dev/full or a FIFO */
+    if (path && strcmp(path, "-") != 0 && lstat(path, &st) == 0 && S_ISREG(st.st_mode))
         remove(path);
 }
 

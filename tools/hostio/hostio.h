@@ -19,7 +19,8 @@
  *     hostio_write_file(path, data, n, err)  the writers remove what they
  *                                           wrote when writing fails
  *     hostio_remove_partial(path)          removes a regular file a failed write
- *                                           left (devices, FIFOs and "-" are kept)
+ *                                           left (links, devices, FIFOs and "-"
+ *                                           are kept)
  *     hostio_mkdirs(path, err)             creates a folder and its parents
  *                                           (like mkdir -p; fine when it exists)
  *   PGM (binary P5, 8 or 16 bit; 16-bit samples big-endian as the format says)
@@ -127,8 +128,9 @@ typedef struct hostio_raw_spec {
 /* Whole file ("-": standard input), malloc'd with a terminating NUL (not counted in *len). */
 uint8_t *hostio_slurp(const char *path, size_t *len, char *err);
 int hostio_write_file(const char *path, const void *data, size_t n, char *err);
-/* After a failed write: removes path if it is a regular file (not "-", a
- * device or a FIFO), so that no half-written output is left behind. */
+/* After a failed write: removes path if it is itself a regular file (not
+ * "-", a symbolic link, a device or a FIFO), so that no half-written output
+ * is left behind. */
 void hostio_remove_partial(const char *path);
 int hostio_mkdirs(const char *path, char *err);
 

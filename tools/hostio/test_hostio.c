@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 void setUp(void) {}
 void tearDown(void) {}
@@ -400,6 +401,19 @@ static void test_failed_write_leaves_nothing(void)
     /* the same writes within the limit succeed */
     TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_write(DIR "/big.pgm", &img, err), err);
     TEST_ASSERT_EQUAL_INT(0, stat(DIR "/big.pgm", &st));
+    {   /* a symbolic link is neither followed nor removed */
+        char lnk[600];
+        snprintf(lnk, sizeof lnk, "%s", DIR "/link.pgm");
+        remove(lnk);
+        if (symlink("big.pgm", lnk) == 0) {
+            hostio_remove_partial(lnk);
+            TEST_ASSERT_EQUAL_INT(0, lstat(lnk, &st));
+            TEST_ASSERT_EQUAL_INT(0, stat(DIR "/big.pgm", &st));
+            remove(lnk);
+        }
+        hostio_remove_partial(DIR "/big.pgm"); /* the file itself: removed */
+        TEST_ASSERT_NOT_EQUAL(0, stat(DIR "/big.pgm", &st));
+    }
     if (stat("/dev/full", &st) == 0) { /* a device: the error, and the device stays */
         TEST_ASSERT_EQUAL_INT(-1, hostio_write_file("/dev/full", px, sizeof px, err));
         TEST_ASSERT_EQUAL_INT(0, stat("/dev/full", &st));

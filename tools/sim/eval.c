@@ -126,10 +126,9 @@ static void usage(FILE *f)
 
 /* Closes an output file; a write error (a full disk) exits with status 2
  * naming the option and file, and removes a regular file rather than leave
- * it half-written (never a device such as /dev/full). */
+ * it half-written (hostio_remove_partial: never a link or a device). */
 static void close_output(FILE *f, const char *opt, const char *path)
 {
-    struct stat st;
     char m[1300];
     int bad, e;
     errno = 0;
@@ -141,8 +140,7 @@ static void close_output(FILE *f, const char *opt, const char *path)
     }
     if (!bad)
         return;
-    if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
-        remove(path);
+    hostio_remove_partial(path);
     snprintf(m, sizeof m, "%s: cannot write '%s': %s", opt, path,
              e ? strerror(e) : "write error");
     die(m);
