@@ -25,13 +25,21 @@ static int fail(char *err, const char *fmt, ...)
     return -1;
 }
 
+/* lstat where there is one; bare-metal newlib (the emulated test builds)
+ * has no symbolic links and no lstat. */
+#if defined(__NEWLIB__) && !defined(__CYGWIN__)
+#define HOSTIO_LSTAT stat
+#else
+#define HOSTIO_LSTAT lstat
+#endif
+
 void hostio_remove_partial(const char *path)
 {
     struct stat st;
     /* only a regular file the path itself names (lstat: a symbolic link such
      * as /dev/stdout is neither followed nor removed), never a device such as
      * /dev/full or a FIFO */
-    if (path && strcmp(path, "-") != 0 && lstat(path, &st) == 0 && S_ISREG(st.st_mode))
+    if (path && strcmp(path, "-") != 0 && HOSTIO_LSTAT(path, &st) == 0 && S_ISREG(st.st_mode))
         remove(path);
 }
 
