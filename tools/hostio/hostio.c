@@ -54,6 +54,7 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
     FILE *f = is_stdin ? stdin : fopen(path, "rb");
     uint8_t *buf = NULL;
     size_t cap = 0, n = 0;
+    const char *why = NULL; /* set when the file is not read whole */
     path = hostio_frame_name(path);
     if (!f) {
         fail(err, "%s: %s", path, strerror(errno));
@@ -65,20 +66,13 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
             size_t ncap = cap ? cap * 2 : 65536 * 2;
             uint8_t *nb;
             if (ncap > (size_t)HOSTIO_MAX_FILE + 65536 + 1) { /* /dev/zero, a stray pipe */
-                free(buf);
-                if (!is_stdin)
-                    fclose(f);
-                fail(err, "%s: larger than %lu bytes: not a file the tools read", path,
-                     (unsigned long)HOSTIO_MAX_FILE);
-                return NULL;
+                why = "too large";
+                break;
             }
             nb = (uint8_t *)realloc(buf, ncap);
             if (!nb) {
-                free(buf);
-                if (!is_stdin)
-                    fclose(f);
-                fail(err, "%s: out of memory", path);
-                return NULL;
+                why = "out of memory";
+                break;
             }
             buf = nb;
             cap = ncap;
@@ -88,23 +82,23 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
         if (got == 0)
             break;
         if (n > (size_t)HOSTIO_MAX_FILE) {
-            free(buf);
-            if (!is_stdin)
-                fclose(f);
-            fail(err, "%s: larger than %lu bytes: not a file the tools read", path,
-                 (unsigned long)HOSTIO_MAX_FILE);
-            return NULL;
+            why = "too large";
+            break;
         }
     }
-    if (ferror(f)) {
-        free(buf);
-        if (!is_stdin)
-            fclose(f);
-        fail(err, "%s: read error", path);
-        return NULL;
-    }
+    if (!why && ferror(f))
+        why = "read error";
     if (!is_stdin)
         fclose(f);
+    if (why) { /* one clean-up for every way the file is not read whole */
+        free(buf);
+        if (strcmp(why, "too large") == 0)
+            fail(err, "%s: larger than %lu bytes: not a file the tools read", path,
+                 (unsigned long)HOSTIO_MAX_FILE);
+        else
+            fail(err, "%s: %s", path, why);
+        return NULL;
+    }
     buf[n] = 0;
     if (len)
         *len = n;
