@@ -1,15 +1,9 @@
-# Toolchain file: Cortex-M7 with single-precision FPU (e.g. STM32H7), bare metal.
+# Toolchain file: the library alone for a Cortex-M7 with single-precision FPU
+# (FPv5-SP-D16, hard float; e.g. STM32F7), bare metal, no emulator: what
+# .ci/cross and tools/armcheck build. For the tests under QEMU use
+# cmake/toolchains/cortex-m4.cmake or cortex-m7.cmake.
 # cmake -S . -B build-arm -DCMAKE_TOOLCHAIN_FILE=cmake/arm-none-eabi.cmake \
 #       -DACTAG_FAMILYGEN=$PWD/build/actag-familygen     (or -DACTAG_GENERATE_FAMILIES=OFF)
-set(CMAKE_SYSTEM_NAME Generic)
-set(CMAKE_SYSTEM_PROCESSOR arm)
-set(CMAKE_C_COMPILER arm-none-eabi-gcc)
-set(CMAKE_AR arm-none-eabi-ar)
-set(CMAKE_NM arm-none-eabi-nm)
-set(CMAKE_RANLIB arm-none-eabi-ranlib)
-set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
-set(ACTAG_CPU_FLAGS "-mcpu=cortex-m7 -mthumb -mfloat-abi=hard -mfpu=fpv5-sp-d16" CACHE STRING "CPU flags")
-set(CMAKE_C_FLAGS_INIT "${ACTAG_CPU_FLAGS} -ffunction-sections -fdata-sections")
-set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
-set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
-set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
+set(ACTAG_CPU_FLAGS_DEFAULT "-mcpu=cortex-m7 -mthumb -mfloat-abi=hard -mfpu=fpv5-sp-d16")
+set(ACTAG_QEMU_MACHINE_DEFAULT "") # no QEMU board: CTest runs nothing here
+include(${CMAKE_CURRENT_LIST_DIR}/toolchains/arm-none-eabi-gcc.cmake)

@@ -1,4 +1,4 @@
-# Shared part of cortex-m4.cmake and cortex-m7.cmake (Debian's
+# Shared part of cortex-m4.cmake, cortex-m7.cmake and ../arm-none-eabi.cmake (Debian's
 # gcc-arm-none-eabi + libnewlib-arm-none-eabi, bare metal). Expects
 # ACTAG_CPU_FLAGS_DEFAULT and ACTAG_QEMU_MACHINE_DEFAULT from the includer.
 set(CMAKE_SYSTEM_NAME Generic)
@@ -19,10 +19,10 @@ set(CMAKE_EXE_LINKER_FLAGS_INIT "-Wl,--gc-sections")
 # QEMU machine of the board support (boards/qemu-mps2) the tests and
 # examples link with; CTest runs them under qemu-system-arm with
 # semihosting (console on QEMU's stdout, host files, exit status) when it
-# is installed.
+# is installed and a machine is named (arm-none-eabi.cmake names none).
 set(ACTAG_QEMU_MACHINE "${ACTAG_QEMU_MACHINE_DEFAULT}" CACHE STRING "QEMU machine (mps2-an386, mps2-an500)")
 find_program(ACTAG_QEMU_SYSTEM_ARM qemu-system-arm)
-if(ACTAG_QEMU_SYSTEM_ARM)
+if(ACTAG_QEMU_SYSTEM_ARM AND ACTAG_QEMU_MACHINE)
   set(CMAKE_CROSSCOMPILING_EMULATOR
       ${ACTAG_QEMU_SYSTEM_ARM} -M ${ACTAG_QEMU_MACHINE} -nographic -monitor none -serial null
       -chardev stdio,id=semihost -semihosting-config enable=on,target=native,chardev=semihost

@@ -5,7 +5,8 @@
 #                          ARM_BUILD/libactag.a, for qemu-system-arm
 # usage: tools/armcheck/build.sh HOST_BUILD ARM_BUILD OUT_DIR
 # The CPU flags come from ARM_BUILD's CMake cache (ACTAG_CPU_FLAGS, set by
-# cmake/arm-none-eabi.cmake) so the firmware matches the library's ABI.
+# cmake/arm-none-eabi.cmake or cmake/toolchains/cortex-m*.cmake) so the firmware
+# matches the library's ABI.
 set -euo pipefail
 if [ $# -ne 3 ]; then
   echo "usage: $0 HOST_BUILD ARM_BUILD OUT_DIR" >&2
