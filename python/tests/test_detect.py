@@ -221,3 +221,23 @@ def test_without_numpy(tmp_path):
     frame = pyactag.read_pgm(EXAMPLE)
     expected = [x.to_dict() for x in pyactag.detect(frame, **GEOMETRY)]
     assert json.loads(out) == json.loads(json.dumps(expected))
+
+
+def test_pickle_detector_and_detections(example_frame):
+    import pickle
+    det = pyactag.Detector(median_radius=3, seed=9, max_detections=5, **GEOMETRY)
+    copy = pickle.loads(pickle.dumps(det))
+    assert copy is not det and copy.params == det.params and copy.geometry == det.geometry
+    assert copy.max_detections == 5 and copy.family.name == det.family.name
+    a = det.detect(example_frame)
+    assert a, "the example frame shows a tag"
+    assert detections_key(copy.detect(example_frame)) == detections_key(a)
+    back = pickle.loads(pickle.dumps(a))
+    assert [d.to_dict() for d in back] == [d.to_dict() for d in a]
+    # a Detector with a caller's family keeps its codes
+    fam = pyactag.Family.from_codes("MyTags", pyactag.Family("AcTag24h10").codes, bits=24,
+                                    hamming=10)
+    orig = pyactag.Detector(fam, **GEOMETRY)
+    det2 = pickle.loads(pickle.dumps(orig))
+    assert not det2.family.builtin and det2.family.codes == fam.codes
+    assert detections_key(det2.detect(example_frame)) == detections_key(orig.detect(example_frame))

@@ -231,3 +231,16 @@ def test_family_files_as_path_objects(tmp_path):
         pyactag.Family.from_file(bad, bits=24, hamming=10)
     with pytest.raises(ValueError, match="not AcTag"):
         pyactag.rule_of_name("AcTag24h10\n")
+
+
+def test_pickle_families():
+    import pickle
+    b = pyactag.Family("AcTag28m4")
+    c = pickle.loads(pickle.dumps(b))
+    assert c.builtin and c.name == b.name and c.codes == b.codes
+    custom = pyactag.Family.from_codes("MyTags", b.codes[:50], bits=28, hamming=4, mirror=1,
+                                       excluded=pyactag.Family("AcTag28m4").excluded)
+    d = pickle.loads(pickle.dumps(custom))
+    assert (not d.builtin and d.name == "MyTags" and d.codes == custom.codes and
+            (d.bits, d.hamming, d.mirror, d.excluded) ==
+            (custom.bits, custom.hamming, custom.mirror, custom.excluded))

@@ -291,9 +291,21 @@ class Detector:
         """Detect tags in ``frame``; returns a list of ``Detection`` (see ``run``)."""
         return self.run(frame, **geometry).detections
 
+    def __reduce__(self):
+        """Pickling (e.g. to worker processes): the family, every parameter,
+        max_detections and the default geometry; the copy has its own
+        workspace."""
+        return (_detector_of_state, (self.family, self.params, self.max_detections,
+                                     dict(self._geometry)))
+
     def __repr__(self):
         return "Detector(family={!r}, tag_size={:g})".format(self.family.name,
                                                               self.params["tag_size"])
+
+
+def _detector_of_state(family, params, max_detections, geometry):
+    """Detector.__reduce__'s inverse."""
+    return Detector(family, max_detections=max_detections, **geometry, **params)
 
 
 def detect(frame, *, family=DEFAULT_FAMILY, max_detections=DEFAULT_MAX_DETECTIONS,

@@ -40,6 +40,14 @@ class Family(_core.Family):
     mirror, excluded, builtin, max_corrections.
     """
 
+    def __reduce__(self):
+        """Pickling (multiprocessing, caches): a built-in family by its name,
+        any other by its codes and rule."""
+        if self.builtin:
+            return (type(self), (self.name,))
+        return (type(self), (self.name, list(self.codes), self.bits, self.hamming, self.mirror,
+                             self.excluded))
+
     @classmethod
     def from_codes(cls, name, codes, bits=None, hamming=None, mirror=None, excluded=None):
         """A family of caller-supplied codes (e.g. from ``actag-familygen``).
