@@ -10,7 +10,11 @@
 #define P_NPAR 6
 #define P_NRES 12 /* 8 corner residuals, the elevation prior, the plane's offset and tilt */
 #define P_PASSES 3
-#define P_STARTS 5 /* start elevations across the band */
+#define P_STARTS 5      /* start elevations across the band, at least */
+#define P_STARTS_MAX 17 /* and at most: a wide band gets one start per P_START_STEP */
+#define P_START_STEP 0.0698f /* rad (4 degrees): the elevation cost's local minima lie a
+                              * few degrees apart; a 150 degree band with 5 starts (33
+                              * degrees apart) settled in one 3.4 degrees off (test_pose) */
 
 /* ------------------------------------------------------------ trigonometry
  * Our own, from sums, products and sqrtf only: libm's sinf/atan2f differ in
@@ -772,25 +776,38 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
     if (!(hi > lo))
         out->flags |= ACTAG_POSE_ELEVATION; /* the corners' own tilt: taller than the fan */
     {
-        float best = 3.0e38f, f0[P_NRES], es[P_STARTS + 2];
+        float best = 3.0e38f, f0[P_NRES], es[P_STARTS_MAX + 2];
+        float width = 2.0f * 1.73205081f * m.sp; /* the band's, from its sd */
         p_state x0 = x;
-        int k, ns = 0;
-        for (k = 0; k < P_STARTS; k++)
-            es[ns++] = m.mu + m.sp * 1.73205081f * ((float)k / (float)(P_STARTS - 1) * 2.0f - 1.0f);
+        int k, ns = 0, nstart = P_STARTS;
+        while (nstart < P_STARTS_MAX && width > (float)(nstart - 1) * P_START_STEP)
+            nstart++;
+        for (k = 0; k < nstart; k++)
+            es[ns++] = m.mu + m.sp * 1.73205081f * ((float)k / (float)(nstart - 1) * 2.0f - 1.0f);
         /* with a plane: also from the elevations where the centre's ray meets it */
         for (k = 0; k < 2 && m.wd > 0.0f; k++)
             if (p_plane_elevation(&m, k, &es[ns]))
                 ns++;
+        int front0 = 0;
         for (k = 0; k < ns; k++) {
             p_state y;
             float cy;
+            int front;
             p_start(&m, es[k], &y, &winding);
             it = p_lm(&m, &y, p->max_iterations);
             total += it > 0 ? it : -it;
             cy = p_eval(&m, &y, f0, NULL);
-            if (cy < best) {
+            /* Every pose has a twin reflected in the horizontal plane whose
+             * corners have the same ranges and azimuths (exactly: the twin
+             * is a proper rotation of the same printed face); the twin shows
+             * the sonar the tag's back. A fit whose face (z into the tag)
+             * looks away from the sonar is taken only if no start gave one
+             * that faces it (test_exact_corners_recover_the_pose). */
+            front = y.R[2] * y.t[0] + y.R[5] * y.t[1] + y.R[8] * y.t[2] > 0.0f;
+            if ((front && !front0) || (front == front0 && cy < best)) {
                 best = cy;
                 x0 = y;
+                front0 = front;
             }
         }
         x = x0;

@@ -75,6 +75,22 @@ static void make_pose(double d, double az, double el, double inc, double phi, do
     }
 }
 
+/* make_pose from uniform draws, one PRNG call per statement (their order in
+ * an argument list would be the compiler's): range d0..d1 m, azimuth
+ * +-0.45 rad, elevation el0..el1 and incidence inc0..inc1 (radians), the
+ * two turns 0..turn. */
+static void draw_pose(double d0, double d1, double el0, double el1, double inc0, double inc1,
+                      double turn, tpose *P)
+{
+    double d = urange(d0, d1);
+    double az = urange(-0.45, 0.45);
+    double el = urange(el0, el1);
+    double inc = urange(inc0, inc1);
+    double phi = urange(0.0, turn);
+    double psi = urange(0.0, turn);
+    make_pose(d, az, el, inc, phi, psi, P);
+}
+
 /* Exact corners (tag order) and the mirrored flag from the image winding
  * (as the simulator's truth: negative area in (azimuth, range) = mirrored). */
 static int corners_of(const tpose *P, double s, float r[4], float az[4])
@@ -117,9 +133,16 @@ static double rot_err(const tpose *P, const actag_pose *E)
  * fix the elevation (far tags: its sign is nearly free, see pose.h). */
 static void random_view(tpose *P, double dmin, double dmax)
 {
-    double el = urange(1.0, 5.0) * DEG * (tu_rand() & 1u ? 1.0 : -1.0);
-    make_pose(urange(dmin, dmax), urange(-0.45, 0.45), el, urange(30.0, 75.0) * DEG,
-              urange(0.0, 2.0 * 3.14159265358979), urange(0.0, 2.0 * 3.14159265358979), P);
+    double el = urange(1.0, 5.0) * DEG;
+    double d, az, inc, phi, psi;
+    if (tu_rand() & 1u)
+        el = -el;
+    d = urange(dmin, dmax);
+    az = urange(-0.45, 0.45);
+    inc = urange(30.0, 75.0) * DEG;
+    phi = urange(0.0, 2.0 * 3.14159265358979);
+    psi = urange(0.0, 2.0 * 3.14159265358979);
+    make_pose(d, az, el, inc, phi, psi, P);
 }
 
 static void test_exact_corners_recover_the_pose(void)
@@ -233,8 +256,7 @@ static void test_known_plane_fixes_the_elevation(void)
         double ep, er;
         int mir;
         do {
-            make_pose(urange(2.0, 4.0), urange(-0.45, 0.45), urange(-3.5, 3.5) * DEG,
-                      urange(30.0, 75.0) * DEG, urange(0.0, 6.2831853), urange(0.0, 6.2831853), &P);
+            draw_pose(2.0, 4.0, -3.5 * DEG, 3.5 * DEG, 30.0 * DEG, 75.0 * DEG, 6.2831853, &P);
         } while (!outline_in_fan(&P, S * 7.0 / 3.0, 6.0 * DEG) || fabs(normal_across(&P)) < 0.2);
         mir = corners_of(&P, S, r, az);
         pq = pp;
@@ -350,10 +372,10 @@ static void test_exact_corners_with_the_aperture_prior(void)
         tpose P;
         actag_pose E;
         float r[4], az[4];
-        double d = urange(1.0, 5.0);
+        double d;
         int mir;
-        make_pose(d, urange(-0.45, 0.45), urange(-1.5, 1.5) * DEG, urange(30.0, 75.0) * DEG,
-                  urange(0.0, 6.283), urange(0.0, 6.283), &P);
+        draw_pose(1.0, 5.0, -1.5 * DEG, 1.5 * DEG, 30.0 * DEG, 75.0 * DEG, 6.283, &P);
+        d = sqrt(P.t[0] * P.t[0] + P.t[1] * P.t[1] + P.t[2] * P.t[2]); /* its range */
         if (!outline_in_fan(&P, 7.0 / 3.0 * S, 6.0 * DEG))
             continue; /* the sonar would not show the whole tag */
         n++;
@@ -611,8 +633,7 @@ static void test_covariance_is_consistent(void)
         float r[4], az[4], w[3], Rt[9];
         double e[6];
         int i, j, mir;
-        make_pose(urange(0.7, 3.0), urange(-0.45, 0.45), urange(-2.0, 2.0) * DEG,
-                  urange(30.0, 60.0) * DEG, urange(0.0, 6.283), urange(0.0, 6.283), &P);
+        draw_pose(0.7, 3.0, -2.0 * DEG, 2.0 * DEG, 30.0 * DEG, 60.0 * DEG, 6.283, &P);
         mir = corners_of(&P, S, r, az);
         for (i = 0; i < 4; i++) {
             double g1 = gauss(), g2 = gauss();
