@@ -285,6 +285,94 @@ static void test_simd_cells_equal_portable_off_frame(void)
 }
 #endif
 
+/* The test's own bilinear sampler, in double: pixel centres on integers,
+ * coordinates clamped to the frame, the edge pixel replicated. Written
+ * apart from src/fit_cells.c, whose fsample the straightforward read
+ * (`ref`) uses, so that a fault shared by every library path shows. */
+static double brute_sample(const uint8_t *img, int rows, int cols, int stride, double x, double y)
+{
+    int x0, y0, x1, y1;
+    double fx, fy, top, bot;
+    x = x < 0.0 ? 0.0 : x > cols - 1 ? cols - 1 : x;
+    y = y < 0.0 ? 0.0 : y > rows - 1 ? rows - 1 : y;
+    x0 = (int)floor(x);
+    y0 = (int)floor(y);
+    x1 = x0 + 1 < cols ? x0 + 1 : x0;
+    y1 = y0 + 1 < rows ? y0 + 1 : y0;
+    fx = x - x0;
+    fy = y - y0;
+    top = img[y0 * stride + x0] * (1.0 - fx) + img[y0 * stride + x1] * fx;
+    bot = img[y1 * stride + x0] * (1.0 - fx) + img[y1 * stride + x1] * fx;
+    return top * (1.0 - fy) + bot * fy;
+}
+
+/* Cell (cx, cy) of the (k+1)^2 grid g: the mean of the 3 x 3 pattern at
+ * +-so cell (nine) or of the centre and the four diagonal points (five). */
+static double brute_cell(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                         int k, double so, int cx, int cy, int five)
+{
+    double h = 0.5 * (k + 1), u = cx + 0.5 - h, v = cy + 0.5 - h, s = 0.0;
+    double x0 = g[0] + g[2] * u + g[4] * v, y0 = g[1] + g[3] * u + g[5] * v;
+    int a, b;
+    if (five) {
+        static const int du[5] = {0, 1, -1, 1, -1}, dv[5] = {0, 1, -1, -1, 1};
+        for (a = 0; a < 5; a++)
+            s += brute_sample(img, rows, cols, stride, x0 + so * (du[a] * g[2] + dv[a] * g[4]),
+                              y0 + so * (du[a] * g[3] + dv[a] * g[5]));
+        return s / 5.0;
+    }
+    for (b = -1; b <= 1; b++)
+        for (a = -1; a <= 1; a++)
+            s += brute_sample(img, rows, cols, stride, x0 + so * (a * g[2] + b * g[4]),
+                              y0 + so * (a * g[3] + b * g[5]));
+    return s / 9.0;
+}
+
+/* Every cell read (9 and 5 samples, grids inside, across and beyond the
+ * frame's edges, small frames) against brute_cell, within 0.05 grey levels
+ * (float against double: a sample point rounded across a pixel boundary
+ * moves the value by at most the float rounding times the gradient). */
+static void test_cells_equal_brute_force(void)
+{
+    uint32_t s = 2718u;
+    int trial, worst_trial = -1;
+    double worst = 0.0;
+    for (trial = 0; trial < TU_TRIALS(3000, 10); trial++) {
+        int small = trial % 4 == 0, k = 4 + (int)(lcg(&s) % 5u), what = (int)(lcg(&s) % 2u);
+        int rows = small ? 1 + (int)(lcg(&s) % 6u) : 20 + (int)(lcg(&s) % 80u);
+        int cols = small ? 1 + (int)(lcg(&s) % 6u) : 20 + (int)(lcg(&s) % 80u);
+        int stride = cols + (int)(lcg(&s) % 4u), n = k + 1, i, cx, cy;
+        float cell = unif(&s, 1.0f, 8.0f), th = unif(&s, 0.0f, 6.2832f), sh = unif(&s, -0.4f, 0.4f);
+        float so = unif(&s, 0.0f, 0.5f), g[6], ref[81], got[81];
+        uint8_t *img = (uint8_t *)malloc((size_t)rows * (size_t)stride);
+        TEST_ASSERT_NOT_NULL(img);
+        for (i = 0; i < rows * stride; i++)
+            img[i] = (uint8_t)(lcg(&s) & 255u);
+        g[0] = unif(&s, -10.0f, (float)cols + 10.0f); /* centres in, at and beyond the edges */
+        g[1] = unif(&s, -10.0f, (float)rows + 10.0f);
+        g[2] = cell * cosf(th);
+        g[3] = cell * sinf(th);
+        g[4] = cell * (-sinf(th) + sh * cosf(th));
+        g[5] = cell * (cosf(th) + sh * sinf(th));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                              actag__fit_scalar_cells(img, rows, cols, stride, g, k, so, what, ref, got));
+        for (cy = 0; cy < n; cy++)
+            for (cx = 0; cx < n; cx++) {
+                double b = brute_cell(img, rows, cols, stride, g, k, so, cx, cy, what == 1);
+                double d1 = fabs(b - ref[cy * n + cx]), d2 = fabs(b - got[cy * n + cx]);
+                double d = d1 > d2 ? d1 : d2;
+                if (d > worst) {
+                    worst = d;
+                    worst_trial = trial;
+                }
+            }
+        free(img);
+    }
+    printf("cell reads against the double-precision brute force: worst %.4g grey levels (trial %d)\n",
+           worst, worst_trial);
+    TEST_ASSERT_TRUE(worst < 0.05);
+}
+
 static void test_lattice_hook_rejects_bad_arguments(void)
 {
     static uint8_t img[R * C];
@@ -318,6 +406,7 @@ int main(void)
     RUN_TEST(test_scalar_cells_equal_straightforward_off_frame);
     RUN_TEST(test_simd_cells_equal_portable);
     RUN_TEST(test_simd_cells_equal_portable_off_frame);
+    RUN_TEST(test_cells_equal_brute_force);
     RUN_TEST(test_lattice_hook_rejects_bad_arguments);
     return UNITY_END();
 }

@@ -227,10 +227,10 @@ static void test_handedness_prior(void)
                     TEST_ASSERT_FLOAT_WITHIN(0.006f, a[0].azimuth[k], b[0].azimuth[k]);
                 }
             } else {
-                int nb = detect8(flip, g_cols, &g2, b, 8);
-                TEST_ASSERT_TRUE(nb >= 0);
-                for (k = 0; k < nb; k++)
-                    TEST_ASSERT_EQUAL_INT(a[0].mirrored, b[k].mirrored);
+                /* the paper's binary decoder reads the example tag too */
+                TEST_ASSERT_EQUAL_INT(1, detect8(flip, g_cols, &g2, b, 8));
+                TEST_ASSERT_EQUAL_INT(a[0].id, b[0].id);
+                TEST_ASSERT_EQUAL_INT(a[0].mirrored, b[0].mirrored);
             }
             g_p.handedness = a[0].mirrored ? ACTAG_HANDEDNESS_UNMIRRORED : ACTAG_HANDEDNESS_MIRRORED;
             TEST_ASSERT_EQUAL_INT(0, detect8(flip, g_cols, &g2, b, 8));
@@ -640,7 +640,9 @@ static int inplace_pool(const char *dir, const int *frames, int n)
 static void test_inplace_pool_subset(void)
 {
     static const int frames[6] = {1, 11, 291, 421, 491, 561};
-    TEST_ASSERT_GREATER_OR_EQUAL(4, inplace_pool(TU_DATA "/pool-video", frames, 6));
+    /* frames 11 and 421 are tag-free; the other four show tag 0 in every
+     * orientation (under QEMU: 2 orientations, frames 1 and 491 all 4) */
+    TEST_ASSERT_EQUAL_INT(TU_EMULATED ? 12 : 16, inplace_pool(TU_DATA "/pool-video", frames, 6));
 }
 
 static void test_inplace_pool_frames(void)
@@ -649,6 +651,10 @@ static void test_inplace_pool_frames(void)
     int found = inplace_pool(TU_FULL_DATA "/sonar/pool-video", g_all_frames, 58);
     snprintf(msg, sizeof msg, "in place and not: %d tags in 4 x 58 frames", found);
     TEST_MESSAGE(msg);
+    /* 148 at the session of this check (37 of 47 visible per orientation);
+     * issue 8's worst seen is 34 per orientation: at least 35 x 4 here
+     * (under QEMU fewer orientations run) */
+    TEST_ASSERT_GREATER_OR_EQUAL(TU_EMULATED ? 1 : 140, found);
 }
 
 int main(int argc, char **argv)

@@ -1097,6 +1097,9 @@ static void test_timing_report(void)
                kinds == 0 ? "tag-sized squares" : (kinds == 1 ? "circles r 25-35 px" : "star blobs r 30 px"),
                (double)pts / 20, total / (20.0 * reps), (double)it / (20.0 * reps), total / (double)it,
                100.0 * (double)ok / (20.0 * reps));
+        /* what is timed must also be right: every square fitted, no circle
+         * or star taken for a quadrilateral */
+        TEST_ASSERT_EQUAL_INT(kinds == 0 ? 20L * reps : 0L, ok);
     }
 }
 

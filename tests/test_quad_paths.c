@@ -201,10 +201,16 @@ static void test_chains_around_quads(void)
     for (t = 0; t < trials; t++) {
         actag_quad_params p;
         int nraw, n, x0 = irand(-200, 300), y0 = irand(-200, 300);
-        double size = 8 + 120 * urand() * urand();
-        nraw = polygon_points(size, urand() < 0.7 ? 0.0 : 0.4 * urand(),
-                              urand() < 0.3 ? 0.0 : 1.5 * urand(), urand() < 0.5 ? 0.0 : 0.05 * urand(),
-                              g_raw, MAXP);
+        /* one PRNG call per statement: an argument list's order is the compiler's */
+        double size = 8 + 120 * urand(), skew, sigma, spikes;
+        size = 8 + (size - 8) * urand();
+        skew = urand() < 0.7 ? 0.0 : 0.4;
+        skew *= urand();
+        sigma = urand() < 0.3 ? 0.0 : 1.5;
+        sigma *= urand();
+        spikes = urand() < 0.5 ? 0.0 : 0.05;
+        spikes *= urand();
+        nraw = polygon_points(size, skew, sigma, spikes, g_raw, MAXP);
         if (t % 7 == 3) { /* far from the origin: larger float roundings */
             x0 = irand(20000, 32000);
             y0 = irand(-32000, -20000);
@@ -238,8 +244,8 @@ static void test_not_chains(void)
     tu_seed(13);
     for (t = 0; t < trials; t++) {
         actag_quad_params p;
-        double size = 8 + 100 * urand();
-        int n = polygon_points(size, 0.1 * urand(), urand(), 0.02, g_raw, MAXP), i;
+        double size = 8 + 100 * urand(), skew = 0.1 * urand(), sigma = urand();
+        int n = polygon_points(size, skew, sigma, 0.02, g_raw, MAXP), i;
         if (t % 3 == 0) { /* spread the points apart: steps of 2-3 px */
             for (i = 0; i < n; i++) {
                 g_raw[i].x = (int16_t)(g_raw[i].x * 2 + irand(0, 1));

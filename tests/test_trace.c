@@ -200,7 +200,7 @@ static int g_pool_n = 6;
 
 static void test_pool_frames(void)
 {
-    int i, frames = 0, total = 0;
+    int i, total = 0;
     actag_family fam;
     actag_params p;
     const actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, 0u};
@@ -214,10 +214,8 @@ static void test_pool_frames(void)
         img = tu_read_pgm(path, &rows, &cols);
         TEST_ASSERT_TRUE(rows <= MAXR && cols <= MAXC);
         total += check_frame(img, rows, cols, &geo, &p, path);
-        frames++;
         free(img);
     }
-    TEST_ASSERT_EQUAL_INT(g_pool_n, frames);
     TEST_ASSERT_TRUE(total > 0);
     { /* the ragged pool outlines exercise the extreme-point grid guesses */
         int k, guesses = 0;
@@ -258,7 +256,8 @@ static void test_synthetic_frames(void)
         params_for(&p, &fam, trial % 3);
         snprintf(what, sizeof what, "synthetic trial %d", trial);
         n = check_frame(img, rows, cols, &geo, &p, what);
-        TEST_ASSERT_TRUE(n >= 0);
+        /* bright squares, ringed or not, carry no code: no tag */
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, n, what);
     }
     /* the frames exercised the rejection paths, not only acceptance */
     TEST_ASSERT_TRUE(g_seen[ACTAG_TRACE_CONTOUR][ACTAG_TRACE_SIZE] > 0);
