@@ -3,6 +3,8 @@
 #include "unity.h"
 #include "sim.h"
 #include "simio.h"
+#include "actag/decode.h"
+#include "actag/median.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -416,11 +418,13 @@ static void test_render_errors(void)
  * the correction limit is `limit_margin` (decode.h,
  * ACTAG_FIT_MANY_CORRECTIONS_MARGIN); trace (may be NULL) sees the
  * candidates (actag_detect_traced). Returns the number of detections. */
+static uint8_t scene_img[1024 * 1024]; /* the frame detect_scene rendered last */
+
 static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
                         uint32_t fs, const sim_tag *t, int mirrored, float limit_margin,
                         actag_detection det[8], actag_trace_fn trace, void *user)
 {
-    static uint8_t img[1024 * 1024];
+    uint8_t *img = scene_img;
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
     sim_truth tr;
     actag_params p;
@@ -463,10 +467,209 @@ static void check_scene_traced(const sim_sonar *s, const sim_scene *sc, const si
     }
 }
 
-static void check_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
-                        uint32_t fs, const sim_tag *t, int id, int mirrored, const char *what)
+/* What a regression scene's detection did, for the checks below: the
+ * detections, the truth, and every candidate the pipeline examined (the
+ * trace; contours left out) with its outcome and, when it decoded, the
+ * reading (mirrored flag as reported: the decoder's image-terms flag
+ * flipped by the frame's orientation, actag_geometry_mirrors). */
+#define SCENE_LOG_MAX 512
+typedef struct scene_candidate {
+    int kind, outcome, id, mirrored; /* id, mirrored: -1 when it did not decode */
+    actag_point quad[4];
+} scene_candidate;
+
+typedef struct scene_run {
+    const char *what;
+    const sim_sonar *s;
+    const sim_tag *t;
+    sim_truth tr;
+    int n;
+    actag_detection det[8];
+    int flip, ncand, overflow;
+    scene_candidate cand[SCENE_LOG_MAX];
+} scene_run;
+
+static void log_candidate(void *user, const actag_trace_event *e)
 {
-    check_scene_traced(s, sc, a, fs, t, id, mirrored, what, NULL, NULL);
+    scene_run *r = (scene_run *)user;
+    scene_candidate *c;
+    if (e->kind == ACTAG_TRACE_CONTOUR)
+        return;
+    if (r->ncand == SCENE_LOG_MAX) {
+        r->overflow++;
+        return;
+    }
+    c = &r->cand[r->ncand++];
+    c->kind = e->kind;
+    c->outcome = e->outcome;
+    c->id = e->decoded ? e->decoded->id : -1;
+    c->mirrored = e->decoded ? e->decoded->mirrored ^ r->flip : -1;
+    memcpy(c->quad, e->quad, sizeof c->quad);
+}
+
+/* check_scene_traced with the candidates logged into *r (static storage:
+ * valid until the next call); r->what names the scene in messages. */
+static const scene_run *check_scene(const sim_sonar *s, const sim_scene *sc,
+                                    const sim_appearance *a, uint32_t fs, const sim_tag *t,
+                                    int id, int mirrored, const char *what)
+{
+    static scene_run r;
+    memset(&r, 0, sizeof r);
+    r.what = what;
+    r.s = s;
+    r.t = t;
+    r.flip = actag_geometry_mirrors(&s->geo, s->cols);
+    r.n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, r.det,
+                       log_candidate, &r);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.overflow, what);
+    sim_truth_of(s, t, &r.tr);
+    /* check_scene_traced's checks on the same detections */
+    {
+        int k;
+        for (k = 0; k < r.n; k++) {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(id, r.det[k].id, what);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(mirrored, r.det[k].mirrored, what);
+        }
+    }
+    return &r;
+}
+
+/* The scene's tag is read: exactly one detection, tag `id` with the
+ * mirrored flag `mirrored`, its corners in the tag's order, each within
+ * 40 % of a side of the truth (a wrong corner order moves corners by a
+ * whole side). */
+static void expect_read(const scene_run *r, int id, int mirrored)
+{
+    char msg[240];
+    float side = hypotf(r->tr.px[1].x - r->tr.px[0].x, r->tr.px[1].y - r->tr.px[0].y);
+    int c;
+    snprintf(msg, sizeof msg, "%s: %d detections, want 1", r->what, r->n);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r->n, msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(id, r->det[0].id, r->what);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(mirrored, r->det[0].mirrored, r->what);
+    for (c = 0; c < 4; c++) {
+        snprintf(msg, sizeof msg, "%s: corner %d at (%.1f, %.1f), truth (%.1f, %.1f)", r->what, c,
+                 (double)r->det[0].corners[c].x, (double)r->det[0].corners[c].y,
+                 (double)r->tr.px[c].x, (double)r->tr.px[c].y);
+        TEST_ASSERT_TRUE_MESSAGE(hypotf(r->tr.px[c].x - r->det[0].corners[c].x,
+                                        r->tr.px[c].y - r->det[0].corners[c].y) < 0.4f * side,
+                                 msg);
+    }
+}
+
+/* The trace holds a candidate of stage `kind` that read tag `id` with the
+ * mirrored flag `mirrored` and had outcome `outcome`. */
+static int traced(const scene_run *r, int kind, int outcome, int id, int mirrored)
+{
+    int i;
+    for (i = 0; i < r->ncand; i++)
+        if (r->cand[i].kind == kind && r->cand[i].outcome == outcome && r->cand[i].id == id &&
+            r->cand[i].mirrored == mirrored)
+            return 1;
+    return 0;
+}
+
+/* Nothing is reported, and the trace shows why: a candidate of stage
+ * `kind` read the scene's old wrong reading (tag `wrong_id`, mirrored flag
+ * `wrong_mirrored`) and it was refused with `outcome` (e.g.
+ * ACTAG_TRACE_RIVAL: another reading of its place explains the cells at
+ * least as well). */
+static void expect_traced_refusal(const scene_run *r, int kind, int wrong_id, int wrong_mirrored,
+                                  int outcome)
+{
+    char msg[240];
+    snprintf(msg, sizeof msg, "%s: %d detections, want none", r->what, r->n);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->n, msg);
+    snprintf(msg, sizeof msg, "%s: no stage-%d candidate read tag %d mirrored %d refused with "
+             "outcome %d (the rule did not fire)", r->what, kind, wrong_id, wrong_mirrored,
+             outcome);
+    TEST_ASSERT_TRUE_MESSAGE(traced(r, kind, outcome, wrong_id, wrong_mirrored), msg);
+}
+
+/* The decoder's reading (mirrored flag as reported) of candidate quad q on
+ * the scene's median-filtered frame, as the pipeline reads a candidate of
+ * that stage (ACTAG_FIT_WIDE for search positions and guesses): `checked`,
+ * with the default parameters' template check (ACTAG_FIT_VERIFY) and
+ * margins; else with neither (no template check, min_margin,
+ * min_bit_margin or correction-limit margin): the nearest-code reading.
+ * Returns the decoder's code; *id and *mirrored on ACTAG_OK. */
+static int redecode(const scene_run *r, const scene_candidate *q, int checked, int *id,
+                    int *mirrored)
+{
+    static uint8_t grey[1024 * 1024];
+    static uint8_t scratch[ACTAG_MEDIAN_SCRATCH_SIZE(1024, 1024)];
+    actag_params p;
+    actag_fit_params fp;
+    actag_decode_result res;
+    int rc, rows = r->s->rows, cols = r->s->cols;
+    int lim = actag_family_max_corrections(&r->t->family);
+    actag_params_default(&p);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_median_filter(scene_img, rows, cols, cols, grey, cols,
+                                                        p.tuning.median_radius, scratch,
+                                                        sizeof scratch));
+    fp = p.tuning.fit;
+    if (q->kind != ACTAG_TRACE_QUAD)
+        fp.flags |= ACTAG_FIT_WIDE;
+    fp.min_margin = p.min_margin; /* what actag_detect() uses */
+    if (!checked) {
+        fp.flags &= ~ACTAG_FIT_VERIFY;
+        fp.min_margin = -1e6f;
+        fp.min_bit_margin = 0;
+        fp.many_corrections = 33;
+    }
+    rc = actag_decode_quad_fit(grey, rows, cols, cols, q->quad, &r->t->family,
+                               lim < ACTAG_AUTO_CORRECTIONS ? lim : ACTAG_AUTO_CORRECTIONS, &fp,
+                               &res);
+    if (rc == ACTAG_OK) {
+        *id = res.id;
+        *mirrored = res.mirrored ^ r->flip;
+    }
+    return rc;
+}
+
+/* Nothing is reported, and the decoder refused the scene's old wrong
+ * reading: a candidate of stage `kind` over the tag (its centre within a
+ * third of a side of the true centre) was refused by the decoder
+ * (ACTAG_TRACE_NO_MATCH: the trace carries no reading then); read again
+ * from the same frame with the default template check and margins it is
+ * refused again (the pipeline's refusal, reproduced), and without them
+ * (the nearest code) it reads tag `wrong_id` with the mirrored flag
+ * `wrong_mirrored`. So the candidate's own reading is the old wrong one and
+ * the decoder's checks (the template check's full-range re-checks, the
+ * stretched-grid check, the reading's own other handedness, and the
+ * margins they use; decode.h) refuse it: not an empty frame, not a tag
+ * the pipeline never looked at. */
+static void expect_decoder_refusal(const scene_run *r, int kind, int wrong_id,
+                                   int wrong_mirrored)
+{
+    char msg[240];
+    float side = hypotf(r->tr.px[1].x - r->tr.px[0].x, r->tr.px[1].y - r->tr.px[0].y);
+    float tx = 0.25f * (r->tr.px[0].x + r->tr.px[1].x + r->tr.px[2].x + r->tr.px[3].x);
+    float ty = 0.25f * (r->tr.px[0].y + r->tr.px[1].y + r->tr.px[2].y + r->tr.px[3].y);
+    int i, over = 0, found = 0;
+    snprintf(msg, sizeof msg, "%s: %d detections, want none", r->what, r->n);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->n, msg);
+    for (i = 0; i < r->ncand && !found; i++) {
+        const scene_candidate *q = &r->cand[i];
+        float cx = 0.25f * (q->quad[0].x + q->quad[1].x + q->quad[2].x + q->quad[3].x);
+        float cy = 0.25f * (q->quad[0].y + q->quad[1].y + q->quad[2].y + q->quad[3].y);
+        int id = -1, mirrored = -1;
+        if (q->kind != kind || q->outcome != ACTAG_TRACE_NO_MATCH ||
+            hypotf(cx - tx, cy - ty) > side / 3.0f)
+            continue;
+        over++;
+        if (redecode(r, q, 1, &id, &mirrored) == ACTAG_OK)
+            continue; /* not how the pipeline read it */ /* the pipeline's refusal was a margin's */
+        found = redecode(r, q, 0, &id, &mirrored) == ACTAG_OK && id == wrong_id &&
+                mirrored == wrong_mirrored;
+    }
+    snprintf(msg, sizeof msg, "%s: no stage-%d candidate over the tag was refused", r->what,
+             kind);
+    TEST_ASSERT_TRUE_MESSAGE(over > 0, msg);
+    snprintf(msg, sizeof msg, "%s: none of the %d refused stage-%d candidates over the tag reads "
+             "tag %d mirrored %d without the template check, and only with it refused",
+             r->what, over, kind, wrong_id, wrong_mirrored);
+    TEST_ASSERT_TRUE_MESSAGE(found, msg);
 }
 
 /* The sonar, view and appearance settings of actag-eval [--pool] (pool:
@@ -546,25 +749,25 @@ static void coarse_case_settings(sim_case *c, uint32_t seed, uint32_t frame, uns
 
 /* The case's frame must hold tag `id` with the mirrored flag `mirrored`,
  * and whatever actag_detect reads there must be that tag (check_scene). */
-static void case_check(sim_case *c, int id, int mirrored, const char *what)
+static const scene_run *case_check(sim_case *c, int id, int mirrored, const char *what)
 {
     sample_frame(&c->s, &c->v, c->fs, id, &c->t, &c->sc);
-    check_scene(&c->s, &c->sc, &c->a, c->fs, &c->t, id, mirrored, what);
+    return check_scene(&c->s, &c->sc, &c->a, c->fs, &c->t, id, mirrored, what);
 }
 
 /* Frame `frame` of `actag-eval [--pool] --seed seed`, rendered as actag-eval
  * renders it, must hold tag `id` seen with the mirrored flag `mirrored`,
  * and whatever actag_detect reads there must be that tag in that
- * handedness (check_scene). */
-static void check_sim_frame(int pool, uint32_t seed, uint32_t frame, int id, int mirrored,
-                            const char *what)
+ * handedness (check_scene; the sonar and tag it refers to are static). */
+static const scene_run *check_sim_frame(int pool, uint32_t seed, uint32_t frame, int id,
+                                        int mirrored, const char *what)
 {
-    sim_sonar s;
+    static sim_sonar s;
+    static sim_tag t;
     sim_appearance a;
-    sim_tag t;
     sim_scene sc;
     uint32_t fs = eval_frame(pool, "AcTag24h10", seed, frame, id, &s, &a, &t, &sc);
-    check_scene(&s, &sc, &a, fs, &t, id, mirrored, what);
+    return check_scene(&s, &sc, &a, fs, &t, id, mirrored, what);
 }
 
 /* actag-eval --seed 102, frame 444: a mirrored AcTag24h10 tag 3 at 3.68 m
@@ -572,7 +775,7 @@ static void check_sim_frame(int pool, uint32_t seed, uint32_t frame, int id, int
  * tag 2 at margin 6.3 from the quad's own grid. */
 static void test_regression_seed102_frame444(void)
 {
-    check_sim_frame(0, 102u, 444u, 3, 1, "the wrong ID of seed 102 frame 444");
+    expect_decoder_refusal(check_sim_frame(0, 102u, 444u, 3, 1, "the wrong ID of seed 102 frame 444"), ACTAG_TRACE_QUAD, 2, 0);
 }
 
 /* actag-eval --pool --seed 105, frame 673: an unmirrored AcTag24h10 tag 4 at
@@ -581,7 +784,7 @@ static void test_regression_seed102_frame444(void)
  * candidate of the template check). */
 static void test_regression_pool_seed105_frame673(void)
 {
-    check_sim_frame(1, 105u, 673u, 4, 0, "the wrong ID of pool seed 105 frame 673");
+    expect_decoder_refusal(check_sim_frame(1, 105u, 673u, 4, 0, "the wrong ID of pool seed 105 frame 673"), ACTAG_TRACE_QUAD, 5, 1);
 }
 
 /* actag-eval --pool --seed 122, frame 586: an unmirrored AcTag24h10 tag 4
@@ -592,7 +795,7 @@ static void test_regression_pool_seed105_frame673(void)
  * at margin 2.2. */
 static void test_regression_pool_seed122_frame586(void)
 {
-    check_sim_frame(1, 122u, 586u, 4, 0, "the wrong ID of pool seed 122 frame 586");
+    expect_decoder_refusal(check_sim_frame(1, 122u, 586u, 4, 0, "the wrong ID of pool seed 122 frame 586"), ACTAG_TRACE_QUAD, 5, 1);
 }
 
 /* actag-eval --seed 121, frame 803 (the paper's settings): a mirrored
@@ -602,7 +805,7 @@ static void test_regression_pool_seed122_frame586(void)
  * explains the cells better. */
 static void test_regression_seed121_frame803(void)
 {
-    check_sim_frame(0, 121u, 803u, 1, 1, "the wrong ID of seed 121 frame 803");
+    expect_decoder_refusal(check_sim_frame(0, 121u, 803u, 1, 1, "the wrong ID of seed 121 frame 803"), ACTAG_TRACE_QUAD, 5, 0);
 }
 
 /* Frame 62 of actag-eval --pool --frames 0 --sequences 20 --seed 81, pass
@@ -625,8 +828,9 @@ static void test_regression_pool_sequence_seed81_frame62(void)
     eval_settings(1, "AcTag24h10", &s, &v, &a, &t);
     t.id = 2;
     sim_sequence_view(&s, &v, seed, 62, 100, &t, &sc);
-    check_scene(&s, &sc, &a, sim_frame_seed(seed, 62u), &t, 2, 0,
-                "the wrong ID of sequence seed 81 frame 62");
+    expect_traced_refusal(check_scene(&s, &sc, &a, sim_frame_seed(seed, 62u), &t, 2, 0,
+                                      "the wrong ID of sequence seed 81 frame 62"),
+                          ACTAG_TRACE_GUESS, 6, 1, ACTAG_TRACE_RIVAL);
 }
 
 /* actag-eval --seed 311, frame 408 (the paper's settings, a seed nobody
@@ -636,10 +840,12 @@ static void test_regression_pool_sequence_seed81_frame62(void)
  * the structure search had read tag 4 on a grid of the right height. Both
  * templates polished over the full range from both grids: tag 4 explains
  * the cells better, so the quad's reading is refused (detect.c,
- * rival_search). */
+ * rival_search). Now the decoder itself refuses the quads' tag 5 (the
+ * trace shows them as ACTAG_TRACE_NO_MATCH, not _RIVAL) and the search
+ * reads nothing there: nothing is reported. */
 static void test_regression_seed311_frame408(void)
 {
-    check_sim_frame(0, 311u, 408u, 4, 0, "the wrong ID of seed 311 frame 408");
+    expect_decoder_refusal(check_sim_frame(0, 311u, 408u, 4, 0, "the wrong ID of seed 311 frame 408"), ACTAG_TRACE_QUAD, 5, 0);
 }
 
 /* The same frame with 3x the noise (actag-eval --seed 311 --noise 0.0018):
@@ -654,7 +860,9 @@ static void test_regression_seed311_frame408_noisy(void)
     sim_scene sc;
     uint32_t fs = eval_frame(0, "AcTag24h10", 311u, 408u, 4, &s, &a, &t, &sc);
     a.noise = 0.0018f;
-    check_scene(&s, &sc, &a, fs, &t, 4, 0, "the wrong ID of seed 311 frame 408, noise x3");
+    expect_decoder_refusal(check_scene(&s, &sc, &a, fs, &t, 4, 0,
+                                       "the wrong ID of seed 311 frame 408, noise x3"),
+                           ACTAG_TRACE_QUAD, 5, 0);
 }
 
 /* actag-eval --seed 311 --gain 520 --bands 5 --looks 1, frame 230: a
@@ -674,7 +882,9 @@ static void test_regression_seed311_frame230_bright(void)
     a.gain = 520.0f;
     a.band_rate = 5.0f;
     a.looks = 1;
-    check_scene(&s, &sc, &a, fs, &t, 5, 1, "the wrong handedness of seed 311 frame 230, bright");
+    expect_decoder_refusal(check_scene(&s, &sc, &a, fs, &t, 5, 1,
+                                       "the wrong handedness of seed 311 frame 230, bright"),
+                           ACTAG_TRACE_SEARCH, 5, 0);
 }
 
 /* actag-eval --pool --seed 91, frame 810: a mirrored AcTag24h10 tag 6 at
@@ -686,7 +896,7 @@ static void test_regression_seed311_frame230_bright(void)
  * better: no reading (decode_fit.c, the stretched-grid check). */
 static void test_regression_pool_seed91_frame810(void)
 {
-    check_sim_frame(1, 91u, 810u, 6, 1, "the wrong ID of pool seed 91 frame 810");
+    expect_decoder_refusal(check_sim_frame(1, 91u, 810u, 6, 1, "the wrong ID of pool seed 91 frame 810"), ACTAG_TRACE_QUAD, 5, 0);
 }
 
 /* actag-eval --seed 1009 --rows 530 --cols 512 --min-range 0.1 --max-range
@@ -702,7 +912,8 @@ static void test_regression_coarse_seed1009_frame378(void)
 {
     sim_case c;
     coarse_case_settings(&c, 1009u, 378u, ACTAG_RANGE_ASCENDING);
-    case_check(&c, 4, 0, "the wrong ID of coarse seed 1009 frame 378");
+    expect_decoder_refusal(case_check(&c, 4, 0, "the wrong ID of coarse seed 1009 frame 378"),
+                           ACTAG_TRACE_QUAD, 5, 0);
 }
 
 /* actag-eval --seed 9210 on the 530 x 512 sonar (0.1-3.5 m, tags at 0.5-3 m)
@@ -716,8 +927,14 @@ static void test_regression_coarse_seed1009_frame378(void)
 static void test_regression_coarse_seed9210_frame905(void)
 {
     sim_case c;
+    const scene_run *r;
     coarse_case_settings(&c, 9210u, 905u, ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING);
-    case_check(&c, 5, 1, "the wrong handedness of coarse seed 9210 frame 905");
+    r = case_check(&c, 5, 1, "the wrong handedness of coarse seed 9210 frame 905");
+    expect_read(r, 5, 1);
+    /* the wrong handedness is still read, by the structure search (its
+     * tentative reading superseded by the quad's: ACCEPTED, trace.h) */
+    TEST_ASSERT_TRUE_MESSAGE(traced(r, ACTAG_TRACE_SEARCH, ACTAG_TRACE_ACCEPTED, 5, 0),
+                             "coarse seed 9210 frame 905: the unmirrored tag 5 was not examined");
 }
 
 /* actag-eval --seed 9213 on the 530 x 512 sonar with --range-ascending
@@ -734,7 +951,8 @@ static void test_regression_coarse_seed9213_frame149(void)
 {
     sim_case c;
     coarse_case_settings(&c, 9213u, 149u, ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING);
-    case_check(&c, 1, 0, "the wrong ID of coarse seed 9213 frame 149");
+    expect_traced_refusal(case_check(&c, 1, 0, "the wrong ID of coarse seed 9213 frame 149"),
+                          ACTAG_TRACE_GUESS, 5, 1, ACTAG_TRACE_RIVAL);
 }
 
 /* actag-eval --pool --seed 3005 --clutter 12 --azimuth-ascending, frame 15:
@@ -750,7 +968,8 @@ static void test_regression_pool_seed3005_frame15(void)
     case_settings(&c, 1, 3005u, 15u);
     c.v.clutter = 12;
     c.s.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
-    case_check(&c, 0, 0, "the wrong ID of pool seed 3005 frame 15");
+    expect_traced_refusal(case_check(&c, 0, 0, "the wrong ID of pool seed 3005 frame 15"),
+                          ACTAG_TRACE_SEARCH, 5, 1, ACTAG_TRACE_RIVAL);
 }
 
 /* Frame 177 of bench/heldout_sweep.py --mix c24h10's seed 9722 (the 530 x
@@ -772,7 +991,8 @@ static void test_regression_coarse_seed9722_frame177(void)
     c.a.band_rate = 1.0f;
     c.v.clutter = 12;
     c.v.mirror_fraction = 1.0f;
-    case_check(&c, 4, 1, "the wrong ID of heldout seed 9722 frame 177");
+    expect_traced_refusal(case_check(&c, 4, 1, "the wrong ID of heldout seed 9722 frame 177"),
+                          ACTAG_TRACE_SEARCH, 5, 1, ACTAG_TRACE_RIVAL);
 }
 
 /* Frames 948 of bench/heldout_sweep.py --mix c24h10's seed 9710 (the 530 x
@@ -795,7 +1015,9 @@ static void test_regression_coarse_own_handedness(void)
     c.a.band_rate = 1.0f;
     c.v.clutter = 8;
     c.v.mirror_fraction = 0.5f;
-    case_check(&c, 5, 1, "the wrong handedness of heldout seed 9710 frame 948");
+    expect_decoder_refusal(case_check(&c, 5, 1,
+                                      "the wrong handedness of heldout seed 9710 frame 948"),
+                           ACTAG_TRACE_QUAD, 5, 0);
     coarse_case_settings(&c, 9729u, 631u, ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING);
     c.a.gain = 200.0f;
     c.a.noise = 0.0006f;
@@ -803,7 +1025,9 @@ static void test_regression_coarse_own_handedness(void)
     c.a.band_rate = 2.0f;
     c.v.clutter = 8;
     c.v.mirror_fraction = 0.5f;
-    case_check(&c, 5, 1, "the wrong handedness of heldout seed 9729 frame 631");
+    expect_decoder_refusal(case_check(&c, 5, 1,
+                                      "the wrong handedness of heldout seed 9729 frame 631"),
+                           ACTAG_TRACE_QUAD, 5, 0);
 }
 
 /* Frame 435 of bench/heldout_sweep.py's seed 9609 (actag-eval --pool
@@ -819,6 +1043,7 @@ static void test_regression_coarse_own_handedness(void)
 static void test_regression_pool_h8_seed9609_frame435(void)
 {
     sim_case c;
+    const scene_run *r;
     eval_settings(1, "AcTag24h8", &c.s, &c.v, &c.a, &c.t);
     c.fs = sim_frame_seed(9609u, 435u);
     c.s.geo.flags |= ACTAG_AZIMUTH_ASCENDING;
@@ -832,7 +1057,10 @@ static void test_regression_pool_h8_seed9609_frame435(void)
     c.a.band_rate = 2.0f;
     c.v.clutter = 10;
     c.v.mirror_fraction = 0.5f;
-    case_check(&c, 27, 1, "the wrong ID of pool seed 9609 frame 435 (AcTag24h8)");
+    r = case_check(&c, 27, 1, "the wrong ID of pool seed 9609 frame 435 (AcTag24h8)");
+    expect_traced_refusal(r, ACTAG_TRACE_QUAD, 8, 0, ACTAG_TRACE_RIVAL);
+    /* and the guess's right reading, contested by it, is not reported */
+    expect_traced_refusal(r, ACTAG_TRACE_GUESS, 27, 1, ACTAG_TRACE_RIVAL);
 }
 
 /* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
@@ -842,7 +1070,8 @@ static void test_regression_pool_h8_seed9609_frame435(void)
  * corrections at a margin below min_margin + ACTAG_FIT_MANY_CORRECTIONS_MARGIN;
  * with it, whatever is read there is right. */
 static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored,
-                             int wrong_without, const char *what)
+                             int wrong_without, int wrong_id, int wrong_mirrored,
+                             const char *what)
 {
     sim_sonar s;
     sim_appearance a;
@@ -860,7 +1089,8 @@ static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored
             wrong++;
         }
     TEST_ASSERT_EQUAL_INT_MESSAGE(wrong_without, wrong, what);
-    check_scene(&s, &sc, &a, fs, &t, id, mirrored, what);
+    expect_decoder_refusal(check_scene(&s, &sc, &a, fs, &t, id, mirrored, what),
+                           ACTAG_TRACE_QUAD, wrong_id, wrong_mirrored);
 }
 
 /* actag-eval --seed 313, frame 860 (a seed nobody tuned on, default
@@ -872,7 +1102,7 @@ static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored
  * wrong is read there either way. */
 static void test_regression_seed313_frame860(void)
 {
-    check_limit_rule(313u, 860u, 3, 0, 0, "the wrong ID of seed 313 frame 860");
+    check_limit_rule(313u, 860u, 3, 0, 0, 6, 0, "the wrong ID of seed 313 frame 860");
 }
 
 /* actag-eval --seed 314, frame 920: a mirrored AcTag24h10 tag 6 at 3.77 m
@@ -884,7 +1114,7 @@ static void test_regression_seed313_frame860(void)
  * the limit's margin. */
 static void test_regression_seed314_frame920(void)
 {
-    check_limit_rule(314u, 920u, 6, 1, 0, "the wrong handedness of seed 314 frame 920");
+    check_limit_rule(314u, 920u, 6, 1, 0, 6, 0, "the wrong handedness of seed 314 frame 920");
 }
 
 /* Search readings refused at the end as contested (trace callback). */
