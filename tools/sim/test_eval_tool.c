@@ -164,12 +164,14 @@ static void test_known_plane_options(void)
     free(b);
 }
 
-/* --sequence-failures: the file is written (one pass, a few frames), and
- * every line it holds names the pass's seed and ID for actag-sim. */
+/* --sequence-failures: the file is written (one pass, a few frames) and,
+ * the pass having no error, holds no line. (A line's format is not reached
+ * here: no settings of the sequence mode were found that make the tracker
+ * read a wrong ID or a false tag, eleventh session.) */
 static void test_sequence_failures_file(void)
 {
     char args[1200], path[512];
-    char *txt, *line;
+    char *txt;
     snprintf(path, sizeof path, "%s/eval_seq_failures.jsonl", ACTAG_BINARY_DIR);
     remove(path);
     snprintf(args, sizeof args,
@@ -179,10 +181,7 @@ static void test_sequence_failures_file(void)
     TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
     txt = slurp(path);
     TEST_ASSERT_NOT_NULL_MESSAGE(txt, "--sequence-failures wrote no file");
-    for (line = txt; (line = strstr(line, "{\"sequence\": ")) != NULL; line++) {
-        TEST_ASSERT_NOT_NULL(strstr(line, "\"sequence_seed\": "));
-        TEST_ASSERT_NOT_NULL(strstr(line, "\"id\": "));
-    }
+    TEST_ASSERT_EQUAL_STRING_MESSAGE("", txt, "a pass without errors wrote a failure line");
     free(txt);
 }
 
