@@ -43,7 +43,9 @@
  * than the constant-time scheme at R = 4, and on Cortex-M4/M7
  * median_quad_dsp(), which at R >= 3 takes eight rows a pass where it can
  * (oct_block; about 68 instructions per pixel at R = 4, -O2, 78 with four
- * rows). */
+ * rows). With NEON (AArch64, ARMv7-A) the vector paths are the SSE2 ones,
+ * median_strip8 and median_rows16, on the NEON primitives of
+ * median_neon.h: the same bytes. */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 #include "frame16.h"
@@ -53,6 +55,14 @@
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define MEDIAN_SSE2 1
 #include <emmintrin.h>
+#elif defined(__ARM_NEON) && !defined(ACTAG_NO_SIMD) && !defined(__ARM_BIG_ENDIAN)
+/* AArch64 and ARMv7-A with NEON (median_neon.h); little-endian only: the
+ * medians are read back from vectors in memory as bytes (r16_store). */
+#define MEDIAN_NEON 1
+#endif
+/* A 16-byte vector unit: median_strip8 and median_rows16, written once. */
+#if defined(MEDIAN_SSE2) || defined(MEDIAN_NEON)
+#define MEDIAN_SIMD 1
 #endif
 
 /* Fine histogram of column c for coarse bin b. */
@@ -174,8 +184,8 @@ static void step_add(uint8_t *cnt, unsigned t)
 }
 
 /* ----------------------------------------------------------------------
- * 16-lane primitives: an SSE2 version and a portable one that compute the
- * same integers.
+ * 16-lane primitives: an SSE2 version, a NEON one (median_neon.h) and a
+ * portable one that compute the same integers.
  *
  * col_update(cc, fin, fout, vin, vout): remove value vout and add value vin
  *   in one column's histograms (cc its coarse histogram, fin/fout its fine
@@ -270,6 +280,129 @@ static unsigned h16_get(const h16 *h, unsigned k)
     return (unsigned)t[k] ^ 0x8000u;
 }
 
+/* The vector operations median_strip8 and median_rows16 share with NEON
+ * (median_neon.h has the same functions). */
+typedef __m128i vu8;
+
+static vu8 v_zero(void)
+{
+    return _mm_setzero_si128();
+}
+
+static vu8 v_dup(unsigned x)
+{
+    return _mm_set1_epi8((char)x);
+}
+
+static vu8 v_add(vu8 a, vu8 b)
+{
+    return _mm_add_epi8(a, b);
+}
+
+static vu8 v_sub(vu8 a, vu8 b)
+{
+    return _mm_sub_epi8(a, b);
+}
+
+/* 0xFF in the lanes that are >= 0 as signed bytes. */
+static vu8 v_nonneg(vu8 a)
+{
+    return _mm_cmpgt_epi8(a, _mm_set1_epi8(-1));
+}
+
+/* m ? a : b, lane by lane (m: 0x00 or 0xFF lanes). */
+static vu8 v_select(vu8 m, vu8 a, vu8 b)
+{
+    return _mm_or_si128(_mm_andnot_si128(m, b), _mm_and_si128(m, a));
+}
+
+/* Interleaves the bytes of a and b: lo = a0 b0 a1 b1 .. a7 b7, hi = a8 b8 ... */
+static void v_zip(vu8 a, vu8 b, vu8 *lo, vu8 *hi)
+{
+    *lo = _mm_unpacklo_epi8(a, b);
+    *hi = _mm_unpackhi_epi8(a, b);
+}
+
+/* Lowest and highest lane. */
+static unsigned r16_hmin(vu8 v)
+{
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 8));
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 4));
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 2));
+    v = _mm_min_epu8(v, _mm_srli_si128(v, 1));
+    return (unsigned)_mm_cvtsi128_si32(v) & 0xFFu;
+}
+
+static unsigned r16_hmax(vu8 v)
+{
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 8));
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 4));
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 2));
+    v = _mm_max_epu8(v, _mm_srli_si128(v, 1));
+    return (unsigned)_mm_cvtsi128_si32(v) & 0xFFu;
+}
+
+/* A set of lanes (r16_medians): bit p for lane p, tested against the sign
+ * bits (movemask). */
+typedef unsigned lanes;
+
+static lanes lanes_all(void)
+{
+    return 0xFFFFu;
+}
+
+static lanes lanes_none(void)
+{
+    return 0u;
+}
+
+static int lanes_any(lanes s)
+{
+    return s != 0u;
+}
+
+static lanes lanes_not(lanes s)
+{
+    return 0xFFFFu & ~s;
+}
+
+/* The lanes of d that are >= 0 as signed bytes. */
+static lanes lanes_nonneg(vu8 d)
+{
+    return ~(unsigned)_mm_movemask_epi8(d) & 0xFFFFu;
+}
+
+/* Is some lane of s negative in d (sign bit set)? */
+static int lanes_any_neg(vu8 d, lanes s)
+{
+    return ((unsigned)_mm_movemask_epi8(d) & s) != 0u;
+}
+
+/* Is every lane of s negative in d? */
+static int lanes_all_neg(vu8 d, lanes s)
+{
+    return ((unsigned)_mm_movemask_epi8(d) & s) == s;
+}
+
+/* Number of lanes <= rank in a nondecreasing 16-lane histogram of 8-bit
+ * counts whose last lane exceeds rank (unsigned compare: min(h, r) == h). */
+static unsigned h8_count_le(vu8 h, vu8 rank)
+{
+    unsigned m = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_min_epu8(h, rank), h));
+    /* The lanes <= rank form a prefix: count the one bits below it. */
+#if defined(__GNUC__)
+    return (unsigned)__builtin_ctz(~m);
+#else
+    unsigned n = 0;
+    while (n < 16u && (m & (1u << n)))
+        n++;
+    return n;
+#endif
+}
+
+#elif defined(MEDIAN_NEON)
+#include "median_neon.h"
+
 #else /* portable */
 
 /* Separate functions, each with restrict, because fin and fout may be the
@@ -352,7 +485,7 @@ static unsigned h16_get(const h16 *h, unsigned k)
 
 #endif
 
-#ifndef MEDIAN_SSE2
+#ifndef MEDIAN_SIMD
 /* ----------------------------------------------------------------------
  * Radii up to 7: four output rows at a time, one histogram (Huang's
  * scheme, as above) for the four windows. hist[v] packs the four windows'
@@ -983,7 +1116,7 @@ static void median_quad(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dst
 }
 #endif /* MEDIAN_DSP */
 
-#endif /* !MEDIAN_SSE2 */
+#endif /* !MEDIAN_SIMD */
 
 /* Bytes of one column's histograms (16 coarse + 256 fine 8-bit lanes). */
 #define COL_BYTES 272u
@@ -1131,7 +1264,7 @@ static void median_strip(rowsrc *rs, int rows, int cols, int s0, int s1, size_t 
 #undef CF
 }
 
-#ifdef MEDIAN_SSE2
+#ifdef MEDIAN_SIMD
 /* Radii whose kernel holds at most 255 samples ((2R+1)^2 <= 225). */
 #define MEDIAN_H8_MAX_R 7
 
@@ -1145,22 +1278,6 @@ static const uint8_t bcast8[128][16] = {BC8x16(0),  BC8x16(16), BC8x16(32), BC8x
 #undef BC8x4
 #undef BC8
 
-/* Number of lanes <= rank in a nondecreasing 16-lane histogram of 8-bit
- * counts whose last lane exceeds rank (unsigned compare: min(h, r) == h). */
-static unsigned h8_count_le(__m128i h, __m128i rank)
-{
-    unsigned m = (unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_min_epu8(h, rank), h));
-    /* The lanes <= rank form a prefix: count the one bits below it. */
-#if defined(__GNUC__)
-    return (unsigned)__builtin_ctz(~m);
-#else
-    unsigned n = 0;
-    while (n < 16u && (m & (1u << n)))
-        n++;
-    return n;
-#endif
-}
-
 /* median_strip for R <= MEDIAN_H8_MAX_R: the same column histograms and
  * the same search, but the kernel histograms have 8-bit lanes (a kernel
  * holds (2R+1)^2 <= 225 samples; lanes wrap modulo 256 between the add
@@ -1172,16 +1289,16 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
 {
     uint8_t *const colc = hist;
     uint8_t *const colf = hist + span * 16u;
-    __m128i hf[16];     /* parked fine kernel histograms, per coarse bin */
+    vu8 hf[16];     /* parked fine kernel histograms, per coarse bin */
     int last[16];       /* column at which hf[b] was valid */
-    __m128i hc;         /* coarse kernel histogram */
-    __m128i cur;        /* fine kernel histogram of coarse bin curb */
+    vu8 hc;         /* coarse kernel histogram */
+    vu8 cur;        /* fine kernel histogram of coarse bin curb */
     uint8_t below[17];  /* below[b]: kernel samples in coarse bins < b */
     unsigned curb;      /* coarse bin of the previous pixel's median */
     int i, j, k;
     /* Rank (0-based) of the median among the (2R+1)^2 samples. */
     const unsigned half = (unsigned)((2 * R + 1) * (2 * R + 1)) / 2u;
-    const __m128i vhalf = _mm_set1_epi8((char)half);
+    const vu8 vhalf = v_dup(half);
 
 #define CC(c) (colc + (size_t)(c) * 16u)
 #define CF(c, b) FINE(colf, c, b)
@@ -1196,12 +1313,12 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
             cols_slide(rs, rows, R, i, hb, span, hist);
 
         /* As in median_strip: the kernels start at column s0-1. */
-        hc = cur = _mm_setzero_si128();
+        hc = cur = v_zero();
         curb = 0;
         for (k = s0 - R - 1; k <= s0 + R - 1; k++) {
             int c = clampi(k, 0, cols - 1);
-            hc = _mm_add_epi8(hc, load16(CC(c)));
-            cur = _mm_add_epi8(cur, load16(CF(c, 0)));
+            hc = v_add(hc, load16(CC(c)));
+            cur = v_add(cur, load16(CF(c, 0)));
         }
         for (k = 0; k < 16; k++)
             last[k] = s0 - 2 * R - 2;
@@ -1227,10 +1344,10 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
             pfr = CF(j - R - 1 > 0 ? j - R - 1 : 0, 0);
             for (; j < jend; j++) {
                 unsigned b, f;
-                __m128i spec;
+                vu8 spec;
 
-                hc = _mm_sub_epi8(_mm_add_epi8(hc, load16(pca)), load16(pcr));
-                spec = _mm_sub_epi8(_mm_add_epi8(cur, load16(pfa + curb * 16u)),
+                hc = v_sub(v_add(hc, load16(pca)), load16(pcr));
+                spec = v_sub(v_add(cur, load16(pfa + curb * 16u)),
                                     load16(pfr + curb * 16u));
                 pca += sa;
                 pcr += sr;
@@ -1245,14 +1362,14 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
                     hf[curb] = cur;
                     last[curb] = j - 1;
                     if (2 * gap > 2 * R + 1) {
-                        cur = _mm_setzero_si128();
+                        cur = v_zero();
                         for (k = j - R; k <= j + R; k++)
-                            cur = _mm_add_epi8(cur, load16(CF(clampi(k, 0, cols - 1), b)));
+                            cur = v_add(cur, load16(CF(clampi(k, 0, cols - 1), b)));
                     } else {
                         cur = hf[b];
                         for (k = last[b] + 1; k <= j; k++)
-                            cur = _mm_sub_epi8(
-                                _mm_add_epi8(cur,
+                            cur = v_sub(
+                                v_add(cur,
                                              load16(CF(k + R < cols ? k + R : cols - 1, b))),
                                 load16(CF(k - R - 1 > 0 ? k - R - 1 : 0, b)));
                     }
@@ -1272,9 +1389,9 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
 }
 
 /* ----------------------------------------------------------------------
- * Radii up to 7 on x86-64: Huang's sliding histogram shared by sixteen
- * output rows (the portable path's median_quad with 16 lanes instead of
- * four). hist[v] holds, in byte lane p, the count of level v in the window
+ * Radii up to 7 with SSE2 or NEON: Huang's sliding histogram shared by
+ * sixteen output rows (the portable path's median_quad with 16 lanes
+ * instead of four). hist[v] holds, in byte lane p, the count of level v in the window
  * of output row i0 + p (at most (2R+1)^2 <= 225). Moving the 16 windows
  * one column right, each of the 2R+16 source rows of the block adds its
  * sample of the entering column and removes that of the leaving one in
@@ -1298,18 +1415,17 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
  * (lane p: output row p) from d on. Full groups of 16 columns: a 16 x 16
  * byte transpose, four rounds of interleaving vector k with vector k + 8
  * (each round rotates the 8-bit (vector, lane) index left by one bit). */
-static void r16_store(const __m128i *col, int n, uint8_t *d, size_t dstride, int np)
+static void r16_store(const vu8 *col, int n, uint8_t *d, size_t dstride, int np)
 {
     int g, k, p, c;
     for (g = 0; g + 16 <= n; g += 16) {
-        __m128i a[16], b[16];
+        vu8 a[16], b[16];
         int round;
         for (k = 0; k < 16; k++)
             a[k] = col[g + k];
         for (round = 0; round < 4; round++) {
             for (k = 0; k < 8; k++) {
-                b[2 * k] = _mm_unpacklo_epi8(a[k], a[k + 8]);
-                b[2 * k + 1] = _mm_unpackhi_epi8(a[k], a[k + 8]);
+                v_zip(a[k], a[k + 8], &b[2 * k], &b[2 * k + 1]);
             }
             for (k = 0; k < 16; k++)
                 a[k] = b[k];
@@ -1335,56 +1451,37 @@ static void r16_store(const __m128i *col, int n, uint8_t *d, size_t dstride, int
 #define R16_ROW(t)                                                                             \
     do {                                                                                       \
         const uint8_t *s_ = rowp[t];                                                           \
-        const __m128i m_ = mask[t];                                                            \
+        const vu8 m_ = mask[t];                                                            \
         const size_t vi_ = s_[ca], vo_ = s_[cr];                                               \
         const size_t sp_ = ((size_t)0 - (size_t)(vi_ == vo_)) & (size_t)(256 | (t));          \
-        __m128i *const hi_ = &hist[vi_ ^ sp_];                                                 \
-        __m128i *const ho_ = &hist[vo_ ^ sp_];                                                 \
-        *hi_ = _mm_sub_epi8(*hi_, m_);                                                         \
-        *ho_ = _mm_add_epi8(*ho_, m_);                                                         \
+        vu8 *const hi_ = &hist[vi_ ^ sp_];                                                 \
+        vu8 *const ho_ = &hist[vo_ ^ sp_];                                                 \
+        *hi_ = v_sub(*hi_, m_);                                                         \
+        *ho_ = v_add(*ho_, m_);                                                         \
     } while (0)
 
 /* Per lane, the samples below level ref: the sum of the levels below ref,
  * or all the samples (N per lane) less those at or above ref, whichever
  * is fewer levels (two sums in flight). */
-static __m128i r16_below(const __m128i *hist, unsigned ref, __m128i vn)
+static vu8 r16_below(const vu8 *hist, unsigned ref, vu8 vn)
 {
-    __m128i a = _mm_setzero_si128(), b = _mm_setzero_si128();
+    vu8 a = v_zero(), b = v_zero();
     unsigned L;
     if (ref <= 128u) {
         for (L = 0; L + 4 <= ref; L += 4) {
-            a = _mm_add_epi8(a, _mm_add_epi8(hist[L], hist[L + 2]));
-            b = _mm_add_epi8(b, _mm_add_epi8(hist[L + 1], hist[L + 3]));
+            a = v_add(a, v_add(hist[L], hist[L + 2]));
+            b = v_add(b, v_add(hist[L + 1], hist[L + 3]));
         }
         for (; L < ref; L++)
-            a = _mm_add_epi8(a, hist[L]);
-        return _mm_add_epi8(a, b);
+            a = v_add(a, hist[L]);
+        return v_add(a, b);
     }
     /* levels 256 .. 258 are spare ones: zero */
     for (L = ref; L < 256u; L += 4) {
-        a = _mm_add_epi8(a, _mm_add_epi8(hist[L], hist[L + 2]));
-        b = _mm_add_epi8(b, _mm_add_epi8(hist[L + 1], hist[L + 3]));
+        a = v_add(a, v_add(hist[L], hist[L + 2]));
+        b = v_add(b, v_add(hist[L + 1], hist[L + 3]));
     }
-    return _mm_sub_epi8(vn, _mm_add_epi8(a, b));
-}
-
-/* Lowest and highest lane. */
-static unsigned r16_hmin(__m128i v)
-{
-    v = _mm_min_epu8(v, _mm_srli_si128(v, 8));
-    v = _mm_min_epu8(v, _mm_srli_si128(v, 4));
-    v = _mm_min_epu8(v, _mm_srli_si128(v, 2));
-    v = _mm_min_epu8(v, _mm_srli_si128(v, 1));
-    return (unsigned)_mm_cvtsi128_si32(v) & 0xFFu;
-}
-
-static unsigned r16_hmax(__m128i v)
-{
-    v = _mm_max_epu8(v, _mm_srli_si128(v, 8));
-    v = _mm_max_epu8(v, _mm_srli_si128(v, 4));
-    v = _mm_max_epu8(v, _mm_srli_si128(v, 2));
-    v = _mm_max_epu8(v, _mm_srli_si128(v, 1));
-    return (unsigned)_mm_cvtsi128_si32(v) & 0xFFu;
+    return v_sub(vn, v_add(a, b));
 }
 
 /* Where the scans of r16_medians start: lo <= the median of every lane of
@@ -1399,88 +1496,86 @@ typedef struct {
  * apart on sonar frames), so a scan from the lowest one is short. d =
  * half - the lane's samples below the level, in -113 .. 112: the lane's
  * median is above the level while d stays >= 0 after subtracting the
- * level's count (sign bits: movemask). When the medians lie far apart
+ * level's count (its sign bit). When the medians lie far apart
  * (bright and dark rows in one block) the scan would cross the levels
  * between them every column: the lanes are then grouped, each column, by
  * the side of mid (the middle of their range) their median is on (a sum
  * of the levels below mid), and the high group is scanned down from hi.
  * Levels 256 .. 258 of hist are read by the unrolled scan and must be
  * zero. */
-static __m128i r16_medians(const __m128i *hist, r16_refs *rf, __m128i vhalf, __m128i vn)
+static vu8 r16_medians(const vu8 *hist, r16_refs *rf, vu8 vhalf, vu8 vn)
 {
-    const __m128i m1 = _mm_set1_epi8(-1);
-    unsigned lbits = 0xFFFFu, hbits = 0, k = 0;
-    __m128i gh = _mm_setzero_si128(), med = _mm_setzero_si128();
+    lanes lset = lanes_all(), hset = lanes_none(); /* the low and high groups */
+    unsigned k = 0;
+    vu8 gh = v_zero(), med = v_zero();
 
     if (rf->grouped) {
-        const __m128i dm = _mm_sub_epi8(vhalf, r16_below(hist, rf->mid, vn));
-        hbits = ~(unsigned)_mm_movemask_epi8(dm) & 0xFFFFu;
-        lbits = 0xFFFFu & ~hbits;
-        gh = _mm_cmpgt_epi8(dm, m1);
+        const vu8 dm = v_sub(vhalf, r16_below(hist, rf->mid, vn));
+        hset = lanes_nonneg(dm);
+        lset = lanes_not(hset);
+        gh = v_nonneg(dm);
     }
-    if (lbits != 0) {
+    if (lanes_any(lset)) {
         /* Low group: lo down while a lane has more than half its samples
          * below it, then up to the group's lowest median. */
         unsigned ref = rf->lo;
-        const __m128i *hp;
-        __m128i d = _mm_sub_epi8(vhalf, r16_below(hist, ref, vn)), e;
-        while ((unsigned)_mm_movemask_epi8(d) & lbits) {
-            d = _mm_add_epi8(d, hist[--ref]);
+        const vu8 *hp;
+        vu8 d = v_sub(vhalf, r16_below(hist, ref, vn)), e;
+        while (lanes_any_neg(d, lset)) {
+            d = v_add(d, hist[--ref]);
             k++;
         }
         for (;;) {
-            e = _mm_sub_epi8(d, hist[ref]);
-            if ((unsigned)_mm_movemask_epi8(e) & lbits)
+            e = v_sub(d, hist[ref]);
+            if (lanes_any_neg(e, lset))
                 break;
             d = e;
             ref++;
             k++;
         }
         /* Each lane's median: ref + the levels above ref that leave its
-         * d >= 0. Four levels a test. */
-        med = _mm_set1_epi8((char)ref);
-        for (hp = &hist[ref + 1]; ((unsigned)_mm_movemask_epi8(e) & lbits) != lbits;
-             hp += 4, k += 4) {
-            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
-            e = _mm_sub_epi8(e, hp[0]);
-            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
-            e = _mm_sub_epi8(e, hp[1]);
-            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
-            e = _mm_sub_epi8(e, hp[2]);
-            med = _mm_sub_epi8(med, _mm_cmpgt_epi8(e, m1));
-            e = _mm_sub_epi8(e, hp[3]);
+         * d >= 0 (v_nonneg: -1 there). Four levels a test. */
+        med = v_dup(ref);
+        for (hp = &hist[ref + 1]; !lanes_all_neg(e, lset); hp += 4, k += 4) {
+            med = v_sub(med, v_nonneg(e));
+            e = v_sub(e, hp[0]);
+            med = v_sub(med, v_nonneg(e));
+            e = v_sub(e, hp[1]);
+            med = v_sub(med, v_nonneg(e));
+            e = v_sub(e, hp[2]);
+            med = v_sub(med, v_nonneg(e));
+            e = v_sub(e, hp[3]);
         }
         rf->lo = ref;
     }
-    if (hbits != 0) {
+    if (lanes_any(hset)) {
         /* High group, mirrored: u = half - the samples above the level; a
          * lane's median is the highest level whose count leaves u < 0. */
         unsigned refh = rf->hi;
-        const __m128i *hp;
-        __m128i u, f, medh;
-        u = _mm_sub_epi8(vhalf, _mm_sub_epi8(_mm_sub_epi8(vn, r16_below(hist, refh, vn)),
-                                             hist[refh]));
-        while ((unsigned)_mm_movemask_epi8(u) & hbits) {
-            u = _mm_add_epi8(u, hist[++refh]);
+        const vu8 *hp;
+        vu8 u, f, medh;
+        u = v_sub(vhalf, v_sub(v_sub(vn, r16_below(hist, refh, vn)), hist[refh]));
+        while (lanes_any_neg(u, hset)) {
+            u = v_add(u, hist[++refh]);
             k++;
         }
         for (;;) {
-            f = _mm_sub_epi8(u, hist[refh]);
-            if ((unsigned)_mm_movemask_epi8(f) & hbits)
+            f = v_sub(u, hist[refh]);
+            if (lanes_any_neg(f, hset))
                 break;
             u = f;
             refh--;
             k++;
         }
         /* one level a test: no read below level 0 */
-        medh = _mm_set1_epi8((char)refh);
-        for (hp = &hist[refh]; ((unsigned)_mm_movemask_epi8(f) & hbits) != hbits; k++) {
-            medh = _mm_add_epi8(medh, _mm_cmpgt_epi8(f, m1));
-            f = _mm_sub_epi8(f, *--hp);
+        medh = v_dup(refh);
+        for (hp = &hist[refh]; !lanes_all_neg(f, hset); k++) {
+            medh = v_add(medh, v_nonneg(f));
+            f = v_sub(f, *--hp);
         }
         rf->hi = refh;
-        med = _mm_or_si128(_mm_andnot_si128(gh, med), _mm_and_si128(gh, medh));
-        if (lbits != 0 && refh >= rf->lo && refh - rf->lo < 32u)
+        med = v_select(gh, medh, med);
+        if (lanes_any(lset) && refh >= rf->lo && refh - rf->lo < 32u)
             rf->grouped = 0; /* close again: one group (lo <= every median) */
     }
     if (k > 24) {
@@ -1500,13 +1595,13 @@ static __m128i r16_medians(const __m128i *hist, r16_refs *rf, __m128i vhalf, __m
 static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
                           int y0, int y1)
 {
-    __m128i hist[512];        /* levels: 0 .. 255 counts, 256 .. 511 spare (zero) */
-    __m128i mask[R16_NT_MAX]; /* 0xFF in lane p when source row t is in window p */
-    __m128i mbuf[R16_CHUNK];  /* medians of a chunk of columns */
+    vu8 hist[512];        /* levels: 0 .. 255 counts, 256 .. 511 spare (zero) */
+    vu8 mask[R16_NT_MAX]; /* 0xFF in lane p when source row t is in window p */
+    vu8 mbuf[R16_CHUNK];  /* medians of a chunk of columns */
     const uint8_t *rowp[R16_NT_MAX];
     const int n = 2 * R + 1, nt = n + 15;
-    const __m128i vhalf = _mm_set1_epi8((char)((n * n) / 2));
-    const __m128i vn = _mm_set1_epi8((char)(n * n));
+    const vu8 vhalf = v_dup((unsigned)(n * n) / 2u);
+    const vu8 vn = v_dup((unsigned)(n * n));
     int i0, j0, j, t, p;
 
     for (t = 0; t < nt; t++) {
@@ -1531,7 +1626,7 @@ static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t d
             int b;
             for (b = -R; b <= R; b++) {
                 unsigned v = rowp[t][clampi(b, 0, cols - 1)];
-                hist[v] = _mm_sub_epi8(hist[v], mask[t]);
+                hist[v] = v_sub(hist[v], mask[t]);
             }
         }
 
@@ -1597,7 +1692,7 @@ static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t d
     }
 }
 #undef R16_ROW
-#endif /* MEDIAN_SSE2 */
+#endif /* MEDIAN_SIMD */
 
 /* Large radii (2R + 1 > H / 2 with H column histograms): strips of up to
  * H / 2 output columns s0 .. s1-1 (absolute here, W = s1 - s0 <= 2R + 1),
@@ -1737,7 +1832,7 @@ static void median_strip_agg(rowsrc *rs, int rows, int cols, int s0, int s1, uin
 
 /* The row-block median of the build (see median_core): its rows a pass,
  * the largest radius it serves, and the function. */
-#if defined(MEDIAN_SSE2)
+#if defined(MEDIAN_SIMD)
 #define MEDIAN_BLOCK_ROWS 16
 #define MEDIAN_BLOCK_MAX_R MEDIAN_R16_MAX_R
 #define MEDIAN_BLOCK median_rows16
@@ -1772,7 +1867,7 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         return ACTAG_OK;
     }
     /* Radii up to 7 are faster with a sliding histogram shared by a block
-     * of output rows (no column histograms): 16 rows with SSE2
+     * of output rows (no column histograms): 16 rows with SSE2 or NEON
      * (median_rows16), 4 without (median_quad, median_quad_dsp on Cortex-M).
      * For 16-bit frames the ring then has the whole scratch and must hold
      * the 2R + block rows a block reads (scratch / cols >= 2 + 69632 /
@@ -1823,7 +1918,7 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         else
             s1 = hb + (int)hcap - R;
         he = s1 - 1 + R < cols ? s1 - 1 + R : cols - 1;
-#ifdef MEDIAN_SSE2
+#ifdef MEDIAN_SIMD
         if (R <= MEDIAN_H8_MAX_R) {
             median_strip8(rs, rows, cols - hb, s0 - hb, s1 - hb, (size_t)hb,
                           (size_t)(he - hb + 1), dst + hb, dstride, R, (uint8_t *)scratch);
