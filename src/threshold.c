@@ -580,11 +580,13 @@ static word_t max4w(const uint8_t *p)
 #ifdef THRESHOLD_DSP
 static uint32_t ge_top4(word_t a, word_t b)
 {
-    /* MRS APSR: NZCVQ in bits 27..31, the GE flags of USUB8 in 16..19,
-     * the other bits 0 */
+    /* MRS APSR: the GE flags of USUB8 in bits 16..19. On Cortex-M the
+     * other bits below 27 read 0; on Cortex-A (user mode) they hold the
+     * CPSR's mode, Thumb and IT bits: masked (an armhf build's bitmap was
+     * wrong at every radius-8 pixel whose lane those bits hit). */
     uint32_t r;
     __asm__("usub8 %0, %1, %2\n\tmrs %0, APSR" : "=&r"(r) : "r"(a), "r"(b) : "cc");
-    return r << 12;
+    return (r & 0x000F0000u) << 12;
 }
 #else
 static uint32_t ge_top4(word_t a, word_t b)
@@ -645,6 +647,7 @@ static uint32_t ge_top4(word_t a, word_t b)
                      "ldr %[t], [%[p], %[dx]]\n\t"                                           \
                      CMP                                                                     \
                      "mrs %[t], APSR\n\t"                                                    \
+                     "and %[t], %[t], #0x000F0000\n\t" /* GE only (Cortex-A: CPSR bits) */ \
                      "lsl %[t], %[t], #12\n\t"                                               \
                      "orr %[acc], %[t], %[acc], lsr #4\n\t"                                  \
                      "adds %[p], %[p], #4\n\t"
@@ -709,6 +712,7 @@ static uint32_t ge_top4(word_t a, word_t b)
     "ldr %[h0], [%[p], %[dx]]\n\t"                                                           \
     CMP                                                                                      \
     "mrs %[h0], APSR\n\t"                                                                    \
+    "and %[h0], %[h0], #0x000F0000\n\t" /* GE only (Cortex-A: CPSR bits) */                  \
     "lsl %[h0], %[h0], #12\n\t"                                                              \
     "orr %[acc], %[h0], %[acc], lsr #4\n\t"                                                  \
     "adds %[p], %[p], #4\n\t"

@@ -384,8 +384,11 @@ static void test_max_counts(void)
      * kernel counters 65025, the documented limits. */
     int t;
     rng_state = 31337u;
-    for (t = 0; t < 3; t++)
-        check_case(rnd_range(1, 6), rnd_range(1, 6), ACTAG_MEDIAN_MAX_RADIUS, FILL_CONST, 0, 0);
+    for (t = 0; t < 3; t++) {
+        int rows = rnd_range(1, 6); /* one PRNG call per statement */
+        int cols = rnd_range(1, 6);
+        check_case(rows, cols, ACTAG_MEDIAN_MAX_RADIUS, FILL_CONST, 0, 0);
+    }
     check_case(1, 1, ACTAG_MEDIAN_MAX_RADIUS, FILL_CONST, 0, 0);
 }
 
@@ -614,8 +617,12 @@ static void test_16bit_frames(void)
     int i, k;
     rng_state = 1616u;
     for (i = 0; i < (int)(sizeof radii / sizeof radii[0]); i++)
-        for (k = 0; k < (int)(sizeof maxes / sizeof maxes[0]); k++)
-            check16(rnd_range(1, 40), rnd_range(1, 70), radii[i], maxes[k], rnd_range(0, 3));
+        for (k = 0; k < (int)(sizeof maxes / sizeof maxes[0]); k++) {
+            int rows = rnd_range(1, 40); /* one PRNG call per statement */
+            int cols = rnd_range(1, 70);
+            int pad = rnd_range(0, 3);
+            check16(rows, cols, radii[i], maxes[k], pad);
+        }
     check16(530, 300, 4, 65535, 0); /* a frame-sized case, 8-row ring blocks */
     check16(37, 300, 8, 4095, 5);   /* the constant-time path, 2-row ring */
     check16(1, 1, 4, 65535, 0);

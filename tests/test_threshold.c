@@ -493,8 +493,9 @@ static void test_every_width_to_70(void)
             int rows = rnd_range(1, 4);
             int off = random_offset();
             int kind = (int)(rnd() % FILL_N);
-            check_case(rows, cols, radii[k], off, kind, (cols + k) % 3 == 0 ? 0 : rnd_range(1, 40),
-                       (cols + k) % 4 == 0 ? rnd_range(1, 9) : 0);
+            int spad = (cols + k) % 3 == 0 ? 0 : rnd_range(1, 40); /* one call a statement */
+            int dpad = (cols + k) % 4 == 0 ? rnd_range(1, 9) : 0;
+            check_case(rows, cols, radii[k], off, kind, spad, dpad);
         }
 }
 
