@@ -325,7 +325,7 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->params.handedness = hostio_opt_choice(PROG, a, v, handedness_words, 3);
         } else if (strcmp(a, "--seed") == 0) {
             NEEDV();
-            o->params.seed = (uint32_t)inum(a, v, 0, 4294967295L);
+            o->params.seed = hostio_opt_u32(PROG, a, v, 0u, 4294967295u);
         } else if (strcmp(a, "--median-radius") == 0) {
             NEEDV();
             o->params.tuning.median_radius = anyint(a, v);

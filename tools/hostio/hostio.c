@@ -548,6 +548,30 @@ int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v
     return HOSTIO_OK;
 }
 
+int hostio_parse_u32(const char *name, const char *s, uint32_t lo, uint32_t hi, uint32_t *v,
+                     char *err)
+{
+    char *end;
+    unsigned long long x;
+    const char *p = s;
+    if (!s)
+        return fail(err, "%s: missing value", name);
+    while (*p == ' ' || *p == '\t')
+        p++;
+    if (*p == '-' || *p == '+') /* strtoull would wrap a minus sign */
+        return fail(err, "%s: must be a whole number from %lu to %lu (got %s)", name,
+                    (unsigned long)lo, (unsigned long)hi, s);
+    errno = 0;
+    x = strtoull(s, &end, 10);
+    if (end == s || *end != '\0' || errno == ERANGE)
+        return fail(err, "%s: must be an integer (got '%s')", name, s);
+    if (x < lo || x > hi)
+        return fail(err, "%s: must be a whole number from %lu to %lu (got %s)", name,
+                    (unsigned long)lo, (unsigned long)hi, s);
+    *v = (uint32_t)x;
+    return HOSTIO_OK;
+}
+
 int hostio_parse_choice(const char *name, const char *s, const char *const *choices, int n,
                         int *index, char *err)
 {
@@ -715,6 +739,16 @@ long hostio_opt_long(const char *prog, const char *name, const char *s, long lo,
     char err[HOSTIO_ERRLEN];
     long v = 0;
     if (hostio_parse_long(name, s, lo, hi, &v, err) != HOSTIO_OK)
+        hostio_die(prog, err);
+    return v;
+}
+
+uint32_t hostio_opt_u32(const char *prog, const char *name, const char *s, uint32_t lo,
+                        uint32_t hi)
+{
+    char err[HOSTIO_ERRLEN];
+    uint32_t v = 0;
+    if (hostio_parse_u32(name, s, lo, hi, &v, err) != HOSTIO_OK)
         hostio_die(prog, err);
     return v;
 }

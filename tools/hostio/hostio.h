@@ -80,6 +80,8 @@
  *     hostio_die(prog, msg)
  *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
  *     hostio_opt_long(prog, name, s, lo, hi)     hostio_parse_long or die
+ *     hostio_opt_u32(prog, name, s, lo, hi)      hostio_parse_u32 or die (seeds:
+ *                            0..4294967295 whatever the width of long)
  *     hostio_opt_mkdirs(prog, name, path)  hostio_mkdirs or die ("name: ...")
  */
 #ifndef ACTAG_HOSTIO_H
@@ -173,6 +175,10 @@ const char *hostio_frame_name(const char *path);
 int hostio_parse_double(const char *name, const char *s, double lo, double hi, double *v,
                         char *err);
 int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v, char *err);
+/* The same for a whole number lo..hi in 32 unsigned bits (a seed), where
+ * long may be 32 bits wide (32-bit ARM Linux): no sign, no wrap. */
+int hostio_parse_u32(const char *name, const char *s, uint32_t lo, uint32_t hi, uint32_t *v,
+                     char *err);
 /* Exactly n finite numbers separated by `sep` (e.g. ','). */
 int hostio_parse_doubles(const char *name, const char *s, char sep, double *out, int n,
                          char *err);
@@ -211,6 +217,8 @@ void hostio_die(const char *prog, const char *msg);
 double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
                          double hi);
 long hostio_opt_long(const char *prog, const char *name, const char *s, long lo, long hi);
+uint32_t hostio_opt_u32(const char *prog, const char *name, const char *s, uint32_t lo,
+                        uint32_t hi);
 /* hostio_parse_choice's index, or dies with its message. */
 int hostio_opt_choice(const char *prog, const char *name, const char *s,
                       const char *const *choices, int n);

@@ -341,6 +341,33 @@ static void test_parse_choice(void)
 /* a string literal's bytes, without its terminating NUL */
 #define PUT_TEXT(name, lit) put((name), (lit), sizeof(lit) - 1)
 
+/* Seeds: the whole 32-bit range whatever the width of long (32-bit ARM
+ * Linux), nothing negative, nothing that wraps. */
+static void test_parse_u32(void)
+{
+    char err[HOSTIO_ERRLEN];
+    uint32_t v = 7u;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_u32("--seed", "4294967295", 0u, 4294967295u, &v, err));
+    TEST_ASSERT_EQUAL_UINT32(4294967295u, v);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_u32("--seed", "0", 0u, 4294967295u, &v, err));
+    TEST_ASSERT_EQUAL_UINT32(0u, v);
+    v = 7u;
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "4294967296", 0u, 4294967295u, &v, err) != HOSTIO_OK);
+    TEST_ASSERT_EQUAL_STRING("--seed: must be a whole number from 0 to 4294967295 (got 4294967296)", err);
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "-1", 0u, 4294967295u, &v, err) != HOSTIO_OK);
+    TEST_ASSERT_NOT_NULL(strstr(err, "(got -1)"));
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", " -5", 0u, 4294967295u, &v, err) != HOSTIO_OK);
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "1e3", 0u, 4294967295u, &v, err) != HOSTIO_OK);
+    TEST_ASSERT_EQUAL_STRING("--seed: must be an integer (got '1e3')", err);
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "", 0u, 4294967295u, &v, err) != HOSTIO_OK);
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "99999999999999999999999", 0u, 4294967295u, &v,
+                                      err) != HOSTIO_OK);
+    TEST_ASSERT_TRUE(hostio_parse_u32("--n", "3", 5u, 9u, &v, err) != HOSTIO_OK);
+    TEST_ASSERT_EQUAL_STRING("--n: must be a whole number from 5 to 9 (got 3)", err);
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", NULL, 0u, 1u, &v, err) != HOSTIO_OK);
+    TEST_ASSERT_EQUAL_UINT32(7u, v); /* untouched by the failures */
+}
+
 static void test_pgm_header_messages(void)
 {
     static const uint8_t two[] = "P5\n2 1\n255\n\x01\x02P5\n2 1\n255\n\x03\x04";
@@ -433,6 +460,7 @@ int main(void)
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
     RUN_TEST(test_parse_choice);
+    RUN_TEST(test_parse_u32);
     RUN_TEST(test_pgm_header_messages);
     RUN_TEST(test_failed_write_leaves_nothing);
     return UNITY_END();

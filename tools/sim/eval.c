@@ -961,7 +961,7 @@ int main(int argc, char **argv)
             c.handedness = hostio_opt_choice(PROG, o, v, words, 3);
         } else if (!strcmp(o, "--seed")) {
             NEED();
-            c.seed = (uint32_t)inum(o, v, 0, 4294967295L);
+            c.seed = hostio_opt_u32(PROG, o, v, 0u, 4294967295u);
         } else if (!strcmp(o, "--threads")) {
             NEED();
             threads = (int)inum(o, v, 1, 16);

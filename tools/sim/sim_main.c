@@ -311,7 +311,7 @@ int main(int argc, char **argv)
                 die("--depth: must be 8 or 16");
         } else if (!strcmp(o, "--seed")) {
             NEED();
-            seed = (uint32_t)inum(o, v, 0, 4294967295L);
+            seed = hostio_opt_u32(PROG, o, v, 0u, 4294967295u);
         } else if (!strcmp(o, "--quiet")) {
             quiet = 1;
         } else if (!strcmp(o, "--compare-real")) {
