@@ -456,8 +456,9 @@ static int legend_flow(canvas *cv, int x0, int y0, int width, const item *it, in
         int w, len = (int)strlen(it[i].text), fit = (width - sw) / (6 * LEGEND_SCALE);
         if (len > fit && fit > 4) /* too long for a line: keep its end */
             snprintf(text, sizeof text, "...%s", it[i].text + len - (fit - 3));
-        else
-            snprintf(text, sizeof text, "%s", it[i].text);
+        else /* a copy (snprintf("%s") here draws a false -Wformat-truncation on 32-bit GCC) */
+            memcpy(text, it[i].text, sizeof text);
+        text[sizeof text - 1] = '\0';
         w = sw + canvas_text_width(text, LEGEND_SCALE) + 4 * LEGEND_SCALE * 3;
         if (used && (it[i].newline || x + w > x0 + width)) {
             x = x0;
