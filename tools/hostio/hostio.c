@@ -25,24 +25,6 @@ static int fail(char *err, const char *fmt, ...)
     return -1;
 }
 
-/* lstat where there is one; bare-metal newlib (the emulated test builds)
- * has no symbolic links and no lstat. */
-#if defined(__NEWLIB__) && !defined(__CYGWIN__)
-#define HOSTIO_LSTAT stat
-#else
-#define HOSTIO_LSTAT lstat
-#endif
-
-void hostio_remove_partial(const char *path)
-{
-    struct stat st;
-    /* only a regular file the path itself names (lstat: a symbolic link such
-     * as /dev/stdout is neither followed nor removed), never a device such as
-     * /dev/full or a FIFO */
-    if (path && strcmp(path, "-") != 0 && HOSTIO_LSTAT(path, &st) == 0 && S_ISREG(st.st_mode))
-        remove(path);
-}
-
 const char *hostio_frame_name(const char *path)
 {
     return (path && strcmp(path, "-") == 0) ? "stdin" : path;
@@ -105,21 +87,15 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
     return buf;
 }
 
+/* The writers go through hostio_out (hostio_out.c): a file whose writing
+ * fails is removed again, never a link or a device. */
 int hostio_write_file(const char *path, const void *data, size_t n, char *err)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return fail(err, "%s: cannot write: %s", path, strerror(errno));
-    if (fwrite(data, 1, n, f) != n) {
-        fclose(f);
-        hostio_remove_partial(path); /* no half-written file left behind */
-        return fail(err, "%s: write error", path);
-    }
-    if (fclose(f) != 0) {
-        hostio_remove_partial(path);
-        return fail(err, "%s: write error", path);
-    }
-    return HOSTIO_OK;
+    hostio_out o;
+    if (hostio_out_open(&o, path, "wb", err) != HOSTIO_OK)
+        return -1;
+    fwrite(data, 1, n, o.f); /* a short write sets the error flag: close fails */
+    return hostio_out_close(&o, err);
 }
 
 int hostio_mkdirs(const char *path, char *err)
@@ -304,40 +280,30 @@ int hostio_pgm_fwrite(FILE *f, const char *name, const hostio_image *img, char *
 
 int hostio_pgm_write(const char *path, const hostio_image *img, char *err)
 {
-    FILE *f;
-    int rc;
+    hostio_out o;
     if (!img || !img->data || img->rows < 1 || img->cols < 1 || img->stride < img->cols ||
         (img->depth != 8 && img->depth != 16))
         return fail(err, "%s: bad image to write", path);
-    f = fopen(path, "wb");
-    if (!f)
-        return fail(err, "%s: cannot write: %s", path, strerror(errno));
-    rc = hostio_pgm_fwrite(f, path, img, err);
-    if (fclose(f) != 0 && rc == HOSTIO_OK)
-        rc = fail(err, "%s: write error", path);
-    if (rc != HOSTIO_OK)
-        hostio_remove_partial(path); /* no half-written file left behind */
-    return rc;
+    if (hostio_out_open(&o, path, "wb", err) != HOSTIO_OK)
+        return -1;
+    if (hostio_pgm_fwrite(o.f, path, img, err) != HOSTIO_OK) {
+        hostio_out_abandon(&o); /* the message is hostio_pgm_fwrite's */
+        return -1;
+    }
+    return hostio_out_close(&o, err);
 }
 
 int hostio_ppm_write(const char *path, const uint8_t *rgb, int rows, int cols, char *err)
 {
-    FILE *f;
-    int bad;
+    hostio_out o;
     size_t n = (size_t)rows * (size_t)cols;
     if (!rgb || rows < 1 || cols < 1)
         return fail(err, "%s: bad picture to write", path);
-    f = fopen(path, "wb");
-    if (!f)
-        return fail(err, "%s: cannot write: %s", path, strerror(errno));
-    fprintf(f, "P6\n%d %d\n255\n", cols, rows);
-    bad = fwrite(rgb, 3, n, f) != n;
-    bad |= ferror(f);
-    if (fclose(f) != 0 || bad) {
-        hostio_remove_partial(path); /* no half-written file left behind */
-        return fail(err, "%s: write error", path);
-    }
-    return HOSTIO_OK;
+    if (hostio_out_open(&o, path, "wb", err) != HOSTIO_OK)
+        return -1;
+    fprintf(o.f, "P6\n%d %d\n255\n", cols, rows);
+    fwrite(rgb, 3, n, o.f); /* a failed write sets the error flag: close fails */
+    return hostio_out_close(&o, err);
 }
 
 void hostio_image_free(hostio_image *img)

@@ -23,6 +23,16 @@
  *                                           are kept)
  *     hostio_mkdirs(path, err)             creates a folder and its parents
  *                                           (like mkdir -p; fine when it exists)
+ *   Output guard (a tool's output file: none is left half-written by a
+ *   failed run; a device, a link or standard output is never removed)
+ *     hostio_out_open(&out, path, mode, err)  fopen (NULL path: standard
+ *                                           output)
+ *     hostio_out_close(&out, err)          flushes and closes, checking each
+ *                                           step; a failure removes the file
+ *     hostio_out_abandon(&out)             closes and removes the file of a
+ *                                           run that fails (a tool's die())
+ *     out.why                              errno of a failed open or close,
+ *                                           for tools with their own wording
  *   PGM (binary P5, 8 or 16 bit; 16-bit samples big-endian as the format says)
  *     hostio_pgm_parse(buf, len, &view, err)  parses a buffer in place, no
  *                                           allocation (usable on bare metal):
@@ -135,6 +145,30 @@ int hostio_write_file(const char *path, const void *data, size_t n, char *err);
  * is left behind. */
 void hostio_remove_partial(const char *path);
 int hostio_mkdirs(const char *path, char *err);
+
+/* An output file being written, removed again when its run fails. Only a
+ * regular file that the path itself named when it was opened is removed
+ * (what this run created or truncated): never a device (/dev/null,
+ * /dev/full), a symbolic link (/dev/stdout) or standard output.
+ *   - open: fopen(path, mode); a NULL path is standard output (never closed
+ *     or removed). Error "PATH: cannot write: REASON".
+ *   - close: fflush, the stream's error flag and fclose; any failure removes
+ *     the file and gives "PATH: write error" ("standard output: ...").
+ *   - abandon: for a run that fails while the file is open (a tool's die()):
+ *     closes it unchecked and removes it.
+ * After close or abandon the guard is idle: closing or abandoning it again
+ * (or a zeroed guard never opened) does nothing. */
+typedef struct hostio_out {
+    FILE *f;          /* the stream while open, else NULL */
+    const char *path; /* as opened (NULL: standard output); kept for messages,
+                         so it must outlive the guard's use */
+    int why;          /* errno of the failed open or close; 0 when only the
+                         stream's error flag told */
+    int removable;    /* path itself names the regular file f writes */
+} hostio_out;
+int hostio_out_open(hostio_out *out, const char *path, const char *mode, char *err);
+int hostio_out_close(hostio_out *out, char *err);
+void hostio_out_abandon(hostio_out *out);
 
 /* `name` labels messages (usually the file name; NULL for "PGM"). */
 int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pgm_view *out,

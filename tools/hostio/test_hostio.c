@@ -1,12 +1,13 @@
 /* The host I/O library's frame reader (PGM by magic, raw by layout, errors
- * naming the file and value), folder creation, number lists, PPM writer and
- * JSON strings. */
+ * naming the file and value), folder creation, number lists, PPM writer,
+ * JSON strings and the output guard (hostio_out). */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
 #include "hostio.h"
 
 #include "actag/actag.h"
 
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <signal.h>
@@ -447,6 +448,106 @@ static void test_failed_write_leaves_nothing(void)
     }
 }
 
+/* The output guard: a closed file stays; an abandoned one is removed, as is
+ * one whose close fails; a device, a symbolic link (and what it points to)
+ * and standard output are never removed. */
+static void test_out_guard(void)
+{
+    char err[HOSTIO_ERRLEN];
+    hostio_out o;
+    struct stat st;
+    /* closed: kept; closing or abandoning the idle guard again does nothing */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_out_open(&o, DIR "/kept.txt", "w", err), err);
+    TEST_ASSERT_EQUAL_INT(1, o.removable);
+    fputs("kept\n", o.f);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_out_close(&o, err), err);
+    TEST_ASSERT_NULL(o.f);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_out_close(&o, err));
+    hostio_out_abandon(&o);
+    TEST_ASSERT_EQUAL_INT(0, stat(DIR "/kept.txt", &st));
+    TEST_ASSERT_EQUAL_INT(5, (int)st.st_size);
+    /* abandoned: removed, also when it existed before (it was truncated) */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_out_open(&o, DIR "/kept.txt", "w", err), err);
+    fputs("half", o.f);
+    hostio_out_abandon(&o);
+    TEST_ASSERT_NULL(o.f);
+    TEST_ASSERT_NOT_EQUAL(0, stat(DIR "/kept.txt", &st));
+    /* a symbolic link: written through, neither removed nor followed */
+    put("target.txt", "target\n", 7);
+    remove(DIR "/link.txt");
+    if (symlink("target.txt", DIR "/link.txt") == 0) {
+        TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_out_open(&o, DIR "/link.txt", "w", err),
+                                      err);
+        TEST_ASSERT_EQUAL_INT(0, o.removable);
+        fputs("half", o.f);
+        hostio_out_abandon(&o);
+        TEST_ASSERT_EQUAL_INT(0, lstat(DIR "/link.txt", &st));
+        TEST_ASSERT_TRUE(S_ISLNK(st.st_mode));
+        TEST_ASSERT_EQUAL_INT(0, stat(DIR "/target.txt", &st));
+        remove(DIR "/link.txt");
+    }
+    /* a device: not removable, and abandoning it leaves it */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_out_open(&o, "/dev/null", "w", err), err);
+    TEST_ASSERT_EQUAL_INT(0, o.removable);
+    fputs("x", o.f);
+    hostio_out_abandon(&o);
+    TEST_ASSERT_EQUAL_INT(0, stat("/dev/null", &st));
+    TEST_ASSERT_TRUE(S_ISCHR(st.st_mode));
+    /* a device that fails the write: the error and its reason, the device stays */
+    if (stat("/dev/full", &st) == 0) {
+        TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_out_open(&o, "/dev/full", "w", err), err);
+        fputs("x", o.f);
+        TEST_ASSERT_EQUAL_INT(-1, hostio_out_close(&o, err));
+        TEST_ASSERT_EQUAL_STRING("/dev/full: write error", err);
+        TEST_ASSERT_NOT_EQUAL(0, o.why); /* ENOSPC */
+        TEST_ASSERT_EQUAL_INT(0, stat("/dev/full", &st));
+        TEST_ASSERT_TRUE(S_ISCHR(st.st_mode));
+    }
+    /* a path that cannot be opened: errno and the message */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_out_open(&o, DIR "/no-such-dir/x.txt", "w", err));
+    TEST_ASSERT_NULL(o.f);
+    TEST_ASSERT_NOT_EQUAL(0, o.why);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "no-such-dir/x.txt: cannot write: "), err);
+    /* standard output: flushed, never closed (its descriptor stays open) */
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_out_open(&o, NULL, "w", err));
+    TEST_ASSERT_TRUE(o.f == stdout);
+    hostio_out_abandon(&o);
+    TEST_ASSERT_NOT_EQUAL(-1, fcntl(STDOUT_FILENO, F_GETFD));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_out_open(&o, NULL, "w", err));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_out_close(&o, err));
+    TEST_ASSERT_NOT_EQUAL(-1, fcntl(STDOUT_FILENO, F_GETFD));
+}
+
+/* A file whose writing failed is removed when it is closed: a size limit
+ * (RLIMIT_FSIZE, SIGXFSZ ignored) makes the writes past it fail, and the
+ * close reports it (the stream's error flag). */
+static void test_out_close_failure_removes(void)
+{
+    static char big[64 * 1024];
+    char err[HOSTIO_ERRLEN];
+    hostio_out o;
+    struct rlimit old, lim;
+    struct stat st;
+    void (*prev)(int);
+    int rc;
+    if (getrlimit(RLIMIT_FSIZE, &old) != 0 || (old.rlim_max != RLIM_INFINITY &&
+                                               old.rlim_max < 100000))
+        TEST_IGNORE_MESSAGE("no file size limit to lower");
+    memset(big, 'x', sizeof big);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_out_open(&o, DIR "/cut.txt", "w", err), err);
+    prev = signal(SIGXFSZ, SIG_IGN);
+    lim = old;
+    lim.rlim_cur = 1000;
+    TEST_ASSERT_EQUAL_INT(0, setrlimit(RLIMIT_FSIZE, &lim));
+    fwrite(big, 1, sizeof big, o.f);
+    rc = hostio_out_close(&o, err);
+    setrlimit(RLIMIT_FSIZE, &old);
+    signal(SIGXFSZ, prev);
+    TEST_ASSERT_EQUAL_INT(-1, rc);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "cut.txt: write error"), err);
+    TEST_ASSERT_NOT_EQUAL(0, stat(DIR "/cut.txt", &st));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -463,5 +564,7 @@ int main(void)
     RUN_TEST(test_parse_u32);
     RUN_TEST(test_pgm_header_messages);
     RUN_TEST(test_failed_write_leaves_nothing);
+    RUN_TEST(test_out_guard);
+    RUN_TEST(test_out_close_failure_removes);
     return UNITY_END();
 }
