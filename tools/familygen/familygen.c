@@ -61,12 +61,10 @@
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime for wall-clock progress */
 #include <ctype.h>
-#include <errno.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 
 #include "actag/version.h"
@@ -88,40 +86,17 @@
     PROG " --bits N --hamming H [--mirror reverse|physical] [--exclude none|corners|LIST] "   \
          "[--min-complexity F] [--format txt|c|apriltag] [--name NAME] [--out FILE]"
 
-/* The --out file while it is open (NULL for standard output) and its path
- * when it may be removed (removable()): die() removes it, so that a failed
- * run leaves no empty or truncated family file behind. */
-static FILE *g_out;
-static const char *g_out_remove;
-
-static void discard_output(void)
-{
-    if (g_out) {
-        fclose(g_out);
-        g_out = NULL;
-    }
-    if (g_out_remove) {
-        remove(g_out_remove);
-        g_out_remove = NULL;
-    }
-}
-
-/* May a failed output file be removed? Only a regular file that the path
- * itself names: never a device (/dev/null, /dev/full) nor a symbolic link
- * such as /dev/stdout, whose removal would delete the link, not the output. */
-static int removable(FILE *f, const char *path)
-{
-    struct stat fs, ls;
-    return fstat(fileno(f), &fs) == 0 && lstat(path, &ls) == 0 && S_ISREG(fs.st_mode) &&
-           S_ISREG(ls.st_mode) && fs.st_dev == ls.st_dev && fs.st_ino == ls.st_ino;
-}
+/* The output (--out or standard output) while it is open: die() abandons
+ * it, so that a failed run leaves no empty or truncated family file behind
+ * (hostio_out: a device such as /dev/null or a link is never removed). */
+static hostio_out g_out;
 
 static void die(int status, const char *fmt, const char *arg)
 {
     fprintf(stderr, PROG ": ");
     fprintf(stderr, fmt, arg);
     fputc('\n', stderr);
-    discard_output();
+    hostio_out_abandon(&g_out);
     exit(status);
 }
 
@@ -524,7 +499,7 @@ int main(int argc, char **argv)
     const char *format = "txt", *name = NULL, *outpath = NULL, *exclude = "none";
     char default_name[64], rule[160], letter;
     layout L;
-    FILE *out = stdout;
+    FILE *out;
     uint64_t *codes = NULL, v, iter, total, excluded_pos, pf, ring[PREFETCH_AHEAD], sentinel;
     size_t ncodes = 0, capcodes = 0;
     forbid_map F;
@@ -689,18 +664,13 @@ int main(int argc, char **argv)
             exit(2);
         }
     }
-    if (outpath) {
-        out = fopen(outpath, "w");
-        if (!out) {
-            char msg[HOSTIO_ERRLEN + 64];
-            snprintf(msg, sizeof msg, "--out '%.200s': cannot write: %s", outpath,
-                     strerror(errno));
-            die(2, "%s", msg);
-        }
-        g_out = out;
-        if (removable(out, outpath))
-            g_out_remove = outpath;
+    if (hostio_out_open(&g_out, outpath, "w", NULL) != HOSTIO_OK) {
+        char msg[HOSTIO_ERRLEN + 64];
+        snprintf(msg, sizeof msg, "--out '%.200s': cannot write: %s", outpath,
+                 strerror(g_out.why));
+        die(2, "%s", msg);
     }
+    out = g_out.f;
 
     total = 1ull << bits;
     F.lowbits = L.nkeep < 6 ? L.nkeep : 6;
@@ -852,31 +822,15 @@ int main(int argc, char **argv)
     else
         write_apriltag(out, &L, h, rule, name, codes, ncodes);
     free(codes);
-    {
-        /* a write error shows in fflush, the stream's error flag or fclose;
-         * a failed file is removed by die() (closed here, not twice) */
-        int failed, why = 0;
-        errno = 0;
-        failed = fflush(out) != 0;
-        if (failed)
-            why = errno;
-        failed |= ferror(out) != 0;
-        if (outpath) {
-            g_out = NULL;
-            errno = 0;
-            if (fclose(out) != 0 && !failed) {
-                failed = 1;
-                why = errno;
-            }
-        }
-        if (failed) {
-            char msg[HOSTIO_ERRLEN + 64];
-            snprintf(msg, sizeof msg, "error writing '%.200s'%s%s",
-                     outpath ? outpath : "standard output", why ? ": " : "",
-                     why ? strerror(why) : "");
-            die(2, "%s", msg);
-        }
+    /* a write error shows in fflush, the stream's error flag or fclose;
+     * a failed file is removed by hostio_out_close */
+    if (hostio_out_close(&g_out, NULL) != HOSTIO_OK) {
+        int why = g_out.why;
+        char msg[HOSTIO_ERRLEN + 64];
+        snprintf(msg, sizeof msg, "error writing '%.200s'%s%s",
+                 outpath ? outpath : "standard output", why ? ": " : "",
+                 why ? strerror(why) : "");
+        die(2, "%s", msg);
     }
-    g_out_remove = NULL;
     return 0;
 }

@@ -22,7 +22,6 @@
  * ignored); a file whose writing fails is removed again, not left half
  * written. Run with --help for the options.
  */
-#define _POSIX_C_SOURCE 200809L /* fileno, fstat: is the output a regular file? */
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -30,7 +29,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "actag/family.h"
 #include "actag/render.h"
@@ -93,12 +91,11 @@ typedef struct {
 
 /* ------------------------------------------------------------------ errors */
 
-/* The output file being written (open_out .. close_out) and its path when it
- * is a regular file: die() closes and removes it, so that a failed write
- * leaves no truncated file behind (a device such as /dev/null is never
- * removed; files of a run that were finished before the error stay). */
-static FILE *g_out;
-static const char *g_out_remove;
+/* The output being written (open_out .. close_out): die() abandons it, so
+ * that a failed write leaves no truncated file behind (hostio_out: a device
+ * such as /dev/null or a link is never removed; files of a run that were
+ * finished before the error stay). */
+static hostio_out g_out;
 
 static void die(const char *fmt, ...)
 {
@@ -108,14 +105,7 @@ static void die(const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     va_end(ap);
     fputc('\n', stderr);
-    if (g_out) {
-        fclose(g_out);
-        g_out = NULL;
-    }
-    if (g_out_remove) {
-        remove(g_out_remove);
-        g_out_remove = NULL;
-    }
+    hostio_out_abandon(&g_out);
     exit(2);
 }
 
@@ -761,47 +751,26 @@ static const char *fnum(char *buf, double v)
     return buf;
 }
 
-/* May a failed output file be removed? Only a regular file that the path
- * itself names: never a device (/dev/null, /dev/full) nor a symbolic link
- * such as /dev/stdout, whose removal would delete the link, not the output. */
-static int removable(FILE *f, const char *path)
-{
-    struct stat fs, ls;
-    return fstat(fileno(f), &fs) == 0 && lstat(path, &ls) == 0 && S_ISREG(fs.st_mode) &&
-           S_ISREG(ls.st_mode) && fs.st_dev == ls.st_dev && fs.st_ino == ls.st_ino;
-}
-
-/* The output stream (stdout for a NULL path). Until close_out() a regular
- * file is removed again when the tool dies (g_out, g_out_remove). */
+/* The output stream (stdout for a NULL path). Until close_out() a file is
+ * removed again when the tool dies (g_out). */
 static FILE *open_out(const char *path)
 {
-    FILE *f;
-    if (path == NULL)
-        return stdout;
-    f = fopen(path, "wb");
-    if (f == NULL)
-        die("cannot write '%s': %s", path, strerror(errno));
-    g_out = f;
-    if (removable(f, path))
-        g_out_remove = path;
-    return f;
+    if (hostio_out_open(&g_out, path, "wb", NULL) != HOSTIO_OK)
+        die("cannot write '%s': %s", path, strerror(g_out.why));
+    return g_out.f;
 }
 
-static void close_out(FILE *f, const char *path)
+/* A failed close has removed the file already (hostio_out_close). */
+static void close_out(void)
 {
-    int failed;
-    if (f == stdout) {
-        if (fflush(f) != 0 || ferror(f))
-            die("cannot write to stdout");
+    const char *path = g_out.path;
+    if (hostio_out_close(&g_out, NULL) == HOSTIO_OK)
         return;
-    }
-    failed = ferror(f) != 0;
-    g_out = NULL; /* closed here: die() must not close it again */
-    if (fclose(f) != 0)
-        die("cannot write '%s': %s", path, strerror(errno));
-    if (failed)
-        die("cannot write '%s'", path);
-    g_out_remove = NULL;
+    if (path == NULL)
+        die("cannot write to stdout");
+    if (g_out.why != 0)
+        die("cannot write '%s': %s", path, strerror(g_out.why));
+    die("cannot write '%s'", path);
 }
 
 static const char *ext_of(int format)
@@ -902,7 +871,7 @@ static void pgm_single(const opts_t *o, int id, const char *path)
     render_into(o, id, img, side, side);
     f = open_out(path);
     write_pgm(f, path, img, side, side);
-    close_out(f, path);
+    close_out();
     free(img);
 }
 
@@ -1159,7 +1128,7 @@ static void vector_single(const opts_t *o, int id, const char *path)
             svg_cut_layers(f, &p, &org, 1);
         fputs("</svg>\n", f);
     }
-    close_out(f, path);
+    close_out();
     free_plate(&p);
 }
 
@@ -1230,7 +1199,7 @@ static void pgm_sheet(const opts_t *o)
         }
         f = open_out(path);
         write_pgm(f, path, img, w, h);
-        close_out(f, path ? path : "stdout");
+        close_out();
         free(img);
         free(path);
     }
@@ -1297,7 +1266,7 @@ static void vector_sheet(const opts_t *o)
             }
             fputs("</g>\n</svg>\n", f);
         }
-        close_out(f, path ? path : "stdout");
+        close_out();
         for (i = 0; i < n; i++)
             free_plate(&plates[i]);
         free(plates);
@@ -1317,6 +1286,7 @@ int main(int argc, char **argv)
         hostio_opt_mkdirs("actag-render", "--out-dir", o.out_dir);
     if (o.list_tabs) {
         static const char *const names[4] = {"TL", "TR", "BR", "BL"};
+        open_out(NULL); /* stdout, checked by close_out() */
         for (i = 0; i < o.nids; i++) {
             int mask = actag_layout_corner_tabs(&o.fam, o.ids[i]), c, first = 1;
             if (mask <= 0)
@@ -1329,7 +1299,7 @@ int main(int argc, char **argv)
                 }
             putchar('\n');
         }
-        close_out(stdout, "stdout");
+        close_out();
     } else if (o.sheet) {
         if (o.format == FMT_PGM)
             pgm_sheet(&o);

@@ -124,25 +124,27 @@ static void usage(FILE *f)
 #define num(opt, s, lo, hi) hostio_opt_double(PROG, (opt), (s), (lo), (hi))
 #define inum(opt, s, lo, hi) hostio_opt_long(PROG, (opt), (s), (lo), (hi))
 
+/* Opens the output file of option opt, or exits with status 2 naming both. */
+static FILE *open_output(hostio_out *o, const char *opt, const char *path)
+{
+    if (hostio_out_open(o, path, "w", NULL) != HOSTIO_OK) {
+        char m[1300];
+        snprintf(m, sizeof m, "%s: cannot write '%s': %s", opt, path, strerror(o->why));
+        die(m);
+    }
+    return o->f;
+}
+
 /* Closes an output file; a write error (a full disk) exits with status 2
- * naming the option and file, and removes a regular file rather than leave
- * it half-written (hostio_remove_partial: never a link or a device). */
-static void close_output(FILE *f, const char *opt, const char *path)
+ * naming the option and file, and the file is removed rather than left
+ * half-written (hostio_out_close: never a link or a device). */
+static void close_output(hostio_out *o, const char *opt)
 {
     char m[1300];
-    int bad, e;
-    errno = 0;
-    bad = fflush(f) != 0 || ferror(f);
-    e = errno;
-    if (fclose(f) != 0 && !bad) {
-        bad = 1;
-        e = errno;
-    }
-    if (!bad)
+    if (hostio_out_close(o, NULL) == HOSTIO_OK)
         return;
-    hostio_remove_partial(path);
-    snprintf(m, sizeof m, "%s: cannot write '%s': %s", opt, path,
-             e ? strerror(e) : "write error");
+    snprintf(m, sizeof m, "%s: cannot write '%s': %s", opt, o->path,
+             o->why ? strerror(o->why) : "write error");
     die(m);
 }
 
@@ -613,17 +615,21 @@ static err_stats stats_of(const double *v, int n)
 
 /* ------------------------------------------------------------ SVG */
 
-static FILE *svg_open(const char *dir, const char *name, const char *title, int w, int h)
-{
+/* An SVG file being written: the guard and the path it names. */
+typedef struct {
+    hostio_out out;
     char path[1200];
+} svg_file;
+
+static FILE *svg_open(svg_file *s, const char *dir, const char *name, const char *title, int w,
+                      int h)
+{
+    char err[HOSTIO_ERRLEN];
     FILE *f;
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    f = fopen(path, "w");
-    if (!f) {
-        char m[1300];
-        snprintf(m, sizeof m, "%s: cannot write: %s", path, strerror(errno));
-        die(m);
-    }
+    snprintf(s->path, sizeof s->path, "%s/%s", dir, name);
+    if (hostio_out_open(&s->out, s->path, "w", err) != HOSTIO_OK)
+        die(err); /* "PATH: cannot write: REASON" */
+    f = s->out.f;
     fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
                "font-family=\"sans-serif\" font-size=\"12\">\n"
                "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n"
@@ -632,19 +638,15 @@ static FILE *svg_open(const char *dir, const char *name, const char *title, int 
     return f;
 }
 
-static void svg_close(FILE *f, const char *dir, const char *name)
-{
-    char path[1200];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    close_output(f, "--svg", path);
-}
+static void svg_close(svg_file *s) { close_output(&s->out, "--svg"); }
 
 /* Histogram of v (n values) over [lo, hi] in nb bins. */
 static void svg_histogram(const char *dir, const char *name, const char *title, const char *xlabel,
                           const double *v, int n, double lo, double hi, int nb)
 {
     int W = 520, H = 340, L = 60, Rm = 20, T = 30, B = 50, i, cnt[200] = {0}, maxc = 1;
-    FILE *f = svg_open(dir, name, title, W, H);
+    svg_file svg;
+    FILE *f = svg_open(&svg, dir, name, title, W, H);
     double bw = (hi - lo) / nb;
     for (i = 0; i < n; i++) {
         int b = (int)floor((v[i] - lo) / bw);
@@ -676,7 +678,7 @@ static void svg_histogram(const char *dir, const char *name, const char *title, 
     fprintf(f, "<text x=\"14\" y=\"%d\" transform=\"rotate(-90 14 %d)\" text-anchor=\"middle\">"
                "corners</text>\n</svg>\n",
             H / 2, H / 2);
-    svg_close(f, dir, name);
+    svg_close(&svg);
 }
 
 /* Detection rate (0..1) per bin, with the number of frames per bin. */
@@ -685,7 +687,8 @@ static void svg_rate(const char *dir, const char *name, const char *title, const
 {
     int W = 520, H = 340, L = 60, Rm = 20, T = 30, B = 50, i;
     double lo = centres[0], hi = centres[nb - 1];
-    FILE *f = svg_open(dir, name, title, W, H);
+    svg_file svg;
+    FILE *f = svg_open(&svg, dir, name, title, W, H);
     if (hi <= lo)
         hi = lo + 1.0;
     fprintf(f, "<polyline fill=\"none\" stroke=\"#c0392b\" stroke-width=\"2\" points=\"");
@@ -715,7 +718,7 @@ static void svg_rate(const char *dir, const char *name, const char *title, const
     fprintf(f, "<text x=\"14\" y=\"%d\" transform=\"rotate(-90 14 %d)\" text-anchor=\"middle\">"
                "detection rate</text>\n</svg>\n",
             H / 2, H / 2);
-    svg_close(f, dir, name);
+    svg_close(&svg);
 }
 
 /* ------------------------------------------------------------ pose summary */
@@ -1169,19 +1172,13 @@ int main(int argc, char **argv)
     /* ---- tracking */
     topt.threads = threads;
     if (topt.sequences > 0) {
-        if (seq_failures) {
-            topt.failures = fopen(seq_failures, "w");
-            if (!topt.failures) {
-                char m[600];
-                snprintf(m, sizeof m, "--sequence-failures: cannot write '%s': %s",
-                         seq_failures, strerror(errno));
-                die(m);
-            }
-        }
+        hostio_out seqf;
+        if (seq_failures)
+            topt.failures = open_output(&seqf, "--sequence-failures", seq_failures);
         te_run_sequences(&c.sonar, &c.view, &c.app, &c.fam, tag_size_default, c.seed, &topt,
                          &seq_counts, c.quiet);
         if (topt.failures)
-            close_output(topt.failures, "--sequence-failures", seq_failures);
+            close_output(&seqf, "--sequence-failures");
         topt.failures = NULL;
         have_seq = 1;
     }
@@ -1277,6 +1274,7 @@ int main(int argc, char **argv)
         err_stats rs, as;
         int fam_total[MAX_FAM][NCORR], fam_frames[MAX_FAM][NCORR];
         FILE *ff = NULL;
+        hostio_out fo;
         nbd = (int)ceil((c.view.max_distance - dlo) / dstep);
         nbi = (int)ceil((c.view.max_incidence / DEG - ilo) / istep);
         if (nbd < 1) nbd = 1;
@@ -1284,13 +1282,8 @@ int main(int argc, char **argv)
         if (nbd > MAX_BINS) nbd = MAX_BINS;
         if (nbi > MAX_BINS) nbi = MAX_BINS;
         if (pose_dump) {
-            FILE *pf = fopen(pose_dump, "w");
-            if (!pf) {
-                char m[600];
-                snprintf(m, sizeof m, "--pose-dump: cannot write '%s': %s", pose_dump,
-                         strerror(errno));
-                die(m);
-            }
+            hostio_out po;
+            FILE *pf = open_output(&po, "--pose-dump", pose_dump);
             for (i = 0; i < c.frames; i++) {
                 const tag_result *R = &c.tres[i];
                 if (!R->sampled || !R->found || R->mirror_err || R->order_err)
@@ -1312,17 +1305,10 @@ int main(int argc, char **argv)
                         R->az_err[1], R->az_err[2], R->az_err[3], R->m2_pos, R->m2_ori,
                         R->m2_all, R->hamming, R->margin, R->found_search);
             }
-            close_output(pf, "--pose-dump", pose_dump);
+            close_output(&po, "--pose-dump");
         }
-        if (failures) {
-            ff = fopen(failures, "w");
-            if (!ff) {
-                char m[600];
-                snprintf(m, sizeof m, "--failures: cannot write '%s': %s", failures,
-                         strerror(errno));
-                die(m);
-            }
-        }
+        if (failures)
+            ff = open_output(&fo, "--failures", failures);
         {
             /* per distance bin error spread (range, azimuth) */
             double *tmpr = (double *)malloc((size_t)(4 * c.frames + 1) * sizeof(double));
@@ -1394,7 +1380,7 @@ int main(int argc, char **argv)
             }
         }
         if (ff)
-            close_output(ff, "--failures", failures);
+            close_output(&fo, "--failures");
         rs = stats_of(re, nerr);
         as = stats_of(ae, nerr);
         for (i = 0; i < nbd; i++) {
