@@ -6,14 +6,15 @@
  *
  * Writes DIR/<prefix>_NNNN.pgm (or .raw) and DIR/truth.jsonl, one JSON line
  * per frame. See usage(). Exit status 0, or 2 with a message naming the bad
- * option or file.
+ * option or file. A run that fails removes its truth file (a half-written
+ * truth would pass for a shorter run); the frames finished before the
+ * failure stay, the one being written does not.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sim.h"
 #include "simio.h"
 #include "../hostio/hostio.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -77,8 +78,17 @@ static void usage(FILE *f)
         "  --help  --version\n");
 }
 
-/* Errors and option values: the host I/O library's, exit status 2. */
-#define die(msg) hostio_die(PROG, (msg))
+/* The truth file while it is written: die() abandons it. */
+static hostio_out g_truth;
+
+/* Errors: the host I/O library's, exit status 2, without the truth file. */
+static void die(const char *msg)
+{
+    hostio_out_abandon(&g_truth);
+    hostio_die(PROG, msg);
+}
+
+/* Option values: the host I/O library's (exit status 2). */
 #define num(opt, s, lo, hi) hostio_opt_double(PROG, (opt), (s), (lo), (hi))
 #define inum(opt, s, lo, hi) hostio_opt_long(PROG, (opt), (s), (lo), (hi))
 
@@ -200,7 +210,6 @@ int main(int argc, char **argv)
     float tag_size = 0.130628571f, *btab = NULL;
     double aperture_deg = 60.0;
     char err[HOSTIO_ERRLEN], truth_path[1200];
-    FILE *truth = NULL;
     uint8_t *img8 = NULL;
     uint16_t *img16 = NULL;
     const simio_cli cli = {PROG, usage, 2, ACTAG_MAX_DIM, &sonar, &view, &aperture_deg};
@@ -400,13 +409,6 @@ int main(int argc, char **argv)
                     "sonar (incidence %.1f degrees)\n", tag_spec[i], (double)tr.incidence / DEG);
     }
     hostio_opt_mkdirs(PROG, "--out-dir", out_dir); /* parents too */
-    snprintf(truth_path, sizeof truth_path, "%s/truth.jsonl", out_dir);
-    truth = fopen(truth_path, "w");
-    if (!truth) {
-        char m[1300];
-        snprintf(m, sizeof m, "%s: cannot write: %s", truth_path, strerror(errno));
-        die(m);
-    }
     if (depth == 16)
         img16 = (uint16_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols * 2);
     else
@@ -430,6 +432,11 @@ int main(int argc, char **argv)
             base.family = fam;
             base.tag_size = tag_size;
         }
+        /* opened once the options are all checked: a refused option leaves
+         * no truth file */
+        snprintf(truth_path, sizeof truth_path, "%s/truth.jsonl", out_dir);
+        if (hostio_out_open(&g_truth, truth_path, "w", err) != HOSTIO_OK)
+            die(err); /* "PATH: cannot write: REASON" */
         for (i = 0; i < total; i++) {
             uint32_t fs = sim_frame_seed(seed, (uint32_t)i);
             char path[1200];
@@ -491,17 +498,14 @@ int main(int argc, char **argv)
                 if (hostio_pgm_write(path, &im, err) != HOSTIO_OK)
                     die(err);
             }
-            simio_truth_line(truth, path, i, fs, &sonar, &scene);
+            simio_truth_line(g_truth.f, path, i, fs, &sonar, &scene);
             if (!quiet && (i + 1) % 100 == 0)
                 fprintf(stderr, PROG ": %d/%d frames\n", i + 1, total);
         }
     }
-    /* an earlier failed write sets the error flag: fclose alone may miss it */
-    if (ferror(truth) | (fclose(truth) != 0)) {
-        char m[1300];
-        snprintf(m, sizeof m, "%s: write error", truth_path);
-        die(m);
-    }
+    /* a failed close has removed the file (hostio_out_close) */
+    if (hostio_out_close(&g_truth, err) != HOSTIO_OK)
+        die(err); /* "PATH: write error" */
     free(img8);
     free(img16);
     free(btab);

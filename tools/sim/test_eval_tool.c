@@ -348,8 +348,41 @@ static void test_eval_write_errors(void)
     TEST_ASSERT_EQUAL_INT(0, symlink("/dev/full", link_path));
     snprintf(args, sizeof args, "--pool --random 6 --quiet --out-dir \"%s\"", dir);
     expect_error(ACTAG_SIM_PATH, args, link_path);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, lstat(link_path, &st), "the truth link was removed");
+    TEST_ASSERT_TRUE(S_ISLNK(st.st_mode));
     remove(link_path);
     /* a device is never removed as a half-written file */
+    TEST_ASSERT_EQUAL_INT(0, stat("/dev/full", &st));
+    TEST_ASSERT_TRUE(S_ISCHR(st.st_mode));
+}
+
+/* actag-sim whose frame write fails (the second frame's path is a link to
+ * /dev/full) exits with status 2 naming the frame and leaves no truth file
+ * (a truth of an earlier run in that folder included: the failed run had
+ * truncated it); the frame finished before the failure stays, the link is
+ * neither followed nor removed. */
+static void test_sim_frame_write_error_leaves_no_truth(void)
+{
+    char args[1200], dir[600], link_path[700], path[700];
+    struct stat st;
+    if (stat("/dev/full", &st) != 0)
+        TEST_IGNORE_MESSAGE("no /dev/full");
+    snprintf(dir, sizeof dir, "%s/sim_frame_full", ACTAG_BINARY_DIR);
+    snprintf(link_path, sizeof link_path, "%s/sim_0001.pgm", dir);
+    remove(link_path); /* a failed test's link */
+    snprintf(args, sizeof args, "--pool --random 3 --quiet --out-dir \"%s\"", dir);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args)); /* an earlier, whole run */
+    snprintf(path, sizeof path, "%s/truth.jsonl", dir);
+    TEST_ASSERT_EQUAL_INT(0, stat(path, &st));
+    remove(link_path);
+    TEST_ASSERT_EQUAL_INT(0, symlink("/dev/full", link_path));
+    expect_error(ACTAG_SIM_PATH, args, "sim_0001.pgm: write error");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(path, &st), "a half-written truth.jsonl was left");
+    snprintf(path, sizeof path, "%s/sim_0000.pgm", dir);
+    TEST_ASSERT_EQUAL_INT(0, stat(path, &st));
+    TEST_ASSERT_EQUAL_INT(0, lstat(link_path, &st));
+    TEST_ASSERT_TRUE(S_ISLNK(st.st_mode));
+    remove(link_path);
     TEST_ASSERT_EQUAL_INT(0, stat("/dev/full", &st));
     TEST_ASSERT_TRUE(S_ISCHR(st.st_mode));
 }
@@ -499,6 +532,7 @@ int main(void)
     RUN_TEST(test_appearance_options);
     RUN_TEST(test_eval_write_errors);
     RUN_TEST(test_eval_write_error_removes_file);
+    RUN_TEST(test_sim_frame_write_error_leaves_no_truth);
     RUN_TEST(test_eval_options_without_their_run);
     RUN_TEST(test_sim_tag_pose_checks);
     RUN_TEST(test_sim_options_the_scene_ignores);
