@@ -5,7 +5,7 @@
  * data/pool-video; data/README.md), printed as a table (ms per frame, ns per
  * pixel), plus the workspace bytes.
  *
- *   actag_bench [--repeat N] [--family NAME] [FRAME.pgm...]
+ *   actag_bench [--repeat N] [--family NAME] [FRAME.pgm...]   (--help: usage)
  *
  * Geometry is the pool recording's: 0.1-1.5 m, 60 degrees; default parameters
  * (the paper's Table I median/threshold radii and offset).
@@ -21,6 +21,8 @@
 #include <time.h>
 
 #include "hostio.h"
+
+#define PROG "actag_bench"
 
 #ifndef ACTAG_SHARED_DIR
 #define ACTAG_SHARED_DIR "../shared"
@@ -47,6 +49,17 @@ static double now_ms(void)
 }
 
 
+static void usage(void)
+{
+    printf("usage: " PROG " [--repeat N] [--family NAME] [FRAME.pgm...]\n"
+           "Per-stage and whole-pipeline time per frame (ms, ns per pixel) and the workspace\n"
+           "bytes, over the frames given (8-bit PGM) or else the 58 pool frames of the full\n"
+           "data set (the 6 of data/pool-video without it); pool geometry, default parameters.\n"
+           "  --repeat N     runs per frame, the best one counts (default 5)\n"
+           "  --family NAME  (default AcTag24h10)\n"
+           "  --help, -h     this text   --version\n");
+}
+
 enum { S_MEDIAN, S_THRESH, S_CONTOUR, S_QUAD_DECODE, S_TOTAL, S_N };
 static const char *const stage_names[S_N] = {"median filter (R=4)", "adaptive threshold (R=8)",
                                              "contours + size filter", "search + quads + decode (rest)",
@@ -69,14 +82,17 @@ int main(int argc, char **argv)
         if (strcmp(argv[i], "--version") == 0) {
             printf("actag_bench %s\n", ACTAG_VERSION_STRING);
             return 0;
-        } else if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
-            repeat = (int)hostio_opt_long("actag_bench", "--repeat", argv[++i], 1, 1000000);
-        else if (strcmp(argv[i], "--family") == 0 && i + 1 < argc)
-            family_name = argv[++i];
-        else if (argv[i][0] == '-') {
-            fprintf(stderr, "actag_bench: unknown option %s\n", argv[i]);
-            return 2;
-        } else if (nfiles < 1024)
+        } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage();
+            return 0;
+        } else if (strcmp(argv[i], "--repeat") == 0)
+            repeat = (int)hostio_opt_long(PROG, "--repeat", hostio_opt_value(PROG, argc, argv, &i),
+                                          1, 1000000);
+        else if (strcmp(argv[i], "--family") == 0)
+            family_name = hostio_opt_value(PROG, argc, argv, &i);
+        else if (argv[i][0] == '-')
+            hostio_opt_unknown(PROG, argv[i]);
+        else if (nfiles < 1024)
             files[nfiles++] = argv[i];
     }
     if (nfiles == 0 && file_exists(ACTAG_SHARED_DIR "/data/sonar/pool-video/f_0001.pgm")) {

@@ -7,7 +7,7 @@
  *
  *   stage_bench [--repeat N] [--median-radius R] [--threshold-radius R]
  *               [--offset K] [--only median|threshold] [--path library|portable]
- *               FRAME.pgm...
+ *               FRAME.pgm...   (--help: usage)
  *
  * Each stage runs N times over every frame (the threshold on the median's
  * output, as in actag_detect); for each repeat the mean thread CPU time per
@@ -29,6 +29,8 @@
 #include "actag/threshold.h"
 #include "actag/version.h"
 #include "hostio.h"
+
+#define PROG "stage_bench"
 
 /* The portable paths, compiled in under other names. */
 int actag_median_filter_portable(const uint8_t *src, int rows, int cols, int src_stride,
@@ -84,6 +86,21 @@ static uint64_t fnv(uint64_t h, const uint8_t *p, size_t n)
     return h;
 }
 
+static void usage(void)
+{
+    printf("usage: stage_bench [--repeat N] [--median-radius R] [--threshold-radius R]\n"
+           "                   [--offset K] [--only median|threshold] [--path library|portable]\n"
+           "                   FRAME.pgm...\n"
+           "Thread CPU time per frame of the median filter and the adaptive threshold, the\n"
+           "library's path and the portable C path, best and worst of N repeats, with the\n"
+           "outputs' digests (the program fails when the two paths disagree).\n"
+           "  --repeat N              repeats (default 5)\n"
+           "  --median-radius R       (default 4)   --threshold-radius R (default 8)\n"
+           "  --offset K              threshold offset (default 1)\n"
+           "  --only median|threshold one stage     --path library|portable  one path\n"
+           "  --help, -h              this text     --version\n");
+}
+
 static int parse_int(const char *name, const char *s, long lo, long hi, int *v)
 {
     long x;
@@ -114,37 +131,39 @@ int main(int argc, char **argv)
             printf("stage_bench %s\n", ACTAG_VERSION_STRING);
             free(fr);
             return 0;
-        } else if (strcmp(a, "--repeat") == 0 && i + 1 < argc) {
-            if (parse_int(a, argv[++i], 1, 100000, &repeat))
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage();
+            free(fr);
+            return 0;
+        } else if (strcmp(a, "--repeat") == 0) {
+            if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), 1, 100000, &repeat))
                 return 2;
-        } else if (strcmp(a, "--median-radius") == 0 && i + 1 < argc) {
-            if (parse_int(a, argv[++i], 0, ACTAG_MEDIAN_MAX_RADIUS, &mr))
+        } else if (strcmp(a, "--median-radius") == 0) {
+            if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), 0,
+                          ACTAG_MEDIAN_MAX_RADIUS, &mr))
                 return 2;
-        } else if (strcmp(a, "--threshold-radius") == 0 && i + 1 < argc) {
-            if (parse_int(a, argv[++i], 0, 100000, &tr))
+        } else if (strcmp(a, "--threshold-radius") == 0) {
+            if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), 0, 100000, &tr))
                 return 2;
-        } else if (strcmp(a, "--offset") == 0 && i + 1 < argc) {
-            if (parse_int(a, argv[++i], -255, 255, &off))
+        } else if (strcmp(a, "--offset") == 0) {
+            if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), -255, 255, &off))
                 return 2;
-        } else if (strcmp(a, "--only") == 0 && i + 1 < argc) {
-            i++;
-            only = strcmp(argv[i], "median") == 0 ? 1 : strcmp(argv[i], "threshold") == 0 ? 2 : -1;
+        } else if (strcmp(a, "--only") == 0) {
+            const char *v = hostio_opt_value(PROG, argc, argv, &i);
+            only = strcmp(v, "median") == 0 ? 1 : strcmp(v, "threshold") == 0 ? 2 : -1;
             if (only < 0) {
                 fprintf(stderr, "stage_bench: --only median|threshold\n");
                 return 2;
             }
-        } else if (strcmp(a, "--path") == 0 && i + 1 < argc) {
-            i++;
-            path = strcmp(argv[i], "library") == 0 ? 0 : strcmp(argv[i], "portable") == 0 ? 1 : -2;
+        } else if (strcmp(a, "--path") == 0) {
+            const char *v = hostio_opt_value(PROG, argc, argv, &i);
+            path = strcmp(v, "library") == 0 ? 0 : strcmp(v, "portable") == 0 ? 1 : -2;
             if (path < -1) {
                 fprintf(stderr, "stage_bench: --path library|portable\n");
                 return 2;
             }
         } else if (a[0] == '-') {
-            fprintf(stderr, "usage: stage_bench [--repeat N] [--median-radius R] "
-                            "[--threshold-radius R] [--offset K] [--only median|threshold] "
-                            "[--path library|portable] FRAME.pgm...\n");
-            return 2;
+            hostio_opt_unknown(PROG, a);
         } else {
             hostio_image im;
             char err[HOSTIO_ERRLEN];

@@ -5,7 +5,7 @@
  *   track_bench [--min-range M --max-range M --aperture-deg D] [--family NAME]
  *               [--tag-size M] [--full-every N] [--roi-scale F] [--refind-after K]
  *               [--roi-search N] [--roi-ransac N]
- *               FRAME.pgm...
+ *               FRAME.pgm...   (--help: usage)
  *
  * Every frame goes through bench_full() (actag_detect on the whole frame)
  * and through the tracker, as bench_track_tracked() when the tracker starts
@@ -28,6 +28,20 @@
 #include "hostio.h"
 
 #define PROG "track_bench"
+
+static void usage(void)
+{
+    printf("usage: " PROG " [--min-range M --max-range M --aperture-deg D] [--family NAME]\n"
+           "                   [--tag-size M] [--full-every N] [--roi-scale F]\n"
+           "                   [--refind-after K] [--roi-search N] [--roi-ransac N] FRAME.pgm...\n"
+           "Runs every frame through whole-frame detection (bench_full) and the tracker\n"
+           "(bench_track, bench_track_tracked) for callgrind's per-function instruction\n"
+           "counts; prints the calls and pixels of each. Defaults: the pool sonar\n"
+           "(0.1-1.5 m, 60 degrees), AcTag24h10, 0.130628571 m, track.h's settings.\n"
+           "  --roi-search N   structure-search candidates of the ROI searches\n"
+           "  --roi-ransac N   RANSAC iterations of the ROI searches\n"
+           "  --help, -h       this text\n");
+}
 
 static const actag_params *roi_params; /* NULL: the whole-frame parameters */
 
@@ -83,12 +97,14 @@ int main(int argc, char **argv)
     long px_full = 0, px_track = 0, px_tracked = 0;
     char err[HOSTIO_ERRLEN];
     actag_track_params_default(&tp);
-    for (i = 1; i < argc; i += 2) { /* --option value pairs */
+    for (i = 1; i < argc; i += 2) { /* --option value pairs, then the frames */
         const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (o[0] != '-' || o[1] != '-')
+        if (o[0] != '-' || o[1] == '\0') /* a frame ("-": standard input) */
             break;
-        if (!v)
-            hostio_die(PROG, "an option is missing its value");
+        if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
+            usage();
+            return 0;
+        }
         if (!strcmp(o, "--min-range"))
             g.min_range = (float)hostio_opt_double(PROG, o, v, 0.0, 1e4);
         else if (!strcmp(o, "--max-range"))
@@ -109,14 +125,16 @@ int main(int argc, char **argv)
             roi_ransac = (int)hostio_opt_long(PROG, o, v, 1, 100000);
         else if (!strcmp(o, "--refind-after"))
             tp.refind_after = (int)hostio_opt_long(PROG, o, v, 0, 1000);
-        else {
+        else
+            hostio_opt_unknown(PROG, o);
+        if (!v) { /* the last argument (the number parsers have said so already) */
             char m[300];
-            snprintf(m, sizeof m, "unknown option '%s'", o);
+            snprintf(m, sizeof m, "%.200s: missing value", o);
             hostio_die(PROG, m);
         }
     }
     if (i >= argc)
-        hostio_die(PROG, "no frames (usage: see the comment at the top of bench/track_bench.c)");
+        hostio_die(PROG, "no frames (try --help)");
     if (actag_family_get(family, &fam) != ACTAG_OK)
         hostio_die(PROG, "--family: unknown family");
     actag_params_default(&p);

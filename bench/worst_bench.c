@@ -3,6 +3,7 @@
  * against the median pool frame (issue 10, bounded time).
  *
  *   worst_bench [--repeat N] [--callgrind] [--list] [--only NAME] [POOL.pgm...]
+ *   (--help: usage)
  *
  * Frames: the pool recording's frames (default: the 58 of
  * ../shared/data/sonar/pool-video; 530 x 512, 0.1-1.5 m, 60 degrees) and,
@@ -45,6 +46,7 @@
 #define ACTAG_SHARED_DIR "../shared"
 #endif
 
+#define PROG "worst_bench"
 #define ROWS ADV_ROWS
 #define COLS ADV_COLS
 
@@ -57,6 +59,19 @@ static double cpu_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
+
+static void usage(void)
+{
+    printf("usage: " PROG " [--repeat N] [--callgrind] [--list] [--only NAME] [POOL.pgm...]\n"
+           "The worst actag_detect time over an adversarial frame set against the median pool\n"
+           "frame (default pool frames: the 58 of the full data set; 8-bit 530 x 512).\n"
+           "  --repeat N    runs per frame, the best one counts (default 3)\n"
+           "  --callgrind   one run per frame, each collected and dumped on its own (run\n"
+           "                under valgrind --tool=callgrind --collect-atstart=no)\n"
+           "  --list        print the frames' names and stop\n"
+           "  --only NAME   only the frames whose name contains NAME\n"
+           "  --help, -h    this text\n");
+}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -78,14 +93,20 @@ int main(int argc, char **argv)
     const char *worst_name = "";
 
     for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
-            repeat = atoi(argv[++i]);
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            usage();
+            return 0;
+        } else if (strcmp(argv[i], "--repeat") == 0)
+            repeat = (int)hostio_opt_long(PROG, "--repeat", hostio_opt_value(PROG, argc, argv, &i),
+                                          1, 1000000);
         else if (strcmp(argv[i], "--callgrind") == 0)
             callgrind = 1;
         else if (strcmp(argv[i], "--list") == 0)
             list = 1;
-        else if (strcmp(argv[i], "--only") == 0 && i + 1 < argc)
-            only = argv[++i];
+        else if (strcmp(argv[i], "--only") == 0)
+            only = hostio_opt_value(PROG, argc, argv, &i);
+        else if (argv[i][0] == '-' && argv[i][1] != '\0') /* "-" is a frame: standard input */
+            hostio_opt_unknown(PROG, argv[i]);
         else if (n < 200) {
             v[n].kind = K_POOL;
             snprintf(v[n].path, sizeof v[n].path, "%s", argv[i]);

@@ -737,3 +737,20 @@ void hostio_opt_mkdirs(const char *prog, const char *name, const char *path)
         hostio_die(prog, m);
     }
 }
+
+const char *hostio_opt_value(const char *prog, int argc, char **argv, int *i)
+{
+    char m[HOSTIO_ERRLEN];
+    if (*i + 1 < argc)
+        return argv[++*i];
+    snprintf(m, sizeof m, "%.200s: missing value", argv[*i]);
+    hostio_die(prog, m);
+    return NULL; /* not reached */
+}
+
+void hostio_opt_unknown(const char *prog, const char *opt)
+{
+    char m[HOSTIO_ERRLEN];
+    snprintf(m, sizeof m, "unknown option '%.200s' (try --help)", opt);
+    hostio_die(prog, m);
+}

@@ -93,6 +93,10 @@
  *     hostio_opt_u32(prog, name, s, lo, hi)      hostio_parse_u32 or die (seeds:
  *                            0..4294967295 whatever the width of long)
  *     hostio_opt_mkdirs(prog, name, path)  hostio_mkdirs or die ("name: ...")
+ *     hostio_opt_value(prog, argc, argv, &i)  the value after option argv[i]
+ *                                           (i moves onto it), or die
+ *                                           ("OPT: missing value")
+ *     hostio_opt_unknown(prog, opt)        die ("unknown option 'OPT' (try --help)")
  */
 #ifndef ACTAG_HOSTIO_H
 #define ACTAG_HOSTIO_H
@@ -259,6 +263,11 @@ int hostio_opt_choice(const char *prog, const char *name, const char *s,
 /* The folder of option `name` and its parents (hostio_mkdirs), or dies with
  * "prog: name: <hostio_mkdirs' message>". */
 void hostio_opt_mkdirs(const char *prog, const char *name, const char *path);
+/* The value of option argv[*i], the next argument (*i moves onto it), or
+ * dies with "prog: OPTION: missing value" when argv[*i] is the last. */
+const char *hostio_opt_value(const char *prog, int argc, char **argv, int *i);
+/* Dies with "prog: unknown option 'OPT' (try --help)". */
+void hostio_opt_unknown(const char *prog, const char *opt);
 
 #ifdef __cplusplus
 }
