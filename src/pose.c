@@ -11,10 +11,12 @@
 #define P_NRES 12 /* 8 corner residuals, the elevation prior, the plane's offset and tilt */
 #define P_PASSES 3
 #define P_STARTS 5      /* start elevations across the band, at least */
-#define P_STARTS_MAX 17 /* and at most: a wide band gets one start per P_START_STEP */
+#define P_STARTS_MAX 17 /* and at most: a band wider than 16 degrees gets one start
+                         * per P_START_STEP up to 64 degrees, 17 spread over wider */
 #define P_START_STEP 0.0698f /* rad (4 degrees): the elevation cost's local minima lie a
                               * few degrees apart; a 150 degree band with 5 starts (33
-                              * degrees apart) settled in one 3.4 degrees off (test_pose) */
+                              * degrees apart) settled in one 3.4 degrees off, with 17
+                              * (9.4 degrees apart) it did not (test_pose) */
 
 /* ------------------------------------------------------------ trigonometry
  * Our own, from sums, products and sqrtf only: libm's sinf/atan2f differ in
@@ -767,7 +769,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
     m.sr = p->range_sd;
     m.sa = p->azimuth_sd;
 
-    /* start on the horizontal plane for the band, then from 5 elevations
+    /* start on the horizontal plane for the band, then from 5-17 elevations
      * across it (the cost along the elevation arcs is flat and can have
      * two minima); the best fit goes on */
     p_start(&m, 0.0f, &x, &winding);
@@ -804,6 +806,8 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
              * looks away from the sonar is taken only if no start gave one
              * that faces it (test_exact_corners_recover_the_pose). */
             front = y.R[2] * y.t[0] + y.R[5] * y.t[1] + y.R[8] * y.t[2] > 0.0f;
+            if (!(cy < 3.0e38f)) /* a NaN or infinite cost is no fit */
+                continue;
             if ((front && !front0) || (front == front0 && cy < best)) {
                 best = cy;
                 x0 = y;

@@ -26,8 +26,10 @@
  *   median. Integer arithmetic only; the work per pixel does not depend on R
  *   (the set-up per row is O(R)). Frames wider than ACTAG_MEDIAN_HIST_COLS
  *   (256) columns are filtered in vertical strips, so that at most 256
- *   column histograms exist at a time (see MEMORY). On x86-64 an SSE2 path is used
- *   (radii >= 8: this scheme in 16-byte lanes; radii 1..7: below);
+ *   column histograms exist at a time (see MEMORY). On x86-64 an SSE2 path and
+ *   on ARM with NEON (AArch64, ARMv7-A with -mfpu=neon, little-endian) the
+ *   same path over NEON vectors is used (radii >= 8: this scheme in 16-byte
+ *   lanes; radii 1..7: below; "SSE2 path" below means either);
  *   defining ACTAG_NO_SIMD when building the library selects the portable
  *   C path, which gives identical output.
  *
@@ -49,7 +51,8 @@
  *   constant-time path's instructions; every frame of bench/worst_bench
  *   (checkerboards, speckle, blobs, stripes, noise) takes fewer.
  *
- *   Portable path (no SSE2: ARM, Cortex-M, or ACTAG_NO_SIMD), radii 1..7:
+ *   Portable path (no SSE2 or NEON: Cortex-M, ARM without NEON, or
+ *   ACTAG_NO_SIMD), radii 1..7:
  *   Huang's sliding histogram instead, one 256-bin histogram shared by four
  *   output rows (their four 8-bit counts packed in one 32-bit word per
  *   level, so a sample entering or leaving costs one update for all the

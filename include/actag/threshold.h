@@ -59,7 +59,8 @@
  *   as on 32-bit cores), against ~73 for the plain byte loops: SWAR min/max
  *   costs about 15 integer operations per word, so on 32-bit cores nearly
  *   all of the gain is the fused horizontal pass. On cores with the DSP
- *   extension (__ARM_FEATURE_SIMD32: Cortex-M4/M7) a 4-byte min or max is
+ *   extension (__ARM_FEATURE_SIMD32: Cortex-M4/M7, and ARMv7-A builds without
+ *   NEON such as Debian armhf) a 4-byte min or max is
  *   USUB8 + SEL, 2 instructions (ACTAG_NO_DSP: the portable words), and the
  *   horizontal pass works by doubling, a word at a time: 10.9 instead of
  *   19.5 million instructions per 530 x 512 frame at R = 8 on a Cortex-M7 at

@@ -223,6 +223,10 @@ def test_without_numpy(tmp_path):
     assert json.loads(out) == json.loads(json.dumps(expected))
 
 
+class MyDetector(pyactag.Detector):
+    """A subclass (pickling must keep the class)."""
+
+
 def test_pickle_detector_and_detections(example_frame):
     import pickle
     det = pyactag.Detector(median_radius=3, seed=9, max_detections=5, **GEOMETRY)
@@ -232,8 +236,13 @@ def test_pickle_detector_and_detections(example_frame):
     a = det.detect(example_frame)
     assert a, "the example frame shows a tag"
     assert detections_key(copy.detect(example_frame)) == detections_key(a)
-    back = pickle.loads(pickle.dumps(a))
-    assert [d.to_dict() for d in back] == [d.to_dict() for d in a]
+    for proto in range(pickle.HIGHEST_PROTOCOL + 1):
+        back = pickle.loads(pickle.dumps(a, protocol=proto))
+        assert [d.to_dict() for d in back] == [d.to_dict() for d in a], proto
+    # a bare core family, and a subclass, come back as they were
+    raw = pyactag._core.Family("AcTag24h10")
+    assert pickle.loads(pickle.dumps(pyactag.Detector(raw, **GEOMETRY))).family.name == "AcTag24h10"
+    assert type(pickle.loads(pickle.dumps(MyDetector(**GEOMETRY)))) is MyDetector
     # a Detector with a caller's family keeps its codes
     fam = pyactag.Family.from_codes("MyTags", pyactag.Family("AcTag24h10").codes, bits=24,
                                     hamming=10)

@@ -522,7 +522,7 @@ int hostio_parse_u32(const char *name, const char *s, uint32_t lo, uint32_t hi, 
     const char *p = s;
     if (!s)
         return fail(err, "%s: missing value", name);
-    while (*p == ' ' || *p == '\t')
+    while (isspace((unsigned char)*p)) /* as strtoull skips them */
         p++;
     if (*p == '-' || *p == '+') /* strtoull would wrap a minus sign */
         return fail(err, "%s: must be a whole number from %lu to %lu (got %s)", name,

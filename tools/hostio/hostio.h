@@ -26,7 +26,8 @@
  *   Output guard (a tool's output file: none is left half-written by a
  *   failed run; a device, a link or standard output is never removed)
  *     hostio_out_open(&out, path, mode, err)  fopen (NULL path: standard
- *                                           output)
+ *                                           output); only a "w" mode's file
+ *                                           is ever removed
  *     hostio_out_close(&out, err)          flushes and closes, checking each
  *                                           step; a failure removes the file
  *     hostio_out_abandon(&out)             closes and removes the file of a

@@ -58,7 +58,10 @@ int hostio_out_open(hostio_out *o, const char *path, const char *mode, char *err
             snprintf(err, HOSTIO_ERRLEN, "%s: cannot write: %s", path, strerror(o->why));
         return -1;
     }
-    o->removable = names_stream(o->f, path);
+    /* only a file this run truncated or created ("w"): appending to or
+     * updating one keeps what was there before, which a failure must not
+     * take with it */
+    o->removable = mode != NULL && mode[0] == 'w' && names_stream(o->f, path);
     return HOSTIO_OK;
 }
 

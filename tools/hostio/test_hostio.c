@@ -358,6 +358,9 @@ static void test_parse_u32(void)
     TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "-1", 0u, 4294967295u, &v, err) != HOSTIO_OK);
     TEST_ASSERT_NOT_NULL(strstr(err, "(got -1)"));
     TEST_ASSERT_TRUE(hostio_parse_u32("--seed", " -5", 0u, 4294967295u, &v, err) != HOSTIO_OK);
+    /* strtoull would read this one as 1 (the negation wraps) */
+    TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "\n-18446744073709551615", 0u, 4294967295u, &v,
+                                      err) != HOSTIO_OK);
     TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "1e3", 0u, 4294967295u, &v, err) != HOSTIO_OK);
     TEST_ASSERT_EQUAL_STRING("--seed: must be an integer (got '1e3')", err);
     TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "", 0u, 4294967295u, &v, err) != HOSTIO_OK);

@@ -81,6 +81,11 @@ class Detection:
         self.corners_xy = corners_xy
         self.corners_polar = corners_polar
 
+    def __reduce__(self):
+        """Pickling with every protocol (``__slots__`` alone needs 2+)."""
+        return (type(self), (self.id, self.hamming, self.mirrored, self.decision_margin,
+                             self.inlier_ratio, self.corners_xy, self.corners_polar))
+
     @property
     def corners(self):
         """The four corners (tag order TL, TR, BR, BL) as ``Corner(x_col,
@@ -295,7 +300,12 @@ class Detector:
         """Pickling (e.g. to worker processes): the family, every parameter,
         max_detections and the default geometry; the copy has its own
         workspace."""
-        return (_detector_of_state, (self.family, self.params, self.max_detections,
+        fam = self.family
+        if not isinstance(fam, Family):  # a bare _core.Family: as a picklable Family
+            fam = (Family(fam.name) if fam.builtin else
+                   Family(fam.name, list(fam.codes), fam.bits, fam.hamming, fam.mirror,
+                          fam.excluded))
+        return (_detector_of_state, (type(self), fam, self.params, self.max_detections,
                                      dict(self._geometry)))
 
     def __repr__(self):
@@ -303,9 +313,9 @@ class Detector:
                                                               self.params["tag_size"])
 
 
-def _detector_of_state(family, params, max_detections, geometry):
+def _detector_of_state(cls, family, params, max_detections, geometry):
     """Detector.__reduce__'s inverse."""
-    return Detector(family, max_detections=max_detections, **geometry, **params)
+    return cls(family, max_detections=max_detections, **geometry, **params)
 
 
 def detect(frame, *, family=DEFAULT_FAMILY, max_detections=DEFAULT_MAX_DETECTIONS,
