@@ -14,9 +14,10 @@
 #define P_STARTS_MAX 17 /* and at most: a band wider than 16 degrees gets one start
                          * per P_START_STEP up to 64 degrees, 17 spread over wider */
 #define P_START_STEP 0.0698f /* rad (4 degrees): the elevation cost's local minima lie a
-                              * few degrees apart; a 150 degree band with 5 starts (33
-                              * degrees apart) settled in one 3.4 degrees off, with 17
-                              * (9.4 degrees apart) it did not (test_pose) */
+                              * few degrees apart; a 150 degree aperture (a 133 degree
+                              * band) with 5 starts (33 degrees apart) settled in one 3.4
+                              * degrees off, with 17 (8.3 degrees apart) it did not
+                              * (test_pose) */
 
 /* ------------------------------------------------------------ trigonometry
  * Our own, from sums, products and sqrtf only: libm's sinf/atan2f differ in

@@ -3,8 +3,8 @@
 # examples run under qemu-aarch64 (qemu-user) when it is installed.
 #   cmake -S . -B build-a64 -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/aarch64-linux-gnu.cmake \
 #         -DACTAG_FAMILYGEN=$PWD/build/actag-familygen   (or -DACTAG_GENERATE_FAMILIES=OFF)
-#   cmake --build build-a64 -j2 && ctest --test-dir build-a64 -R "median|threshold|detect"
-# (the suites .ci/linux-arm runs; the tool tests that start programs from sh
+#   cmake --build build-a64 -j2 && ctest --test-dir build-a64 -R "^(test_median|test_threshold|test_detect)$"
+# (some of the suites .ci/linux-arm runs; the tool tests that start programs from sh
 # need binfmt_misc to run the target's binaries, which containers rarely have)
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)

@@ -5,8 +5,8 @@
 # when it is installed.
 #   cmake -S . -B build-armhf -DCMAKE_TOOLCHAIN_FILE=cmake/toolchains/arm-linux-gnueabihf.cmake \
 #         -DACTAG_FAMILYGEN=$PWD/build/actag-familygen   (or -DACTAG_GENERATE_FAMILIES=OFF)
-#   cmake --build build-armhf -j2 && ctest --test-dir build-armhf -R "median|threshold|detect"
-# (the suites .ci/linux-arm runs; the tool tests that start programs from sh
+#   cmake --build build-armhf -j2 && ctest --test-dir build-armhf -R "^(test_median|test_threshold|test_detect)$"
+# (some of the suites .ci/linux-arm runs; the tool tests that start programs from sh
 # need binfmt_misc to run the target's binaries, which containers rarely have)
 # A board with NEON: -DCMAKE_C_FLAGS="-mfpu=neon" (the NEON median then).
 set(CMAKE_SYSTEM_NAME Linux)

@@ -63,7 +63,8 @@
  *   pixel; ~128 vs ~534 with -fno-tree-vectorize, closer to a scalar core)
  *   and about 3x less time. A constant 2 KiB table (bcast16_tab) goes to
  *   read-only memory. On cores with the DSP extension (__ARM_FEATURE_SIMD32,
- *   little-endian: Cortex-M4/M7) the four windows' counts of samples <= their
+ *   little-endian: Cortex-M4/M7, and ARMv7-A builds without NEON such as
+ *   Debian armhf) the four windows' counts of samples <= their
  *   medians are 8-bit lanes of one word (MUL + USUB8 + SEL a sample, no
  *   table), a source row's histogram and count update is one 17-instruction
  *   asm block, and the median search reads a window's lane as a byte
