@@ -998,6 +998,11 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     cap = ACTAG_CONTOUR_CAP(rows, cols);
     if ((size_t)params->tuning.limits.max_contour_points < cap)
         cap = (size_t)params->tuning.limits.max_contour_points;
+    /* the quad fit takes at most ACTAG_QUAD_MAX_POINTS: a longer border is
+     * skipped here and counted in stats.overflowed, as actag.h says, rather
+     * than refused by actag_quad_fit without a count or a trace */
+    if (cap > (size_t)ACTAG_QUAD_MAX_POINTS)
+        cap = (size_t)ACTAG_QUAD_MAX_POINTS;
     pts = (actag_ipoint *)(void *)w.s;
     qscratch = w.s + ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
     qscratch_size = w.s_size - ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));

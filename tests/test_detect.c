@@ -601,6 +601,23 @@ static void test_inplace_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
                           actag_detect_inplace(&f, &g_geo, &g_p, NULL, sizeof g_ws_ip, det, 8,
                                                NULL));
+    /* no output array for 8 detections */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag_detect_inplace(&f, &g_geo, &g_p, g_ws_ip, sizeof g_ws_ip, NULL, 8,
+                                               NULL));
+    /* a frame size or geometry the library refuses */
+    {
+        actag_frame f2 = f;
+        actag_sonar_geometry g2 = g_geo;
+        f2.stride = f.cols - 1;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE,
+                              actag_detect_inplace(&f2, &g_geo, &g_p, g_ws_ip, sizeof g_ws_ip,
+                                                   det, 8, NULL));
+        g2.max_range = g2.min_range;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY,
+                              actag_detect_inplace(&f, &g2, &g_p, g_ws_ip, sizeof g_ws_ip, det,
+                                                   8, NULL));
+    }
     TEST_ASSERT_EQUAL_MEMORY(g_img, copy, (size_t)g_rows * (size_t)g_cols);
     TEST_ASSERT_EQUAL_UINT(0u, actag_workspace_size_inplace(0, 5));
     free(copy);

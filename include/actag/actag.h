@@ -76,7 +76,8 @@
  *                          sqrt(2) * geometry->max_range
  *   ACTAG_ERR_GEOMETRY     invalid sonar geometry (actag_geometry_validate)
  *   ACTAG_ERR_FAMILY       invalid family
- *   ACTAG_ERR_CORRECTIONS  max_bit_corrections above the family's limit
+ *   ACTAG_ERR_CORRECTIONS  max_bit_corrections not -1 (automatic) or 0 .. the
+ *                          family's limit
  *   ACTAG_ERR_WORKSPACE    workspace_size < actag_workspace_size(rows, cols)
  *   When more tags are found than max_out, the first max_out (in scan order)
  *   are written and stats->dropped counts the rest.
@@ -565,7 +566,10 @@ int actag_check_inplace(const actag_frame *frame, const actag_sonar_geometry *ge
  *   frame instead of the raw one (the corners move by a fraction of a pixel;
  *   docs/memory.md gives the figures). With refine_corners 0 the output is
  *   identical.
- *   Errors: those of actag_check_inplace(). No tracer; stats may be NULL. */
+ *   Errors: those of actag_check_inplace(), and ACTAG_ERR_NULL for a NULL
+ *   workspace or a NULL out with max_out > 0; every error is returned before
+ *   the filter writes, so the frame is untouched then. No tracer; stats may
+ *   be NULL. */
 int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *geometry,
                          const actag_params *params, void *workspace, size_t workspace_size,
                          actag_detection *out, int max_out, actag_stats *stats);
