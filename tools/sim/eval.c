@@ -615,10 +615,11 @@ static err_stats stats_of(const double *v, int n)
 
 /* ------------------------------------------------------------ SVG */
 
-/* An SVG file being written: the guard and the path it names. */
+/* An SVG file being written: the guard and the path it names (malloc'd to
+ * fit: a fixed buffer cut a long --svg DIR short). */
 typedef struct {
     hostio_out out;
-    char path[1200];
+    char *path;
 } svg_file;
 
 static FILE *svg_open(svg_file *s, const char *dir, const char *name, const char *title, int w,
@@ -626,7 +627,11 @@ static FILE *svg_open(svg_file *s, const char *dir, const char *name, const char
 {
     char err[HOSTIO_ERRLEN];
     FILE *f;
-    snprintf(s->path, sizeof s->path, "%s/%s", dir, name);
+    size_t n = strlen(dir) + strlen(name) + 2;
+    s->path = (char *)malloc(n);
+    if (!s->path)
+        die("out of memory");
+    snprintf(s->path, n, "%s/%s", dir, name);
     if (hostio_out_open(&s->out, s->path, "w", err) != HOSTIO_OK)
         die(err); /* "PATH: cannot write: REASON" */
     f = s->out.f;
@@ -638,7 +643,12 @@ static FILE *svg_open(svg_file *s, const char *dir, const char *name, const char
     return f;
 }
 
-static void svg_close(svg_file *s) { close_output(&s->out, "--svg"); }
+static void svg_close(svg_file *s)
+{
+    close_output(&s->out, "--svg");
+    free(s->path);
+    s->path = NULL;
+}
 
 /* Histogram of v (n values) over [lo, hi] in nb bins. */
 static void svg_histogram(const char *dir, const char *name, const char *title, const char *xlabel,

@@ -209,7 +209,8 @@ int main(int argc, char **argv)
     const char *montage = NULL, *family = "AcTag24h10";
     float tag_size = 0.130628571f, *btab = NULL;
     double aperture_deg = 60.0;
-    char err[HOSTIO_ERRLEN], truth_path[1200];
+    char err[HOSTIO_ERRLEN], *truth_path = NULL, *path = NULL;
+    size_t path_size;
     uint8_t *img8 = NULL;
     uint16_t *img16 = NULL;
     const simio_cli cli = {PROG, usage, 2, ACTAG_MAX_DIM, &sonar, &view, &aperture_deg};
@@ -432,14 +433,20 @@ int main(int argc, char **argv)
             base.family = fam;
             base.tag_size = tag_size;
         }
+        /* Sized to fit: fixed buffers cut a long --out-dir short and wrote
+         * every frame to one truncated name. */
+        path_size = strlen(out_dir) + strlen(prefix) + 40;
+        truth_path = (char *)malloc(path_size);
+        path = (char *)malloc(path_size);
+        if (!truth_path || !path)
+            die("out of memory");
         /* opened once the options are all checked: a refused option leaves
          * no truth file */
-        snprintf(truth_path, sizeof truth_path, "%s/truth.jsonl", out_dir);
+        snprintf(truth_path, path_size, "%s/truth.jsonl", out_dir);
         if (hostio_out_open(&g_truth, truth_path, "w", err) != HOSTIO_OK)
             die(err); /* "PATH: cannot write: REASON" */
         for (i = 0; i < total; i++) {
             uint32_t fs = sim_frame_seed(seed, (uint32_t)i);
-            char path[1200];
             int t;
             memset(&scene, 0, sizeof scene);
             if (ntags > 0) {
@@ -481,7 +488,7 @@ int main(int argc, char **argv)
             }
             if (sim_render(&sonar, &scene, &app, fs, img8, img16, sonar.cols, err) != 0)
                 die(err);
-            snprintf(path, sizeof path, "%s/%s_%04d.%s", out_dir, prefix, i, raw ? "raw" : "pgm");
+            snprintf(path, path_size, "%s/%s_%04d.%s", out_dir, prefix, i, raw ? "raw" : "pgm");
             if (raw) {
                 if (hostio_write_file(path, img8 ? (const void *)img8 : (const void *)img16,
                                       (size_t)sonar.rows * (size_t)sonar.cols * (size_t)(depth / 8),
@@ -509,5 +516,7 @@ int main(int argc, char **argv)
     free(img8);
     free(img16);
     free(btab);
+    free(path);
+    free(truth_path);
     return 0;
 }

@@ -477,6 +477,47 @@ static void test_sim_tag_pose_checks(void)
     free(t);
 }
 
+/* A long output folder (over 1200 characters, past the tools' old fixed
+ * path buffers): every actag-sim frame gets its own name in it (they were
+ * all written to one truncated name, exit 0), and actag-eval --svg writes
+ * its files there. */
+static void test_long_output_folder(void)
+{
+    char dir[2048], args[2600], path[2200];
+    int k;
+    char *t;
+    snprintf(dir, sizeof dir, "%s/long_out", ACTAG_BINARY_DIR);
+    snprintf(args, sizeof args, "rm -rf \"%s\"", dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(args, NULL));
+    for (k = 0; k < 6; k++) { /* six folders of 200 characters */
+        size_t L = strlen(dir);
+        dir[L] = '/';
+        memset(dir + L + 1, 'd', 200);
+        dir[L + 201] = '\0';
+    }
+    snprintf(args, sizeof args, "--pool --random 2 --quiet --out-dir \"%s\"", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_SIM_PATH, args), "actag-sim, long --out-dir");
+    for (k = 0; k < 2; k++) {
+        struct stat st;
+        snprintf(path, sizeof path, "%s/sim_%04d.pgm", dir, k);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, stat(path, &st), "a frame of the long --out-dir");
+    }
+    snprintf(path, sizeof path, "%s/truth.jsonl", dir);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(t, "truth.jsonl of the long --out-dir");
+    TEST_ASSERT_NOT_NULL(strstr(t, "sim_0001.pgm"));
+    free(t);
+    snprintf(args, sizeof args, "--pool --frames 2 --quiet --svg \"%s\"", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_EVAL_PATH, args), "actag-eval, long --svg");
+    snprintf(path, sizeof path, "%s/rate_vs_incidence.svg", dir);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(t, "an SVG of the long --svg folder");
+    TEST_ASSERT_NOT_NULL(strstr(t, "</svg>"));
+    free(t);
+    snprintf(args, sizeof args, "rm -rf \"%s/long_out\"", ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(args, NULL));
+}
+
 /* actag-sim options the chosen scene would ignore are refused before
  * anything is written. */
 static void test_sim_options_the_scene_ignores(void)
@@ -536,5 +577,6 @@ int main(void)
     RUN_TEST(test_eval_options_without_their_run);
     RUN_TEST(test_sim_tag_pose_checks);
     RUN_TEST(test_sim_options_the_scene_ignores);
+    RUN_TEST(test_long_output_folder);
     return UNITY_END();
 }
