@@ -430,6 +430,72 @@ static void test_eval_options_without_their_run(void)
                     "--sweep-families", ",AcTag24h10");
 }
 
+/* expect_error_of, and the message is the only line on stderr: no progress
+ * line ("2/2 frames"), so the run was refused before any frame. */
+static void expect_refused_at_once(const char *args, const char *what, const char *value)
+{
+    char *e;
+    const char *p;
+    int lines = 0;
+    expect_error_of(ACTAG_EVAL_PATH, args, what, value);
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    for (p = e; *p; p++)
+        lines += *p == '\n';
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, lines, e);
+    free(e);
+}
+
+/* actag-eval checks what it can before the run: an empty --pool-sequence
+ * folder and output paths that cannot be written were refused only after
+ * every frame was simulated (and the run's progress printed). */
+static void test_eval_refuses_before_the_run(void)
+{
+    char args[1200], dir[600];
+    snprintf(dir, sizeof dir, "%s/eval_empty_pool", ACTAG_BINARY_DIR);
+    mkdir(dir, 0777);
+    snprintf(args, sizeof args, "--frames 2 --threads 1 --pool-sequence \"%s\"", dir);
+    expect_refused_at_once(args, "--pool-sequence", dir);
+    expect_refused_at_once("--frames 2 --threads 1 --pose-dump /nonexistent-dir/p.jsonl",
+                           "--pose-dump", "/nonexistent-dir/p.jsonl");
+    expect_refused_at_once("--frames 2 --threads 1 --failures .", "--failures", "'.'");
+    rmdir(dir);
+}
+
+/* A run that fails leaves none of its output files: --sequence-failures was
+ * closed after the passes and left behind when the run died later (here on
+ * standard output, /dev/full). */
+static void test_eval_failed_run_leaves_no_files(void)
+{
+    char args[1200], path[512];
+    struct stat st;
+    if (stat("/dev/full", &st) != 0)
+        TEST_IGNORE_MESSAGE("no /dev/full");
+    snprintf(path, sizeof path, "%s/eval_sf_dies.jsonl", ACTAG_BINARY_DIR);
+    remove(path);
+    snprintf(args, sizeof args,
+             "--pool --frames 0 --sequences 1 --sequence-length 2 --seed 3 --quiet "
+             "--sequence-failures \"%s\"", path);
+    TEST_ASSERT_EQUAL_INT(2, run_with(NULL, ACTAG_EVAL_PATH, args, "/dev/full"));
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(path, &st), "--sequence-failures left by a failed run");
+    /* the same run with standard output: the file is written */
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    TEST_ASSERT_EQUAL_INT(0, stat(path, &st));
+    remove(path);
+}
+
+/* actag-eval validates its sonars up front, in its own option names: a
+ * tagged run whose aperture cannot hold the columns exited 0 having
+ * measured nothing, and a tag-free one stopped in a worker thread with the
+ * library's field names. */
+static void test_eval_sonar_geometry(void)
+{
+    expect_refused_at_once("--frames 3 --aperture-deg 0.01 --cols 8192 --rows 64",
+                           "--aperture-deg/--cols", "0.01");
+    expect_refused_at_once("--frames 0 --tag-free 1 --free-cols 8192 --aperture-deg 0.1",
+                           "--aperture-deg/--free-cols", "0.1");
+}
+
 /* actag-sim --tag: pose numbers far outside any sonar's reach are refused
  * (1e30 m wrote "distance": inf), and a tag out of view or turned away is
  * written with a warning. */
@@ -578,5 +644,8 @@ int main(void)
     RUN_TEST(test_sim_tag_pose_checks);
     RUN_TEST(test_sim_options_the_scene_ignores);
     RUN_TEST(test_long_output_folder);
+    RUN_TEST(test_eval_refuses_before_the_run);
+    RUN_TEST(test_eval_failed_run_leaves_no_files);
+    RUN_TEST(test_eval_sonar_geometry);
     return UNITY_END();
 }
