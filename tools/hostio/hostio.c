@@ -216,40 +216,6 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
     return HOSTIO_OK;
 }
 
-int hostio_pgm_read(const char *path, hostio_image *out, char *err)
-{
-    size_t len, n, i;
-    hostio_pgm_view v;
-    uint8_t *b = hostio_slurp(path, &len, err);
-    memset(out, 0, sizeof *out);
-    if (!b)
-        return -1;
-    if (hostio_pgm_parse(b, len, hostio_frame_name(path), &v, err) != HOSTIO_OK) {
-        free(b);
-        return -1;
-    }
-    n = (size_t)v.rows * (size_t)v.cols;
-    out->data = malloc(n * (size_t)v.bytes_per_sample);
-    if (!out->data) {
-        free(b);
-        return fail(err, "%s: out of memory", path);
-    }
-    if (v.bytes_per_sample == 1) {
-        memcpy(out->data, v.pixels, n);
-    } else {
-        uint16_t *d = (uint16_t *)out->data;
-        for (i = 0; i < n; i++)
-            d[i] = (uint16_t)((v.pixels[2 * i] << 8) | v.pixels[2 * i + 1]);
-    }
-    out->rows = v.rows;
-    out->cols = v.cols;
-    out->stride = v.cols;
-    out->depth = 8 * v.bytes_per_sample;
-    out->maxval = v.maxval;
-    free(b);
-    return HOSTIO_OK;
-}
-
 int hostio_pgm_fwrite(FILE *f, const char *name, const hostio_image *img, char *err)
 {
     int r, c, maxv;
@@ -477,6 +443,26 @@ int hostio_frame_read(const char *path, const hostio_raw_spec *raw, hostio_image
     if (!b)
         return -1;
     rc = hostio_frame_parse(b, len, hostio_frame_name(path), raw, out, err);
+    free(b);
+    return rc;
+}
+
+/* Through pgm_image, as hostio_frame_read: it copied the samples as stored,
+ * so samples above maxval passed (actag_detect refuses them) and a maxval
+ * below 255 gave other pixels than actag_detect sees. */
+int hostio_pgm_read(const char *path, hostio_image *out, char *err)
+{
+    size_t len;
+    hostio_pgm_view v;
+    uint8_t *b;
+    int rc = -1;
+    const char *nm = hostio_frame_name(path);
+    memset(out, 0, sizeof *out);
+    b = hostio_slurp(path, &len, err);
+    if (!b)
+        return -1;
+    if (hostio_pgm_parse(b, len, nm, &v, err) == HOSTIO_OK)
+        rc = pgm_image(&v, nm, out, err);
     free(b);
     return rc;
 }

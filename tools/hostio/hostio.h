@@ -40,7 +40,10 @@
  *                                           view.pixels points into buf; one
  *                                           frame: bytes after it are an error
  *     hostio_pgm_read(path, &img, err)     reads a file into a malloc'd image
- *                                           (16-bit samples in host order)
+ *                                           (16-bit samples in host order;
+ *                                           samples checked against maxval and
+ *                                           8-bit ones scaled as
+ *                                           hostio_frame_read does)
  *     hostio_pgm_write(path, &img, err)    writes an image (depth 8 or 16)
  *     hostio_pgm_fwrite(stream, name, &img, err)  the same to an open stream
  *                                           (e.g. stdout); name labels messages
