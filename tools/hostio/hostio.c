@@ -676,6 +676,12 @@ void hostio_die(const char *prog, const char *msg)
     exit(2);
 }
 
+void hostio_stdout_check(const char *prog)
+{
+    if (fflush(stdout) != 0 || ferror(stdout))
+        hostio_die(prog, "standard output: write error");
+}
+
 double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
                          double hi)
 {

@@ -372,6 +372,8 @@ int main(int argc, char **argv)
         int rc = simio_compare_real(compare, n, seed, &app, montage, stdout, err);
         if (rc != 0)
             die(err);
+        if (fflush(stdout) != 0 || ferror(stdout)) /* the comparison is the result */
+            die("standard output: write error");
         return 0;
     }
     if ((ntags > 0) + (nrandom > 0) + (nfree > 0) + (nseq > 0) != 1)

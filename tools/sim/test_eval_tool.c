@@ -496,6 +496,29 @@ static void test_eval_sonar_geometry(void)
                            "--aperture-deg/--free-cols", "0.1");
 }
 
+/* actag-sim --compare-real prints its comparison on standard output: lost
+ * there (/dev/full) it is status 2, not 0 (the repository's 6 pool frames). */
+static void test_sim_compare_real_stdout_error(void)
+{
+    char args[1200];
+    struct stat st;
+    char *e;
+    if (stat("/dev/full", &st) != 0)
+        TEST_IGNORE_MESSAGE("no /dev/full");
+    snprintf(args, sizeof args, "--compare-real \"%s/data/pool-video\" --random 2",
+             ACTAG_SOURCE_DIR);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+    e = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "grey levels"), e);
+    free(e);
+    TEST_ASSERT_EQUAL_INT(2, run_with(NULL, ACTAG_SIM_PATH, args, "/dev/full"));
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "actag-sim: standard output: write error"), e);
+    free(e);
+}
+
 /* actag-sim --tag: pose numbers far outside any sonar's reach are refused
  * (1e30 m wrote "distance": inf), and a tag out of view or turned away is
  * written with a warning. */
@@ -647,5 +670,6 @@ int main(void)
     RUN_TEST(test_eval_refuses_before_the_run);
     RUN_TEST(test_eval_failed_run_leaves_no_files);
     RUN_TEST(test_eval_sonar_geometry);
+    RUN_TEST(test_sim_compare_real_stdout_error);
     return UNITY_END();
 }
