@@ -596,9 +596,15 @@ int hostio_parse_list(const char *name, const char *s, double *out, int cap, int
         if (end == p || errno == ERANGE || !isfinite(x) ||
             !(*end == '\0' || *end == ' ' || *end == '\t' || *end == '\n' || *end == '\r' ||
               *end == ',')) {
-            size_t tl = strcspn(p, " \t\r\n,");
-            return fail(err, "%s: value %d is not a finite number (got '%.*s')", name,
-                        count + 1, (int)(tl > 40 ? 40 : tl), p);
+            /* the token as text: a binary file's bytes are shown as '?', not
+             * written to the terminal */
+            char tok[41];
+            size_t tl = strcspn(p, " \t\r\n,"), i;
+            for (i = 0; i < tl && i < 40; i++)
+                tok[i] = p[i] >= 0x20 && p[i] < 0x7f ? p[i] : '?';
+            tok[i] = '\0';
+            return fail(err, "%s: value %d is not a finite number (got '%s')", name, count + 1,
+                        tok);
         }
         if (count < cap)
             out[count] = x;

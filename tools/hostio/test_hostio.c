@@ -124,6 +124,9 @@ static void test_lists(void)
     TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got '2x')", err);
     TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("tab.txt", "1 inf", v, 4, &n, err));
     TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got 'inf')", err);
+    /* a binary file's bytes are not written into the message */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("bin", "\x7f" "ELF\x02\x01\xff,1", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_STRING("bin: value 1 is not a finite number (got '?ELF\?\?\?')", err);
 }
 
 static void test_ppm(void)

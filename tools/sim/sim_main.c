@@ -149,40 +149,33 @@ bad:
     die(msg);
 }
 
+/* The bearing table through hostio's list parser, as actag_detect reads it
+ * (numbers separated by whitespace or commas): a parser of its own here
+ * refused "0.5,0.4" and printed a binary file's bytes. */
 static float *load_bearings(const char *path, int cols)
 {
-    char err[HOSTIO_ERRLEN], msg[400];
+    char err[HOSTIO_ERRLEN];
     size_t len;
-    char *txt = (char *)hostio_slurp(path, &len, err), *p, *end;
-    float *b;
-    int n = 0;
+    char *txt = (char *)hostio_slurp(path, &len, err);
+    double *v = (double *)malloc(((size_t)cols + 1) * sizeof *v);
+    float *b = (float *)malloc((size_t)cols * sizeof *b);
+    int n = 0, i;
     if (!txt)
         die(err);
-    b = (float *)malloc((size_t)cols * sizeof *b);
-    if (!b)
+    if (!v || !b)
         die("out of memory");
-    p = txt;
-    for (;;) {
-        double v = strtod(p, &end);
-        if (end == p)
-            break;
-        if (n < cols)
-            b[n] = (float)v;
-        n++;
-        p = end;
-    }
-    while (*p == ' ' || *p == '\n' || *p == '\t' || *p == '\r')
-        p++;
-    if (*p != '\0') {
-        snprintf(msg, sizeof msg, "%s: not a number: '%.20s'", path, p);
-        free(txt);
-        die(msg);
-    }
+    if (hostio_parse_list(path, txt, v, cols, &n, err) != HOSTIO_OK)
+        die(err); /* "PATH: value K is not a finite number (got '...')" */
     free(txt);
     if (n != cols) {
-        snprintf(msg, sizeof msg, "%s: bearing table has %d values, --cols is %d", path, n, cols);
+        char msg[HOSTIO_ERRLEN + 64];
+        snprintf(msg, sizeof msg, "%.200s: bearing table has %s%d values, --cols is %d", path,
+                 n > cols ? "more than " : "", n > cols ? cols : n, cols);
         die(msg);
     }
+    for (i = 0; i < cols; i++)
+        b[i] = (float)v[i];
+    free(v);
     return b;
 }
 

@@ -496,6 +496,31 @@ static void test_eval_sonar_geometry(void)
                            "--aperture-deg/--free-cols", "0.1");
 }
 
+/* actag-sim --bearings reads the table as actag_detect does (hostio's list
+ * parser): "0.5,0.4" was refused as "not a number: ',0.4'" with the file's
+ * newline in the message, and a binary file's bytes were printed. */
+static void test_sim_bearings_file(void)
+{
+    char args[1400], bpath[700], dir[600];
+    char *e, *p;
+    snprintf(dir, sizeof dir, "%s/sim_bearings_out", ACTAG_BINARY_DIR);
+    snprintf(bpath, sizeof bpath, "%s/sim_bearings_comma.txt", ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(bpath, "0.5,0.4\n", 8, NULL));
+    snprintf(args, sizeof args, "--tag-free 1 --rows 16 --cols 2 --quiet --bearings \"%s\" "
+             "--out-dir \"%s\"", bpath, dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_SIM_PATH, args), args);
+    snprintf(bpath, sizeof bpath, "%s/sim_bearings_binary.txt", ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(bpath, "\x7f" "ELF\x02\x01\n1", 8, NULL));
+    snprintf(args, sizeof args, "--tag-free 1 --rows 16 --cols 2 --quiet --bearings \"%s\" "
+             "--out-dir \"%s\"", bpath, dir);
+    expect_error_of(ACTAG_SIM_PATH, args, "sim_bearings_binary.txt: value 1", "'?ELF\?\?'");
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    for (p = e; *p; p++) /* one line of text */
+        TEST_ASSERT_TRUE_MESSAGE((*p >= 0x20 && *p < 0x7f) || (*p == '\n' && p[1] == '\0'), e);
+    free(e);
+}
+
 /* actag-sim --compare-real prints its comparison on standard output: lost
  * there (/dev/full) it is status 2, not 0 (the repository's 6 pool frames). */
 static void test_sim_compare_real_stdout_error(void)
@@ -671,5 +696,6 @@ int main(void)
     RUN_TEST(test_eval_failed_run_leaves_no_files);
     RUN_TEST(test_eval_sonar_geometry);
     RUN_TEST(test_sim_compare_real_stdout_error);
+    RUN_TEST(test_sim_bearings_file);
     return UNITY_END();
 }
