@@ -337,6 +337,10 @@ int main(int argc, char **argv)
     simio_opt_check_views(PROG, &view);
     if (aperture_set && bearings)
         die("--aperture-deg and --bearings exclude each other: give one");
+    /* the table overrides the flag (geometry.h): refused, not ignored */
+    if (bearings && (sonar.geo.flags & ACTAG_AZIMUTH_ASCENDING))
+        die("--azimuth-ascending does not apply with --bearings (the table gives each column's "
+            "bearing in column order)");
     if (montage && !compare)
         die("--montage: needs --compare-real DIR (it shows real and simulated frames)");
     if (bearings) {

@@ -667,6 +667,10 @@ static void test_sim_options_the_scene_ignores(void)
     snprintf(args, sizeof args, "--random 1 --aperture-deg 60 --bearings \"%s\" --out-dir \"%s\"",
              bpath, dir);
     expect_error(ACTAG_SIM_PATH, args, "--bearings");
+    /* the table overrides the flag (geometry.h): refused, not ignored */
+    snprintf(args, sizeof args, "--random 1 --azimuth-ascending --bearings \"%s\" --out-dir \"%s\"",
+             bpath, dir);
+    expect_error(ACTAG_SIM_PATH, args, "--azimuth-ascending does not apply with --bearings");
     TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "a refused run created --out-dir");
     snprintf(args, sizeof args, "--random 1 --quiet --bearings \"%s\" --out-dir \"%s\"", bpath,
              dir);
