@@ -37,6 +37,7 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
     uint8_t *buf = NULL;
     size_t cap = 0, n = 0;
     const char *why = NULL; /* set when the file is not read whole */
+    int read_errno = 0;     /* fread's reason ("Is a directory"), kept for the message */
     path = hostio_frame_name(path);
     if (!f) {
         fail(err, "%s: %s", path, strerror(errno));
@@ -59,17 +60,20 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
             buf = nb;
             cap = ncap;
         }
+        errno = 0;
         got = fread(buf + n, 1, cap - n - 1, f);
         n += got;
-        if (got == 0)
+        if (got == 0) {
+            read_errno = errno;
             break;
+        }
         if (n > (size_t)HOSTIO_MAX_FILE) {
             why = "too large";
             break;
         }
     }
     if (!why && ferror(f))
-        why = "read error";
+        why = read_errno ? strerror(read_errno) : "read error";
     if (!is_stdin)
         fclose(f);
     if (why) { /* one clean-up for every way the file is not read whole */

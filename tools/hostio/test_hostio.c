@@ -269,6 +269,17 @@ static void test_pgm_8bit_maxval(void)
     TEST_ASSERT_EQUAL_STRING("over16.pgm: PGM sample 1001 at row 0, column 1 is above maxval 1000", err);
 }
 
+/* A folder given as a file: the reason is named (it was "read error"). */
+static void test_slurp_folder_names_the_reason(void)
+{
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    TEST_ASSERT_NULL(hostio_slurp(DIR, NULL, err));
+    TEST_ASSERT_EQUAL_STRING(DIR ": Is a directory", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_read(DIR, NULL, &im, err));
+    TEST_ASSERT_EQUAL_STRING(DIR ": Is a directory", err);
+}
+
 /* hostio_pgm_read (the pool frames of actag-eval --pool-sequence, actag-sim
  * --compare-real, the benchmarks) takes frames as hostio_frame_read does:
  * it copied samples as stored, so a maxval 100 frame with a sample of 200
@@ -594,6 +605,7 @@ int main(void)
     RUN_TEST(test_raw_frame_starting_with_p5);
     RUN_TEST(test_pgm_8bit_maxval);
     RUN_TEST(test_pgm_read_checks_maxval);
+    RUN_TEST(test_slurp_folder_names_the_reason);
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
     RUN_TEST(test_parse_choice);
