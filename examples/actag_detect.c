@@ -49,9 +49,10 @@ static void usage(FILE *f)
             "  --min-range M          range of the nearest row's centre, metres (>= 0)\n"
             "  --max-range M          range of the farthest row's centre, metres\n"
             "  --aperture-deg D       horizontal aperture in degrees, or (not both)\n"
-            "  --bearings FILE        one azimuth per column in radians (whitespace separated)\n"
+            "  --bearings FILE        one azimuth per column in radians (whitespace or commas)\n"
             "  --range-ascending      row 0 is the nearest range (default: the farthest)\n"
-            "  --azimuth-ascending    column 0 is the most negative bearing (default: +aperture/2)\n"
+            "  --azimuth-ascending    column 0 is the most negative bearing (default: +aperture/2;\n"
+            "                         not with --bearings, whose table gives the order)\n"
             "Raw frames:\n"
             "  --rows R --cols C [--depth 8|16] [--stride S]  (16-bit raw is little-endian;\n"
             "                         stride in pixels, default C)\n");
