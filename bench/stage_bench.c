@@ -67,6 +67,7 @@ int actag_median_filter_inplace_portable(void *frame, int depth, int rows, int c
 typedef struct {
     uint8_t *img, *med, *bin;
     int rows, cols;
+    const char *path; /* for messages */
 } frame;
 
 static double thread_ms(void)
@@ -167,7 +168,7 @@ int main(int argc, char **argv)
         } else {
             hostio_image im;
             char err[HOSTIO_ERRLEN];
-            size_t n, s;
+            size_t n;
             int y;
             if (hostio_pgm_read(a, &im, err) != HOSTIO_OK) {
                 fprintf(stderr, "stage_bench: %s\n", err);
@@ -178,6 +179,7 @@ int main(int argc, char **argv)
                 return 2;
             }
             n = (size_t)im.rows * (size_t)im.cols;
+            fr[nfr].path = a;
             fr[nfr].rows = im.rows;
             fr[nfr].cols = im.cols;
             fr[nfr].img = (uint8_t *)malloc(n);
@@ -189,11 +191,6 @@ int main(int argc, char **argv)
                 memcpy(fr[nfr].img + (size_t)y * (size_t)im.cols,
                        (const uint8_t *)im.data + (size_t)y * (size_t)im.stride, (size_t)im.cols);
             hostio_image_free(&im);
-            s = ACTAG_MEDIAN_SCRATCH_SIZE(fr[nfr].rows, fr[nfr].cols);
-            if (ACTAG_THRESHOLD_SCRATCH_SIZE_R(fr[nfr].rows, fr[nfr].cols, tr) > s)
-                s = ACTAG_THRESHOLD_SCRATCH_SIZE_R(fr[nfr].rows, fr[nfr].cols, tr);
-            if (s > scr_size)
-                scr_size = s;
             if (n > maxpix)
                 maxpix = n;
             nfr++;
@@ -202,6 +199,15 @@ int main(int argc, char **argv)
     if (nfr == 0) {
         fprintf(stderr, "stage_bench: no frames given\n");
         return 2;
+    }
+    /* sized once every option is read: sized per file, a --threshold-radius
+     * after the files was not counted ("stage 2 failed (-5)") */
+    for (i = 0; i < nfr; i++) {
+        size_t s = ACTAG_MEDIAN_SCRATCH_SIZE(fr[i].rows, fr[i].cols);
+        if (ACTAG_THRESHOLD_SCRATCH_SIZE_R(fr[i].rows, fr[i].cols, tr) > s)
+            s = ACTAG_THRESHOLD_SCRATCH_SIZE_R(fr[i].rows, fr[i].cols, tr);
+        if (s > scr_size)
+            scr_size = s;
     }
     scratch = (uint8_t *)malloc(scr_size);
     other = (uint8_t *)malloc(maxpix);
@@ -230,9 +236,13 @@ int main(int argc, char **argv)
                     int rc;
                     if (st == 2 && r == 0) {
                         /* threshold input: the frame's median (library path) */
-                        if (actag_median_filter(f->img, f->rows, f->cols, f->cols, f->med,
-                                                f->cols, mr, scratch, scr_size) != ACTAG_OK)
+                        rc = actag_median_filter(f->img, f->rows, f->cols, f->cols, f->med,
+                                                 f->cols, mr, scratch, scr_size);
+                        if (rc != ACTAG_OK) {
+                            fprintf(stderr, "stage_bench: %s: median: %s\n", f->path,
+                                    actag_strerror(rc));
                             return 2;
+                        }
                     }
                     t0 = thread_ms();
                     if (st == 1)
@@ -245,7 +255,8 @@ int main(int argc, char **argv)
                             scr_size);
                     t1 = thread_ms();
                     if (rc != ACTAG_OK) {
-                        fprintf(stderr, "stage_bench: stage %d failed (%d)\n", st, rc);
+                        fprintf(stderr, "stage_bench: %s: %s: %s\n", f->path,
+                                st == 1 ? "median" : "threshold", actag_strerror(rc));
                         return 2;
                     }
                     total += t1 - t0;
@@ -288,5 +299,6 @@ int main(int argc, char **argv)
     free(fr);
     free(scratch);
     free(other);
+    hostio_stdout_check(PROG); /* timings lost to a full disk are not exit 0 */
     return failed;
 }

@@ -127,6 +127,7 @@ int main(int argc, char **argv)
     if (list) {
         for (i = 0; i < n; i++)
             printf("%s\n", v[i].name);
+        hostio_stdout_check(PROG);
         return 0;
     }
     actag_family_get("AcTag24h10", &fam);
@@ -206,5 +207,6 @@ int main(int argc, char **argv)
                "ratio %.2f\n",
                med, npool, worst, worst_name, med > 0 ? worst / med : 0.0);
     }
+    hostio_stdout_check(PROG); /* a table lost to a full disk is not exit 0 */
     return 0;
 }

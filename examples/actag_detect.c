@@ -49,9 +49,10 @@ static void usage(FILE *f)
             "  --min-range M          range of the nearest row's centre, metres (>= 0)\n"
             "  --max-range M          range of the farthest row's centre, metres\n"
             "  --aperture-deg D       horizontal aperture in degrees, or (not both)\n"
-            "  --bearings FILE        one azimuth per column in radians (whitespace separated)\n"
+            "  --bearings FILE        one azimuth per column in radians (whitespace or commas)\n"
             "  --range-ascending      row 0 is the nearest range (default: the farthest)\n"
-            "  --azimuth-ascending    column 0 is the most negative bearing (default: +aperture/2)\n"
+            "  --azimuth-ascending    column 0 is the most negative bearing (default: +aperture/2;\n"
+            "                         not with --bearings, whose table gives the order)\n"
             "Raw frames:\n"
             "  --rows R --cols C [--depth 8|16] [--stride S]  (16-bit raw is little-endian;\n"
             "                         stride in pixels, default C)\n");
@@ -371,6 +372,10 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         die("--aperture-deg and --bearings exclude each other: give one");
     if (!o->have_aperture && !o->bearings_path)
         die("--aperture-deg or --bearings is required");
+    /* the table overrides the flag (geometry.h): refused, not ignored */
+    if (o->bearings_path && (o->geo.flags & ACTAG_AZIMUTH_ASCENDING))
+        die("--azimuth-ascending does not apply with --bearings (the table gives each column's "
+            "bearing in column order)");
     o->geo.aperture = (float)(o->aperture_deg * 3.14159265358979323846 / 180.0);
     if (actag_family_get(o->family_name, &o->fam) != ACTAG_OK) {
         char m[1024];
@@ -759,6 +764,12 @@ static int process(const options *o, const char *file, const char *picname, int 
                 PROG ": %s: a PGM of %d x %d, %d bit: --rows/--cols/--depth/--stride (raw "
                 "frames) do not apply to it\n",
                 hostio_frame_name(file), im.cols, im.rows, im.depth);
+    if (o->track && tracker->rows > 0 && (im.rows != tracker->rows || im.cols != tracker->cols)) {
+        /* the tracker's own refusal said only "invalid image size or stride" */
+        snprintf(err, HOSTIO_ERRLEN, "%.150s: %d x %d frame in a --track stream of %d x %d frames",
+                 hostio_frame_name(file), im.cols, im.rows, tracker->cols, tracker->rows);
+        goto fail;
+    }
     if (o->bearings_path) {
         bearings = (float *)malloc((size_t)im.cols * sizeof(float));
         if (!bearings) {

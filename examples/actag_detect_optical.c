@@ -375,6 +375,11 @@ int main(int argc, char **argv)
     }
     apriltag_detector_destroy(td);
     free(files);
+    /* results lost to a full disk or a closed pipe are not exit 0 */
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, PROG ": standard output: write error\n");
+        status = 2;
+    }
     return status;
 bad_option:
     free(files);

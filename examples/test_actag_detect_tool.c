@@ -649,6 +649,9 @@ static void test_options_that_need_others(void)
     expect_option_error(GEO " --pose --plane 1e-20,0,0,1 --plane-sd 0.02 " EXAMPLE,
                         "(got offset 1e+20 m)");
     expect_option_error(GEO " --rows 463 " EXAMPLE, "--rows and --cols go together");
+    /* a bearing table overrides the flag (geometry.h): it was silently ignored */
+    expect_option_error("--min-range 0.1 --max-range 1.5 --bearings b.txt --azimuth-ascending "
+                        EXAMPLE, "--azimuth-ascending does not apply with --bearings");
     expect_option_error(GEO " --stride 700 " EXAMPLE, "--depth and --stride describe raw frames");
     /* a plane given with an unnormalised normal: the same pose */
     TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose --plane 0,0,1,-0.03 --plane-sd 0.005 " EXAMPLE));
@@ -681,6 +684,22 @@ static void test_options_that_need_others(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "stdin: 287075 bytes after the PGM's 287060 pixel bytes "
                                            "(one frame per file)"), e);
     free(e);
+    /* --track with frames of another size than the first: named with both
+     * sizes (the tracker's refusal said "invalid image size or stride") */
+    {
+        char path[600];
+        static const char head[] = "P5 32 32 255\n";
+        static uint8_t small[sizeof head - 1 + 32 * 32];
+        memcpy(small, head, sizeof head - 1);
+        snprintf(path, sizeof path, "%s/track32.pgm", ACTAG_BINARY_DIR);
+        write_file(path, small, sizeof small);
+        snprintf(args, sizeof args, GEO " --track \"%s\" " EXAMPLE, path);
+        TEST_ASSERT_EQUAL_INT(2, run(args));
+        e = err_text();
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "actag_detect: " EXAMPLE ": 620 x 463 frame in a "
+                                               "--track stream of 32 x 32 frames"), e);
+        free(e);
+    }
     /* results that cannot be written: status 2 and a message */
     f = fopen("/dev/full", "w");
     if (!f)

@@ -418,13 +418,16 @@ static void test_bad_values_are_named(void)
     }
 }
 
-/* A run that fails after opening --out removes the file: an empty family,
- * and a write that fails (a file-size limit, ulimit -f, with SIGXFSZ
- * ignored so that the write returns an error instead of killing the
- * program). A file that already existed is not left truncated either. */
+/* --out is opened only when the search is done: a run that fails before
+ * (an empty family) or is interrupted (SIGINT during a long search) leaves
+ * an older file as it was (it was truncated at start-up, then removed or
+ * left empty). A write that fails (a file-size limit, ulimit -f, with
+ * SIGXFSZ ignored so that the write returns an error instead of killing
+ * the program) removes the file: none is left truncated. */
 static void test_failed_run_leaves_no_file(void)
 {
     char path[256], args[1024], cmd[2048];
+    char *txt;
     FILE *f;
     snprintf(path, sizeof path, "%s/gen_fail.txt", ACTAG_BINARY_DIR);
     f = fopen(path, "w");
@@ -433,7 +436,19 @@ static void test_failed_run_leaves_no_file(void)
     fclose(f);
     snprintf(args, sizeof args, "--bits 16 --hamming 16 --out '%s' 2>/dev/null", path);
     TEST_ASSERT_EQUAL_INT(2, tu_run_gen(args));
-    TEST_ASSERT_FALSE_MESSAGE(gen_file_exists(path), "empty family: output file left behind");
+    txt = (char *)hostio_slurp(path, NULL, NULL);
+    TEST_ASSERT_NOT_NULL_MESSAGE(txt, "empty family: the older file was removed");
+    TEST_ASSERT_EQUAL_STRING_MESSAGE("an older file\n", txt, "empty family: older file changed");
+    free(txt);
+    /* a 32-bit search runs for hours: stopped after a second */
+    snprintf(cmd, sizeof cmd,
+             "timeout -s INT 1 \"%s\" --bits 32 --hamming 12 --out '%s' 2>/dev/null",
+             ACTAG_FAMILYGEN_PATH, path);
+    TEST_ASSERT_EQUAL_INT(124, tu_run(cmd)); /* timeout's status: the search was stopped */
+    txt = (char *)hostio_slurp(path, NULL, NULL);
+    TEST_ASSERT_NOT_NULL_MESSAGE(txt, "interrupted run: the older file was removed");
+    TEST_ASSERT_EQUAL_STRING_MESSAGE("an older file\n", txt, "interrupted run: older file changed");
+    free(txt);
 
     /* the 24-bit h4 table is about 55 KB: 4 blocks of 512 bytes do not hold it */
     snprintf(cmd, sizeof cmd,

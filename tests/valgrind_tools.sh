@@ -48,6 +48,9 @@ check 2 "$r" --family Nope --id 0
 s=$build/tools/sim/actag-sim
 check 0 "$s" --random 1 --rows 128 --cols 96 --out-dir "$tmp/sim"
 check 2 "$s" --random 1 --rows 0 --out-dir "$tmp/sim"
+# --compare-real stopped by a bad frame: it returned early without freeing
+mkdir "$tmp/cmp"; printf 'P5 2 2 255\n' > "$tmp/cmp/bad.pgm"
+check 2 "$s" --compare-real "$tmp/cmp" --random 1
 e=$build/tools/sim/actag-eval
 check 0 "$e" --frames 2 --tag-free 0 --threads 1 --quiet
 check 2 "$e" --frames -1

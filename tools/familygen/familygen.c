@@ -54,8 +54,10 @@
  *
  * Exit status: 0 success; 2 bad arguments (options no code can satisfy, so
  * that the family would be empty, included) or unwritable output; 1 when
- * memory runs out. An output file is removed again when the run fails after
- * opening it (no empty or half-written family file is left behind).
+ * memory runs out. The output file is opened (and an older one truncated)
+ * only when the search is done, so that an interrupted or failed run
+ * leaves the older file as it was; a write that fails removes the file
+ * again (no empty or half-written family file is left behind).
  *
  * Host-only tool: uses the standard library freely.
  */
@@ -65,7 +67,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "actag/version.h"
 #include "hostio.h"
@@ -98,6 +103,41 @@ static void die(int status, const char *fmt, const char *arg)
     fputc('\n', stderr);
     hostio_out_abandon(&g_out);
     exit(status);
+}
+
+/* --out's errno when it cannot be written (0: it can), checked at start-up
+ * without opening it: opening truncates, and the search may run for hours
+ * or be interrupted. The path must be a writable file or a new name in a
+ * writable folder. */
+static int out_path_error(const char *path)
+{
+    struct stat st;
+    const char *slash;
+    char *dir;
+    int why = 0;
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode))
+            return EISDIR;
+        return access(path, W_OK) == 0 ? 0 : errno;
+    }
+    if (errno != ENOENT)
+        return errno;
+    slash = strrchr(path, '/');
+    if (!slash)
+        return access(".", W_OK | X_OK) == 0 ? 0 : errno;
+    dir = (char *)malloc((size_t)(slash - path) + 2);
+    if (!dir)
+        return ENOMEM;
+    memcpy(dir, path, (size_t)(slash - path) + 1); /* "/x" keeps its "/" */
+    dir[slash == path ? 1 : slash - path] = '\0';
+    if (stat(dir, &st) != 0)
+        why = errno;
+    else if (!S_ISDIR(st.st_mode))
+        why = ENOTDIR;
+    else if (access(dir, W_OK | X_OK) != 0)
+        why = errno;
+    free(dir);
+    return why;
 }
 
 static void usage_error(const char *fmt, const char *arg)
@@ -664,13 +704,15 @@ int main(int argc, char **argv)
             exit(2);
         }
     }
-    if (hostio_out_open(&g_out, outpath, "w", NULL) != HOSTIO_OK) {
-        char msg[HOSTIO_ERRLEN + 64];
-        snprintf(msg, sizeof msg, "--out '%.200s': cannot write: %s", outpath,
-                 strerror(g_out.why));
-        die(2, "%s", msg);
+    if (outpath) {
+        int why = out_path_error(outpath);
+        if (why != 0) {
+            char msg[HOSTIO_ERRLEN + 64];
+            snprintf(msg, sizeof msg, "--out '%.200s': cannot write: %s", outpath,
+                     strerror(why));
+            die(2, "%s", msg);
+        }
     }
-    out = g_out.f;
 
     total = 1ull << bits;
     F.lowbits = L.nkeep < 6 ? L.nkeep : 6;
@@ -815,6 +857,15 @@ int main(int argc, char **argv)
         free(codes);
         die(2, "%s", msg);
     }
+    /* opened only now: an interrupted search leaves an older file intact */
+    if (hostio_out_open(&g_out, outpath, "w", NULL) != HOSTIO_OK) {
+        char msg[HOSTIO_ERRLEN + 64];
+        snprintf(msg, sizeof msg, "--out '%.200s': cannot write: %s", outpath,
+                 strerror(g_out.why));
+        free(codes);
+        die(2, "%s", msg);
+    }
+    out = g_out.f;
     if (strcmp(format, "txt") == 0)
         write_txt(out, &L, codes, ncodes);
     else if (strcmp(format, "c") == 0)

@@ -37,6 +37,7 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
     uint8_t *buf = NULL;
     size_t cap = 0, n = 0;
     const char *why = NULL; /* set when the file is not read whole */
+    int read_errno = 0;     /* fread's reason ("Is a directory"), kept for the message */
     path = hostio_frame_name(path);
     if (!f) {
         fail(err, "%s: %s", path, strerror(errno));
@@ -59,17 +60,20 @@ uint8_t *hostio_slurp(const char *path, size_t *len, char *err)
             buf = nb;
             cap = ncap;
         }
+        errno = 0;
         got = fread(buf + n, 1, cap - n - 1, f);
         n += got;
-        if (got == 0)
+        if (got == 0) {
+            read_errno = errno;
             break;
+        }
         if (n > (size_t)HOSTIO_MAX_FILE) {
             why = "too large";
             break;
         }
     }
     if (!why && ferror(f))
-        why = "read error";
+        why = read_errno ? strerror(read_errno) : "read error";
     if (!is_stdin)
         fclose(f);
     if (why) { /* one clean-up for every way the file is not read whole */
@@ -213,40 +217,6 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
     out->rows = (int)h;
     out->cols = (int)w;
     out->maxval = (int)maxv;
-    return HOSTIO_OK;
-}
-
-int hostio_pgm_read(const char *path, hostio_image *out, char *err)
-{
-    size_t len, n, i;
-    hostio_pgm_view v;
-    uint8_t *b = hostio_slurp(path, &len, err);
-    memset(out, 0, sizeof *out);
-    if (!b)
-        return -1;
-    if (hostio_pgm_parse(b, len, hostio_frame_name(path), &v, err) != HOSTIO_OK) {
-        free(b);
-        return -1;
-    }
-    n = (size_t)v.rows * (size_t)v.cols;
-    out->data = malloc(n * (size_t)v.bytes_per_sample);
-    if (!out->data) {
-        free(b);
-        return fail(err, "%s: out of memory", path);
-    }
-    if (v.bytes_per_sample == 1) {
-        memcpy(out->data, v.pixels, n);
-    } else {
-        uint16_t *d = (uint16_t *)out->data;
-        for (i = 0; i < n; i++)
-            d[i] = (uint16_t)((v.pixels[2 * i] << 8) | v.pixels[2 * i + 1]);
-    }
-    out->rows = v.rows;
-    out->cols = v.cols;
-    out->stride = v.cols;
-    out->depth = 8 * v.bytes_per_sample;
-    out->maxval = v.maxval;
-    free(b);
     return HOSTIO_OK;
 }
 
@@ -481,6 +451,26 @@ int hostio_frame_read(const char *path, const hostio_raw_spec *raw, hostio_image
     return rc;
 }
 
+/* Through pgm_image, as hostio_frame_read: it copied the samples as stored,
+ * so samples above maxval passed (actag_detect refuses them) and a maxval
+ * below 255 gave other pixels than actag_detect sees. */
+int hostio_pgm_read(const char *path, hostio_image *out, char *err)
+{
+    size_t len;
+    hostio_pgm_view v;
+    uint8_t *b;
+    int rc = -1;
+    const char *nm = hostio_frame_name(path);
+    memset(out, 0, sizeof *out);
+    b = hostio_slurp(path, &len, err);
+    if (!b)
+        return -1;
+    if (hostio_pgm_parse(b, len, nm, &v, err) == HOSTIO_OK)
+        rc = pgm_image(&v, nm, out, err);
+    free(b);
+    return rc;
+}
+
 int hostio_parse_double(const char *name, const char *s, double lo, double hi, double *v,
                         char *err)
 {
@@ -610,9 +600,15 @@ int hostio_parse_list(const char *name, const char *s, double *out, int cap, int
         if (end == p || errno == ERANGE || !isfinite(x) ||
             !(*end == '\0' || *end == ' ' || *end == '\t' || *end == '\n' || *end == '\r' ||
               *end == ',')) {
-            size_t tl = strcspn(p, " \t\r\n,");
-            return fail(err, "%s: value %d is not a finite number (got '%.*s')", name,
-                        count + 1, (int)(tl > 40 ? 40 : tl), p);
+            /* the token as text: a binary file's bytes are shown as '?', not
+             * written to the terminal */
+            char tok[41];
+            size_t tl = strcspn(p, " \t\r\n,"), i;
+            for (i = 0; i < tl && i < 40; i++)
+                tok[i] = p[i] >= 0x20 && p[i] < 0x7f ? p[i] : '?';
+            tok[i] = '\0';
+            return fail(err, "%s: value %d is not a finite number (got '%s')", name, count + 1,
+                        tok);
         }
         if (count < cap)
             out[count] = x;
@@ -688,6 +684,12 @@ void hostio_die(const char *prog, const char *msg)
 {
     fprintf(stderr, "%s: %s\n", prog, msg);
     exit(2);
+}
+
+void hostio_stdout_check(const char *prog)
+{
+    if (fflush(stdout) != 0 || ferror(stdout))
+        hostio_die(prog, "standard output: write error");
 }
 
 double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,

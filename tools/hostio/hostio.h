@@ -40,7 +40,10 @@
  *                                           view.pixels points into buf; one
  *                                           frame: bytes after it are an error
  *     hostio_pgm_read(path, &img, err)     reads a file into a malloc'd image
- *                                           (16-bit samples in host order)
+ *                                           (16-bit samples in host order;
+ *                                           samples checked against maxval and
+ *                                           8-bit ones scaled as
+ *                                           hostio_frame_read does)
  *     hostio_pgm_write(path, &img, err)    writes an image (depth 8 or 16)
  *     hostio_pgm_fwrite(stream, name, &img, err)  the same to an open stream
  *                                           (e.g. stdout); name labels messages
@@ -89,6 +92,10 @@
  *                            could not run or was ended by a signal
  *   Command-line tools (print "PROG: message" on stderr and exit with status 2)
  *     hostio_die(prog, msg)
+ *     hostio_stdout_check(prog)          a tool's last step: standard output
+ *                                           flushed, and a write error (a full
+ *                                           disk, a closed pipe) dies with
+ *                                           "standard output: write error"
  *     hostio_opt_double(prog, name, s, lo, hi)   hostio_parse_double or die
  *     hostio_opt_long(prog, name, s, lo, hi)     hostio_parse_long or die
  *     hostio_opt_u32(prog, name, s, lo, hi)      hostio_parse_u32 or die (seeds:
@@ -253,6 +260,9 @@ int hostio_detail_message(const struct actag_error_detail *d, const hostio_optna
 
 /* For command-line tools: the message on stderr as "prog: msg", exit status 2. */
 void hostio_die(const char *prog, const char *msg);
+/* Results lost on standard output are an error, not exit 0: fflush and the
+ * stream's error flag, else hostio_die(prog, "standard output: write error"). */
+void hostio_stdout_check(const char *prog);
 double hostio_opt_double(const char *prog, const char *name, const char *s, double lo,
                          double hi);
 long hostio_opt_long(const char *prog, const char *name, const char *s, long lo, long hi);

@@ -124,6 +124,9 @@ static void test_lists(void)
     TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got '2x')", err);
     TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("tab.txt", "1 inf", v, 4, &n, err));
     TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got 'inf')", err);
+    /* a binary file's bytes are not written into the message */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("bin", "\x7f" "ELF\x02\x01\xff,1", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_STRING("bin: value 1 is not a finite number (got '?ELF\?\?\?')", err);
 }
 
 static void test_ppm(void)
@@ -264,6 +267,46 @@ static void test_pgm_8bit_maxval(void)
     TEST_ASSERT_NULL(im.data);
     TEST_ASSERT_EQUAL_INT(-1, hostio_frame_parse(over16, sizeof over16 - 1, "over16.pgm", NULL, &im, err));
     TEST_ASSERT_EQUAL_STRING("over16.pgm: PGM sample 1001 at row 0, column 1 is above maxval 1000", err);
+}
+
+/* A folder given as a file: the reason is named (it was "read error"). */
+static void test_slurp_folder_names_the_reason(void)
+{
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    TEST_ASSERT_NULL(hostio_slurp(DIR, NULL, err));
+    TEST_ASSERT_EQUAL_STRING(DIR ": Is a directory", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_frame_read(DIR, NULL, &im, err));
+    TEST_ASSERT_EQUAL_STRING(DIR ": Is a directory", err);
+}
+
+/* hostio_pgm_read (the pool frames of actag-eval --pool-sequence, actag-sim
+ * --compare-real, the benchmarks) takes frames as hostio_frame_read does:
+ * it copied samples as stored, so a maxval 100 frame with a sample of 200
+ * passed and a maxval 100 frame was read unscaled. */
+static void test_pgm_read_checks_maxval(void)
+{
+    static const uint8_t m100[] = "P5 4 1 100\n\x00\x01\x32\x64"; /* 0 1 50 100 */
+    static const uint8_t over[] = "P5 2 1 100\n\x00\xc8";         /* 200 > 100 */
+    static const uint8_t over16[] = "P5 2 1 1000\n\x03\xe8\x03\xe9"; /* 1000, 1001 */
+    char err[HOSTIO_ERRLEN];
+    hostio_image im;
+    put("pr100.pgm", m100, sizeof m100 - 1);
+    put("prover.pgm", over, sizeof over - 1);
+    put("prover16.pgm", over16, sizeof over16 - 1);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_read(DIR "/pr100.pgm", &im, err), err);
+    TEST_ASSERT_EQUAL_INT(8, im.depth);
+    TEST_ASSERT_EQUAL_INT(255, im.maxval);
+    TEST_ASSERT_EQUAL_UINT8(3, ((uint8_t *)im.data)[1]);
+    TEST_ASSERT_EQUAL_UINT8(128, ((uint8_t *)im.data)[2]);
+    TEST_ASSERT_EQUAL_UINT8(255, ((uint8_t *)im.data)[3]);
+    hostio_image_free(&im);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_read(DIR "/prover.pgm", &im, err));
+    TEST_ASSERT_EQUAL_STRING(DIR "/prover.pgm: PGM sample 200 at row 0, column 1 is above maxval 100", err);
+    TEST_ASSERT_NULL(im.data);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_read(DIR "/prover16.pgm", &im, err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "above maxval 1000"), err);
+    TEST_ASSERT_NULL(im.data);
 }
 
 /* Raw size products (issue 10): 32767 rows x stride 2^20 x 2 bytes is 2^36
@@ -561,6 +604,8 @@ int main(void)
     RUN_TEST(test_detail_messages);
     RUN_TEST(test_raw_frame_starting_with_p5);
     RUN_TEST(test_pgm_8bit_maxval);
+    RUN_TEST(test_pgm_read_checks_maxval);
+    RUN_TEST(test_slurp_folder_names_the_reason);
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
     RUN_TEST(test_parse_choice);

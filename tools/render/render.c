@@ -1208,15 +1208,19 @@ static void pgm_sheet(const opts_t *o)
 static void vector_sheet(const opts_t *o)
 {
     plate_t probe;
-    double P, font, slot_h, gap = o->gap;
+    double P, font, slot_h, gap = o->gap, fit_cd, fit_rd;
     int cols, rows, per, npages, page, fit_c, fit_r;
     build_plate(o, o->ids[0], o->mode, &probe);
     P = probe.size;
     free_plate(&probe);
     font = P / 12.0 < 4.0 ? P / 12.0 : 4.0;
     slot_h = P + 1.5 * font + 1.0;
-    fit_c = (int)floor((o->page_w - 2 * gap + gap) / (P + gap) + 1e-9);
-    fit_r = (int)floor((o->page_h - 2 * gap + gap) / (slot_h + gap) + 1e-9);
+    /* Capped in double before the cast, as --columns/--rows are (10000): a
+     * large page of tiny tags would overflow the int and cols * rows. */
+    fit_cd = floor((o->page_w - 2 * gap + gap) / (P + gap) + 1e-9);
+    fit_rd = floor((o->page_h - 2 * gap + gap) / (slot_h + gap) + 1e-9);
+    fit_c = (int)(fit_cd < 1.0 ? 0.0 : fit_cd > 10000.0 ? 10000.0 : fit_cd);
+    fit_r = (int)(fit_rd < 1.0 ? 0.0 : fit_rd > 10000.0 ? 10000.0 : fit_rd);
     if (fit_c < 1 || fit_r < 1)
         die("a %g mm tag with its label does not fit on a %g x %g mm page (gap %g mm)", P,
             o->page_w, o->page_h, gap);
@@ -1225,7 +1229,7 @@ static void vector_sheet(const opts_t *o)
     if (cols > fit_c || rows > fit_r)
         die("%d x %d tags of %g mm do not fit on a %g x %g mm page (at most %d x %d)", cols, rows,
             P, o->page_w, o->page_h, fit_c, fit_r);
-    per = cols * rows;
+    per = cols * rows; /* at most 10000 x 10000 */
     npages = (o->nids + per - 1) / per;
     for (page = 0; page < npages; page++) {
         int first = page * per, n = o->nids - first < per ? o->nids - first : per, i;

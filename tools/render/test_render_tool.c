@@ -1002,6 +1002,32 @@ static void test_sheets(void)
         TEST_ASSERT_EQUAL_INT(7, total);
         TEST_ASSERT_FALSE(file_exists("AcTag24h10-face-sheet-p3.dxf"));
     }
+
+    /* A huge page of tiny tags: the fitted columns x rows once wrapped the
+     * int (SIGFPE dividing by a zero tags-per-page, signed overflow under
+     * UBSan); they are capped at 10000 each, as --columns/--rows are. */
+    {
+        static const char *const huge[] = {
+            "--tag-size 0.002 --gap 0 --page-width 393217 --page-height 507905",
+            "--tag-size 1e-4 --gap 0 --page-width 1e6 --page-height 1e6", NULL};
+        for (t = 0; huge[t]; t++) {
+            char *s;
+            int nt, nc;
+            double oa, ca;
+            const char *err;
+            snprintf(args, sizeof args,
+                     "--family AcTag24h10 --id 0 --sheet --format svg %s --out '%s/huge.svg'",
+                     huge[t], dir);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+            err = check_svg("huge.svg", &oa, &ca, &nt, &nc);
+            TEST_ASSERT_NULL_MESSAGE(err, err);
+            TEST_ASSERT_EQUAL_INT(1, nt);
+            s = slurp("huge.svg", NULL);
+            TEST_ASSERT_NOT_NULL(s);
+            TEST_ASSERT_NOT_NULL(strstr(s, "page 1 of 1"));
+            free(s);
+        }
+    }
 }
 
 static void test_errors(void)

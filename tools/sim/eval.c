@@ -19,7 +19,9 @@
  * (eval_track.h). Frames are independent streams of the seed, so the
  * figures do not depend on --threads. Progress on stderr. Exit status 0,
  * 2 on bad options or when an output (a file, standard output) cannot be
- * written.
+ * written. Options, sonar geometries, --pool-sequence's folder and the
+ * output paths are checked before the first frame; a run that fails leaves
+ * none of its --pose-dump, --failures and --sequence-failures files.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "sim.h"
@@ -119,8 +121,26 @@ static void usage(FILE *f)
         "  --help  --version\n");
 }
 
-/* Errors and option values: the host I/O library's, exit status 2. */
-#define die(msg) hostio_die(PROG, (msg))
+/* The run's output files (--pose-dump, --failures, --sequence-failures),
+ * opened before the run and closed after it: die() abandons them, so that
+ * a run that fails leaves none of them behind (hostio_out: never a device
+ * or a link). */
+static hostio_out g_pose_out, g_fail_out, g_seq_out;
+
+/* Errors: the host I/O library's, exit status 2, without the run's files. */
+static void die(const char *msg)
+{
+    hostio_out_abandon(&g_pose_out);
+    hostio_out_abandon(&g_fail_out);
+    hostio_out_abandon(&g_seq_out);
+    hostio_die(PROG, msg);
+}
+
+/* eval_track.c's errors (eval_track.h) go the same way. */
+void te_die(const char *msg) { die(msg); }
+
+/* Option values: the host I/O library's, exit status 2 (while parsing
+ * options, before any output is open). */
 #define num(opt, s, lo, hi) hostio_opt_double(PROG, (opt), (s), (lo), (hi))
 #define inum(opt, s, lo, hi) hostio_opt_long(PROG, (opt), (s), (lo), (hi))
 
@@ -615,10 +635,11 @@ static err_stats stats_of(const double *v, int n)
 
 /* ------------------------------------------------------------ SVG */
 
-/* An SVG file being written: the guard and the path it names. */
+/* An SVG file being written: the guard and the path it names (malloc'd to
+ * fit: a fixed buffer cut a long --svg DIR short). */
 typedef struct {
     hostio_out out;
-    char path[1200];
+    char *path;
 } svg_file;
 
 static FILE *svg_open(svg_file *s, const char *dir, const char *name, const char *title, int w,
@@ -626,7 +647,11 @@ static FILE *svg_open(svg_file *s, const char *dir, const char *name, const char
 {
     char err[HOSTIO_ERRLEN];
     FILE *f;
-    snprintf(s->path, sizeof s->path, "%s/%s", dir, name);
+    size_t n = strlen(dir) + strlen(name) + 2;
+    s->path = (char *)malloc(n);
+    if (!s->path)
+        die("out of memory");
+    snprintf(s->path, n, "%s/%s", dir, name);
     if (hostio_out_open(&s->out, s->path, "w", err) != HOSTIO_OK)
         die(err); /* "PATH: cannot write: REASON" */
     f = s->out.f;
@@ -638,7 +663,12 @@ static FILE *svg_open(svg_file *s, const char *dir, const char *name, const char
     return f;
 }
 
-static void svg_close(svg_file *s) { close_output(&s->out, "--svg"); }
+static void svg_close(svg_file *s)
+{
+    close_output(&s->out, "--svg");
+    free(s->path);
+    s->path = NULL;
+}
 
 /* Histogram of v (n values) over [lo, hi] in nb bins. */
 static void svg_histogram(const char *dir, const char *name, const char *title, const char *xlabel,
@@ -840,6 +870,64 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
 
 /* ------------------------------------------------------------ main */
 
+/* The library's rules for a sonar the run renders, in this tool's option
+ * names (as actag-sim words them). Checked before any frame: a worker
+ * thread stopped on the library's field names, or a run that found no view
+ * measured nothing and exited 0. */
+static void check_geometry(const sim_sonar *s, const hostio_optname *names, int n)
+{
+    actag_error_detail d;
+    if (actag_geometry_validate(&s->geo, s->rows, s->cols, &d) != ACTAG_OK) {
+        char m[HOSTIO_ERRLEN];
+        hostio_detail_message(&d, names, n, m);
+        die(m);
+    }
+}
+
+/* DIR's f_*.pgm in name order (f_0001, f_0011, ...: frame order), each as
+ * DIR/NAME, malloc'd; dies when DIR cannot be read or holds none. */
+static char **pool_frames(const char *dir, int *count)
+{
+    DIR *dp = opendir(dir);
+    struct dirent *de;
+    char **names = NULL;
+    int nn = 0, cap = 0, a, b;
+    if (!dp) {
+        char m[700];
+        snprintf(m, sizeof m, "--pool-sequence: cannot open '%.500s': %s", dir, strerror(errno));
+        die(m);
+    }
+    while ((de = readdir(dp)) != NULL) {
+        size_t L = strlen(de->d_name);
+        if (L < 7 || strncmp(de->d_name, "f_", 2) != 0 || strcmp(de->d_name + L - 4, ".pgm"))
+            continue;
+        if (nn == cap) {
+            cap = cap ? 2 * cap : 64;
+            names = (char **)realloc(names, (size_t)cap * sizeof *names);
+            if (!names)
+                die("out of memory");
+        }
+        names[nn] = (char *)malloc(strlen(dir) + L + 2);
+        if (!names[nn])
+            die("out of memory");
+        sprintf(names[nn++], "%s/%s", dir, de->d_name);
+    }
+    closedir(dp);
+    if (nn == 0) {
+        char m[700];
+        snprintf(m, sizeof m, "--pool-sequence: no f_*.pgm in '%.500s'", dir);
+        die(m);
+    }
+    for (a = 1; a < nn; a++)
+        for (b = a; b > 0 && strcmp(names[b - 1], names[b]) > 0; b--) {
+            char *t = names[b];
+            names[b] = names[b - 1];
+            names[b - 1] = t;
+        }
+    *count = nn;
+    return names;
+}
+
 /* A family list with an empty name ("A,", ",A", "A,,B") is refused, not
  * read as the names it has. */
 static void check_names(const char *opt, const char *list)
@@ -891,6 +979,8 @@ int main(int argc, char **argv)
     te_options topt;
     te_counts seq_counts, pool_counts;
     const char *pool_dir = NULL;
+    char **pool_names = NULL;
+    int npool = 0;
     const char *free_opt = NULL, *track_opt = NULL, *length_opt = NULL; /* given, for checks */
     int have_seq = 0, have_pool = 0;
     const simio_cli cli = {PROG, usage, 16, 8192, &c.sonar, &c.view, &aperture_deg};
@@ -1157,8 +1247,43 @@ int main(int argc, char **argv)
     topt.handedness = c.handedness;
     if (c.frames + c.tag_free == 0 && topt.sequences == 0 && !pool_dir)
         die("--frames, --tag-free and --sequences are 0 and no --pool-sequence: nothing to do");
+    {
+        /* the sonars the run renders, in actag-sim's option names */
+        static const hostio_optname names[] = {
+            {"min_range", "--min-range", 0},   {"max_range", "--max-range", 0},
+            {"aperture", "--aperture-deg", 57.29577951308232},
+            {"flags", "--range/azimuth-ascending", 0},
+            {"rows", "--rows", 0},             {"cols", "--cols", 0}};
+        static const hostio_optname free_names[] = {
+            {"min_range", "--min-range", 0},   {"max_range", "--free-max-range", 0},
+            {"aperture", "--aperture-deg", 57.29577951308232},
+            {"flags", "--range/azimuth-ascending", 0},
+            {"rows", "--free-rows", 0},        {"cols", "--free-cols", 0}};
+        const int nn = (int)(sizeof names / sizeof names[0]);
+        if (c.frames > 0 || topt.sequences > 0)
+            check_geometry(&c.sonar, names, nn);
+        if (c.tag_free > 0) {
+            /* each tag-free frame draws its maximum range from LO..HI: both ends */
+            sim_sonar fs = c.free_sonar;
+            fs.geo.max_range = c.free_min_max_range;
+            check_geometry(&fs, free_names, nn);
+            fs.geo.max_range = c.free_max_max_range;
+            check_geometry(&fs, free_names, nn);
+        }
+    }
     if (svg)
         hostio_opt_mkdirs(PROG, "--svg", svg); /* parents too */
+    /* Before the run, not after minutes of it: an empty --pool-sequence
+     * folder and an output path that cannot be written are refused at once
+     * (the files are closed when the run has succeeded). */
+    if (pool_dir)
+        pool_names = pool_frames(pool_dir, &npool);
+    if (pose_dump)
+        open_output(&g_pose_out, "--pose-dump", pose_dump);
+    if (failures)
+        open_output(&g_fail_out, "--failures", failures);
+    if (seq_failures)
+        topt.failures = open_output(&g_seq_out, "--sequence-failures", seq_failures);
     c.tres = (tag_result *)calloc((size_t)(c.frames > 0 ? c.frames : 1), sizeof *c.tres);
     c.fres = (free_result *)calloc((size_t)(c.tag_free > 0 ? c.tag_free : 1), sizeof *c.fres);
     if (!c.tres || !c.fres)
@@ -1172,59 +1297,16 @@ int main(int argc, char **argv)
     /* ---- tracking */
     topt.threads = threads;
     if (topt.sequences > 0) {
-        hostio_out seqf;
-        if (seq_failures)
-            topt.failures = open_output(&seqf, "--sequence-failures", seq_failures);
         te_run_sequences(&c.sonar, &c.view, &c.app, &c.fam, tag_size_default, c.seed, &topt,
                          &seq_counts, c.quiet);
-        if (topt.failures)
-            close_output(&seqf, "--sequence-failures");
         topt.failures = NULL;
         have_seq = 1;
     }
     if (pool_dir) {
-        DIR *dp = opendir(pool_dir);
-        struct dirent *de;
-        char **names = NULL, err[HOSTIO_ERRLEN];
-        int nn = 0, cap = 0;
+        char **names = pool_names, err[HOSTIO_ERRLEN];
+        int nn = npool;
         actag_sonar_geometry pg = {0.1f, 1.5f, (float)(60.0 * DEG), NULL, 0u};
         actag_family f24;
-        if (!dp) {
-            char m[700];
-            snprintf(m, sizeof m, "--pool-sequence: cannot open '%s': %s", pool_dir,
-                     strerror(errno));
-            die(m);
-        }
-        while ((de = readdir(dp)) != NULL) {
-            size_t L = strlen(de->d_name);
-            if (L < 7 || strncmp(de->d_name, "f_", 2) != 0 || strcmp(de->d_name + L - 4, ".pgm"))
-                continue;
-            if (nn == cap) {
-                cap = cap ? 2 * cap : 64;
-                names = (char **)realloc(names, (size_t)cap * sizeof *names);
-                if (!names)
-                    die("out of memory");
-            }
-            names[nn] = (char *)malloc(strlen(pool_dir) + L + 2);
-            if (!names[nn])
-                die("out of memory");
-            sprintf(names[nn++], "%s/%s", pool_dir, de->d_name);
-        }
-        closedir(dp);
-        if (nn == 0) {
-            char m[700];
-            snprintf(m, sizeof m, "--pool-sequence: no f_*.pgm in '%s'", pool_dir);
-            die(m);
-        }
-        {   /* name order (f_0001, f_0011, ...: frame order) */
-            int a2, b2;
-            for (a2 = 1; a2 < nn; a2++)
-                for (b2 = a2; b2 > 0 && strcmp(names[b2 - 1], names[b2]) > 0; b2--) {
-                    char *t2 = names[b2];
-                    names[b2] = names[b2 - 1];
-                    names[b2 - 1] = t2;
-                }
-        }
         if (actag_family_get("AcTag24h10", &f24) != ACTAG_OK)
             die("--pool-sequence needs the AcTag24h10 family in the build");
         {
@@ -1273,8 +1355,7 @@ int main(int argc, char **argv)
         double ilo = floor(c.view.min_incidence / DEG / 10.0) * 10.0;
         err_stats rs, as;
         int fam_total[MAX_FAM][NCORR], fam_frames[MAX_FAM][NCORR];
-        FILE *ff = NULL;
-        hostio_out fo;
+        FILE *ff = g_fail_out.f; /* --failures, or NULL */
         nbd = (int)ceil((c.view.max_distance - dlo) / dstep);
         nbi = (int)ceil((c.view.max_incidence / DEG - ilo) / istep);
         if (nbd < 1) nbd = 1;
@@ -1282,8 +1363,7 @@ int main(int argc, char **argv)
         if (nbd > MAX_BINS) nbd = MAX_BINS;
         if (nbi > MAX_BINS) nbi = MAX_BINS;
         if (pose_dump) {
-            hostio_out po;
-            FILE *pf = open_output(&po, "--pose-dump", pose_dump);
+            FILE *pf = g_pose_out.f;
             for (i = 0; i < c.frames; i++) {
                 const tag_result *R = &c.tres[i];
                 if (!R->sampled || !R->found || R->mirror_err || R->order_err)
@@ -1305,10 +1385,7 @@ int main(int argc, char **argv)
                         R->az_err[1], R->az_err[2], R->az_err[3], R->m2_pos, R->m2_ori,
                         R->m2_all, R->hamming, R->margin, R->found_search);
             }
-            close_output(&po, "--pose-dump");
         }
-        if (failures)
-            ff = open_output(&fo, "--failures", failures);
         {
             /* per distance bin error spread (range, azimuth) */
             double *tmpr = (double *)malloc((size_t)(4 * c.frames + 1) * sizeof(double));
@@ -1379,8 +1456,6 @@ int main(int argc, char **argv)
                 ae[nerr++] = R->az_err[n];
             }
         }
-        if (ff)
-            close_output(&fo, "--failures");
         rs = stats_of(re, nerr);
         as = stats_of(ae, nerr);
         for (i = 0; i < nbd; i++) {
@@ -1586,5 +1661,9 @@ int main(int argc, char **argv)
                  errno ? strerror(errno) : "write error");
         die(m);
     }
+    /* the run has succeeded: its files are kept */
+    close_output(&g_pose_out, "--pose-dump");
+    close_output(&g_fail_out, "--failures");
+    close_output(&g_seq_out, "--sequence-failures");
     return 0;
 }

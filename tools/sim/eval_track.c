@@ -140,7 +140,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
     nd = te_full_frame(fr, g, p, ws, wss, det, 16);
     if (nd < 0) {
         snprintf(m, sizeof m, "actag_detect failed: %s", actag_strerror(nd));
-        hostio_die("actag-eval", m);
+        te_die(m);
     }
     c->full_pixels += (double)fr->rows * fr->cols;
     for (i = 0; i < nd; i++) {
@@ -162,7 +162,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
         nt = te_track_frame(&run->tr, fr, g, p, rp, ws, wss, out, ACTAG_TRACK_MAX, &st);
     if (nt < 0) {
         snprintf(m, sizeof m, "actag_tracker_update failed: %s", actag_strerror(nt));
-        hostio_die("actag-eval", m);
+        te_die(m);
     }
     c->track_pixels += (double)st.pixels;
     if (tracked) {
@@ -221,7 +221,7 @@ static void *te_worker(void *arg)
     actag_params p, rp;
     char err[HOSTIO_ERRLEN];
     if (!ws || !img || !run)
-        hostio_die("actag-eval", "out of memory");
+        te_die("out of memory");
     te_params(c->fam, c->tag_size, c->o, &p, &rp);
     for (;;) {
         int q, i;
@@ -236,7 +236,7 @@ static void *te_worker(void *arg)
         memset(&cnt, 0, sizeof cnt);
         memset(run, 0, sizeof *run);
         if (actag_tracker_init(&run->tr, &c->o->track) != ACTAG_OK)
-            hostio_die("actag-eval", "invalid tracking parameters");
+            te_die("invalid tracking parameters");
         qs = sim_frame_seed(c->seed ^ 0x7a3c9e51u, (uint32_t)q);
         memset(&tag, 0, sizeof tag);
         tag.family = *c->fam;
@@ -249,7 +249,7 @@ static void *te_worker(void *arg)
             sim_sequence_view(c->s, c->v, qs, i, c->o->length, &tag, &sc);
             if (sim_render(c->s, &sc, c->a, sim_frame_seed(qs, (uint32_t)i), img, NULL,
                            c->s->cols, err) != 0)
-                hostio_die("actag-eval", err);
+                te_die(err);
             sim_truth_of(c->s, &tag, &tr);
             fr.data = img;
             fr.rows = c->s->rows;

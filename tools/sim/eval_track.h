@@ -68,6 +68,10 @@ int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
                  const actag_family *fam, float tag_size, int tag_id, const int *visible, const te_options *o,
                  te_counts *out, char *err);
 
+/* Errors: provided by the program (actag-eval's die(): the message on
+ * stderr, the run's output files removed, exit status 2). */
+void te_die(const char *msg);
+
 /* Text or one JSON object (no newline). */
 void te_print(FILE *f, const char *title, const te_counts *c, const te_options *o, int json);
 

@@ -59,7 +59,8 @@ static void usage(FILE *f)
         "  --rows R --cols C      range bins, beams\n"
         "  --min-range M --max-range M   (default 0.1, 5)\n"
         "  --aperture-deg D       horizontal aperture (default 60) or (not both)\n"
-        "  --bearings FILE        one azimuth per column in radians\n"
+        "  --bearings FILE        one azimuth per column in radians (whitespace or commas;\n"
+        "                         not with --azimuth-ascending: the table gives the order)\n"
         "  --vertical-aperture-deg D  (default 12)\n"
         "  --range-ascending --azimuth-ascending   orientation flags (see geometry.h)\n"
         "  --pool                 the pool recording's sonar: 530 x 512, 0.1-1.5 m, and views\n"
@@ -149,40 +150,33 @@ bad:
     die(msg);
 }
 
+/* The bearing table through hostio's list parser, as actag_detect reads it
+ * (numbers separated by whitespace or commas): a parser of its own here
+ * refused "0.5,0.4" and printed a binary file's bytes. */
 static float *load_bearings(const char *path, int cols)
 {
-    char err[HOSTIO_ERRLEN], msg[400];
+    char err[HOSTIO_ERRLEN];
     size_t len;
-    char *txt = (char *)hostio_slurp(path, &len, err), *p, *end;
-    float *b;
-    int n = 0;
+    char *txt = (char *)hostio_slurp(path, &len, err);
+    double *v = (double *)malloc(((size_t)cols + 1) * sizeof *v);
+    float *b = (float *)malloc((size_t)cols * sizeof *b);
+    int n = 0, i;
     if (!txt)
         die(err);
-    b = (float *)malloc((size_t)cols * sizeof *b);
-    if (!b)
+    if (!v || !b)
         die("out of memory");
-    p = txt;
-    for (;;) {
-        double v = strtod(p, &end);
-        if (end == p)
-            break;
-        if (n < cols)
-            b[n] = (float)v;
-        n++;
-        p = end;
-    }
-    while (*p == ' ' || *p == '\n' || *p == '\t' || *p == '\r')
-        p++;
-    if (*p != '\0') {
-        snprintf(msg, sizeof msg, "%s: not a number: '%.20s'", path, p);
-        free(txt);
-        die(msg);
-    }
+    if (hostio_parse_list(path, txt, v, cols, &n, err) != HOSTIO_OK)
+        die(err); /* "PATH: value K is not a finite number (got '...')" */
     free(txt);
     if (n != cols) {
-        snprintf(msg, sizeof msg, "%s: bearing table has %d values, --cols is %d", path, n, cols);
+        char msg[HOSTIO_ERRLEN + 64];
+        snprintf(msg, sizeof msg, "%.200s: bearing table has %s%d values, --cols is %d", path,
+                 n > cols ? "more than " : "", n > cols ? cols : n, cols);
         die(msg);
     }
+    for (i = 0; i < cols; i++)
+        b[i] = (float)v[i];
+    free(v);
     return b;
 }
 
@@ -209,7 +203,8 @@ int main(int argc, char **argv)
     const char *montage = NULL, *family = "AcTag24h10";
     float tag_size = 0.130628571f, *btab = NULL;
     double aperture_deg = 60.0;
-    char err[HOSTIO_ERRLEN], truth_path[1200];
+    char err[HOSTIO_ERRLEN], *truth_path = NULL, *path = NULL;
+    size_t path_size;
     uint8_t *img8 = NULL;
     uint16_t *img16 = NULL;
     const simio_cli cli = {PROG, usage, 2, ACTAG_MAX_DIM, &sonar, &view, &aperture_deg};
@@ -343,6 +338,10 @@ int main(int argc, char **argv)
     simio_opt_check_views(PROG, &view);
     if (aperture_set && bearings)
         die("--aperture-deg and --bearings exclude each other: give one");
+    /* the table overrides the flag (geometry.h): refused, not ignored */
+    if (bearings && (sonar.geo.flags & ACTAG_AZIMUTH_ASCENDING))
+        die("--azimuth-ascending does not apply with --bearings (the table gives each column's "
+            "bearing in column order)");
     if (montage && !compare)
         die("--montage: needs --compare-real DIR (it shows real and simulated frames)");
     if (bearings) {
@@ -371,6 +370,8 @@ int main(int argc, char **argv)
         int rc = simio_compare_real(compare, n, seed, &app, montage, stdout, err);
         if (rc != 0)
             die(err);
+        if (fflush(stdout) != 0 || ferror(stdout)) /* the comparison is the result */
+            die("standard output: write error");
         return 0;
     }
     if ((ntags > 0) + (nrandom > 0) + (nfree > 0) + (nseq > 0) != 1)
@@ -432,14 +433,20 @@ int main(int argc, char **argv)
             base.family = fam;
             base.tag_size = tag_size;
         }
+        /* Sized to fit: fixed buffers cut a long --out-dir short and wrote
+         * every frame to one truncated name. */
+        path_size = strlen(out_dir) + strlen(prefix) + 40;
+        truth_path = (char *)malloc(path_size);
+        path = (char *)malloc(path_size);
+        if (!truth_path || !path)
+            die("out of memory");
         /* opened once the options are all checked: a refused option leaves
          * no truth file */
-        snprintf(truth_path, sizeof truth_path, "%s/truth.jsonl", out_dir);
+        snprintf(truth_path, path_size, "%s/truth.jsonl", out_dir);
         if (hostio_out_open(&g_truth, truth_path, "w", err) != HOSTIO_OK)
             die(err); /* "PATH: cannot write: REASON" */
         for (i = 0; i < total; i++) {
             uint32_t fs = sim_frame_seed(seed, (uint32_t)i);
-            char path[1200];
             int t;
             memset(&scene, 0, sizeof scene);
             if (ntags > 0) {
@@ -481,7 +488,7 @@ int main(int argc, char **argv)
             }
             if (sim_render(&sonar, &scene, &app, fs, img8, img16, sonar.cols, err) != 0)
                 die(err);
-            snprintf(path, sizeof path, "%s/%s_%04d.%s", out_dir, prefix, i, raw ? "raw" : "pgm");
+            snprintf(path, path_size, "%s/%s_%04d.%s", out_dir, prefix, i, raw ? "raw" : "pgm");
             if (raw) {
                 if (hostio_write_file(path, img8 ? (const void *)img8 : (const void *)img16,
                                       (size_t)sonar.rows * (size_t)sonar.cols * (size_t)(depth / 8),
@@ -509,5 +516,7 @@ int main(int argc, char **argv)
     free(img8);
     free(img16);
     free(btab);
+    free(path);
+    free(truth_path);
     return 0;
 }

@@ -6,6 +6,7 @@
 #include "../hostio/hostio.h"
 
 #include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -339,13 +340,15 @@ static void downscale_into(const uint8_t *img, int rows, int cols, uint8_t *canv
         }
 }
 
+/* One clean-up path for every way out: early returns leaked the names, the
+ * series and the buffers, and no allocation was checked. */
 int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearance *a,
                        const char *montage, FILE *out, char *err)
 {
-    DIR *d = opendir(dir);
+    DIR *d;
     struct dirent *e;
     char **names = NULL;
-    int nnames = 0, cap = 0, i, q, shown_real = 0, shown_sim = 0;
+    int nnames = 0, cap = 0, i, q, shown_real = 0, shown_sim = 0, rc = -1;
     series st[2][5]; /* [real/sim][background, foam, metal, contrast, ratio] */
     static const char *label[5] = {"background median", "foam mean", "metal mean",
                                    "foam - metal", "foam / metal"};
@@ -354,22 +357,35 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
     actag_sonar_geometry geo;
     sim_sonar sonar;
     sim_view_params view;
-    void *ws;
-    uint8_t *canvas = NULL;
+    void *ws = NULL;
+    uint8_t *canvas = NULL, *img = NULL;
     int cw = 4 * 256, ch = 2 * 265;
+    memset(st, 0, sizeof st); /* every series NULL: freed below whatever was made */
+    d = opendir(dir);
     if (!d) {
         if (err)
-            snprintf(err, HOSTIO_ERRLEN, "--compare-real: cannot open folder '%s'", dir);
+            snprintf(err, HOSTIO_ERRLEN, "--compare-real: cannot open folder '%.150s': %s", dir,
+                     strerror(errno));
         return -1;
     }
     while ((e = readdir(d)) != NULL) {
         size_t L = strlen(e->d_name);
         if (L > 4 && !strcmp(e->d_name + L - 4, ".pgm")) {
             if (nnames == cap) {
-                cap = cap ? 2 * cap : 64;
-                names = (char **)realloc(names, (size_t)cap * sizeof *names);
+                int ncap = cap ? 2 * cap : 64;
+                char **nn = (char **)realloc(names, (size_t)ncap * sizeof *names);
+                if (!nn) {
+                    closedir(d);
+                    goto out_of_memory;
+                }
+                names = nn;
+                cap = ncap;
             }
             names[nnames] = (char *)malloc(strlen(dir) + L + 2);
+            if (!names[nnames]) {
+                closedir(d);
+                goto out_of_memory;
+            }
             sprintf(names[nnames], "%s/%s", dir, e->d_name);
             nnames++;
         }
@@ -377,17 +393,25 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
     closedir(d);
     if (nnames == 0) {
         if (err)
-            snprintf(err, HOSTIO_ERRLEN, "--compare-real: no .pgm frames in '%s'", dir);
-        return -1;
+            snprintf(err, HOSTIO_ERRLEN, "--compare-real: no .pgm frames in '%.150s'", dir);
+        goto done;
     }
     qsort(names, (size_t)nnames, sizeof *names, cmp_str);
     for (q = 0; q < 2; q++)
         for (i = 0; i < 5; i++) {
             st[q][i].v = (float *)malloc((size_t)(nnames > n ? nnames : n) * sizeof(float));
-            st[q][i].n = 0;
+            if (!st[q][i].v)
+                goto out_of_memory;
         }
-    if (montage)
+    if (montage) {
         canvas = (uint8_t *)calloc((size_t)cw * (size_t)ch, 1);
+        if (!canvas)
+            goto out_of_memory;
+    }
+    ws = malloc(ACTAG_WORKSPACE_SIZE(530, 512));
+    img = (uint8_t *)malloc(530 * 512);
+    if (!ws || !img)
+        goto out_of_memory;
     actag_family_get("AcTag24h10", &fam);
     actag_params_default(&p);
     p.family = &fam;
@@ -396,7 +420,6 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
     sim_view_params_default(&view);
     simio_pool_settings(&sonar, &view);
     geo = sonar.geo;
-    ws = malloc(ACTAG_WORKSPACE_SIZE(530, 512));
     for (i = 0; i < nnames; i++) {
         hostio_image im;
         actag_frame fr;
@@ -404,7 +427,7 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
         int nd;
         simio_tag_stats ts;
         if (hostio_pgm_read(names[i], &im, err) != HOSTIO_OK)
-            return -1;
+            goto done;
         if (im.depth != 8 || im.rows > 530 || im.cols > 512) {
             hostio_image_free(&im);
             continue;
@@ -426,37 +449,33 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
         }
         hostio_image_free(&im);
     }
-    {
-        uint8_t *img = (uint8_t *)malloc(530 * 512);
-        for (i = 0; i < n; i++) {
-            sim_tag tag;
-            sim_scene sc;
-            sim_truth tr;
-            simio_tag_stats ts;
-            uint32_t fs = sim_frame_seed(seed, (uint32_t)i);
-            memset(&tag, 0, sizeof tag);
-            tag.family = fam;
-            tag.id = 0;
-            tag.tag_size = 0.130628571f;
-            view.mirror_fraction = 0.0f;
-            if (sim_sample_view(&sonar, &view, fs, &tag, &sc) != 0)
-                continue;
-            if (sim_render(&sonar, &sc, a, fs, img, NULL, 512, err) != 0)
-                return -1;
-            sim_truth_of(&sonar, &tag, &tr);
-            if (simio_tag_stats_of(img, 530, 512, tr.px, 24, &ts) != 0)
-                continue;
-            push(&st[1][0], ts.background);
-            push(&st[1][1], ts.foam);
-            push(&st[1][2], ts.metal);
-            push(&st[1][3], ts.foam - ts.metal);
-            push(&st[1][4], ts.foam / fmaxf(ts.metal, 1.0f));
-            if (canvas && shown_sim < 4) {
-                downscale_into(img, 530, 512, canvas, cw, 256 * shown_sim, 265);
-                shown_sim++;
-            }
+    for (i = 0; i < n; i++) {
+        sim_tag tag;
+        sim_scene sc;
+        sim_truth tr;
+        simio_tag_stats ts;
+        uint32_t fs = sim_frame_seed(seed, (uint32_t)i);
+        memset(&tag, 0, sizeof tag);
+        tag.family = fam;
+        tag.id = 0;
+        tag.tag_size = 0.130628571f;
+        view.mirror_fraction = 0.0f;
+        if (sim_sample_view(&sonar, &view, fs, &tag, &sc) != 0)
+            continue;
+        if (sim_render(&sonar, &sc, a, fs, img, NULL, 512, err) != 0)
+            goto done;
+        sim_truth_of(&sonar, &tag, &tr);
+        if (simio_tag_stats_of(img, 530, 512, tr.px, 24, &ts) != 0)
+            continue;
+        push(&st[1][0], ts.background);
+        push(&st[1][1], ts.foam);
+        push(&st[1][2], ts.metal);
+        push(&st[1][3], ts.foam - ts.metal);
+        push(&st[1][4], ts.foam / fmaxf(ts.metal, 1.0f));
+        if (canvas && shown_sim < 4) {
+            downscale_into(img, 530, 512, canvas, cw, 256 * shown_sim, 265);
+            shown_sim++;
         }
-        free(img);
     }
     fprintf(out, "grey levels (8-bit): median [10th-90th percentile] over frames\n");
     fprintf(out, "%-20s %-24s %-24s %s\n", "", "real (pool frames)", "simulated (pool views)",
@@ -481,11 +500,16 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
         im.depth = 8;
         im.maxval = 255;
         if (hostio_pgm_write(montage, &im, err) != HOSTIO_OK)
-            return -1;
+            goto done;
         fprintf(out, "montage: %s (top: real pool frames, bottom: simulated, half size)\n",
                 montage);
-        free(canvas);
     }
+    rc = 0;
+    goto done;
+out_of_memory:
+    if (err)
+        snprintf(err, HOSTIO_ERRLEN, "--compare-real: out of memory");
+done:
     for (q = 0; q < 2; q++)
         for (i = 0; i < 5; i++)
             free(st[q][i].v);
@@ -493,5 +517,7 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
         free(names[i]);
     free(names);
     free(ws);
-    return 0;
+    free(img);
+    free(canvas);
+    return rc;
 }

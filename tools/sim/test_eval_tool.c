@@ -430,6 +430,120 @@ static void test_eval_options_without_their_run(void)
                     "--sweep-families", ",AcTag24h10");
 }
 
+/* expect_error_of, and the message is the only line on stderr: no progress
+ * line ("2/2 frames"), so the run was refused before any frame. */
+static void expect_refused_at_once(const char *args, const char *what, const char *value)
+{
+    char *e;
+    const char *p;
+    int lines = 0;
+    expect_error_of(ACTAG_EVAL_PATH, args, what, value);
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    for (p = e; *p; p++)
+        lines += *p == '\n';
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, lines, e);
+    free(e);
+}
+
+/* actag-eval checks what it can before the run: an empty --pool-sequence
+ * folder and output paths that cannot be written were refused only after
+ * every frame was simulated (and the run's progress printed). */
+static void test_eval_refuses_before_the_run(void)
+{
+    char args[1200], dir[600];
+    snprintf(dir, sizeof dir, "%s/eval_empty_pool", ACTAG_BINARY_DIR);
+    mkdir(dir, 0777);
+    snprintf(args, sizeof args, "--frames 2 --threads 1 --pool-sequence \"%s\"", dir);
+    expect_refused_at_once(args, "--pool-sequence", dir);
+    expect_refused_at_once("--frames 2 --threads 1 --pose-dump /nonexistent-dir/p.jsonl",
+                           "--pose-dump", "/nonexistent-dir/p.jsonl");
+    expect_refused_at_once("--frames 2 --threads 1 --failures .", "--failures", "'.'");
+    rmdir(dir);
+}
+
+/* A run that fails leaves none of its output files: --sequence-failures was
+ * closed after the passes and left behind when the run died later (here on
+ * standard output, /dev/full). */
+static void test_eval_failed_run_leaves_no_files(void)
+{
+    char args[1200], path[512];
+    struct stat st;
+    if (stat("/dev/full", &st) != 0)
+        TEST_IGNORE_MESSAGE("no /dev/full");
+    snprintf(path, sizeof path, "%s/eval_sf_dies.jsonl", ACTAG_BINARY_DIR);
+    remove(path);
+    snprintf(args, sizeof args,
+             "--pool --frames 0 --sequences 1 --sequence-length 2 --seed 3 --quiet "
+             "--sequence-failures \"%s\"", path);
+    TEST_ASSERT_EQUAL_INT(2, run_with(NULL, ACTAG_EVAL_PATH, args, "/dev/full"));
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(path, &st), "--sequence-failures left by a failed run");
+    /* the same run with standard output: the file is written */
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    TEST_ASSERT_EQUAL_INT(0, stat(path, &st));
+    remove(path);
+}
+
+/* actag-eval validates its sonars up front, in its own option names: a
+ * tagged run whose aperture cannot hold the columns exited 0 having
+ * measured nothing, and a tag-free one stopped in a worker thread with the
+ * library's field names. */
+static void test_eval_sonar_geometry(void)
+{
+    expect_refused_at_once("--frames 3 --aperture-deg 0.01 --cols 8192 --rows 64",
+                           "--aperture-deg/--cols", "0.01");
+    expect_refused_at_once("--frames 0 --tag-free 1 --free-cols 8192 --aperture-deg 0.1",
+                           "--aperture-deg/--free-cols", "0.1");
+}
+
+/* actag-sim --bearings reads the table as actag_detect does (hostio's list
+ * parser): "0.5,0.4" was refused as "not a number: ',0.4'" with the file's
+ * newline in the message, and a binary file's bytes were printed. */
+static void test_sim_bearings_file(void)
+{
+    char args[1400], bpath[700], dir[600];
+    char *e, *p;
+    snprintf(dir, sizeof dir, "%s/sim_bearings_out", ACTAG_BINARY_DIR);
+    snprintf(bpath, sizeof bpath, "%s/sim_bearings_comma.txt", ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(bpath, "0.5,0.4\n", 8, NULL));
+    snprintf(args, sizeof args, "--tag-free 1 --rows 16 --cols 2 --quiet --bearings \"%s\" "
+             "--out-dir \"%s\"", bpath, dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_SIM_PATH, args), args);
+    snprintf(bpath, sizeof bpath, "%s/sim_bearings_binary.txt", ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(bpath, "\x7f" "ELF\x02\x01\n1", 8, NULL));
+    snprintf(args, sizeof args, "--tag-free 1 --rows 16 --cols 2 --quiet --bearings \"%s\" "
+             "--out-dir \"%s\"", bpath, dir);
+    expect_error_of(ACTAG_SIM_PATH, args, "sim_bearings_binary.txt: value 1", "'?ELF\?\?'");
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    for (p = e; *p; p++) /* one line of text */
+        TEST_ASSERT_TRUE_MESSAGE((*p >= 0x20 && *p < 0x7f) || (*p == '\n' && p[1] == '\0'), e);
+    free(e);
+}
+
+/* actag-sim --compare-real prints its comparison on standard output: lost
+ * there (/dev/full) it is status 2, not 0 (the repository's 6 pool frames). */
+static void test_sim_compare_real_stdout_error(void)
+{
+    char args[1200];
+    struct stat st;
+    char *e;
+    if (stat("/dev/full", &st) != 0)
+        TEST_IGNORE_MESSAGE("no /dev/full");
+    snprintf(args, sizeof args, "--compare-real \"%s/data/pool-video\" --random 2",
+             ACTAG_SOURCE_DIR);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+    e = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "grey levels"), e);
+    free(e);
+    TEST_ASSERT_EQUAL_INT(2, run_with(NULL, ACTAG_SIM_PATH, args, "/dev/full"));
+    e = slurp(err_path);
+    TEST_ASSERT_NOT_NULL(e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "actag-sim: standard output: write error"), e);
+    free(e);
+}
+
 /* actag-sim --tag: pose numbers far outside any sonar's reach are refused
  * (1e30 m wrote "distance": inf), and a tag out of view or turned away is
  * written with a warning. */
@@ -477,6 +591,47 @@ static void test_sim_tag_pose_checks(void)
     free(t);
 }
 
+/* A long output folder (over 1200 characters, past the tools' old fixed
+ * path buffers): every actag-sim frame gets its own name in it (they were
+ * all written to one truncated name, exit 0), and actag-eval --svg writes
+ * its files there. */
+static void test_long_output_folder(void)
+{
+    char dir[2048], args[2600], path[2200];
+    int k;
+    char *t;
+    snprintf(dir, sizeof dir, "%s/long_out", ACTAG_BINARY_DIR);
+    snprintf(args, sizeof args, "rm -rf \"%s\"", dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(args, NULL));
+    for (k = 0; k < 6; k++) { /* six folders of 200 characters */
+        size_t L = strlen(dir);
+        dir[L] = '/';
+        memset(dir + L + 1, 'd', 200);
+        dir[L + 201] = '\0';
+    }
+    snprintf(args, sizeof args, "--pool --random 2 --quiet --out-dir \"%s\"", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_SIM_PATH, args), "actag-sim, long --out-dir");
+    for (k = 0; k < 2; k++) {
+        struct stat st;
+        snprintf(path, sizeof path, "%s/sim_%04d.pgm", dir, k);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, stat(path, &st), "a frame of the long --out-dir");
+    }
+    snprintf(path, sizeof path, "%s/truth.jsonl", dir);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(t, "truth.jsonl of the long --out-dir");
+    TEST_ASSERT_NOT_NULL(strstr(t, "sim_0001.pgm"));
+    free(t);
+    snprintf(args, sizeof args, "--pool --frames 2 --quiet --svg \"%s\"", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_EVAL_PATH, args), "actag-eval, long --svg");
+    snprintf(path, sizeof path, "%s/rate_vs_incidence.svg", dir);
+    t = slurp(path);
+    TEST_ASSERT_NOT_NULL_MESSAGE(t, "an SVG of the long --svg folder");
+    TEST_ASSERT_NOT_NULL(strstr(t, "</svg>"));
+    free(t);
+    snprintf(args, sizeof args, "rm -rf \"%s/long_out\"", ACTAG_BINARY_DIR);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(args, NULL));
+}
+
 /* actag-sim options the chosen scene would ignore are refused before
  * anything is written. */
 static void test_sim_options_the_scene_ignores(void)
@@ -512,6 +667,10 @@ static void test_sim_options_the_scene_ignores(void)
     snprintf(args, sizeof args, "--random 1 --aperture-deg 60 --bearings \"%s\" --out-dir \"%s\"",
              bpath, dir);
     expect_error(ACTAG_SIM_PATH, args, "--bearings");
+    /* the table overrides the flag (geometry.h): refused, not ignored */
+    snprintf(args, sizeof args, "--random 1 --azimuth-ascending --bearings \"%s\" --out-dir \"%s\"",
+             bpath, dir);
+    expect_error(ACTAG_SIM_PATH, args, "--azimuth-ascending does not apply with --bearings");
     TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "a refused run created --out-dir");
     snprintf(args, sizeof args, "--random 1 --quiet --bearings \"%s\" --out-dir \"%s\"", bpath,
              dir);
@@ -536,5 +695,11 @@ int main(void)
     RUN_TEST(test_eval_options_without_their_run);
     RUN_TEST(test_sim_tag_pose_checks);
     RUN_TEST(test_sim_options_the_scene_ignores);
+    RUN_TEST(test_long_output_folder);
+    RUN_TEST(test_eval_refuses_before_the_run);
+    RUN_TEST(test_eval_failed_run_leaves_no_files);
+    RUN_TEST(test_eval_sonar_geometry);
+    RUN_TEST(test_sim_compare_real_stdout_error);
+    RUN_TEST(test_sim_bearings_file);
     return UNITY_END();
 }
