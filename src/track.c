@@ -2,6 +2,7 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/track.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -25,7 +26,9 @@ void actag_track_params_default(actag_track_params *p)
     p->verify = 1;
 }
 
-static int t_finite(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
+/* Every finite float, FLT_MAX included (confirm_margin FLT_MAX: never at
+ * once); NaN fails both comparisons. */
+static int t_finite(float v) { return v >= -FLT_MAX && v <= FLT_MAX; }
 
 int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
 {
@@ -340,23 +343,17 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     if (t == NULL)
         return ACTAG_ERR_NULL;
     cur = t->frame++; /* every frame fed counts, failed ones too (track.h) */
-    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
-        frame->data == NULL || (out == NULL && max_out > 0))
-        return ACTAG_ERR_NULL;
-    if (max_out < 0)
-        return ACTAG_ERR_PARAM;
-    if (frame->rows < 1 || frame->cols < 1 || frame->rows > ACTAG_MAX_DIM ||
-        frame->cols > ACTAG_MAX_DIM || frame->stride < frame->cols ||
-        (frame->depth != 8 && frame->depth != 16))
-        return ACTAG_ERR_SIZE;
-    if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
-        return ACTAG_ERR_SIZE;
-    /* actag_detect's checks (actag_check) for both parameter sets */
+    /* actag_detect's checks (actag_check) for both parameter sets first, so
+     * that a call actag_check refuses gets its code (track.h) */
     rc = actag_check(frame, geometry, params, workspace_size, max_out, NULL);
     if (rc == ACTAG_OK && roi_params != NULL)
         rc = actag_check(frame, geometry, roi_params, workspace_size, max_out, NULL);
     if (rc != ACTAG_OK)
         return rc;
+    if (workspace == NULL || (out == NULL && max_out > 0))
+        return ACTAG_ERR_NULL;
+    if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
+        return ACTAG_ERR_SIZE;
     t->rows = frame->rows;
     t->cols = frame->cols;
 

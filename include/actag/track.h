@@ -77,7 +77,8 @@
  *       NULL p: nothing (no error codes).
  *   int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
  *       Empty state. ACTAG_ERR_NULL (t or p), ACTAG_ERR_PARAM (full_every < 1,
- *       confirm_frames < 1, confirm_margin not finite, max_missed < 0,
+ *       confirm_frames < 1, confirm_margin not finite (FLT_MAX is: no
+ *       confirmation by margin alone), max_missed < 0,
  *       roi_scale <= 0 or > 10, gate <= 0 or > 10, smoothing outside (0, 1],
  *       NaN included, refind_after < 0, verify not 0/1), ACTAG_OK.
  *   int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
@@ -86,13 +87,14 @@
  *                            void *workspace, size_t workspace_size,
  *                            actag_track *out, int max_out, actag_track_stats *stats)
  *       One frame. Writes up to max_out confirmed tracks (in track order)
- *       and returns their number, or a negative error: what actag_check()
- *       (actag_detect's checks) returns for the frame with params, then with
- *       roi_params (when given), and
- *       ACTAG_ERR_SIZE when the frame's rows/cols differ from the first
- *       frame's (re-initialise for another sonar setting), ACTAG_ERR_NULL
- *       for t, workspace or out (max_out > 0). stats may be NULL. On an error the state
- *       is unchanged except the frame counter.
+ *       and returns their number, or a negative error, first found of:
+ *       ACTAG_ERR_NULL for t; what actag_check() (actag_detect's checks)
+ *       returns for the frame with params (max_out included), then with
+ *       roi_params (when given); ACTAG_ERR_NULL for workspace or out
+ *       (max_out > 0); ACTAG_ERR_SIZE when the frame's rows/cols differ from
+ *       the first frame's (re-initialise for another sonar setting).
+ *       stats may be NULL. On an error the state is unchanged except the
+ *       frame counter.
  *
  *   Cost per frame (stats): pixels filtered (verify windows, ROIs, whole
  *   frame), verify attempts, ROI calls, whether the whole frame was

@@ -7,6 +7,7 @@
 #include "actag/track.h"
 #include "actag/tag_grid.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -558,6 +559,7 @@ static void test_errors(void)
     actag_params p;
     actag_track out[2];
     actag_frame f = frame_of(frames[0]), g;
+    int i;
     params_of(&p);
     actag_track_params_default(&tp);
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tracker_init(NULL, &tp));
@@ -569,6 +571,17 @@ static void test_errors(void)
     bad = tp; bad.gate = NAN;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
     bad = tp; bad.verify = 2;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    /* confirm_margin: any finite value (FLT_MAX: never by margin alone) */
+    bad = tp; bad.confirm_margin = FLT_MAX;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.confirm_margin = -FLT_MAX;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.confirm_margin = INFINITY;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.confirm_margin = -INFINITY;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.confirm_margin = NAN;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
@@ -585,6 +598,26 @@ static void test_errors(void)
     p.tag_size = -1.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
                           actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
+    /* what actag_check returns, in its order (before: max_out < 0 first) */
+    params_of(&p);
+    for (i = 0; i < 5; i++) {
+        g = f;
+        if (i == 0)
+            g.rows = 0;
+        else if (i == 1)
+            g.cols = ACTAG_MAX_DIM + 1;
+        else if (i == 2)
+            g.stride = g.cols - 1;
+        else if (i == 3)
+            g.depth = 12;
+        else
+            g.data = NULL;
+        TEST_ASSERT_EQUAL_INT(actag_check(&g, &sonar.geo, &p, wss, -1, NULL),
+                              actag_tracker_update(&tr, &g, &sonar.geo, &p, NULL, ws, wss, out, -1,
+                                                   NULL));
+        TEST_ASSERT_EQUAL_INT(i < 4 ? ACTAG_ERR_SIZE : ACTAG_ERR_NULL,
+                              actag_check(&g, &sonar.geo, &p, wss, -1, NULL));
+    }
 }
 
 int main(void)
