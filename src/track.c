@@ -48,6 +48,26 @@ int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
     return ACTAG_OK;
 }
 
+/* Checksum of a family's codes (FNV-1a over the 32-bit words): with bits
+ * and ncodes, what the state keeps of its first frame's family. */
+static uint32_t t_family_sum(const actag_family *f)
+{
+    uint32_t h = 2166136261u;
+    int i;
+    for (i = 0; i < f->ncodes; i++)
+        h = (h ^ f->codes[i]) * 16777619u;
+    return h;
+}
+
+/* One family: the same pointer, or the same bits and codes. */
+static int t_same_family(const actag_family *a, const actag_family *b)
+{
+    return a == b ||
+           (a->bits == b->bits && a->ncodes == b->ncodes &&
+            (a->codes == b->codes ||
+             memcmp(a->codes, b->codes, (size_t)a->ncodes * sizeof *a->codes) == 0));
+}
+
 static actag_point t_centre(const actag_point c[4])
 {
     actag_point m;
@@ -237,6 +257,10 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     float ring, in;
     if (frame->depth != 8 || p->tuning.decode_mode != ACTAG_DECODE_FIT || !t->params.verify)
         return 0;
+    /* the track's code is read from p's family (actag_tracker_update keeps
+     * it the tracks' family; this guards the array read) */
+    if (k->id < 0 || k->id >= p->family->ncodes)
+        return 0;
     if (t_roi(t, k, p, 0.25f, (float)(p->tuning.median_radius + 2), &x0, &y0, &x1, &y1) != 0)
         return 0;
     w = x1 - x0 + 1;
@@ -335,6 +359,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     long cur;
     int rc, i, j, npool = 0, need_full, nconf = 0, nout = 0;
     int assigned[ACTAG_TRACK_MAX], used[ACTAG_TRACK_MAX_DET];
+    uint32_t fsum;
     float alpha, beta;
 
     memset(&st, 0, sizeof st);
@@ -354,8 +379,19 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         return ACTAG_ERR_NULL;
     if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
         return ACTAG_ERR_SIZE;
+    /* A track is started by a whole-frame reading (params) and read in its
+     * window (roi_params): its ID must name the same code in both, and in
+     * every frame of the stream. */
+    fsum = t_family_sum(params->family);
+    if (!t_same_family(params->family, rp->family) ||
+        (t->rows != 0 && (params->family->bits != t->family_bits ||
+                          params->family->ncodes != t->family_ncodes || fsum != t->family_sum)))
+        return ACTAG_ERR_PARAM;
     t->rows = frame->rows;
     t->cols = frame->cols;
+    t->family_bits = params->family->bits;
+    t->family_ncodes = params->family->ncodes;
+    t->family_sum = fsum;
 
     for (i = 0; i < t->ntracks; i++)
         nconf += t->tracks[i].confirmed;

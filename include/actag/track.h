@@ -59,7 +59,12 @@
  *   roi_params: the parameters of steps 1-2 (NULL: the whole-frame ones).
  *   Since only a track's own ID near its prediction can update it, a
  *   caller may lower the decision margins there (e.g. min_margin -2);
- *   measured gain in docs/tracking.md.
+ *   measured gain in docs/tracking.md. Its family must be params' family
+ *   (the same pointer, or the same bits, ncodes and codes): tracks are
+ *   started under one and read under the other by their IDs. That family
+ *   must stay the same for the tracker's life (the state keeps its bits,
+ *   ncodes and a 32-bit checksum of its codes from the first frame; another
+ *   family needs actag_tracker_init).
  *
  *   Memory: actag_tracker is a caller-owned struct of fixed size (about
  *   6 KB with the defaults of ACTAG_TRACK_MAX and ACTAG_TRACK_ROI_MAX_COLS),
@@ -92,7 +97,9 @@
  *       returns for the frame with params (max_out included), then with
  *       roi_params (when given); ACTAG_ERR_NULL for workspace or out
  *       (max_out > 0); ACTAG_ERR_SIZE when the frame's rows/cols differ from
- *       the first frame's (re-initialise for another sonar setting).
+ *       the first frame's (re-initialise for another sonar setting);
+ *       ACTAG_ERR_PARAM when roi_params' family is not params' family, or
+ *       that family is not the first frame's (roi_params above).
  *       stats may be NULL. On an error the state is unchanged except the
  *       frame counter.
  *
@@ -169,6 +176,8 @@ typedef struct actag_tracker {
     long last_full;          /* frame index of the last whole-frame search (-1: none) */
     uint32_t next_track_id;
     int rows, cols;          /* of the first frame (0: none yet) */
+    int family_bits, family_ncodes; /* of the first frame's params.family */
+    uint32_t family_sum;     /* and a checksum of its codes (track.c) */
     float bearings[ACTAG_TRACK_ROI_MAX_COLS];   /* an ROI's bearing table */
     actag_detection det[ACTAG_TRACK_MAX_DET];   /* one call's readings */
     actag_detection pool[ACTAG_TRACK_MAX_DET];  /* one frame's readings, frame coordinates */

@@ -552,6 +552,87 @@ static void test_windows_are_read_in_the_tracks_handedness(void)
     TEST_ASSERT_EQUAL_INT(0, roi_readings);
 }
 
+/* The frame of the pass held still in the tests below (tag 5 in view,
+ * centre near row 101 of 530, diagonal 65 px). */
+#define STILL 12
+
+/* A copy of family f with its own codes array (same contents), malloc'd
+ * codes. */
+static actag_family family_copy(const actag_family *f, uint32_t **codes)
+{
+    actag_family c = *f;
+    *codes = (uint32_t *)malloc((size_t)f->ncodes * sizeof **codes);
+    TEST_ASSERT_NOT_NULL(*codes);
+    memcpy(*codes, f->codes, (size_t)f->ncodes * sizeof **codes);
+    c.codes = *codes;
+    return c;
+}
+
+/* Tracks are started under params' family and read under roi_params' by
+ * their IDs, so both must be one family, and the tracker's for its life:
+ * ACTAG_ERR_PARAM otherwise, the state untouched but for the frame counter
+ * (before: accepted; a tag's ID beyond roi_params' codes was read from
+ * outside the array, and its track lost). The same family in another
+ * struct or codes array is that family. */
+static void test_the_family_is_one_and_the_same(void)
+{
+    static actag_tracker tr, before;
+    actag_track_params tp;
+    actag_params p, rp;
+    actag_family h8, same, cut, changed;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_frame f = frame_of(frames[STILL]);
+    uint32_t *same_codes, *changed_codes;
+    int i;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h8", &h8));
+    same = family_copy(&fam, &same_codes);
+    changed = family_copy(&fam, &changed_codes);
+    changed_codes[3] ^= 1u;
+    cut = fam;
+    cut.ncodes = 5; /* IDs 0-4: a valid family, without the tracked tag 5 */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    rp = p;
+    rp.family = &h8;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&tr, &f, &sonar.geo, &p, &rp, ws,
+                                                                wss, out, ACTAG_TRACK_MAX, NULL));
+    rp.family = &cut;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_check(&f, &sonar.geo, &rp, wss, ACTAG_TRACK_MAX, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&tr, &f, &sonar.geo, &p, &rp, ws,
+                                                                wss, out, ACTAG_TRACK_MAX, NULL));
+    TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
+    /* the same family: another struct with the same codes, or a copy */
+    rp.family = &same;
+    for (i = 0; i < 4; i++)
+        TEST_ASSERT_TRUE(actag_tracker_update(&tr, &f, &sonar.geo, &p, &rp, ws, wss, out,
+                                              ACTAG_TRACK_MAX, NULL) >= 0);
+    TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
+    TEST_ASSERT_EQUAL_INT(5, tr.tracks[0].id);
+    /* another family later in the stream */
+    before = tr;
+    p.family = &h8;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws,
+                                                                wss, out, ACTAG_TRACK_MAX, NULL));
+    p.family = &changed; /* same bits and ncodes, one code changed */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws,
+                                                                wss, out, ACTAG_TRACK_MAX, NULL));
+    p.family = &cut;
+    rp.family = &cut;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&tr, &f, &sonar.geo, &p, &rp, ws,
+                                                                wss, out, ACTAG_TRACK_MAX, NULL));
+    TEST_ASSERT_EQUAL(before.frame + 3, tr.frame);
+    tr.frame = before.frame;
+    TEST_ASSERT_EQUAL_MEMORY(&before, &tr, sizeof tr);
+    p.family = &same;
+    TEST_ASSERT_EQUAL_INT(1, actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out,
+                                                  ACTAG_TRACK_MAX, NULL));
+    TEST_ASSERT_EQUAL_INT(5, out[0].id);
+    TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    free(same_codes);
+    free(changed_codes);
+}
+
 static void test_errors(void)
 {
     static actag_tracker tr;
@@ -644,6 +725,7 @@ int main(void)
     RUN_TEST(test_a_damaged_tag_is_read_where_it_is_predicted);
     RUN_TEST(test_another_tag_at_the_prediction_is_not_the_tracked_one);
     RUN_TEST(test_windows_are_read_in_the_tracks_handedness);
+    RUN_TEST(test_the_family_is_one_and_the_same);
     RUN_TEST(test_errors);
     for (i = 0; i < NSEQ; i++)
         free(frames[i]);
