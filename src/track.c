@@ -359,6 +359,9 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     long cur;
     int rc, i, j, npool = 0, need_full, nconf = 0, nout = 0;
     int assigned[ACTAG_TRACK_MAX], used[ACTAG_TRACK_MAX_DET];
+    /* verified in step 1: a second try in step 2 would repeat the same
+     * decode at the same prediction */
+    int tried[ACTAG_TRACK_MAX];
     uint32_t fsum;
     float alpha, beta;
 
@@ -396,11 +399,14 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     for (i = 0; i < t->ntracks; i++)
         nconf += t->tracks[i].confirmed;
     need_full = nconf == 0 || t->last_full < 0 || cur - t->last_full >= t->params.full_every;
+    for (i = 0; i < t->ntracks; i++)
+        tried[i] = 0;
 
     /* 1. ROIs around every track (unless the whole frame is due anyway) */
     if (!need_full) {
         for (i = 0; i < t->ntracks; i++) {
             int x0, y0, x1, y1, n;
+            tried[i] = t->tracks[i].confirmed;
             if (t->tracks[i].confirmed && t_verify(t, &t->tracks[i], frame, geometry, rp,
                                                    workspace, &st)) {
                 t_pool_add(t, &npool, 1, 0, 0, i);
@@ -461,9 +467,10 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         t_pool_add(t, &npool, n, 0, 0, -1);
         t->last_full = cur;
         /* a confirmed track the whole frame did not read is still read
-         * where it is predicted (one window and one decode) */
+         * where it is predicted (one window and one decode), unless step 1
+         * tried that already */
         for (i = 0; i < t->ntracks; i++)
-            if (t->tracks[i].confirmed && !t_in_pool(t, &t->tracks[i], npool) &&
+            if (t->tracks[i].confirmed && !tried[i] && !t_in_pool(t, &t->tracks[i], npool) &&
                 t_verify(t, &t->tracks[i], frame, geometry, rp, workspace, &st))
                 t_pool_add(t, &npool, 1, 0, 0, i);
     }

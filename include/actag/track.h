@@ -34,7 +34,8 @@
  *        whenever no confirmed track exists, and when a confirmed track has
  *        gone `refind_after` frames in a row without a reading (a tag that
  *        moved more than foreseen); a confirmed track that the whole frame
- *        did not read is then verified as in step 1.
+ *        did not read is then verified as in step 1 (unless step 1 verified
+ *        it in this frame: at most one verify per track and frame).
  *
  *   Tracks. A reading that matches no track starts a tentative track; it is
  *   confirmed after `confirm_frames` consecutive frames with a consistent
@@ -163,7 +164,8 @@ typedef struct actag_track_stats {
     int readings;        /* detections returned by those calls */
     int conflicts;       /* readings ignored: another ID or handedness at a tracked tag */
     int started, confirmed, dropped; /* track events this frame */
-    int verified;        /* confirmed tracks tried at their prediction (verify) */
+    int verified;        /* confirmed tracks tried at their prediction (verify; at most
+                            once per track) */
     int quads, decoded, searched; /* actag_stats of those calls, summed: quads fitted,
                                      decoded, structure-search candidates decoded */
 } actag_track_stats;

@@ -6,6 +6,7 @@
 #include "simio.h"
 #include "actag/track.h"
 #include "actag/tag_grid.h"
+#include "hostio.h"
 
 #include <float.h>
 #include <math.h>
@@ -556,6 +557,82 @@ static void test_windows_are_read_in_the_tracks_handedness(void)
  * centre near row 101 of 530, diagonal 65 px). */
 #define STILL 12
 
+/* A confirmed track is verified at most once per frame: stats.verified
+ * never exceeds the confirmed tracks before the frame (before: a track
+ * whose verify failed was verified again, with the same prediction, when a
+ * refind searched the whole frame). *refinds counts the frames searched
+ * whole after the windows. */
+static void verified_at_most_once(actag_tracker *tr, const actag_frame *f,
+                                  const actag_sonar_geometry *g, const actag_params *p,
+                                  int *refinds)
+{
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    int k, nconf = 0, n;
+    for (k = 0; k < tr->ntracks; k++)
+        nconf += tr->tracks[k].confirmed;
+    n = actag_tracker_update(tr, f, g, p, NULL, ws, wss, out, ACTAG_TRACK_MAX, &st);
+    TEST_ASSERT_TRUE(n >= 0);
+    TEST_ASSERT_TRUE(st.verified <= nconf);
+    *refinds += st.full_frame && st.rois > 0;
+}
+
+static void test_a_track_is_verified_once_per_frame(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    uint8_t *empty = render_empty();
+    int i, refinds = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.full_every = 1000;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    /* the tag held still, then gone: refinds from the second frame on */
+    for (i = 0; i < 10; i++) {
+        actag_frame f = frame_of(i < 5 ? frames[STILL] : empty);
+        verified_at_most_once(&tr, &f, &sonar.geo, &p, &refinds);
+    }
+    TEST_ASSERT_EQUAL_INT(4, refinds);
+    free(empty);
+}
+
+/* The same on the pool recording (the full data set; IGNOREd without it):
+ * 9 frames searched whole after the windows, 8 of which verified a track
+ * twice before (f_0171 first). */
+static void test_a_track_is_verified_once_per_frame_pool(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_sonar_geometry g;
+    char path[512], err[512];
+    int i, refinds = 0;
+    params_of(&p);
+    memset(&g, 0, sizeof g);
+    g.min_range = 0.1f;
+    g.max_range = 1.5f;
+    g.aperture = 1.0471976f; /* 60 degrees */
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 1; i <= 571; i += 10) {
+        hostio_image im;
+        actag_frame f;
+        snprintf(path, sizeof path, "%s/data/sonar/pool-video/f_%04d.pgm", ACTAG_SHARED_DIR, i);
+        if (hostio_pgm_read(path, &im, err) != 0) {
+            if (i == 1)
+                TEST_IGNORE_MESSAGE("no pool recording in ACTAG_SHARED_DIR/data (data/README.md)");
+            TEST_FAIL_MESSAGE(err);
+        }
+        TEST_ASSERT_TRUE((size_t)im.rows * (size_t)im.cols <= wss); /* 530 x 512 as the sim */
+        hostio_image_frame(&im, &f);
+        verified_at_most_once(&tr, &f, &g, &p, &refinds);
+        hostio_image_free(&im);
+    }
+    printf("pool recording: %d refind frames\n", refinds);
+    TEST_ASSERT_TRUE(refinds >= 1);
+}
+
 /* A copy of family f with its own codes array (same contents), malloc'd
  * codes. */
 static actag_family family_copy(const actag_family *f, uint32_t **codes)
@@ -725,6 +802,8 @@ int main(void)
     RUN_TEST(test_a_damaged_tag_is_read_where_it_is_predicted);
     RUN_TEST(test_another_tag_at_the_prediction_is_not_the_tracked_one);
     RUN_TEST(test_windows_are_read_in_the_tracks_handedness);
+    RUN_TEST(test_a_track_is_verified_once_per_frame);
+    RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
     RUN_TEST(test_the_family_is_one_and_the_same);
     RUN_TEST(test_errors);
     for (i = 0; i < NSEQ; i++)
