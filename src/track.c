@@ -572,10 +572,32 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             i++;
         }
     }
-    /* 5. new tentative tracks from the remaining readings */
+    /* 5. new tentative tracks from the remaining readings; but a reading of
+     * a track's own tag that its gate missed (the tag moved farther than
+     * foreseen, e.g. between whole-frame searches) re-acquires that track
+     * when it got no reading this frame: a second track of one tag would be
+     * confirmed at once by a strong margin and reported beside the old one
+     * while that coasts */
     for (j = 0; j < npool; j++) {
         actag_track *k;
-        if (used[j] || t->ntracks >= ACTAG_TRACK_MAX)
+        if (used[j])
+            continue;
+        for (i = 0; i < t->ntracks; i++)
+            if (!t->tracks[i].measured && t->tracks[i].id == t->pool[j].id &&
+                t->tracks[i].mirrored == t->pool[j].mirrored)
+                break;
+        if (i < t->ntracks) {
+            /* where it is now, no velocity: the old one led elsewhere */
+            k = &t->tracks[i];
+            memcpy(k->corners, t->pool[j].corners, sizeof k->corners);
+            memset(k->velocity, 0, sizeof k->velocity);
+            k->missed = 0;
+            k->measured = 1;
+            k->hits++;
+            k->last = t->pool[j];
+            continue;
+        }
+        if (t->ntracks >= ACTAG_TRACK_MAX)
             continue;
         k = &t->tracks[t->ntracks++];
         memset(k, 0, sizeof *k);

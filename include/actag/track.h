@@ -42,6 +42,11 @@
  *   reading (same ID, same handedness, centre within `gate` tag diagonals of
  *   the prediction, the gate growing by one diagonal per frame the track has
  *   missed), or at once when its decision margin reaches `confirm_margin`.
+ *   A reading of a confirmed track's ID and handedness outside its gate,
+ *   when that track got no reading in this frame (a tag that moved farther
+ *   than the gate allows, e.g. between whole-frame searches), re-acquires
+ *   it instead of starting a second track of the same tag: its corners are
+ *   set to the reading's (no smoothing) and its velocity to zero.
  *   A tentative track that misses a frame is dropped; a confirmed one after
  *   more than `max_missed` consecutive frames without a reading (meanwhile
  *   it is reported as coasting, measured = 0, once it has been read twice:

@@ -557,6 +557,77 @@ static void test_windows_are_read_in_the_tracks_handedness(void)
  * centre near row 101 of 530, diagonal 65 px). */
 #define STILL 12
 
+/* src with its rows moved dy rows down the frame (the tag moves by dy in
+ * range); the rows uncovered are fill's. malloc'd. */
+static uint8_t *shifted(const uint8_t *src, int dy, const uint8_t *fill)
+{
+    uint8_t *img = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+    int r;
+    TEST_ASSERT_NOT_NULL(img);
+    for (r = 0; r < sonar.rows; r++) {
+        const uint8_t *row = r - dy >= 0 && r - dy < sonar.rows ? src + (size_t)(r - dy) * (size_t)sonar.cols
+                                                                : fill + (size_t)r * (size_t)sonar.cols;
+        memcpy(img + (size_t)r * (size_t)sonar.cols, row, (size_t)sonar.cols);
+    }
+    return img;
+}
+
+/* One tracker frame of image px; returns the reports (>= 0 asserted). */
+static int feed(actag_tracker *tr, const uint8_t *px, const actag_params *p, actag_track *out,
+                actag_track_stats *st)
+{
+    actag_frame f = frame_of(px);
+    int n = actag_tracker_update(tr, &f, &sonar.geo, p, NULL, ws, wss, out, ACTAG_TRACK_MAX, st);
+    TEST_ASSERT_TRUE(n >= 0);
+    return n;
+}
+
+/* The largest corner diagonal of a track's smoothed corners (pixels). */
+static float track_diag(const actag_track *k)
+{
+    float a = hypotf(k->corners[0].x - k->corners[2].x, k->corners[0].y - k->corners[2].y);
+    float b = hypotf(k->corners[1].x - k->corners[3].x, k->corners[1].y - k->corners[3].y);
+    return a > b ? a : b;
+}
+
+/* A tag that moves more than a diagonal between whole-frame searches (held
+ * still 10 frames, then 1.5 diagonals down in range on the full_every-th
+ * frame) keeps its one track: the reading beyond the gate re-acquires the
+ * track it belongs to (before: a second track of the same ID, confirmed at
+ * once by its margin and reported beside the old one coasting). */
+static void test_a_tag_that_jumps_keeps_one_track(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    uint8_t *empty = render_empty(), *moved;
+    uint32_t id;
+    float dy;
+    int i, n = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < tp.full_every; i++)
+        n = feed(&tr, frames[STILL], &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    id = out[0].track_id;
+    dy = 1.5f * track_diag(&out[0]); /* beyond the gate of a track read last frame */
+    moved = shifted(frames[STILL], (int)dy, empty);
+    for (i = 0; i < 4; i++) {
+        n = feed(&tr, moved, &p, out, &st);
+        TEST_ASSERT_EQUAL_INT(i == 0, st.full_frame);
+        TEST_ASSERT_EQUAL_INT(0, st.started);
+        TEST_ASSERT_EQUAL_INT(1, n);
+        TEST_ASSERT_EQUAL_UINT32(id, out[0].track_id);
+        TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    }
+    free(moved);
+    free(empty);
+}
+
 /* A confirmed track is verified at most once per frame: stats.verified
  * never exceeds the confirmed tracks before the frame (before: a track
  * whose verify failed was verified again, with the same prediction, when a
@@ -802,6 +873,7 @@ int main(void)
     RUN_TEST(test_a_damaged_tag_is_read_where_it_is_predicted);
     RUN_TEST(test_another_tag_at_the_prediction_is_not_the_tracked_one);
     RUN_TEST(test_windows_are_read_in_the_tracks_handedness);
+    RUN_TEST(test_a_tag_that_jumps_keeps_one_track);
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
     RUN_TEST(test_the_family_is_one_and_the_same);
