@@ -1,6 +1,8 @@
 /* Tracker (track.h) on simulated sonar passes: IDs never switch, tracks end
  * when the tag leaves, identical input gives identical output, ROI readings
- * agree with whole-frame ones, errors. */
+ * agree with whole-frame ones, the verify's limits, the exact frame counts
+ * of confirming, refinding, coasting and dropping, one track per tag, one
+ * family, errors. */
 #include "unity.h"
 #include "sim.h"
 #include "simio.h"
@@ -371,30 +373,46 @@ static float cell_mean(int i, int cx, int cy)
     return n ? sum / (float)n : 0.0f;
 }
 
-/* A copy of frame i with 2 interior cells and 2 white data cells of tag 5
- * painted at the black ring's mean level: 4 cells wrong, one more than the
- * whole-frame budget of 3, within the verify's 6 (track.h). */
-static uint8_t *damaged(int i)
+/* A copy of frame i with nring of the 16 black-ring cells painted at the
+ * interior's mean level, ninterior of the 9 interior cells and ndata white
+ * data cells of tag 5 (AcTag24h10) at the black ring's: nring + ninterior
+ * + ndata cells wrong. malloc'd. */
+static uint8_t *damaged_cells(int i, int nring, int ninterior, int ndata)
 {
+    static const int interior[9][2] = {{2, 3}, {4, 3}, {3, 2}, {3, 4}, {2, 2},
+                                       {4, 4}, {2, 4}, {4, 2}, {3, 3}};
+    static const int ring[16][2] = {{3, 1}, {3, 5}, {1, 3}, {5, 3}, {2, 1}, {4, 5},
+                                    {1, 4}, {5, 2}, {4, 1}, {2, 5}, {1, 2}, {5, 4},
+                                    {1, 1}, {5, 5}, {1, 5}, {5, 1}};
     uint8_t *img = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
-    int bit, painted = 0, k = fam.bits / 4;
+    int bit, c, painted = 0, k = fam.bits / 4;
     uint8_t black = (uint8_t)(0.25f * (cell_mean(i, 1, 1) + cell_mean(i, k - 1, 1) +
                                       cell_mean(i, 1, k - 1) + cell_mean(i, k - 1, k - 1)));
+    uint8_t white = (uint8_t)(0.25f * (cell_mean(i, 2, 2) + cell_mean(i, 4, 2) +
+                                      cell_mean(i, 2, 4) + cell_mean(i, 4, 4)));
     TEST_ASSERT_NOT_NULL(img);
+    TEST_ASSERT_TRUE(nring >= 0 && nring <= 16 && ninterior >= 0 && ninterior <= 9 && k == 6);
     memcpy(img, frames[i], (size_t)sonar.rows * (size_t)sonar.cols);
-    paint_cell(img, &truth[i], 2, 3, black);
-    paint_cell(img, &truth[i], k - 2, 3, black);
-    for (bit = 1; bit < fam.bits && painted < 2; bit += 3) {
+    for (c = 0; c < nring; c++)
+        paint_cell(img, &truth[i], ring[c][0], ring[c][1], white);
+    for (c = 0; c < ninterior; c++)
+        paint_cell(img, &truth[i], interior[c][0], interior[c][1], black);
+    /* bits 1, 4, .., 22, then 2, 5, .., 23, then 0, 3, .., 21 */
+    for (bit = 0; bit < fam.bits && painted < ndata; bit++) {
         int cx, cy;
-        actag_tag_bit_cell(fam.bits, bit, &cx, &cy);
+        actag_tag_bit_cell(fam.bits, (1 + 3 * bit + bit / 8) % fam.bits, &cx, &cy);
         if (actag_tag_cell_value(fam.codes[5], fam.bits, cx, cy)) {
             paint_cell(img, &truth[i], cx, cy, black);
             painted++;
         }
     }
-    TEST_ASSERT_EQUAL_INT(2, painted);
+    TEST_ASSERT_EQUAL_INT(ndata, painted);
     return img;
 }
+
+/* 2 interior cells and 2 white data cells wrong: 4, one more than the
+ * whole-frame budget of 3, within the verify's 6 (track.h). */
+static uint8_t *damaged(int i) { return damaged_cells(i, 0, 2, 2); }
 
 /* The verify step reads a tracked tag that the whole-frame pipeline may not
  * (4 wrong cells), also on frames where the whole frame is searched. */
@@ -444,8 +462,128 @@ static void test_a_damaged_tag_is_read_where_it_is_predicted(void)
     }
 }
 
+/* Probes of the verify: frames[] go through a tracker (default settings)
+ * and, before each frame where tag 5 has a confirmed track and is in view,
+ * a copy of the state takes damaged_cells(i, nring, ninterior, ndata) with
+ * roi_params *rp. With margins and margin_above 0, margins[i] gets the
+ * decision margin of probe i's reading (NAN: none); with margin_above,
+ * only the probes read before run, with min_margin that much above their
+ * reading's margin. Returns the probes that reported tag 5 read
+ * (measured); *tried counts the probes, *weak (may be NULL) those read with
+ * a margin below their min_margin. */
+static int probe_damaged(int nring, int ninterior, int ndata, const actag_params *rp,
+                         float *margins, float margin_above, int *tried, int *weak)
+{
+    static actag_tracker tr, probe;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    int i, k, n, read = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    *tried = 0;
+    if (weak)
+        *weak = 0;
+    for (i = 0; i < NSEQ; i++) {
+        actag_frame f = frame_of(frames[i]);
+        int tracked = 0;
+        for (k = 0; k < tr.ntracks; k++)
+            tracked |= tr.tracks[k].confirmed && tr.tracks[k].id == 5;
+        if (tracked && truth[i].visible) {
+            uint8_t *img = damaged_cells(i, nring, ninterior, ndata);
+            actag_frame g = frame_of(img);
+            actag_params q = *rp;
+            float m = NAN;
+            if (margins != NULL && margin_above != 0.0f) {
+                if (margins[i] != margins[i]) { /* not read with *rp alone */
+                    free(img);
+                    goto next;
+                }
+                q.min_margin = margins[i] + margin_above;
+            }
+            probe = tr;
+            n = actag_tracker_update(&probe, &g, &sonar.geo, &p, &q, ws, wss, out,
+                                     ACTAG_TRACK_MAX, NULL);
+            TEST_ASSERT_TRUE(n >= 0);
+            for (k = 0; k < n; k++)
+                if (out[k].id == 5 && out[k].measured) {
+                    read++;
+                    m = out[k].last.decision_margin;
+                    if (weak && m < q.min_margin)
+                        (*weak)++;
+                }
+            if (margins != NULL && margin_above == 0.0f)
+                margins[i] = m;
+            (*tried)++;
+            free(img);
+        }
+    next:
+        n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_TRUE(n >= 0);
+    }
+    return read;
+}
+
+/* The verify's budget (track.h): ring misses, interior misses and corrected
+ * bits together at most twice the corrections limit, 6 for AcTag24h10. From
+ * the same tracker states, a tracked tag with 4 or 5 wrong cells is read at
+ * its prediction in some frames; with 7 or 8 in none, on any path (without
+ * the budget: 10 of 20 probes with 7 ring cells, 5 with 8; with 3 times the
+ * limit 5 with 7). */
+static void test_the_verify_budget_holds(void)
+{
+    /* black-ring, interior, data cells wrong */
+    static const int cases[6][3] = {{2, 0, 2}, {5, 0, 0}, {7, 0, 0},
+                                    {6, 1, 0}, {6, 0, 1}, {8, 0, 0}};
+    actag_params p;
+    int c, tried, read[6];
+    params_of(&p);
+    for (c = 0; c < 6; c++) {
+        read[c] = probe_damaged(cases[c][0], cases[c][1], cases[c][2], &p, NULL, 0.0f, &tried,
+                                NULL);
+        printf("%d ring + %d interior + %d data cells wrong: read in %d of %d probes\n",
+               cases[c][0], cases[c][1], cases[c][2], read[c], tried);
+        TEST_ASSERT_TRUE(tried >= 10);
+        if (c >= 2)
+            TEST_ASSERT_EQUAL_INT(0, read[c]);
+    }
+    TEST_ASSERT_TRUE(read[0] >= 5); /* 15 of 20 */
+    TEST_ASSERT_TRUE(read[1] >= 4); /* 8 of 20 (1 with a budget of 5) */
+}
+
+/* actag_params.min_margin of roi_params binds the verify (as in
+ * actag_detect): a damaged tag (4 wrong cells, beyond the whole-frame
+ * budget of 3: the verify reads it) read with some margin is not read with
+ * that margin from the same state once min_margin is raised just above it
+ * (any reading then must reach the raised margin), and read again just
+ * below it. */
+static void test_a_raised_min_margin_refuses_a_weak_verify_reading(void)
+{
+    static float margins[NSEQ];
+    actag_params p;
+    int i, tried, read, above, below, tried_above, tried_below, weak;
+    params_of(&p);
+    for (i = 0; i < NSEQ; i++)
+        margins[i] = NAN;
+    read = probe_damaged(2, 0, 2, &p, margins, 0.0f, &tried, NULL);
+    above = probe_damaged(2, 0, 2, &p, margins, 0.01f, &tried_above, &weak);
+    below = probe_damaged(2, 0, 2, &p, margins, -0.01f, &tried_below, NULL);
+    printf("damaged probes read %d of %d; min_margin just above their margin: %d of %d "
+           "(%d below it), just below: %d of %d\n",
+           read, tried, above, tried_above, weak, below, tried_below);
+    TEST_ASSERT_TRUE(read >= 5);
+    TEST_ASSERT_EQUAL_INT(read, tried_above);
+    TEST_ASSERT_EQUAL_INT(0, weak);
+    TEST_ASSERT_TRUE(above <= 1); /* another path's stronger reading */
+    TEST_ASSERT_EQUAL_INT(read, below);
+}
+
 /* Another tag where a tracked one was predicted is never read as the
- * tracked tag: the verify judges only the track's own code. */
+ * tracked tag: the verify judges only the track's own code. Its readings
+ * there are ignored and counted (stats.conflicts) and start no track while
+ * the old track lasts. */
 static void test_another_tag_at_the_prediction_is_not_the_tracked_one(void)
 {
     static actag_tracker tr;
@@ -453,16 +591,20 @@ static void test_another_tag_at_the_prediction_is_not_the_tracked_one(void)
     actag_params p;
     actag_track out[ACTAG_TRACK_MAX];
     uint8_t *other[NSEQ];
-    int i, k, n, tracked = 0, seen2 = 0;
+    int i, k, n, tracked = 0, seen2 = 0, conflicts = 0;
     params_of(&p);
     actag_track_params_default(&tp);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
     TEST_ASSERT_EQUAL_INT(0, render_pass(7u, 2, NSEQ, other, NULL)); /* same poses, tag 2 */
     for (i = 0; i < NSEQ; i++) {
         actag_frame f = frame_of(i < NSEQ / 2 ? frames[i] : other[i]);
+        actag_track_stats st;
         n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
-                                 NULL);
+                                 &st);
         TEST_ASSERT_TRUE(n >= 0);
+        if (st.conflicts > 0) /* the only other reading is the conflicting one */
+            TEST_ASSERT_EQUAL_INT(0, st.started);
+        conflicts += st.conflicts;
         for (k = 0; k < n; k++) {
             if (i < NSEQ / 2) {
                 tracked += out[k].id == 5 && out[k].measured;
@@ -475,9 +617,11 @@ static void test_another_tag_at_the_prediction_is_not_the_tracked_one(void)
     }
     for (i = 0; i < NSEQ; i++)
         free(other[i]);
-    printf("tag 5 tracked in %d frames; after the swap tag 2 read in %d\n", tracked, seen2);
+    printf("tag 5 tracked in %d frames; after the swap tag 2 read in %d, %d conflicts\n",
+           tracked, seen2, conflicts);
     TEST_ASSERT_TRUE(tracked >= 5);
     TEST_ASSERT_TRUE(seen2 >= 3);
+    TEST_ASSERT_TRUE(conflicts >= 1);
 }
 
 /* A window around a track is read in the track's handedness only: after the
@@ -590,6 +734,72 @@ static float track_diag(const actag_track *k)
     return a > b ? a : b;
 }
 
+/* A new tag is confirmed on exactly its confirm_frames-th consecutive
+ * reading (confirm_margin FLT_MAX: never by margin alone), and reported
+ * from then on. */
+static void test_a_tag_is_confirmed_on_its_confirm_frames_th_reading(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    int i, n = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.confirm_margin = FLT_MAX;
+    tp.confirm_frames = 4;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < tp.confirm_frames + 2; i++) {
+        n = feed(&tr, frames[STILL], &p, out, &st);
+        TEST_ASSERT_EQUAL_INT(1, tr.ntracks); /* read in every frame */
+        TEST_ASSERT_EQUAL_INT(i + 1, tr.tracks[0].hits);
+        TEST_ASSERT_EQUAL_INT(i + 1 == tp.confirm_frames, st.confirmed);
+        TEST_ASSERT_EQUAL_INT(i + 1 >= tp.confirm_frames, n);
+    }
+}
+
+/* A tag that leaves (frames of seabed only): the whole frame is searched on
+ * the refind_after-th frame without a reading (not before: full_every is
+ * far), the track is reported coasting for exactly max_missed frames and
+ * dropped on the next. */
+static void test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    uint8_t *empty = render_empty();
+    uint32_t id;
+    int i, n = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.full_every = 1000;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < 5; i++)
+        n = feed(&tr, frames[STILL], &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(0, st.full_frame); /* tracked: no whole frame */
+    id = out[0].track_id;
+    for (i = 1; i <= tp.max_missed + 1; i++) {
+        n = feed(&tr, empty, &p, out, &st);
+        TEST_ASSERT_EQUAL_INT(i >= tp.refind_after, st.full_frame);
+        if (i <= tp.max_missed) {
+            TEST_ASSERT_EQUAL_INT(1, n);
+            TEST_ASSERT_EQUAL_UINT32(id, out[0].track_id);
+            TEST_ASSERT_EQUAL_INT(0, out[0].measured);
+            TEST_ASSERT_EQUAL_INT(i, out[0].missed);
+            TEST_ASSERT_EQUAL_INT(0, st.dropped);
+        } else {
+            TEST_ASSERT_EQUAL_INT(0, n);
+            TEST_ASSERT_EQUAL_INT(1, st.dropped);
+            TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
+        }
+    }
+    free(empty);
+}
+
 /* A tag that moves more than a diagonal between whole-frame searches (held
  * still 10 frames, then 1.5 diagonals down in range on the full_every-th
  * frame) keeps its one track: the reading beyond the gate re-acquires the
@@ -624,6 +834,47 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
         TEST_ASSERT_EQUAL_UINT32(id, out[0].track_id);
         TEST_ASSERT_EQUAL_INT(1, out[0].measured);
     }
+    free(moved);
+    free(empty);
+}
+
+/* The gate widens by a diagonal per missed frame: a tag that reappears 1.5
+ * diagonals away after one frame unseen is within it, so its reading
+ * updates the track through the filter (the smoothed corners trail the
+ * reading), not by a re-acquisition (corners set to the reading). */
+static void test_the_gate_widens_while_a_track_coasts(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    uint8_t *empty = render_empty(), *moved;
+    uint32_t id;
+    float dy, off = 0.0f;
+    int i, n = 0, c;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.full_every = 1000;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < 5; i++)
+        n = feed(&tr, frames[STILL], &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    id = out[0].track_id;
+    dy = 1.5f * track_diag(&out[0]); /* within 2 diagonals, beyond 1 */
+    n = feed(&tr, empty, &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(0, out[0].measured);
+    moved = shifted(frames[STILL], (int)dy, empty);
+    n = feed(&tr, moved, &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(0, st.started);
+    TEST_ASSERT_EQUAL_UINT32(id, out[0].track_id);
+    TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    for (c = 0; c < 4; c++)
+        off += fabsf(out[0].corners[c].y - out[0].last.corners[c].y);
+    /* alpha 0.7: the smoothed corners trail the reading by 0.3 of its jump */
+    TEST_ASSERT_TRUE(off > 4.0f * 0.1f * dy);
     free(moved);
     free(empty);
 }
@@ -871,9 +1122,14 @@ int main(void)
     RUN_TEST(test_a_track_of_one_reading_is_not_reported_coasting);
     RUN_TEST(test_roi_readings_agree_with_whole_frame);
     RUN_TEST(test_a_damaged_tag_is_read_where_it_is_predicted);
+    RUN_TEST(test_the_verify_budget_holds);
+    RUN_TEST(test_a_raised_min_margin_refuses_a_weak_verify_reading);
     RUN_TEST(test_another_tag_at_the_prediction_is_not_the_tracked_one);
     RUN_TEST(test_windows_are_read_in_the_tracks_handedness);
+    RUN_TEST(test_a_tag_is_confirmed_on_its_confirm_frames_th_reading);
+    RUN_TEST(test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames);
     RUN_TEST(test_a_tag_that_jumps_keeps_one_track);
+    RUN_TEST(test_the_gate_widens_while_a_track_coasts);
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
     RUN_TEST(test_the_family_is_one_and_the_same);
