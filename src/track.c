@@ -2,6 +2,7 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/track.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -25,7 +26,9 @@ void actag_track_params_default(actag_track_params *p)
     p->verify = 1;
 }
 
-static int t_finite(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
+/* Every finite float, FLT_MAX included (confirm_margin FLT_MAX: never at
+ * once); NaN fails both comparisons. */
+static int t_finite(float v) { return v >= -FLT_MAX && v <= FLT_MAX; }
 
 int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
 {
@@ -43,6 +46,26 @@ int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
     t->last_full = -1;
     t->next_track_id = 1u;
     return ACTAG_OK;
+}
+
+/* Checksum of a family's codes (FNV-1a over the 32-bit words): with bits
+ * and ncodes, what the state keeps of its first frame's family. */
+static uint32_t t_family_sum(const actag_family *f)
+{
+    uint32_t h = 2166136261u;
+    int i;
+    for (i = 0; i < f->ncodes; i++)
+        h = (h ^ f->codes[i]) * 16777619u;
+    return h;
+}
+
+/* One family: the same pointer, or the same bits and codes. */
+static int t_same_family(const actag_family *a, const actag_family *b)
+{
+    return a == b ||
+           (a->bits == b->bits && a->ncodes == b->ncodes &&
+            (a->codes == b->codes ||
+             memcmp(a->codes, b->codes, (size_t)a->ncodes * sizeof *a->codes) == 0));
 }
 
 static actag_point t_centre(const actag_point c[4])
@@ -234,6 +257,10 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     float ring, in;
     if (frame->depth != 8 || p->tuning.decode_mode != ACTAG_DECODE_FIT || !t->params.verify)
         return 0;
+    /* the track's code is read from p's family (actag_tracker_update keeps
+     * it the tracks' family; this guards the array read) */
+    if (k->id < 0 || k->id >= p->family->ncodes)
+        return 0;
     if (t_roi(t, k, p, 0.25f, (float)(p->tuning.median_radius + 2), &x0, &y0, &x1, &y1) != 0)
         return 0;
     w = x1 - x0 + 1;
@@ -332,6 +359,10 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     long cur;
     int rc, i, j, npool = 0, need_full, nconf = 0, nout = 0;
     int assigned[ACTAG_TRACK_MAX], used[ACTAG_TRACK_MAX_DET];
+    /* verified in step 1: a second try in step 2 would repeat the same
+     * decode at the same prediction */
+    int tried[ACTAG_TRACK_MAX];
+    uint32_t fsum;
     float alpha, beta;
 
     memset(&st, 0, sizeof st);
@@ -340,34 +371,42 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     if (t == NULL)
         return ACTAG_ERR_NULL;
     cur = t->frame++; /* every frame fed counts, failed ones too (track.h) */
-    if (frame == NULL || geometry == NULL || params == NULL || workspace == NULL ||
-        frame->data == NULL || (out == NULL && max_out > 0))
-        return ACTAG_ERR_NULL;
-    if (max_out < 0)
-        return ACTAG_ERR_PARAM;
-    if (frame->rows < 1 || frame->cols < 1 || frame->rows > ACTAG_MAX_DIM ||
-        frame->cols > ACTAG_MAX_DIM || frame->stride < frame->cols ||
-        (frame->depth != 8 && frame->depth != 16))
-        return ACTAG_ERR_SIZE;
-    if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
-        return ACTAG_ERR_SIZE;
-    /* actag_detect's checks (actag_check) for both parameter sets */
+    /* actag_detect's checks (actag_check) for both parameter sets first, so
+     * that a call actag_check refuses gets its code (track.h) */
     rc = actag_check(frame, geometry, params, workspace_size, max_out, NULL);
     if (rc == ACTAG_OK && roi_params != NULL)
         rc = actag_check(frame, geometry, roi_params, workspace_size, max_out, NULL);
     if (rc != ACTAG_OK)
         return rc;
+    if (workspace == NULL || (out == NULL && max_out > 0))
+        return ACTAG_ERR_NULL;
+    if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
+        return ACTAG_ERR_SIZE;
+    /* A track is started by a whole-frame reading (params) and read in its
+     * window (roi_params): its ID must name the same code in both, and in
+     * every frame of the stream. */
+    fsum = t_family_sum(params->family);
+    if (!t_same_family(params->family, rp->family) ||
+        (t->rows != 0 && (params->family->bits != t->family_bits ||
+                          params->family->ncodes != t->family_ncodes || fsum != t->family_sum)))
+        return ACTAG_ERR_PARAM;
     t->rows = frame->rows;
     t->cols = frame->cols;
+    t->family_bits = params->family->bits;
+    t->family_ncodes = params->family->ncodes;
+    t->family_sum = fsum;
 
     for (i = 0; i < t->ntracks; i++)
         nconf += t->tracks[i].confirmed;
     need_full = nconf == 0 || t->last_full < 0 || cur - t->last_full >= t->params.full_every;
+    for (i = 0; i < t->ntracks; i++)
+        tried[i] = 0;
 
     /* 1. ROIs around every track (unless the whole frame is due anyway) */
     if (!need_full) {
         for (i = 0; i < t->ntracks; i++) {
             int x0, y0, x1, y1, n;
+            tried[i] = t->tracks[i].confirmed;
             if (t->tracks[i].confirmed && t_verify(t, &t->tracks[i], frame, geometry, rp,
                                                    workspace, &st)) {
                 t_pool_add(t, &npool, 1, 0, 0, i);
@@ -428,9 +467,10 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         t_pool_add(t, &npool, n, 0, 0, -1);
         t->last_full = cur;
         /* a confirmed track the whole frame did not read is still read
-         * where it is predicted (one window and one decode) */
+         * where it is predicted (one window and one decode), unless step 1
+         * tried that already */
         for (i = 0; i < t->ntracks; i++)
-            if (t->tracks[i].confirmed && !t_in_pool(t, &t->tracks[i], npool) &&
+            if (t->tracks[i].confirmed && !tried[i] && !t_in_pool(t, &t->tracks[i], npool) &&
                 t_verify(t, &t->tracks[i], frame, geometry, rp, workspace, &st))
                 t_pool_add(t, &npool, 1, 0, 0, i);
     }
@@ -532,10 +572,32 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             i++;
         }
     }
-    /* 5. new tentative tracks from the remaining readings */
+    /* 5. new tentative tracks from the remaining readings; but a reading of
+     * a track's own tag that its gate missed (the tag moved farther than
+     * foreseen, e.g. between whole-frame searches) re-acquires that track
+     * when it got no reading this frame: a second track of one tag would be
+     * confirmed at once by a strong margin and reported beside the old one
+     * while that coasts */
     for (j = 0; j < npool; j++) {
         actag_track *k;
-        if (used[j] || t->ntracks >= ACTAG_TRACK_MAX)
+        if (used[j])
+            continue;
+        for (i = 0; i < t->ntracks; i++)
+            if (!t->tracks[i].measured && t->tracks[i].id == t->pool[j].id &&
+                t->tracks[i].mirrored == t->pool[j].mirrored)
+                break;
+        if (i < t->ntracks) {
+            /* where it is now, no velocity: the old one led elsewhere */
+            k = &t->tracks[i];
+            memcpy(k->corners, t->pool[j].corners, sizeof k->corners);
+            memset(k->velocity, 0, sizeof k->velocity);
+            k->missed = 0;
+            k->measured = 1;
+            k->hits++;
+            k->last = t->pool[j];
+            continue;
+        }
+        if (t->ntracks >= ACTAG_TRACK_MAX)
             continue;
         k = &t->tracks[t->ntracks++];
         memset(k, 0, sizeof *k);

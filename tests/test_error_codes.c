@@ -437,6 +437,7 @@ static void test_tracker_update(void)
     actag_frame f, f2;
     actag_sonar_geometry g;
     actag_params p, roi;
+    actag_family cut;
     actag_track_params tp;
     actag_track out[2];
     entry_codes(E_TRACK);
@@ -458,9 +459,19 @@ static void test_tracker_update(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_tracker_update(&g_trk, &f, &g, &p, &roi,
                                                                       g_ws, sizeof g_ws, out, 2,
                                                                       NULL));
-    /* success, then a frame of another size */
+    /* roi_params of another family than params' (a valid one: AcTag24h10
+     * without its last code) */
+    cut = g_fam;
+    cut.ncodes = g_fam.ncodes - 1;
+    roi = p;
+    roi.family = &cut;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&g_trk, &f, &g, &p, &roi, g_ws,
+                                                                sizeof g_ws, out, 2, NULL));
+    /* success, then a frame of another size, then another family */
     TEST_ASSERT_EQUAL_INT(0, actag_tracker_update(&g_trk, &f, &g, &p, &p, g_ws, sizeof g_ws, out,
                                                   2, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&g_trk, &f, &g, &roi, NULL, g_ws,
+                                                                sizeof g_ws, out, 2, NULL));
     f2 = f;
     f2.rows = R - 1;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_tracker_update(&g_trk, &f2, &g, &p, NULL, g_ws,

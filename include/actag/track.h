@@ -34,13 +34,19 @@
  *        whenever no confirmed track exists, and when a confirmed track has
  *        gone `refind_after` frames in a row without a reading (a tag that
  *        moved more than foreseen); a confirmed track that the whole frame
- *        did not read is then verified as in step 1.
+ *        did not read is then verified as in step 1 (unless step 1 verified
+ *        it in this frame: at most one verify per track and frame).
  *
  *   Tracks. A reading that matches no track starts a tentative track; it is
  *   confirmed after `confirm_frames` consecutive frames with a consistent
  *   reading (same ID, same handedness, centre within `gate` tag diagonals of
  *   the prediction, the gate growing by one diagonal per frame the track has
  *   missed), or at once when its decision margin reaches `confirm_margin`.
+ *   A reading of a confirmed track's ID and handedness outside its gate,
+ *   when that track got no reading in this frame (a tag that moved farther
+ *   than the gate allows, e.g. between whole-frame searches), re-acquires
+ *   it instead of starting a second track of the same tag: its corners are
+ *   set to the reading's (no smoothing) and its velocity to zero.
  *   A tentative track that misses a frame is dropped; a confirmed one after
  *   more than `max_missed` consecutive frames without a reading (meanwhile
  *   it is reported as coasting, measured = 0, once it has been read twice:
@@ -59,7 +65,12 @@
  *   roi_params: the parameters of steps 1-2 (NULL: the whole-frame ones).
  *   Since only a track's own ID near its prediction can update it, a
  *   caller may lower the decision margins there (e.g. min_margin -2);
- *   measured gain in docs/tracking.md.
+ *   measured gain in docs/tracking.md. Its family must be params' family
+ *   (the same pointer, or the same bits, ncodes and codes): tracks are
+ *   started under one and read under the other by their IDs. That family
+ *   must stay the same for the tracker's life (the state keeps its bits,
+ *   ncodes and a 32-bit checksum of its codes from the first frame; another
+ *   family needs actag_tracker_init).
  *
  *   Memory: actag_tracker is a caller-owned struct of fixed size (about
  *   6 KB with the defaults of ACTAG_TRACK_MAX and ACTAG_TRACK_ROI_MAX_COLS),
@@ -77,7 +88,8 @@
  *       NULL p: nothing (no error codes).
  *   int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
  *       Empty state. ACTAG_ERR_NULL (t or p), ACTAG_ERR_PARAM (full_every < 1,
- *       confirm_frames < 1, confirm_margin not finite, max_missed < 0,
+ *       confirm_frames < 1, confirm_margin not finite (FLT_MAX is: no
+ *       confirmation by margin alone), max_missed < 0,
  *       roi_scale <= 0 or > 10, gate <= 0 or > 10, smoothing outside (0, 1],
  *       NaN included, refind_after < 0, verify not 0/1), ACTAG_OK.
  *   int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
@@ -86,13 +98,16 @@
  *                            void *workspace, size_t workspace_size,
  *                            actag_track *out, int max_out, actag_track_stats *stats)
  *       One frame. Writes up to max_out confirmed tracks (in track order)
- *       and returns their number, or a negative error: what actag_check()
- *       (actag_detect's checks) returns for the frame with params, then with
- *       roi_params (when given), and
- *       ACTAG_ERR_SIZE when the frame's rows/cols differ from the first
- *       frame's (re-initialise for another sonar setting), ACTAG_ERR_NULL
- *       for t, workspace or out (max_out > 0). stats may be NULL. On an error the state
- *       is unchanged except the frame counter.
+ *       and returns their number, or a negative error, first found of:
+ *       ACTAG_ERR_NULL for t; what actag_check() (actag_detect's checks)
+ *       returns for the frame with params (max_out included), then with
+ *       roi_params (when given); ACTAG_ERR_NULL for workspace or out
+ *       (max_out > 0); ACTAG_ERR_SIZE when the frame's rows/cols differ from
+ *       the first frame's (re-initialise for another sonar setting);
+ *       ACTAG_ERR_PARAM when roi_params' family is not params' family, or
+ *       that family is not the first frame's (roi_params above).
+ *       stats may be NULL. On an error the state is unchanged except the
+ *       frame counter.
  *
  *   Cost per frame (stats): pixels filtered (verify windows, ROIs, whole
  *   frame), verify attempts, ROI calls, whether the whole frame was
@@ -154,7 +169,8 @@ typedef struct actag_track_stats {
     int readings;        /* detections returned by those calls */
     int conflicts;       /* readings ignored: another ID or handedness at a tracked tag */
     int started, confirmed, dropped; /* track events this frame */
-    int verified;        /* confirmed tracks tried at their prediction (verify) */
+    int verified;        /* confirmed tracks tried at their prediction (verify; at most
+                            once per track) */
     int quads, decoded, searched; /* actag_stats of those calls, summed: quads fitted,
                                      decoded, structure-search candidates decoded */
 } actag_track_stats;
@@ -167,6 +183,8 @@ typedef struct actag_tracker {
     long last_full;          /* frame index of the last whole-frame search (-1: none) */
     uint32_t next_track_id;
     int rows, cols;          /* of the first frame (0: none yet) */
+    int family_bits, family_ncodes; /* of the first frame's params.family */
+    uint32_t family_sum;     /* and a checksum of its codes (track.c) */
     float bearings[ACTAG_TRACK_ROI_MAX_COLS];   /* an ROI's bearing table */
     actag_detection det[ACTAG_TRACK_MAX_DET];   /* one call's readings */
     actag_detection pool[ACTAG_TRACK_MAX_DET];  /* one frame's readings, frame coordinates */
