@@ -1,4 +1,6 @@
 """Errors are Python exceptions carrying the library's message."""
+from unittest import mock
+
 import pytest
 
 import pyactag
@@ -217,3 +219,25 @@ def test_nul_in_names_refused():
         pyactag.Family.from_codes("Mine\x00", [1], bits=24, hamming=4)
     with pytest.raises(ValueError, match="NUL"):
         pyactag.Detector(**{"median_radius\x00junk": 3})
+
+
+class FakeFamily(int):
+    """Claims to be a Family through __class__, which isinstance() believes;
+    it holds no actag_family for the C code to read."""
+    __class__ = property(lambda self: pyactag._core.Family)
+
+
+@pytest.mark.parametrize("make", [lambda: FakeFamily(5),
+                                  lambda: mock.Mock(spec=pyactag.Family)],
+                         ids=["class-attribute", "mock-spec"])
+def test_object_posing_as_family_refused(example_frame, make):
+    fake = make()
+    assert isinstance(fake, pyactag._core.Family)  # what the old check trusted
+    with pytest.raises(TypeError, match=r"family must be a pyactag\.Family, not .*type"):
+        det = pyactag._core.Detector(fake, None)
+        det.detect(example_frame, 0.1, 1.5, 1.0)  # read memory outside the object
+    with pytest.raises(TypeError, match="family must be a name or a pyactag.Family, not"):
+        pyactag.Detector(fake, **GEOMETRY)
+    # real families, subclasses included, still pass
+    assert pyactag._core.Detector(pyactag.Family("AcTag24h10"), None).family.name == "AcTag24h10"
+    assert pyactag.Detector(pyactag._core.Family("AcTag24h10")).family.name == "AcTag24h10"

@@ -140,12 +140,14 @@ class Detection:
 
 
 def _family(family):
-    if isinstance(family, _core.Family):
+    # type(), not isinstance(): isinstance() believes a __class__ attribute
+    # (a Mock(spec=Family) is no Family the C code could read).
+    if issubclass(type(family), _core.Family):
         return family
-    if isinstance(family, str):
+    if issubclass(type(family), str):
         return Family(family)
-    raise TypeError("family must be a name or a pyactag.Family, not {}".format(
-        type(family).__name__))
+    raise TypeError("family must be a name or a pyactag.Family, not {!r} ({})".format(
+        family, type(family).__name__))
 
 
 def _split_params(params, tuning):
