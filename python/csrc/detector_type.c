@@ -86,8 +86,9 @@ static float *read_bearings(PyObject *obj, int cols)
         return NULL;
     }
     while ((item = PyIter_Next(it)) != NULL) {
-        double d = PyBool_Check(item) ? -1.0 : PyFloat_AsDouble(item);
-        if (PyBool_Check(item) || (d == -1.0 && PyErr_Occurred())) {
+        int is_bool = pyactag_is_bool(item);
+        double d = is_bool ? -1.0 : PyFloat_AsDouble(item);
+        if (is_bool || (d == -1.0 && PyErr_Occurred())) {
             PyErr_Clear();
             PyErr_Format(PyExc_TypeError, "bearings[%d] must be a real number, got %R", n, item);
             Py_DECREF(item);
