@@ -170,6 +170,12 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
                             : "sonar geometry: give aperture or bearings, not both");
         return NULL;
     }
+    if (az_asc && bearings_o != Py_None) { /* the table overrides the flag: refused, not ignored */
+        PyErr_SetString(PyExc_ValueError,
+                        "sonar geometry: azimuth_ascending=True does not apply with bearings "
+                        "(the table gives each column's azimuth in column order)");
+        return NULL;
+    }
     memset(&geo, 0, sizeof geo);
     geo.min_range = (float)min_range;
     geo.max_range = (float)max_range;

@@ -243,6 +243,7 @@ def test_object_posing_as_family_refused(example_frame, make):
     assert pyactag._core.Detector(pyactag.Family("AcTag24h10"), None).family.name == "AcTag24h10"
     assert pyactag.Detector(pyactag._core.Family("AcTag24h10")).family.name == "AcTag24h10"
 
+
 @pytest.mark.parametrize("value", [np.True_, np.False_, True])
 def test_bool_is_no_number(example_frame, value):
     # README: a bool for a number is a TypeError; numpy's bool too (it would
@@ -293,3 +294,36 @@ def test_out_of_range_parameters_name_the_value():
             assert ei.value.field == name
             assert "invalid parameters: {} must be".format(name) in str(ei.value)
             assert "(got {})".format(shown) in str(ei.value)
+
+
+def test_azimuth_ascending_refused_with_bearings(example_frame):
+    # The bearing table gives each column's azimuth: the flag would be
+    # ignored, so it is refused (as actag_detect --bearings refuses it).
+    cols = example_frame.shape[1]
+    bearings = list(np.linspace(np.radians(30), -np.radians(30), cols))
+    msg = "azimuth_ascending=True does not apply with bearings"
+    with pytest.raises(ValueError, match=msg):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings=bearings,
+                       azimuth_ascending=True)
+    with pytest.raises(ValueError, match=msg):
+        pyactag.Detector(min_range=0.1, max_range=1.5, bearings=bearings,
+                         azimuth_ascending=np.True_)
+    with pytest.raises(ValueError, match=msg):  # the flag stored, the table per call
+        pyactag.Detector(azimuth_ascending=True, **GEOMETRY).detect(example_frame,
+                                                                   bearings=bearings)
+    with pytest.raises(ValueError, match=msg):  # and the other way round
+        pyactag.Detector(min_range=0.1, max_range=1.5, bearings=bearings).detect(
+            example_frame, azimuth_ascending=True)
+    with pytest.raises(ValueError, match=msg):  # the extension refuses it too
+        pyactag._core.Detector(pyactag.Family("AcTag24h10")).detect(
+            example_frame, 0.1, 1.5, None, bearings, False, True)
+    # False with a table, True with an aperture: as before.
+    plain = detections_key(pyactag.detect(example_frame, min_range=0.1, max_range=1.5,
+                                          bearings=bearings))
+    assert plain and detections_key(pyactag.detect(
+        example_frame, min_range=0.1, max_range=1.5, bearings=bearings,
+        azimuth_ascending=False)) == plain
+    det = pyactag.Detector(azimuth_ascending=True, **GEOMETRY)
+    assert det.detect(np.ascontiguousarray(example_frame[:, ::-1]))
+    assert detections_key(det.detect(example_frame, bearings=bearings,
+                                     azimuth_ascending=False)) == plain

@@ -185,6 +185,15 @@ def _check_geometry(g):
     if bearings is not None and (g.get("aperture") is not None or
                                  g.get("aperture_deg") is not None):
         raise ValueError("sonar geometry: give aperture or bearings, not both")
+    _check_bearings_order(bearings, g.get("azimuth_ascending", False))
+
+
+def _check_bearings_order(bearings, azimuth_ascending):
+    """azimuth_ascending is refused with bearings, not ignored (as by
+    actag_detect --bearings): the table gives each column's azimuth."""
+    if bearings is not None and as_bool("azimuth_ascending", azimuth_ascending):
+        raise ValueError("sonar geometry: azimuth_ascending=True does not apply with bearings "
+                         "(the table gives each column's azimuth in column order)")
 
 
 def _geometry(base, overrides):
@@ -210,6 +219,7 @@ def _geometry(base, overrides):
     if bearings is None and aperture is None:
         raise ValueError("sonar geometry: give aperture (radians), aperture_deg, or bearings "
                          "(one azimuth per column)")
+    _check_bearings_order(bearings, g.get("azimuth_ascending", False))
     return dict(min_range=as_real("min_range", g["min_range"]),
                 max_range=as_real("max_range", g["max_range"]),
                 aperture=aperture, bearings=bearings,
@@ -231,7 +241,9 @@ class Detector:
     Geometry (metres, radians): rows are range bins, columns beams. Default
     orientation: row 0 = max_range, column 0 = +aperture/2; the flags select
     the other ones. ``bearings`` is one azimuth per column (radians,
-    strictly monotonic) instead of a uniform aperture. Geometry given here
+    strictly monotonic) instead of a uniform aperture; the table gives the
+    column order, so ``azimuth_ascending=True`` with ``bearings`` is a
+    ValueError (as ``actag_detect`` refuses the pair). Geometry given here
     is the default of every ``detect()`` call, which may override it: an
     ``aperture``, ``aperture_deg`` or ``bearings`` given to a call replaces
     the stored field of view, whichever of the three forms it was given in.
