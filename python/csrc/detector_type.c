@@ -126,12 +126,17 @@ static PyObject *detection_tuple(const actag_detection *d)
                          (double)a[3]);
 }
 
+/* Every counter of actag_stats, by its C name (include/actag/actag.h). */
 static PyObject *stats_dict(const actag_stats *s)
 {
-    return Py_BuildValue("{sisisisisisisisi}", "contours", s->contours, "size_ok", s->size_ok,
-                         "overflowed", s->overflowed, "quads", s->quads, "decoded", s->decoded,
-                         "duplicates", s->duplicates, "dropped", s->dropped, "searched",
-                         s->searched);
+    return Py_BuildValue("{sisisisisisisisisisisisisisisisisi}", "contours", s->contours,
+                         "size_ok", s->size_ok, "overflowed", s->overflowed, "quads", s->quads,
+                         "decoded", s->decoded, "duplicates", s->duplicates, "dropped",
+                         s->dropped, "searched", s->searched, "decodes", s->decodes,
+                         "iterations", s->iterations, "contour_cap", s->contour_cap,
+                         "ransac_exhausted", s->ransac_exhausted, "contour_budget",
+                         s->contour_budget, "frame_budget", s->frame_budget, "decode_cap",
+                         s->decode_cap, "search_cap", s->search_cap, "guess_cap", s->guess_cap);
 }
 
 static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)

@@ -23,9 +23,28 @@ GEOMETRY_KEYS = (
 )
 
 #: Result of ``Detector.run()``: the detections, the pipeline's counters
-#: (contours, size_ok, overflowed, quads, decoded, duplicates, dropped,
-#: searched) and, with ``stages=True``, the stage images
-#: {"filtered": median-filtered frame, "binary": 0/255 threshold image}.
+#: (a dict of every field of the C ``actag_stats``, by its C name) and, with
+#: ``stages=True``, the stage images {"filtered": median-filtered frame,
+#: "binary": 0/255 threshold image}. The counters:
+#:
+#: - contours: outer borders traced; size_ok: those that passed the physical
+#:   size filter; overflowed: borders longer than the point buffer (skipped);
+#:   quads: quadrilaterals fitted; decoded: quads that decoded to a family
+#:   member; duplicates: decodes dropped as the same tag seen twice; dropped:
+#:   detections beyond max_detections; searched: structure-search candidates
+#:   decoded;
+#: - work done: decodes (decoder calls: quads, search, guesses), iterations
+#:   (RANSAC iterations run);
+#: - limits reached (``max_contours``, ``max_contour_iterations``,
+#:   ``max_frame_iterations``, ``max_decodes``, ``search_candidates``):
+#:   contour_cap (1 when the scan stopped at max_contours), ransac_exhausted
+#:   (quad fits that ran all their iterations without an early exit),
+#:   contour_budget (contours whose quad tries stopped at
+#:   max_contour_iterations), frame_budget (quad fits skipped or shortened by
+#:   max_frame_iterations), decode_cap (decoder calls skipped at
+#:   max_decodes), search_cap (1 when candidates above search_min_score were
+#:   left undecoded), guess_cap (contours given no extreme-point guess, 16 per
+#:   frame at most).
 Result = namedtuple("Result", ["detections", "stats", "stages"])
 
 #: One corner of a detection: x_col = column and y_row = row (pixels,
@@ -288,7 +307,8 @@ class Detector:
         return dict(self._geometry)
 
     def run(self, frame, *, stages=False, max_detections=None, **geometry):
-        """Detect tags in ``frame``; returns ``Result(detections, stats, stages)``.
+        """Detect tags in ``frame``; returns ``Result(detections, stats, stages)``
+        (``stats``: every counter of the C ``actag_stats``; see ``Result``).
 
         ``frame``: a 2-D uint8 or uint16 array or buffer (numpy arrays and
         strided views, memoryviews, Pillow images...), rows = range bins.
