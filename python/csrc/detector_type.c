@@ -86,8 +86,9 @@ static float *read_bearings(PyObject *obj, int cols)
         return NULL;
     }
     while ((item = PyIter_Next(it)) != NULL) {
-        double d = PyBool_Check(item) ? -1.0 : PyFloat_AsDouble(item);
-        if (PyBool_Check(item) || (d == -1.0 && PyErr_Occurred())) {
+        int is_bool = pyactag_is_bool(item);
+        double d = is_bool ? -1.0 : PyFloat_AsDouble(item);
+        if (is_bool || (d == -1.0 && PyErr_Occurred())) {
             PyErr_Clear();
             PyErr_Format(PyExc_TypeError, "bearings[%d] must be a real number, got %R", n, item);
             Py_DECREF(item);
@@ -125,12 +126,17 @@ static PyObject *detection_tuple(const actag_detection *d)
                          (double)a[3]);
 }
 
+/* Every counter of actag_stats, by its C name (include/actag/actag.h). */
 static PyObject *stats_dict(const actag_stats *s)
 {
-    return Py_BuildValue("{sisisisisisisisi}", "contours", s->contours, "size_ok", s->size_ok,
-                         "overflowed", s->overflowed, "quads", s->quads, "decoded", s->decoded,
-                         "duplicates", s->duplicates, "dropped", s->dropped, "searched",
-                         s->searched);
+    return Py_BuildValue("{sisisisisisisisisisisisisisisisisi}", "contours", s->contours,
+                         "size_ok", s->size_ok, "overflowed", s->overflowed, "quads", s->quads,
+                         "decoded", s->decoded, "duplicates", s->duplicates, "dropped",
+                         s->dropped, "searched", s->searched, "decodes", s->decodes,
+                         "iterations", s->iterations, "contour_cap", s->contour_cap,
+                         "ransac_exhausted", s->ransac_exhausted, "contour_budget",
+                         s->contour_budget, "frame_budget", s->frame_budget, "decode_cap",
+                         s->decode_cap, "search_cap", s->search_cap, "guess_cap", s->guess_cap);
 }
 
 static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
@@ -167,6 +173,12 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
                             ? "sonar geometry: give aperture (radians) or bearings (one azimuth "
                               "per column)"
                             : "sonar geometry: give aperture or bearings, not both");
+        return NULL;
+    }
+    if (az_asc && bearings_o != Py_None) { /* the table overrides the flag: refused, not ignored */
+        PyErr_SetString(PyExc_ValueError,
+                        "sonar geometry: azimuth_ascending=True does not apply with bearings "
+                        "(the table gives each column's azimuth in column order)");
         return NULL;
     }
     memset(&geo, 0, sizeof geo);

@@ -11,13 +11,14 @@
 
 typedef pyactag_family_object famobj;
 
+/* The object's real type, not isinstance(): isinstance() believes a
+ * __class__ attribute (unittest.mock.Mock(spec=Family), a proxy), and such an
+ * object has no actag_family inside it to read. */
 const actag_family *pyactag_family_of(PyObject *obj)
 {
-    int r = PyObject_IsInstance(obj, pyactag_family_type);
-    if (r < 0)
-        return NULL;
-    if (r == 0) {
-        PyErr_SetString(PyExc_TypeError, "expected a pyactag Family");
+    if (!PyObject_TypeCheck(obj, (PyTypeObject *)pyactag_family_type)) {
+        PyErr_Format(PyExc_TypeError, "family must be a pyactag.Family, not %R (type %R)", obj,
+                     (PyObject *)Py_TYPE(obj));
         return NULL;
     }
     return &((famobj *)obj)->fam;

@@ -184,6 +184,25 @@ static PyObject *m_strerror(PyObject *self, PyObject *args)
     return PyUnicode_FromString(actag_strerror(code));
 }
 
+int pyactag_is_bool(PyObject *obj)
+{
+    PyObject *tp = (PyObject *)Py_TYPE(obj), *mod, *name;
+    int r = 0;
+    if (PyBool_Check(obj))
+        return 1;
+    /* numpy.bool_ (numpy.bool in numpy 2) by its name: numpy is optional */
+    mod = PyObject_GetAttrString(tp, "__module__");
+    name = mod != NULL ? PyObject_GetAttrString(tp, "__name__") : NULL;
+    if (name != NULL && PyUnicode_Check(mod) && PyUnicode_Check(name))
+        r = PyUnicode_CompareWithASCIIString(mod, "numpy") == 0 &&
+            (PyUnicode_CompareWithASCIIString(name, "bool_") == 0 ||
+             PyUnicode_CompareWithASCIIString(name, "bool") == 0);
+    Py_XDECREF(mod);
+    Py_XDECREF(name);
+    PyErr_Clear(); /* a type without __module__ or __name__ is no bool */
+    return r;
+}
+
 int pyactag_code_arg(PyObject *obj, const char *name, int bits, uint32_t *out)
 {
     PyObject *idx;

@@ -12,6 +12,7 @@
 
 #include <float.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <stddef.h>
@@ -85,51 +86,74 @@ static const field *find_field(const char *name)
 }
 
 /* A Python integer (or an object with __index__, e.g. a numpy integer) in
- * lo..hi; floats and bools are refused so that typos do not truncate. */
+ * lo..hi; floats and bools (numpy's too) are refused so that typos do not
+ * truncate. */
 static int get_long(PyObject *v, const char *name, long long lo, long long hi, long long *out)
 {
     PyObject *idx;
     long long x;
     int overflow = 0;
-    if (PyBool_Check(v) || PyFloat_Check(v)) {
-        PyErr_Format(PyExc_TypeError, "parameter '%s' must be an integer, not %s", name,
-                     PyBool_Check(v) ? "bool" : "float");
+    if (pyactag_is_bool(v) || PyFloat_Check(v)) {
+        PyErr_Format(PyExc_TypeError, "parameter '%s' must be an integer, not %s (got %R)", name,
+                     PyFloat_Check(v) ? "float" : "bool", v);
         return -1;
     }
     idx = PyNumber_Index(v);
     if (idx == NULL) {
         PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "parameter '%s' must be an integer", name);
+        PyErr_Format(PyExc_TypeError, "parameter '%s' must be an integer, got %R", name, v);
         return -1;
     }
     x = PyLong_AsLongLongAndOverflow(idx, &overflow);
-    Py_DECREF(idx);
-    if (x == -1 && PyErr_Occurred())
-        return -1;
-    if (overflow || x < lo || x > hi) {
-        PyErr_Format(PyExc_OverflowError, "parameter '%s' must be an integer from %lld to %lld",
-                     name, lo, hi);
+    if (x == -1 && PyErr_Occurred()) {
+        Py_DECREF(idx);
         return -1;
     }
+    if (overflow || x < lo || x > hi) {
+        PyErr_Format(PyExc_OverflowError,
+                     "parameter '%s' must be an integer from %lld to %lld, got %R", name, lo, hi,
+                     idx);
+        Py_DECREF(idx);
+        return -1;
+    }
+    Py_DECREF(idx);
     *out = x;
     return 0;
 }
 
+/* A real number as a C float. NaN and +-inf pass on to the library's check,
+ * which names the field and its rule; a finite value the float cannot hold
+ * (beyond FLT_MAX, or nonzero but below the least subnormal, which would
+ * become 0) is an OverflowError naming the value. Bools (numpy's too) are
+ * refused. */
 static int get_float(PyObject *v, const char *name, float *out)
 {
     double d;
-    if (PyBool_Check(v)) {
-        PyErr_Format(PyExc_TypeError, "parameter '%s' must be a number, not bool", name);
+    if (pyactag_is_bool(v)) {
+        PyErr_Format(PyExc_TypeError, "parameter '%s' must be a number, not bool (got %R)", name,
+                     v);
         return -1;
     }
     d = PyFloat_AsDouble(v);
     if (d == -1.0 && PyErr_Occurred()) {
+        if (PyErr_ExceptionMatches(PyExc_OverflowError)) { /* an int beyond the double range */
+            PyErr_Clear();
+            PyErr_Format(PyExc_OverflowError, "parameter '%s' is outside the range of a C float, "
+                         "got %R", name, v);
+            return -1;
+        }
         PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "parameter '%s' must be a number", name);
+        PyErr_Format(PyExc_TypeError, "parameter '%s' must be a number, got %R", name, v);
         return -1;
     }
-    if (d > FLT_MAX || d < -FLT_MAX) { /* NaN passes on to the library's check */
-        PyErr_Format(PyExc_OverflowError, "parameter '%s' is outside the float range", name);
+    if (isfinite(d) && (d > FLT_MAX || d < -FLT_MAX || (d != 0.0 && (float)d == 0.0f))) {
+        char range[96];
+        /* the least positive float, 2**-149 for IEEE single precision */
+        snprintf(range, sizeof range, "nonzero magnitudes from %.2g to %.6g",
+                 ldexp(1.0, FLT_MIN_EXP - FLT_MANT_DIG), (double)FLT_MAX);
+        PyErr_Format(PyExc_OverflowError,
+                     "parameter '%s' is outside the range of a C float (%s), got %R", name, range,
+                     v);
         return -1;
     }
     *out = (float)d;

@@ -50,6 +50,10 @@ const char *pyactag_code_name(int code);
  * (ValueError for a str holding a NUL character, which C would cut there). */
 char *pyactag_strdup(PyObject *str);
 
+/* 1 when obj is a bool or a numpy bool (numpy.bool_), which Python would
+ * take as the number 0 or 1; else 0 (never an exception). */
+int pyactag_is_bool(PyObject *obj);
+
 /* A code word argument (a Python integer, not bool or float) that fits in
  * `bits` bits: TypeError or ValueError naming `name` and the value, never
  * reduced modulo 2**64. Returns 0, or -1 with an exception. */

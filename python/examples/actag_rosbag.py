@@ -25,19 +25,25 @@ Topics (all supported ones unless --topic is given):
       beams; the geometry comes from --min-range, --max-range and
       --aperture-deg or --bearings (and the orientation flags).
 
-Exit status: 0 when every message was processed, 2 when an option was bad or
-any message failed (the others are still processed).
+Exit status: 0 when every message was processed, 2 when an option was bad,
+the bag could not be opened or read (an error on stderr; the lines written
+before it stay), or any message failed (its "error" line; the others are
+still processed).
 """
 
 import argparse
 import json
 import math
+import sqlite3
+import struct
 import sys
 from pathlib import Path
 
 try:
     import numpy as np
-    from rosbags.highlevel import AnyReader
+    from rosbags.highlevel import AnyReader, AnyReaderError
+    from rosbags.rosbag2 import ReaderError
+    from rosbags.serde import SerdeError
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 except ImportError as e:  # pragma: no cover
     sys.stderr.write("actag_rosbag: needs numpy and rosbags (pip install rosbags): {}\n".format(e))
@@ -98,6 +104,18 @@ def typestore():
 
 class MessageError(Exception):
     pass
+
+
+# What a bag that cannot be opened or read raises: AnyReader wraps its
+# readers' errors in AnyReaderError; a database or file that breaks while
+# being read may also surface as the reader's own error or the OS's.
+BAG_ERRORS = (AnyReaderError, ReaderError, sqlite3.Error, OSError)
+
+# What reader.deserialize() raises for a message whose bytes do not hold its
+# type (truncated, corrupt): AnyReaderError in recent rosbags, SerdeError or
+# the decoder's own error in older ones.
+DESERIALIZE_ERRORS = (AnyReaderError, SerdeError, struct.error, IndexError, ValueError,
+                      TypeError)
 
 
 def azimuths_of(beam_directions):
@@ -200,7 +218,8 @@ def build_parser():
     g.add_argument("--range-ascending", action="store_true",
                    help="row 0 is the nearest range (default: the farthest)")
     g.add_argument("--azimuth-ascending", action="store_true",
-                   help="column 0 is the most negative bearing (default: +aperture/2)")
+                   help="column 0 is the most negative bearing (default: +aperture/2; "
+                   "not with --bearings)")
     p.add_argument("--out", help="write the JSON lines here (default: stdout)")
     p.add_argument("--version", action="version",
                    version="%(prog)s (pyactag {})".format(pyactag.__version__))
@@ -217,6 +236,9 @@ def image_geometry(args):
                          "sensor_msgs/Image topics".format(PROG))
     if (args.aperture_deg is None) == (args.bearings is None):
         raise SystemExit("{}: give --aperture-deg or --bearings (not both)".format(PROG))
+    if args.bearings is not None and args.azimuth_ascending:
+        raise SystemExit("{}: --azimuth-ascending does not apply with --bearings (the table "
+                         "gives each column's azimuth in column order)".format(PROG))
     g = dict(min_range=args.min_range, max_range=args.max_range,
              range_ascending=args.range_ascending, azimuth_ascending=args.azimuth_ascending)
     if args.bearings is not None:
@@ -248,53 +270,68 @@ def main(argv=None):
         sys.stderr.write("{}: {}\n".format(PROG, e))
         return 2
 
-    out = open(args.out, "w") if args.out else sys.stdout
-    status, warned = 0, set()
     try:
-        with AnyReader([Path(args.bag)],
-                       default_typestore=typestore()) as reader:
-            conns = [c for c in reader.connections if c.msgtype in (IMAGE, PROJECTED)]
-            if args.topic:
-                missing = set(args.topic) - {c.topic for c in reader.connections}
-                if missing:
-                    sys.stderr.write("{}: {}: no topic {}\n".format(PROG, args.bag,
-                                                                     ", ".join(sorted(missing))))
-                    return 2
-                conns = [c for c in conns if c.topic in args.topic]
-                unsupported = set(args.topic) - {c.topic for c in conns}
-                if unsupported:
-                    sys.stderr.write("{}: topics {} are not Image or ProjectedSonarImage\n".format(
-                        PROG, ", ".join(sorted(unsupported))))
-                    return 2
-            if not conns:
-                sys.stderr.write("{}: {}: no sensor_msgs/Image or ProjectedSonarImage topic\n"
-                                 .format(PROG, args.bag))
-                return 2
-            if img_geo is None and any(c.msgtype == IMAGE for c in conns):
-                sys.stderr.write("{}: sensor_msgs/Image topics need --min-range, --max-range "
-                                 "and --aperture-deg or --bearings\n".format(PROG))
-                return 2
-            for conn, log_time, raw in reader.messages(connections=conns):
-                line = {"topic": conn.topic, "type": conn.msgtype, "log_time_ns": int(log_time)}
-                try:
-                    msg = reader.deserialize(raw, conn.msgtype)
-                    line["stamp_ns"] = stamp_ns(msg.header)
-                    line["frame_id"] = msg.header.frame_id
-                    if conn.msgtype == PROJECTED:
-                        frame, geo = projected_frame(msg, warned, conn.topic)
-                    else:
-                        frame, geo = image_frame(msg), img_geo
-                    line["rows"], line["cols"] = int(frame.shape[0]), int(frame.shape[1])
-                    dets = detector.detect(frame, **geo)
-                    line["detections"] = [d.to_dict() for d in dets]
-                except (MessageError, pyactag.ActagError, ValueError, TypeError) as e:
-                    line["error"] = str(e)
-                    sys.stderr.write("{}: {} at {}: {}\n".format(PROG, conn.topic, log_time, e))
-                    status = 2
-                out.write(json.dumps(line) + "\n")
+        out = open(args.out, "w") if args.out else sys.stdout
+    except OSError as e:
+        sys.stderr.write("{}: {}\n".format(PROG, e))
+        return 2
+    try:
+        return process_bag(args, detector, img_geo, out)
+    except BAG_ERRORS as e:
+        sys.stderr.write("{}: {}: cannot read the bag: {}\n".format(PROG, args.bag, e))
+        return 2
     finally:
         if out is not sys.stdout:
             out.close()
+
+
+def process_bag(args, detector, img_geo, out):
+    """One JSON line per message of the chosen topics; the exit status."""
+    status, warned = 0, set()
+    with AnyReader([Path(args.bag)], default_typestore=typestore()) as reader:
+        conns = [c for c in reader.connections if c.msgtype in (IMAGE, PROJECTED)]
+        if args.topic:
+            missing = set(args.topic) - {c.topic for c in reader.connections}
+            if missing:
+                sys.stderr.write("{}: {}: no topic {}\n".format(PROG, args.bag,
+                                                                 ", ".join(sorted(missing))))
+                return 2
+            conns = [c for c in conns if c.topic in args.topic]
+            unsupported = set(args.topic) - {c.topic for c in conns}
+            if unsupported:
+                sys.stderr.write("{}: topics {} are not Image or ProjectedSonarImage\n".format(
+                    PROG, ", ".join(sorted(unsupported))))
+                return 2
+        if not conns:
+            sys.stderr.write("{}: {}: no sensor_msgs/Image or ProjectedSonarImage topic\n"
+                             .format(PROG, args.bag))
+            return 2
+        if img_geo is None and any(c.msgtype == IMAGE for c in conns):
+            sys.stderr.write("{}: sensor_msgs/Image topics need --min-range, --max-range "
+                             "and --aperture-deg or --bearings\n".format(PROG))
+            return 2
+        for conn, log_time, raw in reader.messages(connections=conns):
+            line = {"topic": conn.topic, "type": conn.msgtype, "log_time_ns": int(log_time)}
+            try:
+                try:
+                    msg = reader.deserialize(raw, conn.msgtype)
+                except DESERIALIZE_ERRORS as e:
+                    raise MessageError("cannot deserialize the message ({} bytes): {}".format(
+                        len(raw), e)) from e
+                line["stamp_ns"] = stamp_ns(msg.header)
+                line["frame_id"] = msg.header.frame_id
+                if conn.msgtype == PROJECTED:
+                    frame, geo = projected_frame(msg, warned, conn.topic)
+                else:
+                    frame, geo = image_frame(msg), img_geo
+                line["rows"], line["cols"] = int(frame.shape[0]), int(frame.shape[1])
+                dets = detector.detect(frame, **geo)
+                line["detections"] = [d.to_dict() for d in dets]
+            except (MessageError, pyactag.ActagError, ValueError, TypeError) as e:
+                line["error"] = str(e)
+                sys.stderr.write("{}: {} at {}: {}\n".format(PROG, conn.topic, log_time, e))
+                status = 2
+            out.write(json.dumps(line) + "\n")
     return status
 
 

@@ -6,10 +6,19 @@ Environment:
   ACTAG_DETECT    the C tool actag_detect (default: <repo>/build/examples/
                   actag_detect); when set it must exist, otherwise the
                   comparisons with it skip visibly when it is not built.
+                  The library of the same build (libactag.a or .so in the
+                  folder above the tool's) serves c_stats.c, compiled with
+                  $CC (default: Python's compiler, else cc): what the
+                  library returns that the tool's JSON does not print
+                  (counters, inlier ratios).
 """
 import json
+import math
 import os
+import shlex
+import shutil
 import subprocess
+import sysconfig
 from pathlib import Path
 
 import pytest
@@ -76,6 +85,47 @@ def _tool():
 @pytest.fixture(scope="session")
 def c_tool():
     return _tool()
+
+
+@pytest.fixture(scope="session")
+def c_library(c_tool, tmp_path_factory):
+    """run(frame, **limits) -> libactag's own answer for an 8-bit frame
+    (tests/c_stats.c): {"n", "detections": [{"id", "inlier_ratio",
+    "decision_margin"}], "stats": {every actag_stats field}}, at the
+    geometry GEOMETRY and the C defaults but for the integer tuning fields
+    given (max_contours, max_contour_iterations, max_frame_iterations,
+    max_decodes, search_candidates)."""
+    build = Path(c_tool).resolve().parents[1]
+    libs = [p for p in (build / "libactag.a", build / "libactag.so") if p.exists()]
+    if not libs:
+        pytest.skip("no libactag.a or libactag.so in {} (the build of {})".format(build, c_tool))
+    cc = shlex.split(os.environ.get("CC") or sysconfig.get_config_var("CC") or "cc")
+    if not cc or shutil.which(cc[0]) is None:
+        cc = ["cc"]
+        if shutil.which("cc") is None:
+            pytest.skip("no C compiler (set CC) to build tests/c_stats.c")
+    exe = tmp_path_factory.mktemp("c_stats") / "c_stats"
+    lib = libs[0]
+    cmd = cc + ["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-I", str(REPO / "include"),
+                "-I", str(build / "include"), str(Path(__file__).with_name("c_stats.c")),
+                str(lib), "-lm", "-o", str(exe)]
+    if lib.suffix == ".so":
+        cmd.append("-Wl,-rpath," + str(build))
+    subprocess.run(cmd, check=True)
+    aperture = math.radians(GEOMETRY["aperture_deg"])
+    assert (GEOMETRY["min_range"], GEOMETRY["max_range"]) == (0.1, 1.5)  # as c_stats.c sets them
+
+    def run(frame, **limits):
+        raw = exe.parent / "frame.raw"
+        assert frame.dtype.itemsize == 1 and frame.ndim == 2
+        raw.write_bytes(frame.tobytes())
+        args = [str(exe), str(raw), str(frame.shape[0]), str(frame.shape[1]), repr(aperture)]
+        args += ["{}={}".format(k, v) for k, v in sorted(limits.items())]
+        out = subprocess.run(args, check=True, stdout=subprocess.PIPE,
+                             universal_newlines=True).stdout
+        return json.loads(out)
+
+    return run
 
 
 def run_c_tool(tool, paths, extra=()):

@@ -82,7 +82,15 @@ def test_buffer_protocol_objects(example_frame, reference):
     a16 = array.array("H", (example_frame.astype(np.uint16) * 200).ravel().tolist())
     mv16 = memoryview(a16).cast("B").cast("H", example_frame.shape)
     expected16 = detections_key(pyactag.detect(example_frame.astype(np.uint16) * 200, **GEOMETRY))
+    assert expected16
     assert detections_key(pyactag.detect(mv16, **GEOMETRY)) == expected16
+    # Byte orders through the buffer protocol (a memoryview has no
+    # __array_interface__): big-endian ('>H') is swapped, native ('H') is not.
+    f16 = example_frame.astype(np.uint16) * 200
+    for order, fmt in ((">u2", ">H"), ("=u2", "H")):
+        mv = memoryview(f16.astype(order))
+        assert mv.format == fmt and not hasattr(mv, "__array_interface__")
+        assert detections_key(pyactag.detect(mv, **GEOMETRY)) == expected16, order
     # A strided memoryview (non-contiguous): copied through tobytes().
     wide = np.repeat(example_frame, 2, axis=1)
     mv = memoryview(wide[:, ::2])  # a strided buffer, no __array_interface__

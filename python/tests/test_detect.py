@@ -2,14 +2,16 @@
 parameters and their C defaults, results, stage images."""
 import json
 import os
+import re
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 import pyactag
-from conftest import (EXAMPLE, FAMILY, GEOMETRY, TAG_SIZE, assert_same_as_c, detections_key,
-                      run_c_tool)
+from conftest import (EXAMPLE, FAMILY, GEOMETRY, REPO, TAG_SIZE, assert_same_as_c,
+                      detections_key, run_c_tool)
 
 np = pytest.importorskip("numpy")
 
@@ -250,3 +252,77 @@ def test_pickle_detector_and_detections(example_frame):
     det2 = pickle.loads(pickle.dumps(orig))
     assert not det2.family.builtin and det2.family.codes == fam.codes
     assert detections_key(det2.detect(example_frame)) == detections_key(orig.detect(example_frame))
+
+
+#: Every field of the C actag_stats (include/actag/actag.h), in its order.
+STATS_KEYS = ("contours", "size_ok", "overflowed", "quads", "decoded", "duplicates", "dropped",
+              "searched", "decodes", "iterations", "contour_cap", "ransac_exhausted",
+              "contour_budget", "frame_budget", "decode_cap", "search_cap", "guess_cap")
+
+#: Work limits small enough for the example frame to reach, and the counter
+#: that says so.
+LIMITS = ((dict(max_contours=5), "contour_cap"), (dict(max_decodes=1), "decode_cap"),
+          (dict(max_frame_iterations=1), "frame_budget"))
+
+
+def test_stats_have_every_counter(example_frame):
+    header = (REPO / "include" / "actag" / "actag.h").read_text()
+    struct = re.search(r"typedef struct actag_stats \{(.*?)\} actag_stats;", header, re.S).group(1)
+    assert tuple(re.findall(r"\bint (\w+);", struct)) == STATS_KEYS
+    stats = pyactag.Detector(**GEOMETRY).run(example_frame).stats
+    assert sorted(stats) == sorted(STATS_KEYS)
+    assert all(isinstance(v, int) and v >= 0 for v in stats.values())
+    # documented where the stats are described
+    readme = (REPO / "python" / "README.md").read_text()
+    for k in STATS_KEYS:
+        assert "| `{}` |".format(k) in readme, k
+        assert k in _result_doc(), k
+
+
+def _result_doc():
+    """The comment block above Result in detection.py (its documentation)."""
+    text = Path(pyactag.detection.__file__).read_text()
+    return text[text.index("#: Result of"):text.index("Result = namedtuple")]
+
+
+@pytest.mark.parametrize("limits, counter", LIMITS, ids=[c for _, c in LIMITS])
+def test_limit_counters(example_frame, limits, counter):
+    assert pyactag.Detector(**GEOMETRY).run(example_frame).stats[counter] == 0
+    stats = pyactag.Detector(**limits, **GEOMETRY).run(example_frame).stats
+    assert stats[counter] > 0, stats
+    if counter == "contour_cap":
+        assert stats["contours"] == 5
+
+
+def _same_as_c_library(frame, c_library, where, **limits):
+    """Counters, IDs, inlier ratios and margins equal libactag's own (the
+    tool's JSON has neither counters nor inlier ratios). Returns the stats."""
+    res = pyactag.Detector(**limits, **GEOMETRY).run(frame)
+    c = c_library(frame, **limits)
+    assert res.stats == c["stats"], where
+    assert len(res.detections) == c["n"], where
+    for d, cd in zip(res.detections, c["detections"]):
+        assert d.id == cd["id"], where
+        # float32 values, printed with 9 digits: exact
+        assert np.float32(d.inlier_ratio) == np.float32(cd["inlier_ratio"]), where
+        assert np.float32(d.decision_margin) == np.float32(cd["decision_margin"]), where
+    return res
+
+
+def test_stats_and_inlier_ratio_same_as_c_library(example_frame, c_library):
+    res = _same_as_c_library(example_frame, c_library, "example")
+    # the frame tells the fields apart: a detection, and counters that differ
+    # (decoded counts the structure search's readings too)
+    assert res.detections and 0 < res.detections[0].inlier_ratio <= 1
+    s = res.stats
+    assert s["quads"] != s["decoded"] and s["searched"] > 0 and s["iterations"] > 0, s
+    for limits, counter in LIMITS:
+        assert _same_as_c_library(example_frame, c_library, counter, **limits).stats[counter] > 0
+
+
+def test_pool_stats_same_as_c_library(pool_frames, c_library):
+    for path, frame in pool_frames[::5]:
+        _same_as_c_library(frame, c_library, path.name)
+    path, frame = pool_frames[0]
+    _same_as_c_library(frame, c_library, path.name, max_contours=40, max_decodes=2,
+                       max_frame_iterations=300)

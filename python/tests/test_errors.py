@@ -1,4 +1,7 @@
 """Errors are Python exceptions carrying the library's message."""
+import re
+from unittest import mock
+
 import pytest
 
 import pyactag
@@ -217,3 +220,110 @@ def test_nul_in_names_refused():
         pyactag.Family.from_codes("Mine\x00", [1], bits=24, hamming=4)
     with pytest.raises(ValueError, match="NUL"):
         pyactag.Detector(**{"median_radius\x00junk": 3})
+
+
+class FakeFamily(int):
+    """Claims to be a Family through __class__, which isinstance() believes;
+    it holds no actag_family for the C code to read."""
+    __class__ = property(lambda self: pyactag._core.Family)
+
+
+@pytest.mark.parametrize("make", [lambda: FakeFamily(5),
+                                  lambda: mock.Mock(spec=pyactag.Family)],
+                         ids=["class-attribute", "mock-spec"])
+def test_object_posing_as_family_refused(example_frame, make):
+    fake = make()
+    assert isinstance(fake, pyactag._core.Family)  # what the old check trusted
+    with pytest.raises(TypeError, match=r"family must be a pyactag\.Family, not .*type"):
+        det = pyactag._core.Detector(fake, None)
+        det.detect(example_frame, 0.1, 1.5, 1.0)  # read memory outside the object
+    with pytest.raises(TypeError, match="family must be a name or a pyactag.Family, not"):
+        pyactag.Detector(fake, **GEOMETRY)
+    # real families, subclasses included, still pass
+    assert pyactag._core.Detector(pyactag.Family("AcTag24h10"), None).family.name == "AcTag24h10"
+    assert pyactag.Detector(pyactag._core.Family("AcTag24h10")).family.name == "AcTag24h10"
+
+
+@pytest.mark.parametrize("value", [np.True_, np.False_, True])
+def test_bool_is_no_number(example_frame, value):
+    # README: a bool for a number is a TypeError; numpy's bool too (it would
+    # have been read as 1.0 or 0.0).
+    shown = re.escape(repr(value))
+    for name in ("tag_size", "min_margin", "quad_inlier_ratio", "fit_level"):
+        with pytest.raises(TypeError, match=r"parameter '{}' must be a number, not bool \(got {}\)"
+                           .format(name, shown)):
+            pyactag.Detector(**{name: value})
+    for name in ("median_radius", "seed", "max_bit_corrections"):
+        with pytest.raises(TypeError, match=r"parameter '{}' must be an integer, not bool \(got {}\)"
+                           .format(name, shown)):
+            pyactag.Detector(**{name: value})
+    bearings = list(np.linspace(0.5, -0.5, example_frame.shape[1]))
+    bearings[7] = value
+    with pytest.raises(TypeError, match=r"bearings\[7\] must be a real number, got " + shown):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings=bearings)
+
+
+def test_out_of_range_parameters_name_the_value():
+    with pytest.raises(OverflowError, match=r"parameter 'median_radius' must be an integer from "
+                                            r"-2147483648 to 2147483647, got 1099511627776$"):
+        pyactag.Detector(median_radius=2 ** 40)
+    with pytest.raises(OverflowError, match=r"parameter 'seed' must be an integer from 0 to "
+                                            r"4294967295, got -1$"):
+        pyactag.Detector(seed=np.int64(-1))
+    with pytest.raises(OverflowError, match=r"parameter 'max_bit_corrections' must be an integer "
+                                            r"from -1 to 2147483647, got -2$"):
+        pyactag.Detector(max_bit_corrections=-2)
+    # A nonzero value a C float cannot hold is refused by its own value, not
+    # passed on as 0 or inf for the library to report as "got 0" / "got inf".
+    for value in (1e-50, -1e-50, np.float64(1e-60), 1e300, -1e300, np.float64(4e38), 10 ** 39):
+        with pytest.raises(OverflowError, match=r"parameter 'tag_size' is outside the range of a "
+                                                r"C float \(.*\), got {}$".format(
+                                                    re.escape(repr(value)))):
+            pyactag.Detector(tag_size=value)
+    with pytest.raises(OverflowError, match=r"parameter 'min_margin' is outside the range of a "
+                                            r"C float, got 10{400}$"):
+        pyactag.Detector(min_margin=10 ** 400)  # beyond a double as well
+    # What a float holds is the library's to judge: a subnormal, NaN and the
+    # infinities reach its check, which names the field and the value.
+    assert pyactag.Detector(min_margin=1e-40).params["min_margin"] == pytest.approx(1e-40, 1e-4)
+    for value, shown in ((float("inf"), "inf"), (-float("inf"), "-inf"), (float("nan"), "nan")):
+        for name in ("tag_size", "min_margin", "quad_inlier_distance"):
+            with pytest.raises(pyactag.ActagError) as ei:
+                pyactag.Detector(**{name: value})
+            library_error(ei, "ACTAG_ERR_PARAM")
+            assert ei.value.field == name
+            assert "invalid parameters: {} must be".format(name) in str(ei.value)
+            assert "(got {})".format(shown) in str(ei.value)
+
+
+def test_azimuth_ascending_refused_with_bearings(example_frame):
+    # The bearing table gives each column's azimuth: the flag would be
+    # ignored, so it is refused (as actag_detect --bearings refuses it).
+    cols = example_frame.shape[1]
+    bearings = list(np.linspace(np.radians(30), -np.radians(30), cols))
+    msg = "azimuth_ascending=True does not apply with bearings"
+    with pytest.raises(ValueError, match=msg):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings=bearings,
+                       azimuth_ascending=True)
+    with pytest.raises(ValueError, match=msg):
+        pyactag.Detector(min_range=0.1, max_range=1.5, bearings=bearings,
+                         azimuth_ascending=np.True_)
+    with pytest.raises(ValueError, match=msg):  # the flag stored, the table per call
+        pyactag.Detector(azimuth_ascending=True, **GEOMETRY).detect(example_frame,
+                                                                   bearings=bearings)
+    with pytest.raises(ValueError, match=msg):  # and the other way round
+        pyactag.Detector(min_range=0.1, max_range=1.5, bearings=bearings).detect(
+            example_frame, azimuth_ascending=True)
+    with pytest.raises(ValueError, match=msg):  # the extension refuses it too
+        pyactag._core.Detector(pyactag.Family("AcTag24h10")).detect(
+            example_frame, 0.1, 1.5, None, bearings, False, True)
+    # False with a table, True with an aperture: as before.
+    plain = detections_key(pyactag.detect(example_frame, min_range=0.1, max_range=1.5,
+                                          bearings=bearings))
+    assert plain and detections_key(pyactag.detect(
+        example_frame, min_range=0.1, max_range=1.5, bearings=bearings,
+        azimuth_ascending=False)) == plain
+    det = pyactag.Detector(azimuth_ascending=True, **GEOMETRY)
+    assert det.detect(np.ascontiguousarray(example_frame[:, ::-1]))
+    assert detections_key(det.detect(example_frame, bearings=bearings,
+                                     azimuth_ascending=False)) == plain

@@ -200,3 +200,68 @@ def test_tool_errors(tmp_path, frames):
     rc, lines, _ = run_tool(bag, "--topic", "/sonar/projected", "--param",
                             "max_bit_corrections=0")
     assert rc == 0 and len(lines) == 1
+
+
+def test_undeserializable_message_reported_and_skipped(tmp_path, frames):
+    # A truncated message (its bytes end inside the header, or inside the
+    # image) between valid ones: an "error" line each, the others processed,
+    # exit status 2 (README, the tool's docstring).
+    bag = tmp_path / "truncated"
+    store = store_for_tests()
+    dirs = beam_directions(store, frames[0].shape[1])
+    raw = bytes(store.serialize_cdr(projected_msg(store, 0, frames[0], dirs),
+                                    actag_rosbag.PROJECTED))
+    with Writer(bag, version=9) as w:
+        c = w.add_connection("/p", actag_rosbag.PROJECTED, typestore=store)
+        w.write(c, 1, raw[:200])
+        w.write(c, 2, raw)
+        w.write(c, 3, raw[:len(raw) // 2])
+        w.write(c, 4, raw)
+    rc, lines, err = run_tool(bag, subprocess_run=True)
+    assert rc == 2, err
+    assert "Traceback" not in err
+    assert [x["log_time_ns"] for x in lines] == [1, 2, 3, 4]
+    want = json.loads(json.dumps([d.to_dict() for d in expected_projected(frames[0])]))
+    for bad in (lines[0], lines[2]):
+        assert "cannot deserialize" in bad["error"] and "detections" not in bad
+        assert "/p at {}: cannot deserialize".format(bad["log_time_ns"]) in err
+    for good in (lines[1], lines[3]):
+        assert "error" not in good and good["detections"] == want
+
+
+def test_unusable_bag(tmp_path, frames):
+    # A bag that cannot be opened or read: a message naming it, exit status 2.
+    rc, lines, err = run_tool(tmp_path / "missing", subprocess_run=True)
+    assert rc == 2 and lines == [] and "Traceback" not in err
+    assert "missing: cannot read the bag" in err
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    rc, lines, err = run_tool(empty)
+    assert rc == 2 and lines == [] and "empty: cannot read the bag" in err
+    bag = tmp_path / "bag"
+    write_bag(bag, StoragePlugin.SQLITE3, frames[:1])
+    (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: [\n")
+    rc, lines, err = run_tool(bag)
+    assert rc == 2 and lines == [] and "bag: cannot read the bag" in err
+    bag = tmp_path / "cut"
+    write_bag(bag, StoragePlugin.SQLITE3, frames[:1])
+    db = next(bag.glob("*.db3"))
+    db.write_bytes(db.read_bytes()[:3000])
+    rc, lines, err = run_tool(bag)
+    assert rc == 2 and lines == [] and "cut: cannot read the bag" in err
+
+
+def test_azimuth_ascending_refused_with_bearings(tmp_path, frames):
+    bag = tmp_path / "bag"
+    write_bag(bag, StoragePlugin.SQLITE3, frames[:1])
+    table = tmp_path / "bearings.txt"
+    cols = frames[0].shape[1]
+    table.write_text("\n".join(str(APERTURE / 2 - i * APERTURE / (cols - 1))
+                               for i in range(cols)))
+    rc, lines, err = run_tool(bag, "--topic", "/sonar/image", "--min-range", 0.1,
+                              "--max-range", 1.5, "--bearings", table, "--azimuth-ascending")
+    assert rc == 2 and lines == []
+    assert "--azimuth-ascending does not apply with --bearings" in err
+    rc, lines, err = run_tool(bag, "--topic", "/sonar/image", "--min-range", 0.1,
+                              "--max-range", 1.5, "--bearings", table)
+    assert rc == 0 and len(lines) == 1 and "error" not in lines[0], err

@@ -23,9 +23,28 @@ GEOMETRY_KEYS = (
 )
 
 #: Result of ``Detector.run()``: the detections, the pipeline's counters
-#: (contours, size_ok, overflowed, quads, decoded, duplicates, dropped,
-#: searched) and, with ``stages=True``, the stage images
-#: {"filtered": median-filtered frame, "binary": 0/255 threshold image}.
+#: (a dict of every field of the C ``actag_stats``, by its C name) and, with
+#: ``stages=True``, the stage images {"filtered": median-filtered frame,
+#: "binary": 0/255 threshold image}. The counters:
+#:
+#: - contours: outer borders traced; size_ok: those that passed the physical
+#:   size filter; overflowed: borders longer than the point buffer (skipped);
+#:   quads: quadrilaterals fitted; decoded: quads that decoded to a family
+#:   member; duplicates: decodes dropped as the same tag seen twice; dropped:
+#:   detections beyond max_detections; searched: structure-search candidates
+#:   decoded;
+#: - work done: decodes (decoder calls: quads, search, guesses), iterations
+#:   (RANSAC iterations run);
+#: - limits reached (``max_contours``, ``max_contour_iterations``,
+#:   ``max_frame_iterations``, ``max_decodes``, ``search_candidates``):
+#:   contour_cap (1 when the scan stopped at max_contours), ransac_exhausted
+#:   (quad fits that ran all their iterations without an early exit),
+#:   contour_budget (contours whose quad tries stopped at
+#:   max_contour_iterations), frame_budget (quad fits skipped or shortened by
+#:   max_frame_iterations), decode_cap (decoder calls skipped at
+#:   max_decodes), search_cap (1 when candidates above search_min_score were
+#:   left undecoded), guess_cap (contours given no extreme-point guess, 16 per
+#:   frame at most).
 Result = namedtuple("Result", ["detections", "stats", "stages"])
 
 #: One corner of a detection: x_col = column and y_row = row (pixels,
@@ -140,12 +159,14 @@ class Detection:
 
 
 def _family(family):
-    if isinstance(family, _core.Family):
+    # type(), not isinstance(): isinstance() believes a __class__ attribute
+    # (a Mock(spec=Family) is no Family the C code could read).
+    if issubclass(type(family), _core.Family):
         return family
-    if isinstance(family, str):
+    if issubclass(type(family), str):
         return Family(family)
-    raise TypeError("family must be a name or a pyactag.Family, not {}".format(
-        type(family).__name__))
+    raise TypeError("family must be a name or a pyactag.Family, not {!r} ({})".format(
+        family, type(family).__name__))
 
 
 def _split_params(params, tuning):
@@ -183,6 +204,15 @@ def _check_geometry(g):
     if bearings is not None and (g.get("aperture") is not None or
                                  g.get("aperture_deg") is not None):
         raise ValueError("sonar geometry: give aperture or bearings, not both")
+    _check_bearings_order(bearings, g.get("azimuth_ascending", False))
+
+
+def _check_bearings_order(bearings, azimuth_ascending):
+    """azimuth_ascending is refused with bearings, not ignored (as by
+    actag_detect --bearings): the table gives each column's azimuth."""
+    if bearings is not None and as_bool("azimuth_ascending", azimuth_ascending):
+        raise ValueError("sonar geometry: azimuth_ascending=True does not apply with bearings "
+                         "(the table gives each column's azimuth in column order)")
 
 
 def _geometry(base, overrides):
@@ -208,6 +238,7 @@ def _geometry(base, overrides):
     if bearings is None and aperture is None:
         raise ValueError("sonar geometry: give aperture (radians), aperture_deg, or bearings "
                          "(one azimuth per column)")
+    _check_bearings_order(bearings, g.get("azimuth_ascending", False))
     return dict(min_range=as_real("min_range", g["min_range"]),
                 max_range=as_real("max_range", g["max_range"]),
                 aperture=aperture, bearings=bearings,
@@ -229,7 +260,9 @@ class Detector:
     Geometry (metres, radians): rows are range bins, columns beams. Default
     orientation: row 0 = max_range, column 0 = +aperture/2; the flags select
     the other ones. ``bearings`` is one azimuth per column (radians,
-    strictly monotonic) instead of a uniform aperture. Geometry given here
+    strictly monotonic) instead of a uniform aperture; the table gives the
+    column order, so ``azimuth_ascending=True`` with ``bearings`` is a
+    ValueError (as ``actag_detect`` refuses the pair). Geometry given here
     is the default of every ``detect()`` call, which may override it: an
     ``aperture``, ``aperture_deg`` or ``bearings`` given to a call replaces
     the stored field of view, whichever of the three forms it was given in.
@@ -274,7 +307,8 @@ class Detector:
         return dict(self._geometry)
 
     def run(self, frame, *, stages=False, max_detections=None, **geometry):
-        """Detect tags in ``frame``; returns ``Result(detections, stats, stages)``.
+        """Detect tags in ``frame``; returns ``Result(detections, stats, stages)``
+        (``stats``: every counter of the C ``actag_stats``; see ``Result``).
 
         ``frame``: a 2-D uint8 or uint16 array or buffer (numpy arrays and
         strided views, memoryviews, Pillow images...), rows = range bins.
