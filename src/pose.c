@@ -439,9 +439,11 @@ static void p_arc_term(const float *t, float *cov)
     if (!(ve > 0.0f))
         return;
     c = 0.75f * ve * ve / r2; /* 3/4 r^2 s_e^4 */
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
+    for (i = 0; i < 3; i++) /* the upper triangle, mirrored: exactly symmetric */
+        for (j = i; j < 3; j++) {
             cov[i * P_NPAR + j] += c * u[i] * u[j];
+            cov[j * P_NPAR + i] = cov[i * P_NPAR + j];
+        }
 }
 
 static void p_step(const p_state *x, const float *d, p_state *o)
@@ -871,12 +873,15 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
                     Ri[i * P_NPAR + j] = -v / A[i * P_NPAR + i];
                 }
             }
+            /* the upper triangle, mirrored: v sc[i] sc[j] and v sc[j] sc[i]
+             * round differently, and a covariance must be exactly symmetric */
             for (i = 0; i < P_NPAR; i++)
-                for (j = 0; j < P_NPAR; j++) {
+                for (j = i; j < P_NPAR; j++) {
                     float v = 0.0f;
-                    for (k = (i > j ? i : j); k < P_NPAR; k++)
+                    for (k = j; k < P_NPAR; k++)
                         v += Ri[i * P_NPAR + k] * Ri[j * P_NPAR + k];
                     out->cov[i * P_NPAR + j] = v * sc[i] * sc[j];
+                    out->cov[j * P_NPAR + i] = out->cov[i * P_NPAR + j];
                 }
             p_arc_term(x.t, out->cov);
         }
