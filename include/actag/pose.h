@@ -61,12 +61,24 @@
  *     entered in the least squares as a Gaussian of the band's mean and
  *     standard deviation (width / sqrt(12)); the covariance carries it, so
  *     the position's error ellipsoid is long in elevation (about range *
- *     band / sqrt(12)). When no elevation fits the outline into the
- *     aperture (a close or tall tag: a real beam's edge is soft), the band
- *     of the inner square is used instead; ACTAG_POSE_ELEVATION is set when
- *     not even that fits (the corners are not those of a tag of this size
- *     in view) or the corners pull the fit out of the band (more than 2
- *     standard deviations of the band).
+ *     band / sqrt(12)). The band is computed from the fitted tilt, so its
+ *     edges are uncertain as the tilt is: their variances and covariance
+ *     (the edges' gradients through the fit's covariance) are added, the
+ *     middle's variance and the width's / 12, so the prior's sd is never
+ *     below what is known of the band itself (a band that only just fits,
+ *     a sliver of a fraction of a mrad, no longer claims the elevation to
+ *     that fraction). When the outline's band may be empty (a close or
+ *     tall tag: a real beam's edge is soft), the inner square's band takes
+ *     over, and when that may be empty too, a weak pull (sd half the
+ *     aperture) to its middle: the three are blended, each band weighted
+ *     by how likely it is non-empty given its width and the width's sd (a
+ *     smoothstep over width / sd in -2..2, within 0.025 of the normal
+ *     distribution function), and the blend's mean and variance taken, so
+ *     the prior moves continuously with the corners. ACTAG_POSE_ELEVATION
+ *     is set when, at the solution, not even the inner square fits (the
+ *     corners are not those of a tag of this size in view) or the fit lies
+ *     outside the band reported in elevation_lo/hi by more than 2 of the
+ *     prior's sds.
  *
  *   METHOD
  *     Start: the corners placed at one elevation give each edge's in-fan
@@ -186,8 +198,9 @@ extern "C" {
 #define ACTAG_POSE_DEGENERATE 1u       /* image of the tag nearly a line (edge-on in the
                                           projection: all corners at one range or one
                                           azimuth), or a singular fit: orientation unreliable */
-#define ACTAG_POSE_ELEVATION 2u        /* no elevation puts the outline inside the vertical
-                                          aperture, or the fit left that band */
+#define ACTAG_POSE_ELEVATION 2u        /* no elevation puts even the inner square inside the
+                                          vertical aperture, or the fit left the band by
+                                          more than 2 prior sds (see the manual) */
 #define ACTAG_POSE_NOT_CONVERGED 4u    /* the iteration cap was reached before convergence */
 #define ACTAG_POSE_MIRROR_CONFLICT 8u  /* the corners' winding contradicts `mirrored` */
 #define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed (camera poses) */
@@ -218,7 +231,8 @@ typedef struct actag_pose {
     float azimuth;     /* rad, atan2(t_y, t_x) */
     float elevation;   /* rad, asin(t_z / |t|) */
     float elevation_lo, elevation_hi; /* rad, band of centre elevations that keep the
-                                         outline inside the aperture (lo > hi: none) */
+                                         outline inside the aperture; where there is
+                                         none, the inner square's (lo > hi: none either) */
     float residual;    /* m, RMS distance between measured and fitted corners in the fan
                           plane (range, range * azimuth) */
     float chi2;        /* sum of squared normalised corner residuals (8 terms, ~3 expected
