@@ -618,12 +618,28 @@ static double mahalanobis2(const float *cov, const double *e, int nn)
     return m;
 }
 
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median_of(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 /* With corners drawn from the assumed noise, the errors fall inside the
  * predicted 95 % ellipsoids about as often as they should (the prior band is
- * uniform, the ellipsoid Gaussian, and the fit is linearised). */
+ * uniform, the ellipsoid Gaussian, and the fit is linearised): checked from
+ * both sides, a covariance too large passes no better than one too small
+ * (coverage at most 99 %, and the median 6-D Mahalanobis^2 near chi2(6)'s
+ * 5.35: 4.1 here, so a covariance 100 times too large, 0.04, fails). */
 static void test_covariance_is_consistent(void)
 {
     actag_pose_params pp;
+    double m2all[400];
     int t, n = 0, in_pos = 0, in_all = 0;
     actag_pose_params_default(&pp, NULL, S, (float)(12.0 * DEG));
     tu_seed(15);
@@ -655,7 +671,8 @@ static void test_covariance_is_consistent(void)
         }
         if (mahalanobis2(E.cov, e, 3) <= 7.815)
             in_pos++;
-        if (mahalanobis2(E.cov, e, 6) <= 12.592)
+        m2all[n - 1] = mahalanobis2(E.cov, e, 6);
+        if (m2all[n - 1] <= 12.592)
             in_all++;
         /* symmetric, positive variances */
         for (i = 0; i < 6; i++) {
@@ -665,11 +682,15 @@ static void test_covariance_is_consistent(void)
                                          E.cov[6 * i + j], E.cov[6 * j + i]);
         }
     }
-    printf("covariance: %d views, inside the 95 %% ellipsoid: position %.3f, 6-D %.3f\n", n,
-           (double)in_pos / n, (double)in_all / n);
+    printf("covariance: %d views, inside the 95 %% ellipsoid: position %.3f, 6-D %.3f; median "
+           "6-D Mahalanobis^2 %.2f\n", n, (double)in_pos / n, (double)in_all / n,
+           median_of(m2all, n));
     TEST_ASSERT_TRUE(n > 300);
     TEST_ASSERT_TRUE(in_pos >= n * 88 / 100);
     TEST_ASSERT_TRUE(in_all >= n * 85 / 100);
+    TEST_ASSERT_TRUE_MESSAGE(in_pos <= n * 99 / 100, "position covariance too large");
+    TEST_ASSERT_TRUE_MESSAGE(in_all <= n * 99 / 100, "covariance too large");
+    TEST_ASSERT_TRUE_MESSAGE(median_of(m2all, n) >= 2.0, "covariance too large");
 }
 
 /* The covariance is exactly symmetric, bit for bit (regression: entry (i, j)
@@ -722,6 +743,7 @@ static void test_covariance_covers_the_elevation_band(void)
     static const double cx[4] = {-0.5, 0.5, 0.5, -0.5}, cy[4] = {-0.5, -0.5, 0.5, 0.5};
     actag_pose_params pp;
     const double half = 6.0 * DEG;
+    double m2pos[400];
     int t, n = 0, in_pos = 0;
     actag_pose_params_default(&pp, NULL, S, (float)(2.0 * half));
     tu_seed(16);
@@ -762,13 +784,18 @@ static void test_covariance_covers_the_elevation_band(void)
             e[i] = P.t[i] - E.t[i];
             e[3 + i] = 0.0;
         }
-        if (mahalanobis2(E.cov, e, 3) <= 7.815)
+        m2pos[n - 1] = mahalanobis2(E.cov, e, 3);
+        if (m2pos[n - 1] <= 7.815)
             in_pos++;
     }
     printf("covariance over the elevation band: %d views, inside the 95 %% position "
-           "ellipsoid: %.3f\n", n, (double)in_pos / n);
+           "ellipsoid: %.3f; median Mahalanobis^2 %.2f\n", n, (double)in_pos / n,
+           median_of(m2pos, n));
     TEST_ASSERT_TRUE(n > 300);
     TEST_ASSERT_TRUE(in_pos >= n * 92 / 100);
+    /* and not too large: the median near chi2(3)'s 2.37 (a uniform band
+     * gives a little less: 1.9 here; 100 times too large a covariance 0.02) */
+    TEST_ASSERT_TRUE_MESSAGE(median_of(m2pos, n) >= 0.8, "covariance too large");
 }
 
 /* The elevation prior is no narrower than what is known of its band. The
@@ -880,6 +907,39 @@ static void test_elevation_flag_follows_the_final_band(void)
         TEST_ASSERT_TRUE(E.elevation_lo < E.elevation_hi);
         TEST_ASSERT_TRUE(E.elevation >= E.elevation_lo - 0.02f && E.elevation <= E.elevation_hi + 0.02f);
         TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_ELEVATION);
+    }
+}
+
+/* ACTAG_POSE_NOT_CONVERGED means the iteration cap stopped the fit: with one
+ * trial step per start and pass no noisy view gets there, and each is
+ * flagged; with the default cap the same corners converge, unflagged. */
+static void test_not_converged_is_flagged(void)
+{
+    actag_pose_params pp;
+    actag_family fam;
+    int t;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    actag_pose_params_default(&pp, &fam, S, (float)(12.0 * DEG));
+    tu_seed(19);
+    for (t = 0; t < 20; t++) {
+        tpose P;
+        actag_pose E;
+        float r[4], az[4];
+        int i, mir;
+        draw_pose(1.5, 3.0, -2.0 * DEG, 2.0 * DEG, 30.0 * DEG, 70.0 * DEG, 6.283, &P);
+        mir = corners_of(&P, S, r, az);
+        for (i = 0; i < 4; i++) {
+            double g1 = gauss();
+            double g2 = gauss();
+            r[i] += (float)(ACTAG_POSE_RANGE_SD * g1);
+            az[i] += (float)(ACTAG_POSE_AZIMUTH_SD * g2);
+        }
+        pp.max_iterations = 1;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+        TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_NOT_CONVERGED);
+        pp.max_iterations = 20;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
+        TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_NOT_CONVERGED);
     }
 }
 
@@ -1025,6 +1085,7 @@ int main(void)
     RUN_TEST(test_covariance_covers_the_elevation_band);
     RUN_TEST(test_elevation_prior_holds_the_band_uncertainty);
     RUN_TEST(test_elevation_flag_follows_the_final_band);
+    RUN_TEST(test_not_converged_is_flagged);
     RUN_TEST(test_camera_pose_in_the_sensor_frame);
     RUN_TEST(test_errors_and_determinism);
     RUN_TEST(test_angles_in_every_octant);
