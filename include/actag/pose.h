@@ -96,6 +96,11 @@
  *     horizontal plane has the same corners), then the least cost; the best
  *     one refined; the band is recomputed from the fit and the fit repeated
  *     (at most 3 passes; max_iterations trial steps per start and pass).
+ *     A fit has converged when a nearly undamped step is shorter than
+ *     1e-3 of the solution's sd (|J d| < 1e-3 in the normalised residuals,
+ *     or ten times their float rounding when that is more: 2e-4 sd at 4 m
+ *     with the default sds), or gains nothing; ACTAG_POSE_NOT_CONVERGED
+ *     when the last pass reached max_iterations first.
  *     The covariance is (J^T J)^-1 at the solution (prior included), from
  *     the same QR factor, plus the second-order part of the elevation
  *     slide: the centre moves on a sphere of fixed range, so a slide of
@@ -201,7 +206,8 @@ extern "C" {
 #define ACTAG_POSE_ELEVATION 2u        /* no elevation puts even the inner square inside the
                                           vertical aperture, or the fit left the band by
                                           more than 2 prior sds (see the manual) */
-#define ACTAG_POSE_NOT_CONVERGED 4u    /* the iteration cap was reached before convergence */
+#define ACTAG_POSE_NOT_CONVERGED 4u    /* the last pass reached max_iterations before a
+                                          step shorter than 1e-3 sd (see METHOD) */
 #define ACTAG_POSE_MIRROR_CONFLICT 8u  /* the corners' winding contradicts `mirrored` */
 #define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed (camera poses) */
 #define ACTAG_POSE_PLANE 32u           /* the fit left the known plane by more than 3 of its
