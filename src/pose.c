@@ -42,11 +42,19 @@ static float p_cos_k(float r)
                                                                  z * 2.75573188e-07f))));
 }
 
-/* sin and cos together; |x| up to a few thousand radians */
+/* sin and cos together; accurate for |x| up to a few thousand radians and
+ * defined for any x. Past 2^23 floats are a radian or more apart (no angle
+ * is left in them) and past 3.4e9 the quadrant count overflows the int: a
+ * float-to-int conversion out of range is undefined behaviour, and x86 and
+ * ARM then give different results (garbage corners fitted with tiny sds
+ * steered a rotation step there). Such an x, or a NaN, is taken as 0. */
 static void p_sincos(float x, float *s, float *c)
 {
-    float kf = x * 0.636619772f, r, sr, cr;
+    float kf, r, sr, cr;
     int k;
+    if (!(x > -8388608.0f && x < 8388608.0f))
+        x = 0.0f;
+    kf = x * 0.636619772f;
     kf = kf >= 0.0f ? kf + 0.5f : kf - 0.5f;
     k = (int)kf;
     r = (x - (float)k * P_PIO2_HI) - (float)k * P_PIO2_LO;
@@ -835,20 +843,31 @@ static void p_start(const p_model *m, float e, p_state *x, float *winding)
 /* ------------------------------------------------------------ plane prior */
 
 /* The plane of params into m: unit normal, offset, tangents, weights.
- * Returns -1 when the plane is not finite or its normal is zero. */
+ * Returns -1 when the plane is not finite, its normal is zero or its
+ * offset |d| / |n| exceeds P_PLANE_MAX_D. */
+#define P_PLANE_MAX_D 1.0e4f /* m: far beyond any sonar's range; a plane farther
+                              * away pulls the fit to absurd distances */
 static int p_plane_of(const actag_pose_params *p, p_model *m)
 {
-    float nn, a[3] = {0.0f, 0.0f, 0.0f};
+    float nn, big = 0.0f, n[3], a[3] = {0.0f, 0.0f, 0.0f};
     int j;
     for (j = 0; j < 4; j++)
         if (!p_finite(p->plane[j]))
             return -1;
-    nn = norm3(p->plane);
-    if (!(nn > 0.0f) || !p_finite(nn))
+    /* divide by the largest |component| first: n . n of (0, 0, 1e-30)
+     * underflows to 0 and of (0, 0, 1e20) overflows */
+    for (j = 0; j < 3; j++)
+        big = p_fabs(p->plane[j]) > big ? p_fabs(p->plane[j]) : big;
+    if (!(big > 0.0f))
         return -1;
     for (j = 0; j < 3; j++)
-        m->n[j] = p->plane[j] / nn;
-    m->d = p->plane[3] / nn;
+        n[j] = p->plane[j] / big;
+    nn = norm3(n); /* 1 .. sqrt(3) */
+    for (j = 0; j < 3; j++)
+        m->n[j] = n[j] / nn;
+    m->d = p->plane[3] / big / nn;
+    if (!(p_fabs(m->d) <= P_PLANE_MAX_D)) /* also an overflow to inf */
+        return -1;
     /* u: n x (the axis least along n), v = n x u */
     a[(m->n[0] < 0.0f ? -m->n[0] : m->n[0]) < 0.9f ? 0 : 1] = 1.0f;
     cross3(m->n, a, m->u);
@@ -891,6 +910,13 @@ static int p_plane_elevation(const p_model *m, int k, float *e)
 
 /* ------------------------------------------------------------ public */
 
+/* A usable noise sd: positive, finite, and 1 / sd^2 (a residual's weight in
+ * the cost) finite: below about 5e-20 it overflows and the cost is inf. */
+static int p_sd_ok(float sd)
+{
+    return p_finite(sd) && sd > 0.0f && p_finite(1.0f / (sd * sd));
+}
+
 void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
                                float tag_size, float vertical_aperture)
 {
@@ -926,12 +952,11 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
             return ACTAG_ERR_PARAM;
     if (!p_finite(p->tag_size) || !(p->tag_size > 0.0f) || !p_finite(p->vertical_aperture) ||
         !(p->vertical_aperture > 0.0f) || !(p->vertical_aperture < P_PI) ||
-        !p_finite(p->extent) || !(p->extent >= 1.0f) || !p_finite(p->range_sd) ||
-        !(p->range_sd > 0.0f) || !p_finite(p->azimuth_sd) || !(p->azimuth_sd > 0.0f) ||
-        p->max_iterations < 1 || p->max_iterations > 100)
+        !p_finite(p->extent) || !(p->extent >= 1.0f) || !p_sd_ok(p->range_sd) ||
+        !p_sd_ok(p->azimuth_sd) || p->max_iterations < 1 || p->max_iterations > 100)
         return ACTAG_ERR_PARAM;
-    if (!p_finite(p->plane_sd) || !(p->plane_sd >= 0.0f) || !p_finite(p->plane_tilt_sd) ||
-        !(p->plane_tilt_sd >= 0.0f))
+    if (!(p->plane_sd == 0.0f || p_sd_ok(p->plane_sd)) ||
+        !(p->plane_tilt_sd == 0.0f || p_sd_ok(p->plane_tilt_sd)))
         return ACTAG_ERR_PARAM;
     m.wd = m.wt = 0.0f;
     if (p->plane_sd > 0.0f || p->plane_tilt_sd > 0.0f) {

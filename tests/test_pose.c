@@ -1084,6 +1084,31 @@ static void test_errors_and_determinism(void)
     TEST_ASSERT_TRUE(pos_err(&P, &A) < 0.2 && rot_err(&P, &A) < 0.05);
 }
 
+/* Corners no tag can make, fitted with absurdly small sds and a plane,
+ * still give a defined, flagged result. Regression: a rotation step of
+ * 4.8e9 rad reached the library's sincos, whose float-to-int quadrant count
+ * overflowed: undefined behaviour (reported by the sanitizer build,
+ * .ci/sanitize), and x86 and ARM convert out-of-range floats differently.
+ * Found by fuzzing valid parameters. */
+static void test_garbage_corners_are_safe(void)
+{
+    static const float r[4] = {0x1.30e1b8p-6f, 0x1.67df5ap+3f, 0x1.9bc82p+10f, 0x1.9c72a8p+2f};
+    static const float az[4] = {0x1.e6476cp-1f, 0x1.f0f6f8p-2f, -0x1.299144p-5f, 0x1.787668p-3f};
+    actag_pose_params pp;
+    actag_pose E;
+    actag_pose_params_default(&pp, NULL, 0x1.cece32p+1f, 0x1.c404b8p-7f);
+    pp.range_sd = 0x1.e92dc8p-58f;
+    pp.azimuth_sd = 0x1.ada2a8p-25f;
+    pp.max_iterations = 92;
+    pp.plane[0] = -0x1.122ddap-4f;
+    pp.plane[1] = -0x1.26e85ep-3f;
+    pp.plane[2] = 0x1.794884p-3f;
+    pp.plane[3] = -0x1.6598b4p+9f;
+    pp.plane_sd = 0x1.c83c32p-17f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &pp, &E));
+    TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_DEGENERATE);
+}
+
 /* Angles in every octant (regression: the library's atan2 returned pi -
  * atan(x / y) instead of pi/2 - atan(x / y) when |y| > |x|, and 2 pi - a
  * instead of pi - a for x < 0, so camera azimuths beyond 45 degrees and
@@ -1131,5 +1156,6 @@ int main(void)
     RUN_TEST(test_camera_pose_in_the_sensor_frame);
     RUN_TEST(test_errors_and_determinism);
     RUN_TEST(test_angles_in_every_octant);
+    RUN_TEST(test_garbage_corners_are_safe);
     return UNITY_END();
 }

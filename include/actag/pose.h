@@ -163,9 +163,12 @@
  *       ACTAG_ERR_NULL (a pointer is NULL), ACTAG_ERR_PARAM (a corner not
  *       finite, a range <= 0, an azimuth outside (-4 pi, 4 pi), tag_size not
  *       finite or <= 0, vertical_aperture outside
- *       (0, pi), extent < 1, a noise sd <= 0 or not finite, max_iterations
- *       outside 1..100, plane_sd or plane_tilt_sd negative or not finite,
- *       or, when either is > 0, plane not finite or its normal zero).
+ *       (0, pi), extent < 1, range_sd or azimuth_sd <= 0, not finite or
+ *       so small that 1 / sd^2 overflows a float (below about 5e-20),
+ *       max_iterations outside 1..100, plane_sd or plane_tilt_sd negative,
+ *       not finite or, when not 0, that small, or, when either is > 0,
+ *       plane not finite, its normal zero or its offset |d| / |n| above
+ *       1e4 m; the normal may have any scale, (0, 0, 1e-30) as (0, 0, 1e20)).
  *       Degenerate geometry is not an error: out is filled
  *       as well as possible and flagged.
  *   int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
@@ -224,7 +227,8 @@ typedef struct actag_pose_params {
     /* Optional: what the vehicle knows of the plane the tag lies on (see KNOWN PLANE).
      * Unused while plane_sd and plane_tilt_sd are both 0 (the default). */
     float plane[4];          /* (nx, ny, nz, d): the tag's face lies in n . p = d, sensor
-                                frame, metres; n any length but not zero */
+                                frame, metres; n any length but not zero, |d| / |n|
+                                at most 1e4 m */
     float plane_sd;          /* m, sd of the face centre's offset from the plane; 0: unused */
     float plane_tilt_sd;     /* rad, sd of the angle between the face normal and n; 0: unused */
 } actag_pose_params;
