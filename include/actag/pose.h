@@ -47,9 +47,14 @@
  *         face normal (-z of the tag) points toward +elevation (for example
  *         a tag on the seabed seen from an upright sonar above it), mirrored
  *         toward -elevation (the same tag seen by an upside-down sonar, or a
- *         tag under a ceiling). The estimator starts on the side the flag
- *         gives and reports ACTAG_POSE_MIRROR_CONFLICT when the corners'
- *         winding clearly says otherwise.
+ *         tag under a ceiling). The fit takes the side from the corners'
+ *         winding, not from the flag: the cost has no minimum on the other
+ *         side (a fit started there comes back), so `mirrored` only sets
+ *         ACTAG_POSE_MIRROR_CONFLICT when the winding clearly (by more than
+ *         2 sds of the image's area) says otherwise. Within 2 sds (a nearly
+ *         flat image, flagged ACTAG_POSE_DEGENERATE: near head-on views)
+ *         noise may give the other side; the tilt out of the fan plane is
+ *         small there.
  *     The centre's elevation is almost unobservable: moving the whole tag
  *     along the elevation arcs changes the corners' (range, azimuth) only by
  *     a second-order term (the azimuth spread shrinks by cos(elevation),
