@@ -693,18 +693,8 @@ static int p_prior_at(p_model *m, const p_state *x, float *lo, float *hi)
 static int p_lm(const p_model *m, p_state *x, int max_it)
 {
     float f[P_NRES], J[P_NRES * P_NPAR], A[P_MAXR * P_NPAR], b[P_MAXR], d[P_NPAR];
-    float dg[P_NPAR], sc[P_NPAR], cost, lambda = 1e-3f, tol, rmax = 0.0f, amax = 0.0f;
+    float dg[P_NPAR], sc[P_NPAR], cost, lambda = 1e-3f, jd2 = 0.0f;
     int it, i, j, small;
-    /* tol: 1e-3 sd, or ten times the residuals' float rounding in sds
-     * (FLT_EPSILON |r| / range_sd and |azimuth| / azimuth_sd: 2e-4 at 4 m
-     * with the default sds), which the step computed from them carries */
-    for (i = 0; i < 4; i++) {
-        rmax = m->r[i] > rmax ? m->r[i] : rmax;
-        amax = p_fabs(m->az[i]) > amax ? p_fabs(m->az[i]) : amax;
-    }
-    tol = 10.0f * 1.1920929e-7f * (rmax / m->sr + amax / m->sa);
-    if (!(tol > 1e-3f))
-        tol = 1e-3f;
     cost = p_eval(m, x, f, J);
     for (it = 1; it <= max_it; it++) {
         p_state y;
@@ -733,23 +723,24 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
         }
         p_step(x, d, &y);
         cy = p_eval(m, &y, fy, NULL);
-        /* Converged: a nearly undamped step shorter than tol sds of the
-         * solution (the covariance is (J^T J)^-1 of the normalised
-         * residuals, so that is |J d| < tol), whether or not it lowers the
-         * cost: near the minimum the residuals' float rounding hides the
-         * gain, and a test on the gain alone was met late or never along
+        /* Converged: a nearly undamped step shorter than 1e-3 of the
+         * solution's sd (the covariance is (J^T J)^-1 of the normalised
+         * residuals, so that is |J d| < 1e-3), or one shorter than 1e-2 sd
+         * that the cost refuses: a linear model is not wrong over so short
+         * a step, the refusal is the cost's float rounding (a corner range
+         * of 4 m is rounded to 2e-4 of the default sd). A test on the gain
+         * alone was met late or never near the minimum of good corners,
+         * whose cost (~0.1) hides gains of 1e-7 of it: the steps crept along
          * the flat elevation valley (26 of 3000 noisy views flagged at 20
          * trial steps, all within 0.1 mm of the 100-step fit). */
-        {
-            float jd2 = 0.0f;
-            for (i = 0; i < P_NRES; i++) {
-                float v = 0.0f;
-                for (j = 0; j < P_NPAR; j++)
-                    v += J[i * P_NPAR + j] * d[j];
-                jd2 += v * v;
-            }
-            small = jd2 < tol * tol && lambda < 1e-2f;
+        jd2 = 0.0f;
+        for (i = 0; i < P_NRES; i++) {
+            float v = 0.0f;
+            for (j = 0; j < P_NPAR; j++)
+                v += J[i * P_NPAR + j] * d[j];
+            jd2 += v * v;
         }
+        small = lambda < 1e-2f && jd2 < 1e-6f;
         if (cy <= cost) {
             float dt = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             float dw = sqrtf(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
@@ -761,7 +752,7 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
             if (done)
                 return it;
         } else {
-            if (small)
+            if (lambda < 1e-2f && jd2 < 1e-4f)
                 return it; /* the cost's rounding, not the model, refused it */
             lambda *= 10.0f;
             if (lambda > 1e8f)

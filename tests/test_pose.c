@@ -945,7 +945,7 @@ static void test_elevation_flag_follows_the_final_band(void)
 /* ACTAG_POSE_NOT_CONVERGED means the iteration cap stopped the fit. A 60
  * degree fan (a band of about 45 degrees: 12 starts, most far from the
  * minimum) with one trial step per start and pass: most views are stopped
- * short and flagged (19 of 20; one step may also finish a fit, and then the
+ * short and flagged (16 of 20; one step may also finish a fit, and then the
  * flag is rightly off); the same corners with the default cap converge,
  * unflagged. */
 static void test_not_converged_is_flagged(void)
@@ -977,17 +977,17 @@ static void test_not_converged_is_flagged(void)
         TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_NOT_CONVERGED);
     }
     printf("one trial step per start and pass: %d of 20 views not converged\n", flagged);
-    TEST_ASSERT_TRUE(flagged >= 15);
+    TEST_ASSERT_TRUE(flagged >= 10);
 }
 
 /* ... and with the default cap (20 trial steps per start and pass) good
  * corners converge. Regression: convergence was a relative gain of 1e-7 of
  * the cost, which the cost's float rounding hides near the minimum (the
  * cost of corners this good is ~0.1); the last pass crept along the flat
- * elevation valley and 9 of 1000 such views were flagged, each within
+ * elevation valley and 5 of 1000 such views were flagged, each within
  * micrometres of its 100-step fit. Now a nearly undamped step shorter than
- * 1e-3 of the solution's sd (or than the residuals' float rounding) is
- * convergence. */
+ * 1e-3 of the solution's sd, or one shorter than 1e-2 sd that the cost's
+ * rounding refuses, is convergence. */
 static void test_good_corners_converge_within_the_default_cap(void)
 {
     actag_pose_params pp;

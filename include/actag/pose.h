@@ -102,10 +102,11 @@
  *     one refined; the band is recomputed from the fit and the fit repeated
  *     (at most 3 passes; max_iterations trial steps per start and pass).
  *     A fit has converged when a nearly undamped step is shorter than
- *     1e-3 of the solution's sd (|J d| < 1e-3 in the normalised residuals,
- *     or ten times their float rounding when that is more: 2e-4 sd at 4 m
- *     with the default sds), or gains nothing; ACTAG_POSE_NOT_CONVERGED
- *     when the last pass reached max_iterations first.
+ *     1e-3 of the solution's sd (|J d| < 1e-3 in the normalised residuals)
+ *     or gains nothing, or when the cost refuses one shorter than 1e-2 sd
+ *     (over so short a step that is the cost's float rounding, not the
+ *     model); ACTAG_POSE_NOT_CONVERGED when the last pass reached
+ *     max_iterations first.
  *     The covariance is (J^T J)^-1 at the solution (prior included), from
  *     the same QR factor, plus the second-order part of the elevation
  *     slide: the centre moves on a sphere of fixed range, so a slide of
@@ -114,9 +115,9 @@
  *     outside the 95 % position ellipsoid about one time in five). All in float; the trigonometry is the library's
  *     own (sums and products only, plus sqrtf), so results are identical on
  *     every IEEE-754 platform built with -ffp-contract=off. No heap, no
- *     static state; about 0.8 M instructions (0.1 ms on a desktop core) with
- *     five starts (a 12 degree aperture); up to about 2.5x that for the
- *     17 starts of a band of 64 degrees and more.
+ *     static state; about 0.3 M x86 instructions (well under 0.1 ms on a
+ *     desktop core) with five starts (a 12 degree aperture); about 3.3 M
+ *     with the 17 starts of a 150 degree aperture.
  *
  *   CORNER NOISE DEFAULTS (ACTAG_POSE_RANGE_SD, ACTAG_POSE_AZIMUTH_SD)
  *     0.0024 m and 0.0013 rad: the simulator's measured corner error at the
