@@ -218,7 +218,9 @@ extern "C" {
 #define ACTAG_POSE_NOT_CONVERGED 4u    /* the last pass reached max_iterations before a
                                           step shorter than 1e-3 sd (see METHOD) */
 #define ACTAG_POSE_MIRROR_CONFLICT 8u  /* the corners' winding contradicts `mirrored` */
-#define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed (camera poses) */
+#define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed, all zero: camera poses, and
+                                          sonar fits whose Jacobian is singular (then
+                                          with ACTAG_POSE_DEGENERATE) */
 #define ACTAG_POSE_PLANE 32u           /* the fit left the known plane by more than 3 of its
                                           sds (offset, or tilt): plane or corners wrong */
 
