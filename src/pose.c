@@ -353,7 +353,7 @@ static void p_band_of(const p_model *m, const p_state *x, const float *C, float 
 }
 
 /* Probability-like weight that a band of estimated width w and width sd sw
- * is not empty: a smoothstep over w / sw in [-2, 2], within 0.025 of the
+ * is not empty: a smoothstep over w / sw in [-2, 2], within 0.03 of the
  * normal distribution function there (our own: no libm erf). */
 static float p_ramp(float w, float sw)
 {

@@ -77,7 +77,7 @@
  *     over, and when that may be empty too, a weak pull (sd half the
  *     aperture) to its middle: the three are blended, each band weighted
  *     by how likely it is non-empty given its width and the width's sd (a
- *     smoothstep over width / sd in -2..2, within 0.025 of the normal
+ *     smoothstep over width / sd in -2..2, within 0.03 of the normal
  *     distribution function), and the blend's mean and variance taken, so
  *     the prior moves continuously with the corners. ACTAG_POSE_ELEVATION
  *     is set when, at the solution, not even the inner square fits (the
