@@ -444,6 +444,23 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->pose_params.plane[j] = (float)(o->plane[j] / nn);
         o->pose_params.plane_sd = (float)o->plane_sd;
         o->pose_params.plane_tilt_sd = (float)(o->plane_tilt_deg * 3.14159265358979323846 / 180.0);
+        /* the sds as the library gets them, in float, against its limit (pose.h:
+         * > 0 with 1 / sd^2 a float): 1e-50 would become 0 and drop the plane
+         * silently, 1e-25 make every pose fail */
+        {
+            float sd = o->pose_params.plane_sd, tilt = o->pose_params.plane_tilt_sd;
+            if (o->plane_sd > 0.0 && !(sd > 0.0f && 1.0f / (sd * sd) <= FLT_MAX)) {
+                snprintf(m, sizeof m, "--plane-sd: %g m is too small for the pose (at least 1e-19)",
+                         o->plane_sd);
+                die(m);
+            }
+            if (o->plane_tilt_deg > 0.0 && !(tilt > 0.0f && 1.0f / (tilt * tilt) <= FLT_MAX)) {
+                snprintf(m, sizeof m,
+                         "--plane-tilt-deg: %g degrees is too small for the pose (at least 1e-17)",
+                         o->plane_tilt_deg);
+                die(m);
+            }
+        }
     }
     if (o->track && (o->overlay || o->stages))
         die("--track does not combine with --overlay or --stages");

@@ -648,6 +648,14 @@ static void test_options_that_need_others(void)
                         "--plane: the normal (0, 0, 0) must be non-zero");
     expect_option_error(GEO " --pose --plane 1e-20,0,0,1 --plane-sd 0.02 " EXAMPLE,
                         "(got offset 1e+20 m)");
+    /* sds the pose cannot use once in float (1e-50 became 0: the plane was
+     * dropped without a word; 1e-25 made every pose fail) */
+    expect_option_error(GEO " --pose --plane 0,0,1,-0.3 --plane-sd 1e-50 " EXAMPLE,
+                        "--plane-sd: 1e-50 m is too small for the pose");
+    expect_option_error(GEO " --pose --plane 0,0,1,-0.3 --plane-sd 1e-25 " EXAMPLE,
+                        "--plane-sd: 1e-25 m is too small for the pose");
+    expect_option_error(GEO " --pose --plane 0,0,1,-0.3 --plane-tilt-deg 1e-50 " EXAMPLE,
+                        "--plane-tilt-deg: 1e-50 degrees is too small for the pose");
     expect_option_error(GEO " --rows 463 " EXAMPLE, "--rows and --cols go together");
     /* a bearing table overrides the flag (geometry.h): it was silently ignored */
     expect_option_error("--min-range 0.1 --max-range 1.5 --bearings b.txt --azimuth-ascending "

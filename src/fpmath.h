@@ -1,7 +1,7 @@
 /*
  * fpmath.h -- internal: the same floating-point results whatever compiler
- * flags a project builds the library's sources with. Every src/ file
- * includes it first.
+ * flags a project builds the library's sources with (GCC; Clang but for
+ * -ffp-contract=fast, see 1.). Every src/ file includes it first.
  *
  * 1. No fused multiply-add. GCC contracts a*b+c into one fused operation
  *    (a single rounding) wherever the target has one (Cortex-M4F/M7 VFMA,
@@ -14,7 +14,13 @@
  *    the rest of the file, the standard pragma for Clang and other
  *    compilers. Checked by .ci/fpcontract (the Cortex-M7 library compiled
  *    with -std=gnu99 -ffp-contract=fast gives byte-identical armcheck
- *    reports; without this header it does not).
+ *    reports; without this header it does not). Clang is not covered:
+ *    its -ffp-contract=fast fuses across statements and ignores the
+ *    standard pragma by definition (clang 14, -march=haswell: a*b+c here
+ *    becomes vfmadd; -ffp-contract=on, its default, and
+ *    fast-honor-pragmas honour it). The shipped CMake passes
+ *    -ffp-contract=off to GCC and Clang alike; a project compiling the
+ *    sources with its own Clang flags must not pass -ffp-contract=fast.
  * 2. Refused at compile time: -ffast-math (reassociation, no NaN/inf), and
  *    x87 excess precision (FLT_EVAL_METHOD != 0: i386 without -msse2
  *    -mfpmath=sse), both of which change results.

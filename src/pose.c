@@ -42,11 +42,19 @@ static float p_cos_k(float r)
                                                                  z * 2.75573188e-07f))));
 }
 
-/* sin and cos together; |x| up to a few thousand radians */
+/* sin and cos together; accurate for |x| up to a few thousand radians and
+ * defined for any x. Past 2^23 floats are a radian or more apart (no angle
+ * is left in them) and past 3.4e9 the quadrant count overflows the int: a
+ * float-to-int conversion out of range is undefined behaviour, and x86 and
+ * ARM then give different results (garbage corners fitted with tiny sds
+ * steered a rotation step there). Such an x, or a NaN, is taken as 0. */
 static void p_sincos(float x, float *s, float *c)
 {
-    float kf = x * 0.636619772f, r, sr, cr;
+    float kf, r, sr, cr;
     int k;
+    if (!(x > -8388608.0f && x < 8388608.0f))
+        x = 0.0f;
+    kf = x * 0.636619772f;
     kf = kf >= 0.0f ? kf + 0.5f : kf - 0.5f;
     k = (int)kf;
     r = (x - (float)k * P_PIO2_HI) - (float)k * P_PIO2_LO;
@@ -102,6 +110,8 @@ static float p_asin(float v)
         v = -1.0f;
     return p_atan2(v, sqrtf((1.0f - v) * (1.0f + v)));
 }
+
+static float p_fabs(float a) { return a < 0.0f ? -a : a; }
 
 static float p_wrap(float a) /* to (-pi, pi] */
 {
@@ -273,49 +283,149 @@ static float p_elev(const float *p)
     return n > 0.0f ? p_asin(p[2] / n) : 0.0f;
 }
 
-/* Band of centre elevations that keep the outline in the aperture. */
-static void p_band_of(const p_model *m, const p_state *x, float E, float *lo, float *hi)
+/* Gradient of elevation asin(p_z / |p|) with respect to p (0 on the z axis). */
+static void p_elev_grad(const float *p, float *g)
 {
-    float e0 = p_elev(x->t), mn = 1e30f, mx = -1e30f;
-    int k;
+    float r2 = dot3(p, p), rho = sqrtf(p[0] * p[0] + p[1] * p[1]);
+    if (!(r2 > 0.0f) || !(rho > 0.0f)) {
+        g[0] = g[1] = g[2] = 0.0f;
+        return;
+    }
+    g[0] = -p[2] * p[0] / (rho * r2);
+    g[1] = -p[2] * p[1] / (rho * r2);
+    g[2] = rho / r2;
+}
+
+/* Band [lo, hi] of centre elevations that keep a square of side E s in the
+ * aperture, and, when C (the fit's 6 x 6 covariance) is given, the variances
+ * of its middle (vmid) and width (vw): the band's edges follow the fitted
+ * tilt, which is itself uncertain. An edge is set by one corner k, e_k =
+ * elev(R c_k + t) - elev(t); its gradient over (dt, w) is (g_k - g_0, q_k x
+ * g_k) with g the elevation gradients at the corner and the centre. */
+static void p_band_of(const p_model *m, const p_state *x, const float *C, float E, float *lo,
+                      float *hi, float *vmid, float *vw)
+{
+    float e0 = p_elev(x->t), mn = 1e30f, mx = -1e30f, g0[3], G[4][P_NPAR];
+    int k, j, i, kmn = 0, kmx = 0;
+    p_elev_grad(x->t, g0);
     for (k = 0; k < 4; k++) {
-        float c[3], p[3], e;
+        float c[3], q[3], p[3], g[3], w[3], e;
         c[0] = p_cx[k] * E * m->s;
         c[1] = p_cy[k] * E * m->s;
         c[2] = 0.0f;
-        mat_vec(x->R, c, p);
-        p[0] += x->t[0];
-        p[1] += x->t[1];
-        p[2] += x->t[2];
+        mat_vec(x->R, c, q);
+        for (j = 0; j < 3; j++)
+            p[j] = q[j] + x->t[j];
         e = p_elev(p) - e0;
-        if (e < mn)
+        p_elev_grad(p, g);
+        cross3(q, g, w);
+        for (j = 0; j < 3; j++) {
+            G[k][j] = g[j] - g0[j];
+            G[k][3 + j] = w[j];
+        }
+        if (e < mn) {
             mn = e;
-        if (e > mx)
+            kmn = k;
+        }
+        if (e > mx) {
             mx = e;
+            kmx = k;
+        }
     }
     *lo = -m->half_v - mn;
     *hi = m->half_v - mx;
+    *vmid = *vw = 0.0f;
+    if (C) { /* lo = -half - e_kmn, hi = half - e_kmx: their (co)variances */
+        float vl = 0.0f, vh = 0.0f, c = 0.0f;
+        for (i = 0; i < P_NPAR; i++)
+            for (j = 0; j < P_NPAR; j++) {
+                vl += G[kmn][i] * C[i * P_NPAR + j] * G[kmn][j];
+                vh += G[kmx][i] * C[i * P_NPAR + j] * G[kmx][j];
+                c += G[kmn][i] * C[i * P_NPAR + j] * G[kmx][j];
+            }
+        *vmid = 0.25f * (vl + vh + 2.0f * c);
+        *vw = vl + vh - 2.0f * c;
+        if (!(*vmid > 0.0f)) /* also NaN: no information */
+            *vmid = 0.0f;
+        if (!(*vw > 0.0f))
+            *vw = 0.0f;
+    }
 }
 
-/* The band for the outline (extent E); when no elevation fits it, the band
- * for the inner square, which was surely seen (a sonar's beam edge is soft). */
-static void p_band(const p_model *m, const p_state *x, float *lo, float *hi)
+/* Probability-like weight that a band of estimated width w and width sd sw
+ * is not empty: a smoothstep over w / sw in [-2, 2], within 0.03 of the
+ * normal distribution function there (our own: no libm erf). */
+static float p_ramp(float w, float sw)
 {
-    p_band_of(m, x, m->E, lo, hi);
-    if (!(*hi > *lo) && m->E > 1.0f)
-        p_band_of(m, x, 1.0f, lo, hi);
+    float u;
+    if (!(sw > 0.0f))
+        return w > 0.0f ? 1.0f : 0.0f;
+    u = 0.25f * (w / sw + 2.0f);
+    if (!(u > 0.0f))
+        return 0.0f;
+    if (u >= 1.0f)
+        return 1.0f;
+    return u * u * (3.0f - 2.0f * u);
 }
 
-static void p_set_prior(p_model *m, float lo, float hi)
+/* The elevation prior (m->mu, m->sp) at the state x, C its covariance or
+ * NULL. The tag was seen: its outline (extent E) lies in the aperture, a
+ * uniform prior over that band: mean its middle, variance width^2 / 12. The
+ * band is computed from the fitted tilt, so its edges are uncertain too:
+ * their sd (from C) is added, the middle's variance and the width's / 12,
+ * so a band that only just fits cannot claim the elevation more closely
+ * than the tilt knows its edges. When the outline's band may be empty (a
+ * close or tall tag: a real beam's edge is soft) the inner square's band
+ * takes over, and when that may be empty too a weak pull (sd half the
+ * aperture) to its middle; the three are blended by how likely each band is
+ * non-empty (p_ramp) and the blend's mean and variance taken, so the prior
+ * moves continuously with the corners. lo, hi: the outline's band, or the
+ * inner square's when the outline's is empty. Returns 1 when not even the
+ * inner square fits (hi <= lo). */
+static int p_set_prior(p_model *m, const p_state *x, const float *C, float *lo, float *hi)
 {
-    float w = hi - lo;
-    m->mu = 0.5f * (lo + hi);
-    if (w > 0.0f)
-        m->sp = w * 0.288675135f; /* 1/sqrt(12): a uniform band's sd */
-    else
-        m->sp = m->half_v; /* no elevation fits the outline: a weak pull to the middle */
-    if (m->sp < 1e-4f * m->half_v)
+    float wt[3], mu[3], var[3], tot = 0.0f, mean = 0.0f, v = 0.0f, l, h, vm, vw, w, r;
+    int k, none;
+    p_band_of(m, x, C, m->E, &l, &h, &vm, &vw);
+    w = h - l;
+    *lo = l;
+    *hi = h;
+    mu[0] = 0.5f * (l + h);
+    var[0] = ((w > 0.0f ? w * w : 0.0f) + vw) * (1.0f / 12.0f) + vm;
+    wt[0] = p_ramp(w, sqrtf(vw));
+    if (m->E > 1.0f) {
+        p_band_of(m, x, C, 1.0f, &l, &h, &vm, &vw);
+        if (!(*hi > *lo)) {
+            *lo = l;
+            *hi = h;
+        }
+        w = h - l;
+        mu[1] = 0.5f * (l + h);
+        var[1] = ((w > 0.0f ? w * w : 0.0f) + vw) * (1.0f / 12.0f) + vm;
+        r = p_ramp(w, sqrtf(vw));
+    } else {
+        mu[1] = mu[0];
+        var[1] = var[0];
+        r = 0.0f;
+    }
+    wt[1] = (1.0f - wt[0]) * r;
+    wt[2] = (1.0f - wt[0]) * (1.0f - r);
+    none = !(h > l);
+    mu[2] = mu[1];
+    var[2] = m->half_v * m->half_v;
+    for (k = 0; k < 3; k++) {
+        tot += wt[k];
+        mean += wt[k] * mu[k];
+    }
+    mean /= tot;
+    for (k = 0; k < 3; k++)
+        v += wt[k] * (var[k] + (mu[k] - mean) * (mu[k] - mean));
+    v /= tot;
+    m->mu = mean;
+    m->sp = sqrtf(v);
+    if (!(m->sp >= 1e-4f * m->half_v)) /* exact corners, C NULL: a band's width alone */
         m->sp = 1e-4f * m->half_v;
+    return none;
 }
 
 /* Residuals f (P_NRES) and, when J != NULL, the Jacobian (P_NRES x P_NPAR).
@@ -439,9 +549,11 @@ static void p_arc_term(const float *t, float *cov)
     if (!(ve > 0.0f))
         return;
     c = 0.75f * ve * ve / r2; /* 3/4 r^2 s_e^4 */
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
+    for (i = 0; i < 3; i++) /* the upper triangle, mirrored: exactly symmetric */
+        for (j = i; j < 3; j++) {
             cov[i * P_NPAR + j] += c * u[i] * u[j];
+            cov[j * P_NPAR + i] = cov[i * P_NPAR + j];
+        }
 }
 
 static void p_step(const p_state *x, const float *d, p_state *o)
@@ -529,13 +641,60 @@ static int p_lsq(float *A, float *b, int m, float *d, float *sc)
     return 0;
 }
 
+/* Covariance (J^T J)^-1 of the fit at x (the priors as set in m), from the
+ * QR factor: (R^T R)^-1 = R^-1 R^-T, columns rescaled. The upper triangle
+ * is computed and mirrored, so cov is exactly symmetric. Returns 0, or -1
+ * when J is rank deficient (cov untouched). */
+static int p_cov(const p_model *m, const p_state *x, float *cov)
+{
+    float f[P_NRES], A[P_NRES * P_NPAR], b[P_NRES], d[P_NPAR], sc[P_NPAR], Ri[36];
+    int i, j, k;
+    p_eval(m, x, f, A);
+    for (i = 0; i < P_NRES; i++)
+        b[i] = 0.0f;
+    if (p_lsq(A, b, P_NRES, d, sc) != 0)
+        return -1;
+    for (i = 0; i < 36; i++)
+        Ri[i] = 0.0f;
+    for (j = 0; j < P_NPAR; j++) { /* column j of R^-1 */
+        Ri[j * P_NPAR + j] = 1.0f / A[j * P_NPAR + j];
+        for (i = j - 1; i >= 0; i--) {
+            float v = 0.0f;
+            for (k = i + 1; k <= j; k++)
+                v += A[i * P_NPAR + k] * Ri[k * P_NPAR + j];
+            Ri[i * P_NPAR + j] = -v / A[i * P_NPAR + i];
+        }
+    }
+    for (i = 0; i < P_NPAR; i++)
+        for (j = i; j < P_NPAR; j++) {
+            float v = 0.0f;
+            for (k = j; k < P_NPAR; k++)
+                v += Ri[i * P_NPAR + k] * Ri[j * P_NPAR + k];
+            cov[i * P_NPAR + j] = v * sc[i] * sc[j];
+            cov[j * P_NPAR + i] = cov[i * P_NPAR + j];
+        }
+    return 0;
+}
+
+/* The elevation prior at x: the band alone first, then widened by its
+ * edges' uncertainty from the covariance there (p_set_prior). Returns
+ * p_set_prior's "not even the inner square fits". */
+static int p_prior_at(p_model *m, const p_state *x, float *lo, float *hi)
+{
+    float C[36];
+    int none = p_set_prior(m, x, NULL, lo, hi);
+    if (p_cov(m, x, C) == 0)
+        none = p_set_prior(m, x, C, lo, hi);
+    return none;
+}
+
 /* Levenberg-Marquardt on the 6 parameters; returns the trial steps used,
  * negated when the cap was reached without convergence. */
 static int p_lm(const p_model *m, p_state *x, int max_it)
 {
     float f[P_NRES], J[P_NRES * P_NPAR], A[P_MAXR * P_NPAR], b[P_MAXR], d[P_NPAR];
-    float dg[P_NPAR], sc[P_NPAR], cost, lambda = 1e-3f;
-    int it, i, j;
+    float dg[P_NPAR], sc[P_NPAR], cost, lambda = 1e-3f, jd2 = 0.0f;
+    int it, i, j, small;
     cost = p_eval(m, x, f, J);
     for (it = 1; it <= max_it; it++) {
         p_state y;
@@ -564,10 +723,28 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
         }
         p_step(x, d, &y);
         cy = p_eval(m, &y, fy, NULL);
+        /* Converged: a nearly undamped step shorter than 1e-3 of the
+         * solution's sd (the covariance is (J^T J)^-1 of the normalised
+         * residuals, so that is |J d| < 1e-3), or one shorter than 1e-2 sd
+         * that the cost refuses: a linear model is not wrong over so short
+         * a step, the refusal is the cost's float rounding (a corner range
+         * of 4 m is rounded to 2e-4 of the default sd). A test on the gain
+         * alone was met late or never near the minimum of good corners,
+         * whose cost (~0.1) hides gains of 1e-7 of it: the steps crept along
+         * the flat elevation valley (26 of 3000 noisy views flagged at 20
+         * trial steps, all within 0.1 mm of the 100-step fit). */
+        jd2 = 0.0f;
+        for (i = 0; i < P_NRES; i++) {
+            float v = 0.0f;
+            for (j = 0; j < P_NPAR; j++)
+                v += J[i * P_NPAR + j] * d[j];
+            jd2 += v * v;
+        }
+        small = lambda < 1e-2f && jd2 < 1e-6f;
         if (cy <= cost) {
             float dt = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             float dw = sqrtf(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
-            int done = ((cost - cy) <= 1e-7f * cost + 1e-12f && lambda < 1e-2f) ||
+            int done = small || ((cost - cy) <= 1e-7f * cost + 1e-12f && lambda < 1e-2f) ||
                        (dt < 1e-7f && dw < 1e-7f);
             *x = y;
             cost = p_eval(m, x, f, J);
@@ -575,6 +752,8 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
             if (done)
                 return it;
         } else {
+            if (lambda < 1e-2f && jd2 < 1e-4f)
+                return it; /* the cost's rounding, not the model, refused it */
             lambda *= 10.0f;
             if (lambda > 1e8f)
                 return it; /* no step improves: at the minimum to float precision */
@@ -655,20 +834,31 @@ static void p_start(const p_model *m, float e, p_state *x, float *winding)
 /* ------------------------------------------------------------ plane prior */
 
 /* The plane of params into m: unit normal, offset, tangents, weights.
- * Returns -1 when the plane is not finite or its normal is zero. */
+ * Returns -1 when the plane is not finite, its normal is zero or its
+ * offset |d| / |n| exceeds P_PLANE_MAX_D. */
+#define P_PLANE_MAX_D 1.0e4f /* m: far beyond any sonar's range; a plane farther
+                              * away pulls the fit to absurd distances */
 static int p_plane_of(const actag_pose_params *p, p_model *m)
 {
-    float nn, a[3] = {0.0f, 0.0f, 0.0f};
+    float nn, big = 0.0f, n[3], a[3] = {0.0f, 0.0f, 0.0f};
     int j;
     for (j = 0; j < 4; j++)
         if (!p_finite(p->plane[j]))
             return -1;
-    nn = norm3(p->plane);
-    if (!(nn > 0.0f) || !p_finite(nn))
+    /* divide by the largest |component| first: n . n of (0, 0, 1e-30)
+     * underflows to 0 and of (0, 0, 1e20) overflows */
+    for (j = 0; j < 3; j++)
+        big = p_fabs(p->plane[j]) > big ? p_fabs(p->plane[j]) : big;
+    if (!(big > 0.0f))
         return -1;
     for (j = 0; j < 3; j++)
-        m->n[j] = p->plane[j] / nn;
-    m->d = p->plane[3] / nn;
+        n[j] = p->plane[j] / big;
+    nn = norm3(n); /* 1 .. sqrt(3) */
+    for (j = 0; j < 3; j++)
+        m->n[j] = n[j] / nn;
+    m->d = p->plane[3] / big / nn;
+    if (!(p_fabs(m->d) <= P_PLANE_MAX_D)) /* also an overflow to inf */
+        return -1;
     /* u: n x (the axis least along n), v = n x u */
     a[(m->n[0] < 0.0f ? -m->n[0] : m->n[0]) < 0.9f ? 0 : 1] = 1.0f;
     cross3(m->n, a, m->u);
@@ -711,6 +901,13 @@ static int p_plane_elevation(const p_model *m, int k, float *e)
 
 /* ------------------------------------------------------------ public */
 
+/* A usable noise sd: positive, finite, and 1 / sd^2 (a residual's weight in
+ * the cost) finite: below about 5e-20 it overflows and the cost is inf. */
+static int p_sd_ok(float sd)
+{
+    return p_finite(sd) && sd > 0.0f && p_finite(1.0f / (sd * sd));
+}
+
 void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
                                float tag_size, float vertical_aperture)
 {
@@ -736,8 +933,8 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
 {
     p_model m;
     p_state x;
-    float lo, hi, winding, f[P_NRES], J[P_NRES * P_NPAR], res2 = 0.0f;
-    int i, j, pass, it, total = 0, converged = 1;
+    float lo, hi, winding, f[P_NRES], res2 = 0.0f;
+    int i, pass, it, total = 0, converged = 1, none;
     if (range == NULL || azimuth == NULL || p == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     for (i = 0; i < 4; i++)
@@ -746,12 +943,11 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
             return ACTAG_ERR_PARAM;
     if (!p_finite(p->tag_size) || !(p->tag_size > 0.0f) || !p_finite(p->vertical_aperture) ||
         !(p->vertical_aperture > 0.0f) || !(p->vertical_aperture < P_PI) ||
-        !p_finite(p->extent) || !(p->extent >= 1.0f) || !p_finite(p->range_sd) ||
-        !(p->range_sd > 0.0f) || !p_finite(p->azimuth_sd) || !(p->azimuth_sd > 0.0f) ||
-        p->max_iterations < 1 || p->max_iterations > 100)
+        !p_finite(p->extent) || !(p->extent >= 1.0f) || !p_sd_ok(p->range_sd) ||
+        !p_sd_ok(p->azimuth_sd) || p->max_iterations < 1 || p->max_iterations > 100)
         return ACTAG_ERR_PARAM;
-    if (!p_finite(p->plane_sd) || !(p->plane_sd >= 0.0f) || !p_finite(p->plane_tilt_sd) ||
-        !(p->plane_tilt_sd >= 0.0f))
+    if (!(p->plane_sd == 0.0f || p_sd_ok(p->plane_sd)) ||
+        !(p->plane_tilt_sd == 0.0f || p_sd_ok(p->plane_tilt_sd)))
         return ACTAG_ERR_PARAM;
     m.wd = m.wt = 0.0f;
     if (p->plane_sd > 0.0f || p->plane_tilt_sd > 0.0f) {
@@ -774,10 +970,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
      * across it (the cost along the elevation arcs is flat and can have
      * two minima); the best fit goes on */
     p_start(&m, 0.0f, &x, &winding);
-    p_band(&m, &x, &lo, &hi);
-    p_set_prior(&m, lo, hi);
-    if (!(hi > lo))
-        out->flags |= ACTAG_POSE_ELEVATION; /* the corners' own tilt: taller than the fan */
+    p_prior_at(&m, &x, &lo, &hi);
     {
         float best = 3.0e38f, f0[P_NRES], es[P_STARTS_MAX + 2];
         float width = 2.0f * 1.73205081f * m.sp; /* the band's, from its sd */
@@ -831,56 +1024,30 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         else if ((winding > 0.0f) != (mirrored != 0))
             out->flags |= ACTAG_POSE_MIRROR_CONFLICT;
     }
+    /* refine: the prior at the fit, the fit with that prior, until the
+     * prior no longer moves (at most P_PASSES fits) */
     for (pass = 0; pass < P_PASSES; pass++) {
-        float mu0 = m.mu;
-        p_band(&m, &x, &lo, &hi);
-        p_set_prior(&m, lo, hi);
+        p_model mn = m;
+        p_prior_at(&mn, &x, &lo, &hi);
+        if (pass > 0 && converged && p_fabs(mn.mu - m.mu) < 1e-4f && p_fabs(mn.sp - m.sp) < 1e-4f)
+            break;
+        m.mu = mn.mu;
+        m.sp = mn.sp;
         it = p_lm(&m, &x, p->max_iterations);
         converged = it > 0;
         total += it > 0 ? it : -it;
-        p_band(&m, &x, &lo, &hi);
-        {
-            float dm = 0.5f * (lo + hi) - mu0;
-            if (converged && (dm < 0.0f ? -dm : dm) < 1e-4f)
-                break;
-        }
     }
     if (!converged)
         out->flags |= ACTAG_POSE_NOT_CONVERGED;
-    /* covariance: (J^T J)^-1 at the solution (prior as last fitted), from
-     * the QR factor: (R^T R)^-1 = R^-1 R^-T, columns rescaled */
-    p_eval(&m, &x, f, J);
-    {
-        float A[P_NRES * P_NPAR], b[P_NRES], d[P_NPAR], sc[P_NPAR], Ri[36];
-        for (i = 0; i < P_NRES * P_NPAR; i++)
-            A[i] = J[i];
-        for (i = 0; i < P_NRES; i++)
-            b[i] = 0.0f;
-        if (p_lsq(A, b, P_NRES, d, sc) != 0) {
-            out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
-        } else {
-            int k;
-            for (i = 0; i < 36; i++)
-                Ri[i] = 0.0f;
-            for (j = 0; j < P_NPAR; j++) { /* column j of R^-1 */
-                Ri[j * P_NPAR + j] = 1.0f / A[j * P_NPAR + j];
-                for (i = j - 1; i >= 0; i--) {
-                    float v = 0.0f;
-                    for (k = i + 1; k <= j; k++)
-                        v += A[i * P_NPAR + k] * Ri[k * P_NPAR + j];
-                    Ri[i * P_NPAR + j] = -v / A[i * P_NPAR + i];
-                }
-            }
-            for (i = 0; i < P_NPAR; i++)
-                for (j = 0; j < P_NPAR; j++) {
-                    float v = 0.0f;
-                    for (k = (i > j ? i : j); k < P_NPAR; k++)
-                        v += Ri[i * P_NPAR + k] * Ri[j * P_NPAR + k];
-                    out->cov[i * P_NPAR + j] = v * sc[i] * sc[j];
-                }
-            p_arc_term(x.t, out->cov);
-        }
+    { /* the band at the solution (the prior stays as last fitted) */
+        p_model mn = m;
+        none = p_prior_at(&mn, &x, &lo, &hi);
     }
+    p_eval(&m, &x, f, NULL);
+    if (p_cov(&m, &x, out->cov) != 0)
+        out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
+    else
+        p_arc_term(x.t, out->cov);
     for (i = 0; i < 9; i++)
         out->R[i] = x.R[i];
     for (i = 0; i < 3; i++)
@@ -899,7 +1066,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         res2 += dr * dr + da * da;
     }
     out->residual = sqrtf(0.25f * res2);
-    if (!(hi > lo) || out->elevation < lo - 2.0f * m.sp || out->elevation > hi + 2.0f * m.sp)
+    if (none || out->elevation < lo - 2.0f * m.sp || out->elevation > hi + 2.0f * m.sp)
         out->flags |= ACTAG_POSE_ELEVATION;
     if (f[9] * f[9] > 9.0f || f[10] * f[10] + f[11] * f[11] > 9.0f)
         out->flags |= ACTAG_POSE_PLANE;

@@ -1141,6 +1141,17 @@ static void test_pose_estimate(void)
     b = pp;
     b.range_sd = 0.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    /* an sd whose 1 / sd^2 overflows (below about 5e-20) makes the cost inf:
+     * refused (they were taken, and gave inf chi2 or the unrefined start) */
+    b = pp;
+    b.range_sd = 1e-30f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b = pp;
+    b.azimuth_sd = 4e-20f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b = pp;
+    b.range_sd = 1e-19f; /* 1 / sd^2 = 1e38: still a float */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
     b = pp;
     b.max_iterations = 101;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
@@ -1162,6 +1173,43 @@ static void test_pose_estimate(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
     b.plane[3] = -0.2f;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
+    {
+        /* a normal of any scale (n . n of (0, 0, 1e-30) underflowed to 0
+         * and of (0, 0, 1e20) overflowed: both were refused) */
+        actag_pose ref;
+        static const float scale[4] = {1e-30f, 1e-20f, 1e20f, 1e30f};
+        int k;
+        memcpy(&ref, &pose, sizeof ref);
+        for (k = 0; k < 4; k++) {
+            b.plane[2] = scale[k];
+            b.plane[3] = -0.2f * scale[k];
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
+            TEST_ASSERT_FLOAT_WITHIN(1e-5f, ref.t[2], pose.t[2]);
+        }
+        b.plane[2] = 1.0f;
+        b.plane[3] = -0.2f;
+    }
+    /* the plane's offset |d| / |n| at most 1e4 m (1e19 overflowed a float-to-int
+     * conversion in the trigonometry, undefined behaviour) */
+    b.plane[3] = 1e19f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane[3] = -1.0001e4f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane[2] = 2.0f; /* |d| / |n| = 5e3 */
+    b.plane[3] = 1e4f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane[2] = 1e-30f; /* |d| / |n| = 2e29 */
+    b.plane[3] = 0.2f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane[2] = 1.0f;
+    b.plane[3] = -0.2f;
+    /* the plane's sds as the corners': 1 / sd^2 must be a float */
+    b.plane_sd = 1e-39f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane_sd = 0.01f;
+    b.plane_tilt_sd = 1e-39f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.plane_tilt_sd = 0.0f;
     b = pp; /* both sds 0: the plane is not read */
     b.plane[0] = NAN;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));

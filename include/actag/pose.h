@@ -47,9 +47,14 @@
  *         face normal (-z of the tag) points toward +elevation (for example
  *         a tag on the seabed seen from an upright sonar above it), mirrored
  *         toward -elevation (the same tag seen by an upside-down sonar, or a
- *         tag under a ceiling). The estimator starts on the side the flag
- *         gives and reports ACTAG_POSE_MIRROR_CONFLICT when the corners'
- *         winding clearly says otherwise.
+ *         tag under a ceiling). The fit takes the side from the corners'
+ *         winding, not from the flag: the cost has no minimum on the other
+ *         side (a fit started there comes back), so `mirrored` only sets
+ *         ACTAG_POSE_MIRROR_CONFLICT when the winding clearly (by more than
+ *         2 sds of the image's area) says otherwise. Within 2 sds (a nearly
+ *         flat image, flagged ACTAG_POSE_DEGENERATE: near head-on views)
+ *         noise may give the other side; the tilt out of the fan plane is
+ *         small there.
  *     The centre's elevation is almost unobservable: moving the whole tag
  *     along the elevation arcs changes the corners' (range, azimuth) only by
  *     a second-order term (the azimuth spread shrinks by cos(elevation),
@@ -61,12 +66,24 @@
  *     entered in the least squares as a Gaussian of the band's mean and
  *     standard deviation (width / sqrt(12)); the covariance carries it, so
  *     the position's error ellipsoid is long in elevation (about range *
- *     band / sqrt(12)). When no elevation fits the outline into the
- *     aperture (a close or tall tag: a real beam's edge is soft), the band
- *     of the inner square is used instead; ACTAG_POSE_ELEVATION is set when
- *     not even that fits (the corners are not those of a tag of this size
- *     in view) or the corners pull the fit out of the band (more than 2
- *     standard deviations of the band).
+ *     band / sqrt(12)). The band is computed from the fitted tilt, so its
+ *     edges are uncertain as the tilt is: their variances and covariance
+ *     (the edges' gradients through the fit's covariance) are added, the
+ *     middle's variance and the width's / 12, so the prior's sd is never
+ *     below what is known of the band itself (a band that only just fits,
+ *     a sliver of a fraction of a mrad, no longer claims the elevation to
+ *     that fraction). When the outline's band may be empty (a close or
+ *     tall tag: a real beam's edge is soft), the inner square's band takes
+ *     over, and when that may be empty too, a weak pull (sd half the
+ *     aperture) to its middle: the three are blended, each band weighted
+ *     by how likely it is non-empty given its width and the width's sd (a
+ *     smoothstep over width / sd in -2..2, within 0.03 of the normal
+ *     distribution function), and the blend's mean and variance taken, so
+ *     the prior moves continuously with the corners. ACTAG_POSE_ELEVATION
+ *     is set when, at the solution, not even the inner square fits (the
+ *     corners are not those of a tag of this size in view) or the fit lies
+ *     outside the band reported in elevation_lo/hi by more than 2 of the
+ *     prior's sds.
  *
  *   METHOD
  *     Start: the corners placed at one elevation give each edge's in-fan
@@ -84,6 +101,12 @@
  *     horizontal plane has the same corners), then the least cost; the best
  *     one refined; the band is recomputed from the fit and the fit repeated
  *     (at most 3 passes; max_iterations trial steps per start and pass).
+ *     A fit has converged when a nearly undamped step is shorter than
+ *     1e-3 of the solution's sd (|J d| < 1e-3 in the normalised residuals)
+ *     or gains nothing, or when the cost refuses one shorter than 1e-2 sd
+ *     (over so short a step that is the cost's float rounding, not the
+ *     model); ACTAG_POSE_NOT_CONVERGED when the last pass reached
+ *     max_iterations first.
  *     The covariance is (J^T J)^-1 at the solution (prior included), from
  *     the same QR factor, plus the second-order part of the elevation
  *     slide: the centre moves on a sphere of fixed range, so a slide of
@@ -92,9 +115,9 @@
  *     outside the 95 % position ellipsoid about one time in five). All in float; the trigonometry is the library's
  *     own (sums and products only, plus sqrtf), so results are identical on
  *     every IEEE-754 platform built with -ffp-contract=off. No heap, no
- *     static state; about 0.8 M instructions (0.1 ms on a desktop core) with
- *     five starts (a 12 degree aperture); up to about 2.5x that for the
- *     17 starts of a band of 64 degrees and more.
+ *     static state; about 0.3 M x86 instructions (well under 0.1 ms on a
+ *     desktop core) with five starts (a 12 degree aperture); about 3.3 M
+ *     with the 17 starts of a 150 degree aperture.
  *
  *   CORNER NOISE DEFAULTS (ACTAG_POSE_RANGE_SD, ACTAG_POSE_AZIMUTH_SD)
  *     0.0024 m and 0.0013 rad: the simulator's measured corner error at the
@@ -146,9 +169,12 @@
  *       ACTAG_ERR_NULL (a pointer is NULL), ACTAG_ERR_PARAM (a corner not
  *       finite, a range <= 0, an azimuth outside (-4 pi, 4 pi), tag_size not
  *       finite or <= 0, vertical_aperture outside
- *       (0, pi), extent < 1, a noise sd <= 0 or not finite, max_iterations
- *       outside 1..100, plane_sd or plane_tilt_sd negative or not finite,
- *       or, when either is > 0, plane not finite or its normal zero).
+ *       (0, pi), extent < 1, range_sd or azimuth_sd <= 0, not finite or
+ *       so small that 1 / sd^2 overflows a float (below about 5e-20),
+ *       max_iterations outside 1..100, plane_sd or plane_tilt_sd negative,
+ *       not finite or, when not 0, that small, or, when either is > 0,
+ *       plane not finite, its normal zero or its offset |d| / |n| above
+ *       1e4 m; the normal may have any scale, (0, 0, 1e-30) as (0, 0, 1e20)).
  *       Degenerate geometry is not an error: out is filled
  *       as well as possible and flagged.
  *   int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
@@ -186,11 +212,15 @@ extern "C" {
 #define ACTAG_POSE_DEGENERATE 1u       /* image of the tag nearly a line (edge-on in the
                                           projection: all corners at one range or one
                                           azimuth), or a singular fit: orientation unreliable */
-#define ACTAG_POSE_ELEVATION 2u        /* no elevation puts the outline inside the vertical
-                                          aperture, or the fit left that band */
-#define ACTAG_POSE_NOT_CONVERGED 4u    /* the iteration cap was reached before convergence */
+#define ACTAG_POSE_ELEVATION 2u        /* no elevation puts even the inner square inside the
+                                          vertical aperture, or the fit left the band by
+                                          more than 2 prior sds (see the manual) */
+#define ACTAG_POSE_NOT_CONVERGED 4u    /* the last pass reached max_iterations before a
+                                          step shorter than 1e-3 sd (see METHOD) */
 #define ACTAG_POSE_MIRROR_CONFLICT 8u  /* the corners' winding contradicts `mirrored` */
-#define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed (camera poses) */
+#define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed, all zero: camera poses, and
+                                          sonar fits whose Jacobian is singular (then
+                                          with ACTAG_POSE_DEGENERATE) */
 #define ACTAG_POSE_PLANE 32u           /* the fit left the known plane by more than 3 of its
                                           sds (offset, or tilt): plane or corners wrong */
 
@@ -205,7 +235,8 @@ typedef struct actag_pose_params {
     /* Optional: what the vehicle knows of the plane the tag lies on (see KNOWN PLANE).
      * Unused while plane_sd and plane_tilt_sd are both 0 (the default). */
     float plane[4];          /* (nx, ny, nz, d): the tag's face lies in n . p = d, sensor
-                                frame, metres; n any length but not zero */
+                                frame, metres; n any length but not zero, |d| / |n|
+                                at most 1e4 m */
     float plane_sd;          /* m, sd of the face centre's offset from the plane; 0: unused */
     float plane_tilt_sd;     /* rad, sd of the angle between the face normal and n; 0: unused */
 } actag_pose_params;
@@ -218,7 +249,8 @@ typedef struct actag_pose {
     float azimuth;     /* rad, atan2(t_y, t_x) */
     float elevation;   /* rad, asin(t_z / |t|) */
     float elevation_lo, elevation_hi; /* rad, band of centre elevations that keep the
-                                         outline inside the aperture (lo > hi: none) */
+                                         outline inside the aperture; where there is
+                                         none, the inner square's (lo > hi: none either) */
     float residual;    /* m, RMS distance between measured and fitted corners in the fan
                           plane (range, range * azimuth) */
     float chi2;        /* sum of squared normalised corner residuals (8 terms, ~3 expected
