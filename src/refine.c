@@ -446,10 +446,11 @@ static float rstep(float z, float *dz)
     return 0.5f + z * (0.75f - 0.25f * z * z);
 }
 
-/* The cell of t: floor(t) clamped to the tag. */
+/* The cell of t: floor(t) clamped to the tag (a NaN t to -2, never to
+ * the int conversion). */
 static int rcell(float t, int n)
 {
-    float ft = t < -2.0f ? -2.0f : t > (float)n + 2.0f ? (float)n + 2.0f : t;
+    float ft = t > -2.0f ? (t < (float)n + 2.0f ? t : (float)n + 2.0f) : -2.0f;
     int i = (int)(ft + 2.0f) - 2;
     return i < 0 ? 0 : i > n - 1 ? n - 1 : i;
 }
@@ -602,6 +603,10 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
              * from the previous pixel's curvature */
             tq = rmap_w(&q, X, Y, w, tq, first ? 3 : 2);
             first = 0;
+            /* the curved inverse diverged (a trial grid bent too far): no
+             * grid offset for this pixel, so no such grid */
+            if (!finite_f(w[0]) || !finite_f(w[1]))
+                return 0;
             P = rtemplate(c, w[0] + c->g, w[1] + c->g, &pu, &pv);
             /* the level ramps' coordinates: the start grid's (affine), fixed */
             up = c->ra[0] * (X - c->rx) + c->ra[1] * (Y - c->ry);

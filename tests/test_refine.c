@@ -284,6 +284,43 @@ static void test_refusals_and_errors(void)
                                           s, &rp, f, NULL) < 0);
 }
 
+/* A noise frame with a sonar geometry where a trial grid of the fit bends
+ * so far that its curved inverse (the fixed point of the range curvature)
+ * diverges to NaN: that grid is refused, and the fit ends defined (no
+ * NaN reaches an int conversion: the sanitizer build checks), with a
+ * result or NO_MATCH and finite corners. The frame's noise is xorshift64
+ * from seed 2, the reviewer's case. */
+static void test_diverging_curved_inverse_is_refused(void)
+{
+    static const uint32_t codes[1] = {0x12345u};
+    static uint8_t img[57 * 17];
+    const actag_sonar_geometry geo = {0.8f, 4.3f, 0.11f, NULL, 0u};
+    const actag_point start[4] = {{4.26f, 35.71f}, {10.11f, 47.73f}, {-1.35f, 54.06f},
+                                  {-8.10f, 42.71f}};
+    actag_point out[4];
+    actag_refine_params rp;
+    actag_family f;
+    uint64_t st = 2u * 0x9E3779B97F4A7C15ull;
+    size_t i;
+    int rc, c;
+    memset(&f, 0, sizeof f);
+    f.bits = 20;
+    f.ncodes = 1;
+    f.codes = codes;
+    f.hamming = 1;
+    for (i = 0; i < sizeof img; i++) {
+        st ^= st << 13;
+        st ^= st >> 7;
+        st ^= st << 17;
+        img[i] = (uint8_t)(st >> 11);
+    }
+    actag_refine_params_default(&rp);
+    rc = actag_refine_corners(img, 57, 17, 17, &geo, 0.8f, &f, 0, start, &rp, out, NULL);
+    TEST_ASSERT_TRUE(rc == ACTAG_OK || rc == ACTAG_ERR_NO_MATCH);
+    for (c = 0; c < 4; c++)
+        TEST_ASSERT_TRUE(isfinite(out[c].x) && isfinite(out[c].y));
+}
+
 /* Same input, same bits. */
 static void test_deterministic(void)
 {
@@ -388,6 +425,7 @@ int main(void)
     RUN_TEST(test_recovers_true_corners);
     RUN_TEST(test_agrees_with_brute_force_shift);
     RUN_TEST(test_refusals_and_errors);
+    RUN_TEST(test_diverging_curved_inverse_is_refused);
     RUN_TEST(test_deterministic);
     RUN_TEST(test_sixteen_bit_equals_its_conversion);
     return UNITY_END();
