@@ -321,6 +321,43 @@ static void test_diverging_curved_inverse_is_refused(void)
         TEST_ASSERT_TRUE(isfinite(out[c].x) && isfinite(out[c].y));
 }
 
+/* A rendered tag of 8 px cells (axis-aligned, so a cell is 8 px in both
+ * directions) and a start moved by a pure translation (2, 1.5) px: every
+ * corner moves back by the same 2.5 px, and info.shift reports it in
+ * cells (0.31), the unit of max_shift, not in pixels. */
+static void test_info_shift_is_in_cells(void)
+{
+    enum { CELL = 8, MARGIN = 20 };
+    static uint8_t img[RT_ROWS * RT_COLS];
+    int side = actag_render_side(g_fam.bits, CELL, MARGIN), k = g_fam.bits / 4, c;
+    float a = (float)(MARGIN + 2 * CELL) - 0.5f, b = (float)(MARGIN + (k - 1) * CELL) - 0.5f;
+    actag_point t[4], s[4], f[4];
+    actag_refine_params rp;
+    actag_refine_info info;
+    float moved = 0.0f;
+    TEST_ASSERT_TRUE(side <= RT_COLS && side * side <= (int)sizeof img);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(&g_fam, 3, CELL, MARGIN, 60, 0, img, side,
+                                                     sizeof img));
+    t[0].x = a; t[0].y = a;
+    t[1].x = b; t[1].y = a;
+    t[2].x = b; t[2].y = b;
+    t[3].x = a; t[3].y = b;
+    for (c = 0; c < 4; c++) {
+        s[c].x = t[c].x + 2.0f;
+        s[c].y = t[c].y + 1.5f;
+    }
+    actag_refine_params_default(&rp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img, side, side, side, NULL, 0.0f, &g_fam,
+                                                         3, s, &rp, f, &info));
+    TEST_ASSERT_FLOAT_WITHIN(0.25f, 0.0f, tu_max_corner_error(f, t));
+    for (c = 0; c < 4; c++) {
+        float d = hypotf(f[c].x - s[c].x, f[c].y - s[c].y);
+        moved = d > moved ? d : moved;
+    }
+    TEST_ASSERT_FLOAT_WITHIN(0.01f, moved / (float)CELL, info.shift);
+    TEST_ASSERT_FLOAT_WITHIN(0.02f, 2.5f / (float)CELL, info.shift);
+}
+
 /* Same input, same bits. */
 static void test_deterministic(void)
 {
@@ -427,6 +464,7 @@ int main(void)
     RUN_TEST(test_refusals_and_errors);
     RUN_TEST(test_diverging_curved_inverse_is_refused);
     RUN_TEST(test_deterministic);
+    RUN_TEST(test_info_shift_is_in_cells);
     RUN_TEST(test_sixteen_bit_equals_its_conversion);
     return UNITY_END();
 }
