@@ -28,9 +28,11 @@
  *   with a tag almost as large as the frame, have such boxes.
  *
  *   actag_search_next() takes the best remaining position with a score >=
- *   min_score, blanks a 1.5-tag neighbourhood around it, and returns the
- *   axis-aligned white-square quad it implies (full-resolution pixels,
- *   clockwise on screen from the top-left). Returns 1, or 0 when nothing is
+ *   min_score, blanks a 1.5-tag neighbourhood around it (the blocks within
+ *   0.75 tag, in whole blocks, + 1 of it in each direction, clipped to the
+ *   map), and returns the axis-aligned white-square quad it implies
+ *   (full-resolution pixels, clockwise on screen from the top-left; tag
+ *   sizes at its own position). Returns 1, or 0 when nothing is
  *   left, so `while (actag_search_next(...) == 1)` ends for any min_score: a
  *   min_score below INT16_MIN + 1 counts as INT16_MIN + 1 (unscored and
  *   blanked positions, INT16_MIN, are never taken). It has no error codes
