@@ -24,8 +24,9 @@ float actag_geometry_azimuth(const actag_sonar_geometry *geo, int cols, float x)
         float t;
         if (cols == 1)
             return geo->bearings[0];
-        /* interpolate in the beam interval containing x (extrapolate at the ends) */
-        c0 = x <= 0.0f ? 0 : (x >= (float)(cols - 1) ? cols - 2 : (int)x);
+        /* interpolate in the beam interval containing x (extrapolate at the
+         * ends); a NaN x fails both tests, takes interval 0 and gives NaN */
+        c0 = x > 0.0f ? (x < (float)(cols - 1) ? (int)x : cols - 2) : 0;
         t = x - (float)c0;
         return geo->bearings[c0] + t * (geo->bearings[c0 + 1] - geo->bearings[c0]);
     } else {
@@ -43,7 +44,8 @@ float actag_geometry_azimuth_step(const actag_sonar_geometry *geo, int cols, flo
     if (cols < 2)
         return 0.0f;
     if (geo->bearings != NULL) {
-        int c0 = x <= 0.0f ? 0 : (x >= (float)(cols - 1) ? cols - 2 : (int)x);
+        /* as in actag_geometry_azimuth: a NaN x takes interval 0 */
+        int c0 = x > 0.0f ? (x < (float)(cols - 1) ? (int)x : cols - 2) : 0;
         d = geo->bearings[c0 + 1] - geo->bearings[c0];
     } else {
         d = geo->aperture / (float)(cols - 1);

@@ -446,10 +446,11 @@ static float rstep(float z, float *dz)
     return 0.5f + z * (0.75f - 0.25f * z * z);
 }
 
-/* The cell of t: floor(t) clamped to the tag. */
+/* The cell of t: floor(t) clamped to the tag (a NaN t to -2, never to
+ * the int conversion). */
 static int rcell(float t, int n)
 {
-    float ft = t < -2.0f ? -2.0f : t > (float)n + 2.0f ? (float)n + 2.0f : t;
+    float ft = t > -2.0f ? (t < (float)n + 2.0f ? t : (float)n + 2.0f) : -2.0f;
     int i = (int)(ft + 2.0f) - 2;
     return i < 0 ? 0 : i > n - 1 ? n - 1 : i;
 }
@@ -602,6 +603,10 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
              * from the previous pixel's curvature */
             tq = rmap_w(&q, X, Y, w, tq, first ? 3 : 2);
             first = 0;
+            /* the curved inverse diverged (a trial grid bent too far): no
+             * grid offset for this pixel, so no such grid */
+            if (!finite_f(w[0]) || !finite_f(w[1]))
+                return 0;
             P = rtemplate(c, w[0] + c->g, w[1] + c->g, &pu, &pv);
             /* the level ramps' coordinates: the start grid's (affine), fixed */
             up = c->ra[0] * (X - c->rx) + c->ra[1] * (Y - c->ry);
@@ -855,9 +860,39 @@ static void rwidths(rctx *c, const rgrid *G, float px, float cells_min)
  * a possible view even when the start was too short (a RANSAC quad of a
  * white square thinned in range); a longer one is a fit gone astray. At
  * most 50 % growth. Without a geometry the size is unknown: refused. */
-static int rgrown_ok(const rctx *c, float l2, float l2n)
+static int rgrown_ok(float cell2, float l2, float l2n)
 {
-    return c->cell2 > 0.0f && l2n <= 1.21f * c->cell2 && l2n <= 2.25f * l2;
+    return cell2 > 0.0f && l2n <= 1.21f * cell2 && l2n <= 2.25f * l2;
+}
+
+/* The fitted grid g against the start s (rgrid.p): finite, the same
+ * handedness, each cell side within 25 % of the start's or grown as
+ * rgrown_ok allows (cell2: the tag's squared cell side, 0 without a
+ * geometry). */
+static int rshape_ok(float cell2, const float s[6], const float g[6])
+{
+    float la = s[2] * s[2] + s[3] * s[3];
+    float lb = s[4] * s[4] + s[5] * s[5];
+    float la2 = g[2] * g[2] + g[3] * g[3];
+    float lb2 = g[4] * g[4] + g[5] * g[5];
+    int i;
+    for (i = 0; i < 6; i++)
+        if (!finite_f(g[i]))
+            return 0;
+    if ((g[2] * g[5] - g[4] * g[3]) * (s[2] * s[5] - s[4] * s[3]) <= 0.0f)
+        return 0;
+    if (la2 < 0.5625f * la || lb2 < 0.5625f * lb ||
+        (la2 > 1.5625f * la && !rgrown_ok(cell2, la, la2)) ||
+        (lb2 > 1.5625f * lb && !rgrown_ok(cell2, lb, lb2))) {
+        DBG("refine: sides %g %g\n", (double)(la2 / la), (double)(lb2 / lb));
+        return 0;
+    }
+    return 1;
+}
+
+int actag__refine_shape_ok(const float start[6], const float fit[6], float cell2)
+{
+    return rshape_ok(cell2, start, fit);
 }
 
 int actag_refine_corners(const uint8_t *img, int rows, int cols, int stride,
@@ -1095,25 +1130,8 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
     /* acceptance: finite, same handedness, cell sides within 25 % (or grown
      * to at most the tag's own cell size: rgrown_ok), white brighter than
      * black, no corner moved more than max_shift cells */
-    {
-        const rgrid *S = &c.G0;
-        float la = S->p[2] * S->p[2] + S->p[3] * S->p[3];
-        float lb = S->p[4] * S->p[4] + S->p[5] * S->p[5];
-        float la2 = G.p[2] * G.p[2] + G.p[3] * G.p[3];
-        float lb2 = G.p[4] * G.p[4] + G.p[5] * G.p[5];
-        for (i = 0; i < 6; i++)
-            if (!finite_f(G.p[i]))
-                return ACTAG_ERR_NO_MATCH;
-        if ((G.p[2] * G.p[5] - G.p[4] * G.p[3]) * (S->p[2] * S->p[5] - S->p[4] * S->p[3]) <=
-            0.0f)
-            return ACTAG_ERR_NO_MATCH;
-        if (la2 < 0.5625f * la || lb2 < 0.5625f * lb ||
-            (la2 > 1.5625f * la && !rgrown_ok(&c, la, la2)) ||
-            (lb2 > 1.5625f * lb && !rgrown_ok(&c, lb, lb2))) {
-            DBG("refine: sides %g %g\n", (double)(la2 / la), (double)(lb2 / lb));
-            return ACTAG_ERR_NO_MATCH;
-        }
-    }
+    if (!rshape_ok(c.cell2, c.G0.p, G.p))
+        return ACTAG_ERR_NO_MATCH;
     if (!(cl[1] > 0.0f))
         return ACTAG_ERR_NO_MATCH;
     cu[0] = cu[3] = cv[0] = cv[1] = 2.0f - c.g;

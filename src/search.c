@@ -42,6 +42,9 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
     float dr;
     if (z == NULL || img == NULL || g == NULL || mapmem == NULL || scratch == NULL)
         return ACTAG_ERR_NULL;
+    /* read and written as uint32_t and int16_t */
+    if (((uintptr_t)scratch & 3u) != 0u || ((uintptr_t)mapmem & 1u) != 0u)
+        return ACTAG_ERR_PARAM;
     rc = actag_geometry_validate(g, rows, cols, NULL);
     if (rc != ACTAG_OK)
         return rc;
@@ -103,6 +106,14 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
         if (ic < 1) ic = 1;
         if (orr <= ir) orr = ir + 1;
         if (oc <= ic) oc = ic + 1;
+        /* box sums are uint32 differences of the integral image, exact only
+         * below 2^32: a box that could reach that is not scored (no int
+         * overflow: orr, oc <= 8195) */
+        if ((uint32_t)((2 * orr + 1) * (2 * oc + 1)) > ACTAG_SEARCH_MAX_BOX_BLOCKS) {
+            for (c = 0; c < hc; c++)
+                z->map[(size_t)r * (size_t)hc + (size_t)c] = INT16_MIN;
+            continue;
+        }
         for (c = 0; c < hc; c++) {
             int16_t v = INT16_MIN;
             if (r - orr >= 0 && r + orr < hr && c - oc >= 0 && c + oc < hc) {
@@ -128,8 +139,13 @@ int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry
                       float tag_size, float range_scale, int rows, int cols,
                       actag_point quad[4])
 {
-    int r, c, br = -1, bc = -1, best = min_score - 1;
+    int r, c, br = -1, bc = -1, best;
     float y, x, range, daz, hr_px, hc_px;
+    /* INT16_MIN marks unscored positions: never a candidate (and no
+     * overflow in min_score - 1) */
+    if (min_score < INT16_MIN + 1)
+        min_score = INT16_MIN + 1;
+    best = min_score - 1;
     for (r = 0; r < z->hr; r++) {
         const int16_t *m = z->map + (size_t)r * (size_t)z->hc;
         for (c = 0; c < z->hc; c++)

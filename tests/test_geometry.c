@@ -63,6 +63,25 @@ static void test_bearing_table(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6, NULL));
 }
 
+/* A NaN column with a bearing table: no int conversion of the NaN (it
+ * indexed the table at INT_MIN), NaN azimuth, the first beam step; the
+ * ends and infinities still clamp to the end intervals. */
+static void test_nan_column_with_bearing_table(void)
+{
+    float b[4] = {0.3f, 0.1f, -0.1f, -0.3f};
+    actag_sonar_geometry g = {0.5f, 20.0f, 0.0f, b, 0u};
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, 10, 4, NULL));
+    TEST_ASSERT_TRUE(isnan(actag_geometry_azimuth(&g, 4, NAN)));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.2f, actag_geometry_azimuth_step(&g, 4, NAN));
+    TEST_ASSERT_TRUE(isnan(actag_geometry_range(&g, 10, NAN)));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.2f, actag_geometry_azimuth_step(&g, 4, INFINITY));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.2f, actag_geometry_azimuth_step(&g, 4, -INFINITY));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.3f, actag_geometry_azimuth(&g, 4, 0.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.3f, actag_geometry_azimuth(&g, 4, 3.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.2f, actag_geometry_azimuth(&g, 4, 0.5f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.4f, actag_geometry_azimuth(&g, 4, 3.5f));
+}
+
 static void test_errors(void)
 {
     actag_sonar_geometry g = {0.1f, 1.5f, 1.0472f, NULL, 0u};
@@ -121,6 +140,7 @@ int main(void)
     RUN_TEST(test_reference_mapping);
     RUN_TEST(test_orientation_flags_mirror_the_axes);
     RUN_TEST(test_bearing_table);
+    RUN_TEST(test_nan_column_with_bearing_table);
     RUN_TEST(test_mirrors_from_the_mapping);
     RUN_TEST(test_errors);
     return UNITY_END();

@@ -95,9 +95,13 @@ static int chainify(const actag_ipoint *raw, int n, int x0, int y0, actag_ipoint
 static int polygon_points(double size, double skew, double sigma, double spikes, actag_ipoint *raw,
                           int cap)
 {
-    double cx[4], cy[4], a = urand() * 6.2831853, s1 = size * (0.6 + 0.8 * urand()),
-                         s2 = size * (0.6 + 0.8 * urand()), sh = (urand() - 0.5) * 0.8;
+    double cx[4], cy[4], a, s1, s2, sh;
     int j, n = 0;
+    /* one draw per statement: a fixed order on every compiler */
+    a = urand() * 6.2831853;
+    s1 = size * (0.6 + 0.8 * urand());
+    s2 = size * (0.6 + 0.8 * urand());
+    sh = (urand() - 0.5) * 0.8;
     double ux = cos(a), uy = sin(a), vx = -uy + sh * ux, vy = ux + sh * uy;
     cx[0] = 0;
     cy[0] = 0;
@@ -118,8 +122,16 @@ static int polygon_points(double size, double skew, double sigma, double spikes,
         for (k = 0; k < steps && n < cap; k++) {
             double t = (double)k / steps, ex = 0, ey = 0;
             if (sigma > 0) {
-                ex = (urand() + urand() + urand() - 1.5) * 2 * sigma;
-                ey = (urand() + urand() + urand() - 1.5) * 2 * sigma;
+                /* the order of draws within one expression is unspecified:
+                 * one per statement */
+                ex = urand();
+                ex += urand();
+                ex += urand();
+                ex = (ex - 1.5) * 2 * sigma;
+                ey = urand();
+                ey += urand();
+                ey += urand();
+                ey = (ey - 1.5) * 2 * sigma;
             }
             if (urand() < spikes) {
                 double h = 3 + 8 * urand();
@@ -244,8 +256,11 @@ static void test_not_chains(void)
     tu_seed(13);
     for (t = 0; t < trials; t++) {
         actag_quad_params p;
-        double size = 8 + 100 * urand(), skew = 0.1 * urand(), sigma = urand();
-        int n = polygon_points(size, skew, sigma, 0.02, g_raw, MAXP), i;
+        double size = 8 + 100 * urand(), skew, sigma;
+        int n, i;
+        skew = 0.1 * urand();
+        sigma = urand();
+        n = polygon_points(size, skew, sigma, 0.02, g_raw, MAXP);
         if (t % 3 == 0) { /* spread the points apart: steps of 2-3 px */
             for (i = 0; i < n; i++) {
                 g_raw[i].x = (int16_t)(g_raw[i].x * 2 + irand(0, 1));

@@ -284,6 +284,224 @@ static void test_refusals_and_errors(void)
                                           s, &rp, f, NULL) < 0);
 }
 
+/* A noise frame with a sonar geometry where a trial grid of the fit bends
+ * so far that its curved inverse (the fixed point of the range curvature)
+ * diverges to NaN: that grid is refused, and the fit ends defined (no
+ * NaN reaches an int conversion: the sanitizer build checks), with a
+ * result or NO_MATCH and finite corners. The frame's noise is xorshift64
+ * from seed 2, the reviewer's case. */
+static void test_diverging_curved_inverse_is_refused(void)
+{
+    static const uint32_t codes[1] = {0x12345u};
+    static uint8_t img[57 * 17];
+    const actag_sonar_geometry geo = {0.8f, 4.3f, 0.11f, NULL, 0u};
+    const actag_point start[4] = {{4.26f, 35.71f}, {10.11f, 47.73f}, {-1.35f, 54.06f},
+                                  {-8.10f, 42.71f}};
+    actag_point out[4];
+    actag_refine_params rp;
+    actag_family f;
+    uint64_t st = 2u * 0x9E3779B97F4A7C15ull;
+    size_t i;
+    int rc, c;
+    memset(&f, 0, sizeof f);
+    f.bits = 20;
+    f.ncodes = 1;
+    f.codes = codes;
+    f.hamming = 1;
+    for (i = 0; i < sizeof img; i++) {
+        st ^= st << 13;
+        st ^= st >> 7;
+        st ^= st << 17;
+        img[i] = (uint8_t)(st >> 11);
+    }
+    actag_refine_params_default(&rp);
+    rc = actag_refine_corners(img, 57, 17, 17, &geo, 0.8f, &f, 0, start, &rp, out, NULL);
+    TEST_ASSERT_TRUE(rc == ACTAG_OK || rc == ACTAG_ERR_NO_MATCH);
+    for (c = 0; c < 4; c++)
+        TEST_ASSERT_TRUE(isfinite(out[c].x) && isfinite(out[c].y));
+}
+
+/* A rendered tag of 8 px cells (axis-aligned, so a cell is 8 px in both
+ * directions) and a start moved by a pure translation (2, 1.5) px: every
+ * corner moves back by the same 2.5 px, and info.shift reports it in
+ * cells (0.31), the unit of max_shift, not in pixels. */
+static void test_info_shift_is_in_cells(void)
+{
+    enum { CELL = 8, MARGIN = 20 };
+    static uint8_t img[RT_ROWS * RT_COLS];
+    int side = actag_render_side(g_fam.bits, CELL, MARGIN), k = g_fam.bits / 4, c;
+    float a = (float)(MARGIN + 2 * CELL) - 0.5f, b = (float)(MARGIN + (k - 1) * CELL) - 0.5f;
+    actag_point t[4], s[4], f[4];
+    actag_refine_params rp;
+    actag_refine_info info;
+    float moved = 0.0f;
+    TEST_ASSERT_TRUE(side <= RT_COLS && side * side <= (int)sizeof img);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(&g_fam, 3, CELL, MARGIN, 60, 0, img, side,
+                                                     sizeof img));
+    t[0].x = a; t[0].y = a;
+    t[1].x = b; t[1].y = a;
+    t[2].x = b; t[2].y = b;
+    t[3].x = a; t[3].y = b;
+    for (c = 0; c < 4; c++) {
+        s[c].x = t[c].x + 2.0f;
+        s[c].y = t[c].y + 1.5f;
+    }
+    actag_refine_params_default(&rp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img, side, side, side, NULL, 0.0f, &g_fam,
+                                                         3, s, &rp, f, &info));
+    TEST_ASSERT_FLOAT_WITHIN(0.25f, 0.0f, tu_max_corner_error(f, t));
+    for (c = 0; c < 4; c++) {
+        float d = hypotf(f[c].x - s[c].x, f[c].y - s[c].y);
+        moved = d > moved ? d : moved;
+    }
+    TEST_ASSERT_FLOAT_WITHIN(0.01f, moved / (float)CELL, info.shift);
+    TEST_ASSERT_FLOAT_WITHIN(0.02f, 2.5f / (float)CELL, info.shift);
+}
+
+/* The rendered tag of test_info_shift_is_in_cells (id 3, 8 px cells, 20 px
+ * margin) and its true white-square corners. */
+static int render_tag3(uint8_t *img, size_t size, actag_point t[4])
+{
+    int side = actag_render_side(g_fam.bits, 8, 20), k = g_fam.bits / 4;
+    float a = (float)(20 + 2 * 8) - 0.5f, b = (float)(20 + (k - 1) * 8) - 0.5f;
+    TEST_ASSERT_TRUE((size_t)side * (size_t)side <= size);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(&g_fam, 3, 8, 20, 60, 0, img, side, size));
+    t[0].x = a; t[0].y = a;
+    t[1].x = b; t[1].y = a;
+    t[2].x = b; t[2].y = b;
+    t[3].x = a; t[3].y = b;
+    return side;
+}
+
+/* A start about 0.4 cell off: accepted with the default max_shift, refused
+ * (NO_MATCH, the start corners copied to out) once max_shift is below the
+ * fit's own move, accepted again just above it. */
+static void test_refuses_a_move_above_max_shift(void)
+{
+    static uint8_t img[100 * 100];
+    static const float off[4][2] = {{3.0f, 2.0f}, {2.5f, -3.0f}, {-3.0f, 2.5f}, {3.0f, 3.0f}};
+    actag_point t[4], s[4], f[4];
+    actag_refine_params rp;
+    actag_refine_info info;
+    int side = render_tag3(img, sizeof img, t), c;
+    float moved;
+    for (c = 0; c < 4; c++) {
+        s[c].x = t[c].x + off[c][0];
+        s[c].y = t[c].y + off[c][1];
+    }
+    actag_refine_params_default(&rp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img, side, side, side, NULL, 0.0f, &g_fam,
+                                                         3, s, &rp, f, &info));
+    TEST_ASSERT_FLOAT_WITHIN(0.25f, 0.0f, tu_max_corner_error(f, t));
+    moved = info.shift;
+    TEST_ASSERT_TRUE(moved > 0.3f && moved < 1.0f);
+    rp.max_shift = 0.9f * moved;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag_refine_corners(img, side, side, side, NULL, 0.0f,
+                                                                   &g_fam, 3, s, &rp, f, NULL));
+    TEST_ASSERT_EQUAL_MEMORY(s, f, sizeof s);
+    rp.max_shift = 1.01f * moved;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img, side, side, side, NULL, 0.0f, &g_fam,
+                                                         3, s, &rp, f, NULL));
+}
+
+/* Starts scaled about the tag's centre: the fit finds the true square, but
+ * from 1.35 times its size its sides shrink to 0.55 of the start's squared
+ * (below 0.75^2), and from 0.72 they grow to 1.9 of them (without a
+ * geometry no growth beyond 25 % is allowed): both refused, the start
+ * corners copied to out. A start 1.1 times the size is within the rule and
+ * accepted. max_shift at its largest, so that only the side rule refuses. */
+static void test_refuses_sides_changed_beyond_25_percent(void)
+{
+    static uint8_t img[100 * 100];
+    static const float scale[3] = {1.35f, 0.72f, 1.1f};
+    actag_point t[4], s[4], f[4];
+    actag_refine_params rp;
+    int side = render_tag3(img, sizeof img, t), c, i;
+    float cx = 0.5f * (t[0].x + t[2].x), cy = 0.5f * (t[0].y + t[2].y);
+    actag_refine_params_default(&rp);
+    rp.max_shift = 2.0f;
+    for (i = 0; i < 3; i++) {
+        int rc;
+        for (c = 0; c < 4; c++) {
+            s[c].x = cx + scale[i] * (t[c].x - cx);
+            s[c].y = cy + scale[i] * (t[c].y - cy);
+        }
+        rc = actag_refine_corners(img, side, side, side, NULL, 0.0f, &g_fam, 3, s, &rp, f, NULL);
+        if (i < 2) {
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, rc);
+            TEST_ASSERT_EQUAL_MEMORY(s, f, sizeof s);
+        } else {
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc);
+            TEST_ASSERT_FLOAT_WITHIN(0.25f, 0.0f, tu_max_corner_error(f, t));
+        }
+    }
+}
+
+/* The acceptance's shape rules at their boundaries (a fitted grid against
+ * its start, refine_frame.h): the handedness, each side's 25 % (squared:
+ * 0.5625 .. 1.5625), growth with a geometry up to 1.21 cell^2 and 2.25
+ * times the start, non-finite grids. The fit itself never flipped in a
+ * search over thousands of starts (a flip within max_shift needs a nearly
+ * degenerate grid, which the side rule refuses first), so the handedness
+ * rule is checked here. And a start in the mirrored corner order refines
+ * to corners in that order: the stage never changes the handedness. */
+static void test_shape_rules(void)
+{
+    static uint8_t img[100 * 100];
+    const float st[6] = {50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 8.0f};
+    float g[6];
+    actag_point t[4], s[4], f[4];
+    actag_refine_params rp;
+    int side, c;
+    float a0, a1;
+#define SHAPE(m0, m1, ax, ay, bx, by, cell2)                                                       \
+    (g[0] = (m0), g[1] = (m1), g[2] = (ax), g[3] = (ay), g[4] = (bx), g[5] = (by),                 \
+     actag__refine_shape_ok(st, g, (cell2)))
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(51.0f, 49.0f, 8.0f, 0.0f, 0.0f, 8.0f, 0.0f));
+    /* mirrored: b turned over, a tilted toward it (no length changed) */
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, -8.0f, 0.0f));
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 0.0f, 8.0f, 8.0f, 0.0f, 0.0f));
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 8.0f, 0.0f, 0.0f)); /* degenerate */
+    /* each side within 25 % of the start's, squared 0.5625 .. 1.5625 */
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(50.0f, 50.0f, 6.08f, 0.0f, 0.0f, 8.0f, 0.0f));  /* 0.5776 */
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 5.92f, 0.0f, 0.0f, 8.0f, 0.0f));  /* 0.5476 */
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 6.08f, 0.0f));
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 5.92f, 0.0f));
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(50.0f, 50.0f, 9.92f, 0.0f, 0.0f, 8.0f, 0.0f));  /* 1.5376 */
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 10.08f, 0.0f, 0.0f, 8.0f, 0.0f)); /* 1.5876 */
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 9.92f, 0.0f));
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 10.08f, 0.0f));
+    /* growth by 1.45 (2.1025 squared, 134.56): up to 1.21 cell^2 */
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 11.6f, 0.0f, 0.0f, 8.0f, 0.0f));
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(50.0f, 50.0f, 11.6f, 0.0f, 0.0f, 8.0f, 120.0f)); /* 145.2 */
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 11.6f, 0.0f, 0.0f, 8.0f, 110.0f)); /* 133.1 */
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 11.6f, 120.0f));
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 11.6f, 110.0f));
+    /* and at most 2.25 times the start's, whatever the cell: 1.55 is 2.4025 */
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 12.4f, 0.0f, 0.0f, 8.0f, 400.0f));
+    TEST_ASSERT_EQUAL_INT(1, SHAPE(50.0f, 50.0f, 11.92f, 0.0f, 0.0f, 8.0f, 400.0f)); /* 2.2201 */
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, 12.4f, 400.0f));
+    TEST_ASSERT_EQUAL_INT(0, SHAPE((float)NAN, 50.0f, 8.0f, 0.0f, 0.0f, 8.0f, 0.0f));
+    TEST_ASSERT_EQUAL_INT(0, SHAPE(50.0f, 50.0f, 8.0f, 0.0f, 0.0f, (float)INFINITY, 400.0f));
+#undef SHAPE
+    side = render_tag3(img, sizeof img, t);
+    s[0] = t[1];
+    s[1] = t[0];
+    s[2] = t[3];
+    s[3] = t[2];
+    for (c = 0; c < 4; c++)
+        s[c].x += 1.5f;
+    actag_refine_params_default(&rp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_refine_corners(img, side, side, side, NULL, 0.0f, &g_fam,
+                                                         3, s, &rp, f, NULL));
+    /* each corner near its own start corner (the square's side is 24 px) */
+    for (c = 0; c < 4; c++)
+        TEST_ASSERT_FLOAT_WITHIN(4.0f, 0.0f, hypotf(f[c].x - s[c].x + 1.5f, f[c].y - s[c].y));
+    a0 = (s[1].x - s[0].x) * (s[3].y - s[0].y) - (s[1].y - s[0].y) * (s[3].x - s[0].x);
+    a1 = (f[1].x - f[0].x) * (f[3].y - f[0].y) - (f[1].y - f[0].y) * (f[3].x - f[0].x);
+    TEST_ASSERT_TRUE(a0 < 0.0f && a1 < 0.0f);
+}
+
 /* Same input, same bits. */
 static void test_deterministic(void)
 {
@@ -388,7 +606,12 @@ int main(void)
     RUN_TEST(test_recovers_true_corners);
     RUN_TEST(test_agrees_with_brute_force_shift);
     RUN_TEST(test_refusals_and_errors);
+    RUN_TEST(test_diverging_curved_inverse_is_refused);
     RUN_TEST(test_deterministic);
+    RUN_TEST(test_info_shift_is_in_cells);
+    RUN_TEST(test_refuses_a_move_above_max_shift);
+    RUN_TEST(test_refuses_sides_changed_beyond_25_percent);
+    RUN_TEST(test_shape_rules);
     RUN_TEST(test_sixteen_bit_equals_its_conversion);
     return UNITY_END();
 }

@@ -6,6 +6,8 @@
 
 #include "actag/search.h"
 
+#include <limits.h>
+
 void setUp(void) {}
 void tearDown(void) {}
 
@@ -127,10 +129,182 @@ static void test_finds_a_synthetic_square(void)
     TEST_ASSERT_EQUAL_INT(0, actag_search_next(&z, 1, &g, 0.13f, 1.0f, R, C, q));
 }
 
+/* Box sums are uint32 differences of the integral image: the ring of a box
+ * of more than 2^32 / (16 x 255) blocks of white could sum past 2^32 and
+ * wrap (a flat white frame of 4400 x 4400 with a 16-bit tag of 1.45 m
+ * filling it scored up to 2040 and came back as a candidate). Such boxes
+ * are not scored; one just below the limit on the same frame is, and
+ * scores 0 on the flat frame. Host only: 19 MB of frame. */
+static void test_box_too_large_for_the_integral_is_not_scored(void)
+{
+    enum { R = 4400, C = 4400 };
+    const float tags[2] = {1.4532f, 1.36f}; /* outer boxes 1091^2, 1021^2 blocks */
+    actag_sonar_geometry g;
+    uint8_t *img;
+    int16_t *map;
+    uint32_t *ii;
+    size_t ms = ACTAG_SEARCH_MAP_SIZE(R, C), is = ACTAG_SEARCH_INTEGRAL_SIZE(R, C);
+    int t;
+    if (TU_EMULATED)
+        TEST_IGNORE_MESSAGE("host suite only (a 19 MB frame)");
+    img = (uint8_t *)malloc((size_t)R * C);
+    map = (int16_t *)malloc(ms);
+    ii = (uint32_t *)malloc(is);
+    TEST_ASSERT_TRUE(img != NULL && map != NULL && ii != NULL);
+    memset(img, 255, (size_t)R * C);
+    g.min_range = 100.0f; /* 1 mm rows, 1 mm beams at the middle rows */
+    g.max_range = 100.0f + 0.001f * (float)(R - 1);
+    g.aperture = (float)(C - 1) * 0.001f / 102.2f;
+    g.bearings = NULL;
+    g.flags = 0u;
+    TEST_ASSERT_EQUAL_UINT32(1052688u, ACTAG_SEARCH_MAX_BOX_BLOCKS);
+    for (t = 0; t < 2; t++) {
+        actag_search z;
+        actag_point q[4];
+        long long ring;
+        int r, c, scored = 0, nonzero = 0, orr, ir;
+        float cr = tags[t] / actag_geometry_range_step(&g, R) / (float)F;
+        orr = (int)(1.5f * cr + 0.5f); /* 16 bits: a white square of 1 cell */
+        ir = (int)(0.5f * cr + 0.5f);
+        ring = (long long)(2 * orr + 1) * (2 * orr + 1) - (long long)(2 * ir + 1) * (2 * ir + 1);
+        /* the premise: the first tag's ring alone overflows, the second's box does not */
+        if (t == 0)
+            TEST_ASSERT_TRUE(ring > (long long)ACTAG_SEARCH_MAX_BOX_BLOCKS);
+        else
+            TEST_ASSERT_TRUE((2 * orr + 1) * (2 * orr + 1) <= (int)ACTAG_SEARCH_MAX_BOX_BLOCKS);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, C, &g, tags[t], 16, 1.0f,
+                                                         map, ms, ii, is));
+        for (r = 0; r < z.hr; r++)
+            for (c = 0; c < z.hc; c++) {
+                int v = z.map[(size_t)r * (size_t)z.hc + (size_t)c];
+                scored += v != INT16_MIN;
+                nonzero += v != INT16_MIN && v != 0;
+            }
+        TEST_ASSERT_EQUAL_INT(0, nonzero);
+        if (t == 0) {
+            TEST_ASSERT_EQUAL_INT(0, scored);
+            TEST_ASSERT_EQUAL_INT(0, actag_search_next(&z, -2040, &g, tags[t], 1.0f, R, C, q));
+        } else {
+            TEST_ASSERT_TRUE(scored > 0);
+            TEST_ASSERT_EQUAL_INT(0, actag_search_next(&z, 1, &g, tags[t], 1.0f, R, C, q));
+            TEST_ASSERT_EQUAL_INT(1, actag_search_next(&z, 0, &g, tags[t], 1.0f, R, C, q));
+        }
+    }
+    free(img);
+    free(map);
+    free(ii);
+}
+
+/* Any min_score ends the documented loop: INT16_MIN (unscored positions)
+ * took the sentinel itself as a candidate forever, INT_MIN overflowed in
+ * min_score - 1 (and found nothing); both now act as INT16_MIN + 1 and
+ * take exactly the scored positions' picks. */
+static void test_any_min_score_ends_the_loop(void)
+{
+    enum { R = 64, C = 64 };
+    static uint8_t img[R * C];
+    static int16_t map[ACTAG_SEARCH_MAP_SIZE(R, C) / 2];
+    static uint32_t ii[ACTAG_SEARCH_INTEGRAL_SIZE(R, C) / 4];
+    const int mins[3] = {INT16_MIN + 1, INT16_MIN, INT_MIN};
+    actag_sonar_geometry g = {0.5f, 2.0f, 0.6f, NULL, 0u};
+    actag_search z;
+    actag_point q[4];
+    int i, n[3];
+    memset(img, 90, sizeof img);
+    for (i = 0; i < 3; i++) {
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, C, &g, 0.1f, 24, 1.0f, map,
+                                                         sizeof map, ii, sizeof ii));
+        n[i] = 0;
+        while (n[i] < 1000 && actag_search_next(&z, mins[i], &g, 0.1f, 1.0f, R, C, q) == 1)
+            n[i]++;
+        TEST_ASSERT_TRUE(n[i] < 1000);
+        TEST_ASSERT_EQUAL_INT(0, actag_search_next(&z, mins[i], &g, 0.1f, 1.0f, R, C, q));
+    }
+    TEST_ASSERT_TRUE(n[0] > 0); /* the flat frame has scored positions (0) */
+    TEST_ASSERT_EQUAL_INT(n[0], n[1]);
+    TEST_ASSERT_EQUAL_INT(n[0], n[2]);
+}
+
+/* Candidates at the last and the first scored block rows and columns (a
+ * 32-bit tag: the blanked neighbourhood, 0.75 tag + 1 block either side,
+ * reaches past the outer box, so past the map's edge there): exactly the
+ * rows and columns within the neighbourhood are blanked, clipped to the
+ * map, and nothing outside it is written (guards around the map). */
+static void test_suppression_at_the_edges(void)
+{
+    enum { R = 160, C = 160, GUARD = 64 };
+    static uint8_t img[R * C];
+    static int16_t buf[GUARD + ACTAG_SEARCH_MAP_SIZE(R, C) / 2 + GUARD], before[R / F * (C / F)];
+    static uint32_t ii[ACTAG_SEARCH_INTEGRAL_SIZE(R, C) / 4];
+    const float dr = 0.005f, tag = 0.108f; /* 21.6 px: 5.4 blocks */
+    int16_t *map = buf + GUARD;
+    actag_sonar_geometry g;
+    actag_search z;
+    actag_point q[4];
+    int r, c, i, pick;
+    /* beams of 4.9 mm +- 1.3 %: 5.5 blocks per tag; the neighbourhood is
+     * 5 blocks either side in both directions, 4.05 and 4.1 before the + 1
+     * (a smaller factor than 1.5 makes it 4), the outer box 4 */
+    g.min_range = 30.0f;
+    g.max_range = 30.0f + dr * (float)(R - 1);
+    g.aperture = (float)(C - 1) * (tag / 22.0f) / 30.4f;
+    g.bearings = NULL;
+    g.flags = 0u;
+    tu_seed(9);
+    for (r = 0; r < R; r++)
+        for (c = 0; c < C; c++) {
+            /* a bright square at the bottom right, a dimmer one at the top left */
+            int br = r >= 133 && r < 155 && c >= 133 && c < 155;
+            int tl = r >= 5 && r < 27 && c >= 5 && c < 27;
+            img[(size_t)r * C + (size_t)c] =
+                (uint8_t)(br ? tu_range(200, 230) : tl ? tu_range(150, 170) : tu_range(10, 40));
+        }
+    for (i = 0; i < GUARD; i++) {
+        buf[i] = 0x5a5a;
+        buf[GUARD + R / F * (C / F) + i] = 0x5a5a;
+    }
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, C, &g, tag, 32, 1.0f, map,
+                                                     ACTAG_SEARCH_MAP_SIZE(R, C), ii, sizeof ii));
+    for (pick = 0; pick < 2; pick++) {
+        int br, bc, sr, sc;
+        float x, y, daz;
+        memcpy(before, map, sizeof before);
+        TEST_ASSERT_EQUAL_INT(1, actag_search_next(&z, 8 * 40, &g, tag, 1.0f, R, C, q));
+        x = 0.5f * (q[0].x + q[1].x);
+        y = 0.5f * (q[1].y + q[2].y);
+        bc = (int)(x / (float)F);
+        br = (int)(y / (float)F);
+        /* the last scored block (the outer box reaches the map's edge), then the first */
+        TEST_ASSERT_EQUAL_INT(pick == 0 ? 35 : 4, br);
+        TEST_ASSERT_EQUAL_INT(pick == 0 ? 35 : 4, bc);
+        TEST_ASSERT_TRUE(before[br * z.hc + bc] != INT16_MIN);
+        TEST_ASSERT_TRUE(pick == 0 ? before[(br + 1) * z.hc + bc] == INT16_MIN
+                                   : before[(br - 1) * z.hc + bc] == INT16_MIN);
+        TEST_ASSERT_TRUE(pick == 0 ? before[br * z.hc + bc + 1] == INT16_MIN
+                                   : before[br * z.hc + bc - 1] == INT16_MIN);
+        /* 0.75 tag either side, in blocks, + 1 */
+        daz = actag_geometry_azimuth_step(&g, C, x) * actag_geometry_range(&g, R, y);
+        sr = (int)(0.75f * tag / dr / (float)F) + 1;
+        sc = (int)(0.75f * tag / daz / (float)F) + 1;
+        TEST_ASSERT_EQUAL_INT(5, sr); /* beyond the outer box (4 blocks) */
+        TEST_ASSERT_EQUAL_INT(5, sc);
+        for (r = 0; r < z.hr; r++)
+            for (c = 0; c < z.hc; c++) {
+                int in = r >= br - sr && r <= br + sr && c >= bc - sc && c <= bc + sc;
+                TEST_ASSERT_EQUAL_INT(in ? INT16_MIN : before[r * z.hc + c], map[r * z.hc + c]);
+            }
+    }
+    for (i = 0; i < GUARD; i++) {
+        TEST_ASSERT_EQUAL_INT(0x5a5a, buf[i]);
+        TEST_ASSERT_EQUAL_INT(0x5a5a, buf[GUARD + R / F * (C / F) + i]);
+    }
+}
+
 static void test_errors(void)
 {
     static uint8_t img[64 * 64];
-    static uint8_t map[ACTAG_SEARCH_MAP_SIZE(64, 64)], ii[ACTAG_SEARCH_INTEGRAL_SIZE(64, 64)];
+    static int16_t map[ACTAG_SEARCH_MAP_SIZE(64, 64) / 2 + 1]; /* room for an offset */
+    static uint32_t ii[ACTAG_SEARCH_INTEGRAL_SIZE(64, 64) / 4 + 1];
     actag_sonar_geometry g = {0.5f, 2.0f, 0.6f, NULL, 0u}, bad = g;
     actag_search z;
     bad.max_range = 0.1f;
@@ -146,8 +320,20 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 26, 1.0f, map, sizeof map, ii, sizeof ii));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 36, 1.0f, map, sizeof map, ii, sizeof ii));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_search_map(&z, img, 64, 64, 64, &bad, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map - 1, ii, sizeof ii));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii - 1));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map - 3, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, sizeof map, ii, sizeof ii - 5));
+    {   /* the scratch is read as uint32_t, the map as int16_t: 4- and 2-byte aligned */
+        uint8_t *mb = (uint8_t *)(void *)map, *ib = (uint8_t *)(void *)ii;
+        size_t ms = sizeof map - 2, is = sizeof ii - 4;
+        int o;
+        for (o = 1; o < 4; o++)
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, map, ms, ib + o, is));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, mb + 1, ms, ii, is));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, 64, 64, 64, &g, 0.1f, 24, 1.0f, mb + 2, ms, ib + 4, is));
+        /* checked after the pointers, before the rest */
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_search_map(&z, NULL, 64, 64, 64, &g, 0.1f, 24, 1.0f, mb + 1, ms, ii, is));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_search_map(&z, img, 64, 64, 64, &bad, 0.1f, 24, 1.0f, mb + 1, ms, ii, is));
+    }
 }
 
 int main(void)
@@ -155,6 +341,9 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_map_equals_direct_sums);
     RUN_TEST(test_finds_a_synthetic_square);
+    RUN_TEST(test_box_too_large_for_the_integral_is_not_scored);
+    RUN_TEST(test_any_min_score_ends_the_loop);
+    RUN_TEST(test_suppression_at_the_edges);
     RUN_TEST(test_errors);
     return UNITY_END();
 }

@@ -478,8 +478,8 @@ static void test_tiny_azimuth_steps(void)
  * pipeline's validation. */
 static void test_search_counts_stay_defined(void)
 {
-    static uint8_t map[ACTAG_SEARCH_MAP_SIZE(ROWS, COLS)];
-    static uint8_t ii[ACTAG_SEARCH_INTEGRAL_SIZE(ROWS, COLS)];
+    static int16_t map[ACTAG_SEARCH_MAP_SIZE(ROWS, COLS) / 2];
+    static uint32_t ii[ACTAG_SEARCH_INTEGRAL_SIZE(ROWS, COLS) / 4];
     actag_frame f;
     actag_sonar_geometry g;
     actag_params p;

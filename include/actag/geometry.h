@@ -77,7 +77,10 @@ int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols,
                             actag_error_detail *detail);
 
 /* The four mappings below have no error codes and check nothing: geo must
- * not be NULL and should be validated for the frame. */
+ * not be NULL and should be validated for the frame. Any float x or y is
+ * safe, NaN and infinities included (no out-of-range int conversion, no
+ * read outside the bearing table): a NaN gives a NaN range or azimuth, and
+ * actag_geometry_azimuth_step() the table's first step for a NaN x. */
 
 /* Range (m) at a sub-pixel row y. Assumes a validated geometry. */
 float actag_geometry_range(const actag_sonar_geometry *geo, int rows, float y);

@@ -133,7 +133,7 @@ typedef struct actag_refine_info {
     int iterations;   /* steps taken, both passes */
     float rms;        /* residual rms, grey levels */
     float contrast;   /* fitted white minus black at the tag centre, grey levels */
-    float shift;      /* largest corner move, pixels */
+    float shift;      /* largest corner move, cells of the start grid (max_shift's unit) */
 } actag_refine_info;
 
 void actag_refine_params_default(actag_refine_params *rp);

@@ -21,27 +21,37 @@
  *   INT16_MIN. Scores are clamped to +-2040. Box half-sizes are computed in
  *   float and saturate at the map's size before they become ints, so any
  *   finite tag_size and geometry (even a range of almost 0) is defined
- *   behaviour: a box larger than the frame simply scores INT16_MIN.
+ *   behaviour: a box larger than the frame simply scores INT16_MIN. So do
+ *   positions whose outer box holds more than ACTAG_SEARCH_MAX_BOX_BLOCKS
+ *   blocks (1,052,688: a larger box of bright pixels could sum past the
+ *   uint32 integral image); only frames of more than about 16.8 M pixels,
+ *   with a tag almost as large as the frame, have such boxes.
  *
  *   actag_search_next() takes the best remaining position with a score >=
- *   min_score, blanks a 1.5-tag neighbourhood around it, and returns the
- *   axis-aligned white-square quad it implies (full-resolution pixels,
- *   clockwise on screen from the top-left). Returns 1, or 0 when nothing is
- *   left. It has no error codes and checks nothing: z must come from a
- *   successful actag_search_map() with the same geometry, tag_size,
- *   range_scale, rows and cols.
+ *   min_score, blanks a 1.5-tag neighbourhood around it (the blocks within
+ *   0.75 tag, in whole blocks, + 1 of it in each direction, clipped to the
+ *   map), and returns the axis-aligned white-square quad it implies
+ *   (full-resolution pixels, clockwise on screen from the top-left; tag
+ *   sizes at its own position). Returns 1, or 0 when nothing is
+ *   left, so `while (actag_search_next(...) == 1)` ends for any min_score: a
+ *   min_score below INT16_MIN + 1 counts as INT16_MIN + 1 (unscored and
+ *   blanked positions, INT16_MIN, are never taken). It has no error codes
+ *   and checks nothing: z must come from a successful actag_search_map()
+ *   with the same geometry, tag_size, range_scale, rows and cols.
  *
- *   Memory: ACTAG_SEARCH_MAP_SIZE bytes for the score map and
- *   ACTAG_SEARCH_INTEGRAL_SIZE bytes of scratch, both caller-owned; the
- *   actag_search struct only points into them.
+ *   Memory: ACTAG_SEARCH_MAP_SIZE bytes for the score map (int16_t: 2-byte
+ *   aligned) and ACTAG_SEARCH_INTEGRAL_SIZE bytes of scratch (uint32_t:
+ *   4-byte aligned), both caller-owned; the actag_search struct only points
+ *   into them.
  *
  * ERRORS (actag_search_map)
  *   ACTAG_ERR_NULL       a pointer is NULL
  *   ACTAG_ERR_SIZE       rows or cols < 1 or > ACTAG_MAX_DIM (checked with the
  *                        geometry, first), stride < cols, or the frame is smaller
  *                        than 4 blocks in either direction (nothing to search)
- *   ACTAG_ERR_PARAM      tag_size or range_scale not positive and finite, bits not
- *                        a multiple of 4 in 16..32
+ *   ACTAG_ERR_PARAM      scratch not 4-byte or map not 2-byte aligned (checked after
+ *                        the pointers); tag_size or range_scale not positive and
+ *                        finite, bits not a multiple of 4 in 16..32
  *   ACTAG_ERR_GEOMETRY   invalid geometry for this frame (geometry.h)
  *   ACTAG_ERR_WORKSPACE  map or scratch smaller than the sizes below
  */
@@ -57,6 +67,11 @@ extern "C" {
 
 /* Resolution reduction of the search (F x F blocks averaged). */
 #define ACTAG_SEARCH_FACTOR 4
+
+/* Most blocks an outer box may hold to be scored: its sum of up to
+ * F^2 x 255 per block stays below 2^32 (actag_search_map). */
+#define ACTAG_SEARCH_MAX_BOX_BLOCKS                                                          \
+    (UINT32_MAX / (255u * ACTAG_SEARCH_FACTOR * ACTAG_SEARCH_FACTOR))
 
 /* Bytes of the int16 score map, and of the uint32 integral-image scratch. */
 #define ACTAG_SEARCH_MAP_SIZE(rows, cols)                                                    \
