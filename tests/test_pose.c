@@ -23,6 +23,19 @@ static double gauss(void)
     return sqrt(-2.0 * log(u1)) * cos(2.0 * 3.14159265358979 * u2);
 }
 
+/* Gaussian noise of k times the default corner sds on each corner's range
+ * and azimuth, drawn range first, corner by corner (one draw a statement). */
+static void jitter_corners(float r[4], float az[4], double k)
+{
+    int i;
+    for (i = 0; i < 4; i++) {
+        double g1 = gauss();
+        double g2 = gauss();
+        r[i] += (float)(k * ACTAG_POSE_RANGE_SD * g1);
+        az[i] += (float)(k * ACTAG_POSE_AZIMUTH_SD * g2);
+    }
+}
+
 typedef struct {
     double R[9], t[3];
 } tpose;
@@ -453,11 +466,7 @@ static void test_noisy_estimate_is_a_minimum_brute_force(void)
         int i, mir;
         random_view(&P, 0.7, 3.0);
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) {
-            double g1 = gauss(), g2 = gauss(); /* one draw per statement */
-            r[i] += (float)(0.3 * ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(0.3 * ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 0.3);
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
         if (E.flags & ACTAG_POSE_DEGENERATE)
             continue;
@@ -603,16 +612,11 @@ static void test_mirrored_only_flags(void)
         tpose P;
         actag_pose A, B;
         float r[4], az[4];
-        int i, mir;
+        int mir;
         double inc = t < 30 ? 12.0 : 70.0; /* near head-on (flat images), then ordinary */
         draw_pose(1.0, 4.0, -2.0 * DEG, 2.0 * DEG, 0.0, inc * DEG, 6.283, &P);
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) {
-            double g1 = gauss();
-            double g2 = gauss();
-            r[i] += (float)(ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 1.0);
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &A));
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, !mir, &pp, &B));
         A.flags &= ~ACTAG_POSE_MIRROR_CONFLICT;
@@ -683,11 +687,7 @@ static void test_covariance_is_consistent(void)
         int i, j, mir;
         draw_pose(0.7, 3.0, -2.0 * DEG, 2.0 * DEG, 30.0 * DEG, 60.0 * DEG, 6.283, &P);
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) {
-            double g1 = gauss(), g2 = gauss();
-            r[i] += (float)(0.5 * ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(0.5 * ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 0.5);
         pp.range_sd = 0.5f * ACTAG_POSE_RANGE_SD;
         pp.azimuth_sd = 0.5f * ACTAG_POSE_AZIMUTH_SD;
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
@@ -743,12 +743,7 @@ static void test_covariance_is_exactly_symmetric(void)
         actag_pose_params_default(&pp, NULL, S, (float)ap);
         draw_pose(0.5, 5.0, -0.05, 0.05, 0.0, 1.4, 6.283, &P);
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) {
-            double g1 = gauss();
-            double g2 = gauss();
-            r[i] += (float)(ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 1.0);
         if (t % 3 == 0) { /* a known plane on a third of them */
             face_plane(&P, 0.0, 0.0, 0.0, pp.plane);
             pp.plane_sd = 0.02f;
@@ -803,11 +798,7 @@ static void test_covariance_covers_the_elevation_band(void)
         el = urange(lo + 0.1 * DEG, hi - 0.1 * DEG);
         make_pose(d, a, el, inc, phi, psi, &P);
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) {
-            double g1 = gauss(), g2 = gauss();
-            r[i] += (float)(ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 1.0);
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
         if (E.flags & (ACTAG_POSE_DEGENERATE | ACTAG_POSE_ELEVATION | ACTAG_POSE_NO_COVARIANCE))
             continue;
@@ -881,12 +872,7 @@ static void test_elevation_prior_holds_the_band_uncertainty(void)
             draw_pose(0.5, 1.5, -6.0 * DEG, 6.0 * DEG, 30.0 * DEG, 60.0 * DEG, 6.283, &P);
         } while (!outline_in_fan(&P, 7.0 / 3.0 * S, 6.0 * DEG));
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) {
-            double g1 = gauss();
-            double g2 = gauss();
-            r[i] += (float)(ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 1.0);
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
         if (E.flags & (ACTAG_POSE_DEGENERATE | ACTAG_POSE_ELEVATION))
             continue;
@@ -960,15 +946,10 @@ static void test_not_converged_is_flagged(void)
         tpose P;
         actag_pose E;
         float r[4], az[4];
-        int i, mir;
+        int mir;
         draw_pose(0.5, 3.0, -20.0 * DEG, 20.0 * DEG, 30.0 * DEG, 70.0 * DEG, 6.283, &P);
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) {
-            double g1 = gauss();
-            double g2 = gauss();
-            r[i] += (float)(ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 1.0);
         pp.max_iterations = 1;
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
         flagged += (E.flags & ACTAG_POSE_NOT_CONVERGED) != 0;
@@ -1000,15 +981,10 @@ static void test_good_corners_converge_within_the_default_cap(void)
         tpose P;
         actag_pose E;
         float r[4], az[4];
-        int i, mir;
+        int mir;
         draw_pose(0.7, 5.0, -2.0 * DEG, 2.0 * DEG, 30.0 * DEG, 75.0 * DEG, 6.283, &P);
         mir = corners_of(&P, S, r, az);
-        for (i = 0; i < 4; i++) { /* the simulator's corners: about half the assumed noise */
-            double g1 = gauss();
-            double g2 = gauss();
-            r[i] += (float)(0.5 * ACTAG_POSE_RANGE_SD * g1);
-            az[i] += (float)(0.5 * ACTAG_POSE_AZIMUTH_SD * g2);
-        }
+        jitter_corners(r, az, 0.5); /* the simulator's corners: about half the assumed noise */
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, mir, &pp, &E));
         flagged += (E.flags & ACTAG_POSE_NOT_CONVERGED) != 0;
     }
