@@ -111,6 +111,46 @@ static void test_points_per_contour(void)
     TEST_ASSERT_EQUAL_INT(0, st.quads);
 }
 
+/* A border longer than the quad fit takes (ACTAG_QUAD_MAX_POINTS) is
+ * skipped and counted in stats.overflowed even when max_contour_points and
+ * the frame's ACTAG_CONTOUR_CAP allow it (before, it reached the quad fit,
+ * which refused it without a count). A 12 x 17000 frame with a 6-row white
+ * band along it: one border of about 34,000 points, CAP 68,112. */
+static void test_border_longer_than_the_quad_fit_takes(void)
+{
+    enum { R = 12, C = 17000 };
+    actag_params p;
+    actag_stats st;
+    actag_frame f;
+    actag_detection det[4];
+    size_t wsz = actag_workspace_size(R, C);
+    uint8_t *img = (uint8_t *)malloc((size_t)R * C), *ws = (uint8_t *)malloc(wsz);
+    int r, c;
+    TEST_ASSERT_TRUE(ACTAG_CONTOUR_CAP(R, C) > (size_t)ACTAG_QUAD_MAX_POINTS);
+    if (!img || !ws) {
+        free(img);
+        free(ws);
+        TEST_IGNORE_MESSAGE("no memory for a 12 x 17000 frame and its workspace");
+    }
+    for (r = 0; r < R; r++)
+        for (c = 0; c < C; c++)
+            img[(size_t)r * C + (size_t)c] = (uint8_t)(r >= 3 && r <= 8 && c >= 5 && c < C - 5 ? 220 : 10);
+    f.data = img;
+    f.rows = R;
+    f.cols = C;
+    f.stride = C;
+    f.depth = 8;
+    params(&p);
+    p.tuning.median_radius = 0;
+    p.tuning.limits.max_contour_points = 0x7fffffff;
+    TEST_ASSERT_EQUAL_INT(0, actag_detect(&f, &g_geo, &p, ws, wsz, det, 4, &st));
+    TEST_ASSERT_TRUE(st.contours >= 1);
+    TEST_ASSERT_EQUAL_INT(1, st.overflowed);
+    TEST_ASSERT_EQUAL_INT(0, st.quads);
+    free(img);
+    free(ws);
+}
+
 static void test_ransac_iterations_per_contour_and_frame(void)
 {
     actag_params p;
@@ -226,6 +266,7 @@ int main(void)
     RUN_TEST(test_defaults_and_validation);
     RUN_TEST(test_contours_examined);
     RUN_TEST(test_points_per_contour);
+    RUN_TEST(test_border_longer_than_the_quad_fit_takes);
     RUN_TEST(test_ransac_iterations_per_contour_and_frame);
     RUN_TEST(test_decoder_calls);
     RUN_TEST(test_search_and_guess_limits_are_counted);
