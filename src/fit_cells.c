@@ -198,11 +198,14 @@ int actag__fit_simd_ok(int rows, int cols, int stride)
     return rows <= 32767 && cols <= 32767 && stride > 0 && stride <= 32767;
 }
 
-static inline int fld16(const uint8_t *p)
+/* Two adjacent bytes as one 16-bit lane value (its bits; a short, so that
+ * GCC's -O0 macro form of _mm_insert_epi16 converts nothing that may not
+ * fit: -Wconversion). */
+static inline short fld16(const uint8_t *p)
 {
-    uint16_t v;
+    int16_t v;
     memcpy(&v, p, sizeof v);
-    return (int)v;
+    return v;
 }
 
 /* The bilinear value of four points from their pixel pairs: lane i's row

@@ -1,7 +1,11 @@
 /*
  * fpmath.h -- internal: the same floating-point results whatever compiler
- * flags a project builds the library's sources with (GCC; Clang but for
- * -ffp-contract=fast, see 1.). Every src/ file includes it first.
+ * flags a project builds the library's sources with. Every src/ file
+ * includes it first. Checked by .ci/fpcontract: the Cortex-M7 library at
+ * -std=gnu99 -ffp-contract=fast gives the x86 build's armcheck report (and
+ * without the pragma below it does not), and host GCC and Clang builds
+ * under the flags of 1. and 2. give the CMake build's actag_detect output
+ * or are refused as said there.
  *
  * 1. No fused multiply-add. GCC contracts a*b+c into one fused operation
  *    (a single rounding) wherever the target has one (Cortex-M4F/M7 VFMA,
@@ -12,18 +16,21 @@
  *    corners in the last bits against the x86 build and could flip a
  *    decision near a threshold. So: the GCC pragma that sets the option for
  *    the rest of the file, the standard pragma for Clang and other
- *    compilers. Checked by .ci/fpcontract (the Cortex-M7 library compiled
- *    with -std=gnu99 -ffp-contract=fast gives byte-identical armcheck
- *    reports; without this header it does not). Clang is not covered:
- *    its -ffp-contract=fast fuses across statements and ignores the
- *    standard pragma by definition (clang 14, -march=haswell: a*b+c here
- *    becomes vfmadd; -ffp-contract=on, its default, and
- *    fast-honor-pragmas honour it). The shipped CMake passes
- *    -ffp-contract=off to GCC and Clang alike; a project compiling the
- *    sources with its own Clang flags must not pass -ffp-contract=fast.
- * 2. Refused at compile time: -ffast-math (reassociation, no NaN/inf), and
- *    x87 excess precision (FLT_EVAL_METHOD != 0: i386 without -msse2
- *    -mfpmath=sse), both of which change results.
+ *    compilers. Clang's -ffp-contract=fast ignores the standard pragma
+ *    by definition (clang 14, -march=haswell: a*b+c here becomes vfmadd;
+ *    its fast-honor-pragmas is refused as an unsupported argument), so
+ *    actag_fp_fuses() below finds such a build at run time and the entry
+ *    points (actag_check, hence actag_detect and the tracker, and
+ *    actag_pose_estimate) return ACTAG_ERR_BUILD. The shipped CMake passes
+ *    -ffp-contract=off to GCC and Clang alike.
+ * 2. The other flags that change float results: GCC's -freciprocal-math,
+ *    -fassociative-math, -funsafe-math-optimizations and
+ *    -ffinite-math-only (which would compile the validators' NaN checks
+ *    out) are reset for these files by the same GCC pragma, and Clang's
+ *    by "float_control(precise, on)" but for -ffinite-math-only, which is
+ *    refused at compile time; -ffast-math (__FAST_MATH__) and x87 excess
+ *    precision (FLT_EVAL_METHOD != 0: i386 without -msse2 -mfpmath=sse)
+ *    are refused at compile time.
  * 3. No errno. libm's sqrtf and logf set errno on a domain error, and on
  *    newlib that pulls the reentrancy structure (impure_data, ~1 KB of
  *    .data) into every firmware; GCC only inlines sqrtf without a call
@@ -37,11 +44,22 @@
 #ifndef ACTAG_SRC_FPMATH_H
 #define ACTAG_SRC_FPMATH_H
 
-/* Before any other header, so every function of the file gets it. */
+/* Before any other header, so every function of the file gets it. GCC:
+ * the options that change float results, reset for the rest of the file
+ * (a project's -freciprocal-math, -funsafe-math-optimizations,
+ * -fassociative-math or -ffinite-math-only then leave these sources
+ * alone). Clang: precise semantics for the file (undoes the reciprocal,
+ * reassociation and unsafe-math flags; clang 11 and later); its
+ * -ffinite-math-only is refused below and its -ffp-contract=fast caught at
+ * run time (actag_fp_fuses). */
 #if defined(__clang__)
+#if __clang_major__ >= 11
+#pragma float_control(precise, on)
+#endif
 #pragma STDC FP_CONTRACT OFF
 #elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
+#pragma GCC optimize("fp-contract=off", "no-unsafe-math-optimizations", "no-associative-math", \
+                     "no-reciprocal-math", "signed-zeros", "trapping-math", "no-finite-math-only")
 #else
 #pragma STDC FP_CONTRACT OFF
 #endif
@@ -52,6 +70,9 @@
 
 #if defined(__FAST_MATH__)
 #error "actag: built with -ffast-math; results would differ between platforms (drop it for the actag sources)"
+#endif
+#if defined(__clang__) && defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
+#error "actag: built with -ffinite-math-only; the NaN checks of the validators would be compiled out (drop it for the actag sources)"
 #endif
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != -1
 #error "actag: float arithmetic in excess precision (FLT_EVAL_METHOD != 0); on i386 use -msse2 -mfpmath=sse"
@@ -201,6 +222,23 @@ static inline float actag_logf(float x)
     ln = (double)e * 6.93147180369123816490e-01;
     ln += 2.0 * s + (2.0 * s * t + (double)e * 1.90821492927058770002e-10);
     return (float)ln;
+}
+
+/* Does this build fuse a multiply and an add into one rounding? Clang's
+ * -ffp-contract=fast ignores the pragmas above (GCC's honours them), and
+ * fused operations move corners and can flip decisions. (1 + 2^-12)^2 =
+ * 1 + 2^-11 + 2^-24: the rounded product drops the 2^-24 (a tie, to even),
+ * which a fused a * b - p keeps. The operands are volatile reads, so the
+ * compiler cannot fold the test away or share the two products. */
+static inline int actag_fp_fuses(void)
+{
+    volatile float va = 1.000244140625f, vb = 1.000244140625f, vp;
+    float a = va, b = vb, p;
+    vp = a * b;
+    p = vp;
+    a = va;
+    b = vb;
+    return a * b - p != 0.0f;
 }
 
 #endif

@@ -108,7 +108,7 @@ static float p_asin(float v)
         v = 1.0f;
     if (v < -1.0f)
         v = -1.0f;
-    return p_atan2(v, sqrtf((1.0f - v) * (1.0f + v)));
+    return p_atan2(v, actag_sqrtf((1.0f - v) * (1.0f + v)));
 }
 
 static float p_fabs(float a) { return a < 0.0f ? -a : a; }
@@ -133,7 +133,7 @@ static void cross3(const float *a, const float *b, float *o)
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static float norm3(const float *a) { return sqrtf(dot3(a, a)); }
+static float norm3(const float *a) { return actag_sqrtf(dot3(a, a)); }
 
 static void mat_vec(const float *R, const float *v, float *o)
 {
@@ -187,7 +187,7 @@ static void rot_exp(const float *w, float *R)
         a = 1.0f - th2 / 6.0f;
         b = 0.5f - th2 / 24.0f;
     } else {
-        float th = sqrtf(th2);
+        float th = actag_sqrtf(th2);
         p_sincos(th, &s, &c);
         a = s / th;
         b = (1.0f - c) / th2;
@@ -223,7 +223,7 @@ static void rot_log(const float *R, float *w)
         float om = 1.0f - cs, u[3], n;
         int i = (R[0] >= R[4] && R[0] >= R[8]) ? 0 : (R[4] >= R[8] ? 1 : 2), j;
         float d = (R[4 * i] - cs) / om;
-        u[i] = sqrtf(d > 0.0f ? d : 0.0f);
+        u[i] = actag_sqrtf(d > 0.0f ? d : 0.0f);
         for (j = 0; j < 3; j++)
             if (j != i)
                 u[j] = 0.5f * (R[3 * i + j] + R[3 * j + i]) / (om * (u[i] > 1e-6f ? u[i] : 1e-6f));
@@ -286,7 +286,7 @@ static float p_elev(const float *p)
 /* Gradient of elevation asin(p_z / |p|) with respect to p (0 on the z axis). */
 static void p_elev_grad(const float *p, float *g)
 {
-    float r2 = dot3(p, p), rho = sqrtf(p[0] * p[0] + p[1] * p[1]);
+    float r2 = dot3(p, p), rho = actag_sqrtf(p[0] * p[0] + p[1] * p[1]);
     if (!(r2 > 0.0f) || !(rho > 0.0f)) {
         g[0] = g[1] = g[2] = 0.0f;
         return;
@@ -392,7 +392,7 @@ static int p_set_prior(p_model *m, const p_state *x, const float *C, float *lo, 
     *hi = h;
     mu[0] = 0.5f * (l + h);
     var[0] = ((w > 0.0f ? w * w : 0.0f) + vw) * (1.0f / 12.0f) + vm;
-    wt[0] = p_ramp(w, sqrtf(vw));
+    wt[0] = p_ramp(w, actag_sqrtf(vw));
     if (m->E > 1.0f) {
         p_band_of(m, x, C, 1.0f, &l, &h, &vm, &vw);
         if (!(*hi > *lo)) {
@@ -402,7 +402,7 @@ static int p_set_prior(p_model *m, const p_state *x, const float *C, float *lo, 
         w = h - l;
         mu[1] = 0.5f * (l + h);
         var[1] = ((w > 0.0f ? w * w : 0.0f) + vw) * (1.0f / 12.0f) + vm;
-        r = p_ramp(w, sqrtf(vw));
+        r = p_ramp(w, actag_sqrtf(vw));
     } else {
         mu[1] = mu[0];
         var[1] = var[0];
@@ -422,7 +422,7 @@ static int p_set_prior(p_model *m, const p_state *x, const float *C, float *lo, 
         v += wt[k] * (var[k] + (mu[k] - mean) * (mu[k] - mean));
     v /= tot;
     m->mu = mean;
-    m->sp = sqrtf(v);
+    m->sp = actag_sqrtf(v);
     if (!(m->sp >= 1e-4f * m->half_v)) /* exact corners, C NULL: a band's width alone */
         m->sp = 1e-4f * m->half_v;
     return none;
@@ -473,7 +473,7 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
     if (J) {
         tn = norm3(x->t);
         rho2 = x->t[0] * x->t[0] + x->t[1] * x->t[1];
-        rho = sqrtf(rho2);
+        rho = actag_sqrtf(rho2);
         if (tn > 0.0f && rho > 0.0f) {
             J[8 * P_NPAR + 0] = -x->t[2] * x->t[0] / (rho * tn * tn) / m->sp;
             J[8 * P_NPAR + 1] = -x->t[2] * x->t[1] / (rho * tn * tn) / m->sp;
@@ -534,8 +534,8 @@ static void p_arc_term(const float *t, float *cov)
     int i, j;
     if (!(r2 > 0.0f) || !(rho2 > 0.0f))
         return;
-    r = sqrtf(r2);
-    rho = sqrtf(rho2);
+    r = actag_sqrtf(r2);
+    rho = actag_sqrtf(rho2);
     /* unit tangent of the elevation arc, and the unit range direction */
     e[0] = -t[2] * t[0] / (rho * r);
     e[1] = -t[2] * t[1] / (rho * r);
@@ -588,7 +588,7 @@ static int p_lsq(float *A, float *b, int m, float *d, float *sc)
         float n = 0.0f;
         for (i = 0; i < m; i++)
             n += A[i * P_NPAR + j] * A[i * P_NPAR + j];
-        n = sqrtf(n);
+        n = actag_sqrtf(n);
         if (!(n > 0.0f))
             return -1;
         sc[j] = 1.0f / n;
@@ -599,7 +599,7 @@ static int p_lsq(float *A, float *b, int m, float *d, float *sc)
         float alpha = 0.0f, vnorm2, beta;
         for (i = k; i < m; i++)
             alpha += A[i * P_NPAR + k] * A[i * P_NPAR + k];
-        alpha = sqrtf(alpha);
+        alpha = actag_sqrtf(alpha);
         if (!(alpha > 1e-6f))
             return -1;
         if (A[k * P_NPAR + k] > 0.0f)
@@ -704,7 +704,7 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
             float n = 0.0f;
             for (i = 0; i < P_NRES; i++)
                 n += J[i * P_NPAR + j] * J[i * P_NPAR + j];
-            dg[j] = sqrtf(n * lambda);
+            dg[j] = actag_sqrtf(n * lambda);
         }
         for (i = 0; i < P_NRES * P_NPAR; i++)
             A[i] = J[i];
@@ -742,8 +742,8 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
         }
         small = lambda < 1e-2f && jd2 < 1e-6f;
         if (cy <= cost) {
-            float dt = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            float dw = sqrtf(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
+            float dt = actag_sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            float dw = actag_sqrtf(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
             int done = small || ((cost - cy) <= 1e-7f * cost + 1e-12f && lambda < 1e-2f) ||
                        (dt < 1e-7f && dw < 1e-7f);
             *x = y;
@@ -792,16 +792,16 @@ static void p_start(const p_model *m, float e, p_state *x, float *winding)
     A = m->s * m->s - (ah[0] * ah[0] + ah[1] * ah[1]);
     B = m->s * m->s - (bh[0] * bh[0] + bh[1] * bh[1]);
     C = -(ah[0] * bh[0] + ah[1] * bh[1]);
-    lam = 0.5f * (A + B) + sqrtf(0.25f * (A - B) * (A - B) + C * C);
+    lam = 0.5f * (A + B) + actag_sqrtf(0.25f * (A - B) * (A - B) + C * C);
     u[0] = C;
     u[1] = lam - A;
     if (u[0] * u[0] + u[1] * u[1] < (lam - B) * (lam - B) + C * C) {
         u[0] = lam - B;
         u[1] = C;
     }
-    hn = sqrtf(u[0] * u[0] + u[1] * u[1]);
+    hn = actag_sqrtf(u[0] * u[0] + u[1] * u[1]);
     if (hn > 0.0f && lam > 0.0f) {
-        float k = sqrtf(lam) / hn;
+        float k = actag_sqrtf(lam) / hn;
         ha = u[0] * k;
         hb = u[1] * k;
     } else {
@@ -887,7 +887,7 @@ static int p_plane_elevation(const p_model *m, int k, float *e)
     p_sincos(abar, &sa, &ca);
     A = m->n[0] * ca + m->n[1] * sa;
     B = m->n[2];
-    h = sqrtf(A * A + B * B);
+    h = actag_sqrtf(A * A + B * B);
     if (!(h > 0.0f) || !(rbar > 0.0f))
         return 0;
     q = m->d / (rbar * h);
@@ -937,6 +937,8 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
     int i, pass, it, total = 0, converged = 1, none;
     if (range == NULL || azimuth == NULL || p == NULL || out == NULL)
         return ACTAG_ERR_NULL;
+    if (actag_fp_fuses())
+        return ACTAG_ERR_BUILD;
     for (i = 0; i < 4; i++)
         if (!p_finite(range[i]) || !(range[i] > 0.0f) || !p_finite(azimuth[i]) ||
             !(azimuth[i] > -4.0f * P_PI && azimuth[i] < 4.0f * P_PI))
@@ -1017,7 +1019,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         /* image area noise: about s * sqrt(2) * the corner's position sd */
         sd[0] = p->range_sd;
         sd[1] = rbar * p->azimuth_sd;
-        sigma_pt = sqrtf(sd[0] * sd[0] + sd[1] * sd[1]);
+        sigma_pt = actag_sqrtf(sd[0] * sd[0] + sd[1] * sd[1]);
         area_sd = p->tag_size * 1.41421356f * sigma_pt;
         if ((winding < 0.0f ? -winding : winding) < 2.0f * area_sd)
             out->flags |= ACTAG_POSE_DEGENERATE;
@@ -1065,7 +1067,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         float dr = f[2 * i] * m.sr, da = f[2 * i + 1] * m.sa * range[i];
         res2 += dr * dr + da * da;
     }
-    out->residual = sqrtf(0.25f * res2);
+    out->residual = actag_sqrtf(0.25f * res2);
     if (none || out->elevation < lo - 2.0f * m.sp || out->elevation > hi + 2.0f * m.sp)
         out->flags |= ACTAG_POSE_ELEVATION;
     if (f[9] * f[9] > 9.0f || f[10] * f[10] + f[11] * f[11] > 9.0f)

@@ -65,7 +65,7 @@ static int fail_vs(actag_error_detail *d, int code, const char *field, double va
     return fail_at(d, code, field, -1, value, rule, other, limit);
 }
 
-static int finite(float v) { return v == v && v <= FLT_MAX && v >= -FLT_MAX; }
+static int is_finite_f(float v) { return v == v && v <= FLT_MAX && v >= -FLT_MAX; }
 /* lo <= v <= hi (false for NaN) */
 static int in_range(float v, float lo, float hi) { return v >= lo && v <= hi; }
 /* lo < v <= hi */
@@ -258,7 +258,7 @@ int actag_params_validate(const actag_params *p, actag_error_detail *d)
                        "must be ACTAG_CORRECTIONS_AUTO (-1) or an integer from 0 to the "
                        "family's limit (actag_family_max_corrections)",
                        "family", maxc);
-    if (!(p->tag_size > 0.0f && finite(p->tag_size)))
+    if (!(p->tag_size > 0.0f && is_finite_f(p->tag_size)))
         return fail(d, ACTAG_ERR_PARAM, "tag_size", p->tag_size,
                     "must be a finite number > 0 (metres)");
     if (!in_range(p->min_margin, -1.0e6f, 1.0e6f))
@@ -287,10 +287,10 @@ static int geometry_check(const actag_sonar_geometry *g, int rows, int cols, int
     if ((g->flags & ~(ACTAG_RANGE_ASCENDING | ACTAG_AZIMUTH_ASCENDING)) != 0u)
         return fail(d, ACTAG_ERR_GEOMETRY, GN(lv, "flags"), (double)g->flags,
                     "must combine only ACTAG_RANGE_ASCENDING (1) and ACTAG_AZIMUTH_ASCENDING (2)");
-    if (!(g->min_range >= 0.0f && finite(g->min_range)))
+    if (!(g->min_range >= 0.0f && is_finite_f(g->min_range)))
         return fail(d, ACTAG_ERR_GEOMETRY, GN(lv, "min_range"), g->min_range,
                     "must be a finite number >= 0 (metres)");
-    if (!finite(g->max_range))
+    if (!is_finite_f(g->max_range))
         return fail(d, ACTAG_ERR_GEOMETRY, GN(lv, "max_range"), g->max_range,
                     "must be a finite number (metres)");
     if (!(g->min_range < g->max_range))
@@ -312,7 +312,7 @@ static int geometry_check(const actag_sonar_geometry *g, int rows, int cols, int
         const float *b = g->bearings;
         int c, dir = 0;
         for (c = 0; c < cols; c++)
-            if (!finite(b[c]))
+            if (!is_finite_f(b[c]))
                 return fail_at(d, ACTAG_ERR_GEOMETRY, GN(lv, "bearings"), c, b[c],
                                "must be a finite number (radians)", NULL, 0.0);
         for (c = 1; c < cols; c++) {
@@ -365,6 +365,10 @@ static int check_call(const actag_frame *f, const actag_sonar_geometry *g, const
                       int max_out, actag_error_detail *d)
 {
     int rc, bytes;
+    if (actag_fp_fuses())
+        return fail(d, ACTAG_ERR_BUILD, "build", 0.0,
+                    "the library's sources were compiled with floating-point contraction "
+                    "(Clang -ffp-contract=fast): compile them with -ffp-contract=off");
     if (f == NULL)
         return fail(d, ACTAG_ERR_NULL, "frame", 0.0, "must not be NULL");
     if (g == NULL)

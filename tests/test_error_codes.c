@@ -49,7 +49,7 @@ static void test_strerror(void)
     static const int codes[] = {ACTAG_OK,           ACTAG_ERR_NULL,      ACTAG_ERR_SIZE,
                                 ACTAG_ERR_PARAM,    ACTAG_ERR_GEOMETRY,  ACTAG_ERR_WORKSPACE,
                                 ACTAG_ERR_FAMILY,   ACTAG_ERR_CORRECTIONS, ACTAG_ERR_NO_MATCH,
-                                ACTAG_ERR_OVERFLOW, ACTAG_ERR_NO_QUAD};
+                                ACTAG_ERR_OVERFLOW, ACTAG_ERR_NO_QUAD, ACTAG_ERR_BUILD};
     size_t i, j;
     const char *unknown = actag_strerror(-1000);
     TEST_ASSERT_NOT_NULL(unknown);

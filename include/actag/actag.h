@@ -66,6 +66,10 @@
  *   never read.
  *
  * ERRORS (negative return values of actag_detect)
+ *   ACTAG_ERR_BUILD        the library's sources were compiled to fuse multiplies
+ *                          and adds (Clang -ffp-contract=fast on an FMA target,
+ *                          which ignores the sources' pragmas; GCC honours them):
+ *                          compile them with -ffp-contract=off (checked first)
  *   ACTAG_ERR_NULL         frame, frame->data, geometry, params, params->family,
  *                          workspace or out (when max_out > 0) is NULL
  *   ACTAG_ERR_SIZE         rows/cols < 1 or > ACTAG_MAX_DIM, stride < cols,

@@ -175,7 +175,8 @@
  *       not finite or, when not 0, that small, or, when either is > 0,
  *       plane not finite, its normal zero or its offset |d| / |n| above
  *       1e4 m; the normal may have any scale, (0, 0, 1e-30) as (0, 0, 1e20)).
- *       Degenerate geometry is not an error: out is filled
+ *       ACTAG_ERR_BUILD (compiled with fused multiply-adds, as
+ *       actag_detect). Degenerate geometry is not an error: out is filled
  *       as well as possible and flagged.
  *   int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
  *                                 actag_pose *out)

@@ -24,6 +24,7 @@ const char *pyactag_code_name(int code)
     case ACTAG_ERR_NO_MATCH: return "ACTAG_ERR_NO_MATCH";
     case ACTAG_ERR_OVERFLOW: return "ACTAG_ERR_OVERFLOW";
     case ACTAG_ERR_NO_QUAD: return "ACTAG_ERR_NO_QUAD";
+    case ACTAG_ERR_BUILD: return "ACTAG_ERR_BUILD";
     default: return "ACTAG_ERR_UNKNOWN";
     }
 }
