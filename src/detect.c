@@ -962,6 +962,8 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 int verdict;
                 ncand++;
                 if (!decode_budget(&st, params)) {
+                    /* this candidate, above the least score, is left undecoded */
+                    st.search_cap = 1;
                     ncand = params->tuning.search_candidates;
                     break;
                 }
@@ -981,7 +983,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 nsk++;
             }
             /* candidates left above the least score: the limit decided */
-            if (ncand == params->tuning.search_candidates &&
+            if (ncand == params->tuning.search_candidates && !st.search_cap &&
                 actag_search_next(&z, params->tuning.search_min_score * 8, geometry, params->tag_size,
                                   params->tuning.search_range_scale, rows, cols, quad))
                 st.search_cap = 1;
@@ -1029,15 +1031,17 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             actag_point gq[4];
             actag__fit_grids ggx;
 
-            if (st.contours >= params->tuning.limits.max_contours) {
-                st.contour_cap = 1; /* the rest of the frame is not examined */
-                break;
-            }
             rc = actag_contour_next(&scan, pts, (int)cap, &ci);
             if (rc < 0)
                 return rc;
             if (rc == 0)
                 break;
+            /* asked after the next border is found: a frame of exactly
+             * max_contours borders has been examined whole */
+            if (st.contours >= params->tuning.limits.max_contours) {
+                st.contour_cap = 1; /* the rest of the frame is not examined */
+                break;
+            }
             st.contours++;
             if (ci.overflow) {
                 st.overflowed++;

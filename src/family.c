@@ -45,11 +45,20 @@ int actag_family_get(const char *name, actag_family *out)
 
 int actag_family_validate(const actag_family *family)
 {
+    uint32_t extra;
+    int i;
     if (family == NULL)
         return ACTAG_ERR_NULL;
     if (family->codes == NULL || family->bits < 16 || family->bits > 32 || family->bits % 4 != 0 ||
         family->hamming < 1 || family->ncodes < 1)
         return ACTAG_ERR_FAMILY;
+    /* a code with bits above `bits` would be matched differently by the
+     * hard matchers (stray bits count as errors) and the fit decoder's
+     * (masked off), and the soft matcher's bound lb[] does not reach them */
+    extra = ~actag_code_mask(family->bits);
+    for (i = 0; i < family->ncodes; i++)
+        if (family->codes[i] & extra)
+            return ACTAG_ERR_FAMILY;
     return ACTAG_OK;
 }
 int actag_family_max_corrections(const actag_family *family)
@@ -140,10 +149,18 @@ static void undo_views(uint32_t w, uint32_t wm, int bits, uint32_t obs[8])
  * soft one with equal confidences. The maxtop cheapest readings go to
  * top[], cheapest first (then fewer disagreeing bits; equal readings keep
  * scan order: lower ID, then lower view). With lb (lb[h]: the least cost of
- * h disagreeing bits) a reading is skipped unscored when lb[h] is no better
- * than the runner-up's cost and, unless the list is full, than the last
- * kept one's: exact for the best two, so the rest of a full list may miss
+ * h disagreeing bits) a reading is skipped unscored when it cannot rank
+ * above the runner-up (lb[h] above its cost, or equal to it with no fewer
+ * disagreeing bits) and, unless the list is full, nor above the last kept
+ * one: exact for the best two, so the rest of a full list may miss
  * readings. Returns the number kept. */
+static int lb_no_better(int lbh, int h, const actag_soft_reading *t)
+{
+    /* every reading of h disagreeing bits costs lbh or more; at a cost
+     * equal to t's it ranks above t only with fewer disagreeing bits */
+    return lbh > t->d || (lbh == t->d && h >= t->h);
+}
+
 static int scan_codes(const actag_family *family, const uint32_t *obs, unsigned views,
                       uint32_t keep, const uint32_t (*pl)[5], const int *lb,
                       actag_soft_reading *top, int maxtop)
@@ -156,8 +173,8 @@ static int scan_codes(const actag_family *family, const uint32_t *obs, unsigned 
             if (!(views & (1u << v)))
                 continue;
             int h = actag_popcount32(mis), d = h, j;
-            if (lb && ntop > 1 && lb[h] >= top[1].d &&
-                (ntop == maxtop || lb[h] >= top[ntop - 1].d))
+            if (lb && ntop > 1 && lb_no_better(lb[h], h, &top[1]) &&
+                (ntop == maxtop || lb_no_better(lb[h], h, &top[ntop - 1])))
                 continue;
             if (pl) {
                 d = 0;

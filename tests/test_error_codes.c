@@ -523,6 +523,22 @@ static void test_family_validate_and_max_corrections(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_validate(&f));
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &f));
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_validate(&f));
+    {
+        /* a code with a bit at or above `bits` (the last one, bit 24 of a
+         * 24-bit family; then bit 31) */
+        uint32_t codes[8];
+        int i;
+        for (i = 0; i < f.ncodes && i < 8; i++)
+            codes[i] = f.codes[i];
+        f.codes = codes;
+        f.ncodes = i;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_validate(&f));
+        codes[i - 1] |= 1u << 24;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_validate(&f));
+        codes[i - 1] ^= (1u << 24) | (1u << 31);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_validate(&f));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &f));
+    }
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_max_corrections(NULL));
     TEST_ASSERT_EQUAL_INT(4, actag_family_max_corrections(&f)); /* h10: 10/2 - 1 */
     f.hamming = 9;

@@ -272,6 +272,39 @@ static uint32_t ref_P(uint32_t w, int bits)
     return r;
 }
 
+/* Readings that tie in soft cost rank by fewer disagreeing bits (family.h),
+ * and the matcher's pruning must not skip them: confidences of weight 0
+ * (|c| 0.001) carrying a code's signs cost 0 for every reading, so the best
+ * is that code at hamming 0, for every code of the family and every view
+ * of it. (The pruning skipped a reading whose least cost equalled the
+ * runner-up's: code 5 of AcTag24h10 came out as code 0 at hamming 13.) */
+static void test_soft_match_ties_rank_by_fewer_bits(void)
+{
+    int f;
+    for (f = 1; f < 4; f++) {
+        actag_family fam;
+        int id;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get(names[f], &fam));
+        for (id = 0; id < fam.ncodes; id += 1 + fam.ncodes / 40) {
+            int rot;
+            for (rot = 0; rot < 4; rot++) {
+                uint32_t c = orient(fam.codes[id], rot, 0, 24);
+                float conf[24];
+                actag_soft_match r;
+                int i;
+                for (i = 0; i < 24; i++)
+                    conf[i] = ((c >> (23 - i)) & 1u) ? 0.001f : -0.001f;
+                TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft(&fam, conf, 0xffffffu, &r));
+                TEST_ASSERT_EQUAL_INT(0, r.d1);
+                TEST_ASSERT_EQUAL_INT(0, r.best.hamming);
+                TEST_ASSERT_EQUAL_INT(id, r.best.id);
+                TEST_ASSERT_EQUAL_INT(rot, r.best.rotation);
+                TEST_ASSERT_EQUAL_INT(0, r.best.mirrored);
+            }
+        }
+    }
+}
+
 /* actag_family_match_soft against a brute force over all codes and the 8
  * physical views: best, d1, d2, other and h2, with the corner bits kept or
  * not; with equal confidences the best is the hard (Hamming) match. */
@@ -446,5 +479,6 @@ int main(void)
     RUN_TEST(test_match_errors);
     RUN_TEST(test_outputs_untouched_on_errors);
     RUN_TEST(test_soft_match_against_brute_force);
+    RUN_TEST(test_soft_match_ties_rank_by_fewer_bits);
     return UNITY_END();
 }

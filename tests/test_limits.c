@@ -88,10 +88,9 @@ static void test_contours_examined(void)
     TEST_ASSERT_EQUAL_INT(1, st.contour_cap);
 }
 
-static void test_points_per_contour(void)
+/* The example frame into g_img (cut to its size, black beyond). */
+static void example_frame(void)
 {
-    actag_params p;
-    actag_stats st, st0;
     int rows = 0, cols = 0, r;
     uint8_t *img = tu_read_pgm(EXAMPLE, &rows, &cols);
     TEST_ASSERT_NOT_NULL(img);
@@ -100,6 +99,13 @@ static void test_points_per_contour(void)
         memcpy(g_img + (size_t)r * ADV_COLS, img + (size_t)r * (size_t)cols,
                (size_t)(cols < ADV_COLS ? cols : ADV_COLS));
     free(img);
+}
+
+static void test_points_per_contour(void)
+{
+    actag_params p;
+    actag_stats st, st0;
+    example_frame();
     params(&p);
     detect(&p, &st0);
     p.tuning.limits.max_contour_points = 20;
@@ -216,6 +222,60 @@ static void test_search_and_guess_limits_are_counted(void)
     TEST_ASSERT_EQUAL_INT(0, st.search_cap);
 }
 
+/* The limits' flags at their boundaries. contour_cap: a frame of exactly
+ * max_contours borders was examined whole (0), one fewer cuts it (1).
+ * search_cap: on a frame with N search candidates (2..7, all read at the
+ * defaults), search_candidates N reads all (0); max_decodes N - 1 leaves
+ * the last candidate undecoded (1; it was 0: the refused candidate had been
+ * taken from the search, which then reported none left). */
+static void test_limit_flags_at_their_boundaries(void)
+{
+    adv_spec v[48];
+    actag_params p;
+    actag_stats st, st0;
+    int n = adv_specs(v, 0), i, found = 0;
+    params(&p);
+    frame("blobs 4px gap 2 (7.5k)");
+    detect(&p, &st0);
+    TEST_ASSERT_EQUAL_INT(0, st0.contour_cap);
+    p.tuning.limits.max_contours = st0.contours;
+    detect(&p, &st);
+    TEST_ASSERT_EQUAL_INT(st0.contours, st.contours);
+    TEST_ASSERT_EQUAL_INT(0, st.contour_cap);
+    p.tuning.limits.max_contours = st0.contours - 1;
+    detect(&p, &st);
+    TEST_ASSERT_EQUAL_INT(st0.contours - 1, st.contours);
+    TEST_ASSERT_EQUAL_INT(1, st.contour_cap);
+    /* the adversarial frames, then the example frame, at rising least
+     * scores until one has 2..7 candidates */
+    for (i = 0; i <= n && !found; i++) {
+        int ms;
+        if (i < n)
+            adv_generate(&v[i], g_img);
+        else
+            example_frame();
+        for (ms = 4; ms <= 64 && !found; ms += 4) {
+            params(&p);
+            p.tuning.search_candidates = ACTAG_SEARCH_MAX;
+            p.tuning.search_min_score = ms;
+            p.tuning.limits.max_decodes = 1000000;
+            detect(&p, &st0);
+            if (st0.searched < 2 || st0.searched >= ACTAG_SEARCH_MAX || st0.search_cap)
+                continue;
+            found = 1;
+            p.tuning.search_candidates = st0.searched;
+            detect(&p, &st);
+            TEST_ASSERT_EQUAL_INT(st0.searched, st.searched);
+            TEST_ASSERT_EQUAL_INT(0, st.search_cap);
+            p.tuning.limits.max_decodes = st0.searched - 1;
+            detect(&p, &st);
+            TEST_ASSERT_EQUAL_INT(st0.searched - 1, st.searched);
+            TEST_ASSERT_EQUAL_INT(1, st.search_cap);
+        }
+    }
+    TEST_ASSERT_TRUE_MESSAGE(found, "no frame with 2..7 search candidates");
+}
+
 /* Whatever the frame, the default limits bound the work. */
 static void test_adversarial_set_within_the_default_limits(void)
 {
@@ -270,6 +330,7 @@ int main(void)
     RUN_TEST(test_ransac_iterations_per_contour_and_frame);
     RUN_TEST(test_decoder_calls);
     RUN_TEST(test_search_and_guess_limits_are_counted);
+    RUN_TEST(test_limit_flags_at_their_boundaries);
     RUN_TEST(test_adversarial_set_within_the_default_limits);
     RUN_TEST(test_defaults_keep_the_example_detection);
     return UNITY_END();

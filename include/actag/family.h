@@ -152,7 +152,8 @@ int actag_family_count(void);
 int actag_family_get_at(int i, actag_family *out);
 
 /* Checks a family's fields (bits a multiple of 4 in 16..32, hamming >= 1,
- * ncodes >= 1, codes non-NULL). Returns ACTAG_OK or ACTAG_ERR_FAMILY / ACTAG_ERR_NULL. */
+ * ncodes >= 1, codes non-NULL, no code with a bit set at or above `bits`).
+ * Returns ACTAG_OK or ACTAG_ERR_FAMILY / ACTAG_ERR_NULL. */
 int actag_family_validate(const actag_family *family);
 
 /* Largest number of bit corrections the family supports:
