@@ -398,9 +398,13 @@ typedef struct actag_detection {
     float decision_margin;     /* how much better the reported code and orientation explain
                                   the cells than the next hypothesis (another ID, rotation or
                                   handedness): the log-likelihood ratio less ln(number of
-                                  hypotheses), so about 0 on pure noise and 5-30 on a clear
-                                  tag (decode.h, actag_decode_quad_fit); binary decoder: the
-                                  other handedness' extra bits */
+                                  hypotheses: 8 views of every code, times the grids tried,
+                                  counted so also when p.handedness leaves 4 views), so about
+                                  0 on pure noise and 5-30 on a clear tag (decode.h,
+                                  actag_decode_quad_fit); binary decoder: the other
+                                  handedness' extra bits, but for readings of the structure
+                                  search, which always uses the fit decoder (set
+                                  tuning.search_candidates = 0 for the paper's pipeline) */
 } actag_detection;
 
 /* Optional counters of one call. */
@@ -409,7 +413,8 @@ typedef struct actag_stats {
     int size_ok;         /* contours that passed the physical size filter */
     int overflowed;      /* contours longer than the point buffer (skipped) */
     int quads;           /* quadrilaterals fitted */
-    int decoded;         /* quads that decoded to a family member */
+    int decoded;         /* readings accepted (of quads, search candidates and contour
+                            guesses), before duplicates and rival checks drop some */
     int duplicates;      /* decodes dropped as the same tag seen twice */
     int dropped;         /* detections beyond max_out */
     int searched;        /* structure-search candidates decoded */

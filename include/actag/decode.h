@@ -289,8 +289,10 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      white square of a quad is larger than printed; the fit pulls the
  *      grid back onto the ring and the data cells.
  *   2. Cells: bilinear samples at the centre and +-sample_offset cell (3x3)
- *      averaged. The whole grid must lie inside the image, and white - black
- *      must reach min_contrast, else ACTAG_ERR_NO_MATCH.
+ *      averaged. Every cell centre must lie inside the image (the samples
+ *      around the outermost ones may reach past its edge, whose pixels are
+ *      then repeated), and white - black must reach min_contrast, else
+ *      ACTAG_ERR_NO_MATCH.
  *   3. Bits: confidence c_i = (cell_i - t_i) / (white - black) with
  *      t_i = black + level * contrast, or with ACTAG_FIT_LOCAL the mean of
  *      the black-ring cell next to bit i and the interior cell next to that
@@ -385,14 +387,15 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *   in tag order), except mirror_margin: the other handedness' best hard
  *   distance over the read bits minus hamming, not capped at m + 1, and
  *   negative when the likelihood prefers the reading with more flipped
- *   bits; 33 when ACTAG_FIT_ONLY_UNMIRRORED / _MIRRORED leaves the other
- *   handedness no hypothesis. Plus: ring_black / interior_white = fractions of the
+ *   bits; 33 - hamming when ACTAG_FIT_ONLY_UNMIRRORED / _MIRRORED leaves
+ *   the other handedness no hypothesis. Plus: ring_black / interior_white = fractions of the
  *   ring / interior CELLS on the right side of mid (the pipeline requires
  *   1.0), contrast, flip_weight = sum of |c_i| of the corrected bits,
  *   min_confidence = min |c_i|, fit_corners = the fitted grid's white-square
  *   corners in tag order.
- *   Deterministic: + - * / and sqrtf only. No memory beyond ~1.6 KB of stack
- *   (the lattice: (k+3)^2 + 25 floats, 584 bytes for k = 8).
+ *   Deterministic: + - * / and sqrtf only. No memory beyond the stack: about 4.4 KB
+ *   (x86-64 -O2, -fstack-usage over the call chain; the lattice alone is
+ *   (k+3)^2 + 25 floats, 584 bytes for k = 8).
  *   Cost: one fit is ~100-200 evaluations of 49 cells x 9 (5 during the
  *   ACTAG_FIT_WIDE search) bilinear samples, 0.1-0.4 ms on a desktop core.
  *   Errors: ACTAG_ERR_NULL (any pointer NULL), ACTAG_ERR_SIZE, ACTAG_ERR_FAMILY,
