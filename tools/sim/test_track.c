@@ -726,6 +726,23 @@ static int feed(actag_tracker *tr, const uint8_t *px, const actag_params *p, act
     return n;
 }
 
+/* A tracker fed the still tag's frame nframes times, its parameters the
+ * defaults but for full_every (0: the default): returns the last frame's
+ * count of reported tracks. */
+static int track_still(actag_tracker *tr, actag_track_params *tp, actag_params *p, int full_every,
+                       int nframes, actag_track *out, actag_track_stats *st)
+{
+    int i, n = 0;
+    params_of(p);
+    actag_track_params_default(tp);
+    if (full_every > 0)
+        tp->full_every = full_every;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(tr, tp));
+    for (i = 0; i < nframes; i++)
+        n = feed(tr, frames[STILL], p, out, st);
+    return n;
+}
+
 /* The largest corner diagonal of a track's smoothed corners (pixels). */
 static float track_diag(const actag_track *k)
 {
@@ -773,12 +790,7 @@ static void test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames(vo
     uint8_t *empty = render_empty();
     uint32_t id;
     int i, n = 0;
-    params_of(&p);
-    actag_track_params_default(&tp);
-    tp.full_every = 1000;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
-    for (i = 0; i < 5; i++)
-        n = feed(&tr, frames[STILL], &p, out, &st);
+    n = track_still(&tr, &tp, &p, 1000, 5, out, &st);
     TEST_ASSERT_EQUAL_INT(1, n);
     TEST_ASSERT_EQUAL_INT(0, st.full_frame); /* tracked: no whole frame */
     id = out[0].track_id;
@@ -816,11 +828,8 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
     uint32_t id;
     float dy;
     int i, n = 0;
-    params_of(&p);
     actag_track_params_default(&tp);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
-    for (i = 0; i < tp.full_every; i++)
-        n = feed(&tr, frames[STILL], &p, out, &st);
+    n = track_still(&tr, &tp, &p, 0, tp.full_every, out, &st);
     TEST_ASSERT_EQUAL_INT(1, n);
     TEST_ASSERT_EQUAL_INT(1, out[0].measured);
     id = out[0].track_id;
@@ -852,13 +861,8 @@ static void test_the_gate_widens_while_a_track_coasts(void)
     uint8_t *empty = render_empty(), *moved;
     uint32_t id;
     float dy, off = 0.0f;
-    int i, n = 0, c;
-    params_of(&p);
-    actag_track_params_default(&tp);
-    tp.full_every = 1000;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
-    for (i = 0; i < 5; i++)
-        n = feed(&tr, frames[STILL], &p, out, &st);
+    int n, c;
+    n = track_still(&tr, &tp, &p, 1000, 5, out, &st);
     TEST_ASSERT_EQUAL_INT(1, n);
     id = out[0].track_id;
     dy = 1.5f * track_diag(&out[0]); /* within 2 diagonals, beyond 1 */
