@@ -789,8 +789,7 @@ static void test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames(vo
     actag_track_stats st;
     uint8_t *empty = render_empty();
     uint32_t id;
-    int i, n = 0;
-    n = track_still(&tr, &tp, &p, 1000, 5, out, &st);
+    int i, n = track_still(&tr, &tp, &p, 1000, 5, out, &st);
     TEST_ASSERT_EQUAL_INT(1, n);
     TEST_ASSERT_EQUAL_INT(0, st.full_frame); /* tracked: no whole frame */
     id = out[0].track_id;
@@ -827,8 +826,8 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
     uint8_t *empty = render_empty(), *moved;
     uint32_t id;
     float dy;
-    int i, n = 0;
-    actag_track_params_default(&tp);
+    int i, n;
+    actag_track_params_default(&tp); /* for the default full_every */
     n = track_still(&tr, &tp, &p, 0, tp.full_every, out, &st);
     TEST_ASSERT_EQUAL_INT(1, n);
     TEST_ASSERT_EQUAL_INT(1, out[0].measured);
