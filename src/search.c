@@ -33,6 +33,54 @@ static int px_count(float v, int cap)
     return (int)v;
 }
 
+/* A position's inner (white square) and outer (ring) box half-sizes in
+ * blocks. */
+typedef struct search_box {
+    int ir, ic, orr, oc;
+} search_box;
+
+/* The boxes at a block row whose cell spans cr blocks along range, where
+ * the azimuth step times the range is daz (m a column). 0 when there is no
+ * azimuth step, or when the outer box could sum past the uint32 integral
+ * image (then the position is not scored; no int overflow: orr, oc <= 8195). */
+static int box_of(float cr, float daz, float cell, float half_in, int hr, int hc, search_box *b)
+{
+    float cc;
+    if (!(daz > 0.0f))
+        return 0;
+    cc = cell / daz / (float)ACTAG_SEARCH_FACTOR; /* low-res pixels per cell along azimuth */
+    /* boxes larger than the map leave it anyway: saturate there */
+    b->ir = px_count(half_in * cr + 0.5f, hr + 1);
+    b->ic = px_count(half_in * cc + 0.5f, hc + 1);
+    b->orr = px_count((half_in + 1.0f) * cr + 0.5f, hr + 2);
+    b->oc = px_count((half_in + 1.0f) * cc + 0.5f, hc + 2);
+    if (b->ir < 1) b->ir = 1;
+    if (b->ic < 1) b->ic = 1;
+    if (b->orr <= b->ir) b->orr = b->ir + 1;
+    if (b->oc <= b->ic) b->oc = b->ic + 1;
+    return (uint32_t)((2 * b->orr + 1) * (2 * b->oc + 1)) <= ACTAG_SEARCH_MAX_BOX_BLOCKS;
+}
+
+/* The score of block (r, c) with boxes b: 8 * (mean_in - mean_ring) in grey
+ * levels, clamped; INT16_MIN when the outer box leaves the map. */
+static int16_t box_score(const actag_search *z, const search_box *b, int r, int c)
+{
+    uint32_t si, so;
+    int32_t ni, no;
+    int64_t num, den, q;
+    if (!(r - b->orr >= 0 && r + b->orr < z->hr && c - b->oc >= 0 && c + b->oc < z->hc))
+        return INT16_MIN;
+    si = box_sum(z, r - b->ir, c - b->ic, r + b->ir + 1, c + b->ic + 1);
+    so = box_sum(z, r - b->orr, c - b->oc, r + b->orr + 1, c + b->oc + 1);
+    ni = (2 * b->ir + 1) * (2 * b->ic + 1);
+    no = (2 * b->orr + 1) * (2 * b->oc + 1);
+    /* sums are of F^2 pixels */
+    num = (int64_t)si * (no - ni) - (int64_t)(so - si) * ni;
+    den = (int64_t)ni * (no - ni) * ACTAG_SEARCH_FACTOR * ACTAG_SEARCH_FACTOR;
+    q = num * 8 / den;
+    return (int16_t)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
+}
+
 int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
                      const actag_sonar_geometry *g, float tag_size, int bits, float range_scale,
                      void *mapmem, size_t mapmem_size, void *scratch, size_t scratch_size)
@@ -85,48 +133,25 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
     for (r = 0; r < hr; r++) {
         float y = (float)(ACTAG_SEARCH_FACTOR * r) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
         float range = actag_geometry_range(g, rows, y);
-        float daz = actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range;
         /* the white square is k-3 cells wide; the ring box one cell more */
         float cell = tag_size / (float)(bits / 4 - 3), half_in = 0.5f * (float)(bits / 4 - 3);
-        int ir, ic, orr, oc;
-        float cr, cc;
-        if (!(daz > 0.0f)) {
-            for (c = 0; c < hc; c++)
-                z->map[(size_t)r * (size_t)hc + (size_t)c] = INT16_MIN;
-            continue;
-        }
-        cr = cell * range_scale / dr / (float)ACTAG_SEARCH_FACTOR;  /* low-res pixels per cell along range */
-        cc = cell / daz / (float)ACTAG_SEARCH_FACTOR;  /* ... along azimuth */
-        /* boxes larger than the map leave it anyway: saturate there */
-        ir = px_count(half_in * cr + 0.5f, hr + 1);
-        ic = px_count(half_in * cc + 0.5f, hc + 1);
-        orr = px_count((half_in + 1.0f) * cr + 0.5f, hr + 2);
-        oc = px_count((half_in + 1.0f) * cc + 0.5f, hc + 2);
-        if (ir < 1) ir = 1;
-        if (ic < 1) ic = 1;
-        if (orr <= ir) orr = ir + 1;
-        if (oc <= ic) oc = ic + 1;
-        /* box sums are uint32 differences of the integral image, exact only
-         * below 2^32: a box that could reach that is not scored (no int
-         * overflow: orr, oc <= 8195) */
-        if ((uint32_t)((2 * orr + 1) * (2 * oc + 1)) > ACTAG_SEARCH_MAX_BOX_BLOCKS) {
-            for (c = 0; c < hc; c++)
-                z->map[(size_t)r * (size_t)hc + (size_t)c] = INT16_MIN;
-            continue;
-        }
+        float cr = cell * range_scale / dr / (float)ACTAG_SEARCH_FACTOR; /* low-res pixels per cell along range */
+        int16_t *row = z->map + (size_t)r * (size_t)hc;
+        search_box b;
+        /* a uniform fan has one azimuth step: one box for the row */
+        int uniform = g->bearings == NULL, ok = 0;
+        if (uniform)
+            ok = box_of(cr, actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range, cell,
+                        half_in, hr, hc, &b);
         for (c = 0; c < hc; c++) {
-            int16_t v = INT16_MIN;
-            if (r - orr >= 0 && r + orr < hr && c - oc >= 0 && c + oc < hc) {
-                uint32_t si = box_sum(z, r - ir, c - ic, r + ir + 1, c + ic + 1);
-                uint32_t so = box_sum(z, r - orr, c - oc, r + orr + 1, c + oc + 1);
-                int32_t ni = (2 * ir + 1) * (2 * ic + 1), no = (2 * orr + 1) * (2 * oc + 1);
-                /* 8 * (mean_in - mean_ring) in grey levels; sums are of F^2 pixels */
-                int64_t num = (int64_t)si * (no - ni) - (int64_t)(so - si) * ni;
-                int64_t den = (int64_t)ni * (no - ni) * ACTAG_SEARCH_FACTOR * ACTAG_SEARCH_FACTOR;
-                int64_t q = num * 8 / den;
-                v = (int16_t)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
+            /* a bearing table's step at the block's own column, as
+             * actag_search_next sizes its quad there */
+            if (!uniform) {
+                float x = (float)(ACTAG_SEARCH_FACTOR * c) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
+                ok = box_of(cr, actag_geometry_azimuth_step(g, cols, x) * range, cell, half_in, hr,
+                            hc, &b);
             }
-            z->map[(size_t)r * (size_t)hc + (size_t)c] = v;
+            row[c] = ok ? box_score(z, &b, r, c) : INT16_MIN;
         }
     }
     return ACTAG_OK;

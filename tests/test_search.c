@@ -20,7 +20,9 @@ static int ref_score(const uint8_t *img, int rows, int cols, int stride,
     int hr = rows / F, hc = cols / F, ir, ic, orr, oc, i, j, a, b;
     float y = (float)(F * r) + 0.5f * (float)(F - 1);
     float range = actag_geometry_range(g, rows, y);
-    float daz = actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range;
+    /* the azimuth step at the block's own column (a bearing table's varies) */
+    float x = (float)(F * c) + 0.5f * (float)(F - 1);
+    float daz = actag_geometry_azimuth_step(g, cols, x) * range;
     float w = (float)(bits / 4 - 3); /* white square, cells */
     float dr = actag_geometry_range_step(g, rows), cell = tag / w, cr, cc;
     long long si = 0, so = 0, ni, no, num, den, q;
@@ -66,6 +68,7 @@ static void test_map_equals_direct_sums(void)
         float tag = 0.02f + (float)tu_range(0, 100) * 0.001f;
         int bits = (t % 2) ? 28 : 24; /* 28 bits: a 4-cell white square */
         actag_sonar_geometry g = {0.5f, 2.0f, 0.6f, NULL, 0u};
+        float bearings[140];
         uint8_t *img = (uint8_t *)malloc((size_t)rows * (size_t)stride);
         size_t ms = ACTAG_SEARCH_MAP_SIZE(rows, cols), is = ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols);
         void *map = malloc(ms), *ii = malloc(is);
@@ -75,6 +78,19 @@ static void test_map_equals_direct_sums(void)
             img[r] = (uint8_t)((tu_rand() % 4u == 0u) ? tu_range(150, 255) : tu_range(0, 60));
         if (t % 3 == 1)
             g.flags = ACTAG_RANGE_ASCENDING;
+        if (t % 4 >= 2) {
+            /* a bearing table whose step grows 1.5-3x from the centre to
+             * the edges (an Oculus-like fan): each column its own box */
+            float span = 0.0f, gain = 0.5f + 0.01f * (float)tu_range(0, 150);
+            for (c = 0; c < cols; c++) {
+                float u = 2.0f * (float)c / (float)(cols - 1) - 1.0f; /* -1 .. 1 */
+                bearings[c] = 0.5f * u + gain * u * u * u / 3.0f;
+                span = bearings[c];
+            }
+            for (c = 0; c < cols; c++)
+                bearings[c] *= 0.5f / span; /* +-0.5 rad */
+            g.bearings = bearings;
+        }
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, rows, cols, stride, &g, tag, bits, 0.75f,
                                                          map, ms, ii, is));
         TEST_ASSERT_EQUAL_INT(rows / F, z.hr);

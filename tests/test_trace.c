@@ -293,7 +293,9 @@ static void test_errors_without_events(void)
                                                                   d, 4, NULL, on_event, &t));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE,
                           actag_detect_traced(&f, &good, &p, g_ws, 10, d, 4, NULL, on_event, &t));
+    /* no event of any kind, a malformed one (bad) included */
     TEST_ASSERT_EQUAL_INT(0, t.kind_count[1] + t.kind_count[2] + t.kind_count[3] + t.kind_count[4]);
+    TEST_ASSERT_EQUAL_INT(0, t.bad);
 }
 
 int main(int argc, char **argv)

@@ -16,8 +16,11 @@
  *   square (k-3 cells, k = bits / 4: 1.5 cells either side of the centre for
  *   24 bits, 2 for 28) and the outer box one cell more either side (cell =
  *   tag_size / (k-3); along the range axis the cell is scaled by range_scale,
- *   because tilted tags look shorter in range). Rows whose geometry gives no
- *   azimuth step, and positions whose outer box leaves the frame, score
+ *   because tilted tags look shorter in range; along azimuth the cell is
+ *   measured with the azimuth step at the block's own column, which varies
+ *   across a bearing table, as actag_search_next sizes its quad). Positions
+ *   whose geometry gives no azimuth step, and positions whose outer box
+ *   leaves the frame, score
  *   INT16_MIN. Scores are clamped to +-2040. Box half-sizes are computed in
  *   float and saturate at the map's size before they become ints, so any
  *   finite tag_size and geometry (even a range of almost 0) is defined
