@@ -928,6 +928,18 @@ void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
     p->plane_tilt_sd = 0.0f;
 }
 
+/* The lengths the fit works with: corner ranges and the tag size within
+ * these, so that squares and sums of them stay normal floats (a range of
+ * 2e19 m overflowed them and came back as ACTAG_OK with an inf range and a
+ * zero R; 1e-30 m underflowed to a range of 0). Far beyond any sonar's. */
+#define P_MIN_LENGTH 1.0e-3f /* m */
+#define P_MAX_LENGTH 1.0e4f  /* m, as P_PLANE_MAX_D */
+
+static int p_length_ok(float v)
+{
+    return v >= P_MIN_LENGTH && v <= P_MAX_LENGTH; /* NaN fails */
+}
+
 int actag_pose_estimate(const float range[4], const float azimuth[4], int mirrored,
                         const actag_pose_params *p, actag_pose *out)
 {
@@ -940,10 +952,10 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
     if (actag_fp_fuses())
         return ACTAG_ERR_BUILD;
     for (i = 0; i < 4; i++)
-        if (!p_finite(range[i]) || !(range[i] > 0.0f) || !p_finite(azimuth[i]) ||
+        if (!p_length_ok(range[i]) || !p_finite(azimuth[i]) ||
             !(azimuth[i] > -4.0f * P_PI && azimuth[i] < 4.0f * P_PI))
             return ACTAG_ERR_PARAM;
-    if (!p_finite(p->tag_size) || !(p->tag_size > 0.0f) || !p_finite(p->vertical_aperture) ||
+    if (!p_length_ok(p->tag_size) || !p_finite(p->vertical_aperture) ||
         !(p->vertical_aperture > 0.0f) || !(p->vertical_aperture < P_PI) ||
         !p_finite(p->extent) || !(p->extent >= 1.0f) || !p_sd_ok(p->range_sd) ||
         !p_sd_ok(p->azimuth_sd) || p->max_iterations < 1 || p->max_iterations > 100)
@@ -1094,7 +1106,7 @@ int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pos
         if (!p_finite(R_opt[i]))
             return ACTAG_ERR_PARAM;
     for (i = 0; i < 3; i++)
-        if (!p_finite(t_opt[i]))
+        if (!(t_opt[i] >= -P_MAX_LENGTH && t_opt[i] <= P_MAX_LENGTH)) /* NaN fails */
             return ACTAG_ERR_PARAM;
     for (i = 0; i < (int)sizeof *out; i++)
         ((unsigned char *)out)[i] = 0;

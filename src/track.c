@@ -30,16 +30,32 @@ void actag_track_params_default(actag_track_params *p)
  * once); NaN fails both comparisons. */
 static int t_finite(float v) { return v >= -FLT_MAX && v <= FLT_MAX; }
 
+/* The parameters actag_tracker_init accepts (track.h). */
+static int t_params_ok(const actag_track_params *p)
+{
+    return !(p->full_every < 1 || p->confirm_frames < 1 || p->max_missed < 0 ||
+             !t_finite(p->confirm_margin) || !t_finite(p->roi_scale) || !(p->roi_scale > 0.0f) ||
+             !(p->roi_scale <= 10.0f) || !t_finite(p->gate) || !(p->gate > 0.0f) ||
+             !(p->gate <= 10.0f) || !t_finite(p->smoothing) || !(p->smoothing > 0.0f) ||
+             !(p->smoothing <= 1.0f) || p->refind_after < 0 ||
+             (p->verify != 0 && p->verify != 1));
+}
+
+/* A state actag_tracker_init made and actag_tracker_update kept: a zeroed
+ * or overwritten tracker (never initialised: gate 0, a new track ID every
+ * frame) is refused rather than run. */
+static int t_state_ok(const actag_tracker *t)
+{
+    return t_params_ok(&t->params) && t->ntracks >= 0 && t->ntracks <= ACTAG_TRACK_MAX &&
+           t->next_track_id != 0u && t->frame >= 0 && t->last_full >= -1 &&
+           t->last_full < t->frame && t->rows >= 0 && t->cols >= 0;
+}
+
 int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
 {
     if (t == NULL || p == NULL)
         return ACTAG_ERR_NULL;
-    if (p->full_every < 1 || p->confirm_frames < 1 || p->max_missed < 0 ||
-        !t_finite(p->confirm_margin) || !t_finite(p->roi_scale) || !(p->roi_scale > 0.0f) ||
-        !(p->roi_scale <= 10.0f) || !t_finite(p->gate) || !(p->gate > 0.0f) ||
-        !(p->gate <= 10.0f) || !t_finite(p->smoothing) || !(p->smoothing > 0.0f) ||
-        !(p->smoothing <= 1.0f) || p->refind_after < 0 ||
-        (p->verify != 0 && p->verify != 1))
+    if (!t_params_ok(p))
         return ACTAG_ERR_PARAM;
     memset(t, 0, sizeof *t);
     t->params = *p;
@@ -370,6 +386,8 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         *stats = st;
     if (t == NULL)
         return ACTAG_ERR_NULL;
+    if (!t_state_ok(t))
+        return ACTAG_ERR_PARAM; /* not counted: the state is not one to count in */
     cur = t->frame++; /* every frame fed counts, failed ones too (track.h) */
     /* actag_detect's checks (actag_check) for both parameter sets first, so
      * that a call actag_check refuses gets its code (track.h) */

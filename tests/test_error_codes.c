@@ -24,6 +24,17 @@
 void setUp(void) {}
 void tearDown(void) {}
 
+/* Is every entry of a pose's rotation a number within +-1? (Before the
+ * frame size macro R below.) */
+static int pose_rotation_bounded(const actag_pose *p)
+{
+    int k;
+    for (k = 0; k < 9; k++)
+        if (!(p->R[k] >= -1.001f && p->R[k] <= 1.001f))
+            return 0;
+    return 1;
+}
+
 /* a small frame, big enough for the structure search (>= 16 x 16) */
 #define R 32
 #define C 32
@@ -1142,12 +1153,37 @@ static void test_pose_estimate(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(rb, az, 0, &pp, &pose));
     rb[2] = NAN;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(rb, az, 0, &pp, &pose));
+    /* ranges within 1e-3 .. 1e4 m: 2e19 overflowed the squares (ACTAG_OK
+     * with an inf range and a zero R), 1e-30 underflowed them */
+    rb[2] = 2e19f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(rb, az, 0, &pp, &pose));
+    rb[2] = 1.0001e4f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(rb, az, 0, &pp, &pose));
+    rb[2] = 1e-30f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(rb, az, 0, &pp, &pose));
+    rb[2] = 0.9e-3f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(rb, az, 0, &pp, &pose));
+    {
+        /* the bounds themselves are accepted, and every output is finite */
+        float rr[4] = {1e4f, 1e4f, 9999.9f, 9999.9f}, aa[4] = {1e-5f, -1e-5f, -1e-5f, 1e-5f};
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(rr, aa, 0, &pp, &pose));
+        TEST_ASSERT_TRUE(pose.range > 9999.0f && pose.range < 10001.0f);
+        TEST_ASSERT_TRUE(pose_rotation_bounded(&pose));
+        rr[0] = rr[1] = rr[2] = rr[3] = 1e-3f;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(rr, aa, 0, &pp, &pose));
+    }
     memcpy(rb, az, sizeof rb);
     rb[1] = 20.0f; /* azimuth beyond +-4 pi */
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, rb, 0, &pp, &pose));
     b = pp;
     b.tag_size = 0.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.tag_size = 2e19f; /* 1e-3 .. 1e4 m, as the ranges */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.tag_size = 0.9e-3f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.tag_size = 1e-3f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
     b = pp;
     b.vertical_aperture = 3.5f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
@@ -1264,6 +1300,10 @@ static void test_pose_from_camera(void)
     Ro[4] = 1.0f;
     to[1] = NAN;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_from_camera(Ro, to, &pose));
+    to[1] = 2e19f; /* within +-1e4 m: 2e19 gave an inf range */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_from_camera(Ro, to, &pose));
+    to[1] = -1e4f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_from_camera(Ro, to, &pose));
     to[1] = 0.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_from_camera(Ro, to, &pose));
     TEST_ASSERT_EQUAL_FLOAT(2.0f, pose.t[0]); /* x forward = z of the optical frame */

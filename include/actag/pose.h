@@ -167,8 +167,9 @@
  *       Pose from the four corners in tag order (metres, radians, as in
  *       actag_detection). Returns ACTAG_OK (out filled; check out->flags),
  *       ACTAG_ERR_NULL (a pointer is NULL), ACTAG_ERR_PARAM (a corner not
- *       finite, a range <= 0, an azimuth outside (-4 pi, 4 pi), tag_size not
- *       finite or <= 0, vertical_aperture outside
+ *       finite, a range outside 1e-3 .. 1e4 m, an azimuth outside (-4 pi,
+ *       4 pi), tag_size outside 1e-3 .. 1e4 m (the fit squares lengths:
+ *       beyond these they leave the float range), vertical_aperture outside
  *       (0, pi), extent < 1, range_sd or azimuth_sd <= 0, not finite or
  *       so small that 1 / sd^2 overflows a float (below about 5e-20),
  *       max_iterations outside 1..100, plane_sd or plane_tilt_sd negative,
@@ -186,7 +187,8 @@
  *       Camera pose in the optical frame (R row-major tag -> camera, t in
  *       metres) to the sensor frame; fills R, t, range, azimuth, elevation,
  *       zeroes the rest (no covariance: flags = ACTAG_POSE_NO_COVARIANCE).
- *       ACTAG_ERR_NULL or ACTAG_ERR_PARAM (not finite), else ACTAG_OK.
+ *       ACTAG_ERR_NULL, or ACTAG_ERR_PARAM (an entry not finite, or of t_opt
+ *       beyond +-1e4 m), else ACTAG_OK.
  *   float actag_pose_angle(const float Ra[9], const float Rb[9])
  *       The angle (rad, 0..pi) of the rotation between Ra and Rb. This and
  *       actag_pose_rotation_vector check nothing and have no error codes.

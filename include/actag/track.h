@@ -99,7 +99,10 @@
  *                            actag_track *out, int max_out, actag_track_stats *stats)
  *       One frame. Writes up to max_out confirmed tracks (in track order)
  *       and returns their number, or a negative error, first found of:
- *       ACTAG_ERR_NULL for t; what actag_check() (actag_detect's checks)
+ *       ACTAG_ERR_NULL for t; ACTAG_ERR_PARAM for a t that
+ *       actag_tracker_init did not make (a zeroed or overwritten state:
+ *       parameters init refuses, a track count outside 0..ACTAG_TRACK_MAX,
+ *       track ID 0; the frame counter is not advanced then); what actag_check() (actag_detect's checks)
  *       returns for the frame with params (max_out included), then with
  *       roi_params (when given); ACTAG_ERR_NULL for workspace or out
  *       (max_out > 0); ACTAG_ERR_SIZE when the frame's rows/cols differ from

@@ -1101,6 +1101,31 @@ static void test_errors(void)
         TEST_ASSERT_EQUAL_INT(i < 4 ? ACTAG_ERR_SIZE : ACTAG_ERR_NULL,
                               actag_check(&g, &sonar.geo, &p, wss, -1, NULL));
     }
+    /* a tracker never initialised (zeroed: gate 0, which init refuses) or
+     * overwritten is refused, not run (it started a new track ID every
+     * frame), and its frame counter stays */
+    memset(&tr, 0, sizeof tr);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
+    TEST_ASSERT_EQUAL_INT(0, (int)tr.frame);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    TEST_ASSERT_TRUE(actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL) >= 0);
+    for (i = 0; i < 4; i++) {
+        static actag_tracker keep;
+        keep = tr;
+        if (i == 0)
+            tr.ntracks = ACTAG_TRACK_MAX + 1; /* would index past tracks[] */
+        else if (i == 1)
+            tr.ntracks = -1;
+        else if (i == 2)
+            tr.next_track_id = 0u;
+        else
+            tr.params.smoothing = 2.0f;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
+        tr = keep;
+        TEST_ASSERT_TRUE(actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL) >= 0);
+    }
 }
 
 int main(void)
