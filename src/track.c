@@ -355,6 +355,84 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     return 1;
 }
 
+/* A checksum of a geometry's bearing table (0: none), so that a table
+ * changed in place is seen as a new geometry. */
+static uint32_t t_bearings_sum(const actag_sonar_geometry *g, int cols)
+{
+    uint32_t h = 2166136261u, b;
+    int c;
+    if (g->bearings == NULL)
+        return 0u;
+    for (c = 0; c < cols; c++) {
+        memcpy(&b, &g->bearings[c], sizeof b);
+        h = (h ^ b) * 16777619u;
+    }
+    return h | 1u; /* never 0 */
+}
+
+/* Is g another geometry than the one the tracks were last placed in? */
+static int t_geometry_changed(const actag_tracker *t, const actag_sonar_geometry *g,
+                              uint32_t bsum)
+{
+    return g->min_range != t->geo_min_range || g->max_range != t->geo_max_range ||
+           (g->bearings == NULL && g->aperture != t->geo_aperture) ||
+           g->flags != t->geo_flags || bsum != t->geo_bearings_sum;
+}
+
+/* Sub-pixel row of range r: the inverse of actag_geometry_range. */
+static float t_row_of(const actag_sonar_geometry *g, int rows, float r)
+{
+    float step = actag_geometry_range_step(g, rows);
+    if (!(step > 0.0f))
+        return 0.0f;
+    if (g->flags & ACTAG_RANGE_ASCENDING)
+        return (r - g->min_range) / step;
+    return (g->max_range - r) / step;
+}
+
+/* Sub-pixel column of azimuth a: the inverse of actag_geometry_azimuth
+ * (a bearing table's interval found by bisection; a validated table is
+ * strictly monotonic, its end intervals extrapolate). */
+static float t_col_of(const actag_sonar_geometry *g, int cols, float a)
+{
+    if (cols < 2)
+        return 0.0f;
+    if (g->bearings != NULL) {
+        const float *b = g->bearings;
+        int asc = b[cols - 1] > b[0], lo = 0, hi = cols - 2;
+        while (lo < hi) { /* the last interval start c with a past b[c] */
+            int mid = lo + (hi - lo + 1) / 2;
+            if (asc ? a >= b[mid] : a <= b[mid])
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        return (float)lo + (a - b[lo]) / (b[lo + 1] - b[lo]);
+    } else {
+        float half = 0.5f * g->aperture, step = g->aperture / (float)(cols - 1);
+        if (g->flags & ACTAG_AZIMUTH_ASCENDING)
+            return (a + half) / step;
+        return (half - a) / step;
+    }
+}
+
+/* The tracks moved into a new geometry: each smoothed corner to the pixel
+ * of its range and azimuth (kept from the last frame), its velocity
+ * restarted (a pixel velocity does not carry over a new range scale or
+ * orientation). `last` stays the reading as it was returned. */
+static void t_reproject(actag_tracker *t, const actag_sonar_geometry *g, int rows, int cols)
+{
+    int i, c;
+    for (i = 0; i < t->ntracks; i++) {
+        actag_track *k = &t->tracks[i];
+        for (c = 0; c < 4; c++) {
+            k->corners[c].x = t_col_of(g, cols, k->azimuth[c]);
+            k->corners[c].y = t_row_of(g, rows, k->range[c]);
+            k->velocity[c].x = k->velocity[c].y = 0.0f;
+        }
+    }
+}
+
 static void t_polar(const actag_sonar_geometry *g, int rows, int cols, actag_track *k)
 {
     int i;
@@ -378,7 +456,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     /* verified in step 1: a second try in step 2 would repeat the same
      * decode at the same prediction */
     int tried[ACTAG_TRACK_MAX];
-    uint32_t fsum;
+    uint32_t fsum, bsum;
     float alpha, beta;
 
     memset(&st, 0, sizeof st);
@@ -398,8 +476,6 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         return rc;
     if (workspace == NULL || (out == NULL && max_out > 0))
         return ACTAG_ERR_NULL;
-    if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols))
-        return ACTAG_ERR_SIZE;
     /* A track is started by a whole-frame reading (params) and read in its
      * window (roi_params): its ID must name the same code in both, and in
      * every frame of the stream. */
@@ -408,6 +484,15 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         (t->rows != 0 && (params->family->bits != t->family_bits ||
                           params->family->ncodes != t->family_ncodes || fsum != t->family_sum)))
         return ACTAG_ERR_PARAM;
+    bsum = t_bearings_sum(geometry, frame->cols);
+    if (t->rows != 0 && (frame->rows != t->rows || frame->cols != t->cols ||
+                         t_geometry_changed(t, geometry, bsum)))
+        t_reproject(t, geometry, frame->rows, frame->cols);
+    t->geo_min_range = geometry->min_range;
+    t->geo_max_range = geometry->max_range;
+    t->geo_aperture = geometry->aperture;
+    t->geo_flags = geometry->flags;
+    t->geo_bearings_sum = bsum;
     t->rows = frame->rows;
     t->cols = frame->cols;
     t->family_bits = params->family->bits;

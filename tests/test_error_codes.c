@@ -478,15 +478,22 @@ static void test_tracker_update(void)
     roi.family = &cut;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&g_trk, &f, &g, &p, &roi, g_ws,
                                                                 sizeof g_ws, out, 2, NULL));
-    /* success, then a frame of another size, then another family */
+    /* success, then another family, then a frame of another size */
     TEST_ASSERT_EQUAL_INT(0, actag_tracker_update(&g_trk, &f, &g, &p, &p, g_ws, sizeof g_ws, out,
                                                   2, NULL));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&g_trk, &f, &g, &roi, NULL, g_ws,
                                                                 sizeof g_ws, out, 2, NULL));
     f2 = f;
-    f2.rows = R - 1;
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_tracker_update(&g_trk, &f2, &g, &p, NULL, g_ws,
-                                                               sizeof g_ws, out, 2, NULL));
+    f2.rows = R - 1; /* a new frame size is no error: the tracks move with it */
+    TEST_ASSERT_EQUAL_INT(0, actag_tracker_update(&g_trk, &f2, &g, &p, NULL, g_ws, sizeof g_ws, out,
+                                                  2, NULL));
+    /* a zeroed tracker (never initialised) is refused */
+    {
+        static actag_tracker z;
+        memset(&z, 0, sizeof z);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_update(&z, &f, &g, &p, NULL, g_ws,
+                                                                    sizeof g_ws, out, 2, NULL));
+    }
     TEST_ASSERT_EQUAL_INT(0, actag_tracker_update(&g_trk, &f, &g, &p, NULL, g_ws, sizeof g_ws, out,
                                                   2, NULL));
 }

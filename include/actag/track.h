@@ -105,12 +105,17 @@
  *       track ID 0; the frame counter is not advanced then); what actag_check() (actag_detect's checks)
  *       returns for the frame with params (max_out included), then with
  *       roi_params (when given); ACTAG_ERR_NULL for workspace or out
- *       (max_out > 0); ACTAG_ERR_SIZE when the frame's rows/cols differ from
- *       the first frame's (re-initialise for another sonar setting);
- *       ACTAG_ERR_PARAM when roi_params' family is not params' family, or
+ *       (max_out > 0); ACTAG_ERR_PARAM when roi_params' family is not params' family, or
  *       that family is not the first frame's (roi_params above).
  *       stats may be NULL. On an error the state is unchanged except the
  *       frame counter.
+ *       A new sonar setting mid-stream (another range window, aperture,
+ *       orientation, bearing table or frame size: a sonar's range scale
+ *       changed by its operator) keeps the tracks: each smoothed corner is
+ *       moved to the pixel of its range and azimuth in the new frame, its
+ *       velocity restarted, so the track is read at its place in the new
+ *       frame; `last` keeps the reading as it was returned. A bearing table
+ *       changed in place is noticed by a checksum of its values.
  *
  *   Cost per frame (stats): pixels filtered (verify windows, ROIs, whole
  *   frame), verify attempts, ROI calls, whether the whole frame was
@@ -185,7 +190,13 @@ typedef struct actag_tracker {
     long frame;              /* frames fed (including failed ones) */
     long last_full;          /* frame index of the last whole-frame search (-1: none) */
     uint32_t next_track_id;
-    int rows, cols;          /* of the first frame (0: none yet) */
+    int rows, cols;          /* of the last frame (0: none yet) */
+    /* the last frame's sonar geometry: when the next one differs (range
+     * setting, aperture, orientation, bearing table), the tracks are
+     * carried over through their range and azimuth (track.c) */
+    float geo_min_range, geo_max_range, geo_aperture;
+    unsigned geo_flags;
+    uint32_t geo_bearings_sum; /* checksum of its bearing table (0: none) */
     int family_bits, family_ncodes; /* of the first frame's params.family */
     uint32_t family_sum;     /* and a checksum of its codes (track.c) */
     float bearings[ACTAG_TRACK_ROI_MAX_COLS];   /* an ROI's bearing table */

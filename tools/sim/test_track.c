@@ -846,6 +846,90 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
     free(empty);
 }
 
+/* The still view (frame STILL of the pass) rendered by another sonar
+ * setting s2: the same scene, its truth in s2's pixels. */
+static uint8_t *render_still_as(const sim_sonar *s2, sim_truth *tr2)
+{
+    char err[256];
+    sim_tag tag;
+    sim_scene sc;
+    uint8_t *px = (uint8_t *)malloc((size_t)s2->rows * (size_t)s2->cols);
+    TEST_ASSERT_NOT_NULL(px);
+    memset(&tag, 0, sizeof tag);
+    tag.family = fam;
+    tag.id = 5;
+    tag.tag_size = S;
+    sim_sequence_view(&sonar, &view, 7u, STILL, NSEQ, &tag, &sc);
+    TEST_ASSERT_EQUAL_INT(0, sim_render(s2, &sc, &app, sim_frame_seed(7u, (uint32_t)STILL), px, NULL,
+                                        s2->cols, err));
+    sim_truth_of(s2, &tag, tr2);
+    return px;
+}
+
+/* A sonar whose range setting changes mid-stream (the operator's range
+ * scale: another range window, orientation or number of range bins) keeps
+ * its tracks: the track is read at once, in its verify window, without a
+ * whole-frame search, with its ID and track ID, and its corners and
+ * (range, azimuth) are where the new frame shows the tag. (Before: the
+ * smoothed corners stayed in the old frame's pixels, the window missed,
+ * and a frame size change was an error.) */
+static void test_a_new_sonar_setting_keeps_the_tracks(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    int v;
+    for (v = 0; v < 3; v++) {
+        sim_sonar s2 = sonar;
+        sim_truth t2;
+        uint8_t *px;
+        actag_frame f;
+        uint32_t id;
+        int n = track_still(&tr, &tp, &p, 1000, 5, out, &st), c;
+        TEST_ASSERT_EQUAL_INT(1, n);
+        id = out[0].track_id;
+        if (v == 0) {
+            s2.geo.max_range = 2.0f; /* a longer range window */
+        } else if (v == 1) {
+            s2.geo.flags ^= ACTAG_RANGE_ASCENDING; /* the rows the other way */
+            s2.geo.min_range = 0.3f;
+        } else {
+            s2.rows = sonar.rows - 130; /* fewer range bins over the same window */
+            s2.geo.max_range = 1.7f;
+        }
+        px = render_still_as(&s2, &t2);
+        TEST_ASSERT_TRUE(t2.visible);
+        f.data = px;
+        f.rows = s2.rows;
+        f.cols = s2.cols;
+        f.stride = s2.cols;
+        f.depth = 8;
+        n = actag_tracker_update(&tr, &f, &s2.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX, &st);
+        TEST_ASSERT_EQUAL_INT(1, n);
+        TEST_ASSERT_EQUAL_UINT32(id, out[0].track_id);
+        TEST_ASSERT_EQUAL_INT(5, out[0].id);
+        TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+        TEST_ASSERT_EQUAL_INT(0, st.full_frame);
+        TEST_ASSERT_EQUAL_INT(1, st.verified);
+        TEST_ASSERT_EQUAL_INT(0, st.started);
+        for (c = 0; c < 4; c++) {
+            /* the prediction was at the reading, up to the reading's own
+             * corner error (up to 7 px on these frames): the smoothed
+             * corner is within 1 - smoothing of that of it (a stale one
+             * trails it by 1 - smoothing of the whole jump), and where
+             * the new frame shows the tag */
+            TEST_ASSERT_FLOAT_WITHIN(3.0f, out[0].last.corners[c].x, out[0].corners[c].x);
+            TEST_ASSERT_FLOAT_WITHIN(3.0f, out[0].last.corners[c].y, out[0].corners[c].y);
+            TEST_ASSERT_FLOAT_WITHIN(6.0f, t2.px[c].x, out[0].corners[c].x);
+            TEST_ASSERT_FLOAT_WITHIN(6.0f, t2.px[c].y, out[0].corners[c].y);
+            TEST_ASSERT_FLOAT_WITHIN(0.025f, t2.range[c], out[0].range[c]); /* 6 px of 3.6 mm */
+        }
+        free(px);
+    }
+}
+
 /* The gate widens by a diagonal per missed frame: a tag that reappears 1.5
  * diagonals away after one frame unseen is within it, so its reading
  * updates the track through the filter (the smoothed corners trail the
@@ -1075,9 +1159,8 @@ static void test_errors(void)
                           actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, 100, out, 2, NULL));
     TEST_ASSERT_TRUE(actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL) >= 0);
     g = f;
-    g.rows = f.rows - 10; /* another frame size in the same stream */
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE,
-                          actag_tracker_update(&tr, &g, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
+    g.rows = f.rows - 10; /* another frame size in the same stream: the tracks move with it */
+    TEST_ASSERT_TRUE(actag_tracker_update(&tr, &g, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL) >= 0);
     p.tag_size = -1.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
                           actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
@@ -1158,6 +1241,7 @@ int main(void)
     RUN_TEST(test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames);
     RUN_TEST(test_a_tag_that_jumps_keeps_one_track);
     RUN_TEST(test_the_gate_widens_while_a_track_coasts);
+    RUN_TEST(test_a_new_sonar_setting_keeps_the_tracks);
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
     RUN_TEST(test_the_family_is_one_and_the_same);
