@@ -53,6 +53,41 @@ float actag_geometry_azimuth_step(const actag_sonar_geometry *geo, int cols, flo
     return d < 0.0f ? -d : d;
 }
 
+float actag_geometry_row(const actag_sonar_geometry *geo, int rows, float r)
+{
+    float step = actag_geometry_range_step(geo, rows);
+    if (!(step > 0.0f))
+        return 0.0f;
+    if (geo->flags & ACTAG_RANGE_ASCENDING)
+        return (r - geo->min_range) / step;
+    return (geo->max_range - r) / step;
+}
+
+float actag_geometry_column(const actag_sonar_geometry *geo, int cols, float a)
+{
+    if (cols < 2)
+        return 0.0f;
+    if (geo->bearings != NULL) {
+        /* the last interval c (0 .. cols-2) whose start a has reached, in
+         * the table's direction; the end intervals extrapolate */
+        const float *b = geo->bearings;
+        int asc = b[cols - 1] > b[0], lo = 0, hi = cols - 2;
+        while (lo < hi) {
+            int mid = lo + (hi - lo + 1) / 2;
+            if (asc ? a >= b[mid] : a <= b[mid])
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        return (float)lo + (a - b[lo]) / (b[lo + 1] - b[lo]);
+    } else {
+        float half = 0.5f * geo->aperture, step = geo->aperture / (float)(cols - 1);
+        if (geo->flags & ACTAG_AZIMUTH_ASCENDING)
+            return (a + half) / step;
+        return (half - a) / step;
+    }
+}
+
 int actag_geometry_mirrors(const actag_sonar_geometry *geo, int cols)
 {
     int az_asc = geo->bearings ? (cols > 1 && geo->bearings[cols - 1] > geo->bearings[0])

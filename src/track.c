@@ -379,43 +379,6 @@ static int t_geometry_changed(const actag_tracker *t, const actag_sonar_geometry
            g->flags != t->geo_flags || bsum != t->geo_bearings_sum;
 }
 
-/* Sub-pixel row of range r: the inverse of actag_geometry_range. */
-static float t_row_of(const actag_sonar_geometry *g, int rows, float r)
-{
-    float step = actag_geometry_range_step(g, rows);
-    if (!(step > 0.0f))
-        return 0.0f;
-    if (g->flags & ACTAG_RANGE_ASCENDING)
-        return (r - g->min_range) / step;
-    return (g->max_range - r) / step;
-}
-
-/* Sub-pixel column of azimuth a: the inverse of actag_geometry_azimuth
- * (a bearing table's interval found by bisection; a validated table is
- * strictly monotonic, its end intervals extrapolate). */
-static float t_col_of(const actag_sonar_geometry *g, int cols, float a)
-{
-    if (cols < 2)
-        return 0.0f;
-    if (g->bearings != NULL) {
-        const float *b = g->bearings;
-        int asc = b[cols - 1] > b[0], lo = 0, hi = cols - 2;
-        while (lo < hi) { /* the last interval start c with a past b[c] */
-            int mid = lo + (hi - lo + 1) / 2;
-            if (asc ? a >= b[mid] : a <= b[mid])
-                lo = mid;
-            else
-                hi = mid - 1;
-        }
-        return (float)lo + (a - b[lo]) / (b[lo + 1] - b[lo]);
-    } else {
-        float half = 0.5f * g->aperture, step = g->aperture / (float)(cols - 1);
-        if (g->flags & ACTAG_AZIMUTH_ASCENDING)
-            return (a + half) / step;
-        return (half - a) / step;
-    }
-}
-
 /* The tracks moved into a new geometry: each smoothed corner to the pixel
  * of its range and azimuth (kept from the last frame), its velocity
  * restarted (a pixel velocity does not carry over a new range scale or
@@ -426,8 +389,8 @@ static void t_reproject(actag_tracker *t, const actag_sonar_geometry *g, int row
     for (i = 0; i < t->ntracks; i++) {
         actag_track *k = &t->tracks[i];
         for (c = 0; c < 4; c++) {
-            k->corners[c].x = t_col_of(g, cols, k->azimuth[c]);
-            k->corners[c].y = t_row_of(g, rows, k->range[c]);
+            k->corners[c].x = actag_geometry_column(g, cols, k->azimuth[c]);
+            k->corners[c].y = actag_geometry_row(g, rows, k->range[c]);
             k->velocity[c].x = k->velocity[c].y = 0.0f;
         }
     }

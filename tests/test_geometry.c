@@ -63,6 +63,69 @@ static void test_bearing_table(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g, 10, 6, NULL));
 }
 
+/* actag_geometry_row / actag_geometry_column invert the mappings: on random
+ * geometries (both orientations, uniform fans and random monotonic bearing
+ * tables either way), the sub-pixel position of the mapped value is the
+ * position, inside the frame and past its ends (extrapolated); the column
+ * found by bisection is the brute-force scan's interval. */
+static void test_inverse_mappings(void)
+{
+    static float b[300];
+    int t;
+    tu_seed(77);
+    for (t = 0; t < 400; t++) {
+        int rows = tu_range(2, 600), cols = tu_range(2, 300), i, c;
+        actag_sonar_geometry g = {0.0f, 0.0f, 0.0f, NULL, 0u};
+        g.min_range = 0.01f * (float)tu_range(0, 100);
+        g.max_range = g.min_range + 0.05f * (float)tu_range(1, 200);
+        g.aperture = 0.01f * (float)tu_range(5, 300);
+        if (tu_range(0, 1))
+            g.flags |= ACTAG_RANGE_ASCENDING;
+        if (tu_range(0, 1))
+            g.flags |= ACTAG_AZIMUTH_ASCENDING;
+        if (t % 2) {
+            /* random steps of 1e-3 .. 1e-2 rad, ascending or descending */
+            int up = tu_range(0, 1);
+            b[0] = -0.5f;
+            for (c = 1; c < cols; c++) {
+                float step = 1e-3f * (float)tu_range(1, 10);
+                b[c] = b[c - 1] + (up ? step : -step);
+            }
+            g.bearings = b;
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g, rows, cols, NULL));
+        for (i = 0; i < 20; i++) {
+            float y = 0.01f * (float)tu_range(-1000, 100 * rows + 1000);
+            float x = 0.01f * (float)tu_range(-1000, 100 * cols + 1000);
+            float r = actag_geometry_range(&g, rows, y), a = actag_geometry_azimuth(&g, cols, x);
+            float tol = 1e-3f + 2e-5f * (float)(rows > cols ? rows : cols);
+            TEST_ASSERT_FLOAT_WITHIN(tol, y, actag_geometry_row(&g, rows, r));
+            TEST_ASSERT_FLOAT_WITHIN(tol, x, actag_geometry_column(&g, cols, a));
+            if (g.bearings != NULL && x >= 0.0f && x <= (float)(cols - 1)) {
+                /* brute force: the interval whose beams bracket a */
+                int k, ref = -1;
+                for (k = 0; k + 1 < cols; k++)
+                    if ((a - b[k]) * (a - b[k + 1]) <= 0.0f) {
+                        ref = k;
+                        break;
+                    }
+                TEST_ASSERT_TRUE(ref >= 0);
+                TEST_ASSERT_FLOAT_WITHIN(0.5f + tol, (float)ref + 0.5f,
+                                         actag_geometry_column(&g, cols, a));
+            }
+        }
+    }
+    {
+        /* fewer than 2 rows or columns: 0; NaN gives NaN */
+        actag_sonar_geometry g = {0.5f, 1.5f, 1.0f, NULL, 0u};
+        TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_row(&g, 1, 1.0f));
+        TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_column(&g, 1, 0.1f));
+        TEST_ASSERT_TRUE(actag_geometry_row(&g, 10, NAN) != actag_geometry_row(&g, 10, NAN));
+        g.bearings = b;
+        TEST_ASSERT_TRUE(actag_geometry_column(&g, 10, NAN) != actag_geometry_column(&g, 10, NAN));
+    }
+}
+
 /* A NaN column with a bearing table: no int conversion of the NaN (it
  * indexed the table at INT_MIN), NaN azimuth, the first beam step; the
  * ends and infinities still clamp to the end intervals. */
@@ -140,6 +203,7 @@ int main(void)
     RUN_TEST(test_reference_mapping);
     RUN_TEST(test_orientation_flags_mirror_the_axes);
     RUN_TEST(test_bearing_table);
+    RUN_TEST(test_inverse_mappings);
     RUN_TEST(test_nan_column_with_bearing_table);
     RUN_TEST(test_mirrors_from_the_mapping);
     RUN_TEST(test_errors);

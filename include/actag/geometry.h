@@ -76,7 +76,7 @@ typedef struct actag_sonar_geometry {
 int actag_geometry_validate(const actag_sonar_geometry *geo, int rows, int cols,
                             actag_error_detail *detail);
 
-/* The four mappings below have no error codes and check nothing: geo must
+/* The mappings below have no error codes and check nothing: geo must
  * not be NULL and should be validated for the frame. Any float x or y is
  * safe, NaN and infinities included (no out-of-range int conversion, no
  * read outside the bearing table): a NaN gives a NaN range or azimuth, and
@@ -87,6 +87,17 @@ float actag_geometry_range(const actag_sonar_geometry *geo, int rows, float y);
 
 /* Azimuth (rad) at a sub-pixel column x. Assumes a validated geometry. */
 float actag_geometry_azimuth(const actag_sonar_geometry *geo, int cols, float x);
+
+/* The inverses: the sub-pixel row at range r (m) and the sub-pixel column
+ * at azimuth a (rad), so that actag_geometry_range(geo, rows,
+ * actag_geometry_row(geo, rows, r)) is r up to float rounding, and the
+ * same for the column (past the first or last row or beam they
+ * extrapolate, as the mappings do; a bearing table's interval is found by
+ * bisection, O(log cols)). 0 when rows (cols) < 2; a NaN gives a NaN.
+ * For predictions made in metres (a navigation filter's, the tracker's
+ * across a new sonar setting). */
+float actag_geometry_row(const actag_sonar_geometry *geo, int rows, float r);
+float actag_geometry_column(const actag_sonar_geometry *geo, int cols, float a);
 
 /* Metres per row (>= 0 for a validated geometry; 0 when rows < 2). */
 float actag_geometry_range_step(const actag_sonar_geometry *geo, int rows);

@@ -867,7 +867,8 @@ static uint8_t *render_still_as(const sim_sonar *s2, sim_truth *tr2)
 }
 
 /* A sonar whose range setting changes mid-stream (the operator's range
- * scale: another range window, orientation or number of range bins) keeps
+ * scale: another range window, orientation, number of range bins or a
+ * bearing table) keeps
  * its tracks: the track is read at once, in its verify window, without a
  * whole-frame search, with its ID and track ID, and its corners and
  * (range, azimuth) are where the new frame shows the tag. (Before: the
@@ -881,7 +882,7 @@ static void test_a_new_sonar_setting_keeps_the_tracks(void)
     actag_track out[ACTAG_TRACK_MAX];
     actag_track_stats st;
     int v;
-    for (v = 0; v < 3; v++) {
+    for (v = 0; v < 4; v++) {
         sim_sonar s2 = sonar;
         sim_truth t2;
         uint8_t *px;
@@ -895,9 +896,18 @@ static void test_a_new_sonar_setting_keeps_the_tracks(void)
         } else if (v == 1) {
             s2.geo.flags ^= ACTAG_RANGE_ASCENDING; /* the rows the other way */
             s2.geo.min_range = 0.3f;
-        } else {
+        } else if (v == 2) {
             s2.rows = sonar.rows - 130; /* fewer range bins over the same window */
             s2.geo.max_range = 1.7f;
+        } else {
+            /* a bearing table over the same fan, equal in sine (steps 1.15x
+             * wider at the edges): columns found by bisection */
+            static float bt[4096];
+            float h = sinf(0.5f * sonar.geo.aperture);
+            TEST_ASSERT_TRUE(s2.cols <= 4096);
+            for (c = 0; c < s2.cols; c++)
+                bt[c] = asinf(h * (1.0f - 2.0f * (float)c / (float)(s2.cols - 1)));
+            s2.geo.bearings = bt;
         }
         px = render_still_as(&s2, &t2);
         TEST_ASSERT_TRUE(t2.visible);
