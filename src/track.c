@@ -3,6 +3,7 @@
 #include "actag/track.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -429,6 +430,14 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         return ACTAG_ERR_NULL;
     if (!t_state_ok(t))
         return ACTAG_ERR_PARAM; /* not counted: the state is not one to count in */
+    if (t->frame == LONG_MAX) {
+        /* a count at its end (2^31 frames of a 32-bit long: 1.7 years at
+         * 40 Hz) goes on from full_every + 1, the last whole-frame search
+         * kept as far back (or none: one more whole-frame search) */
+        long back = t->last_full >= 0 ? t->frame - t->last_full : -1;
+        t->frame = (long)t->params.full_every + 1;
+        t->last_full = back >= 0 && back <= t->frame ? t->frame - back : -1;
+    }
     cur = t->frame++; /* every frame fed counts, failed ones too (track.h) */
     /* actag_detect's checks (actag_check) for both parameter sets first, so
      * that a call actag_check refuses gets its code (track.h) */
@@ -596,7 +605,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         actag_point pred[4];
         int c;
         t_predict(k, pred);
-        k->age++;
+        k->age += k->age < INT_MAX; /* counts saturate (a tag in view for years) */
         if (assigned[i] >= 0) {
             const actag_detection *d = &t->pool[assigned[i]];
             for (c = 0; c < 4; c++) {
@@ -606,7 +615,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
                 k->velocity[c].x += beta * rx;
                 k->velocity[c].y += beta * ry;
             }
-            k->hits++;
+            k->hits += k->hits < INT_MAX;
             k->missed = 0;
             k->measured = 1;
             k->last = *d;
@@ -659,7 +668,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             memset(k->velocity, 0, sizeof k->velocity);
             k->missed = 0;
             k->measured = 1;
-            k->hits++;
+            k->hits += k->hits < INT_MAX;
             k->last = t->pool[j];
             continue;
         }
@@ -667,7 +676,9 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             continue;
         k = &t->tracks[t->ntracks++];
         memset(k, 0, sizeof *k);
-        k->track_id = t->next_track_id++;
+        k->track_id = t->next_track_id;
+        /* after 2^32 - 1 tracks the IDs start again at 1 (0 is never one) */
+        t->next_track_id = t->next_track_id == UINT32_MAX ? 1u : t->next_track_id + 1u;
         k->id = t->pool[j].id;
         k->mirrored = t->pool[j].mirrored;
         memcpy(k->corners, t->pool[j].corners, sizeof k->corners);

@@ -155,12 +155,13 @@ typedef struct actag_track_params {
 } actag_track_params;
 
 typedef struct actag_track {
-    uint32_t track_id;       /* unique within the tracker, never reused */
+    uint32_t track_id;       /* unique within the tracker: never 0, not reused before
+                                2^32 - 1 further tracks (then 1 again) */
     int id;                  /* tag ID (never changes) */
     int mirrored;            /* handedness (never changes) */
     int confirmed;           /* 1 once confirmed */
     int measured;            /* 1: read in this frame; 0: coasting on the prediction */
-    int hits;                /* frames with a reading */
+    int hits;                /* frames with a reading (saturates at INT_MAX, as age) */
     int missed;              /* consecutive frames without one */
     int age;                 /* frames since the track started */
     actag_point corners[4];  /* smoothed corners, tag order (x = column, y = row) */
@@ -187,7 +188,8 @@ typedef struct actag_tracker {
     actag_track_params params;
     actag_track tracks[ACTAG_TRACK_MAX];
     int ntracks;
-    long frame;              /* frames fed (including failed ones) */
+    long frame;              /* frames fed (including failed ones); past LONG_MAX
+                                it goes on from params.full_every + 1 */
     long last_full;          /* frame index of the last whole-frame search (-1: none) */
     uint32_t next_track_id;
     int rows, cols;          /* of the last frame (0: none yet) */

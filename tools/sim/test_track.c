@@ -11,6 +11,7 @@
 #include "hostio.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -846,6 +847,41 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
     free(empty);
 }
 
+/* Counters at their ends (a tracker running for years): the frame count
+ * goes on from full_every + 1 past LONG_MAX, track IDs start again at 1
+ * after UINT32_MAX (0 is never one), a track's age and hits saturate; no
+ * signed overflow (the sanitizer build runs this), the track kept. */
+static void test_counters_at_their_ends(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    int i, n = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    tr.frame = LONG_MAX - 1;
+    tr.next_track_id = UINT32_MAX;
+    for (i = 0; i < 5; i++)
+        n = feed(&tr, frames[STILL], &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_UINT32(UINT32_MAX, out[0].track_id);
+    TEST_ASSERT_EQUAL_UINT32(1u, tr.next_track_id);
+    /* LONG_MAX - 1 counted, then 11, 12, 13, 14 (full_every 10) */
+    TEST_ASSERT_EQUAL_INT(tp.full_every + 5, (int)tr.frame);
+    TEST_ASSERT_TRUE(tr.last_full >= -1 && tr.last_full < tr.frame);
+    tr.tracks[0].age = INT_MAX;
+    tr.tracks[0].hits = INT_MAX;
+    n = feed(&tr, frames[STILL], &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    TEST_ASSERT_EQUAL_INT(INT_MAX, out[0].age);
+    TEST_ASSERT_EQUAL_INT(INT_MAX, out[0].hits);
+    TEST_ASSERT_EQUAL_UINT32(UINT32_MAX, out[0].track_id);
+}
+
 /* The still view (frame STILL of the pass) rendered by another sonar
  * setting s2: the same scene, its truth in s2's pixels. */
 static uint8_t *render_still_as(const sim_sonar *s2, sim_truth *tr2)
@@ -1252,6 +1288,7 @@ int main(void)
     RUN_TEST(test_a_tag_that_jumps_keeps_one_track);
     RUN_TEST(test_the_gate_widens_while_a_track_coasts);
     RUN_TEST(test_a_new_sonar_setting_keeps_the_tracks);
+    RUN_TEST(test_counters_at_their_ends);
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
     RUN_TEST(test_the_family_is_one_and_the_same);
