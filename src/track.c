@@ -380,20 +380,54 @@ static int t_geometry_changed(const actag_tracker *t, const actag_sonar_geometry
            g->flags != t->geo_flags || bsum != t->geo_bearings_sum;
 }
 
+/* max(m, |d|); a NaN d counts as a move (no libm: firmware links none) */
+static float t_absmax(float m, float d)
+{
+    float a = d < 0.0f ? -d : d;
+    return a > m || a != a ? (a != a ? 1e30f : a) : m;
+}
+
 /* The tracks moved into a new geometry: each smoothed corner to the pixel
- * of its range and azimuth (kept from the last frame), its velocity
- * restarted (a pixel velocity does not carry over a new range scale or
- * orientation). `last` stays the reading as it was returned. */
+ * of its range and azimuth (kept from the last frame). Its velocity is
+ * carried over through the old mapping when that can be rebuilt (no
+ * bearing table: the old table may have been changed in place), else
+ * restarted. A track no corner or velocity of which moves by more than
+ * 0.01 px is left as it was (a driver that recomputes max_range every ping
+ * changes the geometry by an ulp). `last` stays the reading as returned. */
 static void t_reproject(actag_tracker *t, const actag_sonar_geometry *g, int rows, int cols)
 {
-    int i, c;
+    actag_sonar_geometry old;
+    int i, c, known = t->geo_bearings_sum == 0u;
+    old.min_range = t->geo_min_range;
+    old.max_range = t->geo_max_range;
+    old.aperture = t->geo_aperture;
+    old.bearings = NULL;
+    old.flags = t->geo_flags;
     for (i = 0; i < t->ntracks; i++) {
         actag_track *k = &t->tracks[i];
+        actag_point nc[4], nv[4];
+        float moved = 0.0f;
         for (c = 0; c < 4; c++) {
-            k->corners[c].x = actag_geometry_column(g, cols, k->azimuth[c]);
-            k->corners[c].y = actag_geometry_row(g, rows, k->range[c]);
-            k->velocity[c].x = k->velocity[c].y = 0.0f;
+            nc[c].x = actag_geometry_column(g, cols, k->azimuth[c]);
+            nc[c].y = actag_geometry_row(g, rows, k->range[c]);
+            nv[c].x = nv[c].y = 0.0f;
+            if (known) { /* the predicted corner, old pixels -> metres -> new pixels */
+                float px = k->corners[c].x + k->velocity[c].x;
+                float py = k->corners[c].y + k->velocity[c].y;
+                nv[c].x = actag_geometry_column(g, cols, actag_geometry_azimuth(&old, t->cols, px)) -
+                          nc[c].x;
+                nv[c].y = actag_geometry_row(g, rows, actag_geometry_range(&old, t->rows, py)) -
+                          nc[c].y;
+            }
+            moved = t_absmax(moved, nc[c].x - k->corners[c].x);
+            moved = t_absmax(moved, nc[c].y - k->corners[c].y);
+            moved = t_absmax(moved, nv[c].x - k->velocity[c].x);
+            moved = t_absmax(moved, nv[c].y - k->velocity[c].y);
         }
+        if (!(moved > 0.01f))
+            continue;
+        memcpy(k->corners, nc, sizeof nc);
+        memcpy(k->velocity, nv, sizeof nv);
     }
 }
 

@@ -113,9 +113,12 @@
  *       orientation, bearing table or frame size: a sonar's range scale
  *       changed by its operator) keeps the tracks: each smoothed corner is
  *       moved to the pixel of its range and azimuth in the new frame, its
- *       velocity restarted, so the track is read at its place in the new
- *       frame; `last` keeps the reading as it was returned. A bearing table
- *       changed in place is noticed by a checksum of its values.
+ *       velocity carried over through the old mapping (restarted when the
+ *       old frame had a bearing table), so the track is read at its place
+ *       in the new frame; `last` keeps the reading as it was returned. A
+ *       bearing table changed in place is noticed by a checksum of its
+ *       values; a change that moves no track by more than 0.01 px (an ulp
+ *       of max_range recomputed every ping) leaves the tracks as they are.
  *
  *   Cost per frame (stats): pixels filtered (verify windows, ROIs, whole
  *   frame), verify attempts, ROI calls, whether the whole frame was

@@ -847,6 +847,47 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
     free(empty);
 }
 
+/* A geometry that changes by an ulp every ping (a driver recomputing
+ * max_range from the speed of sound) tracks as the fixed one: the tracks
+ * are not re-placed and keep their velocity (re-placing them cleared it
+ * every frame). */
+static void test_an_ulp_of_geometry_changes_nothing(void)
+{
+    static actag_tracker ta, tb;
+    actag_track_params tp;
+    actag_params p;
+    actag_track oa[ACTAG_TRACK_MAX], ob[ACTAG_TRACK_MAX];
+    int i, k, c, measured = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&ta, &tp));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tb, &tp));
+    for (i = 0; i < NSEQ; i++) {
+        actag_frame f = frame_of(frames[i]);
+        actag_sonar_geometry gj = sonar.geo;
+        int na, nb;
+        gj.max_range = nextafterf(sonar.geo.max_range, i % 2 ? 0.0f : 1e9f);
+        na = actag_tracker_update(&ta, &f, &sonar.geo, &p, NULL, ws, wss, oa, ACTAG_TRACK_MAX, NULL);
+        nb = actag_tracker_update(&tb, &f, &gj, &p, NULL, ws, wss, ob, ACTAG_TRACK_MAX, NULL);
+        TEST_ASSERT_EQUAL_INT(na, nb);
+        for (k = 0; k < na; k++) {
+            TEST_ASSERT_EQUAL_UINT32(oa[k].track_id, ob[k].track_id);
+            TEST_ASSERT_EQUAL_INT(oa[k].measured, ob[k].measured);
+            measured += oa[k].measured;
+            /* an ulp of range moves the windows' readings by ulps, which
+             * the filter carries (0.5 px by the pass's end); a cleared
+             * velocity differs by the tag's motion, up to 6 px a frame */
+            for (c = 0; c < 4; c++) {
+                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].corners[c].x, ob[k].corners[c].x);
+                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].corners[c].y, ob[k].corners[c].y);
+                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].velocity[c].x, ob[k].velocity[c].x);
+                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].velocity[c].y, ob[k].velocity[c].y);
+            }
+        }
+    }
+    TEST_ASSERT_TRUE(measured > NSEQ / 2);
+}
+
 /* Counters at their ends (a tracker running for years): the frame count
  * goes on from full_every + 1 past LONG_MAX, track IDs start again at 1
  * after UINT32_MAX (0 is never one), a track's age and hits saturate; no
@@ -936,13 +977,14 @@ static void test_a_new_sonar_setting_keeps_the_tracks(void)
             s2.rows = sonar.rows - 130; /* fewer range bins over the same window */
             s2.geo.max_range = 1.7f;
         } else {
-            /* a bearing table over the same fan, equal in sine (steps 1.15x
-             * wider at the edges): columns found by bisection */
+            /* a bearing table over the same fan, its beams bunched toward
+             * one side (the tag's columns move by about 60 px): the
+             * table's checksum sees it, columns found by bisection */
             static float bt[4096];
-            float h = sinf(0.5f * sonar.geo.aperture);
+            float h = 0.5f * sonar.geo.aperture, n1 = (float)(s2.cols - 1);
             TEST_ASSERT_TRUE(s2.cols <= 4096);
             for (c = 0; c < s2.cols; c++)
-                bt[c] = asinf(h * (1.0f - 2.0f * (float)c / (float)(s2.cols - 1)));
+                bt[c] = h - 2.0f * h * (float)c / n1 + 0.12f * sinf(3.14159265f * (float)c / n1);
             s2.geo.bearings = bt;
         }
         px = render_still_as(&s2, &t2);
@@ -1288,6 +1330,7 @@ int main(void)
     RUN_TEST(test_a_tag_that_jumps_keeps_one_track);
     RUN_TEST(test_the_gate_widens_while_a_track_coasts);
     RUN_TEST(test_a_new_sonar_setting_keeps_the_tracks);
+    RUN_TEST(test_an_ulp_of_geometry_changes_nothing);
     RUN_TEST(test_counters_at_their_ends);
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
