@@ -420,6 +420,12 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         die("--vertical-aperture-deg, --plane, --plane-sd and --plane-tilt-deg need --pose");
     if ((o->have_plane_sd || o->have_plane_tilt) && !o->have_plane)
         die("--plane-sd and --plane-tilt-deg need --plane NX,NY,NZ,D");
+    if (o->pose && !(o->params.tag_size >= 1e-3f && o->params.tag_size <= 1e4f)) {
+        char m[HOSTIO_ERRLEN];
+        snprintf(m, sizeof m, "--pose: the tag size must be 0.001 to 10000 m (pose.h), got %g",
+                 (double)o->params.tag_size);
+        die(m);
+    }
     actag_pose_params_default(&o->pose_params, &o->fam, o->params.tag_size,
                               (float)(o->vertical_deg * 3.14159265358979323846 / 180.0));
     if (o->have_plane) {
@@ -590,6 +596,8 @@ static void print_pose(const float range[4], const float azimuth[4], int mirrore
     if (rc != ACTAG_OK) {
         if (json)
             printf(", \"pose\": null");
+        else if (rc == ACTAG_ERR_PARAM) /* the pose's bounds (pose.h) */
+            printf("    pose: %s (corner ranges must be 0.001 to 10000 m)\n", actag_strerror(rc));
         else
             printf("    pose: %s\n", actag_strerror(rc));
         return;

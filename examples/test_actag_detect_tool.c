@@ -640,6 +640,9 @@ static void test_options_that_need_others(void)
     expect_option_error(GEO " --vertical-aperture-deg 2.5 " EXAMPLE, "need --pose");
     expect_option_error(GEO " --plane 0,0,1,-0.3 --plane-sd 0.02 " EXAMPLE, "need --pose");
     expect_option_error(GEO " --pose --plane-sd 0 " EXAMPLE, "need --plane NX,NY,NZ,D");
+    /* a tag size the pose refuses (pose.h: 1e-3 .. 1e4 m) is named up front */
+    expect_option_error(GEO " --pose --tag-size 0.0005 " EXAMPLE,
+                        "--pose: the tag size must be 0.001 to 10000 m (pose.h), got 0.0005");
     expect_option_error(GEO " --pose --plane 0,0,1,-0.3 " EXAMPLE,
                         "--plane needs --plane-sd M and/or --plane-tilt-deg D above 0");
     expect_option_error(GEO " --pose --plane 0,0,1,-0.3 --plane-sd 0 --plane-tilt-deg 0 " EXAMPLE,
