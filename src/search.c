@@ -63,7 +63,7 @@ static int box_of(float cr, float daz, float cell, float half_in, int hr, int hc
 
 /* The score of block (r, c) with boxes b: 8 * (mean_in - mean_ring) in grey
  * levels, clamped; INT16_MIN when the outer box leaves the map. */
-static int16_t box_score(const actag_search *z, const search_box *b, int r, int c)
+static inline int16_t box_score(const actag_search *z, const search_box *b, int r, int c)
 {
     uint32_t si, so;
     int32_t ni, no;
@@ -138,20 +138,26 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
         float cr = cell * range_scale / dr / (float)ACTAG_SEARCH_FACTOR; /* low-res pixels per cell along range */
         int16_t *row = z->map + (size_t)r * (size_t)hc;
         search_box b;
-        /* a uniform fan has one azimuth step: one box for the row */
-        int uniform = g->bearings == NULL, ok = 0;
-        if (uniform)
-            ok = box_of(cr, actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range, cell,
-                        half_in, hr, hc, &b);
+        if (g->bearings == NULL) {
+            /* a uniform fan has one azimuth step: one box for the row */
+            if (!box_of(cr, actag_geometry_azimuth_step(g, cols, 0.5f * (float)cols) * range, cell,
+                        half_in, hr, hc, &b)) {
+                for (c = 0; c < hc; c++)
+                    row[c] = INT16_MIN;
+                continue;
+            }
+            for (c = 0; c < hc; c++)
+                row[c] = box_score(z, &b, r, c);
+            continue;
+        }
         for (c = 0; c < hc; c++) {
             /* a bearing table's step at the block's own column, as
              * actag_search_next sizes its quad there */
-            if (!uniform) {
-                float x = (float)(ACTAG_SEARCH_FACTOR * c) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
-                ok = box_of(cr, actag_geometry_azimuth_step(g, cols, x) * range, cell, half_in, hr,
-                            hc, &b);
-            }
-            row[c] = ok ? box_score(z, &b, r, c) : INT16_MIN;
+            float x = (float)(ACTAG_SEARCH_FACTOR * c) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
+            row[c] = box_of(cr, actag_geometry_azimuth_step(g, cols, x) * range, cell, half_in, hr,
+                            hc, &b)
+                         ? box_score(z, &b, r, c)
+                         : INT16_MIN;
         }
     }
     return ACTAG_OK;
