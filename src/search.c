@@ -63,6 +63,9 @@ static int box_of(float cr, float daz, float cell, float half_in, int hr, int hc
 
 /* The score of block (r, c) with boxes b: 8 * (mean_in - mean_ring) in grey
  * levels, clamped; INT16_MIN when the outer box leaves the map. */
+#if defined(__GNUC__)
+__attribute__((always_inline)) /* -Os otherwise calls it per position (+0.7 M a frame) */
+#endif
 static inline int16_t box_score(const actag_search *z, const search_box *b, int r, int c)
 {
     uint32_t si, so;
