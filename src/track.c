@@ -375,9 +375,11 @@ static uint32_t t_bearings_sum(const actag_sonar_geometry *g, int cols)
 static int t_geometry_changed(const actag_tracker *t, const actag_sonar_geometry *g,
                               uint32_t bsum)
 {
+    /* a bearing table overrides the aperture and ACTAG_AZIMUTH_ASCENDING */
+    unsigned used = g->bearings == NULL ? ~0u : ~(unsigned)ACTAG_AZIMUTH_ASCENDING;
     return g->min_range != t->geo_min_range || g->max_range != t->geo_max_range ||
            (g->bearings == NULL && g->aperture != t->geo_aperture) ||
-           g->flags != t->geo_flags || bsum != t->geo_bearings_sum;
+           (g->flags & used) != (t->geo_flags & used) || bsum != t->geo_bearings_sum;
 }
 
 /* max(m, |d|); a NaN d counts as a move (no libm: firmware links none) */
