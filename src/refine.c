@@ -137,43 +137,6 @@ static int rplane(const rctx *c, float x, float y, float *X, float *Y)
     return 1;
 }
 
-/* Image column of azimuth a (inverse of actag_geometry_azimuth). */
-static float rcolumn(const actag_sonar_geometry *geo, int cols, float a)
-{
-    if (geo->bearings != NULL) {
-        const float *b = geo->bearings;
-        int lo = 0, hi = cols - 1, up;
-        if (cols < 2)
-            return 0.0f;
-        up = b[cols - 1] > b[0];
-        while (hi - lo > 1) { /* the interval holding a (extrapolated at the ends) */
-            int mid = (lo + hi) / 2;
-            if ((b[mid] <= a) == (up != 0))
-                lo = mid;
-            else
-                hi = mid;
-        }
-        return (float)lo + (a - b[lo]) / (b[lo + 1] - b[lo]);
-    } else {
-        float half = 0.5f * geo->aperture;
-        float step = cols > 1 ? geo->aperture / (float)(cols - 1) : 1.0f;
-        if (geo->flags & ACTAG_AZIMUTH_ASCENDING)
-            return (a + half) / step;
-        return (half - a) / step;
-    }
-}
-
-/* Image row of range r. */
-static float rrow(const actag_sonar_geometry *geo, int rows, float r)
-{
-    float step = actag_geometry_range_step(geo, rows);
-    if (!(step > 0.0f))
-        return 0.0f;
-    if (geo->flags & ACTAG_RANGE_ASCENDING)
-        return (r - geo->min_range) / step;
-    return (geo->max_range - r) / step;
-}
-
 /* Pixel of fan-plane point (X, Y). */
 static void rpixel(const rctx *c, float X, float Y, actag_point *p)
 {
@@ -185,8 +148,8 @@ static void rpixel(const rctx *c, float X, float Y, actag_point *p)
     }
     r = actag_sqrtf(X * X + Y * Y);
     a = c->ac + ratan(Y / X);
-    p->x = rcolumn(c->geo, c->cols, a);
-    p->y = rrow(c->geo, c->rows, r);
+    p->x = actag_geometry_column(c->geo, c->cols, a);
+    p->y = actag_geometry_row(c->geo, c->rows, r);
 }
 
 /* Q = cell^2 I - M'M, made positive semi-definite: w'Qw is the squared
