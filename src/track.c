@@ -65,14 +65,21 @@ int actag_tracker_init(actag_tracker *t, const actag_track_params *p)
     return ACTAG_OK;
 }
 
-/* Checksum of a family's codes (FNV-1a over the 32-bit words): with bits
- * and ncodes, what the state keeps of its first frame's family. */
+/* One step of FNV-1a over 32-bit words (the checksums below). */
+#define T_FNV_START 2166136261u
+static uint32_t t_fnv(uint32_t h, uint32_t word)
+{
+    return (h ^ word) * 16777619u;
+}
+
+/* Checksum of a family's codes: with bits and ncodes, what the state
+ * keeps of its first frame's family. */
 static uint32_t t_family_sum(const actag_family *f)
 {
-    uint32_t h = 2166136261u;
+    uint32_t h = T_FNV_START;
     int i;
     for (i = 0; i < f->ncodes; i++)
-        h = (h ^ f->codes[i]) * 16777619u;
+        h = t_fnv(h, f->codes[i]);
     return h;
 }
 
@@ -360,13 +367,13 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
  * changed in place is seen as a new geometry. */
 static uint32_t t_bearings_sum(const actag_sonar_geometry *g, int cols)
 {
-    uint32_t h = 2166136261u, b;
+    uint32_t h = T_FNV_START, b;
     int c;
     if (g->bearings == NULL)
         return 0u;
     for (c = 0; c < cols; c++) {
-        memcpy(&b, &g->bearings[c], sizeof b);
-        h = (h ^ b) * 16777619u;
+        memcpy(&b, &g->bearings[c], sizeof b); /* the float's bits */
+        h = t_fnv(h, b);
     }
     return h | 1u; /* never 0 */
 }
@@ -386,7 +393,9 @@ static int t_geometry_changed(const actag_tracker *t, const actag_sonar_geometry
 static float t_absmax(float m, float d)
 {
     float a = d < 0.0f ? -d : d;
-    return a > m || a != a ? (a != a ? 1e30f : a) : m;
+    if (a != a)
+        return 1e30f;
+    return a > m ? a : m;
 }
 
 /* The tracks moved into a new geometry: each smoothed corner to the pixel
