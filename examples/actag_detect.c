@@ -167,6 +167,7 @@ typedef struct options {
     actag_family fam;
     hostio_raw_spec raw;
     const char *family_name, *bearings_path, *overlay, *stages;
+    char *bearings_text; /* the table file's text, read once (for "-", stdin) */
     int json, show_rejected;
     int have_min, have_max, have_aperture;
     double aperture_deg;
@@ -261,6 +262,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--bearings") == 0) {
             NEEDV();
             o->bearings_path = v;
+            if (strcmp(v, "-") == 0 && ++stdin_files > 1)
+                die("-: standard input can be read only once (--bearings - and a frame -)");
         } else if (strcmp(a, "--rows") == 0) {
             NEEDV();
             o->raw.rows = (int)inum(a, v, 1, ACTAG_MAX_DIM);
@@ -357,7 +360,7 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             die(m);
         } else {
             if (strcmp(a, "-") == 0 && ++stdin_files > 1)
-                die("-: standard input can be read only once");
+                die("-: standard input can be read only once (--bearings - and a frame -)");
             files[(*nfiles)++] = a;
         }
 #undef NEEDV
@@ -489,12 +492,15 @@ static void stem_of(const char *path, char *out, size_t n)
     snprintf(out, n, "%.*s", (int)len, s);
 }
 
-/* The name that labels file i's pictures: its stem, or "N-stem" when
- * another input file has the same stem (so no picture overwrites another). */
-static void picture_name(const char *const *files, int nfiles, int i, char *out, size_t n)
+/* The name that labels file i's pictures: its stem, or "N-stem" (N: its
+ * place in the list) when another input file has the same stem or when
+ * number_all is set (see names_collide), so no picture overwrites another. */
+#define PICNAME_LEN 1100
+static void picture_name(const char *const *files, int nfiles, int i, int number_all, char *out,
+                         size_t n)
 {
     char mine[1024], other[1024];
-    int j, clash = 0;
+    int j, clash = number_all;
     stem_of(files[i], mine, sizeof mine);
     for (j = 0; j < nfiles && !clash; j++) {
         if (j == i)
@@ -506,6 +512,24 @@ static void picture_name(const char *const *files, int nfiles, int i, char *out,
         snprintf(out, n, "%d-%s", i + 1, mine);
     else
         snprintf(out, n, "%s", mine);
+}
+
+/* Would two files get the same picture name from picture_name (a.pgm,
+ * b/a.pgm and 1-a.pgm: "1-a" twice)? Then every file is numbered, which
+ * no two share. Returns 1, 0, or -1 when out of memory. */
+static int names_collide(const char *const *files, int nfiles)
+{
+    char *names = (char *)malloc((size_t)nfiles * PICNAME_LEN);
+    int i, j, collide = 0;
+    if (!names)
+        return -1;
+    for (i = 0; i < nfiles; i++)
+        picture_name(files, nfiles, i, 0, names + (size_t)i * PICNAME_LEN, PICNAME_LEN);
+    for (i = 0; i < nfiles && !collide; i++)
+        for (j = i + 1; j < nfiles && !collide; j++)
+            collide = strcmp(names + (size_t)i * PICNAME_LEN, names + (size_t)j * PICNAME_LEN) == 0;
+    free(names);
+    return collide;
 }
 
 /* --overlay OUT.ppm: OUT.ppm for one file, else OUT-NAME.ppm. */
@@ -737,19 +761,17 @@ static uint8_t *to8(const hostio_image *im)
     return out;
 }
 
-/* Reads the bearing table: exactly `cols` numbers. */
-static int load_bearings(const char *path, int cols, float *out, char *err)
+/* Parses the bearing table (text: the file path's contents): exactly
+ * `cols` numbers. */
+static int load_bearings(const char *path, const char *text, int cols, float *out, char *err)
 {
-    size_t len;
     double *v = (double *)malloc(((size_t)cols + 1) * sizeof(double));
-    char *text;
     int n = 0, i, rc = -1;
     if (!v) {
         snprintf(err, HOSTIO_ERRLEN, "%s: out of memory", path);
         return -1;
     }
-    text = (char *)hostio_slurp(path, &len, err);
-    if (text && hostio_parse_list(path, text, v, cols, &n, err) == HOSTIO_OK) {
+    if (hostio_parse_list(path, text, v, cols, &n, err) == HOSTIO_OK) {
         if (n != cols) {
             snprintf(err, HOSTIO_ERRLEN, "%s: bearing table has %s%d values, the frame has %d columns",
                      path, n > cols ? "more than " : "", n > cols ? cols : n, cols);
@@ -759,7 +781,6 @@ static int load_bearings(const char *path, int cols, float *out, char *err)
             rc = 0;
         }
     }
-    free(text);
     free(v);
     return rc;
 }
@@ -801,7 +822,7 @@ static int process(const options *o, const char *file, const char *picname, int 
             snprintf(err, HOSTIO_ERRLEN, "%s: out of memory", hostio_frame_name(file));
             goto fail;
         }
-        if (load_bearings(o->bearings_path, im.cols, bearings, err) != 0)
+        if (load_bearings(o->bearings_path, o->bearings_text, im.cols, bearings, err) != 0)
             goto fail;
         geo.bearings = bearings;
     }
@@ -942,7 +963,7 @@ int main(int argc, char **argv)
     options o;
     static actag_tracker tracker; /* --track: one stream over all files */
     actag_track_params tp;
-    int i, nfiles, status = 0;
+    int i, nfiles, status = 0, number_all = 0;
     /* The file list is gathered in argv itself (file j goes to argv[j + 1],
      * never past the argument being read): no allocation, so the early exits
      * of parse_options leak nothing (LeakSanitizer would turn status 2 into 1). */
@@ -960,9 +981,22 @@ int main(int argc, char **argv)
                 hostio_opt_mkdirs(PROG, "--overlay", dir);
         }
     }
+    if (o.overlay || o.stages) {
+        number_all = names_collide(files, nfiles);
+        if (number_all < 0)
+            die("out of memory for the picture names");
+    }
+    if (o.bearings_path) { /* read once (after the last exit above: nothing
+                            * leaks): every frame uses the same table */
+        char err[HOSTIO_ERRLEN];
+        size_t len;
+        o.bearings_text = (char *)hostio_slurp(o.bearings_path, &len, err);
+        if (!o.bearings_text)
+            die(err);
+    }
     for (i = 0; i < nfiles; i++) {
-        char picname[1100];
-        picture_name(files, nfiles, i, picname, sizeof picname);
+        char picname[PICNAME_LEN];
+        picture_name(files, nfiles, i, number_all, picname, sizeof picname);
         if (process(&o, files[i], picname, nfiles, &tracker) != 0)
             status = 2;
         if (ferror(stdout)) /* a full disk or a closed pipe: the results are lost */
@@ -972,5 +1006,6 @@ int main(int argc, char **argv)
         fprintf(stderr, PROG ": standard output: write error (results not written)\n");
         status = 2;
     }
+    free(o.bearings_text);
     return status;
 }

@@ -449,6 +449,23 @@ static void test_same_named_files_do_not_overwrite(void)
     TEST_ASSERT_TRUE(la != lb || memcmp(a, b, la) != 0); /* each its own frame */
     free(a);
     free(b);
+    /* a file named like another's numbered name (1-x for a/x): every file
+     * numbered, three pictures (1-x's was written over a/x's) */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_read(EXAMPLE, &im, err), err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_write(OUT "/1-x.pgm", &im, err), err);
+    hostio_image_free(&im);
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --overlay " OUT "/three.ppm " OUT "/a/x.pgm " OUT
+                                     "/b/x.pgm " OUT "/1-x.pgm"));
+    TEST_ASSERT_TRUE(exists(OUT "/three-1-x.ppm"));
+    TEST_ASSERT_TRUE(exists(OUT "/three-2-x.ppm"));
+    TEST_ASSERT_TRUE(exists(OUT "/three-3-1-x.ppm"));
+    a = (char *)hostio_slurp(OUT "/three-1-x.ppm", &la, err);
+    b = (char *)hostio_slurp(OUT "/three-3-1-x.ppm", &lb, err);
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL(b);
+    TEST_ASSERT_TRUE(la != lb || memcmp(a, b, la) != 0); /* a/x.pgm's, not 1-x.pgm's */
+    free(a);
+    free(b);
 }
 
 static void test_bad_files_are_reported_and_the_rest_processed(void)
@@ -511,6 +528,27 @@ static void test_bearing_table_file(void)
     free(b);
     free(ba);
     free(bb);
+    /* the table on standard input: read once, used for every frame */
+    snprintf(args, sizeof args,
+             "--json --min-range 0.1 --max-range 1.5 --family AcTag24h10 --bearings - " EXAMPLE
+             " " EXAMPLE " < %s", path);
+    TEST_ASSERT_EQUAL_INT(0, run(args));
+    a = out_text();
+    TEST_ASSERT_EQUAL_INT(2, count_lines(a));
+    b = strchr(a, '\n') + 1; /* the second frame's line */
+    assert_reference_tag(b);
+    b[-1] = '\0';
+    assert_reference_tag(a);
+    free(a);
+    /* ... and so not also a frame there */
+    snprintf(args, sizeof args,
+             "--json --min-range 0.1 --max-range 1.5 --bearings - - < %s", path);
+    TEST_ASSERT_EQUAL_INT(2, run(args));
+    a = err_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(a, "standard input can be read only once"), a);
+    free(a);
+    snprintf(args, sizeof args,
+             "--json --min-range 0.1 --max-range 1.5 --family AcTag24h10 --bearings %s " EXAMPLE, path);
     f = fopen(path, "w");
     TEST_ASSERT_NOT_NULL(f);
     for (c = 0; c < 100; c++)
