@@ -141,12 +141,17 @@ typedef struct {
 } options;
 
 /* The pose in the sensor frame shared with the sonar (actag/pose.h). */
-static void print_sensor_pose(const apriltag_detection_t *det, const options *o, int json)
+static void print_sensor_pose(const apriltag_detection_t *det, const options *o, int json,
+                              const char *name)
 {
     actag_pose p;
     int k;
-    if (actag_apriltag_pose_sensor(det, o->tag_size, o->fx, o->fy, o->cx, o->cy, &p) != ACTAG_OK)
+    if (actag_apriltag_pose_sensor(det, o->tag_size, o->fx, o->fy, o->cx, o->cy, &p) != ACTAG_OK) {
+        /* (|t| beyond actag_pose_from_camera's 1e4 m): said, not silently left out */
+        fprintf(stderr, PROG ": %s: tag %d: no sensor-frame pose (actag_pose_from_camera refused it)\n",
+                name, det->id);
         return;
+    }
     if (json) {
         printf(",\"pose_sensor\":{\"R\":[");
         for (k = 0; k < 9; k++) {
@@ -220,13 +225,14 @@ int main(int argc, char **argv)
         for (k = 0; k < 5; k++) {
             if (strcmp(a, pose_opts[k]) == 0) {
                 double *dst[5] = {&o.tag_size, &o.fx, &o.fy, &o.cx, &o.cy};
-                /* sizes and focal lengths > 0; the principal point anywhere */
-                *dst[k] = hostio_opt_double(PROG, a, v, -1e9, 1e9);
-                if (k <= 2 && !(*dst[k] > 0.0)) {
-                    char m[128];
-                    snprintf(m, sizeof m, "%s: must be a finite number > 0 (got %g)", a, *dst[k]);
-                    die(m);
-                }
+                /* actag_apriltag_pose()'s bounds (AprilTag aborts beyond) */
+                static const double lo[5] = {ACTAG_APRILTAG_MIN_TAG_SIZE, ACTAG_APRILTAG_MIN_FOCAL,
+                                             ACTAG_APRILTAG_MIN_FOCAL, -ACTAG_APRILTAG_MAX_CENTRE,
+                                             -ACTAG_APRILTAG_MAX_CENTRE};
+                static const double hi[5] = {ACTAG_APRILTAG_MAX_TAG_SIZE, ACTAG_APRILTAG_MAX_FOCAL,
+                                             ACTAG_APRILTAG_MAX_FOCAL, ACTAG_APRILTAG_MAX_CENTRE,
+                                             ACTAG_APRILTAG_MAX_CENTRE};
+                *dst[k] = hostio_opt_double(PROG, a, v, lo[k], hi[k]);
                 o.have[k] = 1;
                 matched = 1;
                 i++;
@@ -266,6 +272,11 @@ int main(int argc, char **argv)
     int npose = o.have[0] + o.have[1] + o.have[2] + o.have[3] + o.have[4];
     if (npose != 0 && npose != 5) {
         fprintf(stderr, PROG ": the pose needs --tag-size, --fx, --fy, --cx and --cy together\n");
+        goto bad_option;
+    }
+    if (o.sensor && npose != 5) {
+        fprintf(stderr, PROG ": --sensor-frame needs the pose: --tag-size, --fx, --fy, --cx and "
+                             "--cy\n");
         goto bad_option;
     }
 
@@ -319,6 +330,9 @@ int main(int argc, char **argv)
             if (npose == 5) {
                 err = actag_apriltag_pose(det, o.tag_size, o.fx, o.fy, o.cx, o.cy, R, t);
                 have_pose = err >= 0;
+                if (!have_pose) /* said, not silently left out */
+                    fprintf(stderr, PROG ": %s: tag %d: no pose (AprilTag's estimate failed)\n",
+                            hostio_frame_name(path), det->id);
             }
             if (o.json) {
                 printf("%s{\"id\":%d,\"hamming\":%d,\"margin\":", j ? "," : "", det->id,
@@ -348,7 +362,7 @@ int main(int argc, char **argv)
                     }
                     printf("]}");
                     if (o.sensor)
-                        print_sensor_pose(det, &o, 1);
+                        print_sensor_pose(det, &o, 1, hostio_frame_name(path));
                 }
                 putchar('}');
             } else {
@@ -363,7 +377,7 @@ int main(int argc, char **argv)
                            "  object-space error %.3g\n",
                            R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8], err);
                     if (o.sensor)
-                        print_sensor_pose(det, &o, 0);
+                        print_sensor_pose(det, &o, 0, hostio_frame_name(path));
                 }
             }
         }

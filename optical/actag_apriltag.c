@@ -3,6 +3,7 @@
 
 #include <apriltag/apriltag_pose.h>
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -116,7 +117,9 @@ zarray_t *actag_apriltag_detect(apriltag_detector_t *td, image_u8_t *im)
 void actag_apriltag_invert(image_u8_t *im)
 {
     int x, y;
-    if (im == NULL || im->buf == NULL)
+    /* the sizes actag_apriltag_detect takes; others are left alone */
+    if (im == NULL || im->buf == NULL || im->width < 1 || im->height < 1 ||
+        im->stride < im->width)
         return;
     for (y = 0; y < im->height; y++) {
         uint8_t *row = im->buf + (size_t)y * (size_t)im->stride;
@@ -140,6 +143,39 @@ void actag_apriltag_corners_to_actag(const apriltag_detection_t *det, double out
     }
 }
 
+/* The smaller of the angles (radians) between the camera rays through the
+ * detection's opposite corners: AprilTag's orthogonal iteration inverts a
+ * matrix that is singular when the rays are (nearly) parallel, and then
+ * asserts (it aborted below about 1e-4 rad, whatever the tag size). */
+static double ray_spread(const apriltag_detection_t *det, double fx, double fy, double cx,
+                         double cy)
+{
+    double v[4][3], least = 1e30;
+    int i, d;
+    for (i = 0; i < 4; i++) {
+        double n;
+        v[i][0] = (det->p[i][0] - cx) / fx;
+        v[i][1] = (det->p[i][1] - cy) / fy;
+        v[i][2] = 1.0;
+        n = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + 1.0);
+        for (d = 0; d < 3; d++)
+            v[i][d] /= n;
+    }
+    for (i = 0; i < 2; i++) {
+        const double *a = v[i], *b = v[i + 2];
+        double cr[3], sn, cs, ang;
+        cr[0] = a[1] * b[2] - a[2] * b[1];
+        cr[1] = a[2] * b[0] - a[0] * b[2];
+        cr[2] = a[0] * b[1] - a[1] * b[0];
+        sn = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        cs = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        ang = atan2(sn, cs);
+        if (!(ang >= least)) /* NaN too */
+            least = ang;
+    }
+    return least;
+}
+
 double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
                           double fx, double fy, double cx, double cy,
                           double R[9], double t[3])
@@ -148,7 +184,17 @@ double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
     apriltag_pose_t pose;
     double err;
     unsigned r, q;
-    if (det == NULL || R == NULL || t == NULL || !(tag_size > 0) || !(fx > 0) || !(fy > 0))
+    /* Bounds first: AprilTag's estimate_tag_pose() asserts (aborts the
+     * process) when its matrices degenerate, as they do for non-finite or
+     * extreme intrinsics (a principal point at 1e7 px, fx 1e7, tag_size
+     * 1e-300). */
+    if (det == NULL || R == NULL || t == NULL ||
+        !(tag_size >= ACTAG_APRILTAG_MIN_TAG_SIZE && tag_size <= ACTAG_APRILTAG_MAX_TAG_SIZE) ||
+        !(fx >= ACTAG_APRILTAG_MIN_FOCAL && fx <= ACTAG_APRILTAG_MAX_FOCAL) ||
+        !(fy >= ACTAG_APRILTAG_MIN_FOCAL && fy <= ACTAG_APRILTAG_MAX_FOCAL) ||
+        !(cx >= -ACTAG_APRILTAG_MAX_CENTRE && cx <= ACTAG_APRILTAG_MAX_CENTRE) ||
+        !(cy >= -ACTAG_APRILTAG_MAX_CENTRE && cy <= ACTAG_APRILTAG_MAX_CENTRE) ||
+        !(ray_spread(det, fx, fy, cx + 0.5, cy + 0.5) >= ACTAG_APRILTAG_MIN_SPREAD))
         return -1.0;
     /* estimate_tag_pose() only reads the detection. */
     info.det = (apriltag_detection_t *)(uintptr_t)det;

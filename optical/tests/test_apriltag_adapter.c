@@ -274,6 +274,16 @@ static void test_invert(void)
             }
         actag_apriltag_invert(&im);
         TEST_ASSERT_EQUAL_INT(0, memcmp(buf, orig, n));
+        if (h > 1) { /* a stride under the width (rows would overlap): untouched */
+            image_u8_t bad = {.width = stride, .height = h, .stride = stride - 1, .buf = buf};
+            actag_apriltag_invert(&bad);
+            TEST_ASSERT_EQUAL_INT(0, memcmp(buf, orig, n));
+        }
+        {
+            image_u8_t none = {.width = 0, .height = h, .stride = stride, .buf = buf};
+            actag_apriltag_invert(&none);
+            TEST_ASSERT_EQUAL_INT(0, memcmp(buf, orig, n));
+        }
         free(buf);
         free(orig);
         g_buf[0] = g_buf[1] = NULL;
@@ -613,6 +623,47 @@ static void test_pose_tag_size_is_inner_square(void)
         TEST_ASSERT_EQUAL_INT(3, det->id);
         TEST_ASSERT_EQUAL_FLOAT(-1.0f, (float)actag_apriltag_pose(det, 0.0, 600, 600, centre, centre, R, t));
         TEST_ASSERT_EQUAL_FLOAT(-1.0f, (float)actag_apriltag_pose(NULL, 0.13, 600, 600, centre, centre, R, t));
+        {
+            /* values outside the bounds (AprilTag aborted the process on
+             * these): -1, R and t untouched */
+            const double nan = strtod("nan", NULL), inf = HUGE_VAL;
+            const double bad[][5] = {{0.13, 600, 600, 1e7, centre},  {0.13, 600, 600, nan, centre},
+                                     {0.13, 600, 600, centre, -inf}, {inf, 600, 600, centre, centre},
+                                     {1e-300, 600, 600, centre, centre},
+                                     {1e300, 600, 600, centre, centre},
+                                     {0.13, 1e7, 1e7, centre, centre}, {0.13, 1e-300, 600, centre, centre},
+                                     {0.13, 600, inf, centre, centre}, {0.13, nan, 600, centre, centre}};
+            double R0[9], t0[3];
+            actag_pose ps;
+            for (i = 0; i < (int)(sizeof bad / sizeof bad[0]); i++) {
+                memset(R0, 0x5a, sizeof R0);
+                memset(t0, 0x5a, sizeof t0);
+                TEST_ASSERT_EQUAL_FLOAT(-1.0f, (float)actag_apriltag_pose(det, bad[i][0], bad[i][1],
+                                                                          bad[i][2], bad[i][3],
+                                                                          bad[i][4], R0, t0));
+                TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                                      actag_apriltag_pose_sensor(det, bad[i][0], bad[i][1], bad[i][2],
+                                                                 bad[i][3], bad[i][4], &ps));
+                {
+                    unsigned char pat[sizeof R0];
+                    memset(pat, 0x5a, sizeof pat);
+                    TEST_ASSERT_EQUAL_INT(0, memcmp(R0, pat, sizeof R0));
+                    TEST_ASSERT_EQUAL_INT(0, memcmp(t0, pat, sizeof t0));
+                }
+            }
+            /* in bounds, but the tag subtends under ACTAG_APRILTAG_MIN_SPREAD
+             * (this one aborted the process inside AprilTag): refused */
+            TEST_ASSERT_EQUAL_FLOAT(-1.0f, (float)actag_apriltag_pose(
+                                               det, ACTAG_APRILTAG_MIN_TAG_SIZE,
+                                               ACTAG_APRILTAG_MAX_FOCAL, ACTAG_APRILTAG_MAX_FOCAL,
+                                               ACTAG_APRILTAG_MAX_CENTRE,
+                                               -ACTAG_APRILTAG_MAX_CENTRE, R0, t0));
+            /* the tag size's bounds themselves are taken */
+            TEST_ASSERT_TRUE(actag_apriltag_pose(det, ACTAG_APRILTAG_MIN_TAG_SIZE, 600.0, 600.0,
+                                                 centre, centre, R0, t0) >= 0.0);
+            TEST_ASSERT_TRUE(actag_apriltag_pose(det, ACTAG_APRILTAG_MAX_TAG_SIZE, 600.0, 600.0,
+                                                 centre, centre, R0, t0) >= 0.0);
+        }
         err = actag_apriltag_pose(det, 0.13, 600.0, 600.0, centre, centre, R, t);
         {
             /* the same pose in the sensor frame shared with the sonar

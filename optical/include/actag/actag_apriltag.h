@@ -122,7 +122,14 @@
  *       the top-left pixel at (0,0) (the 0.5 shift is added here). R: row-major
  *       rotation tag -> camera; t: tag centre in camera coordinates, metres.
  *       Returns AprilTag's object-space error (>= 0), or -1 (R, t untouched)
- *       for NULL arguments, tag_size/fx/fy <= 0 or a failed estimate.
+ *       for NULL arguments, a value outside its bounds (tag_size 1e-3 .. 1e4
+ *       m, fx and fy 1 .. 1e6 px, cx and cy within +-1e5 px: the
+ *       ACTAG_APRILTAG_* limits below; NaN and infinities are outside), a tag
+ *       that subtends too small an angle (the rays through its opposite
+ *       corners under ACTAG_APRILTAG_MIN_SPREAD = 5e-4 rad apart: 5 px at a
+ *       focal length of 1e4 px) or a failed estimate. (AprilTag itself
+ *       aborts the process below about 1e-4 rad; the checks keep such
+ *       input from it.)
  *   int actag_apriltag_pose_sensor(const apriltag_detection_t *det, double tag_size,
  *                                  double fx, double fy, double cx, double cy,
  *                                  actag_pose *out)
@@ -142,7 +149,9 @@
  *       apriltag_detections_destroy(). NULL for a NULL detector, image or
  *       pixel buffer, or a width/height/stride that does not describe one.
  *   void actag_apriltag_invert(image_u8_t *im)
- *       In place: v -> 255 - v over width x height (stride respected). NULL ok.
+ *       In place: v -> 255 - v over width x height (stride respected). NULL
+ *       ok; an image actag_apriltag_detect would refuse (width or height
+ *       under 1, stride under width) is left untouched.
  *   void actag_apriltag_corners_to_actag(const apriltag_detection_t *det,
  *                                        double out[4][2])
  *       The four corners of the inner white square in AcTag order: top-left
@@ -161,6 +170,14 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* actag_apriltag_pose()'s bounds (see there) */
+#define ACTAG_APRILTAG_MIN_TAG_SIZE 1e-3 /* metres */
+#define ACTAG_APRILTAG_MAX_TAG_SIZE 1e4
+#define ACTAG_APRILTAG_MIN_FOCAL 1.0 /* pixels */
+#define ACTAG_APRILTAG_MAX_FOCAL 1e6
+#define ACTAG_APRILTAG_MAX_CENTRE 1e5 /* |cx|, |cy|, pixels */
+#define ACTAG_APRILTAG_MIN_SPREAD 5e-4 /* radians between opposite corners' rays */
 
 apriltag_family_t *actag_apriltag_family(const char *name);
 int actag_apriltag_family_count(void);
