@@ -798,7 +798,7 @@ static void label_text(char *buf, size_t n, const opts_t *o, int id)
 /* 5x7 glyphs, one byte per row, bit 4 = leftmost pixel. */
 static const unsigned char *glyph(char c)
 {
-    static const char chars[] = "0123456789ATacghID#- ";
+    static const char chars[] = "0123456789ATacghID#- m";
     static const unsigned char g[][7] = {
         {14, 17, 19, 21, 25, 17, 14}, {4, 12, 4, 4, 4, 4, 14},    {14, 17, 1, 2, 4, 8, 31},
         {31, 2, 4, 2, 1, 17, 14},     {2, 6, 10, 18, 31, 2, 2},   {31, 16, 30, 1, 1, 17, 14},
@@ -807,13 +807,26 @@ static const unsigned char *glyph(char c)
         {0, 0, 14, 1, 15, 17, 15},    {0, 0, 14, 16, 16, 17, 14}, {0, 15, 17, 15, 1, 17, 14},
         {16, 16, 22, 25, 17, 17, 17}, {14, 4, 4, 4, 4, 4, 14},    {30, 17, 17, 17, 17, 17, 30},
         {10, 10, 31, 10, 31, 10, 10}, {0, 0, 0, 31, 0, 0, 0},     {0, 0, 0, 0, 0, 0, 0},
-        {31, 17, 17, 17, 17, 17, 31}};
+        {0, 0, 26, 21, 21, 17, 17},   {31, 17, 17, 17, 17, 17, 31}}; /* m; the box: none */
     const char *p = c ? strchr(chars, c) : NULL;
     return g[p ? (size_t)(p - chars) : sizeof chars - 1];
 }
 
+/* Has character c a glyph of its own (not the box)? */
+static int has_glyph(char c)
+{
+    static const unsigned char box[7] = {31, 17, 17, 17, 17, 17, 31};
+    return memcmp(glyph(c), box, sizeof box) != 0;
+}
+
+/* Draws t; a character without a glyph is drawn as a box and named on
+ * stderr (a label the font cannot spell is a defect of this tool). */
 static void draw_text(uint8_t *img, long w, long h, long x0, long y0, int s, const char *t)
 {
+    const char *u;
+    for (u = t; *u; u++)
+        if (!has_glyph(*u))
+            fprintf(stderr, "actag-render: label '%s': no glyph for '%c' (drawn as a box)\n", t, *u);
     for (; *t; t++, x0 += 6L * s) {
         const unsigned char *g = glyph(*t);
         long r, c;

@@ -15,6 +15,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "actag/family.h"
 #include "hostio.h"
 #include "unity.h"
 
@@ -1369,6 +1370,24 @@ static void test_pages_folders_version(void)
     }
 }
 
+/* The PGM sheet labels ("AcTag24m4 ID 0") use the tool's own 5x7 font:
+ * every built-in family's name must be spelled (the m families' 'm' was
+ * drawn as a box). */
+static void test_every_family_name_is_spelled(void)
+{
+    int i;
+    for (i = 0; i < actag_family_count(); i++) {
+        actag_family f;
+        char args[1400];
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get_at(i, &f));
+        snprintf(args, sizeof args,
+                 "--family %s --ids 0 --sheet --columns 1 --rows 1 --cell-px 8 --out '%s/lab.pgm'",
+                 f.name, dir);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+        TEST_ASSERT_NULL_MESSAGE(strstr(errtext, "no glyph"), errtext);
+    }
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "%s/render_tool_test", ACTAG_BINARY_DIR);
@@ -1384,6 +1403,7 @@ int main(void)
     RUN_TEST(test_svg);
     RUN_TEST(test_sheets);
     RUN_TEST(test_errors);
+    RUN_TEST(test_every_family_name_is_spelled);
     RUN_TEST(test_unused_options_refused);
     RUN_TEST(test_failed_write_leaves_no_file);
     RUN_TEST(test_dxf_checker_rejects);
