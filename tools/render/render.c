@@ -260,8 +260,8 @@ static void parse_holes(opts_t *o, const char *s)
         buf[len] = '\0';
         o->hole_xy[o->nhole_list++] = parse_real("--screw-holes", buf, -1e6, 1e6);
         p += len;
-        if (*p)
-            p++;
+        if (*p && *++p == '\0') /* a separator must be followed by a number */
+            die("--screw-holes: expected pairs X,Y in mm, got '%s'", s);
     }
     if (o->nhole_list == 0 || o->nhole_list % 2 != 0)
         die("--screw-holes: expected pairs X,Y in mm, got '%s'", s);

@@ -1052,6 +1052,7 @@ static void test_errors(void)
         "--family AcTag24h4 --id 1 --cut --hole-diameter 60",
         "--family AcTag24h4 --id 1 --cut --screw-holes 1,2,3",
         "--family AcTag24h4 --id 1 --cut --screw-holes 0,0",
+        "--family AcTag24h4 --id 1 --cut --screw-holes 10,10,", /* a trailing separator */
         "--family AcTag24h4 --id 1 --cut --tab-width 50",
         "--family AcTag24h4 --ids 3-1",
         "--family AcTag24h4 --ids 1,,2",

@@ -982,6 +982,8 @@ int main(int argc, char **argv)
     char **pool_names = NULL;
     int npool = 0;
     const char *free_opt = NULL, *track_opt = NULL, *length_opt = NULL; /* given, for checks */
+    const char *tagged_opt = NULL; /* a setting only the tagged frames use */
+    const char *scene_opt = NULL;  /* a sonar, view or appearance setting (not --pool) */
     int have_seq = 0, have_pool = 0;
     const simio_cli cli = {PROG, usage, 16, 8192, &c.sonar, &c.view, &aperture_deg};
 
@@ -1007,6 +1009,8 @@ int main(int argc, char **argv)
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
 #define NEED() simio_opt_need(PROG, o, v, &i)
         if (simio_opt_common(&cli, argc, argv, &i)) {
+            if (strcmp(o, "--pool") != 0)
+                scene_opt = o;
         } else if (!strcmp(o, "--frames")) {
             NEED();
             c.frames = (int)inum(o, v, 0, 10000000);
@@ -1014,6 +1018,7 @@ int main(int argc, char **argv)
             NEED();
             c.tag_free = (int)inum(o, v, 0, 10000000);
         } else if (!strcmp(o, "--family")) {
+            scene_opt = o;
             NEED();
             family = v;
         } else if (!strcmp(o, "--tag-free-families")) {
@@ -1021,31 +1026,40 @@ int main(int argc, char **argv)
             NEED();
             free_list = v;
         } else if (!strcmp(o, "--corrections")) {
+            tagged_opt = o;
             NEED();
             c.corrections = (int)inum(o, v, 0, 16);
             corrections_set = 1;
         } else if (!strcmp(o, "--min-margin")) {
+            tagged_opt = o;
             NEED();
             c.min_margin = (float)num(o, v, -1e6, 1e6);
         } else if (!strcmp(o, "--min-structure")) {
+            tagged_opt = o;
             NEED();
             c.min_structure = (float)num(o, v, 0.0, 1.0);
         } else if (!strcmp(o, "--min-side-fraction")) {
+            tagged_opt = o;
             NEED();
             c.min_side = (float)num(o, v, 0.0, 10.0);
         } else if (!strcmp(o, "--plane-sd")) {
+            tagged_opt = o;
             NEED();
             c.plane_sd = (float)num(o, v, 0.0, 100.0);
         } else if (!strcmp(o, "--plane-tilt-deg")) {
+            tagged_opt = o;
             NEED();
             c.plane_tilt = (float)(num(o, v, 0.0, 90.0) * DEG);
         } else if (!strcmp(o, "--min-bit-margin")) {
+            tagged_opt = o;
             NEED();
             c.min_bit_margin = (int)inum(o, v, 0, 32);
         } else if (!strcmp(o, "--search-min-margin")) {
+            tagged_opt = o;
             NEED();
             c.search_min_margin = (float)num(o, v, -1e6, 1e6);
         } else if (!strcmp(o, "--many-corrections-margin")) {
+            tagged_opt = o;
             NEED();
             c.many_margin = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--handedness")) {
@@ -1082,36 +1096,47 @@ int main(int argc, char **argv)
             c.free_min_max_range = (float)mm[0];
             c.free_max_max_range = (float)mm[1];
         } else if (!strcmp(o, "--gain")) { /* appearance: actag-sim's ranges */
+            scene_opt = o;
             NEED();
             c.app.gain = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--noise")) {
+            scene_opt = o;
             NEED();
             c.app.noise = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--bands")) {
+            scene_opt = o;
             NEED();
             c.app.band_rate = (float)num(o, v, 0.0, 20.0);
         } else if (!strcmp(o, "--psf-azimuth")) {
+            scene_opt = o;
             NEED();
             c.app.psf_azimuth = (float)num(o, v, 0.0, 0.5);
         } else if (!strcmp(o, "--psf-range")) {
+            scene_opt = o;
             NEED();
             c.app.psf_range = (float)num(o, v, 0.0, 1.0);
         } else if (!strcmp(o, "--foam")) {
+            scene_opt = o;
             NEED();
             c.app.foam = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--seabed-level")) {
+            scene_opt = o;
             NEED();
             c.app.seabed = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--metal-specular")) {
+            scene_opt = o;
             NEED();
             c.app.metal_specular = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--metal-diffuse")) {
+            scene_opt = o;
             NEED();
             c.app.metal_diffuse = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--spreading")) {
+            scene_opt = o;
             NEED();
             c.app.spreading = (float)num(o, v, -4.0, 4.0);
         } else if (!strcmp(o, "--looks")) {
+            scene_opt = o;
             NEED();
             c.app.looks = (int)inum(o, v, 1, 8);
         } else if (!strcmp(o, "--json")) {
@@ -1120,9 +1145,11 @@ int main(int argc, char **argv)
             NEED();
             svg = v;
         } else if (!strcmp(o, "--pose-dump")) {
+            tagged_opt = o;
             NEED();
             pose_dump = v;
         } else if (!strcmp(o, "--failures")) {
+            tagged_opt = o;
             NEED();
             failures = v;
         } else if (!strcmp(o, "--quiet")) {
@@ -1174,8 +1201,12 @@ int main(int argc, char **argv)
     }
     if (!pool || aperture_deg != 60.0)
         c.sonar.geo.aperture = (float)(aperture_deg * DEG);
-    if (!(c.sonar.geo.max_range > c.sonar.geo.min_range))
-        die("--max-range: must be above --min-range");
+    if (!(c.sonar.geo.max_range > c.sonar.geo.min_range)) {
+        char m[200];
+        snprintf(m, sizeof m, "--max-range: must be above --min-range %g (got %g)",
+                 (double)c.sonar.geo.min_range, (double)c.sonar.geo.max_range);
+        die(m);
+    }
     simio_opt_check_views(PROG, &c.view);
     simio_opt_family(PROG, "--family", family, &c.fam);
     if (!corrections_set)
@@ -1191,6 +1222,18 @@ int main(int argc, char **argv)
         char m[200];
         snprintf(m, sizeof m, "%s: applies to tag-free frames only; it needs --tag-free N (N > 0)",
                  free_opt);
+        die(m);
+    }
+    if (tagged_opt && c.frames == 0) {
+        char m[200];
+        snprintf(m, sizeof m, "%s: a setting of the tagged frames; it needs --frames N (N > 0)",
+                 tagged_opt);
+        die(m);
+    }
+    if (scene_opt && c.frames == 0 && c.tag_free == 0 && topt.sequences == 0) {
+        char m[240];
+        snprintf(m, sizeof m, "%s: a simulated frame's setting; --pool-sequence alone reads the "
+                 "recorded frames (their sonar is the pool's)", scene_opt);
         die(m);
     }
     if (track_opt && topt.sequences == 0 && !pool_dir) {
@@ -1242,8 +1285,13 @@ int main(int argc, char **argv)
         c.free_min_max_range = 3.0f;
         c.free_max_max_range = 6.0f;
     }
-    if (!(c.free_min_max_range > c.sonar.geo.min_range))
-        die("--free-max-range: must be above --min-range");
+    if (!(c.free_min_max_range > c.sonar.geo.min_range)) {
+        char m[200];
+        snprintf(m, sizeof m, "--free-max-range: must be above --min-range %g (got %g,%g)",
+                 (double)c.sonar.geo.min_range, (double)c.free_min_max_range,
+                 (double)c.free_max_max_range);
+        die(m);
+    }
     topt.handedness = c.handedness;
     if (c.frames + c.tag_free == 0 && topt.sequences == 0 && !pool_dir)
         die("--frames, --tag-free and --sequences are 0 and no --pool-sequence: nothing to do");
@@ -1456,6 +1504,9 @@ int main(int argc, char **argv)
                 ae[nerr++] = R->az_err[n];
             }
         }
+        if (c.frames > 0 && sampled == 0) /* measured nothing: not a result */
+            die("--frames: no view keeps the whole tag in the field of view; widen "
+                "--min-distance/--max-distance or the apertures");
         rs = stats_of(re, nerr);
         as = stats_of(ae, nerr);
         for (i = 0; i < nbd; i++) {

@@ -193,6 +193,7 @@ int main(int argc, char **argv)
     int frames_set = 0, seabed_set = 0, aperture_set = 0;
     const char *random_opt = NULL; /* --family, --id or --tag-size */
     const char *view_opt = NULL;   /* a random view's limit (--min-distance ...) */
+    const char *scene_opt = NULL;  /* an option --compare-real does not use */
     static const char *const view_opts[] = {"--min-distance", "--max-distance",
         "--min-incidence-deg", "--max-incidence-deg", "--max-yaw-deg", "--mirror-fraction",
         "--clutter"};
@@ -218,10 +219,13 @@ int main(int argc, char **argv)
             size_t k;
             if (!strcmp(o, "--aperture-deg"))
                 aperture_set = 1;
+            if (strcmp(o, "--pool") != 0) /* the comparison renders the pool's sonar */
+                scene_opt = o;
             for (k = 0; k < sizeof view_opts / sizeof view_opts[0]; k++)
                 if (!strcmp(o, view_opts[k]))
                     view_opt = o;
         } else if (!strcmp(o, "--tag")) {
+            scene_opt = o;
             NEED();
             if (ntags >= SIM_MAX_TAGS)
                 die("--tag: at most 16 tags");
@@ -231,16 +235,20 @@ int main(int argc, char **argv)
             NEED();
             nrandom = (int)inum(o, v, 1, 10000000);
         } else if (!strcmp(o, "--tag-free")) {
+            scene_opt = o;
             NEED();
             nfree = (int)inum(o, v, 1, 10000000);
         } else if (!strcmp(o, "--sequence")) {
+            scene_opt = o;
             NEED();
             nseq = (int)inum(o, v, 2, 1000000);
         } else if (!strcmp(o, "--frames")) {
+            scene_opt = o;
             NEED();
             frames = (int)inum(o, v, 1, 10000000);
             frames_set = 1;
         } else if (!strcmp(o, "--seabed")) {
+            scene_opt = o;
             NEED();
             seabed_set = 1;
             if (!strcmp(v, "none"))
@@ -253,18 +261,22 @@ int main(int argc, char **argv)
                 seabed_mode = 2;
             }
         } else if (!strcmp(o, "--family")) {
+            scene_opt = o;
             NEED();
             random_opt = o;
             family = v;
         } else if (!strcmp(o, "--id")) {
+            scene_opt = o;
             NEED();
             random_opt = o;
             fixed_id = (int)inum(o, v, 0, 1000000);
         } else if (!strcmp(o, "--tag-size")) {
+            scene_opt = o;
             NEED();
             random_opt = o;
             tag_size = (float)num(o, v, 1e-3, 100.0);
         } else if (!strcmp(o, "--bearings")) {
+            scene_opt = o;
             NEED();
             bearings = v;
         } else if (!strcmp(o, "--gain")) {
@@ -301,14 +313,18 @@ int main(int argc, char **argv)
             NEED();
             app.spreading = (float)num(o, v, -4.0, 4.0);
         } else if (!strcmp(o, "--out-dir")) {
+            scene_opt = o;
             NEED();
             out_dir = v;
         } else if (!strcmp(o, "--prefix")) {
+            scene_opt = o;
             NEED();
             prefix = v;
         } else if (!strcmp(o, "--raw")) {
+            scene_opt = o;
             raw = 1;
         } else if (!strcmp(o, "--depth")) {
+            scene_opt = o;
             NEED();
             depth = (int)inum(o, v, 8, 16);
             if (depth != 8 && depth != 16)
@@ -365,6 +381,13 @@ int main(int argc, char **argv)
         }
     }
 
+    if (compare && scene_opt) {
+        char m[200];
+        snprintf(m, sizeof m, "%s: does not apply with --compare-real (it renders %s pool frames "
+                 "of its own; --random N, --seed, --montage and the appearance options apply)",
+                 scene_opt, "AcTag24h10");
+        die(m);
+    }
     if (compare) {
         int n = nrandom > 0 ? nrandom : 60;
         int rc = simio_compare_real(compare, n, seed, &app, montage, stdout, err);

@@ -153,10 +153,18 @@ void simio_opt_unknown(const char *prog, const char *opt)
 
 void simio_opt_check_views(const char *prog, const sim_view_params *v)
 {
-    if (v->max_distance < v->min_distance)
-        hostio_die(prog, "--max-distance: must be at least --min-distance");
-    if (v->max_incidence < v->min_incidence)
-        hostio_die(prog, "--max-incidence-deg: must be at least --min-incidence-deg");
+    char m[200];
+    if (v->max_distance < v->min_distance) {
+        snprintf(m, sizeof m, "--max-distance: must be at least --min-distance %g (got %g)",
+                 (double)v->min_distance, (double)v->max_distance);
+        hostio_die(prog, m);
+    }
+    if (v->max_incidence < v->min_incidence) {
+        snprintf(m, sizeof m, "--max-incidence-deg: must be at least --min-incidence-deg %g (got %g)",
+                 (double)v->min_incidence * (180.0 / 3.14159265358979323846),
+                 (double)v->max_incidence * (180.0 / 3.14159265358979323846));
+        hostio_die(prog, m);
+    }
 }
 
 void simio_opt_family(const char *prog, const char *opt, const char *name, actag_family *fam)
@@ -428,7 +436,10 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
         simio_tag_stats ts;
         if (hostio_pgm_read(names[i], &im, err) != HOSTIO_OK)
             goto done;
-        if (im.depth != 8 || im.rows > 530 || im.cols > 512) {
+        if (im.depth != 8 || im.rows > 530 || im.cols > 512) { /* said, not silently left out */
+            fprintf(stderr, "--compare-real: %s: skipped (a %d x %d, %d-bit frame; the comparison "
+                            "reads 8-bit pool frames of at most 512 x 530)\n",
+                    names[i], im.cols, im.rows, im.depth);
             hostio_image_free(&im);
             continue;
         }

@@ -423,6 +423,29 @@ static void test_eval_options_without_their_run(void)
     expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --roi-scale 2", "--roi-scale", "--sequences N");
     expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --sequence-length 5", "--sequence-length",
                     "--sequences N");
+    /* the tagged frames' settings without tagged frames (they changed nothing) */
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --sequences 1 --min-margin 1000", "--min-margin",
+                    "--frames N");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --tag-free 1 --corrections 0", "--corrections",
+                    "--frames N");
+    /* a simulated frame's settings when only recorded frames are read */
+    {
+        char a2[1200];
+        snprintf(a2, sizeof a2, "--frames 0 --noise 50 --pool-sequence \"%s/data/pool-video\"",
+                 ACTAG_SOURCE_DIR);
+        expect_error_of(ACTAG_EVAL_PATH, a2, "--noise", "--pool-sequence alone");
+        snprintf(a2, sizeof a2, "--frames 0 --rows 100 --pool-sequence \"%s/data/pool-video\"",
+                 ACTAG_SOURCE_DIR);
+        expect_error_of(ACTAG_EVAL_PATH, a2, "--rows", "--pool-sequence alone");
+    }
+    /* no view could be drawn: nothing measured is not a result */
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --threads 1 --min-distance 900 --max-distance 1000",
+                    "--frames", "no view keeps the whole tag");
+    /* limits that contradict each other are named with their values */
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --min-range 5 --max-range 1", "--max-range",
+                    "--min-range 5 (got 1)");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --min-distance 3 --max-distance 1",
+                    "--max-distance", "--min-distance 3 (got 1)");
     /* an empty family name is not skipped */
     expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --tag-free 1 --tag-free-families AcTag24h10,",
                     "--tag-free-families", "AcTag24h10,");
@@ -542,6 +565,34 @@ static void test_sim_compare_real_stdout_error(void)
     TEST_ASSERT_NOT_NULL(e);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "actag-sim: standard output: write error"), e);
     free(e);
+    /* options the comparison does not use are refused, not ignored */
+    snprintf(args, sizeof args, "--compare-real \"%s/data/pool-video\" --random 2 --out-dir x",
+             ACTAG_SOURCE_DIR);
+    expect_error_of(ACTAG_SIM_PATH, args, "--out-dir", "does not apply with --compare-real");
+    snprintf(args, sizeof args, "--compare-real \"%s/data/pool-video\" --random 2 --rows 100",
+             ACTAG_SOURCE_DIR);
+    expect_error_of(ACTAG_SIM_PATH, args, "--rows", "does not apply with --compare-real");
+    /* a frame the comparison cannot read (16-bit) is named, not silently left out */
+    {
+        char dir[700], path[800];
+        static const char hdr[] = "P5 4 4 65535\n";
+        unsigned char px[32] = {0};
+        FILE *f;
+        snprintf(dir, sizeof dir, "%s/compare16", ACTAG_BINARY_DIR);
+        mkdir(dir, 0777);
+        snprintf(path, sizeof path, "%s/f16.pgm", dir);
+        f = fopen(path, "wb");
+        TEST_ASSERT_NOT_NULL(f);
+        TEST_ASSERT_EQUAL_INT(1, (int)fwrite(hdr, sizeof hdr - 1, 1, f));
+        TEST_ASSERT_EQUAL_INT(1, (int)fwrite(px, sizeof px, 1, f));
+        TEST_ASSERT_EQUAL_INT(0, fclose(f));
+        snprintf(args, sizeof args, "--compare-real \"%s\" --random 1", dir);
+        TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+        e = slurp(err_path);
+        TEST_ASSERT_NOT_NULL(e);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "f16.pgm: skipped (a 4 x 4, 16-bit frame"), e);
+        free(e);
+    }
 }
 
 /* actag-sim --tag: pose numbers far outside any sonar's reach are refused
