@@ -10,6 +10,7 @@
  */
 #include "pyactag.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,6 +73,30 @@ static void detector_dealloc(PyObject *o)
 
 /* Bearing table: an iterable of exactly `cols` numbers (radians); an element
  * that is no real number (a str, a bool) is a TypeError naming bearings[i]. */
+/* A geometry value narrowed to the C float the library takes: a finite
+ * value the float cannot hold (beyond FLT_MAX: inf; nonzero below the least
+ * subnormal: 0) is an OverflowError naming the value given, as for the
+ * parameters (params.c), not the library's complaint about inf or 0.
+ * NaN and infinities pass to the library, which names them. */
+static int narrow_geo(double d, const char *name, int index, float *out)
+{
+    if (isfinite(d) && (d > FLT_MAX || d < -FLT_MAX || (d != 0.0 && (float)d == 0.0f))) {
+        PyObject *v = PyFloat_FromDouble(d);
+        if (v == NULL)
+            return -1;
+        if (index >= 0)
+            PyErr_Format(PyExc_OverflowError, "sonar geometry: %s[%d] is outside the range of a "
+                         "C float, got %R", name, index, v);
+        else
+            PyErr_Format(PyExc_OverflowError, "sonar geometry: %s is outside the range of a C "
+                         "float, got %R", name, v);
+        Py_DECREF(v);
+        return -1;
+    }
+    *out = (float)d;
+    return 0;
+}
+
 static float *read_bearings(PyObject *obj, int cols)
 {
     PyObject *it = PyObject_GetIter(obj), *item;
@@ -95,8 +120,8 @@ static float *read_bearings(PyObject *obj, int cols)
             break;
         }
         Py_DECREF(item);
-        if (n < cols)
-            b[n] = (float)d;
+        if (n < cols && narrow_geo(d, "bearings", n, &b[n]) != 0)
+            break;
         n++;
     }
     Py_DECREF(it);
@@ -182,13 +207,15 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
         return NULL;
     }
     memset(&geo, 0, sizeof geo);
-    geo.min_range = (float)min_range;
-    geo.max_range = (float)max_range;
+    if (narrow_geo(min_range, "min_range", -1, &geo.min_range) != 0 ||
+        narrow_geo(max_range, "max_range", -1, &geo.max_range) != 0)
+        return NULL;
     if (aperture_o != Py_None) {
         double ap = PyFloat_AsDouble(aperture_o);
         if (ap == -1.0 && PyErr_Occurred())
             return NULL;
-        geo.aperture = (float)ap;
+        if (narrow_geo(ap, "aperture", -1, &geo.aperture) != 0)
+            return NULL;
     }
     geo.flags = (range_asc ? ACTAG_RANGE_ASCENDING : 0u) | (az_asc ? ACTAG_AZIMUTH_ASCENDING : 0u);
 

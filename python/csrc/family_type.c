@@ -267,12 +267,39 @@ static PyObject *family_match(PyObject *o, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"word", "max_corrections", "rotations_only", NULL};
     famobj *self = (famobj *)o;
-    PyObject *word_o;
+    PyObject *word_o, *maxc_o = NULL, *rot_o = NULL;
     uint32_t word;
     int maxc = -1, rot_only = 0, rc;
     actag_match m;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O|ip:match", kwlist, &word_o, &maxc, &rot_only))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O|OO:match", kwlist, &word_o, &maxc_o, &rot_o))
         return NULL;
+    /* checked, not converted: "False" is no bool, True no count */
+    if (rot_o != NULL) {
+        if (!pyactag_is_bool(rot_o)) {
+            PyErr_Format(PyExc_TypeError, "rotations_only must be a bool, got %R", rot_o);
+            return NULL;
+        }
+        rot_only = PyObject_IsTrue(rot_o);
+    }
+    if (maxc_o != NULL) {
+        long v;
+        PyObject *ix = pyactag_is_bool(maxc_o) ? NULL : PyNumber_Index(maxc_o); /* numpy ints too */
+        if (ix == NULL) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "max_corrections must be an integer, got %R", maxc_o);
+            return NULL;
+        }
+        v = PyLong_AsLong(ix);
+        Py_DECREF(ix);
+        if (v == -1 && PyErr_Occurred())
+            return NULL;
+        if (v < -1 || v > 32) {
+            PyErr_Format(PyExc_ValueError, "max_corrections must be -1 (the family's limit) .. 32, "
+                         "got %ld", v);
+            return NULL;
+        }
+        maxc = (int)v;
+    }
     if (pyactag_code_arg(word_o, "word", self->fam.bits, &word) != 0)
         return NULL;
     if (maxc < 0)

@@ -183,13 +183,18 @@ static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view 
     if (ptr == 0)
         return bad_type("__array_interface__ data pointer is NULL");
     if (keep == data_o && PyBytes_Check(data_o)) { /* the pixels must fit in the bytes */
-        long long hi = (shape[0] - 1) * (strides[0] > 0 ? strides[0] : 0) +
+        long long size = (long long)PyBytes_Size(data_o), hi, lo;
+        /* a stride beyond the bytes cannot fit (and the products below would
+         * overflow: strides of 2**62 wrapped round and passed the check) */
+        if (strides[0] > size || strides[0] < -size || strides[1] > size || strides[1] < -size)
+            return bad_type("__array_interface__ data is smaller than its shape");
+        hi = (shape[0] - 1) * (strides[0] > 0 ? strides[0] : 0) +
                        (shape[1] - 1) * (strides[1] > 0 ? strides[1] : 0);
-        long long lo = (shape[0] - 1) * (strides[0] < 0 ? strides[0] : 0) +
+        lo = (shape[0] - 1) * (strides[0] < 0 ? strides[0] : 0) +
                        (shape[1] - 1) * (strides[1] < 0 ? strides[1] : 0);
         const char *b = PyBytes_AsString(data_o);
         long long pos = (long long)((const char *)(size_t)ptr - b);
-        if (pos + lo < 0 || pos + hi + isize > (long long)PyBytes_Size(data_o))
+        if (pos + lo < 0 || pos + hi + isize > size)
             return bad_type("__array_interface__ data is smaller than its shape");
     }
     Py_INCREF(keep);

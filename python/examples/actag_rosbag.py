@@ -7,8 +7,9 @@ Reads a ROS 2 bag (sqlite3 or MCAP) with the ``rosbags`` package (pip
 install rosbags; no ROS installation needed) and writes one JSON line per
 sonar message: topic, message type, the bag's log time and the header stamp
 (nanoseconds), frame_id, rows, cols and the detections (pyactag's
-``Detection.to_dict()``, the keys of ``actag_detect --json``: id, hamming,
-decision_margin, mirrored, inlier_ratio, corners as [{"x_col", "y_row",
+``Detection.to_dict()``: the keys of ``actag_detect --json``, id, hamming,
+decision_margin, mirrored, and inlier_ratio, which the tool does not print;
+corners as [{"x_col", "y_row",
 "range_m", "azimuth_rad"} x 4] in tag order TL, TR, BR, BL; x_col is the
 column (beam), y_row the row (range bin) of the frame as stored in the message),
 or an "error" key when a message cannot be used.

@@ -138,6 +138,14 @@ def test_array_interface_with_bytes(example_frame, reference):
     short.__array_interface__["data"] = short.__array_interface__["data"][:-1]
     with pytest.raises(TypeError, match="smaller than its shape"):
         pyactag.detect(short, **GEOMETRY)
+    # strides so large that shape x stride wrapped round the check (a segfault)
+    for shape, strides in (((3, 1), (2 ** 62, 1)), ((2, 2), (2 ** 63 - 1, 2 ** 63 - 1)),
+                           ((2, 2), (-(2 ** 62), 1))):
+        huge = PillowLike(example_frame)
+        huge.__array_interface__.update(shape=shape, strides=strides, typestr="|u1",
+                                        data=bytes(64))
+        with pytest.raises(TypeError, match="smaller than its shape"):
+            pyactag.detect(huge, **GEOMETRY)
 
 
 def test_masked_array_refused(example_frame):

@@ -98,6 +98,20 @@ def test_reference_errors():
         warnings.simplefilter("always")
         make(quads_use_same_random_vals=True)
     assert any("no effect" in str(x.message) for x in w)
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        make(quads_starting_roll_val=7)
+    assert any("quads_starting_roll_val has no effect" in str(x.message) for x in w)
+    # checked, not converted (int(2.7) was 2, "3" was 3, True was 1)
+    for kw in (dict(median_filter_kernel_radius=2.7), dict(median_filter_kernel_radius="3"),
+               dict(median_filter_kernel_radius=True), dict(quads_random_seed=5.9),
+               dict(decoding_num_bit_corrections=2.9), dict(quads_desired_inlier_ratio="0.9"),
+               dict(contours_reject_by_tag_size=0), dict(adaptive_threshold_offset="1")):
+        with pytest.raises(TypeError):
+            make(**kw)
+    with pytest.raises(ValueError, match="size filter"):
+        make(contours_reject_by_tag_size=np.False_)
+    assert make(median_filter_kernel_radius=np.int64(3)).detector.params["median_radius"] == 3
 
 
 def test_family_file_argument(tmp_path, example_frame):

@@ -147,6 +147,18 @@ def test_geometry_in_detector_and_per_call(example_frame):
     bearings = [half - i * 2 * half / (cols - 1) for i in range(cols)]
     e = pyactag.detect(example_frame, min_range=0.1, max_range=1.5, bearings=bearings)
     assert [x.id for x in e] == [x.id for x in a]
+    # a Detector keeps a table given as an iterator for every frame (it was spent by the first)
+    it = pyactag.Detector(min_range=0.1, max_range=1.5, bearings=iter(bearings))
+    assert detections_key(it.detect(example_frame)) == detections_key(e)
+    assert detections_key(it.detect(example_frame)) == detections_key(e)
+    # geometry values a C float cannot hold are named (not "inf" or "0" from the library)
+    with pytest.raises(OverflowError, match="max_range is outside the range of a C float"):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1e39, aperture_deg=60)
+    with pytest.raises(OverflowError, match="aperture is outside the range of a C float"):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1.5, aperture=1e-50)
+    with pytest.raises(OverflowError, match=r"bearings\[3\] is outside"):
+        pyactag.detect(example_frame, min_range=0.1, max_range=1.5,
+                       bearings=bearings[:3] + [1e-50] + bearings[4:])
     for x, y in zip(e, a):
         for (r1, a1), (r2, a2) in zip(x.corners_polar, y.corners_polar):
             assert abs(r1 - r2) < 1e-3 and abs(a1 - a2) < 1e-3

@@ -182,6 +182,16 @@ def test_matcher_and_code_helpers():
         assert pyactag.code_mirror(pyactag.code_mirror(code, 24), 24) == code
     with pytest.raises(ValueError):
         f.match(1 << 24)
+    # checked, not converted: "False" is truthy, True would be 1 correction
+    w = pyactag.code_reverse(f.codes[3], 24)
+    with pytest.raises(TypeError, match="rotations_only must be a bool"):
+        f.match(w, rotations_only="False")
+    with pytest.raises(TypeError, match="max_corrections must be an integer"):
+        f.match(w, max_corrections=True)
+    with pytest.raises(ValueError, match="max_corrections must be -1"):
+        f.match(w, max_corrections=33)
+    assert f.match(w, rotations_only=False)["id"] == 3
+    assert f.match(w, max_corrections=np.int64(0))["id"] == 3
 
 
 def test_codes_do_not_wrap():

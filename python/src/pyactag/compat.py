@@ -22,14 +22,17 @@ exit 0.8 (reference 0.85), required inlier ratio 0.6 (0.8) and bit
 corrections min(3, family maximum) (4). Arguments given are mapped onto
 libactag's parameters; the few that have no equivalent raise ValueError
 when set to something other than the reference's default (see
-``_map_arguments``). ``quads_random_seed=None`` gives libactag's fixed seed
+``_map_arguments``), and the two that only steer the reference's random
+draws (``quads_use_same_random_vals``, ``quads_starting_roll_val``) warn
+that they have no effect. Values are checked, not converted: a radius of
+2.7 or "3" is a TypeError, as elsewhere in pyactag. ``quads_random_seed=None`` gives libactag's fixed seed
 1 (libactag is deterministic), not a random seed.
 """
 
 import os
 import warnings
 
-from ._args import as_real
+from ._args import as_bool, as_int, as_real
 from .detection import Detector
 from .families import Family, family_names
 
@@ -59,11 +62,13 @@ def _map_arguments(a, family):
     """Reference arguments (dict, None = not given) -> libactag parameters."""
     p = {}
     if a["median_filter_kernel_radius"] is not None:
-        p["median_radius"] = int(a["median_filter_kernel_radius"])
+        p["median_radius"] = as_int("median_filter_kernel_radius",
+                                    a["median_filter_kernel_radius"], 0, 1 << 30)
     if a["adaptive_threshold_kernel_radius"] is not None:
-        p["threshold_radius"] = int(a["adaptive_threshold_kernel_radius"])
+        p["threshold_radius"] = as_int("adaptive_threshold_kernel_radius",
+                                       a["adaptive_threshold_kernel_radius"], 0, 1 << 30)
     if a["adaptive_threshold_offset"] is not None:
-        off = float(a["adaptive_threshold_offset"])
+        off = as_real("adaptive_threshold_offset", a["adaptive_threshold_offset"])
         if off != int(off):
             raise ValueError("adaptive_threshold_offset must be a whole number of grey levels "
                              "in libactag (got {})".format(off))
@@ -74,9 +79,17 @@ def _map_arguments(a, family):
     # so lo = ratio * (1 - area_tol) / (1 - t), hi = (1 + area_tol) / (1 + t). The
     # reference's defaults (0.2, 0.2, 0.1) map to libactag's (0.2, lo 0.1, hi 1.0);
     # with none of them given, libactag's own defaults apply (lo 0.175, actag.h).
-    st = 0.2 if a["contours_tag_size_tolerance"] is None else float(a["contours_tag_size_tolerance"])
-    at = 0.2 if a["contours_tag_area_tolerance"] is None else float(a["contours_tag_area_tolerance"])
-    ratio = 0.1 if a["contours_min_tag_area_ratio"] is None else float(a["contours_min_tag_area_ratio"])
+    st = 0.2 if a["contours_tag_size_tolerance"] is None else as_real(
+        "contours_tag_size_tolerance", a["contours_tag_size_tolerance"])
+    at = 0.2 if a["contours_tag_area_tolerance"] is None else as_real(
+        "contours_tag_area_tolerance", a["contours_tag_area_tolerance"])
+    ratio = 0.1 if a["contours_min_tag_area_ratio"] is None else as_real(
+        "contours_min_tag_area_ratio", a["contours_min_tag_area_ratio"])
+    for k in ("contours_reject_by_tag_size", "contours_reject_black_shapes",
+              "contours_reject_white_shapes", "contours_reject_by_area",
+              "quads_use_same_random_vals", "use_optimized_rust_code"):
+        if a[k] is not None:
+            a[k] = as_bool(k, a[k])  # a bool or numpy bool, no other truthy value
     if a["contours_reject_by_tag_size"] is False:
         raise ValueError("contours_reject_by_tag_size=False: libactag always applies the size "
                          "filter; raise contours_tag_size_tolerance instead")
@@ -96,7 +109,7 @@ def _map_arguments(a, family):
         p["min_area_fraction"] = max(0.0, ratio * (1.0 - at) / (1.0 - st))
         p["max_area_fraction"] = (1.0 + at) / (1.0 + st)
     if a["quads_random_seed"] is not None:
-        seed = int(a["quads_random_seed"])
+        seed = as_int("quads_random_seed", a["quads_random_seed"], -(1 << 62), 1 << 62)
         if not 0 <= seed <= 0xFFFFFFFF:
             raise ValueError("quads_random_seed must be 0 .. 2**32-1 in libactag")
         p["seed"] = seed
@@ -106,13 +119,16 @@ def _map_arguments(a, family):
                       ("quads_required_inlier_ratio", "quad_min_inlier_ratio"),
                       ("quads_parallel_threshold", "quad_min_parallel_cos")):
         if a[ref] is not None:
-            p[ours] = float(a[ref])
+            p[ours] = as_real(ref, a[ref])
     if a["quads_use_same_random_vals"]:
         warnings.warn("quads_use_same_random_vals has no effect: libactag's RANSAC is always "
                       "seeded (quads_random_seed)", stacklevel=3)
+    if a["quads_starting_roll_val"] is not None:
+        warnings.warn("quads_starting_roll_val has no effect: libactag's RANSAC draws come "
+                      "from quads_random_seed alone", stacklevel=3)
     n = a["decoding_num_bit_corrections"]
     if n is not None:
-        n = int(n)
+        n = as_int("decoding_num_bit_corrections", n, -(1 << 30), 1 << 30)
         # The reference's check: 0 <= n < hamming / 2.
         if n < 0:
             raise ValueError("decoding_num_bit_corrections must be >= 0")

@@ -133,9 +133,10 @@ class Detection:
         return (sum(x for x, _ in self.corners_xy) / 4.0, sum(y for _, y in self.corners_xy) / 4.0)
 
     def to_dict(self):
-        """Plain dict (JSON-ready), with the keys of ``actag_detect --json``:
-        id, hamming, decision_margin, mirrored, inlier_ratio and corners as
-        [{"x_col", "y_row", "range_m", "azimuth_rad"} x 4]."""
+        """Plain dict (JSON-ready) with the keys of ``actag_detect --json``
+        (id, hamming, decision_margin, mirrored and corners as
+        [{"x_col", "y_row", "range_m", "azimuth_rad"} x 4]) and one more,
+        inlier_ratio (the RANSAC quad's, which the tool does not print)."""
         return {
             "id": self.id,
             "hamming": self.hamming,
@@ -285,6 +286,13 @@ class Detector:
                  bearings=None, range_ascending=False, azimuth_ascending=False, **params):
         self._core = _core.Detector(_family(family), _split_params(params, tuning))
         self.max_detections = _max_detections(max_detections)
+        if bearings is not None and not isinstance(bearings, (str, bytes)):
+            # kept as a tuple: an iterator or generator would be spent by the
+            # first frame (a str is left for the C side to refuse)
+            try:
+                bearings = tuple(bearings)
+            except TypeError:
+                pass  # not iterable: the C side's TypeError names it
         self._geometry = dict(min_range=min_range, max_range=max_range, aperture=aperture,
                               aperture_deg=aperture_deg, bearings=bearings,
                               range_ascending=range_ascending,
