@@ -69,9 +69,10 @@
  *   table), a source row's histogram and count update is one 17-instruction
  *   asm block, and the median search reads a window's lane as a byte
  *   (ACTAG_NO_DSP: the 16-bit lanes). At R = 4 on a 530 x 512 frame that is
- *   21.1 million instructions on a Cortex-M7 at -O2, about 78 per pixel
- *   (was 30.1 M, 111), 21.7 M at -Os, 20.7 M on a Cortex-M4 at -O2 (QEMU
- *   -icount, tools/budget; the portable lanes: about 51 M). It needs no
+ *   18.4 million instructions on a Cortex-M7 at -O2, about 68 per pixel
+ *   (was 30.1 M, 111), 19.4 M at -Os, 18.3 M on a Cortex-M4 at -O2 (QEMU
+ *   -icount, tools/budget, the README's table; the portable lanes: about
+ *   51 M). It needs no
  *   scratch (the scratch size is still checked, so that one size fits every
  *   radius). Radii >= 8 use the constant-time path.
  *
