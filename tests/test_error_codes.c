@@ -605,6 +605,68 @@ static void match_codes(match_fn fn)
 static void test_family_match(void) { match_codes(actag_family_match); }
 static void test_family_match_rotations(void) { match_codes(actag_family_match_rotations); }
 
+/* conf[i] = +1 where bit i of the code (i = 0 the MSB) is 1, else -1 */
+static void soft_conf(uint32_t code, int bits, float *conf)
+{
+    int i;
+    for (i = 0; i < bits; i++)
+        conf[i] = ((code >> (bits - 1 - i)) & 1u) ? 1.0f : -1.0f;
+}
+
+static void test_family_match_soft(void)
+{
+    actag_family f, bad;
+    actag_soft_match m;
+    float conf[24];
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &f));
+    bad = f;
+    bad.ncodes = 0;
+    soft_conf(f.codes[3], 24, conf);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft(NULL, conf, actag_code_mask(24), &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft(&f, NULL, actag_code_mask(24), &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft(&f, conf, actag_code_mask(24), NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_match_soft(&bad, conf, actag_code_mask(24), &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft(&f, conf, actag_code_mask(24), &m));
+    TEST_ASSERT_EQUAL_INT(3, m.best.id);
+    TEST_ASSERT_EQUAL_INT(0, m.best.rotation);
+    TEST_ASSERT_EQUAL_INT(0, m.best.mirrored);
+    TEST_ASSERT_EQUAL_INT(0, m.best.hamming);
+    TEST_ASSERT_EQUAL_INT(0, m.d1);
+    TEST_ASSERT_TRUE(m.d2 > 0);
+    TEST_ASSERT_TRUE(m.ntop >= 1 && m.ntop <= ACTAG_SOFT_TOP);
+    TEST_ASSERT_EQUAL_INT(3, m.top[0].id);
+}
+
+static void test_family_match_soft_views(void)
+{
+    actag_family f, bad;
+    actag_soft_match m;
+    float conf[24];
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &f));
+    bad = f;
+    bad.bits = 18;
+    soft_conf(f.codes[3], 24, conf);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft_views(NULL, conf, actag_code_mask(24), ACTAG_VIEWS_ALL, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft_views(&f, NULL, actag_code_mask(24), ACTAG_VIEWS_ALL, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_family_match_soft_views(&f, conf, actag_code_mask(24), ACTAG_VIEWS_ALL, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_FAMILY, actag_family_match_soft_views(&bad, conf, actag_code_mask(24), ACTAG_VIEWS_ALL, &m));
+    /* no view left: 0, and 0x100 (masked to 8 bits) */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_family_match_soft_views(&f, conf, actag_code_mask(24), 0u, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_family_match_soft_views(&f, conf, actag_code_mask(24), 0x100u, &m));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft_views(&f, conf, actag_code_mask(24), ACTAG_VIEWS_UNMIRRORED, &m));
+    TEST_ASSERT_EQUAL_INT(3, m.best.id);
+    TEST_ASSERT_EQUAL_INT(0, m.best.mirrored);
+    TEST_ASSERT_EQUAL_INT(0, m.d1);
+    TEST_ASSERT_EQUAL_INT(33, m.other); /* one handedness only */
+    /* the reflection P of code 3, among the mirrored views only */
+    soft_conf(actag_code_mirror(f.codes[3], 24), 24, conf);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_match_soft_views(&f, conf, actag_code_mask(24), ACTAG_VIEWS_MIRRORED, &m));
+    TEST_ASSERT_EQUAL_INT(3, m.best.id);
+    TEST_ASSERT_EQUAL_INT(0, m.best.rotation);
+    TEST_ASSERT_EQUAL_INT(1, m.best.mirrored);
+    TEST_ASSERT_EQUAL_INT(0, m.best.hamming);
+}
+
 /* ------------------------------------------------------------ geometry.h */
 
 static void test_geometry_validate(void)
@@ -644,6 +706,35 @@ static void test_geometry_mapping(void)
     TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_range_step(&g, 1));
     TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_azimuth_step(&g, 1, 0.0f));
     TEST_ASSERT_EQUAL_INT(0, actag_geometry_mirrors(&g, 11));
+}
+
+static void test_geometry_row(void)
+{
+    /* documented special returns: 0 when rows < 2, NaN for a NaN range */
+    actag_sonar_geometry g = {1.0f, 2.0f, 1.0f, NULL, 0u}, a = {1.0f, 2.0f, 1.0f, NULL, ACTAG_RANGE_ASCENDING};
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_row(&g, 1, 1.5f));
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_row(&g, 0, 1.5f));
+    TEST_ASSERT_TRUE(isnan(actag_geometry_row(&g, 11, NAN)));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 5.0f, actag_geometry_row(&g, 11, 1.5f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 10.0f, actag_geometry_row(&g, 11, 1.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 10.0f, actag_geometry_row(&a, 11, 2.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 1.7f, actag_geometry_range(&g, 11, actag_geometry_row(&g, 11, 1.7f)));
+}
+
+static void test_geometry_column(void)
+{
+    /* documented special returns: 0 when cols < 2, NaN for a NaN azimuth */
+    actag_sonar_geometry g = {1.0f, 2.0f, 1.0f, NULL, 0u}, b = g;
+    static const float bearings[4] = {0.3f, 0.1f, 0.0f, -0.2f};
+    b.bearings = bearings;
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_column(&g, 1, 0.2f));
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_column(&b, 1, 0.2f));
+    TEST_ASSERT_TRUE(isnan(actag_geometry_column(&g, 11, NAN)));
+    TEST_ASSERT_TRUE(isnan(actag_geometry_column(&b, 4, NAN)));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 5.0f, actag_geometry_column(&g, 11, 0.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 0.0f, actag_geometry_column(&g, 11, 0.5f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 1.5f, actag_geometry_column(&b, 4, 0.05f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-4f, 0.05f, actag_geometry_azimuth(&b, 4, actag_geometry_column(&b, 4, 0.05f)));
 }
 
 /* ------------------------------------------------------------ rng.h */
@@ -736,6 +827,28 @@ static void test_contour_next(void)
     TEST_ASSERT_EQUAL_INT(1, pts[0].x);
     TEST_ASSERT_EQUAL_INT(1, pts[0].y);
     TEST_ASSERT_EQUAL_INT(0, actag_contour_next(&s, NULL, 0, &info));
+}
+
+static void test_bitmap_get(void)
+{
+    /* common.h's inline reader: no error codes, no checks */
+    static uint8_t img[3 * 40];
+    static uint32_t bm[ACTAG_BITMAP_SIZE(3, 40) / 4];
+    memset(img, 0, sizeof img);
+    img[1 * 40 + 1] = 200;
+    img[2 * 40 + 31] = 1; /* column 31: bit 0 of the row's second word */
+    img[0 * 40 + 39] = 255;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_bitmap_pack(img, 3, 40, 40, bm));
+    TEST_ASSERT_EQUAL_INT(1, actag_bitmap_get(bm, 40, 1, 1));
+    TEST_ASSERT_EQUAL_INT(1, actag_bitmap_get(bm, 40, 2, 31));
+    TEST_ASSERT_EQUAL_INT(1, actag_bitmap_get(bm, 40, 0, 39));
+    TEST_ASSERT_EQUAL_INT(0, actag_bitmap_get(bm, 40, 0, 0));
+    TEST_ASSERT_EQUAL_INT(0, actag_bitmap_get(bm, 40, 2, 30));
+    /* the padding reads black: r = -1 and rows, c = -1 and cols */
+    TEST_ASSERT_EQUAL_INT(0, actag_bitmap_get(bm, 40, -1, 39));
+    TEST_ASSERT_EQUAL_INT(0, actag_bitmap_get(bm, 40, 3, 31));
+    TEST_ASSERT_EQUAL_INT(0, actag_bitmap_get(bm, 40, 1, -1));
+    TEST_ASSERT_EQUAL_INT(0, actag_bitmap_get(bm, 40, 0, 40));
 }
 
 /* ------------------------------------------------------------ quad.h */
@@ -930,6 +1043,111 @@ static void test_tag_homography(void)
 
 static void test_tag_affine(void) { map_codes(actag_tag_affine); }
 
+static void test_tag_map(void)
+{
+    static const actag_point line[4] = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+    static const actag_point nanq[4] = {{NAN, 0}, {10, 0}, {10, 10}, {0, 10}};
+    static const actag_point persp[4] = {{0, 0}, {10, 0}, {100, 100}, {0, 10}};
+    float H[9], A[9];
+    actag_point p;
+    int i;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tag_map(NULL, 24, ACTAG_DECODE_AFFINE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tag_map(g_sq, 24, ACTAG_DECODE_PROJECTIVE, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(g_sq, 24, 2, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(g_sq, 24, -1, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(g_sq, 18, ACTAG_DECODE_AFFINE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(g_sq, 36, ACTAG_DECODE_PROJECTIVE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(line, 24, ACTAG_DECODE_AFFINE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(nanq, 24, ACTAG_DECODE_PROJECTIVE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_map(persp, 24, ACTAG_DECODE_PROJECTIVE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_map(persp, 24, ACTAG_DECODE_AFFINE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_map(g_sq, 24, ACTAG_DECODE_AFFINE, H));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_affine(g_sq, 24, A));
+    for (i = 0; i < 9; i++)
+        TEST_ASSERT_EQUAL_FLOAT(A[i], H[i]);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_map(g_sq, 24, ACTAG_DECODE_PROJECTIVE, H));
+    actag_homography_apply(H, 5.0f, 5.0f, &p); /* white-square corner 2 */
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, 59.5f, p.x);
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, 59.5f, p.y);
+}
+
+static void test_tag_quad_clockwise(void)
+{
+    static const actag_point line[4] = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+    static const actag_point nanq[4] = {{NAN, 0}, {10, 0}, {10, 10}, {0, 10}};
+    static const actag_point dart[4] = {{0, 0}, {10, 0}, {2, 2}, {0, 10}}; /* not convex */
+    static const actag_point tiny[4] = {{0, 0}, {1e-12f, 0}, {1e-12f, 1e-12f}, {0, 1e-12f}};
+    const actag_point ccw[4] = {g_sq[0], g_sq[3], g_sq[2], g_sq[1]};
+    actag_point q[4];
+    int i;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tag_quad_clockwise(NULL, q));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tag_quad_clockwise(g_sq, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_quad_clockwise(line, q));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_quad_clockwise(nanq, q));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_quad_clockwise(dart, q));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tag_quad_clockwise(tiny, q));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_quad_clockwise(ccw, q)); /* reversed, [0] kept */
+    for (i = 0; i < 4; i++) {
+        TEST_ASSERT_EQUAL_FLOAT(g_sq[i].x, q[i].x);
+        TEST_ASSERT_EQUAL_FLOAT(g_sq[i].y, q[i].y);
+    }
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tag_quad_clockwise(g_sq, q)); /* already clockwise */
+    for (i = 0; i < 4; i++) {
+        TEST_ASSERT_EQUAL_FLOAT(g_sq[i].x, q[i].x);
+        TEST_ASSERT_EQUAL_FLOAT(g_sq[i].y, q[i].y);
+    }
+}
+
+static void test_tag_corners(void)
+{
+    /* no error codes (no checks, documented) */
+    actag_point c[4];
+    actag_tag_corners(g_sq, 0, 0, c);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[2].x, c[2].x);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[2].y, c[2].y);
+    actag_tag_corners(g_sq, 1, 0, c); /* corners[n] = q[(n - 1) mod 4] */
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[3].x, c[0].x);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[3].y, c[0].y);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[0].x, c[1].x);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[0].y, c[1].y);
+    actag_tag_corners(g_sq, 1, 1, c); /* corners[n] = q[(1 - n) mod 4] */
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[1].x, c[0].x);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[0].x, c[1].x);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[3].y, c[2].y);
+    TEST_ASSERT_EQUAL_FLOAT(g_sq[2].y, c[3].y);
+}
+
+static void test_tag_bit_cell(void)
+{
+    /* no error codes (no checks, documented): the table of tag_grid.h, k = 6 */
+    static const int want[8][3] = {{0, 0, 0},  {5, 5, 0},  {6, 6, 0},  {11, 6, 5},
+                                   {12, 6, 6}, {13, 5, 6}, {18, 0, 6}, {23, 0, 1}};
+    int i, cx = -1, cy = -1;
+    for (i = 0; i < 8; i++) {
+        actag_tag_bit_cell(24, want[i][0], &cx, &cy);
+        TEST_ASSERT_EQUAL_INT(want[i][1], cx);
+        TEST_ASSERT_EQUAL_INT(want[i][2], cy);
+    }
+}
+
+static void test_tag_cell_value(void)
+{
+    /* no error codes (no checks, documented) */
+    int i, cx, cy;
+    TEST_ASSERT_EQUAL_INT(1, actag_tag_cell_value(0x800000u, 24, 0, 0)); /* bit 0 = the MSB */
+    TEST_ASSERT_EQUAL_INT(0, actag_tag_cell_value(0x800000u, 24, 1, 0));
+    TEST_ASSERT_EQUAL_INT(1, actag_tag_cell_value(0x000001u, 24, 0, 1)); /* bit 23 */
+    TEST_ASSERT_EQUAL_INT(0, actag_tag_cell_value(0xffffffu, 24, 1, 1)); /* black ring */
+    TEST_ASSERT_EQUAL_INT(0, actag_tag_cell_value(0xffffffu, 24, 5, 3));
+    TEST_ASSERT_EQUAL_INT(1, actag_tag_cell_value(0u, 24, 2, 2));         /* white interior */
+    TEST_ASSERT_EQUAL_INT(1, actag_tag_cell_value(0u, 24, 4, 4));
+    for (i = 0; i < 24; i++) { /* the inverse of actag_tag_bit_cell */
+        actag_tag_bit_cell(24, i, &cx, &cy);
+        TEST_ASSERT_EQUAL_INT(1, actag_tag_cell_value(1u << (23 - i), 24, cx, cy));
+        TEST_ASSERT_EQUAL_INT(0, actag_tag_cell_value(~(1u << (23 - i)) & 0xffffffu, 24, cx, cy));
+    }
+}
+
 static void test_homography_apply(void)
 {
     /* no error codes (no checks, documented) */
@@ -1079,6 +1297,124 @@ static void test_decode_quad_fit(void)
     TEST_ASSERT_EQUAL_INT(0, res.id);
     TEST_ASSERT_EQUAL_INT(0, res.hamming);
     TEST_ASSERT_EQUAL_INT(0, res.mirrored);
+}
+
+
+/* ------------------------------------------------------------ refine.h */
+
+static void test_refine_params_default(void)
+{
+    /* no error codes (the header documents none) */
+    actag_refine_params rp;
+    memset(&rp, 0xff, sizeof rp);
+    actag_refine_params_default(&rp);
+    TEST_ASSERT_EQUAL_FLOAT(2.0f, rp.blur);
+    TEST_ASSERT_EQUAL_FLOAT(0.3f, rp.margin);
+    TEST_ASSERT_EQUAL_INT(8, rp.max_iterations);
+    TEST_ASSERT_EQUAL_FLOAT(1.0f, rp.max_shift);
+    TEST_ASSERT_EQUAL_INT(6000, rp.max_samples);
+}
+
+static uint16_t g_tag16[SIDE * SIDE];
+
+/* actag_refine_corners (depth < 0: g_tag) or actag_refine_corners_depth
+ * (depth 8: g_tag, 16: g_tag16, others: g_tag passed with that depth) */
+static int refc(int depth, const uint8_t *img, int rows, int cols, int stride,
+                const actag_sonar_geometry *geo, float tag_size, const actag_family *f, int id,
+                const actag_point *c, const actag_refine_params *rp, actag_point *out)
+{
+    if (depth < 0)
+        return actag_refine_corners(img, rows, cols, stride, geo, tag_size, f, id, c, rp, out, NULL);
+    return actag_refine_corners_depth(depth == 16 && img == g_tag ? (const void *)g_tag16 : (const void *)img,
+                                      depth, rows, cols, stride, geo, tag_size, f, id, c, rp, out, NULL);
+}
+
+static void refine_codes(int depth)
+{
+    static uint8_t grey[SIDE * SIDE];
+    static const actag_point line[4] = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+    static const actag_point nanq[4] = {{NAN, 29.5f}, {59.5f, 29.5f}, {59.5f, 59.5f}, {29.5f, 59.5f}};
+    static const actag_point away[4] = {{200.0f, 200.0f}, {230.0f, 200.0f}, {230.0f, 230.0f}, {200.0f, 230.0f}};
+    actag_sonar_geometry geo = {1.0f, 2.0f, 0.5f, NULL, 0u}, badgeo = geo;
+    actag_refine_params rp, b;
+    actag_family bad;
+    actag_point out[4];
+    const uint8_t *t = g_tag;
+    int i;
+    render_tag0();
+    for (i = 0; i < SIDE * SIDE; i++)
+        g_tag16[i] = (uint16_t)(g_tag[i] * 100u);
+    actag_refine_params_default(&rp);
+    badgeo.min_range = 3.0f; /* above max_range */
+    memset(grey, 100, sizeof grey);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, refc(depth, NULL, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, NULL, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, NULL, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, NULL, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, refc(depth, t, 0, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, refc(depth, t, SIDE, 0, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, refc(depth, t, ACTAG_MAX_DIM + 1, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, refc(depth, t, SIDE, ACTAG_MAX_DIM + 1, ACTAG_MAX_DIM + 1, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, refc(depth, t, SIDE, SIDE, SIDE - 1, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, -1, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, g_fam.ncodes, g_sq, &rp, out));
+    bad = g_fam;
+    bad.bits = 18;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &bad, 0, g_sq, &rp, out));
+    bad.bits = 36;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &bad, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, nanq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, line, &rp, out));
+    b = rp;
+    b.blur = 0.2f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &b, out));
+    b = rp;
+    b.margin = 1.5f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &b, out));
+    b = rp;
+    b.max_iterations = 51;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &b, out));
+    b = rp;
+    b.max_shift = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &b, out));
+    b = rp;
+    b.max_samples = 63;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &b, out));
+    /* tag_size matters only with a geometry */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, &geo, 0.0f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, &geo, 1000.0f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, &geo, NAN, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, refc(depth, t, SIDE, SIDE, SIDE, &badgeo, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    /* the start quad outside the image; a uniform image (no contrast): out = corners */
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, away, &rp, out));
+    TEST_ASSERT_EQUAL_FLOAT(away[2].x, out[2].x);
+    if (depth != 16) {
+        memset(out, 0, sizeof out);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, refc(depth, grey, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+        for (i = 0; i < 4; i++) {
+            TEST_ASSERT_EQUAL_FLOAT(g_sq[i].x, out[i].x);
+            TEST_ASSERT_EQUAL_FLOAT(g_sq[i].y, out[i].y);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    for (i = 0; i < 4; i++) { /* the rendered white square's corners */
+        TEST_ASSERT_FLOAT_WITHIN(0.25f, g_sq[i].x, out[i].x);
+        TEST_ASSERT_FLOAT_WITHIN(0.25f, g_sq[i].y, out[i].y);
+    }
+}
+
+static void test_refine_corners(void) { refine_codes(-1); }
+
+static void test_refine_corners_depth(void)
+{
+    actag_refine_params rp;
+    actag_point out[4];
+    refine_codes(8);
+    refine_codes(16);
+    actag_refine_params_default(&rp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(10, g_tag, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(0, g_tag, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, g_sq, &rp, out));
 }
 
 /* ------------------------------------------------------------ search.h */
@@ -1354,14 +1690,19 @@ int main(void)
     RUN_TEST(test_code_helpers);
     RUN_TEST(test_family_match);
     RUN_TEST(test_family_match_rotations);
+    RUN_TEST(test_family_match_soft);
+    RUN_TEST(test_family_match_soft_views);
     RUN_TEST(test_geometry_validate);
     RUN_TEST(test_geometry_mapping);
+    RUN_TEST(test_geometry_row);
+    RUN_TEST(test_geometry_column);
     RUN_TEST(test_rng);
     RUN_TEST(test_median_filter);
     RUN_TEST(test_median_filter_inplace);
     RUN_TEST(test_adaptive_threshold);
     RUN_TEST(test_contour_scanner_init);
     RUN_TEST(test_contour_next);
+    RUN_TEST(test_bitmap_get);
     RUN_TEST(test_quad_params);
     RUN_TEST(test_quad_fit);
     RUN_TEST(test_render_side);
@@ -1369,6 +1710,11 @@ int main(void)
     RUN_TEST(test_render_tag);
     RUN_TEST(test_tag_homography);
     RUN_TEST(test_tag_affine);
+    RUN_TEST(test_tag_map);
+    RUN_TEST(test_tag_quad_clockwise);
+    RUN_TEST(test_tag_corners);
+    RUN_TEST(test_tag_bit_cell);
+    RUN_TEST(test_tag_cell_value);
     RUN_TEST(test_homography_apply);
     RUN_TEST(test_decode_bit_positions);
     RUN_TEST(test_decode_read_word);
@@ -1377,6 +1723,9 @@ int main(void)
     RUN_TEST(test_decode_quad_ex);
     RUN_TEST(test_fit_params);
     RUN_TEST(test_decode_quad_fit);
+    RUN_TEST(test_refine_params_default);
+    RUN_TEST(test_refine_corners);
+    RUN_TEST(test_refine_corners_depth);
     RUN_TEST(test_search_map_and_next);
     RUN_TEST(test_pose_params_default);
     RUN_TEST(test_pose_estimate);
