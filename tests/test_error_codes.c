@@ -1304,8 +1304,9 @@ static void test_decode_quad_fit(void)
 
 static void test_refine_params_default(void)
 {
-    /* no error codes (the header documents none) */
+    /* no error codes (the header documents none); NULL is a no-op */
     actag_refine_params rp;
+    actag_refine_params_default(NULL);
     memset(&rp, 0xff, sizeof rp);
     actag_refine_params_default(&rp);
     TEST_ASSERT_EQUAL_FLOAT(2.0f, rp.blur);
@@ -1363,6 +1364,9 @@ static void refine_codes(int depth)
     bad.bits = 18;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &bad, 0, g_sq, &rp, out));
     bad.bits = 36;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &bad, 0, g_sq, &rp, out));
+    bad = g_fam;
+    bad.codes = NULL; /* the family's codes NULL */
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &bad, 0, g_sq, &rp, out));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, nanq, &rp, out));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, refc(depth, t, SIDE, SIDE, SIDE, NULL, 0.1f, &g_fam, 0, line, &rp, out));

@@ -78,7 +78,7 @@
  *
  *   actag_refine_params_default(&rp)
  *       blur 2 px, margin 0.3 cell, max_iterations 8 per pass, max_shift
- *       1 cell, max_samples 6000.
+ *       1 cell, max_samples 6000. NULL: no-op.
  *   actag_refine_corners(img, rows, cols, stride, geometry, tag_size, family, id,
  *                        corners, rp, out, info)
  *       img: 8-bit grey image (the detector passes the caller's frame as
@@ -103,6 +103,7 @@
  *   ACTAG_ERR_NULL    img, family, corners, rp or out is NULL
  *   ACTAG_ERR_SIZE    rows or cols < 1 or > ACTAG_MAX_DIM, stride < cols
  *   ACTAG_ERR_PARAM   depth not 8 or 16, id outside the family, bits not 16..32 (multiple of 4),
+ *                     the family's codes NULL,
  *                     a non-finite or degenerate corner quad, rp out of range
  *                     (blur in [0.25, 20], margin in [0, 1], max_iterations
  *                     1..50, max_shift in (0, 2], max_samples 64..100000),
