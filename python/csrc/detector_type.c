@@ -10,7 +10,6 @@
  */
 #include "pyactag.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,7 +79,7 @@ static void detector_dealloc(PyObject *o)
  * NaN and infinities pass to the library, which names them. */
 static int narrow_geo(double d, const char *name, int index, float *out)
 {
-    if (isfinite(d) && (d > FLT_MAX || d < -FLT_MAX || (d != 0.0 && (float)d == 0.0f))) {
+    if (pyactag_float_overflows(d)) {
         PyObject *v = PyFloat_FromDouble(d);
         if (v == NULL)
             return -1;

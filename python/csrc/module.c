@@ -3,6 +3,8 @@
  */
 #include "pyactag.h"
 
+#include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -183,6 +185,11 @@ static PyObject *m_strerror(PyObject *self, PyObject *args)
     if (!PyArg_ParseTuple(args, "i:strerror", &code))
         return NULL;
     return PyUnicode_FromString(actag_strerror(code));
+}
+
+int pyactag_float_overflows(double d)
+{
+    return isfinite(d) && (d > FLT_MAX || d < -FLT_MAX || (d != 0.0 && (float)d == 0.0f));
 }
 
 int pyactag_is_bool(PyObject *obj)

@@ -146,7 +146,7 @@ static int get_float(PyObject *v, const char *name, float *out)
         PyErr_Format(PyExc_TypeError, "parameter '%s' must be a number, got %R", name, v);
         return -1;
     }
-    if (isfinite(d) && (d > FLT_MAX || d < -FLT_MAX || (d != 0.0 && (float)d == 0.0f))) {
+    if (pyactag_float_overflows(d)) {
         char range[96];
         /* the least positive float, 2**-149 for IEEE single precision */
         snprintf(range, sizeof range, "nonzero magnitudes from %.2g to %.6g",

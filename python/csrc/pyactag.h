@@ -54,6 +54,11 @@ char *pyactag_strdup(PyObject *str);
  * take as the number 0 or 1; else 0 (never an exception). */
 int pyactag_is_bool(PyObject *obj);
 
+/* 1 when a finite d would not survive narrowing to a C float: beyond
+ * FLT_MAX (inf) or nonzero below the least subnormal (0); else 0 (NaN and
+ * infinities included: the library names those). */
+int pyactag_float_overflows(double d);
+
 /* A code word argument (a Python integer, not bool or float) that fits in
  * `bits` bits: TypeError or ValueError naming `name` and the value, never
  * reduced modulo 2**64. Returns 0, or -1 with an exception. */
