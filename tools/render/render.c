@@ -795,10 +795,20 @@ static void label_text(char *buf, size_t n, const opts_t *o, int id)
 
 /* ------------------------------------------------------------------ PGM */
 
-/* 5x7 glyphs, one byte per row, bit 4 = leftmost pixel. */
+/* 5x7 glyphs, one byte per row, bit 4 = leftmost pixel. The font's
+ * characters; a character not among them is drawn as the box after the
+ * last glyph. */
+static const char glyph_chars[] = "0123456789ATacghID#- m";
+
+/* Has character c a glyph of its own (not the box)? */
+static int has_glyph(char c)
+{
+    return c != '\0' && strchr(glyph_chars, c) != NULL;
+}
+
 static const unsigned char *glyph(char c)
 {
-    static const char chars[] = "0123456789ATacghID#- m";
+    const char *chars = glyph_chars;
     static const unsigned char g[][7] = {
         {14, 17, 19, 21, 25, 17, 14}, {4, 12, 4, 4, 4, 4, 14},    {14, 17, 1, 2, 4, 8, 31},
         {31, 2, 4, 2, 1, 17, 14},     {2, 6, 10, 18, 31, 2, 2},   {31, 16, 30, 1, 1, 17, 14},
@@ -808,15 +818,8 @@ static const unsigned char *glyph(char c)
         {16, 16, 22, 25, 17, 17, 17}, {14, 4, 4, 4, 4, 4, 14},    {30, 17, 17, 17, 17, 17, 30},
         {10, 10, 31, 10, 31, 10, 10}, {0, 0, 0, 31, 0, 0, 0},     {0, 0, 0, 0, 0, 0, 0},
         {0, 0, 26, 21, 21, 17, 17},   {31, 17, 17, 17, 17, 17, 31}}; /* m; the box: none */
-    const char *p = c ? strchr(chars, c) : NULL;
-    return g[p ? (size_t)(p - chars) : sizeof chars - 1];
-}
-
-/* Has character c a glyph of its own (not the box)? */
-static int has_glyph(char c)
-{
-    static const unsigned char box[7] = {31, 17, 17, 17, 17, 17, 31};
-    return memcmp(glyph(c), box, sizeof box) != 0;
+    const char *p = has_glyph(c) ? strchr(chars, c) : NULL;
+    return g[p ? (size_t)(p - chars) : sizeof glyph_chars - 1];
 }
 
 /* Draws t; a character without a glyph is drawn as a box and named on
