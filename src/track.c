@@ -241,6 +241,10 @@ static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
     size_t off = (size_t)y0 * (size_t)frame->stride + (size_t)x0;
     float ra = actag_geometry_range(g, frame->rows, (float)y0);
     float rb = actag_geometry_range(g, frame->rows, (float)y1);
+    /* One range row (a frame of one row) holds no tag, and its window
+     * would span no range (min_range = max_range: no geometry at all) */
+    if (h < 2)
+        return 0;
     sub = *frame;
     sub.data = frame->depth == 16 ? (const void *)((const uint16_t *)frame->data + off)
                                   : (const void *)((const uint8_t *)frame->data + off);
@@ -408,7 +412,11 @@ static float t_absmax(float m, float d)
 static void t_reproject(actag_tracker *t, const actag_sonar_geometry *g, int rows, int cols)
 {
     actag_sonar_geometry old;
-    int i, c, known = t->geo_bearings_sum == 0u;
+    /* pixel velocities convert only through a frame whose rows and columns
+     * span a range and an arc (a frame of one row or column maps every
+     * pixel to one range or azimuth): else they restart at 0 */
+    int i, c, known = t->geo_bearings_sum == 0u && t->rows > 1 && t->cols > 1 && rows > 1 &&
+                      cols > 1;
     old.min_range = t->geo_min_range;
     old.max_range = t->geo_max_range;
     old.aperture = t->geo_aperture;
@@ -442,12 +450,18 @@ static void t_reproject(actag_tracker *t, const actag_sonar_geometry *g, int row
     }
 }
 
+/* The track's corners in metres and radians. A frame of one row (column)
+ * has no range (azimuth) axis: every pixel maps to one range (azimuth),
+ * so the track keeps the place it had, and finds it again in the next
+ * frame that has the axis (t_reproject). */
 static void t_polar(const actag_sonar_geometry *g, int rows, int cols, actag_track *k)
 {
     int i;
     for (i = 0; i < 4; i++) {
-        k->range[i] = actag_geometry_range(g, rows, k->corners[i].y);
-        k->azimuth[i] = actag_geometry_azimuth(g, cols, k->corners[i].x);
+        if (rows > 1)
+            k->range[i] = actag_geometry_range(g, rows, k->corners[i].y);
+        if (cols > 1)
+            k->azimuth[i] = actag_geometry_azimuth(g, cols, k->corners[i].x);
     }
 }
 

@@ -1018,6 +1018,57 @@ static void test_a_new_sonar_setting_keeps_the_tracks(void)
     }
 }
 
+/* A frame of one range row (or one beam) between frames of the tag: it
+ * holds no tag and maps every pixel to one range (azimuth), so the tracks
+ * coast there and keep their place; the next whole frame finds them where
+ * they were, at rest. (Before: the one-row frame's window had no range
+ * span and actag_tracker_update returned ACTAG_ERR_GEOMETRY for a frame
+ * actag_check accepts, having moved the track to row 0 with a velocity of
+ * -71 rows a frame.) */
+static void test_a_frame_of_one_row_or_column_keeps_the_tracks(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX], before;
+    actag_track_stats st;
+    int v, c;
+    for (v = 0; v < 2; v++) {
+        actag_frame f = frame_of(frames[STILL]);
+        int n = track_still(&tr, &tp, &p, 1000, 5, out, &st), i;
+        TEST_ASSERT_EQUAL_INT(1, n);
+        before = out[0];
+        if (v == 0) {
+            f.data = frames[STILL] + (size_t)(sonar.rows / 2) * (size_t)sonar.cols;
+            f.rows = 1; /* one range row, all beams */
+        } else {
+            f.cols = 1; /* one beam, all range rows */
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_check(&f, &sonar.geo, &p, wss, ACTAG_TRACK_MAX, NULL));
+        for (i = 0; i < 2; i++) {
+            n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
+                                     &st);
+            TEST_ASSERT_EQUAL_INT(1, n); /* coasting, still reported */
+            TEST_ASSERT_EQUAL_UINT32(before.track_id, out[0].track_id);
+            TEST_ASSERT_EQUAL_INT(0, out[0].measured);
+            for (c = 0; c < 4; c++) { /* the place in metres kept */
+                TEST_ASSERT_FLOAT_WITHIN(1e-3f, before.range[c], out[0].range[c]);
+                TEST_ASSERT_FLOAT_WITHIN(1e-3f, before.azimuth[c], out[0].azimuth[c]);
+            }
+        }
+        n = feed(&tr, frames[STILL], &p, out, &st);
+        TEST_ASSERT_EQUAL_INT(1, n);
+        TEST_ASSERT_EQUAL_UINT32(before.track_id, out[0].track_id);
+        TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+        for (c = 0; c < 4; c++) {
+            TEST_ASSERT_FLOAT_WITHIN(1.0f, before.corners[c].x, out[0].corners[c].x);
+            TEST_ASSERT_FLOAT_WITHIN(1.0f, before.corners[c].y, out[0].corners[c].y);
+            TEST_ASSERT_FLOAT_WITHIN(1.0f, 0.0f, out[0].velocity[c].x);
+            TEST_ASSERT_FLOAT_WITHIN(1.0f, 0.0f, out[0].velocity[c].y);
+        }
+    }
+}
+
 /* The gate widens by a diagonal per missed frame: a tag that reappears 1.5
  * diagonals away after one frame unseen is within it, so its reading
  * updates the track through the filter (the smoothed corners trail the
@@ -1331,6 +1382,7 @@ int main(void)
     RUN_TEST(test_the_gate_widens_while_a_track_coasts);
     RUN_TEST(test_a_new_sonar_setting_keeps_the_tracks);
     RUN_TEST(test_an_ulp_of_geometry_changes_nothing);
+    RUN_TEST(test_a_frame_of_one_row_or_column_keeps_the_tracks);
     RUN_TEST(test_counters_at_their_ends);
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
