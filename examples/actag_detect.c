@@ -432,25 +432,40 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
     actag_pose_params_default(&o->pose_params, &o->fam, o->params.tag_size,
                               (float)(o->vertical_deg * 3.14159265358979323846 / 180.0));
     if (o->have_plane) {
-        double nn = sqrt(o->plane[0] * o->plane[0] + o->plane[1] * o->plane[1] +
-                         o->plane[2] * o->plane[2]);
+        /* the normal divided by its largest component first, as pose.h
+         * does: any scale (1e-20 or 1e200) is the same plane, and its
+         * squares neither overflow nor vanish */
+        double big = fabs(o->plane[0]), ns;
         char m[HOSTIO_ERRLEN];
         int j;
+        for (j = 1; j < 3; j++)
+            if (fabs(o->plane[j]) > big)
+                big = fabs(o->plane[j]);
+        if (!(big > 0.0)) {
+            snprintf(m, sizeof m, "--plane: the normal (%g, %g, %g) must be non-zero",
+                     o->plane[0], o->plane[1], o->plane[2]);
+            die(m);
+        }
+        /* ns: the scaled normal's length, 1 to sqrt 3 */
+        ns = sqrt((o->plane[0] / big) * (o->plane[0] / big) +
+                  (o->plane[1] / big) * (o->plane[1] / big) +
+                  (o->plane[2] / big) * (o->plane[2] / big));
         /* the plane is used through its sds: both 0 would leave it unused */
         if (!(o->plane_sd > 0.0 || o->plane_tilt_deg > 0.0))
             die("--plane needs --plane-sd M and/or --plane-tilt-deg D above 0 (how well the "
                 "plane is known; a plane known exactly: give small ones, e.g. 0.001)");
         /* normalised here, in double: a tiny normal would put the plane at
          * an infinite offset in float */
-        if (!(nn > 1e-6) || !(fabs(o->plane[3]) / nn <= 1000.0)) {
+        if (!(fabs(o->plane[3] / big) / ns <= 1000.0)) {
             snprintf(m, sizeof m,
-                     "--plane: the normal (%g, %g, %g) must be non-zero and the plane within "
-                     "1000 m of the sonar (got offset %g m)",
-                     o->plane[0], o->plane[1], o->plane[2], nn > 0.0 ? o->plane[3] / nn : 0.0);
+                     "--plane: the plane must lie within 1000 m of the sonar (got offset %g m "
+                     "for the normal (%g, %g, %g) and d %g)",
+                     o->plane[3] / big / ns, o->plane[0], o->plane[1], o->plane[2],
+                     o->plane[3]);
             die(m);
         }
         for (j = 0; j < 4; j++)
-            o->pose_params.plane[j] = (float)(o->plane[j] / nn);
+            o->pose_params.plane[j] = (float)(o->plane[j] / big / ns);
         o->pose_params.plane_sd = (float)o->plane_sd;
         o->pose_params.plane_tilt_sd = (float)(o->plane_tilt_deg * 3.14159265358979323846 / 180.0);
         /* the sds as the library gets them, in float, against its limit (pose.h:

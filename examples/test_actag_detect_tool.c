@@ -194,6 +194,26 @@ static void test_pose_plane_options(void)
     TEST_ASSERT_TRUE(s1 < 0.5f * s0);
     TEST_ASSERT_NULL(strstr(o, "[plane]"));
     free(o);
+    {
+        /* the normal's scale does not matter (pose.h); a normal of 1e200
+         * overflowed the tool's own normalisation to (0, 0, 0), and every
+         * pose then failed with exit status 0 */
+        static const char *const scaled[2] = {"0,0,1e200,-3e198", "0,0,1e-20,-3e-22"};
+        char cmd[512];
+        int i, c;
+        for (i = 0; i < 2; i++) {
+            float t2[3], s2;
+            snprintf(cmd, sizeof cmd, GEO " --pose --plane %s --plane-sd 0.005 " EXAMPLE,
+                     scaled[i]);
+            TEST_ASSERT_EQUAL_INT(0, run(cmd));
+            o = out_text();
+            pose_line(o, t2, &s2);
+            for (c = 0; c < 3; c++)
+                TEST_ASSERT_FLOAT_WITHIN(1e-4f, t1[c], t2[c]);
+            TEST_ASSERT_FLOAT_WITHIN(1e-4f, s1, s2);
+            free(o);
+        }
+    }
     TEST_ASSERT_EQUAL_INT(2, run(GEO " --pose --plane 0,0,1 --plane-sd 0.005 " EXAMPLE));
     e = err_text();
     TEST_ASSERT_NOT_NULL(strstr(e, "--plane: expected 4 numbers"));
@@ -688,7 +708,7 @@ static void test_options_that_need_others(void)
     expect_option_error(GEO " --pose --plane 0,0,0,1 --plane-sd 0.02 " EXAMPLE,
                         "--plane: the normal (0, 0, 0) must be non-zero");
     expect_option_error(GEO " --pose --plane 1e-20,0,0,1 --plane-sd 0.02 " EXAMPLE,
-                        "(got offset 1e+20 m)");
+                        "(got offset 1e+20 m for the normal (1e-20, 0, 0) and d 1)");
     /* sds the pose cannot use once in float (1e-50 became 0: the plane was
      * dropped without a word; 1e-25 made every pose fail) */
     expect_option_error(GEO " --pose --plane 0,0,1,-0.3 --plane-sd 1e-50 " EXAMPLE,

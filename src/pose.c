@@ -957,7 +957,8 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
             return ACTAG_ERR_PARAM;
     if (!p_length_ok(p->tag_size) || !p_finite(p->vertical_aperture) ||
         !(p->vertical_aperture > 0.0f) || !(p->vertical_aperture < P_PI) ||
-        !p_finite(p->extent) || !(p->extent >= 1.0f) || !p_sd_ok(p->range_sd) ||
+        !p_finite(p->extent) || !(p->extent >= 1.0f) ||
+        !p_length_ok(p->extent * p->tag_size) || !p_sd_ok(p->range_sd) ||
         !p_sd_ok(p->azimuth_sd) || p->max_iterations < 1 || p->max_iterations > 100)
         return ACTAG_ERR_PARAM;
     if (!(p->plane_sd == 0.0f || p_sd_ok(p->plane_sd)) ||

@@ -1537,6 +1537,14 @@ static void test_pose_estimate(void)
     b = pp;
     b.extent = 0.5f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    /* an outline (extent x tag_size) beyond 1e4 m: its squares overflowed
+     * float, and extent 1e21 gave a centre at 3 half apertures, unflagged */
+    b.extent = 1e21f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.extent = 1.001e4f / pp.tag_size;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));
+    b.extent = 0.999e4f / pp.tag_size;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &b, &pose));
     b = pp;
     b.range_sd = 0.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_estimate(r, az, 0, &b, &pose));

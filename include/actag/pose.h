@@ -174,12 +174,15 @@
  *       finite, a range outside 1e-3 .. 1e4 m, an azimuth outside (-4 pi,
  *       4 pi), tag_size outside 1e-3 .. 1e4 m (the fit squares lengths:
  *       beyond these they leave the float range), vertical_aperture outside
- *       (0, pi), extent < 1, range_sd or azimuth_sd <= 0, not finite or
+ *       (0, pi), extent < 1 or the outline's side extent x tag_size above
+ *       1e4 m, range_sd or azimuth_sd <= 0, not finite or
  *       so small that 1 / sd^2 overflows a float (below about 5e-20),
  *       max_iterations outside 1..100, plane_sd or plane_tilt_sd negative,
  *       not finite or, when not 0, that small, or, when either is > 0,
  *       plane not finite, its normal zero or its offset |d| / |n| above
  *       1e4 m; the normal may have any scale, (0, 0, 1e-30) as (0, 0, 1e20)).
+ *       "Finite" here means |v| < 3e38, a little below FLT_MAX, for every
+ *       float argument (also actag_pose_from_camera's).
  *       ACTAG_ERR_BUILD (compiled with fused multiply-adds, as
  *       actag_detect). Degenerate geometry is not an error: out is filled
  *       as well as possible and flagged.
