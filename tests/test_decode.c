@@ -1204,15 +1204,22 @@ static void test_errors_and_edges(void)
      * within the correction budget; here: cut the render, compare to the
      * brute-force matcher */
     {
+        /* views from the whole frame down to its top-left quarter: some cut
+         * the data ring and still decode, smaller ones do not; each as the
+         * oracle says. (The four views this test had were all too small to
+         * decode, so the decoding branch never ran.) */
         static uint8_t big[200 * 200];
         render_case rc;
         oracle_res o;
-        int r;
+        uint32_t w_full;
+        int r, cut_read = 0, refused = 0;
         tu_seed(11);
         setup_case(&rc, 6, 0, 0, 0, 0);
         render(big, rc.rows, rc.cols, rc.stride, rc.T, 6, tf.codes[3], 255);
-        for (i = 0; i < 4; i++) { /* view only the top-left part of the frame */
-            int rows = rc.rows / 2 + 2 * i, cols = rc.cols / 2 + 3 * i;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_decode_read_word(big, rc.rows, rc.cols, rc.stride, rc.quad,
+                                                               24, ACTAG_DECODE_AFFINE, &w_full));
+        for (i = 0; i <= 40; i++) { /* view only the top-left part of the frame */
+            int rows = rc.rows - i * (rc.rows / 80), cols = rc.cols - i * (rc.cols / 80);
             r = actag_decode_read_word(big, rows, cols, rc.stride, rc.quad, 24, ACTAG_DECODE_AFFINE, &w);
             TEST_ASSERT_EQUAL_INT(ACTAG_OK, r);
             o = oracle(tf.codes, 7, 24, w, 4);
@@ -1220,7 +1227,11 @@ static void test_errors_and_edges(void)
             TEST_ASSERT_EQUAL_INT(o.ok ? ACTAG_OK : ACTAG_ERR_NO_MATCH, r);
             if (o.ok)
                 TEST_ASSERT_EQUAL_INT(o.id, res.id);
+            cut_read += o.ok && w != w_full; /* cells lost to the cut, still read */
+            refused += !o.ok;
         }
+        TEST_ASSERT_TRUE(cut_read >= 1);
+        TEST_ASSERT_TRUE(refused >= 1);
     }
     TEST_ASSERT_EQUAL_INT(0, ACTAG_DECODE_SCRATCH_BYTES(530, 512));
 }

@@ -59,6 +59,12 @@ static void test_example_frame_gives_tag0_at_reference_corners(void)
     n = detect8(g_img, g_cols, &g_geo, det, 8);
     TEST_ASSERT_EQUAL_INT(1, n);
     TEST_ASSERT_EQUAL_INT(0, det[0].id);
+    /* the reading the README shows: mirrored, 2 corrected bits, a margin
+     * well above the least (nothing else checked a detection's hamming: a
+     * detection reported with hamming + 100 passed) */
+    TEST_ASSERT_EQUAL_INT(1, det[0].mirrored);
+    TEST_ASSERT_EQUAL_INT(2, det[0].hamming);
+    TEST_ASSERT_TRUE(det[0].decision_margin >= 10.0f * g_p.min_margin);
     /* refined corners (refine.h): within 4.5 pixels of the reference's quad
      * corners, which rest on the bloomed white blob's contour (the third
      * corner is 4.0 px off in column) */

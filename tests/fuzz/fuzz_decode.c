@@ -210,7 +210,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 quad[i].y *= 1e18f;
             }
             break;
-        default: quad[fz_u8(&r) & 3].y = (fz_u8(&r) & 1) ? NAN : -INFINITY; break;
+        default: { /* two reads, in this order (one expression left it to the compiler) */
+            int corner = fz_u8(&r) & 3;
+            quad[corner].y = (fz_u8(&r) & 1) ? NAN : -INFINITY;
+            break;
+        }
         }
     }
     judge = judge_quad(quad);

@@ -128,7 +128,7 @@ static void real_frames(const char *example, const char *pooldir)
         exit(1);
     }
     tag_centre((const uint8_t *)im.data, im.rows, im.cols, &g, &cr, &cc);
-    put_crop("real-example-tag", (const uint8_t *)im.data, im.rows, im.cols, &g, cr, cc, 96, 128);
+    put_crop("real-example-tag", (const uint8_t *)im.data, im.rows, im.cols, &g, cr, cc, 160, 200);
     put_crop("real-example-empty", (const uint8_t *)im.data, im.rows, im.cols, &g, im.rows - 40,
              60, 64, 96);
     hostio_image_free(&im);
@@ -140,7 +140,7 @@ static void real_frames(const char *example, const char *pooldir)
         if (im.depth == 8) {
             tag_centre((const uint8_t *)im.data, im.rows, im.cols, &g, &cr, &cc);
             snprintf(name, sizeof name, "real-pool-%s", pool[i]);
-            put_crop(name, (const uint8_t *)im.data, im.rows, im.cols, &g, cr, cc, 112, 112);
+            put_crop(name, (const uint8_t *)im.data, im.rows, im.cols, &g, cr, cc, 200, 200);
         }
         hostio_image_free(&im);
     }
