@@ -114,11 +114,15 @@
  *       changed by its operator) keeps the tracks: each smoothed corner is
  *       moved to the pixel of its range and azimuth in the new frame, its
  *       velocity carried over through the old mapping (restarted when the
- *       old frame had a bearing table), so the track is read at its place
+ *       old frame had a bearing table, or either frame a single row or
+ *       column), so the track is read at its place
  *       in the new frame; `last` keeps the reading as it was returned. A
  *       bearing table changed in place is noticed by a checksum of its
  *       values; a change that moves no track by more than 0.01 px (an ulp
  *       of max_range recomputed every ping) leaves the tracks as they are.
+ *       A frame of one row (column) holds no tag and has no range
+ *       (azimuth) axis: the tracks coast through it keeping their range
+ *       (azimuth), and are found at their place in the next frame.
  *
  *   Cost per frame (stats): pixels filtered (verify windows, ROIs, whole
  *   frame), verify attempts, ROI calls, whether the whole frame was
