@@ -148,12 +148,15 @@ static void undo_views(uint32_t w, uint32_t wm, int bits, uint32_t obs[8])
  * weighs 1 and the cost is the Hamming distance h: the hard match is the
  * soft one with equal confidences. The maxtop cheapest readings go to
  * top[], cheapest first (then fewer disagreeing bits; equal readings keep
- * scan order: lower ID, then lower view). With lb (lb[h]: the least cost of
- * h disagreeing bits) a reading is skipped unscored when it cannot rank
- * above the runner-up (lb[h] above its cost, or equal to it with no fewer
- * disagreeing bits) and, unless the list is full, nor above the last kept
- * one: exact for the best two, so the rest of a full list may miss
- * readings. Returns the number kept. */
+ * scan order: lower ID, then lower view). keepv[v]: the kept bits in view
+ * v's order (the reading's kept bits, the view undone). With lb (lb[h]: the
+ * least cost of h disagreeing bits) a reading is skipped unscored when the
+ * list is full and it cannot rank above the runner-up (lb[h] above its
+ * cost, or equal to it with no fewer disagreeing bits) nor above the last
+ * kept one: exact for the best two, so the rest of a full list may miss
+ * readings; a list that is not full holds every reading, in order. (Until
+ * 2026-12-05 a reading was also skipped while the list was not full, and
+ * a worse one scanned later took its place.) Returns the number kept. */
 static int lb_no_better(int lbh, int h, const actag_soft_reading *t)
 {
     /* every reading of h disagreeing bits costs lbh or more; at a cost
@@ -162,19 +165,19 @@ static int lb_no_better(int lbh, int h, const actag_soft_reading *t)
 }
 
 static int scan_codes(const actag_family *family, const uint32_t *obs, unsigned views,
-                      uint32_t keep, const uint32_t (*pl)[5], const int *lb,
+                      const uint32_t *keepv, const uint32_t (*pl)[5], const int *lb,
                       actag_soft_reading *top, int maxtop)
 {
     int i, v, b, ntop = 0;
     for (i = 0; i < family->ncodes; i++) {
         uint32_t c = family->codes[i];
         for (v = 0; v < 8; v++) {
-            uint32_t mis = (c ^ obs[v]) & keep;
+            uint32_t mis = (c ^ obs[v]) & keepv[v];
             if (!(views & (1u << v)))
                 continue;
             int h = actag_popcount32(mis), d = h, j;
-            if (lb && ntop > 1 && lb_no_better(lb[h], h, &top[1]) &&
-                (ntop == maxtop || lb_no_better(lb[h], h, &top[ntop - 1])))
+            if (lb && ntop == maxtop && lb_no_better(lb[h], h, &top[1]) &&
+                lb_no_better(lb[h], h, &top[ntop - 1]))
                 continue;
             if (pl) {
                 d = 0;
@@ -210,6 +213,8 @@ static int match_orientations(const actag_family *family, uint32_t observed, int
 {
     uint32_t obs[8], w;
     actag_soft_reading best = {0, 0, 0, 0}; /* every family has a code: always filled */
+    static const uint32_t all[8] = {0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu,
+                                    0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu};
     int maxc, rc = actag_family_validate(family);
     if (out == NULL)
         return ACTAG_ERR_NULL;
@@ -222,7 +227,7 @@ static int match_orientations(const actag_family *family, uint32_t observed, int
     w = observed & actag_code_mask(family->bits);
     undo_views(w, actag_code_reverse(w, family->bits), family->bits, obs);
     scan_codes(family, obs, norient == 4 ? ACTAG_VIEWS_UNMIRRORED : ACTAG_VIEWS_ALL,
-               0xffffffffu, NULL, NULL, &best, 1);
+               all, NULL, NULL, &best, 1);
     if (best.h > max_corrections) /* *out untouched, as on every error */
         return ACTAG_ERR_NO_MATCH;
     out->id = best.id;
@@ -254,7 +259,7 @@ int actag_family_match_soft_views(const actag_family *family, const float *conf,
                                   unsigned views, actag_soft_match *res)
 {
     int bits, i, b, v, nk = 0, q[32], lb[33], rc;
-    uint32_t w = 0, plane[5] = {0, 0, 0, 0, 0}, obs[8], pl[8][5];
+    uint32_t w = 0, plane[5] = {0, 0, 0, 0, 0}, obs[8], pl[8][5], keepv[8];
     if (family == NULL || conf == NULL || res == NULL)
         return ACTAG_ERR_NULL;
     rc = actag_family_validate(family);
@@ -292,15 +297,21 @@ int actag_family_match_soft_views(const actag_family *family, const float *conf,
     lb[0] = 0;
     for (i = 0; i < nk; i++)
         lb[i + 1] = lb[i] + q[i];
-    /* views 4..7: the physical reflection P of the reading */
+    /* views 4..7: the physical reflection P of the reading; the kept bits
+     * are the reading's, so they go through each view with it (the same
+     * in every view for the decoder's masks: all bits, all but the
+     * corners; other masks were applied in the code's order, and lb then
+     * bounded nothing) */
     undo_views(w, actag_code_mirror(w, bits), bits, obs);
+    keep &= actag_code_mask(bits);
+    undo_views(keep, actag_code_mirror(keep, bits), bits, keepv);
     for (b = 0; b < 5; b++) {
         uint32_t pv[8];
         undo_views(plane[b], actag_code_mirror(plane[b], bits), bits, pv);
         for (v = 0; v < 8; v++)
             pl[v][b] = pv[v];
     }
-    res->ntop = scan_codes(family, obs, views, keep, (const uint32_t(*)[5])pl, lb, res->top,
+    res->ntop = scan_codes(family, obs, views, keepv, (const uint32_t(*)[5])pl, lb, res->top,
                            ACTAG_SOFT_TOP);
     res->d1 = res->top[0].d; /* ncodes >= 1: at least one reading */
     res->d2 = res->ntop > 1 ? res->top[1].d : 1 << 28;
@@ -317,7 +328,7 @@ int actag_family_match_soft_views(const actag_family *family, const float *conf,
             int h;
             if (!(views & (1u << v)))
                 continue; /* not a hypothesis */
-            h = actag_popcount32((c ^ obs[v]) & keep);
+            h = actag_popcount32((c ^ obs[v]) & keepv[v]);
             if ((v >> 2) != res->best.mirrored && h < res->other)
                 res->other = h;
             if (h < res->h2 && !(i == res->best.id && (v & 3) == res->best.rotation &&

@@ -70,7 +70,8 @@
  *   |c_i| is clamped at 1 and quantised to 1/ACTAG_SOFT_SCALE). Every code
  *   in each of the 8 physical views, rot90^r(c) and P(rot90^r(c)) (P =
  *   actag_code_mirror, mirrored = 1), gets a soft distance d: the sum of
- *   |c_i| over the counted bits (those set in keep) where the code disagrees
+ *   |c_i| over the counted bits (the reading's bits set in keep, whatever
+ *   the view; any mask) where the code disagrees
  *   with the sign of c_i; under independent Gaussian cell noise the least d
  *   is the likeliest code, and the runner-up's d minus the best's is twice
  *   the log-likelihood ratio between them in units of contrast^2 / sigma^2.
@@ -83,8 +84,10 @@
  *   top[0 .. ntop-1], the likeliest readings, best first (ties: fewer
  *   disagreeing bits, then lower ID, then lower view = rotation + 4 *
  *   mirrored). Readings whose hard distance alone bounds their d at or above
- *   the runner-up's are skipped unscored, so best, d1 and d2 are exact and
- *   top[2 ..] of a full list may miss readings. Cost: 8 ncodes views, five
+ *   the runner-up's are skipped unscored once top is full, so best, d1 and
+ *   d2 are exact, a list of fewer than ACTAG_SOFT_TOP entries holds every
+ *   reading (of the views asked for), and top[2 ..] of a full list may
+ *   miss readings. Cost: 8 ncodes views, five
  *   popcounts each unless skipped, then one more popcount pass.
  *   actag_family_match_soft_views() is the same over a subset of the 8
  *   views (ACTAG_VIEWS_UNMIRRORED, ACTAG_VIEWS_MIRRORED or any bit mask):
