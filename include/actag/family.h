@@ -84,10 +84,10 @@
  *   top[0 .. ntop-1], the likeliest readings, best first (ties: fewer
  *   disagreeing bits, then lower ID, then lower view = rotation + 4 *
  *   mirrored). Readings whose hard distance alone bounds their d at or above
- *   the runner-up's are skipped unscored once top is full, so best, d1 and
- *   d2 are exact, a list of fewer than ACTAG_SOFT_TOP entries holds every
- *   reading (of the views asked for), and top[2 ..] of a full list may
- *   miss readings. Cost: 8 ncodes views, five
+ *   the runner-up's are skipped unscored, so best, d1 and d2 are exact and
+ *   top[2 ..] may miss readings, whether the list is full or not (a list of
+ *   fewer than ACTAG_SOFT_TOP entries is not every reading, and a skipped
+ *   reading can rank above one listed after top[1]). Cost: 8 ncodes views, five
  *   popcounts each unless skipped, then one more popcount pass.
  *   actag_family_match_soft_views() is the same over a subset of the 8
  *   views (ACTAG_VIEWS_UNMIRRORED, ACTAG_VIEWS_MIRRORED or any bit mask):
