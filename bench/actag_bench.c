@@ -94,6 +94,11 @@ int main(int argc, char **argv)
             hostio_opt_unknown(PROG, argv[i]);
         else if (nfiles < 1024)
             files[nfiles++] = argv[i];
+        else {
+            fprintf(stderr, "%s: at most 1024 frames, got more (%s is the 1025th)\n", PROG,
+                    argv[i]);
+            return 2;
+        }
     }
     if (nfiles == 0 && file_exists(ACTAG_SHARED_DIR "/data/sonar/pool-video/f_0001.pgm")) {
         for (i = 0; i < 58; i++) {

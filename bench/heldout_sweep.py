@@ -10,7 +10,7 @@ usage: bench/heldout_sweep.py ACTAG_EVAL FIRST_SEED END_SEED [--mix any|c24h10]
   a 530 x 512 sonar at 0.1-3.5 m with tags at 0.5-3 m, or the pool recording's
   (--pool); either orientation flag; gain, noise, beam spread, looks, clutter,
   foam, metal, mirror fraction and interference bands from the listed values;
-  AcTag24h10 in half the runs, else AcTag24h8, AcTag24m10 or AcTag28m10.
+  AcTag24h10 in 5 runs of 8, else AcTag24h8, AcTag24m10 or AcTag28m10.
 --mix c24h10: AcTag24h10 on the 530 x 512 sonar only, milder appearance.
 
 Each seed's settings come from Python's random.Random(seed) (c24h10:

@@ -13,9 +13,19 @@ if [ $# -eq 0 ]; then
 fi
 geo="${EXTRA:-} --min-range 0.1 --max-range 1.5 --aperture-deg 60 --family AcTag24h10 --json"
 a=$(mktemp); b=$(mktemp)
-trap 'rm -f "$a" "$b"' EXIT
-"$base" $geo "$@" | sed 's/, "time_ms": [0-9.]*//' > "$a"
-"$new" $geo "$@" | sed 's/, "time_ms": [0-9.]*//' > "$b"
+trap 'rm -f "$a" "$b" "$a.raw" "$b.raw"' EXIT
+# each detector's own exit status (a pipe would report sed's: two builds that
+# both fail, or a missing frame, compared "identical")
+detect() { # DETECTOR OUT FRAME...
+  d=$1; o=$2; shift 2
+  if ! "$d" $geo "$@" > "$o.raw"; then
+    echo "pool_identical: FAIL: $d exited with an error" >&2
+    exit 2
+  fi
+  sed 's/, "time_ms": [0-9.]*//' "$o.raw" > "$o"
+}
+detect "$base" "$a" "$@"
+detect "$new" "$b" "$@"
 n=$(wc -l < "$a"); tags=$(grep -o '"id": ' "$a" | wc -l)
 if cmp -s "$a" "$b"; then
   echo "pool_identical: $n frames, $tags detections: identical"

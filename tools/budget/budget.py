@@ -277,7 +277,10 @@ def main():
     row("linked into mcu_detect (1 family): .text + .rodata",
         lambda r: "%d" % (r["linked_mcu_detect"]["text"] + r["linked_mcu_detect"]["rodata"]))
     row("actag_detect stack, call graph (bytes)", lambda r: str(r["stack_static"]))
-    row("actag_detect stack, measured high-water", lambda r: str(r["instructions"]["stack_measured"]))
+    # measured through the timing firmware, whose wrapper of the decoder (48 bytes at -O2 on
+    # the M7) lies on the deepest path: so it can exceed the library's call-graph figure
+    row("actag_detect stack, measured high-water (with the timing wrapper's frame)",
+        lambda r: str(r["instructions"]["stack_measured"]))
     for wsz in ("256x256", "530x512", "1024x1024"):
         row("workspace %s (bytes)" % wsz, lambda r, w=wsz: str(r["workspace"][w]))
     for k in ["total"] + STAGES:

@@ -1404,8 +1404,10 @@ int main(int argc, char **argv)
         err_stats rs, as;
         int fam_total[MAX_FAM][NCORR], fam_frames[MAX_FAM][NCORR];
         FILE *ff = g_fail_out.f; /* --failures, or NULL */
-        nbd = (int)ceil((c.view.max_distance - dlo) / dstep);
-        nbi = (int)ceil((c.view.max_incidence / DEG - ilo) / istep);
+        /* the limits come back from float (80 degrees as 80.0000045): a
+         * millionth of a bin below an edge is on it (no empty 85 bin) */
+        nbd = (int)ceil((c.view.max_distance - dlo) / dstep - 1e-6);
+        nbi = (int)ceil((c.view.max_incidence / DEG - ilo) / istep - 1e-6);
         if (nbd < 1) nbd = 1;
         if (nbi < 1) nbi = 1;
         if (nbd > MAX_BINS) nbd = MAX_BINS;
@@ -1627,7 +1629,8 @@ int main(int argc, char **argv)
                     ms = stats_of(mv, nm);
                     if (nm > 0)
                         printf("\n  decision margin of the detections: min %.2f  5%% %.2f  median %.2f",
-                               mv[0], mv[(int)(0.05 * (nm - 1))], mv[nm / 2]);
+                               mv[0], mv[(int)(0.05 * (nm - 1))],
+                               nm % 2 ? mv[nm / 2] : 0.5 * (mv[nm / 2 - 1] + mv[nm / 2]));
                     nm = 0;
                     for (k = 0; k < c.frames; k++)
                         if (c.tres[k].sampled && c.tres[k].found && c.tres[k].found_search)

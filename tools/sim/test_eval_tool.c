@@ -153,6 +153,10 @@ static void test_known_plane_options(void)
     b = slurp(out_path);
     TEST_ASSERT_NOT_NULL(a);
     TEST_ASSERT_NOT_NULL(b);
+    /* the default 30-80 degree views in 5 incidence bins, 35 .. 75 (the
+     * 80 degrees read back from float as 80.0000045 made an empty 85) */
+    TEST_ASSERT_NOT_NULL(strstr(a, "{\"incidence_deg\": 75.0,"));
+    TEST_ASSERT_NULL(strstr(a, "{\"incidence_deg\": 85.0,"));
     TEST_ASSERT_EQUAL_INT((int)json_num(strstr(a, "\"pose\""), "readings"),
                           (int)json_num(strstr(b, "\"pose\""), "readings"));
     TEST_ASSERT_TRUE(json_num(strstr(a, "\"pose\""), "readings") >= 5);
