@@ -279,7 +279,8 @@ static void parse_args(int argc, char **argv, opts_t *o)
 {
     const char *ids_arg = NULL, *fmt = NULL, *holes = NULL;
     const char *shaping = NULL; /* the first option that shapes a file (not --list-tabs') */
-    int i, have_id = 0, all = 0, id = 0, cut = 0, back = 0;
+    int i, have_id = 0, all = 0, id = 0, cut = 0, back = 0, nseen = 0;
+    const char *seen[64]; /* the options given so far */
     memset(o, 0, sizeof *o);
     o->cell_px = DEFAULT_CELL_PX;
     o->tag_size_m = DEFAULT_TAG_SIZE_M;
@@ -291,6 +292,17 @@ static void parse_args(int argc, char **argv, opts_t *o)
         die("no arguments (try --help)");
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
+        /* an option given twice is refused, not the last one kept: "--id 0
+         * --id 5 --cut" cut plate 5 without a word */
+        if (strncmp(a, "--", 2) == 0) {
+            const char *canon = strcmp(a, "--margin-color") == 0 ? "--margin-colour" : a;
+            int k;
+            for (k = 0; k < nseen; k++)
+                if (strcmp(seen[k], canon) == 0)
+                    die("%s given twice: give it once", a);
+            if (nseen < (int)(sizeof seen / sizeof seen[0]))
+                seen[nseen++] = canon;
+        }
         if (shaping == NULL && strncmp(a, "--", 2) == 0 && strcmp(a, "--family") != 0 &&
             strcmp(a, "--id") != 0 && strcmp(a, "--ids") != 0 && strcmp(a, "--all") != 0 &&
             strcmp(a, "--cut") != 0 && strcmp(a, "--list-tabs") != 0)

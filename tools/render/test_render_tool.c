@@ -1063,6 +1063,11 @@ static void test_errors(void)
         "--family AcTag24h4 --id 1 --frobnicate",
         "--family AcTag24h4 --id",
         "--family AcTag24h10 --all --sheet --format svg",
+        /* an option given twice (the last one was kept: plate 5 was cut) */
+        "--family AcTag24h10 --id 0 --id 5 --cut",
+        "--family AcTag24h10 --family AcTag24h4 --id 1",
+        "--family AcTag24h4 --id 1 --cut --tag-size 0.05 --tag-size 0.1",
+        "--family AcTag24h4 --id 1 --margin-cells 1 --margin-colour foam --margin-color metal",
         NULL};
     int i;
     for (i = 0; bad[i]; i++) {
