@@ -132,7 +132,8 @@ static void usage(FILE *f)
         "  --cell-px N            pixels per cell in PGM images (default 20; PGM only)\n"
         "  --tag-size M           side of the inner white square in metres, for the\n"
         "                         millimetres of SVG and DXF (not PGM: --cell-px)\n"
-        "                         (default 0.130628571 = 3/7 ft, a 1 ft 24-bit tag)\n"
+        "                         (default 0.130628571 = 3/7 ft, a 1 ft 24-bit tag;\n"
+        "                         0.0001 to 10: millimetres given as metres are refused)\n"
         "  --margin-cells X       border around the tag, in cells (default 1 for\n"
         "                         images, 0 for cut files; cut margins are metal)\n"
         "  --margin-colour metal|foam   colour of an image's border (default metal;\n"
@@ -346,7 +347,8 @@ static void parse_args(int argc, char **argv, opts_t *o)
             else
                 die("%s: expected metal or foam, got '%s'", a, v);
         } else if (strcmp(a, "--tag-size") == 0) {
-            o->tag_size_m = parse_real(a, need_arg(argc, argv, &i), 1e-4, 100.0);
+            /* at most 10 m: "--tag-size 90" meant as millimetres drew a 210 m plate */
+            o->tag_size_m = parse_real(a, need_arg(argc, argv, &i), 1e-4, 10.0);
             o->tag_size_set = 1;
         } else if (strcmp(a, "--screw-holes") == 0) {
             holes = need_arg(argc, argv, &i);

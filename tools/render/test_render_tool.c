@@ -1045,6 +1045,7 @@ static void test_errors(void)
         "--family AcTag24h4 --id 1 --cell-px abc",
         "--family AcTag24h4 --id 1 --tag-size -1",
         "--family AcTag24h4 --id 1 --tag-size nan",
+        "--family AcTag24h4 --id 1 --cut --tag-size 90", /* millimetres, not metres */
         "--family AcTag24h4 --id 1 --margin-cells 1e999",
         "--family AcTag24h4 --id 1 --format png",
         "--family AcTag24h4 --id 1 --cut --format pgm",
