@@ -435,7 +435,7 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         /* the normal divided by its largest component first, as pose.h
          * does: any scale (1e-20 or 1e200) is the same plane, and its
          * squares neither overflow nor vanish */
-        double big = fabs(o->plane[0]), ns;
+        double big = fabs(o->plane[0]), ns, u[4];
         char m[HOSTIO_ERRLEN];
         int j;
         for (j = 1; j < 3; j++)
@@ -446,26 +446,24 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
                      o->plane[0], o->plane[1], o->plane[2]);
             die(m);
         }
-        /* ns: the scaled normal's length, 1 to sqrt 3 */
-        ns = sqrt((o->plane[0] / big) * (o->plane[0] / big) +
-                  (o->plane[1] / big) * (o->plane[1] / big) +
-                  (o->plane[2] / big) * (o->plane[2] / big));
+        for (j = 0; j < 4; j++)
+            u[j] = o->plane[j] / big;
+        ns = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]); /* 1 to sqrt 3 */
         /* the plane is used through its sds: both 0 would leave it unused */
         if (!(o->plane_sd > 0.0 || o->plane_tilt_deg > 0.0))
             die("--plane needs --plane-sd M and/or --plane-tilt-deg D above 0 (how well the "
                 "plane is known; a plane known exactly: give small ones, e.g. 0.001)");
         /* normalised here, in double: a tiny normal would put the plane at
          * an infinite offset in float */
-        if (!(fabs(o->plane[3] / big) / ns <= 1000.0)) {
+        if (!(fabs(u[3]) / ns <= 1000.0)) {
             snprintf(m, sizeof m,
                      "--plane: the plane must lie within 1000 m of the sonar (got offset %g m "
                      "for the normal (%g, %g, %g) and d %g)",
-                     o->plane[3] / big / ns, o->plane[0], o->plane[1], o->plane[2],
-                     o->plane[3]);
+                     u[3] / ns, o->plane[0], o->plane[1], o->plane[2], o->plane[3]);
             die(m);
         }
         for (j = 0; j < 4; j++)
-            o->pose_params.plane[j] = (float)(o->plane[j] / big / ns);
+            o->pose_params.plane[j] = (float)(u[j] / ns);
         o->pose_params.plane_sd = (float)o->plane_sd;
         o->pose_params.plane_tilt_sd = (float)(o->plane_tilt_deg * 3.14159265358979323846 / 180.0);
         /* the sds as the library gets them, in float, against its limit (pose.h:

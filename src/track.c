@@ -239,12 +239,13 @@ static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
     actag_sonar_geometry sg;
     int w = x1 - x0 + 1, h = y1 - y0 + 1, j;
     size_t off = (size_t)y0 * (size_t)frame->stride + (size_t)x0;
-    float ra = actag_geometry_range(g, frame->rows, (float)y0);
-    float rb = actag_geometry_range(g, frame->rows, (float)y1);
+    float ra, rb;
     /* One range row (a frame of one row) holds no tag, and its window
      * would span no range (min_range = max_range: no geometry at all) */
     if (h < 2)
         return 0;
+    ra = actag_geometry_range(g, frame->rows, (float)y0);
+    rb = actag_geometry_range(g, frame->rows, (float)y1);
     sub = *frame;
     sub.data = frame->depth == 16 ? (const void *)((const uint16_t *)frame->data + off)
                                   : (const void *)((const uint8_t *)frame->data + off);

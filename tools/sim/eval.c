@@ -1621,22 +1621,19 @@ int main(int argc, char **argv)
                 {
                     double *mv = (double *)malloc((size_t)(found + 1) * sizeof(double));
                     int nm = 0;
-                    err_stats ms;
                     for (k = 0; k < c.frames; k++)
                         if (c.tres[k].sampled && c.tres[k].found)
                             mv[nm++] = c.tres[k].margin;
-                    qsort(mv, (size_t)nm, sizeof *mv, cmp_d);
-                    ms = stats_of(mv, nm);
-                    if (nm > 0)
+                    if (nm > 0) {
+                        double med = median_of(mv, nm); /* sorts mv */
                         printf("\n  decision margin of the detections: min %.2f  5%% %.2f  median %.2f",
-                               mv[0], mv[(int)(0.05 * (nm - 1))],
-                               nm % 2 ? mv[nm / 2] : 0.5 * (mv[nm / 2 - 1] + mv[nm / 2]));
+                               mv[0], mv[(int)(0.05 * (nm - 1))], med);
+                    }
                     nm = 0;
                     for (k = 0; k < c.frames; k++)
                         if (c.tres[k].sampled && c.tres[k].found && c.tres[k].found_search)
                             nm++;
                     printf(" (%d read by the structure search)", nm);
-                    (void)ms;
                     free(mv);
                 }
                 printf("\n  range error per corner (m):     mean %+.5f  sd %.5f  95%% |e| %.5f  "
