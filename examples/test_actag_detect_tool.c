@@ -654,8 +654,11 @@ static void test_bad_options(void)
     /* values the library judges: its rule, in the option's name */
     expect_option_error(GEO " --tag-size 0 " EXAMPLE,
                         "actag_detect: --tag-size: must be a finite number > 0 (metres) (got 0)\n");
-    expect_option_error(GEO " --tag-size 1e30 " EXAMPLE,
+    expect_option_error(GEO " --tag-size 5 " EXAMPLE,
                         "--tag-size/--max-range: must be at most sqrt(2) * --max-range");
+    expect_option_error(GEO " --tag-size 1e30 " EXAMPLE,
+                        "actag_detect: --tag-size: must be below ACTAG_MAX_TAG_SIZE (1000 metres) "
+                        "(got 1e+30)\n");
     expect_option_error(GEO " --threshold-radius 33 " EXAMPLE,
                         "--threshold-radius: must be an integer from 0 to "
                         "ACTAG_MAX_THRESHOLD_RADIUS (32, pixels) (got 33)");

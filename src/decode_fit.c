@@ -1442,9 +1442,15 @@ int actag__fit_rival_explains_own(const uint8_t *grey, int rows, int cols, int s
 }
 
 float actag__fit_rss_llr(const actag_family *family, const actag_fit_params *fp, float rss,
-                         float rss2)
+                         float rss2, float contrast)
 {
     int n = family->bits / 4 + 1;
     int nc = n * n - ((fp->flags & ACTAG_FIT_ERASE_CORNERS) ? 4 : 0);
-    return 0.5f * (rss2 - rss) / fcell_noise2(rss, nc, 1e-6f);
+    /* the template check's floor: a nearly perfect fit claims no more than
+     * cells read to 10 % of the contrast (fread_grid) */
+    float floor2 = FIT_MIN_NOISE * 2.0f * contrast;
+    floor2 *= floor2;
+    if (!(floor2 >= 1e-6f))
+        floor2 = 1e-6f;
+    return 0.5f * (rss2 - rss) / fcell_noise2(rss, nc, floor2);
 }

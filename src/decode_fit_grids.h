@@ -94,9 +94,10 @@ int actag__fit_rival_explains_own(const uint8_t *grey, int rows, int cols, int s
 /* The log-likelihood ratio (nats) of reading 1 over reading 2 from their
  * rss (actag__fit_rival_explains), under Gaussian cell noise of the
  * variance reading 1 leaves (the template check's noise model: its rss
- * over the cells less the two fitted levels). family and fp as given to
- * actag__fit_rival_explains (valid: not checked). */
+ * over the cells less the two fitted levels, at least (0.1 contrast)^2,
+ * contrast being reading 1's actag_decode_result.contrast). family and fp
+ * as given to actag__fit_rival_explains (valid: not checked). */
 float actag__fit_rss_llr(const actag_family *family, const actag_fit_params *fp, float rss,
-                         float rss2);
+                         float rss2, float contrast);
 
 #endif

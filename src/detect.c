@@ -647,7 +647,8 @@ static int cross_check(const ws_layout *w, int rows, int cols, const actag_ipoin
                                       a.id, a.fit_corners, o.id, o.fit_corners, &r1, &r2,
                                       NULL) < 0)
         return 0;
-    return actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2) < params->min_margin;
+    return actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2, qdr->contrast) <
+           params->min_margin;
 }
 
 /* A detection from a decoder result, its corners and quad support. */
@@ -903,6 +904,19 @@ int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *g
                            out, max_out, stats, NULL);
 }
 
+/* A quad fit stopped by a lowered iteration cap (cut 1: the frame's
+ * limits.max_frame_iterations, counted per fit; 2: the contour's
+ * max_contour_iterations, counted once per contour in *contour_counted). */
+static void count_budget(actag_stats *st, int cut, int *contour_counted)
+{
+    if (cut == 1) {
+        st->frame_budget++;
+    } else if (!*contour_counted) {
+        st->contour_budget++;
+        *contour_counted = 1;
+    }
+}
+
 /* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */
 static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry *geometry,
                            const actag_params *params,
@@ -1069,29 +1083,33 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             rc = ACTAG_ERR_NO_QUAD;
             for (k = 0; k < tries; k++) {
                 actag_quad_params qp = params->tuning.quad;
+                /* which limit lowered this fit's cap: 0 none, 1 the frame's,
+                 * 2 the contour's; counted only when reached (a skipped fit,
+                 * or one that ran the lowered cap without stopping early) */
+                int cut = 0;
                 /* iterations: the per-fit limit, within the contour's and the frame's */
                 if (qp.max_iterations > contour_iters)
                     qp.max_iterations = contour_iters;
                 if (qp.max_iterations > frame_iters)
                     qp.max_iterations = frame_iters;
-                if (qp.max_iterations < params->tuning.quad.max_iterations) {
-                    if (frame_iters < contour_iters)
-                        st.frame_budget++; /* this fit shortened or skipped */
-                    else if (!contour_limited)
-                        st.contour_budget++; /* this contour's tries cut */
-                    contour_limited = 1;
-                    if (qp.max_iterations < 1) {
-                        rc = ACTAG_ERR_NO_QUAD;
-                        break;
-                    }
+                if (qp.max_iterations < params->tuning.quad.max_iterations)
+                    cut = frame_iters < contour_iters ? 1 : 2;
+                if (cut && qp.max_iterations < 1) {
+                    count_budget(&st, cut, &contour_limited);
+                    rc = ACTAG_ERR_NO_QUAD;
+                    break;
                 }
                 q.iterations = 0;
+                q.stopped_early = 0;
                 rc = actag_quad_fit(pts, ci.stored, &qp, &rng, qscratch, qscratch_size, &q);
                 contour_iters -= q.iterations;
                 frame_iters -= q.iterations;
                 st.iterations += q.iterations;
-                if (q.iterations >= qp.max_iterations)
+                if (!q.stopped_early && q.iterations >= qp.max_iterations) {
                     st.ransac_exhausted++;
+                    if (cut)
+                        count_budget(&st, cut, &contour_limited);
+                }
                 if (rc != ACTAG_OK)
                     continue; /* another try draws other samples */
                 st.quads++;

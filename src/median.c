@@ -104,7 +104,10 @@ static void scale_row16(const rowsrc *rs, const uint8_t *p, uint8_t *d)
     size_t c;
     for (c = rs->c0; c < rs->c1; c++) {
         uint32_t v = frame16_load(p + 2u * c);
-        d[c] = (uint8_t)(((uint64_t)(v * 255u + rs->half) * rs->magic) >> rs->shift);
+        uint64_t q = ((uint64_t)(v * 255u + rs->half) * rs->magic) >> rs->shift;
+        /* a sample above the given maximum (actag_median_filter_inplace's
+         * max16) reads as white, not modulo 256 */
+        d[c] = (uint8_t)(q > 255u ? 255u : q);
     }
 }
 
@@ -2010,6 +2013,8 @@ int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int 
     if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
         return ACTAG_ERR_SIZE;
     if ((depth != 8 && depth != 16) || radius < 0 || radius > ACTAG_MEDIAN_INPLACE_MAX_RADIUS)
+        return ACTAG_ERR_PARAM;
+    if (depth == 16 && max16 > 65535u) /* no 16-bit sample is larger */
         return ACTAG_ERR_PARAM;
     if (scratch_size < ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols))
         return ACTAG_ERR_WORKSPACE;

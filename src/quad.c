@@ -578,7 +578,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     qquad best;
     unsigned char *lab;
     float *fx, *fy;
-    int n, m, i, it, minx, miny, maxx, maxy, have = 0, claim_min;
+    int n, m, i, it, minx, miny, maxx, maxy, have = 0, early = 0, claim_min;
     int64_t sx = 0, sy = 0;
     float d, promise, best_r0 = 0.0f, best_ratio = 0.0f;
 
@@ -741,10 +741,12 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
         }
         if (r >= k.ratio) { /* good enough: stop here */
             it++;
+            early = 1;
             break;
         }
     }
     out->iterations = it;
+    out->stopped_early = early;
     if (!have)
         return ACTAG_ERR_NO_QUAD;
     {

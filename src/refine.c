@@ -913,7 +913,7 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
         !(rp->max_shift > 0.0f && rp->max_shift <= 2.0f) || rp->max_samples < 64 ||
         rp->max_samples > 100000)
         return ACTAG_ERR_PARAM;
-    if (geometry != NULL && !(tag_size > 0.0f && tag_size < 1e3f))
+    if (geometry != NULL && !(tag_size > 0.0f && tag_size < ACTAG_MAX_TAG_SIZE))
         return ACTAG_ERR_PARAM;
     for (i = 0; i < 4; i++) {
         if (!finite_f(corners[i].x) || !finite_f(corners[i].y))

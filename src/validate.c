@@ -261,6 +261,11 @@ int actag_params_validate(const actag_params *p, actag_error_detail *d)
     if (!(p->tag_size > 0.0f && is_finite_f(p->tag_size)))
         return fail(d, ACTAG_ERR_PARAM, "tag_size", p->tag_size,
                     "must be a finite number > 0 (metres)");
+    /* the corner refinement's bound (refine.h), so that it is an error here
+     * rather than corners silently left unrefined */
+    if (!(p->tag_size < ACTAG_MAX_TAG_SIZE))
+        return fail(d, ACTAG_ERR_PARAM, "tag_size", p->tag_size,
+                    "must be below ACTAG_MAX_TAG_SIZE (1000 metres)");
     if (!in_range(p->min_margin, -1.0e6f, 1.0e6f))
         return fail(d, ACTAG_ERR_PARAM, "min_margin", p->min_margin,
                     "must be a number from -1e6 to 1e6");

@@ -341,6 +341,29 @@ static void test_median_filter_inplace(void)
     img[27] = 200; /* one outlier: the median removes it */
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, scratch, sizeof scratch));
     TEST_ASSERT_EQUAL_UINT8(7, img[27]);
+    /* depth 16: max16 above any 16-bit sample is refused, the frame untouched
+     * (0x80000001 hung: its scale shift reached 32, review, seventeenth
+     * session); a sample above max16 reads as white, not modulo 256 */
+    {
+        static uint16_t f16[4 * 8], copy[4 * 8];
+        static const uint32_t bad[3] = {65536u, 0x80000000u, 0x80000001u};
+        int i;
+        for (i = 0; i < 32; i++)
+            f16[i] = 2;
+        memcpy(copy, f16, sizeof f16);
+        for (i = 0; i < 3; i++) {
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_median_filter_inplace(f16, 16, 4, 8, 8, bad[i], 1, scratch, sizeof scratch));
+            TEST_ASSERT_EQUAL_MEMORY(copy, f16, sizeof f16);
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_median_filter_inplace(f16, 16, 4, 8, 8, 1u, 0, scratch, sizeof scratch));
+        for (i = 0; i < 32; i++)
+            TEST_ASSERT_EQUAL_UINT8(255, ((const uint8_t *)f16)[i]);
+        for (i = 0; i < 32; i++)
+            f16[i] = 65535;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_median_filter_inplace(f16, 16, 4, 8, 8, 65535u, 1, scratch, sizeof scratch));
+        for (i = 0; i < 32; i++)
+            TEST_ASSERT_EQUAL_UINT8(255, ((const uint8_t *)f16)[i]);
+    }
 }
 
 static int g_events;

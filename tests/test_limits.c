@@ -184,6 +184,48 @@ static void test_ransac_iterations_per_contour_and_frame(void)
     TEST_ASSERT_TRUE(st0.ransac_exhausted > 0);
 }
 
+/* A clean white square: every fit stops early on its first iteration. A
+ * cap that is lowered but never reached is not a limit reached, and a fit
+ * that stops on its last allowed iteration did not run out (review,
+ * seventeenth session: both were counted). */
+static void test_limits_counted_only_when_reached(void)
+{
+    actag_params p;
+    actag_stats st;
+    int r, c;
+    memset(g_img, 0, sizeof g_img);
+    for (r = 200; r < 245; r++)
+        for (c = 200; c < 275; c++)
+            g_img[(size_t)r * ADV_COLS + (size_t)c] = 200;
+    params(&p);
+    p.tuning.search_candidates = 0;
+    detect(&p, &st);
+    TEST_ASSERT_TRUE(st.quads >= 1);
+    TEST_ASSERT_EQUAL_INT(st.quads, st.iterations); /* one iteration a fit */
+    TEST_ASSERT_EQUAL_INT(0, st.ransac_exhausted);
+    /* one iteration a fit allowed: it stops early on it */
+    p.tuning.quad.max_iterations = 1;
+    detect(&p, &st);
+    TEST_ASSERT_TRUE(st.quads >= 1);
+    TEST_ASSERT_EQUAL_INT(0, st.ransac_exhausted);
+    /* caps lowered below quad.max_iterations, far above what the fits use */
+    params(&p);
+    p.tuning.search_candidates = 0;
+    p.tuning.limits.max_contour_iterations = 50;
+    detect(&p, &st);
+    TEST_ASSERT_TRUE(st.quads >= 1);
+    TEST_ASSERT_EQUAL_INT(0, st.contour_budget);
+    TEST_ASSERT_EQUAL_INT(0, st.frame_budget);
+    params(&p);
+    p.tuning.search_candidates = 0;
+    p.tuning.limits.max_frame_iterations = 50;
+    detect(&p, &st);
+    TEST_ASSERT_TRUE(st.quads >= 1);
+    TEST_ASSERT_TRUE(st.iterations < 50);
+    TEST_ASSERT_EQUAL_INT(0, st.frame_budget);
+    TEST_ASSERT_EQUAL_INT(0, st.contour_budget);
+}
+
 static void test_decoder_calls(void)
 {
     actag_params p;
@@ -328,6 +370,7 @@ int main(void)
     RUN_TEST(test_points_per_contour);
     RUN_TEST(test_border_longer_than_the_quad_fit_takes);
     RUN_TEST(test_ransac_iterations_per_contour_and_frame);
+    RUN_TEST(test_limits_counted_only_when_reached);
     RUN_TEST(test_decoder_calls);
     RUN_TEST(test_search_and_guess_limits_are_counted);
     RUN_TEST(test_limit_flags_at_their_boundaries);

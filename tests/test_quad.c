@@ -552,6 +552,7 @@ static void test_desired_and_required_ratio(void)
     check_quad_invariants(g_pts, n, &p, &q);
     TEST_ASSERT_TRUE(q.inlier_ratio >= p.min_inlier_ratio && q.inlier_ratio < p.inlier_ratio);
     TEST_ASSERT_EQUAL_INT(p.max_iterations, q.iterations); /* no early stop */
+    TEST_ASSERT_EQUAL_INT(0, q.stopped_early);
     TEST_ASSERT_FLOAT_WITHIN(0.2f, 100.0f, q.corners[0].x);
     TEST_ASSERT_FLOAT_WITHIN(0.2f, 100.0f, q.corners[0].y);
     TEST_ASSERT_FLOAT_WITHIN(0.2f, 140.0f, q.corners[2].x);
@@ -560,6 +561,7 @@ static void test_desired_and_required_ratio(void)
     p.min_inlier_ratio = 0.85f;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_QUAD, fit(g_pts, n, &p, 9, &q2));
     TEST_ASSERT_EQUAL_INT(p.max_iterations, q2.iterations);
+    TEST_ASSERT_EQUAL_INT(0, q2.stopped_early);
     /* ... a required ratio above the desired one is capped at it ... */
     p.min_inlier_ratio = 0.95f;
     p.inlier_ratio = 0.8f;
@@ -567,7 +569,24 @@ static void test_desired_and_required_ratio(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc);
     /* ... and desiring what it has stops the search early. */
     TEST_ASSERT_LESS_THAN(p.max_iterations, q2.iterations);
+    TEST_ASSERT_EQUAL_INT(1, q2.stopped_early);
     TEST_ASSERT_TRUE(q2.inlier_ratio >= 0.8f);
+    /* A stop on the last allowed iteration is still early: with exactly the
+     * iterations it took, the fit is the same and says it stopped early (so
+     * iterations == max_iterations does not mean the cap ran out). */
+    p.max_iterations = q2.iterations;
+    rc = fit(g_pts, n, &p, 9, &q);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc);
+    TEST_ASSERT_EQUAL_INT(p.max_iterations, q.iterations);
+    TEST_ASSERT_EQUAL_INT(1, q.stopped_early);
+    TEST_ASSERT_EQUAL_MEMORY(q2.corners, q.corners, sizeof q.corners);
+    /* one fewer: the cap runs out before the stopping quad */
+    if (q2.iterations > 1) {
+        p.max_iterations = q2.iterations - 1;
+        (void)fit(g_pts, n, &p, 9, &q);
+        TEST_ASSERT_EQUAL_INT(p.max_iterations, q.iterations);
+        TEST_ASSERT_EQUAL_INT(0, q.stopped_early);
+    }
 }
 
 /* Parallelograms whose sides lie on lattice lines: every contour point is

@@ -79,7 +79,7 @@ typedef struct field_case {
     enum kind kind;
     size_t offset;      /* into actag_params */
     int code;           /* the error for the bad values */
-    double bad[6];
+    double bad[7];
     int nbad;
     double good[4];     /* boundary values that must be accepted */
     int ngood;
@@ -90,7 +90,7 @@ typedef struct field_case {
 #define INF_ ((double)INFINITY)
 
 static const field_case param_cases[] = {
-    {"tag_size", K_FLOAT, P(tag_size), ACTAG_ERR_PARAM, {0, -1, NAN_, INF_, -INF_}, 5,
+    {"tag_size", K_FLOAT, P(tag_size), ACTAG_ERR_PARAM, {0, -1, NAN_, INF_, -INF_, 1000, 1e30}, 7,
      {1e-30, 0.13, 2.1}, 3},
     {"max_bit_corrections", K_INT, P(max_bit_corrections), ACTAG_ERR_CORRECTIONS,
      {5, -2, 1000, -1000000}, 4, {-1, 0, 4}, 3},
@@ -438,8 +438,8 @@ static void test_huge_tag_size_is_rejected_against_the_range(void)
     actag_error_detail d;
     float lim;
     base(&f, &g, &p);
-    p.tag_size = 1e30f;
-    expect(&f, &g, &p, sizeof g_ws, 4, ACTAG_ERR_PARAM, "tag_size", (double)1e30f, "1e30");
+    p.tag_size = 999.0f; /* under ACTAG_MAX_TAG_SIZE: the range decides */
+    expect(&f, &g, &p, sizeof g_ws, 4, ACTAG_ERR_PARAM, "tag_size", (double)999.0f, "999");
     actag_check(&f, &g, &p, sizeof g_ws, 4, &d);
     TEST_ASSERT_EQUAL_STRING("geometry.max_range", d.other);
     lim = 1.41421356f * g.max_range;
@@ -449,9 +449,36 @@ static void test_huge_tag_size_is_rejected_against_the_range(void)
     p.tag_size = nextafterf(lim, 1e9f);
     expect(&f, &g, &p, sizeof g_ws, 4, ACTAG_ERR_PARAM, "tag_size", (double)p.tag_size,
            "just above sqrt(2) max_range");
-    /* actag_params_validate alone has no geometry: it accepts 1e30 */
-    p.tag_size = 1e30f;
+    /* actag_params_validate alone has no geometry: it accepts what is under
+     * ACTAG_MAX_TAG_SIZE and refuses what the corner refinement would */
+    p.tag_size = 999.0f;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_params_validate(&p, &d));
+    p.tag_size = ACTAG_MAX_TAG_SIZE;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_params_validate(&p, &d));
+    TEST_ASSERT_EQUAL_STRING("tag_size", d.field);
+}
+
+/* A sonar and tag scaled together are the same detection problem; a tag the
+ * corner refinement refuses (tag_size >= ACTAG_MAX_TAG_SIZE) was reported
+ * with its corners silently unrefined (review, seventeenth session): it is
+ * an error naming tag_size now, and just under the bound the corners are
+ * refined as at scale 1. */
+static void test_tag_size_the_refinement_refuses_is_an_error(void)
+{
+    actag_frame f;
+    actag_sonar_geometry g;
+    actag_params p;
+    actag_error_detail d;
+    base(&f, &g, &p);
+    g.min_range = 100.0f;
+    g.max_range = 1500.0f;
+    p.tag_size = ACTAG_MAX_TAG_SIZE;
+    TEST_ASSERT_TRUE(p.tag_size <= 1.41421356f * g.max_range); /* the range rule allows it */
+    expect(&f, &g, &p, sizeof g_ws, 4, ACTAG_ERR_PARAM, "tag_size", (double)p.tag_size, "1000");
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_check(&f, &g, &p, sizeof g_ws, 4, &d));
+    TEST_ASSERT_EQUAL_STRING("tag_size", d.field);
+    p.tag_size = nextafterf(ACTAG_MAX_TAG_SIZE, 0.0f);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_check(&f, &g, &p, sizeof g_ws, 4, &d));
 }
 
 static void test_tiny_azimuth_steps(void)
@@ -786,6 +813,7 @@ int main(void)
     RUN_TEST(test_flags);
     RUN_TEST(test_bearing_tables_name_the_entry);
     RUN_TEST(test_huge_tag_size_is_rejected_against_the_range);
+    RUN_TEST(test_tag_size_the_refinement_refuses_is_an_error);
     RUN_TEST(test_tiny_azimuth_steps);
     RUN_TEST(test_search_counts_stay_defined);
     RUN_TEST(test_frame_fields);

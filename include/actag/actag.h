@@ -259,8 +259,9 @@ typedef struct actag_tuning {
 typedef struct actag_params {
     const actag_family *family; /* required: e.g. from actag_family_get() */
     float tag_size;             /* metres: side of the inner white square (default 3/7 ft,
-                                   0.130628571); finite, > 0 and at most sqrt(2) *
-                                   geometry max_range (actag_check) */
+                                   0.130628571); finite, > 0, below ACTAG_MAX_TAG_SIZE
+                                   (1000 m) and at most sqrt(2) * geometry max_range
+                                   (actag_check) */
     int max_bit_corrections;    /* 0 .. actag_family_max_corrections(family), or
                                    ACTAG_CORRECTIONS_AUTO (default): min(3, family maximum) */
     uint32_t seed;              /* RANSAC seed (default 1); any value */
@@ -427,8 +428,11 @@ typedef struct actag_stats {
     int iterations;       /* RANSAC iterations run */
     int contour_cap;      /* 1 when the scan stopped at limits.max_contours */
     int ransac_exhausted; /* quad fits that ran all their iterations without an early exit */
-    int contour_budget;   /* contours whose quad tries stopped at limits.max_contour_iterations */
-    int frame_budget;     /* quad fits skipped or shortened by limits.max_frame_iterations */
+    int contour_budget;   /* contours whose quad tries stopped at limits.max_contour_iterations
+                             (a fit skipped, or one that ran the lowered cap out) */
+    int frame_budget;     /* quad fits skipped, or cut short (ran the lowered cap out), by
+                             limits.max_frame_iterations; a cap lowered but not reached
+                             is not counted */
     int decode_cap;       /* decoder calls skipped at limits.max_decodes */
     int search_cap;       /* 1 when candidates above search_min_score were left undecoded */
     int guess_cap;        /* contours given no extreme-point guess (16 per frame at most) */
@@ -524,7 +528,8 @@ void actag_params_default(actag_params *p);
 void actag_tuning_default(actag_tuning *t);
 
 /* Checks *p alone (no frame or geometry): family, max_bit_corrections,
- * tag_size finite and > 0, min_margin in [-1e6, 1e6], handedness one of
+ * tag_size finite, > 0 and below ACTAG_MAX_TAG_SIZE, min_margin in [-1e6, 1e6],
+ * handedness one of
  * ACTAG_HANDEDNESS_ANY, _UNMIRRORED, _MIRRORED, then the tuning
  * (actag_tuning_validate, fields named "tuning.*"). Returns ACTAG_OK or
  * ACTAG_ERR_NULL (p or p->family), _FAMILY, _CORRECTIONS, _PARAM; fills

@@ -36,6 +36,10 @@ extern "C" {
  * stored as int16_t in contour buffers. */
 #define ACTAG_MAX_DIM 32767
 
+/* Largest tag_size (metres, exclusive) the detector and the corner refinement
+ * accept: one bound for every stage that takes a tag size with a geometry. */
+#define ACTAG_MAX_TAG_SIZE 1000.0f
+
 /* Error codes (negative). */
 #define ACTAG_OK 0
 #define ACTAG_ERR_NULL (-1)        /* a required pointer is NULL */

@@ -73,8 +73,11 @@
  *   |c_i| over the counted bits (the reading's bits set in keep, whatever
  *   the view; any mask) where the code disagrees
  *   with the sign of c_i; under independent Gaussian cell noise the least d
- *   is the likeliest code, and the runner-up's d minus the best's is twice
- *   the log-likelihood ratio between them in units of contrast^2 / sigma^2.
+ *   is the likeliest code, and with c_i = (cell - mid) / contrast (a clean
+ *   cell reads +-0.5, as the fit decoder's are) the runner-up's d minus the
+ *   best's is the log-likelihood ratio between them times sigma^2 /
+ *   contrast^2 (sigma the cell noise; the fit decoder's margin without the
+ *   template check is that ratio).
  *   With all |c_i| equal the ranking is the hard (Hamming) one; the hard
  *   matchers above are the same scan with every bit weighing 1.
  *   Result (actag_soft_match): best (hamming = its hard distance over the

@@ -177,6 +177,9 @@ int actag_median_filter16(const void *src, int rows, int cols, int src_stride, u
  * what actag_median_filter() (depth 8) or actag_median_filter16() (depth 16,
  * scaled by max16, or by the frame's maximum when max16 is 0) would have
  * written; the rest of the buffer is left in an unspecified state.
+ *   max16    depth 16: the sample that maps to 255, 0 (the frame's maximum,
+ *            as actag_detect scales) to 65535; a sample above it reads as
+ *            255. Ignored for depth 8.
  *   frame    depth 8: bytes, stride in bytes; depth 16: samples in host byte
  *            order at any alignment, stride in samples
  *   radius   0 .. ACTAG_MEDIAN_INPLACE_MAX_RADIUS (the row-block paths)
@@ -186,8 +189,8 @@ int actag_median_filter16(const void *src, int rows, int cols, int src_stride, u
  * Work: the filter's, plus copying each source row once (and 2R rows once
  * more per band). Errors: ACTAG_ERR_NULL (frame or scratch), _SIZE (rows or
  * cols < 1 or > ACTAG_MAX_DIM, stride < cols), _PARAM (depth not 8 or 16,
- * radius out of range), _WORKSPACE (scratch too small); on error the frame
- * is untouched. */
+ * radius out of range, depth 16 with max16 above 65535), _WORKSPACE
+ * (scratch too small); on error the frame is untouched. */
 #define ACTAG_MEDIAN_INPLACE_MAX_RADIUS 7
 #define ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols)                                                  \
     ((size_t)(2 * ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 16) * (size_t)(cols))

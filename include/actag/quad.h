@@ -91,9 +91,11 @@
  *   screen (x right, y down), starting with the topmost corner (smallest y;
  *   on a tie the smallest x). inlier_ratio is the fraction of the contour
  *   points within inlier_distance of the returned quad's sides; iterations
- *   is the number of RANSAC iterations run. On ACTAG_ERR_NO_QUAD the corners
- *   and ratio are zero and iterations is still set; on other errors *out is
- *   untouched.
+ *   is the number of RANSAC iterations run; stopped_early is 1 when the
+ *   search ended at a quad of inlier fraction >= inlier_ratio (possibly on
+ *   its last allowed iteration), else 0 (it ran all max_iterations). On
+ *   ACTAG_ERR_NO_QUAD the corners and ratio are zero and iterations and
+ *   stopped_early (0) are still set; on other errors *out is untouched.
  *
  *   Memory: scratch must hold ACTAG_QUAD_SCRATCH_SIZE(npoints) bytes, any
  *   alignment (9 bytes per point + 4). No other memory is used; re-entrant.
@@ -157,6 +159,9 @@ typedef struct actag_quad {
     actag_point corners[4]; /* consecutive, clockwise on screen, topmost first (pixels) */
     float inlier_ratio;     /* fraction of contour points within inlier_distance of the sides */
     int iterations;         /* RANSAC iterations used */
+    int stopped_early;      /* 1: ended at a quad reaching inlier_ratio, 0: ran all
+                               max_iterations (iterations == max_iterations alone does
+                               not tell: the last iteration may be the one that stops) */
 } actag_quad;
 
 /* Fits a parallelogram to the closed contour pts[0..npoints-1] (see MANUAL).
