@@ -255,7 +255,8 @@ typedef struct actag_tuning {
 } actag_tuning;
 
 /* Detection parameters: what a user sets, plus the tuning (by value).
- * actag_params_default() gives the defaults (paper Table I where it has one). */
+ * actag_params_default() gives the defaults (the paper's Table I where kept;
+ * DEFAULTS AND WHY above lists what changed and why). */
 typedef struct actag_params {
     const actag_family *family; /* required: e.g. from actag_family_get() */
     float tag_size;             /* metres: side of the inner white square (default 3/7 ft,
@@ -519,8 +520,9 @@ size_t actag_workspace_size(int rows, int cols);
  * 1..ACTAG_MAX_DIM. */
 size_t actag_workspace_size_inplace(int rows, int cols);
 
-/* Fill *p with the defaults (paper Table I; family NULL: set it). No-op for
- * NULL; no error codes. */
+/* Fill *p with the defaults (the paper's Table I where kept, DEFAULTS AND
+ * WHY lists the changes; family NULL: set it). No-op for NULL; no error
+ * codes. */
 void actag_params_default(actag_params *p);
 
 /* Fill *t with the default tuning (the values documented in actag_tuning;

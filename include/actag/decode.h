@@ -152,7 +152,12 @@ typedef struct actag_decode_result {
     actag_point fit_corners[4]; /* the fitted grid's white-square corners, tag order */
 } actag_decode_result;
 
-/* Reads the raw word in quad order (quad[n] = corner n, no reordering). */
+/* Reads the raw word in quad order (quad[n] = corner n, no reordering) from
+ * the binary frame (rows x cols, stride bytes; nonzero = white), with the
+ * bit-sampling model of actag_decode_quad (model), into *word. Returns
+ * ACTAG_OK, ACTAG_ERR_NULL (binary, quad or word NULL), ACTAG_ERR_SIZE (rows
+ * or cols < 1 or > ACTAG_MAX_DIM, stride < cols) or ACTAG_ERR_PARAM (bits not
+ * a multiple of 4 in 16..32, unknown model, degenerate quad). */
 int actag_decode_read_word(const uint8_t *binary, int rows, int cols, int stride,
                            const actag_point quad[4], int bits, int model, uint32_t *word);
 

@@ -88,10 +88,21 @@ typedef struct actag_search {
     int hr, hc;   /* block rows and columns */
 } actag_search;
 
+/* Scores every block position of the 8-bit frame img (rows x cols, stride
+ * bytes) for a white square of tag_size metres (the family's bits give the
+ * cells per side; range_scale shortens the cell along range:
+ * tuning.search_range_scale, 0.75 by default, in actag_detect), into map (map_size bytes) using scratch (scratch_size
+ * bytes) for the integral image; fills *z. Returns ACTAG_OK or an error of
+ * ERRORS above. */
 int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
                      const actag_sonar_geometry *g, float tag_size, int bits, float range_scale,
                      void *map, size_t map_size, void *scratch, size_t scratch_size);
 
+/* The next best position scoring at least min_score (grey levels x 8, as
+ * the map), as the white-square quad it implies in pixels (tag_size in
+ * metres, the same geometry, tag_size, range_scale, rows and cols as the
+ * map): returns 1 and fills quad, or 0 when none is left. No error codes
+ * (see the manual). */
 int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry *g,
                       float tag_size, float range_scale, int rows, int cols,
                       actag_point quad[4]);
