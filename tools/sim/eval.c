@@ -435,30 +435,13 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
         }
         at_tag = hypotf(dx - cx, dy - cy) < 0.5f * diag + 3.0f;
         if (at_tag && det[d].id == tag.id && !R->found) {
-            /* corner order: the best of the 8 dihedral assignments */
-            float best = 1e30f, ident = 0.0f;
-            int j, m, bestp = 0;
-            for (j = 0; j < 8; j++) {
-                float cost = 0.0f;
-                for (n = 0; n < 4; n++) {
-                    int src = j < 4 ? (n + j) & 3 : (j - n + 8) & 3;
-                    cost += hypotf(det[d].corners[src].x - tr.px[n].x,
-                                   det[d].corners[src].y - tr.px[n].y);
-                }
-                if (j == 0)
-                    ident = cost;
-                if (cost < best) {
-                    best = cost;
-                    bestp = j;
-                }
-            }
+            int m;
             R->found = 1;
             R->hamming = det[d].hamming;
             R->margin = det[d].decision_margin;
             R->found_search = det[d].inlier_ratio == 0.0f;
             R->mirror_err = det[d].mirrored != tr.mirrored;
-            R->order_err = bestp != 0 && ident > best + 4.0f;
-            R->px_err = 0.25f * ident;
+            R->order_err = sim_corner_order_wrong(det[d].corners, tr.px, &R->px_err);
             pose_errors(c, &tag, &det[d], R);
             for (m = 0; m < 4; m++) {
                 R->range_err[m] = det[d].range[m] - tr.range[m];

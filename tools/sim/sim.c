@@ -298,6 +298,37 @@ void sim_truth_of(const sim_sonar *s, const sim_tag *tag, sim_truth *out)
     out->incidence = acosf(fmaxf(-1.0f, fminf(1.0f, tn)));
 }
 
+int sim_corner_order_wrong(const actag_point det[4], const actag_point truth[4], float *mean_px)
+{
+    float best = 1e30f, ident = 0.0f;
+    int j, n, m, bestp = 0, misplaced = 0;
+    /* the best of the 8 dihedral assignments of the detection's labels */
+    for (j = 0; j < 8; j++) {
+        float cost = 0.0f;
+        for (n = 0; n < 4; n++) {
+            int src = j < 4 ? (n + j) & 3 : (j - n + 8) & 3;
+            cost += hypotf(det[src].x - truth[n].x, det[src].y - truth[n].y);
+        }
+        if (j == 0)
+            ident = cost;
+        if (cost < best) {
+            best = cost;
+            bestp = j;
+        }
+    }
+    /* each corner nearest its own truth corner: the dihedral test alone
+     * ties on a swapped pair (a bow-tie) and misses a single corner far off */
+    for (n = 0; n < 4; n++) {
+        float own = hypotf(det[n].x - truth[n].x, det[n].y - truth[n].y);
+        for (m = 0; m < 4; m++)
+            if (m != n && hypotf(det[n].x - truth[m].x, det[n].y - truth[m].y) < own)
+                misplaced = 1;
+    }
+    if (mean_px)
+        *mean_px = 0.25f * ident;
+    return (bestp != 0 && ident > best + 4.0f) || misplaced;
+}
+
 /* ------------------------------------------------------------ rendering */
 
 typedef struct {

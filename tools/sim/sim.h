@@ -157,6 +157,15 @@ int sim_pixel_of(const sim_sonar *s, float range, float azimuth, float *x, float
 /* The ground truth of one tag. */
 void sim_truth_of(const sim_sonar *s, const sim_tag *tag, sim_truth *out);
 
+/* Is a detection's corner order wrong against the truth's corners (both
+ * TL TR BR BL as printed, pixels)? 1 when one of the 7 other rotations or
+ * reflections of the detection's labels fits the truth better by more than
+ * 4 px summed over the corners, or when some detected corner i lies nearer
+ * another truth corner than truth corner i (a swapped pair, a bow-tie, a
+ * corner far off, a quad a side away); else 0. *mean_px (or NULL): the mean
+ * distance of detected corner i to truth corner i. */
+int sim_corner_order_wrong(const actag_point det[4], const actag_point truth[4], float *mean_px);
+
 /* Renders the scene into out (8-bit, rows x cols, row stride out_stride)
  * or, when out16 != NULL instead, 16-bit (pixel * 256 + sub-grey detail).
  * Returns 0 or -1 (bad arguments, out of memory). */

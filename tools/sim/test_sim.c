@@ -149,6 +149,56 @@ static void test_point_target_lands_on_predicted_pixel(void)
 /* A tag lying upright below the sonar (printed top away from it) is seen as
  * printed: TL at far range on the +azimuth side; rolling the sonar upside
  * down mirrors it; the corners keep the tag's own order. */
+/* actag-eval's corner-order rule (sim_corner_order_wrong) against every
+ * kind of wrong labelling: the 7 other rotations and reflections, a swapped
+ * pair (a bow-tie, which the dihedral test alone let through: review,
+ * seventeenth session), one corner far off, the whole quad a side away;
+ * and no error for the right labels with sub-pixel noise, on large and
+ * tiny (3 px) squares. */
+static void test_corner_order_rule(void)
+{
+    static const float sides[2] = {40.0f, 3.0f};
+    int k, j, n;
+    for (k = 0; k < 2; k++) {
+        float a = sides[k];
+        actag_point t[4] = {{100.0f, 100.0f}, {100.0f + a, 103.0f}, {97.0f + a, 100.0f + a},
+                            {97.0f, 97.0f + a}};
+        actag_point d[4];
+        float px = -1.0f;
+        /* right labels, noise below a quarter side */
+        for (n = 0; n < 4; n++) {
+            d[n].x = t[n].x + (n & 1 ? 0.2f : -0.2f) * a * 0.5f;
+            d[n].y = t[n].y + (n & 2 ? 0.2f : -0.1f) * a * 0.5f;
+        }
+        TEST_ASSERT_EQUAL_INT(0, sim_corner_order_wrong(d, t, &px));
+        TEST_ASSERT_TRUE(px > 0.0f && px < 0.25f * a);
+        /* the 7 other rotations and reflections */
+        for (j = 1; j < 8; j++) {
+            for (n = 0; n < 4; n++)
+                d[n] = t[j < 4 ? (n + j) & 3 : (j - n + 8) & 3];
+            TEST_ASSERT_EQUAL_INT_MESSAGE(1, sim_corner_order_wrong(d, t, NULL), "dihedral");
+        }
+        /* a swapped pair of neighbours: a bow-tie */
+        for (j = 0; j < 4; j++) {
+            memcpy(d, t, sizeof d);
+            d[j] = t[(j + 1) & 3];
+            d[(j + 1) & 3] = t[j];
+            TEST_ASSERT_EQUAL_INT_MESSAGE(1, sim_corner_order_wrong(d, t, NULL), "swap");
+        }
+        /* one corner 90 % of the way to the opposite one */
+        memcpy(d, t, sizeof d);
+        d[0].x = t[0].x + 0.9f * (t[2].x - t[0].x);
+        d[0].y = t[0].y + 0.9f * (t[2].y - t[0].y);
+        TEST_ASSERT_EQUAL_INT(1, sim_corner_order_wrong(d, t, NULL));
+        /* the whole quad one side along */
+        for (n = 0; n < 4; n++) {
+            d[n].x = t[n].x + (t[1].x - t[0].x);
+            d[n].y = t[n].y + (t[1].y - t[0].y);
+        }
+        TEST_ASSERT_EQUAL_INT(1, sim_corner_order_wrong(d, t, NULL));
+    }
+}
+
 static void test_truth_orientation_and_mirror(void)
 {
     sim_sonar s;
@@ -1224,6 +1274,7 @@ int main(void)
     RUN_TEST(test_pixel_of_inverts_geometry);
     RUN_TEST(test_point_target_lands_on_predicted_pixel);
     RUN_TEST(test_truth_orientation_and_mirror);
+    RUN_TEST(test_corner_order_rule);
     RUN_TEST(test_deterministic);
     RUN_TEST(test_detect_in_every_orientation);
     RUN_TEST(test_detect_multi_equals_separate_calls);
