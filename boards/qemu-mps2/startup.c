@@ -74,9 +74,11 @@ static void put_hex(char *out, uint32_t v)
 void board_fault_report(const uint32_t *frame)
 {
     char msg[] = "board: CPU fault at pc 0x........ lr 0x........ cfsr 0x........\n";
-    put_hex(msg + 26, frame[6]);
-    put_hex(msg + 40, frame[5]);
-    put_hex(msg + 56, *(volatile const uint32_t *)0xE000ED28u); /* CFSR */
+    /* the digits go where the dots are: offsets 25, 39 and 55 (they were
+     * written one byte late, over the spaces and the newline) */
+    put_hex(msg + 25, frame[6]);
+    put_hex(msg + 39, frame[5]);
+    put_hex(msg + 55, *(volatile const uint32_t *)0xE000ED28u); /* CFSR */
     (void)semihost_call(SH_SYS_WRITE0, msg);
     semihost_exit(99);
 }

@@ -69,10 +69,15 @@ static void te_add(te_counts *a, const te_counts *b)
     a->full_found += b->full_found;
     a->full_wrong += b->full_wrong;
     a->full_false += b->full_false;
+    a->full_mirror += b->full_mirror;
+    a->truth_known |= b->truth_known;
+    a->full_order += b->full_order;
     a->track_read += b->track_read;
     a->track_reported += b->track_reported;
     a->track_wrong += b->track_wrong;
     a->track_false += b->track_false;
+    a->track_mirror += b->track_mirror;
+    a->track_order += b->track_order;
     a->id_switches += b->id_switches;
     a->breaks += b->breaks;
     a->tracked_frames += b->tracked_frames;
@@ -120,7 +125,8 @@ typedef struct {
 
 static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geometry *g,
                      const actag_params *p, const actag_params *rp, void *ws, size_t wss,
-                     const actag_point *truth_px, int visible, int tag_id, te_counts *c)
+                     const actag_point *truth_px, int truth_mirrored, int visible, int tag_id,
+                     te_counts *c)
 {
     actag_detection det[16];
     actag_track out[ACTAG_TRACK_MAX];
@@ -131,6 +137,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
     uint32_t at_tid = 0;
     char m[200];
     if (truth_px) {
+        c->truth_known = 1;
         tc = te_centre(truth_px);
         diag = hypotf(truth_px[0].x - truth_px[2].x, truth_px[0].y - truth_px[2].y) +
                hypotf(truth_px[1].x - truth_px[3].x, truth_px[1].y - truth_px[3].y);
@@ -146,9 +153,15 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
     for (i = 0; i < nd; i++) {
         actag_point dc = te_centre(det[i].corners);
         int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : visible >= 0;
-        if (at && det[i].id == tag_id && !found)
+        if (at && det[i].id == tag_id && !found) {
             found = 1;
-        else if (at && det[i].id != tag_id)
+            /* the right ID is wrong all the same with the other handedness
+             * or corners out of order (truth known: simulated passes) */
+            if (truth_mirrored >= 0 && det[i].mirrored != truth_mirrored)
+                c->full_mirror++;
+            if (truth_px && sim_corner_order_wrong(det[i].corners, truth_px, NULL))
+                c->full_order++;
+        } else if (at && det[i].id != tag_id)
             c->full_wrong++;
         else
             c->full_false++;
@@ -181,6 +194,10 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
             rep = 1;
             read = out[i].measured;
             at_tid = out[i].track_id;
+            if (truth_mirrored >= 0 && out[i].mirrored != truth_mirrored)
+                c->track_mirror++;
+            if (truth_px && sim_corner_order_wrong(out[i].corners, truth_px, NULL))
+                c->track_order++;
         } else if (at && out[i].id != tag_id) {
             c->track_wrong++;
         } else if (!(at && out[i].id == tag_id)) {
@@ -258,8 +275,8 @@ static void *te_worker(void *arg)
             fr.depth = 8;
             {
                 te_counts before = cnt;
-                te_frame(run, &fr, &c->s->geo, &p, &rp, ws, wss, tr.px, tr.visible, tag.id,
-                         &cnt);
+                te_frame(run, &fr, &c->s->geo, &p, &rp, ws, wss, tr.px, tr.mirrored, tr.visible,
+                         tag.id, &cnt);
                 if (c->o->failures && (cnt.full_wrong > before.full_wrong ||
                                        cnt.full_false > before.full_false ||
                                        cnt.track_wrong > before.track_wrong ||
@@ -364,7 +381,7 @@ int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
             goto fail;
         }
         hostio_image_frame(&im, &fr);
-        te_frame(run, &fr, g, &p, &rp, ws, wss, NULL, visible ? visible[i] : 1, tag_id, out);
+        te_frame(run, &fr, g, &p, &rp, ws, wss, NULL, -1, visible ? visible[i] : 1, tag_id, out);
         hostio_image_free(&im);
     }
     free(ws);
@@ -389,29 +406,41 @@ void te_print(FILE *f, const char *title, const te_counts *c, const te_options *
     if (json) {
         fprintf(f, "{\"source\": \"%s\", \"frames\": %d, \"visible\": %d, "
                    "\"full_frame\": {\"found\": %d, \"rate\": %.4f, \"wrong_ids\": %d, "
-                   "\"false_tags\": %d}, \"tracking\": {\"read\": %d, \"read_rate\": %.4f, "
+                   "\"false_tags\": %d, \"mirror_errors\": %d, \"order_errors\": %d}, "
+                   "\"tracking\": {\"read\": %d, \"read_rate\": %.4f, "
                    "\"reported\": %d, \"reported_rate\": %.4f, \"wrong_ids\": %d, "
-                   "\"false_tags\": %d, \"id_switches\": %d, \"track_breaks\": %d, "
+                   "\"false_tags\": %d, \"mirror_errors\": %d, \"order_errors\": %d, "
+                   "\"id_switches\": %d, \"track_breaks\": %d, "
                    "\"tracked_frames\": %d, \"tracked_full_searches\": %d, "
                    "\"pixels_ratio\": %.2f, \"pixels_ratio_tracked\": %.2f, "
                    "\"full_every\": %d, \"confirm_frames\": %d, \"confirm_margin\": %g, "
                    "\"max_missed\": %d, \"roi_scale\": %g, \"relaxed_roi\": %d}}",
                 title, c->frames, c->visible, c->full_found, c->full_found / vis, c->full_wrong,
-                c->full_false, c->track_read, c->track_read / vis, c->track_reported,
-                c->track_reported / vis, c->track_wrong, c->track_false, c->id_switches,
+                c->full_false, c->truth_known ? c->full_mirror : -1,
+                c->truth_known ? c->full_order : -1, c->track_read, c->track_read / vis,
+                c->track_reported, c->track_reported / vis, c->track_wrong, c->track_false,
+                c->truth_known ? c->track_mirror : -1, c->truth_known ? c->track_order : -1,
+                c->id_switches,
                 c->breaks, c->tracked_frames, c->tracked_full, px_ratio, px_tracked,
                 o->track.full_every, o->track.confirm_frames, (double)o->track.confirm_margin,
                 o->track.max_missed, (double)o->track.roi_scale, o->relax_roi);
         return;
     }
     fprintf(f, "%s: %d frames, %d with the tag wholly in view\n", title, c->frames, c->visible);
-    fprintf(f, "  whole-frame detection: tag read in %d = %.1f %%; wrong IDs %d, false tags %d\n",
+    fprintf(f, "  whole-frame detection: tag read in %d = %.1f %%; wrong IDs %d, false tags %d",
             c->full_found, 100.0 * c->full_found / vis, c->full_wrong, c->full_false);
-    fprintf(f, "  tracking: tag read in %d = %.1f %% (reported, coasting included: %d = %.1f %%);"
-               " wrong IDs %d, false tags %d, ID switches %d, track breaks %d\n",
+    if (c->truth_known)
+        fprintf(f, ", mirrored-flag errors %d, corner-order errors %d", c->full_mirror,
+                c->full_order);
+    fprintf(f, "\n  tracking: tag read in %d = %.1f %% (reported, coasting included: %d = %.1f %%);"
+               " wrong IDs %d, false tags %d, ID switches %d, track breaks %d",
             c->track_read, 100.0 * c->track_read / vis, c->track_reported,
             100.0 * c->track_reported / vis, c->track_wrong, c->track_false, c->id_switches,
             c->breaks);
+    if (c->truth_known)
+        fprintf(f, ", mirrored-flag errors %d, corner-order errors %d", c->track_mirror,
+                c->track_order);
+    fprintf(f, "\n");
     fprintf(f, "  pixels searched: %.2fx fewer than whole frames overall, %.2fx while tracked "
                "(%d frames, %d of them searched whole)\n",
             px_ratio, px_tracked, c->tracked_frames, c->tracked_full);

@@ -31,10 +31,16 @@ typedef struct te_counts {
     int full_found;       /* whole-frame detector: right ID at the tag */
     int full_wrong;       /* ... wrong IDs at the tag */
     int full_false;       /* ... detections elsewhere */
+    int full_mirror;      /* ... right ID at the tag with the mirrored flag wrong */
+    int full_order;       /* ... right ID at the tag in the wrong corner order */
     int track_read;       /* tracker: confirmed track of the right ID at the tag, read this frame */
     int track_reported;   /* ... reported at all (read or coasting within the gate) */
     int track_wrong;      /* ... confirmed tracks of another ID at the tag */
     int track_false;      /* ... confirmed tracks away from the tag */
+    int track_mirror;     /* ... the tag's track with the mirrored flag wrong */
+    int track_order;      /* ... the tag's track with its (smoothed) corners in the wrong order */
+    int truth_known;      /* 1: the frames had corner truth (simulated passes), so the
+                             mirror and order counts mean something */
     int id_switches;      /* a track whose reported tag ID changed (never, by design) */
     int breaks;           /* the tag's track replaced by a new one while visible */
     int tracked_frames;   /* frames that started with a confirmed track */
