@@ -836,9 +836,13 @@ static int detect_begin(const actag_frame *frame, const actag_sonar_geometry *ge
     int rc;
     if (stats)
         memset(stats, 0, sizeof *stats);
-    /* actag_check's checks first, so that it returns what this would */
-    rc = (inplace ? actag_check_inplace : actag_check)(frame, geometry, params, workspace_size,
-                                                       max_out, NULL);
+    /* actag_check's checks first, so that it returns what this would (two
+     * direct calls, not a call through a pointer: the stack budget's call
+     * graph, tools/budget/budget.py, sees both) */
+    if (inplace)
+        rc = actag_check_inplace(frame, geometry, params, workspace_size, max_out, NULL);
+    else
+        rc = actag_check(frame, geometry, params, workspace_size, max_out, NULL);
     if (rc != ACTAG_OK)
         return rc;
     if (workspace == NULL || (out == NULL && max_out > 0))
