@@ -186,6 +186,38 @@ static void test_layouts_match_cell_values(void)
     }
 }
 
+/* actag__fit_rss_llr under the template check's noise model: the variance
+ * is rss / (cells - 2), but at least (0.1 contrast)^2. Without the floor a
+ * nearly perfect reading 1 made any lead an unbounded ratio (review,
+ * seventeenth session: rss 10 vs 20 over 45 cells at contrast 100 gave 21.5
+ * nats where the template check's formula gives 0.05). Brute force: the
+ * formula written out here. */
+static void test_rss_llr_uses_the_template_floor(void)
+{
+    actag_family fam;
+    actag_fit_params fp;
+    static const float rss[4] = {10.0f, 430.0f, 4300.0f, 0.0f};
+    static const float contrast[3] = {100.0f, 20.0f, 0.0f};
+    int i, j, nc;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &fam));
+    actag_fit_params_default(&fp);
+    nc = 7 * 7 - ((fp.flags & ACTAG_FIT_ERASE_CORNERS) ? 4 : 0);
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 3; j++) {
+            float s2 = rss[i] / (float)(nc - 2), floor2 = 0.1f * contrast[j];
+            float want, got = actag__fit_rss_llr(&fam, &fp, rss[i], rss[i] + 10.0f, contrast[j]);
+            floor2 *= floor2;
+            if (floor2 < 1e-6f)
+                floor2 = 1e-6f;
+            if (s2 < floor2)
+                s2 = floor2;
+            want = 0.5f * 10.0f / s2;
+            TEST_ASSERT_FLOAT_WITHIN(1e-4f * want, want, got);
+        }
+    /* the reviewer's case */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.05f, actag__fit_rss_llr(&fam, &fp, 10.0f, 20.0f, 100.0f));
+}
+
 static void test_errors(void)
 {
     actag_family fam;
@@ -238,6 +270,7 @@ int main(void)
     RUN_TEST(test_right_reading_beats_rivals_24h10);
     RUN_TEST(test_right_reading_beats_rivals_other_sizes);
     RUN_TEST(test_layouts_match_cell_values);
+    RUN_TEST(test_rss_llr_uses_the_template_floor);
     RUN_TEST(test_errors);
     return UNITY_END();
 }
