@@ -335,8 +335,9 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      corner order, and no tag in 2,000 tag-free frames for any family.
  *   5. Template check (ACTAG_FIT_VERIFY, default): the likeliest readings
  *      on the fitted grid and those on the quad's own grid (up to
- *      ACTAG_SOFT_TOP = 6 of each, the soft matcher's list, family.h) (the code-agnostic fit can settle where the right reading is not
- *      among its likeliest) each become a full template of the (k+1)^2
+ *      ACTAG_SOFT_TOP = 6 of each, the soft matcher's list, family.h; the
+ *      code-agnostic fit can settle where the right reading is not among
+ *      its likeliest) each become a full template of the (k+1)^2
  *      cells (their data ring, black ring, white interior); each template
  *      refits the grid it came from to itself (a quarter cell and +-15 %;
  *      the full range after ACTAG_FIT_WIDE, whose search may settle a cell
@@ -393,12 +394,13 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *   distance over the read bits minus hamming, not capped at m + 1, and
  *   negative when the likelihood prefers the reading with more flipped
  *   bits; 33 - hamming when ACTAG_FIT_ONLY_UNMIRRORED / _MIRRORED leaves
- *   the other handedness no hypothesis. Plus: ring_black / interior_white = fractions of the
- *   ring / interior CELLS on the right side of mid (actag_detect does not
- *   require 1.0: with the default tuning.min_structure 0 a reading is kept
- *   while its ring misses, interior misses and corrected bits together stay
- *   within the corrections, actag.h), contrast, flip_weight = sum of |c_i| of the corrected bits,
- *   min_confidence = min |c_i|, fit_corners = the fitted grid's white-square
+ *   the other handedness no hypothesis. Plus: ring_black / interior_white =
+ *   fractions of the ring / interior CELLS on the right side of mid
+ *   (actag_detect does not require 1.0: with the default
+ *   tuning.min_structure 0 a reading is kept while its ring misses,
+ *   interior misses and corrected bits together stay within the
+ *   corrections, actag.h), contrast, flip_weight = sum of |c_i| of the
+ *   corrected bits, min_confidence = min |c_i|, fit_corners = the fitted grid's white-square
  *   corners in tag order.
  *   Deterministic: + - * / and sqrtf only. No memory beyond the stack: about 4.4 KB
  *   (x86-64 -O2, -fstack-usage over the call chain; the lattice alone is

@@ -107,8 +107,8 @@
  *                     a non-finite or degenerate corner quad, rp out of range
  *                     (blur in [0.25, 20], margin in [0, 1], max_iterations
  *                     1..50, max_shift in (0, 2], max_samples 64..100000),
- *                     with a geometry: tag_size not in (0, ACTAG_MAX_TAG_SIZE = 1000)
- *                     metres
+ *                     with a geometry: tag_size not in
+ *                     (0, ACTAG_MAX_TAG_SIZE = 1000) metres
  *   ACTAG_ERR_GEOMETRY the geometry (when not NULL) fails
  *                     actag_geometry_validate() for rows x cols
  *   ACTAG_ERR_NO_MATCH the fit did not give acceptable corners (out = corners)

@@ -91,9 +91,9 @@ typedef struct actag_search {
 /* Scores every block position of the 8-bit frame img (rows x cols, stride
  * bytes) for a white square of tag_size metres (the family's bits give the
  * cells per side; range_scale shortens the cell along range:
- * tuning.search_range_scale, 0.75 by default, in actag_detect), into map (map_size bytes) using scratch (scratch_size
- * bytes) for the integral image; fills *z. Returns ACTAG_OK or an error of
- * ERRORS above. */
+ * tuning.search_range_scale, 0.75 by default, in actag_detect), into map
+ * (map_size bytes), using scratch (scratch_size bytes) for the integral
+ * image; fills *z. Returns ACTAG_OK or an error of ERRORS above. */
 int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, int stride,
                      const actag_sonar_geometry *g, float tag_size, int bits, float range_scale,
                      void *map, size_t map_size, void *scratch, size_t scratch_size);
