@@ -296,6 +296,15 @@ static void fref_cells(int i, int k, int *rx, int *ry, int *wx, int *wy)
  * none, and the margins divide by it. */
 #define FIT_MIN_NOISE 0.05f
 
+/* The least cell-noise variance a reading may claim: cells read to 10 % of
+ * its contrast (a nearly perfect fit does not make any lead a certainty).
+ * The template check and actag__fit_rss_llr share it. */
+static float fnoise_floor2(float contrast)
+{
+    float f = FIT_MIN_NOISE * 2.0f * contrast;
+    return f * f;
+}
+
 /* Template check (ACTAG_FIT_VERIFY). Each of the most likely readings is
  * a full hypothesis for all (k+1)^2 cells (data ring from its code, black
  * ring, white interior); its grid is refitted to that template and scored
@@ -832,8 +841,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 if (jj == 0) {
                     nc = n * n - (erase ? 4 : 0); /* the cells template_rss counts */
                     rss0 = r;
-                    floor2 = FIT_MIN_NOISE * 2.0f * contrast;
-                    floor2 *= floor2;
+                    floor2 = fnoise_floor2(contrast);
                     s2 = fcell_noise2(rss0, nc, floor2);
                     continue;
                 }
@@ -1446,10 +1454,9 @@ float actag__fit_rss_llr(const actag_family *family, const actag_fit_params *fp,
 {
     int n = family->bits / 4 + 1;
     int nc = n * n - ((fp->flags & ACTAG_FIT_ERASE_CORNERS) ? 4 : 0);
-    /* the template check's floor: a nearly perfect fit claims no more than
-     * cells read to 10 % of the contrast (fread_grid) */
-    float floor2 = FIT_MIN_NOISE * 2.0f * contrast;
-    floor2 *= floor2;
+    /* the template check's floor (the binary decoder's readings carry no
+     * contrast: then the least variance the float division bears) */
+    float floor2 = fnoise_floor2(contrast);
     if (!(floor2 >= 1e-6f))
         floor2 = 1e-6f;
     return 0.5f * (rss2 - rss) / fcell_noise2(rss, nc, floor2);
