@@ -123,6 +123,18 @@ typedef struct {
     uint32_t tag_track; /* track ID last reported at the tag (0: none) */
 } te_run;
 
+/* A right-ID reading is wrong all the same with the other handedness or its
+ * corners out of order: counted in *mirror / *order when the truth is known
+ * (truth_mirrored >= 0, truth_px not NULL: simulated passes). */
+static void te_judge(int mirrored, const actag_point corners[4], int truth_mirrored,
+                     const actag_point *truth_px, int *mirror, int *order)
+{
+    if (truth_mirrored >= 0 && mirrored != truth_mirrored)
+        (*mirror)++;
+    if (truth_px && sim_corner_order_wrong(corners, truth_px, NULL))
+        (*order)++;
+}
+
 static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geometry *g,
                      const actag_params *p, const actag_params *rp, void *ws, size_t wss,
                      const actag_point *truth_px, int truth_mirrored, int visible, int tag_id,
@@ -155,12 +167,8 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
         int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : visible >= 0;
         if (at && det[i].id == tag_id && !found) {
             found = 1;
-            /* the right ID is wrong all the same with the other handedness
-             * or corners out of order (truth known: simulated passes) */
-            if (truth_mirrored >= 0 && det[i].mirrored != truth_mirrored)
-                c->full_mirror++;
-            if (truth_px && sim_corner_order_wrong(det[i].corners, truth_px, NULL))
-                c->full_order++;
+            te_judge(det[i].mirrored, det[i].corners, truth_mirrored, truth_px,
+                     &c->full_mirror, &c->full_order);
         } else if (at && det[i].id != tag_id)
             c->full_wrong++;
         else
@@ -194,10 +202,8 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
             rep = 1;
             read = out[i].measured;
             at_tid = out[i].track_id;
-            if (truth_mirrored >= 0 && out[i].mirrored != truth_mirrored)
-                c->track_mirror++;
-            if (truth_px && sim_corner_order_wrong(out[i].corners, truth_px, NULL))
-                c->track_order++;
+            te_judge(out[i].mirrored, out[i].corners, truth_mirrored, truth_px,
+                     &c->track_mirror, &c->track_order);
         } else if (at && out[i].id != tag_id) {
             c->track_wrong++;
         } else if (!(at && out[i].id == tag_id)) {
