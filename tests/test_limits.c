@@ -192,7 +192,7 @@ static void test_limits_counted_only_when_reached(void)
 {
     actag_params p;
     actag_stats st;
-    int r, c;
+    int r, c, i;
     memset(g_img, 0, sizeof g_img);
     for (r = 200; r < 245; r++)
         for (c = 200; c < 275; c++)
@@ -208,22 +208,19 @@ static void test_limits_counted_only_when_reached(void)
     detect(&p, &st);
     TEST_ASSERT_TRUE(st.quads >= 1);
     TEST_ASSERT_EQUAL_INT(0, st.ransac_exhausted);
-    /* caps lowered below quad.max_iterations, far above what the fits use */
-    params(&p);
-    p.tuning.search_candidates = 0;
-    p.tuning.limits.max_contour_iterations = 50;
-    detect(&p, &st);
-    TEST_ASSERT_TRUE(st.quads >= 1);
-    TEST_ASSERT_EQUAL_INT(0, st.contour_budget);
-    TEST_ASSERT_EQUAL_INT(0, st.frame_budget);
-    params(&p);
-    p.tuning.search_candidates = 0;
-    p.tuning.limits.max_frame_iterations = 50;
-    detect(&p, &st);
-    TEST_ASSERT_TRUE(st.quads >= 1);
-    TEST_ASSERT_TRUE(st.iterations < 50);
-    TEST_ASSERT_EQUAL_INT(0, st.frame_budget);
-    TEST_ASSERT_EQUAL_INT(0, st.contour_budget);
+    /* the contour's, then the frame's cap lowered below quad.max_iterations,
+     * far above what the fits use */
+    for (i = 0; i < 2; i++) {
+        params(&p);
+        p.tuning.search_candidates = 0;
+        *(i == 0 ? &p.tuning.limits.max_contour_iterations
+                 : &p.tuning.limits.max_frame_iterations) = 50;
+        detect(&p, &st);
+        TEST_ASSERT_TRUE(st.quads >= 1);
+        TEST_ASSERT_TRUE(st.iterations < 50);
+        TEST_ASSERT_EQUAL_INT(0, st.contour_budget);
+        TEST_ASSERT_EQUAL_INT(0, st.frame_budget);
+    }
 }
 
 static void test_decoder_calls(void)

@@ -461,8 +461,7 @@ static void test_huge_tag_size_is_rejected_against_the_range(void)
 /* A sonar and tag scaled together are the same detection problem; a tag the
  * corner refinement refuses (tag_size >= ACTAG_MAX_TAG_SIZE) was reported
  * with its corners silently unrefined (review, seventeenth session): it is
- * an error naming tag_size now, and just under the bound the corners are
- * refined as at scale 1. */
+ * an error naming tag_size now, and just under the bound it is accepted. */
 static void test_tag_size_the_refinement_refuses_is_an_error(void)
 {
     actag_frame f;
