@@ -302,6 +302,14 @@ int sim_corner_order_wrong(const actag_point det[4], const actag_point truth[4],
 {
     float best = 1e30f, ident = 0.0f;
     int j, n, m, bestp = 0, misplaced = 0;
+    /* a corner that is no number is no right corner (every comparison
+     * below would be false and call it well ordered) */
+    for (n = 0; n < 4; n++)
+        if (!isfinite(det[n].x) || !isfinite(det[n].y)) {
+            if (mean_px)
+                *mean_px = NAN;
+            return 1;
+        }
     /* the best of the 8 dihedral assignments of the detection's labels */
     for (j = 0; j < 8; j++) {
         float cost = 0.0f;

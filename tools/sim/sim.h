@@ -162,8 +162,9 @@ void sim_truth_of(const sim_sonar *s, const sim_tag *tag, sim_truth *out);
  * reflections of the detection's labels fits the truth better by more than
  * 4 px summed over the corners, or when some detected corner i lies nearer
  * another truth corner than truth corner i (a swapped pair, a bow-tie, a
- * corner far off, a quad a side away); else 0. *mean_px (or NULL): the mean
- * distance of detected corner i to truth corner i. */
+ * corner far off, a quad a side away), or when a detected coordinate is not
+ * finite (*mean_px NaN then); else 0. *mean_px (or NULL): the mean distance
+ * of detected corner i to truth corner i. */
 int sim_corner_order_wrong(const actag_point det[4], const actag_point truth[4], float *mean_px);
 
 /* Renders the scene into out (8-bit, rows x cols, row stride out_stride)

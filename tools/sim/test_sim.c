@@ -196,6 +196,18 @@ static void test_corner_order_rule(void)
             d[n].y = t[n].y + (t[1].y - t[0].y);
         }
         TEST_ASSERT_EQUAL_INT(1, sim_corner_order_wrong(d, t, NULL));
+        /* a corner that is not a number (each coordinate, NaN and infinite):
+         * an error, not a well-ordered quad */
+        for (j = 0; j < 8; j++) {
+            memcpy(d, t, sizeof d);
+            if (j & 1)
+                d[j >> 1].y = j & 4 ? INFINITY : NAN;
+            else
+                d[j >> 1].x = j & 4 ? -INFINITY : NAN;
+            px = 0.0f;
+            TEST_ASSERT_EQUAL_INT_MESSAGE(1, sim_corner_order_wrong(d, t, &px), "non-finite");
+            TEST_ASSERT_TRUE(px != px);
+        }
     }
 }
 

@@ -40,8 +40,8 @@ GEOMETRY_KEYS = (
 #:   contour_cap (1 when the scan stopped at max_contours), ransac_exhausted
 #:   (quad fits that ran all their iterations without an early exit),
 #:   contour_budget (contours whose quad tries stopped at
-#:   max_contour_iterations), frame_budget (quad fits skipped or shortened by
-#:   max_frame_iterations), decode_cap (decoder calls skipped at
+#:   max_contour_iterations), frame_budget (quad fits skipped, or cut short
+#:   (the lowered cap ran out), by max_frame_iterations), decode_cap (decoder calls skipped at
 #:   max_decodes), search_cap (1 when candidates above search_min_score were
 #:   left undecoded), guess_cap (contours given no extreme-point guess, 16 per
 #:   frame at most).
