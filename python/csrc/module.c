@@ -3,6 +3,8 @@
  */
 #include "pyactag.h"
 
+#include "actag/pose.h"
+
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -314,6 +316,11 @@ static PyMethodDef module_methods[] = {
      "code_mirror(code, bits): the physical reflection P (position s -> -s mod bits)"},
     {"code_corners", m_code_corners, METH_VARARGS,
      "code_corners(bits): mask of the 4 corner cells of the data ring"},
+    {"sonar_pose", pyactag_sonar_pose, METH_VARARGS,
+     "sonar_pose(ranges, azimuths, mirrored, family, tag_size, vertical_aperture, extent,\n"
+     "           range_sd, azimuth_sd, max_iterations, plane, plane_sd, plane_tilt_sd)\n"
+     "-> (R, t, cov, range, azimuth, elevation, elevation_lo, elevation_hi, residual,\n"
+     "    chi2, iterations, flags): actag_pose_estimate (use pyactag.sonar_pose)"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {PyModuleDef_HEAD_INIT, "_core",
@@ -376,7 +383,10 @@ PyMODINIT_FUNC PyInit__core(void)
         PyModule_AddIntConstant(m, "FIT_SPLIT", ACTAG_FIT_SPLIT) != 0 ||
         PyModule_AddIntConstant(m, "FIT_WIDE", ACTAG_FIT_WIDE) != 0 ||
         PyModule_AddIntConstant(m, "FIT_ERASE_CORNERS", ACTAG_FIT_ERASE_CORNERS) != 0 ||
-        PyModule_AddIntConstant(m, "FIT_VERIFY", ACTAG_FIT_VERIFY) != 0)
+        PyModule_AddIntConstant(m, "FIT_VERIFY", ACTAG_FIT_VERIFY) != 0 ||
+        /* the pose's default corner noise (pose.h), as the library has it */
+        add(m, "POSE_RANGE_SD", PyFloat_FromDouble((double)ACTAG_POSE_RANGE_SD)) != 0 ||
+        add(m, "POSE_AZIMUTH_SD", PyFloat_FromDouble((double)ACTAG_POSE_AZIMUTH_SD)) != 0)
         goto fail;
     return m;
 fail:

@@ -9,6 +9,7 @@
  *   frame.c         a Python 2-D uint8/uint16 buffer -> actag_frame
  *   family_type.c   the Family type (built-in or caller-supplied codes)
  *   detector_type.c the Detector type (parameters, workspace, detection)
+ *   pose.c          sonar_pose (actag_pose_estimate)
  *
  * The core library never allocates; the workspace, the output array and any
  * frame copy belong to this extension (malloc/free).
@@ -116,5 +117,10 @@ const actag_family *pyactag_family_of(PyObject *obj);
 
 /* Create the Detector type; returns a new reference or NULL. */
 PyObject *pyactag_detector_type_create(PyObject *module);
+
+/* ------------------------------------------------------------------ pose.c */
+
+/* _core.sonar_pose (pose.c has the arguments); METH_VARARGS. */
+PyObject *pyactag_sonar_pose(PyObject *self, PyObject *args);
 
 #endif /* PYACTAG_H */

@@ -18,6 +18,7 @@ from .detection import (GEOMETRY_KEYS, Corner, Detection, Detector, Result, defa
                         tuning_names)
 from .families import Family, code_mirror, code_reverse, code_rot90, family_names, rule_of_name
 from .pgm import parse_pgm, read_pgm, write_pgm
+from .pose import POSE_AZIMUTH_SD, POSE_FLAGS, POSE_RANGE_SD, Pose, sonar_pose
 
 __version__ = _core.LIBRARY_VERSION
 LIBRARY_VERSION = _core.LIBRARY_VERSION
@@ -39,9 +40,10 @@ def strerror(code):
 
 
 __all__ = [
-    "AcTag", "ActagError", "Corner", "Detection", "Detector", "Family", "GEOMETRY_KEYS", "Result",
-    "code_mirror", "code_reverse", "code_rot90", "default_params", "detect", "family_names",
-    "have_numpy", "parse_pgm", "read_pgm", "rule_of_name", "strerror", "tuning_names",
-    "workspace_size", "write_pgm", "LIBRARY_VERSION", "CORNER_TOP_LEFT", "CORNER_TOP_RIGHT",
-    "CORNER_BOTTOM_RIGHT", "CORNER_BOTTOM_LEFT",
+    "AcTag", "ActagError", "Corner", "Detection", "Detector", "Family", "GEOMETRY_KEYS", "Pose",
+    "Result", "code_mirror", "code_reverse", "code_rot90", "default_params", "detect",
+    "family_names", "have_numpy", "parse_pgm", "read_pgm", "rule_of_name", "sonar_pose",
+    "strerror", "tuning_names", "workspace_size", "write_pgm", "LIBRARY_VERSION",
+    "CORNER_TOP_LEFT", "CORNER_TOP_RIGHT", "CORNER_BOTTOM_RIGHT", "CORNER_BOTTOM_LEFT",
+    "POSE_AZIMUTH_SD", "POSE_FLAGS", "POSE_RANGE_SD",
 ]

@@ -338,6 +338,19 @@ class Detector:
         """Detect tags in ``frame``; returns a list of ``Detection`` (see ``run``)."""
         return self.run(frame, **geometry).detections
 
+    def pose(self, detection, **options):
+        """The 6-DOF pose of one of this detector's detections in the sonar
+        frame (``pyactag.sonar_pose`` with this detector's family and
+        tag_size): ``det.pose(d, vertical_aperture_deg=12)``; ``options``:
+        the keywords of ``sonar_pose`` (vertical aperture, noise, known
+        plane). Returns a ``Pose``."""
+        from .pose import sonar_pose
+        for k in ("family", "tag_size"):
+            if k in options:
+                raise TypeError("{} is the detector's; use pyactag.sonar_pose for another".format(k))
+        return sonar_pose(detection, family=self.family, tag_size=self.params["tag_size"],
+                          **options)
+
     def __reduce__(self):
         """Pickling (e.g. to worker processes): the family, every parameter,
         max_detections and the default geometry; the copy has its own

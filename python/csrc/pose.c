@@ -1,0 +1,135 @@
+/*
+ * pose.c -- pyactag._core.sonar_pose: actag_pose_estimate (actag/pose.h) on
+ * four corners. The Python layer (pyactag/pose.py) checks every argument
+ * and names the bad one; here only what it cannot see (the floats the
+ * library gets) is checked again, so a direct call of _core.sonar_pose
+ * with bad values still gets ActagError, never a crash.
+ */
+#include "pyactag.h"
+
+#include "actag/pose.h"
+
+/* Four real numbers from a sequence of exactly four (name: for messages).
+ * (PySequence_Fast's item access is not in the limited API.) */
+static int four_floats(PyObject *seq, const char *name, float out[4])
+{
+    Py_ssize_t n = PySequence_Check(seq) ? PySequence_Size(seq) : -1;
+    int i;
+    if (n < 0) {
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "%s must be a sequence of 4 numbers, got %R", name, seq);
+        return -1;
+    }
+    if (n != 4) {
+        PyErr_Format(PyExc_ValueError, "%s must hold 4 numbers, got %zd", name,
+                     n);
+        return -1;
+    }
+    for (i = 0; i < 4; i++) {
+        PyObject *item = PySequence_GetItem(seq, i);
+        double d;
+        int bad;
+        if (item == NULL)
+            return -1;
+        bad = pyactag_is_bool(item);
+        d = bad ? -1.0 : PyFloat_AsDouble(item);
+        if (bad || (d == -1.0 && PyErr_Occurred())) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "%s[%d] must be a real number, got %R", name, i, item);
+            Py_DECREF(item);
+            return -1;
+        }
+        Py_DECREF(item);
+        out[i] = (float)d;
+    }
+    return 0;
+}
+
+static PyObject *float_tuple(const float *v, int n)
+{
+    PyObject *t = PyTuple_New(n);
+    int i;
+    if (t == NULL)
+        return NULL;
+    for (i = 0; i < n; i++) {
+        PyObject *f = PyFloat_FromDouble((double)v[i]);
+        if (f == NULL) {
+            Py_DECREF(t);
+            return NULL;
+        }
+        PyTuple_SetItem(t, i, f);
+    }
+    return t;
+}
+
+/* sonar_pose(ranges, azimuths, mirrored, family, tag_size, vertical_aperture,
+ *            extent, range_sd, azimuth_sd, max_iterations, plane, plane_sd,
+ *            plane_tilt_sd)
+ * family: a Family or None (extent 1 unless given); extent, range_sd,
+ * azimuth_sd: None for pose.h's defaults; plane: None or 4 numbers.
+ * -> (R (9), t (3), cov (36), range, azimuth, elevation, elevation_lo,
+ *     elevation_hi, residual, chi2, iterations, flags) */
+PyObject *pyactag_sonar_pose(PyObject *self, PyObject *args)
+{
+    PyObject *ranges_o, *azimuths_o, *family_o, *extent_o, *rsd_o, *asd_o, *plane_o;
+    int mirrored, max_iterations, rc;
+    double tag_size, vertical, plane_sd, plane_tilt_sd;
+    float range[4], azimuth[4];
+    const actag_family *fam = NULL;
+    actag_pose_params pp;
+    actag_pose P;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "OOpOddOOOiOdd:sonar_pose", &ranges_o, &azimuths_o, &mirrored,
+                          &family_o, &tag_size, &vertical, &extent_o, &rsd_o, &asd_o,
+                          &max_iterations, &plane_o, &plane_sd, &plane_tilt_sd))
+        return NULL;
+    if (four_floats(ranges_o, "ranges", range) != 0 ||
+        four_floats(azimuths_o, "azimuths", azimuth) != 0)
+        return NULL;
+    if (family_o != Py_None) {
+        fam = pyactag_family_of(family_o);
+        if (fam == NULL)
+            return NULL;
+    }
+    actag_pose_params_default(&pp, fam, (float)tag_size, (float)vertical);
+    if (extent_o != Py_None) {
+        double e = PyFloat_AsDouble(extent_o);
+        if (e == -1.0 && PyErr_Occurred())
+            return NULL;
+        pp.extent = (float)e;
+    }
+    if (rsd_o != Py_None) {
+        double e = PyFloat_AsDouble(rsd_o);
+        if (e == -1.0 && PyErr_Occurred())
+            return NULL;
+        pp.range_sd = (float)e;
+    }
+    if (asd_o != Py_None) {
+        double e = PyFloat_AsDouble(asd_o);
+        if (e == -1.0 && PyErr_Occurred())
+            return NULL;
+        pp.azimuth_sd = (float)e;
+    }
+    pp.max_iterations = max_iterations;
+    if (plane_o != Py_None && four_floats(plane_o, "plane", pp.plane) != 0)
+        return NULL;
+    pp.plane_sd = (float)plane_sd;
+    pp.plane_tilt_sd = (float)plane_tilt_sd;
+    rc = actag_pose_estimate(range, azimuth, mirrored, &pp, &P);
+    if (rc != ACTAG_OK)
+        return pyactag_raise(rc, "sonar_pose (pose.h: corner ranges 0.001 to 10000 m, azimuths "
+                                 "within +-4 pi, tag_size 0.001 to 10000 m, vertical aperture "
+                                 "in (0, pi), positive noise sds, max_iterations 1 to 100)");
+    {
+        PyObject *R = float_tuple(P.R, 9), *t = float_tuple(P.t, 3), *cov = float_tuple(P.cov, 36);
+        if (R == NULL || t == NULL || cov == NULL) {
+            Py_XDECREF(R);
+            Py_XDECREF(t);
+            Py_XDECREF(cov);
+            return NULL;
+        }
+        return Py_BuildValue("(NNNdddddddiI)", R, t, cov, (double)P.range, (double)P.azimuth,
+                             (double)P.elevation, (double)P.elevation_lo, (double)P.elevation_hi,
+                             (double)P.residual, (double)P.chi2, P.iterations, P.flags);
+    }
+}

@@ -1,0 +1,279 @@
+"""The tag's 6-DOF pose in the sonar frame from one detection (C: actag/pose.h).
+
+    det = pyactag.Detector("AcTag24h10", tag_size=0.130628571,
+                           min_range=0.1, max_range=1.5, aperture_deg=60)
+    for d in det.detect(frame):
+        p = det.pose(d, vertical_aperture_deg=12)
+        print(p.t, p.elevation_rad, p.position_sd, p.flags)
+
+Sonar frame: x forward, y left, z up (metres); the tag's frame: x right, y
+down as printed, z into the tag, origin at the centre of the inner white
+square. A sonar loses the elevation, so it comes from the vertical aperture
+(the tag must fit in it), the corners' small second-order cues and, when the
+vehicle knows it, the plane the tag lies on (``plane``): the covariance says
+how well each part is known. ``mirrored`` picks the side of the sonar's
+horizontal plane.
+"""
+import math
+
+from . import _core
+from ._args import as_bool, as_int, as_real
+
+#: Flag names, bit 0 first: the names ``actag_detect --json --pose`` prints.
+POSE_FLAGS = ("degenerate", "elevation", "not_converged", "mirror_conflict", "no_covariance",
+              "plane")
+
+#: The default corner noise of the covariance (pose.h): range (m), azimuth (rad).
+POSE_RANGE_SD = _core.POSE_RANGE_SD
+POSE_AZIMUTH_SD = _core.POSE_AZIMUTH_SD
+
+
+class Pose:
+    """A tag's pose in the sonar frame (``actag_pose``).
+
+    Attributes:
+        R: rotation tag -> sonar, 3 rows of 3.
+        t: (x, y, z) of the tag centre, metres (x forward, y left, z up).
+        cov: 6 x 6 covariance (6 rows) of (dt, w): the position error (m) and
+            the rotation error vector (rad, R_true = exp([w]x) R).
+        range_m, azimuth_rad, elevation_rad: of the centre.
+        elevation_band: (lo, hi), radians: the centre elevations that keep
+            the tag's outline inside the vertical aperture (lo > hi: none).
+        residual_m: RMS distance of the measured from the fitted corners.
+        chi2: sum of squared normalised corner residuals (about 3 expected).
+        iterations: trial steps of the fit.
+        flag_bits: the ``ACTAG_POSE_*`` bits; ``flags``: their names
+            (``POSE_FLAGS``): degenerate (orientation unreliable), elevation
+            (the tag cannot fit the aperture), not_converged,
+            mirror_conflict (the corners' winding contradicts mirrored),
+            no_covariance, plane (the fit left the known plane).
+    """
+
+    __slots__ = ("R", "t", "cov", "range_m", "azimuth_rad", "elevation_rad", "elevation_band",
+                 "residual_m", "chi2", "iterations", "flag_bits")
+
+    def __init__(self, R, t, cov, range_m, azimuth_rad, elevation_rad, elevation_band,
+                 residual_m, chi2, iterations, flag_bits):
+        self.R = R
+        self.t = t
+        self.cov = cov
+        self.range_m = range_m
+        self.azimuth_rad = azimuth_rad
+        self.elevation_rad = elevation_rad
+        self.elevation_band = elevation_band
+        self.residual_m = residual_m
+        self.chi2 = chi2
+        self.iterations = iterations
+        self.flag_bits = flag_bits
+
+    @classmethod
+    def _of_core(cls, r):
+        R, t, cov, rng, az, el, lo, hi, res, chi2, its, flags = r
+        return cls(tuple(R[3 * i:3 * i + 3] for i in range(3)), t,
+                   tuple(cov[6 * i:6 * i + 6] for i in range(6)), rng, az, el, (lo, hi), res,
+                   chi2, its, flags)
+
+    def __reduce__(self):
+        return (type(self), tuple(getattr(self, k) for k in self.__slots__))
+
+    @property
+    def flags(self):
+        """Names of the flags set (``POSE_FLAGS``), bit 0 first."""
+        return tuple(n for i, n in enumerate(POSE_FLAGS) if self.flag_bits & (1 << i))
+
+    @property
+    def position_sd(self):
+        """Standard deviations of x, y, z (m): the covariance's diagonal."""
+        return tuple(math.sqrt(max(self.cov[i][i], 0.0)) for i in range(3))
+
+    @property
+    def rotation_sd(self):
+        """Standard deviations of the rotation error vector (rad)."""
+        return tuple(math.sqrt(max(self.cov[i][i], 0.0)) for i in range(3, 6))
+
+    def to_dict(self):
+        """Plain dict (JSON-ready) with the keys of ``actag_detect --json
+        --pose``'s "pose" member (R and cov flattened row by row) and one
+        more, iterations."""
+        return {
+            "t": list(self.t),
+            "R": [v for row in self.R for v in row],
+            "range": self.range_m,
+            "azimuth": self.azimuth_rad,
+            "elevation": self.elevation_rad,
+            "elevation_band": list(self.elevation_band),
+            "cov": [v for row in self.cov for v in row],
+            "residual_m": self.residual_m,
+            "chi2": self.chi2,
+            "flags": list(self.flags),
+            "iterations": self.iterations,
+        }
+
+    def __eq__(self, other):
+        if not isinstance(other, Pose):
+            return NotImplemented
+        return all(getattr(self, k) == getattr(other, k) for k in self.__slots__)
+
+    def __repr__(self):
+        return ("Pose(t=({:.4f}, {:.4f}, {:.4f}), elevation_rad={:.4f}, flags={})".format(
+            self.t[0], self.t[1], self.t[2], self.elevation_rad, self.flags))
+
+
+def _finite(name, value):
+    v = as_real(name, value)
+    if not math.isfinite(v):
+        raise ValueError("{} must be finite, got {!r}".format(name, value))
+    return v
+
+
+def _positive_sd(name, value):
+    v = _finite(name, value)
+    # pose.h: above 0, and 1 / sd^2 must be a float (about 5e-20 and up)
+    if not v >= 1e-19:
+        raise ValueError("{} must be at least 1e-19 (a standard deviation), got {!r}".format(
+            name, value))
+    return v
+
+
+def _corners_of(corners, mirrored):
+    """(ranges, azimuths, mirrored) of a Detection, or of 4 (range, azimuth)
+    pairs and the mirrored flag."""
+    if hasattr(corners, "corners_polar") and hasattr(corners, "mirrored"):
+        if mirrored is not None:
+            raise TypeError("mirrored comes from the detection; do not pass it as well")
+        pairs, mirrored = corners.corners_polar, corners.mirrored
+    else:
+        if mirrored is None:
+            raise TypeError("mirrored (bool) is required with corners given as (range, azimuth) "
+                            "pairs")
+        pairs = corners
+    mirrored = as_bool("mirrored", mirrored)
+    if isinstance(pairs, (str, bytes)):
+        raise TypeError("corners must be 4 (range_m, azimuth_rad) pairs, got {!r}".format(pairs))
+    try:
+        pairs = [tuple(p) for p in pairs]
+    except TypeError:
+        raise TypeError("corners must be 4 (range_m, azimuth_rad) pairs, got {!r}".format(
+            corners)) from None
+    if len(pairs) != 4 or any(len(p) != 2 for p in pairs):
+        raise ValueError("corners must be 4 (range_m, azimuth_rad) pairs in tag order (TL, TR, "
+                         "BR, BL), got {!r}".format(corners))
+    ranges = [as_real("corners[{}] range".format(i), p[0]) for i, p in enumerate(pairs)]
+    azimuths = [as_real("corners[{}] azimuth".format(i), p[1]) for i, p in enumerate(pairs)]
+    for i in range(4):
+        if not 1e-3 <= ranges[i] <= 1e4:
+            raise ValueError("corners[{}] range must be 0.001 to 10000 m, got {!r}".format(
+                i, ranges[i]))
+        if not abs(azimuths[i]) < 4.0 * math.pi:
+            raise ValueError("corners[{}] azimuth must lie within +-4 pi rad, got {!r}".format(
+                i, azimuths[i]))
+    return ranges, azimuths, mirrored
+
+
+def _plane_of(plane, plane_sd, plane_tilt_deg):
+    """The plane as the library gets it (the C tool's normalisation: by the
+    largest component, then to unit length, in double), and its sds."""
+    sd = _finite("plane_sd", plane_sd)
+    tilt = _finite("plane_tilt_deg", plane_tilt_deg)
+    if sd < 0.0 or tilt < 0.0:
+        raise ValueError("plane_sd and plane_tilt_deg must not be negative, got {!r}, {!r}".format(
+            plane_sd, plane_tilt_deg))
+    if plane is None:
+        if sd > 0.0 or tilt > 0.0:
+            raise ValueError("plane_sd and plane_tilt_deg need plane=(nx, ny, nz, d)")
+        return None, 0.0, 0.0
+    if isinstance(plane, (str, bytes)):
+        raise TypeError("plane must be (nx, ny, nz, d), got {!r}".format(plane))
+    try:
+        p = [_finite("plane[{}]".format(i), v) for i, v in enumerate(plane)]
+    except TypeError as e:
+        if "plane[" in str(e):
+            raise
+        raise TypeError("plane must be (nx, ny, nz, d), got {!r}".format(plane)) from None
+    if len(p) != 4:
+        raise ValueError("plane must be 4 numbers (nx, ny, nz, d: n . p = d in the sonar frame), "
+                         "got {!r}".format(plane))
+    if not (sd > 0.0 or tilt > 0.0):
+        raise ValueError("plane needs plane_sd (m) and/or plane_tilt_deg above 0 (how well it "
+                         "is known; a plane known exactly: give small ones, e.g. 0.001)")
+    big = max(abs(v) for v in p[:3])
+    if not big > 0.0:
+        raise ValueError("plane: the normal ({}, {}, {}) must be non-zero".format(*p[:3]))
+    u = [v / big for v in p]
+    ns = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    if not abs(u[3]) / ns <= 1e4:
+        raise ValueError("plane: the plane must lie within 10000 m of the sonar, got an offset "
+                         "of {:g} m".format(abs(u[3]) / ns))
+    tilt_rad = tilt * math.pi / 180.0  # as actag_detect --plane-tilt-deg converts it
+    for name, v, given in (("plane_sd", sd, plane_sd), ("plane_tilt_deg", tilt_rad, plane_tilt_deg)):
+        if 0.0 < v < 1e-17:
+            raise ValueError("{} is too small for the pose (0, or at least about 1e-17), "
+                             "got {!r}".format(name, given))
+    return [v / ns for v in u], sd, tilt_rad
+
+
+def sonar_pose(corners, mirrored=None, *, tag_size, vertical_aperture_deg=None,
+               vertical_aperture=None, family="AcTag24h10", extent=None, range_sd=None,
+               azimuth_sd=None, max_iterations=20, plane=None, plane_sd=0.0,
+               plane_tilt_deg=0.0):
+    """The tag's pose in the sonar frame from its four corners.
+
+    ``corners``: a ``Detection`` (its ``corners_polar`` and ``mirrored``), or
+    four (range_m, azimuth_rad) pairs in tag order (TL, TR, BR, BL) with
+    ``mirrored`` given. Keywords:
+
+    - ``tag_size``: side of the inner white square, metres (0.001 to 10000);
+    - ``vertical_aperture_deg`` (or ``vertical_aperture`` in radians): the
+      full width of the sonar's elevation fan, in (0, 180) degrees (default
+      12 degrees, the paper's);
+    - ``family``: a name or Family, for the tag's outline (whole tag side
+      over the white square's, 7/3 for 24 bits) unless ``extent`` gives it
+      (at least 1; ``family=None``: 1);
+    - ``range_sd`` (m), ``azimuth_sd`` (rad): the corner noise behind the
+      covariance (defaults ``POSE_RANGE_SD``, ``POSE_AZIMUTH_SD``, measured
+      on the simulator);
+    - ``max_iterations``: trial steps per pass, 1 to 100 (20);
+    - ``plane=(nx, ny, nz, d)``: the plane n . p = d (sonar frame, metres)
+      the tag's face lies on, as the vehicle knows it (a seabed at altitude
+      H under an upright sonar: (0, 0, 1, -H)), with ``plane_sd`` (m, its
+      offset's sd) and/or ``plane_tilt_deg`` (its tilt's sd) above 0: it
+      pins the elevation one ping leaves free.
+
+    Bad values raise TypeError or ValueError naming them. Returns a ``Pose``;
+    degenerate geometry is no error but a flag (``Pose.flags``).
+    """
+    ranges, azimuths, mirrored = _corners_of(corners, mirrored)
+    ts = _finite("tag_size", tag_size)
+    if not 1e-3 <= ts <= 1e4:
+        raise ValueError("tag_size must be 0.001 to 10000 m, got {!r}".format(tag_size))
+    if vertical_aperture_deg is not None and vertical_aperture is not None:
+        raise ValueError("give vertical_aperture_deg or vertical_aperture (radians), not both")
+    if vertical_aperture is not None:
+        va = _finite("vertical_aperture", vertical_aperture)
+        if not 0.0 < va < math.pi:
+            raise ValueError("vertical_aperture must be in (0, pi) rad, got {!r}".format(
+                vertical_aperture))
+    else:
+        vd = 12.0 if vertical_aperture_deg is None else _finite("vertical_aperture_deg",
+                                                               vertical_aperture_deg)
+        if not 0.0 < vd < 180.0:
+            raise ValueError("vertical_aperture_deg must be in (0, 180), got {!r}".format(
+                vertical_aperture_deg))
+        va = vd * math.pi / 180.0  # as actag_detect --vertical-aperture-deg converts it
+    fam = None
+    if family is not None:
+        from .detection import _family
+        fam = _family(family)
+    ext = None
+    if extent is not None:
+        ext = _finite("extent", extent)
+        if not ext >= 1.0:
+            raise ValueError("extent must be at least 1 (tag sizes), got {!r}".format(extent))
+        if ext * ts > 1e4:
+            raise ValueError("extent x tag_size must be at most 10000 m, got {:g}".format(ext * ts))
+    rsd = None if range_sd is None else _positive_sd("range_sd", range_sd)
+    asd = None if azimuth_sd is None else _positive_sd("azimuth_sd", azimuth_sd)
+    its = as_int("max_iterations", max_iterations, 1, 100)
+    pl, psd, ptilt = _plane_of(plane, plane_sd, plane_tilt_deg)
+    return Pose._of_core(_core.sonar_pose(ranges, azimuths, mirrored, fam, ts, va, ext, rsd, asd,
+                                          its, pl, psd, ptilt))
