@@ -70,74 +70,7 @@ static void detector_dealloc(PyObject *o)
     Py_DECREF(tp);
 }
 
-/* Bearing table: an iterable of exactly `cols` numbers (radians); an element
- * that is no real number (a str, a bool) is a TypeError naming bearings[i]. */
-/* A geometry value narrowed to the C float the library takes: a finite
- * value the float cannot hold (beyond FLT_MAX: inf; nonzero below the least
- * subnormal: 0) is an OverflowError naming the value given, as for the
- * parameters (params.c), not the library's complaint about inf or 0.
- * NaN and infinities pass to the library, which names them. */
-static int narrow_geo(double d, const char *name, int index, float *out)
-{
-    if (pyactag_float_overflows(d)) {
-        PyObject *v = PyFloat_FromDouble(d);
-        if (v == NULL)
-            return -1;
-        if (index >= 0)
-            PyErr_Format(PyExc_OverflowError, "sonar geometry: %s[%d] is outside the range of a "
-                         "C float, got %R", name, index, v);
-        else
-            PyErr_Format(PyExc_OverflowError, "sonar geometry: %s is outside the range of a C "
-                         "float, got %R", name, v);
-        Py_DECREF(v);
-        return -1;
-    }
-    *out = (float)d;
-    return 0;
-}
-
-static float *read_bearings(PyObject *obj, int cols)
-{
-    PyObject *it = PyObject_GetIter(obj), *item;
-    float *b;
-    int n = 0;
-    if (it == NULL)
-        return NULL;
-    b = (float *)malloc((size_t)cols * sizeof(float));
-    if (b == NULL) {
-        Py_DECREF(it);
-        PyErr_NoMemory();
-        return NULL;
-    }
-    while ((item = PyIter_Next(it)) != NULL) {
-        int is_bool = pyactag_is_bool(item);
-        double d = is_bool ? -1.0 : PyFloat_AsDouble(item);
-        if (is_bool || (d == -1.0 && PyErr_Occurred())) {
-            PyErr_Clear();
-            PyErr_Format(PyExc_TypeError, "bearings[%d] must be a real number, got %R", n, item);
-            Py_DECREF(item);
-            break;
-        }
-        Py_DECREF(item);
-        if (n < cols && narrow_geo(d, "bearings", n, &b[n]) != 0)
-            break;
-        n++;
-    }
-    Py_DECREF(it);
-    if (PyErr_Occurred()) {
-        free(b);
-        return NULL;
-    }
-    if (n != cols) {
-        PyErr_Format(PyExc_ValueError, "bearings has %d values, the frame has %d columns", n,
-                     cols);
-        free(b);
-        return NULL;
-    }
-    return b;
-}
-
-static PyObject *detection_tuple(const actag_detection *d)
+PyObject *pyactag_detection_tuple(const actag_detection *d)
 {
     const actag_point *c = d->corners;
     const float *r = d->range, *a = d->azimuth;
@@ -148,6 +81,38 @@ static PyObject *detection_tuple(const actag_detection *d)
                          (double)c[3].x, (double)c[3].y, (double)r[0], (double)a[0],
                          (double)r[1], (double)a[1], (double)r[2], (double)a[2], (double)r[3],
                          (double)a[3]);
+}
+
+static PyObject *detection_item(const void *d)
+{
+    return pyactag_detection_tuple((const actag_detection *)d);
+}
+
+PyObject *pyactag_list_of(const void *items, size_t size, int n, PyObject *(*conv)(const void *))
+{
+    PyObject *list = PyList_New(n);
+    int i;
+    if (list == NULL)
+        return NULL;
+    for (i = 0; i < n; i++) {
+        PyObject *t = conv((const char *)items + (size_t)i * size);
+        if (t == NULL) {
+            Py_DECREF(list);
+            return NULL;
+        }
+        PyList_SetItem(list, i, t);
+    }
+    return list;
+}
+
+PyObject *pyactag_raise_call(int n, const char *context, const actag_frame *frame,
+                             const actag_sonar_geometry *geometry, const actag_params *params,
+                             size_t workspace_size, int max_out)
+{
+    actag_error_detail d;
+    if (actag_check(frame, geometry, params, workspace_size, max_out, &d) == n)
+        return pyactag_raise_detail(context, &d);
+    return pyactag_raise(n, context);
 }
 
 /* Every counter of actag_stats, by its C name (include/actag/actag.h). */
@@ -180,7 +145,7 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
     float *bearings = NULL;
     void *ws;
     size_t need;
-    int own_ws, n, i;
+    int own_ws, n;
     PyObject *list = NULL, *stages = NULL, *result = NULL;
 
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|OOppip:detect", kwlist, &frame_o,
@@ -191,37 +156,13 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
         PyErr_Format(PyExc_ValueError, "max_detections must be 0..%d", PYACTAG_MAX_DETECTIONS);
         return NULL;
     }
-    if ((aperture_o == Py_None) == (bearings_o == Py_None)) {
-        PyErr_SetString(PyExc_ValueError,
-                        aperture_o == Py_None
-                            ? "sonar geometry: give aperture (radians) or bearings (one azimuth "
-                              "per column)"
-                            : "sonar geometry: give aperture or bearings, not both");
+    if (pyactag_geometry_head(min_range, max_range, aperture_o, bearings_o, range_asc, az_asc,
+                              &geo) != 0)
         return NULL;
-    }
-    if (az_asc && bearings_o != Py_None) { /* the table overrides the flag: refused, not ignored */
-        PyErr_SetString(PyExc_ValueError,
-                        "sonar geometry: azimuth_ascending=True does not apply with bearings "
-                        "(the table gives each column's azimuth in column order)");
-        return NULL;
-    }
-    memset(&geo, 0, sizeof geo);
-    if (narrow_geo(min_range, "min_range", -1, &geo.min_range) != 0 ||
-        narrow_geo(max_range, "max_range", -1, &geo.max_range) != 0)
-        return NULL;
-    if (aperture_o != Py_None) {
-        double ap = PyFloat_AsDouble(aperture_o);
-        if (ap == -1.0 && PyErr_Occurred())
-            return NULL;
-        if (narrow_geo(ap, "aperture", -1, &geo.aperture) != 0)
-            return NULL;
-    }
-    geo.flags = (range_asc ? ACTAG_RANGE_ASCENDING : 0u) | (az_asc ? ACTAG_AZIMUTH_ASCENDING : 0u);
-
     if (pyactag_frame_get(frame_o, &view) != 0)
         return NULL;
     if (bearings_o != Py_None) {
-        bearings = read_bearings(bearings_o, view.frame.cols);
+        bearings = pyactag_read_bearings(bearings_o, view.frame.cols);
         if (bearings == NULL)
             goto done;
         geo.bearings = bearings;
@@ -280,26 +221,14 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
     else
         free(ws);
     if (n < 0) {
-        actag_error_detail d;
-        if (actag_check(&view.frame, &geo, &self->params, need, max_out, &d) == n)
-            pyactag_raise_detail("actag_detect", &d);
-        else
-            pyactag_raise(n, "actag_detect");
+        pyactag_raise_call(n, "actag_detect", &view.frame, &geo, &self->params, need, max_out);
         goto done;
     }
     if (want_stages && stages == NULL)
         goto done;
-    list = PyList_New(n);
+    list = pyactag_list_of(det, sizeof *det, n, detection_item);
     if (list == NULL)
         goto done;
-    for (i = 0; i < n; i++) {
-        PyObject *t = detection_tuple(&det[i]);
-        if (t == NULL) {
-            Py_CLEAR(list);
-            goto done;
-        }
-        PyList_SetItem(list, i, t);
-    }
     {
         PyObject *sd = stats_dict(&st);
         if (sd == NULL)

@@ -4,6 +4,7 @@
 #include "pyactag.h"
 
 #include "actag/pose.h"
+#include "actag/track.h"
 
 #include <float.h>
 #include <math.h>
@@ -367,6 +368,8 @@ PyMODINIT_FUNC PyInit__core(void)
     det_type = pyactag_detector_type_create(m);
     if (add(m, "Detector", det_type) != 0)
         goto fail;
+    if (add(m, "Tracker", pyactag_tracker_type_create(m)) != 0)
+        goto fail;
     if (PyModule_AddStringConstant(m, "LIBRARY_VERSION", ACTAG_VERSION_STRING) != 0 ||
         PyModule_AddIntConstant(m, "MAX_DIM", ACTAG_MAX_DIM) != 0 ||
         PyModule_AddIntConstant(m, "MAX_DETECTIONS", PYACTAG_MAX_DETECTIONS) != 0 ||
@@ -384,6 +387,7 @@ PyMODINIT_FUNC PyInit__core(void)
         PyModule_AddIntConstant(m, "FIT_WIDE", ACTAG_FIT_WIDE) != 0 ||
         PyModule_AddIntConstant(m, "FIT_ERASE_CORNERS", ACTAG_FIT_ERASE_CORNERS) != 0 ||
         PyModule_AddIntConstant(m, "FIT_VERIFY", ACTAG_FIT_VERIFY) != 0 ||
+        PyModule_AddIntConstant(m, "TRACK_MAX", ACTAG_TRACK_MAX) != 0 ||
         /* the pose's default corner noise (pose.h), as the library has it */
         add(m, "POSE_RANGE_SD", PyFloat_FromDouble((double)ACTAG_POSE_RANGE_SD)) != 0 ||
         add(m, "POSE_AZIMUTH_SD", PyFloat_FromDouble((double)ACTAG_POSE_AZIMUTH_SD)) != 0)

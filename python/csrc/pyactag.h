@@ -10,6 +10,8 @@
  *   family_type.c   the Family type (built-in or caller-supplied codes)
  *   detector_type.c the Detector type (parameters, workspace, detection)
  *   pose.c          sonar_pose (actag_pose_estimate)
+ *   geometry.c      the sonar geometry arguments of Detector and Tracker
+ *   tracker_type.c  the Tracker type (actag/track.h state, workspace)
  *
  * The core library never allocates; the workspace, the output array and any
  * frame copy belong to this extension (malloc/free).
@@ -117,6 +119,43 @@ const actag_family *pyactag_family_of(PyObject *obj);
 
 /* Create the Detector type; returns a new reference or NULL. */
 PyObject *pyactag_detector_type_create(PyObject *module);
+
+/* -------------------------------------------------------------- geometry.c */
+
+/* The geometry of one call without its bearing table: aperture (a number,
+ * radians) or bearings given, not both; azimuth_ascending not with
+ * bearings; values a float cannot hold are OverflowErrors naming them.
+ * Fills *geo (bearings NULL). Returns 0, or -1 with an exception. */
+int pyactag_geometry_head(double min_range, double max_range, PyObject *aperture_o,
+                          PyObject *bearings_o, int range_asc, int az_asc,
+                          actag_sonar_geometry *geo);
+
+/* A bearing table: an iterable of exactly `cols` real numbers (radians) ->
+ * a new float array (malloc; free() it), or NULL with an exception naming
+ * bearings[i] or the count. */
+float *pyactag_read_bearings(PyObject *obj, int cols);
+
+/* --------------------------------------------------------- detector_type.c */
+
+/* One detection as detect() returns it: (id, hamming, mirrored,
+ * decision_margin, inlier_ratio, ((x, y) x 4), ((range, azimuth) x 4)). */
+PyObject *pyactag_detection_tuple(const actag_detection *d);
+
+/* A new list of the n items (size bytes each) converted by conv, or NULL
+ * with an exception. */
+PyObject *pyactag_list_of(const void *items, size_t size, int n, PyObject *(*conv)(const void *));
+
+/* Raise the error n (< 0) of a call on this frame, geometry and parameters:
+ * with actag_check's detail (the field named) when it finds the same code,
+ * else the code alone (pyactag_raise). Returns NULL. */
+PyObject *pyactag_raise_call(int n, const char *context, const actag_frame *frame,
+                             const actag_sonar_geometry *geometry, const actag_params *params,
+                             size_t workspace_size, int max_out);
+
+/* ---------------------------------------------------------- tracker_type.c */
+
+/* Create the Tracker type; returns a new reference or NULL. */
+PyObject *pyactag_tracker_type_create(PyObject *module);
 
 /* ------------------------------------------------------------------ pose.c */
 

@@ -247,6 +247,23 @@ def _geometry(base, overrides):
                 azimuth_ascending=as_bool("azimuth_ascending", g.get("azimuth_ascending", False)))
 
 
+def _stored_geometry(min_range, max_range, aperture, aperture_deg, bearings, range_ascending,
+                     azimuth_ascending):
+    """A constructor's default geometry, checked (Detector, Tracker)."""
+    if bearings is not None and not isinstance(bearings, (str, bytes)):
+        # kept as a tuple: an iterator or generator would be spent by the
+        # first frame (a str is left for the C side to refuse)
+        try:
+            bearings = tuple(bearings)
+        except TypeError:
+            pass  # not iterable: the C side's TypeError names it
+    g = dict(min_range=min_range, max_range=max_range, aperture=aperture,
+             aperture_deg=aperture_deg, bearings=bearings, range_ascending=range_ascending,
+             azimuth_ascending=azimuth_ascending)
+    _check_geometry(g)
+    return g
+
+
 def _max_detections(n):
     return as_int("max_detections", n, 0, _core.MAX_DETECTIONS)
 
@@ -286,18 +303,8 @@ class Detector:
                  bearings=None, range_ascending=False, azimuth_ascending=False, **params):
         self._core = _core.Detector(_family(family), _split_params(params, tuning))
         self.max_detections = _max_detections(max_detections)
-        if bearings is not None and not isinstance(bearings, (str, bytes)):
-            # kept as a tuple: an iterator or generator would be spent by the
-            # first frame (a str is left for the C side to refuse)
-            try:
-                bearings = tuple(bearings)
-            except TypeError:
-                pass  # not iterable: the C side's TypeError names it
-        self._geometry = dict(min_range=min_range, max_range=max_range, aperture=aperture,
-                              aperture_deg=aperture_deg, bearings=bearings,
-                              range_ascending=range_ascending,
-                              azimuth_ascending=azimuth_ascending)
-        _check_geometry(self._geometry)
+        self._geometry = _stored_geometry(min_range, max_range, aperture, aperture_deg, bearings,
+                                          range_ascending, azimuth_ascending)
 
     @property
     def family(self):

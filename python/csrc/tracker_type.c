@@ -1,0 +1,422 @@
+/*
+ * tracker_type.c -- pyactag._core.Tracker: an actag_tracker (actag/track.h),
+ * the validated parameters of its whole-frame and ROI searches, the family
+ * they point at, and the workspace of its updates.
+ *
+ * Threads: update() releases the GIL around actag_tracker_update(). A
+ * tracker's state belongs to one stream, so a second update() while one is
+ * running (another thread, same object) is a RuntimeError, not a second
+ * workspace: the busy flag is only read and written with the GIL held.
+ */
+#include "pyactag.h"
+
+#include "actag/track.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct trackobj {
+    PyObject_HEAD
+    actag_params params, roi_params;
+    int have_roi;
+    PyObject *family;       /* the Family both parameter sets point into */
+    actag_tracker *tracker; /* malloc: about 6 KB */
+    void *ws;               /* kept workspace (malloc), or NULL */
+    size_t ws_size;
+    int busy;
+} trackobj;
+
+/* ValueError "track parameter <field> must be <rule>, got <value>"; -1. */
+static int tp_bad(const char *field, const char *rule, double value)
+{
+    PyObject *v = PyFloat_FromDouble(value);
+    if (v != NULL) {
+        PyErr_Format(PyExc_ValueError, "track parameter %s must be %s, got %S", field, rule, v);
+        Py_DECREF(v);
+    }
+    return -1;
+}
+
+/* actag_track_params from a dict (None: the defaults), each field checked by
+ * the rule actag_tracker_init() applies (track.h), the bad one named. */
+static int track_params_from_dict(PyObject *d, actag_track_params *p)
+{
+    static const char *const ints[] = {"full_every", "confirm_frames", "max_missed",
+                                       "refind_after", "verify"};
+    static const char *const reals[] = {"confirm_margin", "roi_scale", "gate", "smoothing"};
+    PyObject *key, *value;
+    Py_ssize_t pos = 0;
+    actag_track_params_default(p);
+    if (d == NULL || d == Py_None)
+        return 0;
+    if (!PyDict_Check(d)) {
+        PyErr_SetString(PyExc_TypeError, "track parameters must be a dict");
+        return -1;
+    }
+    while (PyDict_Next(d, &pos, &key, &value)) {
+        char *name;
+        int i, done = 0;
+        if (!PyUnicode_Check(key)) {
+            PyErr_SetString(PyExc_TypeError, "track parameter names must be strings");
+            return -1;
+        }
+        name = pyactag_strdup(key);
+        if (name == NULL)
+            return -1;
+        for (i = 0; i < 5 && !done; i++) {
+            long v;
+            int overflow = 0;
+            if (strcmp(name, ints[i]) != 0)
+                continue;
+            done = 1;
+            if (pyactag_is_bool(value) || !PyLong_Check(value)) {
+                PyErr_Format(PyExc_TypeError, "%s must be an integer, got %R", name, value);
+                free(name);
+                return -1;
+            }
+            v = PyLong_AsLongAndOverflow(value, &overflow);
+            if (overflow || v < -1000000000L || v > 1000000000L) {
+                PyErr_Format(PyExc_ValueError, "%s is out of range, got %R", name, value);
+                free(name);
+                return -1;
+            }
+            if (i == 0)
+                p->full_every = (int)v;
+            else if (i == 1)
+                p->confirm_frames = (int)v;
+            else if (i == 2)
+                p->max_missed = (int)v;
+            else if (i == 3)
+                p->refind_after = (int)v;
+            else
+                p->verify = (int)v;
+        }
+        for (i = 0; i < 4 && !done; i++) {
+            double v;
+            int is_bool;
+            if (strcmp(name, reals[i]) != 0)
+                continue;
+            done = 1;
+            is_bool = pyactag_is_bool(value); /* first: it clears any pending error */
+            v = is_bool ? -1.0 : PyFloat_AsDouble(value);
+            if (is_bool || (v == -1.0 && PyErr_Occurred())) {
+                PyErr_Clear();
+                PyErr_Format(PyExc_TypeError, "%s must be a real number, got %R", name, value);
+                free(name);
+                return -1;
+            }
+            if (pyactag_float_overflows(v)) {
+                PyErr_Format(PyExc_OverflowError, "%s is outside the range of a C float, got %R",
+                             name, value);
+                free(name);
+                return -1;
+            }
+            if (i == 0)
+                p->confirm_margin = (float)v;
+            else if (i == 1)
+                p->roi_scale = (float)v;
+            else if (i == 2)
+                p->gate = (float)v;
+            else
+                p->smoothing = (float)v;
+        }
+        if (!done) {
+            PyErr_Format(PyExc_TypeError,
+                         "unknown track parameter '%s' (full_every, confirm_frames, "
+                         "confirm_margin, max_missed, roi_scale, gate, smoothing, refind_after, "
+                         "verify)",
+                         name);
+            free(name);
+            return -1;
+        }
+        free(name);
+    }
+    /* the rules of actag_tracker_init, each named */
+    if (p->full_every < 1)
+        return tp_bad("full_every", "at least 1", (double)p->full_every);
+    if (p->confirm_frames < 1)
+        return tp_bad("confirm_frames", "at least 1", (double)p->confirm_frames);
+    if (!(p->confirm_margin - p->confirm_margin == 0.0f))
+        return tp_bad("confirm_margin", "finite", (double)p->confirm_margin);
+    if (p->max_missed < 0)
+        return tp_bad("max_missed", "at least 0", (double)p->max_missed);
+    if (!(p->roi_scale > 0.0f && p->roi_scale <= 10.0f))
+        return tp_bad("roi_scale", "in (0, 10]", (double)p->roi_scale);
+    if (!(p->gate > 0.0f && p->gate <= 10.0f))
+        return tp_bad("gate", "in (0, 10]", (double)p->gate);
+    if (!(p->smoothing > 0.0f && p->smoothing <= 1.0f))
+        return tp_bad("smoothing", "in (0, 1]", (double)p->smoothing);
+    if (p->refind_after < 0)
+        return tp_bad("refind_after", "at least 0", (double)p->refind_after);
+    if (p->verify != 0 && p->verify != 1)
+        return tp_bad("verify", "0 or 1", (double)p->verify);
+    return 0;
+}
+
+static PyObject *tracker_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"family", "params", "roi_params", "track_params", NULL};
+    PyObject *family, *params = Py_None, *roi = Py_None, *tparams = Py_None;
+    const actag_family *fam;
+    actag_track_params tp;
+    allocfunc alloc;
+    trackobj *self;
+    actag_error_detail d;
+    int rc;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O|OOO:Tracker", kwlist, &family, &params, &roi,
+                                     &tparams))
+        return NULL;
+    fam = pyactag_family_of(family);
+    if (fam == NULL)
+        return NULL;
+    if (track_params_from_dict(tparams, &tp) != 0)
+        return NULL;
+    alloc = (allocfunc)PyType_GetSlot(type, Py_tp_alloc);
+    self = (trackobj *)alloc(type, 0);
+    if (self == NULL)
+        return NULL;
+    actag_params_default(&self->params);
+    if (pyactag_params_from_dict(params, &self->params) != 0) {
+        Py_DECREF(self);
+        return NULL;
+    }
+    self->params.family = fam;
+    rc = actag_params_validate(&self->params, &d);
+    if (rc != ACTAG_OK) {
+        Py_DECREF(self);
+        return pyactag_raise_detail("invalid parameters", &d);
+    }
+    /* the ROI searches: the whole-frame parameters with the given changes */
+    self->roi_params = self->params;
+    if (roi != Py_None) {
+        self->have_roi = 1;
+        if (pyactag_params_from_dict(roi, &self->roi_params) != 0) {
+            Py_DECREF(self);
+            return NULL;
+        }
+        self->roi_params.family = fam;
+        rc = actag_params_validate(&self->roi_params, &d);
+        if (rc != ACTAG_OK) {
+            Py_DECREF(self);
+            return pyactag_raise_detail("invalid roi_params", &d);
+        }
+    }
+    Py_INCREF(family);
+    self->family = family;
+    self->tracker = (actag_tracker *)malloc(sizeof *self->tracker);
+    if (self->tracker == NULL) {
+        Py_DECREF(self);
+        return PyErr_NoMemory();
+    }
+    rc = actag_tracker_init(self->tracker, &tp);
+    if (rc != ACTAG_OK) { /* the checks above follow its rules: not expected */
+        Py_DECREF(self);
+        return pyactag_raise(rc, "actag_tracker_init");
+    }
+    return (PyObject *)self;
+}
+
+static void tracker_dealloc(PyObject *o)
+{
+    trackobj *self = (trackobj *)o;
+    PyTypeObject *tp = Py_TYPE(o);
+    freefunc tfree = (freefunc)PyType_GetSlot(tp, Py_tp_free);
+    free(self->ws);
+    free(self->tracker);
+    Py_XDECREF(self->family);
+    tfree(o);
+    Py_DECREF(tp);
+}
+
+static PyObject *xy4(const actag_point *p)
+{
+    return Py_BuildValue("((dd)(dd)(dd)(dd))", (double)p[0].x, (double)p[0].y, (double)p[1].x,
+                         (double)p[1].y, (double)p[2].x, (double)p[2].y, (double)p[3].x,
+                         (double)p[3].y);
+}
+
+/* (track_id, id, mirrored, confirmed, measured, hits, missed, age,
+ *  ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), last detection) */
+static PyObject *track_tuple(const void *item)
+{
+    const actag_track *t = (const actag_track *)item;
+    PyObject *c = xy4(t->corners), *v = xy4(t->velocity), *last = pyactag_detection_tuple(&t->last);
+    PyObject *polar = Py_BuildValue("((dd)(dd)(dd)(dd))", (double)t->range[0],
+                                    (double)t->azimuth[0], (double)t->range[1],
+                                    (double)t->azimuth[1], (double)t->range[2],
+                                    (double)t->azimuth[2], (double)t->range[3],
+                                    (double)t->azimuth[3]);
+    if (c == NULL || v == NULL || last == NULL || polar == NULL) {
+        Py_XDECREF(c);
+        Py_XDECREF(v);
+        Py_XDECREF(last);
+        Py_XDECREF(polar);
+        return NULL;
+    }
+    return Py_BuildValue("(kiOOOiiiNNNN)", (unsigned long)t->track_id, t->id,
+                         t->mirrored ? Py_True : Py_False, t->confirmed ? Py_True : Py_False,
+                         t->measured ? Py_True : Py_False, t->hits, t->missed, t->age, c, polar,
+                         v, last);
+}
+
+/* Every counter of actag_track_stats, by its C name (include/actag/track.h). */
+static PyObject *track_stats_dict(const actag_track_stats *s)
+{
+    return Py_BuildValue("{sOsisLsisisisisisisisisi}", "full_frame",
+                         s->full_frame ? Py_True : Py_False, "rois", s->rois, "pixels",
+                         (long long)s->pixels, "readings", s->readings, "conflicts", s->conflicts,
+                         "started", s->started, "confirmed", s->confirmed, "dropped", s->dropped,
+                         "verified", s->verified, "quads", s->quads, "decoded", s->decoded,
+                         "searched", s->searched);
+}
+
+static PyObject *tracker_update(PyObject *o, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"frame",           "min_range",         "max_range", "aperture",
+                             "bearings",        "range_ascending",   "azimuth_ascending",
+                             NULL};
+    trackobj *self = (trackobj *)o;
+    PyObject *frame_o, *aperture_o = Py_None, *bearings_o = Py_None;
+    double min_range, max_range;
+    int range_asc = 0, az_asc = 0, n;
+    pyactag_frame_view view;
+    actag_sonar_geometry geo;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    float *bearings = NULL;
+    size_t need;
+    PyObject *list = NULL, *result = NULL;
+
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|OOpp:update", kwlist, &frame_o, &min_range,
+                                     &max_range, &aperture_o, &bearings_o, &range_asc, &az_asc))
+        return NULL;
+    if (pyactag_geometry_head(min_range, max_range, aperture_o, bearings_o, range_asc, az_asc,
+                              &geo) != 0)
+        return NULL;
+    if (self->busy) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        "Tracker.update: another thread is updating this tracker (a tracker "
+                        "follows one stream: give each stream its own)");
+        return NULL;
+    }
+    memset(&view, 0, sizeof view);
+    if (pyactag_frame_get(frame_o, &view) != 0)
+        return NULL;
+    if (bearings_o != Py_None) {
+        bearings = pyactag_read_bearings(bearings_o, view.frame.cols);
+        if (bearings == NULL)
+            goto done;
+        geo.bearings = bearings;
+    }
+    need = actag_workspace_size(view.frame.rows, view.frame.cols);
+    if (need > self->ws_size) {
+        void *w = malloc(need);
+        if (w == NULL) {
+            PyErr_NoMemory();
+            goto done;
+        }
+        free(self->ws);
+        self->ws = w;
+        self->ws_size = need;
+    }
+    memset(&st, 0, sizeof st);
+    self->busy = 1;
+    Py_BEGIN_ALLOW_THREADS
+    n = actag_tracker_update(self->tracker, &view.frame, &geo, &self->params,
+                             self->have_roi ? &self->roi_params : NULL, self->ws,
+                             self->ws_size, out, ACTAG_TRACK_MAX, &st);
+    Py_END_ALLOW_THREADS
+    self->busy = 0;
+    if (n < 0) { /* the frame's and the geometry's errors come from actag_check */
+        pyactag_raise_call(n, "Tracker.update", &view.frame, &geo, &self->params, self->ws_size,
+                           ACTAG_TRACK_MAX);
+        goto done;
+    }
+    list = pyactag_list_of(out, sizeof out[0], n, track_tuple);
+    if (list == NULL)
+        goto done;
+    {
+        PyObject *sd = track_stats_dict(&st);
+        if (sd == NULL)
+            goto done;
+        result = Py_BuildValue("(NN)", list, sd);
+        list = NULL;
+    }
+done:
+    Py_XDECREF(list);
+    free(bearings);
+    pyactag_frame_release(&view);
+    return result;
+}
+
+static PyObject *get_frame(PyObject *o, void *c)
+{
+    (void)c;
+    return PyLong_FromLong(((trackobj *)o)->tracker->frame);
+}
+
+static PyObject *get_track_params(PyObject *o, void *c)
+{
+    const actag_track_params *p = &((trackobj *)o)->tracker->params;
+    (void)c;
+    return Py_BuildValue("{sisisdsisdsdsdsisi}", "full_every", p->full_every, "confirm_frames",
+                         p->confirm_frames, "confirm_margin", (double)p->confirm_margin,
+                         "max_missed", p->max_missed, "roi_scale", (double)p->roi_scale, "gate",
+                         (double)p->gate, "smoothing", (double)p->smoothing, "refind_after",
+                         p->refind_after, "verify", p->verify);
+}
+
+static PyObject *get_params(PyObject *o, void *c)
+{
+    (void)c;
+    return pyactag_params_to_dict(&((trackobj *)o)->params);
+}
+
+static PyObject *get_roi_params(PyObject *o, void *c)
+{
+    (void)c;
+    return pyactag_params_to_dict(&((trackobj *)o)->roi_params);
+}
+
+static PyObject *get_family(PyObject *o, void *c)
+{
+    trackobj *self = (trackobj *)o;
+    (void)c;
+    Py_INCREF(self->family);
+    return self->family;
+}
+
+static PyGetSetDef tracker_getset[] = {
+    {"frame", get_frame, NULL, "frames fed so far (failed ones included)", NULL},
+    {"track_params", get_track_params, NULL, "the actag_track_params as a dict (a copy)", NULL},
+    {"params", get_params, NULL, "the whole-frame parameters as a dict (a copy)", NULL},
+    {"roi_params", get_roi_params, NULL, "the ROI searches' parameters as a dict (a copy)", NULL},
+    {"family", get_family, NULL, "the Family", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyMethodDef tracker_methods[] = {
+    {"update", (PyCFunction)(void (*)(void))tracker_update, METH_VARARGS | METH_KEYWORDS,
+     "update(frame, min_range, max_range, aperture=None, bearings=None, range_ascending=False,\n"
+     "       azimuth_ascending=False)\n"
+     "-> (list of (track_id, id, mirrored, confirmed, measured, hits, missed, age,\n"
+     "             ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), last detection),\n"
+     "    stats dict)"},
+    {NULL, NULL, 0, NULL}};
+
+static PyType_Slot tracker_slots[] = {
+    {Py_tp_new, (void *)tracker_new},
+    {Py_tp_dealloc, (void *)tracker_dealloc},
+    {Py_tp_getset, tracker_getset},
+    {Py_tp_methods, tracker_methods},
+    {Py_tp_doc, (void *)"Tracker(family, params=None, roi_params=None, track_params=None): "
+                        "an actag_tracker and its workspace."},
+    {0, NULL}};
+
+static PyType_Spec tracker_spec = {"pyactag._core.Tracker", sizeof(trackobj), 0,
+                                   Py_TPFLAGS_DEFAULT, tracker_slots};
+
+PyObject *pyactag_tracker_type_create(PyObject *module)
+{
+    (void)module;
+    return PyType_FromSpec(&tracker_spec);
+}

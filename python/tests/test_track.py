@@ -1,0 +1,163 @@
+"""Tracker: the pool recording as one stream gives the tracks of
+actag_detect --track --json (and their poses, --pose), the settings reach
+the tracker, the same stream gives the same tracks, a track never changes
+ID, one stream per tracker, and every bad argument is named."""
+import pickle
+import threading
+
+import pytest
+
+import pyactag
+from conftest import FAMILY, GEOMETRY, TAG_SIZE, run_c_tool
+from test_pose import assert_pose_as_c
+
+
+def test_pool_stream_same_as_c_tool(pool_frames, c_tool):
+    lines = run_c_tool(c_tool, [p for p, _ in pool_frames], ["--track", "--pose"])
+    tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    reported = 0
+    for (path, frame), line in zip(pool_frames, lines):
+        tracks = tr.update(frame)
+        assert line["frame"] == tr.frames - 1
+        assert tr.stats["full_frame"] == line["whole_frame"], path.name
+        assert tr.stats["pixels"] == line["pixels"], path.name
+        assert len(tracks) == len(line["tracks"]), path.name
+        for t, c in zip(tracks, line["tracks"]):
+            d = t.to_dict()
+            for k in ("track", "id", "mirrored", "measured", "hits", "missed"):
+                assert d[k] == c[k], (path.name, k)
+            assert abs(d["decision_margin"] - c["decision_margin"]) <= 0.0051, path.name
+            for a, b in zip(d["corners"], c["corners"]):
+                assert abs(a["x_col"] - b["x_col"]) <= 0.00051, path.name
+                assert abs(a["y_row"] - b["y_row"]) <= 0.00051, path.name
+                assert abs(a["range_m"] - b["range_m"]) <= 6e-6, path.name
+                assert abs(a["azimuth_rad"] - b["azimuth_rad"]) <= 6e-6, path.name
+            assert_pose_as_c(tr.pose(t), c["pose"], path.name)
+            assert t.confirmed and t.id == 0
+            reported += 1
+    assert reported > 0
+
+
+def test_same_stream_same_tracks_and_one_id_per_track(pool_frames):
+    frames = [f for _, f in pool_frames]
+    a = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    b = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    ids = {}
+    for f in frames:
+        ta, tb = a.update(f), b.update(f)
+        assert ta == tb
+        for t in ta:
+            assert ids.setdefault(t.track_id, (t.id, t.mirrored)) == (t.id, t.mirrored)
+    assert a.frames == len(frames)
+
+
+def test_settings_reach_the_tracker(pool_frames):
+    frames = [f for _, f in pool_frames[:6]]
+    tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params={"full_every": 1, "gate": 2.0},
+                         roi_params={"min_margin": -2.0}, **GEOMETRY)
+    assert tr.track_params["full_every"] == 1 and tr.track_params["gate"] == 2.0
+    assert tr.track_params["confirm_frames"] == 3  # the C default
+    assert tr.roi_params["min_margin"] == -2.0 and tr.params["min_margin"] == 2.0
+    for f in frames:
+        tr.update(f)
+        assert tr.stats["full_frame"]  # every frame searched whole
+    # no confirmation by margin alone (the first frame's reading, margin
+    # 17.6, confirms at once by default): confirm_frames consistent frames
+    # first, so fewer tracks reported over the same frames
+    tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params={"confirm_margin": 1e30},
+                         **GEOMETRY)
+    later = [tr.update(f) for f in frames]
+    plain = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    first = [plain.update(f) for f in frames]
+    assert len(first[0]) == 1 and len(later[0]) == 0
+    assert sum(map(len, first)) > sum(map(len, later))
+
+
+def test_track_pickles_and_geometry_override(example_frame):
+    tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params={"confirm_margin": 0.0},
+                         min_range=0.1, max_range=1.5)
+    with pytest.raises(ValueError, match="aperture"):
+        tr.update(example_frame)  # no field of view yet: an error, nothing fed
+    assert tr.frames == 0
+    tracks = tr.update(example_frame, aperture_deg=60)
+    assert len(tracks) == 1
+    t = tracks[0]
+    assert pickle.loads(pickle.dumps(t)) == t
+    assert t.decision_margin == t.last.decision_margin and len(t.corners) == 4
+    with pytest.raises(TypeError):
+        pickle.dumps(tr)  # a stream's state does not travel
+    with pytest.raises(TypeError, match="Track"):
+        tr.pose(t.last)
+
+
+@pytest.mark.parametrize("tp,exc,words", [
+    ({"full_every": 0}, ValueError, "full_every"),
+    ({"confirm_frames": 0}, ValueError, "confirm_frames"),
+    ({"confirm_margin": float("nan")}, ValueError, "confirm_margin"),
+    ({"max_missed": -1}, ValueError, "max_missed"),
+    ({"roi_scale": 0.0}, ValueError, "roi_scale"),
+    ({"roi_scale": 11.0}, ValueError, "roi_scale"),
+    ({"gate": -1.0}, ValueError, "gate"),
+    ({"smoothing": 1.5}, ValueError, "smoothing"),
+    ({"smoothing": float("nan")}, ValueError, "smoothing"),
+    ({"refind_after": -1}, ValueError, "refind_after"),
+    ({"verify": 2}, ValueError, "verify"),
+    ({"verify": True}, TypeError, "verify"),
+    ({"full_every": 2.0}, TypeError, "full_every"),
+    ({"gate": "1"}, TypeError, "gate"),
+    ({"gate": 1e300}, OverflowError, "gate"),
+    ({"nope": 1}, TypeError, "nope"),
+])
+def test_bad_track_params_named(tp, exc, words):
+    with pytest.raises(exc) as e:
+        pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params=tp, **GEOMETRY)
+    assert words in str(e.value), str(e.value)
+
+
+def test_bad_parameters_named():
+    with pytest.raises(TypeError, match="track_params"):
+        pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params=[("gate", 1.0)], **GEOMETRY)
+    with pytest.raises(TypeError, match="roi_params"):
+        pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, roi_params="min_margin=0", **GEOMETRY)
+    with pytest.raises(pyactag.ActagError) as e:
+        pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, roi_params={"quad_inlier_ratio": 2.0},
+                        **GEOMETRY)
+    assert "roi_params" in str(e.value) and e.value.field == "quad_inlier_ratio"
+    with pytest.raises(pyactag.ActagError) as e:
+        pyactag.Tracker(FAMILY, tag_size=-1.0, **GEOMETRY)
+    assert e.value.field == "tag_size"
+    with pytest.raises(TypeError, match="unknown parameter"):
+        pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, roi_params={"nope": 1}, **GEOMETRY)
+
+
+def test_one_stream_per_tracker():
+    # A second update() while one runs (another thread, same Tracker) is a
+    # RuntimeError; a big frame keeps the first one busy long enough.
+    np = pytest.importorskip("numpy")
+    big = (np.random.default_rng(5).random((2048, 2048)) * 255).astype(np.uint8)
+    small = np.zeros((64, 64), np.uint8)
+    for attempt in range(3):
+        tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+        done = threading.Event()
+        refused = []
+
+        def feed():
+            try:
+                tr.update(big)
+            except RuntimeError as e:  # the small one ran first: refused the other way
+                refused.append(str(e))
+            finally:
+                done.set()
+
+        th = threading.Thread(target=feed)
+        th.start()
+        while not done.is_set():
+            try:
+                tr.update(small)
+            except RuntimeError as e:
+                refused.append(str(e))
+        th.join()
+        if refused:
+            assert "another thread" in refused[0]
+            return
+    pytest.fail("no update was refused while another ran")
