@@ -14,6 +14,15 @@ corners as [{"x_col", "y_row",
 column (beam), y_row the row (range bin) of the frame as stored in the message),
 or an "error" key when a message cannot be used.
 
+--pose adds each detection's 6-DOF pose in the sonar frame ("pose": pyactag's
+``Pose.to_dict()``, the keys of ``actag_detect --pose``; --vertical-aperture-deg,
+and --plane NX,NY,NZ,D with --plane-sd / --plane-tilt-deg when the vehicle knows
+the plane the tags lie on). --track follows the tags of each topic across its
+messages (one pyactag.Tracker per topic, messages in log-time order) and writes
+the confirmed tracks instead of the detections: "tracks" (``Track.to_dict()``:
+track, id, mirrored, measured, hits, missed, decision_margin, corners, ..., and
+"pose" with --pose), "whole_frame" and "pixels".
+
 Topics (all supported ones unless --topic is given):
   marine_acoustic_msgs/msg/ProjectedSonarImage
       geometry from the message: rows are its ``ranges`` (metres; increasing
@@ -221,6 +230,20 @@ def build_parser():
     g.add_argument("--azimuth-ascending", action="store_true",
                    help="column 0 is the most negative bearing (default: +aperture/2; "
                    "not with --bearings)")
+    g = p.add_argument_group("pose and tracking")
+    g.add_argument("--pose", action="store_true",
+                   help="each detection's (or track's) 6-DOF pose in the sonar frame")
+    g.add_argument("--vertical-aperture-deg", type=float, default=None,
+                   help="the sonar's vertical aperture for --pose, degrees (default 12)")
+    g.add_argument("--plane", metavar="NX,NY,NZ,D", default=None,
+                   help="for --pose: the plane n . p = d (sonar frame, metres) the tags lie on")
+    g.add_argument("--plane-sd", type=float, default=0.0,
+                   help="for --plane: sd of its offset, metres")
+    g.add_argument("--plane-tilt-deg", type=float, default=0.0,
+                   help="for --plane: sd of its tilt, degrees")
+    g.add_argument("--track", action="store_true",
+                   help="follow the tags of each topic across its messages (pyactag.Tracker) "
+                   "and write the confirmed tracks")
     p.add_argument("--out", help="write the JSON lines here (default: stdout)")
     p.add_argument("--version", action="version",
                    version="%(prog)s (pyactag {})".format(pyactag.__version__))
@@ -250,6 +273,34 @@ def image_geometry(args):
     return g
 
 
+def pose_options(args):
+    """sonar_pose's keywords from the options (checked: a bad value is a
+    SystemExit naming it), or None without --pose."""
+    given = [o for o, v in (("--vertical-aperture-deg", args.vertical_aperture_deg),
+                            ("--plane", args.plane), ("--plane-sd", args.plane_sd or None),
+                            ("--plane-tilt-deg", args.plane_tilt_deg or None)) if v is not None]
+    if not args.pose:
+        if given:
+            raise SystemExit("{}: {} needs --pose".format(PROG, given[0]))
+        return None
+    kw = dict(vertical_aperture_deg=12.0 if args.vertical_aperture_deg is None
+              else args.vertical_aperture_deg, plane_sd=args.plane_sd,
+              plane_tilt_deg=args.plane_tilt_deg)
+    if args.plane is not None:
+        try:
+            kw["plane"] = [float(t) for t in args.plane.split(",")]
+        except ValueError:
+            raise SystemExit("{}: --plane expects NX,NY,NZ,D (numbers), not '{}'".format(
+                PROG, args.plane)) from None
+    # every value checked now, on made-up corners, rather than at the first tag
+    try:
+        pyactag.sonar_pose([(1.0, 0.05), (1.05, -0.05), (1.0, -0.1), (0.95, 0.0)], False,
+                           tag_size=0.1, **kw)
+    except (TypeError, ValueError) as e:
+        raise SystemExit("{}: {}".format(PROG, e)) from None
+    return kw
+
+
 def main(argv=None):
     args = build_parser().parse_args(argv)
     params = {}
@@ -264,6 +315,7 @@ def main(argv=None):
     try:
         img_geo = image_geometry(args)
         detector = pyactag.Detector(args.family, **params)
+        args.pose_kw = pose_options(args)
     except SystemExit as e:
         sys.stderr.write(str(e) + "\n")
         return 2
@@ -286,9 +338,20 @@ def main(argv=None):
             out.close()
 
 
+def with_pose(record, source, item, args):
+    """record with "pose" (None when the library refuses the corners) under
+    --pose; source: the Detector or Tracker that found item."""
+    if args.pose_kw is not None:
+        try:
+            record["pose"] = source.pose(item, **args.pose_kw).to_dict()
+        except pyactag.ActagError:
+            record["pose"] = None
+    return record
+
+
 def process_bag(args, detector, img_geo, out):
     """One JSON line per message of the chosen topics; the exit status."""
-    status, warned = 0, set()
+    status, warned, trackers = 0, set(), {}
     with AnyReader([Path(args.bag)], default_typestore=typestore()) as reader:
         conns = [c for c in reader.connections if c.msgtype in (IMAGE, PROJECTED)]
         if args.topic:
@@ -326,8 +389,19 @@ def process_bag(args, detector, img_geo, out):
                 else:
                     frame, geo = image_frame(msg), img_geo
                 line["rows"], line["cols"] = int(frame.shape[0]), int(frame.shape[1])
-                dets = detector.detect(frame, **geo)
-                line["detections"] = [d.to_dict() for d in dets]
+                if args.track:
+                    tr = trackers.get(conn.topic)
+                    if tr is None:  # one stream per topic, the detector's settings
+                        tr = trackers[conn.topic] = pyactag.Tracker(detector.family,
+                                                                    **detector.params)
+                    tracks = tr.update(frame, **geo)
+                    line["tracks"] = [with_pose(t.to_dict(), tr, t, args) for t in tracks]
+                    line["whole_frame"] = tr.stats["full_frame"]
+                    line["pixels"] = tr.stats["pixels"]
+                else:
+                    dets = detector.detect(frame, **geo)
+                    line["detections"] = [with_pose(d.to_dict(), detector, d, args)
+                                          for d in dets]
             except (MessageError, pyactag.ActagError, ValueError, TypeError) as e:
                 line["error"] = str(e)
                 sys.stderr.write("{}: {} at {}: {}\n".format(PROG, conn.topic, log_time, e))

@@ -265,3 +265,56 @@ def test_azimuth_ascending_refused_with_bearings(tmp_path, frames):
     rc, lines, err = run_tool(bag, "--topic", "/sonar/image", "--min-range", 0.1,
                               "--max-range", 1.5, "--bearings", table)
     assert rc == 0 and len(lines) == 1 and "error" not in lines[0], err
+
+
+def test_pose_and_track(tmp_path, frames):
+    # --pose: each detection's pose is Detector.pose's; --track: each topic is
+    # one stream through its own Tracker, tracks and poses as direct calls.
+    bag = tmp_path / "bag"
+    write_bag(bag, StoragePlugin.SQLITE3, frames)
+    geo = ("--min-range", 0.1, "--max-range", 1.5, "--aperture-deg", 60)
+    rc, lines, err = run_tool(bag, "--topic", "/sonar/image", "--pose",
+                              "--vertical-aperture-deg", 20, *geo)
+    assert rc == 0, err
+    det = pyactag.Detector("AcTag24h10", **GEOMETRY)
+    posed = 0
+    for line, f in zip(lines, frames):
+        want = [dict(d.to_dict(), pose=det.pose(d, vertical_aperture_deg=20).to_dict())
+                for d in det.detect(f)]
+        assert line["detections"] == json.loads(json.dumps(want))
+        posed += len(want)
+    assert posed >= 1
+    rc, lines, err = run_tool(bag, "--topic", "/sonar/image", "--topic", "/sonar/projected",
+                              "--track", "--pose", "--plane", "0,0,1,-0.5", "--plane-sd", 0.05,
+                              *geo)
+    assert rc == 0, err
+    image = [x for x in lines if x["topic"] == "/sonar/image"]
+    assert len(image) == len(frames) and all("detections" not in x for x in lines)
+    tr = pyactag.Tracker("AcTag24h10", **GEOMETRY)
+    tracked = 0
+    for line, f in zip(image, frames):
+        tracks = tr.update(f)
+        want = [dict(t.to_dict(), pose=tr.pose(t, plane=(0, 0, 1, -0.5), plane_sd=0.05).to_dict())
+                for t in tracks]
+        assert line["tracks"] == json.loads(json.dumps(want))
+        assert line["whole_frame"] == tr.stats["full_frame"]
+        assert line["pixels"] == tr.stats["pixels"]
+        tracked += len(want)
+    assert tracked >= 1
+    # the projected topic is a stream of its own: its first message searched whole
+    assert [x for x in lines if x["topic"] == "/sonar/projected"][0]["whole_frame"]
+
+
+@pytest.mark.parametrize("args,words", [
+    (("--plane-sd", 0.1), "needs --pose"),
+    (("--vertical-aperture-deg", 12), "needs --pose"),
+    (("--pose", "--plane", "0,0,x,1", "--plane-sd", 0.1), "--plane expects"),
+    (("--pose", "--vertical-aperture-deg", 200), "vertical_aperture_deg"),
+    (("--pose", "--plane", "0,0,1,-1"), "plane_sd"),
+    (("--pose", "--plane-sd", 0.1), "need plane"),
+])
+def test_pose_option_errors(tmp_path, frames, args, words):
+    bag = tmp_path / "bag"
+    write_bag(bag, StoragePlugin.SQLITE3, frames[:1])
+    rc, lines, err = run_tool(bag, "--topic", "/sonar/projected", *args)
+    assert rc == 2 and lines == [] and words in err, err
