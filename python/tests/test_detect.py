@@ -1,6 +1,7 @@
 """detect()/Detector on real frames: the same detections as the C tool,
 parameters and their C defaults, results, stage images."""
 import json
+import math
 import os
 import re
 import subprocess
@@ -72,16 +73,24 @@ def test_pool_frames_other_settings_same_as_c_tool(pool_frames, c_tool):
                            **GEOMETRY)
     for (path, frame), line in zip(pool_frames[:12], lines):
         assert_same_as_c(det.detect(frame), line, path.name)
-    # The least decision margin (actag_detect --min-margin).
-    lines = run_c_tool(c_tool, paths, ["--min-margin", "12"])
-    det = pyactag.Detector(FAMILY, tag_size=TAG_SIZE, min_margin=12.0, **GEOMETRY)
-    fewer = 0
-    for (path, frame), line in zip(pool_frames[:12], lines):
+    # The least decision margin (actag_detect --min-margin): 12, or just
+    # above the least default margin when all are above 12 (the repository's
+    # six pool frames), so that it removes a reading either way.
+    base = [pyactag.detect(frame, **GEOMETRY) for _, frame in pool_frames[:12]]
+    margins = sorted(d.decision_margin for dets in base for d in dets)
+    assert margins, "no detection in the first pool frames"
+    least = 12.0 if margins[0] < 12.0 else math.floor(margins[0] * 100.0 + 1.0) / 100.0
+    lines = run_c_tool(c_tool, paths, ["--min-margin", "{:.2f}".format(least)])
+    det = pyactag.Detector(FAMILY, tag_size=TAG_SIZE, min_margin=least, **GEOMETRY)
+    changed = 0
+    for (path, frame), line, plain in zip(pool_frames[:12], lines, base):
         dets = det.detect(frame)
         assert_same_as_c(dets, line, path.name)
-        assert all(d.decision_margin >= 12.0 for d in dets)
-        fewer += len(pyactag.detect(frame, **GEOMETRY)) - len(dets)
-    assert fewer > 0  # the margin changed something
+        assert all(d.decision_margin >= least for d in dets)
+        # a reading below the margin is gone (another may take its place:
+        # f_0561's 11.2 gives way to one of 14.3)
+        changed += detections_key(dets) != detections_key(plain)
+    assert changed > 0  # the margin changed something
 
 
 def test_sixteen_bit_same_as_c_tool(example_frame, c_tool, tmp_path):
