@@ -16,6 +16,9 @@ static int four_floats(PyObject *seq, const char *name, float out[4])
     Py_ssize_t n = PySequence_Check(seq) ? PySequence_Size(seq) : -1;
     int i;
     if (n < 0) {
+        /* an error of the object's own __len__ is its own; no sequence: TypeError */
+        if (PyErr_Occurred() && !PyErr_ExceptionMatches(PyExc_TypeError))
+            return -1;
         PyErr_Clear();
         PyErr_Format(PyExc_TypeError, "%s must be a sequence of 4 numbers, got %R", name, seq);
         return -1;

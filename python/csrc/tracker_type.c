@@ -23,27 +23,104 @@ typedef struct trackobj {
     actag_tracker *tracker; /* malloc: about 6 KB */
     void *ws;               /* kept workspace (malloc), or NULL */
     size_t ws_size;
-    int busy;
+    int busy;               /* an update() is running (read and written with the GIL) */
+    long frames;            /* tracker->frame after the last update (with the GIL) */
 } trackobj;
 
-/* ValueError "track parameter <field> must be <rule>, got <value>"; -1. */
-static int tp_bad(const char *field, const char *rule, double value)
+/* The fields of actag_track_params with actag_tracker_init()'s rules
+ * (track.h): integers in lo..hi, reals in (lo, hi] (lo_open) or [lo, hi]. */
+typedef struct tp_field {
+    const char *name;
+    int is_int, lo_open;
+    double lo, hi;
+    const char *rule;
+} tp_field;
+
+static const tp_field tp_fields[] = {
+    {"full_every", 1, 0, 1.0, 1e9, "at least 1"},
+    {"confirm_frames", 1, 0, 1.0, 1e9, "at least 1"},
+    {"confirm_margin", 0, 0, -3.4028234663852886e38, 3.4028234663852886e38,
+     "finite (FLT_MAX: no confirmation by margin alone)"},
+    {"max_missed", 1, 0, 0.0, 1e9, "at least 0"},
+    {"roi_scale", 0, 1, 0.0, 10.0, "in (0, 10]"},
+    {"gate", 0, 1, 0.0, 10.0, "in (0, 10]"},
+    {"smoothing", 0, 1, 0.0, 1.0, "in (0, 1]"},
+    {"refind_after", 1, 0, 0.0, 1e9, "at least 0"},
+    {"verify", 1, 0, 0.0, 1.0, "0 or 1"}};
+#define TP_NFIELDS ((int)(sizeof tp_fields / sizeof tp_fields[0]))
+
+static int tp_in_range(const tp_field *f, double v)
 {
-    PyObject *v = PyFloat_FromDouble(value);
-    if (v != NULL) {
-        PyErr_Format(PyExc_ValueError, "track parameter %s must be %s, got %S", field, rule, v);
-        Py_DECREF(v);
+    return (f->lo_open ? v > f->lo : v >= f->lo) && v <= f->hi; /* NaN fails */
+}
+
+/* Field f of *p from value (with the GIL); the bad value named. */
+static int tp_set(const tp_field *f, PyObject *value, actag_track_params *p)
+{
+    double v;
+    float fv;
+    int is_bool = pyactag_is_bool(value); /* first: it clears any pending error */
+    if (f->is_int) {
+        PyObject *ix = is_bool || PyFloat_Check(value) ? NULL : PyNumber_Index(value);
+        long l;
+        int overflow = 0;
+        if (ix == NULL) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "track parameter %s must be an integer, got %R",
+                         f->name, value);
+            return -1;
+        }
+        l = PyLong_AsLongAndOverflow(ix, &overflow);
+        Py_DECREF(ix);
+        if (overflow || !tp_in_range(f, (double)l)) {
+            PyErr_Format(PyExc_ValueError, "track parameter %s must be %s, got %R", f->name,
+                         f->rule, value);
+            return -1;
+        }
+        if (f == &tp_fields[0])
+            p->full_every = (int)l;
+        else if (f == &tp_fields[1])
+            p->confirm_frames = (int)l;
+        else if (f == &tp_fields[3])
+            p->max_missed = (int)l;
+        else if (f == &tp_fields[7])
+            p->refind_after = (int)l;
+        else
+            p->verify = (int)l;
+        return 0;
     }
-    return -1;
+    v = is_bool ? -1.0 : PyFloat_AsDouble(value);
+    if (is_bool || (v == -1.0 && PyErr_Occurred())) {
+        int too_big = !is_bool && PyErr_ExceptionMatches(PyExc_OverflowError);
+        PyErr_Clear();
+        PyErr_Format(too_big ? PyExc_OverflowError : PyExc_TypeError,
+                     too_big ? "track parameter %s is too large for a floating-point number, got %R"
+                             : "track parameter %s must be a real number, got %R",
+                     f->name, value);
+        return -1;
+    }
+    /* the rule on the value given, then on the float the library gets */
+    fv = tp_in_range(f, v) ? (float)v : 0.0f;
+    if (!tp_in_range(f, v) || !tp_in_range(f, (double)fv)) {
+        PyErr_Format(PyExc_ValueError, "track parameter %s must be %s%s, got %R", f->name,
+                     f->rule, tp_in_range(f, v) ? " as a C float" : "", value);
+        return -1;
+    }
+    if (f == &tp_fields[2])
+        p->confirm_margin = fv;
+    else if (f == &tp_fields[4])
+        p->roi_scale = fv;
+    else if (f == &tp_fields[5])
+        p->gate = fv;
+    else
+        p->smoothing = fv;
+    return 0;
 }
 
 /* actag_track_params from a dict (None: the defaults), each field checked by
  * the rule actag_tracker_init() applies (track.h), the bad one named. */
 static int track_params_from_dict(PyObject *d, actag_track_params *p)
 {
-    static const char *const ints[] = {"full_every", "confirm_frames", "max_missed",
-                                       "refind_after", "verify"};
-    static const char *const reals[] = {"confirm_margin", "roi_scale", "gate", "smoothing"};
     PyObject *key, *value;
     Py_ssize_t pos = 0;
     actag_track_params_default(p);
@@ -55,7 +132,7 @@ static int track_params_from_dict(PyObject *d, actag_track_params *p)
     }
     while (PyDict_Next(d, &pos, &key, &value)) {
         char *name;
-        int i, done = 0;
+        int i;
         if (!PyUnicode_Check(key)) {
             PyErr_SetString(PyExc_TypeError, "track parameter names must be strings");
             return -1;
@@ -63,64 +140,9 @@ static int track_params_from_dict(PyObject *d, actag_track_params *p)
         name = pyactag_strdup(key);
         if (name == NULL)
             return -1;
-        for (i = 0; i < 5 && !done; i++) {
-            long v;
-            int overflow = 0;
-            if (strcmp(name, ints[i]) != 0)
-                continue;
-            done = 1;
-            if (pyactag_is_bool(value) || !PyLong_Check(value)) {
-                PyErr_Format(PyExc_TypeError, "%s must be an integer, got %R", name, value);
-                free(name);
-                return -1;
-            }
-            v = PyLong_AsLongAndOverflow(value, &overflow);
-            if (overflow || v < -1000000000L || v > 1000000000L) {
-                PyErr_Format(PyExc_ValueError, "%s is out of range, got %R", name, value);
-                free(name);
-                return -1;
-            }
-            if (i == 0)
-                p->full_every = (int)v;
-            else if (i == 1)
-                p->confirm_frames = (int)v;
-            else if (i == 2)
-                p->max_missed = (int)v;
-            else if (i == 3)
-                p->refind_after = (int)v;
-            else
-                p->verify = (int)v;
-        }
-        for (i = 0; i < 4 && !done; i++) {
-            double v;
-            int is_bool;
-            if (strcmp(name, reals[i]) != 0)
-                continue;
-            done = 1;
-            is_bool = pyactag_is_bool(value); /* first: it clears any pending error */
-            v = is_bool ? -1.0 : PyFloat_AsDouble(value);
-            if (is_bool || (v == -1.0 && PyErr_Occurred())) {
-                PyErr_Clear();
-                PyErr_Format(PyExc_TypeError, "%s must be a real number, got %R", name, value);
-                free(name);
-                return -1;
-            }
-            if (pyactag_float_overflows(v)) {
-                PyErr_Format(PyExc_OverflowError, "%s is outside the range of a C float, got %R",
-                             name, value);
-                free(name);
-                return -1;
-            }
-            if (i == 0)
-                p->confirm_margin = (float)v;
-            else if (i == 1)
-                p->roi_scale = (float)v;
-            else if (i == 2)
-                p->gate = (float)v;
-            else
-                p->smoothing = (float)v;
-        }
-        if (!done) {
+        for (i = 0; i < TP_NFIELDS && strcmp(name, tp_fields[i].name) != 0; i++)
+            ;
+        if (i == TP_NFIELDS) {
             PyErr_Format(PyExc_TypeError,
                          "unknown track parameter '%s' (full_every, confirm_frames, "
                          "confirm_margin, max_missed, roi_scale, gate, smoothing, refind_after, "
@@ -130,26 +152,9 @@ static int track_params_from_dict(PyObject *d, actag_track_params *p)
             return -1;
         }
         free(name);
+        if (tp_set(&tp_fields[i], value, p) != 0)
+            return -1;
     }
-    /* the rules of actag_tracker_init, each named */
-    if (p->full_every < 1)
-        return tp_bad("full_every", "at least 1", (double)p->full_every);
-    if (p->confirm_frames < 1)
-        return tp_bad("confirm_frames", "at least 1", (double)p->confirm_frames);
-    if (!(p->confirm_margin - p->confirm_margin == 0.0f))
-        return tp_bad("confirm_margin", "finite", (double)p->confirm_margin);
-    if (p->max_missed < 0)
-        return tp_bad("max_missed", "at least 0", (double)p->max_missed);
-    if (!(p->roi_scale > 0.0f && p->roi_scale <= 10.0f))
-        return tp_bad("roi_scale", "in (0, 10]", (double)p->roi_scale);
-    if (!(p->gate > 0.0f && p->gate <= 10.0f))
-        return tp_bad("gate", "in (0, 10]", (double)p->gate);
-    if (!(p->smoothing > 0.0f && p->smoothing <= 1.0f))
-        return tp_bad("smoothing", "in (0, 1]", (double)p->smoothing);
-    if (p->refind_after < 0)
-        return tp_bad("refind_after", "at least 0", (double)p->refind_after);
-    if (p->verify != 0 && p->verify != 1)
-        return tp_bad("verify", "0 or 1", (double)p->verify);
     return 0;
 }
 
@@ -195,6 +200,13 @@ static PyObject *tracker_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
             return NULL;
         }
         self->roi_params.family = fam;
+        if (self->roi_params.tag_size != self->params.tag_size) {
+            Py_DECREF(self);
+            PyErr_SetString(PyExc_ValueError,
+                            "roi_params cannot change tag_size: the tags searched around tracks "
+                            "are the tracked ones");
+            return NULL;
+        }
         rc = actag_params_validate(&self->roi_params, &d);
         if (rc != ACTAG_OK) {
             Py_DECREF(self);
@@ -293,15 +305,20 @@ static PyObject *tracker_update(PyObject *o, PyObject *args, PyObject *kwds)
     if (pyactag_geometry_head(min_range, max_range, aperture_o, bearings_o, range_asc, az_asc,
                               &geo) != 0)
         return NULL;
+    /* claimed before anything that may run Python code (the frame's
+     * __array_interface__, a bearings iterator) and so let another thread in */
     if (self->busy) {
         PyErr_SetString(PyExc_RuntimeError,
                         "Tracker.update: another thread is updating this tracker (a tracker "
                         "follows one stream: give each stream its own)");
         return NULL;
     }
+    self->busy = 1;
     memset(&view, 0, sizeof view);
-    if (pyactag_frame_get(frame_o, &view) != 0)
+    if (pyactag_frame_get(frame_o, &view) != 0) {
+        self->busy = 0;
         return NULL;
+    }
     if (bearings_o != Py_None) {
         bearings = pyactag_read_bearings(bearings_o, view.frame.cols);
         if (bearings == NULL)
@@ -320,16 +337,25 @@ static PyObject *tracker_update(PyObject *o, PyObject *args, PyObject *kwds)
         self->ws_size = need;
     }
     memset(&st, 0, sizeof st);
-    self->busy = 1;
     Py_BEGIN_ALLOW_THREADS
     n = actag_tracker_update(self->tracker, &view.frame, &geo, &self->params,
                              self->have_roi ? &self->roi_params : NULL, self->ws,
                              self->ws_size, out, ACTAG_TRACK_MAX, &st);
     Py_END_ALLOW_THREADS
-    self->busy = 0;
-    if (n < 0) { /* the frame's and the geometry's errors come from actag_check */
-        pyactag_raise_call(n, "Tracker.update", &view.frame, &geo, &self->params, self->ws_size,
-                           ACTAG_TRACK_MAX);
+    self->frames = self->tracker->frame; /* read with the GIL by the frame getter */
+    if (n < 0) {
+        /* the frame's and the geometry's errors come from actag_check, with
+         * the whole-frame parameters or else the ROI ones (track.h) */
+        actag_error_detail d;
+        if (self->have_roi &&
+            actag_check(&view.frame, &geo, &self->params, self->ws_size, ACTAG_TRACK_MAX, &d) !=
+                n &&
+            actag_check(&view.frame, &geo, &self->roi_params, self->ws_size, ACTAG_TRACK_MAX,
+                        &d) == n)
+            pyactag_raise_detail("Tracker.update, roi_params", &d);
+        else
+            pyactag_raise_call(n, "Tracker.update", &view.frame, &geo, &self->params,
+                               self->ws_size, ACTAG_TRACK_MAX);
         goto done;
     }
     list = pyactag_list_of(out, sizeof out[0], n, track_tuple);
@@ -343,6 +369,7 @@ static PyObject *tracker_update(PyObject *o, PyObject *args, PyObject *kwds)
         list = NULL;
     }
 done:
+    self->busy = 0;
     Py_XDECREF(list);
     free(bearings);
     pyactag_frame_release(&view);
@@ -352,7 +379,7 @@ done:
 static PyObject *get_frame(PyObject *o, void *c)
 {
     (void)c;
-    return PyLong_FromLong(((trackobj *)o)->tracker->frame);
+    return PyLong_FromLong(((trackobj *)o)->frames);
 }
 
 static PyObject *get_track_params(PyObject *o, void *c)

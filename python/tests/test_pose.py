@@ -17,6 +17,8 @@ def assert_pose_as_c(p, c, where):
     assert c is not None, where
     d = p.to_dict()
     assert set(c) <= set(d), where
+    for k, n in (("t", 3), ("R", 9), ("cov", 36), ("elevation_band", 2)):
+        assert len(d[k]) == len(c[k]) == n, (where, k)
     for k in ("t", "elevation_band"):
         assert all(abs(a - b) <= 6e-6 for a, b in zip(d[k], c[k])), (where, k)
     for k in ("range", "azimuth", "elevation", "residual_m"):
@@ -207,3 +209,42 @@ def test_core_refuses_what_the_library_refuses():
     with pytest.raises(ValueError, match="4 numbers"):
         pyactag._core.sonar_pose([1.0] * 3, [0.0] * 4, False, None, TAG_SIZE, 0.2, None, None,
                                  None, 20, None, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("kw,exc,words", [
+    # values a double holds but the library's float does not (review): named
+    (dict(range_sd=1e39), ValueError, "range_sd"),
+    (dict(azimuth_sd=3.2e38), ValueError, "azimuth_sd"),
+    (dict(vertical_aperture_deg=179.9999999), ValueError, "vertical_aperture_deg"),
+    (dict(vertical_aperture=math.pi - 1e-9), ValueError, "vertical_aperture"),
+    (dict(plane=(0, 0, 1, -1), plane_sd=1e39), ValueError, "plane_sd"),
+    (dict(plane=(0, 0, 1, -1), plane_tilt_deg=1e41), ValueError, "plane_tilt_deg"),
+    (dict(plane=(0, 0, 1, -1), plane_sd=1e-21), ValueError, "plane_sd"),
+    (dict(tag_size=10 ** 400), OverflowError, "tag_size"),
+])
+def test_float_limits_named(kw, exc, words):
+    args = dict(tag_size=TAG_SIZE)
+    args.update(kw)
+    with pytest.raises(exc) as e:
+        pyactag.sonar_pose(GOOD, False, **args)
+    assert words in str(e.value), str(e.value)
+
+
+def test_corner_float_limits_named():
+    with pytest.raises(ValueError, match=r"corners\[3\] azimuth"):
+        pyactag.sonar_pose(GOOD[:3] + [(1.0, 4 * math.pi - 1e-8)], False, tag_size=TAG_SIZE)
+    with pytest.raises(OverflowError, match=r"corners\[3\] range"):
+        pyactag.sonar_pose(GOOD[:3] + [(10 ** 400, 0.0)], False, tag_size=TAG_SIZE)
+
+
+@pytest.mark.parametrize("extra,kw", [
+    (["--plane-sd", "1e-18"], dict(plane_sd=1e-18)),
+    (["--plane-tilt-deg", "1e-16"], dict(plane_tilt_deg=1e-16)),
+])
+def test_tiny_plane_sds_as_the_tool(example_frame, c_tool, extra, kw):
+    # the tool's limits (1e-19 m, 1e-17 degrees), not stricter ones
+    line = run_c_tool(c_tool, [EXAMPLE], ["--pose", "--plane", "0,0,1,-1"] + extra)[0]
+    det = pyactag.Detector(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    d = det.detect(example_frame)[0]
+    assert_pose_as_c(det.pose(d, plane=(0, 0, 1, -1), **kw), line["detections"][0]["pose"],
+                     str(extra))

@@ -11,8 +11,8 @@ from conftest import REPO
 
 def readme_example(heading=None):
     """The first python example of python/README.md (after `heading`, if
-    given), run in the repository with pyactag imported: (printed lines,
-    the lines its "prints" block shows or None)."""
+    given), run in the repository in a namespace of its own: (printed
+    lines, the lines its "prints" block shows or None)."""
     text = (REPO / "python" / "README.md").read_text()
     if heading:
         text = text[text.index(heading):]
@@ -24,7 +24,7 @@ def readme_example(heading=None):
     try:
         os.chdir(str(REPO))
         with contextlib.redirect_stdout(out):
-            exec(compile("import pyactag\n" + code, "README.md", "exec"), {})
+            exec(compile(code, "README.md", "exec"), {})  # each example imports what it needs
     finally:
         os.chdir(cwd)
     return out.getvalue().splitlines(), shown

@@ -105,13 +105,26 @@ def test_track_pickles_and_geometry_override(example_frame):
     ({"verify": True}, TypeError, "verify"),
     ({"full_every": 2.0}, TypeError, "full_every"),
     ({"gate": "1"}, TypeError, "gate"),
-    ({"gate": 1e300}, OverflowError, "gate"),
+    ({"gate": 1e300}, ValueError, "gate"),
+    ({"gate": 10.00000001}, ValueError, "10.00000001"),
+    ({"smoothing": 1e-50}, ValueError, "as a C float"),
+    ({"confirm_margin": 10 ** 400}, OverflowError, "confirm_margin"),
+    ({"confirm_margin": 1e39}, ValueError, "confirm_margin"),
     ({"nope": 1}, TypeError, "nope"),
 ])
 def test_bad_track_params_named(tp, exc, words):
     with pytest.raises(exc) as e:
         pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params=tp, **GEOMETRY)
     assert words in str(e.value), str(e.value)
+
+
+def test_numpy_integers_and_float_max():
+    np = pytest.importorskip("numpy")
+    tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params={
+        "full_every": np.int64(5), "verify": np.int32(0), "confirm_margin": 3.4028234663852886e38},
+        **GEOMETRY)
+    p = tr.track_params
+    assert p["full_every"] == 5 and p["verify"] == 0 and p["confirm_margin"] > 3e38
 
 
 def test_bad_parameters_named():
@@ -128,6 +141,44 @@ def test_bad_parameters_named():
     assert e.value.field == "tag_size"
     with pytest.raises(TypeError, match="unknown parameter"):
         pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, roi_params={"nope": 1}, **GEOMETRY)
+    with pytest.raises(ValueError, match="tag_size"):  # the tracked tags are the tags
+        pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, roi_params={"tag_size": 0.2}, **GEOMETRY)
+
+
+def test_update_claimed_before_python_code_runs():
+    # A second update() that starts while the first is still reading its
+    # arguments (here a bearings iterator, which runs Python code and so lets
+    # another thread in) is refused: it crashed before (review).
+    tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, min_range=0.1, max_range=1.5)
+    inside, go = threading.Event(), threading.Event()
+    frame = bytearray(64 * 64)
+    view = memoryview(frame).cast("B", (64, 64))
+    first = []
+
+    def bearings():
+        inside.set()
+        go.wait(10)
+        for i in range(64):
+            yield 0.5 - i / 64.0
+
+    def feed():
+        try:
+            tr.update(view, bearings=bearings())
+            first.append("ok")
+        except Exception as e:  # not expected
+            first.append(repr(e))
+
+    th = threading.Thread(target=feed)
+    th.start()
+    assert inside.wait(10)
+    with pytest.raises(RuntimeError, match="another thread"):
+        tr.update(view, aperture_deg=60)
+    go.set()
+    th.join(10)
+    assert first == ["ok"]
+    assert tr.frames == 1  # the refused call fed nothing
+    tr.update(view, aperture_deg=60)  # free again
+    assert tr.frames == 2
 
 
 def test_one_stream_per_tracker():
@@ -161,3 +212,12 @@ def test_one_stream_per_tracker():
             assert "another thread" in refused[0]
             return
     pytest.fail("no update was refused while another ran")
+
+
+def test_huge_geometry_named(example_frame):
+    tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    with pytest.raises(OverflowError, match="max_range"):
+        tr.update(example_frame, max_range=10 ** 400)
+    with pytest.raises(OverflowError, match="max_range"):
+        pyactag.Detector(FAMILY, **GEOMETRY).detect(example_frame, max_range=10 ** 400)
+    assert tr.frames == 0

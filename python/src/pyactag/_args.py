@@ -20,10 +20,15 @@ def as_bool(name, value):
 
 def as_real(name, value):
     """float(value) for a real number (int, float, numpy numbers, not bool
-    or str), else TypeError."""
+    or str), else TypeError; an integer no float holds (10 ** 400) is an
+    OverflowError naming it."""
     if isinstance(value, bool) or _is_numpy_bool(value) or not isinstance(value, numbers.Real):
         raise TypeError("{} must be a real number, got {!r}".format(name, value))
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:
+        raise OverflowError("{} is too large for a floating-point number, got {!r}".format(
+            name, value)) from None
 
 
 def as_int(name, value, lo, hi):

@@ -15,6 +15,7 @@ how well each part is known. ``mirrored`` picks the side of the sonar's
 horizontal plane.
 """
 import math
+import struct
 
 from . import _core
 from ._args import as_bool, as_int, as_real
@@ -119,6 +120,35 @@ class Pose:
             self.t[0], self.t[1], self.t[2], self.elevation_rad, self.flags))
 
 
+_FLT_MAX = 3.4028234663852886e38
+
+
+def _f32(x):
+    """x as the C float the library gets (beyond the float range: +-inf)."""
+    try:
+        return struct.unpack("f", struct.pack("f", x))[0]
+    except OverflowError:
+        return math.copysign(math.inf, x)
+
+
+_PI32 = _f32(3.14159265)  # pose.c's P_PI
+_AZ_LIMIT = _f32(4.0 * _PI32)  # pose.c: 4.0f * P_PI
+
+
+def _p_finite(v):
+    """pose.c's "finite": |v| < 3e38 (as a float)."""
+    return v == v and -_f32(3.0e38) < v < _f32(3.0e38)
+
+
+def _sd_usable(v):
+    """pose.c's p_sd_ok on the float v: positive, finite, and 1 / v^2 a
+    finite float (from about 5.5e-20 up)."""
+    if not (_p_finite(v) and v > 0.0):
+        return False
+    sq = _f32(v * v)
+    return sq > 0.0 and _p_finite(_f32(1.0 / sq))
+
+
 def _finite(name, value):
     v = as_real(name, value)
     if not math.isfinite(v):
@@ -126,12 +156,19 @@ def _finite(name, value):
     return v
 
 
+def _length(name, value, what):
+    """A length the library takes (pose.h: 0.001 to 10000 m as a float)."""
+    v = _finite(name, value)
+    if not 1e-3 <= _f32(v) <= 1e4:
+        raise ValueError("{} must be 0.001 to 10000 m{}, got {!r}".format(name, what, value))
+    return v
+
+
 def _positive_sd(name, value):
     v = _finite(name, value)
-    # pose.h: above 0, and 1 / sd^2 must be a float (about 5e-20 and up)
-    if not v >= 1e-19:
-        raise ValueError("{} must be at least 1e-19 (a standard deviation), got {!r}".format(
-            name, value))
+    if not _sd_usable(_f32(v)):
+        raise ValueError("{} must be a standard deviation from about 5.5e-20 to 3e38 (pose.h), "
+                         "got {!r}".format(name, value))
     return v
 
 
@@ -158,21 +195,20 @@ def _corners_of(corners, mirrored):
     if len(pairs) != 4 or any(len(p) != 2 for p in pairs):
         raise ValueError("corners must be 4 (range_m, azimuth_rad) pairs in tag order (TL, TR, "
                          "BR, BL), got {!r}".format(corners))
-    ranges = [as_real("corners[{}] range".format(i), p[0]) for i, p in enumerate(pairs)]
+    ranges = [_length("corners[{}] range".format(i), p[0], "") for i, p in enumerate(pairs)]
     azimuths = [as_real("corners[{}] azimuth".format(i), p[1]) for i, p in enumerate(pairs)]
-    for i in range(4):
-        if not 1e-3 <= ranges[i] <= 1e4:
-            raise ValueError("corners[{}] range must be 0.001 to 10000 m, got {!r}".format(
-                i, ranges[i]))
-        if not abs(azimuths[i]) < 4.0 * math.pi:
+    for i, a in enumerate(azimuths):
+        if not -_AZ_LIMIT < _f32(a) < _AZ_LIMIT:
             raise ValueError("corners[{}] azimuth must lie within +-4 pi rad, got {!r}".format(
-                i, azimuths[i]))
+                i, pairs[i][1]))
     return ranges, azimuths, mirrored
 
 
 def _plane_of(plane, plane_sd, plane_tilt_deg):
-    """The plane as the library gets it (the C tool's normalisation: by the
-    largest component, then to unit length, in double), and its sds."""
+    """The plane as the library gets it (normalised as actag_detect --plane
+    does: by the largest component, then to unit length, in double; the
+    offset within pose.h's 10000 m) and its sds, checked as the library and
+    the tool check them."""
     sd = _finite("plane_sd", plane_sd)
     tilt = _finite("plane_tilt_deg", plane_tilt_deg)
     if sd < 0.0 or tilt < 0.0:
@@ -205,10 +241,13 @@ def _plane_of(plane, plane_sd, plane_tilt_deg):
         raise ValueError("plane: the plane must lie within 10000 m of the sonar, got an offset "
                          "of {:g} m".format(abs(u[3]) / ns))
     tilt_rad = tilt * math.pi / 180.0  # as actag_detect --plane-tilt-deg converts it
-    for name, v, given in (("plane_sd", sd, plane_sd), ("plane_tilt_deg", tilt_rad, plane_tilt_deg)):
-        if 0.0 < v < 1e-17:
-            raise ValueError("{} is too small for the pose (0, or at least about 1e-17), "
-                             "got {!r}".format(name, given))
+    # the tool's limits (pose.h: above 0 with 1 / sd^2 a float)
+    if sd > 0.0 and not _sd_usable(_f32(sd)):
+        raise ValueError("plane_sd must be 0, or from about 1e-19 to 3e38 m, got {!r}".format(
+            plane_sd))
+    if tilt > 0.0 and not _sd_usable(_f32(tilt_rad)):
+        raise ValueError("plane_tilt_deg must be 0, or from about 1e-17 to 1e40 degrees, got "
+                         "{!r}".format(plane_tilt_deg))
     return [v / ns for v in u], sd, tilt_rad
 
 
@@ -239,27 +278,26 @@ def sonar_pose(corners, mirrored=None, *, tag_size, vertical_aperture_deg=None,
       offset's sd) and/or ``plane_tilt_deg`` (its tilt's sd) above 0: it
       pins the elevation one ping leaves free.
 
-    Bad values raise TypeError or ValueError naming them. Returns a ``Pose``;
+    Bad values raise TypeError, ValueError or OverflowError naming them,
+    checked as the library checks the floats it gets. Returns a ``Pose``;
     degenerate geometry is no error but a flag (``Pose.flags``).
     """
     ranges, azimuths, mirrored = _corners_of(corners, mirrored)
-    ts = _finite("tag_size", tag_size)
-    if not 1e-3 <= ts <= 1e4:
-        raise ValueError("tag_size must be 0.001 to 10000 m, got {!r}".format(tag_size))
+    ts = _length("tag_size", tag_size, " (side of the inner white square)")
     if vertical_aperture_deg is not None and vertical_aperture is not None:
         raise ValueError("give vertical_aperture_deg or vertical_aperture (radians), not both")
     if vertical_aperture is not None:
-        va = _finite("vertical_aperture", vertical_aperture)
-        if not 0.0 < va < math.pi:
-            raise ValueError("vertical_aperture must be in (0, pi) rad, got {!r}".format(
-                vertical_aperture))
+        name, given = "vertical_aperture", vertical_aperture
+        va = _finite(name, given)
+        rule = "in (0, pi) rad"
     else:
-        vd = 12.0 if vertical_aperture_deg is None else _finite("vertical_aperture_deg",
-                                                               vertical_aperture_deg)
-        if not 0.0 < vd < 180.0:
-            raise ValueError("vertical_aperture_deg must be in (0, 180), got {!r}".format(
-                vertical_aperture_deg))
-        va = vd * math.pi / 180.0  # as actag_detect --vertical-aperture-deg converts it
+        name = "vertical_aperture_deg"
+        given = 12.0 if vertical_aperture_deg is None else vertical_aperture_deg
+        va = _finite(name, given) * math.pi / 180.0  # as actag_detect converts it
+        rule = "in (0, 180) degrees"
+    if not 0.0 < _f32(va) < _PI32:  # pose.h, on the float the library gets
+        raise ValueError("{} must be {} (as a float, below 3.14159265 rad), got {!r}".format(
+            name, rule, given))
     fam = None
     if family is not None:
         from .detection import _family
@@ -267,9 +305,9 @@ def sonar_pose(corners, mirrored=None, *, tag_size, vertical_aperture_deg=None,
     ext = None
     if extent is not None:
         ext = _finite("extent", extent)
-        if not ext >= 1.0:
+        if not _f32(ext) >= 1.0:
             raise ValueError("extent must be at least 1 (tag sizes), got {!r}".format(extent))
-        if ext * ts > 1e4:
+        if not _f32(_f32(ext) * _f32(ts)) <= 1e4:
             raise ValueError("extent x tag_size must be at most 10000 m, got {:g}".format(ext * ts))
     rsd = None if range_sd is None else _positive_sd("range_sd", range_sd)
     asd = None if azimuth_sd is None else _positive_sd("azimuth_sd", azimuth_sd)

@@ -125,9 +125,11 @@ class Tracker:
       for the others (``track_params`` property);
     - ``roi_params``: changes of ``params`` for the searches around tracks
       (e.g. ``{"min_margin": -2}``: only a track's own ID can update it
-      there); None: the whole-frame parameters.
+      there; not ``tag_size``: the tags are the tracked ones); None: the
+      whole-frame parameters.
 
-    Bad values raise TypeError, ValueError or ActagError naming them. A
+    Bad values raise TypeError, ValueError, OverflowError or ActagError
+    naming them (``stats`` is None after a failed ``update()``). A
     Tracker follows one stream: ``update()`` releases the GIL, and a second
     ``update()`` of the same Tracker from another thread meanwhile is a
     RuntimeError. Same frames, same parameters: same tracks, on every
@@ -186,6 +188,7 @@ class Tracker:
         the frame's counters (``actag_track_stats``: full_frame, rois,
         pixels, readings, conflicts, started, confirmed, dropped, verified,
         quads, decoded, searched)."""
+        self.stats = None  # until this frame's counters exist
         g = _geometry(self._geometry, geometry)
         raw, stats = self._core.update(frame, g["min_range"], g["max_range"], g["aperture"],
                                        g["bearings"], g["range_ascending"],
