@@ -219,6 +219,7 @@ int pyactag_params_from_dict(PyObject *kwargs, actag_params *p)
     while (PyDict_Next(kwargs, &pos, &key, &value)) {
         const field *f;
         char *name;
+        int rc;
         if (!PyUnicode_Check(key)) {
             PyErr_SetString(PyExc_TypeError, "parameter names must be strings");
             return -1;
@@ -234,7 +235,12 @@ int pyactag_params_from_dict(PyObject *kwargs, actag_params *p)
             return -1;
         }
         free(name);
-        if (set_field(f, value, &tmp) != 0)
+        /* value is borrowed from the dict, which its __index__ or __float__
+         * could empty: held while it is read */
+        Py_INCREF(value);
+        rc = set_field(f, value, &tmp);
+        Py_DECREF(value);
+        if (rc != 0)
             return -1;
     }
     *p = tmp;

@@ -12,6 +12,9 @@
 
 #include "actag/track.h"
 
+#include <float.h>
+#include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -37,15 +40,15 @@ typedef struct tp_field {
 } tp_field;
 
 static const tp_field tp_fields[] = {
-    {"full_every", 1, 0, 1.0, 1e9, "at least 1"},
-    {"confirm_frames", 1, 0, 1.0, 1e9, "at least 1"},
-    {"confirm_margin", 0, 0, -3.4028234663852886e38, 3.4028234663852886e38,
-     "finite (FLT_MAX: no confirmation by margin alone)"},
-    {"max_missed", 1, 0, 0.0, 1e9, "at least 0"},
+    {"full_every", 1, 0, 1.0, (double)INT_MAX, "at least 1"},
+    {"confirm_frames", 1, 0, 1.0, (double)INT_MAX, "at least 1"},
+    /* any float (FLT_MAX: no confirmation by margin alone): checked as one */
+    {"confirm_margin", 0, 0, -HUGE_VAL, HUGE_VAL, "finite"},
+    {"max_missed", 1, 0, 0.0, (double)INT_MAX, "at least 0"},
     {"roi_scale", 0, 1, 0.0, 10.0, "in (0, 10]"},
     {"gate", 0, 1, 0.0, 10.0, "in (0, 10]"},
     {"smoothing", 0, 1, 0.0, 1.0, "in (0, 1]"},
-    {"refind_after", 1, 0, 0.0, 1e9, "at least 0"},
+    {"refind_after", 1, 0, 0.0, (double)INT_MAX, "at least 0"},
     {"verify", 1, 0, 0.0, 1.0, "0 or 1"}};
 #define TP_NFIELDS ((int)(sizeof tp_fields / sizeof tp_fields[0]))
 
@@ -54,8 +57,9 @@ static int tp_in_range(const tp_field *f, double v)
     return (f->lo_open ? v > f->lo : v >= f->lo) && v <= f->hi; /* NaN fails */
 }
 
-/* Field f of *p from value (with the GIL); the bad value named. */
-static int tp_set(const tp_field *f, PyObject *value, actag_track_params *p)
+/* Field f of *p from value (with the GIL; value borrowed from the caller's
+ * dict, which its __index__ or __float__ could empty); the bad value named. */
+static int tp_set_owned(const tp_field *f, PyObject *value, actag_track_params *p)
 {
     double v;
     float fv;
@@ -72,7 +76,12 @@ static int tp_set(const tp_field *f, PyObject *value, actag_track_params *p)
         }
         l = PyLong_AsLongAndOverflow(ix, &overflow);
         Py_DECREF(ix);
-        if (overflow || !tp_in_range(f, (double)l)) {
+        if (overflow || l > INT_MAX || l < INT_MIN) {
+            PyErr_Format(PyExc_OverflowError, "track parameter %s does not fit a C int, got %R",
+                         f->name, value);
+            return -1;
+        }
+        if (!tp_in_range(f, (double)l)) {
             PyErr_Format(PyExc_ValueError, "track parameter %s must be %s, got %R", f->name,
                          f->rule, value);
             return -1;
@@ -99,11 +108,29 @@ static int tp_set(const tp_field *f, PyObject *value, actag_track_params *p)
                      f->name, value);
         return -1;
     }
+    if (!(v - v == 0.0) && f == &tp_fields[2]) { /* NaN, +-inf */
+        PyErr_Format(PyExc_ValueError, "track parameter %s must be finite, got %R", f->name,
+                     value);
+        return -1;
+    }
     /* the rule on the value given, then on the float the library gets */
-    fv = tp_in_range(f, v) ? (float)v : 0.0f;
-    if (!tp_in_range(f, v) || !tp_in_range(f, (double)fv)) {
-        PyErr_Format(PyExc_ValueError, "track parameter %s must be %s%s, got %R", f->name,
-                     f->rule, tp_in_range(f, v) ? " as a C float" : "", value);
+    if (!tp_in_range(f, v)) {
+        PyErr_Format(PyExc_ValueError, "track parameter %s must be %s, got %R", f->name, f->rule,
+                     value);
+        return -1;
+    }
+    /* beyond FLT_MAX once rounded to a float (3.4028235e38, numpy's float32
+     * maximum as printed, rounds to it and is a float) */
+    if (fabs(v) > 3.4028235677973366e38) {
+        PyErr_Format(PyExc_OverflowError,
+                     "track parameter %s is outside the range of a C float, got %R", f->name,
+                     value);
+        return -1;
+    }
+    fv = fabs(v) > FLT_MAX ? (v > 0.0 ? FLT_MAX : -FLT_MAX) : (float)v;
+    if (!tp_in_range(f, (double)fv)) {
+        PyErr_Format(PyExc_ValueError, "track parameter %s must be %s as a C float, got %R",
+                     f->name, f->rule, value);
         return -1;
     }
     if (f == &tp_fields[2])
@@ -115,6 +142,15 @@ static int tp_set(const tp_field *f, PyObject *value, actag_track_params *p)
     else
         p->smoothing = fv;
     return 0;
+}
+
+static int tp_set(const tp_field *f, PyObject *value, actag_track_params *p)
+{
+    int rc;
+    Py_INCREF(value);
+    rc = tp_set_owned(f, value, p);
+    Py_DECREF(value);
+    return rc;
 }
 
 /* actag_track_params from a dict (None: the defaults), each field checked by
@@ -201,10 +237,16 @@ static PyObject *tracker_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
         }
         self->roi_params.family = fam;
         if (self->roi_params.tag_size != self->params.tag_size) {
+            PyObject *a = PyFloat_FromDouble((double)self->roi_params.tag_size);
+            PyObject *b = PyFloat_FromDouble((double)self->params.tag_size);
+            if (a != NULL && b != NULL)
+                PyErr_Format(PyExc_ValueError,
+                             "roi_params cannot change tag_size (got %S, the tracker's is %S): "
+                             "the tags searched around tracks are the tracked ones",
+                             a, b);
+            Py_XDECREF(a);
+            Py_XDECREF(b);
             Py_DECREF(self);
-            PyErr_SetString(PyExc_ValueError,
-                            "roi_params cannot change tag_size: the tags searched around tracks "
-                            "are the tracked ones");
             return NULL;
         }
         rc = actag_params_validate(&self->roi_params, &d);

@@ -220,7 +220,12 @@ def test_core_refuses_what_the_library_refuses():
     (dict(plane=(0, 0, 1, -1), plane_sd=1e39), ValueError, "plane_sd"),
     (dict(plane=(0, 0, 1, -1), plane_tilt_deg=1e41), ValueError, "plane_tilt_deg"),
     (dict(plane=(0, 0, 1, -1), plane_sd=1e-21), ValueError, "plane_sd"),
+    (dict(plane=(0, 0, 1, -1), plane_tilt_deg=1e-18), ValueError, "plane_tilt_deg"),
     (dict(tag_size=10 ** 400), OverflowError, "tag_size"),
+    # the default outline, 7/3 tag sizes for 24 bits, must stay within 10000 m
+    (dict(tag_size=5000.0), ValueError, "outline"),
+    # an offset just beyond 10000 m as the library computes it from its floats
+    (dict(plane=(0, 0, 1, 10000.01), plane_sd=0.1), ValueError, "10000 m"),
 ])
 def test_float_limits_named(kw, exc, words):
     args = dict(tag_size=TAG_SIZE)
@@ -248,3 +253,13 @@ def test_tiny_plane_sds_as_the_tool(example_frame, c_tool, extra, kw):
     d = det.detect(example_frame)[0]
     assert_pose_as_c(det.pose(d, plane=(0, 0, 1, -1), **kw), line["detections"][0]["pose"],
                      str(extra))
+
+
+def test_float_limits_accepted_as_the_library():
+    # values the library takes are taken: tag_size 1e4 with no outline,
+    # the smallest usable sds, an offset that rounds to 10000 m
+    assert pyactag.sonar_pose(GOOD, False, tag_size=1e4, family=None) is not None
+    pyactag.sonar_pose(GOOD, False, tag_size=TAG_SIZE, range_sd=5.8e-20, azimuth_sd=5.8e-20)
+    pyactag.sonar_pose(GOOD, False, tag_size=TAG_SIZE, plane=(0, 0, 1, -1), plane_sd=5.8e-20)
+    pyactag.sonar_pose(GOOD, False, tag_size=TAG_SIZE, plane=(0, 0, 1, -1), plane_tilt_deg=5e-18)
+    pyactag.sonar_pose(GOOD, False, tag_size=TAG_SIZE, plane=(0, 0, 1, 10000.0002), plane_sd=0.1)

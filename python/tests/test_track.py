@@ -109,7 +109,10 @@ def test_track_pickles_and_geometry_override(example_frame):
     ({"gate": 10.00000001}, ValueError, "10.00000001"),
     ({"smoothing": 1e-50}, ValueError, "as a C float"),
     ({"confirm_margin": 10 ** 400}, OverflowError, "confirm_margin"),
-    ({"confirm_margin": 1e39}, ValueError, "confirm_margin"),
+    ({"confirm_margin": 1e39}, OverflowError, "confirm_margin"),
+    ({"confirm_margin": float("inf")}, ValueError, "finite"),
+    ({"full_every": 2 ** 31}, OverflowError, "full_every"),
+    ({"max_missed": 10 ** 30}, OverflowError, "max_missed"),
     ({"nope": 1}, TypeError, "nope"),
 ])
 def test_bad_track_params_named(tp, exc, words):
@@ -121,10 +124,29 @@ def test_bad_track_params_named(tp, exc, words):
 def test_numpy_integers_and_float_max():
     np = pytest.importorskip("numpy")
     tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params={
-        "full_every": np.int64(5), "verify": np.int32(0), "confirm_margin": 3.4028234663852886e38},
-        **GEOMETRY)
-    p = tr.track_params
-    assert p["full_every"] == 5 and p["verify"] == 0 and p["confirm_margin"] > 3e38
+        "full_every": np.int64(5), "verify": np.int32(0), "confirm_margin": 3.4028235e38,
+        "max_missed": 2 ** 31 - 1}, **GEOMETRY)
+    p = tr.track_params  # 3.4028235e38 (numpy's float32 max, printed) rounds to FLT_MAX
+    assert p["full_every"] == 5 and p["verify"] == 0 and p["confirm_margin"] > 3.4e38
+    assert p["max_missed"] == 2 ** 31 - 1
+
+
+def test_index_that_empties_its_dict():
+    # track_params' values are borrowed from the dict: one whose __index__
+    # empties it must not be read after it is freed (review: segfault)
+    import gc
+
+    class Evil:
+        def __index__(self):
+            for r in gc.get_referrers(self):
+                if isinstance(r, dict) and "full_every" in r:
+                    r.clear()
+            return 0
+
+    with pytest.raises(ValueError, match="full_every must be at least 1"):
+        pyactag._core.Tracker(pyactag.Family(FAMILY), None, None, {"full_every": Evil()})
+    det = pyactag._core.Detector(pyactag.Family(FAMILY), {"seed": 7, "median_radius": Evil()})
+    assert det.params["seed"] == 7 and det.params["median_radius"] == 0
 
 
 def test_bad_parameters_named():

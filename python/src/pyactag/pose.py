@@ -149,6 +149,17 @@ def _sd_usable(v):
     return sq > 0.0 and _p_finite(_f32(1.0 / sq))
 
 
+def _lib_plane_offset(p32):
+    """The plane's offset |d| / |n| as pose.c computes it from the four
+    floats it gets (each step rounded to a float: divisions, products and
+    the square root of floats, exact in double, then rounded, as the C
+    float operations round them)."""
+    big = max(abs(v) for v in p32[:3])
+    n = [_f32(v / big) for v in p32[:3]]
+    dot = _f32(_f32(_f32(n[0] * n[0]) + _f32(n[1] * n[1])) + _f32(n[2] * n[2]))
+    return _f32(_f32(p32[3] / big) / _f32(math.sqrt(dot)))
+
+
 def _finite(name, value):
     v = as_real(name, value)
     if not math.isfinite(v):
@@ -237,18 +248,19 @@ def _plane_of(plane, plane_sd, plane_tilt_deg):
         raise ValueError("plane: the normal ({}, {}, {}) must be non-zero".format(*p[:3]))
     u = [v / big for v in p]
     ns = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-    if not abs(u[3]) / ns <= 1e4:
-        raise ValueError("plane: the plane must lie within 10000 m of the sonar, got an offset "
-                         "of {:g} m".format(abs(u[3]) / ns))
+    unit = [v / ns for v in u]
+    if not abs(_lib_plane_offset([_f32(v) for v in unit])) <= 1e4:
+        raise ValueError("plane: the plane must lie within 10000 m of the sonar (pose.h), got "
+                         "an offset of {:g} m".format(abs(u[3]) / ns))
     tilt_rad = tilt * math.pi / 180.0  # as actag_detect --plane-tilt-deg converts it
     # the tool's limits (pose.h: above 0 with 1 / sd^2 a float)
     if sd > 0.0 and not _sd_usable(_f32(sd)):
-        raise ValueError("plane_sd must be 0, or from about 1e-19 to 3e38 m, got {!r}".format(
-            plane_sd))
+        raise ValueError("plane_sd must be 0, or from about 5.8e-20 to 3e38 m (pose.h), got "
+                         "{!r}".format(plane_sd))
     if tilt > 0.0 and not _sd_usable(_f32(tilt_rad)):
-        raise ValueError("plane_tilt_deg must be 0, or from about 1e-17 to 1e40 degrees, got "
-                         "{!r}".format(plane_tilt_deg))
-    return [v / ns for v in u], sd, tilt_rad
+        raise ValueError("plane_tilt_deg must be 0, or from about 3.4e-18 to 1.7e40 degrees "
+                         "(pose.h), got {!r}".format(plane_tilt_deg))
+    return unit, sd, tilt_rad
 
 
 def sonar_pose(corners, mirrored=None, *, tag_size, vertical_aperture_deg=None,
@@ -307,8 +319,13 @@ def sonar_pose(corners, mirrored=None, *, tag_size, vertical_aperture_deg=None,
         ext = _finite("extent", extent)
         if not _f32(ext) >= 1.0:
             raise ValueError("extent must be at least 1 (tag sizes), got {!r}".format(extent))
-        if not _f32(_f32(ext) * _f32(ts)) <= 1e4:
-            raise ValueError("extent x tag_size must be at most 10000 m, got {:g}".format(ext * ts))
+        outline = _f32(ext)
+    else:  # actag_pose_params_default's: the whole tag, (k+1)/(k-3) for 4k bits
+        k = fam.bits // 4 if fam is not None and fam.bits >= 16 else 0
+        outline = _f32(_f32(k + 1) / _f32(k - 3)) if k else 1.0
+    if not _f32(outline * _f32(ts)) <= 1e4:  # pose.h: the outline's side at most 10000 m
+        raise ValueError("tag_size x the outline's extent ({:g} tag sizes) must be at most "
+                         "10000 m, got tag_size {!r}".format(outline, tag_size))
     rsd = None if range_sd is None else _positive_sd("range_sd", range_sd)
     asd = None if azimuth_sd is None else _positive_sd("azimuth_sd", azimuth_sd)
     its = as_int("max_iterations", max_iterations, 1, 100)
