@@ -7,7 +7,10 @@
  * position, rotation, elevation band, residual, flags) with floats as C99
  * hex floats (exact), the call's counters, and FNV-1a 64-bit digests of the
  * raw detection and pose structs and of the workspace's filtered and binary
- * stage images. The same file is built
+ * stage images; then the frame goes on, in the order given, through one
+ * tracker (actag/track.h, default settings): its confirmed tracks
+ * (smoothed corners, range, azimuth, counters) and the sonar pose of each
+ * track's smoothed corners, the same way. The same file is built
  * natively (io_host.c) and for a Cortex-M (io_semihost.c and the board
  * support's boards/qemu-mps2/startup.c, run under QEMU); .ci/armcheck
  * requires the two reports to be byte-identical.
@@ -24,6 +27,7 @@
  */
 #include "actag/actag.h"
 #include "actag/pose.h"
+#include "actag/track.h"
 #include "actag/version.h" /* generated: the build passes -I<build>/include */
 #include "armcheck_io.h"
 
@@ -42,6 +46,9 @@ static uint8_t ac_ws[ACTAG_WORKSPACE_SIZE(AC_MAX_ROWS, AC_MAX_COLS)];
 static unsigned char ac_file[AC_FILE_CAP];
 static actag_detection ac_det[AC_MAX_DET];
 static actag_pose ac_pose[AC_MAX_DET];
+/* the stream of the frames given, through one tracker */
+static actag_tracker ac_tracker;
+static actag_track ac_tracks[ACTAG_TRACK_MAX];
 /* The pose's vertical aperture (rad): 20 degrees, a typical imaging sonar's
  * (the pool recording's is not published; any aperture exercises the same
  * arithmetic). */
@@ -269,6 +276,108 @@ static const ac_setting ac_settings[] = {
     {"binary4", 4, ACTAG_DECODE_BINARY},
 };
 
+/* The frame fed to the tracker (default parameters, the stream's next
+ * frame): its confirmed tracks and their poses into the report. */
+static uint64_t track_frame(const actag_frame *frame, const actag_sonar_geometry *geo,
+                            const actag_family *fam, uint64_t total)
+{
+    actag_params p;
+    actag_track_stats st;
+    int n, i, k;
+    uint64_t ht, hp;
+    actag_params_default(&p);
+    p.family = fam;
+    memset(ac_tracks, 0, sizeof ac_tracks); /* no stale bytes in the digest */
+    memset(&st, 0, sizeof st);
+    n = actag_tracker_update(&ac_tracker, frame, geo, &p, NULL, ac_ws, sizeof ac_ws, ac_tracks,
+                             ACTAG_TRACK_MAX, &st);
+    put_s("track frame ");
+    put_d(ac_tracker.frame - 1);
+    put_s(" result ");
+    put_d(n);
+    end_line();
+    if (n < 0) {
+        put_s("error ");
+        put_s(actag_strerror(n));
+        end_line();
+        ac_failed = 1;
+        return fnv1a(total, &n, sizeof n);
+    }
+    put_s("track stats full_frame ");
+    put_d(st.full_frame);
+    put_s(" rois ");
+    put_d(st.rois);
+    put_s(" pixels ");
+    put_d(st.pixels);
+    put_s(" readings ");
+    put_d(st.readings);
+    put_s(" conflicts ");
+    put_d(st.conflicts);
+    put_s(" verified ");
+    put_d(st.verified);
+    end_line();
+    memset(ac_pose, 0, sizeof ac_pose);
+    for (i = 0; i < n; i++) {
+        const actag_track *t = &ac_tracks[i];
+        actag_pose_params pp;
+        int prc;
+        put_s("track ");
+        put_u(t->track_id);
+        put_s(" id ");
+        put_d(t->id);
+        put_s(" mirrored ");
+        put_d(t->mirrored);
+        put_s(" measured ");
+        put_d(t->measured);
+        put_s(" hits ");
+        put_d(t->hits);
+        put_s(" missed ");
+        put_d(t->missed);
+        put_s(" age ");
+        put_d(t->age);
+        end_line();
+        for (k = 0; k < 4; k++) {
+            put_s("  corner ");
+            put_d(k);
+            put_s(" x ");
+            put_f(t->corners[k].x);
+            put_s(" y ");
+            put_f(t->corners[k].y);
+            put_s(" range ");
+            put_f(t->range[k]);
+            put_s(" azimuth ");
+            put_f(t->azimuth[k]);
+            put_s(" velocity ");
+            put_f(t->velocity[k].x);
+            put_s(" ");
+            put_f(t->velocity[k].y);
+            end_line();
+        }
+        /* the pose of the smoothed corners */
+        actag_pose_params_default(&pp, fam, p.tag_size, AC_VERTICAL_APERTURE);
+        prc = actag_pose_estimate(t->range, t->azimuth, t->mirrored, &pp, &ac_pose[i]);
+        put_s("  pose result ");
+        put_d(prc);
+        put_s(" flags ");
+        put_u(ac_pose[i].flags);
+        put_s(" t");
+        put_floats(ac_pose[i].t, 3);
+        end_line();
+        put_s("  R");
+        put_floats(ac_pose[i].R, 9);
+        end_line();
+    }
+    ht = fnv1a(FNV_OFFSET, ac_tracks, (size_t)n * sizeof ac_tracks[0]);
+    hp = fnv1a(FNV_OFFSET, ac_pose, (size_t)n * sizeof ac_pose[0]);
+    put_s("digest tracks ");
+    put_x64(ht);
+    put_s(" poses ");
+    put_x64(hp);
+    end_line();
+    total = fnv1a(total, &ht, sizeof ht);
+    return fnv1a(total, &hp, sizeof hp);
+}
+
 static uint64_t run_frame(const char *data_dir, const char *rel, const actag_family *fam,
                           uint64_t total)
 {
@@ -452,7 +561,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         total = fnv1a(total, &hf, sizeof hf);
         total = fnv1a(total, &hb, sizeof hb);
     }
-    return total;
+    return track_frame(&frame, &geo, fam, total);
 }
 
 int main(int argc, char **argv)
@@ -477,6 +586,15 @@ int main(int argc, char **argv)
     put_u((unsigned long)sizeof ac_ws);
     end_line();
 
+    {
+        actag_track_params tp;
+        actag_track_params_default(&tp);
+        if (actag_tracker_init(&ac_tracker, &tp) != ACTAG_OK) {
+            put_s("tracker init error");
+            end_line();
+            ac_failed = 1;
+        }
+    }
     rc = actag_family_get("AcTag24h10", &fam);
     if (rc != ACTAG_OK) {
         put_s("family AcTag24h10 error ");
