@@ -7,10 +7,11 @@
  * position, rotation, elevation band, residual, flags) with floats as C99
  * hex floats (exact), the call's counters, and FNV-1a 64-bit digests of the
  * raw detection and pose structs and of the workspace's filtered and binary
- * stage images; then the frame goes on, in the order given, through one
- * tracker (actag/track.h, default settings): its confirmed tracks
- * (smoothed corners, range, azimuth, counters) and the sonar pose of each
- * track's smoothed corners, the same way. The same file is built
+ * stage images; then the frame goes on, in the order given, through a
+ * tracker (actag/track.h, default settings; the frames of one folder are
+ * one stream, a new folder starts a new tracker): its confirmed tracks
+ * (smoothed corners, range, azimuth, velocity, counters) and the sonar pose
+ * of each track's smoothed corners, the same way. The same file is built
  * natively (io_host.c) and for a Cortex-M (io_semihost.c and the board
  * support's boards/qemu-mps2/startup.c, run under QEMU); .ci/armcheck
  * requires the two reports to be byte-identical.
@@ -46,9 +47,12 @@ static uint8_t ac_ws[ACTAG_WORKSPACE_SIZE(AC_MAX_ROWS, AC_MAX_COLS)];
 static unsigned char ac_file[AC_FILE_CAP];
 static actag_detection ac_det[AC_MAX_DET];
 static actag_pose ac_pose[AC_MAX_DET];
-/* the stream of the frames given, through one tracker */
+/* the frames of one recording (one folder), in the order given, as one
+ * stream through a tracker; a frame from another folder starts a new one */
 static actag_tracker ac_tracker;
 static actag_track ac_tracks[ACTAG_TRACK_MAX];
+static actag_pose ac_track_pose[ACTAG_TRACK_MAX];
+static char ac_stream[128];
 /* The pose's vertical aperture (rad): 20 degrees, a typical imaging sonar's
  * (the pool recording's is not published; any aperture exercises the same
  * arithmetic). */
@@ -278,13 +282,33 @@ static const ac_setting ac_settings[] = {
 
 /* The frame fed to the tracker (default parameters, the stream's next
  * frame): its confirmed tracks and their poses into the report. */
-static uint64_t track_frame(const actag_frame *frame, const actag_sonar_geometry *geo,
-                            const actag_family *fam, uint64_t total)
+static uint64_t track_frame(const char *rel, const actag_frame *frame,
+                            const actag_sonar_geometry *geo, const actag_family *fam,
+                            uint64_t total)
 {
     actag_params p;
     actag_track_stats st;
     int n, i, k;
     uint64_t ht, hp;
+    const char *slash = strrchr(rel, '/');
+    size_t dlen = slash ? (size_t)(slash - rel) : 0u;
+    if (dlen >= sizeof ac_stream)
+        dlen = sizeof ac_stream - 1u;
+    if (strlen(ac_stream) != dlen || strncmp(ac_stream, rel, dlen) != 0) {
+        /* another recording: a stream of its own */
+        actag_track_params tp;
+        actag_track_params_default(&tp);
+        memcpy(ac_stream, rel, dlen);
+        ac_stream[dlen] = '\0';
+        if (actag_tracker_init(&ac_tracker, &tp) != ACTAG_OK) {
+            put_s("tracker init error");
+            end_line();
+            ac_failed = 1;
+        }
+        put_s("track stream ");
+        put_s(dlen ? ac_stream : ".");
+        end_line();
+    }
     actag_params_default(&p);
     p.family = fam;
     memset(ac_tracks, 0, sizeof ac_tracks); /* no stale bytes in the digest */
@@ -315,8 +339,20 @@ static uint64_t track_frame(const actag_frame *frame, const actag_sonar_geometry
     put_d(st.conflicts);
     put_s(" verified ");
     put_d(st.verified);
+    put_s(" started ");
+    put_d(st.started);
+    put_s(" confirmed ");
+    put_d(st.confirmed);
+    put_s(" dropped ");
+    put_d(st.dropped);
+    put_s(" quads ");
+    put_d(st.quads);
+    put_s(" decoded ");
+    put_d(st.decoded);
+    put_s(" searched ");
+    put_d(st.searched);
     end_line();
-    memset(ac_pose, 0, sizeof ac_pose);
+    memset(ac_track_pose, 0, sizeof ac_track_pose);
     for (i = 0; i < n; i++) {
         const actag_track *t = &ac_tracks[i];
         actag_pose_params pp;
@@ -355,20 +391,20 @@ static uint64_t track_frame(const actag_frame *frame, const actag_sonar_geometry
         }
         /* the pose of the smoothed corners */
         actag_pose_params_default(&pp, fam, p.tag_size, AC_VERTICAL_APERTURE);
-        prc = actag_pose_estimate(t->range, t->azimuth, t->mirrored, &pp, &ac_pose[i]);
+        prc = actag_pose_estimate(t->range, t->azimuth, t->mirrored, &pp, &ac_track_pose[i]);
         put_s("  pose result ");
         put_d(prc);
         put_s(" flags ");
-        put_u(ac_pose[i].flags);
+        put_u(ac_track_pose[i].flags);
         put_s(" t");
-        put_floats(ac_pose[i].t, 3);
+        put_floats(ac_track_pose[i].t, 3);
         end_line();
         put_s("  R");
-        put_floats(ac_pose[i].R, 9);
+        put_floats(ac_track_pose[i].R, 9);
         end_line();
     }
     ht = fnv1a(FNV_OFFSET, ac_tracks, (size_t)n * sizeof ac_tracks[0]);
-    hp = fnv1a(FNV_OFFSET, ac_pose, (size_t)n * sizeof ac_pose[0]);
+    hp = fnv1a(FNV_OFFSET, ac_track_pose, (size_t)n * sizeof ac_track_pose[0]);
     put_s("digest tracks ");
     put_x64(ht);
     put_s(" poses ");
@@ -561,7 +597,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         total = fnv1a(total, &hf, sizeof hf);
         total = fnv1a(total, &hb, sizeof hb);
     }
-    return track_frame(&frame, &geo, fam, total);
+    return track_frame(rel, &frame, &geo, fam, total);
 }
 
 int main(int argc, char **argv)
@@ -586,15 +622,6 @@ int main(int argc, char **argv)
     put_u((unsigned long)sizeof ac_ws);
     end_line();
 
-    {
-        actag_track_params tp;
-        actag_track_params_default(&tp);
-        if (actag_tracker_init(&ac_tracker, &tp) != ACTAG_OK) {
-            put_s("tracker init error");
-            end_line();
-            ac_failed = 1;
-        }
-    }
     rc = actag_family_get("AcTag24h10", &fam);
     if (rc != ACTAG_OK) {
         put_s("family AcTag24h10 error ");
