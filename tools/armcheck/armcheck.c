@@ -280,6 +280,52 @@ static const ac_setting ac_settings[] = {
     {"binary4", 4, ACTAG_DECODE_BINARY},
 };
 
+/* "  corner K x X y Y range R azimuth A" (the line left open: a track adds
+ * its velocity) */
+static void put_corner(int k, actag_point c, float range, float azimuth)
+{
+    put_s("  corner ");
+    put_d(k);
+    put_s(" x ");
+    put_f(c.x);
+    put_s(" y ");
+    put_f(c.y);
+    put_s(" range ");
+    put_f(range);
+    put_s(" azimuth ");
+    put_f(azimuth);
+}
+
+/* A pose's result line (prefix, result, flags, iterations) and its
+ * values: centre, elevation and band, residual, chi2, rotation. */
+static void put_pose(const char *prefix, int rc, const actag_pose *q)
+{
+    put_s(prefix);
+    put_s("result ");
+    put_d(rc);
+    put_s(" flags ");
+    put_u(q->flags);
+    put_s(" iterations ");
+    put_d(q->iterations);
+    end_line();
+    put_s("  t");
+    put_floats(q->t, 3);
+    put_s(" elevation ");
+    put_f(q->elevation);
+    put_s(" band ");
+    put_f(q->elevation_lo);
+    put_s(" ");
+    put_f(q->elevation_hi);
+    put_s(" residual ");
+    put_f(q->residual);
+    put_s(" chi2 ");
+    put_f(q->chi2);
+    end_line();
+    put_s("  R");
+    put_floats(q->R, 9);
+    end_line();
+}
+
 /* The frame fed to the tracker (default parameters, the stream's next
  * frame): its confirmed tracks and their poses into the report. */
 static uint64_t track_frame(const char *rel, const actag_frame *frame,
@@ -373,16 +419,7 @@ static uint64_t track_frame(const char *rel, const actag_frame *frame,
         put_d(t->age);
         end_line();
         for (k = 0; k < 4; k++) {
-            put_s("  corner ");
-            put_d(k);
-            put_s(" x ");
-            put_f(t->corners[k].x);
-            put_s(" y ");
-            put_f(t->corners[k].y);
-            put_s(" range ");
-            put_f(t->range[k]);
-            put_s(" azimuth ");
-            put_f(t->azimuth[k]);
+            put_corner(k, t->corners[k], t->range[k], t->azimuth[k]);
             put_s(" velocity ");
             put_f(t->velocity[k].x);
             put_s(" ");
@@ -392,16 +429,7 @@ static uint64_t track_frame(const char *rel, const actag_frame *frame,
         /* the pose of the smoothed corners */
         actag_pose_params_default(&pp, fam, p.tag_size, AC_VERTICAL_APERTURE);
         prc = actag_pose_estimate(t->range, t->azimuth, t->mirrored, &pp, &ac_track_pose[i]);
-        put_s("  pose result ");
-        put_d(prc);
-        put_s(" flags ");
-        put_u(ac_track_pose[i].flags);
-        put_s(" t");
-        put_floats(ac_track_pose[i].t, 3);
-        end_line();
-        put_s("  R");
-        put_floats(ac_track_pose[i].R, 9);
-        end_line();
+        put_pose("  pose ", prc, &ac_track_pose[i]);
     }
     ht = fnv1a(FNV_OFFSET, ac_tracks, (size_t)n * sizeof ac_tracks[0]);
     hp = fnv1a(FNV_OFFSET, ac_track_pose, (size_t)n * sizeof ac_track_pose[0]);
@@ -529,16 +557,7 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
             put_f(d->inlier_ratio);
             end_line();
             for (k = 0; k < 4; k++) {
-                put_s("  corner ");
-                put_d(k);
-                put_s(" x ");
-                put_f(d->corners[k].x);
-                put_s(" y ");
-                put_f(d->corners[k].y);
-                put_s(" range ");
-                put_f(d->range[k]);
-                put_s(" azimuth ");
-                put_f(d->azimuth[k]);
+                put_corner(k, d->corners[k], d->range[k], d->azimuth[k]);
                 end_line();
             }
         }
@@ -547,35 +566,12 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         memset(ac_pose, 0, sizeof ac_pose); /* no stale bytes in the digest */
         for (i = 0; i < n; i++) {
             actag_pose_params pp;
-            const actag_pose *q = &ac_pose[i];
             int prc;
             actag_pose_params_default(&pp, fam, p.tag_size, AC_VERTICAL_APERTURE);
             prc = actag_pose_from_detection(&ac_det[i], &pp, &ac_pose[i]);
             put_s("pose ");
             put_d(i);
-            put_s(" result ");
-            put_d(prc);
-            put_s(" flags ");
-            put_u(q->flags);
-            put_s(" iterations ");
-            put_d(q->iterations);
-            end_line();
-            put_s("  t");
-            put_floats(q->t, 3);
-            put_s(" elevation ");
-            put_f(q->elevation);
-            put_s(" band ");
-            put_f(q->elevation_lo);
-            put_s(" ");
-            put_f(q->elevation_hi);
-            put_s(" residual ");
-            put_f(q->residual);
-            put_s(" chi2 ");
-            put_f(q->chi2);
-            end_line();
-            put_s("  R");
-            put_floats(q->R, 9);
-            end_line();
+            put_pose(" ", prc, &ac_pose[i]);
         }
         hp = fnv1a(FNV_OFFSET, ac_pose, (size_t)n * sizeof ac_pose[0]);
         hd = fnv1a(FNV_OFFSET, ac_det, (size_t)n * sizeof ac_det[0]);
