@@ -15,6 +15,7 @@
 #include <float.h>
 #include <limits.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,22 +35,26 @@ typedef struct trackobj {
  * (track.h): integers in lo..hi, reals in (lo, hi] (lo_open) or [lo, hi]. */
 typedef struct tp_field {
     const char *name;
+    size_t offset; /* of the int (is_int) or float in actag_track_params */
     int is_int, lo_open;
     double lo, hi;
     const char *rule;
 } tp_field;
 
+#define TP_AT(f) offsetof(actag_track_params, f)
 static const tp_field tp_fields[] = {
-    {"full_every", 1, 0, 1.0, (double)INT_MAX, "at least 1"},
-    {"confirm_frames", 1, 0, 1.0, (double)INT_MAX, "at least 1"},
-    /* any float (FLT_MAX: no confirmation by margin alone): checked as one */
-    {"confirm_margin", 0, 0, -HUGE_VAL, HUGE_VAL, "finite"},
-    {"max_missed", 1, 0, 0.0, (double)INT_MAX, "at least 0"},
-    {"roi_scale", 0, 1, 0.0, 10.0, "in (0, 10]"},
-    {"gate", 0, 1, 0.0, 10.0, "in (0, 10]"},
-    {"smoothing", 0, 1, 0.0, 1.0, "in (0, 1]"},
-    {"refind_after", 1, 0, 0.0, (double)INT_MAX, "at least 0"},
-    {"verify", 1, 0, 0.0, 1.0, "0 or 1"}};
+    {"full_every", TP_AT(full_every), 1, 0, 1.0, (double)INT_MAX, "at least 1"},
+    {"confirm_frames", TP_AT(confirm_frames), 1, 0, 1.0, (double)INT_MAX, "at least 1"},
+    /* any finite value, checked as a float (FLT_MAX: no confirmation by
+     * margin alone) */
+    {"confirm_margin", TP_AT(confirm_margin), 0, 0, -DBL_MAX, DBL_MAX, "finite"},
+    {"max_missed", TP_AT(max_missed), 1, 0, 0.0, (double)INT_MAX, "at least 0"},
+    {"roi_scale", TP_AT(roi_scale), 0, 1, 0.0, 10.0, "in (0, 10]"},
+    {"gate", TP_AT(gate), 0, 1, 0.0, 10.0, "in (0, 10]"},
+    {"smoothing", TP_AT(smoothing), 0, 1, 0.0, 1.0, "in (0, 1]"},
+    {"refind_after", TP_AT(refind_after), 1, 0, 0.0, (double)INT_MAX, "at least 0"},
+    {"verify", TP_AT(verify), 1, 0, 0.0, 1.0, "0 or 1"}};
+#undef TP_AT
 #define TP_NFIELDS ((int)(sizeof tp_fields / sizeof tp_fields[0]))
 
 static int tp_in_range(const tp_field *f, double v)
@@ -86,16 +91,7 @@ static int tp_set_owned(const tp_field *f, PyObject *value, actag_track_params *
                          f->rule, value);
             return -1;
         }
-        if (f == &tp_fields[0])
-            p->full_every = (int)l;
-        else if (f == &tp_fields[1])
-            p->confirm_frames = (int)l;
-        else if (f == &tp_fields[3])
-            p->max_missed = (int)l;
-        else if (f == &tp_fields[7])
-            p->refind_after = (int)l;
-        else
-            p->verify = (int)l;
+        *(int *)(void *)((char *)p + f->offset) = (int)l;
         return 0;
     }
     v = is_bool ? -1.0 : PyFloat_AsDouble(value);
@@ -108,12 +104,8 @@ static int tp_set_owned(const tp_field *f, PyObject *value, actag_track_params *
                      f->name, value);
         return -1;
     }
-    if (!(v - v == 0.0) && f == &tp_fields[2]) { /* NaN, +-inf */
-        PyErr_Format(PyExc_ValueError, "track parameter %s must be finite, got %R", f->name,
-                     value);
-        return -1;
-    }
-    /* the rule on the value given, then on the float the library gets */
+    /* the rule on the value given (NaN and infinities fail every one), then
+     * on the float the library gets */
     if (!tp_in_range(f, v)) {
         PyErr_Format(PyExc_ValueError, "track parameter %s must be %s, got %R", f->name, f->rule,
                      value);
@@ -133,14 +125,7 @@ static int tp_set_owned(const tp_field *f, PyObject *value, actag_track_params *
                      f->name, f->rule, value);
         return -1;
     }
-    if (f == &tp_fields[2])
-        p->confirm_margin = fv;
-    else if (f == &tp_fields[4])
-        p->roi_scale = fv;
-    else if (f == &tp_fields[5])
-        p->gate = fv;
-    else
-        p->smoothing = fv;
+    *(float *)(void *)((char *)p + f->offset) = fv;
     return 0;
 }
 

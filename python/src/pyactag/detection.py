@@ -5,6 +5,7 @@ from collections import namedtuple
 
 from . import _core
 from ._args import as_bool, as_int, as_real
+from ._record import SlotRecord
 from ._arrays import array2d
 from .families import Family
 
@@ -67,7 +68,7 @@ def tuning_names():
     return _core.tuning_names()
 
 
-class Detection:
+class Detection(SlotRecord):
     """One tag found in a frame.
 
     Attributes:
@@ -99,11 +100,6 @@ class Detection:
         self.inlier_ratio = inlier_ratio
         self.corners_xy = corners_xy
         self.corners_polar = corners_polar
-
-    def __reduce__(self):
-        """Pickling with every protocol (``__slots__`` alone needs 2+)."""
-        return (type(self), (self.id, self.hamming, self.mirrored, self.decision_margin,
-                             self.inlier_ratio, self.corners_xy, self.corners_polar))
 
     @property
     def corners(self):
@@ -145,11 +141,6 @@ class Detection:
             "inlier_ratio": self.inlier_ratio,
             "corners": [c._asdict() for c in self.corners],
         }
-
-    def __eq__(self, other):
-        if not isinstance(other, Detection):
-            return NotImplemented
-        return all(getattr(self, k) == getattr(other, k) for k in self.__slots__)
 
     def __repr__(self):
         return ("Detection(id={}, hamming={}, decision_margin={:.2f}, mirrored={}, "
@@ -268,7 +259,39 @@ def _max_detections(n):
     return as_int("max_detections", n, 0, _core.MAX_DETECTIONS)
 
 
-class Detector:
+class _Searcher:
+    """What Detector and Tracker share: the C object (``_core``) with the
+    family and parameters, the default geometry (``_geometry``), and the
+    pose of what they found."""
+
+    @property
+    def family(self):
+        """The Family."""
+        return self._core.family
+
+    @property
+    def params(self):
+        """The (whole-frame) parameters in use (a dict copy)."""
+        return self._core.params
+
+    @property
+    def geometry(self):
+        """The default sonar geometry (a dict copy)."""
+        return dict(self._geometry)
+
+    def _pose(self, corners, mirrored, options):
+        """sonar_pose of corners (a Detection, or (range, azimuth) pairs with
+        mirrored) with this object's family and tag_size."""
+        from .pose import sonar_pose
+        for k in ("family", "tag_size"):
+            if k in options:
+                raise TypeError("{} is the {}'s; use pyactag.sonar_pose for another".format(
+                    k, type(self).__name__.lower()))
+        return sonar_pose(corners, mirrored, family=self.family,
+                          tag_size=self.params["tag_size"], **options)
+
+
+class Detector(_Searcher):
     """Detection parameters, the sonar geometry and a reusable workspace.
 
     ``Detector(family="AcTag24h10", *, min_range, max_range, aperture |
@@ -306,21 +329,6 @@ class Detector:
         self._geometry = _stored_geometry(min_range, max_range, aperture, aperture_deg, bearings,
                                           range_ascending, azimuth_ascending)
 
-    @property
-    def family(self):
-        """The Family."""
-        return self._core.family
-
-    @property
-    def params(self):
-        """The parameters in use (a dict copy)."""
-        return self._core.params
-
-    @property
-    def geometry(self):
-        """The default sonar geometry (a dict copy)."""
-        return dict(self._geometry)
-
     def run(self, frame, *, stages=False, max_detections=None, **geometry):
         """Detect tags in ``frame``; returns ``Result(detections, stats, stages)``
         (``stats``: every counter of the C ``actag_stats``; see ``Result``).
@@ -351,12 +359,7 @@ class Detector:
         tag_size): ``det.pose(d, vertical_aperture_deg=12)``; ``options``:
         the keywords of ``sonar_pose`` (vertical aperture, noise, known
         plane). Returns a ``Pose``."""
-        from .pose import sonar_pose
-        for k in ("family", "tag_size"):
-            if k in options:
-                raise TypeError("{} is the detector's; use pyactag.sonar_pose for another".format(k))
-        return sonar_pose(detection, family=self.family, tag_size=self.params["tag_size"],
-                          **options)
+        return self._pose(detection, None, options)
 
     def __reduce__(self):
         """Pickling (e.g. to worker processes): the family, every parameter,

@@ -19,6 +19,7 @@ import struct
 
 from . import _core
 from ._args import as_bool, as_int, as_real
+from ._record import SlotRecord
 
 #: Flag names, bit 0 first: the names ``actag_detect --json --pose`` prints.
 POSE_FLAGS = ("degenerate", "elevation", "not_converged", "mirror_conflict", "no_covariance",
@@ -29,7 +30,7 @@ POSE_RANGE_SD = _core.POSE_RANGE_SD
 POSE_AZIMUTH_SD = _core.POSE_AZIMUTH_SD
 
 
-class Pose:
+class Pose(SlotRecord):
     """A tag's pose in the sonar frame (``actag_pose``).
 
     Attributes:
@@ -74,9 +75,6 @@ class Pose:
                    tuple(cov[6 * i:6 * i + 6] for i in range(6)), rng, az, el, (lo, hi), res,
                    chi2, its, flags)
 
-    def __reduce__(self):
-        return (type(self), tuple(getattr(self, k) for k in self.__slots__))
-
     @property
     def flags(self):
         """Names of the flags set (``POSE_FLAGS``), bit 0 first."""
@@ -109,11 +107,6 @@ class Pose:
             "flags": list(self.flags),
             "iterations": self.iterations,
         }
-
-    def __eq__(self, other):
-        if not isinstance(other, Pose):
-            return NotImplemented
-        return all(getattr(self, k) == getattr(other, k) for k in self.__slots__)
 
     def __repr__(self):
         return ("Pose(t=({:.4f}, {:.4f}, {:.4f}), elevation_rad={:.4f}, flags={})".format(

@@ -15,9 +15,9 @@ A track never changes its tag ID or handedness; a new tag is confirmed after
 from collections import namedtuple
 
 from . import _core
-from ._args import as_bool
-from .detection import (DEFAULT_FAMILY, Corner, Detection, _family, _geometry, _split_params,
-                        _stored_geometry)
+from ._record import SlotRecord
+from .detection import (DEFAULT_FAMILY, Corner, Detection, _family, _geometry, _Searcher,
+                        _split_params, _stored_geometry)
 
 #: The fields of ``track_params`` with their C defaults (actag_track_params_default).
 TRACK_PARAMS = ("full_every", "confirm_frames", "confirm_margin", "max_missed", "roi_scale",
@@ -27,7 +27,7 @@ TRACK_PARAMS = ("full_every", "confirm_frames", "confirm_margin", "max_missed", 
 TrackResult = namedtuple("TrackResult", ["tracks", "stats"])
 
 
-class Track:
+class Track(SlotRecord):
     """A confirmed track as ``Tracker.update`` reports it (``actag_track``).
 
     Attributes:
@@ -66,9 +66,6 @@ class Track:
     def _of_core(cls, t):
         return cls(*t[:11], Detection(*t[11]))
 
-    def __reduce__(self):
-        return (type(self), tuple(getattr(self, k) for k in self.__slots__))
-
     @property
     def corners(self):
         """The smoothed corners as ``Corner(x_col, y_row, range_m, azimuth_rad)``."""
@@ -98,17 +95,12 @@ class Track:
             "velocity_xy": [list(v) for v in self.velocity_xy],
         }
 
-    def __eq__(self, other):
-        if not isinstance(other, Track):
-            return NotImplemented
-        return all(getattr(self, k) == getattr(other, k) for k in self.__slots__)
-
     def __repr__(self):
         return "Track(track_id={}, id={}, mirrored={}, measured={}, hits={})".format(
             self.track_id, self.id, self.mirrored, self.measured, self.hits)
 
 
-class Tracker:
+class Tracker(_Searcher):
     """Tags followed across the frames of one sonar stream (``actag_tracker``).
 
     ``Tracker(family="AcTag24h10", *, min_range, max_range, aperture |
@@ -153,16 +145,6 @@ class Tracker:
         self.stats = None
 
     @property
-    def family(self):
-        """The Family."""
-        return self._core.family
-
-    @property
-    def params(self):
-        """The whole-frame parameters (a dict copy)."""
-        return self._core.params
-
-    @property
     def roi_params(self):
         """The parameters of the searches around tracks (a dict copy)."""
         return self._core.roi_params
@@ -176,11 +158,6 @@ class Tracker:
     def frames(self):
         """Frames fed so far (failed ones included)."""
         return self._core.frame
-
-    @property
-    def geometry(self):
-        """The default sonar geometry (a dict copy)."""
-        return dict(self._geometry)
 
     def run(self, frame, **geometry):
         """Feed the next frame of the stream; returns ``TrackResult(tracks,
@@ -204,14 +181,9 @@ class Tracker:
     def pose(self, track, **options):
         """The pose of a track's smoothed corners (``pyactag.sonar_pose`` with
         this tracker's family and tag_size; ``options`` its keywords)."""
-        from .pose import sonar_pose
         if not isinstance(track, Track):
             raise TypeError("pose() takes a Track, got {!r}".format(track))
-        for k in ("family", "tag_size"):
-            if k in options:
-                raise TypeError("{} is the tracker's; use pyactag.sonar_pose for another".format(k))
-        return sonar_pose(track.corners_polar, as_bool("mirrored", track.mirrored),
-                          family=self.family, tag_size=self.params["tag_size"], **options)
+        return self._pose(track.corners_polar, track.mirrored, options)
 
     def __repr__(self):
         return "Tracker(family={!r}, frames={})".format(self.family.name, self.frames)
