@@ -48,6 +48,20 @@ static int four_floats(PyObject *seq, const char *name, float out[4])
     return 0;
 }
 
+/* *out = float(obj) unless obj is None (the default stays). Returns 0, or -1
+ * with the conversion's exception. */
+static int optional_float(PyObject *obj, float *out)
+{
+    double d;
+    if (obj == Py_None)
+        return 0;
+    d = PyFloat_AsDouble(obj);
+    if (d == -1.0 && PyErr_Occurred())
+        return -1;
+    *out = (float)d;
+    return 0;
+}
+
 static PyObject *float_tuple(const float *v, int n)
 {
     PyObject *t = PyTuple_New(n);
@@ -95,24 +109,9 @@ PyObject *pyactag_sonar_pose(PyObject *self, PyObject *args)
             return NULL;
     }
     actag_pose_params_default(&pp, fam, (float)tag_size, (float)vertical);
-    if (extent_o != Py_None) {
-        double e = PyFloat_AsDouble(extent_o);
-        if (e == -1.0 && PyErr_Occurred())
-            return NULL;
-        pp.extent = (float)e;
-    }
-    if (rsd_o != Py_None) {
-        double e = PyFloat_AsDouble(rsd_o);
-        if (e == -1.0 && PyErr_Occurred())
-            return NULL;
-        pp.range_sd = (float)e;
-    }
-    if (asd_o != Py_None) {
-        double e = PyFloat_AsDouble(asd_o);
-        if (e == -1.0 && PyErr_Occurred())
-            return NULL;
-        pp.azimuth_sd = (float)e;
-    }
+    if (optional_float(extent_o, &pp.extent) != 0 || optional_float(rsd_o, &pp.range_sd) != 0 ||
+        optional_float(asd_o, &pp.azimuth_sd) != 0)
+        return NULL;
     pp.max_iterations = max_iterations;
     if (plane_o != Py_None && four_floats(plane_o, "plane", pp.plane) != 0)
         return NULL;
