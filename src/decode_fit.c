@@ -611,9 +611,537 @@ static int fstretch_rivals(const actag_family *family, unsigned views, int flags
     return nr;
 }
 
+/* The likelihood match of a grid's data confidences conf[0 .. bits-1]
+ * (relative to the mid level). Thresholds: with ACTAG_FIT_SPLIT every split
+ * of the sorted confidences between ACTAG_FIT_SPLIT_LO and _HI (relative
+ * to the level) is read; otherwise the single threshold 0. Each reading is
+ * matched by likelihood (actag_family_match_soft_views); the split whose
+ * best code needs the fewest corrections wins (then the larger margin),
+ * into *ml, its threshold into *tbest. Returns ACTAG_OK,
+ * ACTAG_ERR_NO_MATCH (no split within max_corrections, a tie between the
+ * two handednesses, or splits reading different tags without a lead of
+ * FIT_SPLIT_LEAD bits), or the matcher's error. */
+static int fmatch_splits(const float *conf, int bits, int flags, float level,
+                         const actag_family *family, uint32_t keep, int max_corrections,
+                         actag_soft_match *ml, float *tbest)
+{
+    float sv[32];
+    int i, j, a, nsplit = 0, have = 0, rc;
+    long key = -1;
+    int kd = 99, od = 99; /* best distance of the kept key, of any other */
+    if (flags & ACTAG_FIT_SPLIT) {
+        for (i = 0; i < bits; i++)
+            sv[i] = conf[i];
+        for (i = 1; i < bits; i++)
+            for (j = i; j > 0 && sv[j - 1] > sv[j]; j--) {
+                float t = sv[j];
+                sv[j] = sv[j - 1];
+                sv[j - 1] = t;
+            }
+        nsplit = bits;
+    } else {
+        nsplit = 1;
+    }
+    for (j = 0; j < nsplit; j++) {
+        float t, ct[32];
+        actag_soft_match r;
+        int dk;
+        long key1;
+        if (flags & ACTAG_FIT_SPLIT) {
+            t = j == 0 ? sv[0] - 1.0f : 0.5f * (sv[j - 1] + sv[j]);
+            if (t > ACTAG_FIT_SPLIT_HI - level)
+                break;
+            if (t < ACTAG_FIT_SPLIT_LO - level)
+                continue;
+        } else {
+            t = 0.0f;
+        }
+        for (a = 0; a < bits; a++)
+            ct[a] = conf[a] - t;
+        rc = actag_family_match_soft_views(family, ct, keep, fit_views(flags), &r);
+        if (rc != ACTAG_OK)
+            return rc;
+        dk = r.best.hamming;
+        if (dk > max_corrections)
+            continue;
+        /* A tie between the two handednesses is no reading. */
+        if (r.other == dk)
+            return ACTAG_ERR_NO_MATCH;
+        /* Splits that read as different tags (or poses): the threshold
+         * decides the ID, so the reading is ambiguous unless one is closer
+         * than every other by FIT_SPLIT_LEAD bits. */
+        key1 = (long)r.best.id * 8L + (long)r.best.mirrored * 4L + (long)r.best.rotation;
+        if (key < 0 || key == key1) {
+            if (key < 0 || dk < kd)
+                kd = dk;
+            key = key1;
+        } else if (dk < kd) {
+            od = kd < od ? kd : od;
+            kd = dk;
+            key = key1;
+        } else if (dk < od) {
+            od = dk;
+        }
+        if (!have || dk < ml->best.hamming ||
+            (dk == ml->best.hamming && r.d2 - r.d1 > ml->d2 - ml->d1)) {
+            *ml = r;
+            *tbest = t;
+            have = 1;
+        }
+    }
+    if (!have)
+        return ACTAG_ERR_NO_MATCH;
+    if (od < 99 && od - kd < FIT_SPLIT_LEAD)
+        return ACTAG_ERR_NO_MATCH;
+    return ACTAG_OK;
+}
+
+/* What the template check of one reading (fread_grid) and its further
+ * checks share: the reading, the grids and cells it came from, and the
+ * scratch they polish templates in. */
+typedef struct fjudge {
+    const fimg *im;
+    const fgrid *gr;     /* the reading's grid */
+    const fgrid *g_quad; /* the quad's own grid */
+    const actag_family *family;
+    const actag_fit_params *fp;
+    const actag_point *q; /* the quad, clockwise */
+    const actag_soft_match *ml; /* the reading's likelihood match */
+    int k, n, bits, flags, erase, regrid;
+    uint32_t keep;
+    float level, look;
+    float *m;    /* in: the cells of gr (of g_quad after a regrid); later scratch */
+    float *mt;   /* scratch cells */
+    uint8_t *L;  /* scratch layout */
+    /* the candidates: the likeliest readings of gr, then of g_quad */
+    int cid[2 * ACTAG_SOFT_TOP], cview[2 * ACTAG_SOFT_TOP], ncand;
+    /* set by fjudge_templates: the reading's polished residual, the cell
+     * noise it gives, and what fcell_noise2 needs again */
+    float rss0, s2, floor2, contrast;
+    int nc;
+    int *ambig;            /* NULL, or set to 1 when a rival refuses the reading */
+    actag__fit_rival *amb; /* NULL, or [0] the reading judged, [1] the rival */
+} fjudge;
+
+/* The reading is refused because hypothesis (id, view), polished from grid
+ * g, explains the cells too nearly as well: records the rival. */
+static int fjudge_refuse(const fjudge *J, const fgrid *g, int id, int view)
+{
+    if (J->ambig)
+        *J->ambig = 1;
+    if (J->amb)
+        famb_set(&J->amb[1], g, J->k, id, view);
+    return ACTAG_ERR_NO_MATCH;
+}
+
+/* The candidates' start grid: the reading's for its own likeliest
+ * readings, the quad's for those found on the quad's grid. */
+static const fgrid *fjudge_start(const fjudge *J, int jj)
+{
+    return jj < J->ml->ntop ? J->gr : J->g_quad;
+}
+
+/* The template check proper: every candidate's template polished near
+ * the grid it came from (after the wide search, which may settle a cell
+ * off, over the full range); the reading's (candidate 0) must explain the
+ * cells better than each other by the least margin after the
+ * look-elsewhere allowance. Sets J->rss0, s2, nc, floor2 and *margin (the
+ * lead over the runner-up, before the allowance). */
+static int fjudge_templates(fjudge *J, float *margin)
+{
+    const actag_soft_match *ml = J->ml;
+    float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f;
+    int jj, rc;
+    J->ncand = 0;
+    for (jj = 0; jj < ml->ntop; jj++) {
+        J->cid[J->ncand] = ml->top[jj].id;
+        J->cview[J->ncand++] = ml->top[jj].view;
+    }
+    if (J->amb) /* the reading the check judges, should it refuse it */
+        famb_set(&J->amb[0], J->gr, J->k, J->cid[0], J->cview[0]);
+    {
+        float bq, wq;
+        actag_soft_match mq;
+        int a2, b2;
+        fcells(J->im, J->g_quad, J->k, J->mt);
+        rc = fmatch_cells(J->mt, J->k, J->flags, J->level, J->family, J->keep,
+                          fit_views(J->flags), &bq, &wq, &mq);
+        if (rc < 0)
+            return rc;
+        if (rc == 1) {
+            for (a2 = 0; a2 < mq.ntop; a2++) {
+                int dup = 0;
+                for (b2 = 0; b2 < J->ncand; b2++)
+                    dup |= J->cid[b2] == mq.top[a2].id && J->cview[b2] == mq.top[a2].view;
+                if (!dup) {
+                    J->cid[J->ncand] = mq.top[a2].id;
+                    J->cview[J->ncand++] = mq.top[a2].view;
+                }
+            }
+        }
+    }
+    for (jj = 0; jj < J->ncand; jj++) {
+        float r, sc;
+        frefuse rf;
+        fgrid g = *fjudge_start(J, jj);
+        layout_of(J->family, J->cid[jj], J->cview[jj], J->k, J->L);
+        rf.rss0 = rss0;
+        rf.s2 = s2;
+        rf.look = J->look;
+        rf.min_margin = J->fp->min_margin;
+        /* the polish's own score of its final grid is that grid's rss (no
+         * second read); m holds the cells of gr (the quad's grid after
+         * regrid) */
+        if (ffit(J->im, &g, J->k, J->mt, J->L, J->erase, !(J->flags & ACTAG_FIT_WIDE),
+                 (jj < ml->ntop || J->regrid) ? J->m : NULL, jj ? &rf : NULL, &sc))
+            /* refused before the polish ends */
+            return fjudge_refuse(J, fjudge_start(J, jj), J->cid[jj], J->cview[jj]);
+        r = -sc;
+        if (jj == 0) {
+            J->nc = J->n * J->n - (J->erase ? 4 : 0); /* the cells template_rss counts */
+            rss0 = r;
+            J->floor2 = fnoise_floor2(J->contrast);
+            s2 = fcell_noise2(rss0, J->nc, J->floor2);
+            continue;
+        }
+        /* Another hypothesis explains the cells better once each has its
+         * own grid (the code-agnostic reading cannot be trusted), or too
+         * nearly as well: refuse now. The margin only falls as rss2 does,
+         * so the first such hypothesis decides exactly what the least one
+         * would. */
+        if (r <= rss0 || 0.5f * (r - rss0) / s2 - J->look < J->fp->min_margin)
+            return fjudge_refuse(J, fjudge_start(J, jj), J->cid[jj], J->cview[jj]);
+        if (r < rss2)
+            rss2 = r;
+    }
+    J->rss0 = rss0;
+    J->s2 = s2;
+    *margin = 0.5f * (rss2 - rss0) / s2;
+    return ACTAG_OK;
+}
+
+/* Full-range re-check (recheck FIT_RECHECK: the quad's own grid read after
+ * the fitted grid's template check found a rival within the margin; or a
+ * quad reading whose margin lies within FIT_RECHECK_BAND of the least). A
+ * quad reading polishes each template only a quarter cell and +-15 % from
+ * the grid it came from, so a hypothesis whose alignment lies farther away
+ * (a quad of an eroded or bloomed white square, a fifth of a side short or
+ * rotated) is judged at a grid that does not fit it: the ranking then
+ * reflects the start grid, not the cells. That two grids of one quad rank
+ * the same two hypotheses so differently is the sign of it. Each template
+ * is polished again from its start over the full range of the
+ * code-agnostic ascent (half a cell, 65-134 % of the sides); if a rival
+ * then explains the cells better than the reading (each at its own best
+ * grid), there is no reading, as in the tight check. (Simulated frame 444
+ * of actag-eval --seed 102, docs/decoder.md: a mirrored tag 3 read as tag
+ * 2 at margin 6.3 on the second grid; at full range tag 3's rss 408 beats
+ * tag 2's 479.) The same, against the other IDs among the candidates, for
+ * every quad reading whose margin lies within FIT_RECHECK_BAND of the
+ * least: a thin lead over another ID won with tight polishes is no lead
+ * when the rival's own grid lies farther away (the reading's other views
+ * keep the tight check: a tracker's verify, which reads one code, is not
+ * weakened). (Simulated frame 803 of actag-eval --seed 121: a mirrored tag
+ * 1 at 3.67 m and 72 degrees read as tag 5 at margin 3.07 from a good
+ * quad; at full range tag 1's rss 292 beats tag 5's 304.) A refusal here
+ * names no rival (*ambig is left as it is). */
+static int fjudge_full_range(const fjudge *J, int recheck)
+{
+    float f0 = 0.0f;
+    int jj, other_ids = !(recheck & FIT_RECHECK); /* the thin margin's check */
+    for (jj = 0; jj < J->ncand; jj++) {
+        fgrid g = *fjudge_start(J, jj);
+        float sc;
+        frefuse rf;
+        if (jj && other_ids && J->cid[jj] == J->cid[0])
+            continue;
+        layout_of(J->family, J->cid[jj], J->cview[jj], J->k, J->L);
+        rf.rss0 = f0;
+        rf.s2 = 1.0f;
+        rf.look = 0.0f;
+        rf.min_margin = -1e30f; /* refused only when r <= f0 */
+        if (ffit(J->im, &g, J->k, J->mt, J->L, J->erase, 0,
+                 (jj < J->ml->ntop || J->regrid) ? J->m : NULL, jj ? &rf : NULL, &sc))
+            return ACTAG_ERR_NO_MATCH; /* a rival explains the cells better */
+        if (jj == 0)
+            f0 = -sc;
+    }
+    return ACTAG_OK;
+}
+
+/* Rivals by template for a quad no affine grid fits (recheck
+ * FIT_RECHECK_FAR, see actag_decode_quad_fit). The candidates of the
+ * template check are the likeliest by the bits read on the reading's grid
+ * and the quad's, each polished a quarter cell from there; when the quad's
+ * corners lie farther than that from any affine grid, the right hypothesis
+ * may be neither a candidate nor within reach, and the margin then
+ * measures the grid, not the cells. So the FIT_FAR_RIVALS hypotheses that
+ * best explain the cells of the reading's grid as whole templates (rss, as
+ * many as one grid's likeliest readings) are polished over the ascent's
+ * full range, as is the reading's own, which must beat each by the least
+ * margin after the look-elsewhere allowance. Bounded: at most
+ * FIT_FAR_RIVALS + 1 polishes. (Simulated frame 673 of actag-eval --pool
+ * --seed 105, docs/decoder.md: an unmirrored tag 4 read as a mirrored tag
+ * 5 at margin 14.1; tag 4 was no candidate, ranks 5th here, and at full
+ * range comes within 1.3 nats of tag 5.)
+ * Then the quad's parallelograms: a quad this far from affine has a corner
+ * cut (eroded) or grown (bloomed), and the parallelogram through its other
+ * three corners is then near the tag, a cell or more from the reading's
+ * grid, out of the polish's reach. From each of the four, the hypothesis
+ * that best explains its cells (the reading excepted) is polished over the
+ * full range and must stay below the reading by the least margin. Bounded:
+ * 4 more polishes. (Simulated frame 586 of actag-eval --pool --seed 122:
+ * an unmirrored tag 4 whose quad has one corner 1.3 cells inside, read as
+ * a mirrored tag 5 at margin 9.9; tag 4 ranks 8th on the reading's grid,
+ * first on the parallelogram without that corner, and comes within 0.7
+ * nats of tag 5 there.) The cells of each are read into J->m: the
+ * reading's own are not needed again. */
+static int fjudge_far(const fjudge *J)
+{
+    const actag_soft_match *ml = J->ml;
+    unsigned views = fit_views(J->flags);
+    int rid[FIT_FAR_RIVALS], rview[FIT_FAR_RIVALS], nr, ia, k = J->k;
+    float rr[FIT_FAR_RIVALS], f0, sc;
+    fgrid g = *J->gr;
+    frefuse rf;
+    nr = frivals(J->family, views, ml->top[0].id, ml->top[0].view, J->m, k, J->erase, J->L,
+                 FIT_FAR_RIVALS, rid, rview, rr);
+    layout_of(J->family, ml->top[0].id, ml->top[0].view, k, J->L);
+    ffit(J->im, &g, k, J->mt, J->L, J->erase, 0, J->m, NULL, &sc);
+    f0 = -sc;
+    rf.rss0 = f0;
+    rf.s2 = fcell_noise2(f0, J->nc, J->floor2);
+    rf.look = J->look;
+    rf.min_margin = J->fp->min_margin;
+    for (ia = 0; ia < nr; ia++) {
+        layout_of(J->family, rid[ia], rview[ia], k, J->L);
+        g = *J->gr;
+        if (ffit(J->im, &g, k, J->mt, J->L, J->erase, 0, J->m, &rf, NULL))
+            return fjudge_refuse(J, J->gr, rid[ia], rview[ia]); /* a rival within the margin */
+    }
+    for (ia = 0; ia < 4; ia++) {
+        float rb;
+        actag_point qc[4];
+        int bid, bv;
+        memcpy(qc, J->q, sizeof qc);
+        qc[ia].x = J->q[(ia + 3) & 3].x + J->q[(ia + 1) & 3].x - J->q[(ia + 2) & 3].x;
+        qc[ia].y = J->q[(ia + 3) & 3].y + J->q[(ia + 1) & 3].y - J->q[(ia + 2) & 3].y;
+        if (fgrid_of_quad(qc, J->bits, &g) != ACTAG_OK)
+            continue;
+        fcells(J->im, &g, k, J->m);
+        if (frivals(J->family, views, ml->top[0].id, ml->top[0].view, J->m, k, J->erase, J->L, 1,
+                    &bid, &bv, &rb) < 1)
+            continue;
+        layout_of(J->family, bid, bv, k, J->L);
+        if (J->amb) /* the parallelogram's grid, before the polish moves it */
+            famb_set(&J->amb[1], &g, k, bid, bv);
+        if (ffit(J->im, &g, k, J->mt, J->L, J->erase, 0, J->m, &rf, NULL)) {
+            if (J->ambig)
+                *J->ambig = 1;
+            return ACTAG_ERR_NO_MATCH;
+        }
+    }
+    return ACTAG_OK;
+}
+
+/* The reading's own other handedness, for a wide reading (a search
+ * position or contour guess, which the quad checks below do not cover)
+ * and for a quad reading with a thin margin (FIT_RECHECK_BAND) or a
+ * corrected bit: the same code in each allowed view of the other
+ * handedness (the same corners labelled in reflected orders) is polished
+ * over the full range from the reading's grid, as is the reading's
+ * template; when one explains the cells better, there is no reading.
+ * AcTag24h10's codes lie only 4 of the 20 read bits from their own mirror
+ * images (docs/families.md), and the bit-by-bit reading can favour the
+ * wrong one where the cells as a whole do not; the soft match ranks the
+ * right view far down (6 bits), so it is no candidate of the template
+ * check, and unpolished on the reading's grid its template explains the
+ * cells 2-3 times worse. At most 5 polishes a reading.
+ * (Simulated frame 905 of actag-eval --seed 9210 on the 530 x 512 sonar
+ * with both orientation flags: a mirrored tag 5 at 2.33 m read unmirrored,
+ * top for bottom, at margin 2.2; the quad's own grid then reads it
+ * mirrored at margin 5.4. Frame 920 of --seed 314: a mirrored tag 6 read
+ * unmirrored at margin 3.4, which the extra margin at the correction limit
+ * refused. Frame 230 of --seed 311 --gain 520 --bands 5 --looks 1: a
+ * mirrored tag 5 read unmirrored by the structure search at margin 6.5.
+ * Checking every quad reading too cost 5.4 M Cortex-M7 instructions a pool
+ * frame, these 1.2 M.) Quad readings with a corrected bit, whatever their
+ * margin: the bits are then not the code's own, and its own mirror image
+ * lies only 4 bits off (held-out frames 948 of bench/heldout_sweep.py
+ * --mix c24h10 seed 9710 and 631 of seed 9729: a mirrored tag 5 read
+ * unmirrored, top for bottom, at hamming 1 and 2, margins 6.2 and 4.9; 2.0
+ * M more a pool frame). */
+static int fjudge_handedness(const fjudge *J)
+{
+    const actag_soft_match *ml = J->ml;
+    int mir = ml->top[0].view >> 2, v2;
+    /* the allowed views of the other handedness */
+    unsigned others =
+        fit_views(J->flags) & (mir ? ACTAG_VIEWS_UNMIRRORED : ACTAG_VIEWS_MIRRORED);
+    float f0 = 0.0f, sc;
+    fgrid g;
+    if (others) { /* the reading's template, polished once */
+        layout_of(J->family, ml->top[0].id, ml->top[0].view, J->k, J->L);
+        g = *J->gr;
+        ffit(J->im, &g, J->k, J->mt, J->L, J->erase, 0, NULL, NULL, &sc);
+        f0 = -sc < J->rss0 ? -sc : J->rss0;
+    }
+    for (v2 = 0; v2 < 8; v2++) {
+        if (!(others & (1u << v2)))
+            continue;
+        layout_of(J->family, ml->top[0].id, v2, J->k, J->L);
+        g = *J->gr;
+        ffit(J->im, &g, J->k, J->mt, J->L, J->erase, 0, NULL, NULL, &sc);
+        if (-sc < f0)
+            return fjudge_refuse(J, J->gr, ml->top[0].id, v2);
+    }
+    return ACTAG_OK;
+}
+
+/* Stretched grids (a quad reading that would be accepted): a white square
+ * eroded along one axis (the tag's near and far edges lost to the
+ * threshold, or one of them) gives a quad, and a grid, that is short along
+ * that axis; the right template's grid then lies beyond the polishes'
+ * reach (65-134 % of the sides), and a wrong one fits the misplaced cells.
+ * So the grid is stretched along each of its axes and along the frame's
+ * rows (FIT_STRETCH_AXES; a tag turned in the image is eroded in range,
+ * across its axes) by FIT_STRETCH (a quarter, a half), about its centre
+ * and about either end (18 starts); on each, the FIT_STRETCH_RIVALS
+ * templates other than the reading that best explain the cells are the
+ * rivals. A rival that explains them better than the reading's own
+ * template there (both unpolished) and within FIT_STRETCH_GATE of the
+ * reading's polished residual is polished over the full range from that
+ * start, as is the reading's template; when the rival then explains the
+ * cells better than the reading (its best of the two polishes), there is
+ * no reading: the reading has lost its lead to a hypothesis at a grid the
+ * sonar can show. (Before 2026-12-03's seventh session the rival had to
+ * win by ln 24 nats, an allowance for the starts tried; frame 378 of
+ * actag-eval --seed 1009 --rows 530 --cols 512 --min-range 0.1 --max-range
+ * 3.5 --min-distance 0.5 --max-distance 3 --range-ascending: an unmirrored
+ * tag 4 at 1.71 m and 79 degrees, turned 37 degrees in the image, its quad
+ * two thirds of the tag's height in range, read as tag 5 at margin 6.0;
+ * from the grid stretched by a half along the rows tag 4's template
+ * explains the cells 0.9 nats better.) (Simulated frame 810 of actag-eval
+ * --pool --seed 91: a mirrored tag 6 at 0.94 m and 70 degrees whose quad
+ * is a quarter short in range, read as an unmirrored tag 5 at margin 4.11;
+ * from the grid stretched by a quarter about its near end, tag 6's
+ * template explains the cells by 7.8 nats better. The same on frame 408 of
+ * --seed 311 with --seabed-level 0.18 or --gain 130 --metal-specular 1.2
+ * --seabed-level 0.18.) */
+static int fjudge_stretched(const fjudge *J)
+{
+    static const float fac[2] = FIT_STRETCH;
+    const actag_soft_match *ml = J->ml;
+    const fgrid *gr = J->gr;
+    unsigned views = fit_views(J->flags);
+    int ax2, fi, an, nst = 0, ci, j3, k = J->k;
+    int sid[FIT_STRETCH_MAX], sview[FIT_STRETCH_MAX];
+    float sgap[FIT_STRETCH_MAX], half = 0.5f * (float)J->n;
+    fgrid sg[FIT_STRETCH_MAX];
+    for (ax2 = 0; ax2 < FIT_STRETCH_AXES; ax2++)
+        for (fi = 0; fi < 2; fi++)
+            for (an = -1; an <= 1; an++) {
+                fgrid g = *gr;
+                float rr3[FIT_STRETCH_RIVALS], rown;
+                float sx = ax2 == 1 ? gr->bx : gr->ax, sy = ax2 == 1 ? gr->by : gr->ay;
+                int id3[FIT_STRETCH_RIVALS], v3[FIT_STRETCH_RIVALS], nr3;
+                if (ax2 == 2) {
+                    /* along the rows only: the grid's extent in y scales,
+                     * its x stays */
+                    sx = 0.0f;
+                    sy = (gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by);
+                    g.ay *= fac[fi];
+                    g.by *= fac[fi];
+                } else if (ax2) {
+                    g.bx *= fac[fi];
+                    g.by *= fac[fi];
+                } else {
+                    g.ax *= fac[fi];
+                    g.ay *= fac[fi];
+                }
+                /* an = -1 / +1: the low / high end stays */
+                g.mx += (float)an * (fac[fi] - 1.0f) * half * sx;
+                g.my += (float)an * (fac[fi] - 1.0f) * half * sy;
+                fcells(J->im, &g, k, J->mt);
+                nr3 = fstretch_rivals(J->family, views, J->flags, J->level, J->keep,
+                                      ml->top[0].id, ml->top[0].view, J->mt, k, J->erase, J->L,
+                                      id3, v3, rr3);
+                if (nr3 < 0)
+                    return nr3;
+                layout_of(J->family, ml->top[0].id, ml->top[0].view, k, J->L);
+                rown = template_rss(J->mt, J->L, k, J->erase, NULL);
+                for (j3 = 0; j3 < nr3; j3++) {
+                    float gap = rown - rr3[j3];
+                    if (!(gap > 0.0f) || !(rr3[j3] < FIT_STRETCH_GATE * J->rss0))
+                        continue;
+                    /* each rival once, from its start of largest lead */
+                    for (ci = 0; ci < nst; ci++)
+                        if (sid[ci] == id3[j3] && sview[ci] == v3[j3])
+                            break;
+                    if (ci < nst) {
+                        if (gap > sgap[ci]) {
+                            sgap[ci] = gap;
+                            sg[ci] = g;
+                        }
+                    } else if (nst < FIT_STRETCH_MAX) {
+                        sid[nst] = id3[j3];
+                        sview[nst] = v3[j3];
+                        sgap[nst] = gap;
+                        sg[nst++] = g;
+                    }
+                }
+            }
+    for (ci = 0; ci < nst; ci++) {
+        fgrid g = sg[ci];
+        float sc, f0, rr;
+        layout_of(J->family, ml->top[0].id, ml->top[0].view, k, J->L);
+        ffit(J->im, &g, k, J->mt, J->L, J->erase, 0, NULL, NULL, &sc);
+        f0 = -sc < J->rss0 ? -sc : J->rss0;
+        g = sg[ci];
+        layout_of(J->family, sid[ci], sview[ci], k, J->L);
+        ffit(J->im, &g, k, J->mt, J->L, J->erase, 0, NULL, NULL, &sc);
+        rr = -sc;
+        if (rr < f0)
+            return fjudge_refuse(J, &sg[ci], sid[ci], sview[ci]);
+    }
+    return ACTAG_OK;
+}
+
+/* The template check and the checks after it, in order (see fread_grid):
+ * ACTAG_OK when the reading stands, with *margin its lead over the
+ * runner-up before the look-elsewhere allowance. */
+static int fjudge_reading(fjudge *J, int recheck, float *margin)
+{
+    const float least = J->fp->min_margin;
+    int wide = (J->flags & ACTAG_FIT_WIDE) != 0, rc;
+    rc = fjudge_templates(J, margin);
+    if (rc != ACTAG_OK)
+        return rc;
+    if (((recheck & FIT_RECHECK) || *margin - J->look < least + FIT_RECHECK_BAND) && !wide &&
+        *margin - J->look >= least) {
+        rc = fjudge_full_range(J, recheck);
+        if (rc != ACTAG_OK)
+            return rc;
+    }
+    if ((recheck & FIT_RECHECK_FAR) && !wide && *margin - J->look >= least) {
+        rc = fjudge_far(J);
+        if (rc != ACTAG_OK)
+            return rc;
+    }
+    if (*margin - J->look >= least &&
+        (wide || J->ml->best.hamming >= 1 || *margin - J->look < least + FIT_RECHECK_BAND)) {
+        rc = fjudge_handedness(J);
+        if (rc != ACTAG_OK)
+            return rc;
+    }
+    if (!wide && *margin - J->look >= least)
+        return fjudge_stretched(J);
+    return ACTAG_OK;
+}
+
 /* One reading of grid gr (9 samples a cell into m): levels, confidences,
- * the likelihood match, the bit margin and the template check, as the
- * manual in decode.h describes. regrid: this is the quad's own grid read
+ * the likelihood match (fmatch_splits), the bit margin and the template
+ * check with the checks after it (fjudge_reading), as the manual in
+ * decode.h describes. regrid: this is the quad's own grid read
  * after the fitted one read nothing (one more grid in the look-elsewhere
  * allowance). *ambig (if not NULL) is set to 1 when the template check
  * refused the reading because a rival template came within the margin.
@@ -684,79 +1212,10 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
     }
 
     {
-        /* Thresholds: with ACTAG_FIT_SPLIT every split of the sorted data
-         * confidences between ACTAG_FIT_SPLIT_LO and _HI (relative to the
-         * mid level) is read; otherwise the single threshold 0. Each reading
-         * is matched by likelihood (actag_family_match_soft); the split whose best code
-         * needs the fewest corrections wins (then the larger margin). */
-        float sv[32], tbest = 0.0f;
-        int j, a, nsplit = 0, have = 0;
-        long key = -1;
-        int kd = 99, od = 99; /* best distance of the kept key, of any other */
-        if (flags & ACTAG_FIT_SPLIT) {
-            for (i = 0; i < bits; i++)
-                sv[i] = conf[i];
-            for (i = 1; i < bits; i++)
-                for (j = i; j > 0 && sv[j - 1] > sv[j]; j--) {
-                    float t = sv[j];
-                    sv[j] = sv[j - 1];
-                    sv[j - 1] = t;
-                }
-            nsplit = bits;
-        } else {
-            nsplit = 1;
-        }
-        for (j = 0; j < nsplit; j++) {
-            float t, ct[32];
-            actag_soft_match r;
-            int dk;
-            long key1;
-            if (flags & ACTAG_FIT_SPLIT) {
-                t = j == 0 ? sv[0] - 1.0f : 0.5f * (sv[j - 1] + sv[j]);
-                if (t > ACTAG_FIT_SPLIT_HI - level)
-                    break;
-                if (t < ACTAG_FIT_SPLIT_LO - level)
-                    continue;
-            } else {
-                t = 0.0f;
-            }
-            for (a = 0; a < bits; a++)
-                ct[a] = conf[a] - t;
-            rc = actag_family_match_soft_views(family, ct, keep, fit_views(flags), &r);
-            if (rc != ACTAG_OK)
-                return rc;
-            dk = r.best.hamming;
-            if (dk > max_corrections)
-                continue;
-            /* A tie between the two handednesses is no reading. */
-            if (r.other == dk)
-                return ACTAG_ERR_NO_MATCH;
-            /* Splits that read as different tags (or poses): the threshold
-             * decides the ID, so the reading is ambiguous unless one is
-             * closer than every other by FIT_SPLIT_LEAD bits. */
-            key1 = (long)r.best.id * 8L + (long)r.best.mirrored * 4L + (long)r.best.rotation;
-            if (key < 0 || key == key1) {
-                if (key < 0 || dk < kd)
-                    kd = dk;
-                key = key1;
-            } else if (dk < kd) {
-                od = kd < od ? kd : od;
-                kd = dk;
-                key = key1;
-            } else if (dk < od) {
-                od = dk;
-            }
-            if (!have || dk < ml.best.hamming ||
-                (dk == ml.best.hamming && r.d2 - r.d1 > ml.d2 - ml.d1)) {
-                ml = r;
-                tbest = t;
-                have = 1;
-            }
-        }
-        if (!have)
-            return ACTAG_ERR_NO_MATCH;
-        if (od < 99 && od - kd < FIT_SPLIT_LEAD)
-            return ACTAG_ERR_NO_MATCH;
+        float tbest = 0.0f;
+        rc = fmatch_splits(conf, bits, flags, level, family, keep, max_corrections, &ml, &tbest);
+        if (rc != ACTAG_OK)
+            return rc;
         w = 0;
         for (i = 0; i < bits; i++) { /* confidences relative to the chosen threshold */
             conf[i] -= tbest;
@@ -777,398 +1236,36 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
         /* log-likelihood ratio best : runner-up under Gaussian cell noise */
         margin = (float)(ml.d2 - ml.d1) * (1.0f / (float)ACTAG_SOFT_SCALE) / noise2;
         if ((flags & ACTAG_FIT_VERIFY) && ml.ntop > 1) {
+            /* the template check (fjudge_reading) */
             uint8_t L[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
             float mt[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
-            float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, floor2 = 0.0f;
-            int jj, nc = 1, erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
-            int cid[2 * ACTAG_SOFT_TOP], cview[2 * ACTAG_SOFT_TOP], ncand = 0;
-            /* candidates: the likeliest readings on the fitted grid, and on
-             * the quad's own grid (the code-agnostic fit may have settled
-             * where the right reading is not among its likeliest) */
-            for (jj = 0; jj < ml.ntop; jj++) {
-                cid[ncand] = ml.top[jj].id;
-                cview[ncand++] = ml.top[jj].view;
-            }
-            if (amb) /* the reading the check judges, should it refuse it */
-                famb_set(&amb[0], gr, k, cid[0], cview[0]);
-            {
-                float bq, wq;
-                actag_soft_match mq;
-                int a2, b2;
-                fcells(im, g_quad, k, mt);
-                rc = fmatch_cells(mt, k, flags, level, family, keep, fit_views(flags), &bq, &wq,
-                                  &mq);
-                if (rc < 0)
-                    return rc;
-                if (rc == 1) {
-                    for (a2 = 0; a2 < mq.ntop; a2++) {
-                        int dup = 0;
-                        for (b2 = 0; b2 < ncand; b2++)
-                            dup |= cid[b2] == mq.top[a2].id && cview[b2] == mq.top[a2].view;
-                        if (!dup) {
-                            cid[ncand] = mq.top[a2].id;
-                            cview[ncand++] = mq.top[a2].view;
-                        }
-                    }
-                }
-            }
-            for (jj = 0; jj < ncand; jj++) {
-                float r;
-                frefuse rf;
-                layout_of(family, cid[jj], cview[jj], k, L);
-                rf.rss0 = rss0;
-                rf.s2 = s2;
-                rf.look = look;
-                rf.min_margin = fp->min_margin;
-                /* a polish near the grid the reading came from (after the
-                 * wide search, which may settle a cell off, the full range);
-                 * m holds the cells of gr (the quad's grid after regrid) */
-                {
-                    fgrid g = jj < ml.ntop ? *gr : *g_quad;
-                    float sc;
-                    /* the polish's own score of its final grid is that
-                     * grid's rss (no second read) */
-                    if (ffit(im, &g, k, mt, L, erase, !(flags & ACTAG_FIT_WIDE),
-                             (jj < ml.ntop || regrid) ? m : NULL, jj ? &rf : NULL, &sc)) {
-                        if (ambig)
-                            *ambig = 1;
-                        if (amb)
-                            famb_set(&amb[1], jj < ml.ntop ? gr : g_quad, k, cid[jj], cview[jj]);
-                        return ACTAG_ERR_NO_MATCH; /* refused before the polish ends */
-                    }
-                    r = -sc;
-                }
-                if (jj == 0) {
-                    nc = n * n - (erase ? 4 : 0); /* the cells template_rss counts */
-                    rss0 = r;
-                    floor2 = fnoise_floor2(contrast);
-                    s2 = fcell_noise2(rss0, nc, floor2);
-                    continue;
-                }
-                /* Another hypothesis explains the cells better once each
-                 * has its own grid (the code-agnostic reading cannot be
-                 * trusted), or too nearly as well: refuse now. The margin
-                 * only falls as rss2 does, so the first such hypothesis
-                 * decides exactly what the least one would. */
-                if (r <= rss0 || 0.5f * (r - rss0) / s2 - look < fp->min_margin) {
-                    if (ambig)
-                        *ambig = 1;
-                    if (amb)
-                        famb_set(&amb[1], jj < ml.ntop ? gr : g_quad, k, cid[jj], cview[jj]);
-                    return ACTAG_ERR_NO_MATCH;
-                }
-                if (r < rss2)
-                    rss2 = r;
-            }
-            margin = 0.5f * (rss2 - rss0) / s2;
-            /* Full-range re-check (recheck: the quad's own grid read after
-             * the fitted grid's template check found a rival within the
-             * margin). A quad reading polishes each template only a
-             * quarter cell and +-15 % from the grid it came from, so a
-             * hypothesis whose alignment lies farther away (a quad of an
-             * eroded or bloomed white square, a fifth of a side short or
-             * rotated) is judged at a grid that does not fit it: the
-             * ranking then reflects the start grid, not the cells. That
-             * two grids of one quad rank the same two hypotheses so
-             * differently is the sign of it. Each template is polished
-             * again from its start over the full range of the
-             * code-agnostic ascent (half a cell, 65-134 % of the sides);
-             * if a rival then explains the cells better than the reading
-             * (each at its own best grid), there is no reading, as in the
-             * tight check. (Simulated frame 444 of actag-eval --seed 102,
-             * docs/decoder.md: a mirrored tag 3 read as tag 2 at margin
-             * 6.3 on the second grid; at full range tag 3's rss 408 beats
-             * tag 2's 479.) The same, against the other IDs among the
-             * candidates, for every quad reading whose margin lies within
-             * FIT_RECHECK_BAND of the least: a thin lead over another ID
-             * won with tight polishes is no lead when the rival's own grid
-             * lies farther away (the reading's other views keep the tight
-             * check: a tracker's verify, which reads one code, is not
-             * weakened). (Simulated frame 803 of actag-eval --seed 121:
-             * a mirrored tag 1 at 3.67 m and 72 degrees read as tag 5 at
-             * margin 3.07 from a good quad; at full range tag 1's rss 292
-             * beats tag 5's 304.) */
-            if (((recheck & FIT_RECHECK) || margin - look < fp->min_margin + FIT_RECHECK_BAND) &&
-                !(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
-                float f0 = 0.0f;
-                int other_ids = !(recheck & FIT_RECHECK); /* the thin margin's check */
-                for (jj = 0; jj < ncand; jj++) {
-                    fgrid g = jj < ml.ntop ? *gr : *g_quad;
-                    float sc;
-                    frefuse rf;
-                    if (jj && other_ids && cid[jj] == cid[0])
-                        continue;
-                    layout_of(family, cid[jj], cview[jj], k, L);
-                    rf.rss0 = f0;
-                    rf.s2 = 1.0f;
-                    rf.look = 0.0f;
-                    rf.min_margin = -1e30f; /* refused only when r <= f0 */
-                    if (ffit(im, &g, k, mt, L, erase, 0, (jj < ml.ntop || regrid) ? m : NULL,
-                             jj ? &rf : NULL, &sc))
-                        return ACTAG_ERR_NO_MATCH; /* a rival explains the cells better */
-                    if (jj == 0)
-                        f0 = -sc;
-                }
-            }
-            /* Rivals by template for a quad no affine grid fits
-             * (FIT_RECHECK_FAR, see actag_decode_quad_fit). The candidates
-             * above are the likeliest by the bits read on the reading's
-             * grid and the quad's, each polished a quarter cell from there;
-             * when the quad's corners lie farther than that from any
-             * affine grid, the right hypothesis may be neither a candidate
-             * nor within reach, and the margin then measures the grid,
-             * not the cells. So the FIT_FAR_RIVALS hypotheses that best
-             * explain the cells of the reading's grid as whole templates
-             * (rss, as many as one grid's likeliest readings) are polished over
-             * the ascent's full range, as is the reading's own, which must
-             * beat each by the least margin after the look-elsewhere
-             * allowance. Bounded: at most FIT_FAR_RIVALS + 1 polishes.
-             * (Simulated frame 673 of actag-eval --pool --seed 105,
-             * docs/decoder.md: an unmirrored tag 4 read as a mirrored tag 5
-             * at margin 14.1; tag 4 was no candidate, ranks 5th here, and
-             * at full range comes within 1.3 nats of tag 5.) */
-            if ((recheck & FIT_RECHECK_FAR) && !(flags & ACTAG_FIT_WIDE) &&
-                margin - look >= fp->min_margin) {
-                unsigned views = fit_views(flags);
-                int rid[FIT_FAR_RIVALS], rview[FIT_FAR_RIVALS], nr, ia;
-                float rr[FIT_FAR_RIVALS], f0, sc;
-                fgrid g = *gr;
-                frefuse rf;
-                nr = frivals(family, views, ml.top[0].id, ml.top[0].view, m, k, erase, L,
-                             FIT_FAR_RIVALS, rid, rview, rr);
-                layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
-                ffit(im, &g, k, mt, L, erase, 0, m, NULL, &sc);
-                f0 = -sc;
-                rf.rss0 = f0;
-                rf.s2 = fcell_noise2(f0, nc, floor2);
-                rf.look = look;
-                rf.min_margin = fp->min_margin;
-                for (ia = 0; ia < nr; ia++) {
-                    layout_of(family, rid[ia], rview[ia], k, L);
-                    g = *gr;
-                    if (ffit(im, &g, k, mt, L, erase, 0, m, &rf, NULL)) {
-                        if (ambig)
-                            *ambig = 1;
-                        if (amb)
-                            famb_set(&amb[1], gr, k, rid[ia], rview[ia]);
-                        return ACTAG_ERR_NO_MATCH; /* a rival within the margin */
-                    }
-                }
-                /* The quad's parallelograms: a quad this far from affine
-                 * has a corner cut (eroded) or grown (bloomed), and the
-                 * parallelogram through its other three corners is then
-                 * near the tag, a cell or more from the reading's grid,
-                 * out of the polish's reach. From each of the four, the
-                 * hypothesis that best explains its cells (the reading
-                 * excepted) is polished over the full range and must
-                 * stay below the reading by the least margin. Bounded: 4
-                 * more polishes. (Simulated frame 586 of actag-eval --pool
-                 * --seed 122: an unmirrored tag 4 whose quad has one
-                 * corner 1.3 cells inside, read as a mirrored tag 5 at
-                 * margin 9.9; tag 4 ranks 8th on the reading's grid, first
-                 * on the parallelogram without that corner, and comes
-                 * within 0.7 nats of tag 5 there.) The cells of each are
-                 * read into m: the reading's own are not needed again. */
-                for (ia = 0; ia < 4; ia++) {
-                    float rb;
-                    actag_point qc[4];
-                    int bid, bv;
-                    memcpy(qc, q, sizeof qc);
-                    qc[ia].x = q[(ia + 3) & 3].x + q[(ia + 1) & 3].x - q[(ia + 2) & 3].x;
-                    qc[ia].y = q[(ia + 3) & 3].y + q[(ia + 1) & 3].y - q[(ia + 2) & 3].y;
-                    if (fgrid_of_quad(qc, bits, &g) != ACTAG_OK)
-                        continue;
-                    fcells(im, &g, k, m);
-                    if (frivals(family, views, ml.top[0].id, ml.top[0].view, m, k, erase, L, 1,
-                                &bid, &bv, &rb) < 1)
-                        continue;
-                    layout_of(family, bid, bv, k, L);
-                    if (amb) /* the parallelogram's grid, before the polish moves it */
-                        famb_set(&amb[1], &g, k, bid, bv);
-                    if (ffit(im, &g, k, mt, L, erase, 0, m, &rf, NULL)) {
-                        if (ambig)
-                            *ambig = 1;
-                        return ACTAG_ERR_NO_MATCH;
-                    }
-                }
-            }
-            /* Stretched grids (a quad reading that would be accepted): a
-             * white square eroded along one axis (the tag's near and far
-             * edges lost to the threshold, or one of them) gives a quad, and
-             * a grid, that is short along that axis; the right template's
-             * grid then lies beyond the polishes' reach (65-134 % of the
-             * sides), and a wrong one fits the misplaced cells. So the grid
-             * is stretched along each of its axes and along the frame's
-             * rows (FIT_STRETCH_AXES; a tag turned in the image is eroded
-             * in range, across its axes) by FIT_STRETCH (a quarter, a
-             * half), about its centre and about either end (18 starts);
-             * on each, the FIT_STRETCH_RIVALS templates other than the
-             * reading that best explain the cells are the rivals. A rival
-             * that explains them better than the reading's own template
-             * there (both unpolished) and within FIT_STRETCH_GATE of the
-             * reading's polished residual is polished over the full range
-             * from that start, as is the reading's template; when the
-             * rival then explains the cells better than the reading (its
-             * best of the two polishes), there is no reading: the reading
-             * has lost its lead to a hypothesis at a grid the sonar can
-             * show. (Before 2026-12-03's seventh session the rival had to
-             * win by ln 24 nats, an allowance for the starts tried; frame
-             * 378 of actag-eval --seed 1009 --rows 530 --cols 512
-             * --min-range 0.1 --max-range 3.5 --min-distance 0.5
-             * --max-distance 3 --range-ascending: an unmirrored tag 4 at
-             * 1.71 m and 79 degrees, turned 37 degrees in the image, its
-             * quad two thirds of the tag's height in range, read as tag 5
-             * at margin 6.0; from the grid stretched by a half along the
-             * rows tag 4's template explains the cells 0.9 nats better.)
-             * (Simulated frame 810 of
-             * actag-eval --pool --seed 91: a mirrored tag 6 at 0.94 m and
-             * 70 degrees whose quad is a quarter short in range, read as
-             * an unmirrored tag 5 at margin 4.11; from the grid stretched
-             * by a quarter about its near end, tag 6's template explains
-             * the cells by 7.8 nats better. The same on frame 408 of
-             * --seed 311 with --seabed-level 0.18 or --gain 130
-             * --metal-specular 1.2 --seabed-level 0.18.) */
-            /* The reading's own other handedness, for a wide reading (a
-             * search position or contour guess, which the quad checks
-             * below do not cover) and for a quad reading with a thin
-             * margin (the band above): the same code in each allowed
-             * view of the other handedness (the same corners labelled in
-             * reflected orders) is polished over the full range from the
-             * reading's grid, as is the reading's template; when one
-             * explains the cells better, there is no reading. AcTag24h10's
-             * codes lie only 4 of the 20 read bits from their own mirror
-             * images (docs/families.md), and the bit-by-bit reading can
-             * favour the wrong one where the cells as a whole do not; the
-             * soft match ranks the right view far down (6 bits), so it is
-             * no candidate of the checks above, and unpolished on the
-             * reading's grid its template explains the cells 2-3 times
-             * worse. At most 5 polishes a reading.
-             * (Simulated frame 905 of actag-eval --seed 9210 on the 530 x
-             * 512 sonar with both orientation flags: a mirrored tag 5 at
-             * 2.33 m read unmirrored, top for bottom, at margin 2.2; the
-             * quad's own grid then reads it mirrored at margin 5.4. Frame
-             * 920 of --seed 314: a mirrored tag 6 read unmirrored at margin
-             * 3.4, which the extra margin at the correction limit refused.
-             * Frame 230 of --seed 311 --gain 520 --bands 5 --looks 1: a
-             * mirrored tag 5 read unmirrored by the structure search at
-             * margin 6.5. Checking every quad reading too cost 5.4 M
-             * Cortex-M7 instructions a pool frame, these 1.2 M.)
-             * And for a quad reading with a corrected bit, whatever its
-             * margin: the bits are then not the code's own, and its own
-             * mirror image lies only 4 bits off (held-out frames 948 of
-             * bench/heldout_sweep.py --mix c24h10 seed 9710 and 631 of
-             * seed 9729: a mirrored tag 5 read unmirrored, top for bottom,
-             * at hamming 1 and 2, margins 6.2 and 4.9; 2.0 M more a pool
-             * frame). */
-            if (margin - look >= fp->min_margin &&
-                ((flags & ACTAG_FIT_WIDE) || ml.best.hamming >= 1 ||
-                 margin - look < fp->min_margin + FIT_RECHECK_BAND)) {
-                int mir = ml.top[0].view >> 2, v2;
-                /* the allowed views of the other handedness */
-                unsigned others = fit_views(flags) & (mir ? ACTAG_VIEWS_UNMIRRORED
-                                                          : ACTAG_VIEWS_MIRRORED);
-                float f0 = 0.0f, sc;
-                fgrid g;
-                if (others) { /* the reading's template, polished once */
-                    layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
-                    g = *gr;
-                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
-                    f0 = -sc < rss0 ? -sc : rss0;
-                }
-                for (v2 = 0; v2 < 8; v2++) {
-                    if (!(others & (1u << v2)))
-                        continue;
-                    layout_of(family, ml.top[0].id, v2, k, L);
-                    g = *gr;
-                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
-                    if (-sc < f0) {
-                        if (ambig)
-                            *ambig = 1;
-                        if (amb)
-                            famb_set(&amb[1], gr, k, ml.top[0].id, v2);
-                        return ACTAG_ERR_NO_MATCH;
-                    }
-                }
-            }
-            if (!(flags & ACTAG_FIT_WIDE) && margin - look >= fp->min_margin) {
-                static const float fac[2] = FIT_STRETCH;
-                unsigned views = fit_views(flags);
-                int ax2, fi, an, nst = 0, ci, j3;
-                int sid[FIT_STRETCH_MAX], sview[FIT_STRETCH_MAX];
-                float sgap[FIT_STRETCH_MAX], half = 0.5f * (float)n;
-                fgrid sg[FIT_STRETCH_MAX];
-                for (ax2 = 0; ax2 < FIT_STRETCH_AXES; ax2++)
-                    for (fi = 0; fi < 2; fi++)
-                        for (an = -1; an <= 1; an++) {
-                            fgrid g = *gr;
-                            float rr3[FIT_STRETCH_RIVALS], rown;
-                            float sx = ax2 == 1 ? gr->bx : gr->ax, sy = ax2 == 1 ? gr->by : gr->ay;
-                            int id3[FIT_STRETCH_RIVALS], v3[FIT_STRETCH_RIVALS], nr3;
-                            if (ax2 == 2) {
-                                /* along the rows only: the grid's extent in y
-                                 * scales, its x stays */
-                                sx = 0.0f;
-                                sy = (gr->ay < 0.0f ? -gr->ay : gr->ay) +
-                                     (gr->by < 0.0f ? -gr->by : gr->by);
-                                g.ay *= fac[fi];
-                                g.by *= fac[fi];
-                            } else if (ax2) {
-                                g.bx *= fac[fi];
-                                g.by *= fac[fi];
-                            } else {
-                                g.ax *= fac[fi];
-                                g.ay *= fac[fi];
-                            }
-                            /* an = -1 / +1: the low / high end stays */
-                            g.mx += (float)an * (fac[fi] - 1.0f) * half * sx;
-                            g.my += (float)an * (fac[fi] - 1.0f) * half * sy;
-                            fcells(im, &g, k, mt);
-                            nr3 = fstretch_rivals(family, views, flags, level, keep, ml.top[0].id,
-                                                  ml.top[0].view, mt, k, erase, L, id3, v3, rr3);
-                            if (nr3 < 0)
-                                return nr3;
-                            layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
-                            rown = template_rss(mt, L, k, erase, NULL);
-                            for (j3 = 0; j3 < nr3; j3++) {
-                                float gap = rown - rr3[j3];
-                                if (!(gap > 0.0f) || !(rr3[j3] < FIT_STRETCH_GATE * rss0))
-                                    continue;
-                                /* each rival once, from its start of largest lead */
-                                for (ci = 0; ci < nst; ci++)
-                                    if (sid[ci] == id3[j3] && sview[ci] == v3[j3])
-                                        break;
-                                if (ci < nst) {
-                                    if (gap > sgap[ci]) {
-                                        sgap[ci] = gap;
-                                        sg[ci] = g;
-                                    }
-                                } else if (nst < FIT_STRETCH_MAX) {
-                                    sid[nst] = id3[j3];
-                                    sview[nst] = v3[j3];
-                                    sgap[nst] = gap;
-                                    sg[nst++] = g;
-                                }
-                            }
-                        }
-                for (ci = 0; ci < nst; ci++) {
-                    fgrid g = sg[ci];
-                    float sc, f0, rr;
-                    layout_of(family, ml.top[0].id, ml.top[0].view, k, L);
-                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
-                    f0 = -sc < rss0 ? -sc : rss0;
-                    g = sg[ci];
-                    layout_of(family, sid[ci], sview[ci], k, L);
-                    ffit(im, &g, k, mt, L, erase, 0, NULL, NULL, &sc);
-                    rr = -sc;
-                    if (rr < f0) {
-                        if (ambig)
-                            *ambig = 1;
-                        if (amb)
-                            famb_set(&amb[1], &sg[ci], k, sid[ci], sview[ci]);
-                        return ACTAG_ERR_NO_MATCH;
-                    }
-                }
-            }
+            fjudge J;
+            memset(&J, 0, sizeof J);
+            J.im = im;
+            J.gr = gr;
+            J.g_quad = g_quad;
+            J.family = family;
+            J.fp = fp;
+            J.q = q;
+            J.ml = &ml;
+            J.k = k;
+            J.n = n;
+            J.bits = bits;
+            J.flags = flags;
+            J.erase = (flags & ACTAG_FIT_ERASE_CORNERS) != 0;
+            J.regrid = regrid;
+            J.keep = keep;
+            J.level = level;
+            J.look = look;
+            J.m = m;
+            J.mt = mt;
+            J.L = L;
+            J.contrast = contrast;
+            J.ambig = ambig;
+            J.amb = amb;
+            rc = fjudge_reading(&J, recheck, &margin);
+            if (rc != ACTAG_OK)
+                return rc;
         }
         margin -= look;
         /* at the correction limit another code may be as near as the read
