@@ -240,6 +240,7 @@ static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
     int w = x1 - x0 + 1, h = y1 - y0 + 1, j;
     size_t off = (size_t)y0 * (size_t)frame->stride + (size_t)x0;
     float ra, rb;
+    memset(ds, 0, sizeof *ds); /* no detection ran: nothing counted */
     /* One range row (a frame of one row) holds no tag, and its window
      * would span no range (min_range = max_range: no geometry at all) */
     if (h < 2)
@@ -258,6 +259,12 @@ static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
     sg.flags = g->flags & ACTAG_RANGE_ASCENDING;
     sg.min_range = ra < rb ? ra : rb;
     sg.max_range = ra < rb ? rb : ra;
+    /* A window the detector refuses holds no tag it could read: the
+     * parameters and the frame passed their checks, so only the window's
+     * own geometry can fail, e.g. a window at the sonar (a track coasting
+     * past the near edge) whose far range is below tag_size / sqrt 2. */
+    if (actag_check(&sub, &sg, p, wss, ACTAG_TRACK_MAX_DET, NULL) != ACTAG_OK)
+        return 0;
     return actag_detect(&sub, &sg, p, ws, wss, t->det, ACTAG_TRACK_MAX_DET, ds);
 }
 
@@ -455,12 +462,27 @@ static void t_reproject(actag_tracker *t, const actag_sonar_geometry *g, int row
  * has no range (azimuth) axis: every pixel maps to one range (azimuth),
  * so the track keeps the place it had, and finds it again in the next
  * frame that has the axis (t_reproject). */
+/* Has the track's centre left the frame (the tag has left the view: it
+ * can be read no more, and its prediction leads nowhere)? Not along an
+ * axis the frame does not have (one row or column: see t_polar). */
+static int t_left_frame(const actag_track *k, int rows, int cols)
+{
+    actag_point c = t_centre(k->corners);
+    return (rows > 1 && !(c.y >= 0.0f && c.y <= (float)(rows - 1))) ||
+           (cols > 1 && !(c.x >= 0.0f && c.x <= (float)(cols - 1)));
+}
+
 static void t_polar(const actag_sonar_geometry *g, int rows, int cols, actag_track *k)
 {
     int i;
     for (i = 0; i < 4; i++) {
-        if (rows > 1)
+        /* a coasting track's corner may lie past the near edge, where the
+         * linear map gives ranges below min_range: none below 0 */
+        if (rows > 1) {
             k->range[i] = actag_geometry_range(g, rows, k->corners[i].y);
+            if (!(k->range[i] >= 0.0f))
+                k->range[i] = 0.0f;
+        }
         if (cols > 1)
             k->azimuth[i] = actag_geometry_azimuth(g, cols, k->corners[i].x);
     }
@@ -696,7 +718,8 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     }
     for (i = 0; i < t->ntracks;) {
         const actag_track *k = &t->tracks[i];
-        if (k->missed > 0 && (!k->confirmed || k->missed > t->params.max_missed)) {
+        if (k->missed > 0 && (!k->confirmed || k->missed > t->params.max_missed ||
+                              t_left_frame(k, frame->rows, frame->cols))) {
             for (j = i; j + 1 < t->ntracks; j++) {
                 t->tracks[j] = t->tracks[j + 1];
                 assigned[j] = assigned[j + 1];

@@ -52,7 +52,10 @@
  *   it is reported as coasting, measured = 0, once it has been read twice:
  *   a track of one reading has no velocity, and its prediction would be
  *   the place of that reading however far the tag has moved; it is kept
- *   and searched, not reported). A track's tag ID and
+ *   and searched, not reported), or as soon as a frame without a reading
+ *   predicts its centre outside the frame (the tag has left the view; a
+ *   window at the sonar too short in range for a tag is read as holding
+ *   none, not as an error). A track's tag ID and
  *   handedness never change: a reading of another ID (or the other
  *   handedness) at a tracked tag's place is ignored and counted
  *   (stats.conflicts), never assigned. Corners are smoothed by an alpha-beta
@@ -172,7 +175,10 @@ typedef struct actag_track {
     int missed;              /* consecutive frames without one */
     int age;                 /* frames since the track started */
     actag_point corners[4];  /* smoothed corners, tag order (x = column, y = row) */
-    float range[4];          /* metres, of the smoothed corners */
+    float range[4];          /* metres, of the smoothed corners (a coasting
+                                track's may lie outside the frame: the
+                                geometry's mapping extended, ranges below 0
+                                given as 0) */
     float azimuth[4];        /* radians */
     actag_point velocity[4]; /* pixels per frame */
     actag_detection last;    /* the latest reading (unsmoothed) */

@@ -812,6 +812,59 @@ static void test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames(vo
     free(empty);
 }
 
+/* A confirmed track coasting past the near-range edge of a sonar whose
+ * first range is 0 (review of 2026-12-05): its window there spans less
+ * range than a tag and the detector refuses it; that window holds no
+ * reading, it is no error of the call (before: ACTAG_ERR_PARAM on every
+ * frame until the track aged out, no track updated). The track is dropped
+ * in the frame its centre leaves the frame, and no reported range is
+ * below 0 (before: -0.15 m on a coasting track). */
+static void test_a_track_coasting_off_the_near_edge_is_dropped_without_error(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    actag_sonar_geometry g = sonar.geo;
+    uint8_t *empty = render_empty();
+    actag_frame f;
+    float toward_near;
+    int i, c, n = 0, dropped = 0;
+    g.min_range = 0.0f;
+    /* the near edge: the last row when the range falls down the rows */
+    toward_near = actag_geometry_range(&g, sonar.rows, 0.0f) >
+                          actag_geometry_range(&g, sonar.rows, (float)(sonar.rows - 1))
+                      ? 1.0f
+                      : -1.0f;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    f = frame_of(frames[STILL]);
+    for (i = 0; i < 10 && n != 1; i++)
+        n = actag_tracker_update(&tr, &f, &g, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    /* a track moving 2 frame heights a frame toward the sonar */
+    for (c = 0; c < 4; c++) {
+        tr.tracks[0].velocity[c].x = 0.0f;
+        tr.tracks[0].velocity[c].y = toward_near * 2.0f * (float)sonar.rows;
+    }
+    f = frame_of(empty);
+    for (i = 0; i < tp.max_missed + 1 && !dropped; i++) {
+        n = actag_tracker_update(&tr, &f, &g, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX, &st);
+        TEST_ASSERT_TRUE(n >= 0);
+        TEST_ASSERT_EQUAL_INT(0, st.full_frame); /* its window was read, not the frame */
+        for (c = 0; c < 4 * n; c++)
+            TEST_ASSERT_TRUE(out[c / 4].range[c % 4] >= 0.0f);
+        dropped = st.dropped;
+    }
+    /* dropped in the first frame: its prediction left the frame at once */
+    TEST_ASSERT_EQUAL_INT(1, i);
+    TEST_ASSERT_EQUAL_INT(1, dropped);
+    TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
+    free(empty);
+}
+
 /* A tag that moves more than a diagonal between whole-frame searches (held
  * still 10 frames, then 1.5 diagonals down in range on the full_every-th
  * frame) keeps its one track: the reading beyond the gate re-acquires the
@@ -1378,6 +1431,7 @@ int main(void)
     RUN_TEST(test_windows_are_read_in_the_tracks_handedness);
     RUN_TEST(test_a_tag_is_confirmed_on_its_confirm_frames_th_reading);
     RUN_TEST(test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames);
+    RUN_TEST(test_a_track_coasting_off_the_near_edge_is_dropped_without_error);
     RUN_TEST(test_a_tag_that_jumps_keeps_one_track);
     RUN_TEST(test_the_gate_widens_while_a_track_coasts);
     RUN_TEST(test_a_new_sonar_setting_keeps_the_tracks);
