@@ -191,6 +191,39 @@ typedef struct {
     float range_true, w_err[3];       /* m; rad, rotation error vector (sensor axes) */
 } tag_result;
 
+/* A detection of the tag: the right ID at the tag with the right
+ * handedness and corner order (a right ID read with either wrong is an
+ * error, counted as such, and no detection). */
+static int right_reading(const tag_result *R)
+{
+    return R->sampled && R->found && !R->mirror_err && !R->order_err;
+}
+
+/* The bin of v among n bins of width step from lo (a value a rounding
+ * outside the first or last bin is in it). */
+static int bin_of(double v, double lo, double step, int n)
+{
+    int b = (int)floor((v - lo) / step);
+    return b < 0 ? 0 : b >= n ? n - 1 : b;
+}
+
+/* A JSON number of format fmt, or null when nothing was measured (have 0):
+ * an empty bin's rate or median is not 0. One of JN_SLOTS buffers, so a
+ * printf may take several. */
+#define JN_SLOTS 8
+static const char *jnum(const char *fmt, double v, int have)
+{
+    static char buf[JN_SLOTS][40];
+    static int next;
+    char *b;
+    if (!have)
+        return "null";
+    b = buf[next];
+    next = (next + 1) % JN_SLOTS;
+    snprintf(b, sizeof buf[0], fmt, v);
+    return b;
+}
+
 typedef struct {
     int det[MAX_FAM][NCORR]; /* detections per family and corrections setting */
 } free_result;
@@ -763,7 +796,7 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
         die("out of memory");
     for (i = 0; i < c->frames; i++) {
         const tag_result *R = &c->tres[i];
-        if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+        if (!right_reading(R))
             continue;
         rel[n] = 100.0 * R->pos_err / R->distance;
         pos[n] = R->pos_err;
@@ -782,16 +815,19 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
     mpos = median_of(pos, n);
     mori = median_of(ori, n);
     mele = median_of(ele, n);
-    if (json)
-        printf("\"pose\": {\"readings\": %d, \"median_position_error_m\": %.5f, "
-               "\"median_position_error_pct_of_range\": %.3f, "
-               "\"median_orientation_error_deg\": %.3f, \"median_elevation_error_deg\": %.3f, "
-               "\"inside_95_position\": %.4f, \"inside_95_orientation\": %.4f, "
-               "\"inside_95_6d\": %.4f, \"flags\": {\"degenerate\": %d, \"elevation\": %d, "
+    if (json) {
+        printf("\"pose\": {\"readings\": %d, \"median_position_error_m\": %s, "
+               "\"median_position_error_pct_of_range\": %s, "
+               "\"median_orientation_error_deg\": %s, \"median_elevation_error_deg\": %s, ",
+               n, jnum("%.5f", mpos, n > 0), jnum("%.3f", mrel, n > 0), jnum("%.3f", mori, n > 0),
+               jnum("%.3f", mele, n > 0));
+        printf("\"inside_95_position\": %s, \"inside_95_orientation\": %s, "
+               "\"inside_95_6d\": %s, \"flags\": {\"degenerate\": %d, \"elevation\": %d, "
                "\"mirror_conflict\": %d, \"not_converged\": %d}, \"by_distance\": [",
-               n, mpos, mrel, mori, mele, n ? (double)in_pos / n : 0.0,
-               n ? (double)in_ori / n : 0.0, n ? (double)in_all / n : 0.0, degen, elev,
-               conflict, nconv);
+               jnum("%.4f", n ? (double)in_pos / n : 0.0, n > 0),
+               jnum("%.4f", n ? (double)in_ori / n : 0.0, n > 0),
+               jnum("%.4f", n ? (double)in_all / n : 0.0, n > 0), degen, elev, conflict, nconv);
+    }
     else {
         printf("  pose of the %d readings (pose.h, corner noise %.4f m / %.4f rad):\n", n,
                (double)ACTAG_POSE_RANGE_SD, (double)ACTAG_POSE_AZIMUTH_SD);
@@ -809,14 +845,10 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
         for (i = 0; i < c->frames; i++) {
             const tag_result *R = &c->tres[i];
             int k;
-            if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+            if (!right_reading(R))
                 continue;
-            k = inc ? (int)floor((R->incidence / DEG - ilo) / istep)
-                    : (int)floor((R->distance - dlo) / dstep);
-            if (k < 0)
-                k = 0;
-            if (k >= (inc ? nbi : nbd))
-                k = (inc ? nbi : nbd) - 1;
+            k = inc ? bin_of(R->incidence / DEG, ilo, istep, nbi)
+                    : bin_of(R->distance, dlo, dstep, nbd);
             if (k != bb)
                 continue;
             tmp[m] = 100.0 * R->pos_err / R->distance;
@@ -832,9 +864,10 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
             double centre = inc ? ilo + (bb + 0.5) * istep : dlo + (bb + 0.5) * dstep;
             double a = median_of(tmp, m), o = median_of(tmp2, m);
             if (json)
-                printf("%s{\"%s\": %.2f, \"readings\": %d, \"median_position_error_pct\": %.3f, "
-                       "\"median_orientation_error_deg\": %.3f}",
-                       bb ? ", " : "", inc ? "incidence_deg" : "distance_m", centre, m, a, o);
+                printf("%s{\"%s\": %.2f, \"readings\": %d, \"median_position_error_pct\": %s, "
+                       "\"median_orientation_error_deg\": %s}",
+                       bb ? ", " : "", inc ? "incidence_deg" : "distance_m", centre, m,
+                       jnum("%.3f", a, m > 0), jnum("%.3f", o, m > 0));
             else if (m > 0)
                 printf(" %.4g: %d, %.2f, %.1f;", centre, m, a, o);
         }
@@ -1074,8 +1107,12 @@ int main(int argc, char **argv)
             NEED();
             if (hostio_parse_doubles(o, v, ',', mm, 2, e2) != HOSTIO_OK)
                 die(e2);
-            if (!(mm[0] > 0.0 && mm[1] >= mm[0]))
-                die("--free-max-range: expected LO,HI with 0 < LO <= HI");
+            if (!(mm[0] > 0.0 && mm[1] >= mm[0])) {
+                char m[HOSTIO_ERRLEN + 80];
+                snprintf(m, sizeof m, "--free-max-range: expected LO,HI with 0 < LO <= HI (got %s)",
+                         v);
+                die(m);
+            }
             c.free_min_max_range = (float)mm[0];
             c.free_max_max_range = (float)mm[1];
         } else if (!strcmp(o, "--gain")) { /* appearance: actag-sim's ranges */
@@ -1264,16 +1301,19 @@ int main(int argc, char **argv)
     c.free_sonar = c.sonar;
     c.free_sonar.rows = free_rows;
     c.free_sonar.cols = free_cols;
-    if (c.free_max_max_range <= 0.0f) {
-        c.free_min_max_range = 3.0f;
-        c.free_max_max_range = 6.0f;
-    }
-    if (!(c.free_min_max_range > c.sonar.geo.min_range)) {
-        char m[200];
-        snprintf(m, sizeof m, "--free-max-range: must be above --min-range %g (got %g,%g)",
-                 (double)c.sonar.geo.min_range, (double)c.free_min_max_range,
-                 (double)c.free_max_max_range);
-        die(m);
+    {
+        int given = c.free_max_max_range > 0.0f;
+        if (!given) {
+            c.free_min_max_range = 3.0f;
+            c.free_max_max_range = 6.0f;
+        }
+        if (c.tag_free > 0 && !(c.free_min_max_range > c.sonar.geo.min_range)) {
+            char m[200];
+            snprintf(m, sizeof m, "--free-max-range: must be above --min-range %g (got %g,%g%s)",
+                     (double)c.sonar.geo.min_range, (double)c.free_min_max_range,
+                     (double)c.free_max_max_range, given ? "" : ", the default");
+            die(m);
+        }
     }
     topt.handedness = c.handedness;
     if (c.frames + c.tag_free == 0 && topt.sequences == 0 && !pool_dir)
@@ -1390,6 +1430,13 @@ int main(int argc, char **argv)
         /* the limits come back from float (80 degrees as 80.0000045): a
          * millionth of a bin below an edge is on it (no empty 85 bin) */
         nbd = (int)ceil((c.view.max_distance - dlo) / dstep - 1e-6);
+        if (nbd > MAX_BINS) {
+            /* far tags: bins of a wider multiple of 0.5 m, so that every
+             * distance has its own bin (not all beyond 32 m the last) */
+            dstep = 0.5 * ceil((c.view.max_distance - c.view.min_distance) / (0.5 * (MAX_BINS - 1)));
+            dlo = floor(c.view.min_distance / dstep) * dstep;
+            nbd = (int)ceil((c.view.max_distance - dlo) / dstep - 1e-6);
+        }
         nbi = (int)ceil((c.view.max_incidence / DEG - ilo) / istep - 1e-6);
         if (nbd < 1) nbd = 1;
         if (nbi < 1) nbi = 1;
@@ -1399,7 +1446,7 @@ int main(int argc, char **argv)
             FILE *pf = g_pose_out.f;
             for (i = 0; i < c.frames; i++) {
                 const tag_result *R = &c.tres[i];
-                if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+                if (!right_reading(R))
                     continue;
                 fprintf(pf,
                         "{\"frame\": %d, \"distance\": %.4f, \"incidence_deg\": %.3f, "
@@ -1429,9 +1476,9 @@ int main(int argc, char **argv)
                 for (i = 0; i < c.frames; i++) {
                     const tag_result *R = &c.tres[i];
                     int bb, n;
-                    if (!R->sampled || !R->found || R->mirror_err || R->order_err)
+                    if (!right_reading(R))
                         continue;
-                    bb = (int)floor((R->distance - dlo) / dstep);
+                    bb = bin_of(R->distance, dlo, dstep, nbd);
                     if (bb != b)
                         continue;
                     for (n = 0; n < 4; n++) {
@@ -1452,12 +1499,8 @@ int main(int argc, char **argv)
                 continue;
             sampled++;
             mirrored_views += R->mirrored;
-            bd = (int)floor((R->distance - dlo) / dstep);
-            bi = (int)floor((R->incidence / DEG - ilo) / istep);
-            if (bd < 0) bd = 0;
-            if (bd >= nbd) bd = nbd - 1;
-            if (bi < 0) bi = 0;
-            if (bi >= nbi) bi = nbi - 1;
+            bd = bin_of(R->distance, dlo, dstep, nbd);
+            bi = bin_of(R->incidence / DEG, ilo, istep, nbi);
             bd_cnt[bd]++;
             bi_cnt[bi]++;
             wrong += R->wrong_id;
@@ -1474,16 +1517,16 @@ int main(int argc, char **argv)
                         R->wrong_hamming, R->wrong_search, R->found_search);
             if (!R->found)
                 continue;
+            merr += R->mirror_err;
+            oerr += R->order_err;
+            if (!right_reading(R))
+                continue; /* the right ID read wrongly: an error, no detection */
             found++;
             found_mirrored += R->mirrored;
             bd_hit[bd]++;
             bi_hit[bi]++;
             if (R->hamming >= 0 && R->hamming < 17)
                 hcount[R->hamming]++;
-            merr += R->mirror_err;
-            oerr += R->order_err;
-            if (R->mirror_err || R->order_err)
-                continue;
             for (n = 0; n < 4; n++) {
                 re[nerr] = R->range_err[n];
                 ae[nerr++] = R->az_err[n];
@@ -1536,19 +1579,26 @@ int main(int argc, char **argv)
                    oerr);
             for (k = 0; k <= actag_family_max_corrections(&c.fam) && k < 17; k++)
                 printf("%s%d", k ? ", " : "", hcount[k]);
-            printf("], \"range_error_m\": {\"mean\": %.6f, \"sd\": %.6f, \"p95_abs\": %.6f, "
-                   "\"corners\": %d}, \"azimuth_error_rad\": {\"mean\": %.6f, \"sd\": %.6f, "
-                   "\"p95_abs\": %.6f, \"corners\": %d}, \"by_distance\": [",
-                   rs.mean, rs.sd, rs.p95, rs.n, as.mean, as.sd, as.p95, as.n);
+            printf("], \"range_error_m\": {\"mean\": %s, \"sd\": %s, \"p95_abs\": %s, "
+                   "\"corners\": %d}, ",
+                   jnum("%.6f", rs.mean, rs.n > 0), jnum("%.6f", rs.sd, rs.n > 1),
+                   jnum("%.6f", rs.p95, rs.n > 0), rs.n);
+            printf("\"azimuth_error_rad\": {\"mean\": %s, \"sd\": %s, "
+                   "\"p95_abs\": %s, \"corners\": %d}, \"by_distance\": [",
+                   jnum("%.6f", as.mean, as.n > 0), jnum("%.6f", as.sd, as.n > 1),
+                   jnum("%.6f", as.p95, as.n > 0), as.n);
+            /* a bin's spread needs two corners, its rate a view: null without */
             for (i = 0; i < nbd; i++)
-                printf("%s{\"distance_m\": %.2f, \"views\": %d, \"detected\": %d, \"rate\": %.4f, "
-                       "\"range_sd_m\": %.6f, \"azimuth_sd_rad\": %.6f}",
-                       i ? ", " : "", bd_c[i], bd_cnt[i], bd_hit[i], bd_r[i], bd_rsd[i],
-                       bd_asd[i]);
+                printf("%s{\"distance_m\": %.2f, \"views\": %d, \"detected\": %d, \"rate\": %s, "
+                       "\"range_sd_m\": %s, \"azimuth_sd_rad\": %s}",
+                       i ? ", " : "", bd_c[i], bd_cnt[i], bd_hit[i],
+                       jnum("%.4f", bd_r[i], bd_cnt[i] > 0), jnum("%.6f", bd_rsd[i], bd_hit[i] > 0),
+                       jnum("%.6f", bd_asd[i], bd_hit[i] > 0));
             printf("], \"by_incidence\": [");
             for (i = 0; i < nbi; i++)
-                printf("%s{\"incidence_deg\": %.1f, \"views\": %d, \"detected\": %d, \"rate\": %.4f}",
-                       i ? ", " : "", bi_c[i], bi_cnt[i], bi_hit[i], bi_r[i]);
+                printf("%s{\"incidence_deg\": %.1f, \"views\": %d, \"detected\": %d, \"rate\": %s}",
+                       i ? ", " : "", bi_c[i], bi_cnt[i], bi_hit[i],
+                       jnum("%.4f", bi_r[i], bi_cnt[i] > 0));
             printf("], ");
             pose_summary(&c, 1, dlo, dstep, nbd, ilo, istep, nbi);
             printf("\"tag_free\": {\"frames\": %d, \"families\": [", c.tag_free);
@@ -1593,7 +1643,7 @@ int main(int argc, char **argv)
                        c.view.min_incidence / DEG, c.view.max_incidence / DEG);
                 printf("  views with the whole tag in the field of view: %d (%d mirrored)\n",
                        sampled, mirrored_views);
-                printf("  detected (right ID at the tag): %d = %.1f %% (%d of them mirrored)\n",
+                printf("  detected (right ID, handedness and corner order at the tag): %d = %.1f %% (%d of them mirrored)\n",
                        found, sampled ? 100.0 * found / sampled : 0.0, found_mirrored);
                 printf("  wrong IDs: %d   false tags: %d   mirrored-flag errors: %d   "
                        "corner-order errors: %d\n",
@@ -1605,7 +1655,7 @@ int main(int argc, char **argv)
                     double *mv = (double *)malloc((size_t)(found + 1) * sizeof(double));
                     int nm = 0;
                     for (k = 0; k < c.frames; k++)
-                        if (c.tres[k].sampled && c.tres[k].found)
+                        if (right_reading(&c.tres[k]))
                             mv[nm++] = c.tres[k].margin;
                     if (nm > 0) {
                         double med = median_of(mv, nm); /* sorts mv */
@@ -1614,7 +1664,7 @@ int main(int argc, char **argv)
                     }
                     nm = 0;
                     for (k = 0; k < c.frames; k++)
-                        if (c.tres[k].sampled && c.tres[k].found && c.tres[k].found_search)
+                        if (right_reading(&c.tres[k]) && c.tres[k].found_search)
                             nm++;
                     printf(" (%d read by the structure search)", nm);
                     free(mv);

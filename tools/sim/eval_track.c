@@ -125,14 +125,22 @@ typedef struct {
 
 /* A right-ID reading is wrong all the same with the other handedness or its
  * corners out of order: counted in *mirror / *order when the truth is known
- * (truth_mirrored >= 0, truth_px not NULL: simulated passes). */
-static void te_judge(int mirrored, const actag_point corners[4], int truth_mirrored,
-                     const actag_point *truth_px, int *mirror, int *order)
+ * (truth_mirrored >= 0, truth_px not NULL: simulated passes). Returns 1
+ * for such a reading: it is an error, not a detection (nor a track
+ * reading) of the tag. */
+static int te_judge(int mirrored, const actag_point corners[4], int truth_mirrored,
+                    const actag_point *truth_px, int *mirror, int *order)
 {
-    if (truth_mirrored >= 0 && mirrored != truth_mirrored)
+    int wrong = 0;
+    if (truth_mirrored >= 0 && mirrored != truth_mirrored) {
         (*mirror)++;
-    if (truth_px && sim_corner_order_wrong(corners, truth_px, NULL))
+        wrong = 1;
+    }
+    if (truth_px && sim_corner_order_wrong(corners, truth_px, NULL)) {
         (*order)++;
+        wrong = 1;
+    }
+    return wrong;
 }
 
 static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geometry *g,
@@ -145,7 +153,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
     actag_track_stats st;
     actag_point tc = {0.0f, 0.0f};
     float diag = 0.0f;
-    int nd, nt, i, tracked = 0, found = 0, read = 0, rep = 0;
+    int nd, nt, i, tracked = 0, found = 0, judged = 0, read = 0, rep = 0, rep_ok = 0;
     uint32_t at_tid = 0;
     char m[200];
     if (truth_px) {
@@ -165,10 +173,12 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
     for (i = 0; i < nd; i++) {
         actag_point dc = te_centre(det[i].corners);
         int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : visible >= 0;
-        if (at && det[i].id == tag_id && !found) {
-            found = 1;
-            te_judge(det[i].mirrored, det[i].corners, truth_mirrored, truth_px,
-                     &c->full_mirror, &c->full_order);
+        if (at && det[i].id == tag_id && !judged) {
+            /* a reading with the wrong handedness or corner order is an
+             * error, not a detection */
+            judged = 1;
+            found = !te_judge(det[i].mirrored, det[i].corners, truth_mirrored, truth_px,
+                              &c->full_mirror, &c->full_order);
         } else if (at && det[i].id != tag_id)
             c->full_wrong++;
         else
@@ -200,10 +210,10 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
             continue; /* a track coasting through a tag-free file: no reading */
         if (at && out[i].id == tag_id && !rep) {
             rep = 1;
-            read = out[i].measured;
             at_tid = out[i].track_id;
-            te_judge(out[i].mirrored, out[i].corners, truth_mirrored, truth_px,
-                     &c->track_mirror, &c->track_order);
+            rep_ok = !te_judge(out[i].mirrored, out[i].corners, truth_mirrored, truth_px,
+                               &c->track_mirror, &c->track_order);
+            read = rep_ok && out[i].measured;
         } else if (at && out[i].id != tag_id) {
             c->track_wrong++;
         } else if (!(at && out[i].id == tag_id)) {
@@ -211,7 +221,7 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
         }
     }
     c->track_read += read && visible > 0;
-    c->track_reported += rep && visible > 0;
+    c->track_reported += rep_ok && visible > 0;
     if (at_tid != 0) {
         if (run->tag_track != 0 && at_tid != run->tag_track && visible > 0)
             c->breaks++;
@@ -410,7 +420,10 @@ void te_print(FILE *f, const char *title, const te_counts *c, const te_options *
                                   c->tracked_pixels
                             : 0.0;
     if (json) {
-        fprintf(f, "{\"source\": \"%s\", \"frames\": %d, \"visible\": %d, "
+        /* the title may be a folder's path: a JSON string, escaped */
+        fputs("{\"source\": ", f);
+        hostio_json_string(f, title);
+        fprintf(f, ", \"frames\": %d, \"visible\": %d, "
                    "\"full_frame\": {\"found\": %d, \"rate\": %.4f, \"wrong_ids\": %d, "
                    "\"false_tags\": %d, \"mirror_errors\": %d, \"order_errors\": %d}, "
                    "\"tracking\": {\"read\": %d, \"read_rate\": %.4f, "
@@ -421,7 +434,7 @@ void te_print(FILE *f, const char *title, const te_counts *c, const te_options *
                    "\"pixels_ratio\": %.2f, \"pixels_ratio_tracked\": %.2f, "
                    "\"full_every\": %d, \"confirm_frames\": %d, \"confirm_margin\": %g, "
                    "\"max_missed\": %d, \"roi_scale\": %g, \"relaxed_roi\": %d}}",
-                title, c->frames, c->visible, c->full_found, c->full_found / vis, c->full_wrong,
+                c->frames, c->visible, c->full_found, c->full_found / vis, c->full_wrong,
                 c->full_false, c->truth_known ? c->full_mirror : -1,
                 c->truth_known ? c->full_order : -1, c->track_read, c->track_read / vis,
                 c->track_reported, c->track_reported / vis, c->track_wrong, c->track_false,

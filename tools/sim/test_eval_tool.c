@@ -732,6 +732,106 @@ static void test_sim_options_the_scene_ignores(void)
     TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
 }
 
+/* How many times needle occurs in s. */
+static int count_of(const char *s, const char *needle)
+{
+    int n = 0;
+    for (s = strstr(s, needle); s; s = strstr(s + 1, needle))
+        n++;
+    return n;
+}
+
+/* A detection is the right ID with the right handedness and corner order
+ * (review of 2026-12-05: a right ID read with the wrong mirrored flag or
+ * corner order counted as detected, in the rate and in every bin, and only
+ * in its error counter besides): the run's detections are exactly the
+ * readings the pose dump lists (right readings only), and the distance bins
+ * add up to them; errors are not among them. */
+static void test_detections_are_right_readings_only(void)
+{
+    char args[1200], dump[600], *js, *pd, *p;
+    int det, bins = 0, merr, oerr;
+    snprintf(dump, sizeof dump, "%s/eval_right.jsonl", ACTAG_BINARY_DIR);
+    snprintf(args, sizeof args, "--pool --frames 60 --seed 3 --json --quiet --pose-dump \"%s\"",
+             dump);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    js = slurp(out_path);
+    pd = slurp(dump);
+    TEST_ASSERT_NOT_NULL(js);
+    TEST_ASSERT_NOT_NULL(pd);
+    det = (int)json_num(js, "detected");
+    merr = (int)json_num(js, "mirror_errors");
+    oerr = (int)json_num(js, "corner_order_errors");
+    TEST_ASSERT_TRUE(det > 0);
+    TEST_ASSERT_EQUAL_INT(det, count_of(pd, "\n"));
+    p = strstr(js, "\"by_distance\": [");
+    TEST_ASSERT_NOT_NULL(p);
+    for (p = strstr(p, "\"detected\": "); p && p < strstr(js, "\"by_incidence\""); p = strstr(p + 1, "\"detected\": "))
+        bins += atoi(p + strlen("\"detected\": "));
+    TEST_ASSERT_EQUAL_INT(det, bins);
+    TEST_ASSERT_TRUE(det + merr + oerr <= (int)json_num(js, "views"));
+    free(js);
+    free(pd);
+    remove(dump);
+}
+
+/* Far tags: the distance bins widen (1 m from 1 to 40 m) instead of lumping
+ * every view beyond 32 m into the last 0.5 m bin; a bin without views has
+ * rate null, not 0, and one without readings null medians (review of
+ * 2026-12-05). */
+static void test_far_bins_and_empty_bins(void)
+{
+    char *js, *p, *last = NULL;
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--frames 40 --seed 5 --threads 1 --json --quiet "
+                                                  "--min-distance 1 --max-distance 40 --max-range 45"));
+    js = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(js);
+    for (p = strstr(js, "\"distance_m\": "); p; p = strstr(p + 1, "\"distance_m\": "))
+        last = p;
+    TEST_ASSERT_NOT_NULL(last);
+    /* the last bin is 1 m wide around 39.5 m, not 0.5 m around 32.75 */
+    TEST_ASSERT_FLOAT_WITHIN(0.01, 39.5, atof(last + strlen("\"distance_m\": ")));
+    TEST_ASSERT_TRUE(count_of(js, "\"views\": 0, \"detected\": 0, \"rate\": null") >= 1);
+    TEST_ASSERT_TRUE(count_of(js, "\"readings\": 0, \"median_position_error_pct\": null") >= 1);
+    TEST_ASSERT_EQUAL_INT(0, count_of(js, "\"views\": 0, \"detected\": 0, \"rate\": 0"));
+    free(js);
+}
+
+/* The tag-free frames' range is checked only when there are tag-free
+ * frames: a sonar starting at 3 m or more evaluates tagged frames (it was
+ * refused, naming --free-max-range, which had not been given). */
+static void test_far_sonar_without_tag_free_frames(void)
+{
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--frames 2 --seed 1 --threads 1 --quiet "
+                                                  "--min-range 3 --max-range 10 --min-distance 4 "
+                                                  "--max-distance 8"));
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --tag-free 1 --min-range 3 --max-range 10",
+                    "--free-max-range", "3,6, the default");
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --tag-free 1 --free-max-range 6,3",
+                    "--free-max-range", "6,3");
+}
+
+/* --pool-sequence's folder is a JSON string in the output, escaped: a path
+ * with a quote and a backslash gives valid JSON (it gave "source": "a"b"). */
+static void test_pool_sequence_source_is_escaped(void)
+{
+    char dir[700], cmd[2200], args[1200], *js, *p;
+    snprintf(dir, sizeof dir, "%s/eval_q\"ote\\dir", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s' && cp \"%s\"/data/pool-video/f_0291.pgm '%s'/",
+             dir, dir, ACTAG_SOURCE_DIR, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+    snprintf(args, sizeof args, "--frames 0 --json --pool-sequence '%s'", dir);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    js = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(js);
+    p = strstr(js, "\"source\": \"");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_NOT_NULL(strstr(p, "eval_q\\\"ote\\\\dir\""));
+    free(js);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    hostio_run(cmd, NULL);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -756,5 +856,9 @@ int main(void)
     RUN_TEST(test_eval_sonar_geometry);
     RUN_TEST(test_sim_compare_real_stdout_error);
     RUN_TEST(test_sim_bearings_file);
+    RUN_TEST(test_detections_are_right_readings_only);
+    RUN_TEST(test_far_bins_and_empty_bins);
+    RUN_TEST(test_far_sonar_without_tag_free_frames);
+    RUN_TEST(test_pool_sequence_source_is_escaped);
     return UNITY_END();
 }
