@@ -61,16 +61,21 @@ def test_refusals_name_the_file_and_the_fault(tmp_path):
                             (b"P5\n3 2\n2.5e2\n", "PGM maxval '2.5e2'"),
                             (b"P5\n3 2\n" + b"9" * 30 + b"\n",
                              "PGM maxval '" + "9" * 20 + r"\.\.\.'"),
-                            (b"P5\n3 2\n255#\n", "maxval is not followed by whitespace"),
+                            (b"P5\n3 2\n255x\n", "PGM maxval '255x' is not a whole number"),
                             (b"P6\n3 2\n255\n", "P6 image: only binary PGM"),
-                            (b"P5x3 2\n255\n", "no P5 magic")):
+                            (b"P5x3 2\n255\n", r"no P5 magic; it starts 'P5x3 2\\n2\.\.\.'")):
         with pytest.raises(ValueError, match=message):
             pyactag.parse_pgm(header + bytes(6))
     with pytest.raises(ValueError, match="PGM maxval missing"):
         pyactag.parse_pgm(b"P5\n3 2 # no maxval")
     with pytest.raises(ValueError, match="header ends without pixel data"):
         pyactag.parse_pgm(b"P5\n3 2\n255")
-    # What C accepts: comments, leading zeros, CR between fields.
+    with pytest.raises(ValueError, match="no P5 magic; it is empty"):
+        pyactag.parse_pgm(b"")
+    # What C accepts: comments (one right after maxval too, as Netpbm),
+    # leading zeros, CR between fields.
+    assert pyactag.parse_pgm(b"P5\n3 2\n255#x\n" + bytes(range(6))).tolist() == [
+        [0, 1, 2], [3, 4, 5]]
     assert pyactag.parse_pgm(b"P5 # c\n003\r2 #x\n0255\n" + bytes(range(6))).tolist() == [
         [0, 1, 2], [3, 4, 5]]
 

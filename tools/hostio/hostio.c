@@ -185,6 +185,34 @@ static int pgm_field(const uint8_t *b, size_t len, size_t *pos, const char *nm,
     return HOSTIO_OK;
 }
 
+/* The first bytes of b (at most 8) as quotable text: printable ASCII as it
+ * is, '\\' and '\'' escaped, \n \r \t, other bytes as \xHH; "..." when
+ * there are more. q holds at least 8 * 4 + 4 characters. */
+static void quote_start(const uint8_t *b, size_t len, char *q)
+{
+    size_t i, o = 0;
+    for (i = 0; i < len && i < 8; i++) {
+        uint8_t c = b[i];
+        if (c == '\\' || c == '\'') {
+            q[o++] = '\\';
+            q[o++] = (char)c;
+        } else if (c == '\n' || c == '\r' || c == '\t') {
+            q[o++] = '\\';
+            q[o++] = c == '\n' ? 'n' : c == '\r' ? 'r' : 't';
+        } else if (c >= 0x20 && c < 0x7f) {
+            q[o++] = (char)c;
+        } else {
+            q[o++] = '\\';
+            q[o++] = 'x';
+            q[o++] = "0123456789abcdef"[c >> 4];
+            q[o++] = "0123456789abcdef"[c & 15];
+        }
+    }
+    if (i < len)
+        q[o++] = '.', q[o++] = '.', q[o++] = '.';
+    q[o] = '\0';
+}
+
 int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pgm_view *out,
                      char *err)
 {
@@ -194,12 +222,22 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
     if (!buf || !out)
         return fail(err, "%s: no buffer", nm);
     if (len < 3 || buf[0] != 'P' || buf[1] != '5' ||
-        !(buf[2] == ' ' || buf[2] == '\t' || buf[2] == '\n' || buf[2] == '\r' || buf[2] == '#'))
-        return fail(err, "%s: not a binary PGM (no P5 magic)", nm);
+        !(buf[2] == ' ' || buf[2] == '\t' || buf[2] == '\n' || buf[2] == '\r' || buf[2] == '#')) {
+        char q[8 * 4 + 4];
+        if (len == 0)
+            return fail(err, "%s: not a binary PGM (no P5 magic; it is empty)", nm);
+        quote_start(buf, len, q);
+        return fail(err, "%s: not a binary PGM (no P5 magic; it starts '%s')", nm, q);
+    }
     if (pgm_field(buf, len, &pos, nm, "width", 1, 32767, &w, err) != HOSTIO_OK ||
         pgm_field(buf, len, &pos, nm, "height", 1, 32767, &h, err) != HOSTIO_OK ||
         pgm_field(buf, len, &pos, nm, "maxval", 1, 65535, &maxv, err) != HOSTIO_OK)
         return -1;
+    /* A comment right after maxval (Netpbm reads one there): its end of line
+     * is then the single whitespace before the pixels. */
+    if (pos < len && buf[pos] == '#')
+        while (pos < len && buf[pos] != '\n')
+            pos++;
     if (pos >= len)
         return fail(err, "%s: PGM header ends without pixel data", nm);
     if (!(buf[pos] == ' ' || buf[pos] == '\t' || buf[pos] == '\n' || buf[pos] == '\r'))
@@ -471,13 +509,42 @@ int hostio_pgm_read(const char *path, hostio_image *out, char *err)
     return rc;
 }
 
+/* Whether p starts as a hexadecimal number ("0x10", "-0X1p-3"), which
+ * strtod reads. */
+static int hex_number(const char *p)
+{
+    if (*p == '-' || *p == '+')
+        p++;
+    return p[0] == '0' && (p[1] == 'x' || p[1] == 'X');
+}
+
+/* Why s does not start as a number written in decimal, or NULL: strtod and
+ * strtol skip leading whitespace and take a '+' sign, and strtod reads
+ * hexadecimal ("0x10", "0x1p-3"), none of which the tools' numbers are
+ * ("the whole string must be the number"). A '-' sign is taken here: the
+ * range decides. Other non-numbers ("inf", "nan", "abc") are left to the
+ * caller's strtod/strtol and its own message. */
+static const char *not_decimal(const char *s)
+{
+    if (isspace((unsigned char)*s))
+        return "without leading whitespace";
+    if (*s == '+')
+        return "without a '+' sign";
+    if (hex_number(s))
+        return "in decimal, not hexadecimal";
+    return NULL;
+}
+
 int hostio_parse_double(const char *name, const char *s, double lo, double hi, double *v,
                         char *err)
 {
     char *end;
     double x;
+    const char *why;
     if (!s)
         return fail(err, "%s: missing value", name);
+    if ((why = not_decimal(s)) != NULL)
+        return fail(err, "%s: must be a number %s (got '%s')", name, why, s);
     errno = 0;
     x = strtod(s, &end);
     if (end == s || *end != '\0' || errno == ERANGE || !isfinite(x))
@@ -492,8 +559,11 @@ int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v
 {
     char *end;
     long x;
+    const char *why;
     if (!s)
         return fail(err, "%s: missing value", name);
+    if ((why = not_decimal(s)) != NULL)
+        return fail(err, "%s: must be an integer %s (got '%s')", name, why, s);
     errno = 0;
     x = strtol(s, &end, 10);
     if (end == s || *end != '\0' || errno == ERANGE)
@@ -509,12 +579,12 @@ int hostio_parse_u32(const char *name, const char *s, uint32_t lo, uint32_t hi, 
 {
     char *end;
     unsigned long long x;
-    const char *p = s;
     if (!s)
         return fail(err, "%s: missing value", name);
-    while (isspace((unsigned char)*p)) /* as strtoull skips them */
-        p++;
-    if (*p == '-' || *p == '+') /* strtoull would wrap a minus sign */
+    if (isspace((unsigned char)*s)) /* strtoull would skip it */
+        return fail(err, "%s: must be an integer without leading whitespace (got '%s')", name,
+                    s);
+    if (*s == '-' || *s == '+') /* strtoull would wrap a minus sign */
         return fail(err, "%s: must be a whole number from %lu to %lu (got %s)", name,
                     (unsigned long)lo, (unsigned long)hi, s);
     errno = 0;
@@ -564,7 +634,7 @@ int hostio_parse_doubles(const char *name, const char *s, char sep, double *out,
         double x;
         errno = 0;
         x = strtod(p, &end);
-        if (end == p || errno == ERANGE || !isfinite(x))
+        if (not_decimal(p) || end == p || errno == ERANGE || !isfinite(x))
             return fail(err, "%s: expected %d numbers separated by '%c' (got '%s')", name, n,
                         sep, s);
         out[i] = x;
@@ -597,7 +667,7 @@ int hostio_parse_list(const char *name, const char *s, double *out, int cap, int
             break;
         errno = 0;
         x = strtod(p, &end);
-        if (end == p || errno == ERANGE || !isfinite(x) ||
+        if (end == p || errno == ERANGE || !isfinite(x) || hex_number(p) ||
             !(*end == '\0' || *end == ' ' || *end == '\t' || *end == '\n' || *end == '\r' ||
               *end == ',')) {
             /* the token as text: a binary file's bytes are shown as '?', not

@@ -38,7 +38,11 @@
  *     hostio_pgm_parse(buf, len, &view, err)  parses a buffer in place, no
  *                                           allocation (usable on bare metal):
  *                                           view.pixels points into buf; one
- *                                           frame: bytes after it are an error
+ *                                           frame: bytes after it are an error;
+ *                                           '#' comments in the header, also
+ *                                           right after maxval (as Netpbm: its
+ *                                           end of line is then the single
+ *                                           whitespace before the pixels)
  *     hostio_pgm_read(path, &img, err)     reads a file into a malloc'd image
  *                                           (16-bit samples in host order;
  *                                           samples checked against maxval and
@@ -61,7 +65,11 @@
  *     hostio_frame_parse(buf, len, name, &raw, &img, err)  the same on a
  *                                           buffer in memory
  *     hostio_frame_name(path)              "stdin" for "-", else path
- *   Numbers (the whole string must be the number; ranges are inclusive)
+ *   Numbers (the whole string must be the number; ranges are inclusive),
+ *   in decimal: an optional '-', digits with an optional point and exponent
+ *   ("5", "-5", "0.5", ".5", "5.", "1e-3"); no leading whitespace, '+' sign,
+ *   hexadecimal ("0x10", "0x1p-3"), inf or nan (u32: no sign at all; list:
+ *   a '+' sign is taken, whitespace separates)
  *     hostio_parse_double(name, s, lo, hi, &v, err)
  *     hostio_parse_long(name, s, lo, hi, &v, err)
  *     hostio_parse_doubles(name, s, sep, out, n, err)  exactly n numbers

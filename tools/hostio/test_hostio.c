@@ -415,6 +415,194 @@ static void test_parse_u32(void)
     TEST_ASSERT_EQUAL_UINT32(7u, v); /* untouched by the failures */
 }
 
+/* Numbers in decimal only, the whole string the number: strtod read
+ * "0x10", "0x1p-3" and " 5", strtol " 5" and "+5" (--decimate 0x10,
+ * --tag-size " 5", --ids " 1", --bits " 24" were taken). */
+static void test_parse_number_forms(void)
+{
+    static const char *const bad_double[] = {" 5", "\t5", "\n5", "+5", "+0.5", "0x10",
+                                             "0X10", "0x1p-3", "-0x1p-3", "+0x10", "inf",
+                                             "-inf", "INF", "infinity", "nan", "NAN", "-nan",
+                                             "nan(1)", "5 ", "", "-", ".", "e3", NULL};
+    static const char *const bad_long[] = {" 5", "\t5", "+5", "0x10", "0X10", "-0x10", "+0x10",
+                                           "5 ", "inf", "nan", "", "-", "5.", "1e3", NULL};
+    static const struct {
+        const char *s;
+        double v;
+    } good_double[] = {{"5", 5.0},     {"-5", -5.0},  {"1e-3", 1e-3},  {"0.5", 0.5},
+                       {".5", 0.5},    {"5.", 5.0},   {"-.5", -0.5},   {"1E+2", 100.0},
+                       {"0", 0.0},     {"007", 7.0},  {"-0", 0.0},     {"2.5e1", 25.0}};
+    char err[HOSTIO_ERRLEN], msg[200];
+    double d = 42.0;
+    long l = 42;
+    uint32_t u = 42u;
+    size_t i;
+    for (i = 0; bad_double[i]; i++) {
+        snprintf(msg, sizeof msg, "double '%s'", bad_double[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(-1, hostio_parse_double("--x", bad_double[i], -1e9, 1e9,
+                                                              &d, err), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "--x: "), err);
+    }
+    for (i = 0; bad_long[i]; i++) {
+        snprintf(msg, sizeof msg, "long '%s'", bad_long[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(-1, hostio_parse_long("--n", bad_long[i], -1000, 1000, &l,
+                                                            err), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "--n: "), err);
+    }
+    TEST_ASSERT_TRUE(d == 42.0); /* untouched by the failures */
+    TEST_ASSERT_EQUAL_INT32(42, (int32_t)l);
+    /* the messages say what is wrong and quote the value */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--tag-size", " 5", 0, 10, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--tag-size: must be a number without leading whitespace (got ' 5')",
+                             err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--tag-size", "+5", 0, 10, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--tag-size: must be a number without a '+' sign (got '+5')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--tag-size", "0x1p-3", 0, 10, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--tag-size: must be a number in decimal, not hexadecimal (got "
+                             "'0x1p-3')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--tag-size", "nan", 0, 10, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--tag-size: must be a finite number (got 'nan')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_long("--decimate", "0x10", 1, 64, &l, err));
+    TEST_ASSERT_EQUAL_STRING("--decimate: must be an integer in decimal, not hexadecimal (got "
+                             "'0x10')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_long("--bits", " 24", 1, 64, &l, err));
+    TEST_ASSERT_EQUAL_STRING("--bits: must be an integer without leading whitespace (got ' 24')",
+                             err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_long("--bits", "+24", 1, 64, &l, err));
+    TEST_ASSERT_EQUAL_STRING("--bits: must be an integer without a '+' sign (got '+24')", err);
+    /* u32: no leading whitespace either (strtoull skipped it) */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_u32("--seed", " 5", 0u, 4294967295u, &u, err));
+    TEST_ASSERT_EQUAL_STRING("--seed: must be an integer without leading whitespace (got ' 5')",
+                             err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_u32("--seed", "\t5", 0u, 4294967295u, &u, err));
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_u32("--seed", "+5", 0u, 4294967295u, &u, err));
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_u32("--seed", "0x10", 0u, 4294967295u, &u, err));
+    TEST_ASSERT_EQUAL_UINT32(42u, u);
+    /* the ordinary forms */
+    for (i = 0; i < sizeof good_double / sizeof good_double[0]; i++) {
+        snprintf(msg, sizeof msg, "double '%s'", good_double[i].s);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_parse_double("--x", good_double[i].s,
+                                                                     -1e9, 1e9, &d, err), msg);
+        TEST_ASSERT_TRUE_MESSAGE(d == good_double[i].v, msg);
+    }
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_long("--n", "5", -10, 10, &l, err));
+    TEST_ASSERT_EQUAL_INT32(5, (int32_t)l);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_long("--n", "-5", -10, 10, &l, err));
+    TEST_ASSERT_EQUAL_INT32(-5, (int32_t)l);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_long("--n", "010", -10, 10, &l, err));
+    TEST_ASSERT_EQUAL_INT32(10, (int32_t)l); /* decimal, not octal */
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_u32("--seed", "5", 0u, 9u, &u, err));
+    TEST_ASSERT_EQUAL_UINT32(5u, u);
+}
+
+/* The same for the number lists: no hexadecimal, no whitespace or '+'
+ * inside parse_doubles' values; parse_list's values are separated by
+ * whitespace and may carry a '+' (a file's "%+f"), not hexadecimal. */
+static void test_parse_lists_decimal(void)
+{
+    static const char *const bad_doubles[] = {"0x10,1", "1,0x1p-3", "1, 2", " 1,2", "+1,2",
+                                              "1,+2", "1,-0x2", "1,inf", "nan,1", NULL};
+    char err[HOSTIO_ERRLEN], msg[200];
+    double v[4];
+    int n = -1;
+    size_t i;
+    for (i = 0; bad_doubles[i]; i++) {
+        snprintf(msg, sizeof msg, "doubles '%s'", bad_doubles[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(-1, hostio_parse_doubles("--v", bad_doubles[i], ',', v, 2,
+                                                               err), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, bad_doubles[i]), err); /* quotes the value */
+    }
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_doubles("--v", "-1,.5,5.,1e-3", ',', v, 4,
+                                                          err));
+    TEST_ASSERT_TRUE(v[0] == -1.0);
+    TEST_ASSERT_TRUE(v[1] == 0.5);
+    TEST_ASSERT_TRUE(v[2] == 5.0);
+    TEST_ASSERT_TRUE(v[3] == 1e-3);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("tab.txt", "1 0x10 3", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got '0x10')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("tab.txt", "1,-0X1p-3", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_STRING("tab.txt: value 2 is not a finite number (got '-0X1p-3')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_list("tab.txt", "nan", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_list("tab.txt", "+1.5 -2 .5", v, 4, &n, err));
+    TEST_ASSERT_EQUAL_INT(3, n);
+    TEST_ASSERT_TRUE(v[0] == 1.5);
+    TEST_ASSERT_TRUE(v[2] == 0.5);
+}
+
+/* A wrong magic quotes the bytes found (escaped, at most 8); the message
+ * once said only "no P5 magic". */
+static void test_pgm_magic_quoted(void)
+{
+    static const uint8_t gif[] = "GIF89a\x01\x00\x01\x00";
+    static const uint8_t p5x[] = "P5x3 2\n255\n";
+    static const uint8_t q[] = "'\\\t\rab";
+    char err[HOSTIO_ERRLEN];
+    hostio_pgm_view v;
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(gif, sizeof gif - 1, "a.gif", &v, err));
+    TEST_ASSERT_EQUAL_STRING("a.gif: not a binary PGM (no P5 magic; it starts "
+                             "'GIF89a\\x01\\x00...')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(p5x, sizeof p5x - 1, "x.pgm", &v, err));
+    TEST_ASSERT_EQUAL_STRING("x.pgm: not a binary PGM (no P5 magic; it starts 'P5x3 2\\n2...')",
+                             err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(q, sizeof q - 1, NULL, &v, err));
+    TEST_ASSERT_EQUAL_STRING("PGM: not a binary PGM (no P5 magic; it starts '\\'\\\\\\t\\rab')",
+                             err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(q, 1, "one", &v, err));
+    TEST_ASSERT_EQUAL_STRING("one: not a binary PGM (no P5 magic; it starts '\\'')", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(q, 0, "empty", &v, err));
+    TEST_ASSERT_EQUAL_STRING("empty: not a binary PGM (no P5 magic; it is empty)", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse((const uint8_t *)"P5", 2, "p5", &v, err));
+    TEST_ASSERT_EQUAL_STRING("p5: not a binary PGM (no P5 magic; it starts 'P5')", err);
+}
+
+/* A comment right after maxval, as Netpbm reads it: its end of line is the
+ * single whitespace before the pixels (it was refused: "maxval is not
+ * followed by whitespace"). Other bytes there are still refused. */
+static void test_pgm_comment_after_maxval(void)
+{
+    static const uint8_t c1[] = "P5\n2 1\n255#x\n\x0a\x20";
+    static const uint8_t c2[] = "P5\n2 1\n255#\n\x01\x02";
+    static const uint8_t c3[] = "P5 2 1 255# a comment # more\n\x23\x0a"; /* pixels '#' '\n' */
+    static const uint8_t open_c[] = "P5\n2 1\n255# no end of line";
+    static const uint8_t junk[] = "P5\n2 1\n255x\n\x01\x02";
+    static const uint8_t short_px[] = "P5\n2 1\n255#x\n\x01";
+    char err[HOSTIO_ERRLEN];
+    hostio_pgm_view v;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_parse(c1, sizeof c1 - 1, "c1", &v, err),
+                                  err);
+    TEST_ASSERT_EQUAL_INT(2, v.cols);
+    TEST_ASSERT_EQUAL_INT(1, v.rows);
+    TEST_ASSERT_EQUAL_INT(255, v.maxval);
+    TEST_ASSERT_TRUE(v.pixels == c1 + 13);
+    TEST_ASSERT_EQUAL_UINT8(0x0a, v.pixels[0]); /* a pixel that looks like a newline */
+    TEST_ASSERT_EQUAL_UINT8(0x20, v.pixels[1]);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_parse(c2, sizeof c2 - 1, "c2", &v, err),
+                                  err);
+    TEST_ASSERT_EQUAL_UINT8(1, v.pixels[0]);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_parse(c3, sizeof c3 - 1, "c3", &v, err),
+                                  err);
+    TEST_ASSERT_EQUAL_UINT8('#', v.pixels[0]);
+    TEST_ASSERT_EQUAL_UINT8('\n', v.pixels[1]);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(open_c, sizeof open_c - 1, "open", &v, err));
+    TEST_ASSERT_EQUAL_STRING("open: PGM header ends without pixel data", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(junk, sizeof junk - 1, "junk", &v, err));
+    TEST_ASSERT_EQUAL_STRING("junk: PGM maxval '255x' is not a whole number in 1..65535", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(short_px, sizeof short_px - 1, "s", &v, err));
+    TEST_ASSERT_EQUAL_STRING("s: PGM has 1 pixel bytes, its header needs 2", err);
+    /* through the file readers too */
+    PUT_TEXT("cm.pgm", "P5\n2 1\n100#x\n\x00\x64");
+    {
+        hostio_image im;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_frame_read(DIR "/cm.pgm", NULL, &im, err),
+                                      err);
+        TEST_ASSERT_EQUAL_UINT8(255, ((uint8_t *)im.data)[1]); /* maxval 100 scaled */
+        hostio_image_free(&im);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_pgm_read(DIR "/cm.pgm", &im, err), err);
+        TEST_ASSERT_EQUAL_INT(2, im.cols);
+        hostio_image_free(&im);
+    }
+}
+
 static void test_pgm_header_messages(void)
 {
     static const uint8_t two[] = "P5\n2 1\n255\n\x01\x02P5\n2 1\n255\n\x03\x04";
@@ -611,6 +799,10 @@ int main(void)
     RUN_TEST(test_parse_choice);
     RUN_TEST(test_parse_u32);
     RUN_TEST(test_pgm_header_messages);
+    RUN_TEST(test_parse_number_forms);
+    RUN_TEST(test_parse_lists_decimal);
+    RUN_TEST(test_pgm_magic_quoted);
+    RUN_TEST(test_pgm_comment_after_maxval);
     RUN_TEST(test_failed_write_leaves_nothing);
     RUN_TEST(test_out_guard);
     RUN_TEST(test_out_close_failure_removes);

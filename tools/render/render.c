@@ -356,9 +356,10 @@ static void parse_args(int argc, char **argv, opts_t *o)
             o->hole_d = parse_real(a, need_arg(argc, argv, &i), 0.01, 1e5);
             o->hole_d_set = 1;
         } else if (strcmp(a, "--tab-width") == 0) {
-            o->tab_w = parse_real(a, need_arg(argc, argv, &i), 0.0, 1e5);
+            const char *v = need_arg(argc, argv, &i);
+            o->tab_w = parse_real(a, v, 0.0, 1e5);
             if (o->tab_w > 0.0 && o->tab_w < 0.01)
-                die("--tab-width: use 0 (no tabs) or at least 0.01 mm");
+                die("--tab-width: use 0 (no tabs) or at least 0.01 mm (got %.40s)", v);
             o->tab_set = 1;
         } else if (strcmp(a, "--list-tabs") == 0) {
             o->list_tabs = 1;

@@ -1175,6 +1175,51 @@ static void test_unused_options_refused(void)
     TEST_ASSERT_TRUE(file_exists("unused-i.svg"));
 }
 
+/* A refused value is named with the option (one line, status 2): the
+ * --tab-width message once left the value out, and numbers written as
+ * hexadecimal, with leading whitespace or a '+' sign were taken
+ * (--format svg --tag-size 0x1p-3 drew a 0.125 m tag, --ids ' 1' tag 1). */
+static void test_bad_values_named(void)
+{
+    static const struct {
+        const char *args, *opt, *value;
+    } bad[] = {
+        {"--id 1 --cut --tab-width 0.001", "--tab-width", "(got 0.001)"},
+        {"--id 1 --format svg --tag-size 0x1p-3", "--tag-size", "'0x1p-3'"},
+        {"--id 1 --format svg --tag-size ' 0.05'", "--tag-size", "' 0.05'"},
+        {"--id 1 --format svg --tag-size +0.05", "--tag-size", "'+0.05'"},
+        {"--ids ' 1'", "--ids", "' 1'"},
+        {"--ids '1,+2'", "--ids", "'+2'"},
+        {"--id +1", "--id", "'+1'"},
+        {"--id 1 --cell-px ' 8'", "--cell-px", "' 8'"},
+        {NULL, NULL, NULL}};
+    char args[2048], msg[1200];
+    int i;
+    for (i = 0; bad[i].args; i++) {
+        int st;
+        path_of(msg, sizeof msg, "badval.out");
+        remove(msg);
+        snprintf(args, sizeof args, "--family AcTag24h4 %s --out '%s/badval.out'", bad[i].args,
+                 dir);
+        st = run(args);
+        snprintf(msg, sizeof msg, "args '%s': status %d, stderr '%.400s'", bad[i].args, st,
+                 errtext);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(errtext), msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].opt), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].value), msg);
+        TEST_ASSERT_FALSE_MESSAGE(file_exists("badval.out"), msg);
+    }
+    /* the ordinary forms are taken */
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --id 1 --format svg --tag-size .05 --out '%s/badval.svg'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+    snprintf(args, sizeof args,
+             "--family AcTag24h4 --id 1 --cut --tab-width 0.01 --out '%s/badval.dxf'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), errtext);
+}
+
 /* run() under a file-size limit of `blocks` 512-byte blocks (POSIX sh
  * ulimit -f) with SIGXFSZ ignored, so that a write past the limit fails
  * with an error (EFBIG) instead of killing the tool. */
@@ -1412,6 +1457,7 @@ int main(void)
     RUN_TEST(test_errors);
     RUN_TEST(test_every_family_name_is_spelled);
     RUN_TEST(test_unused_options_refused);
+    RUN_TEST(test_bad_values_named);
     RUN_TEST(test_failed_write_leaves_no_file);
     RUN_TEST(test_dxf_checker_rejects);
     RUN_TEST(test_readme_commands_write_what_they_say);

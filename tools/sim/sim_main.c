@@ -327,8 +327,11 @@ int main(int argc, char **argv)
             scene_opt = o;
             NEED();
             depth = (int)inum(o, v, 8, 16);
-            if (depth != 8 && depth != 16)
-                die("--depth: must be 8 or 16");
+            if (depth != 8 && depth != 16) {
+                char m[HOSTIO_ERRLEN];
+                snprintf(m, sizeof m, "--depth: must be 8 or 16 (got %.40s)", v);
+                die(m);
+            }
         } else if (!strcmp(o, "--seed")) {
             NEED();
             seed = hostio_opt_u32(PROG, o, v, 0u, 4294967295u);

@@ -274,6 +274,8 @@ static void test_bad_options(void)
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:99:1,0,0,0,0,0 --out-dir /tmp", "99");
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0 --out-dir /tmp", "--tag pose");
     expect_error(ACTAG_SIM_PATH, "--random 2 --aperture-deg 400 --out-dir /tmp", "--aperture-deg");
+    /* the value refused, not only the rule (it said "must be 8 or 16") */
+    expect_error_of(ACTAG_SIM_PATH, "--random 1 --out-dir /tmp --depth 12", "--depth", "(got 12)");
 }
 
 /* The appearance options (actag-sim's): a bad value exits with status 2 and a

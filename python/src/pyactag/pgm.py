@@ -13,6 +13,23 @@ from ._arrays import array2d
 _SPACE = b" \t\n\r"
 
 
+def _quote_start(data):
+    """The first bytes of data (at most 8) as the C tools quote them:
+    printable ASCII as it is, backslash and quote escaped, \\n \\r \\t, other
+    bytes as \\xHH; '...' when there are more."""
+    out = []
+    for c in bytes(data[:8]):
+        if c in (0x5C, 0x27):
+            out.append("\\" + chr(c))
+        elif c in (0x0A, 0x0D, 0x09):
+            out.append({0x0A: "\\n", 0x0D: "\\r", 0x09: "\\t"}[c])
+        elif 0x20 <= c < 0x7F:
+            out.append(chr(c))
+        else:
+            out.append("\\x%02x" % c)
+    return "".join(out) + ("..." if len(data) > 8 else "")
+
+
 def _field(data, pos, name, what, lo, hi):
     """The next header field (after whitespace and '#' comments) as an
     integer in lo..hi, and the position after it; ValueError quoting the
@@ -58,10 +75,18 @@ def parse_pgm(data, name="<bytes>"):
         raise ValueError("{}: a P{} image: only binary PGM (P5) is supported".format(
             name, data[1:2].decode()))
     if len(data) < 3 or data[:2] != b"P5" or data[2] not in b" \t\n\r#":
-        raise ValueError("{}: not a binary PGM (no P5 magic)".format(name))
+        if len(data) == 0:
+            raise ValueError("{}: not a binary PGM (no P5 magic; it is empty)".format(name))
+        raise ValueError("{}: not a binary PGM (no P5 magic; it starts '{}')".format(
+            name, _quote_start(data)))
     cols, pos = _field(data, 2, name, "width", 1, 32767)
     rows, pos = _field(data, pos, name, "height", 1, 32767)
     maxval, pos = _field(data, pos, name, "maxval", 1, 65535)
+    if pos < len(data) and data[pos] == 0x23:
+        # a comment right after maxval (Netpbm reads one there, as the C
+        # tools do): its end of line is the single whitespace before the pixels
+        end = data.find(b"\n", pos)
+        pos = len(data) if end < 0 else end
     if pos >= len(data):
         raise ValueError("{}: PGM header ends without pixel data".format(name))
     if data[pos] not in _SPACE:
