@@ -6,7 +6,10 @@
  *                        IMAGE.pgm...          (IMAGE "-" reads standard input)
  *
  * For every image: inverts it (camera: aluminium light, foam dark; SPEC section 1)
- * unless --no-invert, runs AprilTag 3 with the AcTag family and prints per tag its
+ * unless --no-invert, runs AprilTag 3 with the AcTag family (actag_apriltag_detect:
+ * readings that a mirrored view of the family explains at least as well, e.g. a
+ * published AcTag24h4/h6/h8 tag seen in a mirror, are dropped; see MIRRORED TAGS
+ * in actag/actag_apriltag.h) and prints per tag its
  * ID, corrected bits, decision margin, the corners of the inner white square in
  * AcTag order (top-left as printed, then clockwise) as x = column, y = row in
  * pixels with the centre of the top-left pixel at (0,0) (the convention of every
@@ -70,7 +73,8 @@ static void usage(FILE *f)
         "  --decimate X         AprilTag quad_decimate >= 1 (default 2)\n"
         "  --help  --version\n"
         "Corners: the inner white square's top-left (as printed), top-right, bottom-right,\n"
-        "bottom-left, as x = column, y = row in pixels, centre of the top-left pixel (0,0).\n");
+        "bottom-left, as x = column, y = row in pixels, centre of the top-left pixel (0,0).\n"
+        "Readings a mirrored view explains as well (a tag seen in a mirror) are not printed.\n");
 }
 
 /* ------------------------------------------------------------------ image */

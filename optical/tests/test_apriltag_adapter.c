@@ -755,7 +755,12 @@ static void test_real_photo_id0(void)
         TEST_ASSERT_EQUAL_INT(0, det->id);
         TEST_ASSERT_EQUAL_INT(0, det->hamming);
         actag_apriltag_corners_to_actag(det, c);
+        /* a real tag passes the mirror check of actag_apriltag_detect() */
+        TEST_ASSERT_EQUAL_INT(0, actag_apriltag_mirror_check(det, im));
     }
+    apriltag_detections_destroy(dets);
+    dets = actag_apriltag_detect(g_td[0], im);
+    TEST_ASSERT_EQUAL_INT(nd, zarray_size(dets));
     apriltag_detections_destroy(dets);
     image_u8_destroy(im);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, n0, "tag 0 read without inverting the photo");
