@@ -19,6 +19,8 @@
 #include <apriltag/common/image_u8.h>
 #include <apriltag/common/zarray.h>
 
+#include "camera_sheet.h"
+
 /* Resources of the running test, released in tearDown() even after a failed
  * assertion (which longjmps out of the test). */
 static apriltag_detector_t *g_td[2];
@@ -139,31 +141,10 @@ static void rot90cw(const uint8_t *in, uint8_t *out, int side)
             out[y * side + x] = in[(side - 1 - x) * side + y];
 }
 
-static void box_blur3(const uint8_t *in, uint8_t *out, int side)
-{
-    int x, y, dx, dy;
-    for (y = 0; y < side; y++)
-        for (x = 0; x < side; x++) {
-            int s = 0;
-            for (dy = -1; dy <= 1; dy++)
-                for (dx = -1; dx <= 1; dx++) {
-                    int xx = x + dx, yy = y + dy;
-                    xx = xx < 0 ? 0 : (xx >= side ? side - 1 : xx);
-                    yy = yy < 0 ? 0 : (yy >= side ? side - 1 : yy);
-                    s += in[yy * side + xx];
-                }
-            out[y * side + x] = (uint8_t)((s + 4) / 9);
-        }
-}
-
 static apriltag_detector_t *new_detector(int slot, apriltag_family_t *fam, int bits)
 {
-    apriltag_detector_t *td = apriltag_detector_create();
-    td->quad_decimate = 1.0f;
-    td->nthreads = 1;
-    apriltag_detector_add_family_bits(td, fam, bits);
-    g_td[slot] = td;
-    return td;
+    g_td[slot] = test_detector(fam, bits);
+    return g_td[slot];
 }
 
 static int family_built(const char *name)

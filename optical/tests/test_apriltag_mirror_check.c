@@ -28,6 +28,8 @@
 #include <apriltag/common/image_u8.h>
 #include <apriltag/common/zarray.h>
 
+#include "camera_sheet.h"
+
 #define CELL 6
 #define MARGIN 12 /* 2 cells */
 #define TILES 10  /* tags per sheet row and column */
@@ -41,11 +43,7 @@ void setUp(void) {}
 
 void tearDown(void)
 {
-    if (g_td)
-        apriltag_detector_destroy(g_td);
-    g_td = NULL;
-    actag_apriltag_family_destroy(g_fam); /* after the detector */
-    g_fam = NULL;
+    release_detector(&g_td, &g_fam);
     free(g_sheet);
     free(g_work);
     free(g_blur);
@@ -57,60 +55,9 @@ static apriltag_detector_t *new_detector(const char *name, int bits)
 {
     g_fam = actag_apriltag_family_create(name);
     TEST_ASSERT_NOT_NULL(g_fam);
-    g_td = apriltag_detector_create();
+    g_td = test_detector(g_fam, bits);
     TEST_ASSERT_NOT_NULL(g_td);
-    g_td->quad_decimate = 1.0f;
-    g_td->nthreads = 1;
-    apriltag_detector_add_family_bits(g_td, g_fam, bits);
     return g_td;
-}
-
-/* Dihedral transform t (0..7) of a point of a w x w image (pixel centres
- * at integers): rotate by 90 degrees (t & 3) times, (x, y) -> (w-1-y, x),
- * then mirror left-right if t & 4. */
-static void xform(int t, int w, double x, double y, double *ox, double *oy)
-{
-    int r;
-    for (r = 0; r < (t & 3); r++) {
-        double nx = w - 1 - y, ny = x;
-        x = nx;
-        y = ny;
-    }
-    if (t & 4)
-        x = w - 1 - x;
-    *ox = x;
-    *oy = y;
-}
-
-static void inverse_xform(int t, int w, double x, double y, double *ox, double *oy)
-{
-    int r;
-    if (t & 4)
-        x = w - 1 - x;
-    for (r = 0; r < (t & 3); r++) { /* inverse of (x, y) -> (w-1-y, x) */
-        double nx = y, ny = w - 1 - x;
-        x = nx;
-        y = ny;
-    }
-    *ox = x;
-    *oy = y;
-}
-
-static void box_blur3(const uint8_t *in, uint8_t *out, int w)
-{
-    int x, y, dx, dy;
-    for (y = 0; y < w; y++)
-        for (x = 0; x < w; x++) {
-            int s = 0;
-            for (dy = -1; dy <= 1; dy++)
-                for (dx = -1; dx <= 1; dx++) {
-                    int xx = x + dx, yy = y + dy;
-                    xx = xx < 0 ? 0 : (xx >= w ? w - 1 : xx);
-                    yy = yy < 0 ? 0 : (yy >= w ? w - 1 : yy);
-                    s += in[yy * w + xx];
-                }
-            out[y * w + x] = (uint8_t)((s + 4) / 9);
-        }
 }
 
 /* Least distance of a mirrored view of code `id` (actag_code_mirror, then
@@ -150,7 +97,7 @@ static int tile_of(const apriltag_detection_t *d, int t, int w, int side, int k,
                    int *at_square)
 {
     double c[4][2], cx, cy;
-    int tile, i;
+    int tile;
     inverse_xform(t, w, d->c[0] - 0.5, d->c[1] - 0.5, &cx, &cy);
     tile = (int)floor(cy / side) * TILES + (int)floor(cx / side);
     if (cx < 0 || cy < 0 || tile < 0 || tile >= count) {
@@ -158,16 +105,7 @@ static int tile_of(const apriltag_detection_t *d, int t, int w, int side, int k,
         return -1;
     }
     actag_apriltag_corners_to_actag(d, c);
-    *at_square = 1;
-    for (i = 0; i < 4; i++) {
-        double lo = MARGIN + 2 * CELL - 0.5, hi = MARGIN + (k - 1) * CELL - 0.5;
-        double px = (tile % TILES) * side + ((i == 1 || i == 2) ? hi : lo);
-        double py = (tile / TILES) * side + (i >= 2 ? hi : lo);
-        double ex, ey;
-        xform(t, w, px, py, &ex, &ey);
-        if (fabs(ex - c[i][0]) > 0.5 || fabs(ey - c[i][1]) > 0.5)
-            *at_square = 0;
-    }
+    *at_square = at_white_square(c, t, tile, k, side, TILES, CELL, MARGIN);
     return tile;
 }
 
@@ -176,32 +114,16 @@ static int tile_of(const apriltag_detection_t *d, int t, int w, int side, int k,
 static void check_sheet(const actag_family *core, const int *ids, int count, counts *st)
 {
     int k = core->bits / 4, side = actag_render_side(core->bits, CELL, MARGIN);
-    int w = side * TILES, t, blur, i, j, x, y;
+    int w = side * TILES, t, blur, i, j;
     size_t n = (size_t)w * (size_t)w;
-    static uint8_t tag[200 * 200];
     char msg[240];
-    TEST_ASSERT_TRUE(side <= 200);
-    memset(g_sheet, 0, n); /* camera colours of a foam-like surround */
-    for (i = 0; i < count; i++) {
-        int tx = (i % TILES) * side, ty = (i / TILES) * side;
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(core, ids[i], CELL, MARGIN, 255, 1, tag,
-                                                         side, sizeof tag));
-        for (y = 0; y < side; y++)
-            memcpy(g_sheet + (size_t)(ty + y) * (size_t)w + (size_t)tx,
-                   tag + (size_t)y * (size_t)side, (size_t)side);
-    }
+    render_sheet(core, ids, count, CELL, MARGIN, TILES, g_sheet);
     for (t = 0; t < 8; t++)
         for (blur = 0; blur < 2; blur++) {
             zarray_t *raw, *dets;
             int found[MAX_IDS], hit[MAX_IDS], nd;
             image_u8_t im = {.width = w, .height = w, .stride = w, .buf = g_work};
-            for (y = 0; y < w; y++)
-                for (x = 0; x < w; x++) {
-                    double ox, oy;
-                    xform(t, w, x, y, &ox, &oy);
-                    g_work[(size_t)oy * (size_t)w + (size_t)ox] =
-                        g_sheet[(size_t)y * (size_t)w + (size_t)x];
-                }
+            xform_image(t, w, g_sheet, g_work);
             if (blur) {
                 box_blur3(g_work, g_blur, w);
                 memcpy(g_work, g_blur, n);

@@ -27,6 +27,8 @@
 #include <apriltag/common/image_u8.h>
 #include <apriltag/common/zarray.h>
 
+#include "camera_sheet.h"
+
 #define CELL 6
 #define MARGIN 12 /* 2 cells */
 #define TILES 10  /* tags per sheet row and column */
@@ -39,45 +41,10 @@ void setUp(void) {}
 
 void tearDown(void)
 {
-    if (g_td)
-        apriltag_detector_destroy(g_td);
-    g_td = NULL;
-    actag_apriltag_family_destroy(g_fam); /* after the detector */
-    g_fam = NULL;
+    release_detector(&g_td, &g_fam);
     free(g_sheet);
     free(g_work);
     g_sheet = g_work = NULL;
-}
-
-/* Dihedral transform t (0..7) of a point of a w x w image (pixel centres
- * at integers): rotate by 90 degrees (t & 3) times, (x, y) -> (w-1-y, x),
- * then mirror left-right if t & 4. */
-static void xform(int t, int w, double x, double y, double *ox, double *oy)
-{
-    int r;
-    for (r = 0; r < (t & 3); r++) {
-        double nx = w - 1 - y, ny = x;
-        x = nx;
-        y = ny;
-    }
-    if (t & 4)
-        x = w - 1 - x;
-    *ox = x;
-    *oy = y;
-}
-
-static void inverse_xform(int t, int w, double x, double y, double *ox, double *oy)
-{
-    int r;
-    if (t & 4)
-        x = w - 1 - x;
-    for (r = 0; r < (t & 3); r++) { /* inverse of (x, y) -> (w-1-y, x) */
-        double nx = y, ny = w - 1 - x;
-        x = nx;
-        y = ny;
-    }
-    *ox = x;
-    *oy = y;
 }
 
 typedef struct {
@@ -88,29 +55,13 @@ typedef struct {
 static void check_sheet(const actag_family *core, const int *ids, int count, stats *st)
 {
     int k = core->bits / 4, side = actag_render_side(core->bits, CELL, MARGIN);
-    int w = side * TILES, t, i, x, y;
-    size_t n = (size_t)w * (size_t)w;
-    static uint8_t tag[200 * 200];
+    int w = side * TILES, t, i;
     char msg[200];
-    TEST_ASSERT_TRUE(side <= 200);
-    memset(g_sheet, 0, n); /* camera colours of a foam-like surround */
-    for (i = 0; i < count; i++) {
-        int tx = (i % TILES) * side, ty = (i / TILES) * side;
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK,
-                              actag_render_tag(core, ids[i], CELL, MARGIN, 255, 1, tag, side, sizeof tag));
-        for (y = 0; y < side; y++)
-            memcpy(g_sheet + (size_t)(ty + y) * (size_t)w + (size_t)tx, tag + (size_t)y * (size_t)side,
-                   (size_t)side);
-    }
+    render_sheet(core, ids, count, CELL, MARGIN, TILES, g_sheet);
     for (t = 0; t < 8; t++) {
         zarray_t *dets;
         int nd, j, found[TILES * TILES];
-        for (y = 0; y < w; y++)
-            for (x = 0; x < w; x++) {
-                double ox, oy;
-                xform(t, w, x, y, &ox, &oy);
-                g_work[(size_t)oy * (size_t)w + (size_t)ox] = g_sheet[(size_t)y * (size_t)w + (size_t)x];
-            }
+        xform_image(t, w, g_sheet, g_work);
         {
             image_u8_t im = {.width = w, .height = w, .stride = w, .buf = g_work};
             actag_apriltag_invert(&im); /* camera -> layout colours */
@@ -130,15 +81,7 @@ static void check_sheet(const actag_family *core, const int *ids, int count, sta
             if (tile < 0 || tile >= count)
                 at_square = 0;
             else
-                for (i = 0; i < 4; i++) {
-                    double lo = MARGIN + 2 * CELL - 0.5, hi = MARGIN + (k - 1) * CELL - 0.5;
-                    double px = (tile % TILES) * side + ((i == 1 || i == 2) ? hi : lo);
-                    double py = (tile / TILES) * side + (i >= 2 ? hi : lo);
-                    double ex, ey;
-                    xform(t, w, px, py, &ex, &ey);
-                    if (fabs(ex - c[i][0]) > 0.5 || fabs(ey - c[i][1]) > 0.5)
-                        at_square = 0;
-                }
+                at_square = at_white_square(c, t, tile, k, side, TILES, CELL, MARGIN);
             snprintf(msg, sizeof msg, "%s transform %d: detection id %d hamming %d at tile %d (id %d)",
                      core->name, t, d->id, d->hamming, tile,
                      tile >= 0 && tile < count ? ids[tile] : -1);
@@ -181,10 +124,7 @@ static void check_family(const char *name, int step)
     bits = actag_apriltag_max_bits_corrected(g_fam);
     if (bits > 2)
         bits = 2; /* the table for 3 is larger and slower to build */
-    g_td = apriltag_detector_create();
-    g_td->quad_decimate = 1.0f;
-    g_td->nthreads = 1;
-    apriltag_detector_add_family_bits(g_td, g_fam, bits);
+    g_td = test_detector(g_fam, bits);
     side = actag_render_side(core.bits, CELL, MARGIN);
     w = side * TILES;
     g_sheet = (uint8_t *)malloc((size_t)w * (size_t)w);
@@ -242,10 +182,7 @@ static void test_published_family_is_read_in_a_mirror(void)
         for (x = 0; x < side; x++)
             img[y * side + (side - 1 - x)] = tag[y * side + x];
     g_fam = fam = actag_apriltag_family_create("AcTag24h4");
-    g_td = td = apriltag_detector_create();
-    td->quad_decimate = 1.0f;
-    td->nthreads = 1;
-    apriltag_detector_add_family_bits(td, fam, 0);
+    g_td = td = test_detector(fam, 0);
     {
         image_u8_t im = {.width = side, .height = side, .stride = side, .buf = img};
         actag_apriltag_invert(&im);

@@ -1082,6 +1082,37 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_INT(0, run("--help"));
 }
 
+/* Arguments actag-render refuses, the option the message must name and
+ * the value (or text) it must quote. */
+typedef struct {
+    const char *args, *opt, *value;
+} refused_t;
+
+/* Each bad[i] (up to the one with args NULL), run as "--family <family>
+ * ARGS --out DIR/<out>": status 2, one line on stderr starting
+ * "actag-render: " and naming bad[i].opt and bad[i].value, and no file
+ * <out> written. */
+static void check_refused(const char *family, const refused_t *bad, const char *out)
+{
+    char args[2048], msg[1200];
+    int i;
+    for (i = 0; bad[i].args; i++) {
+        int st;
+        path_of(msg, sizeof msg, out);
+        remove(msg);
+        snprintf(args, sizeof args, "--family %s %s --out '%s/%s'", family, bad[i].args, dir, out);
+        st = run(args);
+        snprintf(msg, sizeof msg, "args '%s': status %d, stderr '%.400s'", bad[i].args, st,
+                 errtext);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(errtext), msg);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].opt), msg);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].value), msg);
+        TEST_ASSERT_FALSE_MESSAGE(file_exists(out), msg);
+    }
+}
+
 /* An option the chosen output does not use is refused (status 2, one line
  * naming the option and its value), never silently ignored, and no file is
  * written. (--tag-size with a PGM image, --hole-diameter with an image and
@@ -1089,9 +1120,7 @@ static void test_errors(void)
  * defaults; --list-tabs --out FILE printed to stdout and made no file.) */
 static void test_unused_options_refused(void)
 {
-    static const struct {
-        const char *args, *opt, *value;
-    } bad[] = {
+    static const refused_t bad[] = {
         {"--id 3 --tag-size 2.5", "--tag-size", "2.5"},
         {"--ids 0-3 --sheet --tag-size 0.05", "--tag-size", "0.05"},
         {"--id 3 --hole-diameter 9", "--hole-diameter", "9"},
@@ -1108,29 +1137,13 @@ static void test_unused_options_refused(void)
         {"--id 3 --margin-cells 0 --margin-colour foam", "--margin-colour", "foam"},
         {"--ids 0-3 --sheet --gap 3", "--gap", "3"},
         {"--ids 0-3 --sheet --page-width 300", "--page-width", "300"},
-        {"--all --list-tabs", "--list-tabs", "--out"}, /* --out FILE appended below */
+        {"--all --list-tabs", "--list-tabs", "--out"}, /* check_refused appends --out FILE */
         {"--all --list-tabs --format svg", "--list-tabs", "--format"},
         {"--all --list-tabs --back-plate", "--list-tabs", "--back-plate"},
         {"--all --list-tabs --tab-width 3", "--list-tabs", "--tab-width"},
         {NULL, NULL, NULL}};
-    char args[2048], msg[1200];
-    int i;
-    for (i = 0; bad[i].args; i++) {
-        int st;
-        path_of(msg, sizeof msg, "unused.out");
-        remove(msg);
-        snprintf(args, sizeof args, "--family AcTag24h10 %s --out '%s/unused.out'", bad[i].args,
-                 dir);
-        st = run(args);
-        snprintf(msg, sizeof msg, "args '%s': status %d, stderr '%.400s'", bad[i].args, st,
-                 errtext);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, msg);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(errtext), msg);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
-        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].opt), msg);
-        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].value), msg);
-        TEST_ASSERT_FALSE_MESSAGE(file_exists("unused.out"), msg);
-    }
+    char args[2048];
+    check_refused("AcTag24h10", bad, "unused.out");
     /* --list-tabs --out-dir: refused before the folder is made */
     snprintf(args, sizeof args, "rm -rf '%s/unused-dir'", dir);
     TEST_ASSERT_EQUAL_INT(0, system(args));
@@ -1181,9 +1194,7 @@ static void test_unused_options_refused(void)
  * (--format svg --tag-size 0x1p-3 drew a 0.125 m tag, --ids ' 1' tag 1). */
 static void test_bad_values_named(void)
 {
-    static const struct {
-        const char *args, *opt, *value;
-    } bad[] = {
+    static const refused_t bad[] = {
         {"--id 1 --cut --tab-width 0.001", "--tab-width", "(got 0.001)"},
         {"--id 1 --format svg --tag-size 0x1p-3", "--tag-size", "'0x1p-3'"},
         {"--id 1 --format svg --tag-size ' 0.05'", "--tag-size", "' 0.05'"},
@@ -1193,24 +1204,8 @@ static void test_bad_values_named(void)
         {"--id +1", "--id", "'+1'"},
         {"--id 1 --cell-px ' 8'", "--cell-px", "' 8'"},
         {NULL, NULL, NULL}};
-    char args[2048], msg[1200];
-    int i;
-    for (i = 0; bad[i].args; i++) {
-        int st;
-        path_of(msg, sizeof msg, "badval.out");
-        remove(msg);
-        snprintf(args, sizeof args, "--family AcTag24h4 %s --out '%s/badval.out'", bad[i].args,
-                 dir);
-        st = run(args);
-        snprintf(msg, sizeof msg, "args '%s': status %d, stderr '%.400s'", bad[i].args, st,
-                 errtext);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(2, st, msg);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(errtext), msg);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
-        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].opt), msg);
-        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, bad[i].value), msg);
-        TEST_ASSERT_FALSE_MESSAGE(file_exists("badval.out"), msg);
-    }
+    char args[2048];
+    check_refused("AcTag24h4", bad, "badval.out");
     /* the ordinary forms are taken */
     snprintf(args, sizeof args,
              "--family AcTag24h4 --id 1 --format svg --tag-size .05 --out '%s/badval.svg'", dir);
