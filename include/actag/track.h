@@ -42,6 +42,12 @@
  *   reading (same ID, same handedness, centre within `gate` tag diagonals of
  *   the prediction, the gate growing by one diagonal per frame the track has
  *   missed), or at once when its decision margin reaches `confirm_margin`.
+ *   A track of one reading has no velocity, so no prediction: its second
+ *   reading is the nearest of its ID and handedness anywhere in the frame,
+ *   and the filter starts from the two (corners the second's, velocity
+ *   their displacement per frame); the third must fall within the gate of
+ *   what the two predict (a tag moving more than a diagonal a frame was
+ *   never confirmed before).
  *   A reading of a confirmed track's ID and handedness outside its gate,
  *   when that track got no reading in this frame (a tag that moved farther
  *   than the gate allows, e.g. between whole-frame searches), re-acquires
@@ -49,10 +55,13 @@
  *   set to the reading's (no smoothing) and its velocity to zero.
  *   A tentative track that misses a frame is dropped; a confirmed one after
  *   more than `max_missed` consecutive frames without a reading (meanwhile
- *   it is reported as coasting, measured = 0, once it has been read twice:
- *   a track of one reading has no velocity, and its prediction would be
- *   the place of that reading however far the tag has moved; it is kept
- *   and searched, not reported), or as soon as a frame without a reading
+ *   it is kept and its window searched; it is reported as coasting,
+ *   measured = 0, on the first frame it misses only, and only once it has
+ *   been read twice: a track of one reading has no velocity, and its
+ *   prediction would be the place of that reading however far the tag has
+ *   moved; later predictions drift from the tag, docs/tracking.md; the
+ *   state's tracks[] hold them for a caller that wants them), or as soon
+ *   as a frame without a reading
  *   predicts its centre outside the frame (the tag has left the view; a
  *   window at the sonar too short in range for a tag is read as holding
  *   none, not as an error). A track's tag ID and

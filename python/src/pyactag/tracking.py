@@ -35,7 +35,7 @@ class Track(SlotRecord):
         id: tag ID; mirrored: handedness (neither ever changes).
         confirmed: always True in what ``update`` returns.
         measured: True when read in this frame, False when coasting on the
-            prediction.
+            prediction (reported on the first frame a track misses only).
         hits: frames with a reading; missed: consecutive frames without one;
             age: frames since the track started.
         corners_xy: the smoothed corners (x = column, y = row), tag order
