@@ -2,7 +2,9 @@
  * optical_minimal.c -- a program using the installed libactag_apriltag with
  * AprilTag 3: renders AcTag24h10 tag 3 as a camera sees it (actag's renderer),
  * hands it to AprilTag in an image_u8_t (AprilTag's image helpers: on Debian
- * they live in libapriltag-utils) and prints what AprilTag reads.
+ * they live in libapriltag-utils) through actag_apriltag_detect (AprilTag
+ * without the readings a mirror image explains as well, and safe on tiny
+ * images) and prints what it reads.
  *
  *   cc optical_minimal.c $(pkg-config --cflags --libs actag_apriltag) -o optical_minimal
  */
@@ -43,7 +45,9 @@ int main(void)
     td = apriltag_detector_create();
     td->nthreads = 1;
     apriltag_detector_add_family_bits(td, fam, actag_apriltag_max_bits_corrected(fam));
-    dets = apriltag_detector_detect(td, im);
+    dets = actag_apriltag_detect(td, im); /* NULL only for a bad detector or image */
+    if (dets == NULL)
+        return 1;
     for (i = 0; i < zarray_size(dets); i++) {
         apriltag_detection_t *det;
         double c[4][2];
