@@ -127,6 +127,14 @@ int hostio_mkdirs(const char *path, char *err)
     return HOSTIO_OK;
 }
 
+const char *hostio_json_num(char *buf, const char *fmt, double v, int have)
+{
+    if (!have)
+        return "null";
+    snprintf(buf, HOSTIO_JNUM_LEN, fmt, v);
+    return buf;
+}
+
 void hostio_json_string(FILE *stream, const char *s)
 {
     fputc('"', stream);

@@ -94,6 +94,10 @@
  *     hostio_json_string(stream, s)  s as a JSON string literal, quotes
  *                            included ('"' and '\\' escaped, control
  *                            characters as \u00XX; other bytes as they are)
+ *     hostio_json_num(buf, fmt, v, have)  v printed with fmt into buf
+ *                            (HOSTIO_JNUM_LEN bytes), or "null" when have is
+ *                            0 (a rate or median of nothing is no 0);
+ *                            returns buf or the literal "null"
  *   Subprocesses
  *     hostio_run(cmd, err)   runs a shell command line (system()); returns its
  *                            exit status 0..255, or -1 (and a message) when it
@@ -248,6 +252,10 @@ int hostio_read_codes(const char *path, uint32_t *codes, size_t cap, size_t *n, 
 
 /* s as a JSON string literal (quotes included) on stream. */
 void hostio_json_string(FILE *stream, const char *s);
+
+/* A JSON number (fmt of v) in buf, or "null" when have is 0. */
+#define HOSTIO_JNUM_LEN 48
+const char *hostio_json_num(char *buf, const char *fmt, double v, int have);
 
 /* Shell command line; exit status 0..255, or -1 when it did not run or exit. */
 int hostio_run(const char *cmd, char *err);

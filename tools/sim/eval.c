@@ -207,23 +207,6 @@ static int bin_of(double v, double lo, double step, int n)
     return b < 0 ? 0 : b >= n ? n - 1 : b;
 }
 
-/* A JSON number of format fmt, or null when nothing was measured (have 0):
- * an empty bin's rate or median is not 0. One of JN_SLOTS buffers, so a
- * printf may take several. */
-#define JN_SLOTS 8
-static const char *jnum(const char *fmt, double v, int have)
-{
-    static char buf[JN_SLOTS][40];
-    static int next;
-    char *b;
-    if (!have)
-        return "null";
-    b = buf[next];
-    next = (next + 1) % JN_SLOTS;
-    snprintf(b, sizeof buf[0], fmt, v);
-    return b;
-}
-
 typedef struct {
     int det[MAX_FAM][NCORR]; /* detections per family and corrections setting */
 } free_result;
@@ -792,6 +775,7 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
     double *tmp = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
     double *tmp2 = (double *)malloc((size_t)(c->frames + 1) * sizeof(double));
     double mrel, mpos, mori, mele;
+    char jb[4][HOSTIO_JNUM_LEN]; /* the JSON numbers of one printf */
     if (!rel || !pos || !ori || !ele || !tmp || !tmp2)
         die("out of memory");
     for (i = 0; i < c->frames; i++) {
@@ -819,14 +803,17 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
         printf("\"pose\": {\"readings\": %d, \"median_position_error_m\": %s, "
                "\"median_position_error_pct_of_range\": %s, "
                "\"median_orientation_error_deg\": %s, \"median_elevation_error_deg\": %s, ",
-               n, jnum("%.5f", mpos, n > 0), jnum("%.3f", mrel, n > 0), jnum("%.3f", mori, n > 0),
-               jnum("%.3f", mele, n > 0));
+               n, hostio_json_num(jb[0], "%.5f", mpos, n > 0),
+               hostio_json_num(jb[1], "%.3f", mrel, n > 0),
+               hostio_json_num(jb[2], "%.3f", mori, n > 0),
+               hostio_json_num(jb[3], "%.3f", mele, n > 0));
         printf("\"inside_95_position\": %s, \"inside_95_orientation\": %s, "
                "\"inside_95_6d\": %s, \"flags\": {\"degenerate\": %d, \"elevation\": %d, "
                "\"mirror_conflict\": %d, \"not_converged\": %d}, \"by_distance\": [",
-               jnum("%.4f", n ? (double)in_pos / n : 0.0, n > 0),
-               jnum("%.4f", n ? (double)in_ori / n : 0.0, n > 0),
-               jnum("%.4f", n ? (double)in_all / n : 0.0, n > 0), degen, elev, conflict, nconv);
+               hostio_json_num(jb[0], "%.4f", n ? (double)in_pos / n : 0.0, n > 0),
+               hostio_json_num(jb[1], "%.4f", n ? (double)in_ori / n : 0.0, n > 0),
+               hostio_json_num(jb[2], "%.4f", n ? (double)in_all / n : 0.0, n > 0), degen, elev,
+               conflict, nconv);
     }
     else {
         printf("  pose of the %d readings (pose.h, corner noise %.4f m / %.4f rad):\n", n,
@@ -867,7 +854,8 @@ static void pose_summary(const eval_ctx *c, int json, double dlo, double dstep, 
                 printf("%s{\"%s\": %.2f, \"readings\": %d, \"median_position_error_pct\": %s, "
                        "\"median_orientation_error_deg\": %s}",
                        bb ? ", " : "", inc ? "incidence_deg" : "distance_m", centre, m,
-                       jnum("%.3f", a, m > 0), jnum("%.3f", o, m > 0));
+                       hostio_json_num(jb[0], "%.3f", a, m > 0),
+                       hostio_json_num(jb[1], "%.3f", o, m > 0));
             else if (m > 0)
                 printf(" %.4g: %d, %.2f, %.1f;", centre, m, a, o);
         }
@@ -1563,11 +1551,12 @@ int main(int argc, char **argv)
         }
         if (json) {
             int f, k;
+            char jb[4][HOSTIO_JNUM_LEN]; /* the JSON numbers of one printf */
             printf("{\"family\": \"%s\", \"seed\": %u, \"rows\": %d, \"cols\": %d, "
                    "\"min_range\": %g, \"max_range\": %g, \"aperture_deg\": %g, "
                    "\"vertical_aperture_deg\": %g, \"min_distance\": %g, \"max_distance\": %g, "
                    "\"frames\": %d, \"views\": %d, \"mirrored_views\": %d, \"detected\": %d, "
-                   "\"detection_rate\": %.4f, \"detected_mirrored\": %d, \"wrong_ids\": %d, "
+                   "\"detection_rate\": %s, \"detected_mirrored\": %d, \"wrong_ids\": %d, "
                    "\"false_tags\": %d, \"mirror_errors\": %d, \"corner_order_errors\": %d, "
                    "\"hamming\": [",
                    c.fam.name, (unsigned)c.seed, c.sonar.rows, c.sonar.cols,
@@ -1575,30 +1564,34 @@ int main(int argc, char **argv)
                    c.sonar.geo.bearings ? 0.0 : c.sonar.geo.aperture / DEG,
                    c.sonar.vertical_aperture / DEG, (double)c.view.min_distance,
                    (double)c.view.max_distance, c.frames, sampled, mirrored_views, found,
-                   sampled ? (double)found / sampled : 0.0, found_mirrored, wrong, falset, merr,
-                   oerr);
+                   hostio_json_num(jb[0], "%.4f", sampled ? (double)found / sampled : 0.0,
+                                   sampled > 0),
+                   found_mirrored, wrong, falset, merr, oerr);
             for (k = 0; k <= actag_family_max_corrections(&c.fam) && k < 17; k++)
                 printf("%s%d", k ? ", " : "", hcount[k]);
             printf("], \"range_error_m\": {\"mean\": %s, \"sd\": %s, \"p95_abs\": %s, "
                    "\"corners\": %d}, ",
-                   jnum("%.6f", rs.mean, rs.n > 0), jnum("%.6f", rs.sd, rs.n > 1),
-                   jnum("%.6f", rs.p95, rs.n > 0), rs.n);
+                   hostio_json_num(jb[0], "%.6f", rs.mean, rs.n > 0),
+                   hostio_json_num(jb[1], "%.6f", rs.sd, rs.n > 1),
+                   hostio_json_num(jb[2], "%.6f", rs.p95, rs.n > 0), rs.n);
             printf("\"azimuth_error_rad\": {\"mean\": %s, \"sd\": %s, "
                    "\"p95_abs\": %s, \"corners\": %d}, \"by_distance\": [",
-                   jnum("%.6f", as.mean, as.n > 0), jnum("%.6f", as.sd, as.n > 1),
-                   jnum("%.6f", as.p95, as.n > 0), as.n);
+                   hostio_json_num(jb[0], "%.6f", as.mean, as.n > 0),
+                   hostio_json_num(jb[1], "%.6f", as.sd, as.n > 1),
+                   hostio_json_num(jb[2], "%.6f", as.p95, as.n > 0), as.n);
             /* a bin's spread needs two corners, its rate a view: null without */
             for (i = 0; i < nbd; i++)
                 printf("%s{\"distance_m\": %.2f, \"views\": %d, \"detected\": %d, \"rate\": %s, "
                        "\"range_sd_m\": %s, \"azimuth_sd_rad\": %s}",
                        i ? ", " : "", bd_c[i], bd_cnt[i], bd_hit[i],
-                       jnum("%.4f", bd_r[i], bd_cnt[i] > 0), jnum("%.6f", bd_rsd[i], bd_hit[i] > 0),
-                       jnum("%.6f", bd_asd[i], bd_hit[i] > 0));
+                       hostio_json_num(jb[0], "%.4f", bd_r[i], bd_cnt[i] > 0),
+                       hostio_json_num(jb[1], "%.6f", bd_rsd[i], bd_hit[i] > 0),
+                       hostio_json_num(jb[2], "%.6f", bd_asd[i], bd_hit[i] > 0));
             printf("], \"by_incidence\": [");
             for (i = 0; i < nbi; i++)
                 printf("%s{\"incidence_deg\": %.1f, \"views\": %d, \"detected\": %d, \"rate\": %s}",
                        i ? ", " : "", bi_c[i], bi_cnt[i], bi_hit[i],
-                       jnum("%.4f", bi_r[i], bi_cnt[i] > 0));
+                       hostio_json_num(jb[0], "%.4f", bi_r[i], bi_cnt[i] > 0));
             printf("], ");
             pose_summary(&c, 1, dlo, dstep, nbd, ilo, istep, nbi);
             printf("\"tag_free\": {\"frames\": %d, \"families\": [", c.tag_free);
@@ -1612,10 +1605,11 @@ int main(int argc, char **argv)
                         continue;
                     }
                     printf(", \"%s\": {\"corrections\": %d, \"detections\": %d, \"frames_with_"
-                           "detections\": %d, \"rate\": %.6f}",
+                           "detections\": %d, \"rate\": %s}",
                            kn[k], corrections_of(&c.free_fam[f], k),
                            fam_total[f][k], fam_frames[f][k],
-                           c.tag_free ? (double)fam_frames[f][k] / c.tag_free : 0.0);
+                           hostio_json_num(jb[0], "%.6f", c.tag_free ? (double)fam_frames[f][k] / c.tag_free : 0.0,
+                                c.tag_free > 0));
                 }
                 printf("}");
             }

@@ -420,27 +420,33 @@ void te_print(FILE *f, const char *title, const te_counts *c, const te_options *
                                   c->tracked_pixels
                             : 0.0;
     if (json) {
+        char jb[5][HOSTIO_JNUM_LEN]; /* rates and ratios of nothing: null */
         /* the title may be a folder's path: a JSON string, escaped */
         fputs("{\"source\": ", f);
         hostio_json_string(f, title);
         fprintf(f, ", \"frames\": %d, \"visible\": %d, "
-                   "\"full_frame\": {\"found\": %d, \"rate\": %.4f, \"wrong_ids\": %d, "
+                   "\"full_frame\": {\"found\": %d, \"rate\": %s, \"wrong_ids\": %d, "
                    "\"false_tags\": %d, \"mirror_errors\": %d, \"order_errors\": %d}, "
-                   "\"tracking\": {\"read\": %d, \"read_rate\": %.4f, "
-                   "\"reported\": %d, \"reported_rate\": %.4f, \"wrong_ids\": %d, "
+                   "\"tracking\": {\"read\": %d, \"read_rate\": %s, "
+                   "\"reported\": %d, \"reported_rate\": %s, \"wrong_ids\": %d, "
                    "\"false_tags\": %d, \"mirror_errors\": %d, \"order_errors\": %d, "
                    "\"id_switches\": %d, \"track_breaks\": %d, "
                    "\"tracked_frames\": %d, \"tracked_full_searches\": %d, "
-                   "\"pixels_ratio\": %.2f, \"pixels_ratio_tracked\": %.2f, "
+                   "\"pixels_ratio\": %s, \"pixels_ratio_tracked\": %s, "
                    "\"full_every\": %d, \"confirm_frames\": %d, \"confirm_margin\": %g, "
                    "\"max_missed\": %d, \"roi_scale\": %g, \"relaxed_roi\": %d}}",
-                c->frames, c->visible, c->full_found, c->full_found / vis, c->full_wrong,
+                c->frames, c->visible, c->full_found,
+                hostio_json_num(jb[0], "%.4f", c->full_found / vis, c->visible > 0), c->full_wrong,
                 c->full_false, c->truth_known ? c->full_mirror : -1,
-                c->truth_known ? c->full_order : -1, c->track_read, c->track_read / vis,
-                c->track_reported, c->track_reported / vis, c->track_wrong, c->track_false,
+                c->truth_known ? c->full_order : -1, c->track_read,
+                hostio_json_num(jb[1], "%.4f", c->track_read / vis, c->visible > 0),
+                c->track_reported,
+                hostio_json_num(jb[2], "%.4f", c->track_reported / vis, c->visible > 0),
+                c->track_wrong, c->track_false,
                 c->truth_known ? c->track_mirror : -1, c->truth_known ? c->track_order : -1,
-                c->id_switches,
-                c->breaks, c->tracked_frames, c->tracked_full, px_ratio, px_tracked,
+                c->id_switches, c->breaks, c->tracked_frames, c->tracked_full,
+                hostio_json_num(jb[3], "%.2f", px_ratio, c->track_pixels > 0),
+                hostio_json_num(jb[4], "%.2f", px_tracked, c->tracked_pixels > 0),
                 o->track.full_every, o->track.confirm_frames, (double)o->track.confirm_margin,
                 o->track.max_missed, (double)o->track.roi_scale, o->relax_roi);
         return;

@@ -796,6 +796,16 @@ static void test_far_bins_and_empty_bins(void)
     TEST_ASSERT_TRUE(count_of(js, "\"views\": 0, \"detected\": 0, \"rate\": null") >= 1);
     TEST_ASSERT_TRUE(count_of(js, "\"readings\": 0, \"median_position_error_pct\": null") >= 1);
     TEST_ASSERT_EQUAL_INT(0, count_of(js, "\"views\": 0, \"detected\": 0, \"rate\": 0"));
+    /* no tag-free frames: no tag-free rate (it was 0.0 for every family) */
+    TEST_ASSERT_TRUE(count_of(js, "\"frames_with_detections\": 0, \"rate\": null") >= 12);
+    TEST_ASSERT_EQUAL_INT(0, count_of(js, "\"frames_with_detections\": 0, \"rate\": 0"));
+    free(js);
+    /* no tagged view: no detection rate; no tracked frame: no ratio */
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, "--frames 0 --sequences 1 --sequence-length 3 "
+                                                  "--seed 2 --threads 1 --json --quiet"));
+    js = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(js);
+    TEST_ASSERT_EQUAL_INT(1, count_of(js, "\"detection_rate\": null"));
     free(js);
 }
 
