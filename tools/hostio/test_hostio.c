@@ -314,6 +314,18 @@ static void test_pgm_read_checks_maxval(void)
  * exactly (or, where size_t is 32 bits, the layout is refused as too large). */
 /* hostio_json_string: quotes, '"' and '\\' escaped, control characters as
  * \u00XX, every other byte (UTF-8 included) as it is. */
+/* hostio_json_num: the number as fmt prints it, or null for nothing
+ * measured (whatever the value). */
+static void test_json_num(void)
+{
+    char b[HOSTIO_JNUM_LEN], b2[HOSTIO_JNUM_LEN];
+    TEST_ASSERT_EQUAL_STRING("0.2500", hostio_json_num(b, "%.4f", 0.25, 1));
+    TEST_ASSERT_EQUAL_STRING("-3", hostio_json_num(b2, "%g", -3.0, 1));
+    TEST_ASSERT_EQUAL_STRING("0.2500", b); /* each call its own buffer */
+    TEST_ASSERT_EQUAL_STRING("null", hostio_json_num(b, "%.4f", 0.0, 0));
+    TEST_ASSERT_EQUAL_STRING("null", hostio_json_num(b, "%.4f", 1.5, 0));
+}
+
 static void test_json_string(void)
 {
     static const char in[] = "a\"b\\c\x01\td \xc3\xa9/";
@@ -796,6 +808,7 @@ int main(void)
     RUN_TEST(test_slurp_folder_names_the_reason);
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
+    RUN_TEST(test_json_num);
     RUN_TEST(test_parse_choice);
     RUN_TEST(test_parse_u32);
     RUN_TEST(test_pgm_header_messages);
