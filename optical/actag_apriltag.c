@@ -116,6 +116,14 @@ int actag_apriltag_max_bits_corrected(const apriltag_family_t *fam)
  * bogus quads on clutter and noise 8-14. */
 #define ACTAG_AT_MAX_STRUCTURE_MISSES 2
 
+/* Is cell (x, y) (0 .. tw-1, the data ring at 0 and tw-1) one of the black
+ * ring's 4 corner cells, where the tag's screws go (tools/render
+ * --screw-holes, docs/construction.md)? */
+static int screw_cell(int x, int y, int tw)
+{
+    return (x == 1 || x == tw - 2) && (y == 1 || y == tw - 2);
+}
+
 /* A position of the generated bit_x / bit_y tables (negative numbers stored
  * as uint32_t) as int, without implementation-defined conversions. */
 static int cell_pos(uint32_t v)
@@ -143,6 +151,40 @@ static int sample_at(const image_u8_t *im, double px, double py, double *v)
     r2 = im->buf + (size_t)y2 * (size_t)im->stride;
     *v = ((double)r1[x1] * (1.0 - fx) + (double)r1[x2] * fx) * (1.0 - fy) +
          ((double)r2[x1] * (1.0 - fx) + (double)r2[x2] * fx) * fy;
+    return 1;
+}
+
+/* The grey level of the cell centred at tag coordinates (tx, ty), cell
+ * width cw: the median of 5 points (the centre and 4 at a quarter of the
+ * cell's width along its diagonals), so that one small defect in a cell
+ * (a screw head at the centre of a black-ring corner cell, construction.md;
+ * a speck) does not decide it. 1 and *v with at least 3 of them in the
+ * image, else 0. */
+static int sample_cell(const image_u8_t *im, const matd_t *H, double tx, double ty, double cw,
+                       double *v)
+{
+    static const double off[5][2] = {{0, 0}, {-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    double s[5];
+    int n = 0, k, j;
+    for (k = 0; k < 5; k++) {
+        double ux = tx + 0.25 * cw * off[k][0], uy = ty + 0.25 * cw * off[k][1], px, py, z;
+        z = MATD_EL(H, 2, 0) * ux + MATD_EL(H, 2, 1) * uy + MATD_EL(H, 2, 2);
+        if (!(fabs(z) > 1e-12))
+            continue;
+        px = (MATD_EL(H, 0, 0) * ux + MATD_EL(H, 0, 1) * uy + MATD_EL(H, 0, 2)) / z;
+        py = (MATD_EL(H, 1, 0) * ux + MATD_EL(H, 1, 1) * uy + MATD_EL(H, 1, 2)) / z;
+        if (sample_at(im, px, py, &s[n]))
+            n++;
+    }
+    if (n < 3)
+        return 0;
+    for (k = 1; k < n; k++) /* insertion sort of at most 5 */
+        for (j = k; j > 0 && s[j - 1] > s[j]; j--) {
+            double t = s[j];
+            s[j] = s[j - 1];
+            s[j - 1] = t;
+        }
+    *v = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
     return 1;
 }
 
@@ -312,24 +354,18 @@ static int mirror_check(const apriltag_detection_t *det, const image_u8_t *im,
         H->ncols != 3)
         return 2; /* nothing to check the reading against */
 
-    /* every cell of the tag: grey level at its centre */
+    /* every cell of the tag: its grey level (sample_cell) */
     memset(&black, 0, sizeof black);
     memset(&white, 0, sizeof white);
     for (i = 0; i < tw; i++)
         tc[i] = (2.0 * (double)(i - 2) + 1.0) / (double)wab - 1.0;
     for (y = 0; y < tw; y++)
         for (x = 0; x < tw; x++) {
-            double px = 0, py = 0, z;
-            z = MATD_EL(H, 2, 0) * tc[x] + MATD_EL(H, 2, 1) * tc[y] + MATD_EL(H, 2, 2);
-            have[y][x] = 0;
             val[y][x] = 0.0;
-            if (fabs(z) > 1e-12) {
-                px = (MATD_EL(H, 0, 0) * tc[x] + MATD_EL(H, 0, 1) * tc[y] + MATD_EL(H, 0, 2)) / z;
-                py = (MATD_EL(H, 1, 0) * tc[x] + MATD_EL(H, 1, 1) * tc[y] + MATD_EL(H, 1, 2)) / z;
-                have[y][x] = sample_at(im, px, py, &val[y][x]);
-            }
-            if (!have[y][x] || x == 0 || y == 0 || x == tw - 1 || y == tw - 1)
-                continue; /* the data ring */
+            have[y][x] = sample_cell(im, H, tc[x], tc[y], 2.0 / (double)wab, &val[y][x]);
+            if (!have[y][x] || x == 0 || y == 0 || x == tw - 1 || y == tw - 1 ||
+                screw_cell(x, y, tw))
+                continue; /* the data ring; the screws' cells */
             if (x == 1 || y == 1 || x == tw - 2 || y == tw - 2)
                 plane_add(&black, tc[x], tc[y], val[y][x]);
             else
@@ -358,17 +394,22 @@ static int mirror_check(const apriltag_detection_t *det, const image_u8_t *im,
                 lap -= val[y + 1][x];
             sharp[y][x] = val[y][x] + sharpening * lap;
         }
-    /* the tag's own structure must read as such: a quad on clutter or
-     * noise that AprilTag read as a code (its reading has no mid level to
-     * speak of) has no reading to check */
+    /* the tag's own structure must read as such when AprilTag corrected
+     * bits: a quad on clutter or noise that AprilTag read as a code (its
+     * reading has no mid level to speak of) has no reading to check. Not
+     * the 4 black-ring corner cells, which hold the tag's screws; not a
+     * reading of no corrected bit (a right code read whole: an occluder
+     * on the interior must not cost it) */
     misses = 0;
     for (y = 1; y < tw - 1; y++)
         for (x = 1; x < tw - 1; x++) {
             int ring = x == 1 || y == 1 || x == tw - 2 || y == tw - 2;
+            if (screw_cell(x, y, tw))
+                continue;
             if (!have[y][x] || (ring ? sharp[y][x] >= 0.0 : sharp[y][x] <= 0.0))
                 misses++;
         }
-    if (misses > ACTAG_AT_MAX_STRUCTURE_MISSES)
+    if (det->hamming > 0 && misses > ACTAG_AT_MAX_STRUCTURE_MISSES)
         return 2;
     /* the word, bit i of the sequence = code bit nbits-1-i (AprilTag's order) */
     for (i = 0; i < nbits; i++) {

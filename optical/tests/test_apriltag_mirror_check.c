@@ -356,6 +356,80 @@ static void test_review_cases(void)
     }
 }
 
+/* A dark disc of radius r pixels at tag coordinates (tx, ty) of
+ * detection d's homography, in img (side x side). */
+static void paint_disc(uint8_t *img, int side, const apriltag_detection_t *d, double tx,
+                       double ty, double r)
+{
+    double z = MATD_EL(d->H, 2, 0) * tx + MATD_EL(d->H, 2, 1) * ty + MATD_EL(d->H, 2, 2);
+    double px = (MATD_EL(d->H, 0, 0) * tx + MATD_EL(d->H, 0, 1) * ty + MATD_EL(d->H, 0, 2)) / z;
+    double py = (MATD_EL(d->H, 1, 0) * tx + MATD_EL(d->H, 1, 1) * ty + MATD_EL(d->H, 1, 2)) / z;
+    int x, y;
+    for (y = 0; y < side; y++)
+        for (x = 0; x < side; x++)
+            if ((x + 0.5 - px) * (x + 0.5 - px) + (y + 0.5 - py) * (y + 0.5 - py) <= r * r)
+                img[y * side + x] = 20; /* dark, after the inversion */
+}
+
+/* The tag's screws (review of 2026-12-05): a dark disc at the centre of
+ * each of the black ring's 4 corner cells, where tools/render
+ * --screw-holes and docs/construction.md put them, and a dark disc of a
+ * cell's radius on the white interior (a fish, a weed): AprilTag still
+ * reads every such tag whole, and the adapter keeps it (the structure
+ * check read one point a cell and dropped them all). */
+static void test_screws_and_an_occluder_keep_the_reading(void)
+{
+    static uint8_t img[120 * 120];
+    static const char *const names[] = {"AcTag24h10", "AcTag28m10", "AcTag24h6"};
+    int f;
+    for (f = 0; f < 3; f++) {
+        actag_family core;
+        zarray_t *dets;
+        apriltag_detection_t *d;
+        int side, wab, v;
+        if (actag_family_get(names[f], &core) != ACTAG_OK)
+            continue;
+        for (v = 0; v < 2; v++) {
+            char msg[120];
+            new_detector(names[f], 1);
+            render_one(&core, 2, 0, img, &side);
+            {
+                image_u8_t im = {.width = side, .height = side, .stride = side, .buf = img};
+                dets = actag_apriltag_detect(g_td, &im);
+                TEST_ASSERT_EQUAL_INT(1, zarray_size(dets));
+                zarray_get(dets, 0, &d);
+                wab = (int)g_fam->width_at_border;
+                {
+                    /* the black ring's corner cells: tag coordinates +-(1 - 1/wab) */
+                    double e = 1.0 - 1.0 / (double)wab;
+                    if (v == 0) {
+                        paint_disc(img, side, d, -e, -e, 2.5);
+                        paint_disc(img, side, d, e, -e, 2.5);
+                        paint_disc(img, side, d, e, e, 2.5);
+                        paint_disc(img, side, d, -e, e, 2.5);
+                    } else {
+                        paint_disc(img, side, d, 0.0, 0.0, 10.0);
+                    }
+                }
+                apriltag_detections_destroy(dets);
+                snprintf(msg, sizeof msg, "%s %s", names[f], v ? "occluder" : "screws");
+                dets = apriltag_detector_detect(g_td, &im);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(1, zarray_size(dets), msg); /* AprilTag reads it */
+                zarray_get(dets, 0, &d);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(0, d->hamming, msg);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(0, actag_apriltag_mirror_check(d, &im), msg);
+                apriltag_detections_destroy(dets);
+                dets = actag_apriltag_detect(g_td, &im);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(1, zarray_size(dets), msg);
+                zarray_get(dets, 0, &d);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(2, d->id, msg);
+                apriltag_detections_destroy(dets);
+            }
+            tearDown();
+        }
+    }
+}
+
 /* AcTag24h4 IDs 402 and 2046 are each other's mirror images, ID 291 its
  * own: whichever way round they are seen, a mirrored view explains the
  * cells as well as the reading, so actag_apriltag_detect() reports none of
@@ -437,6 +511,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_check_answers);
     RUN_TEST(test_review_cases);
+    RUN_TEST(test_screws_and_an_occluder_keep_the_reading);
     RUN_TEST(test_exact_mirror_pairs_dropped);
     RUN_TEST(test_every_family);
     RUN_TEST(test_three_corrections);
