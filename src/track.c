@@ -470,16 +470,17 @@ static void t_reproject(actag_tracker *t, const actag_sonar_geometry *g, int row
  * has no range (azimuth) axis: every pixel maps to one range (azimuth),
  * so the track keeps the place it had, and finds it again in the next
  * frame that has the axis (t_reproject). */
-/* Restarts track k's filter from two readings: its last one (k->last) and
- * d, frames later: the corners d's, the velocity their displacement per
- * frame. */
+/* Restarts the filter of track k, of one reading, from two: its corners
+ * (that reading's, in this frame's pixels: t_reproject moves them, not
+ * k->last, when the sonar's setting changes) and d's, frames later: the
+ * corners d's, the velocity their displacement per frame. */
 static void t_from_two(actag_track *k, const actag_detection *d, int frames)
 {
     float inv = 1.0f / (float)(frames > 0 ? frames : 1);
     int c;
     for (c = 0; c < 4; c++) {
-        k->velocity[c].x = (d->corners[c].x - k->last.corners[c].x) * inv;
-        k->velocity[c].y = (d->corners[c].y - k->last.corners[c].y) * inv;
+        k->velocity[c].x = (d->corners[c].x - k->corners[c].x) * inv;
+        k->velocity[c].y = (d->corners[c].y - k->corners[c].y) * inv;
         k->corners[c] = d->corners[c];
     }
 }
@@ -498,13 +499,8 @@ static void t_polar(const actag_sonar_geometry *g, int rows, int cols, actag_tra
 {
     int i;
     for (i = 0; i < 4; i++) {
-        /* a coasting track's corner may lie past the near edge, where the
-         * linear map gives ranges below min_range: none below 0 */
-        if (rows > 1) {
+        if (rows > 1)
             k->range[i] = actag_geometry_range(g, rows, k->corners[i].y);
-            if (!(k->range[i] >= 0.0f))
-                k->range[i] = 0.0f;
-        }
         if (cols > 1)
             k->azimuth[i] = actag_geometry_azimuth(g, cols, k->corners[i].x);
     }
@@ -520,7 +516,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     const actag_params *rp = roi_params != NULL ? roi_params : params;
     long cur;
     int rc, i, j, npool = 0, need_full, nconf = 0, nout = 0;
-    int assigned[ACTAG_TRACK_MAX], used[ACTAG_TRACK_MAX_DET];
+    int assigned[ACTAG_TRACK_MAX], used[ACTAG_TRACK_MAX_DET], pass;
     /* verified in step 1: a second try in step 2 would repeat the same
      * decode at the same prediction */
     int tried[ACTAG_TRACK_MAX];
@@ -658,33 +654,39 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
      * prediction within the gate; tracks in order (oldest first) */
     for (j = 0; j < npool; j++)
         used[j] = 0;
-    for (i = 0; i < t->ntracks; i++) {
-        actag_point pred[4], pc;
-        float gate, best = 3.0e38f;
-        int bj = -1, anywhere;
+    for (i = 0; i < t->ntracks; i++)
         assigned[i] = -1;
-        t_predict(&t->tracks[i], pred);
-        pc = t_centre(pred);
-        /* the gate widens while a track coasts; a track of one reading has
-         * no velocity, so no prediction of where its tag went: its second
-         * reading is its ID's and handedness' nearest anywhere (the third
-         * must then fall where the two predict) */
-        anywhere = t->tracks[i].hits == 1;
-        gate = t_gate(t, &t->tracks[i], pred);
-        for (j = 0; j < npool; j++) {
-            float d2;
-            if (used[j] || t->pool[j].id != t->tracks[i].id ||
-                t->pool[j].mirrored != t->tracks[i].mirrored)
+    for (pass = 0; pass < 2; pass++) {
+        for (i = 0; i < t->ntracks; i++) {
+            actag_point pred[4], pc;
+            float gate, best = 3.0e38f;
+            int bj = -1, anywhere;
+            if (assigned[i] >= 0 || (pass == 1 && t->tracks[i].hits != 1))
                 continue;
-            d2 = t_dist2(t_centre(t->pool[j].corners), pc);
-            if ((anywhere || d2 <= gate * gate) && d2 < best) {
-                best = d2;
-                bj = j;
+            t_predict(&t->tracks[i], pred);
+            pc = t_centre(pred);
+            /* the gate widens while a track coasts; pass 1 within the gates,
+             * pass 2: a track of one reading has no velocity, so no prediction
+             * of where its tag went: its second reading is the nearest of its
+             * ID and handedness that no track took in pass 1, anywhere (the
+             * third must then fall where the two predict) */
+            anywhere = pass == 1;
+            gate = t_gate(t, &t->tracks[i], pred);
+            for (j = 0; j < npool; j++) {
+                float d2;
+                if (used[j] || t->pool[j].id != t->tracks[i].id ||
+                    t->pool[j].mirrored != t->tracks[i].mirrored)
+                    continue;
+                d2 = t_dist2(t_centre(t->pool[j].corners), pc);
+                if ((anywhere || d2 <= gate * gate) && d2 < best) {
+                    best = d2;
+                    bj = j;
+                }
             }
-        }
-        if (bj >= 0) {
-            assigned[i] = bj;
-            used[bj] = 1;
+            if (bj >= 0) {
+                assigned[i] = bj;
+                used[bj] = 1;
+            }
         }
     }
     /* readings at a tracked tag's place that are not its own: ignored */
@@ -816,11 +818,20 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
      * place to put a landmark */
     for (i = 0; i < t->ntracks; i++) {
         actag_track *k = &t->tracks[i];
+        int c;
         t_polar(geometry, frame->rows, frame->cols, k);
         if (!k->confirmed || (!k->measured && (k->hits < 2 || k->missed > T_REPORT_COAST)))
             continue;
-        if (nout < max_out)
+        if (nout < max_out) {
             out[nout] = *k;
+            /* a coasting track's corner may lie past the near edge, where
+             * the geometry's linear map gives ranges below min_range: none
+             * below 0 is reported (the state keeps the map's, which
+             * t_reproject reads) */
+            for (c = 0; c < 4; c++)
+                if (!(out[nout].range[c] >= 0.0f))
+                    out[nout].range[c] = 0.0f;
+        }
         nout++;
     }
     if (stats)

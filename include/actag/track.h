@@ -43,8 +43,8 @@
  *   the prediction, the gate growing by one diagonal per frame the track has
  *   missed), or at once when its decision margin reaches `confirm_margin`.
  *   A track of one reading has no velocity, so no prediction: its second
- *   reading is the nearest of its ID and handedness anywhere in the frame,
- *   and the filter starts from the two (corners the second's, velocity
+ *   reading is the nearest of its ID and handedness anywhere in the frame
+ *   that no track took within its gate, and the filter starts from the two (corners the second's, velocity
  *   their displacement per frame); the third must fall within the gate of
  *   what the two predict (a tag moving more than a diagonal a frame was
  *   never confirmed before).
@@ -186,8 +186,9 @@ typedef struct actag_track {
     actag_point corners[4];  /* smoothed corners, tag order (x = column, y = row) */
     float range[4];          /* metres, of the smoothed corners (a coasting
                                 track's may lie outside the frame: the
-                                geometry's mapping extended, ranges below 0
-                                given as 0) */
+                                geometry's mapping extended; a reported
+                                track's ranges below 0 are given as 0, the
+                                state's tracks[] keep the mapping's) */
     float azimuth[4];        /* radians */
     actag_point velocity[4]; /* pixels per frame */
     actag_detection last;    /* the latest reading (unsmoothed) */
