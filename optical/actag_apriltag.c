@@ -154,40 +154,6 @@ static int sample_at(const image_u8_t *im, double px, double py, double *v)
     return 1;
 }
 
-/* The grey level of the cell centred at tag coordinates (tx, ty), cell
- * width cw: the median of 5 points (the centre and 4 at a quarter of the
- * cell's width along its diagonals), so that one small defect in a cell
- * (a screw head at the centre of a black-ring corner cell, construction.md;
- * a speck) does not decide it. 1 and *v with at least 3 of them in the
- * image, else 0. */
-static int sample_cell(const image_u8_t *im, const matd_t *H, double tx, double ty, double cw,
-                       double *v)
-{
-    static const double off[5][2] = {{0, 0}, {-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-    double s[5];
-    int n = 0, k, j;
-    for (k = 0; k < 5; k++) {
-        double ux = tx + 0.25 * cw * off[k][0], uy = ty + 0.25 * cw * off[k][1], px, py, z;
-        z = MATD_EL(H, 2, 0) * ux + MATD_EL(H, 2, 1) * uy + MATD_EL(H, 2, 2);
-        if (!(fabs(z) > 1e-12))
-            continue;
-        px = (MATD_EL(H, 0, 0) * ux + MATD_EL(H, 0, 1) * uy + MATD_EL(H, 0, 2)) / z;
-        py = (MATD_EL(H, 1, 0) * ux + MATD_EL(H, 1, 1) * uy + MATD_EL(H, 1, 2)) / z;
-        if (sample_at(im, px, py, &s[n]))
-            n++;
-    }
-    if (n < 3)
-        return 0;
-    for (k = 1; k < n; k++) /* insertion sort of at most 5 */
-        for (j = k; j > 0 && s[j - 1] > s[j]; j--) {
-            double t = s[j];
-            s[j] = s[j - 1];
-            s[j - 1] = t;
-        }
-    *v = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
-    return 1;
-}
-
 /* Least-squares plane v = a tx + b ty + c of one cell class (AprilTag's
  * "graymodel"); the mean when the points do not fix a plane. */
 typedef struct {
@@ -354,15 +320,24 @@ static int mirror_check(const apriltag_detection_t *det, const image_u8_t *im,
         H->ncols != 3)
         return 2; /* nothing to check the reading against */
 
-    /* every cell of the tag: its grey level (sample_cell) */
+    /* every cell of the tag: the grey level at its centre (where AprilTag
+     * reads it: several points a cell read a data-ring corner bit otherwise
+     * when the quad is a quarter cell off, a review found) */
     memset(&black, 0, sizeof black);
     memset(&white, 0, sizeof white);
     for (i = 0; i < tw; i++)
         tc[i] = (2.0 * (double)(i - 2) + 1.0) / (double)wab - 1.0;
     for (y = 0; y < tw; y++)
         for (x = 0; x < tw; x++) {
+            double px = 0, py = 0, z;
             val[y][x] = 0.0;
-            have[y][x] = sample_cell(im, H, tc[x], tc[y], 2.0 / (double)wab, &val[y][x]);
+            z = MATD_EL(H, 2, 0) * tc[x] + MATD_EL(H, 2, 1) * tc[y] + MATD_EL(H, 2, 2);
+            have[y][x] = 0;
+            if (fabs(z) > 1e-12) {
+                px = (MATD_EL(H, 0, 0) * tc[x] + MATD_EL(H, 0, 1) * tc[y] + MATD_EL(H, 0, 2)) / z;
+                py = (MATD_EL(H, 1, 0) * tc[x] + MATD_EL(H, 1, 1) * tc[y] + MATD_EL(H, 1, 2)) / z;
+                have[y][x] = sample_at(im, px, py, &val[y][x]);
+            }
             if (!have[y][x] || x == 0 || y == 0 || x == tw - 1 || y == tw - 1 ||
                 screw_cell(x, y, tw))
                 continue; /* the data ring; the screws' cells */

@@ -112,13 +112,11 @@
  *   actag_apriltag_detect() therefore judges every detection of a built-in
  *   AcTag family (actag_apriltag_mirror_check) and removes from the array
  *   (and frees) each one that a mirrored view explains at least as well:
- *   1. it reads the tag's cells again through det->H (each cell's grey
- *      level the median of 5 points: its centre and 4 at a quarter of its
- *      width along its diagonals, so a screw head or a speck does not decide
- *      it; planes fitted to the black ring's and to the white interior's
- *      cells, without the ring's 4 corner cells, which hold the screws; each
- *      cell against the mid level between the two planes; AprilTag's
- *      decode_sharpening), giving the word w;
+ *   1. it reads the tag's cells again through det->H (the grey level at each
+ *      cell centre, as AprilTag reads it; planes fitted to the black ring's
+ *      and to the white interior's cells, without the ring's 4 corner cells,
+ *      which hold the tag's screws; each cell against the mid level between
+ *      the two planes; AprilTag's decode_sharpening), giving the word w;
  *   2. d = the bits where w differs from the reported code as reported
  *      (det->id in det->H's orientation, i.e. with its corners);
  *   3. the detection is dropped when any code of the family, mirrored and
@@ -149,13 +147,14 @@
  *     near (AcTag24h4's 210 codes 1 bit from a mirrored view, when the
  *     error is that bit; AcTag24h6's 37 codes 2 bits from one, when one of
  *     those 2 bits is misread);
- *   - the protection of AcTag24h4 and h6 is partial: where noise, blur and
- *     perspective make the re-read word nearer a wrong code than to any
- *     mirrored view, a mirrored tag is still reported as that code (a
- *     review's trials, 1,500 noisy projective mirrored views each: 4
- *     AcTag24h4 readings at hamming 1, 1 AcTag24h6 at hamming 2, against 90
- *     and 140 from AprilTag alone). Where a mirror image can occur, use a
- *     mirror-safe family.
+ *   - the protection of AcTag24h4, h6 and h8 is partial: where noise, blur
+ *     and perspective make the re-read word nearer a wrong code than to any
+ *     mirrored view, a mirrored tag is still reported as that code (reviews'
+ *     trials of noisy projective mirrored views: 4 AcTag24h4 readings at
+ *     hamming 1 and 1 AcTag24h6 at hamming 2 in 1,500 views each, against 90
+ *     and 140 from AprilTag alone; 1 of the 38 AcTag24h8 readings AprilTag
+ *     made of 2,000 views at 5 px a cell, blur 1.5, noise 15). Where a mirror
+ *     image can occur, use a mirror-safe family.
  *   Drops are not counted anywhere. apriltag_detector_detect() still
  *   reports everything AprilTag reads (no check; mind the small-image limit
  *   of actag_apriltag_detect below): a program that knows no mirror image
