@@ -192,6 +192,31 @@ static void put_f(float f)
     put_s(t);
 }
 
+/* " name value": one field of a report line */
+static void put_kd(const char *name, long v)
+{
+    put_s(" ");
+    put_s(name);
+    put_s(" ");
+    put_d(v);
+}
+
+static void put_ku(const char *name, unsigned long v)
+{
+    put_s(" ");
+    put_s(name);
+    put_s(" ");
+    put_u(v);
+}
+
+static void put_kf(const char *name, float v)
+{
+    put_s(" ");
+    put_s(name);
+    put_s(" ");
+    put_f(v);
+}
+
 /* " v0 v1 ...": n floats, each after a space */
 static void put_floats(const float *v, int n)
 {
@@ -286,14 +311,10 @@ static void put_corner(int k, actag_point c, float range, float azimuth)
 {
     put_s("  corner ");
     put_d(k);
-    put_s(" x ");
-    put_f(c.x);
-    put_s(" y ");
-    put_f(c.y);
-    put_s(" range ");
-    put_f(range);
-    put_s(" azimuth ");
-    put_f(azimuth);
+    put_kf("x", c.x);
+    put_kf("y", c.y);
+    put_kf("range", range);
+    put_kf("azimuth", azimuth);
 }
 
 /* A pose's result line (prefix, result, flags, iterations) and its
@@ -303,23 +324,17 @@ static void put_pose(const char *prefix, int rc, const actag_pose *q)
     put_s(prefix);
     put_s("result ");
     put_d(rc);
-    put_s(" flags ");
-    put_u(q->flags);
-    put_s(" iterations ");
-    put_d(q->iterations);
+    put_ku("flags", q->flags);
+    put_kd("iterations", q->iterations);
     end_line();
     put_s("  t");
     put_floats(q->t, 3);
-    put_s(" elevation ");
-    put_f(q->elevation);
-    put_s(" band ");
-    put_f(q->elevation_lo);
+    put_kf("elevation", q->elevation);
+    put_kf("band", q->elevation_lo);
     put_s(" ");
     put_f(q->elevation_hi);
-    put_s(" residual ");
-    put_f(q->residual);
-    put_s(" chi2 ");
-    put_f(q->chi2);
+    put_kf("residual", q->residual);
+    put_kf("chi2", q->chi2);
     end_line();
     put_s("  R");
     put_floats(q->R, 9);
@@ -363,8 +378,7 @@ static uint64_t track_frame(const char *rel, const actag_frame *frame,
                              ACTAG_TRACK_MAX, &st);
     put_s("track frame ");
     put_d(ac_tracker.frame - 1);
-    put_s(" result ");
-    put_d(n);
+    put_kd("result", n);
     end_line();
     if (n < 0) {
         put_s("error ");
@@ -375,28 +389,17 @@ static uint64_t track_frame(const char *rel, const actag_frame *frame,
     }
     put_s("track stats full_frame ");
     put_d(st.full_frame);
-    put_s(" rois ");
-    put_d(st.rois);
-    put_s(" pixels ");
-    put_d(st.pixels);
-    put_s(" readings ");
-    put_d(st.readings);
-    put_s(" conflicts ");
-    put_d(st.conflicts);
-    put_s(" verified ");
-    put_d(st.verified);
-    put_s(" started ");
-    put_d(st.started);
-    put_s(" confirmed ");
-    put_d(st.confirmed);
-    put_s(" dropped ");
-    put_d(st.dropped);
-    put_s(" quads ");
-    put_d(st.quads);
-    put_s(" decoded ");
-    put_d(st.decoded);
-    put_s(" searched ");
-    put_d(st.searched);
+    put_kd("rois", st.rois);
+    put_kd("pixels", st.pixels);
+    put_kd("readings", st.readings);
+    put_kd("conflicts", st.conflicts);
+    put_kd("verified", st.verified);
+    put_kd("started", st.started);
+    put_kd("confirmed", st.confirmed);
+    put_kd("dropped", st.dropped);
+    put_kd("quads", st.quads);
+    put_kd("decoded", st.decoded);
+    put_kd("searched", st.searched);
     end_line();
     memset(ac_track_pose, 0, sizeof ac_track_pose);
     for (i = 0; i < n; i++) {
@@ -405,23 +408,16 @@ static uint64_t track_frame(const char *rel, const actag_frame *frame,
         int prc;
         put_s("track ");
         put_u(t->track_id);
-        put_s(" id ");
-        put_d(t->id);
-        put_s(" mirrored ");
-        put_d(t->mirrored);
-        put_s(" measured ");
-        put_d(t->measured);
-        put_s(" hits ");
-        put_d(t->hits);
-        put_s(" missed ");
-        put_d(t->missed);
-        put_s(" age ");
-        put_d(t->age);
+        put_kd("id", t->id);
+        put_kd("mirrored", t->mirrored);
+        put_kd("measured", t->measured);
+        put_kd("hits", t->hits);
+        put_kd("missed", t->missed);
+        put_kd("age", t->age);
         end_line();
         for (k = 0; k < 4; k++) {
             put_corner(k, t->corners[k], t->range[k], t->azimuth[k]);
-            put_s(" velocity ");
-            put_f(t->velocity[k].x);
+            put_kf("velocity", t->velocity[k].x);
             put_s(" ");
             put_f(t->velocity[k].y);
             end_line();
@@ -478,10 +474,8 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
     frame.cols = cols;
     frame.stride = cols;
     frame.depth = 8;
-    put_s(" rows ");
-    put_d(rows);
-    put_s(" cols ");
-    put_d(cols);
+    put_kd("rows", rows);
+    put_kd("cols", cols);
     put_s(" fnv ");
     put_x64(fnv1a(FNV_OFFSET, frame.data, (size_t)rows * (size_t)cols));
     end_line();
@@ -511,14 +505,10 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
 
         put_s("run ");
         put_s(ac_settings[si].name);
-        put_s(" max_bit_corrections ");
-        put_d(p.max_bit_corrections);
-        put_s(" decode_mode ");
-        put_d(p.tuning.decode_mode);
-        put_s(" seed ");
-        put_u(p.seed);
-        put_s(" result ");
-        put_d(n);
+        put_kd("max_bit_corrections", p.max_bit_corrections);
+        put_kd("decode_mode", p.tuning.decode_mode);
+        put_ku("seed", p.seed);
+        put_kd("result", n);
         end_line();
         if (n < 0) {
             put_s("error ");
@@ -530,31 +520,21 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
         }
         put_s("stats contours ");
         put_d(st.contours);
-        put_s(" size_ok ");
-        put_d(st.size_ok);
-        put_s(" overflowed ");
-        put_d(st.overflowed);
-        put_s(" quads ");
-        put_d(st.quads);
-        put_s(" decoded ");
-        put_d(st.decoded);
-        put_s(" duplicates ");
-        put_d(st.duplicates);
-        put_s(" dropped ");
-        put_d(st.dropped);
+        put_kd("size_ok", st.size_ok);
+        put_kd("overflowed", st.overflowed);
+        put_kd("quads", st.quads);
+        put_kd("decoded", st.decoded);
+        put_kd("duplicates", st.duplicates);
+        put_kd("dropped", st.dropped);
         end_line();
         for (i = 0; i < n; i++) {
             const actag_detection *d = &ac_det[i];
             put_s("det ");
             put_d(i);
-            put_s(" id ");
-            put_d(d->id);
-            put_s(" hamming ");
-            put_d(d->hamming);
-            put_s(" mirrored ");
-            put_d(d->mirrored);
-            put_s(" inlier_ratio ");
-            put_f(d->inlier_ratio);
+            put_kd("id", d->id);
+            put_kd("hamming", d->hamming);
+            put_kd("mirrored", d->mirrored);
+            put_kf("inlier_ratio", d->inlier_ratio);
             end_line();
             for (k = 0; k < 4; k++) {
                 put_corner(k, d->corners[k], d->range[k], d->azimuth[k]);
@@ -614,8 +594,7 @@ int main(int argc, char **argv)
     put_s(ACTAG_VERSION_STRING);
     put_s(" sizeof(actag_detection) ");
     put_u((unsigned long)sizeof(actag_detection));
-    put_s(" workspace ");
-    put_u((unsigned long)sizeof ac_ws);
+    put_ku("workspace", (unsigned long)sizeof ac_ws);
     end_line();
 
     rc = actag_family_get("AcTag24h10", &fam);
