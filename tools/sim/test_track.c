@@ -819,6 +819,20 @@ static void test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames(vo
     free(empty);
 }
 
+/* The sonar's geometry starting at 0 m; *toward_near: +1 when the near
+ * edge is the last row (the range falls down the rows), -1 when it is the
+ * first. */
+static actag_sonar_geometry geometry_from_0m(float *toward_near)
+{
+    actag_sonar_geometry g = sonar.geo;
+    g.min_range = 0.0f;
+    *toward_near = actag_geometry_range(&g, sonar.rows, 0.0f) >
+                           actag_geometry_range(&g, sonar.rows, (float)(sonar.rows - 1))
+                       ? 1.0f
+                       : -1.0f;
+    return g;
+}
+
 /* A confirmed track coasting past the near-range edge of a sonar whose
  * first range is 0 (review of 2026-12-05): its window there spans less
  * range than a tag and the detector refuses it; that window holds no
@@ -833,17 +847,11 @@ static void test_a_track_coasting_off_the_near_edge_is_dropped_without_error(voi
     actag_params p;
     actag_track out[ACTAG_TRACK_MAX];
     actag_track_stats st;
-    actag_sonar_geometry g = sonar.geo;
+    float toward_near;
+    actag_sonar_geometry g = geometry_from_0m(&toward_near);
     uint8_t *empty = render_empty();
     actag_frame f;
-    float toward_near;
     int i, c, n = 0, dropped = 0;
-    g.min_range = 0.0f;
-    /* the near edge: the last row when the range falls down the rows */
-    toward_near = actag_geometry_range(&g, sonar.rows, 0.0f) >
-                          actag_geometry_range(&g, sonar.rows, (float)(sonar.rows - 1))
-                      ? 1.0f
-                      : -1.0f;
     params_of(&p);
     actag_track_params_default(&tp);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
@@ -998,16 +1006,12 @@ static void test_coasting_corners_past_the_near_edge_report_range_0(void)
     actag_params p;
     actag_track out[ACTAG_TRACK_MAX];
     actag_track_stats st;
-    actag_sonar_geometry g = sonar.geo;
+    float toward_near;
+    actag_sonar_geometry g = geometry_from_0m(&toward_near);
     uint8_t *empty = render_empty();
     actag_frame f;
-    float near_row, dy, below = 0.0f;
+    float near_row = toward_near > 0.0f ? (float)(sonar.rows - 1) : 0.0f, dy, below = 0.0f;
     int i, c, n = 0;
-    g.min_range = 0.0f;
-    near_row = actag_geometry_range(&g, sonar.rows, 0.0f) >
-                       actag_geometry_range(&g, sonar.rows, (float)(sonar.rows - 1))
-                   ? (float)(sonar.rows - 1)
-                   : 0.0f;
     params_of(&p);
     actag_track_params_default(&tp);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
