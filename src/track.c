@@ -238,14 +238,15 @@ static int t_roi(const actag_tracker *t, const actag_track *k, const actag_param
     return *x1 - *x0 + 1 > ACTAG_TRACK_ROI_MAX_COLS ? -1 : 0;
 }
 
-/* actag_detect() on the ROI view; readings into t->det. */
+/* actag_detect() on the ROI view; readings into t->det, how many (0 for a
+ * window the detector refuses). */
 static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
                         const actag_sonar_geometry *g, const actag_params *p, void *ws,
                         size_t wss, int x0, int y0, int x1, int y1, actag_stats *ds)
 {
     actag_frame sub;
     actag_sonar_geometry sg;
-    int w = x1 - x0 + 1, h = y1 - y0 + 1, j;
+    int w = x1 - x0 + 1, h = y1 - y0 + 1, j, n;
     size_t off = (size_t)y0 * (size_t)frame->stride + (size_t)x0;
     float ra, rb;
     memset(ds, 0, sizeof *ds); /* no detection ran: nothing counted */
@@ -270,10 +271,15 @@ static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
     /* A window the detector refuses holds no tag it could read: the
      * parameters and the frame passed their checks, so only the window's
      * own geometry can fail, e.g. a window at the sonar (a track coasting
-     * past the near edge) whose far range is below tag_size / sqrt 2. */
-    if (actag_check(&sub, &sg, p, wss, ACTAG_TRACK_MAX_DET, NULL) != ACTAG_OK)
+     * past the near edge) whose far range is below tag_size / sqrt 2.
+     * (actag_detect checks it; a second actag_check would scan the
+     * family's codes again for every window.) */
+    n = actag_detect(&sub, &sg, p, ws, wss, t->det, ACTAG_TRACK_MAX_DET, ds);
+    if (n < 0) {
+        memset(ds, 0, sizeof *ds);
         return 0;
-    return actag_detect(&sub, &sg, p, ws, wss, t->det, ACTAG_TRACK_MAX_DET, ds);
+    }
+    return n;
 }
 
 static void t_add_stats(actag_track_stats *st, const actag_stats *ds)
@@ -609,9 +615,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             t_add_stats(&st, &ds);
             st.rois++;
             st.pixels += (long)(x1 - x0 + 1) * (long)(y1 - y0 + 1);
-            if (n < 0)
-                return n; /* a valid frame's window: cannot happen for valid input */
-            st.readings += n;
+            st.readings += n; /* t_detect_roi: >= 0 */
             t_pool_add(t, &npool, n, x0, y0, i);
         }
         if (t->params.refind_after && !need_full) {
