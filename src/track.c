@@ -373,6 +373,24 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     if ((dr.mirrored ^ flip) != k->mirrored || dr.ring_black < p->tuning.min_structure ||
         dr.interior_white < p->tuning.min_structure || misses + dr.hamming > T_VERIFY_BUDGET(limit))
         return 0;
+    /* But another tag where the track is predicted (a neighbour the
+     * prediction drifted onto, a tag put in its place) can read as the
+     * track's code when that code is the only hypothesis: its template
+     * polish bends the grid toward it (simulated swaps of the tracked tag 5
+     * for tag 4: 2 of 96 passes read tag 5 there, hamming 3, margins 13 and
+     * 20). A reading with corrected bits is therefore read again from the
+     * prediction against the whole family, in the track's handedness,
+     * under the pipeline's rules: a reading of another ID there refuses it. */
+    if (dr.hamming > 0) {
+        actag_fit_params fa = p->tuning.fit;
+        actag_decode_result da;
+        fa.min_margin = p->min_margin;
+        fa.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
+        fa.flags |= (k->mirrored ^ flip) ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;
+        if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &fa, &da) == ACTAG_OK &&
+            da.id != k->id)
+            return 0;
+    }
     memset(&t->det[0], 0, sizeof t->det[0]);
     t->det[0].id = dr.id;
     t->det[0].hamming = dr.hamming;

@@ -17,9 +17,14 @@
  *        corrected bits together may reach twice the corrections limit (6
  *        for AcTag24h10; the whole-frame pipeline allows the limit): a
  *        random 49-cell pattern is that close to one given template with
- *        probability below 1e-7. This skips the structure search, the
- *        threshold, the contours and RANSAC, which is where most of a frame's
- *        work is (docs/tracking.md);
+ *        probability below 1e-7. A reading with corrected bits is read
+ *        again from the prediction against the whole family (the track's
+ *        handedness, the pipeline's margins): when that reads another ID,
+ *        another tag lies there (the one-code polish can bend the grid
+ *        toward the track's code) and the verify reads nothing. This
+ *        skips the structure search, the threshold, the contours and
+ *        RANSAC, which is where most of a frame's work is
+ *        (docs/tracking.md);
  *     2. for tracks not read so (and tentative ones), runs actag_detect() on
  *        a region of interest (ROI) around the prediction: a sub-frame view
  *        of the caller's frame (same data and stride, offset start) with
