@@ -1,7 +1,22 @@
 /* The grid-fit decoder's cell reads (fit_cells.h): the mean grey level of
  * every cell of an affine tag grid, by bilinear samples of the frame, and
  * the half-cell lattice the wide search's shifted grids share. Portable C,
- * with bit-identical SSE2 paths on x86-64 (tests/test_decode_lattice.c). */
+ * with bit-identical SSE2 paths on x86-64 (tests/test_decode_lattice.c).
+ *
+ * The samples are integer arithmetic (so the same on every core and under
+ * any float flags, and cheap where a float conversion is not: on Cortex-M7
+ * about 22 instructions a sample instead of 33). A cell's centre, computed
+ * in float from the grid, and the pattern's offsets from it, once a grid,
+ * are put in fixed point, 1/256 pixel, truncated toward zero (ffix); a
+ * sample point is the centre plus an offset. At X = 256 x0 + fx (fx in
+ * 0..255) and likewise Y, the sample is
+ *     top = 256 p(x0, y0)     + (p(x0 + 1, y0)     - p(x0, y0))     fx
+ *     bot = 256 p(x0, y0 + 1) + (p(x0 + 1, y0 + 1) - p(x0, y0 + 1)) fx
+ *     v   = 256 top + (bot - top) fy            (grey level * 65536)
+ * exactly, and a cell mean is the sum of its samples (an int32: 9 * 255 *
+ * 65536 < 2^31) as a float times 1 / (65536 * samples). A point lies within
+ * 3/256 pixel of the float point it stands for. Outside the frame the
+ * point is clamped to it (edge pixels replicated). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "fit_cells.h"
 
@@ -13,83 +28,122 @@
 
 /* Forced inlining of the per-sample steps of the cell reads: GCC -O2 for
  * Cortex-M7 otherwise calls one sampler per sample with the choice of
- * sampler made at run time (about 50 instead of 35 instructions a sample). */
+ * sampler made at run time. */
 #if defined(__GNUC__)
 #define FIT_INLINE __attribute__((always_inline)) static inline
 #else
 #define FIT_INLINE static inline
 #endif
 
-/* Bilinear grey level at (x, y), pixel centres on integers; edge pixels
- * are replicated outside the image. Only + - * decide it. Not inlined: the
- * cell reads take it only near the frame's edges. */
+/* Fixed-point coordinates: 1/256 pixel. FIX_MAX (2^28, i.e. 2^20 pixels)
+ * bounds a converted centre or offset, so that a centre plus two offsets
+ * cannot overflow an int32 (NaN and infinities clamp too). */
+#define FIX_ONE 256.0f
+#define FIX_MAX 268435456.0f
+
+/* A coordinate (pixels) in fixed point, truncated toward zero, clamped to
+ * +-FIX_MAX, NaN to 0 (so that ffix(-v) = -ffix(v) always). */
+static int32_t ffix(float v)
+{
+    v *= FIX_ONE;
+    if (!(v >= -FIX_MAX))
+        v = v < 0.0f ? -FIX_MAX : 0.0f;
+    if (v > FIX_MAX)
+        v = FIX_MAX;
+    return (int32_t)v;
+}
+
+/* Cell means from sample sums: 1 / (65536 * 9) and 1 / (65536 * 5). */
+static const float fit_norm9 = 1.0f / (65536.0f * 9.0f);
+static const float fit_norm5 = 1.0f / (65536.0f * 5.0f);
+
+/* The bilinear value (grey * 65536, see the top of this file) at fixed
+ * point (X, Y) in [0, (cols - 1) 256] x [0, (rows - 1) 256]; the pixel
+ * pair of each row is (x0, x1) and the rows y0, y1. */
+FIT_INLINE int32_t flerp(const uint8_t *r0, const uint8_t *r1, int x0, int x1, int32_t fx, int32_t fy)
+{
+    int32_t a = r0[x0], b = r0[x1], c = r1[x0], d = r1[x1];
+    int32_t top = a * 256 + (b - a) * fx, bot = c * 256 + (d - c) * fx;
+    return top * 256 + (bot - top) * fy;
+}
+
+/* The sample at fixed point (X, Y) anywhere: clamped to the frame, edge
+ * pixels replicated. Not inlined: the cell reads take it only near the
+ * frame's edges. */
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-static float fsample(const fimg *im, float x, float y)
+static int32_t fsample(const fimg *im, int32_t X, int32_t Y)
 {
+    int32_t xl = (int32_t)(im->cols - 1) * 256, yl = (int32_t)(im->rows - 1) * 256;
     int x0, y0, x1, y1;
-    float fx, fy, v00, v01, v10, v11;
-    const uint8_t *r0, *r1;
-    if (!(x >= 0.0f))
-        x = 0.0f;
-    if (!(y >= 0.0f))
-        y = 0.0f;
-    if (x > (float)(im->cols - 1))
-        x = (float)(im->cols - 1);
-    if (y > (float)(im->rows - 1))
-        y = (float)(im->rows - 1);
-    x0 = (int)x;
-    y0 = (int)y;
-    fx = x - (float)x0;
-    fy = y - (float)y0;
+    X = X < 0 ? 0 : X > xl ? xl : X;
+    Y = Y < 0 ? 0 : Y > yl ? yl : Y;
+    x0 = (int)(X >> 8);
+    y0 = (int)(Y >> 8);
     x1 = x0 + 1 < im->cols ? x0 + 1 : x0;
     y1 = y0 + 1 < im->rows ? y0 + 1 : y0;
-    r0 = im->img + (size_t)y0 * (size_t)im->stride;
-    r1 = im->img + (size_t)y1 * (size_t)im->stride;
-    v00 = (float)r0[x0];
-    v01 = (float)r0[x1];
-    v10 = (float)r1[x0];
-    v11 = (float)r1[x1];
-    v00 += (v01 - v00) * fx;
-    v10 += (v11 - v10) * fx;
-    return v00 + (v10 - v00) * fy;
+    return flerp(im->img + (size_t)y0 * (size_t)im->stride, im->img + (size_t)y1 * (size_t)im->stride,
+                 x0, x1, X & 255, Y & 255);
 }
 
-/* A grid's sample pattern offsets, computed once a grid by the expressions
- * the cell reads used per cell (so the same floats): the 3x3 pattern's
- * offsets along a (ou, ov) and b (pu, pv), the 5-sample pattern's
- * diagonals (d1, d2). */
+/* A grid's sample pattern, once a grid: the fixed-point offsets from a
+ * cell's centre of the 3x3 pattern (sample a + 3 b, a and b in 0..2, at
+ * (a - 1) ffix(so a-axis) + (b - 1) ffix(so b-axis)) and of the 5-sample
+ * pattern's diagonals (+-ffix(so (a-axis + b-axis)), +-ffix(so (a-axis -
+ * b-axis))). */
 typedef struct fpat {
-    float ou[3], ov[3], pu[3], pv[3];
-    float dx1, dy1, dx2, dy2;
-    /* a cell is read clamp-free when x0 - ex >= 1, x0 + ex <= xmax (and y):
-     * its samples lie a pixel inside (fbox_inside, h = so) */
-    float ex, ey, xmax, ymax;
-    /* fsample_in's pixels (x0, y0), (x0 + 1, y0), (x0, y0 + 1), (x0 + 1, y0 + 1)
-     * are r00[o] .. r11[o], o = y0 stride + x0: one address a sample */
-    const uint8_t *r00, *r01, *r10, *r11;
+    int32_t dx9[9], dy9[9];
+    int32_t dx5[4], dy5[4];
+    /* a cell's samples all lie within ex9 / ey9 (ex5 / ey5) of its centre:
+     * it is read clamp-free when they lie in [0, (cols - 1) 256) */
+    int32_t ex9, ey9, ex5, ey5, xin, yin;
 } fpat;
 
-/* fsample for a point known to lie in [0, cols-1) x [0, rows-1): the same
- * arithmetic without the clamps (the result is bit-identical there). */
-FIT_INLINE float fsample_in(const fimg *im, const fpat *p, float x, float y)
+static int32_t fabs32(int32_t v)
 {
-    int x0 = (int)x, y0 = (int)y;
-    float fx = x - (float)x0, fy = y - (float)y0, v00, v01, v10, v11;
-    size_t o = (size_t)y0 * (size_t)im->stride + (size_t)x0;
-    v00 = (float)p->r00[o];
-    v01 = (float)p->r01[o];
-    v10 = (float)p->r10[o];
-    v11 = (float)p->r11[o];
-    v00 += (v01 - v00) * fx;
-    v10 += (v11 - v10) * fx;
-    return v00 + (v10 - v00) * fy;
+    return v < 0 ? -v : v;
+}
+
+static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
+{
+    /* the offsets at -so are those at +so negated: ffix truncates toward
+     * zero, and a * -so is -(a * so) exactly */
+    int32_t ou = ffix(gr->ax * im->so), ov = ffix(gr->ay * im->so);
+    int32_t pu = ffix(gr->bx * im->so), pv = ffix(gr->by * im->so);
+    int a, b;
+    p->ex9 = fabs32(ou) + fabs32(pu);
+    p->ey9 = fabs32(ov) + fabs32(pv);
+    for (b = 0; b < 3; b++)
+        for (a = 0; a < 3; a++) {
+            p->dx9[a + 3 * b] = (a - 1) * ou + (b - 1) * pu;
+            p->dy9[a + 3 * b] = (a - 1) * ov + (b - 1) * pv;
+        }
+    p->dx5[0] = ffix(im->so * (gr->ax + gr->bx));
+    p->dy5[0] = ffix(im->so * (gr->ay + gr->by));
+    p->dx5[2] = ffix(im->so * (gr->ax - gr->bx));
+    p->dy5[2] = ffix(im->so * (gr->ay - gr->by));
+    p->dx5[1] = -p->dx5[0];
+    p->dy5[1] = -p->dy5[0];
+    p->dx5[3] = -p->dx5[2];
+    p->dy5[3] = -p->dy5[2];
+    p->ex5 = fabs32(p->dx5[0]) > fabs32(p->dx5[2]) ? fabs32(p->dx5[0]) : fabs32(p->dx5[2]);
+    p->ey5 = fabs32(p->dy5[0]) > fabs32(p->dy5[2]) ? fabs32(p->dy5[0]) : fabs32(p->dy5[2]);
+    p->xin = (int32_t)(im->cols - 1) * 256;
+    p->yin = (int32_t)(im->rows - 1) * 256;
+}
+
+/* fsample for a point in [0, (cols - 1) 256) x [0, (rows - 1) 256): the
+ * same value without the clamps. */
+FIT_INLINE int32_t fsample_in(const fimg *im, int32_t X, int32_t Y)
+{
+    const uint8_t *q = im->img + (size_t)(Y >> 8) * (size_t)im->stride + (size_t)(X >> 8);
+    return flerp(q, q + im->stride, 0, 1, X & 255, Y & 255);
 }
 
 /* Do all points within h cells (along a and b) of (x, y) lie a pixel inside
- * the image? (Then fsample_in serves; the margin covers the rounding of the
- * points. NaN or infinite coordinates fail.) */
+ * the image? (Then fsample_in serves: the margin covers the fixed point's
+ * 3/256 pixel. NaN or infinite coordinates fail.) */
 static int fbox_inside(const fimg *im, const fgrid *gr, float x, float y, float h)
 {
     float ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * h;
@@ -110,84 +164,52 @@ static int fgrid_inside(const fimg *im, const fgrid *gr, int k)
     return fgrid_inside_h(im, gr, 0.5f * (float)(k + 1) + im->so);
 }
 
-/* One grey sample: the clamp-free sampler when the whole grid (or cell)
- * lies a pixel inside the frame (bit-identical there, and cheaper). */
-FIT_INLINE float fsample_at(const fimg *im, const fpat *p, int inside, float x, float y)
+/* One sample: the clamp-free sampler when the whole grid (or cell) lies
+ * inside the frame (the same value, cheaper). */
+FIT_INLINE int32_t fsample_at(const fimg *im, int inside, int32_t X, int32_t Y)
 {
-    return inside ? fsample_in(im, p, x, y) : fsample(im, x, y);
+    return inside ? fsample_in(im, X, Y) : fsample(im, X, Y);
 }
 
-static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
+/* The 5-sample sum (centre and the 4 diagonal points) of the cell centred
+ * at fixed point (X, Y). */
+FIT_INLINE int32_t fcell5(const fimg *im, const fpat *p, int inside, int32_t X, int32_t Y)
 {
-    int a;
-    for (a = 0; a < 3; a++) {
-        float u = (float)(a - 1) * im->so;
-        p->ou[a] = gr->ax * u;
-        p->ov[a] = gr->ay * u;
-        p->pu[a] = gr->bx * u;
-        p->pv[a] = gr->by * u;
-    }
-    p->dx1 = im->so * (gr->ax + gr->bx);
-    p->dy1 = im->so * (gr->ay + gr->by);
-    p->dx2 = im->so * (gr->ax - gr->bx);
-    p->dy2 = im->so * (gr->ay - gr->by);
-    p->ex = ((gr->ax < 0.0f ? -gr->ax : gr->ax) + (gr->bx < 0.0f ? -gr->bx : gr->bx)) * im->so;
-    p->ey = ((gr->ay < 0.0f ? -gr->ay : gr->ay) + (gr->by < 0.0f ? -gr->by : gr->by)) * im->so;
-    p->xmax = (float)(im->cols - 2);
-    p->ymax = (float)(im->rows - 2);
-    p->r00 = p->r01 = p->r10 = p->r11 = im->img;
-    if (im->rows >= 2 && im->cols >= 2) { /* else no cell lies a pixel inside: unused */
-        p->r01 = im->img + 1;
-        p->r10 = im->img + im->stride;
-        p->r11 = im->img + im->stride + 1;
-    }
+    return fsample_at(im, inside, X, Y) + fsample_at(im, inside, X + p->dx5[0], Y + p->dy5[0]) +
+           fsample_at(im, inside, X + p->dx5[1], Y + p->dy5[1]) +
+           fsample_at(im, inside, X + p->dx5[2], Y + p->dy5[2]) +
+           fsample_at(im, inside, X + p->dx5[3], Y + p->dy5[3]);
 }
 
-/* The 5-sample mean (centre and the 4 diagonal points at +-so cell) of a
- * cell centred at (x0, y0), as fcells() reads it with im->fast. */
-FIT_INLINE float fcell5(const fimg *im, const fpat *p, int inside, float x0, float y0)
+/* The 9-sample sum (3x3 pattern) of the cell centred at fixed point (X, Y). */
+FIT_INLINE int32_t fcell9(const fimg *im, const fpat *p, int inside, int32_t X, int32_t Y)
 {
-    float s = fsample_at(im, p, inside, x0, y0) + fsample_at(im, p, inside, x0 + p->dx1, y0 + p->dy1) +
-              fsample_at(im, p, inside, x0 - p->dx1, y0 - p->dy1) +
-              fsample_at(im, p, inside, x0 + p->dx2, y0 + p->dy2) +
-              fsample_at(im, p, inside, x0 - p->dx2, y0 - p->dy2);
-    return s * 0.2f;
+    int32_t s = 0;
+    int i;
+    /* a loop: written out, Cortex-M7 -O2 spills and takes 15 % more */
+    for (i = 0; i < 9; i++)
+        s += fsample_at(im, inside, X + p->dx9[i], Y + p->dy9[i]);
+    return s;
 }
 
-/* The 9-sample mean (3x3 pattern, +-so cell) of a cell centred at (x0, y0):
- * sample (a, b) at x0 + ou[a] + pu[b], summed b-major from 0. The a loop
- * written out keeps its sums in registers. */
-FIT_INLINE float fcell9(const fimg *im, const fpat *p, int inside, float x0, float y0)
+/* One cell's mean (fast: 5 samples, else 9) of a grid that leaves the
+ * frame, centre (x, y) in pixels: the clamp-free reads when all of the
+ * cell's samples lie inside, the clamping ones otherwise. */
+static float fcell_edge(const fimg *im, const fpat *p, int fast, float x, float y)
 {
-    float xa0 = x0 + p->ou[0], xa1 = x0 + p->ou[1], xa2 = x0 + p->ou[2];
-    float ya0 = y0 + p->ov[0], ya1 = y0 + p->ov[1], ya2 = y0 + p->ov[2], s = 0.0f;
-    int b;
-    for (b = 0; b < 3; b++) {
-        float pu = p->pu[b], pv = p->pv[b];
-        s += fsample_at(im, p, inside, xa0 + pu, ya0 + pv);
-        s += fsample_at(im, p, inside, xa1 + pu, ya1 + pv);
-        s += fsample_at(im, p, inside, xa2 + pu, ya2 + pv);
-    }
-    return s * (1.0f / 9.0f);
-}
-
-/* One cell (fast: fcell5, else fcell9) of a grid that leaves the frame:
- * the clamp-free reads when the cell's samples (within so cell along a and
- * b of its centre) lie a pixel inside, the clamping ones otherwise. */
-static float fcell_edge(const fimg *im, const fpat *p, int fast, float x0, float y0)
-{
-    if (x0 - p->ex >= 1.0f && x0 + p->ex <= p->xmax && y0 - p->ey >= 1.0f && y0 + p->ey <= p->ymax)
-        return fast ? fcell5(im, p, 1, x0, y0) : fcell9(im, p, 1, x0, y0);
-    return fast ? fcell5(im, p, 0, x0, y0) : fcell9(im, p, 0, x0, y0);
+    int32_t X = ffix(x), Y = ffix(y);
+    int32_t ex = fast ? p->ex5 : p->ex9, ey = fast ? p->ey5 : p->ey9;
+    int in = X - ex >= 0 && X + ex < p->xin && Y - ey >= 0 && Y + ey < p->yin;
+    if (fast)
+        return (float)(in ? fcell5(im, p, 1, X, Y) : fcell5(im, p, 0, X, Y)) * fit_norm5;
+    return (float)(in ? fcell9(im, p, 1, X, Y) : fcell9(im, p, 0, X, Y)) * fit_norm9;
 }
 
 #if ACTAG__FIT_SIMD
-/* x86-64 (SSE2): the reads of fcell5 and fcells_on four cells at
- * a time, one cell per lane. Every lane does exactly the scalar code's
- * float operations in the same order (vector addps / subps / mulps /
- * cvttps2dq / cvtdq2ps round per lane as the scalar SSE instructions do,
- * and fpmath.h rules out contraction), each cell's samples are summed in
- * the scalar order, so the cell means are bit-identical
+/* x86-64 (SSE2): the reads of fcell5 and fcells_on four cells at a time,
+ * one cell per lane, with the scalar code's integers (the products of
+ * bot - top and fy, below 2^24, are formed exactly in float: SSE2 has no
+ * 32-bit multiply), so the cell means are bit-identical
  * (tests/test_decode_lattice.c compares them). Grids inside the frame:
  * fsample4_in; grids that leave it: fsample4_cl (fsample's clamps). */
 
@@ -208,14 +230,26 @@ static inline short fld16(const uint8_t *p)
     return v;
 }
 
-/* The bilinear value of four points from their pixel pairs: lane i's row
- * pair starts at r0 + o[i] (bytes x0, x0 + 1) and r1 + q[i], fx and fy its
- * fractions; fsample's float operations in fsample's order. */
-static inline __m128 flerp4(const uint8_t *r0, const int *o, const uint8_t *r1, const int *q,
-                            __m128 fx, __m128 fy)
+/* ffix of four coordinates. */
+static inline __m128i ffix4(__m128 v)
 {
-    __m128i byte = _mm_set1_epi32(0xff), w;
-    __m128 v00, v01, v10, v11;
+    __m128 lo = _mm_set1_ps(-FIX_MAX), ok, neg;
+    v = _mm_mul_ps(v, _mm_set1_ps(FIX_ONE));
+    ok = _mm_cmpge_ps(v, lo); /* false for NaN, as !(v >= -FIX_MAX) */
+    neg = _mm_cmplt_ps(v, _mm_setzero_ps()); /* false for NaN: 0 */
+    v = _mm_or_ps(_mm_and_ps(ok, v), _mm_andnot_ps(ok, _mm_and_ps(neg, lo)));
+    v = _mm_min_ps(v, _mm_set1_ps(FIX_MAX));
+    return _mm_cvttps_epi32(v);
+}
+
+/* flerp of four points from their pixel pairs: lane i's row pair starts at
+ * r0 + o[i] (bytes x0, x0 + 1) and r1 + q[i], fx (0..256) and fy (0..255)
+ * its fractions. */
+static inline __m128i flerp4(const uint8_t *r0, const int *o, const uint8_t *r1, const int *q,
+                             __m128i fx, __m128i fy)
+{
+    __m128i byte = _mm_set1_epi32(0xff), w, a, b, c, d, top, bot;
+    __m128 prod;
     /* lane i: bytes r0[x0], r0[x0 + 1], r1[x0], r1[x0 + 1] of its point */
     w = _mm_cvtsi32_si128(fld16(r0 + o[0]));
     w = _mm_insert_epi16(w, fld16(r1 + q[0]), 1);
@@ -225,98 +259,102 @@ static inline __m128 flerp4(const uint8_t *r0, const int *o, const uint8_t *r1, 
     w = _mm_insert_epi16(w, fld16(r1 + q[2]), 5);
     w = _mm_insert_epi16(w, fld16(r0 + o[3]), 6);
     w = _mm_insert_epi16(w, fld16(r1 + q[3]), 7);
-    v00 = _mm_cvtepi32_ps(_mm_and_si128(w, byte));
-    v01 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 8), byte));
-    v10 = _mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(w, 16), byte));
-    v11 = _mm_cvtepi32_ps(_mm_srli_epi32(w, 24));
-    v00 = _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v01, v00), fx));
-    v10 = _mm_add_ps(v10, _mm_mul_ps(_mm_sub_ps(v11, v10), fx));
-    return _mm_add_ps(v00, _mm_mul_ps(_mm_sub_ps(v10, v00), fy));
+    a = _mm_and_si128(w, byte);
+    b = _mm_and_si128(_mm_srli_epi32(w, 8), byte);
+    c = _mm_and_si128(_mm_srli_epi32(w, 16), byte);
+    d = _mm_srli_epi32(w, 24);
+    /* (b - a) fx by PMADDWD: the difference's high half (0 or -1) meets
+     * fx's high half, 0 */
+    top = _mm_add_epi32(_mm_slli_epi32(a, 8), _mm_madd_epi16(_mm_sub_epi32(b, a), fx));
+    bot = _mm_add_epi32(_mm_slli_epi32(c, 8), _mm_madd_epi16(_mm_sub_epi32(d, c), fx));
+    prod = _mm_mul_ps(_mm_cvtepi32_ps(_mm_sub_epi32(bot, top)), _mm_cvtepi32_ps(fy));
+    return _mm_add_epi32(_mm_slli_epi32(top, 8), _mm_cvttps_epi32(prod));
 }
 
-/* fsample_in at four points (x, y) (wmul: 1 | stride << 16 per lane). Not
- * inlined: the 9 or 5 inlined copies of a cell read spill many vectors
- * (GCC 12 -O3: a 736-byte frame for fcells_simd, 496 without, same speed). */
+/* fsample_in at four fixed points (wmul: 1 | stride << 16 per lane). Not
+ * inlined: the 9 or 5 inlined copies of a cell read spill many vectors. */
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-static __m128 fsample4_in(const fimg *im, __m128i wmul, __m128 x, __m128 y)
+static __m128i fsample4_in(const fimg *im, __m128i wmul, __m128i X, __m128i Y)
 {
-    __m128i xi = _mm_cvttps_epi32(x), yi = _mm_cvttps_epi32(y);
-    __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(xi)), fy = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
+    __m128i f = _mm_set1_epi32(0xff);
+    __m128i xi = _mm_srai_epi32(X, 8), yi = _mm_srai_epi32(Y, 8);
     const uint8_t *p = im->img;
-    size_t st = (size_t)im->stride;
     int o[4];
     _mm_storeu_si128((__m128i *)(void *)o, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(yi, 16)), wmul));
-    return flerp4(p, o, p + st, o, fx, fy);
+    return flerp4(p, o, p + im->stride, o, _mm_and_si128(X, f), _mm_and_si128(Y, f));
 }
 
-/* fsample (the clamping sampler) at four points, for grids that leave the
- * frame; cols >= 2. The clamps are fsample's comparisons (cmpge maps NaN
- * to 0 as !(x >= 0) does; minps(c, x) is x > c ? c : x). The row pair is
- * y0, y1 = min(y0 + 1, rows - 1). For the column pair, loaded as two
- * adjacent bytes, x0 = cols - 1 (only at x = cols - 1, fx = 0) becomes
- * x0 = cols - 2, fx = 1: v00 + (v01 - v00) * 1 is then v01 = r[cols - 1]
- * exactly (small integers), as fsample's v00 + (v01 - v00) * 0 is v00, so
- * the row values, and the result, are bit-identical and no load leaves the
- * frame. */
+/* fsample (the clamping sampler) at four fixed points, for grids that leave
+ * the frame; cols >= 2. The row pair is y0, y1 = min(y0 + 1, rows - 1).
+ * For the column pair, loaded as two adjacent bytes, x0 = cols - 1 (only
+ * at X = (cols - 1) 256, fx = 0) becomes x0 = cols - 2, fx = 256: 256 a +
+ * (b - a) 256 is then 256 b, b = r[cols - 1], as fsample's 256 r[cols - 1],
+ * so the value is the same and no load leaves the frame. */
 typedef struct fclamp { /* fsample4_cl's limits, set once a grid (fclamp_of) */
-    __m128 xmax, ymax;    /* cols - 1, rows - 1 */
+    __m128i xl, yl;       /* (cols - 1) 256, (rows - 1) 256 */
     __m128i x0max, y0max; /* cols - 2, rows - 1 */
 } fclamp;
 
 static void fclamp_of(const fimg *im, fclamp *cl)
 {
-    cl->xmax = _mm_set1_ps((float)(im->cols - 1));
-    cl->ymax = _mm_set1_ps((float)(im->rows - 1));
+    cl->xl = _mm_set1_epi32((im->cols - 1) * 256);
+    cl->yl = _mm_set1_epi32((im->rows - 1) * 256);
     cl->x0max = _mm_set1_epi32(im->cols - 2);
     cl->y0max = _mm_set1_epi32(im->rows - 1);
+}
+
+/* v clamped to [0, hi] lane by lane (SSE2 has no 32-bit min / max). */
+static inline __m128i fclamp4(__m128i v, __m128i hi)
+{
+    __m128i over;
+    v = _mm_andnot_si128(_mm_srai_epi32(v, 31), v);
+    over = _mm_cmpgt_epi32(v, hi);
+    return _mm_or_si128(_mm_andnot_si128(over, v), _mm_and_si128(over, hi));
 }
 
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-static __m128 fsample4_cl(const fimg *im, const fclamp *cl, __m128i wmul, __m128 x, __m128 y)
+static __m128i fsample4_cl(const fimg *im, const fclamp *cl, __m128i wmul, __m128i X, __m128i Y)
 {
-    __m128 zero = _mm_setzero_ps(), fx, fy;
-    __m128i xi, yi, y1;
+    __m128i f = _mm_set1_epi32(0xff), xi, yi, y1, fx, over;
     const uint8_t *p = im->img;
     int o[4], q[4];
-    x = _mm_and_ps(_mm_cmpge_ps(x, zero), x);
-    y = _mm_and_ps(_mm_cmpge_ps(y, zero), y);
-    x = _mm_min_ps(cl->xmax, x);
-    y = _mm_min_ps(cl->ymax, y);
-    xi = _mm_cvttps_epi32(x);
-    yi = _mm_cvttps_epi32(y);
-    /* x0 at most cols - 2 (signed compare: 0 <= x0 < cols) */
-    xi = _mm_add_epi32(xi, _mm_cmpgt_epi32(xi, cl->x0max));
+    X = fclamp4(X, cl->xl);
+    Y = fclamp4(Y, cl->yl);
+    xi = _mm_srai_epi32(X, 8);
+    yi = _mm_srai_epi32(Y, 8);
+    fx = _mm_and_si128(X, f);
+    /* x0 at most cols - 2, fx 256 there */
+    over = _mm_cmpgt_epi32(xi, cl->x0max);
+    xi = _mm_add_epi32(xi, over);
+    fx = _mm_or_si128(fx, _mm_and_si128(over, _mm_set1_epi32(256)));
     /* y1 = y0 + 1 where y0 + 1 < rows */
     y1 = _mm_sub_epi32(yi, _mm_cmplt_epi32(yi, cl->y0max));
-    fx = _mm_sub_ps(x, _mm_cvtepi32_ps(xi));
-    fy = _mm_sub_ps(y, _mm_cvtepi32_ps(yi));
     _mm_storeu_si128((__m128i *)(void *)o, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(yi, 16)), wmul));
     _mm_storeu_si128((__m128i *)(void *)q, _mm_madd_epi16(_mm_or_si128(xi, _mm_slli_epi32(y1, 16)), wmul));
-    return flerp4(p, o, p, q, fx, fy);
+    return flerp4(p, o, p, q, fx, _mm_and_si128(Y, f));
 }
 
 /* The SIMD counterpart of fsample_at (cl: the grid leaves the frame). */
-static inline __m128 fsample4(const fimg *im, const fclamp *cl, __m128i wmul, __m128 x, __m128 y)
+static inline __m128i fsample4(const fimg *im, const fclamp *cl, __m128i wmul, __m128i X, __m128i Y)
 {
-    return cl ? fsample4_cl(im, cl, wmul, x, y) : fsample4_in(im, wmul, x, y);
+    return cl ? fsample4_cl(im, cl, wmul, X, Y) : fsample4_in(im, wmul, X, Y);
 }
 
-/* fcell5 of four cells centred at (x0, y0). */
-static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, const fclamp *cl, __m128i wmul,
+/* fcell5's means of four cells centred at (x0, y0) (pixels). */
+static inline __m128 fcell5_4(const fimg *im, const fpat *p, const fclamp *cl, __m128i wmul,
                               __m128 x0, __m128 y0)
 {
-    __m128 dx1 = _mm_set1_ps(im->so * (gr->ax + gr->bx)), dy1 = _mm_set1_ps(im->so * (gr->ay + gr->by));
-    __m128 dx2 = _mm_set1_ps(im->so * (gr->ax - gr->bx)), dy2 = _mm_set1_ps(im->so * (gr->ay - gr->by));
-    __m128 s = fsample4(im, cl, wmul, x0, y0);
-    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(x0, dx1), _mm_add_ps(y0, dy1)));
-    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_sub_ps(x0, dx1), _mm_sub_ps(y0, dy1)));
-    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(x0, dx2), _mm_add_ps(y0, dy2)));
-    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_sub_ps(x0, dx2), _mm_sub_ps(y0, dy2)));
-    return _mm_mul_ps(s, _mm_set1_ps(0.2f));
+    __m128i X = ffix4(x0), Y = ffix4(y0), s;
+    int i;
+    s = fsample4(im, cl, wmul, X, Y);
+    for (i = 0; i < 4; i++)
+        s = _mm_add_epi32(s, fsample4(im, cl, wmul, _mm_add_epi32(X, _mm_set1_epi32(p->dx5[i])),
+                                      _mm_add_epi32(Y, _mm_set1_epi32(p->dy5[i]))));
+    return _mm_mul_ps(_mm_cvtepi32_ps(s), _mm_set1_ps(fit_norm5));
 }
 
 /* fcells_on(im, gr, k, m, !cl, skip), four cells at a time in row order
@@ -325,9 +363,9 @@ static inline __m128 fcell5_4(const fimg *im, const fgrid *gr, const fclamp *cl,
 static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m, int skip,
                                const fclamp *cl)
 {
-    int i, j, a, b, n = k + 1, nn = n * n;
+    int i, j, n = k + 1, nn = n * n;
     float g = 0.5f * (float)n;
-    __m128 ou[3], ov[3], pu[3], pv[3];
+    fpat p;
     __m128 half = _mm_set1_ps(0.5f), gv = _mm_set1_ps(g);
     __m128 mx = _mm_set1_ps(gr->mx), my = _mm_set1_ps(gr->my);
     __m128 ax = _mm_set1_ps(gr->ax), ay = _mm_set1_ps(gr->ay);
@@ -335,13 +373,7 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
     __m128i wmul = _mm_set1_epi32(1 | im->stride << 16);
     __m128i cx = _mm_setr_epi32(0, 1, 2, 3), cy = _mm_setzero_si128();
     __m128i nv = _mm_set1_epi32(n), last = _mm_set1_epi32(n - 1), four = _mm_set1_epi32(4);
-    for (a = 0; a < 3; a++) {
-        float u = (float)(a - 1) * im->so;
-        ou[a] = _mm_set1_ps(gr->ax * u);
-        ov[a] = _mm_set1_ps(gr->ay * u);
-        pu[a] = _mm_set1_ps(gr->bx * u);
-        pv[a] = _mm_set1_ps(gr->by * u);
-    }
+    fpat_of(im, gr, &p);
     for (i = 0; i < nn; i += 4) {
         float r[4];
         __m128i lx = cx, ly = cy, wrap;
@@ -361,19 +393,13 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
         cx = _mm_sub_epi32(cx, _mm_and_si128(wrap, nv));
         cy = _mm_sub_epi32(cy, wrap);
         if (im->fast) {
-            s = fcell5_4(im, gr, cl, wmul, x0, y0);
+            s = fcell5_4(im, &p, cl, wmul, x0, y0);
         } else {
-            __m128 xa[3], ya[3]; /* x0 + ou[a], as the scalar sum's first step */
-            for (a = 0; a < 3; a++) {
-                xa[a] = _mm_add_ps(x0, ou[a]);
-                ya[a] = _mm_add_ps(y0, ov[a]);
-            }
-            s = _mm_setzero_ps();
-            for (b = 0; b < 3; b++)
-                for (a = 0; a < 3; a++)
-                    s = _mm_add_ps(s, fsample4(im, cl, wmul, _mm_add_ps(xa[a], pu[b]),
-                                               _mm_add_ps(ya[a], pv[b])));
-            s = _mm_mul_ps(s, _mm_set1_ps(1.0f / 9.0f));
+            __m128i X = ffix4(x0), Y = ffix4(y0), t = _mm_setzero_si128();
+            for (j = 0; j < 9; j++)
+                t = _mm_add_epi32(t, fsample4(im, cl, wmul, _mm_add_epi32(X, _mm_set1_epi32(p.dx9[j])),
+                                              _mm_add_epi32(Y, _mm_set1_epi32(p.dy9[j]))));
+            s = _mm_mul_ps(_mm_cvtepi32_ps(t), _mm_set1_ps(fit_norm9));
         }
         if (i + 4 <= nn) {
             _mm_storeu_ps(m + i, s);
@@ -394,9 +420,12 @@ FIT_INLINE void frow_in(const fimg *im, const fpat *p, const float *xu, const fl
                         float yv, int c0, int c1, float *row, int fast)
 {
     int c;
-    for (c = c0; c <= c1; c++)
-        row[c] = fast ? fcell5(im, p, 1, xu[c] + xv, yu[c] + yv)
-                      : fcell9(im, p, 1, xu[c] + xv, yu[c] + yv);
+    for (c = c0; c <= c1; c++) {
+        /* ffix without its clamps: the grid lies inside the frame */
+        int32_t X = (int32_t)((xu[c] + xv) * FIX_ONE), Y = (int32_t)((yu[c] + yv) * FIX_ONE);
+        row[c] = fast ? (float)fcell5(im, p, 1, X, Y) * fit_norm5
+                      : (float)fcell9(im, p, 1, X, Y) * fit_norm9;
+    }
 }
 
 /* fcells() without SIMD. inside: the whole grid lies a pixel inside the
@@ -472,6 +501,8 @@ static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj
     int i, j, n = k + 1, nc = n + 2 - pi, nq = (n + 2 - pj) * nc, c = 0, r = 0;
     float g = 0.5f * (float)n;
     __m128i wmul = _mm_set1_epi32(1 | im->stride << 16);
+    fpat p;
+    fpat_of(im, gr, &p);
     for (i = 0; i < nq; i += 4) {
         float xs[4], ys[4], q[4];
         int at[4];
@@ -486,7 +517,7 @@ static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj
                 r++;
             }
         }
-        _mm_storeu_ps(q, fcell5_4(im, gr, cl, wmul, _mm_loadu_ps(xs), _mm_loadu_ps(ys)));
+        _mm_storeu_ps(q, fcell5_4(im, &p, cl, wmul, _mm_loadu_ps(xs), _mm_loadu_ps(ys)));
         for (j = 0; j < 4 && i + j < nq; j++)
             Q[at[j]] = q[j];
     }
@@ -581,25 +612,25 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
 }
 
 /* The straightforward cell read the scalar ones (fcells_on, flattice) must
- * equal bit for bit: every sample by the clamping fsample, the offsets and
- * the sums written per sample as the decoder first had them. */
+ * equal bit for bit: every sample by the clamping fsample, its fixed-point
+ * offsets formed per sample from the grid. */
 static float fref_cell(const fimg *im, const fgrid *gr, float x0, float y0)
 {
-    float s = 0.0f;
+    int32_t X = ffix(x0), Y = ffix(y0), s = 0;
     int a, b;
     if (im->fast) {
-        float dx1 = im->so * (gr->ax + gr->bx), dy1 = im->so * (gr->ay + gr->by);
-        float dx2 = im->so * (gr->ax - gr->bx), dy2 = im->so * (gr->ay - gr->by);
-        s = fsample(im, x0, y0) + fsample(im, x0 + dx1, y0 + dy1) + fsample(im, x0 - dx1, y0 - dy1) +
-            fsample(im, x0 + dx2, y0 + dy2) + fsample(im, x0 - dx2, y0 - dy2);
-        return s * 0.2f;
+        int32_t dx1 = ffix(im->so * (gr->ax + gr->bx)), dy1 = ffix(im->so * (gr->ay + gr->by));
+        int32_t dx2 = ffix(im->so * (gr->ax - gr->bx)), dy2 = ffix(im->so * (gr->ay - gr->by));
+        s = fsample(im, X, Y) + fsample(im, X + dx1, Y + dy1) + fsample(im, X - dx1, Y - dy1) +
+            fsample(im, X + dx2, Y + dy2) + fsample(im, X - dx2, Y - dy2);
+        return (float)s * fit_norm5;
     }
     for (b = 0; b < 3; b++)
         for (a = 0; a < 3; a++) {
             float u = (float)(a - 1) * im->so, w = (float)(b - 1) * im->so;
-            s += fsample(im, x0 + gr->ax * u + gr->bx * w, y0 + gr->ay * u + gr->by * w);
+            s += fsample(im, X + ffix(gr->ax * u) + ffix(gr->bx * w), Y + ffix(gr->ay * u) + ffix(gr->by * w));
         }
-    return s * (1.0f / 9.0f);
+    return (float)s * fit_norm9;
 }
 
 /* Test hook (tests/test_decode_lattice.c): decode_fit_test.h. */

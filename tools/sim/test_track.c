@@ -1195,14 +1195,21 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
 /* A geometry that changes by an ulp every ping (a driver recomputing
  * max_range from the speed of sound) tracks as the fixed one: the tracks
  * are not re-placed and keep their velocity (re-placing them cleared it
- * every frame). */
+ * every frame). The two trackers give the same tracks, read in the same
+ * frames; their corners and velocities are judged against the truth, not
+ * against each other: an ulp of range moves the windows' readings by ulps,
+ * and the decoder's fixed-point sample points (1/256 pixel) can then fall
+ * on the other side of a step, which changes a reading by a pixel or two
+ * (2026-12-05: up to 15 px apart after the filter, both as near the
+ * truth). */
 static void test_an_ulp_of_geometry_changes_nothing(void)
 {
     static actag_tracker ta, tb;
     actag_track_params tp;
     actag_params p;
     actag_track oa[ACTAG_TRACK_MAX], ob[ACTAG_TRACK_MAX];
-    int i, k, c, measured = 0;
+    int i, k, c, measured = 0, reported = 0;
+    double ea = 0.0, eb = 0.0, va = 0.0, vb = 0.0;
     params_of(&p);
     actag_track_params_default(&tp);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&ta, &tp));
@@ -1219,18 +1226,29 @@ static void test_an_ulp_of_geometry_changes_nothing(void)
             TEST_ASSERT_EQUAL_UINT32(oa[k].track_id, ob[k].track_id);
             TEST_ASSERT_EQUAL_INT(oa[k].measured, ob[k].measured);
             measured += oa[k].measured;
-            /* an ulp of range moves the windows' readings by ulps, which
-             * the filter carries (0.5 px by the pass's end); a cleared
-             * velocity differs by the tag's motion, up to 6 px a frame */
+            reported += 4;
             for (c = 0; c < 4; c++) {
-                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].corners[c].x, ob[k].corners[c].x);
-                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].corners[c].y, ob[k].corners[c].y);
-                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].velocity[c].x, ob[k].velocity[c].x);
-                TEST_ASSERT_FLOAT_WITHIN(1.0f, oa[k].velocity[c].y, ob[k].velocity[c].y);
+                /* the tag's motion in this frame: what the velocity estimates */
+                double mx = i > 0 ? truth[i].px[c].x - truth[i - 1].px[c].x : 0.0;
+                double my = i > 0 ? truth[i].px[c].y - truth[i - 1].px[c].y : 0.0;
+                ea += hypot(oa[k].corners[c].x - truth[i].px[c].x, oa[k].corners[c].y - truth[i].px[c].y);
+                eb += hypot(ob[k].corners[c].x - truth[i].px[c].x, ob[k].corners[c].y - truth[i].px[c].y);
+                va += hypot(oa[k].velocity[c].x - mx, oa[k].velocity[c].y - my);
+                vb += hypot(ob[k].velocity[c].x - mx, ob[k].velocity[c].y - my);
             }
         }
     }
+    printf("smoothed corners off the truth, mean: fixed geometry %.2f px, an ulp each ping %.2f px; "
+           "velocities off the tag's motion %.2f and %.2f px a frame\n",
+           ea / (reported > 0 ? reported : 1), eb / (reported > 0 ? reported : 1),
+           va / (reported > 0 ? reported : 1), vb / (reported > 0 ? reported : 1));
     TEST_ASSERT_TRUE(measured > NSEQ / 2);
+    /* The velocities follow the tag's motion as well as with the fixed
+     * geometry (1.72 against 1.67 px a frame off it, 2026-12-05): re-placed
+     * every frame with the velocity cleared (the old fault, put back by
+     * hand), 2.33. The corners lag the tag by about 3 px either way. */
+    TEST_ASSERT_TRUE(vb <= va + 0.3 * reported);
+    TEST_ASSERT_TRUE(eb <= ea + 0.5 * reported);
 }
 
 /* Counters at their ends (a tracker running for years): the frame count
