@@ -90,11 +90,14 @@ def main():
         cmd = [o.eval, "--frames", str(o.frames), "--threads", "1", "--quiet",
                "--failures", f"{prefix}{seed}.fail"] + args
         p = subprocess.run(cmd, capture_output=True, text=True)
-        m = re.search(r"right ID at the tag\): (\d+)", p.stdout)
+        # "detected (right ID, handedness and corner order at the tag): N = ..."
+        m = re.search(r"^  detected \(right ID[^)]*\): (\d+)", p.stdout, re.M)
         errs = re.findall(r"(?:wrong IDs|false tags|mirrored-flag errors|corner-order errors): (\d+)",
                           p.stdout)
-        if p.returncode != 0 or not m or len(errs) != 4:
-            return seed, args, None, p.stderr.strip()
+        if p.returncode != 0:
+            return seed, args, None, "exit status %d: %s" % (p.returncode, p.stderr.strip())
+        if not m or len(errs) != 4:
+            return seed, args, None, "no detection and error counts in its output: %r" % p.stdout[:300]
         return seed, args, (int(m.group(1)), [int(e) for e in errs]), ""
 
     bad = 0
