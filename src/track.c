@@ -302,6 +302,7 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
 {
     actag_point q[4];
     actag_decode_result dr;
+    actag_fit_params fa;
     uint8_t *grey;
     int x0, y0, x1, y1, w, h, c, limit, rc, flip, kk, misses;
     float ring, in;
@@ -338,23 +339,26 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     }
     /* handedness relative to the reference orientation (as actag_detect) */
     flip = actag_geometry_mirrors(g, frame->cols);
+    /* the pipeline's fit parameters (the user's margin wins, as in
+     * actag_detect) in the track's own handedness only (on screen: flipped
+     * with the image) */
+    fa = p->tuning.fit;
+    fa.min_margin = p->min_margin;
+    fa.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
+    fa.flags |= (k->mirrored ^ flip) ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;
     {
         /* Only the track's own code is a hypothesis here: another ID at the
          * prediction could not update the track anyway, so the reading is
          * judged against "no tag" (the decision margin) and the rotations
          * of this one code in the track's handedness, not against the
          * family's other codes. */
-        actag_fit_params fp = p->tuning.fit;
+        actag_fit_params fp = fa;
         actag_family own = *p->family;
         own.codes = p->family->codes + k->id;
         own.ncodes = 1;
-        fp.min_margin = p->min_margin; /* the user's margin wins, as in actag_detect */
         /* no other code is a hypothesis, so none can lie as near as the
          * read one: the extra margin at the correction limit is moot */
         fp.many_corrections_margin = 0.0f;
-        /* and in the track's own handedness only (on screen: flipped with the image) */
-        fp.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
-        fp.flags |= (k->mirrored ^ flip) ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;
         if (actag_decode_quad_fit(grey, h, w, w, q, &own, limit, &fp, &dr) != ACTAG_OK)
             return 0;
         dr.id = k->id;
@@ -382,11 +386,7 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
      * prediction against the whole family, in the track's handedness,
      * under the pipeline's rules: a reading of another ID there refuses it. */
     if (dr.hamming > 0) {
-        actag_fit_params fa = p->tuning.fit;
         actag_decode_result da;
-        fa.min_margin = p->min_margin;
-        fa.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
-        fa.flags |= (k->mirrored ^ flip) ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;
         if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &fa, &da) == ACTAG_OK &&
             da.id != k->id)
             return 0;

@@ -185,17 +185,22 @@ def host_tags(frames_dir, names, tags):
                  "frames (first: %s)" % (len(bad), bad[0] if bad else "count"))
 
 
-def instructions(b, core, frames_dir):
+def qemu_cmd(core, fw, names, extra=()):
+    """qemu-system-arm running firmware fw on core's board with -icount, its
+    semihosting arguments "budget" and the frame names (opened in the cwd)."""
     _, machine = CORES[core]
+    args = ",".join(["arg=budget"] + ["arg=" + n for n in names])
+    return (["qemu-system-arm", "-M", machine, "-icount", "shift=0", "-nographic", "-monitor",
+             "none", "-serial", "null", "-chardev", "stdio,id=sh", "-semihosting-config",
+             "enable=on,target=native,chardev=sh," + args, "-kernel", fw] + list(extra))
+
+
+def instructions(b, core, frames_dir):
     names = sorted(os.path.basename(f) for f in glob.glob(os.path.join(frames_dir, "f_*.pgm")))
     if not names:
         sys.exit("budget: no f_*.pgm in %s" % frames_dir)
     fw = os.path.join(b, "tools", "budget", "actag_budget")
-    args = ",".join(["arg=budget"] + ["arg=" + n for n in names])
-    out = run(["qemu-system-arm", "-M", machine, "-icount", "shift=0", "-nographic", "-monitor", "none",
-               "-serial", "null", "-chardev", "stdio,id=sh",
-               "-semihosting-config", "enable=on,target=native,chardev=sh," + args,
-               "-kernel", fw], cwd=frames_dir, timeout=3600)
+    out = run(qemu_cmd(core, fw, names), cwd=frames_dir, timeout=3600)
     cal = re.search(r"calibration spin 10000000 measured (\d+)", out)
     if not cal or abs(int(cal.group(1)) - 10000000) > 1000:
         sys.exit("budget: the timer does not count instructions (QEMU -icount?):\n" + out[:500])

@@ -23,8 +23,7 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-MACHINES = {"m4": "mps2-an386", "m7": "mps2-an500"}
+from budget import CORES, ROOT, qemu_cmd
 
 
 def die(msg):
@@ -74,7 +73,7 @@ def main():
     ap.add_argument("--block")
     ap.add_argument("frames", nargs="+")
     a = ap.parse_args()
-    if a.core not in MACHINES:
+    if a.core not in CORES:
         die("unknown --core %r (m4 or m7)" % a.core)
     if a.top < 1:
         die("--top must be at least 1, not %d" % a.top)
@@ -88,14 +87,10 @@ def main():
             die("no frame %s" % f)
     if len({os.path.dirname(f) for f in frames}) != 1:
         die("the frames must share one folder (semihosting opens them by name)")
-    args = ",".join(["arg=budget"] + ["arg=" + os.path.basename(f) for f in frames])
     with tempfile.TemporaryDirectory() as tmp:
         log = os.path.join(tmp, "qemu.log")
-        r = subprocess.run(["qemu-system-arm", "-M", MACHINES[a.core], "-icount", "shift=0",
-                            "-nographic", "-monitor", "none", "-serial", "null", "-chardev",
-                            "stdio,id=sh", "-semihosting-config",
-                            "enable=on,target=native,chardev=sh," + args, "-kernel", fw,
-                            "-d", "in_asm,exec,nochain", "-D", log],
+        r = subprocess.run(qemu_cmd(a.core, fw, [os.path.basename(f) for f in frames],
+                                    ["-d", "in_asm,exec,nochain", "-D", log]),
                            cwd=os.path.dirname(frames[0]), capture_output=True, text=True)
         if r.returncode != 0:
             die("qemu-system-arm failed (%d): %s" % (r.returncode, r.stderr.strip()[:300]))
