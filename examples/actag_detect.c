@@ -103,8 +103,9 @@ static void usage(FILE *f)
             "                         tracker's confirmed tracks (actag/track.h) instead of the\n"
             "                         detections; JSON {\"file\", \"frame\", \"tracks\": [{\"track\",\n"
             "                         \"id\", \"mirrored\", \"measured\", \"hits\", \"missed\",\n"
-            "                         \"decision_margin\", \"corners\"[, \"pose\"]}], \"whole_frame\",\n"
-            "                         \"pixels\", \"time_ms\"} (no --overlay or --stages)\n"
+            "                         \"innovation\", \"decision_margin\", \"corners\"[, \"pose\"]}],\n"
+            "                         \"whole_frame\", \"pixels\", \"time_ms\"} (no --overlay or\n"
+            "                         --stages)\n"
             "  --inplace              detect as firmware with little RAM does (actag_detect_inplace:\n"
             "                         the filtered frame overwrites the pixels, workspace\n"
             "                         ACTAG_WORKSPACE_SIZE_INPLACE; corners refined on the\n"
@@ -702,9 +703,10 @@ static int track_frame(actag_tracker *tr, const actag_frame *fr, const actag_son
         const actag_track *t = &out[k];
         if (o->json) {
             printf("%s{\"track\": %u, \"id\": %d, \"mirrored\": %s, \"measured\": %s, "
-                   "\"hits\": %d, \"missed\": %d, \"decision_margin\": %.2f, \"corners\": [",
+                   "\"hits\": %d, \"missed\": %d, \"innovation\": %.2f, "
+                   "\"decision_margin\": %.2f, \"corners\": [",
                    k ? ", " : "", (unsigned)t->track_id, t->id, t->mirrored ? "true" : "false",
-                   t->measured ? "true" : "false", t->hits, t->missed,
+                   t->measured ? "true" : "false", t->hits, t->missed, (double)t->innovation,
                    (double)t->last.decision_margin);
             for (c = 0; c < 4; c++)
                 printf("%s{\"x_col\": %.3f, \"y_row\": %.3f, \"range_m\": %.5f, "

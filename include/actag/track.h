@@ -74,7 +74,11 @@
  *   handedness) at a tracked tag's place is ignored and counted
  *   (stats.conflicts), never assigned. Corners are smoothed by an alpha-beta
  *   filter per pixel coordinate (alpha = smoothing, beta = alpha^2 /
- *   (2 - alpha)), which also predicts the next frame's position; the range
+ *   (2 - alpha)), which also predicts the next frame's position; a reading
+ *   whose corners lie more than a quarter of its diagonal from the prediction
+ *   (innovation) is a tag that moved otherwise than foreseen, and its
+ *   corners are taken as read (smoothed, they would trail it by 1 - alpha
+ *   of that distance), the velocity updated as usual; the range
  *   and azimuth of the smoothed corners come from the geometry. Only
  *   confirmed tracks are reported. Verify readings carry the fitted grid's
  *   corners (inlier_ratio 0, like structure-search readings).
@@ -196,6 +200,9 @@ typedef struct actag_track {
                                 state's tracks[] keep the mapping's) */
     float azimuth[4];        /* radians */
     actag_point velocity[4]; /* pixels per frame */
+    float innovation;        /* pixels: how far the latest reading's corners lay from
+                                the prediction (the largest of the four; 0 after a
+                                track's first reading) */
     actag_detection last;    /* the latest reading (unsmoothed) */
 } actag_track;
 

@@ -275,7 +275,8 @@ static PyObject *xy4(const actag_point *p)
 }
 
 /* (track_id, id, mirrored, confirmed, measured, hits, missed, age,
- *  ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), last detection) */
+ *  ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), innovation,
+ *  last detection) */
 static PyObject *track_tuple(const void *item)
 {
     const actag_track *t = (const actag_track *)item;
@@ -292,10 +293,10 @@ static PyObject *track_tuple(const void *item)
         Py_XDECREF(polar);
         return NULL;
     }
-    return Py_BuildValue("(kiOOOiiiNNNN)", (unsigned long)t->track_id, t->id,
+    return Py_BuildValue("(kiOOOiiiNNNdN)", (unsigned long)t->track_id, t->id,
                          t->mirrored ? Py_True : Py_False, t->confirmed ? Py_True : Py_False,
                          t->measured ? Py_True : Py_False, t->hits, t->missed, t->age, c, polar,
-                         v, last);
+                         v, (double)t->innovation, last);
 }
 
 /* Every counter of actag_track_stats, by its C name (include/actag/track.h). */

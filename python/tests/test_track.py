@@ -27,6 +27,8 @@ def test_pool_stream_same_as_c_tool(pool_frames, c_tool):
             for k in ("track", "id", "mirrored", "measured", "hits", "missed"):
                 assert d[k] == c[k], (path.name, k)
             assert abs(d["decision_margin"] - c["decision_margin"]) <= 0.0051, path.name
+            assert abs(d["innovation"] - c["innovation"]) <= 0.0051, path.name
+            assert d["innovation"] >= 0.0, path.name
             for a, b in zip(d["corners"], c["corners"]):
                 assert abs(a["x_col"] - b["x_col"]) <= 0.00051, path.name
                 assert abs(a["y_row"] - b["y_row"]) <= 0.00051, path.name

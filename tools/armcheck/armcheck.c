@@ -414,6 +414,7 @@ static uint64_t track_frame(const char *rel, const actag_frame *frame,
         put_kd("hits", t->hits);
         put_kd("missed", t->missed);
         put_kd("age", t->age);
+        put_kf("innovation", t->innovation);
         end_line();
         for (k = 0; k < 4; k++) {
             put_corner(k, t->corners[k], t->range[k], t->azimuth[k]);

@@ -41,14 +41,18 @@ class Track(SlotRecord):
         corners_xy: the smoothed corners (x = column, y = row), tag order
             (TL, TR, BR, BL); corners_polar: their (range m, azimuth rad).
         velocity_xy: each corner's velocity, pixels per frame.
+        innovation: pixels between the latest reading's corners and the
+            prediction (the largest of the four; 0 after the first reading).
+            A reading more than a quarter of its diagonal from the prediction is
+            reported as read, not smoothed.
         last: the latest reading, a ``Detection`` (unsmoothed).
     """
 
     __slots__ = ("track_id", "id", "mirrored", "confirmed", "measured", "hits", "missed", "age",
-                 "corners_xy", "corners_polar", "velocity_xy", "last")
+                 "corners_xy", "corners_polar", "velocity_xy", "innovation", "last")
 
     def __init__(self, track_id, id, mirrored, confirmed, measured, hits, missed, age,
-                 corners_xy, corners_polar, velocity_xy, last):
+                 corners_xy, corners_polar, velocity_xy, innovation, last):
         self.track_id = track_id
         self.id = id
         self.mirrored = mirrored
@@ -60,11 +64,12 @@ class Track(SlotRecord):
         self.corners_xy = corners_xy
         self.corners_polar = corners_polar
         self.velocity_xy = velocity_xy
+        self.innovation = innovation
         self.last = last
 
     @classmethod
     def _of_core(cls, t):
-        return cls(*t[:11], Detection(*t[11]))
+        return cls(*t[:12], Detection(*t[12]))
 
     @property
     def corners(self):
@@ -80,7 +85,7 @@ class Track(SlotRecord):
     def to_dict(self):
         """Plain dict (JSON-ready) with the keys ``actag_detect --track --json``
         prints per track (track, id, mirrored, measured, hits, missed,
-        decision_margin, corners) and confirmed, age, velocity_xy."""
+        decision_margin, corners) and confirmed, age, velocity_xy, innovation."""
         return {
             "track": self.track_id,
             "id": self.id,
@@ -93,6 +98,7 @@ class Track(SlotRecord):
             "confirmed": self.confirmed,
             "age": self.age,
             "velocity_xy": [list(v) for v in self.velocity_xy],
+            "innovation": self.innovation,
         }
 
     def __repr__(self):
