@@ -106,6 +106,8 @@ static void usage(FILE *f)
             "                         \"innovation\", \"decision_margin\", \"corners\"[, \"pose\"]}],\n"
             "                         \"whole_frame\", \"pixels\", \"time_ms\"} (no --overlay or\n"
             "                         --stages)\n"
+            "  --report-coasting      with --track: also report a track on the first frame it is\n"
+            "                         not read, at its prediction (\"measured\": false)\n"
             "  --inplace              detect as firmware with little RAM does (actag_detect_inplace:\n"
             "                         the filtered frame overwrites the pixels, workspace\n"
             "                         ACTAG_WORKSPACE_SIZE_INPLACE; corners refined on the\n"
@@ -173,6 +175,7 @@ typedef struct options {
     int have_min, have_max, have_aperture;
     double aperture_deg;
     int pose, track;                 /* --pose, --track */
+    int report_coasting;             /* --report-coasting */
     int inplace;                     /* --inplace */
     double vertical_deg;             /* --vertical-aperture-deg */
     double plane[4], plane_sd, plane_tilt_deg; /* --plane, --plane-sd, --plane-tilt-deg */
@@ -218,6 +221,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->pose = 1;
         } else if (strcmp(a, "--track") == 0) {
             o->track = 1;
+        } else if (strcmp(a, "--report-coasting") == 0) {
+            o->report_coasting = 1;
         } else if (strcmp(a, "--inplace") == 0) {
             o->inplace = 1;
         } else if (strcmp(a, "--vertical-aperture-deg") == 0) {
@@ -487,6 +492,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
     }
     if (o->track && (o->overlay || o->stages))
         die("--track does not combine with --overlay or --stages");
+    if (o->report_coasting && !o->track)
+        die("--report-coasting needs --track");
     if (o->inplace && (o->track || o->overlay || o->stages))
         die("--inplace does not combine with --track, --overlay or --stages");
     if (o->stages)
@@ -985,6 +992,7 @@ int main(int argc, char **argv)
     const char **files = (const char **)(void *)(argv + 1);
     parse_options(argc, argv, &o, files, &nfiles);
     actag_track_params_default(&tp);
+    tp.report_coasting = o.report_coasting;
     if (actag_tracker_init(&tracker, &tp) != ACTAG_OK)
         die("tracker initialisation failed");
     if (o.overlay) {

@@ -721,6 +721,7 @@ static void test_options_that_need_others(void)
     expect_option_error(GEO " --pose --plane 0,0,1,-0.3 --plane-tilt-deg 1e-50 " EXAMPLE,
                         "--plane-tilt-deg: 1e-50 degrees is too small for the pose");
     expect_option_error(GEO " --rows 463 " EXAMPLE, "--rows and --cols go together");
+    expect_option_error(GEO " --report-coasting " EXAMPLE, "--report-coasting needs --track");
     /* a bearing table overrides the flag (geometry.h): it was silently ignored */
     expect_option_error("--min-range 0.1 --max-range 1.5 --bearings b.txt --azimuth-ascending "
                         EXAMPLE, "--azimuth-ascending does not apply with --bearings");
@@ -792,6 +793,55 @@ static void test_options_that_need_others(void)
     }
 }
 
+/* --report-coasting: the example frame three times, then a blank frame of
+ * its size: the track is reported there, coasting, only with the option
+ * (track.h report_coasting); the frames before are reported the same. */
+static void test_report_coasting(void)
+{
+    static const char head[] = "P5 620 463 255\n";
+    static uint8_t blank[sizeof head - 1 + 620 * 463];
+    char path[600], args[2000];
+    char *plain, *asked, *p4, *a4;
+    memcpy(blank, head, sizeof head - 1);
+    snprintf(path, sizeof path, "%s/blank620x463.pgm", ACTAG_BINARY_DIR);
+    write_file(path, blank, sizeof blank);
+    snprintf(args, sizeof args, GEO " --track --json " EXAMPLE " " EXAMPLE " " EXAMPLE " \"%s\"",
+             path);
+    TEST_ASSERT_EQUAL_INT(0, run(args));
+    plain = out_text();
+    snprintf(args, sizeof args,
+             GEO " --track --report-coasting --json " EXAMPLE " " EXAMPLE " " EXAMPLE " \"%s\"",
+             path);
+    TEST_ASSERT_EQUAL_INT(0, run(args));
+    asked = out_text();
+    p4 = strstr(plain, "\"frame\": 3,");
+    a4 = strstr(asked, "\"frame\": 3,");
+    TEST_ASSERT_NOT_NULL(p4);
+    TEST_ASSERT_NOT_NULL(a4);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(p4, "\"tracks\": [],"), p4);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(a4, "\"tracks\": [{\"track\": 1, \"id\": 0, "
+                                            "\"mirrored\": true, \"measured\": false, "
+                                            "\"hits\": 3, \"missed\": 1,"), a4);
+    /* the three frames before: the same lines, up to the time taken */
+    {
+        const char *a = plain, *b = asked;
+        int k;
+        for (k = 0; k < 3; k++) {
+            const char *ta = strstr(a, "\"time_ms\""), *tb = strstr(b, "\"time_ms\"");
+            TEST_ASSERT_NOT_NULL(ta);
+            TEST_ASSERT_NOT_NULL(tb);
+            TEST_ASSERT_EQUAL_INT((int)(ta - a), (int)(tb - b));
+            TEST_ASSERT_EQUAL_INT(0, strncmp(a, b, (size_t)(ta - a)));
+            a = strchr(ta, '\n');
+            b = strchr(tb, '\n');
+            TEST_ASSERT_NOT_NULL(a);
+            TEST_ASSERT_NOT_NULL(b);
+        }
+    }
+    free(plain);
+    free(asked);
+}
+
 static void test_version(void)
 {
     char *o;
@@ -817,6 +867,7 @@ int main(void)
     RUN_TEST(test_min_bit_margin_option);
     RUN_TEST(test_pose_plane_options);
     RUN_TEST(test_options_that_need_others);
+    RUN_TEST(test_report_coasting);
     RUN_TEST(test_version);
     return UNITY_END();
 }

@@ -452,6 +452,7 @@ static void test_track_params_default_and_init(void)
     actag_track_params_default(NULL); /* no-op */
     actag_track_params_default(&tp);
     TEST_ASSERT_EQUAL_INT(10, tp.full_every);
+    TEST_ASSERT_EQUAL_INT(0, tp.report_coasting);
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tracker_init(NULL, &tp));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_tracker_init(&g_trk, NULL));
     q = tp;
@@ -462,6 +463,9 @@ static void test_track_params_default_and_init(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&g_trk, &q));
     q = tp;
     q.verify = 2;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&g_trk, &q));
+    q = tp;
+    q.report_coasting = 2;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&g_trk, &q));
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&g_trk, &tp));
 }

@@ -53,7 +53,8 @@ static const tp_field tp_fields[] = {
     {"gate", TP_AT(gate), 0, 1, 0.0, 10.0, "in (0, 10]"},
     {"smoothing", TP_AT(smoothing), 0, 1, 0.0, 1.0, "in (0, 1]"},
     {"refind_after", TP_AT(refind_after), 1, 0, 0.0, (double)INT_MAX, "at least 0"},
-    {"verify", TP_AT(verify), 1, 0, 0.0, 1.0, "0 or 1"}};
+    {"verify", TP_AT(verify), 1, 0, 0.0, 1.0, "0 or 1"},
+    {"report_coasting", TP_AT(report_coasting), 1, 0, 0.0, 1.0, "0 or 1"}};
 #undef TP_AT
 #define TP_NFIELDS ((int)(sizeof tp_fields / sizeof tp_fields[0]))
 
@@ -167,7 +168,7 @@ static int track_params_from_dict(PyObject *d, actag_track_params *p)
             PyErr_Format(PyExc_TypeError,
                          "unknown track parameter '%s' (full_every, confirm_frames, "
                          "confirm_margin, max_missed, roi_scale, gate, smoothing, refind_after, "
-                         "verify)",
+                         "verify, report_coasting)",
                          name);
             free(name);
             return -1;
@@ -414,11 +415,12 @@ static PyObject *get_track_params(PyObject *o, void *c)
 {
     const actag_track_params *p = &((trackobj *)o)->tracker->params;
     (void)c;
-    return Py_BuildValue("{sisisdsisdsdsdsisi}", "full_every", p->full_every, "confirm_frames",
-                         p->confirm_frames, "confirm_margin", (double)p->confirm_margin,
-                         "max_missed", p->max_missed, "roi_scale", (double)p->roi_scale, "gate",
-                         (double)p->gate, "smoothing", (double)p->smoothing, "refind_after",
-                         p->refind_after, "verify", p->verify);
+    return Py_BuildValue("{sisisdsisdsdsdsisisi}", "full_every", p->full_every,
+                         "confirm_frames", p->confirm_frames, "confirm_margin",
+                         (double)p->confirm_margin, "max_missed", p->max_missed, "roi_scale",
+                         (double)p->roi_scale, "gate", (double)p->gate, "smoothing",
+                         (double)p->smoothing, "refind_after", p->refind_after, "verify",
+                         p->verify, "report_coasting", p->report_coasting);
 }
 
 static PyObject *get_params(PyObject *o, void *c)

@@ -75,6 +75,24 @@ def test_settings_reach_the_tracker(pool_frames):
     assert sum(map(len, first)) > sum(map(len, later))
 
 
+def test_coasting_tracks_are_reported_only_when_asked(pool_frames):
+    """report_coasting changes what is reported, never the tracking: the same
+    readings either way, and coasting reports (measured False) only with it."""
+    frames = [f for _, f in pool_frames]
+    plain = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, **GEOMETRY)
+    asked = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params={"report_coasting": 1},
+                            **GEOMETRY)
+    assert plain.track_params["report_coasting"] == 0
+    assert asked.track_params["report_coasting"] == 1
+    coasting = 0
+    for f in frames:
+        a, b = plain.update(f), asked.update(f)
+        assert all(t.measured for t in a)
+        assert a == [t for t in b if t.measured]
+        coasting += sum(not t.measured for t in b)
+    print("coasting reports with report_coasting 1:", coasting)
+
+
 def test_track_pickles_and_geometry_override(example_frame):
     tr = pyactag.Tracker(FAMILY, tag_size=TAG_SIZE, track_params={"confirm_margin": 0.0},
                          min_range=0.1, max_range=1.5)
@@ -105,6 +123,8 @@ def test_track_pickles_and_geometry_override(example_frame):
     ({"refind_after": -1}, ValueError, "refind_after"),
     ({"verify": 2}, ValueError, "verify"),
     ({"verify": True}, TypeError, "verify"),
+    ({"report_coasting": 2}, ValueError, "report_coasting"),
+    ({"report_coasting": -1}, ValueError, "report_coasting"),
     ({"full_every": 2.0}, TypeError, "full_every"),
     ({"gate": "1"}, TypeError, "gate"),
     ({"gate": 1e300}, ValueError, "gate"),

@@ -118,6 +118,9 @@ static void usage(FILE *f)
         "  --refind-after K\n"
         "                         tracker settings (track.h defaults)\n"
         "  --relax-roi            ROI searches accept decision margins down to -2 (search 0)\n"
+        "  --report-coasting      report a track on the first frame it is not read, at its\n"
+        "                         prediction (track.h report_coasting; counted in the\n"
+        "                         reported figure and in the tracker's errors)\n"
         "  --help  --version\n");
 }
 
@@ -1202,6 +1205,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--relax-roi")) {
             track_opt = o;
             topt.relax_roi = 1;
+        } else if (!strcmp(o, "--report-coasting")) {
+            track_opt = o;
+            topt.track.report_coasting = 1;
         } else {
             simio_opt_unknown(PROG, o);
         }

@@ -434,7 +434,8 @@ void te_print(FILE *f, const char *title, const te_counts *c, const te_options *
                    "\"tracked_frames\": %d, \"tracked_full_searches\": %d, "
                    "\"pixels_ratio\": %s, \"pixels_ratio_tracked\": %s, "
                    "\"full_every\": %d, \"confirm_frames\": %d, \"confirm_margin\": %g, "
-                   "\"max_missed\": %d, \"roi_scale\": %g, \"relaxed_roi\": %d}}",
+                   "\"max_missed\": %d, \"roi_scale\": %g, \"relaxed_roi\": %d, "
+                   "\"report_coasting\": %d}}",
                 c->frames, c->visible, c->full_found,
                 hostio_json_num(jb[0], "%.4f", c->full_found / vis, c->visible > 0), c->full_wrong,
                 c->full_false, c->truth_known ? c->full_mirror : -1,
@@ -448,7 +449,8 @@ void te_print(FILE *f, const char *title, const te_counts *c, const te_options *
                 hostio_json_num(jb[3], "%.2f", px_ratio, c->track_pixels > 0),
                 hostio_json_num(jb[4], "%.2f", px_tracked, c->tracked_pixels > 0),
                 o->track.full_every, o->track.confirm_frames, (double)o->track.confirm_margin,
-                o->track.max_missed, (double)o->track.roi_scale, o->relax_roi);
+                o->track.max_missed, (double)o->track.roi_scale, o->relax_roi,
+                o->track.report_coasting);
         return;
     }
     fprintf(f, "%s: %d frames, %d with the tag wholly in view\n", title, c->frames, c->visible);
@@ -457,7 +459,7 @@ void te_print(FILE *f, const char *title, const te_counts *c, const te_options *
     if (c->truth_known)
         fprintf(f, ", mirrored-flag errors %d, corner-order errors %d", c->full_mirror,
                 c->full_order);
-    fprintf(f, "\n  tracking: tag read in %d = %.1f %% (reported, coasting included: %d = %.1f %%);"
+    fprintf(f, "\n  tracking: tag read in %d = %.1f %% (reported, with any coasting: %d = %.1f %%);"
                " wrong IDs %d, false tags %d, ID switches %d, track breaks %d",
             c->track_read, 100.0 * c->track_read / vis, c->track_reported,
             100.0 * c->track_reported / vis, c->track_wrong, c->track_false, c->id_switches,

@@ -265,6 +265,7 @@ static void test_a_track_of_one_reading_is_not_reported_coasting(void)
     params_of(&p);
     actag_track_params_default(&tp);
     tp.confirm_frames = 1; /* confirmed by its first reading */
+    tp.report_coasting = 1;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
     next = feed_until_read(&tr, &p, 0);
     TEST_ASSERT_TRUE(next < NSEQ);
@@ -281,6 +282,15 @@ static void test_a_track_of_one_reading_is_not_reported_coasting(void)
     TEST_ASSERT_TRUE(next < NSEQ);
     TEST_ASSERT_TRUE(tr.tracks[0].hits >= 2);
     TEST_ASSERT_TRUE(coast_reports(&tr, &p, empty, 1) == 1);
+    /* the same without report_coasting (the default): kept, not reported */
+    tp.report_coasting = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    next = feed_until_read(&tr, &p, feed_until_read(&tr, &p, 0));
+    TEST_ASSERT_TRUE(next < NSEQ);
+    TEST_ASSERT_TRUE(tr.tracks[0].hits >= 2);
+    TEST_ASSERT_EQUAL_INT(0, coast_reports(&tr, &p, empty, 1));
+    TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
+    TEST_ASSERT_EQUAL_INT(0, tr.tracks[0].measured);
     free(empty);
 }
 
@@ -780,18 +790,27 @@ static int feed(actag_tracker *tr, const uint8_t *px, const actag_params *p, act
 /* A tracker fed the still tag's frame nframes times, its parameters the
  * defaults but for full_every (0: the default): returns the last frame's
  * count of reported tracks. */
-static int track_still(actag_tracker *tr, actag_track_params *tp, actag_params *p, int full_every,
-                       int nframes, actag_track *out, actag_track_stats *st)
+static int track_still_rc(actag_tracker *tr, actag_track_params *tp, actag_params *p,
+                          int full_every, int nframes, actag_track *out, actag_track_stats *st,
+                          int report_coasting)
 {
     int i, n = 0;
     params_of(p);
     actag_track_params_default(tp);
+    tp->report_coasting = report_coasting;
     if (full_every > 0)
         tp->full_every = full_every;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(tr, tp));
     for (i = 0; i < nframes; i++)
         n = feed(tr, frames[STILL], p, out, st);
     return n;
+}
+
+/* The same with the default reports (no coasting ones). */
+static int track_still(actag_tracker *tr, actag_track_params *tp, actag_params *p, int full_every,
+                       int nframes, actag_track *out, actag_track_stats *st)
+{
+    return track_still_rc(tr, tp, p, full_every, nframes, out, st, 0);
 }
 
 /* The largest corner diagonal of a track's smoothed corners (pixels). */
@@ -841,26 +860,30 @@ static void test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames(vo
     actag_track_stats st;
     uint8_t *empty = render_empty();
     uint32_t id;
-    int i, n = track_still(&tr, &tp, &p, 1000, 5, out, &st);
-    TEST_ASSERT_EQUAL_INT(1, n);
-    TEST_ASSERT_EQUAL_INT(0, st.full_frame); /* tracked: no whole frame */
-    id = out[0].track_id;
-    for (i = 1; i <= tp.max_missed + 1; i++) {
-        n = feed(&tr, empty, &p, out, &st);
-        TEST_ASSERT_EQUAL_INT(i >= tp.refind_after, st.full_frame);
-        if (i <= tp.max_missed) {
-            TEST_ASSERT_EQUAL_INT(i == 1, n);
-            TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
-            TEST_ASSERT_EQUAL_UINT32(id, tr.tracks[0].track_id);
-            TEST_ASSERT_EQUAL_INT(0, tr.tracks[0].measured);
-            TEST_ASSERT_EQUAL_INT(i, tr.tracks[0].missed);
-            if (n == 1)
-                TEST_ASSERT_EQUAL_UINT32(id, out[0].track_id);
-            TEST_ASSERT_EQUAL_INT(0, st.dropped);
-        } else {
-            TEST_ASSERT_EQUAL_INT(0, n);
-            TEST_ASSERT_EQUAL_INT(1, st.dropped);
-            TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
+    int i, n, rc;
+    for (rc = 0; rc < 2; rc++) {
+        n = track_still_rc(&tr, &tp, &p, 1000, 5, out, &st, rc);
+        TEST_ASSERT_EQUAL_INT(1, n);
+        TEST_ASSERT_EQUAL_INT(0, st.full_frame); /* tracked: no whole frame */
+        id = out[0].track_id;
+        for (i = 1; i <= tp.max_missed + 1; i++) {
+            n = feed(&tr, empty, &p, out, &st);
+            TEST_ASSERT_EQUAL_INT(i >= tp.refind_after, st.full_frame);
+            if (i <= tp.max_missed) {
+                /* reported coasting on the first missed frame when asked */
+                TEST_ASSERT_EQUAL_INT(rc && i == 1, n);
+                TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
+                TEST_ASSERT_EQUAL_UINT32(id, tr.tracks[0].track_id);
+                TEST_ASSERT_EQUAL_INT(0, tr.tracks[0].measured);
+                TEST_ASSERT_EQUAL_INT(i, tr.tracks[0].missed);
+                if (n == 1)
+                    TEST_ASSERT_EQUAL_UINT32(id, out[0].track_id);
+                TEST_ASSERT_EQUAL_INT(0, st.dropped);
+            } else {
+                TEST_ASSERT_EQUAL_INT(0, n);
+                TEST_ASSERT_EQUAL_INT(1, st.dropped);
+                TEST_ASSERT_EQUAL_INT(0, tr.ntracks);
+            }
         }
     }
     free(empty);
@@ -1061,6 +1084,7 @@ static void test_coasting_corners_past_the_near_edge_report_range_0(void)
     int i, c, n = 0;
     params_of(&p);
     actag_track_params_default(&tp);
+    tp.report_coasting = 1;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
     f = frame_of(frames[STILL]);
     for (i = 0; i < 3; i++)
@@ -1447,7 +1471,8 @@ static void test_a_frame_of_one_row_or_column_keeps_the_tracks(void)
     int v, c;
     for (v = 0; v < 2; v++) {
         actag_frame f = frame_of(frames[STILL]);
-        int n = track_still(&tr, &tp, &p, 1000, 5, out, &st), i;
+        /* coasting reported (v 1) or not (v 0, the default) */
+        int n = track_still_rc(&tr, &tp, &p, 1000, 5, out, &st, v), i;
         TEST_ASSERT_EQUAL_INT(1, n);
         before = out[0];
         if (v == 0) {
@@ -1460,8 +1485,9 @@ static void test_a_frame_of_one_row_or_column_keeps_the_tracks(void)
         for (i = 0; i < 2; i++) {
             n = actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, ACTAG_TRACK_MAX,
                                      &st);
-            /* coasting: reported on the first missed frame, then kept */
-            TEST_ASSERT_EQUAL_INT(i == 0, n);
+            /* coasting: reported on the first missed frame when asked,
+             * kept */
+            TEST_ASSERT_EQUAL_INT(v && i == 0, n);
             TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
             TEST_ASSERT_EQUAL_UINT32(before.track_id, tr.tracks[0].track_id);
             TEST_ASSERT_EQUAL_INT(0, tr.tracks[0].measured);
@@ -1487,8 +1513,8 @@ static void test_a_frame_of_one_row_or_column_keeps_the_tracks(void)
 
 /* The gate widens by a diagonal per missed frame: a tag that reappears 1.5
  * diagonals away after one frame unseen is within it, so its reading
- * updates the track through the filter (the smoothed corners trail the
- * reading), not by a re-acquisition (corners set to the reading). */
+ * updates the track through the filter (its velocity gains beta of the
+ * jump), not by a re-acquisition (velocity set to 0). */
 static void test_the_gate_widens_while_a_track_coasts(void)
 {
     static actag_tracker tr;
@@ -1505,8 +1531,9 @@ static void test_the_gate_widens_while_a_track_coasts(void)
     id = out[0].track_id;
     dy = 1.5f * track_diag(&out[0]); /* within 2 diagonals, beyond 1 */
     n = feed(&tr, empty, &p, out, &st);
-    TEST_ASSERT_EQUAL_INT(1, n);
-    TEST_ASSERT_EQUAL_INT(0, out[0].measured);
+    TEST_ASSERT_EQUAL_INT(0, n); /* coasting, not reported */
+    TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
+    TEST_ASSERT_EQUAL_INT(0, tr.tracks[0].measured);
     moved = shifted(frames[STILL], (int)dy, empty);
     n = feed(&tr, moved, &p, out, &st);
     TEST_ASSERT_EQUAL_INT(1, n);
@@ -1696,6 +1723,12 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
     bad = tp; bad.verify = 2;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.report_coasting = 2;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.report_coasting = -1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &bad));
+    bad = tp; bad.report_coasting = 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &bad));
     /* confirm_margin: any finite value (FLT_MAX: never by margin alone) */
     bad = tp; bad.confirm_margin = FLT_MAX;
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &bad));

@@ -21,7 +21,7 @@ from .detection import (DEFAULT_FAMILY, Corner, Detection, _family, _geometry, _
 
 #: The fields of ``track_params`` with their C defaults (actag_track_params_default).
 TRACK_PARAMS = ("full_every", "confirm_frames", "confirm_margin", "max_missed", "roi_scale",
-                "gate", "smoothing", "refind_after", "verify")
+                "gate", "smoothing", "refind_after", "verify", "report_coasting")
 
 #: ``Tracker.run``'s result: the confirmed tracks and the frame's counters.
 TrackResult = namedtuple("TrackResult", ["tracks", "stats"])
@@ -35,7 +35,8 @@ class Track(SlotRecord):
         id: tag ID; mirrored: handedness (neither ever changes).
         confirmed: always True in what ``update`` returns.
         measured: True when read in this frame, False when coasting on the
-            prediction (reported on the first frame a track misses only).
+            prediction (reported only with ``report_coasting``, on the first
+            frame a track misses).
         hits: frames with a reading; missed: consecutive frames without one;
             age: frames since the track started.
         corners_xy: the smoothed corners (x = column, y = row), tag order
@@ -119,8 +120,10 @@ class Tracker(_Searcher):
       mid-stream keeps the tracks: track.h);
     - ``track_params``: a dict of ``TRACK_PARAMS`` fields (``full_every``,
       ``confirm_frames``, ``confirm_margin``, ``max_missed``, ``roi_scale``,
-      ``gate``, ``smoothing``, ``refind_after``, ``verify``), the C defaults
-      for the others (``track_params`` property);
+      ``gate``, ``smoothing``, ``refind_after``, ``verify``,
+      ``report_coasting``), the C defaults for the others (``track_params``
+      property); ``report_coasting: 1`` also reports a track on the first
+      frame it is not read, at its prediction (``measured`` False);
     - ``roi_params``: changes of ``params`` for the searches around tracks
       (e.g. ``{"min_margin": -2}``: only a track's own ID can update it
       there; not ``tag_size``: the tags are the tracked ones); None: the
