@@ -1219,9 +1219,10 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
 /* Smoothing averages the corners' noise; it must not pull a reading of a
  * tag that moved otherwise than foreseen back toward the prediction
  * (2026-12-05: on simulated fast passes, reports 13 px behind a right
- * reading, half a side: corner-order errors). A still tag that steps a third of a diagonal
- * (inside the gate) is reported in that frame at its reading, and its truth;
- * a step of a pixel, noise-sized, is still smoothed. */
+ * reading, half a side: corner-order errors). A still tag that steps a
+ * third of a diagonal (inside the gate) is reported in that frame at its
+ * reading, and its truth; a step of a pixel, noise-sized, is still
+ * smoothed. */
 static void test_a_tag_that_moves_unforeseen_is_reported_where_read(void)
 {
     static actag_tracker tr;
@@ -1230,14 +1231,14 @@ static void test_a_tag_that_moves_unforeseen_is_reported_where_read(void)
     actag_track out[ACTAG_TRACK_MAX];
     actag_track_stats st;
     uint8_t *empty = render_empty(), *moved;
-    const int steps[2] = {1, 0};
+    const int one_px[2] = {1, 0}; /* the noise-sized step, then the large one */
     int k, c, n;
     for (k = 0; k < 2; k++) {
         float dy, off = 0.0f, err = 0.0f;
         n = track_still(&tr, &tp, &p, 0, 6, out, &st);
         TEST_ASSERT_EQUAL_INT(1, n);
         TEST_ASSERT_EQUAL_INT(1, out[0].measured);
-        dy = steps[k] ? 1.0f : roundf(track_diag(&out[0]) / 3.0f);
+        dy = one_px[k] ? 1.0f : roundf(track_diag(&out[0]) / 3.0f);
         moved = shifted(frames[STILL], (int)dy, empty);
         n = feed(&tr, moved, &p, out, &st);
         TEST_ASSERT_EQUAL_INT(1, n);
@@ -1254,7 +1255,7 @@ static void test_a_tag_that_moves_unforeseen_is_reported_where_read(void)
                "%.2f px from the truth\n", (double)dy, (double)out[0].innovation, (double)off,
                (double)err);
         TEST_ASSERT_TRUE(out[0].innovation >= 0.5f * dy);
-        if (steps[k]) {
+        if (one_px[k]) {
             TEST_ASSERT_TRUE(off > 0.0f); /* smoothed */
         } else {
             TEST_ASSERT_EQUAL_FLOAT(0.0f, off);
