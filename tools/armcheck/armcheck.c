@@ -359,6 +359,8 @@ static uint64_t track_frame(const char *rel, const actag_frame *frame,
         /* another recording: a stream of its own */
         actag_track_params tp;
         actag_track_params_default(&tp);
+        /* the coasting reports too (not a default): more to compare */
+        tp.report_coasting = 1;
         memcpy(ac_stream, rel, dlen);
         ac_stream[dlen] = '\0';
         if (actag_tracker_init(&ac_tracker, &tp) != ACTAG_OK) {
