@@ -24,6 +24,9 @@
  * the smoothed reports that lay off fast tags (corner-order errors) had
  * innovations of 1.5. */
 #define T_MANOEUVRE 0.25f
+/* A verify's fitted grid may change shape by at most this many predicted
+ * diagonals (t_verify) */
+#define T_VERIFY_SHAPE 0.25f
 #define T_MIN_ROI 24 /* pixels per side: the structure search wants >= 16 */
 /* cells of the track's template that may disagree in a verify reading
  * (t_verify): twice the whole-frame budget */
@@ -142,6 +145,21 @@ static float t_innovation(const actag_point pred[4], const actag_point got[4])
     int i;
     for (i = 0; i < 4; i++) {
         float d = t_dist2(pred[i], got[i]);
+        m = d > m ? d : m;
+    }
+    return actag_sqrtf(m);
+}
+
+/* The largest move of a corner about the quad's centre from a to b: the
+ * change of shape (size, skew, turn), translation left out. */
+static float t_shape_change(const actag_point a[4], const actag_point b[4])
+{
+    actag_point ca = t_centre(a), cb = t_centre(b);
+    float m = 0.0f;
+    int i;
+    for (i = 0; i < 4; i++) {
+        float dx = (b[i].x - cb.x) - (a[i].x - ca.x), dy = (b[i].y - cb.y) - (a[i].y - ca.y);
+        float d = dx * dx + dy * dy;
         m = d > m ? d : m;
     }
     return actag_sqrtf(m);
@@ -319,6 +337,34 @@ static void t_add_stats(actag_track_stats *st, const actag_stats *ds)
  * success t->det[0] holds the reading (frame coordinates, fitted-grid
  * corners) and 1 is returned; 0 means "run the ROI detector". 8-bit frames
  * with the fit decoder only. */
+/* The parameters a track's window is read with: p's, but a median radius of
+ * at most half the track's predicted cell width (pixels: the cell's least
+ * width, its area over its longer side; at least 1, never above p's). The
+ * median is there against speckle; a window wider than a cell erases the
+ * cells of a small or far tag, which the whole-frame radius is not set for
+ * (the paper's sonar at 3-4.5 m: cells 2-4 px wide; measured in
+ * docs/tracking.md). */
+static void t_window_params(const actag_track *k, const actag_params *p, actag_params *out)
+{
+    actag_point q[4];
+    const float s = (float)(p->family->bits / 4 - 3); /* cells across the white square */
+    float ax, ay, bx, by, cross, la, lb, w;
+    int r0 = p->tuning.median_radius, r;
+    *out = *p;
+    t_predict(k, q);
+    ax = (q[1].x - q[0].x) / s;
+    ay = (q[1].y - q[0].y) / s;
+    bx = (q[3].x - q[0].x) / s;
+    by = (q[3].y - q[0].y) / s;
+    cross = ax * by - ay * bx;
+    la = ax * ax + ay * ay;
+    lb = bx * bx + by * by;
+    w = (cross < 0.0f ? -cross : cross) / actag_sqrtf(la > lb ? la : lb);
+    /* NaN and tiny cells: 1; wide cells: p's radius (no cast of a huge w) */
+    r = !(w >= 2.0f) ? 1 : w >= 2.0f * (float)r0 + 2.0f ? r0 : (int)(0.5f * w);
+    out->tuning.median_radius = r < r0 ? r : r0;
+}
+
 static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *frame,
                     const actag_sonar_geometry *g, const actag_params *p, void *ws,
                     actag_track_stats *st)
@@ -408,6 +454,14 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
      * 20). A reading with corrected bits is therefore read again from the
      * prediction against the whole family, in the track's handedness,
      * under the pipeline's rules: a reading of another ID there refuses it. */
+    /* A verify refines the prediction: its grid may move, but in one ping the
+     * tag's image keeps its shape to a few pixels. A grid whose corners,
+     * about their centre, moved by more than T_VERIFY_SHAPE of the predicted
+     * diagonal was sheared onto other structure (2026-12-05: a right ID at
+     * hamming 2 with two corners 35 px off, one diagonal; a corner-order
+     * error), not the tag read. */
+    if (t_shape_change(q, dr.fit_corners) > T_VERIFY_SHAPE * t_diag(q))
+        return 0;
     if (dr.hamming > 0) {
         actag_decode_result da;
         if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &fa, &da) == ACTAG_OK &&
@@ -628,15 +682,17 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     if (!need_full) {
         for (i = 0; i < t->ntracks; i++) {
             int x0, y0, x1, y1, n;
+            actag_params rw; /* rp with the track's median radius */
+            t_window_params(&t->tracks[i], rp, &rw);
             tried[i] = t->tracks[i].confirmed;
-            if (t->tracks[i].confirmed && t_verify(t, &t->tracks[i], frame, geometry, rp,
+            if (t->tracks[i].confirmed && t_verify(t, &t->tracks[i], frame, geometry, &rw,
                                                    workspace, &st)) {
                 t_pool_add(t, &npool, 1, 0, 0, i);
                 continue;
             }
-            if (t_roi(t, &t->tracks[i], rp, t->params.roi_scale,
-                      (float)(rp->tuning.median_radius + rp->tuning.threshold_radius + 4), &x0, &y0, &x1,
-                      &y1) != 0) {
+            if (t_roi(t, &t->tracks[i], &rw, t->params.roi_scale,
+                      (float)(rw.tuning.median_radius + rw.tuning.threshold_radius + 4), &x0, &y0,
+                      &x1, &y1) != 0) {
                 need_full = 1;
                 continue;
             }
@@ -646,7 +702,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
                  * published families, the nearest rivals of a code) are no
                  * hypotheses there. Tags of the other handedness in the
                  * window are left to the whole-frame searches. */
-                actag_params rk = *rp;
+                actag_params rk = rw;
                 if (rk.handedness == ACTAG_HANDEDNESS_ANY)
                     rk.handedness = t->tracks[i].mirrored ? ACTAG_HANDEDNESS_MIRRORED
                                                           : ACTAG_HANDEDNESS_UNMIRRORED;
@@ -689,10 +745,14 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         /* a confirmed track the whole frame did not read is still read
          * where it is predicted (one window and one decode), unless step 1
          * tried that already */
-        for (i = 0; i < t->ntracks; i++)
-            if (t->tracks[i].confirmed && !tried[i] && !t_in_pool(t, &t->tracks[i], npool) &&
-                t_verify(t, &t->tracks[i], frame, geometry, rp, workspace, &st))
+        for (i = 0; i < t->ntracks; i++) {
+            actag_params rw;
+            if (!t->tracks[i].confirmed || tried[i] || t_in_pool(t, &t->tracks[i], npool))
+                continue;
+            t_window_params(&t->tracks[i], rp, &rw);
+            if (t_verify(t, &t->tracks[i], frame, geometry, &rw, workspace, &st))
                 t_pool_add(t, &npool, 1, 0, 0, i);
+        }
     }
 
     /* 3. assign readings to tracks: own ID and handedness, nearest to the

@@ -7,6 +7,13 @@
  *     1. reads every confirmed track where it is predicted ("verify"): the
  *        window around the predicted tag is median-filtered and the
  *        grid-fitting decoder (decode.h) starts on the predicted corners.
+ *        The window's median radius is the parameters' or half the track's
+ *        predicted cell width (pixels, at least 1), whichever is smaller:
+ *        a median wider than a cell erases a far tag's cells (the paper's
+ *        sonar beyond 3 m, docs/tracking.md); step 2 uses the same radius.
+ *        A verify reading whose grid changed shape (its corners about their
+ *        centre) by more than a quarter of the predicted diagonal is not
+ *        the tag read, and refused.
  *        The only hypotheses are the track's own code (its 4 rotations in
  *        the track's handedness) and "no tag": a reading of another ID or
  *        handedness could not update the track, so the family's other codes

@@ -131,6 +131,92 @@ static void test_a_pass_is_tracked_without_switches(void)
     TEST_ASSERT_TRUE(read >= full_read - 2);
 }
 
+/* Far tags on the paper's sonar (1024 x 512, 0.1-5 m, 60 degrees; passes
+ * from 4.5 m to 3 m): cells 2-4 px wide, which the whole-frame median (9 x
+ * 9) erases. The tracker reads a track's window with a median no wider
+ * than half its predicted cell (track.c, t_window_params), and so reads the
+ * tag in more frames than whole-frame detection, never another ID (2026-12-
+ * 05: the windows read at the whole-frame radius fell short of this). */
+static void test_far_tags_are_read_with_a_median_of_their_cells(void)
+{
+    static actag_tracker tr;
+    sim_sonar far;
+    sim_view_params fv;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    actag_detection det[8];
+    uint8_t *img;
+    void *fws;
+    size_t fwss;
+    int pass, i, k, n, nd, read = 0, full_read = 0, visible = 0;
+    const int len = 30;
+    char err[256];
+    memset(&far, 0, sizeof far);
+    far.rows = 1024;
+    far.cols = 512;
+    far.geo.min_range = 0.1f;
+    far.geo.max_range = 5.0f;
+    far.geo.aperture = 60.0f * 3.14159265f / 180.0f;
+    far.vertical_aperture = 12.0f * 3.14159265f / 180.0f;
+    sim_view_params_default(&fv);
+    fv.min_distance = 3.0f;
+    fv.max_distance = 4.5f;
+    fwss = actag_workspace_size(far.rows, far.cols);
+    fws = malloc(fwss);
+    img = (uint8_t *)malloc((size_t)far.rows * (size_t)far.cols);
+    TEST_ASSERT_NOT_NULL(fws);
+    TEST_ASSERT_NOT_NULL(img);
+    actag_params_default(&p);
+    p.family = &fam;
+    p.tag_size = S;
+    actag_track_params_default(&tp);
+    for (pass = 0; pass < 3; pass++) {
+        const uint32_t seed = 7001u + (uint32_t)pass;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+        for (i = 0; i < len; i++) {
+            sim_tag tag;
+            sim_scene sc;
+            sim_truth t;
+            actag_frame f;
+            memset(&tag, 0, sizeof tag);
+            tag.family = fam;
+            tag.id = 5;
+            tag.tag_size = S;
+            sim_sequence_view(&far, &fv, seed, i, len, &tag, &sc);
+            TEST_ASSERT_EQUAL_INT(0, sim_render(&far, &sc, &app, sim_frame_seed(seed, (uint32_t)i),
+                                                img, NULL, far.cols, err));
+            sim_truth_of(&far, &tag, &t);
+            f.data = img;
+            f.rows = far.rows;
+            f.cols = far.cols;
+            f.stride = far.cols;
+            f.depth = 8;
+            n = actag_tracker_update(&tr, &f, &far.geo, &p, NULL, fws, fwss, out,
+                                     ACTAG_TRACK_MAX, &st);
+            nd = actag_detect(&f, &far.geo, &p, fws, fwss, det, 8, NULL);
+            TEST_ASSERT_TRUE(n >= 0 && nd >= 0);
+            visible += t.visible;
+            for (k = 0; k < nd; k++) {
+                TEST_ASSERT_EQUAL_INT(5, det[k].id);
+                full_read += t.visible;
+            }
+            for (k = 0; k < n; k++) {
+                TEST_ASSERT_EQUAL_INT(5, out[k].id); /* never another ID */
+                TEST_ASSERT_EQUAL_INT(t.mirrored, out[k].mirrored);
+                TEST_ASSERT_FALSE(sim_corner_order_wrong(out[k].corners, t.px, NULL));
+                read += out[k].measured && t.visible;
+            }
+        }
+    }
+    printf("far passes: %d frames with the tag in view, whole-frame reads %d, tracker reads %d\n",
+           visible, full_read, read);
+    TEST_ASSERT_TRUE(read >= full_read + 10);
+    free(img);
+    free(fws);
+}
+
 static void test_identical_input_identical_output(void)
 {
     static actag_tracker a, b;
@@ -1819,6 +1905,7 @@ int main(void)
         return 1;
     UNITY_BEGIN();
     RUN_TEST(test_a_pass_is_tracked_without_switches);
+    RUN_TEST(test_far_tags_are_read_with_a_median_of_their_cells);
     RUN_TEST(test_identical_input_identical_output);
     RUN_TEST(test_track_ends_when_the_tag_leaves_and_ids_never_switch);
     RUN_TEST(test_a_track_of_one_reading_is_not_reported_coasting);
