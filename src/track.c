@@ -330,13 +330,6 @@ static void t_add_stats(actag_track_stats *st, const actag_stats *ds)
     st->searched += ds->searched;
 }
 
-/* The tracked tag read where it is predicted: the ROI median-filtered and
- * the grid-fitting decoder started on the predicted corners, with the
- * pipeline's trust rules (likelihood match, template check, margin,
- * structure budget). Only the track's own ID and handedness count. On
- * success t->det[0] holds the reading (frame coordinates, fitted-grid
- * corners) and 1 is returned; 0 means "run the ROI detector". 8-bit frames
- * with the fit decoder only. */
 /* The parameters a track's window is read with: p's, but a median radius of
  * at most half the track's predicted cell width (pixels: the cell's least
  * width, its area over its longer side; at least 1, never above p's). The
@@ -365,6 +358,13 @@ static void t_window_params(const actag_track *k, const actag_params *p, actag_p
     out->tuning.median_radius = r < r0 ? r : r0;
 }
 
+/* The tracked tag read where it is predicted: the ROI median-filtered and
+ * the grid-fitting decoder started on the predicted corners, with the
+ * pipeline's trust rules (likelihood match, template check, margin,
+ * structure budget). Only the track's own ID and handedness count. On
+ * success t->det[0] holds the reading (frame coordinates, fitted-grid
+ * corners) and 1 is returned; 0 means "run the ROI detector". 8-bit frames
+ * with the fit decoder only. */
 static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *frame,
                     const actag_sonar_geometry *g, const actag_params *p, void *ws,
                     actag_track_stats *st)
@@ -446,6 +446,14 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     if ((dr.mirrored ^ flip) != k->mirrored || dr.ring_black < p->tuning.min_structure ||
         dr.interior_white < p->tuning.min_structure || misses + dr.hamming > T_VERIFY_BUDGET(limit))
         return 0;
+    /* A verify refines the prediction: its grid may move, but in one ping the
+     * tag's image keeps its shape to a few pixels. A grid whose corners,
+     * about their centre, moved by more than T_VERIFY_SHAPE of the predicted
+     * diagonal was sheared onto other structure (2026-12-05: a right ID at
+     * hamming 2 with two corners 35 px off, one diagonal; a corner-order
+     * error), not the tag read. */
+    if (!(t_shape_change(q, dr.fit_corners) <= T_VERIFY_SHAPE * t_diag(q))) /* NaN too */
+        return 0;
     /* But another tag where the track is predicted (a neighbour the
      * prediction drifted onto, a tag put in its place) can read as the
      * track's code when that code is the only hypothesis: its template
@@ -454,14 +462,6 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
      * 20). A reading with corrected bits is therefore read again from the
      * prediction against the whole family, in the track's handedness,
      * under the pipeline's rules: a reading of another ID there refuses it. */
-    /* A verify refines the prediction: its grid may move, but in one ping the
-     * tag's image keeps its shape to a few pixels. A grid whose corners,
-     * about their centre, moved by more than T_VERIFY_SHAPE of the predicted
-     * diagonal was sheared onto other structure (2026-12-05: a right ID at
-     * hamming 2 with two corners 35 px off, one diagonal; a corner-order
-     * error), not the tag read. */
-    if (t_shape_change(q, dr.fit_corners) > T_VERIFY_SHAPE * t_diag(q))
-        return 0;
     if (dr.hamming > 0) {
         actag_decode_result da;
         if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &fa, &da) == ACTAG_OK &&
@@ -835,11 +835,15 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
                  * prediction is a tag that moved otherwise than foreseen,
                  * and a filtered place would lag it by (1 - alpha) of
                  * that: the reading's corners are taken as they are */
-                const float a = k->innovation > T_MANOEUVRE * t_diag(d->corners) ? 1.0f : alpha;
+                const int as_read = !(k->innovation <= T_MANOEUVRE * t_diag(d->corners));
                 for (c = 0; c < 4; c++) {
                     float rx = d->corners[c].x - pred[c].x, ry = d->corners[c].y - pred[c].y;
-                    k->corners[c].x = pred[c].x + a * rx;
-                    k->corners[c].y = pred[c].y + a * ry;
+                    if (as_read) {
+                        k->corners[c] = d->corners[c];
+                    } else {
+                        k->corners[c].x = pred[c].x + alpha * rx;
+                        k->corners[c].y = pred[c].y + alpha * ry;
+                    }
                     k->velocity[c].x += beta * rx;
                     k->velocity[c].y += beta * ry;
                 }

@@ -105,7 +105,10 @@
  *   Memory: actag_tracker is a caller-owned struct of fixed size (about
  *   6 KB with the defaults of ACTAG_TRACK_MAX and ACTAG_TRACK_ROI_MAX_COLS),
  *   no heap, no static state; the workspace of one whole-frame
- *   actag_detect() call serves every step. The same frames and parameters
+ *   actag_detect() call serves every step. Stack: actag_tracker_update's
+ *   own frame is under 1 KB (912 bytes on x86-64 -O2: two actag_params
+ *   copies for a track's window) beside that of the actag_detect() or
+ *   decoder call it makes. The same frames and parameters
  *   give the same output on every platform. 16-bit frames: actag_detect()
  *   scales each view by its own maximum, so an ROI's 8-bit image can differ
  *   slightly from the whole frame's; step 1 runs on 8-bit frames with the

@@ -86,7 +86,7 @@ class Track(SlotRecord):
     def to_dict(self):
         """Plain dict (JSON-ready) with the keys ``actag_detect --track --json``
         prints per track (track, id, mirrored, measured, hits, missed,
-        decision_margin, corners) and confirmed, age, velocity_xy, innovation."""
+        innovation, decision_margin, corners) and confirmed, age, velocity_xy."""
         return {
             "track": self.track_id,
             "id": self.id,
