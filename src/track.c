@@ -898,11 +898,8 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
         if (i < t->ntracks) {
             /* where it is now, no velocity: the old one led elsewhere */
             k = &t->tracks[i];
-            {
-                actag_point pred[4];
-                t_predict(k, pred);
-                k->innovation = t_innovation(pred, t->pool[j].corners);
-            }
+            /* step 4 put its corners at this frame's prediction */
+            k->innovation = t_innovation(k->corners, t->pool[j].corners);
             memcpy(k->corners, t->pool[j].corners, sizeof k->corners);
             memset(k->velocity, 0, sizeof k->velocity);
             k->missed = 0;
