@@ -1302,6 +1302,60 @@ static void test_a_tag_that_jumps_keeps_one_track(void)
     free(empty);
 }
 
+/* A moving tag that jumps beyond the gate re-acquires its track; the
+ * reported innovation is the distance from this frame's prediction (the
+ * track's corners plus one velocity), not from a frame further on (the
+ * first version measured it after step 4 had already moved the corners to
+ * the prediction: half a velocity off). */
+static void test_a_re_acquired_track_reports_its_innovation_from_this_frame(void)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    actag_point pred[4];
+    uint8_t *empty = render_empty(), *img;
+    const int step = 6; /* rows a frame, down the range */
+    float expect = 0.0f;
+    int i, c, n = 0;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < tp.full_every; i++) {
+        img = shifted(frames[STILL], step * i, empty);
+        n = feed(&tr, img, &p, out, &st);
+        free(img);
+    }
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    TEST_ASSERT_TRUE(out[0].velocity[0].y > 0.5f * (float)step); /* it has a velocity */
+    for (c = 0; c < 4; c++) { /* this frame's prediction */
+        pred[c].x = tr.tracks[0].corners[c].x + tr.tracks[0].velocity[c].x;
+        pred[c].y = tr.tracks[0].corners[c].y + tr.tracks[0].velocity[c].y;
+    }
+    /* the whole frame is searched in this frame (full_every): the reading
+     * beyond the gate re-acquires the track */
+    img = shifted(frames[STILL], step * (tp.full_every - 1) + (int)(1.5f * track_diag(&out[0])),
+                  empty);
+    n = feed(&tr, img, &p, out, &st);
+    free(img);
+    TEST_ASSERT_EQUAL_INT(1, st.full_frame);
+    TEST_ASSERT_EQUAL_INT(0, st.started);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    for (c = 0; c < 4; c++) {
+        float d = hypotf(out[0].last.corners[c].x - pred[c].x,
+                         out[0].last.corners[c].y - pred[c].y);
+        expect = d > expect ? d : expect;
+        TEST_ASSERT_EQUAL_FLOAT(0.0f, out[0].velocity[c].x); /* re-acquired: at rest */
+    }
+    printf("re-acquired: innovation %.3f px, from this frame's prediction %.3f px\n",
+           (double)out[0].innovation, (double)expect);
+    TEST_ASSERT_FLOAT_WITHIN(0.01f, expect, out[0].innovation);
+    free(empty);
+}
+
 /* Smoothing averages the corners' noise; it must not pull a reading of a
  * tag that moved otherwise than foreseen back toward the prediction
  * (2026-12-05: on simulated fast passes, reports 13 px behind a right
@@ -1925,6 +1979,7 @@ int main(void)
     RUN_TEST(test_a_track_of_one_reading_takes_no_other_tracks_tag);
     RUN_TEST(test_a_tag_that_jumps_keeps_one_track);
     RUN_TEST(test_a_tag_that_moves_unforeseen_is_reported_where_read);
+    RUN_TEST(test_a_re_acquired_track_reports_its_innovation_from_this_frame);
     RUN_TEST(test_the_gate_widens_while_a_track_coasts);
     RUN_TEST(test_a_new_sonar_setting_keeps_the_tracks);
     RUN_TEST(test_an_ulp_of_geometry_changes_nothing);
