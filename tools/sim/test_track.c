@@ -31,7 +31,10 @@ static sim_truth truth[NSEQ];
 static void *ws;
 static size_t wss;
 
-static int render_pass(uint32_t seed, int id, int n, uint8_t **out, sim_truth *tr)
+/* n frames of a pass of sonar s (views v) past tag id, malloc'd into out
+ * (each s->rows x s->cols bytes), their truths into tr (or NULL). */
+static int render_pass_of(const sim_sonar *s, const sim_view_params *v, uint32_t seed, int id,
+                          int n, uint8_t **out, sim_truth *tr)
 {
     int i;
     char err[256];
@@ -42,28 +45,40 @@ static int render_pass(uint32_t seed, int id, int n, uint8_t **out, sim_truth *t
     tag.tag_size = S;
     for (i = 0; i < n; i++) {
         sim_scene sc;
-        out[i] = (uint8_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols);
+        out[i] = (uint8_t *)malloc((size_t)s->rows * (size_t)s->cols);
         if (!out[i])
             return -1;
-        sim_sequence_view(&sonar, &view, seed, i, n, &tag, &sc);
-        if (sim_render(&sonar, &sc, &app, sim_frame_seed(seed, (uint32_t)i), out[i], NULL,
-                       sonar.cols, err) != 0)
+        sim_sequence_view(s, v, seed, i, n, &tag, &sc);
+        if (sim_render(s, &sc, &app, sim_frame_seed(seed, (uint32_t)i), out[i], NULL, s->cols,
+                       err) != 0)
             return -1;
         if (tr)
-            sim_truth_of(&sonar, &tag, &tr[i]);
+            sim_truth_of(s, &tag, &tr[i]);
     }
     return 0;
 }
 
-static actag_frame frame_of(const uint8_t *px)
+/* The same on the pool sonar of this file's passes. */
+static int render_pass(uint32_t seed, int id, int n, uint8_t **out, sim_truth *tr)
+{
+    return render_pass_of(&sonar, &view, seed, id, n, out, tr);
+}
+
+/* An 8-bit frame of sonar s's size at px. */
+static actag_frame frame_of_sonar(const sim_sonar *s, const uint8_t *px)
 {
     actag_frame f;
     f.data = px;
-    f.rows = sonar.rows;
-    f.cols = sonar.cols;
-    f.stride = sonar.cols;
+    f.rows = s->rows;
+    f.cols = s->cols;
+    f.stride = s->cols;
     f.depth = 8;
     return f;
+}
+
+static actag_frame frame_of(const uint8_t *px)
+{
+    return frame_of_sonar(&sonar, px);
 }
 
 static void params_of(actag_params *p)
@@ -147,12 +162,12 @@ static void test_far_tags_are_read_with_a_median_of_their_cells(void)
     actag_track out[ACTAG_TRACK_MAX];
     actag_track_stats st;
     actag_detection det[8];
-    uint8_t *img;
+    uint8_t *pf[30];
+    sim_truth tf[30];
     void *fws;
     size_t fwss;
     int pass, i, k, n, nd, read = 0, full_read = 0, visible = 0;
     const int len = 30;
-    char err[256];
     memset(&far, 0, sizeof far);
     far.rows = 1024;
     far.cols = 512;
@@ -165,9 +180,7 @@ static void test_far_tags_are_read_with_a_median_of_their_cells(void)
     fv.max_distance = 4.5f;
     fwss = actag_workspace_size(far.rows, far.cols);
     fws = malloc(fwss);
-    img = (uint8_t *)malloc((size_t)far.rows * (size_t)far.cols);
     TEST_ASSERT_NOT_NULL(fws);
-    TEST_ASSERT_NOT_NULL(img);
     actag_params_default(&p);
     p.family = &fam;
     p.tag_size = S;
@@ -175,24 +188,11 @@ static void test_far_tags_are_read_with_a_median_of_their_cells(void)
     for (pass = 0; pass < 3; pass++) {
         const uint32_t seed = 7001u + (uint32_t)pass;
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+        memset(pf, 0, sizeof pf);
+        TEST_ASSERT_EQUAL_INT(0, render_pass_of(&far, &fv, seed, 5, len, pf, tf));
         for (i = 0; i < len; i++) {
-            sim_tag tag;
-            sim_scene sc;
-            sim_truth t;
-            actag_frame f;
-            memset(&tag, 0, sizeof tag);
-            tag.family = fam;
-            tag.id = 5;
-            tag.tag_size = S;
-            sim_sequence_view(&far, &fv, seed, i, len, &tag, &sc);
-            TEST_ASSERT_EQUAL_INT(0, sim_render(&far, &sc, &app, sim_frame_seed(seed, (uint32_t)i),
-                                                img, NULL, far.cols, err));
-            sim_truth_of(&far, &tag, &t);
-            f.data = img;
-            f.rows = far.rows;
-            f.cols = far.cols;
-            f.stride = far.cols;
-            f.depth = 8;
+            const sim_truth t = tf[i];
+            actag_frame f = frame_of_sonar(&far, pf[i]);
             n = actag_tracker_update(&tr, &f, &far.geo, &p, NULL, fws, fwss, out,
                                      ACTAG_TRACK_MAX, &st);
             nd = actag_detect(&f, &far.geo, &p, fws, fwss, det, 8, NULL);
@@ -208,12 +208,12 @@ static void test_far_tags_are_read_with_a_median_of_their_cells(void)
                 TEST_ASSERT_FALSE(sim_corner_order_wrong(out[k].corners, t.px, NULL));
                 read += out[k].measured && t.visible;
             }
+            free(pf[i]);
         }
     }
     printf("far passes: %d frames with the tag in view, whole-frame reads %d, tracker reads %d\n",
            visible, full_read, read);
     TEST_ASSERT_TRUE(read >= full_read + 10);
-    free(img);
     free(fws);
 }
 
