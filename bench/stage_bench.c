@@ -53,7 +53,11 @@ int actag_adaptive_threshold_bitmap_portable(const uint8_t *src, int rows, int c
 int actag_median_filter_inplace_portable(void *frame, int depth, int rows, int cols, int stride,
                                          uint32_t max16, int radius, void *scratch,
                                          size_t scratch_size);
+#define actag__median_filter_bands actag__median_filter_bands_portable
+#define actag__median_filter_inplace_bands actag__median_filter_inplace_bands_portable
 #include "../src/median.c"
+#undef actag__median_filter_bands
+#undef actag__median_filter_inplace_bands
 #undef actag_median_filter
 #undef actag_median_filter16
 #undef actag__median_filter16_max

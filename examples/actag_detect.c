@@ -75,7 +75,10 @@ static void usage(FILE *f)
             "                         a dense family: docs/families.md)\n"
             "  --handedness any|unmirrored|mirrored  the views the sonar's mounting can show\n"
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
-            "  --median-radius N      (default 4)   --threshold-radius N (default 8)\n"
+            "  --median-radius N      (default 4): the largest; --median-per-range 0|1 (default 1):\n"
+            "                         at each range at most half a tag cell's width in beams\n"
+            "                         (far tags keep their cells); 0: N everywhere\n"
+            "  --threshold-radius N   (default 8)\n"
             "  --threshold-offset N   (default 1)   --inlier-ratio F (default 0.8)\n"
             "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
             "  --min-structure F      least fraction of ring / interior cells read right, 0..1\n"
@@ -150,6 +153,7 @@ static const hostio_optname option_names[] = {
     {"tuning.fit.many_corrections_margin", "--many-corrections-margin", 0},
     {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
     {"tuning.median_radius", "--median-radius", 0},
+    {"tuning.median_per_range", "--median-per-range", 0},
     {"tuning.threshold_radius", "--threshold-radius", 0},
     {"tuning.threshold_offset", "--threshold-offset", 0},
     {"tuning.quad.inlier_ratio", "--inlier-ratio", 0},
@@ -339,6 +343,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--median-radius") == 0) {
             NEEDV();
             o->params.tuning.median_radius = anyint(a, v);
+        } else if (strcmp(a, "--median-per-range") == 0) {
+            NEEDV();
+            o->params.tuning.median_per_range = anyint(a, v);
         } else if (strcmp(a, "--threshold-radius") == 0) {
             NEEDV();
             o->params.tuning.threshold_radius = anyint(a, v);

@@ -7,6 +7,7 @@
 
 #include "decode_fit_grids.h"
 #include "frame16.h"
+#include "median_bands.h"
 #include "refine_frame.h"
 
 #include <string.h>
@@ -110,6 +111,7 @@ void actag_tuning_default(actag_tuning *t)
         return;
     memset(t, 0, sizeof *t);
     t->median_radius = 4;
+    t->median_per_range = 1;
     t->threshold_radius = 8;
     t->threshold_offset = 1;
     t->size_tolerance = 0.2f;
@@ -804,17 +806,17 @@ static void resolve_params(const actag_params *params, int flip_mirror, actag_pa
  * a time inside the median's scratch, by the frame's maximum, *max16, which
  * the corner refinement uses again; 0 for 8-bit frames). B is not written
  * again by any later stage, so several parameter sets can share it. */
-static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, int cols,
-                        int median_radius, uint32_t *max16)
+static int filter_frame(const actag_frame *frame, const actag_sonar_geometry *geometry,
+                        const ws_layout *w, int rows, int cols, const actag_params *p,
+                        uint32_t *max16)
 {
+    actag__median_bands mb;
+    actag__median_bands_of(geometry, rows, cols, p, &mb);
     *max16 = 0u;
-    if (frame->depth == 16) {
+    if (frame->depth == 16)
         *max16 = frame16_max((const uint8_t *)frame->data, rows, cols, (size_t)frame->stride);
-        return actag__median_filter16_max(frame->data, *max16, rows, cols, frame->stride, w->b,
-                                          cols, median_radius, w->a, w->u_size);
-    }
-    return actag_median_filter((const uint8_t *)frame->data, rows, cols, frame->stride, w->b,
-                               cols, median_radius, w->a, w->u_size);
+    return actag__median_filter_bands(frame->data, frame->depth, *max16, rows, cols,
+                                      frame->stride, w->b, cols, &mb, w->a, w->u_size);
 }
 
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
@@ -868,7 +870,7 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
     if (rc != ACTAG_OK)
         return rc;
     ws_split(workspace, frame->rows, frame->cols, &w);
-    rc = filter_frame(frame, &w, frame->rows, frame->cols, pe.tuning.median_radius, &max16);
+    rc = filter_frame(frame, geometry, &w, frame->rows, frame->cols, &pe, &max16);
     if (rc != ACTAG_OK)
         return rc;
     tr.fn = trace;
@@ -883,6 +885,7 @@ int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *g
 {
     actag_params pe;
     actag_frame fb;
+    actag__median_bands mb;
     ws_layout w;
     uint8_t *b;
     int rc, flip_mirror;
@@ -895,8 +898,9 @@ int actag_detect_inplace(const actag_frame *frame, const actag_sonar_geometry *g
      * filtered frame B goes there (stride cols) */
     b = (uint8_t *)(uintptr_t)frame->data;
     ws_split_inplace(workspace, b, frame->rows, frame->cols, &w);
-    rc = actag_median_filter_inplace(b, frame->depth, frame->rows, frame->cols, frame->stride,
-                                     0u, pe.tuning.median_radius, w.a, w.u_size);
+    actag__median_bands_of(geometry, frame->rows, frame->cols, &pe, &mb);
+    rc = actag__median_filter_inplace_bands(b, frame->depth, frame->rows, frame->cols,
+                                            frame->stride, 0u, &mb, w.a, w.u_size);
     if (rc != ACTAG_OK)
         return rc;
     /* the raw frame is gone: the corners are refined on B */
@@ -1306,6 +1310,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
                        int *counts)
 {
     ws_layout w;
+    actag__median_bands mb0, mb;
     uint32_t max16;
     int rc, rows, cols, flip_mirror, i;
     if (params == NULL || workspace == NULL || counts == NULL ||
@@ -1317,18 +1322,22 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
         rc = actag_check(frame, geometry, &params[i], workspace_size, max_out_each, NULL);
         if (rc != ACTAG_OK)
             return rc;
-        if (params[i].tuning.median_radius != params[0].tuning.median_radius)
-            return ACTAG_ERR_PARAM; /* one filtered frame serves them all */
     }
     rows = frame->rows;
     cols = frame->cols;
     ws_split(workspace, rows, cols, &w);
-    rc = filter_frame(frame, &w, rows, cols, params[0].tuning.median_radius, &max16);
-    if (rc != ACTAG_OK)
-        return rc;
     flip_mirror = actag_geometry_mirrors(geometry, cols);
     for (i = 0; i < nparams; i++) {
         actag_params pe;
+        /* one filtered frame serves every set with the same median radius
+         * in every band; a set that needs other radii filters it again */
+        actag__median_bands_of(geometry, rows, cols, &params[i], &mb);
+        if (i == 0 || !actag__median_bands_equal(&mb, &mb0)) {
+            rc = filter_frame(frame, geometry, &w, rows, cols, &params[i], &max16);
+            if (rc != ACTAG_OK)
+                return rc;
+            mb0 = mb;
+        }
         resolve_params(&params[i], flip_mirror, &pe);
         rc = detect_filtered(frame, geometry, &pe, &w, max16, rows, cols, flip_mirror,
                              out ? out + (size_t)i * (size_t)max_out_each : NULL, max_out_each,

@@ -49,6 +49,7 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 #include "frame16.h"
+#include "median_bands.h"
 
 #include <string.h>
 
@@ -2001,23 +2002,18 @@ int actag__median_filter16_max(const void *src, uint32_t max16, int rows, int co
  * once, as by actag_median_filter; the extra work is copying each source
  * row once, and the 2R halo rows once more per band.
  * ---------------------------------------------------------------------- */
-int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int stride,
-                                uint32_t max16, int radius, void *scratch, size_t scratch_size)
+/* The in-place filter with bands (b checked: radii 0..7). */
+static int median_inplace_core(void *frame, int depth, int rows, int cols, int stride,
+                               uint32_t max16, const actag__median_bands *b, void *scratch,
+                               size_t scratch_size)
 {
     uint8_t *buf = (uint8_t *)frame, *tmp = (uint8_t *)scratch;
     size_t ucols = (size_t)cols, cap;
     rowsrc conv, rs;
-    int R = radius, H, y0, y1, t0 = 0, t1 = 0;
-    if (frame == NULL || scratch == NULL)
-        return ACTAG_ERR_NULL;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
-        return ACTAG_ERR_SIZE;
-    if ((depth != 8 && depth != 16) || radius < 0 || radius > ACTAG_MEDIAN_INPLACE_MAX_RADIUS)
-        return ACTAG_ERR_PARAM;
-    if (depth == 16 && max16 > 65535u) /* no 16-bit sample is larger */
-        return ACTAG_ERR_PARAM;
-    if (scratch_size < ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols))
-        return ACTAG_ERR_WORKSPACE;
+    int R = 0, H, y0, y1, t0 = 0, t1 = 0, i;
+    for (i = 0; i < b->n; i++)
+        if (b->radius[i] > R)
+            R = b->radius[i];
     memset(&conv, 0, sizeof conv);
     if (depth == 16) {
         if (max16 == 0u)
@@ -2026,8 +2022,9 @@ int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int 
         conv.c0 = 0;
         conv.c1 = ucols;
     }
-    /* band height: what the copy holds besides the 2R halo rows, in whole
-     * blocks (30 * cols bytes hold at least one 16-row block at R = 7) */
+    /* band height: what the copy holds besides the 2R halo rows (R the
+     * largest radius), in whole blocks (30 * cols bytes hold at least one
+     * 16-row block at R = 7) */
     cap = scratch_size / ucols;
     if (cap > (size_t)rows + 2u * (size_t)R)
         cap = (size_t)rows + 2u * (size_t)R;
@@ -2040,7 +2037,7 @@ int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int 
     rs.cols = ucols;
     rs.c1 = ucols;
     for (y0 = 0; y0 < rows; y0 = y1) {
-        int s0 = y0 - R > 0 ? y0 - R : 0, s1, r;
+        int s0 = y0 - R > 0 ? y0 - R : 0, s1, r, ya;
         y1 = rows - y0 > H ? y0 + H : rows;
         s1 = rows - y1 > R ? y1 + R : rows;
         /* rows s0 .. t1-1 are in the copy already (rows t0 .. t1-1) */
@@ -2058,11 +2055,143 @@ int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int 
         }
         t0 = s0;
         t1 = s1;
-        if (R == 0)
-            memcpy(buf + (size_t)y0 * ucols, tmp, (size_t)(y1 - y0) * ucols);
-        else
-            MEDIAN_BLOCK(&rs, s1 - s0, cols, buf + (size_t)s0 * ucols, ucols, R, y0 - s0,
-                         y1 - s0);
+        /* the output rows of each radius band: the copy holds the R >= its
+         * radius rows around them (or the frame's edge is the copy's) */
+        for (i = 0, ya = y0; ya < y1; i++) {
+            int yb, rb;
+            if (b->end[i] <= ya)
+                continue;
+            yb = b->end[i] < y1 ? b->end[i] : y1;
+            rb = b->radius[i];
+            if (rb == 0)
+                memcpy(buf + (size_t)ya * ucols, tmp + (size_t)(ya - s0) * ucols,
+                       (size_t)(yb - ya) * ucols);
+            else
+                MEDIAN_BLOCK(&rs, s1 - s0, cols, buf + (size_t)s0 * ucols, ucols, rb, ya - s0,
+                             yb - s0);
+            ya = yb;
+        }
+    }
+    return ACTAG_OK;
+}
+
+/* Are b's bands well formed (rows covered in order, radii 0..max_r)? */
+static int bands_ok(const actag__median_bands *b, int rows, int max_r)
+{
+    int i, prev = 0;
+    if (b->n < 1 || b->n > ACTAG__MEDIAN_BANDS_MAX || b->end[b->n - 1] != rows)
+        return 0;
+    for (i = 0; i < b->n; i++) {
+        if (b->end[i] <= prev || b->radius[i] < 0 || b->radius[i] > max_r)
+            return 0;
+        prev = b->end[i];
+    }
+    return 1;
+}
+
+static int inplace_check(const void *frame, int depth, int rows, int cols, int stride,
+                         uint32_t max16, const void *scratch, size_t scratch_size)
+{
+    if (frame == NULL || scratch == NULL)
+        return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
+        return ACTAG_ERR_SIZE;
+    if (depth != 8 && depth != 16)
+        return ACTAG_ERR_PARAM;
+    if (depth == 16 && max16 > 65535u) /* no 16-bit sample is larger */
+        return ACTAG_ERR_PARAM;
+    if (scratch_size < ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols))
+        return ACTAG_ERR_WORKSPACE;
+    return ACTAG_OK;
+}
+
+int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int stride,
+                                uint32_t max16, int radius, void *scratch, size_t scratch_size)
+{
+    actag__median_bands b;
+    int rc;
+    if (frame == NULL || scratch == NULL)
+        return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
+        return ACTAG_ERR_SIZE;
+    if (radius < 0 || radius > ACTAG_MEDIAN_INPLACE_MAX_RADIUS)
+        return ACTAG_ERR_PARAM;
+    rc = inplace_check(frame, depth, rows, cols, stride, max16, scratch, scratch_size);
+    if (rc != ACTAG_OK)
+        return rc;
+    b.n = 1;
+    b.end[0] = rows;
+    b.radius[0] = radius;
+    return median_inplace_core(frame, depth, rows, cols, stride, max16, &b, scratch, scratch_size);
+}
+
+int actag__median_filter_inplace_bands(void *frame, int depth, int rows, int cols, int stride,
+                                       uint32_t max16, const actag__median_bands *b,
+                                       void *scratch, size_t scratch_size)
+{
+    int rc = inplace_check(frame, depth, rows, cols, stride, max16, scratch, scratch_size);
+    if (rc != ACTAG_OK)
+        return rc;
+    if (b == NULL)
+        return ACTAG_ERR_NULL;
+    if (!bands_ok(b, rows, ACTAG_MEDIAN_INPLACE_MAX_RADIUS))
+        return ACTAG_ERR_PARAM;
+    return median_inplace_core(frame, depth, rows, cols, stride, max16, b, scratch, scratch_size);
+}
+
+int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int rows, int cols,
+                               int src_stride, uint8_t *dst, int dst_stride,
+                               const actag__median_bands *b, void *scratch, size_t scratch_size)
+{
+    rowsrc rs;
+    size_t ucols = (size_t)cols, nk;
+    int rc, i, y0, rmax = 0;
+    if (b == NULL)
+        return ACTAG_ERR_NULL;
+    if (depth != 8 && depth != 16)
+        return ACTAG_ERR_PARAM;
+    if (b->n == 1 && b->end[0] == rows) { /* the plain filter, any radius */
+        if (depth == 8)
+            return actag_median_filter((const uint8_t *)src, rows, cols, src_stride, dst,
+                                       dst_stride, b->radius[0], scratch, scratch_size);
+        return actag__median_filter16_max(src, max16, rows, cols, src_stride, dst, dst_stride,
+                                          b->radius[0], scratch, scratch_size);
+    }
+    for (i = 0; i < b->n && i < ACTAG__MEDIAN_BANDS_MAX; i++)
+        if (b->radius[i] > rmax)
+            rmax = b->radius[i];
+    rc = median_check(src, rows, cols, src_stride, dst, dst_stride, rmax, scratch, scratch_size);
+    if (rc != ACTAG_OK)
+        return rc;
+    if (!bands_ok(b, rows, MEDIAN_BLOCK_MAX_R < ACTAG_MEDIAN_INPLACE_MAX_RADIUS
+                               ? MEDIAN_BLOCK_MAX_R : ACTAG_MEDIAN_INPLACE_MAX_RADIUS))
+        return ACTAG_ERR_PARAM;
+    memset(&rs, 0, sizeof rs);
+    nk = scratch_size / ucols;
+    if (depth == 8) {
+        rs.src8 = (const uint8_t *)src;
+        rs.stride = (size_t)src_stride;
+    } else {
+        /* the row-block paths' ring: 2R + block rows */
+        if (nk < (size_t)(2 * ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 16))
+            return ACTAG_ERR_WORKSPACE;
+        if (max16 == 0u)
+            max16 = frame16_max((const uint8_t *)src, rows, cols, (size_t)src_stride);
+        rowsrc_init16(&rs, (const uint8_t *)src, (size_t)src_stride, max16);
+    }
+    rs.cols = ucols;
+    rs.c0 = 0;
+    rs.c1 = ucols;
+    rs.ring = (uint8_t *)scratch;
+    rs.k = nk < RING_MAX ? (int)nk : RING_MAX;
+    for (i = 0, y0 = 0; i < b->n; y0 = b->end[i++]) {
+        if (b->radius[i] == 0) {
+            int y;
+            for (y = y0; y < b->end[i]; y++)
+                memcpy(dst + (size_t)y * (size_t)dst_stride, get_row(&rs, y, -1), ucols);
+        } else {
+            MEDIAN_BLOCK(&rs, rows, cols, dst, (size_t)dst_stride, b->radius[i], y0, b->end[i]);
+        }
     }
     return ACTAG_OK;
 }

@@ -1,6 +1,7 @@
 /* Tag tracking across frames: ROI search, confirmation, smoothing (see actag/track.h). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/track.h"
+#include "median_bands.h"
 
 #include <float.h>
 #include <limits.h>
@@ -342,7 +343,6 @@ static void t_window_params(const actag_track *k, const actag_params *p, actag_p
     actag_point q[4];
     const float s = (float)(p->family->bits / 4 - 3); /* cells across the white square */
     float ax, ay, bx, by, cross, la, lb, w;
-    int r0 = p->tuning.median_radius, r;
     *out = *p;
     t_predict(k, q);
     ax = (q[1].x - q[0].x) / s;
@@ -353,9 +353,9 @@ static void t_window_params(const actag_track *k, const actag_params *p, actag_p
     la = ax * ax + ay * ay;
     lb = bx * bx + by * by;
     w = (cross < 0.0f ? -cross : cross) / actag_sqrtf(la > lb ? la : lb);
-    /* NaN and tiny cells: 1; wide cells: p's radius (no cast of a huge w) */
-    r = !(w >= 2.0f) ? 1 : w >= 2.0f * (float)r0 + 2.0f ? r0 : (int)(0.5f * w);
-    out->tuning.median_radius = r < r0 ? r : r0;
+    /* half the cell, 1..p's radius (the whole frame's rule per range band,
+     * median_bands.h, with the cell as predicted) */
+    out->tuning.median_radius = actag__median_radius_for_cell(w, p->tuning.median_radius);
 }
 
 /* The tracked tag read where it is predicted: the ROI median-filtered and

@@ -151,6 +151,9 @@ static int tuning_check(const actag_tuning *t, int lv, actag_error_detail *d)
     if (t->median_radius < 0 || t->median_radius > ACTAG_MEDIAN_MAX_RADIUS)
         return fail(d, ACTAG_ERR_PARAM, TN(lv, "median_radius"), t->median_radius,
                     "must be an integer from 0 to " STR(ACTAG_MEDIAN_MAX_RADIUS) " (pixels)");
+    if (t->median_per_range != 0 && t->median_per_range != 1)
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "median_per_range"), t->median_per_range,
+                    "must be 0 or 1");
     if (t->threshold_radius < 0 || t->threshold_radius > ACTAG_MAX_THRESHOLD_RADIUS)
         return fail(d, ACTAG_ERR_PARAM, TN(lv, "threshold_radius"), t->threshold_radius,
                     "must be an integer from 0 to ACTAG_MAX_THRESHOLD_RADIUS ("

@@ -8,6 +8,7 @@
 #include "test_util.h"
 #include "filter_check.h"
 #include "../src/frame16.h" /* actag__median_filter16_max, the library's */
+#include "../src/median_bands.h" /* the radius bands, the library's */
 
 /* The portable (non-SIMD) code path, compiled into this test under another
  * name so that both paths are checked on any machine: without SSE2 on
@@ -30,7 +31,19 @@ int actag_median_filter_inplace_portable(void *frame, int depth, int rows, int c
                                          uint32_t max16, int radius, void *scratch,
                                          size_t scratch_size);
 #define actag_median_filter_inplace actag_median_filter_inplace_portable
+int actag__median_filter_bands_portable(const void *src, int depth, uint32_t max16, int rows,
+                                        int cols, int src_stride, uint8_t *dst, int dst_stride,
+                                        const actag__median_bands *b, void *scratch,
+                                        size_t scratch_size);
+int actag__median_filter_inplace_bands_portable(void *frame, int depth, int rows, int cols,
+                                                int stride, uint32_t max16,
+                                                const actag__median_bands *b, void *scratch,
+                                                size_t scratch_size);
+#define actag__median_filter_bands actag__median_filter_bands_portable
+#define actag__median_filter_inplace_bands actag__median_filter_inplace_bands_portable
 #include "../src/median.c"
+#undef actag__median_filter_bands
+#undef actag__median_filter_inplace_bands
 #undef actag_median_filter
 #undef actag_median_filter16
 #undef actag__median_filter16_max
@@ -797,6 +810,189 @@ static void test_inplace_errors(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_median_filter_inplace(img, 8, 8, 8, 8, 0, 1, scr, sizeof scr));
 }
 
+/* ------------------------------------------------------------ radius bands */
+
+typedef int (*bands_fn)(const void *, int, uint32_t, int, int, int, uint8_t *, int,
+                        const actag__median_bands *, void *, size_t);
+typedef int (*bands_inplace_fn)(void *, int, int, int, int, uint32_t,
+                                const actag__median_bands *, void *, size_t);
+static const bands_fn FB[2] = {actag__median_filter_bands, actag__median_filter_bands_portable};
+static const bands_inplace_fn FBI[2] = {actag__median_filter_inplace_bands,
+                                        actag__median_filter_inplace_bands_portable};
+
+/* Random bands over rows: 1..7 of them (never more than rows), radii 0..7 in
+ * any order (the library's rule makes them monotone; the filter must not
+ * depend on it). */
+static void random_bands(int rows, actag__median_bands *b)
+{
+    int i, n = rnd_range(1, rows < 7 ? rows : 7), prev = 0;
+    b->n = n;
+    for (i = 0; i < n; i++) {
+        /* leave at least one row for each band after this one */
+        int hi = rows - (n - 1 - i);
+        b->end[i] = i == n - 1 ? rows : rnd_range(prev + 1, hi);
+        b->radius[i] = rnd_range(0, ACTAG_MEDIAN_INPLACE_MAX_RADIUS);
+        prev = b->end[i];
+    }
+}
+
+/* The reference: each band's rows from the brute-force median of the whole
+ * frame at the band's radius. */
+static void brute_bands(const uint8_t *s8, int rows, int cols, const actag__median_bands *b,
+                        uint8_t *want)
+{
+    uint8_t *full = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    int i, y0 = 0;
+    TEST_ASSERT_NOT_NULL(full);
+    for (i = 0; i < b->n; y0 = b->end[i++]) {
+        brute_median(s8, rows, cols, cols, b->radius[i], full, cols);
+        memcpy(want + (size_t)y0 * (size_t)cols, full + (size_t)y0 * (size_t)cols,
+               (size_t)(b->end[i] - y0) * (size_t)cols);
+    }
+    free(full);
+}
+
+/* Both paths of the banded filter, out of place and in place, on a random
+ * frame of depth 8 or 16 (row stride cols + sextra), against brute_bands. */
+static void check_bands(int depth, int rows, int cols, const actag__median_bands *b, int sextra,
+                        size_t inplace_extra)
+{
+    int stride = cols + sextra, f, r, c;
+    size_t bps = depth == 16 ? 2u : 1u, n = (size_t)rows * (size_t)stride * bps;
+    size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
+    size_t iscr = ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols) + inplace_extra;
+    uint8_t *orig = (uint8_t *)malloc(n + 1u), *raw = (uint8_t *)malloc(n + 1u);
+    uint8_t *s8 = (uint8_t *)calloc((size_t)rows * (size_t)cols, 1);
+    uint8_t *want = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    uint8_t *out = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    uint8_t *scratch = (uint8_t *)malloc(scr > iscr ? scr : iscr);
+    uint32_t mx = 0;
+    char msg[200];
+    TEST_ASSERT_TRUE(orig && raw && s8 && want && out && scratch);
+    for (r = 0; r < rows; r++)
+        for (c = 0; c < stride; c++) {
+            size_t o = (size_t)r * (size_t)stride + (size_t)c;
+            if (depth == 8) {
+                orig[1 + o] = (uint8_t)((r / 3 + c / 4) % 3 == 0 ? 150 + (int)(rnd() % 100u)
+                                                                : (int)(rnd() % 60u));
+                if (c < cols)
+                    s8[(size_t)r * (size_t)cols + (size_t)c] = orig[1 + o];
+            } else {
+                uint16_t v = (uint16_t)(rnd() % 4096u);
+                if (c < cols && v > mx)
+                    mx = v;
+                memcpy(orig + 1 + 2u * o, &v, 2);
+            }
+        }
+    if (depth == 16)
+        for (r = 0; r < rows; r++)
+            for (c = 0; c < cols; c++) {
+                uint16_t v;
+                memcpy(&v, orig + 1 + 2u * ((size_t)r * (size_t)stride + (size_t)c), 2);
+                s8[(size_t)r * (size_t)cols + (size_t)c] =
+                    (uint8_t)(mx ? ((uint32_t)v * 255u + mx / 2u) / mx : 0u);
+            }
+    brute_bands(s8, rows, cols, b, want);
+    for (f = 0; f < 2; f++) {
+        snprintf(msg, sizeof msg, "bands %s: depth %d %dx%d stride %d, %d bands, first R=%d",
+                 FN_NAMES[f], depth, rows, cols, stride, b->n, b->radius[0]);
+        memset(out, 0xA5, (size_t)rows * (size_t)cols);
+        memset(scratch, 0x5A, scr);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FB[f](orig + 1, depth, 0u, rows, cols, stride, out,
+                                                      cols, b, scratch, scr),
+                                      msg);
+        TEST_ASSERT_EQUAL_UINT8_ARRAY_MESSAGE(want, out, (size_t)rows * (size_t)cols, msg);
+        memcpy(raw, orig, n + 1u);
+        memset(scratch, 0x5A, iscr);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FBI[f](raw + 1, depth, rows, cols, stride, 0u, b,
+                                                       scratch, iscr),
+                                      msg);
+        TEST_ASSERT_EQUAL_UINT8_ARRAY_MESSAGE(want, raw + 1, (size_t)rows * (size_t)cols, msg);
+    }
+    free(orig);
+    free(raw);
+    free(s8);
+    free(want);
+    free(out);
+    free(scratch);
+}
+
+static void test_bands_equal_brute_force(void)
+{
+    /* random bands, both depths, strides, in-place bands at the least
+     * scratch and with more; band edges inside and across row blocks */
+    int k, trials = TU_TRIALS(60, 15);
+    actag__median_bands b;
+    rng_state = 0xB4D5u;
+    for (k = 0; k < trials; k++) {
+        int rows = rnd_range(1, 90), cols = rnd_range(1, 40);
+        random_bands(rows, &b);
+        check_bands(k & 1 ? 16 : 8, rows, cols, &b, rnd_range(0, 3),
+                    k % 3 == 0 ? 0u : (size_t)rnd_range(1, 40 * cols));
+    }
+    /* the library's shape: radii falling with range, a frame of pool width */
+    b.n = 3;
+    b.end[0] = 200;
+    b.end[1] = 333;
+    b.end[2] = 530;
+    b.radius[0] = 2;
+    b.radius[1] = 3;
+    b.radius[2] = 4;
+    check_bands(8, 530, 64, &b, 0, 0);
+    check_bands(16, 530, 48, &b, 1, 0);
+    /* one band of one row each */
+    b.n = 3;
+    b.end[0] = 1;
+    b.end[1] = 2;
+    b.end[2] = 3;
+    b.radius[0] = 7;
+    b.radius[1] = 0;
+    b.radius[2] = 1;
+    check_bands(8, 3, 17, &b, 0, 0);
+}
+
+static void test_bands_errors(void)
+{
+    uint8_t img[64], before[64], out[64], scr[ACTAG_MEDIAN_SCRATCH_SIZE(8, 8)];
+    actag__median_bands b, bad;
+    int f, i;
+    for (i = 0; i < 64; i++)
+        img[i] = before[i] = (uint8_t)(i * 37);
+    b.n = 2;
+    b.end[0] = 3;
+    b.end[1] = 8;
+    b.radius[0] = 1;
+    b.radius[1] = 2;
+    for (f = 0; f < 2; f++) {
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, FB[f](img, 8, 0, 8, 8, 8, out, 8, NULL, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, FBI[f](img, 8, 8, 8, 8, 0, NULL, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 12, 0, 8, 8, 8, out, 8, &b, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, FB[f](img, 8, 0, 8, 8, 8, out, 8, &b, scr, sizeof scr - 1));
+        /* malformed: not ending at rows, not increasing, no band, too many,
+         * a radius beyond the row-block paths' */
+        bad = b;
+        bad.end[1] = 7;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, sizeof scr));
+        bad = b;
+        bad.end[0] = 8;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, sizeof scr));
+        bad = b;
+        bad.n = 0;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, sizeof scr));
+        bad.n = ACTAG__MEDIAN_BANDS_MAX + 1;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, sizeof scr));
+        bad = b;
+        bad.radius[1] = ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 1;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_UINT8_ARRAY(before, img, 64); /* untouched on error */
+    }
+}
+
 static void test_errors(void)
 {
     uint8_t src[6 * 7], dst[6 * 7], dst_before[6 * 7];
@@ -875,6 +1071,8 @@ int main(void)
     RUN_TEST(test_16bit_scaling_exact);
     RUN_TEST(test_inplace_equals_brute_force);
     RUN_TEST(test_inplace_errors);
+    RUN_TEST(test_bands_equal_brute_force);
+    RUN_TEST(test_bands_errors);
     RUN_TEST(test_errors);
     return UNITY_END();
 }

@@ -100,6 +100,8 @@ static const field_case param_cases[] = {
      {ACTAG_HANDEDNESS_ANY, ACTAG_HANDEDNESS_UNMIRRORED, ACTAG_HANDEDNESS_MIRRORED}, 3},
     {"tuning.median_radius", K_INT, P(tuning.median_radius), ACTAG_ERR_PARAM,
      {-1, ACTAG_MEDIAN_MAX_RADIUS + 1, 1000000}, 3, {0, 1, ACTAG_MEDIAN_MAX_RADIUS}, 3},
+    {"tuning.median_per_range", K_INT, P(tuning.median_per_range), ACTAG_ERR_PARAM,
+     {-1, 2, 1000000}, 3, {0, 1}, 2},
     {"tuning.threshold_radius", K_INT, P(tuning.threshold_radius), ACTAG_ERR_PARAM,
      {-1, ACTAG_MAX_THRESHOLD_RADIUS + 1}, 2, {0, ACTAG_MAX_THRESHOLD_RADIUS}, 2},
     {"tuning.threshold_offset", K_INT, P(tuning.threshold_offset), ACTAG_ERR_PARAM, {-256, 256},

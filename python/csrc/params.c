@@ -39,6 +39,7 @@ static const field fields[] = {
     F("min_margin", K_FLOAT, min_margin, 0),
     F("handedness", K_INT, handedness, 0),
     F("median_radius", K_INT, tuning.median_radius, 1),
+    F("median_per_range", K_INT, tuning.median_per_range, 1),
     F("threshold_radius", K_INT, tuning.threshold_radius, 1),
     F("threshold_offset", K_INT, tuning.threshold_offset, 1),
     F("size_tolerance", K_FLOAT, tuning.size_tolerance, 1),

@@ -106,7 +106,8 @@ def test_defaults_are_the_c_defaults():
     p = pyactag.default_params()
     # actag_params_default() (include/actag/actag.h, src/detect.c)
     expected = dict(tag_size=0.130628571, max_bit_corrections=None, decode_mode="fit", seed=1,
-                    median_radius=4, threshold_radius=8, threshold_offset=1, size_tolerance=0.2,
+                    median_radius=4, median_per_range=1, threshold_radius=8, threshold_offset=1,
+                    size_tolerance=0.2,
                     min_area_fraction=0.175, max_area_fraction=1.0, quad_max_iterations=100,
                     quad_sample_fraction=0.1, quad_inlier_ratio=0.8, quad_inlier_distance=2.5,
                     quad_min_parallel_cos=0.9, quad_min_inlier_ratio=0.6, min_structure=0.0,

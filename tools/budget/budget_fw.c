@@ -11,8 +11,11 @@
  * scaling, size and side filters, merging, geometry). The library itself is
  * the unchanged libactag.a of the build.
  *
- *   median     actag_median_filter, actag__median_filter16_max (src/frame16.h;
- *              the 16-bit frame's maximum, scanned in detect.c, counts as other)
+ *   median     actag__median_filter_bands, actag__median_filter_inplace_bands
+ *              (src/median_bands.h: the median per range band, as detect.c
+ *              calls it), actag_median_filter (the tracker's windows),
+ *              actag__median_filter16_max, actag_median_filter_inplace (the
+ *              16-bit frame's maximum, scanned in detect.c, counts as other)
  *   search     actag_search_map, actag_search_next
  *   threshold  actag_adaptive_threshold_bitmap
  *   contours   actag_contour_scanner_init, actag_contour_next
@@ -36,6 +39,7 @@
 #include "actag/actag.h"
 #include "actag/families.h"
 #include "../../src/decode_fit_grids.h"
+#include "../../src/median_bands.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -104,6 +108,17 @@ WRAPPED(ST_MEDIAN, actag_median_filter_inplace,
         (void *frame, int depth, int rows, int cols, int stride, uint32_t max16, int radius,
          void *scratch, size_t scratch_size),
         (frame, depth, rows, cols, stride, max16, radius, scratch, scratch_size))
+
+WRAPPED(ST_MEDIAN, actag__median_filter_bands,
+        (const void *src, int depth, uint32_t max16, int rows, int cols, int src_stride,
+         uint8_t *dst, int dst_stride, const actag__median_bands *b, void *scratch,
+         size_t scratch_size),
+        (src, depth, max16, rows, cols, src_stride, dst, dst_stride, b, scratch, scratch_size))
+
+WRAPPED(ST_MEDIAN, actag__median_filter_inplace_bands,
+        (void *frame, int depth, int rows, int cols, int stride, uint32_t max16,
+         const actag__median_bands *b, void *scratch, size_t scratch_size),
+        (frame, depth, rows, cols, stride, max16, b, scratch, scratch_size))
 
 WRAPPED(ST_SEARCH, actag_search_map,
         (actag_search *z, const uint8_t *img, int rows, int cols, int stride,

@@ -80,6 +80,9 @@ static void usage(FILE *f)
         "                         would know it (pose.h KNOWN PLANE): the true face plane,\n"
         "                         its offset and normal perturbed by these sds (default: none)\n"
         "  --min-structure F --min-side-fraction F  the pipeline's structure and side gates\n"
+        "  --median-radius N --median-per-range 0|1  the tagged frames' median: largest\n"
+        "                         radius, and whether it follows the cell width per range\n"
+        "                         (library defaults 4, 1)\n"
         "  --seed S (default 1)   --threads N (default 2)\n"
         "Views and sonar (defaults: the paper's: 0.1-5 m, 60 x 12 degrees, 1024 x 512,\n"
         "sonar within 0.5-5 m of the tag, 30-80 degrees incidence):\n"
@@ -227,6 +230,7 @@ typedef struct {
     float plane_sd, plane_tilt;          /* --plane-sd (m), --plane-tilt-deg (rad); 0: off */
     int handedness;                      /* actag_params.handedness (default any) */
     float min_structure, min_side;       /* < 0: the library's defaults */
+    int median_radius, median_per_range; /* < 0: the library's defaults */
     actag_family free_fam[MAX_FAM];
     int nfree_fam;
     int sweep[MAX_FAM]; /* 1: also zero and maximal corrections (Table II) */
@@ -423,6 +427,10 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
         p.tuning.min_structure = c->min_structure;
     if (c->min_side >= 0.0f)
         p.tuning.min_side_fraction = c->min_side;
+    if (c->median_radius >= 0)
+        p.tuning.median_radius = c->median_radius;
+    if (c->median_per_range >= 0)
+        p.tuning.median_per_range = c->median_per_range;
     if (c->search_min_margin > -1e5f)
         p.tuning.search_min_margin = c->search_min_margin;
     if (c->many_margin >= 0.0f)
@@ -1010,6 +1018,7 @@ int main(int argc, char **argv)
     c.many_margin = -1.0f;
     c.min_bit_margin = -1;
     c.min_structure = c.min_side = -1.0f;
+    c.median_radius = c.median_per_range = -1;
     pool = simio_opt_defaults(argc, argv, &c.sonar, &c.view, &c.app); /* --pool first */
     for (i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -1049,6 +1058,14 @@ int main(int argc, char **argv)
             tagged_opt = o;
             NEED();
             c.min_side = (float)num(o, v, 0.0, 10.0);
+        } else if (!strcmp(o, "--median-radius")) {
+            tagged_opt = o;
+            NEED();
+            c.median_radius = (int)inum(o, v, 0, 127);
+        } else if (!strcmp(o, "--median-per-range")) {
+            tagged_opt = o;
+            NEED();
+            c.median_per_range = (int)inum(o, v, 0, 1);
         } else if (!strcmp(o, "--plane-sd")) {
             tagged_opt = o;
             NEED();
