@@ -87,6 +87,11 @@ def test_parameter_errors():
     assert ei.value.field == "fit_many_corrections_margin"
     assert "must be a number from 0 to 1e6 (got -1)" in str(ei.value)
     with pytest.raises(pyactag.ActagError) as ei:
+        pyactag.Detector(median_per_range=2)
+    library_error(ei, "ACTAG_ERR_PARAM")
+    assert ei.value.field == "median_per_range"
+    assert "must be 0 or 1 (got 2)" in str(ei.value)
+    with pytest.raises(pyactag.ActagError) as ei:
         pyactag.Detector("AcTag99h1")
     library_error(ei, "ACTAG_ERR_FAMILY")
     assert "unknown family 'AcTag99h1'" in str(ei.value) and "AcTag24h10" in str(ei.value)

@@ -153,8 +153,8 @@ static void test_a_pass_is_tracked_without_switches(void)
  * its predicted cell (track.c, t_window_params), reads the tag in more
  * frames than whole-frame detection, never another ID (2026-12-05: the
  * windows read at the whole-frame radius fell short of this). And the
- * whole frame with its radius per range band (the default since
- * 2026-12-06, median_bands.c) reads more than at radius 4 everywhere
+ * whole frame with its radius per range band (the default,
+ * median_bands.c) reads more than at radius 4 everywhere
  * (44 -> 67 of the 90 frames in view when this was written). */
 static void test_far_tags_are_read_with_a_median_of_their_cells(void)
 {
