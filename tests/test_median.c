@@ -712,24 +712,16 @@ typedef int (*inplace_fn)(void *, int, int, int, int, uint32_t, int, void *, siz
 static const inplace_fn FIP[2] = {actag_median_filter_inplace,
                                   actag_median_filter_inplace_portable};
 
-/* actag_median_filter_inplace on a random frame (depth 8 or 16, row stride
- * cols + sextra samples, largest sample maxv for 16-bit frames) against the
- * brute-force median of the frame (16-bit: scaled by the division the
- * manual gives, with max16 passed as given or 0 = found by the filter), on
- * both paths, with `scratch` bytes of scratch (bands of a few rows at the
- * least scratch). The output is the first rows * cols bytes, stride cols. */
-static void check_inplace(int depth, int rows, int cols, int R, uint32_t maxv, int pass_max,
-                          int sextra, size_t scratch)
+/* A random frame for the in-place and banded checks at orig + 1 (an odd
+ * address for 16-bit samples): depth 8, speckle with bright blocks; depth
+ * 16, uniform samples up to maxv. Row stride `stride` samples. s8 gets its
+ * 8-bit reading (16-bit: scaled by the division the manual gives) with
+ * stride cols; returns the largest 16-bit sample (0 for depth 8). */
+static uint32_t random_frame(int depth, int rows, int cols, int stride, uint32_t maxv,
+                             uint8_t *orig, uint8_t *s8)
 {
-    int stride = cols + sextra, f, r, c;
-    size_t bps = depth == 16 ? 2u : 1u, n = (size_t)rows * (size_t)stride * bps;
-    uint8_t *orig = (uint8_t *)malloc(n + 1u), *raw = (uint8_t *)malloc(n + 1u);
-    uint8_t *s8 = (uint8_t *)calloc((size_t)rows * (size_t)cols, 1);
-    uint8_t *want = (uint8_t *)malloc((size_t)rows * (size_t)cols);
-    uint8_t *scr = (uint8_t *)malloc(scratch);
     uint32_t mx = 0;
-    char msg[160];
-    TEST_ASSERT_TRUE(orig && raw && s8 && want && scr);
+    int r, c;
     for (r = 0; r < rows; r++)
         for (c = 0; c < stride; c++) {
             size_t o = (size_t)r * (size_t)stride + (size_t)c;
@@ -753,6 +745,28 @@ static void check_inplace(int depth, int rows, int cols, int R, uint32_t maxv, i
                 s8[(size_t)r * (size_t)cols + (size_t)c] =
                     (uint8_t)(mx ? ((uint32_t)v * 255u + mx / 2u) / mx : 0u);
             }
+    return mx;
+}
+
+/* actag_median_filter_inplace on a random frame (depth 8 or 16, row stride
+ * cols + sextra samples, largest sample maxv for 16-bit frames) against the
+ * brute-force median of the frame (16-bit: scaled by the division the
+ * manual gives, with max16 passed as given or 0 = found by the filter), on
+ * both paths, with `scratch` bytes of scratch (bands of a few rows at the
+ * least scratch). The output is the first rows * cols bytes, stride cols. */
+static void check_inplace(int depth, int rows, int cols, int R, uint32_t maxv, int pass_max,
+                          int sextra, size_t scratch)
+{
+    int stride = cols + sextra, f;
+    size_t bps = depth == 16 ? 2u : 1u, n = (size_t)rows * (size_t)stride * bps;
+    uint8_t *orig = (uint8_t *)malloc(n + 1u), *raw = (uint8_t *)malloc(n + 1u);
+    uint8_t *s8 = (uint8_t *)calloc((size_t)rows * (size_t)cols, 1);
+    uint8_t *want = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    uint8_t *scr = (uint8_t *)malloc(scratch);
+    uint32_t mx;
+    char msg[160];
+    TEST_ASSERT_TRUE(orig && raw && s8 && want && scr);
+    mx = random_frame(depth, rows, cols, stride, maxv, orig, s8);
     brute_median(s8, rows, cols, cols, R, want, cols);
     for (f = 0; f < 2; f++) {
         memcpy(raw, orig, n + 1u); /* raw + 1: an odd address for 16-bit samples */
@@ -857,7 +871,7 @@ static void brute_bands(const uint8_t *s8, int rows, int cols, const actag__medi
 static void check_bands(int depth, int rows, int cols, const actag__median_bands *b, int sextra,
                         size_t inplace_extra)
 {
-    int stride = cols + sextra, f, r, c;
+    int stride = cols + sextra, f;
     size_t bps = depth == 16 ? 2u : 1u, n = (size_t)rows * (size_t)stride * bps;
     size_t scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
     size_t iscr = ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols) + inplace_extra;
@@ -866,32 +880,9 @@ static void check_bands(int depth, int rows, int cols, const actag__median_bands
     uint8_t *want = (uint8_t *)malloc((size_t)rows * (size_t)cols);
     uint8_t *out = (uint8_t *)malloc((size_t)rows * (size_t)cols);
     uint8_t *scratch = (uint8_t *)malloc(scr > iscr ? scr : iscr);
-    uint32_t mx = 0;
     char msg[200];
     TEST_ASSERT_TRUE(orig && raw && s8 && want && out && scratch);
-    for (r = 0; r < rows; r++)
-        for (c = 0; c < stride; c++) {
-            size_t o = (size_t)r * (size_t)stride + (size_t)c;
-            if (depth == 8) {
-                orig[1 + o] = (uint8_t)((r / 3 + c / 4) % 3 == 0 ? 150 + (int)(rnd() % 100u)
-                                                                : (int)(rnd() % 60u));
-                if (c < cols)
-                    s8[(size_t)r * (size_t)cols + (size_t)c] = orig[1 + o];
-            } else {
-                uint16_t v = (uint16_t)(rnd() % 4096u);
-                if (c < cols && v > mx)
-                    mx = v;
-                memcpy(orig + 1 + 2u * o, &v, 2);
-            }
-        }
-    if (depth == 16)
-        for (r = 0; r < rows; r++)
-            for (c = 0; c < cols; c++) {
-                uint16_t v;
-                memcpy(&v, orig + 1 + 2u * ((size_t)r * (size_t)stride + (size_t)c), 2);
-                s8[(size_t)r * (size_t)cols + (size_t)c] =
-                    (uint8_t)(mx ? ((uint32_t)v * 255u + mx / 2u) / mx : 0u);
-            }
+    (void)random_frame(depth, rows, cols, stride, 4095u, orig, s8);
     brute_bands(s8, rows, cols, b, want);
     for (f = 0; f < 2; f++) {
         snprintf(msg, sizeof msg, "bands %s: depth %d %dx%d stride %d, %d bands, first R=%d",
@@ -917,6 +908,17 @@ static void check_bands(int depth, int rows, int cols, const actag__median_bands
     free(scratch);
 }
 
+static void three_bands(actag__median_bands *b, int e0, int e1, int e2, int r0, int r1, int r2)
+{
+    b->n = 3;
+    b->end[0] = e0;
+    b->end[1] = e1;
+    b->end[2] = e2;
+    b->radius[0] = r0;
+    b->radius[1] = r1;
+    b->radius[2] = r2;
+}
+
 static void test_bands_equal_brute_force(void)
 {
     /* random bands, both depths, strides, in-place bands at the least
@@ -925,29 +927,21 @@ static void test_bands_equal_brute_force(void)
     actag__median_bands b;
     rng_state = 0xB4D5u;
     for (k = 0; k < trials; k++) {
-        int rows = rnd_range(1, 90), cols = rnd_range(1, 40);
+        /* one draw per statement: the order of the draws is fixed */
+        int rows = rnd_range(1, 90), cols = rnd_range(1, 40), sextra;
+        size_t extra = 0;
         random_bands(rows, &b);
-        check_bands(k & 1 ? 16 : 8, rows, cols, &b, rnd_range(0, 3),
-                    k % 3 == 0 ? 0u : (size_t)rnd_range(1, 40 * cols));
+        sextra = rnd_range(0, 3);
+        if (k % 3 != 0)
+            extra = (size_t)rnd_range(1, 40 * cols);
+        check_bands(k & 1 ? 16 : 8, rows, cols, &b, sextra, extra);
     }
     /* the library's shape: radii falling with range, a frame of pool width */
-    b.n = 3;
-    b.end[0] = 200;
-    b.end[1] = 333;
-    b.end[2] = 530;
-    b.radius[0] = 2;
-    b.radius[1] = 3;
-    b.radius[2] = 4;
+    three_bands(&b, 200, 333, 530, 2, 3, 4);
     check_bands(8, 530, 64, &b, 0, 0);
     check_bands(16, 530, 48, &b, 1, 0);
     /* one band of one row each */
-    b.n = 3;
-    b.end[0] = 1;
-    b.end[1] = 2;
-    b.end[2] = 3;
-    b.radius[0] = 7;
-    b.radius[1] = 0;
-    b.radius[2] = 1;
+    three_bands(&b, 1, 2, 3, 7, 0, 1);
     check_bands(8, 3, 17, &b, 0, 0);
 }
 

@@ -87,8 +87,10 @@ static void test_rule_equals_brute_force(void)
         g.min_range = tu_range(0, 3) == 0 ? 0.0f : frand(0.0f, 2.0f);
         g.max_range = g.min_range + frand(0.1f, 20.0f);
         g.aperture = frand(0.1f, 2.5f);
-        g.flags = (tu_rand() & 1u ? ACTAG_RANGE_ASCENDING : 0) |
-                  (tu_rand() & 1u ? ACTAG_AZIMUTH_ASCENDING : 0);
+        /* one draw per statement: the order of the draws is fixed */
+        g.flags = tu_rand() & 1u ? ACTAG_RANGE_ASCENDING : 0;
+        if (tu_rand() & 1u)
+            g.flags |= ACTAG_AZIMUTH_ASCENDING;
         if (k % 4 == 3 && cols >= 2) { /* a bearing table with uneven beams */
             float a = -0.5f * g.aperture;
             for (i = 0; i < cols; i++) {
