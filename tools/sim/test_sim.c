@@ -439,9 +439,17 @@ static void test_detect_multi_equals_separate_calls(void)
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_detect_multi(&fr, &s.geo, p, 2, ws,
                                                                       sizeof ws - 1, multi, EACH,
                                                                       counts));
+        /* another median radius: the frame is filtered again for that set
+         * (it was ACTAG_ERR_PARAM before the radius per range band), and
+         * each set still gets what actag_detect gives it */
         p[1].tuning.median_radius = p[0].tuning.median_radius + 1;
-        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_detect_multi(&fr, &s.geo, p, 2, ws, sizeof ws,
-                                                                  multi, EACH, counts));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_detect_multi(&fr, &s.geo, p, 2, ws, sizeof ws, multi,
+                                                           EACH, counts));
+        for (i = 0; i < 2; i++) {
+            int n = actag_detect(&fr, &s.geo, &p[i], ws, sizeof ws, one, EACH, NULL);
+            TEST_ASSERT_EQUAL_INT(n, counts[i]);
+            TEST_ASSERT_EQUAL_INT(0, memcmp(one, multi + i * EACH, (size_t)n * sizeof one[0]));
+        }
         p[1].tuning.median_radius = p[0].tuning.median_radius;
         p[1].max_bit_corrections = 99;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_detect_multi(&fr, &s.geo, p, 2, ws,
@@ -478,13 +486,16 @@ static void test_render_errors(void)
  * the mirrored flag `mirrored`; det[] gets what actag_detect reads there
  * with the default parameters, except that the extra margin of readings at
  * the correction limit is `limit_margin` (decode.h,
- * ACTAG_FIT_MANY_CORRECTIONS_MARGIN); trace (may be NULL) sees the
- * candidates (actag_detect_traced). Returns the number of detections. */
+ * ACTAG_FIT_MANY_CORRECTIONS_MARGIN) and the median's radius per range
+ * band is `per_range` (tuning.median_per_range: 1 the default, 0 radius 4
+ * on every row, as the regression scenes were found before it); trace (may
+ * be NULL) sees the candidates (actag_detect_traced). Returns the number of
+ * detections. */
 static uint8_t scene_img[1024 * 1024]; /* the frame detect_scene rendered last */
 
 static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
                         uint32_t fs, const sim_tag *t, int mirrored, float limit_margin,
-                        actag_detection det[8], actag_trace_fn trace, void *user)
+                        int per_range, actag_detection det[8], actag_trace_fn trace, void *user)
 {
     uint8_t *img = scene_img;
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
@@ -501,6 +512,7 @@ static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appea
     p.family = &t->family;
     p.tag_size = t->tag_size;
     p.tuning.fit.many_corrections_margin = limit_margin;
+    p.tuning.median_per_range = per_range;
     f.data = img;
     f.rows = s->rows;
     f.cols = s->cols;
@@ -521,7 +533,7 @@ static void check_scene_traced(const sim_sonar *s, const sim_scene *sc, const si
 {
     actag_detection det[8];
     int n, k;
-    n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det, trace,
+    n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, det, trace,
                      user);
     for (k = 0; k < n; k++) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
@@ -581,10 +593,28 @@ static const scene_run *check_scene(const sim_sonar *s, const sim_scene *sc,
     r.s = s;
     r.t = t;
     r.flip = actag_geometry_mirrors(&s->geo, s->cols);
-    r.n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, r.det,
+    sim_truth_of(s, t, &r.tr);
+    /* at the defaults (the median's radius per range band) whatever is
+     * read is the tag: its ID, handedness and corner order */
+    {
+        actag_detection det[8];
+        float side = hypotf(r.tr.px[1].x - r.tr.px[0].x, r.tr.px[1].y - r.tr.px[0].y);
+        int k, c, n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN,
+                                   1, det, NULL, NULL);
+        for (k = 0; k < n; k++) {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(mirrored, det[k].mirrored, what);
+            for (c = 0; c < 4; c++)
+                TEST_ASSERT_TRUE_MESSAGE(hypotf(r.tr.px[c].x - det[k].corners[c].x,
+                                                r.tr.px[c].y - det[k].corners[c].y) < 0.4f * side,
+                                         what);
+        }
+    }
+    /* the rules: as the scene was found, radius 4 on every row (redecode
+     * reads that filtered frame too) */
+    r.n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 0, r.det,
                        log_candidate, &r);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.overflow, what);
-    sim_truth_of(s, t, &r.tr);
     /* check_scene_traced's checks on the same detections */
     {
         int k;
@@ -1156,7 +1186,7 @@ static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored
     actag_detection det[8];
     int n, k, wrong = 0;
     uint32_t fs = eval_frame(0, "AcTag24h10", seed, frame, id, &s, &a, &t, &sc);
-    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, det, NULL, NULL);
+    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, 0, det, NULL, NULL);
     for (k = 0; k < n; k++)
         if (det[k].id != id || det[k].mirrored != mirrored) {
             TEST_ASSERT_TRUE(det[k].hamming >= ACTAG_FIT_MANY_CORRECTIONS);
@@ -1282,7 +1312,7 @@ static void test_refined_corners_of_hard_views(void)
         }
         sample_frame(&s, &v, fs, cases[i].id, &t, &sc);
         n = detect_scene(&s, &sc, &a, fs, &t, cases[i].mirrored,
-                         ACTAG_FIT_MANY_CORRECTIONS_MARGIN, det, NULL, NULL);
+                         ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, det, NULL, NULL);
         TEST_ASSERT_EQUAL_INT(1, n);
         TEST_ASSERT_EQUAL_INT(cases[i].id, det[0].id);
         sim_truth_of(&s, &t, &tr);
