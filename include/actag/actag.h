@@ -411,7 +411,8 @@ typedef struct actag_params {
  *     handednesses and 0 corner-order errors in 1,000 simulated views at
  *     the paper's settings and 1,000 at the pool's (9 wrong IDs and 3
  *     wrong handednesses per 1,000 pool views before).
- *   - Table I values kept: median radius 4, threshold radius 8, offset 1,
+ *   - Table I values kept: median radius 4 (the largest: see the bands
+ *     above), threshold radius 8, offset 1,
  *     inlier distance 2.5. Changed: RANSAC early exit 0.85 -> 0.8 with
  *     0.6 required (ragged sonar contours; the decoder judges), 500 -> 100
  *     iterations (the search covers RANSAC misses; same recall, ~2 ms less).
