@@ -292,17 +292,22 @@ static long parse_pgm(const unsigned char *buf, long len, int *rows, int *cols)
 
 /* Parameter sets: actag_params_default() (family AcTag24h10) with these
  * changes. "corrections4" makes detections happen on the sample frames;
- * "binary4" also runs the paper's binary decoder. */
+ * "binary4" also runs the paper's binary decoder; "far4" reads the frames
+ * as if they spanned 0.1-5 m, so the median's radius changes with range
+ * (bands of radius 2, 3 and 4, median_bands.h) and the banded filter and
+ * everything after it are compared too. */
 typedef struct {
     const char *name;
     int max_bit_corrections;
     int decode_mode; /* -1: the default */
+    float max_range; /* 0: the frames' own */
 } ac_setting;
 
 static const ac_setting ac_settings[] = {
-    {"defaults", 0, -1},
-    {"corrections4", 4, -1},
-    {"binary4", 4, ACTAG_DECODE_BINARY},
+    {"defaults", 0, -1, 0.0f},
+    {"corrections4", 4, -1, 0.0f},
+    {"binary4", 4, ACTAG_DECODE_BINARY, 0.0f},
+    {"far4", 4, -1, 5.0f},
 };
 
 /* "  corner K x X y Y range R azimuth A" (the line left open: a track adds
@@ -493,9 +498,13 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
     for (si = 0; si < sizeof ac_settings / sizeof ac_settings[0]; si++) {
         actag_params p;
         actag_stats st;
+        actag_sonar_geometry g = geo;
         int n, i, k;
         uint64_t hd, hf, hb, hp;
         const uint8_t *img;
+
+        if (ac_settings[si].max_range > 0.0f)
+            g.max_range = ac_settings[si].max_range;
 
         actag_params_default(&p);
         p.family = fam;
@@ -504,10 +513,11 @@ static uint64_t run_frame(const char *data_dir, const char *rel, const actag_fam
             p.tuning.decode_mode = ac_settings[si].decode_mode;
         memset(ac_det, 0, sizeof ac_det); /* no stale bytes in the digest */
         memset(&st, 0, sizeof st);
-        n = actag_detect(&frame, &geo, &p, ac_ws, sizeof ac_ws, ac_det, AC_MAX_DET, &st);
+        n = actag_detect(&frame, &g, &p, ac_ws, sizeof ac_ws, ac_det, AC_MAX_DET, &st);
 
         put_s("run ");
         put_s(ac_settings[si].name);
+        put_kf("max_range", g.max_range);
         put_kd("max_bit_corrections", p.max_bit_corrections);
         put_kd("decode_mode", p.tuning.decode_mode);
         put_ku("seed", p.seed);
