@@ -2089,16 +2089,21 @@ static int bands_ok(const actag__median_bands *b, int rows, int max_r)
     return 1;
 }
 
+/* The in-place checks in the library's order: NULL, then sizes, then
+ * parameters (depth, max16, the bands), then the scratch's size. */
 static int inplace_check(const void *frame, int depth, int rows, int cols, int stride,
-                         uint32_t max16, const void *scratch, size_t scratch_size)
+                         uint32_t max16, const actag__median_bands *b, const void *scratch,
+                         size_t scratch_size)
 {
-    if (frame == NULL || scratch == NULL)
+    if (frame == NULL || scratch == NULL || b == NULL)
         return ACTAG_ERR_NULL;
     if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
         return ACTAG_ERR_SIZE;
     if (depth != 8 && depth != 16)
         return ACTAG_ERR_PARAM;
     if (depth == 16 && max16 > 65535u) /* no 16-bit sample is larger */
+        return ACTAG_ERR_PARAM;
+    if (!bands_ok(b, rows, ACTAG_MEDIAN_INPLACE_MAX_RADIUS))
         return ACTAG_ERR_PARAM;
     if (scratch_size < ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols))
         return ACTAG_ERR_WORKSPACE;
@@ -2110,18 +2115,12 @@ int actag_median_filter_inplace(void *frame, int depth, int rows, int cols, int 
 {
     actag__median_bands b;
     int rc;
-    if (frame == NULL || scratch == NULL)
-        return ACTAG_ERR_NULL;
-    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
-        return ACTAG_ERR_SIZE;
-    if (radius < 0 || radius > ACTAG_MEDIAN_INPLACE_MAX_RADIUS)
-        return ACTAG_ERR_PARAM;
-    rc = inplace_check(frame, depth, rows, cols, stride, max16, scratch, scratch_size);
-    if (rc != ACTAG_OK)
-        return rc;
     b.n = 1;
     b.end[0] = rows;
     b.radius[0] = radius;
+    rc = inplace_check(frame, depth, rows, cols, stride, max16, &b, scratch, scratch_size);
+    if (rc != ACTAG_OK)
+        return rc;
     return median_inplace_core(frame, depth, rows, cols, stride, max16, &b, scratch, scratch_size);
 }
 
@@ -2129,13 +2128,9 @@ int actag__median_filter_inplace_bands(void *frame, int depth, int rows, int col
                                        uint32_t max16, const actag__median_bands *b,
                                        void *scratch, size_t scratch_size)
 {
-    int rc = inplace_check(frame, depth, rows, cols, stride, max16, scratch, scratch_size);
+    int rc = inplace_check(frame, depth, rows, cols, stride, max16, b, scratch, scratch_size);
     if (rc != ACTAG_OK)
         return rc;
-    if (b == NULL)
-        return ACTAG_ERR_NULL;
-    if (!bands_ok(b, rows, ACTAG_MEDIAN_INPLACE_MAX_RADIUS))
-        return ACTAG_ERR_PARAM;
     return median_inplace_core(frame, depth, rows, cols, stride, max16, b, scratch, scratch_size);
 }
 
@@ -2146,8 +2141,12 @@ int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int r
     rowsrc rs;
     size_t ucols = (size_t)cols, nk;
     int rc, i, y0, rmax = 0;
-    if (b == NULL)
+    /* the library's order: NULL, sizes, parameters, then the scratch */
+    if (b == NULL || src == NULL || dst == NULL || scratch == NULL)
         return ACTAG_ERR_NULL;
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM ||
+        src_stride < cols || dst_stride < cols)
+        return ACTAG_ERR_SIZE;
     if (depth != 8 && depth != 16)
         return ACTAG_ERR_PARAM;
     if (b->n == 1 && b->end[0] == rows) { /* the plain filter, any radius */
@@ -2157,15 +2156,15 @@ int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int r
         return actag__median_filter16_max(src, max16, rows, cols, src_stride, dst, dst_stride,
                                           b->radius[0], scratch, scratch_size);
     }
-    for (i = 0; i < b->n && i < ACTAG__MEDIAN_BANDS_MAX; i++)
+    if (!bands_ok(b, rows, MEDIAN_BLOCK_MAX_R < ACTAG_MEDIAN_INPLACE_MAX_RADIUS
+                               ? MEDIAN_BLOCK_MAX_R : ACTAG_MEDIAN_INPLACE_MAX_RADIUS))
+        return ACTAG_ERR_PARAM;
+    for (i = 0; i < b->n; i++)
         if (b->radius[i] > rmax)
             rmax = b->radius[i];
     rc = median_check(src, rows, cols, src_stride, dst, dst_stride, rmax, scratch, scratch_size);
     if (rc != ACTAG_OK)
         return rc;
-    if (!bands_ok(b, rows, MEDIAN_BLOCK_MAX_R < ACTAG_MEDIAN_INPLACE_MAX_RADIUS
-                               ? MEDIAN_BLOCK_MAX_R : ACTAG_MEDIAN_INPLACE_MAX_RADIUS))
-        return ACTAG_ERR_PARAM;
     memset(&rs, 0, sizeof rs);
     nk = scratch_size / ucols;
     if (depth == 8) {

@@ -834,12 +834,13 @@ static const bands_fn FB[2] = {actag__median_filter_bands, actag__median_filter_
 static const bands_inplace_fn FBI[2] = {actag__median_filter_inplace_bands,
                                         actag__median_filter_inplace_bands_portable};
 
-/* Random bands over rows: 1..7 of them (never more than rows), radii 0..7 in
+/* Random bands over rows: 1..8 of them (never more than rows), radii 0..7 in
  * any order (the library's rule makes them monotone; the filter must not
  * depend on it). */
 static void random_bands(int rows, actag__median_bands *b)
 {
-    int i, n = rnd_range(1, rows < 7 ? rows : 7), prev = 0;
+    int i, n = rnd_range(1, rows < ACTAG__MEDIAN_BANDS_MAX ? rows : ACTAG__MEDIAN_BANDS_MAX),
+           prev = 0;
     b->n = n;
     for (i = 0; i < n; i++) {
         /* leave at least one row for each band after this one */
@@ -869,7 +870,7 @@ static void brute_bands(const uint8_t *s8, int rows, int cols, const actag__medi
 /* Both paths of the banded filter, out of place and in place, on a random
  * frame of depth 8 or 16 (row stride cols + sextra), against brute_bands. */
 static void check_bands(int depth, int rows, int cols, const actag__median_bands *b, int sextra,
-                        size_t inplace_extra)
+                        size_t inplace_extra, int pass_max)
 {
     int stride = cols + sextra, f;
     size_t bps = depth == 16 ? 2u : 1u, n = (size_t)rows * (size_t)stride * bps;
@@ -882,21 +883,21 @@ static void check_bands(int depth, int rows, int cols, const actag__median_bands
     uint8_t *scratch = (uint8_t *)malloc(scr > iscr ? scr : iscr);
     char msg[200];
     TEST_ASSERT_TRUE(orig && raw && s8 && want && out && scratch);
-    (void)random_frame(depth, rows, cols, stride, 4095u, orig, s8);
+    uint32_t mx = random_frame(depth, rows, cols, stride, 4095u, orig, s8);
     brute_bands(s8, rows, cols, b, want);
     for (f = 0; f < 2; f++) {
         snprintf(msg, sizeof msg, "bands %s: depth %d %dx%d stride %d, %d bands, first R=%d",
                  FN_NAMES[f], depth, rows, cols, stride, b->n, b->radius[0]);
         memset(out, 0xA5, (size_t)rows * (size_t)cols);
         memset(scratch, 0x5A, scr);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FB[f](orig + 1, depth, 0u, rows, cols, stride, out,
-                                                      cols, b, scratch, scr),
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FB[f](orig + 1, depth, pass_max ? mx : 0u, rows,
+                                                      cols, stride, out, cols, b, scratch, scr),
                                       msg);
         TEST_ASSERT_EQUAL_UINT8_ARRAY_MESSAGE(want, out, (size_t)rows * (size_t)cols, msg);
         memcpy(raw, orig, n + 1u);
         memset(scratch, 0x5A, iscr);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FBI[f](raw + 1, depth, rows, cols, stride, 0u, b,
-                                                       scratch, iscr),
+        TEST_ASSERT_EQUAL_INT_MESSAGE(ACTAG_OK, FBI[f](raw + 1, depth, rows, cols, stride,
+                                                       pass_max ? mx : 0u, b, scratch, iscr),
                                       msg);
         TEST_ASSERT_EQUAL_UINT8_ARRAY_MESSAGE(want, raw + 1, (size_t)rows * (size_t)cols, msg);
     }
@@ -934,20 +935,23 @@ static void test_bands_equal_brute_force(void)
         sextra = rnd_range(0, 3);
         if (k % 3 != 0)
             extra = (size_t)rnd_range(1, 40 * cols);
-        check_bands(k & 1 ? 16 : 8, rows, cols, &b, sextra, extra);
+        check_bands(k & 1 ? 16 : 8, rows, cols, &b, sextra, extra, k % 4 == 1);
     }
     /* the library's shape: radii falling with range, a frame of pool width */
     three_bands(&b, 200, 333, 530, 2, 3, 4);
-    check_bands(8, 530, 64, &b, 0, 0);
-    check_bands(16, 530, 48, &b, 1, 0);
+    check_bands(8, 530, 64, &b, 0, 0, 0);
+    check_bands(16, 530, 48, &b, 1, 0, 1);
     /* one band of one row each */
     three_bands(&b, 1, 2, 3, 7, 0, 1);
-    check_bands(8, 3, 17, &b, 0, 0);
+    check_bands(8, 3, 17, &b, 0, 0, 0);
 }
 
 static void test_bands_errors(void)
 {
+    enum { WIDE = 2600 }; /* 16-bit: the ring of 30 rows exceeds the plain scratch */
     uint8_t img[64], before[64], out[64], scr[ACTAG_MEDIAN_SCRATCH_SIZE(8, 8)];
+    static uint16_t wide16[2 * WIDE];
+    static uint8_t wide_out[2 * WIDE], wide_scr[ACTAG_MEDIAN_SCRATCH_SIZE(2, WIDE)];
     actag__median_bands b, bad;
     int f, i;
     for (i = 0; i < 64; i++)
@@ -958,16 +962,23 @@ static void test_bands_errors(void)
     b.radius[0] = 1;
     b.radius[1] = 2;
     for (f = 0; f < 2; f++) {
+        memset(out, 0xA5, sizeof out);
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, FB[f](img, 8, 0, 8, 8, 8, out, 8, NULL, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, FB[f](NULL, 12, 0, 8, 8, 8, out, 8, &b, scr, sizeof scr));
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, FBI[f](img, 8, 8, 8, 8, 0, NULL, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, FB[f](img, 12, 0, 0, 8, 8, out, 8, &b, scr, sizeof scr));
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 12, 0, 8, 8, 8, out, 8, &b, scr, sizeof scr));
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, FB[f](img, 8, 0, 8, 8, 8, out, 8, &b, scr, sizeof scr - 1));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, FBI[f](img, 8, 8, 8, 8, 0, &b, scr, ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(8) - 1));
         /* malformed: not ending at rows, not increasing, no band, too many,
-         * a radius beyond the row-block paths' */
+         * a radius beyond the row-block paths'; a parameter error comes
+         * before a short scratch */
         bad = b;
         bad.end[1] = 7;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, 1));
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, sizeof scr));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, 1));
         bad = b;
         bad.end[0] = 8;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
@@ -983,7 +994,19 @@ static void test_bands_errors(void)
         bad.radius[1] = ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 1;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FB[f](img, 8, 0, 8, 8, 8, out, 8, &bad, scr, sizeof scr));
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, FBI[f](img, 8, 8, 8, 8, 0, &bad, scr, sizeof scr));
-        TEST_ASSERT_EQUAL_UINT8_ARRAY(before, img, 64); /* untouched on error */
+        /* outputs untouched on error: the in-place frame and dst */
+        TEST_ASSERT_EQUAL_UINT8_ARRAY(before, img, 64);
+        for (i = 0; i < 64; i++)
+            TEST_ASSERT_EQUAL_HEX8(0xA5, out[i]);
+        /* a 16-bit frame wider than the plain scratch's ring of 30 rows */
+        bad = b;
+        bad.end[0] = 1;
+        bad.end[1] = 2;
+        memset(wide_out, 0xA5, sizeof wide_out);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, FB[f](wide16, 16, 0, 2, WIDE, WIDE, wide_out, WIDE,
+                                                         &bad, wide_scr, sizeof wide_scr));
+        for (i = 0; i < 2 * WIDE; i++)
+            TEST_ASSERT_EQUAL_HEX8(0xA5, wide_out[i]);
     }
 }
 

@@ -140,7 +140,8 @@ static inline void fzd_decode(fzd_case *c, const uint8_t *data, size_t size)
     if (m < 224) {
         c->handedness = m % 3; /* ACTAG_HANDEDNESS_ANY, _UNMIRRORED, _MIRRORED */
         c->no_refine = (m >> 2) & 1;
-        /* bit 4: the median's fixed radius (median_per_range 0) */
+        /* bit 4: the median's fixed radius (median_per_range 0; written as
+         * 48, which keeps m % 3 and bit 2) */
         c->p.tuning.median_per_range = !((m >> 4) & 1);
         c->p.handedness = c->handedness;
         if (c->no_refine)
@@ -213,7 +214,7 @@ static inline size_t fzd_encode(const fzd_case *c, uint8_t *buf)
     at = fz_put_u8(buf, at, (uint8_t)c->no_stats);
     at = fz_put_u8(buf, at, (uint8_t)(c->multi ? 255
                                            : c->handedness % 3 + 12 * (c->no_refine != 0) +
-                                                 16 * (c->p.tuning.median_per_range == 0)));
+                                                 48 * (c->p.tuning.median_per_range == 0)));
     if (c->npixels)
         memcpy(buf + at, c->pixels, c->npixels);
     return at + c->npixels;

@@ -1324,6 +1324,68 @@ static void test_refined_corners_of_hard_views(void)
     }
 }
 
+/* actag_detect_multi on the paper's sonar (0.1-5 m), where the median's
+ * radius changes with range and with the family's cell (a 28-bit set's
+ * bands differ from a 24-bit set's): sets with other bands, and back, each
+ * get exactly what a separate actag_detect call gives, on 8- and 16-bit
+ * copies of frames with a far tag. */
+static void test_detect_multi_with_other_bands_equals_separate_calls(void)
+{
+    enum { NP = 4, EACH = 4 };
+    static uint8_t img[1024 * 512];
+    static uint16_t img16[1024 * 512];
+    static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 512)];
+    static actag_detection multi[NP * EACH], one[EACH];
+    actag_family f24, f28;
+    actag_params p[NP];
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    int counts[NP], i, k, depth, read24 = 0;
+    uint32_t seed;
+    eval_settings(0, "AcTag24h10", &s, &v, &a, &t);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &f24));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag28m10", &f28));
+    v.min_distance = 3.2f;
+    v.max_distance = 4.0f;
+    for (i = 0; i < NP; i++) {
+        actag_params_default(&p[i]);
+        p[i].family = i == 1 ? &f28 : &f24;
+    }
+    p[2].tuning.median_per_range = 0; /* radius 4 everywhere, then the bands again */
+    for (seed = 1; seed <= 6; seed++) {
+        sim_scene sc;
+        t.id = (int)(seed % (uint32_t)f24.ncodes);
+        TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, 900u + seed, &t, &sc));
+        TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 910u + seed, img, NULL, s.cols, NULL));
+        for (depth = 8; depth <= 16; depth += 8) {
+            actag_frame fr;
+            fr.rows = s.rows;
+            fr.cols = s.cols;
+            fr.stride = s.cols;
+            fr.depth = depth;
+            if (depth == 16) {
+                for (k = 0; k < s.rows * s.cols; k++)
+                    img16[k] = (uint16_t)(img[k] * 257);
+                fr.data = img16;
+            } else {
+                fr.data = img;
+            }
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_detect_multi(&fr, &s.geo, p, NP, ws, sizeof ws,
+                                                               multi, EACH, counts));
+            for (i = 0; i < NP; i++) {
+                int n = actag_detect(&fr, &s.geo, &p[i], ws, sizeof ws, one, EACH, NULL);
+                TEST_ASSERT_EQUAL_INT(n, counts[i]);
+                TEST_ASSERT_EQUAL_INT(0, memcmp(one, multi + i * EACH, (size_t)n * sizeof one[0]));
+                if (i == 0)
+                    read24 += n;
+            }
+        }
+    }
+    TEST_ASSERT_GREATER_THAN(0, read24); /* the comparison included far readings */
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1334,6 +1396,7 @@ int main(void)
     RUN_TEST(test_deterministic);
     RUN_TEST(test_detect_in_every_orientation);
     RUN_TEST(test_detect_multi_equals_separate_calls);
+    RUN_TEST(test_detect_multi_with_other_bands_equals_separate_calls);
     RUN_TEST(test_render_errors);
     RUN_TEST(test_regression_seed102_frame444);
     RUN_TEST(test_regression_pool_seed105_frame673);
