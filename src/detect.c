@@ -802,21 +802,19 @@ static void resolve_params(const actag_params *params, int flip_mirror, actag_pa
     }
 }
 
-/* 1. median filter: the frame -> B (16-bit frames scaled to 8 bits a row at
- * a time inside the median's scratch, by the frame's maximum, *max16, which
- * the corner refinement uses again; 0 for 8-bit frames). B is not written
- * again by any later stage, so several parameter sets can share it. */
-static int filter_frame(const actag_frame *frame, const actag_sonar_geometry *geometry,
-                        const ws_layout *w, int rows, int cols, const actag_params *p,
-                        uint32_t *max16)
+/* 1. median filter: the frame -> B, each band of rows at its radius (mb,
+ * actag__median_bands_of), 16-bit frames scaled to 8 bits a row at a time
+ * inside the median's scratch, by the frame's maximum, *max16, which the
+ * corner refinement uses again; 0 for 8-bit frames. B is not written again
+ * by any later stage, so several parameter sets can share it. */
+static int filter_frame(const actag_frame *frame, const ws_layout *w, int rows, int cols,
+                        const actag__median_bands *mb, uint32_t *max16)
 {
-    actag__median_bands mb;
-    actag__median_bands_of(geometry, rows, cols, p, &mb);
     *max16 = 0u;
     if (frame->depth == 16)
         *max16 = frame16_max((const uint8_t *)frame->data, rows, cols, (size_t)frame->stride);
     return actag__median_filter_bands(frame->data, frame->depth, *max16, rows, cols,
-                                      frame->stride, w->b, cols, &mb, w->a, w->u_size);
+                                      frame->stride, w->b, cols, mb, w->a, w->u_size);
 }
 
 int actag_detect(const actag_frame *frame, const actag_sonar_geometry *geometry,
@@ -861,6 +859,7 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
 {
     tracer tr;
     actag_params pe;
+    actag__median_bands mb;
     ws_layout w;
     uint32_t max16;
     int rc, flip_mirror;
@@ -870,7 +869,8 @@ int actag_detect_traced(const actag_frame *frame, const actag_sonar_geometry *ge
     if (rc != ACTAG_OK)
         return rc;
     ws_split(workspace, frame->rows, frame->cols, &w);
-    rc = filter_frame(frame, geometry, &w, frame->rows, frame->cols, &pe, &max16);
+    actag__median_bands_of(geometry, frame->rows, frame->cols, &pe, &mb);
+    rc = filter_frame(frame, &w, frame->rows, frame->cols, &mb, &max16);
     if (rc != ACTAG_OK)
         return rc;
     tr.fn = trace;
@@ -1333,7 +1333,7 @@ int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geo
          * in every band; a set that needs other radii filters it again */
         actag__median_bands_of(geometry, rows, cols, &params[i], &mb);
         if (i == 0 || !actag__median_bands_equal(&mb, &mb0)) {
-            rc = filter_frame(frame, geometry, &w, rows, cols, &params[i], &max16);
+            rc = filter_frame(frame, &w, rows, cols, &mb, &max16);
             if (rc != ACTAG_OK)
                 return rc;
             mb0 = mb;

@@ -2002,6 +2002,16 @@ int actag__median_filter16_max(const void *src, uint32_t max16, int rows, int co
  * once, as by actag_median_filter; the extra work is copying each source
  * row once, and the 2R halo rows once more per band.
  * ---------------------------------------------------------------------- */
+/* The largest radius of b's bands. */
+static int bands_max_radius(const actag__median_bands *b)
+{
+    int i, r = 0;
+    for (i = 0; i < b->n; i++)
+        if (b->radius[i] > r)
+            r = b->radius[i];
+    return r;
+}
+
 /* The in-place filter with bands (b checked: radii 0..7). */
 static int median_inplace_core(void *frame, int depth, int rows, int cols, int stride,
                                uint32_t max16, const actag__median_bands *b, void *scratch,
@@ -2010,10 +2020,7 @@ static int median_inplace_core(void *frame, int depth, int rows, int cols, int s
     uint8_t *buf = (uint8_t *)frame, *tmp = (uint8_t *)scratch;
     size_t ucols = (size_t)cols, cap;
     rowsrc conv, rs;
-    int R = 0, H, y0, y1, t0 = 0, t1 = 0, i;
-    for (i = 0; i < b->n; i++)
-        if (b->radius[i] > R)
-            R = b->radius[i];
+    int R = bands_max_radius(b), H, y0, y1, t0 = 0, t1 = 0, i;
     memset(&conv, 0, sizeof conv);
     if (depth == 16) {
         if (max16 == 0u)
@@ -2140,7 +2147,7 @@ int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int r
 {
     rowsrc rs;
     size_t ucols = (size_t)cols, nk;
-    int rc, i, y0, rmax = 0;
+    int rc, i, y0;
     /* the library's order: NULL, sizes, parameters, then the scratch */
     if (b == NULL || src == NULL || dst == NULL || scratch == NULL)
         return ACTAG_ERR_NULL;
@@ -2159,10 +2166,8 @@ int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int r
     if (!bands_ok(b, rows, MEDIAN_BLOCK_MAX_R < ACTAG_MEDIAN_INPLACE_MAX_RADIUS
                                ? MEDIAN_BLOCK_MAX_R : ACTAG_MEDIAN_INPLACE_MAX_RADIUS))
         return ACTAG_ERR_PARAM;
-    for (i = 0; i < b->n; i++)
-        if (b->radius[i] > rmax)
-            rmax = b->radius[i];
-    rc = median_check(src, rows, cols, src_stride, dst, dst_stride, rmax, scratch, scratch_size);
+    rc = median_check(src, rows, cols, src_stride, dst, dst_stride, bands_max_radius(b), scratch,
+                      scratch_size);
     if (rc != ACTAG_OK)
         return rc;
     memset(&rs, 0, sizeof rs);
@@ -2171,8 +2176,9 @@ int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int r
         rs.src8 = (const uint8_t *)src;
         rs.stride = (size_t)src_stride;
     } else {
-        /* the row-block paths' ring: 2R + block rows */
-        if (nk < (size_t)(2 * ACTAG_MEDIAN_INPLACE_MAX_RADIUS + 16))
+        /* the row-block paths' ring: 2R + block rows, what the in-place
+         * filter's copy needs */
+        if (scratch_size < ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols))
             return ACTAG_ERR_WORKSPACE;
         if (max16 == 0u)
             max16 = frame16_max((const uint8_t *)src, rows, cols, (size_t)src_stride);

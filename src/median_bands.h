@@ -43,8 +43,8 @@ int actag__median_bands_equal(const actag__median_bands *a, const actag__median_
  * replication at the frame's edges only), R its band's radius; a single
  * band is the plain filter. More than one band needs every radius <=
  * ACTAG_MEDIAN_INPLACE_MAX_RADIUS and, for 16-bit frames, a scratch of at
- * least (2 * 7 + 16) * cols bytes (ACTAG_ERR_PARAM / ACTAG_ERR_WORKSPACE
- * otherwise). */
+ * least ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(cols) bytes (ACTAG_ERR_PARAM /
+ * ACTAG_ERR_WORKSPACE otherwise). */
 int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int rows, int cols,
                                int src_stride, uint8_t *dst, int dst_stride,
                                const actag__median_bands *b, void *scratch, size_t scratch_size);

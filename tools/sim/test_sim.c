@@ -354,6 +354,28 @@ static void test_detect_in_every_orientation(void)
     TEST_ASSERT_GREATER_OR_EQUAL(runs * 3 / 4, found);
 }
 
+/* actag_detect_multi of the sets p[0 .. np-1] on fr, then each set alone:
+ * counts[i] and set i's detections (at most max_each, max_each <= 8) are
+ * what actag_detect gives it. The workspace ws (wss bytes) serves both;
+ * multi holds np * max_each detections. Returns all sets' detections. */
+static int expect_multi_equals_separate(const actag_frame *fr, const actag_sonar_geometry *g,
+                                        const actag_params *p, int np, void *ws, size_t wss,
+                                        actag_detection *multi, int max_each, int *counts)
+{
+    actag_detection one[8];
+    int i, total = 0;
+    TEST_ASSERT_TRUE(max_each <= 8);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_detect_multi(fr, g, p, np, ws, wss, multi, max_each,
+                                                       counts));
+    for (i = 0; i < np; i++) {
+        int n = actag_detect(fr, g, &p[i], ws, wss, one, max_each, NULL);
+        TEST_ASSERT_EQUAL_INT(n, counts[i]);
+        TEST_ASSERT_EQUAL_INT(0, memcmp(one, multi + i * max_each, (size_t)n * sizeof one[0]));
+        total += n;
+    }
+    return total;
+}
+
 /* actag_detect_multi gives every parameter set exactly what a separate
  * actag_detect call gives: all built-in families at zero, default and
  * maximal corrections, on tagged and tag-free simulated frames (8- and
@@ -364,7 +386,7 @@ static void test_detect_multi_equals_separate_calls(void)
     static uint8_t img[530 * 512];
     static uint16_t img16[530 * 512];
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(530, 512)];
-    static actag_detection multi[MAXP * EACH], one[EACH];
+    static actag_detection multi[MAXP * EACH];
     static actag_family fams[32];
     actag_params p[MAXP];
     int counts[MAXP], nf = actag_family_count(), np = 0, f, k, i, trial, total = 0;
@@ -415,14 +437,8 @@ static void test_detect_multi_equals_separate_calls(void)
             fr.data = img;
             fr.depth = 8;
         }
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_detect_multi(&fr, &s.geo, p, np, ws, sizeof ws,
-                                                           multi, EACH, counts));
-        for (i = 0; i < np; i++) {
-            int n = actag_detect(&fr, &s.geo, &p[i], ws, sizeof ws, one, EACH, NULL);
-            TEST_ASSERT_EQUAL_INT(n, counts[i]);
-            TEST_ASSERT_EQUAL_INT(0, memcmp(one, multi + i * EACH, (size_t)n * sizeof one[0]));
-            total += n;
-        }
+        total += expect_multi_equals_separate(&fr, &s.geo, p, np, ws, sizeof ws, multi, EACH,
+                                              counts);
     }
     TEST_ASSERT_GREATER_THAN(0, total); /* the tagged frames were found */
     {
@@ -443,13 +459,7 @@ static void test_detect_multi_equals_separate_calls(void)
          * (it was ACTAG_ERR_PARAM before the radius per range band), and
          * each set still gets what actag_detect gives it */
         p[1].tuning.median_radius = p[0].tuning.median_radius + 1;
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_detect_multi(&fr, &s.geo, p, 2, ws, sizeof ws, multi,
-                                                           EACH, counts));
-        for (i = 0; i < 2; i++) {
-            int n = actag_detect(&fr, &s.geo, &p[i], ws, sizeof ws, one, EACH, NULL);
-            TEST_ASSERT_EQUAL_INT(n, counts[i]);
-            TEST_ASSERT_EQUAL_INT(0, memcmp(one, multi + i * EACH, (size_t)n * sizeof one[0]));
-        }
+        (void)expect_multi_equals_separate(&fr, &s.geo, p, 2, ws, sizeof ws, multi, EACH, counts);
         p[1].tuning.median_radius = p[0].tuning.median_radius;
         p[1].max_bit_corrections = 99;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_CORRECTIONS, actag_detect_multi(&fr, &s.geo, p, 2, ws,
@@ -1335,7 +1345,7 @@ static void test_detect_multi_with_other_bands_equals_separate_calls(void)
     static uint8_t img[1024 * 512];
     static uint16_t img16[1024 * 512];
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 512)];
-    static actag_detection multi[NP * EACH], one[EACH];
+    static actag_detection multi[NP * EACH];
     actag_family f24, f28;
     actag_params p[NP];
     sim_sonar s;
@@ -1372,15 +1382,9 @@ static void test_detect_multi_with_other_bands_equals_separate_calls(void)
             } else {
                 fr.data = img;
             }
-            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_detect_multi(&fr, &s.geo, p, NP, ws, sizeof ws,
-                                                               multi, EACH, counts));
-            for (i = 0; i < NP; i++) {
-                int n = actag_detect(&fr, &s.geo, &p[i], ws, sizeof ws, one, EACH, NULL);
-                TEST_ASSERT_EQUAL_INT(n, counts[i]);
-                TEST_ASSERT_EQUAL_INT(0, memcmp(one, multi + i * EACH, (size_t)n * sizeof one[0]));
-                if (i == 0)
-                    read24 += n;
-            }
+            (void)expect_multi_equals_separate(&fr, &s.geo, p, NP, ws, sizeof ws, multi, EACH,
+                                               counts);
+            read24 += counts[0];
         }
     }
     TEST_ASSERT_GREATER_THAN(0, read24); /* the comparison included far readings */
