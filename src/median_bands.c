@@ -6,9 +6,12 @@
 
 int actag__median_radius_for_cell(float cell_px, int r0)
 {
-    /* NaN and tiny cells: 1; wide cells: r0 (no cast of a huge width) */
-    int r = !(cell_px >= 2.0f) ? 1 : cell_px >= 2.0f * (float)r0 + 2.0f ? r0 : (int)(0.5f * cell_px);
-    return r < r0 ? r : r0;
+    /* the largest r <= r0 with 4 r - 2 <= cell_px (a window of 2 r + 1 <=
+     * cell_px / 2 + 2 pixels), at least 2 (NaN: 2); r0 below 2 is kept */
+    int r = r0;
+    while (r > 2 && !(cell_px >= 4.0f * (float)r - 2.0f))
+        r--;
+    return r;
 }
 
 void actag__median_bands_of(const actag_sonar_geometry *g, int rows, int cols,

@@ -1,8 +1,9 @@
 /* The median's radius per band of rows (internal): where a tag's cells are
- * narrower than the median's window, the window erases them, so the
+ * not much wider than the median's window, the window blurs them, so the
  * radius follows the cell width the sonar's geometry gives at each range
  * (actag_tuning.median_per_range, actag.h). Shared by actag_detect,
- * actag_detect_inplace, actag_detect_multi and the tracker's windows. */
+ * actag_detect_inplace and actag_detect_multi (the tracker's windows have
+ * their own rule, track.c). */
 #ifndef ACTAG_MEDIAN_BANDS_H
 #define ACTAG_MEDIAN_BANDS_H
 
@@ -21,8 +22,10 @@ typedef struct actag__median_bands {
     int radius[ACTAG__MEDIAN_BANDS_MAX]; /* its median radius */
 } actag__median_bands;
 
-/* The radius for cells `cell_px` pixels wide: half the width, rounded
- * down, at least 1, at most r0 (NaN: 1; r0 0: 0). */
+/* The radius for cells `cell_px` pixels wide: the largest r <= r0 whose
+ * window, 2 r + 1 pixels, spans at most half the cell plus 2 pixels (4 r -
+ * 2 <= cell_px), at least 2 (NaN or tiny cells: 2); r0 itself when r0 < 2
+ * (actag.h, DEFAULTS AND WHY). */
 int actag__median_radius_for_cell(float cell_px, int r0);
 
 /* The bands of a rows x cols frame for parameters p: one band of

@@ -31,7 +31,8 @@ static actag_family family_of(const char *name)
 }
 
 /* The radius of row y by the rule, computed for the row alone: the largest
- * r in 1..r0 with 2 r <= the cell's width in beams (1 when none is). */
+ * r in 2..r0 whose window, 2 r + 1 pixels, spans at most half the cell's
+ * width in beams plus 2 (2 when none does; r0 when r0 < 2). */
 static int brute_radius(const actag_sonar_geometry *g, int rows, int cols, const actag_params *p,
                         int y)
 {
@@ -46,10 +47,12 @@ static int brute_radius(const actag_sonar_geometry *g, int rows, int cols, const
     if (!(w > 0.0f))
         return r0;
     cell = p->tag_size / (float)(p->family->bits / 4 - 3) / w;
-    for (r = r0; r > 1; r--)
-        if (2.0f * (float)r <= cell)
+    if (r0 < 2)
+        return r0;
+    for (r = r0; r > 2; r--)
+        if (2.0f * (float)r + 1.0f <= 0.5f * cell + 2.0f)
             return r;
-    return 1;
+    return 2;
 }
 
 /* b: a partition of the rows into maximal runs, each row at its brute-force
@@ -109,10 +112,33 @@ static void test_rule_equals_brute_force(void)
     }
 }
 
+/* The rule's boundaries: radius r from cells of 4 r - 2 pixels, never
+ * below 2 (NaN and negative widths included), never above r0, and r0
+ * itself when it is below 2. */
+static void test_radius_for_cell_boundaries(void)
+{
+    TEST_ASSERT_EQUAL_INT(2, actag__median_radius_for_cell(0.0f, 4));
+    TEST_ASSERT_EQUAL_INT(2, actag__median_radius_for_cell(-5.0f, 4));
+    TEST_ASSERT_EQUAL_INT(2, actag__median_radius_for_cell(NAN, 4));
+    TEST_ASSERT_EQUAL_INT(2, actag__median_radius_for_cell(-INFINITY, 4));
+    TEST_ASSERT_EQUAL_INT(2, actag__median_radius_for_cell(nextafterf(10.0f, 0.0f), 4));
+    TEST_ASSERT_EQUAL_INT(3, actag__median_radius_for_cell(10.0f, 4));
+    TEST_ASSERT_EQUAL_INT(3, actag__median_radius_for_cell(nextafterf(14.0f, 0.0f), 4));
+    TEST_ASSERT_EQUAL_INT(4, actag__median_radius_for_cell(14.0f, 4));
+    TEST_ASSERT_EQUAL_INT(4, actag__median_radius_for_cell(1e30f, 4));
+    TEST_ASSERT_EQUAL_INT(4, actag__median_radius_for_cell(INFINITY, 4));
+    TEST_ASSERT_EQUAL_INT(7, actag__median_radius_for_cell(26.0f, 7));
+    TEST_ASSERT_EQUAL_INT(6, actag__median_radius_for_cell(25.9f, 7));
+    TEST_ASSERT_EQUAL_INT(3, actag__median_radius_for_cell(1e30f, 3));
+    TEST_ASSERT_EQUAL_INT(1, actag__median_radius_for_cell(0.5f, 1));
+    TEST_ASSERT_EQUAL_INT(1, actag__median_radius_for_cell(100.0f, 1));
+    TEST_ASSERT_EQUAL_INT(0, actag__median_radius_for_cell(100.0f, 0));
+}
+
 /* The two sonars the library is measured on: the pool recording's keeps
  * radius 4 everywhere (its cells are 14 beams or wider), so its detections
- * are those of the fixed radius; the paper's sonar takes 2 beyond 3.54 m
- * and 3 beyond 2.66 m. */
+ * are those of the fixed radius; the paper's sonar takes 2 beyond 2.12 m
+ * and 3 beyond 1.52 m. */
 static void test_the_pool_sonar_keeps_its_radius_and_the_paper_sonar_bands(void)
 {
     actag_family f = family_of("AcTag24h10");
@@ -135,8 +161,8 @@ static void test_the_pool_sonar_keeps_its_radius_and_the_paper_sonar_bands(void)
     TEST_ASSERT_EQUAL_INT(2, b.radius[0]);
     TEST_ASSERT_EQUAL_INT(3, b.radius[1]);
     TEST_ASSERT_EQUAL_INT(4, b.radius[2]);
-    TEST_ASSERT_FLOAT_WITHIN(0.01f, 3.54f, actag_geometry_range(&g, 1024, (float)b.end[0]));
-    TEST_ASSERT_FLOAT_WITHIN(0.01f, 2.66f, actag_geometry_range(&g, 1024, (float)b.end[1]));
+    TEST_ASSERT_FLOAT_WITHIN(0.01f, 2.12f, actag_geometry_range(&g, 1024, (float)b.end[0]));
+    TEST_ASSERT_FLOAT_WITHIN(0.01f, 1.52f, actag_geometry_range(&g, 1024, (float)b.end[1]));
     check_rule(&g, 1024, 512, &p);
     p.tuning.median_per_range = 0;
     actag__median_bands_of(&g, 1024, 512, &p, &b);
@@ -244,6 +270,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_rule_equals_brute_force);
+    RUN_TEST(test_radius_for_cell_boundaries);
     RUN_TEST(test_the_pool_sonar_keeps_its_radius_and_the_paper_sonar_bands);
     RUN_TEST(test_detect_filters_each_band_at_its_radius);
     return UNITY_END();

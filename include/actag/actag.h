@@ -184,11 +184,14 @@ typedef struct actag_tuning {
                                    the filter): the largest radius (see median_per_range).
                                    Lower it (2-3) when tags span few pixels (under ~15 px),
                                    raise it (5-6) on very speckled frames. */
-    int median_per_range;       /* 0 or 1 (default 1): at each range the radius is at most
-                                   half a tag cell's width in beams there (tag_size / (bits/4
-                                   - 3) over range x beam spacing), at least 1, so the median
-                                   keeps the cells of far tags (a 9 x 9 median erases cells
-                                   under ~8 px). Applies when median_radius is 1..7; rows of
+    int median_per_range;       /* 0 or 1 (default 1): at each range the radius is the
+                                   largest whose window (2 r + 1 px) spans at most half a tag
+                                   cell's width in beams there plus 2 px, i.e. r <= (cell +
+                                   2) / 4 with cell = tag_size / (bits/4 - 3) over range x
+                                   beam spacing; at least 2 (a 5 x 5 window), so the median
+                                   keeps the cells of far tags (a 9 x 9 window mixes cells
+                                   under ~14 px with their neighbours). Applies when
+                                   median_radius is 1..7 (never above it); rows of
                                    one radius form a band (see DEFAULTS AND WHY). 0:
                                    median_radius at every range (earlier versions'
                                    behaviour). Set 0 when tag_size is not the size of the
@@ -321,25 +324,33 @@ typedef struct actag_params {
  * the decode.h manual for the decoder):
  *   - Pipeline order: median -> structure search -> threshold -> contours ->
  *     size filter -> RANSAC quad -> side-length check -> decode -> merge.
- *   - Median radius per range band (median_per_range 1): a
- *     square median of radius R erases features under about R + 1 pixels,
- *     and a tag's cells shrink in beams as 1 / range, so each row takes at
- *     most half the cell's width in beams at its range (the rule the
- *     tracker's windows use with the predicted cell, track.h), at most
- *     median_radius. The pool recording's sonar (0.1-1.5 m, 60 degrees,
- *     512 beams) keeps 4 on every row: its detections are those of the
- *     fixed radius. The paper's sonar (0.1-5 m, 60 degrees) takes 3 beyond
- *     2.66 m and 2 beyond 3.54 m: 1,000 simulated views, seed 1: 452 ->
- *     644 read, seed 2: 472 -> 665, 0 wrong IDs, mirror or order errors
- *     either way (24 views seed 1 read before are lost, mostly at 2.8-3.8
- *     m, where speckle breaks or joins the white square's contour, against
- *     216 gained); 0 false detections on 10,000 tag-free frames, every
- *     family; held-out sweeps: no new error (docs/evaluation.md). Not the
- *     range direction: a cell's range
- *     extent depends on the view, unknown before the tag is found. Cost:
- *     the median itself takes 1.6 % fewer x86 instructions on four
- *     paper-sonar frames (callgrind), the pipeline 10 % more (one more
- *     far tag read and refined); the pool frames are unchanged.
+ *   - Median radius per range band (median_per_range 1): a tag's cells
+ *     shrink in beams as 1 / range, and a square median whose window
+ *     reaches into the neighbouring cells blurs them together, so each row
+ *     takes the largest radius whose window spans at most half the cell's
+ *     width in beams at its range plus 2 pixels (r <= (cell + 2) / 4): the
+ *     windows around the decoder's sample points (0.2 cell from a cell's
+ *     centre, the window's half-width about a quarter cell) then lie
+ *     mostly inside the cell. Never below 2: a 3 x 3 window
+ *     leaves too much speckle (1,000 simulated views at the paper's
+ *     settings, seed 1: 436 read at radius 1 everywhere, 680 at 2). At
+ *     most median_radius. The pool recording's sonar (0.1-1.5 m, 60
+ *     degrees, 512 beams: cells 14 beams or wider) keeps 4 on every row:
+ *     its detections are those of the fixed radius. The paper's sonar
+ *     (0.1-5 m) takes 3 beyond 1.52 m and 2 beyond 2.12 m. Chosen on
+ *     radius-per-distance runs (radius 2, 3 and 4 everywhere, tuning seeds
+ *     31 and 32: radius 3 reads most at cells of 8-17 beams, 2 below 7;
+ *     the earlier rule, half the cell, kept 4 down to 10 beams), then
+ *     checked on seeds nobody tuned on: paper seeds 1-10 read 627-674 ->
+ *     655-704 of 1,000 (0 wrong IDs, mirror or order errors; seed 5's one
+ *     wrong reading is gone); 24 held-out sweep runs of mixed sonars,
+ *     appearances and families 10,833 -> 14,056 right readings with 6 ->
+ *     8 frames in error (the same rate per reading, 5.5e-4 and 5.7e-4;
+ *     docs/evaluation.md); 0 false detections on 10,000 tag-free frames,
+ *     every family. Not the range direction: a cell's range extent
+ *     depends on the view, unknown before the tag is found. The tracker's
+ *     windows keep half the predicted cell's least width (track.h):
+ *     measured better there (pool passes 633 vs 629 of 634).
  *   - Structure search: box sums over a 4x4-averaged copy of the filtered
  *     frame score every position by mean(3x3-cell box) - mean(ring of cells
  *     around it) at the tag's physical size (range extent scaled by

@@ -318,12 +318,12 @@ static void test_eval_write_errors(void)
         TEST_IGNORE_MESSAGE("no /dev/full");
     expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --threads 1 --quiet --pose-dump /dev/full",
                     "--pose-dump", "/dev/full");
-    /* AcTag24h4 with no margins: frames 6 and 7 of 10 give wrong IDs, so
-     * failure lines are written */
+    /* AcTag24h4 with no margins and a 9 x 9 median at every range: 2 of 10
+     * frames give wrong IDs, so failure lines are written */
     expect_error_of(ACTAG_EVAL_PATH,
                     "--frames 10 --threads 1 --quiet --family AcTag24h4 --min-margin -100 "
                     "--search-min-margin -100 --min-bit-margin 0 --many-corrections-margin 0 "
-                    "--failures /dev/full",
+                    "--median-per-range 0 --failures /dev/full",
                     "--failures", "/dev/full");
     TEST_ASSERT_EQUAL_INT(2, run_with(NULL, ACTAG_EVAL_PATH, "--frames 2 --threads 1 --quiet",
                                       "/dev/full"));

@@ -155,7 +155,9 @@ static void test_a_pass_is_tracked_without_switches(void)
  * windows read at the whole-frame radius fell short of this). And the
  * whole frame with its radius per range band (the default,
  * median_bands.c) reads more than at radius 4 everywhere
- * (44 -> 67 of the 90 frames in view when this was written). */
+ * (44 -> 67 of the 90 frames in view with a radius of half the cell, 64
+ * with the window of half a cell plus 2 pixels, 2026-12-06: that rule
+ * reads more views over 1,000-frame runs, docs/evaluation.md). */
 static void test_far_tags_are_read_with_a_median_of_their_cells(void)
 {
     static actag_tracker tr;
