@@ -331,7 +331,8 @@ static void t_add_stats(actag_track_stats *st, const actag_stats *ds)
 }
 
 /* Half the cell width w (pixels), rounded down, at least 1, at most r0
- * (NaN: 1). Not the whole frame's rule per range band (median_bands.h, a
+ * (NaN: 1): the verify's radius, and the cap of the ROI searches' bands.
+ * Not the whole frame's rule per range band (median_bands.h, a
  * window of half a cell plus 2 pixels, at least 2): w here is the predicted
  * cell's least width, which a grazing view narrows along range, and on the
  * pool sonar's simulated passes this rule reads more (633 against 629 of

@@ -50,7 +50,7 @@ static int brute_radius(const actag_sonar_geometry *g, int rows, int cols, const
     if (r0 < 2)
         return r0;
     for (r = r0; r > 2; r--)
-        if (2.0f * (float)r + 1.0f <= 0.5f * cell + 2.0f)
+        if (2.0 * (double)r + 1.0 <= 0.5 * (double)cell + 2.0) /* exact: no float tie */
             return r;
     return 2;
 }

@@ -188,7 +188,8 @@ typedef struct actag_tuning {
                                    largest whose window (2 r + 1 px) spans at most half a tag
                                    cell's width in beams there plus 2 px, i.e. r <= (cell +
                                    2) / 4 with cell = tag_size / (bits/4 - 3) over range x
-                                   beam spacing; at least 2 (a 5 x 5 window), so the median
+                                   beam spacing; at least 2 (a 5 x 5 window; median_radius
+                                   when that is smaller), so the median
                                    keeps the cells of far tags (a 9 x 9 window mixes cells
                                    under ~14 px with their neighbours). Applies when
                                    median_radius is 1..7 (never above it); rows of
@@ -340,7 +341,9 @@ typedef struct actag_params {
  *     (0.1-5 m) takes 3 beyond 1.52 m and 2 beyond 2.12 m. Chosen on
  *     radius-per-distance runs (radius 2, 3 and 4 everywhere, tuning seeds
  *     31 and 32: radius 3 reads most at cells of 8-17 beams, 2 below 7;
- *     the earlier rule, half the cell, kept 4 down to 10 beams), then
+ *     the rule takes 3 at 10-14 beams and 2 or 4 on either side, within
+ *     1-4 views of radius 3 there; the earlier rule, half the cell, kept 4
+ *     down to 8 beams), then
  *     checked on seeds nobody tuned on: paper seeds 1-10 read 627-674 ->
  *     655-704 of 1,000 (0 wrong IDs, mirror or order errors; seed 5's one
  *     wrong reading is gone); 24 held-out sweep runs of mixed sonars,
@@ -349,8 +352,10 @@ typedef struct actag_params {
  *     docs/evaluation.md); 0 false detections on 10,000 tag-free frames,
  *     every family. Not the range direction: a cell's range extent
  *     depends on the view, unknown before the tag is found. The tracker's
- *     windows keep half the predicted cell's least width (track.h):
- *     measured better there (pool passes 633 vs 629 of 634).
+ *     windows are capped at half the predicted cell's least width
+ *     (track.h; its ROI searches take the band rule under that cap):
+ *     measured better there than this rule's cap (pool passes 633 vs 629
+ *     of 634).
  *   - Structure search: box sums over a 4x4-averaged copy of the filtered
  *     frame score every position by mean(3x3-cell box) - mean(ring of cells
  *     around it) at the tag's physical size (range extent scaled by
