@@ -192,6 +192,63 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
     return 1;
 }
 
+/* A contour too large for a white square, within ACTAG_MERGED_EXTENT times
+ * its extents and ACTAG_MERGED_AREA times its area (as size_plausible
+ * measures them), where a tag's cells are narrower than ACTAG_MERGED_CELL
+ * beams: there the beam's spread fills the one-cell black ring, and the
+ * white square's blob merges with data cells (1.4-2.4 times its width in
+ * beams, docs/evaluation.md). Wider cells keep their ring: such a guess
+ * read nothing there and cost a wide decode per large clutter blob (the
+ * pool frames, cells of 14 beams or more: +8 % Cortex-M7 instructions).
+ * The guess is a white square's box at the blob's centre, sized as
+ * actag_search_next sizes its quads (range extent times
+ * search_range_scale), for the fit decoder's wide search. Returns 1 with
+ * the box in q (clockwise on screen), else 0. */
+#define ACTAG_MERGED_EXTENT 2.5f
+#define ACTAG_MERGED_AREA 3.0f
+#define ACTAG_MERGED_CELL 10.0f
+static int merged_box(const actag_contour_info *ci, const actag_sonar_geometry *g,
+                      const actag_params *p, int rows, int cols, actag_point q[4])
+{
+    float yc = 0.5f * (float)(ci->min_y + ci->max_y);
+    float xc = 0.5f * (float)(ci->min_x + ci->max_x);
+    float range = actag_geometry_range(g, rows, yc);
+    float dr = actag_geometry_range_step(g, rows);
+    float daz = actag_geometry_azimuth_step(g, cols, xc) * range;
+    float diag = p->tag_size * 1.41421356f, tol = p->tuning.size_tolerance;
+    float ext_r, ext_az, diag_r_px, diag_az_px, ref_area, hr, hc;
+    if (!(dr > 0.0f) || !(daz > 0.0f))
+        return 0;
+    if (!(p->tag_size / (float)(p->family->bits / 4 - 3) / daz < ACTAG_MERGED_CELL))
+        return 0;
+    if (!(p->tag_size / (float)(p->family->bits / 4 - 3) / daz < ACTAG_MERGED_CELL))
+        return 0;
+    diag_r_px = diag / dr;
+    diag_az_px = diag / daz;
+    ext_r = (float)(ci->max_y - ci->min_y + 1);
+    ext_az = (float)(ci->max_x - ci->min_x + 1);
+    ref_area = diag_r_px * diag_az_px;
+    /* too large (not merely too small in area), but not by much */
+    if (ext_r <= diag_r_px * (1.0f + tol) && ext_az <= diag_az_px * (1.0f + tol))
+        return 0;
+    if (!(ext_r <= ACTAG_MERGED_EXTENT * diag_r_px) ||
+        !(ext_az <= ACTAG_MERGED_EXTENT * diag_az_px) ||
+        !(ci->area <= ACTAG_MERGED_AREA * ref_area) ||
+        !(ci->area >= p->tuning.min_area_fraction * ref_area))
+        return 0;
+    hr = 0.5f * p->tag_size * p->tuning.search_range_scale / dr;
+    hc = 0.5f * p->tag_size / daz;
+    q[0].x = xc - hc;
+    q[0].y = yc - hr;
+    q[1].x = xc + hc;
+    q[1].y = yc - hr;
+    q[2].x = xc + hc;
+    q[2].y = yc + hr;
+    q[3].x = xc - hc;
+    q[3].y = yc + hr;
+    return 1;
+}
+
 /* Physical plausibility of a fitted quad: every side, measured in metres
  * through the sonar geometry, within [min, max] * tag_size. */
 static int sides_plausible(const actag_point c[4], const actag_sonar_geometry *g,
@@ -1072,6 +1129,38 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             }
             if (!size_plausible(&ci, geometry, params, rows, cols)) {
                 trace_contour(tr, ACTAG_TRACE_SIZE, pts, &ci);
+                /* a white square merged with its neighbours: a guess at
+                 * its centre, judged like a contour's guess */
+                if (params->tuning.decode_mode != ACTAG_DECODE_FIT ||
+                    !merged_box(&ci, geometry, params, rows, cols, gq)) {
+                    continue;
+                } else if (guess_on_border(gq, rows, cols)) {
+                    trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
+                } else if (nguess >= ACTAG_GUESS_MAX) {
+                    st.guess_cap++;
+                } else if (decode_budget(&st, params)) {
+                    int verdict;
+                    memset(&ggx, 0, sizeof ggx);
+                    nguess++;
+                    verdict = read_guess(&w, rows, cols, geometry, params, &ggx, held, &nheld, gq,
+                                         &dr);
+                    if (verdict == ACTAG_TRACE_ACCEPTED &&
+                        rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, 0,
+                                       dr.fit_corners, sk_contested))
+                        verdict = ACTAG_TRACE_RIVAL;
+                    trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
+                               verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
+                    if (verdict == ACTAG_TRACE_ACCEPTED) {
+                        actag_detection d;
+                        st.decoded++;
+                        fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols, flip_mirror);
+                        /* a search reading at this place is superseded by this one */
+                        for (k = 0; k < nsk; k++)
+                            if (same_place(d.corners, sk_dr[k].fit_corners))
+                                sk_used[k] = 1;
+                        record(out, max_out, &nout, &st, &d, dr.fit_corners, fit_start);
+                    }
+                }
                 continue;
             }
             trace_contour(tr, ACTAG_TRACE_ACCEPTED, pts, &ci);

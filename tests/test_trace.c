@@ -26,6 +26,7 @@ typedef struct {
     actag_point acc_corners[MAX_ACC][4]; /* corners of accepted readings */
     int acc_id[MAX_ACC];
     int rows, cols;       /* the frame's, for the border rule of guesses */
+    int after_size;       /* the last event was a contour refused by size */
 } tally;
 
 /* Events seen over all frames checked so far, by kind and outcome. */
@@ -47,6 +48,18 @@ static int corner_on_border(const actag_point q[4], int rows, int cols)
     return 0;
 }
 
+/* The same for a merged blob's box (any coordinates): a corner on or
+ * beyond the frame's first or last row or column. */
+static int box_on_border(const actag_point q[4], int rows, int cols)
+{
+    int i;
+    for (i = 0; i < 4; i++)
+        if (!(q[i].x > 0.0f && q[i].y > 0.0f && q[i].x < (float)(cols - 1) &&
+              q[i].y < (float)(rows - 1)))
+            return 1;
+    return 0;
+}
+
 static void on_event(void *user, const actag_trace_event *e)
 {
     tally *t = (tally *)user;
@@ -62,11 +75,16 @@ static void on_event(void *user, const actag_trace_event *e)
     /* a guess is skipped exactly when a corner lies on the border, and then
      * carries no reading */
     if (e->kind == ACTAG_TRACE_GUESS) {
-        int b = corner_on_border(e->quad, t->rows, t->cols);
+        /* right after a contour refused by size: a merged blob's box
+         * (corners not on pixels), skipped when a corner leaves the open
+         * frame (0, cols - 1) x (0, rows - 1) */
+        int b = t->after_size ? box_on_border(e->quad, t->rows, t->cols)
+                              : corner_on_border(e->quad, t->rows, t->cols);
         if (b < 0 || b != (e->outcome == ACTAG_TRACE_BORDER) ||
             (b && e->decoded != NULL))
             t->bad++;
     }
+    t->after_size = e->kind == ACTAG_TRACE_CONTOUR && e->outcome == ACTAG_TRACE_SIZE;
     if (e->kind == ACTAG_TRACE_CONTOUR) {
         if (e->contour == NULL)
             t->bad++;

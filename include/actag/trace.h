@@ -28,7 +28,11 @@
  *     ACTAG_TRACE_GUESS    when no quad of a contour reads: the grid guess from
  *                          the contour's extreme points and what the fit
  *                          decoder's wide search made of it (judged like a
- *                          search position).
+ *                          search position); also, right after a contour
+ *                          refused by size (ACTAG_TRACE_SIZE) as too large
+ *                          where cells are under 10 beams, the white
+ *                          square's box at its centre (a white square
+ *                          merged with its data cells, actag.h).
  *
  *   Each event carries an outcome: ACTAG_TRACE_ACCEPTED (the candidate went
  *   on: a contour to RANSAC, a quad or search position to the detections,

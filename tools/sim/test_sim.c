@@ -5,6 +5,7 @@
 #include "simio.h"
 #include "actag/decode.h"
 #include "actag/median.h"
+#include "actag/trace.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -1390,6 +1391,86 @@ static void test_detect_multi_with_other_bands_equals_separate_calls(void)
     TEST_ASSERT_GREATER_THAN(0, read24); /* the comparison included far readings */
 }
 
+#define MERGED_VIEWS 150
+#define MERGED_MIN_READ 2
+
+/* Guesses read from contours too large for a white square (detect.c,
+ * merged_box): the trace shows such a guess right after the contour's
+ * ACTAG_TRACE_SIZE event. */
+typedef struct merged_watch {
+    int after_size; /* the last event was a contour refused by size */
+    int tried, read;
+} merged_watch;
+
+static void watch_merged(void *user, const actag_trace_event *e)
+{
+    merged_watch *m = (merged_watch *)user;
+    if (e->kind == ACTAG_TRACE_CONTOUR) {
+        m->after_size = e->outcome == ACTAG_TRACE_SIZE;
+        return;
+    }
+    if (e->kind == ACTAG_TRACE_GUESS && m->after_size) {
+        m->tried++;
+        m->read += e->outcome == ACTAG_TRACE_ACCEPTED;
+    }
+    m->after_size = 0;
+}
+
+/* Far tags (paper sonar, 3.6-4.8 m: cells of about 5 beams) whose white
+ * square merged with its neighbours in the binary frame (the beam's spread
+ * fills the black ring) are read from a guess at the merged blob's centre,
+ * and every reading is the tag: right ID, handedness and corner order
+ * (twenty-third session: +10 views of 1,000 at seed 1). */
+static void test_far_tags_merged_with_their_cells_are_read(void)
+{
+    static uint8_t img[1024 * 512];
+    static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 512)];
+    sim_sonar s;
+    sim_view_params v;
+    sim_appearance a;
+    sim_tag t;
+    merged_watch mw;
+    actag_params p;
+    int i, k, views = 0, read = 0;
+    eval_settings(0, "AcTag24h10", &s, &v, &a, &t);
+    v.min_distance = 3.6f;
+    v.max_distance = 4.8f;
+    memset(&mw, 0, sizeof mw);
+    actag_params_default(&p);
+    p.family = &t.family;
+    p.tag_size = t.tag_size;
+    for (i = 0; i < MERGED_VIEWS; i++) {
+        sim_scene sc;
+        sim_truth tr;
+        actag_frame fr;
+        actag_detection det[4];
+        int n;
+        t.id = i % t.family.ncodes;
+        TEST_ASSERT_EQUAL_INT(0, sim_sample_view(&s, &v, 4400u + (uint32_t)i, &t, &sc));
+        TEST_ASSERT_EQUAL_INT(0, sim_render(&s, &sc, &a, 4500u + (uint32_t)i, img, NULL, s.cols,
+                                            NULL));
+        sim_truth_of(&s, &t, &tr);
+        fr.data = img;
+        fr.rows = s.rows;
+        fr.cols = s.cols;
+        fr.stride = s.cols;
+        fr.depth = 8;
+        mw.after_size = 0;
+        n = actag_detect_traced(&fr, &s.geo, &p, ws, sizeof ws, det, 4, NULL, watch_merged, &mw);
+        TEST_ASSERT_TRUE(n >= 0);
+        views += tr.visible;
+        for (k = 0; k < n; k++) {
+            TEST_ASSERT_EQUAL_INT(t.id, det[k].id);
+            TEST_ASSERT_EQUAL_INT(tr.mirrored, det[k].mirrored);
+            TEST_ASSERT_FALSE(sim_corner_order_wrong(det[k].corners, tr.px, NULL));
+            read++;
+        }
+    }
+    printf("far views %d: read %d; merged-blob guesses %d, read %d\n", views, read, mw.tried,
+           mw.read);
+    TEST_ASSERT_GREATER_OR_EQUAL(MERGED_MIN_READ, mw.read);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1401,6 +1482,7 @@ int main(void)
     RUN_TEST(test_detect_in_every_orientation);
     RUN_TEST(test_detect_multi_equals_separate_calls);
     RUN_TEST(test_detect_multi_with_other_bands_equals_separate_calls);
+    RUN_TEST(test_far_tags_merged_with_their_cells_are_read);
     RUN_TEST(test_render_errors);
     RUN_TEST(test_regression_seed102_frame444);
     RUN_TEST(test_regression_pool_seed105_frame673);
