@@ -409,9 +409,11 @@ typedef struct actag_params {
  *     the one-cell black ring (far tags: blobs 1.4-2.4 times the white
  *     square's width). A white square's box at the blob's centre (sized as
  *     the structure search's) starts the wide grid search, judged like a
- *     contour's guess, within the same 16 guesses per frame. Simulated
+ *     contour's guess but with at most 2 corrected bits (the start is
+ *     blind: with 3, a far tag was read turned half a turn at margin 4 in
+ *     a held-out sweep), within the same 16 guesses per frame. Simulated
  *     paper settings: seed 1 692 -> 700 of 1,000, tuning seed 31 682 ->
- *     695, all beyond 2.7 m, 0 errors (docs/evaluation.md). Not where
+ *     692, all beyond 2.5 m, 0 errors (docs/evaluation.md). Not where
  *     cells are 10 beams or wider: there it read nothing and cost a wide
  *     decode per large clutter blob (pool frames: +8 % Cortex-M7
  *     instructions); the pool frames' detections and costs are unchanged.
