@@ -207,11 +207,12 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
 #define ACTAG_MERGED_EXTENT 2.5f
 #define ACTAG_MERGED_AREA 3.0f
 #define ACTAG_MERGED_CELL 10.0f
-/* Corrected bits a merged blob's reading may have: its start is blind (where
- * the white square lies in the blob, and how large it is, is unknown), so
- * it needs one bit more than a contour's guess to spare: with 3, a far tag
- * was read turned half a turn at hamming 3, margin 3.98 (held-out sweep
- * seed 10708, frame 85, beam spread 0.006 rad). */
+/* Corrected bits a merged blob's reading may have, one fewer than a
+ * contour's guess (3): its start is blind (where the white square lies in
+ * the blob, and how large it is, is unknown). With 3, a far tag was read
+ * turned half a turn at hamming 3, margin 3.98 (held-out sweep seed 10708,
+ * frame 85, beam spread 0.006 rad). A reading with more is traced as
+ * ACTAG_TRACE_MARGIN. */
 #define ACTAG_MERGED_CORRECTIONS 2
 static int merged_box(const actag_contour_info *ci, const actag_sonar_geometry *g,
                       const actag_params *p, int rows, int cols, actag_point q[4])
@@ -224,8 +225,6 @@ static int merged_box(const actag_contour_info *ci, const actag_sonar_geometry *
     float diag = p->tag_size * 1.41421356f, tol = p->tuning.size_tolerance;
     float ext_r, ext_az, diag_r_px, diag_az_px, ref_area, hr, hc;
     if (!(dr > 0.0f) || !(daz > 0.0f))
-        return 0;
-    if (!(p->tag_size / (float)(p->family->bits / 4 - 3) / daz < ACTAG_MERGED_CELL))
         return 0;
     if (!(p->tag_size / (float)(p->family->bits / 4 - 3) / daz < ACTAG_MERGED_CELL))
         return 0;

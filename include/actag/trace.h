@@ -79,7 +79,9 @@ extern "C" {
 #define ACTAG_TRACE_NO_MATCH 4    /* the decoder found no code (or failed) */
 #define ACTAG_TRACE_STRUCTURE 5   /* decoded, but black ring / white interior
                                      failed the structure budget */
-#define ACTAG_TRACE_MARGIN 6      /* decoded, but decision margin too small */
+#define ACTAG_TRACE_MARGIN 6      /* decoded, but decision margin too small (a
+                                     merged blob's guess: also more than 2
+                                     corrected bits) */
 #define ACTAG_TRACE_RIVAL 7       /* a quad's or guess's reading where a search
                                      position (or, for a guess, one of the
                                      contour's quads refused as too close to
