@@ -165,27 +165,45 @@ void actag_params_default(actag_params *p)
 /* actag_params_validate(), actag_tuning_validate() and actag_check() are in
  * validate.c with the other rules. */
 
+/* A contour's extents and the white square's expected size there, in
+ * pixels (size_plausible and merged_box judge the one against the other). */
+typedef struct contour_size {
+    float xc, yc;             /* the bounding box's centre */
+    float dr, daz;            /* metres per row, per column at (xc, yc) */
+    float diag_r, diag_az;    /* the white square's diagonal in rows, in columns */
+    float ext_r, ext_az;      /* the contour's extents in rows, in columns */
+} contour_size;
+
+/* Returns 0 when the geometry gives no positive step there. */
+static int contour_size_of(const actag_contour_info *ci, const actag_sonar_geometry *g,
+                           const actag_params *p, int rows, int cols, contour_size *z)
+{
+    float diag = p->tag_size * 1.41421356f;
+    z->yc = 0.5f * (float)(ci->min_y + ci->max_y);
+    z->xc = 0.5f * (float)(ci->min_x + ci->max_x);
+    z->dr = actag_geometry_range_step(g, rows);
+    z->daz = actag_geometry_azimuth_step(g, cols, z->xc) * actag_geometry_range(g, rows, z->yc);
+    if (!(z->dr > 0.0f) || !(z->daz > 0.0f))
+        return 0;
+    z->diag_r = diag / z->dr;
+    z->diag_az = diag / z->daz;
+    z->ext_r = (float)(ci->max_y - ci->min_y + 1);
+    z->ext_az = (float)(ci->max_x - ci->min_x + 1);
+    return 1;
+}
+
 /* Physical size filter (SPEC section 5): the white square's extents and area,
  * in pixels, must fit a tag of this size at this range. */
 static int size_plausible(const actag_contour_info *ci, const actag_sonar_geometry *g,
                           const actag_params *p, int rows, int cols)
 {
-    float yc = 0.5f * (float)(ci->min_y + ci->max_y);
-    float xc = 0.5f * (float)(ci->min_x + ci->max_x);
-    float range = actag_geometry_range(g, rows, yc);
-    float dr = actag_geometry_range_step(g, rows);
-    float daz = actag_geometry_azimuth_step(g, cols, xc) * range;
-    float diag = p->tag_size * 1.41421356f;
-    float diag_r_px, diag_az_px, ext_r, ext_az, ref_area, tol = p->tuning.size_tolerance;
-    if (!(dr > 0.0f) || !(daz > 0.0f))
+    contour_size z;
+    float ref_area, tol = p->tuning.size_tolerance;
+    if (!contour_size_of(ci, g, p, rows, cols, &z))
         return 0;
-    diag_r_px = diag / dr;
-    diag_az_px = diag / daz;
-    ext_r = (float)(ci->max_y - ci->min_y + 1);
-    ext_az = (float)(ci->max_x - ci->min_x + 1);
-    if (ext_r > diag_r_px * (1.0f + tol) || ext_az > diag_az_px * (1.0f + tol))
+    if (z.ext_r > z.diag_r * (1.0f + tol) || z.ext_az > z.diag_az * (1.0f + tol))
         return 0;
-    ref_area = diag_r_px * diag_az_px;
+    ref_area = z.diag_r * z.diag_az;
     if (ci->area < p->tuning.min_area_fraction * (1.0f - tol) * ref_area ||
         ci->area > p->tuning.max_area_fraction * (1.0f + tol) * ref_area)
         return 0;
@@ -217,40 +235,31 @@ static int size_plausible(const actag_contour_info *ci, const actag_sonar_geomet
 static int merged_box(const actag_contour_info *ci, const actag_sonar_geometry *g,
                       const actag_params *p, int rows, int cols, actag_point q[4])
 {
-    float yc = 0.5f * (float)(ci->min_y + ci->max_y);
-    float xc = 0.5f * (float)(ci->min_x + ci->max_x);
-    float range = actag_geometry_range(g, rows, yc);
-    float dr = actag_geometry_range_step(g, rows);
-    float daz = actag_geometry_azimuth_step(g, cols, xc) * range;
-    float diag = p->tag_size * 1.41421356f, tol = p->tuning.size_tolerance;
-    float ext_r, ext_az, diag_r_px, diag_az_px, ref_area, hr, hc;
-    if (!(dr > 0.0f) || !(daz > 0.0f))
+    contour_size z;
+    float ref_area, hr, hc, tol = p->tuning.size_tolerance;
+    if (!contour_size_of(ci, g, p, rows, cols, &z))
         return 0;
-    if (!(p->tag_size / (float)(p->family->bits / 4 - 3) / daz < ACTAG_MERGED_CELL))
+    if (!(p->tag_size / (float)(p->family->bits / 4 - 3) / z.daz < ACTAG_MERGED_CELL))
         return 0;
-    diag_r_px = diag / dr;
-    diag_az_px = diag / daz;
-    ext_r = (float)(ci->max_y - ci->min_y + 1);
-    ext_az = (float)(ci->max_x - ci->min_x + 1);
-    ref_area = diag_r_px * diag_az_px;
+    ref_area = z.diag_r * z.diag_az;
     /* too large (not merely too small in area), but not by much */
-    if (ext_r <= diag_r_px * (1.0f + tol) && ext_az <= diag_az_px * (1.0f + tol))
+    if (z.ext_r <= z.diag_r * (1.0f + tol) && z.ext_az <= z.diag_az * (1.0f + tol))
         return 0;
-    if (!(ext_r <= ACTAG_MERGED_EXTENT * diag_r_px) ||
-        !(ext_az <= ACTAG_MERGED_EXTENT * diag_az_px) ||
+    if (!(z.ext_r <= ACTAG_MERGED_EXTENT * z.diag_r) ||
+        !(z.ext_az <= ACTAG_MERGED_EXTENT * z.diag_az) ||
         !(ci->area <= ACTAG_MERGED_AREA * ref_area) ||
         !(ci->area >= p->tuning.min_area_fraction * ref_area))
         return 0;
-    hr = 0.5f * p->tag_size * p->tuning.search_range_scale / dr;
-    hc = 0.5f * p->tag_size / daz;
-    q[0].x = xc - hc;
-    q[0].y = yc - hr;
-    q[1].x = xc + hc;
-    q[1].y = yc - hr;
-    q[2].x = xc + hc;
-    q[2].y = yc + hr;
-    q[3].x = xc - hc;
-    q[3].y = yc + hr;
+    hr = 0.5f * p->tag_size * p->tuning.search_range_scale / z.dr;
+    hc = 0.5f * p->tag_size / z.daz;
+    q[0].x = z.xc - hc;
+    q[0].y = z.yc - hr;
+    q[1].x = z.xc + hc;
+    q[1].y = z.yc - hr;
+    q[2].x = z.xc + hc;
+    q[2].y = z.yc + hr;
+    q[3].x = z.xc - hc;
+    q[3].y = z.yc + hr;
     return 1;
 }
 
@@ -1138,7 +1147,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                  * its centre, judged like a contour's guess */
                 if (params->tuning.decode_mode != ACTAG_DECODE_FIT ||
                     !merged_box(&ci, geometry, params, rows, cols, gq)) {
-                    continue;
+                    /* not a merged white square: nothing to read */
                 } else if (guess_on_border(gq, rows, cols)) {
                     trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
                 } else if (nguess >= ACTAG_GUESS_MAX) {
