@@ -174,7 +174,7 @@ static void trace(const actag_contour_scanner *s, int r0, int c0, int from_dir,
         info->max_x = maxx;
         info->min_y = r0; /* the start is the blob's first pixel in raster order */
         info->max_y = maxy;
-        info->area = (float)(twice_area < 0 ? -twice_area : twice_area) * 0.5f;
+        info->area = actag_i64_to_f(twice_area < 0 ? -twice_area : twice_area) * 0.5f;
     }
 }
 

@@ -163,6 +163,15 @@ static inline float actag_sqrtf(float x)
 #endif
 }
 
+/* (float)v, the same value, without the 64-bit conversion helper where v
+ * fits 32 bits: 32-bit cores (Cortex-M) convert an int64 by a libgcc call
+ * (__aeabi_l2f, about 40 instructions); an int32 converts in one. Both
+ * round the same integer to nearest, so the result is identical. */
+static inline float actag_i64_to_f(int64_t v)
+{
+    return v >= INT32_MIN && v <= INT32_MAX ? (float)(int32_t)v : (float)v;
+}
+
 /* Natural logarithm of x > 0 (NaN for x < 0 or NaN, -inf for 0, +inf for
  * +inf), without errno or libm: x = m 2^e with m in [sqrt(1/2), sqrt(2)),
  * ln x = e ln 2 + 2 atanh(s), s = (m - 1) / (m + 1), |s| < 0.172, by its

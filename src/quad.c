@@ -122,11 +122,11 @@ static int line_fit(const qsums *s, qline *l, float *msr)
     a64 = s->n * s->sxx - s->sx * s->sx;
     b64 = s->n * s->sxy - s->sx * s->sy;
     c64 = s->n * s->syy - s->sy * s->sy;
-    fn = (float)s->n;
+    fn = actag_i64_to_f(s->n);
     inv = 1.0f / (fn * fn);
-    a = (float)a64 * inv; /* covariance matrix [a b; b c], pixels^2 */
-    b = (float)b64 * inv;
-    c = (float)c64 * inv;
+    a = actag_i64_to_f(a64) * inv; /* covariance matrix [a b; b c], pixels^2 */
+    b = actag_i64_to_f(b64) * inv;
+    c = actag_i64_to_f(c64) * inv;
     hd = 0.5f * (a - c);
     r = actag_sqrtf(hd * hd + b * b);
     /* Eigenvector of the larger eigenvalue, written so nothing cancels. */
@@ -143,7 +143,7 @@ static int line_fit(const qsums *s, qline *l, float *msr)
     il = 1.0f / actag_sqrtf(len2);
     l->nx = -dy * il;
     l->ny = dx * il;
-    l->c = l->nx * ((float)s->sx / fn) + l->ny * ((float)s->sy / fn);
+    l->c = l->nx * (actag_i64_to_f(s->sx) / fn) + l->ny * (actag_i64_to_f(s->sy) / fn);
     if (msr) {
         float m = 0.5f * (a + c) - r;
         *msr = m > 0.0f ? m : 0.0f;
@@ -560,14 +560,14 @@ static int sample_line(const qctx *k, const unsigned char *lab, int start, int m
         return 0;
     /* If the squared residuals sum to under d^2, every point is within d
      * and the refit would change nothing (1 % margin for rounding). */
-    if (msr * (float)s.n > 0.99f * k->d2) {
+    if (msr * actag_i64_to_f(s.n) > 0.99f * k->d2) {
         qline l0 = *l;
         walk_sums(k, lab, start, m, &l0, &s);
         if (2 * s.n < m || !line_fit(&s, l, NULL))
             return 0;
     }
-    *mx = (float)s.sx / (float)s.n;
-    *my = (float)s.sy / (float)s.n;
+    *mx = actag_i64_to_f(s.sx) / actag_i64_to_f(s.n);
+    *my = actag_i64_to_f(s.sy) / actag_i64_to_f(s.n);
     return 1;
 }
 
@@ -628,8 +628,8 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     k.oy = miny;
     k.bw = (float)(maxx - minx);
     k.bh = (float)(maxy - miny);
-    k.cx = (float)(sx - (int64_t)minx * n) / (float)n;
-    k.cy = (float)(sy - (int64_t)miny * n) / (float)n;
+    k.cx = actag_i64_to_f(sx - (int64_t)minx * n) / (float)n;
+    k.cy = actag_i64_to_f(sy - (int64_t)miny * n) / (float)n;
     k.d = d;
     k.d2 = d * d;
     k.ratio = params->inlier_ratio;

@@ -80,7 +80,13 @@ static inline int16_t box_score(const actag_search *z, const search_box *b, int 
     /* sums are of F^2 pixels */
     num = (int64_t)si * (no - ni) - (int64_t)(so - si) * ni;
     den = (int64_t)ni * (no - ni) * ACTAG_SEARCH_FACTOR * ACTAG_SEARCH_FACTOR;
-    q = num * 8 / den;
+    num *= 8;
+    /* the same quotient (both truncate toward zero) without the 64-bit
+     * division helper of 32-bit cores where the operands fit 32 bits */
+    if (num >= -INT32_MAX && num <= INT32_MAX && den <= INT32_MAX)
+        q = (int32_t)num / (int32_t)den;
+    else
+        q = num / den;
     return (int16_t)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
 }
 

@@ -1,5 +1,5 @@
 /* src/fpmath.h: the library's errno-free square root and logarithm against
- * libm (brute force over spread samples of every float exponent, and the
+ * libm, its int64 conversion against the plain cast (brute force over spread samples of every float exponent, and the
  * special values). Its contraction guard is checked by .ci/fpcontract. */
 #include "../src/fpmath.h"
 
@@ -102,11 +102,34 @@ static void test_log_of_builtin_family_sizes(void)
     }
 }
 
+/* actag_i64_to_f equals (float) of the int64 at the int32 limits, on both
+ * sides of them, at values that round (beyond 2^24) and at random ones. */
+static void test_i64_to_f_equals_the_cast(void)
+{
+    static const int64_t edge[] = {0, 1, -1, 16777216, 16777217, -16777217, 33554431,
+                                   INT32_MAX, INT32_MAX - 1, (int64_t)INT32_MAX + 1,
+                                   INT32_MIN, (int64_t)INT32_MIN + 1, (int64_t)INT32_MIN - 1,
+                                   INT64_MAX, INT64_MIN, (int64_t)1 << 40, -((int64_t)1 << 40) - 3};
+    size_t i;
+    int t;
+    for (i = 0; i < sizeof edge / sizeof edge[0]; i++)
+        TEST_ASSERT_EQUAL_UINT32(to_bits((float)edge[i]), to_bits(actag_i64_to_f(edge[i])));
+    tu_seed(5);
+    for (t = 0; t < 100000; t++) {
+        /* magnitudes spread over 0 .. 2^40 */
+        int64_t v = (int64_t)(tu_rand() >> (t % 32)) << (t % 9);
+        if (t & 1)
+            v = -v;
+        TEST_ASSERT_EQUAL_UINT32(to_bits((float)v), to_bits(actag_i64_to_f(v)));
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_sqrt_equals_libm);
     RUN_TEST(test_log_correctly_rounded);
     RUN_TEST(test_log_of_builtin_family_sizes);
+    RUN_TEST(test_i64_to_f_equals_the_cast);
     return UNITY_END();
 }

@@ -13,9 +13,12 @@ void tearDown(void) {}
 
 #define F ACTAG_SEARCH_FACTOR
 
-/* The score at block (r, c), by direct summation (SEARCH.H's definition). */
-static int ref_score(const uint8_t *img, int rows, int cols, int stride,
-                     const actag_sonar_geometry *g, float tag, int bits, float rs, int r, int c)
+/* The score at block (r, c), by direct summation (SEARCH.H's definition);
+ * *num8 (if not NULL): the quotient's numerator, 8 (mean_in - mean_ring)
+ * scaled by ni (no - ni) F^2 (0 where the position is not scored). */
+static int ref_score_num(const uint8_t *img, int rows, int cols, int stride,
+                         const actag_sonar_geometry *g, float tag, int bits, float rs, int r,
+                         int c, long long *num8)
 {
     int hr = rows / F, hc = cols / F, ir, ic, orr, oc, i, j, a, b;
     float y = (float)(F * r) + 0.5f * (float)(F - 1);
@@ -26,6 +29,8 @@ static int ref_score(const uint8_t *img, int rows, int cols, int stride,
     float w = (float)(bits / 4 - 3); /* white square, cells */
     float dr = actag_geometry_range_step(g, rows), cell = tag / w, cr, cc;
     long long si = 0, so = 0, ni, no, num, den, q;
+    if (num8)
+        *num8 = 0;
     if (!(daz > 0.0f))
         return INT16_MIN;
     cr = cell * rs / dr / (float)F;
@@ -55,7 +60,15 @@ static int ref_score(const uint8_t *img, int rows, int cols, int stride,
     num = si * (no - ni) - (so - si) * ni;
     den = ni * (no - ni) * F * F;
     q = num * 8 / den;
+    if (num8)
+        *num8 = num * 8;
     return (int)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
+}
+
+static int ref_score(const uint8_t *img, int rows, int cols, int stride,
+                     const actag_sonar_geometry *g, float tag, int bits, float rs, int r, int c)
+{
+    return ref_score_num(img, rows, cols, stride, g, tag, bits, rs, r, c, NULL);
 }
 
 static void test_map_equals_direct_sums(void)
@@ -103,6 +116,53 @@ static void test_map_equals_direct_sums(void)
         free(map);
         free(ii);
     }
+}
+
+/* Boxes of up to thousands of blocks over bright pixels: the score's
+ * numerator exceeds 32 bits at the large tag's boxes (the map then divides
+ * in 64 bits) and stays within them at the small tag's; both give the
+ * direct sums' score. */
+static void test_large_boxes_score_as_the_direct_sums(void)
+{
+    static const float tags[2] = {0.5f, 0.04f}; /* cells of about 10 and 1 blocks */
+    int rows = 400, cols = 400, r, c, t, k, wide = 0, narrow = 0;
+    actag_sonar_geometry g = {0.5f, 2.0f, 1.2f, NULL, ACTAG_RANGE_ASCENDING};
+    size_t ms = ACTAG_SEARCH_MAP_SIZE(rows, cols), is = ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols);
+    uint8_t *img = (uint8_t *)malloc((size_t)rows * (size_t)cols);
+    void *map = malloc(ms), *ii = malloc(is);
+    actag_search z;
+    TEST_ASSERT_NOT_NULL(img);
+    TEST_ASSERT_NOT_NULL(map);
+    TEST_ASSERT_NOT_NULL(ii);
+    tu_seed(77);
+    for (r = 0; r < rows; r++)
+        for (c = 0; c < cols; c++) /* a bright square of the large tag's size, dark around */
+            img[(size_t)r * (size_t)cols + (size_t)c] =
+                (uint8_t)((r >= 130 && r < 270 && c >= 130 && c < 270) ? tu_range(180, 255)
+                                                                      : tu_range(0, 40));
+    for (k = 0; k < 2; k++) {
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, rows, cols, cols, &g, tags[k], 24,
+                                                         1.0f, map, ms, ii, is));
+        for (t = 0; t < 300; t++) {
+            long long num8;
+            int ref;
+            /* the large tag: near the square's centre (block 50, 50) */
+            r = k == 0 ? tu_range(40, 60) : tu_range(0, z.hr - 1);
+            c = k == 0 ? tu_range(40, 60) : tu_range(0, z.hc - 1);
+            ref = ref_score_num(img, rows, cols, cols, &g, tags[k], 24, 1.0f, r, c, &num8);
+            TEST_ASSERT_EQUAL_INT(ref, z.map[(size_t)r * (size_t)z.hc + (size_t)c]);
+            if (ref != INT16_MIN) {
+                wide += num8 > INT_MAX || num8 < -INT_MAX;
+                narrow += num8 <= INT_MAX && num8 >= -INT_MAX;
+            }
+        }
+    }
+    /* both ways of dividing were checked */
+    TEST_ASSERT_GREATER_THAN_INT(20, wide);
+    TEST_ASSERT_GREATER_THAN_INT(20, narrow);
+    free(img);
+    free(map);
+    free(ii);
 }
 
 /* A bright square of the tag's size in a dark, noisy frame is found first,
@@ -356,6 +416,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_map_equals_direct_sums);
+    RUN_TEST(test_large_boxes_score_as_the_direct_sums);
     RUN_TEST(test_finds_a_synthetic_square);
     RUN_TEST(test_box_too_large_for_the_integral_is_not_scored);
     RUN_TEST(test_any_min_score_ends_the_loop);
