@@ -1168,14 +1168,10 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED) {
-                        actag_detection d;
-                        st.decoded++;
-                        fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols, flip_mirror);
-                        /* a search reading at this place is superseded by this one */
-                        for (k = 0; k < nsk; k++)
-                            if (same_place(d.corners, sk_dr[k].fit_corners))
-                                sk_used[k] = 1;
-                        record(out, max_out, &nout, &st, &d, dr.fit_corners, fit_start);
+                        /* kept as a contour's guess is (no quad to try) */
+                        corners = dr.fit_corners;
+                        ratio = 0.0f;
+                        goto keep;
                     }
                 }
                 continue;
@@ -1352,6 +1348,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
             }
             if (rc != ACTAG_OK)
                 continue;
+        keep: /* a reading of this contour, at corners */
             st.decoded++;
             {
                 actag_detection d;
