@@ -9,6 +9,7 @@
 #include "frame16.h"
 #include "median_bands.h"
 #include "refine_frame.h"
+#include "search_box.h"
 
 #include <string.h>
 
@@ -236,7 +237,7 @@ static int merged_box(const actag_contour_info *ci, const actag_sonar_geometry *
                       const actag_params *p, int rows, int cols, actag_point q[4])
 {
     contour_size z;
-    float ref_area, hr, hc, tol = p->tuning.size_tolerance;
+    float ref_area, tol = p->tuning.size_tolerance;
     if (!contour_size_of(ci, g, p, rows, cols, &z))
         return 0;
     if (!(p->tag_size / (float)(p->family->bits / 4 - 3) / z.daz < ACTAG_MERGED_CELL))
@@ -250,16 +251,8 @@ static int merged_box(const actag_contour_info *ci, const actag_sonar_geometry *
         !(ci->area <= ACTAG_MERGED_AREA * ref_area) ||
         !(ci->area >= p->tuning.min_area_fraction * ref_area))
         return 0;
-    hr = 0.5f * p->tag_size * p->tuning.search_range_scale / z.dr;
-    hc = 0.5f * p->tag_size / z.daz;
-    q[0].x = z.xc - hc;
-    q[0].y = z.yc - hr;
-    q[1].x = z.xc + hc;
-    q[1].y = z.yc - hr;
-    q[2].x = z.xc + hc;
-    q[2].y = z.yc + hr;
-    q[3].x = z.xc - hc;
-    q[3].y = z.yc + hr;
+    actag__search_box(g, rows, cols, z.xc, z.yc, p->tag_size, p->tuning.search_range_scale, q,
+                      NULL, NULL);
     return 1;
 }
 

@@ -3,6 +3,8 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/search.h"
 
+#include "search_box.h"
+
 
 static uint32_t box_sum(const actag_search *z, int r0, int c0, int r1, int c1)
 {
@@ -180,7 +182,7 @@ int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry
                       actag_point quad[4])
 {
     int r, c, br = -1, bc = -1, best;
-    float y, x, range, daz, hr_px, hc_px;
+    float y, x, hr_px, hc_px;
     /* INT16_MIN marks unscored positions: never a candidate (and no
      * overflow in min_score - 1) */
     if (min_score < INT16_MIN + 1)
@@ -199,10 +201,7 @@ int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry
         return 0;
     y = (float)(ACTAG_SEARCH_FACTOR * br) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
     x = (float)(ACTAG_SEARCH_FACTOR * bc) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
-    range = actag_geometry_range(g, rows, y);
-    daz = actag_geometry_azimuth_step(g, cols, x) * range;
-    hr_px = 0.5f * tag_size * range_scale / actag_geometry_range_step(g, rows);
-    hc_px = 0.5f * tag_size / daz;
+    actag__search_box(g, rows, cols, x, y, tag_size, range_scale, quad, &hr_px, &hc_px);
     {
         int sr = px_count(hr_px * 1.5f / (float)ACTAG_SEARCH_FACTOR, z->hr) + 1,
             sc = px_count(hc_px * 1.5f / (float)ACTAG_SEARCH_FACTOR, z->hc) + 1;
@@ -215,10 +214,23 @@ int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry
             for (c = c0; c <= c1; c++)
                 z->map[(size_t)r * (size_t)z->hc + (size_t)c] = INT16_MIN;
     }
+    return 1;
+}
+
+void actag__search_box(const actag_sonar_geometry *g, int rows, int cols, float x, float y,
+                       float tag_size, float range_scale, actag_point quad[4], float *hr,
+                       float *hc)
+{
+    float daz = actag_geometry_azimuth_step(g, cols, x) * actag_geometry_range(g, rows, y);
+    float hr_px = 0.5f * tag_size * range_scale / actag_geometry_range_step(g, rows);
+    float hc_px = 0.5f * tag_size / daz;
     quad[0].x = x - hc_px; quad[0].y = y - hr_px;
     quad[1].x = x + hc_px; quad[1].y = y - hr_px;
     quad[2].x = x + hc_px; quad[2].y = y + hr_px;
     quad[3].x = x - hc_px; quad[3].y = y + hr_px;
-    return 1;
+    if (hr)
+        *hr = hr_px;
+    if (hc)
+        *hc = hc_px;
 }
 
