@@ -1351,6 +1351,44 @@ int actag_decode_quad_fit(const uint8_t *grey, int rows, int cols, int stride,
                                         fp, out, NULL, NULL);
 }
 
+/* Corrected bits a blind box's own grid may be read with (decode_fit_grids.h,
+ * blind), -1 for none: the most t <= max_corrections at which a chance word
+ * of the nbits read lies within t bits of one of the family's ncodes codes
+ * in one of its `views` views with probability at most 1 % (views x ncodes
+ * x V(nbits, t) <= 2^nbits / 100, V the Hamming ball's volume). Such a
+ * grid was never fitted to the tag: over a tag turned in the image it is a
+ * lattice across the tag's cells, and what it reads is close to a chance
+ * word, yet with every black-ring and white-interior cell right
+ * (actag-eval --seed 12, frame 759: a search box over a mirrored tag 4
+ * turned 40 degrees read tag 5 at hamming 2, margin 10.9). AcTag24h10 (7
+ * codes, 8 views, 20 bits): 1; AcTag24m10 (1 code): 2; AcTag24h8 (45): 1;
+ * AcTag24h6 (453): 0; AcTag24h4 (6261): none. */
+static int fblind_corrections(int nbits, int ncodes, int views, int max_corrections)
+{
+    /* no overflow: while n x vol <= 2^nbits, the next term adds at most
+     * nbits times as much (C(nbits, t) <= nbits V(nbits, t - 1)), so n x vol
+     * stays below 2^32 x 33 */
+    uint64_t vol = 0u, c = 1u, n = (uint64_t)views * (uint64_t)ncodes * 100u;
+    int t;
+    for (t = 0; t <= max_corrections; t++) {
+        if (t > 0)
+            c = c * (uint64_t)(nbits - t + 1) / (uint64_t)t; /* C(nbits, t), exact */
+        vol += c;
+        if (n * vol > ((uint64_t)1u << nbits))
+            return t - 1;
+    }
+    return max_corrections;
+}
+
+/* Test hook (decode_fit_test.h). */
+int actag__fit_blind_corrections(int nbits, int ncodes, int views, int max_corrections)
+{
+    if (nbits < 1 || nbits > 32 || ncodes < 1 || ncodes > 32768 || (views != 4 && views != 8) ||
+        max_corrections < 0 || max_corrections > nbits)
+        return ACTAG_ERR_PARAM;
+    return fblind_corrections(nbits, ncodes, views, max_corrections);
+}
+
 /* decode_fit_grids.h */
 int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int stride,
                                  const actag_point quad[4], const actag_family *family,
@@ -1365,7 +1403,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     float m[(ACTAG_DECODE_MAX_K + 1) * (ACTAG_DECODE_MAX_K + 1)];
     actag_point q[4];
     uint32_t keep;
-    int rc, bits, k, ambig = 0, far = 0, hopeless;
+    int rc, bits, k, ambig = 0, far = 0, hopeless, qmax;
     if (grey == NULL || quad == NULL || family == NULL || fp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     rc = decode_check_frame_family(grey, rows, cols, stride, family);
@@ -1383,6 +1421,15 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     keep = actag_code_mask(bits);
     if (flags & ACTAG_FIT_ERASE_CORNERS)
         keep &= ~actag_code_corners(bits);
+    /* The quad's own grid (the second grid, and the only one after a
+     * hopeless start): a blind box's with fblind_corrections. */
+    qmax = grids && grids->blind
+               ? fblind_corrections(actag_popcount32(keep), family->ncodes,
+                                    (flags & (ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED))
+                                        ? 4
+                                        : 8,
+                                    max_corrections)
+               : max_corrections;
     rc = actag_tag_quad_clockwise(quad, q);
     if (rc != ACTAG_OK)
         return rc;
@@ -1431,8 +1478,10 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
      * as if the fitted one had read nothing) */
     if (amb)
         amb->amb = amb->amb2 = 0;
+    if (hopeless && qmax < 0)
+        return ACTAG_ERR_NO_MATCH;
     if (hopeless) {
-        rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
+        rc = fread_grid(&im, &g_quad, &g_quad, k, family, qmax, fp, keep, q, 1, m,
                         out, &ambig, 0, amb ? amb->r : NULL);
         if (amb && rc == ACTAG_ERR_NO_MATCH && ambig)
             amb->amb = 1;
@@ -1445,11 +1494,11 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
-    if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH)) {
+    if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH) && qmax >= 0) {
         int ambig2 = 0, first = amb && amb->amb;
         /* the first grid's ambiguity, if any, stays in r; the second's
          * goes to r (none before) or r2 */
-        rc = fread_grid(&im, &g_quad, &g_quad, k, family, max_corrections, fp, keep, q, 1, m,
+        rc = fread_grid(&im, &g_quad, &g_quad, k, family, qmax, fp, keep, q, 1, m,
                         out, &ambig2, (ambig ? FIT_RECHECK : 0) | far,
                         amb ? (first ? amb->r2 : amb->r) : NULL);
         if (amb && rc == ACTAG_ERR_NO_MATCH && ambig2) {

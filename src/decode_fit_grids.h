@@ -24,6 +24,16 @@ typedef struct actag__fit_grids {
                         points are the quad): the look-elsewhere allowance
                         then counts twice the hypotheses, as for the second
                         grid; 0 otherwise */
+    int blind;     /* in: 1 when the quad is a blind box (a structure-search
+                      position or a merged blob's box: the white square's size,
+                      axis-aligned, not fitted to any outline), whose own grid
+                      is weak evidence of the tag's: it is read (after a
+                      hopeless start, or as the second grid) with at most the
+                      corrected bits at which a chance word matches a code
+                      with probability 1 % (decode_fit.c, fblind_corrections:
+                      AcTag24h10 1, AcTag24m10 2, AcTag24h4 not read), and
+                      never more than max_corrections; 0: a fitted quad or a
+                      contour's extreme points (max_corrections) */
 } actag__fit_grids;
 
 /* A hypothesis of a refused reading: its code (id), its view (rotation,

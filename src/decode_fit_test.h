@@ -30,6 +30,13 @@ int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, 
 struct actag_family;
 int actag__fit_layout(const struct actag_family *family, int id, int view, uint8_t *L);
 
+/* The corrected bits a blind box's own grid may be read with
+ * (decode_fit.c, fblind_corrections; decode_fit_grids.h, blind): the most t
+ * in 0..max_corrections with views x ncodes x V(nbits, t) <= 2^nbits / 100,
+ * -1 when not even t = 0 passes. nbits in 1..32, ncodes >= 1, views 4 or
+ * 8, max_corrections in 0..nbits; else ACTAG_ERR_PARAM. */
+int actag__fit_blind_corrections(int nbits, int ncodes, int views, int max_corrections);
+
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define ACTAG__FIT_SIMD 1
 /* The SSE2 cell reads against the portable ones, bit for bit: what 0: the

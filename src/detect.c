@@ -1055,6 +1055,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 }
                 st.searched++;
                 memset(&sk_grids[nsk], 0, sizeof sk_grids[nsk]); /* state 0, not read before */
+                sk_grids[nsk].blind = 1; /* a box, not a fitted quad */
                 verdict = read_wide(w.b, rows, cols, quad, geometry, params, 0, &sk_grids[nsk],
                                     NULL, &dr);
                 if (verdict != ACTAG_TRACE_ACCEPTED) {
@@ -1148,6 +1149,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                 } else if (decode_budget(&st, params)) {
                     int verdict;
                     memset(&ggx, 0, sizeof ggx);
+                    ggx.blind = 1; /* a box, not a fitted quad */
                     nguess++;
                     verdict = read_guess(&w, rows, cols, geometry, params, &ggx, held, &nheld, gq,
                                          &dr);

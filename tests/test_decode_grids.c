@@ -6,6 +6,7 @@
  * the same result, byte for byte, on rendered tags (any ID, turned,
  * mirrored, speckled, quads off by up to 0.4 cell) and on clutter. */
 #include "../src/decode_fit_grids.h"
+#include "../src/decode_fit_test.h"
 #include "actag/render.h"
 
 #include "unity.h"
@@ -138,11 +139,58 @@ static void test_resumed_reading_with_other_corrections(void)
     }
 }
 
+/* A blind box's corrections against a brute force: the ball volumes
+ * V(nbits, t) counted word by word (every word of nbits bits whose
+ * popcount is at most t), for small and the decoder's bit counts, every
+ * family size of the built-in families and edge sizes; and the values the
+ * docs give. */
+static void test_blind_corrections_against_counted_balls(void)
+{
+    static const int sizes[] = {1, 6, 7, 9, 45, 48, 51, 453, 515, 661, 6261, 8910, 32768};
+    static const int nb[] = {1, 2, 8, 12, 20}; /* 20: the bits read of 24-bit tags */
+    size_t a, b;
+    for (a = 0; a < sizeof nb / sizeof nb[0]; a++) {
+        int n = nb[a], t;
+        uint64_t vol[21] = {0}, w;
+        for (w = 0; w < ((uint64_t)1u << n); w++) /* the ball volumes, counted */
+            for (t = actag_popcount32((uint32_t)w); t <= n; t++)
+                vol[t]++;
+        for (b = 0; b < sizeof sizes / sizeof sizes[0]; b++) {
+            int views, maxc;
+            for (views = 4; views <= 8; views += 4)
+                for (maxc = 0; maxc <= (n < 4 ? n : 4); maxc++) {
+                    int want = -1;
+                    for (t = 0; t <= maxc; t++)
+                        if ((uint64_t)views * (uint64_t)sizes[b] * 100u * vol[t] <=
+                            ((uint64_t)1u << n))
+                            want = t;
+                        else
+                            break;
+                    TEST_ASSERT_EQUAL_INT(want,
+                                          actag__fit_blind_corrections(n, sizes[b], views, maxc));
+                }
+        }
+    }
+    /* decode.h and decode_fit_grids.h: 20 read bits, all 8 views, 3 corrections */
+    TEST_ASSERT_EQUAL_INT(1, actag__fit_blind_corrections(20, 7, 8, 3));    /* AcTag24h10 */
+    TEST_ASSERT_EQUAL_INT(2, actag__fit_blind_corrections(20, 1, 8, 3));    /* AcTag24m10 */
+    TEST_ASSERT_EQUAL_INT(1, actag__fit_blind_corrections(20, 45, 8, 3));   /* AcTag24h8 */
+    TEST_ASSERT_EQUAL_INT(0, actag__fit_blind_corrections(20, 453, 8, 3));  /* AcTag24h6 */
+    TEST_ASSERT_EQUAL_INT(-1, actag__fit_blind_corrections(20, 6261, 8, 1)); /* AcTag24h4 */
+    TEST_ASSERT_EQUAL_INT(1, actag__fit_blind_corrections(32, 32768, 8, 3));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_blind_corrections(0, 7, 8, 0));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_blind_corrections(20, 0, 8, 0));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_blind_corrections(20, 7, 6, 0));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_blind_corrections(20, 7, 8, -1));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_blind_corrections(20, 7, 8, 21));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_resumed_reading_equals_a_fresh_one_on_tags);
     RUN_TEST(test_resumed_reading_equals_a_fresh_one_on_clutter);
     RUN_TEST(test_resumed_reading_with_other_corrections);
+    RUN_TEST(test_blind_corrections_against_counted_balls);
     return UNITY_END();
 }

@@ -417,6 +417,16 @@ typedef struct actag_params {
  *     cells are 10 beams or wider: there it read nothing and cost a wide
  *     decode per large clutter blob (pool frames: +8 % Cortex-M7
  *     instructions); the pool frames' detections and costs are unchanged.
+ *   - Search positions and merged blobs' boxes are blind boxes (the white
+ *     square's size, axis-aligned, never fitted to an outline). Their own
+ *     grid, which the decoder reads when the grid its wide search fitted
+ *     reads nothing, is read with at most the corrected bits at which a
+ *     chance word would match one of the family's codes in 1 % of reads
+ *     (AcTag24h10: 1 instead of 3; decode.h): over a tag turned in the
+ *     image such a grid is a lattice across the tag's cells (a wrong ID at
+ *     the paper's settings, seed 12 frame 759, hamming 2, margin 10.9;
+ *     docs/decoder.md, "Blind boxes"). The pool frames' detections are
+ *     unchanged.
  *   - Size filter's least area (min_area_fraction 0.175, the paper's 0.1
  *     before): a contour must reach 0.14 of the box of the tag's diagonal
  *     (with the 20 % tolerance), the white square seen 74 degrees off its

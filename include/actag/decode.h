@@ -333,6 +333,14 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      this read 868 -> 926 and 871 -> 938 of 1,000, at the paper's
  *      settings (seed 2) 381 -> 497, with no wrong ID, handedness or
  *      corner order, and no tag in 2,000 tag-free frames for any family.
+ *      actag_detect() reads the second grid of its blind boxes (the
+ *      structure search's positions and the merged blobs' boxes, actag.h:
+ *      axis-aligned boxes of the white square's size, never fitted to an
+ *      outline) with at most the corrected bits at which a chance word
+ *      would match one of the family's codes in 1 % of reads (AcTag24h10:
+ *      1, AcTag24m10: 2, AcTag24h4: not read): over a tag turned in the
+ *      image such a box is a lattice across the tag's cells, not its grid
+ *      (docs/decoder.md, "Blind boxes").
  *   5. Template check (ACTAG_FIT_VERIFY, default): the likeliest readings
  *      on the fitted grid and those on the quad's own grid (up to
  *      ACTAG_SOFT_TOP = 6 of each, the soft matcher's list, family.h; the
