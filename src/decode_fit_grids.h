@@ -30,8 +30,9 @@ typedef struct actag__fit_grids {
                       is weak evidence of the tag's: it is read (after a
                       hopeless start, or as the second grid) with at most the
                       corrected bits at which a chance word matches a code
-                      with probability 1 % (decode_fit.c, fblind_corrections:
-                      AcTag24h10 1, AcTag24m10 2, AcTag24h4 not read), and
+                      with probability 1 % (decode_fit.c, fblind_corrections;
+                      any handedness, corners erased: AcTag24h10 1, AcTag24m10
+                      2, AcTag24h4 not read; 4 views: AcTag24h10 2), and
                       never more than max_corrections; 0: a fitted quad or a
                       contour's extreme points (max_corrections) */
 } actag__fit_grids;

@@ -8,6 +8,7 @@
 #include "../src/decode_fit_grids.h"
 #include "../src/decode_fit_test.h"
 #include "actag/render.h"
+#include "actag/tag_grid.h"
 
 #include "unity.h"
 #include "test_util.h"
@@ -139,6 +140,57 @@ static void test_resumed_reading_with_other_corrections(void)
     }
 }
 
+/* A blind box's own grid after a hopeless start (grids->state 2: the quad's
+ * own grid is the only one read): read with the chance bound's corrections
+ * (AcTag24h10: 1), a fitted quad's with all of them. */
+static void test_blind_box_after_a_hopeless_start(void)
+{
+    actag_family h10;
+    actag_fit_params fp;
+    actag_decode_result res;
+    actag__fit_grids g;
+    actag_point q[4];
+    int side, i, flipped = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &h10));
+    actag_fit_params_default(&fp);
+    fp.flags = (fp.flags | ACTAG_FIT_WIDE) & ~ACTAG_FIT_VERIFY;
+    tu_seed(3);
+    make_quad(24, 0.0f, q);
+    /* AcTag24h10 with two data cells painted over: hamming 2, refused only
+     * as a blind box's (at most 1 corrected bit); clean, read either way */
+    side = make_tag(&h10, 3, 0, 0, 0);
+    memset(&g, 0, sizeof g);
+    g.state = 2;
+    g.blind = 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__decode_quad_fit_grids(g_img, side, side, side, q, &h10,
+                                                                 3, &fp, &res, &g, NULL));
+    TEST_ASSERT_EQUAL_INT(3, res.id);
+    TEST_ASSERT_EQUAL_INT(0, res.hamming);
+    for (i = 0; i < 24 && flipped < 2; i++) {
+        int cx, cy, r, c, y0, x0, bright;
+        actag_tag_bit_cell(24, i, &cx, &cy);
+        if ((cx == 0 || cx == 6) && (cy == 0 || cy == 6))
+            continue; /* an erased corner */
+        y0 = MARGIN + cy * CELL;
+        x0 = MARGIN + cx * CELL;
+        bright = g_img[(y0 + CELL / 2) * side + x0 + CELL / 2] > 100;
+        for (r = 0; r < CELL; r++)
+            for (c = 0; c < CELL; c++)
+                g_img[(y0 + r) * side + x0 + c] = (uint8_t)(bright ? 20 : 211);
+        flipped++;
+    }
+    memset(&g, 0, sizeof g);
+    g.state = 2;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__decode_quad_fit_grids(g_img, side, side, side, q, &h10,
+                                                                 3, &fp, &res, &g, NULL));
+    TEST_ASSERT_EQUAL_INT(3, res.id);
+    TEST_ASSERT_EQUAL_INT(2, res.hamming);
+    g.blind = 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, actag__decode_quad_fit_grids(
+                                                  g_img, side, side, side, q, &h10, 3, &fp, &res,
+                                                  &g, NULL));
+}
+
 /* A blind box's corrections against a brute force: the ball volumes
  * V(nbits, t) counted word by word (every word of nbits bits whose
  * popcount is at most t), for small and the decoder's bit counts, every
@@ -192,5 +244,6 @@ int main(void)
     RUN_TEST(test_resumed_reading_equals_a_fresh_one_on_clutter);
     RUN_TEST(test_resumed_reading_with_other_corrections);
     RUN_TEST(test_blind_corrections_against_counted_balls);
+    RUN_TEST(test_blind_box_after_a_hopeless_start);
     return UNITY_END();
 }

@@ -1,6 +1,7 @@
 /* src/fpmath.h: the library's errno-free square root and logarithm against
- * libm, its int64 conversion against the plain cast (brute force over spread samples of every float exponent, and the
- * special values). Its contraction guard is checked by .ci/fpcontract. */
+ * libm (brute force over spread samples of every float exponent, and the
+ * special values), its int64 conversion against the plain cast. Its
+ * contraction guard is checked by .ci/fpcontract. */
 #include "../src/fpmath.h"
 
 #include "unity.h"

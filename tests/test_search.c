@@ -125,7 +125,7 @@ static void test_map_equals_direct_sums(void)
 static void test_large_boxes_score_as_the_direct_sums(void)
 {
     static const float tags[2] = {0.5f, 0.04f}; /* cells of about 10 and 1 blocks */
-    int rows = 400, cols = 400, r, c, t, k, wide = 0, narrow = 0;
+    int rows = 400, cols = 400, r, c, t, k, wide = 0, narrow = 0, negative = 0;
     actag_sonar_geometry g = {0.5f, 2.0f, 1.2f, NULL, ACTAG_RANGE_ASCENDING};
     size_t ms = ACTAG_SEARCH_MAP_SIZE(rows, cols), is = ACTAG_SEARCH_INTEGRAL_SIZE(rows, cols);
     uint8_t *img = (uint8_t *)malloc((size_t)rows * (size_t)cols);
@@ -154,12 +154,14 @@ static void test_large_boxes_score_as_the_direct_sums(void)
             if (ref != INT16_MIN) {
                 wide += num8 > INT_MAX || num8 < -INT_MAX;
                 narrow += num8 <= INT_MAX && num8 >= -INT_MAX;
+                negative += num8 < 0 && num8 >= -INT_MAX; /* truncation toward zero */
             }
         }
     }
     /* both ways of dividing were checked */
     TEST_ASSERT_GREATER_THAN_INT(20, wide);
     TEST_ASSERT_GREATER_THAN_INT(20, narrow);
+    TEST_ASSERT_GREATER_THAN_INT(5, negative);
     free(img);
     free(map);
     free(ii);

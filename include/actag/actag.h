@@ -421,8 +421,9 @@ typedef struct actag_params {
  *     square's size, axis-aligned, never fitted to an outline). Their own
  *     grid, which the decoder reads when the grid its wide search fitted
  *     reads nothing, is read with at most the corrected bits at which a
- *     chance word would match one of the family's codes in 1 % of reads
- *     (AcTag24h10: 1 instead of 3; decode.h): over a tag turned in the
+ *     chance word would match one of the family's codes with probability
+ *     1 % (AcTag24h10: 1 instead of 3, 2 with a handedness prior; decode.h):
+ *     over a tag turned in the
  *     image such a grid is a lattice across the tag's cells (a wrong ID at
  *     the paper's settings, seed 12 frame 759, hamming 2, margin 10.9;
  *     docs/decoder.md, "Blind boxes"). The pool frames' detections are

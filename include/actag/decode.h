@@ -337,8 +337,9 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      structure search's positions and the merged blobs' boxes, actag.h:
  *      axis-aligned boxes of the white square's size, never fitted to an
  *      outline) with at most the corrected bits at which a chance word
- *      would match one of the family's codes in 1 % of reads (AcTag24h10:
- *      1, AcTag24m10: 2, AcTag24h4: not read): over a tag turned in the
+ *      would match one of the family's codes with probability 1 % (any
+ *      handedness, corners erased: AcTag24h10 1, AcTag24m10 2, AcTag24h4
+ *      not read; with a handedness prior AcTag24h10 2): over a tag turned in the
  *      image such a box is a lattice across the tag's cells, not its grid
  *      (docs/decoder.md, "Blind boxes").
  *   5. Template check (ACTAG_FIT_VERIFY, default): the likeliest readings
