@@ -1425,10 +1425,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
      * hopeless start): a blind box's with fblind_corrections. */
     qmax = grids && grids->blind
                ? fblind_corrections(actag_popcount32(keep), family->ncodes,
-                                    (flags & (ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED))
-                                        ? 4
-                                        : 8,
-                                    max_corrections)
+                                    actag_popcount32(fit_views(flags)), max_corrections)
                : max_corrections;
     rc = actag_tag_quad_clockwise(quad, q);
     if (rc != ACTAG_OK)
