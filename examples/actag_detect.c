@@ -561,6 +561,17 @@ static int names_collide(const char *const *files, int nfiles)
     return collide;
 }
 
+/* Is path one of the input files (frames, the bearing table)? */
+static int overwrites_input(const char *path, const char *const *files, int nfiles,
+                            const char *bearings)
+{
+    int i;
+    for (i = 0; i < nfiles; i++)
+        if (strcmp(files[i], "-") != 0 && hostio_same_file(path, files[i]))
+            return 1;
+    return bearings != NULL && hostio_same_file(path, bearings);
+}
+
 /* --overlay OUT.ppm: OUT.ppm for one file, else OUT-NAME.ppm. */
 static void overlay_path(const char *overlay, int nfiles, const char *name, char *out, size_t n)
 {
@@ -816,8 +827,8 @@ static int load_bearings(const char *path, const char *text, int cols, float *ou
 }
 
 /* Detects, prints and draws one file. Returns 0, or -1 after reporting. */
-static int process(const options *o, const char *file, const char *picname, int nfiles,
-                   actag_tracker *tracker)
+static int process(const options *o, const char *file, const char *picname,
+                   const char *const *files, int nfiles, actag_tracker *tracker)
 {
     char err[HOSTIO_ERRLEN];
     hostio_image im;
@@ -957,7 +968,11 @@ static int process(const options *o, const char *file, const char *picname, int 
             if (o->overlay) {
                 char path[4096];
                 overlay_path(o->overlay, nfiles, picname, path, sizeof path);
-                if (pic_overlay(path, &pf, o->show_rejected, err) != 0) {
+                if (overwrites_input(path, files, nfiles, o->bearings_path)) {
+                    fprintf(stderr, PROG ": --overlay %s: would overwrite an input file; not written\n",
+                            path);
+                    status = -1;
+                } else if (pic_overlay(path, &pf, o->show_rejected, err) != 0) {
                     fprintf(stderr, PROG ": %s\n", err);
                     status = -1;
                 }
@@ -1021,14 +1036,14 @@ int main(int argc, char **argv)
                             * leaks): every frame uses the same table */
         char err[HOSTIO_ERRLEN];
         size_t len;
-        o.bearings_text = (char *)hostio_slurp(o.bearings_path, &len, err);
+        o.bearings_text = hostio_slurp_text(o.bearings_path, &len, err);
         if (!o.bearings_text)
             die(err);
     }
     for (i = 0; i < nfiles; i++) {
         char picname[PICNAME_LEN];
         picture_name(files, nfiles, i, number_all, picname, sizeof picname);
-        if (process(&o, files[i], picname, nfiles, &tracker) != 0)
+        if (process(&o, files[i], picname, files, nfiles, &tracker) != 0)
             status = 2;
         if (ferror(stdout)) /* a full disk or a closed pipe: the results are lost */
             break;

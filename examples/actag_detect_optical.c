@@ -109,21 +109,6 @@ static image_u8_t *read_image(const char *path, char *err)
 
 /* ------------------------------------------------------------------ output */
 
-static void json_string(const char *s)
-{
-    putchar('"');
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            printf("\\%c", c);
-        else if (c < 0x20)
-            printf("\\u%04x", c);
-        else
-            putchar(c);
-    }
-    putchar('"');
-}
-
 static void json_number(double v, const char *fmt)
 {
     if (isfinite(v))
@@ -319,7 +304,7 @@ int main(int argc, char **argv)
 
         if (o.json) {
             printf("{\"file\":");
-            json_string(path);
+            hostio_json_string(stdout, path);
             printf(",\"detections\":[");
         } else {
             printf("%s: %d detection%s (%s)\n", path, n, n == 1 ? "" : "s", o.family);

@@ -172,6 +172,9 @@ static void fan_free(fan *fn)
 }
 
 /* Sets up a fan of height h for frame f; fn->w is the width it needs. */
+/* The tallest fan panel of an overlay, pixels. */
+#define PIC_FAN_MAX_H 2048
+
 static int fan_setup(fan *fn, const pic_frame *f, int h)
 {
     const int pad = 24;
@@ -518,7 +521,10 @@ int pic_overlay(const char *path, const pic_frame *f, int show_rejected, char *e
     int n = 0, i, w, h, legend_h, nrej = 0, nrej_search = 0, nrej_guess = 0;
     char buf[160];
 
-    if (fan_setup(&fn, f, f->rows) != 0) {
+    /* the fan panel is as tall as the frame, but at most PIC_FAN_MAX_H
+     * pixels (it may be 3 times as wide): a frame of 32,767 rows would
+     * otherwise take a picture of gigabytes */
+    if (fan_setup(&fn, f, f->rows < PIC_FAN_MAX_H ? f->rows : PIC_FAN_MAX_H) != 0) {
         snprintf(err, HOSTIO_ERRLEN, "%.200s: out of memory", path);
         return -1;
     }

@@ -22,8 +22,8 @@ float actag_geometry_azimuth(const actag_sonar_geometry *geo, int cols, float x)
     if (geo->bearings != NULL) {
         int c0;
         float t;
-        if (cols == 1)
-            return geo->bearings[0];
+        if (cols < 2) /* one beam; none (not a valid frame): no entry is read */
+            return cols == 1 ? geo->bearings[0] : 0.0f;
         /* interpolate in the beam interval containing x (extrapolate at the
          * ends); a NaN x fails both tests, takes interval 0 and gives NaN */
         c0 = x > 0.0f ? (x < (float)(cols - 1) ? (int)x : cols - 2) : 0;

@@ -69,9 +69,15 @@ static int t_params_ok(const actag_track_params *p)
  * frame) is refused rather than run. */
 static int t_state_ok(const actag_tracker *t)
 {
-    return t_params_ok(&t->params) && t->ntracks >= 0 && t->ntracks <= ACTAG_TRACK_MAX &&
-           t->next_track_id != 0u && t->frame >= 0 && t->last_full >= -1 &&
-           t->last_full < t->frame && t->rows >= 0 && t->cols >= 0;
+    int i;
+    if (!(t_params_ok(&t->params) && t->ntracks >= 0 && t->ntracks <= ACTAG_TRACK_MAX &&
+          t->next_track_id != 0u && t->frame >= 0 && t->last_full >= -1 &&
+          t->last_full < t->frame && t->rows >= 0 && t->cols >= 0))
+        return 0;
+    for (i = 0; i < t->ntracks; i++) /* a live track's ID is never 0 (track.h) */
+        if (t->tracks[i].track_id == 0u)
+            return 0;
+    return 1;
 }
 
 int actag_tracker_init(actag_tracker *t, const actag_track_params *p)

@@ -197,6 +197,18 @@ static void test_mirrors_from_the_mapping(void)
         }
 }
 
+/* A table with no beam (cols 0 or below, not a valid frame) reads no
+ * entry: the azimuth is 0 (before, the entries before the table's start
+ * were read: here the 99s). */
+static void test_bearing_table_without_beams(void)
+{
+    static const float mem[6] = {99.0f, 99.0f, 0.3f, 0.1f, -0.1f, -0.3f};
+    actag_sonar_geometry g = {0.1f, 1.5f, 0.6f, mem + 2, 0};
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_azimuth(&g, 0, 1.0f));
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_azimuth(&g, -3, 0.5f));
+    TEST_ASSERT_EQUAL_FLOAT(0.3f, actag_geometry_azimuth(&g, 1, 0.5f));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -205,6 +217,7 @@ int main(void)
     RUN_TEST(test_bearing_table);
     RUN_TEST(test_inverse_mappings);
     RUN_TEST(test_nan_column_with_bearing_table);
+    RUN_TEST(test_bearing_table_without_beams);
     RUN_TEST(test_mirrors_from_the_mapping);
     RUN_TEST(test_errors);
     return UNITY_END();

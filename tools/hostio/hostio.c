@@ -135,17 +135,77 @@ const char *hostio_json_num(char *buf, const char *fmt, double v, int have)
     return buf;
 }
 
+char *hostio_slurp_text(const char *path, size_t *len, char *err)
+{
+    size_t n = 0;
+    uint8_t *buf = hostio_slurp(path, &n, err);
+    const uint8_t *nul;
+    if (buf == NULL)
+        return NULL;
+    nul = (const uint8_t *)memchr(buf, 0, n);
+    if (nul != NULL) {
+        if (err)
+            snprintf(err, HOSTIO_ERRLEN, "%.180s: byte %lu is a NUL byte: not a text file",
+                     hostio_frame_name(path), (unsigned long)(nul - buf));
+        free(buf);
+        return NULL;
+    }
+    if (len)
+        *len = n;
+    return (char *)buf;
+}
+
+int hostio_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (strcmp(a, b) == 0)
+        return 1;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino && sa.st_ino != 0;
+}
+
+/* Length of the well-formed UTF-8 sequence at s (RFC 3629: no overlong
+ * forms, no surrogates, at most U+10FFFF), or 0 when it is not one. */
+static int utf8_len(const unsigned char *s)
+{
+    unsigned char c = s[0];
+    int n, i;
+    if (c < 0x80)
+        return 1;
+    if (c >= 0xC2 && c <= 0xDF)
+        n = 2;
+    else if (c >= 0xE0 && c <= 0xEF)
+        n = 3;
+    else if (c >= 0xF0 && c <= 0xF4)
+        n = 4;
+    else
+        return 0;
+    for (i = 1; i < n; i++)
+        if ((s[i] & 0xC0) != 0x80) /* the terminating NUL fails here too */
+            return 0;
+    if ((c == 0xE0 && s[1] < 0xA0) || (c == 0xED && s[1] > 0x9F) || (c == 0xF0 && s[1] < 0x90) ||
+        (c == 0xF4 && s[1] > 0x8F))
+        return 0;
+    return n;
+}
+
 void hostio_json_string(FILE *stream, const char *s)
 {
+    const unsigned char *p = (const unsigned char *)s;
     fputc('"', stream);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(stream, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(stream, "\\u%04x", c);
-        else
-            fputc(c, stream);
+    while (*p) {
+        int n = utf8_len(p);
+        if (n == 0) { /* not UTF-8 (a file name's bytes): JSON holds Unicode only */
+            fputs("\\ufffd", stream);
+            p++;
+        } else if (*p == '"' || *p == '\\') {
+            fprintf(stream, "\\%c", *p++);
+        } else if (*p < 0x20) {
+            fprintf(stream, "\\u%04x", *p++);
+        } else {
+            fwrite(p, 1, (size_t)n, stream);
+            p += n;
+        }
     }
     fputc('"', stream);
 }

@@ -15,6 +15,9 @@
  *
  *   Files (the path "-" reads standard input)
  *     hostio_slurp(path, &len, err)        whole file, malloc'd, NUL-terminated
+ *     hostio_slurp_text(path, &len, err)   the same for a text file: a NUL byte
+ *                                           in it is an error (naming its offset),
+ *                                           not the silent end of the text
  *                                           (at most HOSTIO_MAX_FILE bytes)
  *     hostio_write_file(path, data, n, err)  the writers remove what they
  *                                           wrote when writing fails
@@ -23,6 +26,10 @@
  *                                           are kept)
  *     hostio_mkdirs(path, err)             creates a folder and its parents
  *                                           (like mkdir -p; fine when it exists)
+ *     hostio_same_file(a, b)               1 when the two paths name one file
+ *                                           (the same file found by both, or the
+ *                                           same string), else 0: an output
+ *                                           must not overwrite an input
  *   Output guard (a tool's output file: none is left half-written by a
  *   failed run; a device, a link or standard output is never removed)
  *     hostio_out_open(&out, path, mode, err)  fopen (NULL path: standard
@@ -93,7 +100,9 @@
  *   JSON output
  *     hostio_json_string(stream, s)  s as a JSON string literal, quotes
  *                            included ('"' and '\\' escaped, control
- *                            characters as \u00XX; other bytes as they are)
+ *                            characters as \u00XX, UTF-8 as it is, every
+ *                            byte that is not well-formed UTF-8 (a file
+ *                            name's) as \ufffd, so the output is JSON)
  *     hostio_json_num(buf, fmt, v, have)  v printed with fmt into buf
  *                            (HOSTIO_JNUM_LEN bytes), or "null" when have is
  *                            0 (a rate or median of nothing is no 0);
@@ -163,12 +172,14 @@ typedef struct hostio_raw_spec {
 
 /* Whole file ("-": standard input), malloc'd with a terminating NUL (not counted in *len). */
 uint8_t *hostio_slurp(const char *path, size_t *len, char *err);
+char *hostio_slurp_text(const char *path, size_t *len, char *err);
 int hostio_write_file(const char *path, const void *data, size_t n, char *err);
 /* After a failed write: removes path if it is itself a regular file (not
  * "-", a symbolic link, a device or a FIFO), so that no half-written output
  * is left behind. */
 void hostio_remove_partial(const char *path);
 int hostio_mkdirs(const char *path, char *err);
+int hostio_same_file(const char *a, const char *b);
 
 /* An output file being written, removed again when its run fails. Only a
  * regular file that the path itself named when it was opened is removed

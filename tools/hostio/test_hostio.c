@@ -284,6 +284,42 @@ static void test_slurp_folder_names_the_reason(void)
  * --compare-real, the benchmarks) takes frames as hostio_frame_read does:
  * it copied samples as stored, so a maxval 100 frame with a sample of 200
  * passed and a maxval 100 frame was read unscaled. */
+/* hostio_slurp_text: a text file whole; a NUL byte inside is an error
+ * naming its offset (it used to end the text silently: a bearing table
+ * with a NUL after its 100th value read as a table of 100). */
+static void test_slurp_text_refuses_nul(void)
+{
+    static const uint8_t bad[] = {'0', '.', '1', ' ', '0', '.', '2', 0, 'x', 'y'};
+    char err[HOSTIO_ERRLEN];
+    size_t len = 0;
+    char *t;
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(DIR "/text.txt", "0.1 0.2\n", 8, err));
+    t = hostio_slurp_text(DIR "/text.txt", &len, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(t, err);
+    TEST_ASSERT_EQUAL_size_t(8, len);
+    TEST_ASSERT_EQUAL_STRING("0.1 0.2\n", t);
+    free(t);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(DIR "/nul.txt", bad, sizeof bad, err));
+    TEST_ASSERT_NULL(hostio_slurp_text(DIR "/nul.txt", &len, err));
+    TEST_ASSERT_NOT_NULL(strstr(err, "nul.txt: byte 7 is a NUL byte"));
+}
+
+/* hostio_same_file: one file by two names (a path and the same path with
+ * "./" parts), the same string, two different files, a missing file. */
+static void test_same_file(void)
+{
+    char err[HOSTIO_ERRLEN];
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(DIR "/a.txt", "a", 1, err));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(DIR "/b.txt", "b", 1, err));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/a.txt", DIR "/./a.txt"));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/a.txt", DIR "/a.txt"));
+    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/a.txt", DIR "/b.txt"));
+    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/a.txt", DIR "/missing.txt"));
+    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/./missing.txt"));
+}
+
 static void test_pgm_read_checks_maxval(void)
 {
     static const uint8_t m100[] = "P5 4 1 100\n\x00\x01\x32\x64"; /* 0 1 50 100 */
@@ -313,7 +349,8 @@ static void test_pgm_read_checks_maxval(void)
  * bytes, beyond a 32-bit long; the expected size is computed and reported
  * exactly (or, where size_t is 32 bits, the layout is refused as too large). */
 /* hostio_json_string: quotes, '"' and '\\' escaped, control characters as
- * \u00XX, every other byte (UTF-8 included) as it is. */
+ * \u00XX, UTF-8 as it is, bytes that are not UTF-8 (a stray 0xff, a
+ * truncated sequence, an overlong form, a surrogate) as \ufffd. */
 /* hostio_json_num: the number as fmt prints it, or null for nothing
  * measured (whatever the value). */
 static void test_json_num(void)
@@ -328,8 +365,9 @@ static void test_json_num(void)
 
 static void test_json_string(void)
 {
-    static const char in[] = "a\"b\\c\x01\td \xc3\xa9/";
-    static const char want[] = "\"a\\\"b\\\\c\\u0001\\u0009d \xc3\xa9/\"\"\"";
+    static const char in[] = "a\"b\\c\x01\td \xc3\xa9/\xff\xc3 \xc0\xaf\xed\xa0\x80\xf0\x9f\x98\x80";
+    static const char want[] = "\"a\\\"b\\\\c\\u0001\\u0009d \xc3\xa9/\\ufffd\\ufffd "
+                               "\\ufffd\\ufffd\\ufffd\\ufffd\\ufffd\xf0\x9f\x98\x80\"\"\"";
     char err[HOSTIO_ERRLEN];
     size_t len = 0;
     uint8_t *got;
@@ -806,6 +844,8 @@ int main(void)
     RUN_TEST(test_pgm_8bit_maxval);
     RUN_TEST(test_pgm_read_checks_maxval);
     RUN_TEST(test_slurp_folder_names_the_reason);
+    RUN_TEST(test_slurp_text_refuses_nul);
+    RUN_TEST(test_same_file);
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
     RUN_TEST(test_json_num);

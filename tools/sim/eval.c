@@ -387,6 +387,33 @@ static void pose_errors(const eval_ctx *c, const sim_tag *tag, const actag_detec
     R->m2_all = mahalanobis2(P.cov, e, 0, 6);
 }
 
+/* The detector's parameters of the tagged frames (the options given,
+ * the library's defaults otherwise). */
+static void tag_params(const eval_ctx *c, actag_params *p)
+{
+    actag_params_default(p);
+    p->family = &c->fam;
+    p->tag_size = tag_size_default;
+    p->max_bit_corrections = c->corrections;
+    if (c->min_margin > -1e5f)
+        p->min_margin = c->min_margin;
+    if (c->min_bit_margin >= 0)
+        p->tuning.fit.min_bit_margin = c->min_bit_margin;
+    if (c->min_structure >= 0.0f)
+        p->tuning.min_structure = c->min_structure;
+    if (c->min_side >= 0.0f)
+        p->tuning.min_side_fraction = c->min_side;
+    if (c->median_radius >= 0)
+        p->tuning.median_radius = c->median_radius;
+    if (c->median_per_range >= 0)
+        p->tuning.median_per_range = c->median_per_range;
+    if (c->search_min_margin > -1e5f)
+        p->tuning.search_min_margin = c->search_min_margin;
+    if (c->many_margin >= 0.0f)
+        p->tuning.fit.many_corrections_margin = c->many_margin;
+    p->handedness = c->handedness;
+}
+
 static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t wss)
 {
     tag_result *R = &c->tres[i];
@@ -415,27 +442,7 @@ static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t ws
     R->distance = tr.distance;
     R->incidence = tr.incidence;
     R->mirrored = tr.mirrored;
-    actag_params_default(&p);
-    p.family = &c->fam;
-    p.tag_size = tag_size_default;
-    p.max_bit_corrections = c->corrections;
-    if (c->min_margin > -1e5f)
-        p.min_margin = c->min_margin;
-    if (c->min_bit_margin >= 0)
-        p.tuning.fit.min_bit_margin = c->min_bit_margin;
-    if (c->min_structure >= 0.0f)
-        p.tuning.min_structure = c->min_structure;
-    if (c->min_side >= 0.0f)
-        p.tuning.min_side_fraction = c->min_side;
-    if (c->median_radius >= 0)
-        p.tuning.median_radius = c->median_radius;
-    if (c->median_per_range >= 0)
-        p.tuning.median_per_range = c->median_per_range;
-    if (c->search_min_margin > -1e5f)
-        p.tuning.search_min_margin = c->search_min_margin;
-    if (c->many_margin >= 0.0f)
-        p.tuning.fit.many_corrections_margin = c->many_margin;
-    p.handedness = c->handedness;
+    tag_params(c, &p);
     fr.data = img;
     fr.rows = c->sonar.rows;
     fr.cols = c->sonar.cols;
@@ -1279,6 +1286,29 @@ int main(int argc, char **argv)
         die("--sequence-failures needs --sequences N (N > 0)");
     check_names("--tag-free-families", free_list);
     check_names("--sweep-families", sweep_list);
+    if (c.frames > 0) { /* settings the detector refuses: now, named by their options */
+        static const hostio_optname names[] = {
+            {"max_bit_corrections", "--corrections", 0},
+            {"min_margin", "--min-margin", 0},
+            {"handedness", "--handedness", 0},
+            {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
+            {"tuning.min_structure", "--min-structure", 0},
+            {"tuning.min_side_fraction", "--min-side-fraction", 0},
+            {"tuning.max_side_fraction", "the largest side fraction", 0},
+            {"tuning.median_radius", "--median-radius", 0},
+            {"tuning.median_per_range", "--median-per-range", 0},
+            {"tuning.search_min_margin", "--search-min-margin", 0},
+            {"tuning.fit.many_corrections_margin", "--many-corrections-margin", 0},
+        };
+        actag_params p;
+        actag_error_detail d;
+        char m[HOSTIO_ERRLEN];
+        tag_params(&c, &p);
+        if (actag_params_validate(&p, &d) != ACTAG_OK) {
+            hostio_detail_message(&d, names, (int)(sizeof names / sizeof names[0]), m);
+            die(m);
+        }
+    }
     parse_free_families(&c, free_list);
     if (c.nfree_fam == 0)
         die("--tag-free-families: no family given");

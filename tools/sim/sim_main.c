@@ -157,7 +157,7 @@ static float *load_bearings(const char *path, int cols)
 {
     char err[HOSTIO_ERRLEN];
     size_t len;
-    char *txt = (char *)hostio_slurp(path, &len, err);
+    char *txt = hostio_slurp_text(path, &len, err);
     double *v = (double *)malloc(((size_t)cols + 1) * sizeof *v);
     float *b = (float *)malloc((size_t)cols * sizeof *b);
     int n = 0, i;

@@ -1943,7 +1943,7 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_INT(0, (int)tr.frame);
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
     TEST_ASSERT_TRUE(actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL) >= 0);
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < 5; i++) {
         static actag_tracker keep;
         keep = tr;
         if (i == 0)
@@ -1952,7 +1952,14 @@ static void test_errors(void)
             tr.ntracks = -1;
         else if (i == 2)
             tr.next_track_id = 0u;
-        else
+        else if (i == 3) { /* a live track's ID, never 0 (track.h) */
+            if (tr.ntracks == 0) {
+                tr.tracks[0] = keep.tracks[0];
+                tr.tracks[0].track_id = 7u;
+                tr.ntracks = 1;
+            }
+            tr.tracks[tr.ntracks - 1].track_id = 0u;
+        } else
             tr.params.smoothing = 2.0f;
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
                               actag_tracker_update(&tr, &f, &sonar.geo, &p, NULL, ws, wss, out, 2, NULL));
