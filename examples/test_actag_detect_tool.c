@@ -420,6 +420,48 @@ static void test_overlay_and_stages(void)
     free(s);
 }
 
+/* --overlay naming an input (the frame itself, under another spelling of
+ * its path, or the bearing table): refused, status 2, the input kept
+ * byte for byte (it was overwritten with the picture); a tall frame's
+ * overlay keeps its fan panel at 2,048 px (a 2 x 8,000 frame took a
+ * 8k x 8k picture). */
+static void test_overlay_never_overwrites_an_input(void)
+{
+    static uint8_t tall[16 + 2 * 8000];
+    size_t n0, n1;
+    uint8_t *before, *after;
+    char *s;
+    int i, hdr;
+    TEST_ASSERT_EQUAL_INT(0, system("rm -rf \"" OUT "/ovin\" && mkdir -p \"" OUT "/ovin\""));
+    TEST_ASSERT_EQUAL_INT(0, system("cp \"" EXAMPLE "\" \"" OUT "/ovin/f.pgm\""));
+    before = (uint8_t *)hostio_slurp(OUT "/ovin/f.pgm", &n0, NULL);
+    TEST_ASSERT_NOT_NULL(before);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --overlay " OUT "/ovin/./f.pgm " OUT "/ovin/f.pgm"));
+    s = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(s, "would overwrite an input file"));
+    free(s);
+    after = (uint8_t *)hostio_slurp(OUT "/ovin/f.pgm", &n1, NULL);
+    TEST_ASSERT_NOT_NULL(after);
+    TEST_ASSERT_EQUAL_size_t(n0, n1);
+    TEST_ASSERT_EQUAL_MEMORY(before, after, n0);
+    free(before);
+    free(after);
+    /* a tall, narrow frame: the picture is bounded */
+    hdr = snprintf((char *)tall, sizeof tall, "P5\n2 8000\n255\n");
+    for (i = 0; i < 2 * 8000; i++)
+        tall[hdr + i] = (uint8_t)(i * 7);
+    write_file(OUT "/ovin/tall.pgm", tall, (size_t)hdr + 2u * 8000u);
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --overlay " OUT "/ovin/tall.ppm " OUT "/ovin/tall.pgm"));
+    {
+        char *ppm = slurp(OUT "/ovin/tall.ppm");
+        int fw = 0, fh = 0;
+        TEST_ASSERT_EQUAL_INT(2, sscanf(ppm, "P6 %d %d", &fw, &fh));
+        TEST_ASSERT_TRUE(fw < 7000); /* the frame's 2 columns and a fan panel of 2,048 rows */
+        TEST_ASSERT_TRUE(fh >= 8000);
+        free(ppm);
+    }
+}
+
 /* --show-rejected draws the candidates that did not become tags: the
  * example frame has one rejected search box, so the pictures differ. */
 static void test_show_rejected_changes_the_overlay(void)
@@ -859,6 +901,7 @@ int main(void)
     RUN_TEST(test_raw_and_16bit_inputs);
     RUN_TEST(test_stdin_gives_the_same_json);
     RUN_TEST(test_overlay_and_stages);
+    RUN_TEST(test_overlay_never_overwrites_an_input);
     RUN_TEST(test_show_rejected_changes_the_overlay);
     RUN_TEST(test_same_named_files_do_not_overwrite);
     RUN_TEST(test_bad_files_are_reported_and_the_rest_processed);
