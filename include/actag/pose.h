@@ -125,7 +125,7 @@
  *     on the median-filtered frame: actag-eval --frames 1000 --seed 1,
  *     1,360 corners, sd 0.24 cm in range, 0.0013 rad in azimuth; 0.88 cm
  *     and 0.0040 rad unrefined). The refinement now reads the raw frame
- *     and the same run gives 1,804 corners at 0.126 cm and 0.00070 rad, so
+ *     and the same run gives 2,800 corners at 0.139 cm and 0.00078 rad, so
  *     the defaults are pessimistic (the 95 % ellipsoid holds the truth
  *     99-100 % of the time, docs/pose.md); they are kept for sonars
  *     noisier than the simulator's. Corners of another sonar

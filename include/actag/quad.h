@@ -64,8 +64,8 @@
  *   contour the points that cannot be within inlier_distance of the line
  *   (consecutive points are at most one pixel apart, so a point's distance
  *   changes by at most |nx| + |ny| per step; ACTAG_QUAD_FORCE_SKIP forces
- *   this path elsewhere). RANSAC on the 58 pool frames, Cortex-M7 -O2: 6.8
- *   M instructions per frame on average, 27.0 M at worst (tools/budget,
+ *   this path elsewhere). RANSAC on the 58 pool frames, Cortex-M7 -O2: 6.5
+ *   M instructions per frame on average, 25.5 M at worst (tools/budget,
  *   the README's table).
  *   Cost: about 1 microsecond per iteration for a 200-point contour on a
  *   desktop core; a clean tag outline is usually found in 1-10 iterations,
