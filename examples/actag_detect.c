@@ -374,7 +374,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             die(m);
         } else {
             if (strcmp(a, "-") == 0 && ++stdin_files > 1)
-                die("-: standard input can be read only once (--bearings - and a frame -)");
+                die(o->bearings_path && strcmp(o->bearings_path, "-") == 0
+                        ? "-: standard input can be read only once (--bearings - and a frame -)"
+                        : "-: standard input can be read only once (two frames -)");
             files[(*nfiles)++] = a;
         }
 #undef NEEDV

@@ -294,6 +294,8 @@ int hostio_pgm_parse(const uint8_t *buf, size_t len, const char *name, hostio_pg
         char q[8 * 4 + 4];
         if (len == 0)
             return fail(err, "%s: not a binary PGM (no P5 magic; it is empty)", nm);
+        if (len == 2 && buf[0] == 'P' && buf[1] == '5')
+            return fail(err, "%s: PGM header truncated after its P5 magic (no width)", nm);
         quote_start(buf, len, q);
         return fail(err, "%s: not a binary PGM (no P5 magic; it starts '%s')", nm, q);
     }
@@ -536,7 +538,9 @@ int hostio_frame_parse(const uint8_t *b, size_t len, const char *name, const hos
             return -1;
         return pgm_image(&v, nm, out, err);
     }
-    if (!raw || raw->rows <= 0 || raw->cols <= 0)
+    if (!raw)
+        return fail(err, "%s: not a PGM file (no P5 magic)", nm);
+    if (raw->rows <= 0 || raw->cols <= 0)
         return fail(err, "%s: not a PGM file (no P5 magic); raw frames need --rows and --cols",
                     nm);
     return raw_frame(b, len, nm, raw, out, err);

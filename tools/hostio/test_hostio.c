@@ -79,7 +79,12 @@ static void test_frames(void)
     TEST_ASSERT_EQUAL_UINT16(0x0807, ((uint16_t *)im.data)[4]);
     hostio_image_free(&im);
     /* errors name the file and the value */
-    expect_error("c.raw", NULL, "not a PGM file (no P5 magic); raw frames need --rows and --cols");
+    expect_error("c.raw", NULL, "c.raw: not a PGM file (no P5 magic)");
+    {   /* a tool that reads raw frames names the options they need */
+        hostio_raw_spec none = {0, 0, 8, 0};
+        expect_error("c.raw", &none,
+                     "not a PGM file (no P5 magic); raw frames need --rows and --cols");
+    }
     raw.stride = 0;
     expect_error("c.raw", &raw, "raw frame is 10 bytes, expected 8 (2 rows x stride 2 x 2 bytes)");
     raw.stride = 1;
@@ -602,7 +607,7 @@ static void test_pgm_magic_quoted(void)
     TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse(q, 0, "empty", &v, err));
     TEST_ASSERT_EQUAL_STRING("empty: not a binary PGM (no P5 magic; it is empty)", err);
     TEST_ASSERT_EQUAL_INT(-1, hostio_pgm_parse((const uint8_t *)"P5", 2, "p5", &v, err));
-    TEST_ASSERT_EQUAL_STRING("p5: not a binary PGM (no P5 magic; it starts 'P5')", err);
+    TEST_ASSERT_EQUAL_STRING("p5: PGM header truncated after its P5 magic (no width)", err);
 }
 
 /* A comment right after maxval, as Netpbm reads it: its end of line is the
