@@ -158,7 +158,7 @@ static void usage(FILE *f)
         "  --gap MM               space between tags and page margin (default 10;\n"
         "                         SVG/DXF: a PGM sheet's gap is one cell)\n"
         "output\n"
-        "  --out FILE             output file (default stdout). A sheet that fits one\n"
+        "  --out FILE             output file (default or -: stdout). A sheet that fits one\n"
         "                         page is FILE itself; a longer one is FILE with -p1,\n"
         "                         -p2, ... before the extension (tags.svg: tags-p1.svg,\n"
         "                         tags-p2.svg, ...; the names are reported on stderr)\n"
@@ -380,6 +380,8 @@ static void parse_args(int argc, char **argv, opts_t *o)
             o->gap_set = 1;
         } else if (strcmp(a, "--out") == 0) {
             o->out = need_arg(argc, argv, &i);
+            if (strcmp(o->out, "-") == 0) /* standard output, as without --out */
+                o->out = NULL;
         } else if (strcmp(a, "--out-dir") == 0) {
             o->out_dir = need_arg(argc, argv, &i);
         } else {

@@ -1435,6 +1435,24 @@ static void test_every_family_name_is_spelled(void)
     }
 }
 
+/* --out - is standard output, as no --out is (it wrote a file named "-"). */
+static void test_out_dash_is_stdout(void)
+{
+    size_t n = 0;
+    char *o;
+    FILE *f;
+    remove("./-");
+    TEST_ASSERT_EQUAL_INT(0, run("--family AcTag24h10 --id 3 --out -"));
+    o = slurp("stdout.bin", &n);
+    TEST_ASSERT_NOT_NULL(o);
+    TEST_ASSERT_TRUE(n > 2 && o[0] == 'P' && o[1] == '5');
+    free(o);
+    f = fopen("./-", "rb");
+    TEST_ASSERT_NULL_MESSAGE(f, "--out - wrote a file named '-'");
+    if (f)
+        fclose(f);
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "%s/render_tool_test", ACTAG_BINARY_DIR);
@@ -1443,6 +1461,7 @@ int main(void)
         return 1;
     }
     UNITY_BEGIN();
+    RUN_TEST(test_out_dash_is_stdout);
     RUN_TEST(test_pgm_6000);
     RUN_TEST(test_dxf_6000);
     RUN_TEST(test_dxf_many_tags_and_tabs);
