@@ -978,11 +978,18 @@ static void parse_free_families(eval_ctx *c, const char *list)
         for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
             if (c->nfree_fam >= MAX_FAM)
                 die("--tag-free-families: too many families");
+            int j;
             if (actag_family_get(tok, &c->free_fam[c->nfree_fam]) != ACTAG_OK) {
                 char m[1100];
                 snprintf(m, sizeof m, "--tag-free-families: unknown family '%s'", tok);
                 die(m);
             }
+            for (j = 0; j < c->nfree_fam; j++)
+                if (strcmp(c->free_fam[j].name, c->free_fam[c->nfree_fam].name) == 0) {
+                    char m[1100];
+                    snprintf(m, sizeof m, "--tag-free-families: '%s' given twice", tok);
+                    die(m);
+                }
             c->nfree_fam++;
         }
     }

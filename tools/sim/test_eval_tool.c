@@ -457,6 +457,13 @@ static void test_eval_options_without_their_run(void)
                     "--tag-free-families", "AcTag24h10,");
     expect_error_of(ACTAG_EVAL_PATH, "--frames 0 --tag-free 1 --sweep-families ,AcTag24h10",
                     "--sweep-families", ",AcTag24h10");
+    /* a family given twice (it ran and printed twice) */
+    expect_error_of(ACTAG_EVAL_PATH,
+                    "--frames 0 --tag-free 1 --tag-free-families AcTag24h10,AcTag24h8,AcTag24h10",
+                    "--tag-free-families", "'AcTag24h10' given twice");
+    /* a detector setting refused before any frame is run, named by its option */
+    expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --min-side-fraction 1.7", "--min-side-fraction",
+                    "limit 1.7");
 }
 
 /* expect_error_of, and the message is the only line on stderr: no progress
