@@ -22,15 +22,19 @@
 static uint8_t pixels[MAX_ROWS * MAX_COLS];
 static uint8_t ws[ACTAG_WORKSPACE_SIZE(MAX_ROWS, MAX_COLS)];
 
-/* The next header number of a PGM, after whitespace and '#' comment lines. */
+/* The next header number of a PGM (decimal digits, at most 99999), after
+ * whitespace and '#' comment lines; the character after it is consumed. */
 static int header_int(FILE *f, int *v)
 {
-    int ch;
+    int ch, digits = 0;
     while ((ch = fgetc(f)) == '#' || ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r')
         if (ch == '#')
             while ((ch = fgetc(f)) != '\n' && ch != EOF)
                 ;
-    return ch != EOF && ungetc(ch, f) != EOF && fscanf(f, "%d", v) == 1;
+    for (*v = 0; ch >= '0' && ch <= '9' && digits < 5; ch = fgetc(f), digits++)
+        *v = *v * 10 + (ch - '0');
+    /* a number ends at whitespace (a sixth digit, a sign or a letter: refused) */
+    return digits > 0 && (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r');
 }
 
 /* A bare-bones P5 reader (8 bit). Returns NULL, or why the file is refused. */
@@ -42,12 +46,12 @@ static const char *read_pgm(const char *path, int *rows, int *cols)
     if (!f)
         return "cannot open it";
     if (fgetc(f) != 'P' || fgetc(f) != '5' || !header_int(f, cols) || !header_int(f, rows) ||
-        !header_int(f, &maxval) || fgetc(f) == EOF)
+        !header_int(f, &maxval))
         why = "not a binary (P5) PGM";
     else if (*rows < 1 || *rows > MAX_ROWS || *cols < 1 || *cols > MAX_COLS)
         why = "larger than 1024 x 1024 pixels (or empty)";
-    else if (maxval < 1 || maxval > 255)
-        why = "not an 8-bit PGM (maxval above 255)";
+    else if (maxval != 255)
+        why = "not an 8-bit PGM of maxval 255 (this example does not rescale)";
     else if (fread(pixels, 1, (size_t)*rows * (size_t)*cols, f) != (size_t)*rows * (size_t)*cols)
         why = "cut short (fewer pixels than its header says)";
     fclose(f);
