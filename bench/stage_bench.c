@@ -123,7 +123,7 @@ int main(int argc, char **argv)
     frame *fr;
     int nfr = 0, i, r, p, repeat = 5, mr = 4, tr = 8, off = 1, only = 0, path = -1;
     size_t scr_size = 0, maxpix = 0;
-    uint8_t *scratch, *other;
+    uint8_t *scratch = NULL, *other = NULL;
     const char *pname[2] = {"library", "portable"};
     int failed = 0;
 
@@ -142,30 +142,30 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(a, "--repeat") == 0) {
             if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), 1, 100000, &repeat))
-                return 2;
+                goto fail;
         } else if (strcmp(a, "--median-radius") == 0) {
             if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), 0,
                           ACTAG_MEDIAN_MAX_RADIUS, &mr))
-                return 2;
+                goto fail;
         } else if (strcmp(a, "--threshold-radius") == 0) {
             if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), 0, 100000, &tr))
-                return 2;
+                goto fail;
         } else if (strcmp(a, "--offset") == 0) {
             if (parse_int(a, hostio_opt_value(PROG, argc, argv, &i), -255, 255, &off))
-                return 2;
+                goto fail;
         } else if (strcmp(a, "--only") == 0) {
             const char *v = hostio_opt_value(PROG, argc, argv, &i);
             only = strcmp(v, "median") == 0 ? 1 : strcmp(v, "threshold") == 0 ? 2 : -1;
             if (only < 0) {
                 fprintf(stderr, "stage_bench: --only median|threshold\n");
-                return 2;
+                goto fail;
             }
         } else if (strcmp(a, "--path") == 0) {
             const char *v = hostio_opt_value(PROG, argc, argv, &i);
             path = strcmp(v, "library") == 0 ? 0 : strcmp(v, "portable") == 0 ? 1 : -2;
             if (path < -1) {
                 fprintf(stderr, "stage_bench: --path library|portable\n");
-                return 2;
+                goto fail;
             }
         } else if (a[0] == '-') {
             hostio_opt_unknown(PROG, a);
@@ -176,11 +176,11 @@ int main(int argc, char **argv)
             int y;
             if (hostio_pgm_read(a, &im, err) != HOSTIO_OK) {
                 fprintf(stderr, "stage_bench: %s\n", err);
-                return 2;
+                goto fail;
             }
             if (im.depth != 8) {
                 fprintf(stderr, "stage_bench: %s: 8-bit PGM expected\n", a);
-                return 2;
+                goto fail;
             }
             n = (size_t)im.rows * (size_t)im.cols;
             fr[nfr].path = a;
@@ -190,7 +190,7 @@ int main(int argc, char **argv)
             fr[nfr].med = (uint8_t *)malloc(n);
             fr[nfr].bin = (uint8_t *)malloc(n);
             if (!fr[nfr].img || !fr[nfr].med || !fr[nfr].bin)
-                return 2;
+                goto fail;
             for (y = 0; y < im.rows; y++)
                 memcpy(fr[nfr].img + (size_t)y * (size_t)im.cols,
                        (const uint8_t *)im.data + (size_t)y * (size_t)im.stride, (size_t)im.cols);
@@ -202,7 +202,7 @@ int main(int argc, char **argv)
     }
     if (nfr == 0) {
         fprintf(stderr, "stage_bench: no frames given\n");
-        return 2;
+        goto fail;
     }
     /* sized once every option is read: sized per file, a --threshold-radius
      * after the files was not counted ("stage 2 failed (-5)") */
@@ -216,7 +216,7 @@ int main(int argc, char **argv)
     scratch = (uint8_t *)malloc(scr_size);
     other = (uint8_t *)malloc(maxpix);
     if (!scratch || !other)
-        return 2;
+        goto fail;
     printf("stage_bench: %d frames (first %d x %d), best/worst of %d repeats, thread CPU time\n",
            nfr, fr[0].rows, fr[0].cols, repeat);
     printf("scratch bytes for the first frame: median %lu (R=%d), threshold %lu (R=%d)\n",
@@ -245,7 +245,7 @@ int main(int argc, char **argv)
                         if (rc != ACTAG_OK) {
                             fprintf(stderr, "stage_bench: %s: median: %s\n", f->path,
                                     actag_strerror(rc));
-                            return 2;
+                            goto fail;
                         }
                     }
                     t0 = thread_ms();
@@ -261,7 +261,7 @@ int main(int argc, char **argv)
                     if (rc != ACTAG_OK) {
                         fprintf(stderr, "stage_bench: %s: %s: %s\n", f->path,
                                 st == 1 ? "median" : "threshold", actag_strerror(rc));
-                        return 2;
+                        goto fail;
                     }
                     total += t1 - t0;
                     if (r == 0) {
@@ -295,7 +295,11 @@ int main(int argc, char **argv)
                    st == 1 ? "median" : "threshold", best, worst, (unsigned long long)h);
         }
     }
-    for (i = 0; i < nfr; i++) {
+    if (0) {
+    fail: /* every error after the frame table exists: status 2, nothing leaked */
+        failed = 2;
+    }
+    for (i = 0; i <= nfr && i < argc; i++) { /* [nfr]: a frame being read */
         free(fr[i].img);
         free(fr[i].med);
         free(fr[i].bin);
