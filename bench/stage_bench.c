@@ -180,6 +180,7 @@ int main(int argc, char **argv)
             }
             if (im.depth != 8) {
                 fprintf(stderr, "stage_bench: %s: 8-bit PGM expected\n", a);
+                hostio_image_free(&im);
                 goto fail;
             }
             n = (size_t)im.rows * (size_t)im.cols;
@@ -189,8 +190,10 @@ int main(int argc, char **argv)
             fr[nfr].img = (uint8_t *)malloc(n);
             fr[nfr].med = (uint8_t *)malloc(n);
             fr[nfr].bin = (uint8_t *)malloc(n);
-            if (!fr[nfr].img || !fr[nfr].med || !fr[nfr].bin)
+            if (!fr[nfr].img || !fr[nfr].med || !fr[nfr].bin) {
+                hostio_image_free(&im);
                 goto fail;
+            }
             for (y = 0; y < im.rows; y++)
                 memcpy(fr[nfr].img + (size_t)y * (size_t)im.cols,
                        (const uint8_t *)im.data + (size_t)y * (size_t)im.stride, (size_t)im.cols);

@@ -433,6 +433,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         die("--rows and --cols go together (the layout of raw frames)");
     if ((o->have_depth || o->have_stride) && o->raw.rows == 0)
         die("--depth and --stride describe raw frames: they need --rows and --cols");
+    if (o->overlay && strcmp(o->overlay, "-") == 0)
+        die("--overlay -: standard output carries the detections; give the picture a file name");
     if (o->show_rejected && !o->overlay && !o->stages)
         die("--show-rejected draws into pictures: it needs --overlay or --stages");
     if (!o->pose && (o->have_vertical || o->have_plane || o->have_plane_sd || o->have_plane_tilt))

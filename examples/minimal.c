@@ -22,8 +22,10 @@
 static uint8_t pixels[MAX_ROWS * MAX_COLS];
 static uint8_t ws[ACTAG_WORKSPACE_SIZE(MAX_ROWS, MAX_COLS)];
 
-/* The next header number of a PGM (decimal digits, at most 99999), after
- * whitespace and '#' comment lines; the character after it is consumed. */
+/* The next header number of a PGM, after whitespace and '#' comment lines:
+ * decimal digits worth at most 99999 (a larger width cannot be valid here,
+ * and an int must not wrap), ended by whitespace (consumed: after maxval it
+ * is the one byte before the pixels) or by a comment (left to be skipped). */
 static int header_int(FILE *f, int *v)
 {
     int ch, digits = 0;
@@ -31,9 +33,11 @@ static int header_int(FILE *f, int *v)
         if (ch == '#')
             while ((ch = fgetc(f)) != '\n' && ch != EOF)
                 ;
-    for (*v = 0; ch >= '0' && ch <= '9' && digits < 5; ch = fgetc(f), digits++)
-        *v = *v * 10 + (ch - '0');
-    /* a number ends at whitespace (a sixth digit, a sign or a letter: refused) */
+    for (*v = 0; ch >= '0' && ch <= '9'; ch = fgetc(f), digits++)
+        if ((*v = *v * 10 + (ch - '0')) > 99999)
+            return 0;
+    if (ch == '#')
+        return digits > 0 && ungetc(ch, f) != EOF;
     return digits > 0 && (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r');
 }
 

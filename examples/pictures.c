@@ -171,10 +171,10 @@ static void fan_free(fan *fn)
     fn->row_range = fn->col_az = NULL;
 }
 
-/* Sets up a fan of height h for frame f; fn->w is the width it needs. */
 /* The tallest fan panel of an overlay, pixels. */
 #define PIC_FAN_MAX_H 2048
 
+/* Sets up a fan of height h for frame f; fn->w is the width it needs. */
 static int fan_setup(fan *fn, const pic_frame *f, int h)
 {
     const int pad = 24;

@@ -371,7 +371,7 @@ static void test_stdin_gives_the_same_json(void)
     free(a);
     TEST_ASSERT_EQUAL_INT(2, run(GEO " - - < " EXAMPLE));
     a = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(a, "standard input can be read only once"));
+    TEST_ASSERT_NOT_NULL(strstr(a, "standard input can be read only once (two frames -)"));
     free(a);
 }
 
@@ -446,6 +446,26 @@ static void test_overlay_never_overwrites_an_input(void)
     TEST_ASSERT_EQUAL_MEMORY(before, after, n0);
     free(before);
     free(after);
+    /* the bearing table, named as given */
+    {
+        char cmd[1200];
+        snprintf(cmd, sizeof cmd, "awk 'BEGIN { for (i = 0; i < 620; i++) print 0.5236 - i * 1.0472 / 619 }' > \"%s\"",
+                 OUT "/ovin/b.txt");
+        TEST_ASSERT_EQUAL_INT(0, system(cmd));
+    }
+    TEST_ASSERT_EQUAL_INT(2, run("--min-range 0.1 --max-range 1.5 --bearings " OUT "/ovin/b.txt"
+                                 " --overlay " OUT "/ovin/b.txt " OUT "/ovin/f.pgm"));
+    s = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(s, "would overwrite an input file"));
+    free(s);
+    s = slurp(OUT "/ovin/b.txt");
+    TEST_ASSERT_EQUAL_INT('0', s[0]); /* still the table's text */
+    free(s);
+    /* standard output carries the detections: no picture there */
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --overlay - " OUT "/ovin/f.pgm"));
+    s = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(s, "--overlay -: standard output carries the detections"));
+    free(s);
     /* a tall, narrow frame: the picture is bounded */
     hdr = snprintf((char *)tall, sizeof tall, "P5\n2 8000\n255\n");
     for (i = 0; i < 2 * 8000; i++)

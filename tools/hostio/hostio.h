@@ -15,10 +15,10 @@
  *
  *   Files (the path "-" reads standard input)
  *     hostio_slurp(path, &len, err)        whole file, malloc'd, NUL-terminated
+ *                                           (at most HOSTIO_MAX_FILE bytes)
  *     hostio_slurp_text(path, &len, err)   the same for a text file: a NUL byte
  *                                           in it is an error (naming its offset),
  *                                           not the silent end of the text
- *                                           (at most HOSTIO_MAX_FILE bytes)
  *     hostio_write_file(path, data, n, err)  the writers remove what they
  *                                           wrote when writing fails
  *     hostio_remove_partial(path)          removes a regular file a failed write

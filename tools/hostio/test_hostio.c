@@ -285,10 +285,6 @@ static void test_slurp_folder_names_the_reason(void)
     TEST_ASSERT_EQUAL_STRING(DIR ": Is a directory", err);
 }
 
-/* hostio_pgm_read (the pool frames of actag-eval --pool-sequence, actag-sim
- * --compare-real, the benchmarks) takes frames as hostio_frame_read does:
- * it copied samples as stored, so a maxval 100 frame with a sample of 200
- * passed and a maxval 100 frame was read unscaled. */
 /* hostio_slurp_text: a text file whole; a NUL byte inside is an error
  * naming its offset (it used to end the text silently: a bearing table
  * with a NUL after its 100th value read as a table of 100). */
@@ -325,6 +321,10 @@ static void test_same_file(void)
     TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/./missing.txt"));
 }
 
+/* hostio_pgm_read (the pool frames of actag-eval --pool-sequence, actag-sim
+ * --compare-real, the benchmarks) takes frames as hostio_frame_read does:
+ * it copied samples as stored, so a maxval 100 frame with a sample of 200
+ * passed and a maxval 100 frame was read unscaled. */
 static void test_pgm_read_checks_maxval(void)
 {
     static const uint8_t m100[] = "P5 4 1 100\n\x00\x01\x32\x64"; /* 0 1 50 100 */
@@ -372,7 +372,12 @@ static void test_json_string(void)
 {
     static const char in[] = "a\"b\\c\x01\td \xc3\xa9/\xff\xc3 \xc0\xaf\xed\xa0\x80\xf0\x9f\x98\x80";
     static const char want[] = "\"a\\\"b\\\\c\\u0001\\u0009d \xc3\xa9/\\ufffd\\ufffd "
-                               "\\ufffd\\ufffd\\ufffd\\ufffd\\ufffd\xf0\x9f\x98\x80\"\"\"";
+                               "\\ufffd\\ufffd\\ufffd\\ufffd\\ufffd\xf0\x9f\x98\x80\"\"\""
+                               /* overlong 3- and 4-byte forms, above U+10FFFF, cut at the end;
+                                  U+10FFFF, U+FFFF and U+0080 themselves pass */
+                               "\"\\ufffd\\ufffd\\ufffd|\\ufffd\\ufffd\\ufffd\\ufffd|"
+                               "\\ufffd\\ufffd\\ufffd\\ufffd|\xf4\x8f\xbf\xbf\xef\xbf\xbf\xc2\x80|"
+                               "\\ufffd\\ufffd\"";
     char err[HOSTIO_ERRLEN];
     size_t len = 0;
     uint8_t *got;
@@ -382,6 +387,8 @@ static void test_json_string(void)
     TEST_ASSERT_NOT_NULL(f);
     hostio_json_string(f, in);
     hostio_json_string(f, "");
+    hostio_json_string(f, "\xe0\x80\x80|\xf0\x80\x80\x80|\xf4\x90\x80\x80|"
+                          "\xf4\x8f\xbf\xbf\xef\xbf\xbf\xc2\x80|\xe2\x82");
     TEST_ASSERT_EQUAL_INT(0, fclose(f));
     got = hostio_slurp(DIR "/json.txt", &len, err);
     TEST_ASSERT_NOT_NULL_MESSAGE(got, err);

@@ -66,6 +66,7 @@ typedef struct {
     int page_set, gap_set;
     int list_tabs;
     const char *out, *out_dir;
+    int out_given; /* --out given, "-" (standard output) included */
 } opts_t;
 
 typedef struct {
@@ -380,6 +381,7 @@ static void parse_args(int argc, char **argv, opts_t *o)
             o->gap_set = 1;
         } else if (strcmp(a, "--out") == 0) {
             o->out = need_arg(argc, argv, &i);
+            o->out_given = 1;
             if (strcmp(o->out, "-") == 0) /* standard output, as without --out */
                 o->out = NULL;
         } else if (strcmp(a, "--out-dir") == 0) {
@@ -473,7 +475,7 @@ static void parse_args(int argc, char **argv, opts_t *o)
     if (o->sheet && o->format == FMT_PGM && o->gap_set)
         die("--gap %g mm: PGM sheets are sized with --columns and --rows (the gap is one "
             "cell), not in mm", o->gap);
-    if (o->out && o->out_dir)
+    if (o->out_given && o->out_dir)
         die("give --out or --out-dir, not both");
     if (!o->sheet && !o->list_tabs && o->nids > 1 && o->out_dir == NULL)
         die("several tags make several files: use --out-dir DIR (or --sheet)");

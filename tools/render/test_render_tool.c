@@ -1451,6 +1451,9 @@ static void test_out_dash_is_stdout(void)
     TEST_ASSERT_NULL_MESSAGE(f, "--out - wrote a file named '-'");
     if (f)
         fclose(f);
+    /* still one output: --out - with --out-dir is refused as --out FILE is */
+    TEST_ASSERT_EQUAL_INT(2, run("--family AcTag24h10 --id 3 --out - --out-dir od"));
+    TEST_ASSERT_NOT_NULL(strstr(errtext, "not both"));
 }
 
 int main(void)

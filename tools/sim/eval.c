@@ -1301,7 +1301,6 @@ int main(int argc, char **argv)
             {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
             {"tuning.min_structure", "--min-structure", 0},
             {"tuning.min_side_fraction", "--min-side-fraction", 0},
-            {"tuning.max_side_fraction", "the largest side fraction", 0},
             {"tuning.median_radius", "--median-radius", 0},
             {"tuning.median_per_range", "--median-per-range", 0},
             {"tuning.search_min_margin", "--search-min-margin", 0},
@@ -1311,6 +1310,11 @@ int main(int argc, char **argv)
         actag_error_detail d;
         char m[HOSTIO_ERRLEN];
         tag_params(&c, &p);
+        if (c.min_side > p.tuning.max_side_fraction) { /* the pair's rule, said plainly */
+            snprintf(m, sizeof m, "--min-side-fraction: must be at most %g, the largest side "
+                     "fraction (got %g)", (double)p.tuning.max_side_fraction, (double)c.min_side);
+            die(m);
+        }
         if (actag_params_validate(&p, &d) != ACTAG_OK) {
             hostio_detail_message(&d, names, (int)(sizeof names / sizeof names[0]), m);
             die(m);

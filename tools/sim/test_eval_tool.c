@@ -463,7 +463,7 @@ static void test_eval_options_without_their_run(void)
                     "--tag-free-families", "'AcTag24h10' given twice");
     /* a detector setting refused before any frame is run, named by its option */
     expect_error_of(ACTAG_EVAL_PATH, "--frames 2 --min-side-fraction 1.7", "--min-side-fraction",
-                    "limit 1.7");
+                    "must be at most 1.6, the largest side fraction (got 1.7)");
 }
 
 /* expect_error_of, and the message is the only line on stderr: no progress
