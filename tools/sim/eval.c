@@ -976,9 +976,9 @@ static void parse_free_families(eval_ctx *c, const char *list)
             die("--tag-free-families: list too long");
         strcpy(buf, list);
         for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+            int j;
             if (c->nfree_fam >= MAX_FAM)
                 die("--tag-free-families: too many families");
-            int j;
             if (actag_family_get(tok, &c->free_fam[c->nfree_fam]) != ACTAG_OK) {
                 char m[1100];
                 snprintf(m, sizeof m, "--tag-free-families: unknown family '%s'", tok);
