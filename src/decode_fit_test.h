@@ -16,12 +16,18 @@ int actag__fit_shift_cells(const uint8_t *img, int rows, int cols, int stride, c
                            int k, float so, int i, int j, float *lat, float *direct);
 
 /* The scalar cell reads (the ones without SIMD: fcells_on, flattice, the
- * Cortex-M path) against the straightforward code, every sample by the
- * clamping sampler (fsample), bit for bit; what, grid, image and outputs as
- * for actag__fit_simd_cells (any rows, cols >= 1, stride >= cols). ACTAG_OK,
- * or ACTAG_ERR_PARAM for bad arguments. */
+ * Cortex-M path, with its DSP asm on Cortex-M4/M7) against the
+ * straightforward code, every sample by the clamping sampler (fsample), bit
+ * for bit; what, grid, image and outputs as for actag__fit_simd_cells (any
+ * rows, cols >= 1, stride >= cols). ACTAG_OK, or ACTAG_ERR_PARAM for bad
+ * arguments. */
 int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                             int k, float so, int what, float *ref, float *scalar);
+
+/* 1 when this build's scalar reads of cells inside the frame are the
+ * Cortex-M4/M7 DSP asm (fit_cells.c, FIT_DSP), else 0: the tests say which
+ * code they compared. */
+int actag__fit_dsp_reads(void);
 
 /* The template layout of code `id` of `family` in view `view` (0..3: that
  * many quarter turns, 4..7: the same after the physical mirror) as the

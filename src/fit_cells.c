@@ -1,14 +1,16 @@
 /* The grid-fit decoder's cell reads (fit_cells.h): the mean grey level of
  * every cell of an affine tag grid, by bilinear samples of the frame, and
  * the half-cell lattice the wide search's shifted grids share. Portable C,
- * with bit-identical SSE2 paths on x86-64 (tests/test_decode_lattice.c).
+ * with bit-identical SSE2 paths on x86-64 and DSP asm on Cortex-M4/M7 for
+ * the cells inside the frame (tests/test_decode_lattice.c).
  *
  * The samples are integer arithmetic (so the same on every core and under
  * any float flags, and cheap where a float conversion is not: on Cortex-M7
- * about 22 instructions a sample instead of 33). A cell's centre, computed
- * in float from the grid, and the pattern's offsets from it, once a grid,
- * are put in fixed point, 1/256 pixel, truncated toward zero (ffix); a
- * sample point is the centre plus an offset. At X = 256 x0 + fx (fx in
+ * -O2 28 to 32 instructions a sample in C instead of 33 in float, 18 in the
+ * DSP asm). A cell's centre, computed in float from the grid, and the
+ * pattern's offsets from it, once a grid, are put in fixed point, 1/256
+ * pixel, truncated toward zero (ffix); a sample point is the centre plus an
+ * offset. At X = 256 x0 + fx (fx in
  * 0..255) and likewise Y, the sample is
  *     top = 256 p(x0, y0)     + (p(x0 + 1, y0)     - p(x0, y0))     fx
  *     bot = 256 p(x0, y0 + 1) + (p(x0 + 1, y0 + 1) - p(x0, y0 + 1)) fx
@@ -24,6 +26,20 @@
 
 #if ACTAG__FIT_SIMD
 #include <emmintrin.h>
+#endif
+
+/* Cortex-M4/M7 (__ARM_FEATURE_SIMD32, little-endian): the clamp-free
+ * cell reads by the DSP instructions (fcell9_dsp, fcell5_dsp); ACTAG_NO_DSP
+ * selects the portable C there too. Only in Thumb-2 (the asm's LDRD takes
+ * any two registers, ARM state an even-odd pair), with unaligned loads
+ * allowed (not -mno-unaligned-access) and in optimised builds (-O0 keeps a
+ * frame pointer and cannot give the asm its 13 registers). */
+#if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
+    !defined(__ARM_BIG_ENDIAN) && defined(__thumb2__) && defined(__ARM_FEATURE_UNALIGNED) &&    \
+    defined(__OPTIMIZE__)
+#define FIT_DSP 1
+#else
+#define FIT_DSP 0
 #endif
 
 /* Forced inlining of the per-sample steps of the cell reads: GCC -O2 for
@@ -98,6 +114,11 @@ typedef struct fpat {
     /* a cell's samples all lie within ex9 / ey9 (ex5 / ey5) of its centre:
      * it is read clamp-free when they lie in [0, (cols - 1) 256) */
     int32_t ex9, ey9, ex5, ey5, xin, yin;
+#if FIT_DSP
+    /* the same offsets but the centre's as (dx, dy) pairs, one LDRD each
+     * (fcell9_dsp, fcell5_dsp): samples 0..3 and 5..8, the 4 diagonals */
+    int32_t xy9[16], xy5[8];
+#endif
 } fpat;
 
 static int32_t fabs32(int32_t v)
@@ -131,6 +152,16 @@ static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
     p->ey5 = fabs32(p->dy5[0]) > fabs32(p->dy5[2]) ? fabs32(p->dy5[0]) : fabs32(p->dy5[2]);
     p->xin = (int32_t)(im->cols - 1) * 256;
     p->yin = (int32_t)(im->rows - 1) * 256;
+#if FIT_DSP
+    for (a = 0; a < 4; a++) { /* sample 4 is the centre */
+        p->xy9[2 * a] = p->dx9[a];
+        p->xy9[2 * a + 1] = p->dy9[a];
+        p->xy9[2 * a + 8] = p->dx9[a + 5];
+        p->xy9[2 * a + 9] = p->dy9[a + 5];
+        p->xy5[2 * a] = p->dx5[a];
+        p->xy5[2 * a + 1] = p->dy5[a];
+    }
+#endif
 }
 
 /* fsample for a point in [0, (cols - 1) 256) x [0, (rows - 1) 256): the
@@ -171,10 +202,88 @@ FIT_INLINE int32_t fsample_at(const fimg *im, int inside, int32_t X, int32_t Y)
     return inside ? fsample_in(im, X, Y) : fsample(im, X, Y);
 }
 
+#if FIT_DSP
+/* fcell9 / fcell5 inside the frame in DSP instructions, one asm block a
+ * cell (the C samples take about 28 instructions each on Cortex-M7 -O2, 32
+ * where GCC spills; these 18). A sample at (x, y), fractions fx, fy, with
+ * a, b / c, d the pixel pairs of rows y0 / y0 + 1, is
+ *     v = 256 S1 + fx S2,  S1 = (256 - fy) a + fy c,
+ *                          S2 = (256 - fy) (b - a) + fy (d - c),
+ * which is flerp's 256 top + (bot - top) fy exactly (all integers). One
+ * LDRH a row (unaligned), PKHBT and UXTB16 make the 16-bit lanes {a, c}
+ * and {b, d}, SSUB16 {b - a, d - c}, and SMLAD / SMUAD weigh them by
+ * {256 - fy, fy} (the word fy 65535 + 256, one MLA): lanes and products
+ * fit 16 and 32 bits. The cell's S1 and fx S2 are summed apart (s1, s2)
+ * and its sum is 256 s1 + s2, below 2^31 as the C sum: the same int32.
+ * The centre (X, Y) is read first (offsets (0, 0): no load, no adds), then
+ * each (dx, dy) pair of the pattern (fpat's xy9, xy5) by one LDRD. */
+#define FDSP_AT(px, py)                                                                            \
+    "uxtb %[w], %[" py "]\n\t"                                                                    \
+    "asr %[y], %[" py "], #8\n\t"                                                                 \
+    "mla %[w], %[w], %[k], %[k256]\n\t"                                                          \
+    "mla %[y], %[y], %[s], %[img]\n\t"                                                           \
+    "add %[y], %[y], %[" px "], asr #8\n\t"                                                       \
+    "uxtb %[x], %[" px "]\n\t"                                                                    \
+    "ldrh %[t], [%[y]]\n\t"                                                                      \
+    "ldrh %[y], [%[y], %[s]]\n\t"                                                                \
+    "pkhbt %[t], %[t], %[y], lsl #16\n\t"                                                        \
+    "uxtb16 %[y], %[t], ror #8\n\t"                                                              \
+    "uxtb16 %[t], %[t]\n\t"                                                                      \
+    "ssub16 %[y], %[y], %[t]\n\t"
+/* the centre: s1 = S1, s2 = fx S2 */
+#define FDSP_CENTRE                                                                                \
+    FDSP_AT("X", "Y")                                                                              \
+    "smuad %[s1], %[t], %[w]\n\t"                                                                \
+    "smuad %[y], %[y], %[w]\n\t"                                                                 \
+    "mul %[s2], %[x], %[y]\n\t"
+/* pair i: s1 += S1, s2 += fx S2 */
+#define FDSP_PAIR(i)                                                                               \
+    "ldrd %[x], %[y], [%[d], #8*" #i "]\n\t"                                                     \
+    "add %[x], %[x], %[X]\n\t"                                                                   \
+    "add %[y], %[y], %[Y]\n\t" FDSP_AT("x", "y")                                                 \
+    "smlad %[s1], %[t], %[w], %[s1]\n\t"                                                         \
+    "smuad %[y], %[y], %[w]\n\t"                                                                 \
+    "mla %[s2], %[x], %[y], %[s2]\n\t"
+#define FDSP_SUM "add %[s2], %[s2], %[s1], lsl #8"
+/* The frame and the pattern as memory inputs, so that GCC knows what the
+ * asm reads (a "memory" clobber instead costs 0.14 M instructions a frame
+ * in reloads). */
+#define FDSP_OPERANDS(pairs)                                                                       \
+    : [x] "=&r"(x), [y] "=&r"(y), [w] "=&r"(w), [t] "=&r"(t), [s1] "=&r"(s1), [s2] "=&r"(s2)      \
+    : [d] "r"(pairs), [X] "r"(X), [Y] "r"(Y), [img] "r"(im->img), [s] "r"(im->stride),            \
+      [k] "r"(65535), [k256] "r"(256), "m"(pairs),                                                 \
+      "m"(*(const uint8_t(*)[(size_t)im->rows * (size_t)im->stride])im->img)
+
+FIT_INLINE int32_t fcell9_dsp(const fimg *im, const fpat *p, int32_t X, int32_t Y)
+{
+    int32_t x, y, w, t, s1, s2;
+    __asm__(FDSP_CENTRE FDSP_PAIR(0) FDSP_PAIR(1) FDSP_PAIR(2) FDSP_PAIR(3) FDSP_PAIR(4)
+                FDSP_PAIR(5) FDSP_PAIR(6) FDSP_PAIR(7) FDSP_SUM FDSP_OPERANDS(p->xy9));
+    return s2;
+}
+
+FIT_INLINE int32_t fcell5_dsp(const fimg *im, const fpat *p, int32_t X, int32_t Y)
+{
+    int32_t x, y, w, t, s1, s2;
+    __asm__(FDSP_CENTRE FDSP_PAIR(0) FDSP_PAIR(1) FDSP_PAIR(2) FDSP_PAIR(3) FDSP_SUM
+                FDSP_OPERANDS(p->xy5));
+    return s2;
+}
+#undef FDSP_AT
+#undef FDSP_CENTRE
+#undef FDSP_PAIR
+#undef FDSP_SUM
+#undef FDSP_OPERANDS
+#endif
+
 /* The 5-sample sum (centre and the 4 diagonal points) of the cell centred
  * at fixed point (X, Y). */
 FIT_INLINE int32_t fcell5(const fimg *im, const fpat *p, int inside, int32_t X, int32_t Y)
 {
+#if FIT_DSP
+    if (inside)
+        return fcell5_dsp(im, p, X, Y);
+#endif
     return fsample_at(im, inside, X, Y) + fsample_at(im, inside, X + p->dx5[0], Y + p->dy5[0]) +
            fsample_at(im, inside, X + p->dx5[1], Y + p->dy5[1]) +
            fsample_at(im, inside, X + p->dx5[2], Y + p->dy5[2]) +
@@ -186,6 +295,10 @@ FIT_INLINE int32_t fcell9(const fimg *im, const fpat *p, int inside, int32_t X, 
 {
     int32_t s = 0;
     int i;
+#if FIT_DSP
+    if (inside)
+        return fcell9_dsp(im, p, X, Y);
+#endif
     /* a loop: written out, Cortex-M7 -O2 spills and takes 15 % more */
     for (i = 0; i < 9; i++)
         s += fsample_at(im, inside, X + p->dx9[i], Y + p->dy9[i]);
@@ -415,14 +528,14 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
 #endif
 
 /* Cells c0..c1 of a row of a grid inside the frame (fast: fcell5, else
- * fcell9), centres (xu[c] + xv, yu[c] + yv). */
-FIT_INLINE void frow_in(const fimg *im, const fpat *p, const float *xu, const float *yu, float xv,
+ * fcell9), centres (u[2c] + xv, u[2c + 1] + yv). */
+FIT_INLINE void frow_in(const fimg *im, const fpat *p, const float *u, float xv,
                         float yv, int c0, int c1, float *row, int fast)
 {
     int c;
     for (c = c0; c <= c1; c++) {
         /* ffix without its clamps: the grid lies inside the frame */
-        int32_t X = (int32_t)((xu[c] + xv) * FIX_ONE), Y = (int32_t)((yu[c] + yv) * FIX_ONE);
+        int32_t X = (int32_t)((u[2 * c] + xv) * FIX_ONE), Y = (int32_t)((u[2 * c + 1] + yv) * FIX_ONE);
         row[c] = fast ? (float)fcell5(im, p, 1, X, Y) * fit_norm5
                       : (float)fcell9(im, p, 1, X, Y) * fit_norm9;
     }
@@ -434,13 +547,13 @@ FIT_INLINE void frow_in(const fimg *im, const fpat *p, const float *xu, const fl
 static void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int inside, int skip)
 {
     int cx, cy, n = k + 1;
-    float g = 0.5f * (float)n, xu[ACTAG_DECODE_MAX_K + 1], yu[ACTAG_DECODE_MAX_K + 1];
+    float g = 0.5f * (float)n, u[2 * (ACTAG_DECODE_MAX_K + 1)];
     fpat p;
     fpat_of(im, gr, &p);
     for (cx = 0; cx < n; cx++) {
         float u0 = (float)cx + 0.5f - g;
-        xu[cx] = gr->mx + gr->ax * u0;
-        yu[cx] = gr->my + gr->ay * u0;
+        u[2 * cx] = gr->mx + gr->ax * u0;
+        u[2 * cx + 1] = gr->my + gr->ay * u0;
     }
     for (cy = 0; cy < n; cy++) {
         float v0 = (float)cy + 0.5f - g, xv = gr->bx * v0, yv = gr->by * v0, *row = m + cy * n;
@@ -449,11 +562,11 @@ static void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int insi
         row[0] = row[k] = 0.0f;
         if (!inside) {
             for (cx = c0; cx <= c1; cx++)
-                row[cx] = fcell_edge(im, &p, im->fast, xu[cx] + xv, yu[cx] + yv);
+                row[cx] = fcell_edge(im, &p, im->fast, u[2 * cx] + xv, u[2 * cx + 1] + yv);
         } else if (im->fast) { /* one loop per kind of cell: no tests per cell */
-            frow_in(im, &p, xu, yu, xv, yv, c0, c1, row, 1);
+            frow_in(im, &p, u, xv, yv, c0, c1, row, 1);
         } else {
-            frow_in(im, &p, xu, yu, xv, yv, c0, c1, row, 0);
+            frow_in(im, &p, u, xv, yv, c0, c1, row, 0);
         }
     }
 }
@@ -527,7 +640,7 @@ static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj
 void actag__fit_lattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, float *Q)
 {
     int c, r, n = k + 1, nc = n + 2 - pi;
-    float g = 0.5f * (float)n, xu[FIT_LAT_MAX], yu[FIT_LAT_MAX];
+    float g = 0.5f * (float)n, cu[2 * FIT_LAT_MAX];
     fpat p;
     /* the union of the shifted grids' sample points lies within g + 1 + so */
     int inside = fgrid_inside_h(im, gr, g + 1.0f + im->so);
@@ -543,18 +656,18 @@ void actag__fit_lattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, 
     fpat_of(im, gr, &p);
     for (c = 0; c < nc; c++) { /* a point is (mx + ax u) + bx v: the first sum once a column */
         float u = (float)c + 0.5f * (float)pi - 0.5f - g;
-        xu[c] = gr->mx + gr->ax * u;
-        yu[c] = gr->my + gr->ay * u;
+        cu[2 * c] = gr->mx + gr->ax * u;
+        cu[2 * c + 1] = gr->my + gr->ay * u;
     }
     for (r = 0; r < n + 2 - pj; r++) {
         float v = (float)r + 0.5f * (float)pj - 0.5f - g, xv = gr->bx * v, yv = gr->by * v;
         float *row = Q + r * FIT_LAT_MAX;
         if (inside) {
-            frow_in(im, &p, xu, yu, xv, yv, 0, nc - 1, row, 1);
+            frow_in(im, &p, cu, xv, yv, 0, nc - 1, row, 1);
             continue;
         }
         for (c = 0; c < nc; c++)
-            row[c] = fcell_edge(im, &p, 1, xu[c] + xv, yu[c] + yv);
+            row[c] = fcell_edge(im, &p, 1, cu[2 * c] + xv, cu[2 * c + 1] + yv);
     }
 }
 
@@ -672,6 +785,12 @@ int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, 
         for (c = 0; c < nc; c++)
             *scalar++ = Q[r * FIT_LAT_MAX + c];
     return ACTAG_OK;
+}
+
+/* Test hook (tests/test_decode_lattice.c): decode_fit_test.h. */
+int actag__fit_dsp_reads(void)
+{
+    return FIT_DSP;
 }
 
 #if ACTAG__FIT_SIMD

@@ -287,10 +287,13 @@ static void cells_equal_off_frame(cells_hook hook)
     }
 }
 /* The scalar reads (fcells_on, flattice: the Cortex-M path, hoisted
- * offsets and a sampler chosen per grid and per cell) against the
- * straightforward code, every sample by the clamping sampler. */
+ * offsets and a sampler chosen per grid and per cell; on Cortex-M4/M7 the
+ * DSP asm inside the frame) against the straightforward code, every sample
+ * by the clamping sampler. */
 static void test_scalar_cells_equal_straightforward(void)
 {
+    printf("scalar cell reads inside the frame: %s\n",
+           actag__fit_dsp_reads() ? "Cortex-M DSP asm" : "portable C");
     cells_equal_big_frame(actag__fit_scalar_cells);
 }
 
