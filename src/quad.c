@@ -57,6 +57,7 @@ typedef struct qctx {
     int n;
     int ox, oy;      /* origin: bounding-box minimum */
     float bw, bh;    /* bounding-box extent (max - min) */
+    int ext;         /* the larger extent, as an integer */
     float cx, cy;    /* centroid */
     float d, d2;     /* inlier distance and its square */
     float ratio;     /* inlier fraction that ends the search at once */
@@ -488,62 +489,77 @@ static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, uns
  * are taken (cyclic); with line non-NULL, only those within d of it. At
  * least m points are unclaimed. The count and the first sums fit 32 bits
  * (at most 32767 points of coordinates below 65536 relative to the
- * origin); the walk runs up to the end of the array, then from 0. */
+ * origin); the walk runs up to the end of the array, then from 0. The
+ * second moments are summed in SQ, uint32_t where m products of two
+ * coordinates cannot reach 2^32 (every contour of a tag-sized blob: the
+ * same exact sums, in one register each instead of two; Cortex-M7 spilled
+ * the 64-bit ones), else int64_t. */
+#define WALK_SUMS(SQ)                                                                          \
+    do {                                                                                       \
+        int32_t cnt = 0, sx = 0, sy = 0;                                                       \
+        SQ sxx = 0, sxy = 0, syy = 0;                                                          \
+        int i = start, left = m;                                                               \
+        while (left > 0) {                                                                     \
+            if (!line) {                                                                       \
+                for (; i < n && left > 0; i++) {                                               \
+                    int32_t x, y;                                                              \
+                    if (lab[i])                                                                \
+                        continue;                                                              \
+                    left--;                                                                    \
+                    x = pts[i].x - ox;                                                         \
+                    y = pts[i].y - oy;                                                         \
+                    cnt++;                                                                     \
+                    sx += x;                                                                   \
+                    sy += y;                                                                   \
+                    sxx += (SQ)x * (SQ)x;                                                      \
+                    sxy += (SQ)x * (SQ)y;                                                      \
+                    syy += (SQ)y * (SQ)y;                                                      \
+                }                                                                              \
+            } else {                                                                           \
+                const float lnx = line->nx, lny = line->ny, lc = line->c, d = k->d;            \
+                for (; i < n && left > 0; i++) {                                               \
+                    float dist;                                                                \
+                    int32_t x, y;                                                              \
+                    if (lab[i])                                                                \
+                        continue;                                                              \
+                    left--;                                                                    \
+                    dist = lnx * k->fx[i] + lny * k->fy[i] - lc;                               \
+                    if (!(dist <= d && dist >= -d))                                            \
+                        continue;                                                              \
+                    x = pts[i].x - ox;                                                         \
+                    y = pts[i].y - oy;                                                         \
+                    cnt++;                                                                     \
+                    sx += x;                                                                   \
+                    sy += y;                                                                   \
+                    sxx += (SQ)x * (SQ)x;                                                      \
+                    sxy += (SQ)x * (SQ)y;                                                      \
+                    syy += (SQ)y * (SQ)y;                                                      \
+                }                                                                              \
+            }                                                                                  \
+            if (i == n)                                                                        \
+                i = 0;                                                                         \
+        }                                                                                      \
+        s->n = cnt;                                                                            \
+        s->sx = sx;                                                                            \
+        s->sy = sy;                                                                            \
+        s->sxx = (int64_t)sxx;                                                                 \
+        s->sxy = (int64_t)sxy;                                                                 \
+        s->syy = (int64_t)syy;                                                                 \
+    } while (0)
+
 static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
                       const qline *line, qsums *s)
 {
     const actag_ipoint *pts = k->pts;
     const int ox = k->ox, oy = k->oy, n = k->n;
-    int32_t cnt = 0, sx = 0, sy = 0;
-    int64_t sxx = 0, sxy = 0, syy = 0;
-    int i = start, left = m;
-    while (left > 0) {
-        if (!line) {
-            for (; i < n && left > 0; i++) {
-                int32_t x, y;
-                if (lab[i])
-                    continue;
-                left--;
-                x = pts[i].x - ox;
-                y = pts[i].y - oy;
-                cnt++;
-                sx += x;
-                sy += y;
-                sxx += (int64_t)x * x;
-                sxy += (int64_t)x * y;
-                syy += (int64_t)y * y;
-            }
-        } else {
-            const float lnx = line->nx, lny = line->ny, lc = line->c, d = k->d;
-            for (; i < n && left > 0; i++) {
-                float dist;
-                int32_t x, y;
-                if (lab[i])
-                    continue;
-                left--;
-                dist = lnx * k->fx[i] + lny * k->fy[i] - lc;
-                if (!(dist <= d && dist >= -d))
-                    continue;
-                x = pts[i].x - ox;
-                y = pts[i].y - oy;
-                cnt++;
-                sx += x;
-                sy += y;
-                sxx += (int64_t)x * x;
-                sxy += (int64_t)x * y;
-                syy += (int64_t)y * y;
-            }
-        }
-        if (i == n)
-            i = 0;
-    }
-    s->n = cnt;
-    s->sx = sx;
-    s->sy = sy;
-    s->sxx = sxx;
-    s->sxy = sxy;
-    s->syy = syy;
+    /* coordinates lie in [0, ext]: each product is at most ext^2 */
+    const uint64_t ext = (uint64_t)(k->ext > 0 ? k->ext : 0);
+    if ((uint64_t)m * ext * ext <= UINT32_MAX)
+        WALK_SUMS(uint32_t);
+    else
+        WALK_SUMS(int64_t);
 }
+#undef WALK_SUMS
 
 /* Line through a run of m unclaimed points from index start: fitted, then
  * refitted without the run's points farther than d from the first fit (a
@@ -628,6 +644,7 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     k.oy = miny;
     k.bw = (float)(maxx - minx);
     k.bh = (float)(maxy - miny);
+    k.ext = maxx - minx > maxy - miny ? maxx - minx : maxy - miny;
     k.cx = actag_i64_to_f(sx - (int64_t)minx * n) / (float)n;
     k.cy = actag_i64_to_f(sy - (int64_t)miny * n) / (float)n;
     k.d = d;

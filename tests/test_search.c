@@ -118,6 +118,43 @@ static void test_map_equals_direct_sums(void)
     }
 }
 
+/* The block sums at full scale (every pixel 250-255: each 4-pixel row of a
+ * block near 4 x 255, the sum of a block near 16 x 255) and from a frame
+ * that starts at an odd address with an odd stride (the rows are read four
+ * bytes at a time): the map equals the direct sums. */
+static void test_block_sums_at_full_scale_and_odd_addresses(void)
+{
+    enum { R = 96, C = 101, S = 103 };
+    static uint8_t buf[1 + R * S];
+    static int16_t map[ACTAG_SEARCH_MAP_SIZE(R, C) / 2];
+    static uint32_t ii[ACTAG_SEARCH_INTEGRAL_SIZE(R, C) / 4];
+    const uint8_t *img = buf + 1;
+    actag_sonar_geometry g = {0.5f, 2.0f, 0.6f, NULL, 0u};
+    actag_search z;
+    int i, r, c, scored = 0;
+    tu_seed(31);
+    for (i = 0; i < (int)sizeof buf; i++) /* a bright square in a frame near white */
+        buf[i] = (uint8_t)tu_range(250, 255);
+    for (r = 30; r < 60; r++)
+        for (c = 30; c < 60; c++)
+            buf[1 + r * S + c] = 255u;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, S, &g, 0.05f, 24, 1.0f, map,
+                                                     sizeof map, ii, sizeof ii));
+    for (r = 0; r < z.hr; r++)
+        for (c = 0; c < z.hc; c++) {
+            int ref = ref_score(img, R, C, S, &g, 0.05f, 24, 1.0f, r, c);
+            TEST_ASSERT_EQUAL_INT(ref, map[(size_t)r * (size_t)z.hc + (size_t)c]);
+            scored += ref != INT16_MIN;
+        }
+    TEST_ASSERT_GREATER_THAN_INT(50, scored); /* positions were scored, not only refused */
+    /* the integral's last entry: every block of the map at full scale */
+    memset(buf, 255, sizeof buf);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_search_map(&z, img, R, C, S, &g, 0.05f, 24, 1.0f, map,
+                                                     sizeof map, ii, sizeof ii));
+    TEST_ASSERT_EQUAL_UINT32(16u * 255u * (uint32_t)(z.hr * z.hc),
+                             ii[(size_t)z.hr * (size_t)(z.hc + 1) + (size_t)z.hc]);
+}
+
 /* Boxes of up to thousands of blocks over bright pixels: the score's
  * numerator exceeds 32 bits at the large tag's boxes (the map then divides
  * in 64 bits) and stays within them at the small tag's; both give the
@@ -420,6 +457,7 @@ int main(void)
     RUN_TEST(test_map_equals_direct_sums);
     RUN_TEST(test_large_boxes_score_as_the_direct_sums);
     RUN_TEST(test_finds_a_synthetic_square);
+    RUN_TEST(test_block_sums_at_full_scale_and_odd_addresses);
     RUN_TEST(test_box_too_large_for_the_integral_is_not_scored);
     RUN_TEST(test_any_min_score_ends_the_loop);
     RUN_TEST(test_suppression_at_the_edges);
