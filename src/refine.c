@@ -77,11 +77,25 @@ typedef struct rctx {
     float wu, wv;                    /* template edge half-widths, cells */
     float iwu, iwv;                  /* their inverses */
     float rx, ry, ra[4];             /* level ramps: (u', v') = ra (X - rx, Y - ry) */
-    int ndir;                        /* lattice columns 0..ndir-1 have dir[] */
+    int ndir;                        /* lattice columns 0..ndir-1 have dir[] (all near
+                                        enough the centre beam) */
     float dir[2 * RDIR_MAX];         /* their cos, sin off the centre beam (rcolumn_dir) */
 } rctx;
 
 static int finite_f(float x) { return x == x && x - x == 0.0f; }
+
+/* Forced inlining of the sweeps' per-pixel steps: GCC -O2 for Cortex-M7
+ * otherwise calls some per pixel, and every call spills the sweep's
+ * constants (floats held in caller-saved registers) to the stack.
+ * RUNLIKELY marks a sweep's rare branches (a column past the direction
+ * cache, a full batch for rflush). */
+#if defined(__GNUC__)
+#define RINLINE __attribute__((always_inline)) static inline
+#define RUNLIKELY(x) __builtin_expect(!!(x), 0)
+#else
+#define RINLINE static inline
+#define RUNLIKELY(x) (x)
+#endif
 
 /* A 16-bit pixel on the detector's 8-bit scale (actag.h: 16-bit frames are
  * scaled by their maximum, rounded), so a 16-bit frame refines exactly as
@@ -268,9 +282,10 @@ typedef struct rmap {
     float v[2], u[2], kap, Mv[2], Mu[2];
 } rmap;
 
-static int rmap_init(const rgrid *G, rmap *q)
+RINLINE int rmap_init(const rgrid *G, rmap *q)
 {
     float det = G->p[2] * G->p[5] - G->p[4] * G->p[3];
+    memset(q, 0, sizeof *q); /* the curvature's fields too when flat (unread) */
     if (!finite_f(det) || det == 0.0f)
         return 0;
     q->m0 = G->p[0];
@@ -314,11 +329,10 @@ static int rmap_init(const rgrid *G, rmap *q)
     return 1;
 }
 
-/* Grid offset w of plane point (X, Y). */
 /* Grid offset w of plane point (X, Y): the fixed point t = q(w),
  * w = M^-1 (d - e1 t), iterated nit times from t0 (0, or a neighbour's t:
  * the curvature changes little from pixel to pixel). Returns the last t. */
-static float rmap_w(const rmap *q, float X, float Y, float w[2], float t0, int nit)
+RINLINE float rmap_w(const rmap *q, float X, float Y, float w[2], float t0, int nit)
 {
     float dx = X - q->m0, dy = Y - q->m1;
     float a0 = q->inv[0] * dx + q->inv[1] * dy, a1 = q->inv[2] * dx + q->inv[3] * dy;
@@ -338,6 +352,34 @@ static float rmap_w(const rmap *q, float X, float Y, float w[2], float t0, int n
     return t;
 }
 
+/* The sweep's rmap_w: 2 steps from t0 (unrolled), or at a row's first
+ * pixel 3 from 0, whose first step gives the t the other two start from. */
+RINLINE float rmap_wrow(const rmap *q, float X, float Y, float t0, int first, float *pw0,
+                        float *pw1)
+{
+    float dx = X - q->m0, dy = Y - q->m1;
+    float a0 = q->inv[0] * dx + q->inv[1] * dy, a1 = q->inv[2] * dx + q->inv[3] * dy;
+    float w0 = a0, w1 = a1, t = 0.0f;
+    if (q->curved) {
+        if (first) {
+            w0 = a0 - 0.0f * q->inv[0];
+            w1 = a1 - 0.0f * q->inv[2];
+            t0 = w0 * (q->qa * w0 + q->qb * w1) + w1 * (q->qb * w0 + q->qc * w1);
+        }
+        w0 = a0 - t0 * q->inv[0];
+        w1 = a1 - t0 * q->inv[2];
+        t = w0 * (q->qa * w0 + q->qb * w1) + w1 * (q->qb * w0 + q->qc * w1);
+        w0 = a0 - t * q->inv[0];
+        w1 = a1 - t * q->inv[2];
+        t = w0 * (q->qa * w0 + q->qb * w1) + w1 * (q->qb * w0 + q->qc * w1);
+        w0 = a0 - t * q->inv[0];
+        w1 = a1 - t * q->inv[2];
+    }
+    *pw0 = w0;
+    *pw1 = w1;
+    return t;
+}
+
 /* cos and sin of lattice column j's azimuth off the centre beam; returns
  * 0 (cos -1) when the column is too far off it. Needs the geometry. */
 static int rcolumn_dir(const rctx *c, int j, float *cs, float *sn)
@@ -354,20 +396,18 @@ static int rcolumn_dir(const rctx *c, int j, float *cs, float *sn)
 
 /* Fan-plane point of lattice row (range r or pixel row y) and column j
  * (x0 + j step): the column's direction from the cache where it holds it
- * (the same floats rcolumn_dir gives). */
-static int rlattice_plane(const rctx *c, float rr, int j, float *X, float *Y)
+ * (the same floats rcolumn_dir gives; columns 0..ndir-1, all near enough
+ * the centre beam: ndir is 0 without a geometry). */
+RINLINE int rlattice_plane(const rctx *c, float rr, int j, float *X, float *Y)
 {
     float sn, cs;
-    if (c->geo == NULL) {
-        *X = (float)(c->x0 + j * c->step);
-        *Y = rr;
-        return 1;
-    }
     if (j < c->ndir) {
         cs = c->dir[2 * j];
         sn = c->dir[2 * j + 1];
-        if (cs < 0.0f)
-            return 0;
+    } else if (c->geo == NULL) {
+        *X = (float)(c->x0 + j * c->step);
+        *Y = rr;
+        return 1;
     } else if (!rcolumn_dir(c, j, &cs, &sn)) {
         return 0;
     }
@@ -395,7 +435,7 @@ static int rmember(const rctx *c, const rmap *q0, float rr, int j)
 }
 
 /* Cubic step: 0 below -1, 1 above 1; its derivative. */
-static float rstep(float z, float *dz)
+RINLINE float rstep(float z, float *dz)
 {
     if (z <= -1.0f) {
         *dz = 0.0f;
@@ -409,13 +449,16 @@ static float rstep(float z, float *dz)
     return 0.5f + z * (0.75f - 0.25f * z * z);
 }
 
-/* The cell of t: floor(t) clamped to the tag (a NaN t to -2, never to
- * the int conversion). */
-static int rcell(float t, int n)
+/* The cell of a finite t: floor(t) clamped to the tag, 0..n-1 (nhi = n + 1),
+ * as (int)(t + 2) - 2 with t + 2 rounded (a t just below an integer can
+ * round up to it). Clamping t + 2 to [2, n + 1] first gives the cell the
+ * clamped int would, and keeps the conversion in range. */
+RINLINE int rcell(float t, float nhi)
 {
-    float ft = t > -2.0f ? (t < (float)n + 2.0f ? t : (float)n + 2.0f) : -2.0f;
-    int i = (int)(ft + 2.0f) - 2;
-    return i < 0 ? 0 : i > n - 1 ? n - 1 : i;
+    float s = t + 2.0f;
+    s = s < 2.0f ? 2.0f : s;
+    s = s > nhi ? nhi : s;
+    return (int)s - 2;
 }
 
 /* The smoothed indicators of cells i - 1, i, i + 1 at t (i = rcell(t)),
@@ -424,7 +467,7 @@ static int rcell(float t, int n)
  * not flat, so s = (1 - A, A - B, B), A = step(f iw), B = step((f - 1) iw).
  * When i was clamped the cells where this differs from the indicator are
  * outside the tag, where the layout is 0. */
-static void rind3(float z, float iw, float s[3], float ds[3])
+RINLINE void rind3(float z, float iw, float s[3], float ds[3])
 {
     float A, B, dA, dB;
     A = rstep(z, &dA);
@@ -437,29 +480,55 @@ static void rind3(float z, float iw, float s[3], float ds[3])
     ds[2] = dB * iw;
 }
 
-/* Template P(u, v) and its gradient. */
-static float rtemplate(const rctx *c, float u, float v, float *pu, float *pv)
+/* One row of rtemplate's 3 x 3 cells: the row's smoothed value and its u
+ * derivative. */
+RINLINE void rrow3(const float *row, const float su[3], const float du[3], float *rs, float *rd)
 {
-    float su[3], du[3], sv[3], dv[3], P = 0.0f, Pu = 0.0f, Pv = 0.0f;
-    int iu = rcell(u, c->n), iv = rcell(v, c->n), b;
-    const float *L = c->Lp + iv * RL_PAD + iu; /* cell (iu - 1, iv - 1) */
-    float zu = (u - (float)iu) * c->iwu, zv = (v - (float)iv) * c->iwv;
-    if (zu >= 1.0f && zu - c->iwu <= -1.0f && zv >= 1.0f && zv - c->iwv <= -1.0f) {
-        *pu = *pv = 0.0f; /* inside one cell, away from its edges */
-        return L[RL_PAD + 1];
+    *rs = row[0] * su[0] + row[1] * su[1] + row[2] * su[2];
+    if (rd != NULL)
+        *rd = row[0] * du[0] + row[1] * du[1] + row[2] * du[2];
+}
+
+/* Template P(u, v) and its gradient (pu NULL: P only) near a cell's edge,
+ * from the 3 x 3 layout cells about the pixel's (L: cell (iu - 1, iv - 1))
+ * and z = (u - iu) iwu, (v - iv) iwv. On an axis whose z is flat (away from
+ * both steps, uflat or vflat: not both) rind3 gives exactly s = (0, 1, 0),
+ * ds = (-0, 0, 0), so the full sums below reduce to the terms kept here:
+ * uflat, each row's value is its middle cell (0 or 1, exactly) and its u
+ * derivative +0; vflat, the middle row's terms (the others are +-0 times
+ * finite numbers, which leave a sum begun at +0 unchanged). */
+RINLINE float rtemplate(const float *L, float zu, float zv, float iwu, float iwv, int uflat,
+                        int vflat, float *pu, float *pv)
+{
+    float su[3], du[3], sv[3], dv[3], rs[3], rd[3], P;
+    if (uflat) {
+        const float c0 = L[1], c1 = L[RL_PAD + 1], c2 = L[2 * RL_PAD + 1];
+        rind3(zv, iwv, sv, dv);
+        P = 0.0f + sv[0] * c0 + sv[1] * c1 + sv[2] * c2;
+        if (pu != NULL) {
+            *pu = 0.0f;
+            *pv = 0.0f + dv[0] * c0 + dv[1] * c1 + dv[2] * c2;
+        }
+        return P;
     }
-    rind3(zu, c->iwu, su, du);
-    rind3(zv, c->iwv, sv, dv);
-    for (b = 0; b < 3; b++) {
-        const float *row = L + b * RL_PAD;
-        float rs = row[0] * su[0] + row[1] * su[1] + row[2] * su[2];
-        float rd = row[0] * du[0] + row[1] * du[1] + row[2] * du[2];
-        P += sv[b] * rs;
-        Pu += sv[b] * rd;
-        Pv += dv[b] * rs;
+    rind3(zu, iwu, su, du);
+    if (vflat) {
+        rrow3(L + RL_PAD, su, du, &rs[1], pu != NULL ? &rd[1] : NULL);
+        if (pu != NULL) {
+            *pu = 0.0f + rd[1];
+            *pv = 0.0f;
+        }
+        return 0.0f + rs[1];
     }
-    *pu = Pu;
-    *pv = Pv;
+    rind3(zv, iwv, sv, dv);
+    rrow3(L, su, du, &rs[0], pu != NULL ? &rd[0] : NULL);
+    rrow3(L + RL_PAD, su, du, &rs[1], pu != NULL ? &rd[1] : NULL);
+    rrow3(L + 2 * RL_PAD, su, du, &rs[2], pu != NULL ? &rd[2] : NULL);
+    P = 0.0f + sv[0] * rs[0] + sv[1] * rs[1] + sv[2] * rs[2];
+    if (pu != NULL) {
+        *pu = 0.0f + sv[0] * rd[0] + sv[1] * rd[1] + sv[2] * rd[2];
+        *pv = 0.0f + dv[0] * rs[0] + dv[1] * rs[1] + dv[2] * rs[2];
+    }
     return P;
 }
 
@@ -503,7 +572,7 @@ static int rsolve(float *A, float *y, int n)
 
 /* One pass over the pixel set at grid G, mode one of: RS_LEVELS, the levels' normal
  * equations (R'R, R'I, I'I: the best levels for G and their residual sum of
- * squares); with RS_GRID the residual sum of squares rss with the levels cl
+ * squares); RS_GRID, the residual sum of squares rss with the levels cl
  * and the grid's normal equations J'J, J'r. */
 #define RS_LEVELS 1
 #define RS_GRID 2
@@ -513,85 +582,196 @@ typedef struct rsums {
     int n;
 } rsums;
 
-static void racc6(float *A, float *y, const float *J, float r)
+/* Rows (J, r) a sweep buffers before rflush adds their products. */
+#define RBATCH 4
+
+/* Adds J J' and J r of the buffered rows Jb[k] = (J, r), k < nb, to the
+ * packed sums, row after row: each sum gets the same additions in the same
+ * order as when every pixel added its products at once, but holds its
+ * running value in a register over the batch (two groups: the sums of the
+ * J0..J2 rows of J J', then those of J3..J5) instead of a load and a store
+ * per pixel and sum. */
+static void rflush(float *A, float *y, float Jb[RBATCH][7], int nb)
 {
-    const float j0 = J[0], j1 = J[1], j2 = J[2], j3 = J[3], j4 = J[4], j5 = J[5];
-    A[0] += j0 * j0;
-    A[1] += j0 * j1;
-    A[2] += j0 * j2;
-    A[3] += j0 * j3;
-    A[4] += j0 * j4;
-    A[5] += j0 * j5;
-    A[6] += j1 * j1;
-    A[7] += j1 * j2;
-    A[8] += j1 * j3;
-    A[9] += j1 * j4;
-    A[10] += j1 * j5;
-    A[11] += j2 * j2;
-    A[12] += j2 * j3;
-    A[13] += j2 * j4;
-    A[14] += j2 * j5;
-    A[15] += j3 * j3;
-    A[16] += j3 * j4;
-    A[17] += j3 * j5;
-    A[18] += j4 * j4;
-    A[19] += j4 * j5;
-    A[20] += j5 * j5;
-    y[0] += j0 * r;
-    y[1] += j1 * r;
-    y[2] += j2 * r;
-    y[3] += j3 * r;
-    y[4] += j4 * r;
-    y[5] += j5 * r;
+    int k;
+    {
+        float a0 = A[0], a1 = A[1], a2 = A[2], a3 = A[3], a4 = A[4], a5 = A[5];
+        float a6 = A[6], a7 = A[7], a8 = A[8], a9 = A[9], a10 = A[10];
+        float a11 = A[11], a12 = A[12], a13 = A[13], a14 = A[14];
+        float y0 = y[0], y1 = y[1], y2 = y[2];
+        for (k = 0; k < nb; k++) {
+            const float j0 = Jb[k][0], j1 = Jb[k][1], j2 = Jb[k][2], j3 = Jb[k][3],
+                        j4 = Jb[k][4], j5 = Jb[k][5], r = Jb[k][6];
+            a0 += j0 * j0;
+            a1 += j0 * j1;
+            a2 += j0 * j2;
+            a3 += j0 * j3;
+            a4 += j0 * j4;
+            a5 += j0 * j5;
+            a6 += j1 * j1;
+            a7 += j1 * j2;
+            a8 += j1 * j3;
+            a9 += j1 * j4;
+            a10 += j1 * j5;
+            a11 += j2 * j2;
+            a12 += j2 * j3;
+            a13 += j2 * j4;
+            a14 += j2 * j5;
+            y0 += j0 * r;
+            y1 += j1 * r;
+            y2 += j2 * r;
+        }
+        A[0] = a0;
+        A[1] = a1;
+        A[2] = a2;
+        A[3] = a3;
+        A[4] = a4;
+        A[5] = a5;
+        A[6] = a6;
+        A[7] = a7;
+        A[8] = a8;
+        A[9] = a9;
+        A[10] = a10;
+        A[11] = a11;
+        A[12] = a12;
+        A[13] = a13;
+        A[14] = a14;
+        y[0] = y0;
+        y[1] = y1;
+        y[2] = y2;
+    }
+    {
+        float a15 = A[15], a16 = A[16], a17 = A[17], a18 = A[18], a19 = A[19], a20 = A[20];
+        float y3 = y[3], y4 = y[4], y5 = y[5];
+        for (k = 0; k < nb; k++) {
+            const float j3 = Jb[k][3], j4 = Jb[k][4], j5 = Jb[k][5], r = Jb[k][6];
+            a15 += j3 * j3;
+            a16 += j3 * j4;
+            a17 += j3 * j5;
+            a18 += j4 * j4;
+            a19 += j4 * j5;
+            a20 += j5 * j5;
+            y3 += j3 * r;
+            y4 += j4 * r;
+            y5 += j5 * r;
+        }
+        A[15] = a15;
+        A[16] = a16;
+        A[17] = a17;
+        A[18] = a18;
+        A[19] = a19;
+        A[20] = a20;
+        y[3] = y3;
+        y[4] = y4;
+        y[5] = y5;
+    }
 }
 
-static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int mode, rsums *S)
+/* One pass over the pixel set in one mode, a constant where this is
+ * inlined (the other mode's work and tests leave the pixel loop). The
+ * sweep's constants are read into locals once; the pixel loop stores only
+ * to Jb, and rflush adds its rows to S. */
+RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int sub, int mode,
+                        rsums *S)
 {
     rmap q;
-    int i;
+    float Jb[RBATCH][7]; /* rows for rflush */
+    const float g = c->g, iwu = c->iwu, iwv = c->iwv, nhi = (float)(c->n + 1);
+    const float rx = c->rx, ry = c->ry, ra0 = c->ra[0], ra1 = c->ra[1], ra2 = c->ra[2],
+                ra3 = c->ra[3];
+    float cl0 = 0.0f, cl1 = 0.0f, cl2 = 0.0f, cl3 = 0.0f, cl4 = 0.0f, cl5 = 0.0f, ss = 0.0f;
+    float fu = 0.0f, fv = 0.0f; /* the last pixel's cell (any cell of the tag to start) */
+    const float *L = c->Lp;    /* its layout: cell (fu - 1, fv - 1) */
+    const float *dir = c->dir;
+    const int ndir = c->ndir, x0 = c->x0, step = c->step, deep = c->depth == 16;
+    int i, n = 0, nb = 0;
     memset(S, 0, sizeof *S);
     if (!rmap_init(G, &q))
         return 0;
+    if (mode == RS_GRID) { /* the levels sweep passes cl unset */
+        cl0 = cl[0];
+        cl1 = cl[1];
+        cl2 = cl[2];
+        cl3 = cl[3];
+        cl4 = cl[4];
+        cl5 = cl[5];
+    }
     for (i = 0; i < c->nrow; i += sub) {
-        int y = c->y0 + i * c->step, j = c->ja[i], first = 1;
+        int y = c->y0 + i * c->step, j = c->ja[i], jb = c->jb[i], first = 1;
         const uint8_t *row = c->img + (size_t)y * (size_t)c->stride * (size_t)(c->depth / 8);
         float rr = rrange(c, y), tq = 0.0f;
         j = (j + sub - 1) / sub * sub;
-        for (; j <= c->jb[i]; j += sub) {
-            int x = c->x0 + j * c->step;
-            float X, Y, w[2], P, pu, pv, up, vp, I, R[6], J[6];
-            if (!rlattice_plane(c, rr, j, &X, &Y))
+        for (; j <= jb; j += sub) {
+            int x = x0 + j * step, edge;
+            float X, Y, w0, w1, u, v, zu, zv, P, pu = 0.0f, pv = 0.0f, up, vp, I;
+            if (!RUNLIKELY(j >= ndir)) { /* rlattice_plane's common case */
+                X = rr * dir[2 * j];
+                Y = rr * dir[2 * j + 1];
+            } else if (!rlattice_plane(c, rr, j, &X, &Y)) {
                 continue;
+            }
             /* 3 steps from the affine w at a row's first pixel, then 2
              * from the previous pixel's curvature */
-            tq = rmap_w(&q, X, Y, w, tq, first ? 3 : 2);
+            tq = rmap_wrow(&q, X, Y, tq, first, &w0, &w1);
             first = 0;
             /* the curved inverse diverged (a trial grid bent too far): no
-             * grid offset for this pixel, so no such grid */
-            if (!finite_f(w[0]) || !finite_f(w[1]))
+             * grid offset for this pixel, so no such grid (the sum is NaN
+             * unless both are finite) */
+            if (!((w0 - w0) + (w1 - w1) == 0.0f))
                 return 0;
-            P = rtemplate(c, w[0] + c->g, w[1] + c->g, &pu, &pv);
+            u = w0 + g;
+            v = w1 + g;
+            /* inside one cell, away from its edges: P is the cell's, no
+             * gradient. Tried first in the last pixel's cell (fu, fv, L),
+             * where most pixels are: passing the test there puts u above
+             * fu and below fu + 0.96 (the half-width 1/iwu is at least
+             * 0.05 cell, rwidths), so that rcell(u) is fu; v likewise */
+            zu = (u - fu) * iwu;
+            zv = (v - fv) * iwv;
+            edge = !(zu >= 1.0f && zu - iwu <= -1.0f && zv >= 1.0f && zv - iwv <= -1.0f);
+            if (edge) {
+                int iu = rcell(u, nhi), iv = rcell(v, nhi), uflat, vflat;
+                fu = (float)iu;
+                fv = (float)iv;
+                L = c->Lp + iv * RL_PAD + iu; /* cell (iu - 1, iv - 1) */
+                zu = (u - fu) * iwu;
+                zv = (v - fv) * iwv;
+                uflat = zu >= 1.0f && zu - iwu <= -1.0f;
+                vflat = zv >= 1.0f && zv - iwv <= -1.0f;
+                edge = !(uflat && vflat);
+                if (edge)
+                    P = rtemplate(L, zu, zv, iwu, iwv, uflat, vflat,
+                                  mode == RS_GRID ? &pu : NULL, &pv);
+                else
+                    P = L[RL_PAD + 1];
+            } else {
+                P = L[RL_PAD + 1];
+            }
             /* the level ramps' coordinates: the start grid's (affine), fixed */
-            up = c->ra[0] * (X - c->rx) + c->ra[1] * (Y - c->ry);
-            vp = c->ra[2] * (X - c->rx) + c->ra[3] * (Y - c->ry);
-            I = (c->depth == 16 ? (float)rscale16(c, row + 2 * x) : (float)row[x]) - 128.0f;
-            S->n++;
-            if (mode & RS_LEVELS) {
+            up = ra0 * (X - rx) + ra1 * (Y - ry);
+            vp = ra2 * (X - rx) + ra3 * (Y - ry);
+            I = (deep ? (float)rscale16(c, row + 2 * x) : (float)row[x]) - 128.0f;
+            n++;
+            if (mode == RS_LEVELS) {
+                float *R = Jb[nb];
                 R[0] = 1.0f;
                 R[1] = P;
                 R[2] = P * up;
                 R[3] = P * vp;
                 R[4] = up;
                 R[5] = vp;
-                racc6(S->A, S->b, R, I);
-                S->ss += I * I;
-            }
-            if (mode & RS_GRID) {
-                float gain = cl[1] + cl[2] * up + cl[3] * vp;
-                float r = I - (cl[0] + gain * P + cl[4] * up + cl[5] * vp), Tu, Tv;
+                R[6] = I;
+                if (RUNLIKELY(++nb == RBATCH)) {
+                    rflush(S->A, S->b, Jb, nb);
+                    nb = 0;
+                }
+                ss += I * I;
+            } else {
+                float gain = cl1 + cl2 * up + cl3 * vp;
+                float r = I - (cl0 + gain * P + cl4 * up + cl5 * vp), Tu, Tv, *J = Jb[nb];
                 float k11 = q.k11, k12 = q.k12, id = q.idet, h0, h1;
-                S->ss += r * r;
-                if (pu == 0.0f && pv == 0.0f)
+                ss += r * r;
+                if (!edge || (pu == 0.0f && pv == 0.0f))
                     continue; /* inside a cell: the grid does not move the model */
                 /* dw = -K^-1 (dm + dM w): dT/dm_i = -h_i, dT/dM_ij = -h_i w_j,
                  * h = K^-T (Tu, Tv) */
@@ -599,8 +779,8 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
                 Tv = gain * pv;
                 if (q.curved) {
                     float det;
-                    k11 += q.ka * w[0] + q.kb * w[1];
-                    k12 += q.kb * w[0] + q.kc * w[1];
+                    k11 += q.ka * w0 + q.kb * w1;
+                    k12 += q.kb * w0 + q.kc * w1;
                     det = k11 * q.k22 - k12 * q.k21;
                     if (!finite_f(det) || det == 0.0f)
                         return 0;
@@ -610,28 +790,27 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
                 h1 = (k11 * Tv - k12 * Tu) * id;
                 J[0] = -h0;
                 J[1] = -h1;
-                J[2] = -h0 * w[0];
-                J[3] = -h1 * w[0];
-                J[4] = -h0 * w[1];
-                J[5] = -h1 * w[1];
+                J[2] = -h0 * w0;
+                J[3] = -h1 * w0;
+                J[4] = -h0 * w1;
+                J[5] = -h1 * w1;
                 if (q.qcase != 0) {
                     /* Q and r0 move with the grid: F's e1 part q(w) too */
-                    float qq =
-                        w[0] * (q.qa * w[0] + q.qb * w[1]) + w[1] * (q.qb * w[0] + q.qc * w[1]);
+                    float qq = w0 * (q.qa * w0 + q.qb * w1) + w1 * (q.qb * w0 + q.qc * w1);
                     float g0 = -h0 * q.ir0, a0, a1, b0, b1, e0, e1;
                     if (q.qcase == 1) { /* -MG/r0 = -(M w) w' / r0 */
-                        a0 = q.M[0] * w[0] + q.M[2] * w[1];
-                        a1 = q.M[1] * w[0] + q.M[3] * w[1];
-                        J[2] -= g0 * a0 * w[0];
-                        J[3] -= g0 * a1 * w[0];
-                        J[4] -= g0 * a0 * w[1];
-                        J[5] -= g0 * a1 * w[1];
+                        a0 = q.M[0] * w0 + q.M[2] * w1;
+                        a1 = q.M[1] * w0 + q.M[3] * w1;
+                        J[2] -= g0 * a0 * w0;
+                        J[3] -= g0 * a1 * w0;
+                        J[4] -= g0 * a0 * w1;
+                        J[5] -= g0 * a1 * w1;
                     } else {
-                        float sv = q.v[0] * w[0] + q.v[1] * w[1];
-                        float tu = q.u[0] * w[0] + q.u[1] * w[1];
-                        float kst = q.kap * sv * tu, ss = sv * sv;
-                        a0 = ss * q.v[0] + kst * q.u[0]; /* MG = Mv a' + Mu b' */
-                        a1 = ss * q.v[1] + kst * q.u[1];
+                        float sv = q.v[0] * w0 + q.v[1] * w1;
+                        float tu = q.u[0] * w0 + q.u[1] * w1;
+                        float kst = q.kap * sv * tu, s2 = sv * sv;
+                        a0 = s2 * q.v[0] + kst * q.u[0]; /* MG = Mv a' + Mu b' */
+                        a1 = s2 * q.v[1] + kst * q.u[1];
                         b0 = kst * q.v[0];
                         b1 = kst * q.v[1];
                         e0 = q.Mv[0] * a0 + q.Mu[0] * b0; /* (MG)_i0 */
@@ -646,11 +825,37 @@ static int rsweep(const rctx *c, const rgrid *G, const float cl[6], int sub, int
                     J[0] += h0 * qq * q.mr0;
                     J[1] += h0 * qq * q.mr1;
                 }
-                racc6(S->A, S->b, J, r);
+                J[6] = r;
+                if (RUNLIKELY(++nb == RBATCH)) {
+                    rflush(S->A, S->b, Jb, nb);
+                    nb = 0;
+                }
             }
         }
     }
-    return S->n >= 16;
+    rflush(S->A, S->b, Jb, nb);
+    S->ss = ss;
+    S->n = n;
+    return n >= 16;
+}
+
+/* The two sweeps, each its own function (not one with both inlined: their
+ * frames would add up on the stack). On failure S's sums are not the
+ * sweep's (the callers drop them). */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static int rsweep_levels(const rctx *c, const rgrid *G, int sub, rsums *S)
+{
+    return rsweep_mode(c, G, NULL, sub, RS_LEVELS, S);
+}
+
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static int rsweep_grid(const rctx *c, const rgrid *G, const float cl[6], int sub, rsums *S)
+{
+    return rsweep_mode(c, G, cl, sub, RS_GRID, S);
 }
 
 /* The damped step d: (A + lambda diag A) d = y, A packed (RNJ), solved
@@ -713,8 +918,8 @@ static int rpass(const rctx *c, rgrid *G, float cl[6], int sub, int lsub, int ma
     rcurv(c, G);
     /* the levels (6 numbers: a sparser lattice does) for the grid, then
      * held through the pass */
-    if (!rsweep(c, G, cl, lsub, RS_LEVELS, &S) || !rbest(&S, cl, &rss) ||
-        !rsweep(c, G, cl, sub, RS_GRID, &S))
+    if (!rsweep_levels(c, G, lsub, &S) || !rbest(&S, cl, &rss) ||
+        !rsweep_grid(c, G, cl, sub, &S))
         return -1;
     *count = S.n;
     for (it = 0; it < max_it; it++) {
@@ -750,7 +955,7 @@ static int rpass(const rctx *c, rgrid *G, float cl[6], int sub, int lsub, int ma
                 ok = 1;
                 break;
             }
-            if (rsweep(c, &T, cl, sub, RS_GRID, &S2) && S2.ss <= S.ss) {
+            if (rsweep_grid(c, &T, cl, sub, &S2) && S2.ss <= S.ss) {
                 *G = T;
                 S = S2;
                 lambda *= 0.1f;
@@ -1034,12 +1239,15 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
         int ncol = (c.x1 - c.x0) / c.step + 1, r;
         if (!rmap_init(&c.G0, &q0))
             return ACTAG_ERR_NO_MATCH;
-        /* every sweep visits the same columns: their directions once */
+        /* every sweep visits the same columns: their directions once (up
+         * to the first too far off the centre beam: rlattice_plane asks
+         * rcolumn_dir for the columns past ndir) */
         c.ndir = 0;
         if (c.geo != NULL) {
-            c.ndir = ncol < RDIR_MAX ? ncol : RDIR_MAX;
-            for (r = 0; r < c.ndir; r++)
-                (void)rcolumn_dir(&c, r, &c.dir[2 * r], &c.dir[2 * r + 1]);
+            int nd = ncol < RDIR_MAX ? ncol : RDIR_MAX;
+            while (c.ndir < nd &&
+                   rcolumn_dir(&c, c.ndir, &c.dir[2 * c.ndir], &c.dir[2 * c.ndir + 1]))
+                c.ndir++;
         }
         c.nrow = (c.y1 - c.y0) / c.step + 1;
         for (r = 0; r < c.nrow; r++) {

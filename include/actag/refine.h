@@ -68,13 +68,16 @@
  *   to out and ACTAG_ERR_NO_MATCH returned. The ID, handedness and corner
  *   order are never changed: this stage moves corners only.
  *
- *   Deterministic: + - * / and sqrtf only, float. About 3.3 KB of stack
- *   (Cortex-M7 -O2, GCC 12 -fstack-usage: 2,392 bytes in the main frame,
- *   most of it a bearing cache and the cell layout; 440 + 280 in the
- *   pass and sweep below it); no workspace. Cost: about 5 passes over the pixel set
- *   in all (pass 2: 1 + 2..4 steps; pass 1 on a sparser lattice); a pool
- *   frame's tag (3000 pixels at lattice step 2) takes about 5 M
- *   instructions (x86, callgrind).
+ *   Deterministic: + - * / and sqrtf only, float. About 3.5 KB of stack
+ *   (Cortex-M7 -O2, GCC 12 -fstack-usage: 2,384 bytes in the main frame,
+ *   most of it a bearing cache and the cell layout; 440 + 456 + 68 in the
+ *   pass, the sweep and the sweep's batched sums below it); no workspace.
+ *   Cost: about 5 passes over the pixel set in all (pass 2: 1 + 2..4
+ *   steps; pass 1 on a sparser lattice); a pool frame's tag (2,000-3,100
+ *   pixels at lattice step 2) takes about 5 M instructions on x86
+ *   (callgrind; 7 M before the sweep's rework of 2026-12-06) and 2.5-7.9 M,
+ *   4.8 M on average, on a Cortex-M7 at -O2 (tools/budget; 3.8-11.8 M and
+ *   7.4 M before).
  *
  *   actag_refine_params_default(&rp)
  *       blur 2 px, margin 0.3 cell, max_iterations 8 per pass, max_shift
