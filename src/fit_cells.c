@@ -126,20 +126,36 @@ static int32_t fabs32(int32_t v)
     return v < 0 ? -v : v;
 }
 
-static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
+/* The pattern of the cell reads that follow: the 5-sample one (fast) or
+ * the 3x3 (a grid is read with one of them; the other's fields are left
+ * unset). */
+static void fpat_of(const fimg *im, const fgrid *gr, int fast, fpat *p)
 {
-    /* the offsets at -so are those at +so negated: ffix truncates toward
-     * zero, and a * -so is -(a * so) exactly */
-    int32_t ou = ffix(gr->ax * im->so), ov = ffix(gr->ay * im->so);
-    int32_t pu = ffix(gr->bx * im->so), pv = ffix(gr->by * im->so);
     int a, b;
-    p->ex9 = fabs32(ou) + fabs32(pu);
-    p->ey9 = fabs32(ov) + fabs32(pv);
-    for (b = 0; b < 3; b++)
-        for (a = 0; a < 3; a++) {
-            p->dx9[a + 3 * b] = (a - 1) * ou + (b - 1) * pu;
-            p->dy9[a + 3 * b] = (a - 1) * ov + (b - 1) * pv;
+    p->xin = (int32_t)(im->cols - 1) * 256;
+    p->yin = (int32_t)(im->rows - 1) * 256;
+    if (!fast) {
+        /* the offsets at -so are those at +so negated: ffix truncates
+         * toward zero, and a * -so is -(a * so) exactly */
+        int32_t ou = ffix(gr->ax * im->so), ov = ffix(gr->ay * im->so);
+        int32_t pu = ffix(gr->bx * im->so), pv = ffix(gr->by * im->so);
+        p->ex9 = fabs32(ou) + fabs32(pu);
+        p->ey9 = fabs32(ov) + fabs32(pv);
+        for (b = 0; b < 3; b++)
+            for (a = 0; a < 3; a++) {
+                p->dx9[a + 3 * b] = (a - 1) * ou + (b - 1) * pu;
+                p->dy9[a + 3 * b] = (a - 1) * ov + (b - 1) * pv;
+            }
+#if FIT_DSP
+        for (a = 0; a < 4; a++) { /* sample 4 is the centre */
+            p->xy9[2 * a] = p->dx9[a];
+            p->xy9[2 * a + 1] = p->dy9[a];
+            p->xy9[2 * a + 8] = p->dx9[a + 5];
+            p->xy9[2 * a + 9] = p->dy9[a + 5];
         }
+#endif
+        return;
+    }
     p->dx5[0] = ffix(im->so * (gr->ax + gr->bx));
     p->dy5[0] = ffix(im->so * (gr->ay + gr->by));
     p->dx5[2] = ffix(im->so * (gr->ax - gr->bx));
@@ -150,14 +166,8 @@ static void fpat_of(const fimg *im, const fgrid *gr, fpat *p)
     p->dy5[3] = -p->dy5[2];
     p->ex5 = fabs32(p->dx5[0]) > fabs32(p->dx5[2]) ? fabs32(p->dx5[0]) : fabs32(p->dx5[2]);
     p->ey5 = fabs32(p->dy5[0]) > fabs32(p->dy5[2]) ? fabs32(p->dy5[0]) : fabs32(p->dy5[2]);
-    p->xin = (int32_t)(im->cols - 1) * 256;
-    p->yin = (int32_t)(im->rows - 1) * 256;
 #if FIT_DSP
-    for (a = 0; a < 4; a++) { /* sample 4 is the centre */
-        p->xy9[2 * a] = p->dx9[a];
-        p->xy9[2 * a + 1] = p->dy9[a];
-        p->xy9[2 * a + 8] = p->dx9[a + 5];
-        p->xy9[2 * a + 9] = p->dy9[a + 5];
+    for (a = 0; a < 4; a++) {
         p->xy5[2 * a] = p->dx5[a];
         p->xy5[2 * a + 1] = p->dy5[a];
     }
@@ -486,7 +496,7 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
     __m128i wmul = _mm_set1_epi32(1 | im->stride << 16);
     __m128i cx = _mm_setr_epi32(0, 1, 2, 3), cy = _mm_setzero_si128();
     __m128i nv = _mm_set1_epi32(n), last = _mm_set1_epi32(n - 1), four = _mm_set1_epi32(4);
-    fpat_of(im, gr, &p);
+    fpat_of(im, gr, im->fast, &p);
     for (i = 0; i < nn; i += 4) {
         float r[4];
         __m128i lx = cx, ly = cy, wrap;
@@ -549,7 +559,7 @@ static void fcells_on(const fimg *im, const fgrid *gr, int k, float *m, int insi
     int cx, cy, n = k + 1;
     float g = 0.5f * (float)n, u[2 * (ACTAG_DECODE_MAX_K + 1)];
     fpat p;
-    fpat_of(im, gr, &p);
+    fpat_of(im, gr, im->fast, &p);
     for (cx = 0; cx < n; cx++) {
         float u0 = (float)cx + 0.5f - g;
         u[2 * cx] = gr->mx + gr->ax * u0;
@@ -615,7 +625,7 @@ static void flattice_simd(const fimg *im, const fgrid *gr, int k, int pi, int pj
     float g = 0.5f * (float)n;
     __m128i wmul = _mm_set1_epi32(1 | im->stride << 16);
     fpat p;
-    fpat_of(im, gr, &p);
+    fpat_of(im, gr, 1, &p); /* the lattice: 5 samples a cell */
     for (i = 0; i < nq; i += 4) {
         float xs[4], ys[4], q[4];
         int at[4];
@@ -653,7 +663,7 @@ void actag__fit_lattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, 
         return;
     }
 #endif
-    fpat_of(im, gr, &p);
+    fpat_of(im, gr, 1, &p); /* the lattice: 5 samples a cell */
     for (c = 0; c < nc; c++) { /* a point is (mx + ax u) + bx v: the first sum once a column */
         float u = (float)c + 0.5f * (float)pi - 0.5f - g;
         cu[2 * c] = gr->mx + gr->ax * u;
