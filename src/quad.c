@@ -5,6 +5,18 @@
 #include <math.h>
 #include <string.h>
 
+/* Cortex-M4/M7 (__ARM_FEATURE_SIMD32, little-endian, unaligned LDR): a
+ * point's two coordinates by one load and the DSP multiply-accumulates of
+ * halfwords in walk_raw(); ACTAG_NO_DSP selects the portable C there too
+ * (the same sums modulo 2^32). */
+#if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
+    !defined(__ARM_BIG_ENDIAN) && defined(__ARM_FEATURE_UNALIGNED)
+#define QUAD_DSP 1
+#include <arm_acle.h>
+#else
+#define QUAD_DSP 0
+#endif
+
 /* The claim loop skips points along chains (claim() below) where the
  * compiler has no vector unit to vectorise the plain loop (Cortex-M, ...);
  * with one (SSE2, NEON, ...) the plain loop is cheaper (x86-64: 253 M vs
@@ -16,6 +28,14 @@
      !(defined(__SSE2__) || defined(__ARM_NEON) || defined(__ARM_FEATURE_MVE) ||              \
        defined(__riscv_vector) || defined(__ALTIVEC__)))
 #define QUAD_SKIP 1
+#endif
+
+/* Forced inlining of the fast paths' per-point helpers (loops called twice
+ * for the two stretches of a cyclic run, the sides of quad_inliers). */
+#if defined(__GNUC__)
+#define QUAD_INLINE __attribute__((always_inline)) static inline
+#else
+#define QUAD_INLINE static inline
 #endif
 
 /* Adjacent sides must differ by at least asin(0.2) (11.5 degrees). */
@@ -210,6 +230,31 @@ static int quad_shape_ok(const qctx *k, const qquad *q, int parallel)
     return 1;
 }
 
+#ifndef ACTAG_QUAD_REFERENCE
+/* One side of quad_inliers' loop, the same operations; u*l = ux * len and
+ * uy * len, hoisted. */
+QUAD_INLINE void inlier_side(float px, float py, float ax, float ay, float ux, float uy, float len,
+                             float uxl, float uyl, int j, float *best, int *bj, float *bt)
+{
+    float vx = px - ax, vy = py - ay;
+    float t = vx * ux + vy * uy, e2;
+    if (t < 0.0f) {
+        e2 = vx * vx + vy * vy;
+    } else if (t > len) {
+        float wx = vx - uxl, wy = vy - uyl;
+        e2 = wx * wx + wy * wy;
+    } else {
+        float e = vx * uy - vy * ux;
+        e2 = e * e;
+    }
+    if (e2 < *best || (*bj < 0 && e2 == *best)) {
+        *best = e2;
+        *bj = j;
+        *bt = t < 0.0f ? 0.0f : (t > len ? len : t);
+    }
+}
+#endif
+
 /* Counts the points within d of the quad's sides (segments). With span
  * non-NULL, also assigns each inlier to its nearest side and returns 1 in
  * *span only if on every side those inliers spread over at least
@@ -235,6 +280,41 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span, int need)
     }
 #ifdef ACTAG_QUAD_REFERENCE
     (void)need;
+#else
+    if (span) {
+        /* The sides unrolled, their figures in registers (GCC kept them on
+         * the stack: 150 Cortex-M7 instructions a point); as below. */
+        const float ax0 = ax[0], ay0 = ay[0], ux0 = ux[0], uy0 = uy[0], l0 = len[0];
+        const float ax1 = ax[1], ay1 = ay[1], ux1 = ux[1], uy1 = uy[1], l1 = len[1];
+        const float ax2 = ax[2], ay2 = ay[2], ux2 = ux[2], uy2 = uy[2], l2 = len[2];
+        const float ax3 = ax[3], ay3 = ay[3], ux3 = ux[3], uy3 = uy[3], l3 = len[3];
+        const float uxl0 = ux0 * l0, uyl0 = uy0 * l0, uxl1 = ux1 * l1, uyl1 = uy1 * l1;
+        const float uxl2 = ux2 * l2, uyl2 = uy2 * l2, uxl3 = ux3 * l3, uyl3 = uy3 * l3;
+        const float *fx = k->fx, *fy = k->fy, d2 = k->d2;
+        const int n = k->n;
+        for (i = 0; i < n; i++) {
+            float px = fx[i], py = fy[i], best = d2, bt = 0.0f;
+            int bj = -1;
+            if (count + (n - i) < need) {
+                *span = 0;
+                return count;
+            }
+            inlier_side(px, py, ax0, ay0, ux0, uy0, l0, uxl0, uyl0, 0, &best, &bj, &bt);
+            inlier_side(px, py, ax1, ay1, ux1, uy1, l1, uxl1, uyl1, 1, &best, &bj, &bt);
+            inlier_side(px, py, ax2, ay2, ux2, uy2, l2, uxl2, uyl2, 2, &best, &bj, &bt);
+            inlier_side(px, py, ax3, ay3, ux3, uy3, l3, uxl3, uyl3, 3, &best, &bj, &bt);
+            if (bj < 0)
+                continue;
+            count++;
+            tmin[bj] = bt < tmin[bj] ? bt : tmin[bj];
+            tmax[bj] = bt > tmax[bj] ? bt : tmax[bj];
+        }
+        *span = 1;
+        for (j = 0; j < 4; j++)
+            if (!(tmax[j] - tmin[j] >= QUAD_MIN_SPAN * len[j]))
+                *span = 0;
+        return count;
+    }
 #endif
     for (i = 0; i < k->n; i++) {
         float px = k->fx[i], py = k->fy[i], best = k->d2, bt = 0.0f;
@@ -307,6 +387,47 @@ static int quad_accept(const qctx *k, const qquad *q, float *ratio)
     return 1;
 }
 
+#ifndef ACTAG_QUAD_REFERENCE
+/* Adds to r (sums of relative coordinates as in walk_far, r[5] the count)
+ * the points of [a, b) that side_sums keeps for the side from (qx, qy)
+ * along (ux, uy), on line l between la and lb: the same tests. */
+QUAD_INLINE void side_run(const qctx *k, int a, int b, float qx, float qy, float ux, float uy,
+                          float len, float band2, const qline *l, const qline *la,
+                          const qline *lb, uint32_t r[6])
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const float nx = l->nx, ny = l->ny, c = l->c, nax = la->nx, nay = la->ny, ca = la->c;
+    const float nbx = lb->nx, nby = lb->ny, cb = lb->c;
+    uint32_t sx = r[0], sy = r[1], sxx = r[2], sxy = r[3], syy = r[4], cnt = r[5];
+    int i;
+    for (i = a; i < b; i++) {
+        float px = fx[i], py = fy[i];
+        float t = (px - qx) * ux + (py - qy) * uy, e;
+        uint32_t x, y;
+        if (!(t >= 0.0f && t <= len))
+            continue;
+        e = fabsf(nx * px + ny * py - c);
+        if (!(e * e <= band2 && e <= fabsf(nax * px + nay * py - ca) &&
+              e <= fabsf(nbx * px + nby * py - cb)))
+            continue;
+        x = (uint32_t)px;
+        y = (uint32_t)py;
+        cnt++;
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+        syy += y * y;
+    }
+    r[0] = sx;
+    r[1] = sy;
+    r[2] = sxx;
+    r[3] = sxy;
+    r[4] = syy;
+    r[5] = cnt;
+}
+#endif
+
 /* Moments of each side's stretch of the contour, for refitting its line
  * (sums[i] belongs to line i). Each corner is tied to its nearest contour
  * point; side j is the run of contour points from corner j's point up to
@@ -321,10 +442,17 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
 {
     int ci[4], j, i, fwd = 1, bwd = 1, tf = 0, tb = 0;
     float bd[4];
+#ifndef ACTAG_QUAD_REFERENCE
+    /* a side's sums over at most n points of relative coordinates <= ext
+     * fit 32 bits: summed so (the same integers) */
+    const uint64_t ext = (uint64_t)(k->ext > 0 ? k->ext : 0);
+    const int small = (uint64_t)k->n * ext * ext <= UINT32_MAX;
+#endif
     for (j = 0; j < 4; j++) {
         bd[j] = 3.0e38f;
         ci[j] = 0;
     }
+#ifdef ACTAG_QUAD_REFERENCE
     for (i = 0; i < k->n; i++) {
         for (j = 0; j < 4; j++) {
             float dx = k->fx[i] - q->x[j], dy = k->fy[i] - q->y[j], e2 = dx * dx + dy * dy;
@@ -334,6 +462,35 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
             }
         }
     }
+#else
+    {
+        /* The corners unrolled, in registers; the same operations. */
+        const float *fx = k->fx, *fy = k->fy;
+        const float x0 = q->x[0], y0 = q->y[0], x1 = q->x[1], y1 = q->y[1];
+        const float x2 = q->x[2], y2 = q->y[2], x3 = q->x[3], y3 = q->y[3];
+        float b0 = bd[0], b1 = bd[1], b2 = bd[2], b3 = bd[3];
+        int c0 = 0, c1 = 0, c2 = 0, c3 = 0;
+        for (i = 0; i < k->n; i++) {
+            float px = fx[i], py = fy[i], dx, dy, e2;
+            dx = px - x0, dy = py - y0, e2 = dx * dx + dy * dy;
+            if (e2 < b0)
+                b0 = e2, c0 = i;
+            dx = px - x1, dy = py - y1, e2 = dx * dx + dy * dy;
+            if (e2 < b1)
+                b1 = e2, c1 = i;
+            dx = px - x2, dy = py - y2, e2 = dx * dx + dy * dy;
+            if (e2 < b2)
+                b2 = e2, c2 = i;
+            dx = px - x3, dy = py - y3, e2 = dx * dx + dy * dy;
+            if (e2 < b3)
+                b3 = e2, c3 = i;
+        }
+        ci[0] = c0;
+        ci[1] = c1;
+        ci[2] = c2;
+        ci[3] = c3;
+    }
+#endif
     for (j = 0; j < 4; j++) {
         int a = ci[j], b = ci[(j + 1) & 3];
         int f = b >= a ? b - a : b - a + k->n, g = a >= b ? a - b : a - b + k->n;
@@ -357,6 +514,29 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
         ux = ex / len;
         uy = ey / len;
         memset(s, 0, sizeof *s);
+#ifndef ACTAG_QUAD_REFERENCE
+        if (small) {
+            /* The run as at most two ascending ranges: integer sums do not
+             * depend on the order. */
+            uint32_t r[6] = {0u, 0u, 0u, 0u, 0u, 0u};
+            int lo = fwd ? a : b + 1, hi = fwd ? b : a + 1; /* [lo, hi), cyclic */
+            if (lo == k->n)
+                lo = 0;
+            if (lo < hi) {
+                side_run(k, lo, hi, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, r);
+            } else {
+                side_run(k, lo, k->n, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, r);
+                side_run(k, 0, hi, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, r);
+            }
+            s->n = r[5];
+            s->sx = r[0];
+            s->sy = r[1];
+            s->sxx = r[2];
+            s->sxy = r[3];
+            s->syy = r[4];
+            continue;
+        }
+#endif
         cnt = fwd ? (b >= a ? b - a : b - a + k->n) : (a >= b ? a - b : a - b + k->n);
         for (i = a, left = cnt; left > 0; left--) {
             float px = k->fx[i], py = k->fy[i];
@@ -429,19 +609,54 @@ static int refine_and_accept(const qctx *k, const qquad *q0, qquad *out, float *
     return 0;
 }
 
+#ifdef QUAD_SKIP
+/* claim() on a chain (consecutive points at most 1 px apart in x and in y):
+ * the loop skips the points that cannot be within d. The exact distance to
+ * the line changes by at most s = |nx| + |ny| per step, and a computed
+ * distance is within E of the exact one, E < 2^-24 (3 (bw + bh) + |c|) *
+ * 1.01 (three roundings, |fx| <= bw, |fy| <= bh). So when the computed
+ * |dist| of point i exceeds d + 2E + j s, the computed distances of points
+ * i+1 .. i+j exceed d too. lim - d is far above 2E, and s is taken 1e-4
+ * larger, which also covers the roundings of the step count. That count
+ * lies between -lim (|dist| >= 0, inv < 1) and 2^19 (|dist| <= bw + bh +
+ * |c|, the coordinates below 2^16 and |c| below 2^17): an int without a
+ * range test; the loop ends once i passes n. need > 0 only where it is
+ * checked. */
+QUAD_INLINE int claim_chain(const qctx *k, unsigned char *restrict lab, const qline *l,
+                            unsigned char tag, int need)
+{
+    const float *restrict fx = k->fx, *restrict fy = k->fy;
+    const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
+    const float lim = d + (1e-5f * (k->bw + k->bh + fabsf(lc)) + 1e-4f);
+    const float inv = 1.0f / ((fabsf(lnx) + fabsf(lny)) * 1.0001f);
+    const int n = k->n, stop = n - need;
+    int i = 0, cnt = 0;
+    while (i < n) {
+        float a = fabsf(lnx * fx[i] + lny * fy[i] - lc);
+        if (a <= d) {
+            if (!lab[i]) {
+                lab[i] = tag;
+                cnt++;
+            }
+            i++;
+        } else {
+            int j = (int)((a - lim) * inv); /* points i+1 .. i+j are out */
+            i += j > 0 ? j + 1 : 1;
+            if (need > 0 && i - cnt > stop) /* cnt + (n - i) < need; checked here only: cheaper */
+                return cnt;
+        }
+    }
+    return cnt;
+}
+#endif
+
 /* Labels the unclaimed points within d of line l with tag; returns their
  * number. The points with |dist| <= d are exactly those of the plain loop
  * (the reference below, kept for ACTAG_QUAD_REFERENCE and contours that are
- * not chains); on a chain (consecutive points at most 1 px apart in x and
- * in y) the loop skips the points that cannot be that close: the exact
- * distance to the line changes by at most s = |nx| + |ny| per step, and a
- * computed distance is within E of the exact one, E < 2^-24 (3 (bw + bh) +
- * |c|) * 1.01 (three roundings, |fx| <= bw, |fy| <= bh). So when the
- * computed |dist| of point i exceeds d + 2E + j s, the computed distances
- * of points i+1 .. i+j exceed d too. M below is far above 2E, and s is
- * taken 1e-4 larger, which also covers the roundings of the step count.
- * With need > 0, returns a count below need as soon as the count can no
- * longer reach need (the caller then rejects; the labels are incomplete). */
+ * not chains); on a chain claim_chain() skips the points that cannot be
+ * that close. With need > 0, returns a count below need as soon as the
+ * count can no longer reach need (the caller then rejects; the labels are
+ * incomplete). */
 static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, unsigned char tag,
                  int need)
 {
@@ -450,28 +665,8 @@ static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, uns
     const int n = k->n;
     int i, cnt = 0;
 #ifdef QUAD_SKIP
-    if (k->chain) {
-        const float lim = d + (1e-5f * (k->bw + k->bh + fabsf(lc)) + 1e-4f);
-        const float inv = 1.0f / ((fabsf(lnx) + fabsf(lny)) * 1.0001f);
-        for (i = 0; i < n;) {
-            float a = fabsf(lnx * fx[i] + lny * fy[i] - lc);
-            if (a <= d) {
-                if (!lab[i]) {
-                    lab[i] = tag;
-                    cnt++;
-                }
-                i++;
-            } else {
-                float t = (a - lim) * inv; /* points i+1 .. i+floor(t) are out */
-                if (t >= (float)(n - i))
-                    break;
-                i += t > 0.0f ? 1 + (int)t : 1;
-                if (cnt + (n - i) < need) /* checked here only: cheaper */
-                    return cnt;
-            }
-        }
-        return cnt;
-    }
+    if (k->chain) /* the first three lines' copy without the need test */
+        return need > 0 ? claim_chain(k, lab, l, tag, need) : claim_chain(k, lab, l, tag, 0);
 #else
     (void)need;
 #endif
@@ -561,6 +756,136 @@ static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
 }
 #undef WALK_SUMS
 
+#ifndef ACTAG_QUAD_REFERENCE
+/* Raw coordinate sums, modulo 2^32, of the unclaimed points met in [a, b)
+ * until *left of them are taken; returns the index after the last one
+ * taken (b if fewer). Raw: no origin to subtract a point (walk_all()
+ * corrects the sums once). */
+QUAD_INLINE int walk_raw(const actag_ipoint *pts, const unsigned char *lab, int a, int b, int *left,
+                         uint32_t r[5])
+{
+    uint32_t sx = r[0], sy = r[1], sxx = r[2], sxy = r[3], syy = r[4];
+    int i, rest = *left;
+    for (i = a; i < b; i++) {
+#if QUAD_DSP
+        uint32_t v;
+        if (lab[i])
+            continue;
+        memcpy(&v, &pts[i], sizeof v); /* x the low half, y the high one */
+        sx += (uint32_t)(int32_t)(int16_t)v; /* SXTAH */
+        sy += (uint32_t)((int32_t)v >> 16);
+        sxx = (uint32_t)__smlabb((int32_t)v, (int32_t)v, (int32_t)sxx);
+        sxy = (uint32_t)__smlabt((int32_t)v, (int32_t)v, (int32_t)sxy);
+        syy = (uint32_t)__smlatt((int32_t)v, (int32_t)v, (int32_t)syy);
+#else
+        int32_t x, y;
+        if (lab[i])
+            continue;
+        x = pts[i].x;
+        y = pts[i].y;
+        sx += (uint32_t)x;
+        sy += (uint32_t)y;
+        sxx += (uint32_t)(x * x);
+        sxy += (uint32_t)(x * y);
+        syy += (uint32_t)(y * y);
+#endif
+        if (--rest == 0) {
+            i++;
+            break;
+        }
+    }
+    r[0] = sx;
+    r[1] = sy;
+    r[2] = sxx;
+    r[3] = sxy;
+    r[4] = syy;
+    *left = rest;
+    return i;
+}
+
+/* walk_sums(k, lab, start, m, NULL, s), where m products of two relative
+ * coordinates stay below 2^32 (walk_sums' uint32_t case; else it calls
+ * walk_sums): raw sums taken modulo 2^32 and corrected for the origin
+ * once, modulo 2^32, are the relative ones exactly (each lies in
+ * [0, 2^32)). The walk covers [start, *e1) and [0, *e2), at most once
+ * around the contour (at least m points are unclaimed). Returns 0 if it
+ * called walk_sums. */
+static int walk_all(const qctx *k, const unsigned char *lab, int start, int m, qsums *s, int *e1,
+                    int *e2)
+{
+    const uint64_t ext = (uint64_t)(k->ext > 0 ? k->ext : 0);
+    uint32_t r[5] = {0u, 0u, 0u, 0u, 0u}, c = (uint32_t)m, ox, oy, sx, sy;
+    int left = m;
+    if ((uint64_t)m * ext * ext > UINT32_MAX) {
+        walk_sums(k, lab, start, m, NULL, s);
+        return 0;
+    }
+    *e1 = walk_raw(k->pts, lab, start, k->n, &left, r);
+    *e2 = left ? walk_raw(k->pts, lab, 0, start, &left, r) : 0;
+    ox = (uint32_t)k->ox;
+    oy = (uint32_t)k->oy;
+    sx = r[0] - c * ox; /* sum (x - ox) */
+    sy = r[1] - c * oy;
+    s->n = m;
+    s->sx = sx;
+    s->sy = sy;
+    s->sxx = r[2] - ox * (r[0] + sx); /* sum (x - ox)^2 = sum x^2 - ox (2 sum x - m ox) */
+    s->sxy = r[3] - oy * r[0] - ox * sy;
+    s->syy = r[4] - oy * (r[1] + sy);
+    return 1;
+}
+
+/* Adds to r (sums as walk_all's, r[5] the count) the relative coordinates,
+ * read from fx and fy (exact integers), of the unclaimed points in [a, b)
+ * farther than d from l (or at a NaN distance: as walk_sums'
+ * !(dist <= d && dist >= -d)). */
+QUAD_INLINE void walk_far(const qctx *k, const unsigned char *lab, int a, int b, const qline *l,
+                          uint32_t r[6])
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
+    uint32_t sx = r[0], sy = r[1], sxx = r[2], sxy = r[3], syy = r[4], cnt = r[5];
+    int i;
+    for (i = a; i < b; i++) {
+        if (lab[i])
+            continue;
+        if (!(fabsf(lnx * fx[i] + lny * fy[i] - lc) <= d)) {
+            uint32_t x = (uint32_t)fx[i], y = (uint32_t)fy[i];
+            cnt++;
+            sx += x;
+            sy += y;
+            sxx += x * x;
+            sxy += x * y;
+            syy += y * y;
+        }
+    }
+    r[0] = sx;
+    r[1] = sy;
+    r[2] = sxx;
+    r[3] = sxy;
+    r[4] = syy;
+    r[5] = cnt;
+}
+
+/* walk_sums(k, lab, start, m, l, s) after walk_all() gave s, e1 and e2:
+ * the same points, so the sums within d are those of all minus those of
+ * the (fewer) points farther, which alone it adds up (relative sums below
+ * 2^32 as walk_all's). */
+static void walk_near(const qctx *k, const unsigned char *lab, int start, int e1, int e2,
+                      const qline *l, qsums *s)
+{
+    uint32_t r[6] = {0u, 0u, 0u, 0u, 0u, 0u};
+    walk_far(k, lab, start, e1, l, r);
+    walk_far(k, lab, 0, e2, l, r);
+    s->n -= r[5];
+    s->sx -= r[0];
+    s->sy -= r[1];
+    s->sxx -= r[2];
+    s->sxy -= r[3];
+    s->syy -= r[4];
+}
+#endif
+
 /* Line through a run of m unclaimed points from index start: fitted, then
  * refitted without the run's points farther than d from the first fit (a
  * spike in the run would tilt it); (*mx, *my) is the kept points' centroid.
@@ -571,14 +896,23 @@ static int sample_line(const qctx *k, const unsigned char *lab, int start, int m
 {
     qsums s;
     float msr;
+#ifdef ACTAG_QUAD_REFERENCE
     walk_sums(k, lab, start, m, NULL, &s);
+#else
+    int e1 = 0, e2 = 0, small = walk_all(k, lab, start, m, &s, &e1, &e2);
+#endif
     if (!line_fit(&s, l, &msr))
         return 0;
     /* If the squared residuals sum to under d^2, every point is within d
      * and the refit would change nothing (1 % margin for rounding). */
     if (msr * actag_i64_to_f(s.n) > 0.99f * k->d2) {
         qline l0 = *l;
-        walk_sums(k, lab, start, m, &l0, &s);
+#ifndef ACTAG_QUAD_REFERENCE
+        if (small)
+            walk_near(k, lab, start, e1, e2, &l0, &s);
+        else
+#endif
+            walk_sums(k, lab, start, m, &l0, &s);
         if (2 * s.n < m || !line_fit(&s, l, NULL))
             return 0;
     }

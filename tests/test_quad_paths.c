@@ -277,6 +277,26 @@ static void test_not_chains(void)
     }
 }
 
+static void test_large_quads(void)
+{
+    /* Chains around quads of sides near 1000 px (up to MAXP points): moment
+     * sums beyond 32 bits, where the fast sums fall back to 64 bits (the
+     * walks too with large sample fractions). */
+    int t, trials = TU_TRIALS(40, 10), found = 0;
+    tu_seed(14);
+    for (t = 0; t < trials; t++) {
+        actag_quad_params p;
+        double size = 900 + 100 * urand(), sigma = 1.5 * urand();
+        int nraw = polygon_points(size, 0.1, sigma, 0.0, g_raw, MAXP);
+        int n = chainify(g_raw, nraw, -(int)(2 * size), -(int)(2 * size), g_pts, MAXP);
+        random_params(&p);
+        if (t % 2)
+            p.sample_fraction = (float)(0.5 + 0.5 * urand());
+        found += compare(g_pts, n, &p, (uint64_t)t + 333, "large quad", t);
+    }
+    printf("large quads: %d of %d fitted\n", found, trials);
+}
+
 static void test_edge_cases(void)
 {
     /* The fewest points, a single repeated point, a straight line, a
@@ -318,6 +338,7 @@ int main(void)
     RUN_TEST(test_chains_around_quads);
     RUN_TEST(test_random_walk_blobs);
     RUN_TEST(test_not_chains);
+    RUN_TEST(test_large_quads);
     RUN_TEST(test_edge_cases);
     return UNITY_END();
 }
