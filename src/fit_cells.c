@@ -32,11 +32,9 @@
  * cell reads by the DSP instructions (fcell9_dsp, fcell5_dsp); ACTAG_NO_DSP
  * selects the portable C there too. Only in Thumb-2 (the asm's LDRD takes
  * any two registers, ARM state an even-odd pair), with unaligned loads
- * allowed (not -mno-unaligned-access) and in optimised builds (-O0 keeps a
- * frame pointer and cannot give the asm its 13 registers). */
+ * allowed (not -mno-unaligned-access). */
 #if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
-    !defined(__ARM_BIG_ENDIAN) && defined(__thumb2__) && defined(__ARM_FEATURE_UNALIGNED) &&    \
-    defined(__OPTIMIZE__)
+    !defined(__ARM_BIG_ENDIAN) && defined(__thumb2__) && defined(__ARM_FEATURE_UNALIGNED)
 #define FIT_DSP 1
 #else
 #define FIT_DSP 0
@@ -215,14 +213,14 @@ FIT_INLINE int32_t fsample_at(const fimg *im, int inside, int32_t X, int32_t Y)
 #if FIT_DSP
 /* fcell9 / fcell5 inside the frame in DSP instructions, one asm block a
  * cell (the C samples take about 28 instructions each on Cortex-M7 -O2, 32
- * where GCC spills; these 18). A sample at (x, y), fractions fx, fy, with
+ * where GCC spills; these 19). A sample at (x, y), fractions fx, fy, with
  * a, b / c, d the pixel pairs of rows y0 / y0 + 1, is
  *     v = 256 S1 + fx S2,  S1 = (256 - fy) a + fy c,
  *                          S2 = (256 - fy) (b - a) + fy (d - c),
  * which is flerp's 256 top + (bot - top) fy exactly (all integers). One
  * LDRH a row (unaligned), PKHBT and UXTB16 make the 16-bit lanes {a, c}
  * and {b, d}, SSUB16 {b - a, d - c}, and SMLAD / SMUAD weigh them by
- * {256 - fy, fy} (the word fy 65535 + 256, one MLA): lanes and products
+ * {256 - fy, fy} (the word fy 65535 + 256: RSB, ADD): lanes and products
  * fit 16 and 32 bits. The cell's S1 and fx S2 are summed apart (s1, s2)
  * and its sum is 256 s1 + s2, below 2^31 as the C sum: the same int32.
  * The centre (X, Y) is read first (offsets (0, 0): no load, no adds), then
@@ -230,7 +228,8 @@ FIT_INLINE int32_t fsample_at(const fimg *im, int inside, int32_t X, int32_t Y)
 #define FDSP_AT(px, py)                                                                            \
     "uxtb %[w], %[" py "]\n\t"                                                                    \
     "asr %[y], %[" py "], #8\n\t"                                                                 \
-    "mla %[w], %[w], %[k], %[k256]\n\t"                                                          \
+    "rsb %[w], %[w], %[w], lsl #16\n\t"                                                          \
+    "add %[w], %[w], #256\n\t"                                                                   \
     "mla %[y], %[y], %[s], %[img]\n\t"                                                           \
     "add %[y], %[y], %[" px "], asr #8\n\t"                                                       \
     "uxtb %[x], %[" px "]\n\t"                                                                    \
@@ -255,14 +254,17 @@ FIT_INLINE int32_t fsample_at(const fimg *im, int inside, int32_t X, int32_t Y)
     "smuad %[y], %[y], %[w]\n\t"                                                                 \
     "mla %[s2], %[x], %[y], %[s2]\n\t"
 #define FDSP_SUM "add %[s2], %[s2], %[s1], lsl #8"
-/* The frame and the pattern as memory inputs, so that GCC knows what the
- * asm reads (a "memory" clobber instead costs 0.14 M instructions a frame
- * in reloads). */
+/* Eleven registers (six outputs, five inputs): a build that reserves two
+ * more (a frame pointer: -fno-omit-frame-pointer, -O0; a PIC base: -fPIC
+ * -msingle-pic-base, or -ffixed-r9) still has them (with thirteen, 18
+ * instructions a sample, such builds failed with "impossible
+ * constraints"). What the asm reads (the frame, the pattern) is declared by
+ * a "memory" clobber: an array operand of the frame's size would be a
+ * variable-length array type (-Wvla). */
 #define FDSP_OPERANDS(pairs)                                                                       \
     : [x] "=&r"(x), [y] "=&r"(y), [w] "=&r"(w), [t] "=&r"(t), [s1] "=&r"(s1), [s2] "=&r"(s2)      \
-    : [d] "r"(pairs), [X] "r"(X), [Y] "r"(Y), [img] "r"(im->img), [s] "r"(im->stride),            \
-      [k] "r"(65535), [k256] "r"(256), "m"(pairs),                                                 \
-      "m"(*(const uint8_t(*)[(size_t)im->rows * (size_t)im->stride])im->img)
+    : [d] "r"(pairs), [X] "r"(X), [Y] "r"(Y), [img] "r"(im->img), [s] "r"(im->stride)             \
+    : "memory"
 
 FIT_INLINE int32_t fcell9_dsp(const fimg *im, const fpat *p, int32_t X, int32_t Y)
 {

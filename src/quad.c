@@ -9,12 +9,28 @@
  * point's two coordinates by one load and the DSP multiply-accumulates of
  * halfwords in walk_raw(); ACTAG_NO_DSP selects the portable C there too
  * (the same sums modulo 2^32). */
-#if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
-    !defined(__ARM_BIG_ENDIAN) && defined(__ARM_FEATURE_UNALIGNED)
+#if defined(__ARM_FEATURE_SIMD32) && defined(__ARM_FEATURE_DSP) && defined(__GNUC__) &&        \
+    !defined(ACTAG_NO_DSP) && !defined(__ARM_BIG_ENDIAN) && defined(__ARM_FEATURE_UNALIGNED)
 #define QUAD_DSP 1
-#include <arm_acle.h>
 #else
 #define QUAD_DSP 0
+#endif
+
+#if QUAD_DSP
+/* SMLABB / SMLABT / SMLATT: acc + the product of the chosen signed
+ * halfwords of a and b, modulo 2^32. Inline asm rather than arm_acle.h's
+ * __smlabb etc., which GCC before 10 does not have. */
+#define QUAD_SMLA(op)                                                                          \
+    static inline uint32_t quad_##op(uint32_t a, uint32_t b, uint32_t acc)                     \
+    {                                                                                          \
+        uint32_t r;                                                                            \
+        __asm__(#op " %0, %1, %2, %3" : "=r"(r) : "r"(a), "r"(b), "r"(acc));                  \
+        return r;                                                                              \
+    }
+QUAD_SMLA(smlabb)
+QUAD_SMLA(smlabt)
+QUAD_SMLA(smlatt)
+#undef QUAD_SMLA
 #endif
 
 /* The claim loop skips points along chains (claim() below) where the
@@ -749,9 +765,13 @@ static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
     const int ox = k->ox, oy = k->oy, n = k->n;
     /* coordinates lie in [0, ext]: each product is at most ext^2 */
     const uint64_t ext = (uint64_t)(k->ext > 0 ? k->ext : 0);
+#ifndef ACTAG_QUAD_REFERENCE /* the reference keeps the 64-bit sums only */
     if ((uint64_t)m * ext * ext <= UINT32_MAX)
         WALK_SUMS(uint32_t);
     else
+#else
+    (void)ext;
+#endif
         WALK_SUMS(int64_t);
 }
 #undef WALK_SUMS
@@ -772,11 +792,14 @@ QUAD_INLINE int walk_raw(const actag_ipoint *pts, const unsigned char *lab, int 
         if (lab[i])
             continue;
         memcpy(&v, &pts[i], sizeof v); /* x the low half, y the high one */
-        sx += (uint32_t)(int32_t)(int16_t)v; /* SXTAH */
-        sy += (uint32_t)((int32_t)v >> 16);
-        sxx = (uint32_t)__smlabb((int32_t)v, (int32_t)v, (int32_t)sxx);
-        sxy = (uint32_t)__smlabt((int32_t)v, (int32_t)v, (int32_t)sxy);
-        syy = (uint32_t)__smlatt((int32_t)v, (int32_t)v, (int32_t)syy);
+        {
+            const int32_t xs = (int16_t)v, ys = (int32_t)v >> 16; /* SXTAH, ASR */
+            sx += (uint32_t)xs;
+            sy += (uint32_t)ys;
+        }
+        sxx = quad_smlabb(v, v, sxx);
+        sxy = quad_smlabt(v, v, sxy);
+        syy = quad_smlatt(v, v, syy);
 #else
         int32_t x, y;
         if (lab[i])

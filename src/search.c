@@ -9,7 +9,6 @@
 
 #if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP)
 #define SEARCH_DSP 1
-#include <arm_acle.h>
 #endif
 
 #if ACTAG_SEARCH_FACTOR != 4
@@ -41,8 +40,9 @@ static uint32_t block_sum4(const uint8_t *a, size_t stride)
     uint32_t s = 0u, v;
     int i;
     for (i = 0; i < 4; i++, a += stride) {
-        memcpy(&v, a, sizeof v); /* an unaligned LDR: allowed on Cortex-M3 and up */
-        s = __usada8(v, 0u, s);
+        memcpy(&v, a, sizeof v); /* one LDR where unaligned loads are allowed */
+        /* USADA8 (inline asm: arm_acle.h's __usada8 needs GCC 10) */
+        __asm__("usada8 %0, %1, %2, %3" : "=r"(s) : "r"(v), "r"(0u), "r"(s));
     }
     return s;
 }
