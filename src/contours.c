@@ -63,53 +63,88 @@ static const uint8_t k_ctz8[256] = {
     5, 0, 1, 0, 2, 0, 1, 0, 3, 0, 1, 0, 2, 0, 1, 0, 4, 0, 1, 0, 2, 0, 1, 0, 3, 0, 1, 0, 2, 0, 1, 0,
 };
 
-/* Bits 0..2 = padded-row bits b .. b+2 (pixels b-1 .. b+1 of that row). */
-static unsigned bits3(const uint32_t *row, size_t b)
-{
-    uint32_t w = row[b / 32u] >> (b % 32u);
-    if (b % 32u > 29u)
-        w |= row[b / 32u + 1u] << (32u - b % 32u);
-    return (unsigned)(w & 7u);
-}
-
 /* k_rev3[x]: bits 0..2 of x reversed (the row above is read right to left
  * in direction order). */
 static const uint8_t k_rev3[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 
-/* Bit d set when the neighbour in direction d is white; outside the image is
- * black (the bitmap's padding), so every pixel takes the same path. up is
- * the padded row above the pixel's (its row r is up + wpr). */
-static unsigned nb_mask(const uint32_t *up, size_t wpr, int c)
+/* The walks address a pixel (r, c) by q = r * 32 * wpr + c, the bit index
+ * of its up-left neighbour (r - 1, c - 1) in the padded bitmap: one add per
+ * step, the neighbourhood words come from q without a multiply and the
+ * pixel's mark is bit q + 1 of the marks from row 0 on (marks + wpr). */
+#define CINLINE __attribute__((always_inline)) static inline
+
+/* Bit d set when the neighbour in direction d of the pixel at q is white;
+ * outside the image is black (the bitmap's padding), so every pixel takes
+ * the same path. The three rows' bits share one shift; they straddle a word
+ * only for 2 positions in 32. */
+CINLINE unsigned nb_mask(const uint32_t *white, size_t wpr, size_t q)
 {
-    size_t b = (size_t)c; /* padded bit index of column c - 1 */
-    unsigned u = bits3(up, b), m = bits3(up + wpr, b), d = bits3(up + 2u * wpr, b);
-    return (m >> 2) | (unsigned)k_rev3[u] << 1 | (m & 1u) << 4 | d << 5;
+    const uint32_t *w = white + q / 32u;
+    unsigned sh = (unsigned)(q % 32u);
+    uint32_t u = w[0] >> sh, m = w[wpr] >> sh, d = w[2u * wpr] >> sh;
+    if (sh > 29u) {
+        u |= w[1] << (32u - sh);
+        m |= w[wpr + 1u] << (32u - sh);
+        d |= w[2u * wpr + 1u] << (32u - sh);
+    }
+    return (unsigned)(m >> 2 & 1u) | (unsigned)k_rev3[u & 7u] << 1 | (unsigned)(m & 1u) << 4 |
+           (unsigned)(d & 7u) << 5;
+}
+
+/* Sets bit b of a bitmap. */
+CINLINE void set_bit(uint32_t *bits, size_t b)
+{
+    bits[b / 32u] |= (uint32_t)1u << (b % 32u);
+}
+
+/* One step of the walk (steps 3.3 and 3.4) at q, whose previous pixel lies
+ * in direction s1 - 1 (s1 = 1 .. 8). Marks the pixel traced, and its east
+ * neighbour (black) when the sweep passed over it; returns t = s1 + k, where
+ * k is the counterclockwise sweep from just after the previous pixel to the
+ * first white neighbour (the previous pixel is white, so k < 8): the next
+ * direction is t & 7. With the mask doubled the rotation by 8 is the one by
+ * 0, and east (direction 8 from the sweep's origin) was passed iff t > 8. */
+CINLINE unsigned walk_step(const uint32_t *white, uint32_t *mrow0, size_t wpr, size_t q,
+                           unsigned s1)
+{
+    unsigned m = nb_mask(white, wpr, q), t;
+    t = s1 + k_ctz8[((m | m << 8) >> s1) & 0xffu];
+    /* Both marks with one write to the word, bar the east one across it. */
+    {
+        uint32_t *mw = mrow0 + (q + 1u) / 32u;
+        unsigned sh = (unsigned)((q + 1u) % 32u), e = (t + 7u) >> 4; /* t > 8 */
+        *mw |= (uint32_t)(e + e + 1u) << sh;
+        if (sh == 31u && e)
+            mw[1] |= 1u;
+    }
+    return t;
 }
 
 /* Traces the border through (r0, c0), whose black neighbour in direction
  * from_dir (4 = W for an outer border, 0 = E for a hole border) is the
  * border's black side, and marks every traced pixel. With info != NULL (an
  * outer border) it also reports the points and fills npoints, bbox and area.
- * Everything the walk updates lives in locals. */
+ * Everything the walk updates lives in locals; hole borders take a loop of
+ * their own that keeps nothing but the position. */
 static void trace(const actag_contour_scanner *s, int r0, int c0, int from_dir,
                   actag_ipoint *pts, int cap, actag_contour_info *info)
 {
     const uint32_t *const white = s->white;
-    uint32_t *const marks = s->marks;
     const size_t wpr = ACTAG_BITMAP_WORDS(s->cols);
-    unsigned m;
-    int d, k, r, c, r1, c1, dp;
-    int n = 0, minx = c0, maxx = c0, maxy = r0, pr = 0, pc = 0;
-    int64_t twice_area = 0;
+    uint32_t *const mrow0 = s->marks + wpr;
+    const size_t q0 = (size_t)r0 * 32u * wpr + (size_t)c0;
+    size_t step[8], q;
+    unsigned m, t, dback;
+    int d, k;
 
+    for (d = 0; d < 8; d++) /* unsigned wraparound for the negative steps */
+        step[d] = (size_t)k_dr[d] * 32u * wpr + (size_t)k_dc[d];
     /* Step 3.1: clockwise from the black side, find the last border pixel
      * before the start (the walk ends on the step from it back to the start). */
-    m = nb_mask(white + (size_t)r0 * wpr, wpr, c0);
+    m = nb_mask(white, wpr, q0);
     if (!m) { /* isolated pixel: traced, its east neighbour black */
-        size_t i = (size_t)(r0 + 1) * wpr, b = (size_t)c0 + 1u;
-        marks[i + b / 32u] |= (uint32_t)1u << (b % 32u);
-        b++;
-        marks[i + b / 32u] |= (uint32_t)1u << (b % 32u);
+        set_bit(mrow0, q0 + 1u);
+        set_bit(mrow0, q0 + 2u);
         if (info) {
             if (cap > 0) {
                 pts[0].x = (int16_t)c0;
@@ -125,55 +160,50 @@ static void trace(const actag_contour_scanner *s, int r0, int c0, int from_dir,
     for (k = 1; !(m & (1u << ((from_dir - k) & 7))); k++)
         ;
     d = (from_dir - k) & 7;
-    r1 = r0 + k_dr[d];
-    c1 = c0 + k_dc[d];
-    dp = d; /* direction from the current pixel to the previous one */
-    r = r0;
-    c = c0;
-    for (;;) {
-        int sweep0 = (dp + 1) & 7, last = r == r1 && c == c1;
-        size_t mi = (size_t)(r + 1) * wpr, b = (size_t)c + 1u;
-        m = nb_mask(white + (size_t)r * wpr, wpr, c);
-        /* Step 3.3: counterclockwise from just after the previous pixel to the
-         * first white neighbour (the previous pixel is white, so k < 8). */
-        k = k_ctz8[((m >> sweep0) | (m << (8 - sweep0))) & 0xffu];
-        d = (sweep0 + k) & 7;
-        /* Step 3.4: traced; and the east neighbour (black) marked when the
-         * sweep passed over it ((8 - sweep0) & 7 is where east comes). */
-        marks[mi + b / 32u] |= (uint32_t)1u << (b % 32u);
-        if (((8 - sweep0) & 7) < k) {
-            b++;
-            marks[mi + b / 32u] |= (uint32_t)1u << (b % 32u);
+    /* Step 3.5: the walk ends on arriving at the start in direction dback,
+     * i.e. from the last pixel (the one in direction d of the start). */
+    dback = (unsigned)(d + 4) & 7u;
+    /* t = s1 + k of the step that led here: the previous pixel is in
+     * direction d, so the first sweep starts at s1 = d + 1. */
+    t = (unsigned)d + 4u;
+    q = q0;
+    if (!info) {
+        for (;;) {
+            t = walk_step(white, mrow0, wpr, q, ((t + 4u) & 7u) + 1u);
+            q += step[t & 7u];
+            if (q == q0 && (t & 7u) == dback)
+                return;
         }
-        if (info) {
-            int dr = r - r0, dc = c - c0;
+    } else {
+        int n = 0, minx = 0, maxx = 0, maxy = 0, dr = 0, dc = 0;
+        int64_t twice_area = 0;
+        for (;;) {
+            int sr, sc;
+            t = walk_step(white, mrow0, wpr, q, ((t + 4u) & 7u) + 1u);
             if (n < cap) {
-                pts[n].x = (int16_t)c;
-                pts[n].y = (int16_t)r;
+                pts[n].x = (int16_t)(c0 + dc);
+                pts[n].y = (int16_t)(r0 + dr);
             }
             n += n < INT_MAX;
-            minx = c < minx ? c : minx;
-            maxx = c > maxx ? c : maxx;
-            maxy = r > maxy ? r : maxy;
-            /* Shoelace relative to the start, where the closing term vanishes;
-             * written with the step (dr - pr, dc - pc) so nothing overflows. */
-            twice_area += pc * (dr - pr) - (dc - pc) * pr;
-            pr = dr;
-            pc = dc;
+            minx = dc < minx ? dc : minx;
+            maxx = dc > maxx ? dc : maxx;
+            maxy = dr > maxy ? dr : maxy;
+            /* Shoelace relative to the start, where the first and closing
+             * terms vanish, written with the step so nothing overflows. */
+            sr = k_dr[t & 7u];
+            sc = k_dc[t & 7u];
+            twice_area += dc * sr - dr * sc;
+            dr += sr;
+            dc += sc;
+            q += step[t & 7u];
+            if (q == q0 && (t & 7u) == dback)
+                break;
         }
-        r += k_dr[d];
-        c += k_dc[d];
-        /* Step 3.5: back at the start, coming from the last pixel. */
-        if (last && r == r0 && c == c0)
-            break;
-        dp = (d + 4) & 7;
-    }
-    if (info) {
         info->npoints = n;
-        info->min_x = minx;
-        info->max_x = maxx;
+        info->min_x = c0 + minx;
+        info->max_x = c0 + maxx;
         info->min_y = r0; /* the start is the blob's first pixel in raster order */
-        info->max_y = maxy;
+        info->max_y = r0 + maxy;
         info->area = actag_i64_to_f(twice_area < 0 ? -twice_area : twice_area) * 0.5f;
     }
 }
