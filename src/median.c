@@ -737,20 +737,27 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 #undef QLANE_ASM
 
 /* Eight output rows a pass (R >= 3, 8-bit frames, all 2R+8 source rows of
- * the block inside the image): windows 0-3 in the low word of a 64-bit
- * histogram entry (hist[2v], lanes as in median_quad_dsp), windows 4-7 in
- * the high word (hist[2v+1]). Source rows 4 .. 2R+3 are in windows of both
- * halves: one sample load, one broadcast, one LDRD/STRD serve both words,
- * so a row there costs 27 instructions against 2 x 17 for two four-row
- * blocks. Rows 0-3 touch only the low word, rows 2R+4 .. 2R+7 only the
- * high one. R >= 3 gives the fixed row pattern the asm spells out (rows
- * 4-6 full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6
- * rows full in both). The lane counts use UQSUB8 twice instead of
- * USUB8/SEL: lane p of uqsub8(m, uqsub8(v, med)) is m[p] when v <= med[p]
- * and 0 otherwise, and needs no zero register (the column update is one
- * asm block that already holds 13 registers). The asm blocks are volatile:
- * they store (histogram, medians) and their register outputs can all be
- * dead at the last column, where GCC would otherwise delete them. */
+ * the block inside the image). A level's histogram entry is 16 bytes: the
+ * counts of windows 0-3 (a word, lanes as in median_quad_dsp), of windows
+ * 4-7, then the same eight lanes of an indicator: 1 where the level is <=
+ * that window's median, 0 above it. A sample's change to the counts le
+ * is then its row's mask ANDed with the indicator word, read with the
+ * histogram entry (no AND where the row is in all four windows of a half):
+ * no broadcast of the sample and no compare against the medians, as the
+ * four-row blocks' MUL/USUB8/SEL spend. The median searches keep the
+ * indicators in step, one byte store for each level a median crosses
+ * (on the pool frames about 70 a column, against about 70 instructions a
+ * column saved on the samples, hence the rows' search only here). Source
+ * rows 4 .. 2R+3 are in windows of both halves: one sample load, one
+ * LDRD/STRD of the counts and one LDRD of the indicators serve both words,
+ * so a row there costs 19-21 instructions against 2 x 17 for two four-row
+ * blocks. Rows 0-3 touch only the low words, rows 2R+4 .. 2R+7 only the
+ * high ones. R >= 3 gives the fixed row pattern the asm spells out (rows
+ * 4-6 full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6 rows
+ * full in both). Full masks are the immediate 0x01010101. The asm blocks
+ * are volatile: they store (histogram, medians) and their register
+ * outputs can all be dead at the last column, where GCC would otherwise
+ * delete them. */
 #define OCT_MIN_R 3
 /* Unoptimised builds keep a frame pointer and cannot give the column's asm
  * its 13 registers: four-row blocks only there. */
@@ -758,176 +765,242 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 #define MEDIAN_OCT 1
 #endif
 
+/* The state of a block's eight windows, in the words before hist (byte
+ * offsets from it, so that the column asm reaches them from the one base
+ * register): counts le (a byte a window, as the four-row blocks' leb) at
+ * -32, medians at -24, then the strides, the row pairs in all eight
+ * windows, half + 1, and for the columns of one run their last output
+ * pointer (-48) and the steps of q0 and dq a column (-40, -36). */
+#define OCT_STATE_WORDS 12
+
 #ifdef MEDIAN_OCT
 
-/* A row in one half only (h at that half's word): sample q[dq] enters and
- * q[0] leaves the windows of mask M; median word MB, count word LB. */
-#define OROW1(M, MB, LB)                                                                       \
+/* A row in one half only (h at that half's counts, ht at its indicators):
+ * sample q[dq] enters and q[0] leaves the windows of mask M (the register
+ * p, ANDed with the indicators, or all four: K); count word LB. */
+#define OROW1(M, AND, LB)                                                                      \
     "ldrb %[v], [%[q], %[dq]]\n\t"                                                             \
-    "ldr %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "add %[t0], %[t0], %[" M "]\n\t"                                                           \
-    "str %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "mul %[v], %[v], %[k]\n\t"                                                                 \
-    "uqsub8 %[v], %[v], %[" MB "]\n\t"                                                         \
-    "uqsub8 %[v], %[" M "], %[v]\n\t"                                                          \
-    "add %[" LB "], %[" LB "], %[v]\n\t"                                                       \
+    "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
+    "ldr %[t0], [%[v]]\n\t"                                                                    \
+    "add %[t0], %[t0], " M "\n\t"                                                              \
+    "str %[t0], [%[v]]\n\t"                                                                    \
+    "ldr %[t1], [%[v], #8]\n\t" AND "add %[" LB "], %[" LB "], %[t1]\n\t"                      \
     "ldrb %[v], [%[q]]\n\t"                                                                    \
     "add %[q], %[q], %[ss]\n\t"                                                                \
-    "ldr %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "sub %[t0], %[t0], %[" M "]\n\t"                                                           \
-    "str %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "mul %[v], %[v], %[k]\n\t"                                                                 \
-    "uqsub8 %[v], %[v], %[" MB "]\n\t"                                                         \
-    "uqsub8 %[v], %[" M "], %[v]\n\t"                                                          \
-    "sub %[" LB "], %[" LB "], %[v]\n\t"
+    "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
+    "ldr %[t0], [%[v]]\n\t"                                                                    \
+    "sub %[t0], %[t0], " M "\n\t"                                                              \
+    "str %[t0], [%[v]]\n\t"                                                                    \
+    "ldr %[t1], [%[v], #8]\n\t" AND "sub %[" LB "], %[" LB "], %[t1]\n\t"
+#define OK_ "#0x01010101"
+#define OP_ "%[p]"
+#define OAND1 "and %[t1], %[t1], %[p]\n\t"
 
-/* One sample of a row in both halves (masks A low, B high). */
-#define OSAMPLE2(LOAD, OP, A, B)                                                               \
+/* One sample of a row in both halves (masks A low, B high; ANDA, ANDB
+ * the indicators' AND for a partial mask, or nothing). */
+#define OSAMPLE2(LOAD, OP, A, ANDA, B, ANDB)                                                   \
     LOAD                                                                                       \
-    "mul %[t1], %[v], %[k]\n\t"                                                                \
-    "uqsub8 %[t0], %[t1], %[ml]\n\t"                                                           \
-    "uqsub8 %[t0], %[" A "], %[t0]\n\t"                                                        \
-    OP " %[ll], %[ll], %[t0]\n\t"                                                              \
-    "uqsub8 %[t0], %[t1], %[mh]\n\t"                                                           \
-    "uqsub8 %[t0], %[" B "], %[t0]\n\t"                                                        \
-    OP " %[lh], %[lh], %[t0]\n\t"                                                              \
-    "add %[v], %[h], %[v], lsl #3\n\t"                                                         \
+    "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
     "ldrd %[t0], %[t1], [%[v]]\n\t"                                                            \
-    OP " %[t0], %[t0], %[" A "]\n\t"                                                           \
-    OP " %[t1], %[t1], %[" B "]\n\t"                                                           \
-    "strd %[t0], %[t1], [%[v]]\n\t"
-#define OROW2(A, B)                                                                            \
-    OSAMPLE2("ldrb %[v], [%[q], %[dq]]\n\t", "add", A, B)                                      \
-    OSAMPLE2("ldrb %[v], [%[q]]\n\tadd %[q], %[q], %[ss]\n\t", "sub", A, B)
+    OP " %[t0], %[t0], " A "\n\t"                                                              \
+    OP " %[t1], %[t1], " B "\n\t"                                                              \
+    "strd %[t0], %[t1], [%[v]]\n\t"                                                            \
+    "ldrd %[t0], %[t1], [%[v], #8]\n\t" ANDA OP " %[ll], %[ll], %[t0]\n\t" ANDB OP            \
+    " %[lh], %[lh], %[t1]\n\t"
+#define OROW2(A, ANDA, B, ANDB)                                                                \
+    OSAMPLE2("ldrb %[v], [%[q], %[dq]]\n\t", "add", A, ANDA, B, ANDB)                          \
+    OSAMPLE2("ldrb %[v], [%[q]]\n\tadd %[q], %[q], %[ss]\n\t", "sub", A, ANDA, B, ANDB)
+#define OAND0 "and %[t0], %[t0], %[p]\n\t"
 
-/* Median of window `lane` (0-7; MB, LB its half's words) as QLANE_ASM,
- * with 8-byte histogram entries. */
-#define OLANE_ASM(lane, MB, LB, store)                                                         \
-    do {                                                                                       \
-        uint32_t le_, m_, h_, c_;                                                              \
-        __asm__ volatile(LANE_SEARCH_ASM(8, 3) store                                           \
-                : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                \
-                  [medb] "+r"(MB), [leb] "+r"(LB)                                              \
-                : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [d4] "r"(dcol4),             \
-                  [ds] "r"(dstride), [sh] "i"(8 * ((lane) & 3)), [lp] "i"(lane)                \
-                : "cc", "memory");                                                             \
-    } while (0)
+/* Median of window P (a digit), kept in place or moved one level at a time
+ * as in LANE_SEARCH_ASM, from its count and median bytes; v holds le -
+ * (half + 1) (q: half + 1), so the sign of one SUBS/ADDS decides each
+ * step. Each level crossed gets its indicator byte (at +8): 0 going down
+ * (it leaves le), 1 going up (it joins). The median is stored by STORE
+ * (t0). 8 instructions and the store when the median stays. */
+#define OLANE(P, STORE)                                                                        \
+    "ldrb %[v], [%[h], #(-32+" #P ")]\n\t"                                                     \
+    "ldrb %[t0], [%[h], #(-24+" #P ")]\n\t"                                                    \
+    "add %[t1], %[h], %[t0], lsl #4\n\t"                                                       \
+    "subs %[v], %[v], %[q]\n\t"                                                                \
+    "bmi 5f\n\t"                                                                               \
+    "ldrb %[p], [%[t1], #" #P "]\n\t"                                                          \
+    "subs %[v], %[v], %[p]\n\t"                                                                \
+    "bmi 4f\n\t"                                                                               \
+    "movs %[t0], #0\n"                                                                         \
+    "1:\n\t"                                                                                   \
+    "strb %[t0], [%[t1], #(8+" #P ")]\n\t"                                                     \
+    "sub %[t1], %[t1], #16\n\t"                                                                \
+    "ldrb %[p], [%[t1], #" #P "]\n\t"                                                          \
+    "subs %[v], %[v], %[p]\n\t"                                                                \
+    "bpl 1b\n\t"                                                                               \
+    "add %[v], %[v], %[p]\n\t"                                                                 \
+    "b 3f\n"                                                                                   \
+    "5:\n\t"                                                                                   \
+    "movs %[t0], #1\n"                                                                         \
+    "2:\n\t"                                                                                   \
+    "add %[t1], %[t1], #16\n\t"                                                                \
+    "ldrb %[p], [%[t1], #" #P "]\n\t"                                                          \
+    "strb %[t0], [%[t1], #(8+" #P ")]\n\t"                                                     \
+    "adds %[v], %[v], %[p]\n\t"                                                                \
+    "bmi 2b\n"                                                                                 \
+    "3:\n\t"                                                                                   \
+    "add %[v], %[v], %[q]\n\t"                                                                 \
+    "sub %[t0], %[t1], %[h]\n\t"                                                               \
+    "lsr %[t0], %[t0], #4\n\t"                                                                 \
+    "strb %[t0], [%[h], #(-24+" #P ")]\n\t"                                                    \
+    "strb %[v], [%[h], #(-32+" #P ")]\n"                                                       \
+    "4:\n\t" STORE "\n\t"
+
+/* Columns d .. dend-1 of a run where q0 and dq step by the same amounts
+ * (the clamps at the frame's sides change them): one asm block for the
+ * run, so no register holds anything but the column's work (as separate
+ * blocks for the rows and the eight medians, GCC spent about 35
+ * instructions a column on spills and the clamps). Rows from q0 (entering
+ * sample at +dq); the medians go to d + p * dstride (d2, d4, d6: rows 2,
+ * 4, 6). */
+__attribute__((always_inline)) static inline void
+oct_run(uint32_t *hist, const uint8_t *q0, size_t dq, uint8_t *d)
+{
+    uint32_t v_, t0_, t1_, p_, q_, ll_, lh_, ss_, x_;
+    uint32_t *h = hist;
+    __asm__ volatile(
+        "9:\n\t"
+        "ldrd %[ll], %[lh], [%[h], #-32]\n\t"
+        "ldr %[ss], [%[h], #-16]\n\t"
+        "mov %[q], %[q0]\n\t"
+        "mov %[p], #1\n\t" OROW1(OP_, OAND1, "ll")
+        "movw %[p], #0x101\n\t" OROW1(OP_, OAND1, "ll")
+        "add %[p], %[p], #0x10000\n\t" OROW1(OP_, OAND1, "ll")
+        OROW1(OK_, "", "ll")
+        "mov %[p], #1\n\t" OROW2(OK_, "", OP_, OAND1)
+        "movw %[p], #0x101\n\t" OROW2(OK_, "", OP_, OAND1)
+        "add %[p], %[p], #0x10000\n\t" OROW2(OK_, "", OP_, OAND1)
+        "ldr %[p], [%[h], #-12]\n\t"
+        "cmp %[p], #0\n\t"
+        "beq 8f\n"
+        "7:\n\t" OROW2(OK_, "", OK_, "") OROW2(OK_, "", OK_, "")
+        "subs %[p], %[p], #1\n\t"
+        "bne 7b\n"
+        "8:\n\t"
+        "mov %[p], #0x01010101\n\t"
+        "bic %[p], %[p], #0xFF\n\t" OROW2(OP_, OAND0, OK_, "")
+        "bic %[p], %[p], #0x100\n\t" OROW2(OP_, OAND0, OK_, "")
+        "mov %[p], #0x01000000\n\t" OROW2(OP_, OAND0, OK_, "")
+        "add %[h], %[h], #4\n\t" OROW1(OK_, "", "lh")
+        "mov %[p], #0x01010101\n\t"
+        "bic %[p], %[p], #0xFF\n\t" OROW1(OP_, OAND1, "lh")
+        "bic %[p], %[p], #0x100\n\t" OROW1(OP_, OAND1, "lh")
+        "mov %[p], #0x01000000\n\t" OROW1(OP_, OAND1, "lh")
+        "sub %[h], %[h], #4\n\t"
+        "strd %[ll], %[lh], [%[h], #-32]\n\t"
+        /* the medians: q = half + 1, ss = dstride */
+        "ldrd %[q], %[ss], [%[h], #-8]\n\t"
+        "add %[ll], %[d], %[ss], lsl #1\n\t"
+        "add %[lh], %[d], %[ss], lsl #2\n\t"
+        "add %[x], %[lh], %[ss], lsl #1\n\t"
+        OLANE(0, "strb %[t0], [%[d]]")
+        OLANE(1, "strb %[t0], [%[d], %[ss]]")
+        OLANE(2, "strb %[t0], [%[ll]]")
+        OLANE(3, "strb %[t0], [%[ll], %[ss]]")
+        OLANE(4, "strb %[t0], [%[lh]]")
+        OLANE(5, "strb %[t0], [%[lh], %[ss]]")
+        OLANE(6, "strb %[t0], [%[x]]")
+        OLANE(7, "strb %[t0], [%[x], %[ss]]")
+        /* next column */
+        "ldrd %[t0], %[t1], [%[h], #-40]\n\t"
+        "add %[q0], %[q0], %[t0]\n\t"
+        "add %[dq], %[dq], %[t1]\n\t"
+        "ldr %[t0], [%[h], #-48]\n\t"
+        "add %[d], %[d], #1\n\t"
+        "cmp %[d], %[t0]\n\t"
+        "bne 9b"
+        : [v] "=&r"(v_), [t0] "=&r"(t0_), [t1] "=&r"(t1_), [p] "=&r"(p_), [q] "=&r"(q_),
+          [ll] "=&r"(ll_), [lh] "=&r"(lh_), [ss] "=&r"(ss_), [x] "=&r"(x_), [q0] "+r"(q0),
+          [dq] "+r"(dq), [d] "+r"(d), [h] "+r"(h)
+        :
+        : "cc", "memory");
+}
 
 /* Output rows i0 .. i0+7, source rows from row0 = row i0 - R (all inside
- * the image, sstride apart); hist: 513 words of scratch (the last one
- * holds a loop count: a memory operand would need a 14th register).
- * noinline: inlined into median_quad_dsp, GCC spills more around the asm
- * (18.7 against 18.4 M instructions a frame on M7 -O2). */
+ * the image, sstride apart); hist: 1024 words of scratch after
+ * OCT_STATE_WORDS. noinline: inlined into median_quad_dsp, GCC spilled
+ * more around the asm (18.7 against 18.4 M instructions a frame on M7
+ * -O2, measured before oct_run). */
 __attribute__((noinline)) static void oct_block(uint32_t *hist, const uint8_t *row0,
                                                 size_t sstride, uint8_t *d0, size_t dstride,
                                                 int cols, int R, const uint32_t *mask8)
 {
-    const uint8_t *const h8 = (const uint8_t *)hist;
+    uint8_t *const h8 = (uint8_t *)hist;
+    uint32_t *const st = hist - OCT_STATE_WORDS;
     const int n = 2 * R + 1, nt = n + 7;
     const unsigned half = (unsigned)(n * n) / 2u;
-    uint32_t medlo = 0, medhi = 0, lelo = 0, lehi = 0;
     int t, b, p, j;
 
     /* Windows of column 0: columns clamp(-R..R). */
-    memset(hist, 0, 512u * sizeof *hist);
-    hist[512] = (uint32_t)(n - 7); /* rows in all eight windows, read by the asm */
+    memset(hist, 0, 1024u * sizeof *hist);
     for (t = 0; t < nt; t++) {
         const uint8_t *s = row0 + (size_t)t * sstride;
         const uint32_t ml = t <= n + 2 ? mask8[t] : 0u, mh = t >= 4 ? mask8[t - 4] : 0u;
         for (b = -R; b <= R; b++) {
             unsigned v = s[clampi(b, 0, cols - 1)];
-            hist[2u * v] += ml;
-            hist[2u * v + 1u] += mh;
+            hist[4u * v] += ml;
+            hist[4u * v + 1u] += mh;
         }
     }
+    st[4] = st[5] = st[6] = st[7] = 0u;
     for (p = 0; p < 8; p++) {
         unsigned m = 0, le = h8[p];
         const unsigned sh = 8u * ((unsigned)p & 3u);
-        while (le <= half)
-            le += h8[8u * ++m + (unsigned)p];
-        if (p < 4) {
-            medlo |= (uint32_t)m << sh;
-            lelo |= (uint32_t)le << sh;
-        } else {
-            medhi |= (uint32_t)m << sh;
-            lehi |= (uint32_t)le << sh;
+        h8[8u + (unsigned)p] = 1u;
+        while (le <= half) {
+            le += h8[16u * ++m + (unsigned)p];
+            h8[16u * m + 8u + (unsigned)p] = 1u;
         }
+        st[4 + p / 4] |= (uint32_t)le << sh; /* le */
+        st[6 + p / 4] |= (uint32_t)m << sh;  /* median */
         d0[(size_t)p * dstride] = (uint8_t)m;
     }
+    st[8] = (uint32_t)sstride;
+    st[9] = (uint32_t)(R - 3); /* row pairs in all eight windows */
+    st[10] = half + 1u;
+    st[11] = (uint32_t)dstride;
 
-/* Column j: rows from q0 (entering sample at +dq), medians stored from d. */
-#define OCOLUMN(q0, dq_, d)                                                                    \
-    do {                                                                                       \
-        const uint8_t *q = (q0);                                                               \
-        const size_t dq = (dq_);                                                               \
-        if (dq != 0) {                                                                         \
-            uint32_t v_, t0_, t1_, k_, p_;                                                     \
-            uint32_t *h = hist;                                                                \
-            __asm__ volatile("mov %[k], #0x01010101\n\t"                                       \
-                    "mov %[p], #1\n\t" OROW1("p", "ml", "ll")                                  \
-                    "movw %[p], #0x101\n\t" OROW1("p", "ml", "ll")                             \
-                    "add %[p], %[p], #0x10000\n\t" OROW1("p", "ml", "ll")                      \
-                    OROW1("k", "ml", "ll")                                                     \
-                    "mov %[p], #1\n\t" OROW2("k", "p")                                         \
-                    "movw %[p], #0x101\n\t" OROW2("k", "p")                                    \
-                    "add %[p], %[p], #0x10000\n\t" OROW2("k", "p")                             \
-                    "ldr %[p], [%[h], #2048]\n\t"                                              \
-                    "cmp %[p], #0\n\t"                                                         \
-                    "beq 2f\n"                                                                 \
-                    "1:\n\t" OROW2("k", "k")                                                   \
-                    "subs %[p], %[p], #1\n\t"                                                  \
-                    "bne 1b\n"                                                                 \
-                    "2:\n\t"                                                                   \
-                    "bic %[p], %[k], #0xFF\n\t" OROW2("p", "k")                                \
-                    "bic %[p], %[p], #0x100\n\t" OROW2("p", "k")                               \
-                    "mov %[p], #0x01000000\n\t" OROW2("p", "k")                                \
-                    "add %[h], %[h], #4\n\t" OROW1("k", "mh", "lh")                            \
-                    "bic %[p], %[k], #0xFF\n\t" OROW1("p", "mh", "lh")                         \
-                    "bic %[p], %[p], #0x100\n\t" OROW1("p", "mh", "lh")                        \
-                    "mov %[p], #0x01000000\n\t" OROW1("p", "mh", "lh")                         \
-                    : [v] "=&r"(v_), [t0] "=&r"(t0_), [t1] "=&r"(t1_), [k] "=&r"(k_),          \
-                      [p] "=&r"(p_), [q] "+r"(q), [h] "+r"(h), [ll] "+r"(lelo),                \
-                      [lh] "+r"(lehi)                                                          \
-                    : [dq] "r"(dq), [ss] "r"(sstride), [ml] "r"(medlo), [mh] "r"(medhi)        \
-                    : "cc", "memory");                                                         \
-        }                                                                                      \
-        {                                                                                      \
-            uint8_t *const dcol = (d);                                                         \
-            uint8_t *const dcol4 = dcol + 4u * dstride;                                        \
-            OLANE_ASM(0, medlo, lelo, "strb %[m], [%[d]]");                                    \
-            OLANE_ASM(1, medlo, lelo, "strb %[m], [%[d], %[ds]]");                             \
-            OLANE_ASM(2, medlo, lelo, "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c]]");   \
-            OLANE_ASM(3, medlo, lelo,                                                          \
-                      "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");            \
-            OLANE_ASM(4, medhi, lehi, "strb %[m], [%[d4]]");                                   \
-            OLANE_ASM(5, medhi, lehi, "strb %[m], [%[d4], %[ds]]");                            \
-            OLANE_ASM(6, medhi, lehi, "add %[c], %[d4], %[ds], lsl #1\n\tstrb %[m], [%[c]]");  \
-            OLANE_ASM(7, medhi, lehi,                                                          \
-                      "add %[c], %[d4], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");           \
-        }                                                                                      \
-    } while (0)
-
-    /* One expansion of the column (oct_block is 2.3 KB at -O2): a second
-     * one for the unclamped columns, as in quad_interior, measured 18.2
-     * instead of 18.4 M instructions a frame (M7 -O2) for 2.2 KB more. */
-    for (j = 1; j < cols; j++) {
-        size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
-        size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
-        OCOLUMN(row0 + cr, ca - cr, d0 + j);
+    /* Runs of columns between the points where a clamp starts or stops:
+     * the leaving column cr = max(j - R - 1, 0) steps from column R + 1
+     * on, the entering one ca = min(j + R, cols - 1) up to cols - R - 1. */
+    for (j = 1; j < cols;) {
+        const int ca = j + R < cols ? j + R : cols - 1, cr = j - R - 1 > 0 ? j - R - 1 : 0;
+        const int a = j >= R + 1, i = j <= cols - R - 2;
+        int je = cols;
+        if (!a && R + 1 < je)
+            je = R + 1;
+        if (i && cols - R - 1 < je)
+            je = cols - R - 1;
+        st[0] = (uint32_t)(uintptr_t)(d0 + je);
+        st[2] = (uint32_t)a;
+        st[3] = (uint32_t)(i - a);
+        oct_run(hist, row0 + cr, (size_t)(ca - cr), d0 + j);
+        j = je;
     }
-#undef OCOLUMN
 }
-#undef OLANE_ASM
+#undef OLANE
 #undef OROW1
 #undef OSAMPLE2
 #undef OROW2
+#undef OK_
+#undef OP_
+#undef OAND0
+#undef OAND1
 #endif /* MEDIAN_OCT */
 
 static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
                             int y0, int y1)
 {
     const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
-    uint32_t hist[513]; /* oct_block's 64-bit entries and count; four-row blocks use 256 */
+    /* oct_block's state and 16-byte entries; four-row blocks: hist[v] */
+    uint32_t entries[OCT_STATE_WORDS + 4 * 256];
+    uint32_t *const hist = entries + OCT_STATE_WORDS;
     const uint8_t *const h8 = (const uint8_t *)hist;
     const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
     uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
