@@ -737,27 +737,23 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 #undef QLANE_ASM
 
 /* Eight output rows a pass (R >= 3, 8-bit frames, all 2R+8 source rows of
- * the block inside the image). A level's histogram entry is 16 bytes: the
- * counts of windows 0-3 (a word, lanes as in median_quad_dsp), of windows
- * 4-7, then the same eight lanes of an indicator: 1 where the level is <=
- * that window's median, 0 above it. A sample's change to the counts le
- * is then its row's mask ANDed with the indicator word, read with the
- * histogram entry (no AND where the row is in all four windows of a half):
- * no broadcast of the sample and no compare against the medians, as the
- * four-row blocks' MUL/USUB8/SEL spend. The median searches keep the
- * indicators in step, one byte store for each level a median crosses
- * (on the pool frames about 70 a column, against about 70 instructions a
- * column saved on the samples, hence the rows' search only here). Source
- * rows 4 .. 2R+3 are in windows of both halves: one sample load, one
- * LDRD/STRD of the counts and one LDRD of the indicators serve both words,
- * so a row there costs 19-21 instructions against 2 x 17 for two four-row
- * blocks. Rows 0-3 touch only the low words, rows 2R+4 .. 2R+7 only the
- * high ones. R >= 3 gives the fixed row pattern the asm spells out (rows
- * 4-6 full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6 rows
- * full in both). Full masks are the immediate 0x01010101. The asm blocks
- * are volatile: they store (histogram, medians) and their register
- * outputs can all be dead at the last column, where GCC would otherwise
- * delete them. */
+ * the block inside the image). A level's histogram entry is four words:
+ * the counts of windows 0-3 (lanes as in median_quad_dsp), an indicator
+ * for them (lane p is 1 while the level is <= window p's median, else 0),
+ * then the same two words for windows 4-7. A sample's change to the
+ * counts le is its row's mask ANDed with the indicator word, loaded with
+ * the counts (no AND where the row is in all four windows of a half): no
+ * broadcast of the sample and no compare against the medians, the four-
+ * row blocks' MUL/USUB8/SEL. The median searches keep the indicators in
+ * step, one byte store for each level a median crosses. Source rows 4 ..
+ * 2R+3 are in windows of both halves: one sample load, one LDM of the
+ * entry and one STM of its first three words serve both (the LDM wants
+ * its registers in order: four pinned ones, r0-r3), so a row there costs
+ * 17-19 instructions against 2 x 17 for two four-row blocks; rows 0-3
+ * touch only the low words, rows 2R+4 .. 2R+7 only the high ones (LDRD),
+ * 13-15. R >= 3 gives the fixed row pattern the asm spells out (rows 4-6
+ * full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6 rows
+ * full in both); full masks are the immediate 0x01010101. */
 #define OCT_MIN_R 3
 /* Unoptimised builds keep a frame pointer and cannot give the column's asm
  * its 13 registers: four-row blocks only there. */
@@ -766,113 +762,114 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 #endif
 
 /* The state of a block's eight windows, in the words before hist (byte
- * offsets from it, so that the column asm reaches them from the one base
- * register): counts le (a byte a window, as the four-row blocks' leb) at
- * -32, medians at -24, then the strides, the row pairs in all eight
- * windows, half + 1, and for the columns of one run their last output
- * pointer (-48) and the steps of q0 and dq a column (-40, -36). */
+ * offsets from it, so that the column asm reaches them from its one base
+ * register): at -32 the counts le, a byte a window as the four-row
+ * blocks' leb but biased by 127 - half (bit 7 set while le > half, and
+ * the lanes stay in 15 .. 241: no carries between them); at -24 the
+ * medians; at -16 sstride, the number of row pairs in all eight windows,
+ * dstride; for the columns of one run at -48 their last output pointer,
+ * at -40 what q steps back a column (the rows walk it down) and at -36
+ * the step of dq. */
 #define OCT_STATE_WORDS 12
 
 #ifdef MEDIAN_OCT
 
-/* A row in one half only (h at that half's counts, ht at its indicators):
- * sample q[dq] enters and q[0] leaves the windows of mask M (the register
- * p, ANDed with the indicators, or all four: K); count word LB. */
-#define OROW1(M, AND, LB)                                                                      \
+/* A row in one half only (count word LB, entry offset OFF: 0 low, 8
+ * high): sample q[dq] enters and q[0] leaves the windows of mask M (the
+ * register p, with AND the indicators' AND, or all four: OK_). */
+#define OROW1(M, AND, LB, OFF)                                                                 \
     "ldrb %[v], [%[q], %[dq]]\n\t"                                                             \
     "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
-    "ldr %[t0], [%[v]]\n\t"                                                                    \
-    "add %[t0], %[t0], " M "\n\t"                                                              \
-    "str %[t0], [%[v]]\n\t"                                                                    \
-    "ldr %[t1], [%[v], #8]\n\t" AND "add %[" LB "], %[" LB "], %[t1]\n\t"                      \
+    "ldrd %[c0], %[i0], [%[v], #" OFF "]\n\t"                                                  \
+    "add %[c0], %[c0], " M "\n\t"                                                              \
+    "str %[c0], [%[v], #" OFF "]\n\t" AND "add %[" LB "], %[" LB "], %[i0]\n\t"              \
     "ldrb %[v], [%[q]]\n\t"                                                                    \
     "add %[q], %[q], %[ss]\n\t"                                                                \
     "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
-    "ldr %[t0], [%[v]]\n\t"                                                                    \
-    "sub %[t0], %[t0], " M "\n\t"                                                              \
-    "str %[t0], [%[v]]\n\t"                                                                    \
-    "ldr %[t1], [%[v], #8]\n\t" AND "sub %[" LB "], %[" LB "], %[t1]\n\t"
+    "ldrd %[c0], %[i0], [%[v], #" OFF "]\n\t"                                                  \
+    "sub %[c0], %[c0], " M "\n\t"                                                              \
+    "str %[c0], [%[v], #" OFF "]\n\t" AND "sub %[" LB "], %[" LB "], %[i0]\n\t"
 #define OK_ "#0x01010101"
 #define OP_ "%[p]"
-#define OAND1 "and %[t1], %[t1], %[p]\n\t"
+#define OAND0 "and %[i0], %[i0], %[p]\n\t"
+#define OAND1 "and %[i1], %[i1], %[p]\n\t"
 
 /* One sample of a row in both halves (masks A low, B high; ANDA, ANDB
- * the indicators' AND for a partial mask, or nothing). */
+ * the indicators' AND for a partial mask, or nothing). The STM writes
+ * the low indicator back unchanged. */
 #define OSAMPLE2(LOAD, OP, A, ANDA, B, ANDB)                                                   \
     LOAD                                                                                       \
     "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
-    "ldrd %[t0], %[t1], [%[v]]\n\t"                                                            \
-    OP " %[t0], %[t0], " A "\n\t"                                                              \
-    OP " %[t1], %[t1], " B "\n\t"                                                              \
-    "strd %[t0], %[t1], [%[v]]\n\t"                                                            \
-    "ldrd %[t0], %[t1], [%[v], #8]\n\t" ANDA OP " %[ll], %[ll], %[t0]\n\t" ANDB OP            \
-    " %[lh], %[lh], %[t1]\n\t"
+    "ldm %[v], {%[c0], %[i0], %[c1], %[i1]}\n\t"                                               \
+    OP " %[c0], %[c0], " A "\n\t"                                                              \
+    OP " %[c1], %[c1], " B "\n\t"                                                              \
+    "stm %[v], {%[c0], %[i0], %[c1]}\n\t" ANDA OP " %[ll], %[ll], %[i0]\n\t" ANDB OP          \
+    " %[lh], %[lh], %[i1]\n\t"
 #define OROW2(A, ANDA, B, ANDB)                                                                \
     OSAMPLE2("ldrb %[v], [%[q], %[dq]]\n\t", "add", A, ANDA, B, ANDB)                          \
     OSAMPLE2("ldrb %[v], [%[q]]\n\tadd %[q], %[q], %[ss]\n\t", "sub", A, ANDA, B, ANDB)
-#define OAND0 "and %[t0], %[t0], %[p]\n\t"
 
-/* Median of window P (a digit), kept in place or moved one level at a time
- * as in LANE_SEARCH_ASM, from its count and median bytes; v holds le -
- * (half + 1) (q: half + 1), so the sign of one SUBS/ADDS decides each
- * step. Each level crossed gets its indicator byte (at +8): 0 going down
- * (it leaves le), 1 going up (it joins). The median is stored by STORE
- * (t0). 8 instructions and the store when the median stays. */
-#define OLANE(P, STORE)                                                                        \
+/* Median of window P (a digit; O: its byte in an entry) kept or moved one
+ * level at a time as in LANE_SEARCH_ASM, from its count and median bytes.
+ * With v = le - (half + 1) the sign of one SUBS/ADDS decides each step.
+ * Each level crossed gets its indicator byte (O + 4): 0 going down (the
+ * level leaves le), 1 going up (it joins). STORE stores the median (c0).
+ * 8 instructions and the store when the median stays. */
+#define OLANE(P, O, STORE)                                                                     \
     "ldrb %[v], [%[h], #(-32+" #P ")]\n\t"                                                     \
-    "ldrb %[t0], [%[h], #(-24+" #P ")]\n\t"                                                    \
-    "add %[t1], %[h], %[t0], lsl #4\n\t"                                                       \
-    "subs %[v], %[v], %[q]\n\t"                                                                \
+    "ldrb %[c0], [%[h], #(-24+" #P ")]\n\t"                                                    \
+    "add %[i0], %[h], %[c0], lsl #4\n\t"                                                       \
+    "subs %[v], %[v], #128\n\t"                                                                \
     "bmi 5f\n\t"                                                                               \
-    "ldrb %[p], [%[t1], #" #P "]\n\t"                                                          \
-    "subs %[v], %[v], %[p]\n\t"                                                                \
+    "ldrb %[c1], [%[i0], #" #O "]\n\t"                                                         \
+    "subs %[v], %[v], %[c1]\n\t"                                                               \
     "bmi 4f\n\t"                                                                               \
-    "movs %[t0], #0\n"                                                                         \
+    "movs %[c0], #0\n"                                                                         \
     "1:\n\t"                                                                                   \
-    "strb %[t0], [%[t1], #(8+" #P ")]\n\t"                                                     \
-    "sub %[t1], %[t1], #16\n\t"                                                                \
-    "ldrb %[p], [%[t1], #" #P "]\n\t"                                                          \
-    "subs %[v], %[v], %[p]\n\t"                                                                \
+    "strb %[c0], [%[i0], #(4+" #O ")]\n\t"                                                     \
+    "sub %[i0], %[i0], #16\n\t"                                                                \
+    "ldrb %[c1], [%[i0], #" #O "]\n\t"                                                         \
+    "subs %[v], %[v], %[c1]\n\t"                                                               \
     "bpl 1b\n\t"                                                                               \
-    "add %[v], %[v], %[p]\n\t"                                                                 \
+    "add %[v], %[v], %[c1]\n\t"                                                                \
     "b 3f\n"                                                                                   \
     "5:\n\t"                                                                                   \
-    "movs %[t0], #1\n"                                                                         \
+    "movs %[c0], #1\n"                                                                         \
     "2:\n\t"                                                                                   \
-    "add %[t1], %[t1], #16\n\t"                                                                \
-    "ldrb %[p], [%[t1], #" #P "]\n\t"                                                          \
-    "strb %[t0], [%[t1], #(8+" #P ")]\n\t"                                                     \
-    "adds %[v], %[v], %[p]\n\t"                                                                \
+    "add %[i0], %[i0], #16\n\t"                                                                \
+    "ldrb %[c1], [%[i0], #" #O "]\n\t"                                                         \
+    "strb %[c0], [%[i0], #(4+" #O ")]\n\t"                                                     \
+    "adds %[v], %[v], %[c1]\n\t"                                                               \
     "bmi 2b\n"                                                                                 \
     "3:\n\t"                                                                                   \
-    "add %[v], %[v], %[q]\n\t"                                                                 \
-    "sub %[t0], %[t1], %[h]\n\t"                                                               \
-    "lsr %[t0], %[t0], #4\n\t"                                                                 \
-    "strb %[t0], [%[h], #(-24+" #P ")]\n\t"                                                    \
+    "add %[v], %[v], #128\n\t"                                                                 \
+    "sub %[c0], %[i0], %[h]\n\t"                                                               \
+    "lsr %[c0], %[c0], #4\n\t"                                                                 \
+    "strb %[c0], [%[h], #(-24+" #P ")]\n\t"                                                    \
     "strb %[v], [%[h], #(-32+" #P ")]\n"                                                       \
     "4:\n\t" STORE "\n\t"
 
 /* Columns d .. dend-1 of a run where q0 and dq step by the same amounts
- * (the clamps at the frame's sides change them): one asm block for the
- * run, so no register holds anything but the column's work (as separate
- * blocks for the rows and the eight medians, GCC spent about 35
- * instructions a column on spills and the clamps). Rows from q0 (entering
- * sample at +dq); the medians go to d + p * dstride (d2, d4, d6: rows 2,
- * 4, 6). */
-__attribute__((always_inline)) static inline void
-oct_run(uint32_t *hist, const uint8_t *q0, size_t dq, uint8_t *d)
+ * (the clamps at the frame's sides change them), as one asm block: no
+ * register holds anything but the column's work (with separate blocks for
+ * the rows and each median, GCC spent about 35 instructions a column on
+ * spills and the clamps). Rows from q (entering sample at +dq); the
+ * medians go to d + p * dstride (ll, lh, i1: rows 2, 4, 6). The asm
+ * stores (histogram, state, medians) and its register outputs are dead:
+ * volatile. */
+__attribute__((always_inline)) static inline void oct_run(uint32_t *hist, const uint8_t *q,
+                                                          size_t dq, uint8_t *d)
 {
-    uint32_t v_, t0_, t1_, p_, q_, ll_, lh_, ss_, x_;
-    uint32_t *h = hist;
+    register uint32_t c0 __asm__("r0"), i0 __asm__("r1"), c1 __asm__("r2"), i1 __asm__("r3");
+    uint32_t v, p, ll, lh, ss;
     __asm__ volatile(
         "9:\n\t"
         "ldrd %[ll], %[lh], [%[h], #-32]\n\t"
         "ldr %[ss], [%[h], #-16]\n\t"
-        "mov %[q], %[q0]\n\t"
-        "mov %[p], #1\n\t" OROW1(OP_, OAND1, "ll")
-        "movw %[p], #0x101\n\t" OROW1(OP_, OAND1, "ll")
-        "add %[p], %[p], #0x10000\n\t" OROW1(OP_, OAND1, "ll")
-        OROW1(OK_, "", "ll")
+        "mov %[p], #1\n\t" OROW1(OP_, OAND0, "ll", "0")
+        "movw %[p], #0x101\n\t" OROW1(OP_, OAND0, "ll", "0")
+        "add %[p], %[p], #0x10000\n\t" OROW1(OP_, OAND0, "ll", "0")
+        OROW1(OK_, "", "ll", "0")
         "mov %[p], #1\n\t" OROW2(OK_, "", OP_, OAND1)
         "movw %[p], #0x101\n\t" OROW2(OK_, "", OP_, OAND1)
         "add %[p], %[p], #0x10000\n\t" OROW2(OK_, "", OP_, OAND1)
@@ -887,46 +884,42 @@ oct_run(uint32_t *hist, const uint8_t *q0, size_t dq, uint8_t *d)
         "bic %[p], %[p], #0xFF\n\t" OROW2(OP_, OAND0, OK_, "")
         "bic %[p], %[p], #0x100\n\t" OROW2(OP_, OAND0, OK_, "")
         "mov %[p], #0x01000000\n\t" OROW2(OP_, OAND0, OK_, "")
-        "add %[h], %[h], #4\n\t" OROW1(OK_, "", "lh")
+        OROW1(OK_, "", "lh", "8")
         "mov %[p], #0x01010101\n\t"
-        "bic %[p], %[p], #0xFF\n\t" OROW1(OP_, OAND1, "lh")
-        "bic %[p], %[p], #0x100\n\t" OROW1(OP_, OAND1, "lh")
-        "mov %[p], #0x01000000\n\t" OROW1(OP_, OAND1, "lh")
-        "sub %[h], %[h], #4\n\t"
+        "bic %[p], %[p], #0xFF\n\t" OROW1(OP_, OAND0, "lh", "8")
+        "bic %[p], %[p], #0x100\n\t" OROW1(OP_, OAND0, "lh", "8")
+        "mov %[p], #0x01000000\n\t" OROW1(OP_, OAND0, "lh", "8")
         "strd %[ll], %[lh], [%[h], #-32]\n\t"
-        /* the medians: q = half + 1, ss = dstride */
-        "ldrd %[q], %[ss], [%[h], #-8]\n\t"
+        "ldr %[ss], [%[h], #-8]\n\t"
         "add %[ll], %[d], %[ss], lsl #1\n\t"
         "add %[lh], %[d], %[ss], lsl #2\n\t"
-        "add %[x], %[lh], %[ss], lsl #1\n\t"
-        OLANE(0, "strb %[t0], [%[d]]")
-        OLANE(1, "strb %[t0], [%[d], %[ss]]")
-        OLANE(2, "strb %[t0], [%[ll]]")
-        OLANE(3, "strb %[t0], [%[ll], %[ss]]")
-        OLANE(4, "strb %[t0], [%[lh]]")
-        OLANE(5, "strb %[t0], [%[lh], %[ss]]")
-        OLANE(6, "strb %[t0], [%[x]]")
-        OLANE(7, "strb %[t0], [%[x], %[ss]]")
-        /* next column */
-        "ldrd %[t0], %[t1], [%[h], #-40]\n\t"
-        "add %[q0], %[q0], %[t0]\n\t"
-        "add %[dq], %[dq], %[t1]\n\t"
-        "ldr %[t0], [%[h], #-48]\n\t"
+        "add %[i1], %[lh], %[ss], lsl #1\n\t"
+        OLANE(0, 0, "strb %[c0], [%[d]]")
+        OLANE(1, 1, "strb %[c0], [%[d], %[ss]]")
+        OLANE(2, 2, "strb %[c0], [%[ll]]")
+        OLANE(3, 3, "strb %[c0], [%[ll], %[ss]]")
+        OLANE(4, 8, "strb %[c0], [%[lh]]")
+        OLANE(5, 9, "strb %[c0], [%[lh], %[ss]]")
+        OLANE(6, 10, "strb %[c0], [%[i1]]")
+        OLANE(7, 11, "strb %[c0], [%[i1], %[ss]]")
+        "ldrd %[v], %[p], [%[h], #-40]\n\t"
+        "sub %[q], %[q], %[v]\n\t"
+        "add %[dq], %[dq], %[p]\n\t"
+        "ldr %[v], [%[h], #-48]\n\t"
         "add %[d], %[d], #1\n\t"
-        "cmp %[d], %[t0]\n\t"
+        "cmp %[d], %[v]\n\t"
         "bne 9b"
-        : [v] "=&r"(v_), [t0] "=&r"(t0_), [t1] "=&r"(t1_), [p] "=&r"(p_), [q] "=&r"(q_),
-          [ll] "=&r"(ll_), [lh] "=&r"(lh_), [ss] "=&r"(ss_), [x] "=&r"(x_), [q0] "+r"(q0),
-          [dq] "+r"(dq), [d] "+r"(d), [h] "+r"(h)
-        :
+        : [c0] "=&r"(c0), [i0] "=&r"(i0), [c1] "=&r"(c1), [i1] "=&r"(i1), [v] "=&r"(v),
+          [p] "=&r"(p), [ll] "=&r"(ll), [lh] "=&r"(lh), [ss] "=&r"(ss), [q] "+r"(q),
+          [dq] "+r"(dq), [d] "+r"(d)
+        : [h] "r"(hist)
         : "cc", "memory");
 }
 
 /* Output rows i0 .. i0+7, source rows from row0 = row i0 - R (all inside
  * the image, sstride apart); hist: 1024 words of scratch after
  * OCT_STATE_WORDS. noinline: inlined into median_quad_dsp, GCC spilled
- * more around the asm (18.7 against 18.4 M instructions a frame on M7
- * -O2, measured before oct_run). */
+ * more around the asm (measured before oct_run). */
 __attribute__((noinline)) static void oct_block(uint32_t *hist, const uint8_t *row0,
                                                 size_t sstride, uint8_t *d0, size_t dstride,
                                                 int cols, int R, const uint32_t *mask8)
@@ -945,26 +938,26 @@ __attribute__((noinline)) static void oct_block(uint32_t *hist, const uint8_t *r
         for (b = -R; b <= R; b++) {
             unsigned v = s[clampi(b, 0, cols - 1)];
             hist[4u * v] += ml;
-            hist[4u * v + 1u] += mh;
+            hist[4u * v + 2u] += mh;
         }
     }
     st[4] = st[5] = st[6] = st[7] = 0u;
     for (p = 0; p < 8; p++) {
-        unsigned m = 0, le = h8[p];
+        const unsigned o = (unsigned)p + ((unsigned)p & 4u); /* its count byte in an entry */
         const unsigned sh = 8u * ((unsigned)p & 3u);
-        h8[8u + (unsigned)p] = 1u;
+        unsigned m = 0, le = h8[o];
+        h8[o + 4u] = 1u;
         while (le <= half) {
-            le += h8[16u * ++m + (unsigned)p];
-            h8[16u * m + 8u + (unsigned)p] = 1u;
+            le += h8[16u * ++m + o];
+            h8[16u * m + o + 4u] = 1u;
         }
-        st[4 + p / 4] |= (uint32_t)le << sh; /* le */
-        st[6 + p / 4] |= (uint32_t)m << sh;  /* median */
+        st[4 + p / 4] |= (uint32_t)(le + 127u - half) << sh;
+        st[6 + p / 4] |= (uint32_t)m << sh;
         d0[(size_t)p * dstride] = (uint8_t)m;
     }
     st[8] = (uint32_t)sstride;
-    st[9] = (uint32_t)(R - 3); /* row pairs in all eight windows */
-    st[10] = half + 1u;
-    st[11] = (uint32_t)dstride;
+    st[9] = (uint32_t)(R - 3);
+    st[10] = (uint32_t)dstride;
 
     /* Runs of columns between the points where a clamp starts or stops:
      * the leaving column cr = max(j - R - 1, 0) steps from column R + 1
@@ -978,7 +971,7 @@ __attribute__((noinline)) static void oct_block(uint32_t *hist, const uint8_t *r
         if (i && cols - R - 1 < je)
             je = cols - R - 1;
         st[0] = (uint32_t)(uintptr_t)(d0 + je);
-        st[2] = (uint32_t)a;
+        st[2] = (uint32_t)((size_t)nt * sstride - (size_t)a);
         st[3] = (uint32_t)(i - a);
         oct_run(hist, row0 + cr, (size_t)(ca - cr), d0 + j);
         j = je;
