@@ -2160,6 +2160,14 @@ static int median_inplace_core(void *frame, int depth, int rows, int cols, int s
         }
         t0 = s0;
         t1 = s1;
+        /* the scratch after the copy: a ring for the block median's own use
+         * (median_quad_dsp's copies of the clamped rows at the frame's top
+         * and bottom; 8-bit rows are read from the copy, not the ring) */
+        {
+            size_t used = (size_t)(s1 - s0), all = scratch_size / ucols;
+            rs.ring = all > used ? tmp + used * ucols : NULL;
+            rs.k = all - used < RING_MAX ? (int)(all - used) : RING_MAX;
+        }
         /* the output rows of each radius band: the copy holds the R >= its
          * radius rows around them (or the frame's edge is the copy's) */
         for (i = 0, ya = y0; ya < y1; i++) {
