@@ -42,7 +42,7 @@
  * histogram shared by four rows), which without SIMD is about 3x faster
  * than the constant-time scheme at R = 4, and on Cortex-M4/M7
  * median_quad_dsp(), which at R >= 3 takes eight rows a pass where it can
- * (oct_block; about 68 instructions per pixel at R = 4, -O2, 78 with four
+ * (oct_block; about 52 instructions per pixel at R = 4, -O2, 78 with four
  * rows). With NEON (AArch64, ARMv7-A) the vector paths are the SSE2 ones,
  * median_strip8 and median_rows16, on the NEON primitives of
  * median_neon.h: the same bytes. */
@@ -540,9 +540,11 @@ static void quad_masks(int n, uint32_t *mask8, uint64_t *mask16)
  * blocks only: 21.1 M instructions per frame on Cortex-M7 -O2 (about 78
  * per pixel: per column of a block, 2R+4 rows at 17 each and about 11 per
  * median), 21.7 M at -Os, 20.7 M on Cortex-M4 -O2; 30.1 M (111 per pixel)
- * before the asm blocks. With oct_block for the interior eight-row blocks
- * (below): 18.4 M on M7 -O2 (about 68 per pixel), 19.5 M at -Os, 18.3 M on
- * M4 -O2. Stack: 2.4 KiB (oct_block's 2 KiB histogram). */
+ * before the asm blocks. With oct_block's eight-row blocks (below) on
+ * every eight rows of a band: 14.2 M on M7 -O2 (about 52 per pixel),
+ * 14.3 M at -Os, 14.2 M on M4 -O2 (18.4 M, 68 per pixel, with the blocks
+ * taking the interior rows only and these per-sample compares). Stack:
+ * 4.4 KiB (oct_block's 4 KiB of histogram entries). */
 __attribute__((always_inline)) static inline uint32_t
 le_lanes(unsigned v, uint32_t medb, uint32_t m)
 {
@@ -618,11 +620,11 @@ quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t sstride, uint32_t 
             : "cc", "memory");
 }
 
-/* The median search of one window's lane as asm text, shared by the four-
- * and eight-row blocks: ES bytes per histogram entry (1 << LG). Walk the
- * cumulative count down while le - hist_p[m] > half (label 1), up while
- * le <= half (label 2); the moved median and count go back into their
- * lanes of medb and leb (BFI); label 4 is where the store follows. */
+/* The median search of one window's lane as asm text (four-row blocks;
+ * oct_block's OLANE is a variant): ES bytes per histogram entry (1 << LG).
+ * Walk the cumulative count down while le - hist_p[m] > half (label 1), up
+ * while le <= half (label 2); the moved median and count go back into
+ * their lanes of medb and leb (BFI); label 4 is where the store follows. */
 #define LANE_SEARCH_ASM(ES, LG)                                                                \
     "ubfx %[le], %[leb], #%c[sh], #8\n\t"                                                       \
     "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                                       \
@@ -736,8 +738,9 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 }
 #undef QLANE_ASM
 
-/* Eight output rows a pass (R >= 3, 8-bit frames, all 2R+8 source rows of
- * the block inside the image). A level's histogram entry is four words:
+/* Eight output rows a pass (R >= 3, 8-bit frames; the block's 2R+8 source
+ * rows sstride apart: in the frame, or a copy with the clamped rows
+ * repeated, see median_quad_dsp). A level's histogram entry is four words:
  * the counts of windows 0-3 (lanes as in median_quad_dsp), an indicator
  * for them (lane p is 1 while the level is <= window p's median, else 0),
  * then the same two words for windows 4-7. A sample's change to the
@@ -753,7 +756,11 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
  * touch only the low words, rows 2R+4 .. 2R+7 only the high ones (LDRD),
  * 13-15. R >= 3 gives the fixed row pattern the asm spells out (rows 4-6
  * full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6 rows
- * full in both); full masks are the immediate 0x01010101. */
+ * full in both); full masks are the immediate 0x01010101. At R = 4 on the
+ * pool frames (M7 -O2) a column of eight outputs takes about 415
+ * instructions: 285 for the rows, 118 for the medians (a third of them
+ * move, 1.7-1.8 levels on average), 12 for the column; 533 with the
+ * four-row blocks' compares and 8-byte entries (375 for the rows). */
 #define OCT_MIN_R 3
 /* Unoptimised builds keep a frame pointer and cannot give the column's asm
  * its 13 registers: four-row blocks only there. */
