@@ -42,7 +42,7 @@
  * histogram shared by four rows), which without SIMD is about 3x faster
  * than the constant-time scheme at R = 4, and on Cortex-M4/M7
  * median_quad_dsp(), which at R >= 3 takes eight rows a pass where it can
- * (oct_block; about 68 instructions per pixel at R = 4, -O2, 78 with four
+ * (oct_block; about 52 instructions per pixel at R = 4, -O2, 78 with four
  * rows). With NEON (AArch64, ARMv7-A) the vector paths are the SSE2 ones,
  * median_strip8 and median_rows16, on the NEON primitives of
  * median_neon.h: the same bytes. */
@@ -540,9 +540,11 @@ static void quad_masks(int n, uint32_t *mask8, uint64_t *mask16)
  * blocks only: 21.1 M instructions per frame on Cortex-M7 -O2 (about 78
  * per pixel: per column of a block, 2R+4 rows at 17 each and about 11 per
  * median), 21.7 M at -Os, 20.7 M on Cortex-M4 -O2; 30.1 M (111 per pixel)
- * before the asm blocks. With oct_block for the interior eight-row blocks
- * (below): 18.4 M on M7 -O2 (about 68 per pixel), 19.5 M at -Os, 18.3 M on
- * M4 -O2. Stack: 2.4 KiB (oct_block's 2 KiB histogram). */
+ * before the asm blocks. With oct_block's eight-row blocks (below) on
+ * every eight rows of a band: 14.2 M on M7 -O2 (about 52 per pixel),
+ * 14.3 M at -Os, 14.2 M on M4 -O2 (18.4 M, 68 per pixel, with the blocks
+ * taking the interior rows only and these per-sample compares). Stack:
+ * 4.4 KiB (oct_block's 4 KiB of histogram entries). */
 __attribute__((always_inline)) static inline uint32_t
 le_lanes(unsigned v, uint32_t medb, uint32_t m)
 {
@@ -618,11 +620,11 @@ quad_row(uint32_t *hist, const uint8_t **q, size_t dq, size_t sstride, uint32_t 
             : "cc", "memory");
 }
 
-/* The median search of one window's lane as asm text, shared by the four-
- * and eight-row blocks: ES bytes per histogram entry (1 << LG). Walk the
- * cumulative count down while le - hist_p[m] > half (label 1), up while
- * le <= half (label 2); the moved median and count go back into their
- * lanes of medb and leb (BFI); label 4 is where the store follows. */
+/* The median search of one window's lane as asm text (four-row blocks;
+ * oct_block's OLANE is a variant): ES bytes per histogram entry (1 << LG).
+ * Walk the cumulative count down while le - hist_p[m] > half (label 1), up
+ * while le <= half (label 2); the moved median and count go back into
+ * their lanes of medb and leb (BFI); label 4 is where the store follows. */
 #define LANE_SEARCH_ASM(ES, LG)                                                                \
     "ubfx %[le], %[leb], #%c[sh], #8\n\t"                                                       \
     "ubfx %[m], %[medb], #%c[sh], #8\n\t"                                                       \
@@ -736,21 +738,29 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 }
 #undef QLANE_ASM
 
-/* Eight output rows a pass (R >= 3, 8-bit frames, all 2R+8 source rows of
- * the block inside the image): windows 0-3 in the low word of a 64-bit
- * histogram entry (hist[2v], lanes as in median_quad_dsp), windows 4-7 in
- * the high word (hist[2v+1]). Source rows 4 .. 2R+3 are in windows of both
- * halves: one sample load, one broadcast, one LDRD/STRD serve both words,
- * so a row there costs 27 instructions against 2 x 17 for two four-row
- * blocks. Rows 0-3 touch only the low word, rows 2R+4 .. 2R+7 only the
- * high one. R >= 3 gives the fixed row pattern the asm spells out (rows
- * 4-6 full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6
- * rows full in both). The lane counts use UQSUB8 twice instead of
- * USUB8/SEL: lane p of uqsub8(m, uqsub8(v, med)) is m[p] when v <= med[p]
- * and 0 otherwise, and needs no zero register (the column update is one
- * asm block that already holds 13 registers). The asm blocks are volatile:
- * they store (histogram, medians) and their register outputs can all be
- * dead at the last column, where GCC would otherwise delete them. */
+/* Eight output rows a pass (R >= 3, 8-bit frames; the block's 2R+8 source
+ * rows sstride apart: in the frame, or a copy with the clamped rows
+ * repeated, see median_quad_dsp). A level's histogram entry is four words:
+ * the counts of windows 0-3 (lanes as in median_quad_dsp), an indicator
+ * for them (lane p is 1 while the level is <= window p's median, else 0),
+ * then the same two words for windows 4-7. A sample's change to the
+ * counts le is its row's mask ANDed with the indicator word, loaded with
+ * the counts (no AND where the row is in all four windows of a half): no
+ * broadcast of the sample and no compare against the medians, the four-
+ * row blocks' MUL/USUB8/SEL. The median searches keep the indicators in
+ * step, one byte store for each level a median crosses. Source rows 4 ..
+ * 2R+3 are in windows of both halves: one sample load, one LDM of the
+ * entry and one STM of its first three words serve both (the LDM wants
+ * its registers in order: four pinned ones, r0-r3), so a row there costs
+ * 17-19 instructions against 2 x 17 for two four-row blocks; rows 0-3
+ * touch only the low words, rows 2R+4 .. 2R+7 only the high ones (LDRD),
+ * 13-15. R >= 3 gives the fixed row pattern the asm spells out (rows 4-6
+ * full in the low half, 2R+1 .. 2R+3 full in the high half, 2R-6 rows
+ * full in both); full masks are the immediate 0x01010101. At R = 4 on the
+ * pool frames (M7 -O2) a column of eight outputs takes about 415
+ * instructions: 285 for the rows, 118 for the medians (a third of them
+ * move, 1.7-1.8 levels on average), 12 for the column; 533 with the
+ * four-row blocks' compares and 8-byte entries (375 for the rows). */
 #define OCT_MIN_R 3
 /* Unoptimised builds keep a frame pointer and cannot give the column's asm
  * its 13 registers: four-row blocks only there. */
@@ -758,176 +768,256 @@ static void quad_interior(uint32_t *hist, const uint8_t *row0, size_t sstride, u
 #define MEDIAN_OCT 1
 #endif
 
+/* The state of a block's eight windows, in the words before hist (byte
+ * offsets from it, so that the column asm reaches them from its one base
+ * register): at -32 the counts le, a byte a window as the four-row
+ * blocks' leb but biased by 127 - half (bit 7 set while le > half, and
+ * the lanes stay in 15 .. 241: no carries between them); at -24 the
+ * medians; at -16 sstride, the number of row pairs in all eight windows,
+ * dstride; for the columns of one run at -48 their last output pointer,
+ * at -40 what q steps back a column (the rows walk it down) and at -36
+ * the step of dq. */
+#define OCT_STATE_WORDS 12
+
 #ifdef MEDIAN_OCT
 
-/* A row in one half only (h at that half's word): sample q[dq] enters and
- * q[0] leaves the windows of mask M; median word MB, count word LB. */
-#define OROW1(M, MB, LB)                                                                       \
+/* A row in one half only (count word LB, entry offset OFF: 0 low, 8
+ * high): sample q[dq] enters and q[0] leaves the windows of mask M (the
+ * register p, with AND the indicators' AND, or all four: OK_). */
+#define OROW1(M, AND, LB, OFF)                                                                 \
     "ldrb %[v], [%[q], %[dq]]\n\t"                                                             \
-    "ldr %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "add %[t0], %[t0], %[" M "]\n\t"                                                           \
-    "str %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "mul %[v], %[v], %[k]\n\t"                                                                 \
-    "uqsub8 %[v], %[v], %[" MB "]\n\t"                                                         \
-    "uqsub8 %[v], %[" M "], %[v]\n\t"                                                          \
-    "add %[" LB "], %[" LB "], %[v]\n\t"                                                       \
+    "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
+    "ldrd %[c0], %[i0], [%[v], #" OFF "]\n\t"                                                  \
+    "add %[c0], %[c0], " M "\n\t"                                                              \
+    "str %[c0], [%[v], #" OFF "]\n\t" AND "add %[" LB "], %[" LB "], %[i0]\n\t"              \
     "ldrb %[v], [%[q]]\n\t"                                                                    \
     "add %[q], %[q], %[ss]\n\t"                                                                \
-    "ldr %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "sub %[t0], %[t0], %[" M "]\n\t"                                                           \
-    "str %[t0], [%[h], %[v], lsl #3]\n\t"                                                      \
-    "mul %[v], %[v], %[k]\n\t"                                                                 \
-    "uqsub8 %[v], %[v], %[" MB "]\n\t"                                                         \
-    "uqsub8 %[v], %[" M "], %[v]\n\t"                                                          \
-    "sub %[" LB "], %[" LB "], %[v]\n\t"
+    "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
+    "ldrd %[c0], %[i0], [%[v], #" OFF "]\n\t"                                                  \
+    "sub %[c0], %[c0], " M "\n\t"                                                              \
+    "str %[c0], [%[v], #" OFF "]\n\t" AND "sub %[" LB "], %[" LB "], %[i0]\n\t"
+#define OK_ "#0x01010101"
+#define OP_ "%[p]"
+#define OAND0 "and %[i0], %[i0], %[p]\n\t"
+#define OAND1 "and %[i1], %[i1], %[p]\n\t"
 
-/* One sample of a row in both halves (masks A low, B high). */
-#define OSAMPLE2(LOAD, OP, A, B)                                                               \
+/* One sample of a row in both halves (masks A low, B high; ANDA, ANDB
+ * the indicators' AND for a partial mask, or nothing). The STM writes
+ * the low indicator back unchanged. */
+#define OSAMPLE2(LOAD, OP, A, ANDA, B, ANDB)                                                   \
     LOAD                                                                                       \
-    "mul %[t1], %[v], %[k]\n\t"                                                                \
-    "uqsub8 %[t0], %[t1], %[ml]\n\t"                                                           \
-    "uqsub8 %[t0], %[" A "], %[t0]\n\t"                                                        \
-    OP " %[ll], %[ll], %[t0]\n\t"                                                              \
-    "uqsub8 %[t0], %[t1], %[mh]\n\t"                                                           \
-    "uqsub8 %[t0], %[" B "], %[t0]\n\t"                                                        \
-    OP " %[lh], %[lh], %[t0]\n\t"                                                              \
-    "add %[v], %[h], %[v], lsl #3\n\t"                                                         \
-    "ldrd %[t0], %[t1], [%[v]]\n\t"                                                            \
-    OP " %[t0], %[t0], %[" A "]\n\t"                                                           \
-    OP " %[t1], %[t1], %[" B "]\n\t"                                                           \
-    "strd %[t0], %[t1], [%[v]]\n\t"
-#define OROW2(A, B)                                                                            \
-    OSAMPLE2("ldrb %[v], [%[q], %[dq]]\n\t", "add", A, B)                                      \
-    OSAMPLE2("ldrb %[v], [%[q]]\n\tadd %[q], %[q], %[ss]\n\t", "sub", A, B)
+    "add %[v], %[h], %[v], lsl #4\n\t"                                                         \
+    "ldm %[v], {%[c0], %[i0], %[c1], %[i1]}\n\t"                                               \
+    OP " %[c0], %[c0], " A "\n\t"                                                              \
+    OP " %[c1], %[c1], " B "\n\t"                                                              \
+    "stm %[v], {%[c0], %[i0], %[c1]}\n\t" ANDA OP " %[ll], %[ll], %[i0]\n\t" ANDB OP          \
+    " %[lh], %[lh], %[i1]\n\t"
+#define OROW2(A, ANDA, B, ANDB)                                                                \
+    OSAMPLE2("ldrb %[v], [%[q], %[dq]]\n\t", "add", A, ANDA, B, ANDB)                          \
+    OSAMPLE2("ldrb %[v], [%[q]]\n\tadd %[q], %[q], %[ss]\n\t", "sub", A, ANDA, B, ANDB)
 
-/* Median of window `lane` (0-7; MB, LB its half's words) as QLANE_ASM,
- * with 8-byte histogram entries. */
-#define OLANE_ASM(lane, MB, LB, store)                                                         \
-    do {                                                                                       \
-        uint32_t le_, m_, h_, c_;                                                              \
-        __asm__ volatile(LANE_SEARCH_ASM(8, 3) store                                           \
-                : [le] "=&r"(le_), [m] "=&r"(m_), [h] "=&r"(h_), [c] "=&r"(c_),                \
-                  [medb] "+r"(MB), [leb] "+r"(LB)                                              \
-                : [h8] "r"(h8), [half] "r"(half), [d] "r"(dcol), [d4] "r"(dcol4),             \
-                  [ds] "r"(dstride), [sh] "i"(8 * ((lane) & 3)), [lp] "i"(lane)                \
-                : "cc", "memory");                                                             \
-    } while (0)
+/* Median of window P (a digit; O: its byte in an entry) kept or moved one
+ * level at a time as in LANE_SEARCH_ASM, from its count and median bytes.
+ * With v = le - (half + 1) the sign of one SUBS/ADDS decides each step.
+ * Each level crossed gets its indicator byte (O + 4): 0 going down (the
+ * level leaves le), 1 going up (it joins). STORE stores the median (c0).
+ * 8 instructions and the store when the median stays. */
+#define OLANE(P, O, STORE)                                                                     \
+    "ldrb %[v], [%[h], #(-32+" #P ")]\n\t"                                                     \
+    "ldrb %[c0], [%[h], #(-24+" #P ")]\n\t"                                                    \
+    "add %[i0], %[h], %[c0], lsl #4\n\t"                                                       \
+    "subs %[v], %[v], #128\n\t"                                                                \
+    "bmi 5f\n\t"                                                                               \
+    "ldrb %[c1], [%[i0], #" #O "]\n\t"                                                         \
+    "subs %[v], %[v], %[c1]\n\t"                                                               \
+    "bmi 4f\n\t"                                                                               \
+    "movs %[c0], #0\n"                                                                         \
+    "1:\n\t"                                                                                   \
+    "strb %[c0], [%[i0], #(4+" #O ")]\n\t"                                                     \
+    "sub %[i0], %[i0], #16\n\t"                                                                \
+    "ldrb %[c1], [%[i0], #" #O "]\n\t"                                                         \
+    "subs %[v], %[v], %[c1]\n\t"                                                               \
+    "bpl 1b\n\t"                                                                               \
+    "add %[v], %[v], %[c1]\n\t"                                                                \
+    "b 3f\n"                                                                                   \
+    "5:\n\t"                                                                                   \
+    "movs %[c0], #1\n"                                                                         \
+    "2:\n\t"                                                                                   \
+    "add %[i0], %[i0], #16\n\t"                                                                \
+    "ldrb %[c1], [%[i0], #" #O "]\n\t"                                                         \
+    "strb %[c0], [%[i0], #(4+" #O ")]\n\t"                                                     \
+    "adds %[v], %[v], %[c1]\n\t"                                                               \
+    "bmi 2b\n"                                                                                 \
+    "3:\n\t"                                                                                   \
+    "add %[v], %[v], #128\n\t"                                                                 \
+    "sub %[c0], %[i0], %[h]\n\t"                                                               \
+    "lsr %[c0], %[c0], #4\n\t"                                                                 \
+    "strb %[c0], [%[h], #(-24+" #P ")]\n\t"                                                    \
+    "strb %[v], [%[h], #(-32+" #P ")]\n"                                                       \
+    "4:\n\t" STORE "\n\t"
+
+/* Columns d .. dend-1 of a run where q0 and dq step by the same amounts
+ * (the clamps at the frame's sides change them), as one asm block: no
+ * register holds anything but the column's work (with separate blocks for
+ * the rows and each median, GCC spent about 35 instructions a column on
+ * spills and the clamps). Rows from q (entering sample at +dq); the
+ * medians go to d + p * dstride (ll, lh, i1: rows 2, 4, 6). The asm
+ * stores (histogram, state, medians) and its register outputs are dead:
+ * volatile. */
+__attribute__((always_inline)) static inline void oct_run(uint32_t *hist, const uint8_t *q,
+                                                          size_t dq, uint8_t *d)
+{
+    register uint32_t c0 __asm__("r0"), i0 __asm__("r1"), c1 __asm__("r2"), i1 __asm__("r3");
+    uint32_t v, p, ll, lh, ss;
+    __asm__ volatile(
+        "9:\n\t"
+        "ldrd %[ll], %[lh], [%[h], #-32]\n\t"
+        "ldr %[ss], [%[h], #-16]\n\t"
+        "mov %[p], #1\n\t" OROW1(OP_, OAND0, "ll", "0")
+        "movw %[p], #0x101\n\t" OROW1(OP_, OAND0, "ll", "0")
+        "add %[p], %[p], #0x10000\n\t" OROW1(OP_, OAND0, "ll", "0")
+        OROW1(OK_, "", "ll", "0")
+        "mov %[p], #1\n\t" OROW2(OK_, "", OP_, OAND1)
+        "movw %[p], #0x101\n\t" OROW2(OK_, "", OP_, OAND1)
+        "add %[p], %[p], #0x10000\n\t" OROW2(OK_, "", OP_, OAND1)
+        "ldr %[p], [%[h], #-12]\n\t"
+        "cmp %[p], #0\n\t"
+        "beq 8f\n"
+        "7:\n\t" OROW2(OK_, "", OK_, "") OROW2(OK_, "", OK_, "")
+        "subs %[p], %[p], #1\n\t"
+        "bne 7b\n"
+        "8:\n\t"
+        "mov %[p], #0x01010101\n\t"
+        "bic %[p], %[p], #0xFF\n\t" OROW2(OP_, OAND0, OK_, "")
+        "bic %[p], %[p], #0x100\n\t" OROW2(OP_, OAND0, OK_, "")
+        "mov %[p], #0x01000000\n\t" OROW2(OP_, OAND0, OK_, "")
+        OROW1(OK_, "", "lh", "8")
+        "mov %[p], #0x01010101\n\t"
+        "bic %[p], %[p], #0xFF\n\t" OROW1(OP_, OAND0, "lh", "8")
+        "bic %[p], %[p], #0x100\n\t" OROW1(OP_, OAND0, "lh", "8")
+        "mov %[p], #0x01000000\n\t" OROW1(OP_, OAND0, "lh", "8")
+        "strd %[ll], %[lh], [%[h], #-32]\n\t"
+        "ldr %[ss], [%[h], #-8]\n\t"
+        "add %[ll], %[d], %[ss], lsl #1\n\t"
+        "add %[lh], %[d], %[ss], lsl #2\n\t"
+        "add %[i1], %[lh], %[ss], lsl #1\n\t"
+        OLANE(0, 0, "strb %[c0], [%[d]]")
+        OLANE(1, 1, "strb %[c0], [%[d], %[ss]]")
+        OLANE(2, 2, "strb %[c0], [%[ll]]")
+        OLANE(3, 3, "strb %[c0], [%[ll], %[ss]]")
+        OLANE(4, 8, "strb %[c0], [%[lh]]")
+        OLANE(5, 9, "strb %[c0], [%[lh], %[ss]]")
+        OLANE(6, 10, "strb %[c0], [%[i1]]")
+        OLANE(7, 11, "strb %[c0], [%[i1], %[ss]]")
+        "ldrd %[v], %[p], [%[h], #-40]\n\t"
+        "sub %[q], %[q], %[v]\n\t"
+        "add %[dq], %[dq], %[p]\n\t"
+        "ldr %[v], [%[h], #-48]\n\t"
+        "add %[d], %[d], #1\n\t"
+        "cmp %[d], %[v]\n\t"
+        "bne 9b"
+        : [c0] "=&r"(c0), [i0] "=&r"(i0), [c1] "=&r"(c1), [i1] "=&r"(i1), [v] "=&r"(v),
+          [p] "=&r"(p), [ll] "=&r"(ll), [lh] "=&r"(lh), [ss] "=&r"(ss), [q] "+r"(q),
+          [dq] "+r"(dq), [d] "+r"(d)
+        : [h] "r"(hist)
+        : "cc", "memory");
+}
 
 /* Output rows i0 .. i0+7, source rows from row0 = row i0 - R (all inside
- * the image, sstride apart); hist: 513 words of scratch (the last one
- * holds a loop count: a memory operand would need a 14th register).
- * noinline: inlined into median_quad_dsp, GCC spills more around the asm
- * (18.7 against 18.4 M instructions a frame on M7 -O2). */
+ * the image, sstride apart); hist: 1024 words of scratch after
+ * OCT_STATE_WORDS. noinline: inlined into median_quad_dsp, GCC spilled
+ * more around the asm (measured before oct_run). */
 __attribute__((noinline)) static void oct_block(uint32_t *hist, const uint8_t *row0,
                                                 size_t sstride, uint8_t *d0, size_t dstride,
                                                 int cols, int R, const uint32_t *mask8)
 {
-    const uint8_t *const h8 = (const uint8_t *)hist;
+    uint8_t *const h8 = (uint8_t *)hist;
+    uint32_t *const st = hist - OCT_STATE_WORDS;
     const int n = 2 * R + 1, nt = n + 7;
     const unsigned half = (unsigned)(n * n) / 2u;
-    uint32_t medlo = 0, medhi = 0, lelo = 0, lehi = 0;
     int t, b, p, j;
 
-    /* Windows of column 0: columns clamp(-R..R). */
-    memset(hist, 0, 512u * sizeof *hist);
-    hist[512] = (uint32_t)(n - 7); /* rows in all eight windows, read by the asm */
+    /* Windows of column 0: columns clamp(-R..R). The entries cleared 64
+     * bytes a loop (memset took 7 instructions a 16 bytes, 0.1 M a frame
+     * more): STM wants ascending registers. */
+    {
+        register uint32_t z0 __asm__("r0") = 0u, z1 __asm__("r1") = 0u;
+        register uint32_t z2 __asm__("r2") = 0u, z3 __asm__("r3") = 0u;
+        uint32_t *w = hist;
+        __asm__ volatile("1:\n\t"
+                         "stm %[w]!, {%[z0], %[z1], %[z2], %[z3]}\n\t"
+                         "stm %[w]!, {%[z0], %[z1], %[z2], %[z3]}\n\t"
+                         "stm %[w]!, {%[z0], %[z1], %[z2], %[z3]}\n\t"
+                         "stm %[w]!, {%[z0], %[z1], %[z2], %[z3]}\n\t"
+                         "cmp %[w], %[e]\n\t"
+                         "bne 1b"
+                         : [w] "+r"(w)
+                         : [z0] "r"(z0), [z1] "r"(z1), [z2] "r"(z2), [z3] "r"(z3),
+                           [e] "r"(hist + 1024)
+                         : "cc", "memory");
+    }
     for (t = 0; t < nt; t++) {
         const uint8_t *s = row0 + (size_t)t * sstride;
         const uint32_t ml = t <= n + 2 ? mask8[t] : 0u, mh = t >= 4 ? mask8[t - 4] : 0u;
         for (b = -R; b <= R; b++) {
             unsigned v = s[clampi(b, 0, cols - 1)];
-            hist[2u * v] += ml;
-            hist[2u * v + 1u] += mh;
+            hist[4u * v] += ml;
+            hist[4u * v + 2u] += mh;
         }
     }
+    st[4] = st[5] = st[6] = st[7] = 0u;
     for (p = 0; p < 8; p++) {
-        unsigned m = 0, le = h8[p];
+        const unsigned o = (unsigned)p + ((unsigned)p & 4u); /* its count byte in an entry */
         const unsigned sh = 8u * ((unsigned)p & 3u);
-        while (le <= half)
-            le += h8[8u * ++m + (unsigned)p];
-        if (p < 4) {
-            medlo |= (uint32_t)m << sh;
-            lelo |= (uint32_t)le << sh;
-        } else {
-            medhi |= (uint32_t)m << sh;
-            lehi |= (uint32_t)le << sh;
+        unsigned m = 0, le = h8[o];
+        h8[o + 4u] = 1u;
+        while (le <= half) {
+            le += h8[16u * ++m + o];
+            h8[16u * m + o + 4u] = 1u;
         }
+        st[4 + p / 4] |= (uint32_t)(le + 127u - half) << sh;
+        st[6 + p / 4] |= (uint32_t)m << sh;
         d0[(size_t)p * dstride] = (uint8_t)m;
     }
+    st[8] = (uint32_t)sstride;
+    st[9] = (uint32_t)(R - 3);
+    st[10] = (uint32_t)dstride;
 
-/* Column j: rows from q0 (entering sample at +dq), medians stored from d. */
-#define OCOLUMN(q0, dq_, d)                                                                    \
-    do {                                                                                       \
-        const uint8_t *q = (q0);                                                               \
-        const size_t dq = (dq_);                                                               \
-        if (dq != 0) {                                                                         \
-            uint32_t v_, t0_, t1_, k_, p_;                                                     \
-            uint32_t *h = hist;                                                                \
-            __asm__ volatile("mov %[k], #0x01010101\n\t"                                       \
-                    "mov %[p], #1\n\t" OROW1("p", "ml", "ll")                                  \
-                    "movw %[p], #0x101\n\t" OROW1("p", "ml", "ll")                             \
-                    "add %[p], %[p], #0x10000\n\t" OROW1("p", "ml", "ll")                      \
-                    OROW1("k", "ml", "ll")                                                     \
-                    "mov %[p], #1\n\t" OROW2("k", "p")                                         \
-                    "movw %[p], #0x101\n\t" OROW2("k", "p")                                    \
-                    "add %[p], %[p], #0x10000\n\t" OROW2("k", "p")                             \
-                    "ldr %[p], [%[h], #2048]\n\t"                                              \
-                    "cmp %[p], #0\n\t"                                                         \
-                    "beq 2f\n"                                                                 \
-                    "1:\n\t" OROW2("k", "k")                                                   \
-                    "subs %[p], %[p], #1\n\t"                                                  \
-                    "bne 1b\n"                                                                 \
-                    "2:\n\t"                                                                   \
-                    "bic %[p], %[k], #0xFF\n\t" OROW2("p", "k")                                \
-                    "bic %[p], %[p], #0x100\n\t" OROW2("p", "k")                               \
-                    "mov %[p], #0x01000000\n\t" OROW2("p", "k")                                \
-                    "add %[h], %[h], #4\n\t" OROW1("k", "mh", "lh")                            \
-                    "bic %[p], %[k], #0xFF\n\t" OROW1("p", "mh", "lh")                         \
-                    "bic %[p], %[p], #0x100\n\t" OROW1("p", "mh", "lh")                        \
-                    "mov %[p], #0x01000000\n\t" OROW1("p", "mh", "lh")                         \
-                    : [v] "=&r"(v_), [t0] "=&r"(t0_), [t1] "=&r"(t1_), [k] "=&r"(k_),          \
-                      [p] "=&r"(p_), [q] "+r"(q), [h] "+r"(h), [ll] "+r"(lelo),                \
-                      [lh] "+r"(lehi)                                                          \
-                    : [dq] "r"(dq), [ss] "r"(sstride), [ml] "r"(medlo), [mh] "r"(medhi)        \
-                    : "cc", "memory");                                                         \
-        }                                                                                      \
-        {                                                                                      \
-            uint8_t *const dcol = (d);                                                         \
-            uint8_t *const dcol4 = dcol + 4u * dstride;                                        \
-            OLANE_ASM(0, medlo, lelo, "strb %[m], [%[d]]");                                    \
-            OLANE_ASM(1, medlo, lelo, "strb %[m], [%[d], %[ds]]");                             \
-            OLANE_ASM(2, medlo, lelo, "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c]]");   \
-            OLANE_ASM(3, medlo, lelo,                                                          \
-                      "add %[c], %[d], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");            \
-            OLANE_ASM(4, medhi, lehi, "strb %[m], [%[d4]]");                                   \
-            OLANE_ASM(5, medhi, lehi, "strb %[m], [%[d4], %[ds]]");                            \
-            OLANE_ASM(6, medhi, lehi, "add %[c], %[d4], %[ds], lsl #1\n\tstrb %[m], [%[c]]");  \
-            OLANE_ASM(7, medhi, lehi,                                                          \
-                      "add %[c], %[d4], %[ds], lsl #1\n\tstrb %[m], [%[c], %[ds]]");           \
-        }                                                                                      \
-    } while (0)
-
-    /* One expansion of the column (oct_block is 2.3 KB at -O2): a second
-     * one for the unclamped columns, as in quad_interior, measured 18.2
-     * instead of 18.4 M instructions a frame (M7 -O2) for 2.2 KB more. */
-    for (j = 1; j < cols; j++) {
-        size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
-        size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
-        OCOLUMN(row0 + cr, ca - cr, d0 + j);
+    /* Runs of columns between the points where a clamp starts or stops:
+     * the leaving column cr = max(j - R - 1, 0) steps from column R + 1
+     * on, the entering one ca = min(j + R, cols - 1) up to cols - R - 1. */
+    for (j = 1; j < cols;) {
+        const int ca = j + R < cols ? j + R : cols - 1, cr = j - R - 1 > 0 ? j - R - 1 : 0;
+        const int a = j >= R + 1, i = j <= cols - R - 2;
+        int je = cols;
+        if (!a && R + 1 < je)
+            je = R + 1;
+        if (i && cols - R - 1 < je)
+            je = cols - R - 1;
+        st[0] = (uint32_t)(uintptr_t)(d0 + je);
+        st[2] = (uint32_t)((size_t)nt * sstride - (size_t)a);
+        st[3] = (uint32_t)(i - a);
+        oct_run(hist, row0 + cr, (size_t)(ca - cr), d0 + j);
+        j = je;
     }
-#undef OCOLUMN
 }
-#undef OLANE_ASM
+#undef OLANE
 #undef OROW1
 #undef OSAMPLE2
 #undef OROW2
+#undef OK_
+#undef OP_
+#undef OAND0
+#undef OAND1
 #endif /* MEDIAN_OCT */
 
 static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
                             int y0, int y1)
 {
     const size_t sstride = rs->src8 != NULL ? rs->stride : rs->cols;
-    uint32_t hist[513]; /* oct_block's 64-bit entries and count; four-row blocks use 256 */
+    /* oct_block's state and 16-byte entries; four-row blocks: hist[v] */
+    uint32_t entries[OCT_STATE_WORDS + 4 * 256];
+    uint32_t *const hist = entries + OCT_STATE_WORDS;
     const uint8_t *const h8 = (const uint8_t *)hist;
     const uint8_t *rowp[2 * MEDIAN_QUAD_MAX_R + 4];
     uint32_t mask8[2 * MEDIAN_QUAD_MAX_R + 4];
@@ -941,15 +1031,30 @@ static void median_quad_dsp(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t
         const int np = y1 - i0 < 4 ? y1 - i0 : 4; /* output rows in this block */
         uint8_t *const d0 = dst + (size_t)i0 * dstride;
 
-        /* Eight rows at once where their 2R+8 source rows are in the frame
-         * (8-bit frames: rows in place, sstride apart). */
 #ifdef MEDIAN_OCT
-        if (R >= OCT_MIN_R && rs->src8 != NULL && i0 - R >= 0 && i0 + 7 + R <= rows - 1 &&
-            i0 + 8 <= y1) {
-            oct_block(hist, rs->src8 + (size_t)(i0 - R) * sstride, sstride, d0, dstride, cols,
-                      R, mask8);
-            step = 8;
-            continue;
+        /* Eight rows at once (8-bit frames): from the frame where their
+         * 2R+8 source rows are in it, else (top and bottom) from a copy of
+         * them in the ring with the clamped rows repeated, when the ring is
+         * free and large enough (not in place); at the end of the band its
+         * last eight rows (a few computed twice: the same bytes). */
+        if (R >= OCT_MIN_R && rs->src8 != NULL && y1 - y0 >= 8) {
+            const int ib = y1 - i0 >= 8 ? i0 : y1 - 8, nt8 = 2 * R + 8;
+            uint8_t *const db = dst + (size_t)ib * dstride;
+            if (ib - R >= 0 && ib + 7 + R <= rows - 1) {
+                oct_block(hist, rs->src8 + (size_t)(ib - R) * sstride, sstride, db, dstride,
+                          cols, R, mask8);
+                step = ib + 8 - i0;
+                continue;
+            }
+            if (rs->ring != NULL && rs->k >= nt8) {
+                for (t = 0; t < nt8; t++)
+                    memcpy(rs->ring + (size_t)t * (size_t)cols,
+                           rs->src8 + (size_t)clampi(ib - R + t, 0, rows - 1) * sstride,
+                           (size_t)cols);
+                oct_block(hist, rs->ring, (size_t)cols, db, dstride, cols, R, mask8);
+                step = ib + 8 - i0;
+                continue;
+            }
         }
 #endif
         step = 4;
@@ -2062,6 +2167,14 @@ static int median_inplace_core(void *frame, int depth, int rows, int cols, int s
         }
         t0 = s0;
         t1 = s1;
+        /* the scratch after the copy: a ring for the block median's own use
+         * (median_quad_dsp's copies of the clamped rows at the frame's top
+         * and bottom; 8-bit rows are read from the copy, not the ring) */
+        {
+            size_t used = (size_t)(s1 - s0), all = scratch_size / ucols;
+            rs.ring = all > used ? tmp + used * ucols : NULL;
+            rs.k = all - used < RING_MAX ? (int)(all - used) : RING_MAX;
+        }
         /* the output rows of each radius band: the copy holds the R >= its
          * radius rows around them (or the frame's edge is the copy's) */
         for (i = 0, ya = y0; ya < y1; i++) {
