@@ -6,7 +6,7 @@
  *
  * The samples are integer arithmetic (so the same on every core and under
  * any float flags, and cheap where a float conversion is not: on Cortex-M7
- * -O2 28 to 32 instructions a sample in C instead of 33 in float, 18 in the
+ * -O2 28 to 32 instructions a sample in C instead of 33 in float, 19 in the
  * DSP asm). A cell's centre, computed in float from the grid, and the
  * pattern's offsets from it, once a grid, are put in fixed point, 1/256
  * pixel, truncated toward zero (ffix); a sample point is the centre plus an
