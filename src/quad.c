@@ -16,7 +16,8 @@
 #define QUAD_DSP 0
 #endif
 
-#if QUAD_DSP
+#if QUAD_DSP && !defined(QUAD_SMLA_DEFINED) /* tests/test_quad_paths.c includes this file twice */
+#define QUAD_SMLA_DEFINED 1
 /* SMLABB / SMLABT / SMLATT: acc + the product of the chosen signed
  * halfwords of a and b, modulo 2^32. Inline asm rather than arm_acle.h's
  * __smlabb etc., which GCC before 10 does not have. */
