@@ -405,43 +405,46 @@ static int quad_accept(const qctx *k, const qquad *q, float *ratio)
 }
 
 #ifndef ACTAG_QUAD_REFERENCE
-/* Adds to r (sums of relative coordinates as in walk_far, r[5] the count)
+/* Moment sums of points in 32 bits (exact where the caller has bounded
+ * them, or taken modulo 2^32 and corrected), and a point added to them. */
+typedef struct qsums32 {
+    uint32_t n, sx, sy, sxx, sxy, syy;
+} qsums32;
+
+QUAD_INLINE void sums32_add(qsums32 *t, uint32_t x, uint32_t y)
+{
+    t->n++;
+    t->sx += x;
+    t->sy += y;
+    t->sxx += x * x;
+    t->sxy += x * y;
+    t->syy += y * y;
+}
+
+/* Adds to r (sums of relative coordinates as in walk_far)
  * the points of [a, b) that side_sums keeps for the side from (qx, qy)
  * along (ux, uy), on line l between la and lb: the same tests. */
 QUAD_INLINE void side_run(const qctx *k, int a, int b, float qx, float qy, float ux, float uy,
                           float len, float band2, const qline *l, const qline *la,
-                          const qline *lb, uint32_t r[6])
+                          const qline *lb, qsums32 *r)
 {
     const float *fx = k->fx, *fy = k->fy;
     const float nx = l->nx, ny = l->ny, c = l->c, nax = la->nx, nay = la->ny, ca = la->c;
     const float nbx = lb->nx, nby = lb->ny, cb = lb->c;
-    uint32_t sx = r[0], sy = r[1], sxx = r[2], sxy = r[3], syy = r[4], cnt = r[5];
+    qsums32 t = *r; /* a local copy: its fields stay in registers */
     int i;
     for (i = a; i < b; i++) {
         float px = fx[i], py = fy[i];
-        float t = (px - qx) * ux + (py - qy) * uy, e;
-        uint32_t x, y;
-        if (!(t >= 0.0f && t <= len))
+        float u = (px - qx) * ux + (py - qy) * uy, e;
+        if (!(u >= 0.0f && u <= len))
             continue;
         e = fabsf(nx * px + ny * py - c);
         if (!(e * e <= band2 && e <= fabsf(nax * px + nay * py - ca) &&
               e <= fabsf(nbx * px + nby * py - cb)))
             continue;
-        x = (uint32_t)px;
-        y = (uint32_t)py;
-        cnt++;
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        sxy += x * y;
-        syy += y * y;
+        sums32_add(&t, (uint32_t)px, (uint32_t)py);
     }
-    r[0] = sx;
-    r[1] = sy;
-    r[2] = sxx;
-    r[3] = sxy;
-    r[4] = syy;
-    r[5] = cnt;
+    *r = t;
 }
 #endif
 
@@ -535,22 +538,22 @@ static int side_sums(const qctx *k, const qquad *q, const float *band2, qsums *s
         if (small) {
             /* The run as at most two ascending ranges: integer sums do not
              * depend on the order. */
-            uint32_t r[6] = {0u, 0u, 0u, 0u, 0u, 0u};
+            qsums32 r = {0u, 0u, 0u, 0u, 0u, 0u};
             int lo = fwd ? a : b + 1, hi = fwd ? b : a + 1; /* [lo, hi), cyclic */
             if (lo == k->n)
                 lo = 0;
             if (lo < hi) {
-                side_run(k, lo, hi, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, r);
+                side_run(k, lo, hi, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, &r);
             } else {
-                side_run(k, lo, k->n, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, r);
-                side_run(k, 0, hi, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, r);
+                side_run(k, lo, k->n, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, &r);
+                side_run(k, 0, hi, q->x[j], q->y[j], ux, uy, len, band2[j], l, la, lb, &r);
             }
-            s->n = r[5];
-            s->sx = r[0];
-            s->sy = r[1];
-            s->sxx = r[2];
-            s->sxy = r[3];
-            s->syy = r[4];
+            s->n = r.n;
+            s->sx = r.sx;
+            s->sy = r.sy;
+            s->sxx = r.sxx;
+            s->sxy = r.sxy;
+            s->syy = r.syy;
             continue;
         }
 #endif
@@ -859,36 +862,24 @@ static int walk_all(const qctx *k, const unsigned char *lab, int start, int m, q
     return 1;
 }
 
-/* Adds to r (sums as walk_all's, r[5] the count) the relative coordinates,
+/* Adds to r (sums as walk_all's) the relative coordinates,
  * read from fx and fy (exact integers), of the unclaimed points in [a, b)
  * farther than d from l (or at a NaN distance: as walk_sums'
  * !(dist <= d && dist >= -d)). */
 QUAD_INLINE void walk_far(const qctx *k, const unsigned char *lab, int a, int b, const qline *l,
-                          uint32_t r[6])
+                          qsums32 *r)
 {
     const float *fx = k->fx, *fy = k->fy;
     const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
-    uint32_t sx = r[0], sy = r[1], sxx = r[2], sxy = r[3], syy = r[4], cnt = r[5];
+    qsums32 t = *r; /* a local copy: its fields stay in registers */
     int i;
     for (i = a; i < b; i++) {
         if (lab[i])
             continue;
-        if (!(fabsf(lnx * fx[i] + lny * fy[i] - lc) <= d)) {
-            uint32_t x = (uint32_t)fx[i], y = (uint32_t)fy[i];
-            cnt++;
-            sx += x;
-            sy += y;
-            sxx += x * x;
-            sxy += x * y;
-            syy += y * y;
-        }
+        if (!(fabsf(lnx * fx[i] + lny * fy[i] - lc) <= d))
+            sums32_add(&t, (uint32_t)fx[i], (uint32_t)fy[i]);
     }
-    r[0] = sx;
-    r[1] = sy;
-    r[2] = sxx;
-    r[3] = sxy;
-    r[4] = syy;
-    r[5] = cnt;
+    *r = t;
 }
 
 /* walk_sums(k, lab, start, m, l, s) after walk_all() gave s, e1 and e2:
@@ -898,15 +889,15 @@ QUAD_INLINE void walk_far(const qctx *k, const unsigned char *lab, int a, int b,
 static void walk_near(const qctx *k, const unsigned char *lab, int start, int e1, int e2,
                       const qline *l, qsums *s)
 {
-    uint32_t r[6] = {0u, 0u, 0u, 0u, 0u, 0u};
-    walk_far(k, lab, start, e1, l, r);
-    walk_far(k, lab, 0, e2, l, r);
-    s->n -= r[5];
-    s->sx -= r[0];
-    s->sy -= r[1];
-    s->sxx -= r[2];
-    s->sxy -= r[3];
-    s->syy -= r[4];
+    qsums32 r = {0u, 0u, 0u, 0u, 0u, 0u};
+    walk_far(k, lab, start, e1, l, &r);
+    walk_far(k, lab, 0, e2, l, &r);
+    s->n -= r.n;
+    s->sx -= r.sx;
+    s->sy -= r.sy;
+    s->sxx -= r.sxx;
+    s->sxy -= r.sxy;
+    s->syy -= r.syy;
 }
 #endif
 
