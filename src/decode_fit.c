@@ -1301,7 +1301,8 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
 }
 
 /* The frame as the cell reads see it: 9 samples a cell, looks as given
- * (2: a second look, see fimg), the SSE2 samplers where they apply. */
+ * (2: a second look, see fimg), the SSE2 samplers where they apply and the
+ * AVX2 ones where the processor has them. */
 static void fimg_of(const uint8_t *grey, int rows, int cols, int stride,
                     const actag_fit_params *fp, float looks, fimg *im)
 {
@@ -1314,6 +1315,7 @@ static void fimg_of(const uint8_t *grey, int rows, int cols, int stride,
     im->looks = looks;
 #if ACTAG__FIT_SIMD
     im->simd = actag__fit_simd_ok(rows, cols, stride);
+    im->avx2 = actag__fit_avx2_reads();
 #endif
 }
 

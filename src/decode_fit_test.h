@@ -29,6 +29,11 @@ int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, 
  * code they compared. */
 int actag__fit_dsp_reads(void);
 
+/* 1 when this build and this processor read the cells of grids inside the
+ * frame by the x86-64 AVX2 path (fit_cells.c; compiled in by cpu_x86.h's
+ * ACTAG__AVX2, chosen at run time), else 0. */
+int actag__fit_avx2_reads(void);
+
 /* The template layout of code `id` of `family` in view `view` (0..3: that
  * many quarter turns, 4..7: the same after the physical mirror) as the
  * template check builds it: (bits/4 + 1)^2 cells in row order, 1 white, 0
@@ -55,6 +60,16 @@ int actag__fit_blind_corrections(int nbits, int ncodes, int views, int max_corre
  * any rows, cols >= 1. ACTAG_OK, or ACTAG_ERR_PARAM for bad arguments. */
 int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                           int k, float so, int what, float *portable, float *simd);
+
+/* The same with the AVX2 reads as the decoder takes them where
+ * actag__fit_avx2_reads() is 1: eight cells a lane each for grids inside
+ * the frame, the SSE2 clamping sampler for grids that leave it
+ * (actag__fit_simd_cells above compares the SSE2 path alone, on any
+ * processor). 1 when the AVX2 path read the grid, 0 when the clamping
+ * sampler did, ACTAG_ERR_PARAM as above and where actag__fit_avx2_reads()
+ * is 0. */
+int actag__fit_avx2_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                          int k, float so, int what, float *portable, float *avx2);
 #endif
 
 #endif

@@ -1,8 +1,9 @@
 /* The grid-fit decoder's cell reads (fit_cells.h): the mean grey level of
  * every cell of an affine tag grid, by bilinear samples of the frame, and
  * the half-cell lattice the wide search's shifted grids share. Portable C,
- * with bit-identical SSE2 paths on x86-64 and DSP asm on Cortex-M4/M7 for
- * the cells inside the frame (tests/test_decode_lattice.c).
+ * with bit-identical SSE2 paths on x86-64 (and AVX2 ones, chosen at run
+ * time, for grids inside the frame) and DSP asm on Cortex-M4/M7 for the
+ * cells inside the frame (tests/test_decode_lattice.c).
  *
  * The samples are integer arithmetic (so the same on every core and under
  * any float flags, and cheap where a float conversion is not: on Cortex-M7
@@ -21,6 +22,8 @@
  * point is clamped to it (edge pixels replicated). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "fit_cells.h"
+
+#include "cpu_x86.h" /* ACTAG__AVX2 */
 
 #include <string.h>
 
@@ -539,6 +542,170 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
 }
 #endif
 
+#if ACTAG__AVX2
+/* x86-64 with AVX2 (chosen at run time: im->avx2): the reads of grids
+ * inside the frame eight cells at a time, one per lane, giving fsample_in's
+ * integers (so the means are bit-identical: tests/test_decode_lattice.c).
+ * Grids that leave the frame keep the SSE2 clamping sampler (fsample4_cl:
+ * 7 % of the SSE2 samplers' instructions on the pool frames, about 1.5 %
+ * of the run time beside these: not worth an AVX2 copy). No FMA: the target
+ * is AVX2 alone, so the centres' multiplies and adds round as the scalar
+ * code's. A sample v = 256 top + (bot - top) fy is formed as
+ *     v = 256 S1 + fx S2,  S1 = (256 - fy) a + fy c,
+ *                          S2 = (256 - fy) (b - a) + fy (d - c)
+ * (the same integer, as fcell9_dsp's): S1 and S2 by one VPMADDWD each from
+ * the 16-bit lanes {a, c} and {b - a, d - c} and the weights {256 - fy,
+ * fy}, fx S2 by VPMULLD (|S2| <= 65280: no overflow). */
+
+/* The pixel pairs by two 4-byte gathers a lane (VPGATHERDD): row y0 from
+ * byte x0 (a, b the low two bytes), row y0 + 1 from byte x0 - 2 (c, d the
+ * high two), and one word blend {a, b, c, d}. Scalar loads instead (two
+ * 16-bit loads a lane joined in a register, VPINSRD) took 0.25 ms a pool
+ * frame more (the whole pipeline 3.1 ms against 2.85).
+ * No read leaves the frame's bytes [0, (rows - 1) stride + cols). A point
+ * of a grid inside the frame is fsample_in's, X in [0, (cols - 1) 256) and
+ * Y in [0, (rows - 1) 256), so 0 <= x0 <= cols - 2, 0 <= y0 <= rows - 2
+ * (fgrid_inside asks a pixel of margin of the float points; the fixed point
+ * lies within 3/256 pixel of them, so x0 = 0 is not excluded and row y0
+ * may not be read from x0 - 2 at y0 = 0), and rows, cols >= 3. Row y0's
+ * read ends at y0 stride + x0 + 3 <= (rows - 2) stride + cols + 1 <=
+ * (rows - 1) stride + cols - 1, the frame's last byte, as stride >= cols
+ * >= 2: it reaches into row y0 + 1 <= rows - 1 at most. Row y0 + 1's read
+ * starts at (y0 + 1) stride + x0 - 2 >= stride - 2 >= 1 and ends at its
+ * byte x0 + 1 <= cols - 1, fsample_in's own last byte.
+ * test_avx2_cells_every_lane reads such points from frames allocated to
+ * their last byte (valgrind_decode_lattice). */
+ACTAG__AVX2_TARGET static inline __m256i fpairs8(const uint8_t *img, int stride, __m256i o)
+{
+    __m256i w0 = _mm256_i32gather_epi32((const int *)(const void *)img, o, 1);
+    __m256i w1 = _mm256_i32gather_epi32((const int *)(const void *)(img + stride - 2), o, 1);
+    return _mm256_blend_epi16(w0, w1, 0xaa);
+}
+
+/* fsample_in at eight fixed points (wmul: 1 | stride << 16 per lane). */
+ACTAG__AVX2_TARGET static inline __m256i fsample8_in(const fimg *im, __m256i wmul, __m256i X, __m256i Y)
+{
+    __m256i f = _mm256_set1_epi32(0xff), xy, w, ac, d, fy, wt;
+    /* offsets y0 stride + x0 by VPMADDWD, as fsample4_in */
+    xy = _mm256_or_si256(_mm256_srai_epi32(X, 8), _mm256_slli_epi32(_mm256_srai_epi32(Y, 8), 16));
+    w = fpairs8(im->img, im->stride, _mm256_madd_epi16(xy, wmul));
+    ac = _mm256_and_si256(w, _mm256_set1_epi32(0x00ff00ff));
+    d = _mm256_sub_epi16(_mm256_srli_epi16(w, 8), ac);
+    fy = _mm256_and_si256(Y, f);
+    /* {256 - fy, fy}: fy 65536 + 256 - fy */
+    wt = _mm256_add_epi32(_mm256_sub_epi32(_mm256_slli_epi32(fy, 16), fy), _mm256_set1_epi32(256));
+    return _mm256_add_epi32(_mm256_slli_epi32(_mm256_madd_epi16(ac, wt), 8),
+                            _mm256_mullo_epi32(_mm256_madd_epi16(d, wt), _mm256_and_si256(X, f)));
+}
+
+/* The sums of eight cells (fast: fcell5's 5 samples, else fcell9's 9)
+ * centred at (x0, y0) (pixels, inside the frame: ffix's clamps do nothing,
+ * as in frow_in), as means. */
+ACTAG__AVX2_TARGET static inline __m256 fcell_8(const fimg *im, const fpat *p, int fast, __m256i wmul,
+                                                __m256 x0, __m256 y0)
+{
+    __m256 one = _mm256_set1_ps(FIX_ONE);
+    __m256i X = _mm256_cvttps_epi32(_mm256_mul_ps(x0, one)), Y = _mm256_cvttps_epi32(_mm256_mul_ps(y0, one));
+    __m256i s = fsample8_in(im, wmul, X, Y);
+    int i;
+    if (fast) {
+        for (i = 0; i < 4; i++)
+            s = _mm256_add_epi32(s, fsample8_in(im, wmul, _mm256_add_epi32(X, _mm256_set1_epi32(p->dx5[i])),
+                                                _mm256_add_epi32(Y, _mm256_set1_epi32(p->dy5[i]))));
+        return _mm256_mul_ps(_mm256_cvtepi32_ps(s), _mm256_set1_ps(fit_norm5));
+    }
+    for (i = 0; i < 9; i++) /* sample 4, the centre, read above */
+        if (i != 4)
+            s = _mm256_add_epi32(s, fsample8_in(im, wmul, _mm256_add_epi32(X, _mm256_set1_epi32(p->dx9[i])),
+                                                _mm256_add_epi32(Y, _mm256_set1_epi32(p->dy9[i]))));
+    return _mm256_mul_ps(_mm256_cvtepi32_ps(s), _mm256_set1_ps(fit_norm9));
+}
+
+/* Lane counters (c, r) of a row-major walk over rows of n >= 5 points, c
+ * stepped by up to 8: brought back into 0..n-1 (at most twice, as
+ * c < 3n). */
+ACTAG__AVX2_TARGET static inline void fwrap8(__m256i *c, __m256i *r, __m256i n)
+{
+    __m256i last = _mm256_sub_epi32(n, _mm256_set1_epi32(1)), w;
+    int t;
+    for (t = 0; t < 2; t++) {
+        w = _mm256_cmpgt_epi32(*c, last);
+        *c = _mm256_sub_epi32(*c, _mm256_and_si256(w, n));
+        *r = _mm256_sub_epi32(*r, w);
+    }
+}
+
+/* The centres ((mx + ax u) + bx v, likewise y: the scalar code's order) of
+ * the points (c, r) of a walk of nr rows of n points, u = c + cu, v = r +
+ * cv; the lanes past the walk's end (r >= nr) take its last point. */
+ACTAG__AVX2_TARGET static inline void fcentres8(const fgrid *gr, __m256i c, __m256i r, int n, int nr,
+                                                float cu, float cv, __m256 *x0, __m256 *y0)
+{
+    __m256i over = _mm256_cmpgt_epi32(r, _mm256_set1_epi32(nr - 1));
+    __m256 u, v;
+    c = _mm256_blendv_epi8(c, _mm256_set1_epi32(n - 1), over);
+    r = _mm256_blendv_epi8(r, _mm256_set1_epi32(nr - 1), over);
+    u = _mm256_add_ps(_mm256_cvtepi32_ps(c), _mm256_set1_ps(cu));
+    v = _mm256_add_ps(_mm256_cvtepi32_ps(r), _mm256_set1_ps(cv));
+    *x0 = _mm256_add_ps(_mm256_add_ps(_mm256_set1_ps(gr->mx), _mm256_mul_ps(_mm256_set1_ps(gr->ax), u)),
+                        _mm256_mul_ps(_mm256_set1_ps(gr->bx), v));
+    *y0 = _mm256_add_ps(_mm256_add_ps(_mm256_set1_ps(gr->my), _mm256_mul_ps(_mm256_set1_ps(gr->ay), u)),
+                        _mm256_mul_ps(_mm256_set1_ps(gr->by), v));
+}
+
+/* fcells_on(im, gr, k, m, 1, skip) for a grid inside the frame, eight
+ * cells at a time in row order; p: the grid's pattern, fpat_of run by the
+ * caller (run from here, its SSE code met dirty upper halves of the YMM
+ * registers, GCC putting no VZEROUPPER before the call, and took a fifth
+ * of this function's time). */
+ACTAG__AVX2_TARGET static void fcells_avx2(const fimg *im, const fgrid *gr, const fpat *p, int k,
+                                           float *m, int skip)
+{
+    int i, n = k + 1, nn = n * n;
+    /* u0 = cx + 1/2 - g: multiples of 1/2 below 16, exact in any order */
+    float cu = 0.5f - 0.5f * (float)n;
+    __m256i wmul = _mm256_set1_epi32(1 | im->stride << 16), nv = _mm256_set1_epi32(n);
+    __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), cx = lane, cy = _mm256_setzero_si256();
+    fwrap8(&cx, &cy, nv);
+    for (i = 0; i < nn; i += 8) {
+        __m256 x0, y0, s;
+        fcentres8(gr, cx, cy, n, n, cu, cu, &x0, &y0);
+        cx = _mm256_add_epi32(cx, _mm256_set1_epi32(8));
+        fwrap8(&cx, &cy, nv);
+        s = fcell_8(im, p, im->fast, wmul, x0, y0);
+        if (i + 8 <= nn) /* else lanes 0..nn-i-1 (a tail loop became a memcpy call) */
+            _mm256_storeu_ps(m + i, s);
+        else
+            _mm256_maskstore_ps(m + i, _mm256_cmpgt_epi32(_mm256_set1_epi32(nn - i), lane), s);
+    }
+    if (skip) /* erased data corners: not read */
+        m[0] = m[k] = m[k * n] = m[k * n + k] = 0.0f;
+}
+
+/* flattice for a lattice inside the frame, eight points at a time in row
+ * order (as flattice_simd); p: fpat_of(im, gr, 1), as for fcells_avx2. */
+ACTAG__AVX2_TARGET static void flattice_avx2(const fimg *im, const fgrid *gr, const fpat *p, int k,
+                                             int pi, int pj, float *Q)
+{
+    int i, r, n = k + 1, nc = n + 2 - pi, nr = n + 2 - pj, nq = nr * nc;
+    /* u = c + pi/2 - 1/2 - g (likewise v): exact, as in fcells_avx2 */
+    float g = 0.5f * (float)n, cu = 0.5f * (float)pi - 0.5f - g, cv = 0.5f * (float)pj - 0.5f - g;
+    float q[FIT_LAT_MAX * FIT_LAT_MAX + 7];
+    __m256i wmul = _mm256_set1_epi32(1 | im->stride << 16), nv = _mm256_set1_epi32(nc);
+    __m256i cx = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), cy = _mm256_setzero_si256();
+    fwrap8(&cx, &cy, nv);
+    for (i = 0; i < nq; i += 8) {
+        __m256 x0, y0;
+        fcentres8(gr, cx, cy, nc, nr, cu, cv, &x0, &y0);
+        cx = _mm256_add_epi32(cx, _mm256_set1_epi32(8));
+        fwrap8(&cx, &cy, nv);
+        _mm256_storeu_ps(q + i, fcell_8(im, p, 1, wmul, x0, y0));
+    }
+    for (r = 0; r < nr; r++)
+        memcpy(Q + r * FIT_LAT_MAX, q + r * nc, (size_t)nc * sizeof(float));
+}
+#endif
+
 /* Cells c0..c1 of a row of a grid inside the frame (fast: fcell5, else
  * fcell9), centres (u[2c] + xv, u[2c + 1] + yv). */
 FIT_INLINE void frow_in(const fimg *im, const fpat *p, const float *u, float xv,
@@ -592,6 +759,14 @@ void actag__fit_cells(const fimg *im, const fgrid *gr, int k, float *m, int skip
     if (im->simd) { /* one copy of the loops per sampler (cl null or not) */
         fclamp cl;
         if (fgrid_inside(im, gr, k)) {
+#if ACTAG__AVX2
+            if (im->avx2) {
+                fpat p;
+                fpat_of(im, gr, im->fast, &p);
+                fcells_avx2(im, gr, &p, k, m, skip);
+                return;
+            }
+#endif
             fcells_simd(im, gr, k, m, skip, NULL);
         } else if (im->cols >= 2) { /* fsample4_cl's column pair */
             fclamp_of(im, &cl);
@@ -659,6 +834,13 @@ void actag__fit_lattice(const fimg *im, const fgrid *gr, int k, int pi, int pj, 
 #if ACTAG__FIT_SIMD
     if (im->simd && (inside || im->cols >= 2)) {
         fclamp cl;
+#if ACTAG__AVX2
+        if (inside && im->avx2) {
+            fpat_of(im, gr, 1, &p); /* the lattice: 5 samples a cell */
+            flattice_avx2(im, gr, &p, k, pi, pj, Q);
+            return;
+        }
+#endif
         if (!inside)
             fclamp_of(im, &cl);
         flattice_simd(im, gr, k, pi, pj, Q, inside ? NULL : &cl);
@@ -706,6 +888,7 @@ static void fhook_setup(const uint8_t *img, int rows, int cols, int stride, floa
     im->fast = 1;
 #if ACTAG__FIT_SIMD
     im->simd = actag__fit_simd_ok(rows, cols, stride);
+    im->avx2 = actag__fit_avx2_reads();
 #endif
     gr->mx = g[0];
     gr->my = g[1];
@@ -773,6 +956,7 @@ int actag__fit_scalar_cells(const uint8_t *img, int rows, int cols, int stride, 
     fhook_setup(img, rows, cols, stride, so, g, &im, &gr);
 #if ACTAG__FIT_SIMD
     im.simd = 0;
+    im.avx2 = 0;
 #endif
     im.fast = what == 1 || what >= 4;
     nr = what < 4 ? n : n + 2 - pj;
@@ -805,23 +989,38 @@ int actag__fit_dsp_reads(void)
     return FIT_DSP;
 }
 
+/* Test hook and the decoder's choice (decode_fit_test.h): the run-time
+ * check is cheap, but fimg_of asks it once a decode. */
+int actag__fit_avx2_reads(void)
+{
+#if ACTAG__AVX2
+    return actag__cpu_avx2();
+#else
+    return 0;
+#endif
+}
+
 #if ACTAG__FIT_SIMD
-/* Test hook (tests/test_decode_lattice.c): decode_fit_test.h. */
-int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
-                          int k, float so, int what, float *portable, float *simd)
+/* The portable cell reads, then the SIMD ones (avx2: with the AVX2 path);
+ * 1 when that path read the grid (inside the frame), else 0. */
+static int fsimd_hook(const uint8_t *img, int rows, int cols, int stride, const float g[6], int k,
+                      float so, int what, int avx2, float *portable, float *simd)
 {
     fimg im;
     fgrid gr;
     float Q[FIT_LAT_MAX * FIT_LAT_MAX];
-    int pass, pi = what & 1, pj = (what >> 1) & 1, n = k + 1, r, c;
+    int pass, pi = what & 1, pj = (what >> 1) & 1, n = k + 1, r, c, inside;
     if (k < 4 || k > ACTAG_DECODE_MAX_K || what < 0 || what > 7 || what == 3 ||
-        !actag__fit_simd_ok(rows, cols, stride))
+        !actag__fit_simd_ok(rows, cols, stride) || (avx2 && !actag__fit_avx2_reads()))
         return ACTAG_ERR_PARAM;
     fhook_setup(img, rows, cols, stride, so, g, &im, &gr);
     im.fast = what == 1 || what >= 4;
+    /* actag__fit_cells' and actag__fit_lattice's test of the grid */
+    inside = what < 4 ? fgrid_inside(&im, &gr, k) : fgrid_inside_h(&im, &gr, 0.5f * (float)n + 1.0f + so);
     for (pass = 0; pass < 2; pass++) {
         float *out = pass ? simd : portable;
         im.simd = pass;
+        im.avx2 = pass && avx2;
         if (what < 4) {
             actag__fit_cells(&im, &gr, k, out, what == 2);
             continue;
@@ -832,6 +1031,19 @@ int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, co
             for (c = 0; c < n + 2 - pi; c++)
                 *out++ = Q[r * FIT_LAT_MAX + c];
     }
-    return ACTAG_OK;
+    return avx2 && inside;
+}
+
+/* Test hooks (tests/test_decode_lattice.c): decode_fit_test.h. */
+int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                          int k, float so, int what, float *portable, float *simd)
+{
+    return fsimd_hook(img, rows, cols, stride, g, k, so, what, 0, portable, simd);
+}
+
+int actag__fit_avx2_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
+                          int k, float so, int what, float *portable, float *avx2)
+{
+    return fsimd_hook(img, rows, cols, stride, g, k, so, what, 1, portable, avx2);
 }
 #endif

@@ -5,8 +5,9 @@
  * A grid's cell means are what every decision of the fit decoder rests on;
  * they are read here, by bilinear samples of the (filtered) frame: 9 a cell
  * (a 3 x 3 pattern at +-so cell along the grid's axes) or, with im->fast, 5
- * (the centre and the 4 diagonal points). The SSE2 paths (x86-64) give the
- * portable code's floats bit for bit.
+ * (the centre and the 4 diagonal points). The SSE2 paths (x86-64), and the
+ * AVX2 ones where the processor has it, give the portable code's floats bit
+ * for bit.
  */
 #ifndef ACTAG_SRC_FIT_CELLS_H
 #define ACTAG_SRC_FIT_CELLS_H
@@ -29,6 +30,8 @@ typedef struct fimg {
                     second look: the allowance counts both), else 1 */
 #if ACTAG__FIT_SIMD
     int simd; /* 1: the SSE2 samplers serve the cell reads (fsimd_ok) */
+    int avx2; /* 1 (with simd): the AVX2 ones serve grids inside the frame
+                 (actag__fit_avx2_reads, asked once a decode) */
 #endif
 } fimg;
 

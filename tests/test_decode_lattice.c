@@ -160,7 +160,8 @@ static void test_lattice_exact_on_pixel_grid(void)
 #define BS 712
 
 /* A hook reading one grid two ways (actag__fit_simd_cells: portable and
- * SSE2; actag__fit_scalar_cells: straightforward and scalar). */
+ * SSE2; actag__fit_avx2_cells: portable and AVX2, 1 when the AVX2 path
+ * read the grid; actag__fit_scalar_cells: straightforward and scalar). */
 typedef int (*cells_hook)(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                           int k, float so, int what, float *a, float *b);
 
@@ -168,13 +169,15 @@ typedef int (*cells_hook)(const uint8_t *img, int rows, int cols, int stride, co
  * erased data corners and the four lattice parity classes, on random grids
  * over a large frame of random bytes (most inside, some across its edges)
  * (row padding filled too: a wrong offset or lane order reads other bytes),
- * some on quarter-pixel coordinates (bilinear weights 0 and exact sums). */
-static void cells_equal_big_frame(cells_hook hook)
+ * some on quarter-pixel coordinates (bilinear weights 0 and exact sums).
+ * Returns how many grids the hook said its AVX2 path read. */
+static long cells_equal_big_frame(cells_hook hook)
 {
     static uint8_t img[BR * BS];
     static const int whats[7] = {0, 1, 2, 4, 5, 6, 7};
     uint32_t s = 2718u;
     int trial, i, nonzero = 0, trials = TU_TRIALS(3000, 10); /* the scalar reads run emulated too */
+    long served = 0;
     for (i = 0; i < BR * BS; i++)
         img[i] = (uint8_t)(lcg(&s) & 255u);
     for (trial = 0; trial < trials; trial++) {
@@ -195,26 +198,46 @@ static void cells_equal_big_frame(cells_hook hook)
         memset(a, 0xa5, sizeof a);
         memset(b, 0x5a, sizeof b);
         rc = hook(img, BR, BC, BS, g, k, so, what, a, b);
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc); /* inside or across the edges: both served */
+        TEST_ASSERT_TRUE(rc == ACTAG_OK || rc == 1); /* inside or across the edges: both served */
+        served += rc == 1;
         cnt = what < 4 ? n * n : (n + 2 - (what & 1)) * (n + 2 - ((what >> 1) & 1));
         TEST_ASSERT_EQUAL_MEMORY(a, b, (size_t)cnt * sizeof(float));
         for (c = 0; c < cnt; c++)
             nonzero += a[c] != 0.0f;
     }
     TEST_ASSERT_TRUE(nonzero > 50 * trials);
+    return served;
 }
 
-/* One grid's two reads (hook) on one frame, bit for bit. */
-static void cells_check(cells_hook hook, const uint8_t *img, int rows, int cols, int stride,
-                        const float g[6], int k, float so, int what)
+/* One grid's two reads (hook) on one frame, bit for bit; 1 when the hook
+ * said its AVX2 path read the grid, else 0. lanes: also require the cells
+ * (lattice points) read to differ within every run of 8 consecutive ones
+ * (the erased corners, 0, aside), so that a wrong lane of the eight (a
+ * wrong cell, a lane order or a spare lane stored) shows in the
+ * comparison. */
+static int cells_check_lanes(cells_hook hook, const uint8_t *img, int rows, int cols, int stride,
+                             const float g[6], int k, float so, int what, int lanes)
 {
     float a[(ACTAG_DECODE_MAX_K + 3) * (ACTAG_DECODE_MAX_K + 3)];
     float b[(ACTAG_DECODE_MAX_K + 3) * (ACTAG_DECODE_MAX_K + 3)];
-    int n = k + 1, cnt = what < 4 ? n * n : (n + 2 - (what & 1)) * (n + 2 - ((what >> 1) & 1));
+    int n = k + 1, cnt = what < 4 ? n * n : (n + 2 - (what & 1)) * (n + 2 - ((what >> 1) & 1)), rc, i, j;
     memset(a, 0xa5, sizeof a);
     memset(b, 0x5a, sizeof b);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, hook(img, rows, cols, stride, g, k, so, what, a, b));
+    rc = hook(img, rows, cols, stride, g, k, so, what, a, b);
+    TEST_ASSERT_TRUE(rc == ACTAG_OK || rc == 1);
     TEST_ASSERT_EQUAL_MEMORY(a, b, (size_t)cnt * sizeof(float));
+    for (i = cnt * (int)sizeof(float); i < (int)sizeof b; i++) /* nothing stored past the reads */
+        TEST_ASSERT_EQUAL_HEX8(0x5a, ((const uint8_t *)b)[i]);
+    for (i = 0; lanes && i < cnt; i++)
+        for (j = i + 1; j < cnt && j < i + 8; j++)
+            TEST_ASSERT_TRUE(a[i] != a[j] || a[i] == 0.0f);
+    return rc == 1;
+}
+
+static int cells_check(cells_hook hook, const uint8_t *img, int rows, int cols, int stride,
+                       const float g[6], int k, float so, int what)
+{
+    return cells_check_lanes(hook, img, rows, cols, stride, g, k, so, what, 0);
 }
 
 /* Grids that leave the frame (the clamping SIMD sampler, the scalar reads'
@@ -224,12 +247,13 @@ static void cells_check(cells_hook hook, const uint8_t *img, int rows, int cols,
  * points on the last row and column exactly (quarter-pixel grids: x = cols - 1
  * where fsample's column pair degenerates); huge, infinite and NaN
  * coordinates. */
-static void cells_equal_off_frame(cells_hook hook)
+static long cells_equal_off_frame(cells_hook hook)
 {
     static const int whats[7] = {0, 1, 2, 4, 5, 6, 7};
     static const float odd[6] = {1e30f, -1e30f, 3e9f, -3e9f, 0.0f, 0.0f};
     uint32_t s = 31415u;
     int trial, i, rows, cols;
+    long served = 0;
     for (trial = 0; trial < TU_TRIALS(6000, 10); trial++) {
         int big = trial % 3 != 0, stride, k = 4 + (int)(lcg(&s) % 5u), what = whats[lcg(&s) % 7u];
         float cell, th, sh, so = unif(&s, 0.0f, 0.5f), g[6], ext;
@@ -282,9 +306,10 @@ static void cells_equal_off_frame(cells_hook hook)
             if (lcg(&s) & 1u)
                 g[(int)(lcg(&s) % 6u)] = (float)NAN;
         }
-        cells_check(hook, img, rows, cols, stride, g, k, so, what);
+        served += cells_check(hook, img, rows, cols, stride, g, k, so, what);
         free(img);
     }
+    return served;
 }
 /* The scalar reads (fcells_on, flattice: the Cortex-M path, hoisted
  * offsets and a sampler chosen per grid and per cell; on Cortex-M4/M7 the
@@ -304,15 +329,118 @@ static void test_scalar_cells_equal_straightforward_off_frame(void)
 
 #if ACTAG__FIT_SIMD
 /* The x86-64 SSE2 cell reads (four cells a lane each) against the portable
- * scalar reads. */
+ * scalar reads, on any processor (the hook keeps the AVX2 path off). */
 static void test_simd_cells_equal_portable(void)
 {
+    printf("SSE2 cell reads (AVX2 path off) compared with the portable ones\n");
     cells_equal_big_frame(actag__fit_simd_cells);
 }
 
 static void test_simd_cells_equal_portable_off_frame(void)
 {
     cells_equal_off_frame(actag__fit_simd_cells);
+}
+
+/* The reads as the decoder takes them on an AVX2 processor (eight cells a
+ * lane each for grids inside the frame, the SSE2 clamping sampler for the
+ * others) against the portable ones. */
+static void test_avx2_cells_equal_portable(void)
+{
+    long served;
+    if (!actag__fit_avx2_reads())
+        TEST_IGNORE_MESSAGE("no AVX2 cell reads (compiled out, or not this processor)");
+    served = cells_equal_big_frame(actag__fit_avx2_cells);
+    printf("AVX2 cell reads compared with the portable ones: %ld of %d grids by the AVX2 path\n", served,
+           TU_TRIALS(3000, 10));
+    TEST_ASSERT_TRUE(served > TU_TRIALS(3000, 10) / 2);
+}
+
+static void test_avx2_cells_equal_portable_off_frame(void)
+{
+    long served;
+    if (!actag__fit_avx2_reads())
+        TEST_IGNORE_MESSAGE("no AVX2 cell reads (compiled out, or not this processor)");
+    served = cells_equal_off_frame(actag__fit_avx2_cells);
+    printf("AVX2 cell reads, grids leaving the frame: %ld of %d grids by the AVX2 path\n", served,
+           TU_TRIALS(6000, 10));
+    TEST_ASSERT_TRUE(served > 0);
+}
+
+/* Every lane of the AVX2 reads: grids inside frames of odd and even sizes
+ * and strides (allocated to their last byte: a gather reading past it shows
+ * under valgrind), anywhere inside and at the inside test's margin by each
+ * edge and corner (fit_cells.c, fbox_inside: the farthest samples a pixel
+ * inside), every `what`, k 4..8 (groups of eight cells ending in 1 to 8
+ * used lanes), on random bytes, where every 8 consecutive cells read differ
+ * (cells_check_lanes; but for the degenerate grids): a lane that read
+ * another cell, or another lane order, fails the comparison. */
+static void test_avx2_cells_every_lane(void)
+{
+    static const int whats[7] = {0, 1, 2, 4, 5, 6, 7};
+    uint32_t s = 8191u;
+    int trial, i, trials = TU_TRIALS(4000, 10);
+    long served = 0;
+    if (!actag__fit_avx2_reads())
+        TEST_IGNORE_MESSAGE("no AVX2 cell reads (compiled out, or not this processor)");
+    for (trial = 0; trial < trials; trial++) {
+        int k = 4 + (int)(lcg(&s) % 5u), what = whats[lcg(&s) % 7u];
+        int rows = 15 + (int)(lcg(&s) % 90u), cols = 15 + (int)(lcg(&s) % 90u);
+        int stride = cols + (int)(lcg(&s) % 4u), bytes = (rows - 1) * stride + cols;
+        float cell = unif(&s, 0.7f, 6.0f), th = unif(&s, 0.0f, 6.2831853f), sh = unif(&s, -0.4f, 0.4f);
+        float so = unif(&s, 0.0f, 0.5f), h, ex, ey, d, g[6];
+        /* every 8th grid degenerate (cells of 0 to 0.01 px) exactly at the
+         * margin: its samples reach the frame's second last row and column
+         * (x0 = cols - 2, y0 = rows - 2), the gathers' last bytes */
+        int tiny = trial % 8 == 5;
+        uint8_t *img = malloc((size_t)bytes);
+        TEST_ASSERT_NOT_NULL(img);
+        for (i = 0; i < bytes; i++)
+            img[i] = (uint8_t)(lcg(&s) & 255u);
+        /* the inside test's reach (fbox_inside's h: cells or lattice) */
+        h = 0.5f * (float)(k + 1) + (what < 4 ? 0.0f : 1.0f) + so;
+        if (tiny)
+            cell = trial % 16 == 5 ? 0.0f : unif(&s, 0.0f, 0.01f);
+        d = tiny ? 0.0f : 0.01f;
+        for (;;) {
+            g[2] = cell * cosf(th);
+            g[3] = cell * sinf(th);
+            g[4] = -cell * sinf(th) + sh * g[2];
+            g[5] = cell * cosf(th) + sh * g[3];
+            ex = (fabsf(g[2]) + fabsf(g[4])) * h;
+            ey = (fabsf(g[3]) + fabsf(g[5])) * h;
+            if (2.0f * ex < (float)cols - 3.1f && 2.0f * ey < (float)rows - 3.1f)
+                break;
+            cell *= 0.8f;
+        }
+        /* x and y each: anywhere inside, or at the margin by one edge */
+        switch (lcg(&s) % 3u) {
+        case 0:
+            g[0] = unif(&s, 1.0f + ex, (float)(cols - 2) - ex);
+            break;
+        case 1:
+            g[0] = 1.0f + ex + unif(&s, 0.0f, d);
+            break;
+        default:
+            g[0] = (float)(cols - 2) - ex - unif(&s, 0.0f, d);
+            break;
+        }
+        switch (lcg(&s) % 3u) {
+        case 0:
+            g[1] = unif(&s, 1.0f + ey, (float)(rows - 2) - ey);
+            break;
+        case 1:
+            g[1] = 1.0f + ey + unif(&s, 0.0f, d);
+            break;
+        default:
+            g[1] = (float)(rows - 2) - ey - unif(&s, 0.0f, d);
+            break;
+        }
+        served += cells_check_lanes(actag__fit_avx2_cells, img, rows, cols, stride, g, k, so, what, !tiny);
+        free(img);
+    }
+    printf("AVX2 lanes, grids inside odd frames: %ld of %d grids by the AVX2 path\n", served, trials);
+    /* a few at the margin round to just outside (the clamping sampler) */
+    TEST_ASSERT_TRUE(served > trials * 9 / 10);
 }
 #else
 static void test_simd_cells_equal_portable(void)
@@ -321,6 +449,21 @@ static void test_simd_cells_equal_portable(void)
 }
 
 static void test_simd_cells_equal_portable_off_frame(void)
+{
+    TEST_IGNORE_MESSAGE("no SIMD cell reads in this build");
+}
+
+static void test_avx2_cells_equal_portable(void)
+{
+    TEST_IGNORE_MESSAGE("no SIMD cell reads in this build");
+}
+
+static void test_avx2_cells_equal_portable_off_frame(void)
+{
+    TEST_IGNORE_MESSAGE("no SIMD cell reads in this build");
+}
+
+static void test_avx2_cells_every_lane(void)
 {
     TEST_IGNORE_MESSAGE("no SIMD cell reads in this build");
 }
@@ -473,6 +616,9 @@ int main(void)
     RUN_TEST(test_scalar_cells_equal_straightforward_off_frame);
     RUN_TEST(test_simd_cells_equal_portable);
     RUN_TEST(test_simd_cells_equal_portable_off_frame);
+    RUN_TEST(test_avx2_cells_equal_portable);
+    RUN_TEST(test_avx2_cells_equal_portable_off_frame);
+    RUN_TEST(test_avx2_cells_every_lane);
     RUN_TEST(test_cells_equal_brute_force);
     RUN_TEST(test_lattice_hook_rejects_bad_arguments);
     return UNITY_END();
