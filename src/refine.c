@@ -8,6 +8,17 @@
 
 #include <string.h>
 
+/* x86 (SSE2): the sweeps' grid offsets for eight lattice rows side by side
+ * (rwblock) and their normal equations four sums a vector (rflush4), the
+ * scalar operations lane by lane (bit-identical; test_refine compares).
+ * Every other target (Cortex-M) keeps the scalar code. */
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
+#define RSSE2 1
+#include <emmintrin.h>
+#else
+#define RSSE2 0
+#endif
+
 #ifdef REFINE_DEBUG
 #include <stdio.h>
 #define DBG(...) fprintf(stderr, __VA_ARGS__)
@@ -582,8 +593,10 @@ typedef struct rsums {
     int n;
 } rsums;
 
-/* Rows (J, r) a sweep buffers before rflush adds their products. */
+/* Rows (J, r) a sweep buffers before rflush adds their products; their
+ * width (SSE2: a pad float, so that a row is two vectors). */
 #define RBATCH 4
+#define RJW (7 + RSSE2)
 
 /* Adds J J' and J r of the buffered rows Jb[k] = (J, r), k < nb, to the
  * packed sums, row after row: each sum gets the same additions in the same
@@ -591,7 +604,8 @@ typedef struct rsums {
  * running value in a register over the batch (two groups: the sums of the
  * J0..J2 rows of J J', then those of J3..J5) instead of a load and a store
  * per pixel and sum. */
-static void rflush(float *A, float *y, float Jb[RBATCH][7], int nb)
+#if !RSSE2
+static void rflush(float *A, float *y, float Jb[RBATCH][RJW], int nb)
 {
     int k;
     {
@@ -667,6 +681,151 @@ static void rflush(float *A, float *y, float Jb[RBATCH][7], int nb)
     }
 }
 
+#else
+/* rflush four sums a vector: with v0 = (j0, j1, j2, j3), v1 = (j4, j5, r,
+ * pad), acc[2a] += ja v0, acc[2a + 1] += ja v1 (a < 4), acc[4 + a] += ja v1
+ * (a = 4, 5): every sum of J J' and J r (and some unused ones) gets the
+ * products of rflush, in the same order (x * y and y * x are the same
+ * float). rsums4 reads them out. */
+static void rflush4(__m128 acc[10], float Jb[RBATCH][RJW], int nb)
+{
+    __m128 a0 = acc[0], a1 = acc[1], a2 = acc[2], a3 = acc[3], a4 = acc[4];
+    __m128 a5 = acc[5], a6 = acc[6], a7 = acc[7], a8 = acc[8], a9 = acc[9];
+    int k;
+    for (k = 0; k < nb; k++) {
+        const __m128 v0 = _mm_loadu_ps(Jb[k]), v1 = _mm_loadu_ps(Jb[k] + 4);
+        __m128 b = _mm_shuffle_ps(v0, v0, 0x00);
+        a0 = _mm_add_ps(a0, _mm_mul_ps(b, v0));
+        a1 = _mm_add_ps(a1, _mm_mul_ps(b, v1));
+        b = _mm_shuffle_ps(v0, v0, 0x55);
+        a2 = _mm_add_ps(a2, _mm_mul_ps(b, v0));
+        a3 = _mm_add_ps(a3, _mm_mul_ps(b, v1));
+        b = _mm_shuffle_ps(v0, v0, 0xaa);
+        a4 = _mm_add_ps(a4, _mm_mul_ps(b, v0));
+        a5 = _mm_add_ps(a5, _mm_mul_ps(b, v1));
+        b = _mm_shuffle_ps(v0, v0, 0xff);
+        a6 = _mm_add_ps(a6, _mm_mul_ps(b, v0));
+        a7 = _mm_add_ps(a7, _mm_mul_ps(b, v1));
+        b = _mm_shuffle_ps(v1, v1, 0x00);
+        a8 = _mm_add_ps(a8, _mm_mul_ps(b, v1));
+        b = _mm_shuffle_ps(v1, v1, 0x55);
+        a9 = _mm_add_ps(a9, _mm_mul_ps(b, v1));
+    }
+    acc[0] = a0;
+    acc[1] = a1;
+    acc[2] = a2;
+    acc[3] = a3;
+    acc[4] = a4;
+    acc[5] = a5;
+    acc[6] = a6;
+    acc[7] = a7;
+    acc[8] = a8;
+    acc[9] = a9;
+}
+
+/* rflush4's sums as rflush packs them: J J' (upper triangle, row by row)
+ * and J r. */
+static void rsums4(const __m128 acc[10], float *A, float *y)
+{
+    /* lanes of acc[m] at t[4 m] */
+    static const unsigned char ia[RNJ] = {0,  1,  2,  3,  4,  5,  9,  10, 11, 12, 13,
+                                          18, 19, 20, 21, 27, 28, 29, 32, 33, 37};
+    static const unsigned char iy[6] = {6, 14, 22, 30, 34, 38};
+    float t[40];
+    int m;
+    for (m = 0; m < 10; m++)
+        _mm_storeu_ps(t + 4 * m, acc[m]);
+    for (m = 0; m < RNJ; m++)
+        A[m] = t[ia[m]];
+    for (m = 0; m < 6; m++)
+        y[m] = t[iy[m]];
+}
+
+/* Lattice rows whose grid offsets rwblock computes side by side. */
+#define RLANES 8
+
+/* rmap_wrow's t = w'Qw / (2 r0), four lanes. */
+static inline __m128 rq4(__m128 w0, __m128 w1, __m128 qa, __m128 qb, __m128 qc)
+{
+    return _mm_add_ps(_mm_mul_ps(w0, _mm_add_ps(_mm_mul_ps(qa, w0), _mm_mul_ps(qb, w1))),
+                      _mm_mul_ps(w1, _mm_add_ps(_mm_mul_ps(qb, w0), _mm_mul_ps(qc, w1))));
+}
+
+/* The grid offsets rsweep_mode's rmap_wrow gives the pixels of lattice
+ * rows i, i + sub, ... (RLANES of them, those below nrow): pixel k of row
+ * i + l sub at wb[k][0][l] (w0), wb[k][1][l] (w1). One row a lane, the
+ * same operations as rmap_wrow's in each: each pixel's t starts the next
+ * one's steps, a chain of dependent multiplies and adds, which the rows
+ * now run side by side. 0 (scalar steps) for a flat grid (no chain) or
+ * when a row reaches past the direction cache. */
+static int rwblock(const rctx *c, const rmap *q, int i, int sub, float wb[][2][RLANES])
+{
+    const float *d[RLANES];
+    float rr[RLANES];
+    int nk[RLANES], l, k, h, kmax = 0;
+    const __m128 m0 = _mm_set1_ps(q->m0), m1 = _mm_set1_ps(q->m1);
+    const __m128 i0 = _mm_set1_ps(q->inv[0]), i1 = _mm_set1_ps(q->inv[1]);
+    const __m128 i2 = _mm_set1_ps(q->inv[2]), i3 = _mm_set1_ps(q->inv[3]);
+    const __m128 qa = _mm_set1_ps(q->qa), qb = _mm_set1_ps(q->qb), qc = _mm_set1_ps(q->qc);
+    __m128 t[RLANES / 4];
+    if (!q->curved)
+        return 0;
+    for (l = 0; l < RLANES; l++) {
+        int r = i + l * sub, j = 0, jb = -1;
+        if (r < c->nrow) {
+            j = (c->ja[r] + sub - 1) / sub * sub;
+            jb = c->jb[r];
+        }
+        nk[l] = 0;
+        rr[l] = 0.0f;
+        d[l] = c->dir; /* a lane past its row's end reads a valid column */
+        if (j <= jb) {
+            if (jb >= c->ndir)
+                return 0;
+            nk[l] = (jb - j) / sub + 1;
+            rr[l] = rrange(c, c->y0 + r * c->step);
+            d[l] = c->dir + 2 * j;
+        }
+        kmax = nk[l] > kmax ? nk[l] : kmax;
+    }
+    for (k = 0; k < kmax; k++) {
+        for (h = 0; h < RLANES / 4; h++) {
+            const int o = 4 * h;
+            const __m128 rv = _mm_loadu_ps(rr + o);
+            const __m128 X = _mm_mul_ps(rv, _mm_set_ps(d[o + 3][0], d[o + 2][0], d[o + 1][0],
+                                                       d[o][0]));
+            const __m128 Y = _mm_mul_ps(rv, _mm_set_ps(d[o + 3][1], d[o + 2][1], d[o + 1][1],
+                                                       d[o][1]));
+            const __m128 dx = _mm_sub_ps(X, m0), dy = _mm_sub_ps(Y, m1);
+            const __m128 a0 = _mm_add_ps(_mm_mul_ps(i0, dx), _mm_mul_ps(i1, dy));
+            const __m128 a1 = _mm_add_ps(_mm_mul_ps(i2, dx), _mm_mul_ps(i3, dy));
+            __m128 w0, w1, tt;
+            if (k == 0) { /* a row's first pixel: 3 steps from 0 */
+                const __m128 z = _mm_setzero_ps();
+                w0 = _mm_sub_ps(a0, _mm_mul_ps(z, i0));
+                w1 = _mm_sub_ps(a1, _mm_mul_ps(z, i2));
+                t[h] = rq4(w0, w1, qa, qb, qc);
+            }
+            w0 = _mm_sub_ps(a0, _mm_mul_ps(t[h], i0));
+            w1 = _mm_sub_ps(a1, _mm_mul_ps(t[h], i2));
+            tt = rq4(w0, w1, qa, qb, qc);
+            w0 = _mm_sub_ps(a0, _mm_mul_ps(tt, i0));
+            w1 = _mm_sub_ps(a1, _mm_mul_ps(tt, i2));
+            tt = rq4(w0, w1, qa, qb, qc);
+            w0 = _mm_sub_ps(a0, _mm_mul_ps(tt, i0));
+            w1 = _mm_sub_ps(a1, _mm_mul_ps(tt, i2));
+            t[h] = tt;
+            _mm_storeu_ps(&wb[k][0][o], w0);
+            _mm_storeu_ps(&wb[k][1][o], w1);
+        }
+        for (l = 0; l < RLANES; l++)
+            if (k + 1 < nk[l])
+                d[l] += 2 * sub;
+    }
+    return 1;
+}
+#endif
+
 /* One pass over the pixel set in one mode, a constant where this is
  * inlined (the other mode's work and tests leave the pixel loop). The
  * sweep's constants are read into locals once; the pixel loop stores only
@@ -675,7 +834,12 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
                         rsums *S)
 {
     rmap q;
-    float Jb[RBATCH][7]; /* rows for rflush */
+    float Jb[RBATCH][RJW]; /* rows for rflush */
+#if RSSE2
+    __m128 acc[10]; /* rflush4's sums */
+    float wb[RCOL_MAX][2][RLANES]; /* rwblock's grid offsets */
+    int wblk = 0;
+#endif
     const float g = c->g, iwu = c->iwu, iwv = c->iwv, nhi = (float)(c->n + 1);
     const float rx = c->rx, ry = c->ry, ra0 = c->ra[0], ra1 = c->ra[1], ra2 = c->ra[2],
                 ra3 = c->ra[3];
@@ -688,6 +852,14 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
     memset(S, 0, sizeof *S);
     if (!rmap_init(G, &q))
         return 0;
+#if RSSE2
+    memset(Jb, 0, sizeof Jb); /* the pads */
+    for (i = 0; i < 10; i++)
+        acc[i] = _mm_setzero_ps();
+#define RFLUSH() rflush4(acc, Jb, nb)
+#else
+#define RFLUSH() rflush(S->A, S->b, Jb, nb)
+#endif
     if (mode == RS_GRID) { /* the levels sweep passes cl unset */
         cl0 = cl[0];
         cl1 = cl[1];
@@ -700,6 +872,11 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
         int y = c->y0 + i * c->step, j = c->ja[i], jb = c->jb[i], first = 1;
         const uint8_t *row = c->img + (size_t)y * (size_t)c->stride * (size_t)(c->depth / 8);
         float rr = rrange(c, y), tq = 0.0f;
+#if RSSE2
+        int kw = 0, lw = i / sub % RLANES;
+        if (lw == 0)
+            wblk = rwblock(c, &q, i, sub, wb);
+#endif
         j = (j + sub - 1) / sub * sub;
         for (; j <= jb; j += sub) {
             int x = x0 + j * step, edge;
@@ -712,8 +889,17 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
             }
             /* 3 steps from the affine w at a row's first pixel, then 2
              * from the previous pixel's curvature */
-            tq = rmap_wrow(&q, X, Y, tq, first, &w0, &w1);
-            first = 0;
+#if RSSE2
+            if (wblk) {
+                w0 = wb[kw][0][lw];
+                w1 = wb[kw][1][lw];
+                kw++;
+            } else
+#endif
+            {
+                tq = rmap_wrow(&q, X, Y, tq, first, &w0, &w1);
+                first = 0;
+            }
             /* the curved inverse diverged (a trial grid bent too far): no
              * grid offset for this pixel, so no such grid (the sum is NaN
              * unless both are finite) */
@@ -762,7 +948,7 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
                 R[5] = vp;
                 R[6] = I;
                 if (RUNLIKELY(++nb == RBATCH)) {
-                    rflush(S->A, S->b, Jb, nb);
+                    RFLUSH();
                     nb = 0;
                 }
                 ss += I * I;
@@ -827,13 +1013,17 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
                 }
                 J[6] = r;
                 if (RUNLIKELY(++nb == RBATCH)) {
-                    rflush(S->A, S->b, Jb, nb);
+                    RFLUSH();
                     nb = 0;
                 }
             }
         }
     }
-    rflush(S->A, S->b, Jb, nb);
+    RFLUSH();
+#undef RFLUSH
+#if RSSE2
+    rsums4(acc, S->A, S->b);
+#endif
     S->ss = ss;
     S->n = n;
     return n >= 16;

@@ -12,6 +12,42 @@
 #include "test_util.h"
 #include "unity.h"
 
+/* The portable refinement (no SSE2 paths), compiled into this test under
+ * other names, so that the library's x86 paths are compared with it bit for
+ * bit (test_simd_*); elsewhere both are the same code. */
+void actag_refine_params_default_portable(actag_refine_params *rp);
+int actag_refine_corners_portable(const uint8_t *img, int rows, int cols, int stride,
+                                  const actag_sonar_geometry *geometry, float tag_size,
+                                  const actag_family *family, int id,
+                                  const actag_point corners[4], const actag_refine_params *rp,
+                                  actag_point out[4], actag_refine_info *info);
+int actag_refine_corners_depth_portable(const void *img, int depth, int rows, int cols,
+                                        int stride, const actag_sonar_geometry *geometry,
+                                        float tag_size, const actag_family *family, int id,
+                                        const actag_point corners[4],
+                                        const actag_refine_params *rp, actag_point out[4],
+                                        actag_refine_info *info);
+int actag__refine_corners_max16_portable(const void *img, int depth, uint32_t max16, int rows,
+                                         int cols, int stride,
+                                         const actag_sonar_geometry *geometry, float tag_size,
+                                         const actag_family *family, int id,
+                                         const actag_point corners[4],
+                                         const actag_refine_params *rp, actag_point out[4],
+                                         actag_refine_info *info);
+int actag__refine_shape_ok_portable(const float start[6], const float fit[6], float cell2);
+#define ACTAG_NO_SIMD 1
+#define actag_refine_params_default actag_refine_params_default_portable
+#define actag_refine_corners actag_refine_corners_portable
+#define actag_refine_corners_depth actag_refine_corners_depth_portable
+#define actag__refine_corners_max16 actag__refine_corners_max16_portable
+#define actag__refine_shape_ok actag__refine_shape_ok_portable
+#include "../src/refine.c"
+#undef actag_refine_params_default
+#undef actag_refine_corners
+#undef actag_refine_corners_depth
+#undef actag__refine_corners_max16
+#undef actag__refine_shape_ok
+
 void setUp(void) {}
 void tearDown(void) {}
 
@@ -599,6 +635,157 @@ static void test_sixteen_bit_equals_its_conversion(void)
     }
 }
 
+/* The library's refinement and the portable one on the same input: the
+ * same return code, corners and info, bit for bit. Counts the cases and
+ * those refined (ACTAG_OK). */
+static void same_paths(const void *img, int depth, int rows, int cols, int stride,
+                       const actag_sonar_geometry *geo, float tag_size, int id,
+                       const actag_point s[4], const actag_refine_params *rp, int count[2])
+{
+    actag_point fa[4], fb[4];
+    actag_refine_info ia, ib;
+    int ra, rb;
+    memset(&ia, 0, sizeof ia);
+    memset(&ib, 0, sizeof ib);
+    ra = actag__refine_corners_max16(img, depth, 0u, rows, cols, stride, geo, tag_size, &g_fam,
+                                     id, s, rp, fa, &ia);
+    rb = actag__refine_corners_max16_portable(img, depth, 0u, rows, cols, stride, geo, tag_size,
+                                              &g_fam, id, s, rp, fb, &ib);
+    TEST_ASSERT_EQUAL_INT(rb, ra);
+    TEST_ASSERT_EQUAL_MEMORY(fb, fa, sizeof fa);
+    TEST_ASSERT_EQUAL_MEMORY(&ib, &ia, sizeof ia);
+    count[0]++;
+    count[1] += ra == ACTAG_OK;
+}
+
+/* Tags drawn under random maps, refined in a sonar fan (curved grids: the
+ * x86 sweeps' lane-wise paths) of random size, aperture (up to 200 degrees,
+ * beyond the refinement's +-0.6 rad column cache), orientation and tag
+ * size; starts up to 0.6 cell off, some outside the frame; 8 and 16 bits;
+ * lattices of every sparseness (max_samples); pure noise too (grids that
+ * diverge): the library's refinement and the portable one agree bit for
+ * bit. */
+static void test_simd_equals_portable_synthetic(void)
+{
+    static uint8_t img16[2 * RT_ROWS * RT_COLS];
+    actag_rng r;
+    int i, count[2] = {0, 0}, n = TU_TRIALS(240, 8);
+    actag_rng_seed(&r, 27u);
+    for (i = 0; i < n; i++) {
+        amap M;
+        actag_point t[4], s[4];
+        actag_refine_params rp;
+        actag_sonar_geometry geo;
+        int id = (int)actag_rng_below(&r, (uint32_t)g_fam.ncodes), c, k = g_fam.bits / 4;
+        float mpp = 0.002f + 0.004f * frand(&r), cell;
+        random_map(&r, i & 1, &M);
+        draw(id, &M, (i % 3) * 25.0f, &r);
+        if (i % 17 == 5) /* noise alone */
+            for (c = 0; c < RT_ROWS * RT_COLS; c++)
+                g_img[c] = (uint8_t)actag_rng_below(&r, 256u);
+        geo.min_range = 0.2f + 2.0f * frand(&r);
+        geo.max_range = geo.min_range + (float)(RT_ROWS - 1) * mpp;
+        geo.aperture = (i % 5 == 0 ? 3.5f : 1.0f) * (float)(RT_COLS - 1) * mpp /
+                       (0.5f * (geo.min_range + geo.max_range)) * (0.7f + 0.6f * frand(&r));
+        if (geo.aperture > 3.1f)
+            geo.aperture = 3.1f;
+        geo.bearings = NULL;
+        geo.flags = (unsigned)(i & 3);
+        cell = sqrtf(M.a[0] * M.a[0] + M.a[1] * M.a[1]);
+        for (c = 0; c < 4; c++)
+            t[c] = corner_of(&M, c);
+        perturb(t, cell, i % 7 == 3 ? 0.6f : 0.3f, &r, s);
+        if (i % 11 == 4) /* a start partly outside the frame */
+            for (c = 0; c < 4; c++)
+                s[c].x += 0.45f * (float)RT_COLS;
+        actag_refine_params_default(&rp);
+        rp.max_samples = i % 4 == 1 ? 200 + (int)actag_rng_below(&r, 800u) : 6000;
+        /* the tag's white square in metres, 0.7 to 1.3 times its drawn size */
+        {
+            float ts = (float)(k - 3) * cell * mpp * (0.7f + 0.6f * frand(&r));
+            if (i % 6 == 2) {
+                int x, y;
+                for (y = 0; y < RT_ROWS; y++)
+                    for (x = 0; x < RT_COLS; x++) {
+                        uint16_t v = (uint16_t)(g_img[y * RT_COLS + x] * 251u + (unsigned)(x % 7));
+                        memcpy(img16 + 2 * (y * RT_COLS + x), &v, 2);
+                    }
+                same_paths(img16, 16, RT_ROWS, RT_COLS, RT_COLS, &geo, ts, id, s, &rp, count);
+            } else {
+                same_paths(g_img, 8, RT_ROWS, RT_COLS, RT_COLS, &geo, ts, id, s, &rp, count);
+            }
+        }
+    }
+    /* most cases refined: the comparison covers full fits, not refusals */
+    TEST_ASSERT_TRUE(count[1] * 2 > count[0]);
+}
+
+/* The pool frames of data/pool-video in the four orientations: the
+ * refinements of actag_detect's detections from starts moved by up to two
+ * pixels, 8-bit and 16-bit, dense and sparse lattices, agree bit for bit. */
+static void test_simd_equals_portable_pool(void)
+{
+    static const char *const frames[] = {"f_0001.pgm", "f_0011.pgm", "f_0291.pgm",
+                                         "f_0421.pgm", "f_0491.pgm", "f_0561.pgm"};
+    int f, count[2] = {0, 0};
+    for (f = 0; f < 6; f += TU_STEP(3)) {
+        char path[1024];
+        int rows, cols, o, i;
+        uint8_t *img, *img16, *ws;
+        size_t wsize;
+        actag_params p;
+        snprintf(path, sizeof path, "%s/pool-video/%s", TU_DATA, frames[f]);
+        img = tu_read_pgm(path, &rows, &cols);
+        TEST_ASSERT_NOT_NULL(img);
+        img16 = (uint8_t *)malloc(2u * (size_t)rows * (size_t)cols);
+        wsize = actag_workspace_size(rows, cols);
+        ws = (uint8_t *)malloc(wsize);
+        TEST_ASSERT_TRUE(img16 != NULL && ws != NULL);
+        for (i = 0; i < rows * cols; i++) {
+            uint16_t v = (uint16_t)(img[i] * 97u + (unsigned)(i % 13));
+            memcpy(img16 + 2 * i, &v, 2);
+        }
+        actag_params_default(&p);
+        p.family = &g_fam;
+        for (o = 0; o < 4; o++) {
+            const actag_sonar_geometry geo = {0.1f, 1.5f, 1.0472f, NULL, (unsigned)o};
+            actag_detection det[8];
+            actag_frame fr;
+            int n, d, v;
+            fr.data = img;
+            fr.rows = rows;
+            fr.cols = cols;
+            fr.stride = cols;
+            fr.depth = 8;
+            n = actag_detect(&fr, &geo, &p, ws, wsize, det, 8, NULL);
+            TEST_ASSERT_TRUE(n >= 0);
+            for (d = 0; d < n; d++)
+                for (v = 0; v < 6; v++) {
+                    actag_refine_params rp;
+                    actag_point s[4];
+                    int c;
+                    actag_refine_params_default(&rp);
+                    if (v >= 3)
+                        rp.max_samples = 300 + 700 * v;
+                    for (c = 0; c < 4; c++) {
+                        s[c].x = det[d].corners[c].x + 0.7f * (float)((v * 7 + c * 3) % 5 - 2);
+                        s[c].y = det[d].corners[c].y + 0.6f * (float)((v * 5 + c * 11) % 5 - 2);
+                    }
+                    if (v & 1)
+                        same_paths(img16, 16, rows, cols, cols, &geo, p.tag_size, det[d].id, s,
+                                   &rp, count);
+                    else
+                        same_paths(img, 8, rows, cols, cols, &geo, p.tag_size, det[d].id, s, &rp,
+                                   count);
+                }
+        }
+        free(img);
+        free(img16);
+        free(ws);
+    }
+    TEST_ASSERT_TRUE(count[1] >= 20 && count[1] * 4 > count[0] * 3);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -613,5 +800,7 @@ int main(void)
     RUN_TEST(test_refuses_sides_changed_beyond_25_percent);
     RUN_TEST(test_shape_rules);
     RUN_TEST(test_sixteen_bit_equals_its_conversion);
+    RUN_TEST(test_simd_equals_portable_synthetic);
+    RUN_TEST(test_simd_equals_portable_pool);
     return UNITY_END();
 }
