@@ -741,8 +741,10 @@ static void rsums4(const __m128 acc[10], float *A, float *y)
         y[m] = t[iy[m]];
 }
 
-/* Lattice rows whose grid offsets rwblock computes side by side. */
+/* Lattice rows whose grid offsets rwblock computes side by side, and
+ * their most pixels (longer rows: scalar steps). */
 #define RLANES 8
+#define RWMAX 128
 
 /* rmap_wrow's t = w'Qw / (2 r0), four lanes. */
 static inline __m128 rq4(__m128 w0, __m128 w1, __m128 qa, __m128 qb, __m128 qc)
@@ -756,9 +758,12 @@ static inline __m128 rq4(__m128 w0, __m128 w1, __m128 qa, __m128 qb, __m128 qc)
  * i + l sub at wb[k][0][l] (w0), wb[k][1][l] (w1). One row a lane, the
  * same operations as rmap_wrow's in each: each pixel's t starts the next
  * one's steps, a chain of dependent multiplies and adds, which the rows
- * now run side by side. 0 (scalar steps) for a flat grid (no chain) or
- * when a row reaches past the direction cache. */
-static int rwblock(const rctx *c, const rmap *q, int i, int sub, float wb[][2][RLANES])
+ * now run side by side; also the level ramps' (up, vp) at wb[k][2..3][l].
+ * 1 when done; 0 (scalar steps) for a flat grid (no chain), a row past the
+ * direction cache or longer than RWMAX; -1 when a pixel's w is not finite
+ * (the pixel loop would return 0 there: the sweep fails whatever the
+ * pixels before it add). */
+static int rwblock(const rctx *c, const rmap *q, int i, int sub, float wb[][4][RLANES])
 {
     const float *d[RLANES];
     float rr[RLANES];
@@ -767,6 +772,10 @@ static int rwblock(const rctx *c, const rmap *q, int i, int sub, float wb[][2][R
     const __m128 i0 = _mm_set1_ps(q->inv[0]), i1 = _mm_set1_ps(q->inv[1]);
     const __m128 i2 = _mm_set1_ps(q->inv[2]), i3 = _mm_set1_ps(q->inv[3]);
     const __m128 qa = _mm_set1_ps(q->qa), qb = _mm_set1_ps(q->qb), qc = _mm_set1_ps(q->qc);
+    const __m128 rx = _mm_set1_ps(c->rx), ry = _mm_set1_ps(c->ry);
+    const __m128 ra0 = _mm_set1_ps(c->ra[0]), ra1 = _mm_set1_ps(c->ra[1]);
+    const __m128 ra2 = _mm_set1_ps(c->ra[2]), ra3 = _mm_set1_ps(c->ra[3]);
+    const __m128 zero = _mm_setzero_ps();
     __m128 t[RLANES / 4];
     if (!q->curved)
         return 0;
@@ -780,7 +789,7 @@ static int rwblock(const rctx *c, const rmap *q, int i, int sub, float wb[][2][R
         rr[l] = 0.0f;
         d[l] = c->dir; /* a lane past its row's end reads a valid column */
         if (j <= jb) {
-            if (jb >= c->ndir)
+            if (jb >= c->ndir || (jb - j) / sub >= RWMAX)
                 return 0;
             nk[l] = (jb - j) / sub + 1;
             rr[l] = rrange(c, c->y0 + r * c->step);
@@ -789,6 +798,7 @@ static int rwblock(const rctx *c, const rmap *q, int i, int sub, float wb[][2][R
         kmax = nk[l] > kmax ? nk[l] : kmax;
     }
     for (k = 0; k < kmax; k++) {
+        int bad = 0; /* lanes with a w not finite */
         for (h = 0; h < RLANES / 4; h++) {
             const int o = 4 * h;
             const __m128 rv = _mm_loadu_ps(rr + o);
@@ -817,10 +827,20 @@ static int rwblock(const rctx *c, const rmap *q, int i, int sub, float wb[][2][R
             t[h] = tt;
             _mm_storeu_ps(&wb[k][0][o], w0);
             _mm_storeu_ps(&wb[k][1][o], w1);
+            /* the level ramps' coordinates, as the pixel loop's */
+            _mm_storeu_ps(&wb[k][2][o], _mm_add_ps(_mm_mul_ps(ra0, _mm_sub_ps(X, rx)),
+                                                   _mm_mul_ps(ra1, _mm_sub_ps(Y, ry))));
+            _mm_storeu_ps(&wb[k][3][o], _mm_add_ps(_mm_mul_ps(ra2, _mm_sub_ps(X, rx)),
+                                                   _mm_mul_ps(ra3, _mm_sub_ps(Y, ry))));
+            bad |= _mm_movemask_ps(_mm_cmpneq_ps(
+                       _mm_add_ps(_mm_sub_ps(w0, w0), _mm_sub_ps(w1, w1)), zero)) << o;
         }
-        for (l = 0; l < RLANES; l++)
+        for (l = 0; l < RLANES; l++) {
+            if (k < nk[l] && (bad >> l & 1))
+                return -1;
             if (k + 1 < nk[l])
                 d[l] += 2 * sub;
+        }
     }
     return 1;
 }
@@ -837,7 +857,7 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
     float Jb[RBATCH][RJW]; /* rows for rflush */
 #if RSSE2
     __m128 acc[10]; /* rflush4's sums */
-    float wb[RCOL_MAX][2][RLANES]; /* rwblock's grid offsets */
+    float wb[RWMAX][4][RLANES]; /* rwblock's grid offsets and ramps */
     int wblk = 0;
 #endif
     const float g = c->g, iwu = c->iwu, iwv = c->iwv, nhi = (float)(c->n + 1);
@@ -874,37 +894,43 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
         float rr = rrange(c, y), tq = 0.0f;
 #if RSSE2
         int kw = 0, lw = i / sub % RLANES;
-        if (lw == 0)
-            wblk = rwblock(c, &q, i, sub, wb);
+        if (lw == 0 && (wblk = rwblock(c, &q, i, sub, wb)) < 0)
+            return 0;
 #endif
         j = (j + sub - 1) / sub * sub;
         for (; j <= jb; j += sub) {
             int x = x0 + j * step, edge;
             float X, Y, w0, w1, u, v, zu, zv, P, pu = 0.0f, pv = 0.0f, up, vp, I;
-            if (!RUNLIKELY(j >= ndir)) { /* rlattice_plane's common case */
-                X = rr * dir[2 * j];
-                Y = rr * dir[2 * j + 1];
-            } else if (!rlattice_plane(c, rr, j, &X, &Y)) {
-                continue;
-            }
-            /* 3 steps from the affine w at a row's first pixel, then 2
-             * from the previous pixel's curvature */
 #if RSSE2
-            if (wblk) {
+            if (wblk) { /* rwblock's, all finite */
                 w0 = wb[kw][0][lw];
                 w1 = wb[kw][1][lw];
+                up = wb[kw][2][lw];
+                vp = wb[kw][3][lw];
                 kw++;
             } else
 #endif
             {
+                if (!RUNLIKELY(j >= ndir)) { /* rlattice_plane's common case */
+                    X = rr * dir[2 * j];
+                    Y = rr * dir[2 * j + 1];
+                } else if (!rlattice_plane(c, rr, j, &X, &Y)) {
+                    continue;
+                }
+                /* 3 steps from the affine w at a row's first pixel, then 2
+                 * from the previous pixel's curvature */
                 tq = rmap_wrow(&q, X, Y, tq, first, &w0, &w1);
                 first = 0;
+                /* the curved inverse diverged (a trial grid bent too far):
+                 * no grid offset for this pixel, so no such grid (the sum
+                 * is NaN unless both are finite) */
+                if (!((w0 - w0) + (w1 - w1) == 0.0f))
+                    return 0;
+#if RSSE2
+                up = ra0 * (X - rx) + ra1 * (Y - ry); /* as below */
+                vp = ra2 * (X - rx) + ra3 * (Y - ry);
+#endif
             }
-            /* the curved inverse diverged (a trial grid bent too far): no
-             * grid offset for this pixel, so no such grid (the sum is NaN
-             * unless both are finite) */
-            if (!((w0 - w0) + (w1 - w1) == 0.0f))
-                return 0;
             u = w0 + g;
             v = w1 + g;
             /* inside one cell, away from its edges: P is the cell's, no
@@ -933,9 +959,11 @@ RINLINE int rsweep_mode(const rctx *c, const rgrid *G, const float cl[6], int su
             } else {
                 P = L[RL_PAD + 1];
             }
+#if !RSSE2
             /* the level ramps' coordinates: the start grid's (affine), fixed */
             up = ra0 * (X - rx) + ra1 * (Y - ry);
             vp = ra2 * (X - rx) + ra3 * (Y - ry);
+#endif
             I = (deep ? (float)rscale16(c, row + 2 * x) : (float)row[x]) - 128.0f;
             n++;
             if (mode == RS_LEVELS) {
