@@ -1518,7 +1518,6 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
  * instructions a frame against 11.9 M). Both from median_rows.h.
  * ---------------------------------------------------------------------- */
 #define MEDIAN_ROWS_MAX_R 7
-#define RB_CHUNK 64 /* columns between transposes */
 
 /* Where the scans of rb_medians start: lo <= the median of every lane of
  * the low group, hi >= that of every lane of the high group; when grouped,

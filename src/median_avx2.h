@@ -114,4 +114,46 @@ ACTAG__AVX2_TARGET static int ylanes_all_neg(yu8 d, ylanes s)
     return ((uint32_t)_mm256_movemask_epi8(d) & s) == s;
 }
 
+/* 32 bytes of row from column c0 on, each column clamped to 0 .. cols-1
+ * (at the frame's sides: a copy; never a read outside the row). */
+ACTAG__AVX2_TARGET static __m256i rb_load_clamped(const uint8_t *row, int cols, int c0)
+{
+    uint8_t b[32];
+    int k;
+    if (c0 >= 0 && c0 + 32 <= cols)
+        return y_load(row + c0);
+    for (k = 0; k < 32; k++) {
+        const int c = c0 + k;
+        b[k] = row[c < 0 ? 0 : (c < cols ? c : cols - 1)];
+    }
+    return y_load(b);
+}
+
+/* For median_rows32's row t (samples row, cols columns), columns j1 ..
+ * j1+31: the byte offsets in its hist of the entry the sample entering
+ * the windows (column min(j + R, cols - 1)) updates, oi[j - j1], and of
+ * the one the sample leaving them (max(j - R - 1, 0)) does, oo[j - j1]:
+ * 32 v for level v, or both the row's spare entry 256 + t when the two
+ * samples are equal (RB_ROW). Four 16-lane halves of 16-bit offsets. */
+ACTAG__AVX2_TARGET static void rb_offsets32(const uint8_t *row, int cols, int j1, int R,
+                                            unsigned t, uint16_t *oi, uint16_t *oo)
+{
+    const __m256i a = rb_load_clamped(row, cols, j1 + R);
+    const __m256i b = rb_load_clamped(row, cols, j1 - R - 1);
+    const __m256i eq = _mm256_cmpeq_epi8(a, b);
+    const __m256i spare = _mm256_set1_epi16((short)((256u + t) * 32u));
+    int h;
+    for (h = 0; h < 2; h++) {
+        const __m128i ah = h ? _mm256_extracti128_si256(a, 1) : _mm256_castsi256_si128(a);
+        const __m128i bh = h ? _mm256_extracti128_si256(b, 1) : _mm256_castsi256_si128(b);
+        const __m128i eh = h ? _mm256_extracti128_si256(eq, 1) : _mm256_castsi256_si128(eq);
+        /* spare where equal (0xFFFF lanes), else 0: larger than any 32 v */
+        const __m256i s = _mm256_and_si256(_mm256_cvtepi8_epi16(eh), spare);
+        _mm256_store_si256((__m256i *)(void *)(oi + 16 * h),
+                           _mm256_max_epu16(_mm256_slli_epi16(_mm256_cvtepu8_epi16(ah), 5), s));
+        _mm256_store_si256((__m256i *)(void *)(oo + 16 * h),
+                           _mm256_max_epu16(_mm256_slli_epi16(_mm256_cvtepu8_epi16(bh), 5), s));
+    }
+}
+
 #endif /* ACTAG_MEDIAN_AVX2_H */

@@ -11,8 +11,9 @@
  * bytes), v_load, v_store, v_zero, v_dup, v_add, v_sub, v_nonneg,
  * v_select, v_zip (a full-width byte interleave), v_hmin, v_hmax, and a
  * set of lanes: the type lanes, lanes_all, lanes_none, lanes_any,
- * lanes_not, lanes_nonneg, lanes_any_neg, lanes_all_neg. rb_refs,
- * MEDIAN_ROWS_MAX_R and RB_CHUNK come from median.c (both widths).
+ * lanes_not, lanes_nonneg, lanes_any_neg, lanes_all_neg; for 32 lanes
+ * also rb_offsets32 (RB_ROW). rb_refs and MEDIAN_ROWS_MAX_R come from
+ * median.c (both widths).
  *
  * Huang's sliding histogram shared by RB_LANES output rows (the portable
  * path's median_quad with 16 or 32 lanes instead of four). hist[v] holds,
@@ -34,6 +35,13 @@
 #error "median_rows.h: RB_LANES is 16 or 32"
 #endif
 #define RB_NT_MAX (2 * MEDIAN_ROWS_MAX_R + RB_LANES) /* source rows of a block */
+#if RB_LANES == 32
+#define RB_HIST (256 + RB_NT_MAX) /* levels, then row t's spare level 256 + t */
+#define RB_CHUNK 32               /* columns between transposes */
+#else
+#define RB_HIST 512 /* levels, then the spare levels 256 + (v ^ t) */
+#define RB_CHUNK 64
+#endif
 
 /* Writes np rows of the n <= RB_CHUNK columns of medians col[0..n-1]
  * (lane p: output row p) from d on. Full groups of RB_LANES columns: a
@@ -45,18 +53,18 @@ RB_ATTR static void RB_FN(rb_store)(const vu8 *col, int n, uint8_t *d, size_t ds
     int g, k, p, c;
     for (g = 0; g + RB_LANES <= n; g += RB_LANES) {
         vu8 a[RB_LANES], b[RB_LANES];
+        const vu8 *x = col + g;
+        vu8 *y = a;
         int round;
-        for (k = 0; k < RB_LANES; k++)
-            a[k] = col[g + k];
+        /* each round from x into y, a and b in turn (no copies) */
         for (round = 1; round < RB_LANES; round *= 2) {
-            for (k = 0; k < RB_LANES / 2; k++) {
-                v_zip(a[k], a[k + RB_LANES / 2], &b[2 * k], &b[2 * k + 1]);
-            }
-            for (k = 0; k < RB_LANES; k++)
-                a[k] = b[k];
+            for (k = 0; k < RB_LANES / 2; k++)
+                v_zip(x[k], x[k + RB_LANES / 2], &y[2 * k], &y[2 * k + 1]);
+            x = y;
+            y = y == a ? b : a;
         }
         for (p = 0; p < np; p++)
-            v_store(d + (size_t)p * dstride + (size_t)g, a[p]);
+            v_store(d + (size_t)p * dstride + (size_t)g, x[p]);
     }
     for (c = g; c < n; c++) {
         const uint8_t *m = (const uint8_t *)&col[c];
@@ -67,12 +75,26 @@ RB_ATTR static void RB_FN(rb_store)(const vu8 *col, int n, uint8_t *d, size_t ds
 
 /* Source row t: its sample of column ca enters, that of cr leaves the
  * windows of mask[t] (0xFF lanes: subtracting adds one). When the two are
- * equal (v) both go to spare level 256 + (v ^ t) instead, which stays
- * zero: in a flat region (the black corners of a sonar fan) the same level
- * would be read and written 2 (2R + RB_LANES) times a column, each load
- * waiting for the previous store; spread over the rows' spare levels the
- * updates are independent. Selected with a mask, not a branch (equal
- * samples come and go at random in noise). */
+ * equal (v) both go to a spare level instead, which stays zero: in a flat
+ * region (the black corners of a sonar fan) the same level would be read
+ * and written 2 (2R + RB_LANES) times a column, each load waiting for the
+ * previous store; spread over the rows' spare levels the updates are
+ * independent. Selected with a mask, not a branch (equal samples come and
+ * go at random in noise).
+ * 16 lanes: the spare level is 256 + (v ^ t), chosen here from the two
+ * samples. 32 lanes: the byte offsets of both entries, the spare one being
+ * 256 + t, were computed with those of the next columns (rb_offsets32,
+ * the column's k32 in offs): 10 instructions a row instead of about 20. */
+#if RB_LANES == 32
+#define RB_ROW(t)                                                                              \
+    do {                                                                                       \
+        const vu8 m_ = mask[t];                                                                \
+        vu8 *const hi_ = (vu8 *)(void *)((char *)hist + offs[t][0][k32]);                      \
+        vu8 *const ho_ = (vu8 *)(void *)((char *)hist + offs[t][1][k32]);                      \
+        *hi_ = v_sub(*hi_, m_);                                                                \
+        *ho_ = v_add(*ho_, m_);                                                                \
+    } while (0)
+#else
 #define RB_ROW(t)                                                                              \
     do {                                                                                       \
         const uint8_t *s_ = rowp[t];                                                           \
@@ -84,6 +106,7 @@ RB_ATTR static void RB_FN(rb_store)(const vu8 *col, int n, uint8_t *d, size_t ds
         *hi_ = v_sub(*hi_, m_);                                                                \
         *ho_ = v_add(*ho_, m_);                                                                \
     } while (0)
+#endif
 
 /* Per lane, the samples below level ref: the sum of the levels below ref,
  * or all the samples (N per lane) less those at or above ref, whichever
@@ -97,11 +120,14 @@ RB_ATTR static vu8 RB_FN(rb_below)(const vu8 *hist, unsigned ref, vu8 vn)
             a = v_add(a, v_add(hist[L], hist[L + 2]));
             b = v_add(b, v_add(hist[L + 1], hist[L + 3]));
         }
-        for (; L < ref; L++)
-            a = v_add(a, hist[L]);
+        /* the last ref % 4 levels, or level 256 (zero): no loop exit to
+         * mispredict when ref moves */
+        a = v_add(a, hist[L < ref ? L : 256u]);
+        b = v_add(b, hist[L + 1 < ref ? L + 1 : 256u]);
+        a = v_add(a, hist[L + 2 < ref ? L + 2 : 256u]);
         return v_add(a, b);
     }
-    /* levels 256 .. 258 are spare ones: zero */
+    /* levels 256 .. 258 are spare ones: zero here */
     for (L = ref; L < 256u; L += 4) {
         a = v_add(a, v_add(hist[L], hist[L + 2]));
         b = v_add(b, v_add(hist[L + 1], hist[L + 3]));
@@ -215,10 +241,16 @@ RB_ATTR static vu8 RB_FN(rb_medians)(const vu8 *hist, rb_refs *rf, vu8 vhalf, vu
 RB_ATTR static void RB_FN(median_rows)(rowsrc *rs, int rows, int cols, uint8_t *dst,
                                        size_t dstride, int R, int y0, int y1)
 {
-    vu8 hist[512];        /* levels: 0 .. 255 counts, 256 .. 511 spare (zero) */
+    vu8 hist[RB_HIST];    /* levels: 0 .. 255 counts, then spare ones (zero) */
     vu8 mask[RB_NT_MAX];  /* 0xFF in lane p when source row t is in window p */
     vu8 mbuf[RB_CHUNK];   /* medians of a chunk of columns */
     const uint8_t *rowp[RB_NT_MAX];
+#if RB_LANES == 32
+    /* byte offsets in hist of the entering [0] and leaving [1] samples of
+     * each row for the 32 columns from j1 (rb_offsets32) */
+    __attribute__((aligned(32))) uint16_t offs[RB_NT_MAX][2][32];
+    int j1 = 0, k32;
+#endif
     const int n = 2 * R + 1, nt = n + RB_LANES - 1;
     const vu8 vhalf = v_dup((unsigned)(n * n) / 2u);
     const vu8 vn = v_dup((unsigned)(n * n));
@@ -255,6 +287,14 @@ RB_ATTR static void RB_FN(median_rows)(rowsrc *rs, int rows, int cols, uint8_t *
             for (j = j0; j < j0 + jn; j++) {
                 size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
                 size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
+#if RB_LANES == 32
+                if ((j - j0) % 32 == 0) {
+                    j1 = j;
+                    for (t = 0; t < nt; t++)
+                        rb_offsets32(rowp[t], cols, j1, R, (unsigned)t, offs[t][0], offs[t][1]);
+                }
+                k32 = j - j1;
+#endif
                 if (j > 0 && ca != cr) {
                     /* The 2R + RB_LANES rows unrolled (in any order: the
                      * sums commute), entered by R: a loop's exit was
@@ -331,3 +371,5 @@ RB_ATTR static void RB_FN(median_rows)(rowsrc *rs, int rows, int cols, uint8_t *
 }
 #undef RB_ROW
 #undef RB_NT_MAX
+#undef RB_HIST
+#undef RB_CHUNK
