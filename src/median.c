@@ -45,9 +45,11 @@
  * (oct_block; about 52 instructions per pixel at R = 4, -O2, 78 with four
  * rows). With NEON (AArch64, ARMv7-A) the vector paths are the SSE2 ones,
  * median_strip8 and median_rows16, on the NEON primitives of
- * median_neon.h: the same bytes. On x86-64 processors with AVX2 radii up
- * to 7 take median_rows32 instead, the same code on 32 rows (cpu_x86.h,
- * median_avx2.h). */
+ * median_neon.h: the same bytes. On x86-64 processors with AVX2 (chosen
+ * at run time, cpu_x86.h) radii up to 7 take median_rows32 instead, the
+ * same code on 32 rows with 32-byte vectors (median_avx2.h): 8.5 M
+ * instructions per pool frame at R = 4 against 11.9 M, 10-20 % less time
+ * (bench/stage_bench, bench/actag_bench; the run-to-run spread is wide). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 #include "cpu_x86.h"
@@ -1514,8 +1516,8 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
  * shared by 16 output rows; on x86-64 processors with AVX2 (chosen at run
  * time: median_block) median_rows32, the same code on 32 rows a pass with
  * 32-byte vectors: 2R + 32 row updates for 32 rows instead of 2 (2R + 16),
- * and one median scan for 32 rows instead of two (pool frames, R = 4: 9.0 M
- * instructions a frame against 11.9 M). Both from median_rows.h.
+ * each from offsets computed 32 columns at a time, and one median scan for
+ * 32 rows instead of two. Both from median_rows.h.
  * ---------------------------------------------------------------------- */
 #define MEDIAN_ROWS_MAX_R 7
 
