@@ -45,9 +45,14 @@
  * (oct_block; about 52 instructions per pixel at R = 4, -O2, 78 with four
  * rows). With NEON (AArch64, ARMv7-A) the vector paths are the SSE2 ones,
  * median_strip8 and median_rows16, on the NEON primitives of
- * median_neon.h: the same bytes. */
+ * median_neon.h: the same bytes. On x86-64 processors with AVX2 (chosen
+ * at run time, cpu_x86.h) radii up to 7 take median_rows32 instead, the
+ * same code on 32 rows with 32-byte vectors (median_avx2.h): 8.5 M
+ * instructions per pool frame at R = 4 against 11.9 M, 10-20 % less time
+ * (bench/stage_bench, bench/actag_bench; the run-to-run spread is wide). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
+#include "cpu_x86.h"
 #include "frame16.h"
 #include "median_bands.h"
 
@@ -64,6 +69,11 @@
 /* A 16-byte vector unit: median_strip8 and median_rows16, written once. */
 #if defined(MEDIAN_SSE2) || defined(MEDIAN_NEON)
 #define MEDIAN_SIMD 1
+#endif
+/* x86-64 with a compiler that can build the AVX2 path (cpu_x86.h):
+ * median_rows32 beside median_rows16, chosen at run time (median_block). */
+#if defined(MEDIAN_SSE2) && ACTAG__AVX2
+#define MEDIAN_AVX2 1
 #endif
 
 /* Fine histogram of column c for coarse bin b. */
@@ -83,7 +93,11 @@ static int clampi(int v, int lo, int hi)
  * Montgomery 1994, theorem 4.2: m = floor(2^(24+l) / max) + 1 with
  * 2^l >= max; the numerator is at most 65535 * 255 + 32767 < 2^24).
  * ---------------------------------------------------------------------- */
+#ifdef MEDIAN_AVX2
+#define RING_MAX 48 /* median_rows32 reads up to 2R + 32 = 46 rows at once */
+#else
 #define RING_MAX 32
+#endif
 
 typedef struct {
     const uint8_t *src8;  /* 8-bit frame, or NULL */
@@ -1498,309 +1512,93 @@ static void median_strip8(rowsrc *rs, int rows, int cols, int s0, int s1, size_t
 }
 
 /* ----------------------------------------------------------------------
- * Radii up to 7 with SSE2 or NEON: Huang's sliding histogram shared by
- * sixteen output rows (the portable path's median_quad with 16 lanes
- * instead of four). hist[v] holds, in byte lane p, the count of level v in the window
- * of output row i0 + p (at most (2R+1)^2 <= 225). Moving the 16 windows
- * one column right, each of the 2R+16 source rows of the block adds its
- * sample of the entering column and removes that of the leaving one in
- * the windows that contain the row (a lane mask): two 16-byte
- * read-modify-writes a row, 48 per 16 pixels at R = 4, instead of a column
- * histogram update, two kernel slides and two searches per pixel
- * (median_strip8). No count is kept per sample: the 16 medians are then
- * found together by a vector scan of the levels near the previous
- * column's lowest median (r16_medians). Both were measured against the
- * alternatives: per-sample counts below each median (a compare a sample)
- * cost 7 instructions a row, and walking each lane's median in scalar
- * code mispredicted about one branch in two pixels. The medians are
- * collected column by column and transposed into the output 16 x 16 bytes
- * at a time.
+ * Radii up to 7 with SSE2 or NEON: median_rows16, a sliding histogram
+ * shared by 16 output rows; on x86-64 processors with AVX2 (chosen at run
+ * time: median_block) median_rows32, the same code on 32 rows a pass with
+ * 32-byte vectors: 2R + 32 row updates for 32 rows instead of 2 (2R + 16),
+ * each from offsets computed 32 columns at a time, and one median scan for
+ * 32 rows instead of two. Both from median_rows.h.
  * ---------------------------------------------------------------------- */
-#define MEDIAN_R16_MAX_R 7
-#define R16_NT_MAX (2 * MEDIAN_R16_MAX_R + 16) /* source rows of a block */
-#define R16_CHUNK 64                            /* columns between transposes */
+#define MEDIAN_ROWS_MAX_R 7
 
-/* Writes np rows of the n <= R16_CHUNK columns of medians col[0..n-1]
- * (lane p: output row p) from d on. Full groups of 16 columns: a 16 x 16
- * byte transpose, four rounds of interleaving vector k with vector k + 8
- * (each round rotates the 8-bit (vector, lane) index left by one bit). */
-static void r16_store(const vu8 *col, int n, uint8_t *d, size_t dstride, int np)
-{
-    int g, k, p, c;
-    for (g = 0; g + 16 <= n; g += 16) {
-        vu8 a[16], b[16];
-        int round;
-        for (k = 0; k < 16; k++)
-            a[k] = col[g + k];
-        for (round = 0; round < 4; round++) {
-            for (k = 0; k < 8; k++) {
-                v_zip(a[k], a[k + 8], &b[2 * k], &b[2 * k + 1]);
-            }
-            for (k = 0; k < 16; k++)
-                a[k] = b[k];
-        }
-        for (p = 0; p < np; p++)
-            store16(d + (size_t)p * dstride + (size_t)g, a[p]);
-    }
-    for (c = g; c < n; c++) {
-        const uint8_t *m = (const uint8_t *)&col[c];
-        for (p = 0; p < np; p++)
-            d[(size_t)p * dstride + (size_t)c] = m[p];
-    }
-}
-
-/* Source row t: its sample of column ca enters, that of cr leaves the
- * windows of mask[t] (0xFF lanes: subtracting adds one). When the two are
- * equal (v) both go to spare level 256 + (v ^ t) instead, which stays
- * zero: in a flat region (the black corners of a sonar fan) the same level
- * would be read and written 2 (2R + 16) times a column, each load waiting
- * for the previous store; spread over the rows' spare levels the updates
- * are independent. Selected with a mask, not a branch (equal samples come
- * and go at random in noise). */
-#define R16_ROW(t)                                                                             \
-    do {                                                                                       \
-        const uint8_t *s_ = rowp[t];                                                           \
-        const vu8 m_ = mask[t];                                                            \
-        const size_t vi_ = s_[ca], vo_ = s_[cr];                                               \
-        const size_t sp_ = ((size_t)0 - (size_t)(vi_ == vo_)) & (size_t)(256 | (t));          \
-        vu8 *const hi_ = &hist[vi_ ^ sp_];                                                 \
-        vu8 *const ho_ = &hist[vo_ ^ sp_];                                                 \
-        *hi_ = v_sub(*hi_, m_);                                                         \
-        *ho_ = v_add(*ho_, m_);                                                         \
-    } while (0)
-
-/* Per lane, the samples below level ref: the sum of the levels below ref,
- * or all the samples (N per lane) less those at or above ref, whichever
- * is fewer levels (two sums in flight). */
-static vu8 r16_below(const vu8 *hist, unsigned ref, vu8 vn)
-{
-    vu8 a = v_zero(), b = v_zero();
-    unsigned L;
-    if (ref <= 128u) {
-        for (L = 0; L + 4 <= ref; L += 4) {
-            a = v_add(a, v_add(hist[L], hist[L + 2]));
-            b = v_add(b, v_add(hist[L + 1], hist[L + 3]));
-        }
-        for (; L < ref; L++)
-            a = v_add(a, hist[L]);
-        return v_add(a, b);
-    }
-    /* levels 256 .. 258 are spare ones: zero */
-    for (L = ref; L < 256u; L += 4) {
-        a = v_add(a, v_add(hist[L], hist[L + 2]));
-        b = v_add(b, v_add(hist[L + 1], hist[L + 3]));
-    }
-    return v_sub(vn, v_add(a, b));
-}
-
-/* Where the scans of r16_medians start: lo <= the median of every lane of
+/* Where the scans of rb_medians start: lo <= the median of every lane of
  * the low group, hi >= that of every lane of the high group; when grouped,
  * the lanes whose median is >= mid form the high group. */
 typedef struct {
     unsigned lo, hi, mid, grouped;
-} r16_refs;
+} rb_refs;
 
-/* The 16 windows' medians, all lanes at once, by a scan of the levels up
- * from lo: the medians of 16 neighbouring rows are close (about 10 levels
- * apart on sonar frames), so a scan from the lowest one is short. d =
- * half - the lane's samples below the level, in -113 .. 112: the lane's
- * median is above the level while d stays >= 0 after subtracting the
- * level's count (its sign bit). When the medians lie far apart
- * (bright and dark rows in one block) the scan would cross the levels
- * between them every column: the lanes are then grouped, each column, by
- * the side of mid (the middle of their range) their median is on (a sum
- * of the levels below mid), and the high group is scanned down from hi.
- * Levels 256 .. 258 of hist are read by the unrolled scan and must be
- * zero. */
-static vu8 r16_medians(const vu8 *hist, r16_refs *rf, vu8 vhalf, vu8 vn)
-{
-    lanes lset = lanes_all(), hset = lanes_none(); /* the low and high groups */
-    unsigned k = 0;
-    vu8 gh = v_zero(), med = v_zero();
+#define RB_FN_(x, n) x##n
+#define RB_FN2(x, n) RB_FN_(x, n)
+#define RB_FN(x) RB_FN2(x, RB_LANES)
 
-    if (rf->grouped) {
-        const vu8 dm = v_sub(vhalf, r16_below(hist, rf->mid, vn));
-        hset = lanes_nonneg(dm);
-        lset = lanes_not(hset);
-        gh = v_nonneg(dm);
-    }
-    if (lanes_any(lset)) {
-        /* Low group: lo down while a lane has more than half its samples
-         * below it, then up to the group's lowest median. */
-        unsigned ref = rf->lo;
-        const vu8 *hp;
-        vu8 d = v_sub(vhalf, r16_below(hist, ref, vn)), e;
-        while (lanes_any_neg(d, lset)) {
-            d = v_add(d, hist[--ref]);
-            k++;
-        }
-        for (;;) {
-            e = v_sub(d, hist[ref]);
-            if (lanes_any_neg(e, lset))
-                break;
-            d = e;
-            ref++;
-            k++;
-        }
-        /* Each lane's median: ref + the levels above ref that leave its
-         * d >= 0 (v_nonneg: -1 there). Four levels a test. */
-        med = v_dup(ref);
-        for (hp = &hist[ref + 1]; !lanes_all_neg(e, lset); hp += 4, k += 4) {
-            med = v_sub(med, v_nonneg(e));
-            e = v_sub(e, hp[0]);
-            med = v_sub(med, v_nonneg(e));
-            e = v_sub(e, hp[1]);
-            med = v_sub(med, v_nonneg(e));
-            e = v_sub(e, hp[2]);
-            med = v_sub(med, v_nonneg(e));
-            e = v_sub(e, hp[3]);
-        }
-        rf->lo = ref;
-    }
-    if (lanes_any(hset)) {
-        /* High group, mirrored: u = half - the samples above the level; a
-         * lane's median is the highest level whose count leaves u < 0. */
-        unsigned refh = rf->hi;
-        const vu8 *hp;
-        vu8 u, f, medh;
-        u = v_sub(vhalf, v_sub(v_sub(vn, r16_below(hist, refh, vn)), hist[refh]));
-        while (lanes_any_neg(u, hset)) {
-            u = v_add(u, hist[++refh]);
-            k++;
-        }
-        for (;;) {
-            f = v_sub(u, hist[refh]);
-            if (lanes_any_neg(f, hset))
-                break;
-            u = f;
-            refh--;
-            k++;
-        }
-        /* one level a test: no read below level 0 */
-        medh = v_dup(refh);
-        for (hp = &hist[refh]; !lanes_all_neg(f, hset); k++) {
-            medh = v_add(medh, v_nonneg(f));
-            f = v_sub(f, *--hp);
-        }
-        rf->hi = refh;
-        med = v_select(gh, medh, med);
-        if (lanes_any(lset) && refh >= rf->lo && refh - rf->lo < 32u)
-            rf->grouped = 0; /* close again: one group (lo <= every median) */
-    }
-    if (k > 24) {
-        /* k levels scanned: when many, group the lanes if their medians
-         * are far apart (or move the groups' split). */
-        unsigned mn = r16_hmin(med), mx = r16_hmax(med);
-        rf->grouped = mx - mn > 48u;
-        if (rf->grouped) {
-            rf->lo = mn;
-            rf->hi = mx;
-            rf->mid = (mn + mx) / 2u + 1u;
-        }
-    }
-    return med;
-}
+/* median_rows16 on the 16-byte primitives above */
+#define RB_LANES 16
+#define RB_ATTR
+#define v_load load16
+#define v_store store16
+#define v_hmin r16_hmin
+#define v_hmax r16_hmax
+#include "median_rows.h"
+#undef RB_LANES
+#undef RB_ATTR
+#undef v_load
+#undef v_store
+#undef v_hmin
+#undef v_hmax
 
-static void median_rows16(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
-                          int y0, int y1)
-{
-    vu8 hist[512];        /* levels: 0 .. 255 counts, 256 .. 511 spare (zero) */
-    vu8 mask[R16_NT_MAX]; /* 0xFF in lane p when source row t is in window p */
-    vu8 mbuf[R16_CHUNK];  /* medians of a chunk of columns */
-    const uint8_t *rowp[R16_NT_MAX];
-    const int n = 2 * R + 1, nt = n + 15;
-    const vu8 vhalf = v_dup((unsigned)(n * n) / 2u);
-    const vu8 vn = v_dup((unsigned)(n * n));
-    int i0, j0, j, t, p;
-
-    for (t = 0; t < nt; t++) {
-        uint8_t mb[16];
-        for (p = 0; p < 16; p++)
-            mb[p] = (uint8_t)(p <= t && t <= p + n - 1 ? 0xFF : 0);
-        mask[t] = load16(mb);
-    }
-    memset(hist, 0, sizeof hist);
-    for (i0 = y0; i0 < y1; i0 += 16) {
-        const int np = y1 - i0 < 16 ? y1 - i0 : 16; /* output rows in this block */
-        r16_refs rf;
-        for (t = 0; t < nt; t++)
-            rowp[t] = get_row(rs, clampi(i0 - R + t, 0, rows - 1), -1);
-
-        /* Windows of column 0: columns clamp(-R..R). Only levels 0 .. 255
-         * are cleared: the spare ones are back to zero after every row
-         * (each takes a sample and gives it back). */
-        memset(hist, 0, 256 * sizeof hist[0]);
-        rf.lo = rf.hi = rf.mid = rf.grouped = 0;
-        for (t = 0; t < nt; t++) {
-            int b;
-            for (b = -R; b <= R; b++) {
-                unsigned v = rowp[t][clampi(b, 0, cols - 1)];
-                hist[v] = v_sub(hist[v], mask[t]);
-            }
-        }
-
-        for (j0 = 0; j0 < cols; j0 += R16_CHUNK) {
-            const int jn = cols - j0 < R16_CHUNK ? cols - j0 : R16_CHUNK;
-            for (j = j0; j < j0 + jn; j++) {
-                size_t ca = (size_t)(j + R < cols ? j + R : cols - 1); /* column entering */
-                size_t cr = (size_t)(j - R - 1 > 0 ? j - R - 1 : 0);   /* column leaving */
-                if (j > 0 && ca != cr) {
-                    /* The 2R + 16 rows unrolled (in any order: the sums
-                     * commute), entered by R: a loop's exit was
-                     * mispredicted about once a column. */
-                    switch (R) {
-                    case 7:
-                        R16_ROW(29);
-                        R16_ROW(28);
-                        /* fall through */
-                    case 6:
-                        R16_ROW(27);
-                        R16_ROW(26);
-                        /* fall through */
-                    case 5:
-                        R16_ROW(25);
-                        R16_ROW(24);
-                        /* fall through */
-                    case 4:
-                        R16_ROW(23);
-                        R16_ROW(22);
-                        /* fall through */
-                    case 3:
-                        R16_ROW(21);
-                        R16_ROW(20);
-                        /* fall through */
-                    case 2:
-                        R16_ROW(19);
-                        R16_ROW(18);
-                        /* fall through */
-                    default:
-                        R16_ROW(17);
-                        R16_ROW(16);
-                    }
-                    R16_ROW(15);
-                    R16_ROW(14);
-                    R16_ROW(13);
-                    R16_ROW(12);
-                    R16_ROW(11);
-                    R16_ROW(10);
-                    R16_ROW(9);
-                    R16_ROW(8);
-                    R16_ROW(7);
-                    R16_ROW(6);
-                    R16_ROW(5);
-                    R16_ROW(4);
-                    R16_ROW(3);
-                    R16_ROW(2);
-                    R16_ROW(1);
-                    R16_ROW(0);
-                }
-                mbuf[j - j0] = r16_medians(hist, &rf, vhalf, vn);
-            }
-            r16_store(mbuf, jn, dst + (size_t)i0 * dstride + (size_t)j0, dstride, np);
-        }
-    }
-}
-#undef R16_ROW
+#ifdef MEDIAN_AVX2
+/* median_rows32: the same text on median_avx2.h's 32-byte primitives */
+#include "median_avx2.h"
+#define RB_LANES 32
+#define RB_ATTR ACTAG__AVX2_TARGET
+#define vu8 yu8
+#define v_load y_load
+#define v_store y_store
+#define v_zero y_zero
+#define v_dup y_dup
+#define v_add y_add
+#define v_sub y_sub
+#define v_nonneg y_nonneg
+#define v_select y_select
+#define v_zip y_zip
+#define v_hmin y_hmin
+#define v_hmax y_hmax
+#define lanes ylanes
+#define lanes_all ylanes_all
+#define lanes_none ylanes_none
+#define lanes_any ylanes_any
+#define lanes_not ylanes_not
+#define lanes_nonneg ylanes_nonneg
+#define lanes_any_neg ylanes_any_neg
+#define lanes_all_neg ylanes_all_neg
+#include "median_rows.h"
+#undef RB_LANES
+#undef RB_ATTR
+#undef vu8
+#undef v_load
+#undef v_store
+#undef v_zero
+#undef v_dup
+#undef v_add
+#undef v_sub
+#undef v_nonneg
+#undef v_select
+#undef v_zip
+#undef v_hmin
+#undef v_hmax
+#undef lanes
+#undef lanes_all
+#undef lanes_none
+#undef lanes_any
+#undef lanes_not
+#undef lanes_nonneg
+#undef lanes_any_neg
+#undef lanes_all_neg
+#endif
+#undef RB_FN
+#undef RB_FN2
+#undef RB_FN_
 #endif /* MEDIAN_SIMD */
 
 /* Large radii (2R + 1 > H / 2 with H column histograms): strips of up to
@@ -1943,7 +1741,7 @@ static void median_strip_agg(rowsrc *rs, int rows, int cols, int s0, int s1, uin
  * the largest radius it serves, and the function. */
 #if defined(MEDIAN_SIMD)
 #define MEDIAN_BLOCK_ROWS 16
-#define MEDIAN_BLOCK_MAX_R MEDIAN_R16_MAX_R
+#define MEDIAN_BLOCK_MAX_R MEDIAN_ROWS_MAX_R
 #define MEDIAN_BLOCK median_rows16
 #elif defined(MEDIAN_DSP)
 #define MEDIAN_BLOCK_ROWS 4
@@ -1954,6 +1752,32 @@ static void median_strip_agg(rowsrc *rs, int rows, int cols, int s0, int s1, uin
 #define MEDIAN_BLOCK_MAX_R MEDIAN_QUAD_MAX_R
 #define MEDIAN_BLOCK median_quad
 #endif
+
+/* Output rows y0 .. y1-1 by the row-block median: median_rows32 when the
+ * processor has AVX2 and the block's 2R + 32 source rows are at hand (8-bit
+ * rows, or a 16-bit ring that holds them all), else MEDIAN_BLOCK. The
+ * same bytes either way. */
+static void median_block(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
+                         int y0, int y1)
+{
+#ifdef MEDIAN_AVX2
+    if ((rs->src8 != NULL || rs->k >= 2 * R + 32) && actag__cpu_avx2()) {
+        median_rows32(rs, rows, cols, dst, dstride, R, y0, y1);
+        return;
+    }
+#endif
+    MEDIAN_BLOCK(rs, rows, cols, dst, dstride, R, y0, y1);
+}
+
+/* Rows a pass of median_block on 8-bit rows. */
+static int median_block_rows(void)
+{
+#ifdef MEDIAN_AVX2
+    if (actag__cpu_avx2())
+        return 32;
+#endif
+    return MEDIAN_BLOCK_ROWS;
+}
 
 /* The filter on checked arguments; 16-bit frames (rs->src8 NULL) are
  * scaled through the ring in the scratch after the column histograms. */
@@ -1988,7 +1812,7 @@ static int median_core(rowsrc *rs, int rows, int cols, uint8_t *dst, int dst_str
         if (rs->src8 != NULL || nk >= (size_t)(2 * R + MEDIAN_BLOCK_ROWS)) {
             rs->ring = (uint8_t *)scratch;
             rs->k = nk < RING_MAX ? (int)nk : RING_MAX;
-            MEDIAN_BLOCK(rs, rows, cols, dst, dstride, R, 0, rows);
+            median_block(rs, rows, cols, dst, dstride, R, 0, rows);
             return ACTAG_OK;
         }
     }
@@ -2125,7 +1949,7 @@ static int median_inplace_core(void *frame, int depth, int rows, int cols, int s
     uint8_t *buf = (uint8_t *)frame, *tmp = (uint8_t *)scratch;
     size_t ucols = (size_t)cols, cap;
     rowsrc conv, rs;
-    int R = bands_max_radius(b), H, y0, y1, t0 = 0, t1 = 0, i;
+    int R = bands_max_radius(b), H, blk, y0, y1, t0 = 0, t1 = 0, i;
     memset(&conv, 0, sizeof conv);
     if (depth == 16) {
         if (max16 == 0u)
@@ -2135,14 +1959,17 @@ static int median_inplace_core(void *frame, int depth, int rows, int cols, int s
         conv.c1 = ucols;
     }
     /* band height: what the copy holds besides the 2R halo rows (R the
-     * largest radius), in whole blocks (30 * cols bytes hold at least one
-     * 16-row block at R = 7) */
+     * largest radius), in whole blocks of median_block's rows (30 * cols
+     * bytes hold at least one 16-row block at R = 7; with 32-row blocks
+     * a band may hold fewer rows than a block: the block's lanes past the
+     * band read clamped rows and are not stored, as at the frame's end) */
     cap = scratch_size / ucols;
     if (cap > (size_t)rows + 2u * (size_t)R)
         cap = (size_t)rows + 2u * (size_t)R;
     H = (int)cap - 2 * R;
-    if (H > MEDIAN_BLOCK_ROWS)
-        H -= H % MEDIAN_BLOCK_ROWS;
+    blk = median_block_rows();
+    if (H > blk)
+        H -= H % blk;
     memset(&rs, 0, sizeof rs);
     rs.src8 = tmp;
     rs.stride = ucols;
@@ -2187,7 +2014,7 @@ static int median_inplace_core(void *frame, int depth, int rows, int cols, int s
                 memcpy(buf + (size_t)ya * ucols, tmp + (size_t)(ya - s0) * ucols,
                        (size_t)(yb - ya) * ucols);
             else
-                MEDIAN_BLOCK(&rs, s1 - s0, cols, buf + (size_t)s0 * ucols, ucols, rb, ya - s0,
+                median_block(&rs, s1 - s0, cols, buf + (size_t)s0 * ucols, ucols, rb, ya - s0,
                              yb - s0);
             ya = yb;
         }
@@ -2308,7 +2135,7 @@ int actag__median_filter_bands(const void *src, int depth, uint32_t max16, int r
             for (y = y0; y < b->end[i]; y++)
                 memcpy(dst + (size_t)y * (size_t)dst_stride, get_row(&rs, y, -1), ucols);
         } else {
-            MEDIAN_BLOCK(&rs, rows, cols, dst, (size_t)dst_stride, b->radius[i], y0, b->end[i]);
+            median_block(&rs, rows, cols, dst, (size_t)dst_stride, b->radius[i], y0, b->end[i]);
         }
     }
     return ACTAG_OK;

@@ -1,4 +1,7 @@
 /* Tests for actag_median_filter against a brute-force reference. */
+/* first: whether the library has and takes the AVX2 path (printed), before
+ * the portable copy below defines ACTAG_NO_SIMD */
+#include "../src/cpu_x86.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +12,30 @@
 #include "filter_check.h"
 #include "../src/frame16.h" /* actag__median_filter16_max, the library's */
 #include "../src/median_bands.h" /* the radius bands, the library's */
+
+/* The library's filter without its AVX2 path (median_sse2_copy.c): on an
+ * x86-64 processor with AVX2 the library takes median_rows32 and this copy
+ * median_rows16; elsewhere both take the same path. */
+int actag_median_filter_sse2(const uint8_t *src, int rows, int cols, int src_stride,
+                             uint8_t *dst, int dst_stride, int radius, void *scratch,
+                             size_t scratch_size);
+int actag_median_filter16_sse2(const void *src, int rows, int cols, int src_stride,
+                               uint8_t *dst, int dst_stride, int radius, void *scratch,
+                               size_t scratch_size);
+int actag__median_filter16_max_sse2(const void *src, uint32_t max16, int rows, int cols,
+                                    int src_stride, uint8_t *dst, int dst_stride, int radius,
+                                    void *scratch, size_t scratch_size);
+int actag_median_filter_inplace_sse2(void *frame, int depth, int rows, int cols, int stride,
+                                     uint32_t max16, int radius, void *scratch,
+                                     size_t scratch_size);
+int actag__median_filter_bands_sse2(const void *src, int depth, uint32_t max16, int rows,
+                                    int cols, int src_stride, uint8_t *dst, int dst_stride,
+                                    const actag__median_bands *b, void *scratch,
+                                    size_t scratch_size);
+int actag__median_filter_inplace_bands_sse2(void *frame, int depth, int rows, int cols,
+                                            int stride, uint32_t max16,
+                                            const actag__median_bands *b, void *scratch,
+                                            size_t scratch_size);
 
 /* The portable (non-SIMD) code path, compiled into this test under another
  * name so that both paths are checked on any machine: without SSE2 on
@@ -51,8 +78,12 @@ int actag__median_filter_inplace_bands_portable(void *frame, int depth, int rows
 
 typedef int (*median_fn)(const uint8_t *, int, int, int, uint8_t *, int, int, void *, size_t);
 
-static const median_fn FNS[2] = {actag_median_filter, actag_median_filter_portable};
-static const char *const FN_NAMES[2] = {"library", "portable"};
+/* The paths every check runs: the library (AVX2 where it may), the same
+ * without AVX2, the portable C. */
+#define NPATHS 3
+static const median_fn FNS[NPATHS] = {actag_median_filter, actag_median_filter_sse2,
+                                      actag_median_filter_portable};
+static const char *const FN_NAMES[NPATHS] = {"library", "sse2", "portable"};
 
 void setUp(void) {}
 void tearDown(void) {}
@@ -134,11 +165,11 @@ static size_t scratch_size(int rows, int cols, int R)
     return ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols) + scratch_extra;
 }
 
-/* Both paths against the brute-force reference, with scratch_extra bytes of
+/* Every path against the brute-force reference, with scratch_extra bytes of
  * scratch beyond ACTAG_MEDIAN_SCRATCH_SIZE; images and cases through
  * fc_fill, fc_check_image and fc_check_case (filter_check.h). */
 static const fc_filter FILTER = {
-    .npaths = 2, .names = FN_NAMES, .run = run_path, .reference = reference,
+    .npaths = NPATHS, .names = FN_NAMES, .run = run_path, .reference = reference,
     .scratch_size = scratch_size, .nkinds = FILL_N, .own_draws = own_draws, .own_pixel = own_pixel};
 
 /* One case: an image of fill kind (row stride cols + sextra) through
@@ -551,9 +582,12 @@ typedef int (*median16_fn)(const void *, int, int, int, uint8_t *, int, int, voi
 typedef int (*median16max_fn)(const void *, uint32_t, int, int, int, uint8_t *, int, int, void *,
                                size_t);
 
-static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
+/* rowwise: samples near 97 r (mod maxv + 1) in row r instead of uniform,
+ * so that neighbouring output rows have different medians. */
+static void check16_rows(int rows, int cols, int R, uint32_t maxv, int sextra, int rowwise)
 {
-    static const median16_fn F16[2] = {actag_median_filter16, actag_median_filter16_portable};
+    static const median16_fn F16[NPATHS] = {actag_median_filter16, actag_median_filter16_sse2,
+                                            actag_median_filter16_portable};
     int stride = cols + sextra, f, r, c;
     size_t n = (size_t)rows * (size_t)stride, scr = ACTAG_MEDIAN_SCRATCH_SIZE(rows, cols);
     uint8_t *raw = (uint8_t *)malloc(2u * n + 1u), *src = raw + 1; /* odd address */
@@ -568,6 +602,8 @@ static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
     for (r = 0; r < rows; r++)
         for (c = 0; c < stride; c++) {
             uint16_t v = (uint16_t)(maxv ? rnd() % (maxv + 1u) : 0u);
+            if (rowwise)
+                v = (uint16_t)(((uint32_t)r * 97u + v % 13u) % (maxv + 1u));
             if (c < cols && v > mx)
                 mx = v;
             memcpy(src + 2u * ((size_t)r * (size_t)stride + (size_t)c), &v, 2);
@@ -580,7 +616,7 @@ static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
                 (uint8_t)(mx ? ((uint32_t)v * 255u + mx / 2u) / mx : 0u);
         }
     brute_median(s8, rows, cols, cols, R, want, cols);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NPATHS; f++) {
         memset(out, 0xA5, (size_t)rows * (size_t)cols);
         memset(scratch, 0x5A, scr);
         snprintf(msg, sizeof msg, "16-bit %s: %dx%d R=%d max=%u", FN_NAMES[f], rows, cols, R,
@@ -595,8 +631,9 @@ static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
     if (mx > 0u) {
         /* a maximum handed in (actag_detect's one scan per frame) is the
          * scale used: here twice the frame's own */
-        static const median16max_fn M16[2] = {actag__median_filter16_max,
-                                              actag__median_filter16_max_portable};
+        static const median16max_fn M16[NPATHS] = {actag__median_filter16_max,
+                                                   actag__median_filter16_max_sse2,
+                                                   actag__median_filter16_max_portable};
         for (r = 0; r < rows; r++)
             for (c = 0; c < cols; c++) {
                 uint16_t v;
@@ -605,7 +642,7 @@ static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
                     (uint8_t)(((uint32_t)v * 255u + mx) / (2u * mx));
             }
         brute_median(s8, rows, cols, cols, R, want, cols);
-        for (f = 0; f < 2; f++) {
+        for (f = 0; f < NPATHS; f++) {
             memset(out, 0xA5, (size_t)rows * (size_t)cols);
             snprintf(msg, sizeof msg, "16-bit %s, max handed in: %dx%d R=%d max=%u", FN_NAMES[f],
                      rows, cols, R, (unsigned)maxv);
@@ -621,6 +658,11 @@ static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
     free(want);
     free(out);
     free(scratch);
+}
+
+static void check16(int rows, int cols, int R, uint32_t maxv, int sextra)
+{
+    check16_rows(rows, cols, R, maxv, sextra, 0);
 }
 
 static void test_16bit_frames(void)
@@ -709,8 +751,9 @@ static void test_16bit_scaling_exact(void)
 /* ------------------------------------------------------------ in place */
 
 typedef int (*inplace_fn)(void *, int, int, int, int, uint32_t, int, void *, size_t);
-static const inplace_fn FIP[2] = {actag_median_filter_inplace,
-                                  actag_median_filter_inplace_portable};
+static const inplace_fn FIP[NPATHS] = {actag_median_filter_inplace,
+                                       actag_median_filter_inplace_sse2,
+                                       actag_median_filter_inplace_portable};
 
 /* A random frame for the in-place and banded checks at orig + 1 (an odd
  * address for 16-bit samples): depth 8, speckle with bright blocks; depth
@@ -752,7 +795,7 @@ static uint32_t random_frame(int depth, int rows, int cols, int stride, uint32_t
  * cols + sextra samples, largest sample maxv for 16-bit frames) against the
  * brute-force median of the frame (16-bit: scaled by the division the
  * manual gives, with max16 passed as given or 0 = found by the filter), on
- * both paths, with `scratch` bytes of scratch (bands of a few rows at the
+ * every path, with `scratch` bytes of scratch (bands of a few rows at the
  * least scratch). The output is the first rows * cols bytes, stride cols. */
 static void check_inplace(int depth, int rows, int cols, int R, uint32_t maxv, int pass_max,
                           int sextra, size_t scratch)
@@ -768,7 +811,7 @@ static void check_inplace(int depth, int rows, int cols, int R, uint32_t maxv, i
     TEST_ASSERT_TRUE(orig && raw && s8 && want && scr);
     mx = random_frame(depth, rows, cols, stride, maxv, orig, s8);
     brute_median(s8, rows, cols, cols, R, want, cols);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NPATHS; f++) {
         memcpy(raw, orig, n + 1u); /* raw + 1: an odd address for 16-bit samples */
         memset(scr, 0x5A, scratch);
         snprintf(msg, sizeof msg, "in place %s: depth %d %dx%d stride %d R=%d scratch %lu",
@@ -806,6 +849,43 @@ static void test_inplace_equals_brute_force(void)
     check_inplace(8, 1, 1, 7, 0, 0, 0, ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(1));
 }
 
+static void test_thirty_two_row_blocks(void)
+{
+    /* The AVX2 path at R <= 7 filters blocks of 32 output rows (a 32-lane
+     * histogram, one byte lane per output row) and writes the medians
+     * through 32 x 32 transposes: every height 1..70 (one to three blocks,
+     * the last one partial or not) at every radius 0..7, widths from 1 past
+     * 64 (partial transpose groups, chunks of 64 columns), on frames whose
+     * rows have different medians (row i near level 7 i: a lane lost,
+     * swapped, or stored in another row fails) and on random ones; 8-bit,
+     * 16-bit (the ring of rows) and in place (bands shorter than a block). */
+    int R, h, step = TU_EMULATED ? 9 : 1;
+    uint8_t *img = (uint8_t *)fc_alloc(70u * 150u);
+    rng_state = 0x32B0u;
+    for (R = 0; R <= 7; R++)
+        for (h = 1; h <= 70; h += step) {
+            int cols = rnd_range(1, 140), sstride = cols + (h & 3), i, j;
+            for (i = 0; i < h; i++)
+                for (j = 0; j < sstride; j++)
+                    img[(size_t)i * (size_t)sstride + (size_t)j] =
+                        (uint8_t)((i * 7 + (int)(rnd() % 5u) + ((j / 9) & 1) * 3) & 255);
+            fc_check_image(&FILTER, img, h, cols, sstride, R, 0, h & 4 ? 3 : 0, "rows differ");
+            check_case(h, rnd_range(1, 70), R, (int)(rnd() % FILL_N), h & 1, 0);
+            if (h % 3 == R % 3) {
+                int c16 = rnd_range(1, 50);
+                int sx = rnd_range(0, 2);
+                check16_rows(h, c16, R, 4095u, sx, 1);
+            }
+            if (h % 3 == (R + 1) % 3) {
+                int depth = h & 1 ? 16 : 8, ci = rnd_range(1, 40);
+                size_t least = ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(ci);
+                size_t more = least + (size_t)rnd_range(0, 60 * ci);
+                check_inplace(depth, h, ci, R, 65535u, 0, h & 3, h & 2 ? more : least);
+            }
+        }
+    free(img);
+}
+
 static void test_inplace_errors(void)
 {
     uint8_t img[64], scr[ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(8)], before[64];
@@ -830,9 +910,11 @@ typedef int (*bands_fn)(const void *, int, uint32_t, int, int, int, uint8_t *, i
                         const actag__median_bands *, void *, size_t);
 typedef int (*bands_inplace_fn)(void *, int, int, int, int, uint32_t,
                                 const actag__median_bands *, void *, size_t);
-static const bands_fn FB[2] = {actag__median_filter_bands, actag__median_filter_bands_portable};
-static const bands_inplace_fn FBI[2] = {actag__median_filter_inplace_bands,
-                                        actag__median_filter_inplace_bands_portable};
+static const bands_fn FB[NPATHS] = {actag__median_filter_bands, actag__median_filter_bands_sse2,
+                                    actag__median_filter_bands_portable};
+static const bands_inplace_fn FBI[NPATHS] = {actag__median_filter_inplace_bands,
+                                             actag__median_filter_inplace_bands_sse2,
+                                             actag__median_filter_inplace_bands_portable};
 
 /* Random bands over rows: 1..8 of them (never more than rows), radii 0..7 in
  * any order (the library's rule makes them monotone; the filter must not
@@ -867,7 +949,7 @@ static void brute_bands(const uint8_t *s8, int rows, int cols, const actag__medi
     free(full);
 }
 
-/* Both paths of the banded filter, out of place and in place, on a random
+/* Every path of the banded filter, out of place and in place, on a random
  * frame of depth 8 or 16 (row stride cols + sextra), against brute_bands. */
 static void check_bands(int depth, int rows, int cols, const actag__median_bands *b, int sextra,
                         size_t inplace_extra, int pass_max)
@@ -885,7 +967,7 @@ static void check_bands(int depth, int rows, int cols, const actag__median_bands
     TEST_ASSERT_TRUE(orig && raw && s8 && want && out && scratch);
     uint32_t mx = random_frame(depth, rows, cols, stride, 4095u, orig, s8);
     brute_bands(s8, rows, cols, b, want);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NPATHS; f++) {
         snprintf(msg, sizeof msg, "bands %s: depth %d %dx%d stride %d, %d bands, first R=%d",
                  FN_NAMES[f], depth, rows, cols, stride, b->n, b->radius[0]);
         memset(out, 0xA5, (size_t)rows * (size_t)cols);
@@ -961,7 +1043,7 @@ static void test_bands_errors(void)
     b.end[1] = 8;
     b.radius[0] = 1;
     b.radius[1] = 2;
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NPATHS; f++) {
         memset(out, 0xA5, sizeof out);
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, FB[f](img, 8, 0, 8, 8, 8, out, 8, NULL, scr, sizeof scr));
         TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, FB[f](NULL, 12, 0, 8, 8, 8, out, 8, &b, scr, sizeof scr));
@@ -1024,7 +1106,7 @@ static void test_errors(void)
     TEST_ASSERT_EQUAL_size_t(70656u, ACTAG_MEDIAN_SCRATCH_SIZE(530, 512));
     rng_state = 5u;
     fc_fill(&FILTER, src, 6, 7, 7, FILL_UNIFORM);
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < NPATHS; f++) {
         median_fn fn = FNS[f];
         memset(dst, 0x77, sizeof dst);
         memcpy(dst_before, dst, sizeof dst);
@@ -1064,6 +1146,14 @@ static void test_errors(void)
 
 int main(void)
 {
+#if ACTAG__AVX2
+    const int avx2 = actag__cpu_avx2();
+#else
+    const int avx2 = 0;
+#endif
+    printf("test_median: the library's row-block median (radii 1..7) is %s\n",
+           avx2 ? "median_rows32 (AVX2); the sse2 path median_rows16"
+                : "not the AVX2 one (library and sse2 paths alike)");
     UNITY_BEGIN();
     RUN_TEST(test_random_images);
     RUN_TEST(test_value_patterns);
@@ -1087,6 +1177,7 @@ int main(void)
     RUN_TEST(test_16bit_frames);
     RUN_TEST(test_16bit_scaling_exact);
     RUN_TEST(test_inplace_equals_brute_force);
+    RUN_TEST(test_thirty_two_row_blocks);
     RUN_TEST(test_inplace_errors);
     RUN_TEST(test_bands_equal_brute_force);
     RUN_TEST(test_bands_errors);
