@@ -47,12 +47,66 @@ QUAD_SMLA(smlatt)
 #define QUAD_SKIP 1
 #endif
 
+/* x86 SSE2 (every x86-64): the hot per-point loops four points a step,
+ * each lane doing the scalar loop's float operations in the same order
+ * (no FMA), the integer sums modulo 2^32 (any order); the scalar loops
+ * finish each range. ACTAG_NO_SIMD selects the plain C. */
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD) && !defined(ACTAG_QUAD_REFERENCE)
+#define QUAD_SSE2 1
+#include <emmintrin.h>
+#endif
+
 /* Forced inlining of the fast paths' per-point helpers (loops called twice
  * for the two stretches of a cyclic run, the sides of quad_inliers). */
 #if defined(__GNUC__)
 #define QUAD_INLINE __attribute__((always_inline)) static inline
 #else
 #define QUAD_INLINE static inline
+#endif
+
+#ifdef QUAD_SSE2
+/* Set bits of b in [0, 15] (SSE2 has no POPCNT): a nibble table. */
+QUAD_INLINE int quad_pop4(int b) { return (int)((0x4332322132212110ull >> (4 * b)) & 15u); }
+
+/* All ones in the lanes of the four labels at lab that are 0 (unclaimed). */
+QUAD_INLINE __m128i quad_free4(const unsigned char *lab)
+{
+    uint32_t w;
+    __m128i f;
+    memcpy(&w, lab, sizeof w);
+    f = _mm_cmpeq_epi8(_mm_cvtsi32_si128((int)w), _mm_setzero_si128());
+    f = _mm_unpacklo_epi8(f, f);
+    return _mm_unpacklo_epi16(f, f);
+}
+
+/* fabsf(nx * fx[i] + ny * fy[i] - c) of four points: the same roundings. */
+QUAD_INLINE __m128 quad_adist4(const float *fx, const float *fy, __m128 nx, __m128 ny, __m128 c)
+{
+    const __m128 t = _mm_add_ps(_mm_mul_ps(nx, _mm_loadu_ps(fx)), _mm_mul_ps(ny, _mm_loadu_ps(fy)));
+    return _mm_and_ps(_mm_sub_ps(t, c), _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+}
+
+/* The sum of the four 32-bit lanes, modulo 2^32. */
+QUAD_INLINE uint32_t quad_hsum(__m128i v)
+{
+    v = _mm_add_epi32(v, _mm_shuffle_epi32(v, 0x4e));
+    v = _mm_add_epi32(v, _mm_shuffle_epi32(v, 0xb1));
+    return (uint32_t)_mm_cvtsi128_si32(v);
+}
+
+/* Raw moment sums of four points (x, y int16 pairs) masked by f, added to
+ * s[0..4] = sum x, y, xx, xy, yy lanes (modulo 2^32): PMADDWD's 16-bit
+ * products are exact. */
+QUAD_INLINE void quad_sums4(const actag_ipoint *p, __m128i f, __m128i s[5])
+{
+    const __m128i v = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)p), f);
+    const __m128i vx = _mm_and_si128(v, _mm_set1_epi32(0xffff)), vy = _mm_srli_epi32(v, 16);
+    s[0] = _mm_add_epi32(s[0], _mm_madd_epi16(v, _mm_set1_epi32(1))); /* x * 1 + y * 0 */
+    s[1] = _mm_add_epi32(s[1], _mm_srai_epi32(v, 16));
+    s[2] = _mm_add_epi32(s[2], _mm_madd_epi16(vx, vx));
+    s[3] = _mm_add_epi32(s[3], _mm_madd_epi16(vx, vy));
+    s[4] = _mm_add_epi32(s[4], _mm_madd_epi16(vy, vy));
+}
 #endif
 
 /* Adjacent sides must differ by at least asin(0.2) (11.5 degrees). */
@@ -270,6 +324,92 @@ QUAD_INLINE void inlier_side(float px, float py, float ax, float ay, float ux, f
         *bt = t < 0.0f ? 0.0f : (t > len ? len : t);
     }
 }
+
+#ifdef QUAD_SSE2
+/* a where m is all ones, else b */
+QUAD_INLINE __m128 quad_sel(__m128 m, __m128 a, __m128 b)
+{
+    return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
+}
+
+/* inlier_side() in four lanes, branch-free: the same operations, the
+ * branches' conditions as masks (false for NaN as in C); *none: the
+ * lanes whose *bj is still -1. */
+QUAD_INLINE void inlier_side4(__m128 px, __m128 py, float ax, float ay, float ux, float uy,
+                              float len, float uxl, float uyl, int j, __m128 *best, __m128i *bj,
+                              __m128 *bt, __m128 *none)
+{
+    const __m128 vux = _mm_set1_ps(ux), vuy = _mm_set1_ps(uy), vlen = _mm_set1_ps(len);
+    const __m128 vx = _mm_sub_ps(px, _mm_set1_ps(ax)), vy = _mm_sub_ps(py, _mm_set1_ps(ay));
+    const __m128 t = _mm_add_ps(_mm_mul_ps(vx, vux), _mm_mul_ps(vy, vuy));
+    const __m128 lt = _mm_cmplt_ps(t, _mm_setzero_ps()), gt = _mm_cmpgt_ps(t, vlen);
+    const __m128 wx = _mm_sub_ps(vx, _mm_set1_ps(uxl)), wy = _mm_sub_ps(vy, _mm_set1_ps(uyl));
+    const __m128 e = _mm_sub_ps(_mm_mul_ps(vx, vuy), _mm_mul_ps(vy, vux));
+    const __m128 e2a = _mm_add_ps(_mm_mul_ps(vx, vx), _mm_mul_ps(vy, vy));
+    const __m128 e2b = _mm_add_ps(_mm_mul_ps(wx, wx), _mm_mul_ps(wy, wy));
+    const __m128 e2 = quad_sel(lt, e2a, quad_sel(gt, e2b, _mm_mul_ps(e, e)));
+    const __m128 upd =
+        _mm_or_ps(_mm_cmplt_ps(e2, *best), _mm_and_ps(*none, _mm_cmpeq_ps(e2, *best)));
+    *best = quad_sel(upd, e2, *best);
+    *bt = quad_sel(upd, _mm_andnot_ps(lt, quad_sel(gt, vlen, t)), *bt); /* +0 where t < 0 */
+    *bj = _mm_castps_si128(
+        quad_sel(upd, _mm_castsi128_ps(_mm_set1_epi32(j)), _mm_castsi128_ps(*bj)));
+    *none = _mm_andnot_ps(upd, *none);
+}
+
+/* quad_inliers' loop (with span) four points a step from index 0, each
+ * lane keeping its own minimum and maximum bt per side, folded into tmin
+ * and tmax at the end by the same rule: in another order, which can change
+ * only the sign of a zero result, and so no tmax - tmin >= x test. Adds to
+ * *count; returns the index reached, or -1 once the count can no longer
+ * reach need (the scalar test, made every fourth point: exiting later, or
+ * not at all, still returns a count below need, which the callers reject
+ * whatever *span says). */
+QUAD_INLINE int inliers_sse2(const qctx *k, const float *ax, const float *ay, const float *ux,
+                             const float *uy, const float *len, float *tmin, float *tmax,
+                             int need, int *count)
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const int n = k->n;
+    const __m128 d2 = _mm_set1_ps(k->d2), ones = _mm_castsi128_ps(_mm_set1_epi32(-1));
+    __m128 lo[4], hi[4];
+    int i, j, cnt = *count;
+    for (j = 0; j < 4; j++) {
+        lo[j] = _mm_set1_ps(len[j]);
+        hi[j] = _mm_setzero_ps();
+    }
+    for (i = 0; i + 4 <= n; i += 4) {
+        const __m128 px = _mm_loadu_ps(fx + i), py = _mm_loadu_ps(fy + i);
+        __m128 best = d2, bt = _mm_setzero_ps(), none = ones;
+        __m128i bj = _mm_set1_epi32(-1);
+        if (cnt + (n - i) < need) {
+            *count = cnt;
+            return -1;
+        }
+        for (j = 0; j < 4; j++)
+            inlier_side4(px, py, ax[j], ay[j], ux[j], uy[j], len[j], ux[j] * len[j],
+                         uy[j] * len[j], j, &best, &bj, &bt, &none);
+        cnt += 4 - quad_pop4(_mm_movemask_ps(none));
+        for (j = 0; j < 4; j++) {
+            const __m128 on = _mm_castsi128_ps(_mm_cmpeq_epi32(bj, _mm_set1_epi32(j)));
+            lo[j] = quad_sel(on, _mm_min_ps(bt, lo[j]), lo[j]); /* bt < lo ? bt : lo */
+            hi[j] = quad_sel(on, _mm_max_ps(bt, hi[j]), hi[j]); /* bt > hi ? bt : hi */
+        }
+    }
+    for (j = 0; j < 4; j++) {
+        float a[4], b[4];
+        int q;
+        _mm_storeu_ps(a, lo[j]);
+        _mm_storeu_ps(b, hi[j]);
+        for (q = 0; q < 4; q++) {
+            tmin[j] = a[q] < tmin[j] ? a[q] : tmin[j];
+            tmax[j] = b[q] > tmax[j] ? b[q] : tmax[j];
+        }
+    }
+    *count = cnt;
+    return i;
+}
+#endif
 #endif
 
 /* Counts the points within d of the quad's sides (segments). With span
@@ -309,7 +449,15 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span, int need)
         const float uxl2 = ux2 * l2, uyl2 = uy2 * l2, uxl3 = ux3 * l3, uyl3 = uy3 * l3;
         const float *fx = k->fx, *fy = k->fy, d2 = k->d2;
         const int n = k->n;
-        for (i = 0; i < n; i++) {
+        i = 0;
+#ifdef QUAD_SSE2
+        i = inliers_sse2(k, ax, ay, ux, uy, len, tmin, tmax, need, &count);
+        if (i < 0) {
+            *span = 0;
+            return count;
+        }
+#endif
+        for (; i < n; i++) {
             float px = fx[i], py = fy[i], best = d2, bt = 0.0f;
             int bj = -1;
             if (count + (n - i) < need) {
@@ -670,6 +818,63 @@ QUAD_INLINE int claim_chain(const qctx *k, unsigned char *restrict lab, const ql
 }
 #endif
 
+#ifdef QUAD_SSE2
+/* claim()'s plain loop from index 0, sixteen points a step, then four;
+ * returns the index reached, the count in *cnt. |dist| <= d is the plain
+ * loop's dist <= d && dist >= -d (false for NaN). With need > 0, returns n
+ * and a count below need once the count cannot reach need (checked each
+ * sixteen points). */
+QUAD_INLINE int claim_sse2(const qctx *k, unsigned char *restrict lab, const qline *l,
+                           unsigned char tag, int need, int *cnt)
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const __m128 nx = _mm_set1_ps(l->nx), ny = _mm_set1_ps(l->ny), c = _mm_set1_ps(l->c);
+    const __m128 d = _mm_set1_ps(k->d);
+    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi8(1);
+    const __m128i vtag = _mm_set1_epi8((char)tag);
+    const int n = k->n;
+    __m128i acc = zero; /* two 64-bit counts */
+    int i = 0, c4 = 0;
+    for (; i + 16 <= n; i += 16) {
+        const __m128i m0 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i, fy + i, nx, ny, c), d));
+        const __m128i m1 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i + 4, fy + i + 4, nx, ny, c), d));
+        const __m128i m2 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i + 8, fy + i + 8, nx, ny, c), d));
+        const __m128i m3 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i + 12, fy + i + 12, nx, ny, c), d));
+        const __m128i lb = _mm_loadu_si128((const __m128i *)(const void *)(lab + i));
+        __m128i m = _mm_packs_epi16(_mm_packs_epi32(m0, m1), _mm_packs_epi32(m2, m3));
+        m = _mm_and_si128(m, _mm_cmpeq_epi8(lb, zero));
+        _mm_storeu_si128((__m128i *)(void *)(lab + i), _mm_or_si128(lb, _mm_and_si128(m, vtag)));
+        acc = _mm_add_epi64(acc, _mm_sad_epu8(_mm_and_si128(m, one), zero));
+        if (need > 0) {
+            const int got = _mm_cvtsi128_si32(acc) + _mm_cvtsi128_si32(_mm_srli_si128(acc, 8));
+            if (got + (n - i - 16) < need) {
+                *cnt = got;
+                return n;
+            }
+        }
+    }
+    for (; i + 4 <= n; i += 4) {
+        const __m128i m4 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i, fy + i, nx, ny, c), d));
+        uint32_t w;
+        __m128i m, b;
+        memcpy(&w, lab + i, sizeof w);
+        b = _mm_cvtsi32_si128((int)w);
+        m = _mm_packs_epi16(_mm_packs_epi32(m4, m4), zero); /* bytes 0-3 */
+        m = _mm_and_si128(m, _mm_cmpeq_epi8(b, zero));
+        w = (uint32_t)_mm_cvtsi128_si32(_mm_or_si128(b, _mm_and_si128(m, vtag)));
+        memcpy(lab + i, &w, sizeof w);
+        c4 += quad_pop4(_mm_movemask_epi8(m) & 15);
+    }
+    *cnt = _mm_cvtsi128_si32(acc) + _mm_cvtsi128_si32(_mm_srli_si128(acc, 8)) + c4;
+    return i;
+}
+#endif
+
 /* Labels the unclaimed points within d of line l with tag; returns their
  * number. The points with |dist| <= d are exactly those of the plain loop
  * (the reference below, kept for ACTAG_QUAD_REFERENCE and contours that are
@@ -683,15 +888,18 @@ static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, uns
     const float *restrict fx = k->fx, *restrict fy = k->fy;
     const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
     const int n = k->n;
-    int i, cnt = 0;
+    int i = 0, cnt = 0;
 #ifdef QUAD_SKIP
     if (k->chain) /* the first three lines' copy without the need test */
         return need > 0 ? claim_chain(k, lab, l, tag, need) : claim_chain(k, lab, l, tag, 0);
-#else
+#endif
+#ifdef QUAD_SSE2
+    i = need > 0 ? claim_sse2(k, lab, l, tag, need, &cnt) : claim_sse2(k, lab, l, tag, 0, &cnt);
+#elif !defined(QUAD_SKIP)
     (void)need;
 #endif
     /* Branch-free so that compilers vectorise it. */
-    for (i = 0; i < n; i++) {
+    for (; i < n; i++) {
         float dist = lnx * fx[i] + lny * fy[i] - lc;
         int in = (lab[i] == 0) & (dist <= d) & (dist >= -d);
         lab[i] = (unsigned char)(lab[i] | (in ? tag : 0u));
@@ -781,16 +989,59 @@ static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
 #undef WALK_SUMS
 
 #ifndef ACTAG_QUAD_REFERENCE
+#ifdef QUAD_SSE2
+/* walk_raw's loop four points a step while a step takes at most *left
+ * points (the scalar loop takes the rest); returns the index reached: when
+ * *left reaches 0, up to three claimed points past the last one taken. */
+QUAD_INLINE int walk_raw_sse2(const actag_ipoint *pts, const unsigned char *lab, int i, int b,
+                              int *left, uint32_t r[5])
+{
+    __m128i s[5];
+    int rest = *left, j;
+    for (j = 0; j < 5; j++)
+        s[j] = _mm_setzero_si128();
+    for (; i + 4 <= b; i += 4) {
+        const __m128i f = quad_free4(lab + i);
+        const int c = quad_pop4(_mm_movemask_ps(_mm_castsi128_ps(f)));
+        if (c > rest)
+            break;
+        quad_sums4(pts + i, f, s);
+        rest -= c;
+        if (rest == 0) {
+            i += 4;
+            break;
+        }
+    }
+    for (j = 0; j < 5; j++)
+        r[j] += quad_hsum(s[j]);
+    *left = rest;
+    return i;
+}
+#endif
+
 /* Raw coordinate sums, modulo 2^32, of the unclaimed points met in [a, b)
  * until *left of them are taken; returns the index after the last one
- * taken (b if fewer). Raw: no origin to subtract a point (walk_all()
- * corrects the sums once). */
+ * taken (b if fewer; under QUAD_SSE2 possibly a few claimed points
+ * further). Raw: no origin to subtract a point (walk_all() corrects the
+ * sums once). */
 QUAD_INLINE int walk_raw(const actag_ipoint *pts, const unsigned char *lab, int a, int b, int *left,
                          uint32_t r[5])
 {
-    uint32_t sx = r[0], sy = r[1], sxx = r[2], sxy = r[3], syy = r[4];
-    int i, rest = *left;
-    for (i = a; i < b; i++) {
+    uint32_t sx, sy, sxx, sxy, syy;
+    int i = a, rest = *left;
+#ifdef QUAD_SSE2
+    i = walk_raw_sse2(pts, lab, a, b, &rest, r);
+    if (rest == 0) {
+        *left = 0;
+        return i;
+    }
+#endif
+    sx = r[0];
+    sy = r[1];
+    sxx = r[2];
+    sxy = r[3];
+    syy = r[4];
+    for (; i < b; i++) {
 #if QUAD_DSP
         uint32_t v;
         if (lab[i])
@@ -882,6 +1133,40 @@ QUAD_INLINE void walk_far(const qctx *k, const unsigned char *lab, int a, int b,
     *r = t;
 }
 
+#ifdef QUAD_SSE2
+/* walk_far's loop four points a step from i, branch-free: adds to acc the
+ * raw sums (quad_sums4) of the far unclaimed points (acc[5]: minus their
+ * count); returns the index reached. */
+QUAD_INLINE int walk_far_sse2(const qctx *k, const unsigned char *lab, int i, int b,
+                              const qline *l, __m128i acc[6])
+{
+    const __m128 nx = _mm_set1_ps(l->nx), ny = _mm_set1_ps(l->ny), c = _mm_set1_ps(l->c);
+    const __m128 d = _mm_set1_ps(k->d);
+    for (; i + 4 <= b; i += 4) {
+        /* !(|dist| <= d): true for NaN, as the scalar test */
+        const __m128 far = _mm_cmpnle_ps(quad_adist4(k->fx + i, k->fy + i, nx, ny, c), d);
+        const __m128i f = _mm_and_si128(_mm_castps_si128(far), quad_free4(lab + i));
+        quad_sums4(k->pts + i, f, acc);
+        acc[5] = _mm_add_epi32(acc[5], f);
+    }
+    return i;
+}
+
+/* Adds walk_far_sse2's sums to r, made relative to the origin as in
+ * walk_all(). */
+QUAD_INLINE void walk_far_fold(const qctx *k, const __m128i acc[6], qsums32 *r)
+{
+    const uint32_t m = 0u - quad_hsum(acc[5]), ox = (uint32_t)k->ox, oy = (uint32_t)k->oy;
+    const uint32_t x = quad_hsum(acc[0]), y = quad_hsum(acc[1]), sx = x - m * ox, sy = y - m * oy;
+    r->n += m;
+    r->sx += sx;
+    r->sy += sy;
+    r->sxx += quad_hsum(acc[2]) - ox * (x + sx);
+    r->sxy += quad_hsum(acc[3]) - oy * x - ox * sy;
+    r->syy += quad_hsum(acc[4]) - oy * (y + sy);
+}
+#endif
+
 /* walk_sums(k, lab, start, m, l, s) after walk_all() gave s, e1 and e2:
  * the same points, so the sums within d are those of all minus those of
  * the (fewer) points farther, which alone it adds up (relative sums below
@@ -890,8 +1175,20 @@ static void walk_near(const qctx *k, const unsigned char *lab, int start, int e1
                       const qline *l, qsums *s)
 {
     qsums32 r = {0u, 0u, 0u, 0u, 0u, 0u};
+#ifdef QUAD_SSE2
+    __m128i acc[6];
+    int j, i1, i2;
+    for (j = 0; j < 6; j++)
+        acc[j] = _mm_setzero_si128();
+    i1 = walk_far_sse2(k, lab, start, e1, l, acc);
+    i2 = walk_far_sse2(k, lab, 0, e2, l, acc);
+    walk_far_fold(k, acc, &r);
+    walk_far(k, lab, i1, e1, l, &r); /* the last points of each range */
+    walk_far(k, lab, i2, e2, l, &r);
+#else
     walk_far(k, lab, start, e1, l, &r);
     walk_far(k, lab, 0, e2, l, &r);
+#endif
     s->n -= r.n;
     s->sx -= r.sx;
     s->sy -= r.sy;
