@@ -1134,20 +1134,38 @@ QUAD_INLINE void walk_far(const qctx *k, const unsigned char *lab, int a, int b,
 }
 
 #ifdef QUAD_SSE2
-/* walk_far's loop four points a step from i, branch-free: adds to acc the
- * raw sums (quad_sums4) of the far unclaimed points (acc[5]: minus their
- * count); returns the index reached. */
+/* walk_far's test and sums of the four points from index i, those with
+ * keep all ones: adds to acc the raw sums (quad_sums4) of the far
+ * unclaimed ones (acc[5]: minus their count). */
+QUAD_INLINE void walk_far4(const qctx *k, const unsigned char *lab, int i, __m128i keep,
+                           __m128 nx, __m128 ny, __m128 c, __m128 d, __m128i acc[6])
+{
+    /* !(|dist| <= d): true for NaN, as the scalar test */
+    const __m128 far = _mm_cmpnle_ps(quad_adist4(k->fx + i, k->fy + i, nx, ny, c), d);
+    const __m128i f =
+        _mm_and_si128(_mm_and_si128(_mm_castps_si128(far), quad_free4(lab + i)), keep);
+    quad_sums4(k->pts + i, f, acc);
+    acc[5] = _mm_add_epi32(acc[5], f);
+}
+
+/* walk_far's loop over [i, b), branch-free, four points a step; the last
+ * step reads the four points ending at b (or starting at 0), those
+ * outside [i, b) masked. Returns the index reached (b unless n < 4). */
 QUAD_INLINE int walk_far_sse2(const qctx *k, const unsigned char *lab, int i, int b,
                               const qline *l, __m128i acc[6])
 {
     const __m128 nx = _mm_set1_ps(l->nx), ny = _mm_set1_ps(l->ny), c = _mm_set1_ps(l->c);
     const __m128 d = _mm_set1_ps(k->d);
-    for (; i + 4 <= b; i += 4) {
-        /* !(|dist| <= d): true for NaN, as the scalar test */
-        const __m128 far = _mm_cmpnle_ps(quad_adist4(k->fx + i, k->fy + i, nx, ny, c), d);
-        const __m128i f = _mm_and_si128(_mm_castps_si128(far), quad_free4(lab + i));
-        quad_sums4(k->pts + i, f, acc);
-        acc[5] = _mm_add_epi32(acc[5], f);
+    const __m128i all = _mm_set1_epi32(-1);
+    for (; i + 4 <= b; i += 4)
+        walk_far4(k, lab, i, all, nx, ny, c, d, acc);
+    if (i < b && k->n >= 4) {
+        const int at = b >= 4 ? b - 4 : 0;
+        const __m128i idx = _mm_add_epi32(_mm_set1_epi32(at), _mm_set_epi32(3, 2, 1, 0));
+        const __m128i keep = _mm_and_si128(_mm_cmpgt_epi32(idx, _mm_set1_epi32(i - 1)),
+                                           _mm_cmplt_epi32(idx, _mm_set1_epi32(b)));
+        walk_far4(k, lab, at, keep, nx, ny, c, d, acc);
+        i = b;
     }
     return i;
 }
@@ -1183,7 +1201,7 @@ static void walk_near(const qctx *k, const unsigned char *lab, int start, int e1
     i1 = walk_far_sse2(k, lab, start, e1, l, acc);
     i2 = walk_far_sse2(k, lab, 0, e2, l, acc);
     walk_far_fold(k, acc, &r);
-    walk_far(k, lab, i1, e1, l, &r); /* the last points of each range */
+    walk_far(k, lab, i1, e1, l, &r); /* nothing left unless n < 4 */
     walk_far(k, lab, i2, e2, l, &r);
 #else
     walk_far(k, lab, start, e1, l, &r);
