@@ -1,6 +1,7 @@
 /* actag_quad_fit's fast paths (src/quad.c without ACTAG_QUAD_REFERENCE:
  * skipping along chains (ACTAG_QUAD_FORCE_SKIP, as on targets without a
- * vector unit), early exits from the counts, the SSE2 loops on x86, the
+ * vector unit), early exits from the counts, the SSE2 and AVX2 loops on
+ * x86 (the skipping copy also runs the SSE2 ones on an AVX2 machine), the
  * plain C ones (ACTAG_NO_SIMD)) against its reference loops (the same
  * file compiled in here with ACTAG_QUAD_REFERENCE, under another name):
  * the same return code, the same bytes of actag_quad and the same
@@ -8,8 +9,8 @@
  * chains around parallelograms (most fit), random-walk blobs, polygons with
  * spikes, chains far from the origin or at negative coordinates, point sets
  * that are not chains (the fast paths must fall back), with random
- * parameters. Then the SSE2 helpers (claim, the sample walks, the inlier
- * count) against the plain C ones on random input, lane by lane. */
+ * parameters. Then the SIMD helpers (claim, the sample walks, the inlier
+ * count), SSE2 and AVX2, against the plain C ones on random input. */
 #include "unity.h"
 #include "test_util.h"
 
@@ -99,11 +100,28 @@ void actag_quad_params_default_scalar(actag_quad_params *p);
 #undef walk_near
 #undef sample_line
 
+/* 1 if the library takes its AVX2 loops here (cpu_x86.h came with the
+ * first copy). */
+static int host_avx2(void)
+{
+#if ACTAG__AVX2
+    return actag__cpu_avx2();
+#else
+    return 0;
+#endif
+}
+
+/* The skipping copy asks g_avx2 instead: 0 runs its SSE2 loops on an AVX2
+ * machine too. */
+static int g_avx2;
+static inline int test_cpu_avx2(void) { return g_avx2; }
+#define actag__cpu_avx2 test_cpu_avx2
+
 /* The skipping claim loop, which the library uses only on targets without
  * a vector unit: compiled in a third time, the names the reference copy
- * also defines renamed. With SSE2 it has the SSE2 loops too (the claim
- * loop on contours that are not chains): the SIMD helpers' tests call
- * them here. */
+ * also defines renamed. With SSE2 it has the SSE2 and AVX2 loops too (the
+ * claim loop on contours that are not chains): the SIMD helpers' tests
+ * call them here. */
 int actag_quad_fit_skip(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
                         actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
 void actag_quad_params_default_skip(actag_quad_params *p);
@@ -266,11 +284,15 @@ static int compare(const actag_ipoint *pts, int n, const actag_quad_params *p, u
     memset(&qb, 0x5a, sizeof qb);
     int v;
     rcb = actag_quad_fit_reference(pts, n, p, &rb, g_scratch, ACTAG_QUAD_SCRATCH_SIZE(n), &qb);
-    for (v = 0; v < 3; v++) { /* the library, the skipping build, plain C */
-        static const char *const name[3] = {"library", "skipping", "plain C"};
+    for (v = 0; v < 4; v++) { /* the library, the skipping build (SSE2, AVX2), plain C */
+        static const char *const name[4] = {"library", "skipping SSE2", "skipping AVX2",
+                                            "plain C"};
+        if (v == 2 && !host_avx2())
+            continue;
+        g_avx2 = v == 2;
         actag_rng_seed(&ra, seed);
         memset(&qa, 0x5a, sizeof qa);
-        rca = (v == 2 ? actag_quad_fit_scalar : v ? actag_quad_fit_skip : actag_quad_fit)(
+        rca = (v == 3 ? actag_quad_fit_scalar : v ? actag_quad_fit_skip : actag_quad_fit)(
             pts, n, p, &ra, g_scratch, ACTAG_QUAD_SCRATCH_SIZE(n), &qa);
         snprintf(msg, sizeof msg, "%s, %s trial %d: n %d, d %g, iterations %d / %d",
                  name[v], what, trial, n, (double)p->inlier_distance,
@@ -389,9 +411,16 @@ typedef struct hset {
     actag_ipoint *pts;
     float *fx, *fy;
     unsigned char *la, *lb; /* the two copies' labels */
-    qctx ka;                /* the skipping copy's context (SSE2 loops) */
+    qctx ka;                /* the skipping copy's context (SSE2 or AVX2 loops) */
     qctx_scalar kb;         /* the plain-C copy's */
 } hset;
+
+/* Which loops the skipping copy's context k takes: AVX2 (v 1) or SSE2. */
+#ifdef QUAD_AVX2
+#define H_AVX2(k, v) ((k).avx2 = (v))
+#else
+#define H_AVX2(k, v) ((void)(v))
+#endif
 
 /* n random points (range: their spread, up to 65535) at a random offset,
  * labels claimed with probability pc. */
@@ -486,24 +515,29 @@ static void test_simd_claim(void)
         hset h;
         qline l;
         qline_scalar lb;
-        int n, range, need, ca, cb;
+        int n, range, need, ca, cb, v;
         double pc;
         float d;
-        unsigned char tag = (unsigned char)irand(1, 4);
+        unsigned char tag = (unsigned char)irand(1, 4), lab0[HCAP];
         h_params(t, &n, &range, &pc, &d);
         hset_make(&h, n, range, pc, d);
+        memcpy(lab0, h.la, (size_t)n);
         l = h_line(&h);
         memcpy(&lb, &l, sizeof lb);
         need = irand(0, 1) ? 0 : irand(1, n + 2);
-        ca = claim(&h.ka, h.la, &l, tag, need);
         cb = claim_scalar(&h.kb, h.lb, &lb, tag, need);
-        snprintf(msg, sizeof msg, "claim trial %d: n %d, need %d, counts %d / %d", t, n, need, ca,
-                 cb);
-        if (ca == cb) {
-            if (n)
-                TEST_ASSERT_EQUAL_MEMORY_MESSAGE(h.lb, h.la, (size_t)n, msg);
-        } else { /* an early exit: both below need */
-            TEST_ASSERT_TRUE_MESSAGE(need > 0 && ca < need && cb < need, msg);
+        for (v = 0; v <= host_avx2(); v++) { /* SSE2, AVX2 */
+            memcpy(h.la, lab0, (size_t)n);
+            H_AVX2(h.ka, v);
+            ca = claim(&h.ka, h.la, &l, tag, need);
+            snprintf(msg, sizeof msg, "claim trial %d (%s): n %d, need %d, counts %d / %d", t,
+                     v ? "AVX2" : "SSE2", n, need, ca, cb);
+            if (ca == cb) {
+                if (n)
+                    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(h.lb, h.la, (size_t)n, msg);
+            } else { /* an early exit: both below need */
+                TEST_ASSERT_TRUE_MESSAGE(need > 0 && ca < need && cb < need, msg);
+            }
         }
     }
 }
@@ -525,7 +559,7 @@ static void test_simd_walks(void)
         hset h;
         qsums sa;
         qsums_scalar sb, sr;
-        int n, range, i, nfree = 0, m, start, e1a = -1, e2a = -1, e1b = -1, e2b = -1, small, q;
+        int n, range, i, nfree = 0, m, start, e1a = -1, e2a = -1, e1b = -1, e2b = -1, small, q, v;
         double pc;
         float d;
         h_params(t, &n, &range, &pc, &d);
@@ -538,11 +572,13 @@ static void test_simd_walks(void)
             continue;
         m = irand(1, nfree);
         start = irand(0, n - 1);
+        v = irand(0, host_avx2()); /* walk_near's loops: SSE2 or AVX2 */
+        H_AVX2(h.ka, v);
         small = walk_all(&h.ka, h.la, start, m, &sa, &e1a, &e2a);
         TEST_ASSERT_EQUAL_INT(small, walk_all_scalar(&h.kb, h.lb, start, m, &sb, &e1b, &e2b));
         walk_sums_scalar(&h.kb, h.lb, start, m, NULL, &sr);
-        snprintf(msg, sizeof msg, "walk trial %d: n %d, m %d, start %d, ext %d", t, n, m, start,
-                 h.ka.ext);
+        snprintf(msg, sizeof msg, "walk trial %d (%s): n %d, m %d, start %d, ext %d", t,
+                 v ? "AVX2" : "SSE2", n, m, start, h.ka.ext);
         h_check_sums(&sa, &sb, msg);
         h_check_sums(&sa, &sr, msg);
         if (!small)
@@ -569,10 +605,12 @@ static void test_simd_walks(void)
 }
 
 /* A quad for quad_inliers: random corners around the points, integer ones
- * (exact ties between sides, points at exactly d), or two equal corners. */
+ * (exact ties between sides, points at exactly d), two equal corners, or
+ * a NaN or infinite corner (NaN projections: not reached by the fit,
+ * whose corners are finite, but the lanes must agree there too). */
 static void h_quad(const hset *h, qquad *q)
 {
-    int j, kind = irand(0, 3);
+    int j, kind = irand(0, 4);
     float w = h->ka.bw + 4.0f, hh = h->ka.bh + 4.0f;
     memset(q, 0, sizeof *q);
     for (j = 0; j < 4; j++) {
@@ -592,7 +630,59 @@ static void h_quad(const hset *h, qquad *q)
     }
     if (kind == 3)
         q->x[1] = q->x[0], q->y[1] = q->y[0];
+    if (kind == 4) {
+        j = irand(0, 3);
+        if (irand(0, 1))
+            q->x[j] = NAN;
+        else
+            q->y[j] = irand(0, 1) ? INFINITY : -INFINITY;
+    }
 }
+
+#ifdef QUAD_SSE2
+/* inliers_sse2's (avx2: inliers_avx2's) count and per-side extremes of
+ * t against inlier_side's, over the points it covered. */
+static void h_extremes(const hset *h, const qquad *q, int avx2, const char *msg)
+{
+    float ax[4], ay[4], ux[4], uy[4], len[4], lo[4], hi[4], slo[4], shi[4];
+    int j, i, cnt = 0, scnt = 0, end, lanes = avx2 ? 8 : 4;
+    for (j = 0; j < 4; j++) {
+        int j1 = (j + 1) & 3;
+        float ex = q->x[j1] - q->x[j], ey = q->y[j1] - q->y[j];
+        float ln = actag_sqrtf(ex * ex + ey * ey);
+        ax[j] = q->x[j];
+        ay[j] = q->y[j];
+        ux[j] = ln > 0.0f ? ex / ln : 0.0f;
+        uy[j] = ln > 0.0f ? ey / ln : 0.0f;
+        len[j] = lo[j] = slo[j] = ln;
+        hi[j] = shi[j] = 0.0f;
+    }
+#ifdef QUAD_AVX2
+    if (avx2)
+        end = inliers_avx2(&h->ka, ax, ay, ux, uy, len, lo, hi, 0, &cnt);
+    else
+#endif
+        end = inliers_sse2(&h->ka, ax, ay, ux, uy, len, lo, hi, 0, &cnt);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(h->n - h->n % lanes, end, msg);
+    for (i = 0; i < end; i++) {
+        float best = h->ka.d2, bt = 0.0f;
+        int bj = -1;
+        for (j = 0; j < 4; j++)
+            inlier_side_scalar(h->fx[i], h->fy[i], ax[j], ay[j], ux[j], uy[j], len[j],
+                               ux[j] * len[j], uy[j] * len[j], j, &best, &bj, &bt);
+        if (bj < 0)
+            continue;
+        scnt++;
+        slo[bj] = bt < slo[bj] ? bt : slo[bj];
+        shi[bj] = bt > shi[bj] ? bt : shi[bj];
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(scnt, cnt, msg);
+    for (j = 0; j < 4; j++) { /* equal values (a zero's sign may differ) */
+        TEST_ASSERT_TRUE_MESSAGE(lo[j] == slo[j] || (lo[j] != lo[j] && slo[j] != slo[j]), msg);
+        TEST_ASSERT_TRUE_MESSAGE(hi[j] == shi[j] || (hi[j] != hi[j] && shi[j] != shi[j]), msg);
+    }
+}
+#endif
 
 static void test_simd_inliers(void)
 {
@@ -603,7 +693,7 @@ static void test_simd_inliers(void)
         hset h;
         qquad q;
         qquad_scalar qb;
-        int n, range, need, ca, cb, spa = -1, spb = -1;
+        int n, range, need, ca, cb, spa, spb = -1, v;
         double pc;
         float d;
         h_params(t, &n, &range, &pc, &d);
@@ -613,54 +703,23 @@ static void test_simd_inliers(void)
         h_quad(&h, &q);
         memcpy(&qb, &q, sizeof qb);
         need = irand(0, 1) ? 0 : irand(0, n + 1);
-        ca = quad_inliers(&h.ka, &q, &spa, need);
         cb = quad_inliers_scalar(&h.kb, &qb, &spb, need);
-        snprintf(msg, sizeof msg, "inliers trial %d: n %d, need %d, counts %d / %d, span %d / %d",
-                 t, n, need, ca, cb, spa, spb);
-        TEST_ASSERT_TRUE_MESSAGE((ca >= need) == (cb >= need), msg);
-        if (ca >= need) {
-            TEST_ASSERT_EQUAL_INT_MESSAGE(cb, ca, msg);
-            TEST_ASSERT_EQUAL_INT_MESSAGE(spb, spa, msg);
-        }
+        for (v = 0; v <= host_avx2(); v++) { /* SSE2, AVX2 */
+            H_AVX2(h.ka, v);
+            spa = -1;
+            ca = quad_inliers(&h.ka, &q, &spa, need);
+            snprintf(msg, sizeof msg,
+                     "inliers trial %d (%s): n %d, need %d, counts %d / %d, span %d / %d", t,
+                     v ? "AVX2" : "SSE2", n, need, ca, cb, spa, spb);
+            TEST_ASSERT_TRUE_MESSAGE((ca >= need) == (cb >= need), msg);
+            if (ca >= need) {
+                TEST_ASSERT_EQUAL_INT_MESSAGE(cb, ca, msg);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(spb, spa, msg);
+            }
 #ifdef QUAD_SSE2
-        {
-            /* inliers_sse2's per-side extremes against inlier_side's */
-            float ax[4], ay[4], ux[4], uy[4], len[4], lo[4], hi[4], slo[4], shi[4];
-            int j, i, cnt = 0, scnt = 0, end;
-            for (j = 0; j < 4; j++) {
-                int j1 = (j + 1) & 3;
-                float ex = q.x[j1] - q.x[j], ey = q.y[j1] - q.y[j];
-                float ln = actag_sqrtf(ex * ex + ey * ey);
-                ax[j] = q.x[j];
-                ay[j] = q.y[j];
-                ux[j] = ln > 0.0f ? ex / ln : 0.0f;
-                uy[j] = ln > 0.0f ? ey / ln : 0.0f;
-                len[j] = lo[j] = slo[j] = ln;
-                hi[j] = shi[j] = 0.0f;
-            }
-            end = inliers_sse2(&h.ka, ax, ay, ux, uy, len, lo, hi, 0, &cnt);
-            TEST_ASSERT_EQUAL_INT_MESSAGE(n - n % 4, end, msg);
-            for (i = 0; i < end; i++) {
-                float best = h.ka.d2, bt = 0.0f;
-                int bj = -1;
-                for (j = 0; j < 4; j++)
-                    inlier_side_scalar(h.fx[i], h.fy[i], ax[j], ay[j], ux[j], uy[j], len[j],
-                                       ux[j] * len[j], uy[j] * len[j], j, &best, &bj, &bt);
-                if (bj < 0)
-                    continue;
-                scnt++;
-                slo[bj] = bt < slo[bj] ? bt : slo[bj];
-                shi[bj] = bt > shi[bj] ? bt : shi[bj];
-            }
-            TEST_ASSERT_EQUAL_INT_MESSAGE(scnt, cnt, msg);
-            for (j = 0; j < 4; j++) { /* equal values (a zero's sign may differ) */
-                TEST_ASSERT_TRUE_MESSAGE(lo[j] == slo[j] || (lo[j] != lo[j] && slo[j] != slo[j]),
-                                         msg);
-                TEST_ASSERT_TRUE_MESSAGE(hi[j] == shi[j] || (hi[j] != hi[j] && shi[j] != shi[j]),
-                                         msg);
-            }
-        }
+            h_extremes(&h, &q, v, msg);
 #endif
+        }
     }
 }
 
