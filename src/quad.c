@@ -2,6 +2,8 @@
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/quad.h"
 
+#include "cpu_x86.h" /* ACTAG__AVX2 */
+
 #include <math.h>
 #include <string.h>
 
@@ -47,12 +49,103 @@ QUAD_SMLA(smlatt)
 #define QUAD_SKIP 1
 #endif
 
+/* x86 SSE2 (every x86-64): the hot per-point loops four points a step,
+ * each lane doing the scalar loop's float operations in the same order
+ * (no FMA), the integer sums modulo 2^32 (any order); the scalar loops
+ * finish each range. ACTAG_NO_SIMD selects the plain C. */
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD) && !defined(ACTAG_QUAD_REFERENCE)
+#define QUAD_SSE2 1
+#include <emmintrin.h>
+#endif
+
+/* x86-64 with AVX2 (chosen at run time, cpu_x86.h): claim, the far-point
+ * sums and the inlier count eight points a step; no FMA (the target is
+ * AVX2 alone). walk_raw stays SSE2 (its eight-point steps were slower). */
+#if defined(QUAD_SSE2) && ACTAG__AVX2
+#define QUAD_AVX2 1
+#endif
+
 /* Forced inlining of the fast paths' per-point helpers (loops called twice
  * for the two stretches of a cyclic run, the sides of quad_inliers). */
 #if defined(__GNUC__)
 #define QUAD_INLINE __attribute__((always_inline)) static inline
 #else
 #define QUAD_INLINE static inline
+#endif
+
+#ifdef QUAD_SSE2
+/* Set bits of b in [0, 15] (SSE2 has no POPCNT): a nibble table. */
+QUAD_INLINE int quad_pop4(int b) { return (int)((0x4332322132212110ull >> (4 * b)) & 15u); }
+
+/* All ones in the lanes of the four labels at lab that are 0 (unclaimed). */
+QUAD_INLINE __m128i quad_free4(const unsigned char *lab)
+{
+    uint32_t w;
+    __m128i f;
+    memcpy(&w, lab, sizeof w);
+    f = _mm_cmpeq_epi8(_mm_cvtsi32_si128((int)w), _mm_setzero_si128());
+    f = _mm_unpacklo_epi8(f, f);
+    return _mm_unpacklo_epi16(f, f);
+}
+
+/* fabsf(nx * fx[i] + ny * fy[i] - c) of four points: the same roundings. */
+QUAD_INLINE __m128 quad_adist4(const float *fx, const float *fy, __m128 nx, __m128 ny, __m128 c)
+{
+    const __m128 t = _mm_add_ps(_mm_mul_ps(nx, _mm_loadu_ps(fx)), _mm_mul_ps(ny, _mm_loadu_ps(fy)));
+    return _mm_and_ps(_mm_sub_ps(t, c), _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)));
+}
+
+/* The sum of the four 32-bit lanes, modulo 2^32. */
+QUAD_INLINE uint32_t quad_hsum(__m128i v)
+{
+    v = _mm_add_epi32(v, _mm_shuffle_epi32(v, 0x4e));
+    v = _mm_add_epi32(v, _mm_shuffle_epi32(v, 0xb1));
+    return (uint32_t)_mm_cvtsi128_si32(v);
+}
+
+/* Raw moment sums of four points (x, y int16 pairs) masked by f, added to
+ * s[0..4] = sum x, y, xx, xy, yy lanes (modulo 2^32): PMADDWD's 16-bit
+ * products are exact. */
+QUAD_INLINE void quad_sums4(const actag_ipoint *p, __m128i f, __m128i s[5])
+{
+    const __m128i v = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)p), f);
+    const __m128i vx = _mm_and_si128(v, _mm_set1_epi32(0xffff)), vy = _mm_srli_epi32(v, 16);
+    s[0] = _mm_add_epi32(s[0], _mm_madd_epi16(v, _mm_set1_epi32(1))); /* x * 1 + y * 0 */
+    s[1] = _mm_add_epi32(s[1], _mm_srai_epi32(v, 16));
+    s[2] = _mm_add_epi32(s[2], _mm_madd_epi16(vx, vx));
+    s[3] = _mm_add_epi32(s[3], _mm_madd_epi16(vx, vy));
+    s[4] = _mm_add_epi32(s[4], _mm_madd_epi16(vy, vy));
+}
+#endif
+
+#ifdef QUAD_AVX2
+/* quad_free4, quad_adist4 and quad_sums4 for eight points (s: 8-lane
+ * sums). */
+ACTAG__AVX2_TARGET static inline __m256i quad_free8(const unsigned char *lab)
+{
+    const __m256i b = _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)(const void *)lab));
+    return _mm256_cmpeq_epi32(b, _mm256_setzero_si256());
+}
+
+ACTAG__AVX2_TARGET static inline __m256 quad_adist8(const float *fx, const float *fy, __m256 nx,
+                                                     __m256 ny, __m256 c)
+{
+    const __m256 t = _mm256_add_ps(_mm256_mul_ps(nx, _mm256_loadu_ps(fx)),
+                                   _mm256_mul_ps(ny, _mm256_loadu_ps(fy)));
+    return _mm256_and_ps(_mm256_sub_ps(t, c), _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+}
+
+ACTAG__AVX2_TARGET static inline void quad_sums8(const actag_ipoint *p, __m256i f, __m256i s[5])
+{
+    const __m256i v = _mm256_and_si256(_mm256_loadu_si256((const __m256i *)(const void *)p), f);
+    const __m256i vx = _mm256_and_si256(v, _mm256_set1_epi32(0xffff));
+    const __m256i vy = _mm256_srli_epi32(v, 16);
+    s[0] = _mm256_add_epi32(s[0], _mm256_madd_epi16(v, _mm256_set1_epi32(1)));
+    s[1] = _mm256_add_epi32(s[1], _mm256_srai_epi32(v, 16));
+    s[2] = _mm256_add_epi32(s[2], _mm256_madd_epi16(vx, vx));
+    s[3] = _mm256_add_epi32(s[3], _mm256_madd_epi16(vx, vy));
+    s[4] = _mm256_add_epi32(s[4], _mm256_madd_epi16(vy, vy));
+}
 #endif
 
 /* Adjacent sides must differ by at least asin(0.2) (11.5 degrees). */
@@ -102,6 +195,9 @@ typedef struct qctx {
     float pcos;      /* min |cos| between opposite sides */
     int chain;       /* consecutive points are at most 1 px apart in x and in y */
     int accept_min;  /* fewest inliers whose ratio passes min_ratio (n + 1: none) */
+#ifdef QUAD_AVX2
+    int avx2; /* 1: the AVX2 loops run (actag__cpu_avx2) */
+#endif
 } qctx;
 
 void actag_quad_params_default(actag_quad_params *p)
@@ -270,6 +366,174 @@ QUAD_INLINE void inlier_side(float px, float py, float ax, float ay, float ux, f
         *bt = t < 0.0f ? 0.0f : (t > len ? len : t);
     }
 }
+
+#ifdef QUAD_SSE2
+/* a where m is all ones, else b */
+QUAD_INLINE __m128 quad_sel(__m128 m, __m128 a, __m128 b)
+{
+    return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
+}
+
+/* inlier_side() in four lanes, branch-free: the same operations, the
+ * branches' conditions as masks (false for NaN as in C); *none: the
+ * lanes whose *bj is still -1. */
+QUAD_INLINE void inlier_side4(__m128 px, __m128 py, float ax, float ay, float ux, float uy,
+                              float len, float uxl, float uyl, int j, __m128 *best, __m128i *bj,
+                              __m128 *bt, __m128 *none)
+{
+    const __m128 vux = _mm_set1_ps(ux), vuy = _mm_set1_ps(uy), vlen = _mm_set1_ps(len);
+    const __m128 vx = _mm_sub_ps(px, _mm_set1_ps(ax)), vy = _mm_sub_ps(py, _mm_set1_ps(ay));
+    const __m128 t = _mm_add_ps(_mm_mul_ps(vx, vux), _mm_mul_ps(vy, vuy));
+    const __m128 lt = _mm_cmplt_ps(t, _mm_setzero_ps()), gt = _mm_cmpgt_ps(t, vlen);
+    const __m128 wx = _mm_sub_ps(vx, _mm_set1_ps(uxl)), wy = _mm_sub_ps(vy, _mm_set1_ps(uyl));
+    const __m128 e = _mm_sub_ps(_mm_mul_ps(vx, vuy), _mm_mul_ps(vy, vux));
+    const __m128 e2a = _mm_add_ps(_mm_mul_ps(vx, vx), _mm_mul_ps(vy, vy));
+    const __m128 e2b = _mm_add_ps(_mm_mul_ps(wx, wx), _mm_mul_ps(wy, wy));
+    const __m128 e2 = quad_sel(lt, e2a, quad_sel(gt, e2b, _mm_mul_ps(e, e)));
+    const __m128 upd =
+        _mm_or_ps(_mm_cmplt_ps(e2, *best), _mm_and_ps(*none, _mm_cmpeq_ps(e2, *best)));
+    *best = quad_sel(upd, e2, *best);
+    *bt = quad_sel(upd, _mm_andnot_ps(lt, quad_sel(gt, vlen, t)), *bt); /* +0 where t < 0 */
+    *bj = _mm_castps_si128(
+        quad_sel(upd, _mm_castsi128_ps(_mm_set1_epi32(j)), _mm_castsi128_ps(*bj)));
+    *none = _mm_andnot_ps(upd, *none);
+}
+
+/* quad_inliers' loop (with span) four points a step from index 0, each
+ * lane keeping its own minimum and maximum bt per side, folded into tmin
+ * and tmax at the end by the same rule: in another order, which can change
+ * only the sign of a zero result, and so no tmax - tmin >= x test. Adds to
+ * *count; returns the index reached, or -1 once the count can no longer
+ * reach need (the scalar test, made every fourth point: exiting later, or
+ * not at all, still returns a count below need, which the callers reject
+ * whatever *span says). */
+QUAD_INLINE int inliers_sse2(const qctx *k, const float *ax, const float *ay, const float *ux,
+                             const float *uy, const float *len, float *tmin, float *tmax,
+                             int need, int *count)
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const int n = k->n;
+    const __m128 d2 = _mm_set1_ps(k->d2), ones = _mm_castsi128_ps(_mm_set1_epi32(-1));
+    __m128 lo[4], hi[4];
+    int i, j, cnt = *count;
+    for (j = 0; j < 4; j++) {
+        lo[j] = _mm_set1_ps(len[j]);
+        hi[j] = _mm_setzero_ps();
+    }
+    for (i = 0; i + 4 <= n; i += 4) {
+        const __m128 px = _mm_loadu_ps(fx + i), py = _mm_loadu_ps(fy + i);
+        __m128 best = d2, bt = _mm_setzero_ps(), none = ones;
+        __m128i bj = _mm_set1_epi32(-1);
+        if (cnt + (n - i) < need) {
+            *count = cnt;
+            return -1;
+        }
+        for (j = 0; j < 4; j++)
+            inlier_side4(px, py, ax[j], ay[j], ux[j], uy[j], len[j], ux[j] * len[j],
+                         uy[j] * len[j], j, &best, &bj, &bt, &none);
+        cnt += 4 - quad_pop4(_mm_movemask_ps(none));
+        for (j = 0; j < 4; j++) {
+            const __m128 on = _mm_castsi128_ps(_mm_cmpeq_epi32(bj, _mm_set1_epi32(j)));
+            lo[j] = quad_sel(on, _mm_min_ps(bt, lo[j]), lo[j]); /* bt < lo ? bt : lo */
+            hi[j] = quad_sel(on, _mm_max_ps(bt, hi[j]), hi[j]); /* bt > hi ? bt : hi */
+        }
+    }
+    for (j = 0; j < 4; j++) {
+        float a[4], b[4];
+        int q;
+        _mm_storeu_ps(a, lo[j]);
+        _mm_storeu_ps(b, hi[j]);
+        for (q = 0; q < 4; q++) {
+            tmin[j] = a[q] < tmin[j] ? a[q] : tmin[j];
+            tmax[j] = b[q] > tmax[j] ? b[q] : tmax[j];
+        }
+    }
+    *count = cnt;
+    return i;
+}
+#endif
+
+#ifdef QUAD_AVX2
+ACTAG__AVX2_TARGET static inline __m256 quad_sel8(__m256 m, __m256 a, __m256 b)
+{
+    return _mm256_or_ps(_mm256_and_ps(m, a), _mm256_andnot_ps(m, b));
+}
+
+/* inlier_side4 in eight lanes (ordered compares: false for NaN). */
+ACTAG__AVX2_TARGET static inline void inlier_side8(__m256 px, __m256 py, float ax, float ay,
+                                                   float ux, float uy, float len, float uxl,
+                                                   float uyl, int j, __m256 *best, __m256i *bj,
+                                                   __m256 *bt, __m256 *none)
+{
+    const __m256 vux = _mm256_set1_ps(ux), vuy = _mm256_set1_ps(uy), vlen = _mm256_set1_ps(len);
+    const __m256 vx = _mm256_sub_ps(px, _mm256_set1_ps(ax));
+    const __m256 vy = _mm256_sub_ps(py, _mm256_set1_ps(ay));
+    const __m256 t = _mm256_add_ps(_mm256_mul_ps(vx, vux), _mm256_mul_ps(vy, vuy));
+    const __m256 lt = _mm256_cmp_ps(t, _mm256_setzero_ps(), _CMP_LT_OQ);
+    const __m256 gt = _mm256_cmp_ps(t, vlen, _CMP_GT_OQ);
+    const __m256 wx = _mm256_sub_ps(vx, _mm256_set1_ps(uxl));
+    const __m256 wy = _mm256_sub_ps(vy, _mm256_set1_ps(uyl));
+    const __m256 e = _mm256_sub_ps(_mm256_mul_ps(vx, vuy), _mm256_mul_ps(vy, vux));
+    const __m256 e2a = _mm256_add_ps(_mm256_mul_ps(vx, vx), _mm256_mul_ps(vy, vy));
+    const __m256 e2b = _mm256_add_ps(_mm256_mul_ps(wx, wx), _mm256_mul_ps(wy, wy));
+    const __m256 e2 = quad_sel8(lt, e2a, quad_sel8(gt, e2b, _mm256_mul_ps(e, e)));
+    const __m256 upd = _mm256_or_ps(_mm256_cmp_ps(e2, *best, _CMP_LT_OQ),
+                                    _mm256_and_ps(*none, _mm256_cmp_ps(e2, *best, _CMP_EQ_OQ)));
+    *best = quad_sel8(upd, e2, *best);
+    *bt = quad_sel8(upd, _mm256_andnot_ps(lt, quad_sel8(gt, vlen, t)), *bt);
+    *bj = _mm256_castps_si256(
+        quad_sel8(upd, _mm256_castsi256_ps(_mm256_set1_epi32(j)), _mm256_castsi256_ps(*bj)));
+    *none = _mm256_andnot_ps(upd, *none);
+}
+
+/* inliers_sse2 eight points a step: the same results. */
+ACTAG__AVX2_TARGET static int inliers_avx2(const qctx *k, const float *ax, const float *ay,
+                                           const float *ux, const float *uy, const float *len,
+                                           float *tmin, float *tmax, int need, int *count)
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const int n = k->n;
+    const __m256 d2 = _mm256_set1_ps(k->d2), ones = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    __m256 lo[4], hi[4];
+    int i, j, cnt = *count;
+    for (j = 0; j < 4; j++) {
+        lo[j] = _mm256_set1_ps(len[j]);
+        hi[j] = _mm256_setzero_ps();
+    }
+    for (i = 0; i + 8 <= n; i += 8) {
+        const __m256 px = _mm256_loadu_ps(fx + i), py = _mm256_loadu_ps(fy + i);
+        __m256 best = d2, bt = _mm256_setzero_ps(), none = ones;
+        __m256i bj = _mm256_set1_epi32(-1);
+        int nm;
+        if (cnt + (n - i) < need) {
+            *count = cnt;
+            return -1;
+        }
+        for (j = 0; j < 4; j++)
+            inlier_side8(px, py, ax[j], ay[j], ux[j], uy[j], len[j], ux[j] * len[j],
+                         uy[j] * len[j], j, &best, &bj, &bt, &none);
+        nm = _mm256_movemask_ps(none);
+        cnt += 8 - quad_pop4(nm & 15) - quad_pop4(nm >> 4);
+        for (j = 0; j < 4; j++) {
+            const __m256 on = _mm256_castsi256_ps(_mm256_cmpeq_epi32(bj, _mm256_set1_epi32(j)));
+            lo[j] = quad_sel8(on, _mm256_min_ps(bt, lo[j]), lo[j]);
+            hi[j] = quad_sel8(on, _mm256_max_ps(bt, hi[j]), hi[j]);
+        }
+    }
+    for (j = 0; j < 4; j++) {
+        float a[8], b[8];
+        int q;
+        _mm256_storeu_ps(a, lo[j]);
+        _mm256_storeu_ps(b, hi[j]);
+        for (q = 0; q < 8; q++) {
+            tmin[j] = a[q] < tmin[j] ? a[q] : tmin[j];
+            tmax[j] = b[q] > tmax[j] ? b[q] : tmax[j];
+        }
+    }
+    *count = cnt;
+    return i;
+}
+#endif
 #endif
 
 /* Counts the points within d of the quad's sides (segments). With span
@@ -309,7 +573,20 @@ static int quad_inliers(const qctx *k, const qquad *q, int *span, int need)
         const float uxl2 = ux2 * l2, uyl2 = uy2 * l2, uxl3 = ux3 * l3, uyl3 = uy3 * l3;
         const float *fx = k->fx, *fy = k->fy, d2 = k->d2;
         const int n = k->n;
-        for (i = 0; i < n; i++) {
+        i = 0;
+#ifdef QUAD_AVX2
+        if (k->avx2)
+            i = inliers_avx2(k, ax, ay, ux, uy, len, tmin, tmax, need, &count);
+        else
+#endif
+#ifdef QUAD_SSE2
+            i = inliers_sse2(k, ax, ay, ux, uy, len, tmin, tmax, need, &count);
+        if (i < 0) {
+            *span = 0;
+            return count;
+        }
+#endif
+        for (; i < n; i++) {
             float px = fx[i], py = fy[i], best = d2, bt = 0.0f;
             int bj = -1;
             if (count + (n - i) < need) {
@@ -670,6 +947,125 @@ QUAD_INLINE int claim_chain(const qctx *k, unsigned char *restrict lab, const ql
 }
 #endif
 
+#ifdef QUAD_SSE2
+/* Labels with tag the sixteen points at lab whose byte of m is all ones
+ * and whose label is 0; returns acc plus their number (two 64-bit counts). */
+QUAD_INLINE __m128i claim16(unsigned char *lab, __m128i m, __m128i vtag, __m128i acc)
+{
+    const __m128i lb = _mm_loadu_si128((const __m128i *)(const void *)lab);
+    m = _mm_and_si128(m, _mm_cmpeq_epi8(lb, _mm_setzero_si128()));
+    _mm_storeu_si128((__m128i *)(void *)lab, _mm_or_si128(lb, _mm_and_si128(m, vtag)));
+    m = _mm_and_si128(m, _mm_set1_epi8(1));
+    return _mm_add_epi64(acc, _mm_sad_epu8(m, _mm_setzero_si128()));
+}
+
+/* claim_sse2's steps of four points from i to the last four; adds their
+ * count to *cnt, returns the index reached. */
+QUAD_INLINE int claim4(const qctx *k, unsigned char *restrict lab, const qline *l,
+                       unsigned char tag, int i, int *cnt)
+{
+    const __m128 nx = _mm_set1_ps(l->nx), ny = _mm_set1_ps(l->ny), c = _mm_set1_ps(l->c);
+    const __m128 d = _mm_set1_ps(k->d);
+    const __m128i zero = _mm_setzero_si128(), vtag = _mm_set1_epi8((char)tag);
+    int c4 = 0;
+    for (; i + 4 <= k->n; i += 4) {
+        const __m128i m4 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(k->fx + i, k->fy + i, nx, ny, c), d));
+        uint32_t w;
+        __m128i m, b;
+        memcpy(&w, lab + i, sizeof w);
+        b = _mm_cvtsi32_si128((int)w);
+        m = _mm_packs_epi16(_mm_packs_epi32(m4, m4), zero); /* bytes 0-3 */
+        m = _mm_and_si128(m, _mm_cmpeq_epi8(b, zero));
+        w = (uint32_t)_mm_cvtsi128_si32(_mm_or_si128(b, _mm_and_si128(m, vtag)));
+        memcpy(lab + i, &w, sizeof w);
+        c4 += quad_pop4(_mm_movemask_epi8(m) & 15);
+    }
+    *cnt += c4;
+    return i;
+}
+
+/* The two 64-bit counts of claim16's acc, added. */
+QUAD_INLINE int claim_count(__m128i acc)
+{
+    return _mm_cvtsi128_si32(acc) + _mm_cvtsi128_si32(_mm_srli_si128(acc, 8));
+}
+
+/* claim()'s plain loop from index 0, sixteen points a step, then four;
+ * returns the index reached, the count in *cnt. |dist| <= d is the plain
+ * loop's dist <= d && dist >= -d (false for NaN). With need > 0, returns n
+ * and a count below need once the count cannot reach need (checked each
+ * sixteen points). */
+QUAD_INLINE int claim_sse2(const qctx *k, unsigned char *restrict lab, const qline *l,
+                           unsigned char tag, int need, int *cnt)
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const __m128 nx = _mm_set1_ps(l->nx), ny = _mm_set1_ps(l->ny), c = _mm_set1_ps(l->c);
+    const __m128 d = _mm_set1_ps(k->d);
+    const __m128i vtag = _mm_set1_epi8((char)tag);
+    const int n = k->n;
+    __m128i acc = _mm_setzero_si128();
+    int i;
+    for (i = 0; i + 16 <= n; i += 16) {
+        const __m128i m0 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i, fy + i, nx, ny, c), d));
+        const __m128i m1 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i + 4, fy + i + 4, nx, ny, c), d));
+        const __m128i m2 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i + 8, fy + i + 8, nx, ny, c), d));
+        const __m128i m3 =
+            _mm_castps_si128(_mm_cmple_ps(quad_adist4(fx + i + 12, fy + i + 12, nx, ny, c), d));
+        acc = claim16(lab + i, _mm_packs_epi16(_mm_packs_epi32(m0, m1), _mm_packs_epi32(m2, m3)),
+                      vtag, acc);
+        if (need > 0 && claim_count(acc) + (n - i - 16) < need) {
+            *cnt = claim_count(acc);
+            return n;
+        }
+    }
+    *cnt = claim_count(acc);
+    return claim4(k, lab, l, tag, i, cnt);
+}
+
+#ifdef QUAD_AVX2
+/* claim_sse2 with the sixteen-point steps in two 8-lane halves: the same
+ * operations, results and early exit. */
+ACTAG__AVX2_TARGET static int claim_avx2(const qctx *k, unsigned char *restrict lab,
+                                         const qline *l, unsigned char tag, int need, int *cnt)
+{
+    const float *fx = k->fx, *fy = k->fy;
+    const __m256 nx = _mm256_set1_ps(l->nx), ny = _mm256_set1_ps(l->ny);
+    const __m256 c = _mm256_set1_ps(l->c), d = _mm256_set1_ps(k->d);
+    const __m256 abs = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m128i vtag = _mm_set1_epi8((char)tag);
+    const int n = k->n;
+    __m128i acc = _mm_setzero_si128();
+    int i;
+    for (i = 0; i + 16 <= n; i += 16) {
+        const __m256 t0 = _mm256_add_ps(_mm256_mul_ps(nx, _mm256_loadu_ps(fx + i)),
+                                        _mm256_mul_ps(ny, _mm256_loadu_ps(fy + i)));
+        const __m256 t1 = _mm256_add_ps(_mm256_mul_ps(nx, _mm256_loadu_ps(fx + i + 8)),
+                                        _mm256_mul_ps(ny, _mm256_loadu_ps(fy + i + 8)));
+        /* |dist| <= d, ordered: false for NaN */
+        const __m256i m0 = _mm256_castps_si256(
+            _mm256_cmp_ps(_mm256_and_ps(_mm256_sub_ps(t0, c), abs), d, _CMP_LE_OQ));
+        const __m256i m1 = _mm256_castps_si256(
+            _mm256_cmp_ps(_mm256_and_ps(_mm256_sub_ps(t1, c), abs), d, _CMP_LE_OQ));
+        /* words per 128-bit lane: m0 0-3, m1 0-3 | m0 4-7, m1 4-7; put in order */
+        const __m256i w = _mm256_permute4x64_epi64(_mm256_packs_epi32(m0, m1), 0xd8);
+        acc = claim16(lab + i,
+                      _mm_packs_epi16(_mm256_castsi256_si128(w), _mm256_extracti128_si256(w, 1)),
+                      vtag, acc);
+        if (need > 0 && claim_count(acc) + (n - i - 16) < need) {
+            *cnt = claim_count(acc);
+            return n;
+        }
+    }
+    *cnt = claim_count(acc);
+    return claim4(k, lab, l, tag, i, cnt);
+}
+#endif
+#endif
+
 /* Labels the unclaimed points within d of line l with tag; returns their
  * number. The points with |dist| <= d are exactly those of the plain loop
  * (the reference below, kept for ACTAG_QUAD_REFERENCE and contours that are
@@ -683,15 +1079,23 @@ static int claim(const qctx *k, unsigned char *restrict lab, const qline *l, uns
     const float *restrict fx = k->fx, *restrict fy = k->fy;
     const float lnx = l->nx, lny = l->ny, lc = l->c, d = k->d;
     const int n = k->n;
-    int i, cnt = 0;
+    int i = 0, cnt = 0;
 #ifdef QUAD_SKIP
     if (k->chain) /* the first three lines' copy without the need test */
         return need > 0 ? claim_chain(k, lab, l, tag, need) : claim_chain(k, lab, l, tag, 0);
-#else
+#endif
+#if defined(QUAD_AVX2)
+    if (k->avx2)
+        i = claim_avx2(k, lab, l, tag, need, &cnt);
+    else
+        i = need > 0 ? claim_sse2(k, lab, l, tag, need, &cnt) : claim_sse2(k, lab, l, tag, 0, &cnt);
+#elif defined(QUAD_SSE2)
+    i = need > 0 ? claim_sse2(k, lab, l, tag, need, &cnt) : claim_sse2(k, lab, l, tag, 0, &cnt);
+#elif !defined(QUAD_SKIP)
     (void)need;
 #endif
     /* Branch-free so that compilers vectorise it. */
-    for (i = 0; i < n; i++) {
+    for (; i < n; i++) {
         float dist = lnx * fx[i] + lny * fy[i] - lc;
         int in = (lab[i] == 0) & (dist <= d) & (dist >= -d);
         lab[i] = (unsigned char)(lab[i] | (in ? tag : 0u));
@@ -781,16 +1185,59 @@ static void walk_sums(const qctx *k, const unsigned char *lab, int start, int m,
 #undef WALK_SUMS
 
 #ifndef ACTAG_QUAD_REFERENCE
+#ifdef QUAD_SSE2
+/* walk_raw's loop four points a step while a step takes at most *left
+ * points (the scalar loop takes the rest); returns the index reached: when
+ * *left reaches 0, up to three claimed points past the last one taken. */
+QUAD_INLINE int walk_raw_sse2(const actag_ipoint *pts, const unsigned char *lab, int i, int b,
+                              int *left, uint32_t r[5])
+{
+    __m128i s[5];
+    int rest = *left, j;
+    for (j = 0; j < 5; j++)
+        s[j] = _mm_setzero_si128();
+    for (; i + 4 <= b; i += 4) {
+        const __m128i f = quad_free4(lab + i);
+        const int c = quad_pop4(_mm_movemask_ps(_mm_castsi128_ps(f)));
+        if (c > rest)
+            break;
+        quad_sums4(pts + i, f, s);
+        rest -= c;
+        if (rest == 0) {
+            i += 4;
+            break;
+        }
+    }
+    for (j = 0; j < 5; j++)
+        r[j] += quad_hsum(s[j]);
+    *left = rest;
+    return i;
+}
+#endif
+
 /* Raw coordinate sums, modulo 2^32, of the unclaimed points met in [a, b)
  * until *left of them are taken; returns the index after the last one
- * taken (b if fewer). Raw: no origin to subtract a point (walk_all()
- * corrects the sums once). */
+ * taken (b if fewer; under QUAD_SSE2 possibly a few claimed points
+ * further). Raw: no origin to subtract a point (walk_all() corrects the
+ * sums once). */
 QUAD_INLINE int walk_raw(const actag_ipoint *pts, const unsigned char *lab, int a, int b, int *left,
                          uint32_t r[5])
 {
-    uint32_t sx = r[0], sy = r[1], sxx = r[2], sxy = r[3], syy = r[4];
-    int i, rest = *left;
-    for (i = a; i < b; i++) {
+    uint32_t sx, sy, sxx, sxy, syy;
+    int i = a, rest = *left;
+#ifdef QUAD_SSE2
+    i = walk_raw_sse2(pts, lab, a, b, &rest, r);
+    if (rest == 0) {
+        *left = 0;
+        return i;
+    }
+#endif
+    sx = r[0];
+    sy = r[1];
+    sxx = r[2];
+    sxy = r[3];
+    syy = r[4];
+    for (; i < b; i++) {
 #if QUAD_DSP
         uint32_t v;
         if (lab[i])
@@ -882,6 +1329,99 @@ QUAD_INLINE void walk_far(const qctx *k, const unsigned char *lab, int a, int b,
     *r = t;
 }
 
+#ifdef QUAD_SSE2
+/* walk_far's test and sums of the four points from index i, those with
+ * keep all ones: adds to acc the raw sums (quad_sums4) of the far
+ * unclaimed ones (acc[5]: minus their count). */
+QUAD_INLINE void walk_far4(const qctx *k, const unsigned char *lab, int i, __m128i keep,
+                           __m128 nx, __m128 ny, __m128 c, __m128 d, __m128i acc[6])
+{
+    /* !(|dist| <= d): true for NaN, as the scalar test */
+    const __m128 far = _mm_cmpnle_ps(quad_adist4(k->fx + i, k->fy + i, nx, ny, c), d);
+    const __m128i f =
+        _mm_and_si128(_mm_and_si128(_mm_castps_si128(far), quad_free4(lab + i)), keep);
+    quad_sums4(k->pts + i, f, acc);
+    acc[5] = _mm_add_epi32(acc[5], f);
+}
+
+/* walk_far's loop over [i, b), branch-free, four points a step; the last
+ * step reads the four points ending at b (or starting at 0), those
+ * outside [i, b) masked. Returns the index reached (b unless n < 4). */
+QUAD_INLINE int walk_far_sse2(const qctx *k, const unsigned char *lab, int i, int b,
+                              const qline *l, __m128i acc[6])
+{
+    const __m128 nx = _mm_set1_ps(l->nx), ny = _mm_set1_ps(l->ny), c = _mm_set1_ps(l->c);
+    const __m128 d = _mm_set1_ps(k->d);
+    const __m128i all = _mm_set1_epi32(-1);
+    for (; i + 4 <= b; i += 4)
+        walk_far4(k, lab, i, all, nx, ny, c, d, acc);
+    if (i < b && k->n >= 4) {
+        const int at = b >= 4 ? b - 4 : 0;
+        const __m128i idx = _mm_add_epi32(_mm_set1_epi32(at), _mm_set_epi32(3, 2, 1, 0));
+        const __m128i keep = _mm_and_si128(_mm_cmpgt_epi32(idx, _mm_set1_epi32(i - 1)),
+                                           _mm_cmplt_epi32(idx, _mm_set1_epi32(b)));
+        walk_far4(k, lab, at, keep, nx, ny, c, d, acc);
+        i = b;
+    }
+    return i;
+}
+
+#ifdef QUAD_AVX2
+/* walk_far_sse2 eight points a step (the last step masked likewise) into
+ * eight-lane sums, then folded into acc's four lanes. */
+ACTAG__AVX2_TARGET static int walk_far_avx2(const qctx *k, const unsigned char *lab, int i, int b,
+                                            const qline *l, __m128i acc[6])
+{
+    const __m256 nx = _mm256_set1_ps(l->nx), ny = _mm256_set1_ps(l->ny);
+    const __m256 c = _mm256_set1_ps(l->c), d = _mm256_set1_ps(k->d);
+    __m256i s[6];
+    int j;
+    for (j = 0; j < 6; j++)
+        s[j] = _mm256_setzero_si256();
+    while (i < b) {
+        int at = i;
+        __m256i keep = _mm256_set1_epi32(-1), f;
+        if (i + 8 > b) {
+            if (k->n < 8)
+                break;
+            at = b >= 8 ? b - 8 : 0;
+            {
+                const __m256i idx = _mm256_add_epi32(_mm256_set1_epi32(at),
+                                                     _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+                keep = _mm256_and_si256(_mm256_cmpgt_epi32(idx, _mm256_set1_epi32(i - 1)),
+                                        _mm256_cmpgt_epi32(_mm256_set1_epi32(b), idx));
+            }
+        }
+        /* !(|dist| <= d): true for NaN, as the scalar test */
+        f = _mm256_castps_si256(
+            _mm256_cmp_ps(quad_adist8(k->fx + at, k->fy + at, nx, ny, c), d, _CMP_NLE_UQ));
+        f = _mm256_and_si256(_mm256_and_si256(f, quad_free8(lab + at)), keep);
+        quad_sums8(k->pts + at, f, s);
+        s[5] = _mm256_add_epi32(s[5], f);
+        i = at + 8 < b ? at + 8 : b;
+    }
+    for (j = 0; j < 6; j++)
+        acc[j] = _mm_add_epi32(acc[j], _mm_add_epi32(_mm256_castsi256_si128(s[j]),
+                                                     _mm256_extracti128_si256(s[j], 1)));
+    return i;
+}
+#endif
+
+/* Adds walk_far_sse2's sums to r, made relative to the origin as in
+ * walk_all(). */
+QUAD_INLINE void walk_far_fold(const qctx *k, const __m128i acc[6], qsums32 *r)
+{
+    const uint32_t m = 0u - quad_hsum(acc[5]), ox = (uint32_t)k->ox, oy = (uint32_t)k->oy;
+    const uint32_t x = quad_hsum(acc[0]), y = quad_hsum(acc[1]), sx = x - m * ox, sy = y - m * oy;
+    r->n += m;
+    r->sx += sx;
+    r->sy += sy;
+    r->sxx += quad_hsum(acc[2]) - ox * (x + sx);
+    r->sxy += quad_hsum(acc[3]) - oy * x - ox * sy;
+    r->syy += quad_hsum(acc[4]) - oy * (y + sy);
+}
+#endif
+
 /* walk_sums(k, lab, start, m, l, s) after walk_all() gave s, e1 and e2:
  * the same points, so the sums within d are those of all minus those of
  * the (fewer) points farther, which alone it adds up (relative sums below
@@ -890,8 +1430,28 @@ static void walk_near(const qctx *k, const unsigned char *lab, int start, int e1
                       const qline *l, qsums *s)
 {
     qsums32 r = {0u, 0u, 0u, 0u, 0u, 0u};
+#ifdef QUAD_SSE2
+    __m128i acc[6];
+    int j, i1, i2;
+    for (j = 0; j < 6; j++)
+        acc[j] = _mm_setzero_si128();
+#ifdef QUAD_AVX2
+    if (k->avx2) {
+        i1 = walk_far_avx2(k, lab, start, e1, l, acc);
+        i2 = walk_far_avx2(k, lab, 0, e2, l, acc);
+    } else
+#endif
+    {
+        i1 = walk_far_sse2(k, lab, start, e1, l, acc);
+        i2 = walk_far_sse2(k, lab, 0, e2, l, acc);
+    }
+    walk_far_fold(k, acc, &r);
+    walk_far(k, lab, i1, e1, l, &r); /* nothing left unless n < 8 */
+    walk_far(k, lab, i2, e2, l, &r);
+#else
     walk_far(k, lab, start, e1, l, &r);
     walk_far(k, lab, 0, e2, l, &r);
+#endif
     s->n -= r.n;
     s->sx -= r.sx;
     s->sy -= r.sy;
@@ -1002,6 +1562,9 @@ int actag_quad_fit(const actag_ipoint *pts, int npoints, const actag_quad_params
     k.min_ratio = params->min_inlier_ratio < k.ratio ? params->min_inlier_ratio : k.ratio;
     k.pcos = params->min_parallel_cos;
     k.chain = 1;
+#ifdef QUAD_AVX2
+    k.avx2 = actag__cpu_avx2();
+#endif
     for (i = 1; i < n; i++) {
         int dx = pts[i].x - pts[i - 1].x, dy = pts[i].y - pts[i - 1].y;
         if (dx < -1 || dx > 1 || dy < -1 || dy > 1)

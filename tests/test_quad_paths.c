@@ -1,13 +1,16 @@
 /* actag_quad_fit's fast paths (src/quad.c without ACTAG_QUAD_REFERENCE:
  * skipping along chains (ACTAG_QUAD_FORCE_SKIP, as on targets without a
- * vector unit), early exits from the counts) against its reference
- * loops (the same file compiled in here with ACTAG_QUAD_REFERENCE, under
- * another name): the same return code, the same bytes of actag_quad and the
- * same generator state afterwards, on random contours of many kinds: noisy
+ * vector unit), early exits from the counts, the SSE2 and AVX2 loops on
+ * x86 (the skipping copy also runs the SSE2 ones on an AVX2 machine), the
+ * plain C ones (ACTAG_NO_SIMD)) against its reference loops (the same
+ * file compiled in here with ACTAG_QUAD_REFERENCE, under another name):
+ * the same return code, the same bytes of actag_quad and the same
+ * generator state afterwards, on random contours of many kinds: noisy
  * chains around parallelograms (most fit), random-walk blobs, polygons with
  * spikes, chains far from the origin or at negative coordinates, point sets
  * that are not chains (the fast paths must fall back), with random
- * parameters. */
+ * parameters. Then the SIMD helpers (claim, the sample walks, the inlier
+ * count), SSE2 and AVX2, against the plain C ones on random input. */
 #include "unity.h"
 #include "test_util.h"
 
@@ -27,8 +30,98 @@ void actag_quad_params_default_reference(actag_quad_params *p);
 #undef actag_quad_params_default
 #undef ACTAG_QUAD_REFERENCE
 
+/* The fast paths in plain C (ACTAG_NO_SIMD), as targets without SSE2 run
+ * them (the library here takes the SSE2 loops): compiled in again, every
+ * name renamed; also the scalar side of the SIMD helpers' tests below. */
+int actag_quad_fit_scalar(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
+                          actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
+void actag_quad_params_default_scalar(actag_quad_params *p);
+#define ACTAG_NO_SIMD 1
+#define actag_quad_fit actag_quad_fit_scalar
+#define actag_quad_params_default actag_quad_params_default_scalar
+#define qsums qsums_scalar
+#define qline qline_scalar
+#define qquad qquad_scalar
+#define qctx qctx_scalar
+#define qsums32 qsums32_scalar
+#define sums_add sums_add_scalar
+#define sums32_add sums32_add_scalar
+#define ratio_of ratio_of_scalar
+#define count_min count_min_scalar
+#define line_fit line_fit_scalar
+#define pseudo_angle pseudo_angle_scalar
+#define quad_from_lines quad_from_lines_scalar
+#define quad_shape_ok quad_shape_ok_scalar
+#define inlier_side inlier_side_scalar
+#define quad_inliers quad_inliers_scalar
+#define quad_support quad_support_scalar
+#define quad_accept quad_accept_scalar
+#define side_run side_run_scalar
+#define side_sums side_sums_scalar
+#define refine_and_accept refine_and_accept_scalar
+#define claim_chain claim_chain_scalar
+#define claim claim_scalar
+#define walk_sums walk_sums_scalar
+#define walk_raw walk_raw_scalar
+#define walk_all walk_all_scalar
+#define walk_far walk_far_scalar
+#define walk_near walk_near_scalar
+#define sample_line sample_line_scalar
+#include "../src/quad.c"
+#undef actag_quad_fit
+#undef actag_quad_params_default
+#undef ACTAG_NO_SIMD
+#undef qsums
+#undef qline
+#undef qquad
+#undef qctx
+#undef qsums32
+#undef sums_add
+#undef sums32_add
+#undef ratio_of
+#undef count_min
+#undef line_fit
+#undef pseudo_angle
+#undef quad_from_lines
+#undef quad_shape_ok
+#undef inlier_side
+#undef quad_inliers
+#undef quad_support
+#undef quad_accept
+#undef side_run
+#undef side_sums
+#undef refine_and_accept
+#undef claim_chain
+#undef claim
+#undef walk_sums
+#undef walk_raw
+#undef walk_all
+#undef walk_far
+#undef walk_near
+#undef sample_line
+
+/* 1 if the library takes its AVX2 loops here (cpu_x86.h came with the
+ * first copy). */
+static int host_avx2(void)
+{
+#if ACTAG__AVX2
+    return actag__cpu_avx2();
+#else
+    return 0;
+#endif
+}
+
+/* The skipping copy asks g_avx2 instead: 0 runs its SSE2 loops on an AVX2
+ * machine too. */
+static int g_avx2;
+static inline int test_cpu_avx2(void) { return g_avx2; }
+#define actag__cpu_avx2 test_cpu_avx2
+
 /* The skipping claim loop, which the library uses only on targets without
- * a vector unit: compiled in a second time, every name renamed. */
+ * a vector unit: compiled in a third time, the names the reference copy
+ * also defines renamed. With SSE2 it has the SSE2 and AVX2 loops too (the
+ * claim loop on contours that are not chains): the SIMD helpers' tests
+ * call them here. */
 int actag_quad_fit_skip(const actag_ipoint *pts, int npoints, const actag_quad_params *params,
                         actag_rng *rng, void *scratch, size_t scratch_size, actag_quad *out);
 void actag_quad_params_default_skip(actag_quad_params *p);
@@ -191,13 +284,18 @@ static int compare(const actag_ipoint *pts, int n, const actag_quad_params *p, u
     memset(&qb, 0x5a, sizeof qb);
     int v;
     rcb = actag_quad_fit_reference(pts, n, p, &rb, g_scratch, ACTAG_QUAD_SCRATCH_SIZE(n), &qb);
-    for (v = 0; v < 2; v++) { /* the library, the skipping build */
+    for (v = 0; v < 4; v++) { /* the library, the skipping build (SSE2, AVX2), plain C */
+        static const char *const name[4] = {"library", "skipping SSE2", "skipping AVX2",
+                                            "plain C"};
+        if (v == 2 && !host_avx2())
+            continue;
+        g_avx2 = v == 2;
         actag_rng_seed(&ra, seed);
         memset(&qa, 0x5a, sizeof qa);
-        rca = (v ? actag_quad_fit_skip : actag_quad_fit)(pts, n, p, &ra, g_scratch,
-                                                         ACTAG_QUAD_SCRATCH_SIZE(n), &qa);
+        rca = (v == 3 ? actag_quad_fit_scalar : v ? actag_quad_fit_skip : actag_quad_fit)(
+            pts, n, p, &ra, g_scratch, ACTAG_QUAD_SCRATCH_SIZE(n), &qa);
         snprintf(msg, sizeof msg, "%s, %s trial %d: n %d, d %g, iterations %d / %d",
-                 v ? "skipping" : "library", what, trial, n, (double)p->inlier_distance,
+                 name[v], what, trial, n, (double)p->inlier_distance,
                  qa.iterations, qb.iterations);
         TEST_ASSERT_EQUAL_INT_MESSAGE(rcb, rca, msg);
         TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&qb, &qa, sizeof qa, msg);
@@ -297,6 +395,334 @@ static void test_large_quads(void)
     printf("large quads: %d of %d fitted\n", found, trials);
 }
 
+/* ---- The SIMD helpers against the plain C ones (the skipping copy has the
+ * SSE2 loops on x86, the plain-C copy none), on random input: every length
+ * 0..300 (none a multiple of the lane count required), coordinates up to
+ * the int16 limits, labels of every density, lines that meet points at
+ * exactly d, NaN and huge lines. The arrays end where the buffers end, so
+ * a read past n is one past a global (ASan builds report it). */
+#define HCAP 320
+static actag_ipoint h_ptsb[HCAP];
+static float h_fxb[HCAP], h_fyb[HCAP];
+static unsigned char h_laba[HCAP], h_labb[HCAP];
+
+typedef struct hset {
+    int n;
+    actag_ipoint *pts;
+    float *fx, *fy;
+    unsigned char *la, *lb; /* the two copies' labels */
+    qctx ka;                /* the skipping copy's context (SSE2 or AVX2 loops) */
+    qctx_scalar kb;         /* the plain-C copy's */
+} hset;
+
+/* Which loops the skipping copy's context k takes: AVX2 (v 1) or SSE2. */
+#ifdef QUAD_AVX2
+#define H_AVX2(k, v) ((k).avx2 = (v))
+#else
+#define H_AVX2(k, v) ((void)(v))
+#endif
+
+/* n random points (range: their spread, up to 65535) at a random offset,
+ * labels claimed with probability pc. */
+static void hset_make(hset *h, int n, int range, double pc, float d)
+{
+    int i, minx = 0, miny = 0, maxx = 0, maxy = 0, base_x, base_y;
+    h->n = n;
+    h->pts = h_ptsb + HCAP - n;
+    h->fx = h_fxb + HCAP - n;
+    h->fy = h_fyb + HCAP - n;
+    h->la = h_laba + HCAP - n;
+    h->lb = h_labb + HCAP - n;
+    base_x = irand(-32768, 32767 - range);
+    base_y = irand(-32768, 32767 - range);
+    for (i = 0; i < n; i++) {
+        h->pts[i].x = (int16_t)(base_x + irand(0, range));
+        h->pts[i].y = (int16_t)(base_y + irand(0, range));
+        if (i == 0 || h->pts[i].x < minx)
+            minx = h->pts[i].x;
+        if (i == 0 || h->pts[i].y < miny)
+            miny = h->pts[i].y;
+        if (i == 0 || h->pts[i].x > maxx)
+            maxx = h->pts[i].x;
+        if (i == 0 || h->pts[i].y > maxy)
+            maxy = h->pts[i].y;
+    }
+    for (i = 0; i < n; i++) {
+        h->fx[i] = (float)(h->pts[i].x - minx);
+        h->fy[i] = (float)(h->pts[i].y - miny);
+        h->la[i] = urand() < pc ? (unsigned char)irand(1, 4) : 0u;
+        h->lb[i] = h->la[i];
+    }
+    memset(&h->ka, 0, sizeof h->ka);
+    h->ka.pts = h->pts;
+    h->ka.fx = h->fx;
+    h->ka.fy = h->fy;
+    h->ka.n = n;
+    h->ka.ox = minx;
+    h->ka.oy = miny;
+    h->ka.bw = (float)(maxx - minx);
+    h->ka.bh = (float)(maxy - miny);
+    h->ka.ext = maxx - minx > maxy - miny ? maxx - minx : maxy - miny;
+    h->ka.d = d;
+    h->ka.d2 = d * d;
+    h->ka.chain = 0; /* the plain claim loop, not claim_chain */
+    memcpy(&h->kb, &h->ka, sizeof h->kb);
+}
+
+/* A line of some kind: through a point at a random angle, axis-parallel
+ * through integers (points at exactly d), NaN, or far from every point. */
+static qline h_line(const hset *h)
+{
+    qline l;
+    int kind = irand(0, 9), i = h->n ? irand(0, h->n - 1) : 0;
+    float px = h->n ? h->fx[i] : 0.0f, py = h->n ? h->fy[i] : 0.0f;
+    if (kind < 5) {
+        double a = urand() * 6.2831853;
+        l.nx = (float)cos(a);
+        l.ny = (float)sin(a);
+        l.c = l.nx * px + l.ny * py + (float)(urand() - 0.5) * 4.0f;
+    } else if (kind < 8) {
+        l.nx = kind == 5 ? 1.0f : 0.0f;
+        l.ny = kind == 5 ? 0.0f : (kind == 6 ? 1.0f : -1.0f);
+        l.c = (kind == 5 ? px : l.ny * py) + (float)irand(-3, 3);
+    } else if (kind == 8) {
+        l.nx = NAN;
+        l.ny = 0.6f;
+        l.c = 1.0f;
+    } else {
+        l.nx = 0.8f;
+        l.ny = -0.6f;
+        l.c = urand() < 0.5 ? 1e30f : -INFINITY;
+    }
+    return l;
+}
+
+static void h_params(int t, int *n, int *range, double *pc, float *d)
+{
+    static const double pcs[6] = {0.0, 0.1, 0.5, 0.8, 0.97, 1.0};
+    *n = t < 300 ? t % 40 : irand(0, 300);
+    *range = t % 5 == 4 ? 65535 : irand(1, t % 5 == 3 ? 3000 : 120);
+    *pc = pcs[irand(0, 5)];
+    *d = irand(0, 1) ? (float)irand(1, 3) : (float)(0.2 + 5.0 * urand());
+}
+
+static void test_simd_claim(void)
+{
+    int t, trials = TU_TRIALS(3000, 30);
+    char msg[120];
+    tu_seed(21);
+    for (t = 0; t < trials; t++) {
+        hset h;
+        qline l;
+        qline_scalar lb;
+        int n, range, need, ca, cb, v;
+        double pc;
+        float d;
+        unsigned char tag = (unsigned char)irand(1, 4), lab0[HCAP];
+        h_params(t, &n, &range, &pc, &d);
+        hset_make(&h, n, range, pc, d);
+        memcpy(lab0, h.la, (size_t)n);
+        l = h_line(&h);
+        memcpy(&lb, &l, sizeof lb);
+        need = irand(0, 1) ? 0 : irand(1, n + 2);
+        cb = claim_scalar(&h.kb, h.lb, &lb, tag, need);
+        for (v = 0; v <= host_avx2(); v++) { /* SSE2, AVX2 */
+            memcpy(h.la, lab0, (size_t)n);
+            H_AVX2(h.ka, v);
+            ca = claim(&h.ka, h.la, &l, tag, need);
+            snprintf(msg, sizeof msg, "claim trial %d (%s): n %d, need %d, counts %d / %d", t,
+                     v ? "AVX2" : "SSE2", n, need, ca, cb);
+            if (ca == cb) {
+                if (n)
+                    TEST_ASSERT_EQUAL_MEMORY_MESSAGE(h.lb, h.la, (size_t)n, msg);
+            } else { /* an early exit: both below need */
+                TEST_ASSERT_TRUE_MESSAGE(need > 0 && ca < need && cb < need, msg);
+            }
+        }
+    }
+}
+
+static void h_check_sums(const qsums *a, const qsums_scalar *b, const char *msg)
+{
+    TEST_ASSERT_TRUE_MESSAGE(a->n == b->n && a->sx == b->sx && a->sy == b->sy &&
+                                 a->sxx == b->sxx && a->sxy == b->sxy && a->syy == b->syy,
+                             msg);
+}
+
+/* walk_all and walk_near (the sample runs' sums) against walk_sums. */
+static void test_simd_walks(void)
+{
+    int t, trials = TU_TRIALS(4000, 40);
+    char msg[120];
+    tu_seed(22);
+    for (t = 0; t < trials; t++) {
+        hset h;
+        qsums sa;
+        qsums_scalar sb, sr;
+        int n, range, i, nfree = 0, m, start, e1a = -1, e2a = -1, e1b = -1, e2b = -1, small, q, v;
+        double pc;
+        float d;
+        h_params(t, &n, &range, &pc, &d);
+        if (pc > 0.97)
+            pc = 0.97;
+        hset_make(&h, n, range, pc, d);
+        for (i = 0; i < n; i++)
+            nfree += !h.la[i];
+        if (nfree == 0)
+            continue;
+        m = irand(1, nfree);
+        start = irand(0, n - 1);
+        v = irand(0, host_avx2()); /* walk_near's loops: SSE2 or AVX2 */
+        H_AVX2(h.ka, v);
+        small = walk_all(&h.ka, h.la, start, m, &sa, &e1a, &e2a);
+        TEST_ASSERT_EQUAL_INT(small, walk_all_scalar(&h.kb, h.lb, start, m, &sb, &e1b, &e2b));
+        walk_sums_scalar(&h.kb, h.lb, start, m, NULL, &sr);
+        snprintf(msg, sizeof msg, "walk trial %d (%s): n %d, m %d, start %d, ext %d", t,
+                 v ? "AVX2" : "SSE2", n, m, start, h.ka.ext);
+        h_check_sums(&sa, &sb, msg);
+        h_check_sums(&sa, &sr, msg);
+        if (!small)
+            continue;
+        /* SSE2 may end a walk past claimed points only */
+        TEST_ASSERT_TRUE_MESSAGE(e1a >= e1b && e1a <= n && e2a >= e2b && e2a <= start, msg);
+        for (i = e1b; i < e1a; i++)
+            TEST_ASSERT_TRUE_MESSAGE(h.la[i] != 0, msg);
+        for (i = e2b; i < e2a; i++)
+            TEST_ASSERT_TRUE_MESSAGE(h.la[i] != 0, msg);
+        for (q = 0; q < 4; q++) {
+            qline l = h_line(&h);
+            qline_scalar lb;
+            qsums na = sa;
+            qsums_scalar nb = sb;
+            memcpy(&lb, &l, sizeof lb);
+            walk_near(&h.ka, h.la, start, e1a, e2a, &l, &na);
+            walk_near_scalar(&h.kb, h.lb, start, e1b, e2b, &lb, &nb);
+            walk_sums_scalar(&h.kb, h.lb, start, m, &lb, &sr);
+            h_check_sums(&na, &nb, msg);
+            h_check_sums(&na, &sr, msg);
+        }
+    }
+}
+
+/* A quad for quad_inliers: random corners around the points, integer ones
+ * (exact ties between sides, points at exactly d), two equal corners, or
+ * a NaN or infinite corner (NaN projections: not reached by the fit,
+ * whose corners are finite, but the lanes must agree there too). */
+static void h_quad(const hset *h, qquad *q)
+{
+    int j, kind = irand(0, 4);
+    float w = h->ka.bw + 4.0f, hh = h->ka.bh + 4.0f;
+    memset(q, 0, sizeof *q);
+    for (j = 0; j < 4; j++) {
+        if (kind == 0) {
+            q->x[j] = (float)(urand() * w) - 2.0f;
+            q->y[j] = (float)(urand() * hh) - 2.0f;
+        } else {
+            q->x[j] = (float)irand(-2, (int)w);
+            q->y[j] = (float)irand(-2, (int)hh);
+        }
+    }
+    if (kind == 2) { /* an axis-parallel rectangle */
+        q->x[1] = q->x[2];
+        q->y[1] = q->y[0];
+        q->x[3] = q->x[0];
+        q->y[3] = q->y[2];
+    }
+    if (kind == 3)
+        q->x[1] = q->x[0], q->y[1] = q->y[0];
+    if (kind == 4) {
+        j = irand(0, 3);
+        if (irand(0, 1))
+            q->x[j] = NAN;
+        else
+            q->y[j] = irand(0, 1) ? INFINITY : -INFINITY;
+    }
+}
+
+#ifdef QUAD_SSE2
+/* inliers_sse2's (avx2: inliers_avx2's) count and per-side extremes of
+ * t against inlier_side's, over the points it covered. */
+static void h_extremes(const hset *h, const qquad *q, int avx2, const char *msg)
+{
+    float ax[4], ay[4], ux[4], uy[4], len[4], lo[4], hi[4], slo[4], shi[4];
+    int j, i, cnt = 0, scnt = 0, end, lanes = avx2 ? 8 : 4;
+    for (j = 0; j < 4; j++) {
+        int j1 = (j + 1) & 3;
+        float ex = q->x[j1] - q->x[j], ey = q->y[j1] - q->y[j];
+        float ln = actag_sqrtf(ex * ex + ey * ey);
+        ax[j] = q->x[j];
+        ay[j] = q->y[j];
+        ux[j] = ln > 0.0f ? ex / ln : 0.0f;
+        uy[j] = ln > 0.0f ? ey / ln : 0.0f;
+        len[j] = lo[j] = slo[j] = ln;
+        hi[j] = shi[j] = 0.0f;
+    }
+#ifdef QUAD_AVX2
+    if (avx2)
+        end = inliers_avx2(&h->ka, ax, ay, ux, uy, len, lo, hi, 0, &cnt);
+    else
+#endif
+        end = inliers_sse2(&h->ka, ax, ay, ux, uy, len, lo, hi, 0, &cnt);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(h->n - h->n % lanes, end, msg);
+    for (i = 0; i < end; i++) {
+        float best = h->ka.d2, bt = 0.0f;
+        int bj = -1;
+        for (j = 0; j < 4; j++)
+            inlier_side_scalar(h->fx[i], h->fy[i], ax[j], ay[j], ux[j], uy[j], len[j],
+                               ux[j] * len[j], uy[j] * len[j], j, &best, &bj, &bt);
+        if (bj < 0)
+            continue;
+        scnt++;
+        slo[bj] = bt < slo[bj] ? bt : slo[bj];
+        shi[bj] = bt > shi[bj] ? bt : shi[bj];
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(scnt, cnt, msg);
+    for (j = 0; j < 4; j++) { /* equal values (a zero's sign may differ) */
+        TEST_ASSERT_TRUE_MESSAGE(lo[j] == slo[j] || (lo[j] != lo[j] && slo[j] != slo[j]), msg);
+        TEST_ASSERT_TRUE_MESSAGE(hi[j] == shi[j] || (hi[j] != hi[j] && shi[j] != shi[j]), msg);
+    }
+}
+#endif
+
+static void test_simd_inliers(void)
+{
+    int t, trials = TU_TRIALS(3000, 30);
+    char msg[140];
+    tu_seed(23);
+    for (t = 0; t < trials; t++) {
+        hset h;
+        qquad q;
+        qquad_scalar qb;
+        int n, range, need, ca, cb, spa, spb = -1, v;
+        double pc;
+        float d;
+        h_params(t, &n, &range, &pc, &d);
+        if (range > 3000)
+            range = 3000; /* points near the quad */
+        hset_make(&h, n, range, 0.0, d * (float)irand(1, 3));
+        h_quad(&h, &q);
+        memcpy(&qb, &q, sizeof qb);
+        need = irand(0, 1) ? 0 : irand(0, n + 1);
+        cb = quad_inliers_scalar(&h.kb, &qb, &spb, need);
+        for (v = 0; v <= host_avx2(); v++) { /* SSE2, AVX2 */
+            H_AVX2(h.ka, v);
+            spa = -1;
+            ca = quad_inliers(&h.ka, &q, &spa, need);
+            snprintf(msg, sizeof msg,
+                     "inliers trial %d (%s): n %d, need %d, counts %d / %d, span %d / %d", t,
+                     v ? "AVX2" : "SSE2", n, need, ca, cb, spa, spb);
+            TEST_ASSERT_TRUE_MESSAGE((ca >= need) == (cb >= need), msg);
+            if (ca >= need) {
+                TEST_ASSERT_EQUAL_INT_MESSAGE(cb, ca, msg);
+                TEST_ASSERT_EQUAL_INT_MESSAGE(spb, spa, msg);
+            }
+#ifdef QUAD_SSE2
+            h_extremes(&h, &q, v, msg);
+#endif
+        }
+    }
+}
+
 static void test_edge_cases(void)
 {
     /* The fewest points, a single repeated point, a straight line, a
@@ -340,5 +766,8 @@ int main(void)
     RUN_TEST(test_not_chains);
     RUN_TEST(test_large_quads);
     RUN_TEST(test_edge_cases);
+    RUN_TEST(test_simd_claim);
+    RUN_TEST(test_simd_walks);
+    RUN_TEST(test_simd_inliers);
     return UNITY_END();
 }
