@@ -14,14 +14,18 @@
  * re-entrant, no call before constructors needs it.
  *
  * ACTAG_NO_AVX2 (or ACTAG_NO_SIMD) compiles the AVX2 paths out; so does a
- * compiler without the target attribute (GCC < 5, Clang < 6, others).
+ * compiler without the target attribute (GCC < 5, Clang < 6, others), and
+ * Windows (MinGW GCC cannot align the stack to 32 bytes for the AVX2
+ * spills, GCC PR 54412; clang-cl does not link __cpu_model by default).
+ * The check references __cpu_model (libgcc, compiler-rt): a link with
+ * -nostdlib needs -lgcc, or a build with ACTAG_NO_AVX2.
  * Built with -mavx2 already (__AVX2__), the check is a constant 1.
  */
 #ifndef ACTAG_SRC_CPU_X86_H
 #define ACTAG_SRC_CPU_X86_H
 
 #if defined(__x86_64__) && defined(__SSE2__) && !defined(ACTAG_NO_SIMD) &&                     \
-    !defined(ACTAG_NO_AVX2) &&                                                                 \
+    !defined(ACTAG_NO_AVX2) && !defined(_WIN32) && !defined(__CYGWIN__) &&                     \
     ((defined(__clang__) && __clang_major__ >= 6) || (!defined(__clang__) && defined(__GNUC__) && __GNUC__ >= 5))
 #define ACTAG__AVX2 1
 #define ACTAG__AVX2_TARGET __attribute__((target("avx2")))

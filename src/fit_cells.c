@@ -548,9 +548,10 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
  * integers (so the means are bit-identical: tests/test_decode_lattice.c).
  * Grids that leave the frame keep the SSE2 clamping sampler (fsample4_cl:
  * 7 % of the SSE2 samplers' instructions on the pool frames, about 1.5 %
- * of the run time beside these: not worth an AVX2 copy). No FMA: the target
- * is AVX2 alone, so the centres' multiplies and adds round as the scalar
- * code's. A sample v = 256 top + (bot - top) fy is formed as
+ * of the run time beside these: not worth an AVX2 copy). No FMA: fpmath.h's
+ * fp-contract=off holds for these functions too (even where the consumer
+ * builds with -mfma), so the centres' multiplies and adds round as the
+ * scalar code's. A sample v = 256 top + (bot - top) fy is formed as
  *     v = 256 S1 + fx S2,  S1 = (256 - fy) a + fy c,
  *                          S2 = (256 - fy) (b - a) + fy (d - c)
  * (the same integer, as fcell9_dsp's): S1 and S2 by one VPMADDWD each from

@@ -278,7 +278,7 @@ static int compare(const actag_ipoint *pts, int n, const actag_quad_params *p, u
 {
     actag_rng ra, rb;
     actag_quad qa, qb;
-    int rca, rcb;
+    int rca = ACTAG_OK, rcb;
     char msg[160];
     actag_rng_seed(&rb, seed);
     memset(&qb, 0x5a, sizeof qb);
@@ -760,6 +760,14 @@ static void test_edge_cases(void)
 
 int main(void)
 {
+    /* say which loops the SIMD tests compare: on a machine without AVX2
+     * only the SSE2 ones run (no silent pass) */
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
+    printf("test_quad_paths: SIMD loops compared with the plain C: SSE2%s\n",
+           host_avx2() ? " and AVX2" : " (no AVX2 on this processor or build)");
+#else
+    printf("test_quad_paths: no x86 SIMD in this build: the SIMD tests compare the plain C with itself\n");
+#endif
     UNITY_BEGIN();
     RUN_TEST(test_chains_around_quads);
     RUN_TEST(test_random_walk_blobs);

@@ -35,6 +35,12 @@ int actag__refine_corners_max16_portable(const void *img, int depth, uint32_t ma
                                          const actag_refine_params *rp, actag_point out[4],
                                          actag_refine_info *info);
 int actag__refine_shape_ok_portable(const float start[6], const float fit[6], float cell2);
+/* whether the library's copy has the SSE2 sweeps (printed by main) */
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
+#define RT_LIBRARY_SSE2 1
+#else
+#define RT_LIBRARY_SSE2 0
+#endif
 #define ACTAG_NO_SIMD 1
 #define actag_refine_params_default actag_refine_params_default_portable
 #define actag_refine_corners actag_refine_corners_portable
@@ -788,6 +794,8 @@ static void test_simd_equals_portable_pool(void)
 
 int main(void)
 {
+    printf("test_refine: %s\n", RT_LIBRARY_SSE2 ? "the library's SSE2 sweeps compared with the portable copy"
+                                               : "no SSE2 sweeps in this build: test_simd_* compare the portable code with itself");
     UNITY_BEGIN();
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h10", &g_fam));
     RUN_TEST(test_recovers_true_corners);

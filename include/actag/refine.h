@@ -71,7 +71,9 @@
  *   Deterministic: + - * / and sqrtf only, float. About 3.5 KB of stack
  *   (Cortex-M7 -O2, GCC 12 -fstack-usage: 2,384 bytes in the main frame,
  *   most of it a bearing cache and the cell layout; 440 + 456 + 68 in the
- *   pass, the sweep and the sweep's batched sums below it); no workspace.
+ *   pass, the sweep and the sweep's batched sums below it; on x86-64 the
+ *   SSE2 sweeps add a 16 KiB buffer of eight rows' grid offsets, about 17
+ *   KB in all); no workspace.
  *   Cost: about 5 passes over the pixel set in all (pass 2: 1 + 2..4
  *   steps; pass 1 on a sparser lattice); a pool frame's tag (2,000-3,100
  *   pixels at lattice step 2) takes about 5 M instructions on x86
