@@ -43,33 +43,41 @@ static int white_dir(unsigned nb, int d)
     return (int)(nb >> nb_bit[d & 7] & 1u);
 }
 
-/* Every entry that can occur (previous, or next, pixel white) is the sweep
- * of Suzuki-Abe's steps 3.3 and 3.4, done here one direction at a time. */
+/* Every entry that can occur is the sweep of Suzuki-Abe's steps 3.3 and
+ * 3.4 (k_walk[0], the previous pixel white; k_walk[1], the next pixel
+ * white), or of step 3.1 (k_walk[1], bits 0..2, the next pixel black), done
+ * here one direction at a time. */
 static void test_walk_table(void)
 {
-    int din, nb, checked = 0;
+    int din, dout, nb, k, forward = 0, backward = 0;
     for (din = 0; din < 8; din++)
         for (nb = 0; nb < 256; nb++) {
-            int k, prev = (din + 4) & 7, dout = -1, east = 0;
-            if (white_dir((unsigned)nb, prev)) {
-                /* counterclockwise from just after the previous pixel */
-                for (k = 1; k <= 8; k++) {
-                    int d = (prev + k) & 7;
-                    if (white_dir((unsigned)nb, d)) {
-                        dout = d;
-                        break;
-                    }
-                    if (d == 0)
-                        east = 1; /* passed over the black east neighbour */
-                }
-                TEST_ASSERT_TRUE(dout >= 0);
-                TEST_ASSERT_EQUAL_INT(dout | east << 3, k_walk[0][din << 8 | nb]);
-                /* undone: from dout back to din, the same east mark */
-                TEST_ASSERT_EQUAL_INT(din | east << 3, k_walk[1][dout << 8 | nb]);
-                checked++;
+            int prev = (din + 4) & 7, east = 0;
+            if (!white_dir((unsigned)nb, prev))
+                continue;
+            /* counterclockwise from just after the previous pixel */
+            for (k = 1; !white_dir((unsigned)nb, prev + k); k++)
+                if (((prev + k) & 7) == 0)
+                    east = 1; /* passed over the black east neighbour */
+            TEST_ASSERT_EQUAL_INT(((prev + k) & 7) | east << 3, k_walk[0][din << 8 | nb]);
+            forward++;
+        }
+    for (dout = 0; dout < 8; dout++)
+        for (nb = 1; nb < 256; nb++) {
+            int t = k_walk[1][dout << 8 | nb];
+            /* clockwise from just before the next pixel, dout itself last */
+            for (k = 1; !white_dir((unsigned)nb, dout - k); k++)
+                ;
+            TEST_ASSERT_EQUAL_INT((dout - k + 4) & 7, t & 7);
+            if (white_dir((unsigned)nb, dout)) {
+                /* the step undone: the forward step from there, the same
+                 * east mark */
+                TEST_ASSERT_EQUAL_INT(dout | (t & 8), k_walk[0][(t & 7) << 8 | nb]);
+                backward++;
             }
         }
-    TEST_ASSERT_EQUAL_INT(8 * 128, checked);
+    TEST_ASSERT_EQUAL_INT(8 * 128, forward);
+    TEST_ASSERT_EQUAL_INT(8 * 128, backward);
 }
 
 /* -------------------------------------------------------------- bitmaps */

@@ -13,9 +13,11 @@ whose 3 x 3 neighbourhood is nb (bit 0 NW, 1 N, 2 NE, 3 W, 4 E, 5 SW, 6 S,
       neighbour clockwise from just before the next pixel, dout itself
       last: the previous pixel);
 bit 3 of either entry: the counterclockwise sweep passed over the east
-neighbour. Entries whose previous (next) pixel is black never occur; they
-hold what the formulas give. tests/test_contour_walk.c checks the table in
-the source against the same rule.
+neighbour. k_walk[1] with a black next pixel is Suzuki-Abe's step 3.1 (bits
+0..2 only); entries whose previous pixel (k_walk[0]) or whose only white
+neighbour (k_walk[1]) is black never occur; they hold what the formulas
+give. tests/test_contour_walk.c checks the table in the source against the
+same rule.
 """
 
 # nb bit of the neighbour in each direction
