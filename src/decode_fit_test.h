@@ -62,12 +62,13 @@ int actag__fit_simd_cells(const uint8_t *img, int rows, int cols, int stride, co
                           int k, float so, int what, float *portable, float *simd);
 
 /* The same with the AVX2 reads as the decoder takes them where
- * actag__fit_avx2_reads() is 1: eight cells a lane each for grids inside
- * the frame, the SSE2 clamping sampler for grids that leave it
- * (actag__fit_simd_cells above compares the SSE2 path alone, on any
- * processor). 1 when the AVX2 path read the grid, 0 when the clamping
- * sampler did, ACTAG_ERR_PARAM as above and where actag__fit_avx2_reads()
- * is 0. */
+ * actag__fit_avx2_reads() is 1: eight cells a lane each (the clamping
+ * AVX2 sampler for grids that leave frames of 2 rows and columns or
+ * more), the lattice's points eight a time inside the frame, the SSE2
+ * clamping sampler for the rest (actag__fit_simd_cells above compares the
+ * SSE2 path alone, on any processor). 1 when the AVX2 path read the grid,
+ * 0 when the SSE2 sampler did, ACTAG_ERR_PARAM as above and where
+ * actag__fit_avx2_reads() is 0. */
 int actag__fit_avx2_cells(const uint8_t *img, int rows, int cols, int stride, const float g[6],
                           int k, float so, int what, float *portable, float *avx2);
 #endif

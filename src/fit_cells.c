@@ -2,7 +2,8 @@
  * every cell of an affine tag grid, by bilinear samples of the frame, and
  * the half-cell lattice the wide search's shifted grids share. Portable C,
  * with bit-identical SSE2 paths on x86-64 (and AVX2 ones, chosen at run
- * time, for grids inside the frame) and DSP asm on Cortex-M4/M7 for the
+ * time, for the cells of any grid and for lattices inside the frame) and
+ * DSP asm on Cortex-M4/M7 for the
  * cells inside the frame (tests/test_decode_lattice.c).
  *
  * The samples are integer arithmetic (so the same on every core and under
@@ -546,9 +547,11 @@ static inline void fcells_simd(const fimg *im, const fgrid *gr, int k, float *m,
 /* x86-64 with AVX2 (chosen at run time: im->avx2): the reads of grids
  * inside the frame eight cells at a time, one per lane, giving fsample_in's
  * integers (so the means are bit-identical: tests/test_decode_lattice.c).
- * Grids that leave the frame keep the SSE2 clamping sampler (fsample4_cl:
- * 7 % of the SSE2 samplers' instructions on the pool frames, about 1.5 %
- * of the run time beside these: not worth an AVX2 copy). No FMA: fpmath.h's
+ * Grids that leave the frame (frames of 2 rows and columns or more) have an
+ * AVX2 clamping sampler too (fsample8_cl: the SSE2 one, fsample4_cl, took
+ * 0.54 M instructions a pool frame and about 1.2 % of the run time; the
+ * AVX2 one 0.25 M, and the pipeline 0.01-0.02 ms less a frame); lattices
+ * that leave it keep the SSE2 one (1 % of its samples). No FMA: fpmath.h's
  * fp-contract=off holds for these functions too (even where the consumer
  * builds with -mfma), so the centres' multiplies and adds round as the
  * scalar code's. A sample v = 256 top + (bot - top) fy is formed as
@@ -622,6 +625,74 @@ ACTAG__AVX2_TARGET static inline __m256 fcell_8(const fimg *im, const fpat *p, i
     return _mm256_mul_ps(_mm256_cvtepi32_ps(s), _mm256_set1_ps(fit_norm9));
 }
 
+/* ffix of eight coordinates (ffix4's steps: NaN 0, clamped to +-FIX_MAX). */
+ACTAG__AVX2_TARGET static inline __m256i ffix8(__m256 v)
+{
+    __m256 lo = _mm256_set1_ps(-FIX_MAX), ok, neg;
+    v = _mm256_mul_ps(v, _mm256_set1_ps(FIX_ONE));
+    ok = _mm256_cmp_ps(v, lo, _CMP_GE_OQ);                  /* false for NaN */
+    neg = _mm256_cmp_ps(v, _mm256_setzero_ps(), _CMP_LT_OQ); /* false for NaN: 0 */
+    v = _mm256_or_ps(_mm256_and_ps(ok, v), _mm256_andnot_ps(ok, _mm256_and_ps(neg, lo)));
+    v = _mm256_min_ps(v, _mm256_set1_ps(FIX_MAX));
+    return _mm256_cvttps_epi32(v);
+}
+
+/* fsample (the clamping sampler) at eight fixed points, for grids that
+ * leave the frame (rows, cols >= 2): fsample4_cl's clamps and column pair
+ * (x0 = cols - 1 read as x0 = cols - 2 with fx = 256: the same value),
+ * fsample8_in's arithmetic (fx = 256 included: |S2| 256 < 2^24). Rows y0
+ * and y1 = min(y0 + 1, rows - 1): row y1's pair by a gather from its byte
+ * x0 - 2 (y1 >= 1, so at or after byte stride - 2 >= 0; it ends at byte x0
+ * + 1 <= cols - 1 of row y1), row y0's from byte x0 where y0 < rows - 1
+ * (it ends at most at byte (rows - 2) stride + cols + 1, within row y0 +
+ * 1, as in fpairs8); on the last row, y0 = y1, its pair is row y1's (that
+ * lane's gather masked off: nothing read past the frame). */
+ACTAG__AVX2_TARGET static inline __m256i fsample8_cl(const fimg *im, __m256i wmul, __m256i X, __m256i Y)
+{
+    __m256i f = _mm256_set1_epi32(0xff), zero = _mm256_setzero_si256();
+    __m256i last = _mm256_set1_epi32(im->rows - 1), xi, yi, fx, fy, over, up, o, q, w0, w1, w, ac, d, wt;
+    X = _mm256_min_epi32(_mm256_max_epi32(X, zero), _mm256_set1_epi32((im->cols - 1) * 256));
+    Y = _mm256_min_epi32(_mm256_max_epi32(Y, zero), _mm256_set1_epi32((im->rows - 1) * 256));
+    xi = _mm256_srai_epi32(X, 8);
+    yi = _mm256_srai_epi32(Y, 8);
+    fx = _mm256_and_si256(X, f);
+    fy = _mm256_and_si256(Y, f);
+    over = _mm256_cmpgt_epi32(xi, _mm256_set1_epi32(im->cols - 2)); /* x0 = cols - 1 */
+    xi = _mm256_add_epi32(xi, over);
+    fx = _mm256_or_si256(fx, _mm256_and_si256(over, _mm256_set1_epi32(256)));
+    up = _mm256_cmpgt_epi32(last, yi); /* y0 < rows - 1: y1 = y0 + 1 */
+    o = _mm256_madd_epi16(_mm256_or_si256(xi, _mm256_slli_epi32(yi, 16)), wmul);
+    q = _mm256_madd_epi16(_mm256_or_si256(xi, _mm256_slli_epi32(_mm256_sub_epi32(yi, up), 16)), wmul);
+    w1 = _mm256_i32gather_epi32((const int *)(const void *)im->img, _mm256_sub_epi32(q, _mm256_set1_epi32(2)), 1);
+    w0 = _mm256_mask_i32gather_epi32(_mm256_srli_epi32(w1, 16), (const int *)(const void *)im->img, o, up, 1);
+    w = _mm256_blend_epi16(w0, w1, 0xaa);
+    ac = _mm256_and_si256(w, _mm256_set1_epi32(0x00ff00ff));
+    d = _mm256_sub_epi16(_mm256_srli_epi16(w, 8), ac);
+    wt = _mm256_add_epi32(_mm256_sub_epi32(_mm256_slli_epi32(fy, 16), fy), _mm256_set1_epi32(256));
+    return _mm256_add_epi32(_mm256_slli_epi32(_mm256_madd_epi16(ac, wt), 8),
+                            _mm256_mullo_epi32(_mm256_madd_epi16(d, wt), fx));
+}
+
+/* fcell_8 for grids that leave the frame: ffix's clamps on the centres,
+ * the clamping sampler. */
+ACTAG__AVX2_TARGET static inline __m256 fcell_8_cl(const fimg *im, const fpat *p, int fast, __m256i wmul,
+                                                   __m256 x0, __m256 y0)
+{
+    __m256i X = ffix8(x0), Y = ffix8(y0), s = fsample8_cl(im, wmul, X, Y);
+    int i;
+    if (fast) {
+        for (i = 0; i < 4; i++)
+            s = _mm256_add_epi32(s, fsample8_cl(im, wmul, _mm256_add_epi32(X, _mm256_set1_epi32(p->dx5[i])),
+                                                _mm256_add_epi32(Y, _mm256_set1_epi32(p->dy5[i]))));
+        return _mm256_mul_ps(_mm256_cvtepi32_ps(s), _mm256_set1_ps(fit_norm5));
+    }
+    for (i = 0; i < 9; i++) /* sample 4, the centre, read above */
+        if (i != 4)
+            s = _mm256_add_epi32(s, fsample8_cl(im, wmul, _mm256_add_epi32(X, _mm256_set1_epi32(p->dx9[i])),
+                                                _mm256_add_epi32(Y, _mm256_set1_epi32(p->dy9[i]))));
+    return _mm256_mul_ps(_mm256_cvtepi32_ps(s), _mm256_set1_ps(fit_norm9));
+}
+
 /* Lane counters (c, r) of a row-major walk over rows of n >= 5 points, c
  * stepped by up to 8: brought back into 0..n-1 (at most twice, as
  * c < 3n). */
@@ -654,13 +725,14 @@ ACTAG__AVX2_TARGET static inline void fcentres8(const fgrid *gr, __m256i c, __m2
                         _mm256_mul_ps(_mm256_set1_ps(gr->by), v));
 }
 
-/* fcells_on(im, gr, k, m, 1, skip) for a grid inside the frame, eight
- * cells at a time in row order; p: the grid's pattern, fpat_of run by the
- * caller (run from here, its SSE code met dirty upper halves of the YMM
- * registers, GCC putting no VZEROUPPER before the call, and took a fifth
- * of this function's time). */
+/* fcells_on(im, gr, k, m, 1, skip) for a grid inside the frame (cl 0), or
+ * fcells_on(im, gr, k, m, 0, skip) for one that leaves it (cl 1: rows,
+ * cols >= 2), eight cells at a time in row order; p: the grid's pattern,
+ * fpat_of run by the caller (run from here, its SSE code met dirty upper
+ * halves of the YMM registers, GCC putting no VZEROUPPER before the call,
+ * and took a fifth of this function's time). */
 ACTAG__AVX2_TARGET static void fcells_avx2(const fimg *im, const fgrid *gr, const fpat *p, int k,
-                                           float *m, int skip)
+                                           float *m, int skip, int cl)
 {
     int i, n = k + 1, nn = n * n;
     /* u0 = cx + 1/2 - g: multiples of 1/2 below 16, exact in any order */
@@ -673,7 +745,7 @@ ACTAG__AVX2_TARGET static void fcells_avx2(const fimg *im, const fgrid *gr, cons
         fcentres8(gr, cx, cy, n, n, cu, cu, &x0, &y0);
         cx = _mm256_add_epi32(cx, _mm256_set1_epi32(8));
         fwrap8(&cx, &cy, nv);
-        s = fcell_8(im, p, im->fast, wmul, x0, y0);
+        s = cl ? fcell_8_cl(im, p, im->fast, wmul, x0, y0) : fcell_8(im, p, im->fast, wmul, x0, y0);
         if (i + 8 <= nn) /* else lanes 0..nn-i-1 (a tail loop became a memcpy call) */
             _mm256_storeu_ps(m + i, s);
         else
@@ -764,12 +836,20 @@ void actag__fit_cells(const fimg *im, const fgrid *gr, int k, float *m, int skip
             if (im->avx2) {
                 fpat p;
                 fpat_of(im, gr, im->fast, &p);
-                fcells_avx2(im, gr, &p, k, m, skip);
+                fcells_avx2(im, gr, &p, k, m, skip, 0);
                 return;
             }
 #endif
             fcells_simd(im, gr, k, m, skip, NULL);
         } else if (im->cols >= 2) { /* fsample4_cl's column pair */
+#if ACTAG__AVX2
+            if (im->avx2 && im->rows >= 2) { /* fsample8_cl's rows */
+                fpat p;
+                fpat_of(im, gr, im->fast, &p);
+                fcells_avx2(im, gr, &p, k, m, skip, 1);
+                return;
+            }
+#endif
             fclamp_of(im, &cl);
             fcells_simd(im, gr, k, m, skip, &cl);
         } else {
@@ -1003,7 +1083,8 @@ int actag__fit_avx2_reads(void)
 
 #if ACTAG__FIT_SIMD
 /* The portable cell reads, then the SIMD ones (avx2: with the AVX2 path);
- * 1 when that path read the grid (inside the frame), else 0. */
+ * 1 when that path read the grid (cells of a grid inside the frame or of
+ * a frame of 2 rows and columns or more, a lattice inside), else 0. */
 static int fsimd_hook(const uint8_t *img, int rows, int cols, int stride, const float g[6], int k,
                       float so, int what, int avx2, float *portable, float *simd)
 {
@@ -1032,7 +1113,9 @@ static int fsimd_hook(const uint8_t *img, int rows, int cols, int stride, const 
             for (c = 0; c < n + 2 - pi; c++)
                 *out++ = Q[r * FIT_LAT_MAX + c];
     }
-    return avx2 && inside;
+    /* (the AVX2 path reads cells of grids leaving frames of 2 rows and
+     * columns or more too, lattices only inside) */
+    return avx2 && (inside || (what < 4 && rows >= 2 && cols >= 2));
 }
 
 /* Test hooks (tests/test_decode_lattice.c): decode_fit_test.h. */

@@ -11,6 +11,14 @@
 #define SEARCH_DSP 1
 #endif
 
+/* x86-64 (SSE2, the baseline): the block sums, a uniform fan's row scores
+ * and the best position's scan four or eight lanes at a time, the same
+ * integers (see each). */
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
+#define SEARCH_SSE2 1
+#include <emmintrin.h>
+#endif
+
 #if ACTAG_SEARCH_FACTOR != 4
 #error "block_sum4 sums 4 x 4 blocks"
 #endif
@@ -56,6 +64,45 @@ static uint32_t block_sum4(const uint8_t *a, size_t stride)
         t += (v & 0x00FF00FFu) + ((v >> 8) & 0x00FF00FFu);
     }
     return (t & 0xFFFFu) + (t >> 16);
+}
+#endif
+
+#ifdef SEARCH_SSE2
+/* Integral-image row r + 1 (cur) of block row r, whose pixel rows start at
+ * a: blocks 0.. four at a time (16 bytes of each of the 4 rows; blocks
+ * below hc only, so no byte past 4 hc <= cols), cur[c + 1] = prev[c + 1] +
+ * the row's running sum, in uint32 as the scalar loop; returns the first
+ * block left and its running sum in *run. */
+static int block_rows_sse2(const uint8_t *a, size_t stride, int hc, const uint32_t *prev,
+                           uint32_t *cur, uint32_t *run)
+{
+    const __m128i zero = _mm_setzero_si128(), ones = _mm_set1_epi16(1);
+    __m128i r = _mm_set1_epi32((int)*run);
+    int c;
+    for (c = 0; c + 4 <= hc; c += 4) {
+        const uint8_t *p = a + 4 * (size_t)c;
+        __m128i lo = zero, hi = zero, s01, s23, t;
+        int i;
+        for (i = 0; i < 4; i++, p += stride) { /* column sums of the 4 rows, 16 bits */
+            __m128i v = _mm_loadu_si128((const __m128i *)(const void *)p);
+            lo = _mm_add_epi16(lo, _mm_unpacklo_epi8(v, zero));
+            hi = _mm_add_epi16(hi, _mm_unpackhi_epi8(v, zero));
+        }
+        /* pairs of columns, then pairs of pairs: the four block sums */
+        s01 = _mm_madd_epi16(lo, ones);
+        s23 = _mm_madd_epi16(hi, ones);
+        t = _mm_add_epi32(_mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(s01), _mm_castsi128_ps(s23), 0x88)),
+                          _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(s01), _mm_castsi128_ps(s23), 0xdd)));
+        /* running sums within the four, plus the run so far */
+        t = _mm_add_epi32(t, _mm_slli_si128(t, 4));
+        t = _mm_add_epi32(t, _mm_slli_si128(t, 8));
+        t = _mm_add_epi32(t, r);
+        r = _mm_shuffle_epi32(t, 0xff);
+        _mm_storeu_si128((__m128i *)(void *)(cur + c + 1),
+                         _mm_add_epi32(t, _mm_loadu_si128((const __m128i *)(const void *)(prev + c + 1))));
+    }
+    *run = (uint32_t)_mm_cvtsi128_si32(r);
+    return c;
 }
 #endif
 
@@ -131,6 +178,61 @@ static inline int16_t box_score(const actag_search *z, const search_box *b, int 
     return (int16_t)(q > 2040 ? 2040 : q < -2040 ? -2040 : q);
 }
 
+#ifdef SEARCH_SSE2
+/* Two lanes of box_score's quotient from the inner and outer sums si, so
+ * (their low two 32-bit lanes) in double: num = si nd - (so - si) ni and
+ * den = 2 ni nd (the quotient 8 num / 16 ni nd reduced) are integers below
+ * 2^53 (si <= 4080 ni, nd + ni = no <= ACTAG_SEARCH_MAX_BOX_BLOCKS), so
+ * exact, and so is the truncated quotient: the rounded division errs by
+ * less than |num| 2^-53 / den < 1 / den, the least distance of a
+ * fractional num / den from an integer. The same integer as the int32 and
+ * int64 divisions; clamped to +-2040 as int32 lanes. */
+static __m128d u32_pd(__m128i v) /* the low two lanes, unsigned */
+{
+    return _mm_add_pd(_mm_cvtepi32_pd(_mm_xor_si128(v, _mm_set1_epi32(INT32_MIN))),
+                      _mm_set1_pd(2147483648.0));
+}
+
+static __m128i quot2_sse2(__m128i si, __m128i so, __m128d nd, __m128d ni, __m128d den)
+{
+    __m128d num = _mm_sub_pd(_mm_mul_pd(u32_pd(si), nd), _mm_mul_pd(u32_pd(_mm_sub_epi32(so, si)), ni));
+    return _mm_cvttpd_epi32(_mm_div_pd(num, den));
+}
+
+/* Columns c0.. of score_row's run (both boxes inside the map) four at a
+ * time, whatever the size of its products; returns the first column left
+ * (fewer than four before c1). */
+static int score_run_sse2(const uint32_t *ia, const uint32_t *ib, const uint32_t *oa,
+                          const uint32_t *ob, int ic, int oc, int32_t ni, int32_t no, int c0,
+                          int c1, int16_t *row)
+{
+    const __m128d nd = _mm_set1_pd((double)(no - ni)), niv = _mm_set1_pd((double)ni);
+    const __m128d den = _mm_set1_pd(2.0 * (double)ni * (double)(no - ni));
+    const __m128i hi = _mm_set1_epi32(2040), lo = _mm_set1_epi32(-2040);
+    int c;
+    for (c = c0; c + 4 <= c1; c += 4) {
+#define SEARCH_LD(p) _mm_loadu_si128((const __m128i *)(const void *)(p))
+        /* the box sums as uint32 (below 2^32: ACTAG_SEARCH_MAX_BOX_BLOCKS) */
+        __m128i si = _mm_add_epi32(_mm_sub_epi32(_mm_sub_epi32(SEARCH_LD(ib + c + ic + 1), SEARCH_LD(ia + c + ic + 1)),
+                                                 SEARCH_LD(ib + c - ic)),
+                                   SEARCH_LD(ia + c - ic));
+        __m128i so = _mm_add_epi32(_mm_sub_epi32(_mm_sub_epi32(SEARCH_LD(ob + c + oc + 1), SEARCH_LD(oa + c + oc + 1)),
+                                                 SEARCH_LD(ob + c - oc)),
+                                   SEARCH_LD(oa + c - oc));
+#undef SEARCH_LD
+        __m128i q01 = quot2_sse2(si, so, nd, niv, den);
+        __m128i q23 = quot2_sse2(_mm_shuffle_epi32(si, 0x0e), _mm_shuffle_epi32(so, 0x0e), nd, niv, den);
+        __m128i q = _mm_unpacklo_epi64(q01, q23), over, under;
+        over = _mm_cmpgt_epi32(q, hi);
+        q = _mm_or_si128(_mm_andnot_si128(over, q), _mm_and_si128(over, hi));
+        under = _mm_cmplt_epi32(q, lo);
+        q = _mm_or_si128(_mm_andnot_si128(under, q), _mm_and_si128(under, lo));
+        _mm_storel_epi64((__m128i *)(void *)(row + c), _mm_packs_epi32(q, q));
+    }
+    return c;
+}
+#endif
+
 /* box_score over block row r of a uniform fan (one box b for the row), into
  * row[0..hc-1]: the same scores. The scored positions are one run of
  * columns, where both boxes lie inside the map (box_sum's clamps never
@@ -157,6 +259,12 @@ static void score_row(const actag_search *z, const search_box *b, int r, int16_t
     ni = (2 * ir + 1) * (2 * ic + 1);
     no = (2 * orr + 1) * (2 * oc + 1);
     top = (int64_t)8 * 16 * 255 * ni * (no - ni);
+#ifdef SEARCH_SSE2
+    /* four columns at a time in double (products of either size) */
+    c0 = score_run_sse2(z->ii + (size_t)(r - ir) * w, z->ii + (size_t)(r + ir + 1) * w,
+                        z->ii + (size_t)(r - orr) * w, z->ii + (size_t)(r + orr + 1) * w, ic, oc,
+                        ni, no, c0, c1, row);
+#endif
     if (top > INT32_MAX) {
         for (c = c0; c < c1; c++)
             row[c] = box_score(z, b, r, c);
@@ -216,7 +324,12 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
         uint32_t *prev = z->ii + (size_t)r * w, *cur = prev + w;
         const uint8_t *a = img + (size_t)(ACTAG_SEARCH_FACTOR * r) * (size_t)stride;
         cur[0] = 0u;
-        for (c = 0; c < hc; c++, a += ACTAG_SEARCH_FACTOR) {
+        c = 0;
+#ifdef SEARCH_SSE2
+        c = block_rows_sse2(a, (size_t)stride, hc, prev, cur, &run);
+        a += (size_t)c * ACTAG_SEARCH_FACTOR;
+#endif
+        for (; c < hc; c++, a += ACTAG_SEARCH_FACTOR) {
             run += block_sum4(a, (size_t)stride);
             cur[c + 1] = prev[c + 1] + run;
         }
@@ -253,6 +366,45 @@ int actag_search_map(actag_search *z, const uint8_t *img, int rows, int cols, in
     return ACTAG_OK;
 }
 
+#ifdef SEARCH_SSE2
+/* The scan for the best position, as the row-major one: the first of the
+ * map's n scores holding the largest one, when that is above `best`
+ * (*br, *bc then its row and column in rows of hc; else untouched).
+ * Returns the new best. The largest score first (8 lanes), then its first
+ * place. */
+static int best_sse2(const int16_t *map, size_t n, int best, int hc, int *br, int *bc)
+{
+    __m128i mx = _mm_set1_epi16(INT16_MIN), v;
+    size_t i, at;
+    int m, k;
+    for (i = 0; i + 8u <= n; i += 8u)
+        mx = _mm_max_epi16(mx, _mm_loadu_si128((const __m128i *)(const void *)(map + i)));
+    mx = _mm_max_epi16(mx, _mm_shuffle_epi32(mx, 0x4e));
+    mx = _mm_max_epi16(mx, _mm_shuffle_epi32(mx, 0xb1));
+    mx = _mm_max_epi16(mx, _mm_shufflelo_epi16(mx, 0xb1));
+    m = (int16_t)_mm_cvtsi128_si32(mx);
+    for (at = i; at < n; at++)
+        if (map[at] > m)
+            m = map[at];
+    if (!(m > best))
+        return best;
+    v = _mm_set1_epi16((short)m);
+    for (at = 0; at + 8u <= n; at += 8u) {
+        k = _mm_movemask_epi8(_mm_cmpeq_epi16(_mm_loadu_si128((const __m128i *)(const void *)(map + at)), v));
+        if (k) { /* two mask bits a lane: the first lane set */
+            for (; !(k & 1); k >>= 2)
+                at++;
+            break;
+        }
+    }
+    while (map[at] != m) /* (in the last n % 8 when no vector holds it) */
+        at++;
+    *br = (int)(at / (size_t)hc);
+    *bc = (int)(at % (size_t)hc);
+    return m;
+}
+#endif
+
 /* Takes the best remaining position (score >= min), suppresses its
  * neighbourhood, and returns the axis-aligned white-square quad (full
  * resolution). Returns 0 when nothing is left. */
@@ -267,6 +419,9 @@ int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry
     if (min_score < INT16_MIN + 1)
         min_score = INT16_MIN + 1;
     best = min_score - 1;
+#ifdef SEARCH_SSE2
+    best = best_sse2(z->map, (size_t)z->hr * (size_t)z->hc, best, z->hc, &br, &bc);
+#else
     for (r = 0; r < z->hr; r++) {
         const int16_t *m = z->map + (size_t)r * (size_t)z->hc;
         for (c = 0; c < z->hc; c++)
@@ -276,6 +431,7 @@ int actag_search_next(actag_search *z, int min_score, const actag_sonar_geometry
                 bc = c;
             }
     }
+#endif
     if (br < 0)
         return 0;
     y = (float)(ACTAG_SEARCH_FACTOR * br) + 0.5f * (float)(ACTAG_SEARCH_FACTOR - 1);
