@@ -208,7 +208,13 @@ static const uint8_t k_walk[2][8 * 256] = {
  * of its up-left neighbour (r - 1, c - 1) in the padded bitmap: one add per
  * step, the neighbourhood words come from q without a multiply and the
  * pixel's mark is bit q + 1 of the marks from row 0 on (marks + wpr). */
+#if defined(__GNUC__)
 #define CINLINE __attribute__((always_inline)) static inline
+#define CNOINLINE __attribute__((noinline)) static
+#else
+#define CINLINE static inline
+#define CNOINLINE static
+#endif
 
 /* Steps of an outer border's backward walker, whose directions trace()
  * keeps on the stack (one byte each): borders of up to twice as many points
@@ -441,9 +447,8 @@ CINLINE uint32_t candidates(uint32_t wp, uint32_t w, uint32_t wn, uint32_t up, u
 /* The candidates of words k .. k + n - 1 of row r into cand[0 .. n - 1],
  * n = min(SCAN_CHUNK, wpr - k); returns n. Out of line: its loop keeps
  * everything in registers, and compilers vectorise it. */
-static __attribute__((noinline)) size_t row_candidates(const uint32_t *white,
-                                                       const uint32_t *marks, size_t wpr, int r,
-                                                       size_t k, uint32_t *cand)
+CNOINLINE size_t row_candidates(const uint32_t *white, const uint32_t *marks, size_t wpr, int r,
+                                size_t k, uint32_t *cand)
 {
     const uint32_t *w = white + (size_t)(r + 1) * wpr, *m = marks + (size_t)(r + 1) * wpr;
     const uint32_t *up = w - wpr, *dn = w + wpr;

@@ -248,10 +248,33 @@ static void test_patterns(void)
         int p = it % P_N, rows = tu_range(1, it % 4 ? 12 : 40), cols;
         int permille = tu_range(300, 700), flip = it % 3 ? 0 : tu_range(1, 60);
         uint32_t *bm;
-        if (it % 5 == 0)
-            cols = 32 * tu_range(1, 2) + tu_range(-3, 2);
-        else
+        if (it % 5 == 0) { /* one draw a statement: the same inputs on every compiler */
+            int words = tu_range(1, 2);
+            cols = 32 * words + tu_range(-3, 2);
+        } else
             cols = tu_range(1, it % 3 ? 70 : 8);
+        if (p == P_BLOBBY)
+            permille = tu_range(420, 580);
+        bm = pattern_bitmap(p, rows, cols, permille, flip);
+        total += compare(bm, rows, cols);
+        free(bm);
+    }
+    TEST_ASSERT_GREATER_THAN(iters, total);
+}
+
+/* Wide rows (540 .. 1100 columns: 18 or more words, where the raster
+ * scan handles a row's last word apart from its full chunks of 16) with
+ * few rows, every pattern, the library and the short backward buffer (a
+ * review's mutation of the last word's scan passed the narrower cases). */
+static void test_wide_rows(void)
+{
+    int it, total = 0;
+    const int iters = TU_TRIALS(300, 12);
+    tu_seed(1618);
+    for (it = 0; it < iters; it++) {
+        int p = it % P_N, rows = tu_range(1, 8), cols = tu_range(540, 1100);
+        int permille = tu_range(300, 700), flip = it % 3 ? 0 : tu_range(1, 60);
+        uint32_t *bm;
         if (p == P_BLOBBY)
             permille = tu_range(420, 580);
         bm = pattern_bitmap(p, rows, cols, permille, flip);
@@ -354,6 +377,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_walk_table);
     RUN_TEST(test_patterns);
+    RUN_TEST(test_wide_rows);
     RUN_TEST(test_long_borders);
     RUN_TEST(test_real_frames);
     return UNITY_END();

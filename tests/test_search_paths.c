@@ -102,7 +102,7 @@ static long inner_blocks(const actag_sonar_geometry *g, int rows, int cols, floa
 
 static void test_random_frames(void)
 {
-    int t, big = 0, wide = 0;
+    int t, big = 0, wide = 0, scored = 0;
     tu_seed(31);
     for (t = 0; t < TU_TRIALS(400, 40); t++) {
         int rows = tu_range(12, t % 10 == 0 ? 700 : 260), cols = tu_range(t % 10 == 0 ? 300 : 12, t % 10 == 0 ? 700 : 260);
@@ -154,12 +154,13 @@ static void test_random_frames(void)
                 break;
             }
         }
-        check_frame(img, rows, cols, stride, &g, tag, bits, rs, tu_range(1, 12));
+        scored += check_frame(img, rows, cols, stride, &g, tag, bits, rs, tu_range(1, 12)) > 0;
         free(img);
         free(bearings);
     }
     TEST_ASSERT_TRUE(TU_EMULATED || big > 0);
     TEST_ASSERT_TRUE(TU_EMULATED || wide > 0);
+    TEST_ASSERT_GREATER_THAN_INT(0, scored); /* frames with scored positions compared */
 }
 
 /* A white frame with 32-bit tags whose outer box nearly fills the map:
@@ -183,14 +184,21 @@ static void test_bright_frame_past_int32(void)
     TEST_ASSERT_NOT_NULL(img);
     memset(img, 255, (size_t)rows * (size_t)cols);
     TEST_ASSERT_GREATER_THAN_INT(0, check_frame(img, rows, cols, cols, &g, tag, 32, 1.0f, 2));
-    for (r = 0; r < 4000; r++) /* dark pixels: scores other than 0 */
-        img[(size_t)tu_range(0, rows - 1) * (size_t)cols + (size_t)tu_range(0, cols - 1)] = 0;
+    for (r = 0; r < 4000; r++) { /* dark pixels: scores other than 0 */
+        size_t y = (size_t)tu_range(0, rows - 1); /* one draw a statement */
+        img[y * (size_t)cols + (size_t)tu_range(0, cols - 1)] = 0;
+    }
     TEST_ASSERT_GREATER_THAN_INT(0, check_frame(img, rows, cols, cols, &g, tag, 32, 1.0f, 2));
     free(img);
 }
 
 int main(void)
 {
+#if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
+    printf("test_search_paths: the library's SSE2 search compared with the plain C copy\n");
+#else
+    printf("test_search_paths: no SSE2 in this build: the plain C compared with its copy\n");
+#endif
     UNITY_BEGIN();
     RUN_TEST(test_random_frames);
     RUN_TEST(test_bright_frame_past_int32);
