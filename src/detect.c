@@ -681,6 +681,86 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
     return 0;
 }
 
+/* Turns of a blind box about its centre (cos, sin): +30, -30 and +45
+ * degrees. The wide search tries its start and the start turned +-30
+ * degrees (decode.h), so from these three boxes as well every turn of a
+ * tag (modulo 90 degrees) lies within 7.5 degrees of a start. */
+static const float blind_turns[3][2] = {
+    {0.8660254f, 0.5f}, {0.8660254f, -0.5f}, {0.70710678f, 0.70710678f}};
+
+/* The box q turned by (c, s) = (cos, sin) about its centre in its own
+ * frame (q as the affine image of a unit square, so that a box of one tag
+ * size along range and along azimuth turns as the tag would), into t. */
+static void turn_box(const actag_point q[4], float c, float s, actag_point t[4])
+{
+    static const float su[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, sv[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
+    actag_point m = centre(q);
+    float ax = 0.5f * (q[1].x - q[0].x + q[2].x - q[3].x);
+    float ay = 0.5f * (q[1].y - q[0].y + q[2].y - q[3].y);
+    float bx = 0.5f * (q[3].x - q[0].x + q[2].x - q[1].x);
+    float by = 0.5f * (q[3].y - q[0].y + q[2].y - q[1].y);
+    int j;
+    for (j = 0; j < 4; j++) {
+        float u = c * su[j] - s * sv[j], v = s * su[j] + c * sv[j];
+        t[j].x = m.x + u * ax + v * bx;
+        t[j].y = m.y + u * ay + v * by;
+    }
+}
+
+/* A blind reading *dr (a search position's or a contour guess's, box q:
+ * a start that knows the tag's size but not its turn) against the readings
+ * of q turned (blind_turns, each read as a tentative wide reading): when
+ * one reads another tag, handedness or corner order at the same place and
+ * its template explains the cells at least as well (both polished over
+ * the full range at both places, as rival_explains judges), the place has
+ * two readings and *dr is refused; the first turned start that reads the
+ * same tag, handedness and corner order there ends the check (two starts
+ * agree), one that reads nothing says nothing. The wide search picks its
+ * start grid by a code-agnostic score, so over a tag turned 30-45 degrees
+ * it can settle on a grid across the tag's cells whose reading is a chance
+ * word; a turned start then finds the tag's own grid, which explains the
+ * cells far better (docs/decoder.md, "Blind readings and turned starts":
+ * with AcTag24m10, whose one code such grids read in the wrong handedness,
+ * 7 mirrored-flag and corner-order errors in 12 held-out runs, 3 after).
+ * Returns 1 to refuse. */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static int turned_rival_refuses(const ws_layout *w, int rows, int cols,
+                                const actag_sonar_geometry *geometry,
+                                const actag_params *params, const actag_point q[4],
+                                const actag_decode_result *dr)
+{
+    actag__fit_rival a = rival_of(dr);
+    float own = -1.0f; /* the reading's polish at its own place, once */
+    int i;
+    if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
+        return 0;
+    for (i = 0; i < (int)(sizeof blind_turns / sizeof blind_turns[0]); i++) {
+        actag_point t[4];
+        actag__fit_grids gg;
+        actag_decode_result tdr;
+        actag__fit_rival o;
+        float r1, r2;
+        turn_box(q, blind_turns[i][0], blind_turns[i][1], t);
+        memset(&gg, 0, sizeof gg); /* state 0: not read before */
+        gg.blind = 1;
+        if (read_wide(w->b, rows, cols, t, geometry, params, 0, &gg, NULL, &tdr) !=
+            ACTAG_TRACE_ACCEPTED)
+            continue;
+        o = rival_of(&tdr);
+        if (!same_place(dr->fit_corners, o.fit_corners))
+            continue;
+        if (!readings_disagree(&a, &o))
+            return 0; /* a second start reads the same: the reading stands */
+        if (actag__fit_rival_explains_own(w->b, rows, cols, cols, params->family,
+                                          &params->tuning.fit, a.id, a.fit_corners, o.id,
+                                          o.fit_corners, &r1, &r2, &own) == 1)
+            return 1;
+    }
+    return 0;
+}
+
 /* The cross-check of a quad reading *qdr (detect_filtered): its contour's
  * grid guess read tentatively, without the template check (gq and *gg keep
  * it for read_guess_again). Returns 1 when the guess reads another tag,
@@ -1160,6 +1240,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                         rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, 0,
                                        dr.fit_corners, sk_contested))
                         verdict = ACTAG_TRACE_RIVAL;
+                    if (verdict == ACTAG_TRACE_ACCEPTED &&
+                        turned_rival_refuses(&w, rows, cols, geometry, params, gq, &dr))
+                        verdict = ACTAG_TRACE_RIVAL;
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED) {
@@ -1332,6 +1415,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                         rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, namb,
                                        dr.fit_corners, sk_contested))
                         verdict = ACTAG_TRACE_RIVAL;
+                    if (verdict == ACTAG_TRACE_ACCEPTED &&
+                        turned_rival_refuses(&w, rows, cols, geometry, params, gq, &dr))
+                        verdict = ACTAG_TRACE_RIVAL;
                     trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
                                verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
                     if (verdict == ACTAG_TRACE_ACCEPTED) {
@@ -1381,6 +1467,9 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
         if (verdict == ACTAG_TRACE_ACCEPTED &&
             rival_explains(&w, rows, cols, params, &dr, NULL, 0, held, nheld, dr.fit_corners,
                            NULL))
+            verdict = ACTAG_TRACE_RIVAL;
+        if (verdict == ACTAG_TRACE_ACCEPTED &&
+            turned_rival_refuses(&w, rows, cols, geometry, params, sk_box[k], &dr))
             verdict = ACTAG_TRACE_RIVAL;
         trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, sk_box[k], 0.0f,
                    verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);

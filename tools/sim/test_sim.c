@@ -1073,6 +1073,48 @@ static void test_regression_coarse_seed9213_frame149(void)
                           ACTAG_TRACE_GUESS, 5, 1, ACTAG_TRACE_RIVAL);
 }
 
+/* Run 13004 of bench/heldout_sweep.py --mix any (seeds nobody had tuned
+ * on) with the one-code family AcTag24m10: actag-eval --rows 530 --cols 512
+ * --min-range 0.1 --max-range 3.5 --min-distance 0.5 --max-distance 3
+ * --gain 260 --noise 0.0012 --psf-azimuth 0.0035 --psf-range 0.0025
+ * --looks 3 --clutter 0 --foam 0.5 --metal-specular 8 --bands 5 --family
+ * AcTag24m10 --seed 13004, frame 49: a mirrored tag 0 at 2.12 m and 45
+ * degrees, turned about 40 degrees in the image. The structure search's
+ * box is not turned, and its wide search settled on a grid across the
+ * tag's cells that read tag 0 unmirrored at hamming 3, margin 5.5: a
+ * mirrored-flag and corner-order error (the family's one code cannot be
+ * misread as another ID). Read from the box turned 30 degrees, the tag's
+ * own grid gives the mirrored tag 0, whose template explains the cells far
+ * better, so the blind reading is refused (detect.c, turned_rival_refuses). */
+static void test_regression_m10_heldout13004_frame49(void)
+{
+    sim_case c;
+    coarse_case_settings(&c, 13004u, 49u, 0u);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24m10", &c.t.family));
+    c.a.gain = 260.0f;
+    c.a.noise = 0.0012f;
+    c.a.psf_azimuth = 0.0035f;
+    c.a.psf_range = 0.0025f;
+    c.a.looks = 3;
+    c.a.foam = 0.5f;
+    c.a.metal_specular = 8.0f;
+    c.a.band_rate = 5.0f;
+    c.v.clutter = 0;
+    /* at the defaults nothing but the mirrored tag 0 may be read (case_check) */
+    (void)case_check(&c, 0, 1, "the wrong handedness of held-out AcTag24m10 run 13004 frame 49");
+    /* and the search's reading of the unmirrored tag 0 was refused by a turned start */
+    {
+        static scene_run r;
+        memset(&r, 0, sizeof r);
+        r.what = "held-out AcTag24m10 run 13004 frame 49 at the defaults";
+        r.flip = actag_geometry_mirrors(&c.s.geo, c.s.cols);
+        r.n = detect_scene(&c.s, &c.sc, &c.a, c.fs, &c.t, 1, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
+                           r.det, log_candidate, &r);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.overflow, r.what);
+        expect_traced_refusal(&r, ACTAG_TRACE_SEARCH, 0, 0, ACTAG_TRACE_RIVAL);
+    }
+}
+
 /* actag-eval --pool --seed 3005 --clutter 12 --azimuth-ascending, frame 15:
  * an unmirrored AcTag24h10 tag 0 at 1.23 m and 64 degrees. Its contour
  * guess read tag 0 on the right grid and was refused as too close to call;
@@ -1593,6 +1635,7 @@ int main(void)
     RUN_TEST(test_regression_coarse_seed1009_frame378);
     RUN_TEST(test_regression_pool_seed3005_frame15);
     RUN_TEST(test_regression_coarse_seed9210_frame905);
+    RUN_TEST(test_regression_m10_heldout13004_frame49);
     RUN_TEST(test_regression_coarse_seed9213_frame149);
     RUN_TEST(test_regression_pool_h8_seed9609_frame435);
     RUN_TEST(test_regression_coarse_seed9722_frame177);
