@@ -94,7 +94,14 @@ extern "C" {
                                      (contested), or a quad's or guess's
                                      hypothesis refused there as too close
                                      to call did it to the search reading:
-                                     it is not reported either */
+                                     it is not reported either; and a search
+                                     position's or guess's reading that a
+                                     reading of its box turned 30-45 degrees
+                                     contests in the same way (another tag,
+                                     handedness or corner order there whose
+                                     template explains the cells at least as
+                                     well: docs/decoder.md, "Blind readings
+                                     and turned starts") */
 #define ACTAG_TRACE_BORDER 8      /* a guess with a corner on the frame's
                                      border: not read (its tag's data cells
                                      would leave the frame) */
