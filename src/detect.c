@@ -681,10 +681,13 @@ static int rival_explains(const ws_layout *w, int rows, int cols, const actag_pa
     return 0;
 }
 
-/* Turns of a blind box about its centre (cos, sin): +30, -30 and +45
- * degrees. The wide search tries its start and the start turned +-30
- * degrees (decode.h), so from these three boxes as well every turn of a
- * tag (modulo 90 degrees) lies within 7.5 degrees of a start. */
+/* Turns of a blind box about its centre (cos, sin), in the box's own
+ * frame: +30, -30 and +45 degrees. With the box itself these are clean
+ * starts at 0, 30, 45 and 60 degrees (-30 is 60 modulo 90) in the tag's
+ * plane, so every turn of a tag lies within 15 degrees of one; the wide
+ * search adds its own starts turned +-30 degrees in pixels (decode.h),
+ * which for a box square in pixels are the same turns (and bring every
+ * turn within 7.5 degrees of a start), for an oblong one sheared ones. */
 static const float blind_turns[3][2] = {
     {0.8660254f, 0.5f}, {0.8660254f, -0.5f}, {0.70710678f, 0.70710678f}};
 

@@ -168,7 +168,12 @@ typedef struct actag_limits {
                                    extreme-point and merged-blob guesses (default 40)
                                    (stats.decode_cap); a
                                    search candidate's second reading, with the template
-                                   check, counts with its first (at most search_candidates) */
+                                   check, counts with its first (at most search_candidates);
+                                   so do the checks of a reported search or guess reading
+                                   from its box turned +30, -30 and +45 degrees (at most 3
+                                   wide readings and 3 template polishes each, so at most
+                                   3 x (16 guesses + search_candidates) a frame; detect.c,
+                                   turned_rival_refuses) */
 } actag_limits;
 
 #define ACTAG_LIMIT_CONTOURS 20000

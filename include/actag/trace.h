@@ -18,8 +18,11 @@
  *                          guess's reading of its place (contested: not
  *                          reported either) or when a quad's or guess's
  *                          hypothesis there, refused as too close to call,
- *                          explains the cells at least as well, else with
- *                          the outcome of its reading with the check.
+ *                          explains the cells at least as well, or when a
+ *                          reading of its box turned +30, -30 or +45
+ *                          degrees does (another tag, handedness or corner
+ *                          order there), else with the outcome of its
+ *                          reading with the check.
  *     ACTAG_TRACE_CONTOUR  an outer border of the binary frame (contours.h):
  *                          its points, bounding box and whether it passed the
  *                          physical size filter.
@@ -28,7 +31,8 @@
  *     ACTAG_TRACE_GUESS    when no quad of a contour reads: the grid guess from
  *                          the contour's extreme points and what the fit
  *                          decoder's wide search made of it (judged like a
- *                          search position); also, right after a contour
+ *                          search position, its turned boxes included);
+ *                          also, right after a contour
  *                          refused by size (ACTAG_TRACE_SIZE) as too large
  *                          where cells are under 10 beams, the white
  *                          square's box at its centre (a white square
@@ -96,8 +100,8 @@ extern "C" {
                                      to call did it to the search reading:
                                      it is not reported either; and a search
                                      position's or guess's reading that a
-                                     reading of its box turned 30-45 degrees
-                                     contests in the same way (another tag,
+                                     reading of its box turned +30, -30 or +45
+                                     degrees contests in the same way (another tag,
                                      handedness or corner order there whose
                                      template explains the cells at least as
                                      well: docs/decoder.md, "Blind readings
