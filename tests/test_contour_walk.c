@@ -237,6 +237,20 @@ static uint32_t *pattern_bitmap(int p, int rows, int cols, int permille, int fli
     return bm;
 }
 
+/* compare() on a bitmap of pattern p: blobby patterns draw their own
+ * density near the threshold (one draw, after the caller's). */
+static int compare_pattern(int p, int rows, int cols, int permille, int flip)
+{
+    uint32_t *bm;
+    int n;
+    if (p == P_BLOBBY)
+        permille = tu_range(420, 580);
+    bm = pattern_bitmap(p, rows, cols, permille, flip);
+    n = compare(bm, rows, cols);
+    free(bm);
+    return n;
+}
+
 static void test_patterns(void)
 {
     /* widths 1 .. 70 and around multiples of 32 (a row of 1, 2 or 3 words,
@@ -247,17 +261,12 @@ static void test_patterns(void)
     for (it = 0; it < iters; it++) {
         int p = it % P_N, rows = tu_range(1, it % 4 ? 12 : 40), cols;
         int permille = tu_range(300, 700), flip = it % 3 ? 0 : tu_range(1, 60);
-        uint32_t *bm;
         if (it % 5 == 0) { /* one draw a statement: the same inputs on every compiler */
             int words = tu_range(1, 2);
             cols = 32 * words + tu_range(-3, 2);
         } else
             cols = tu_range(1, it % 3 ? 70 : 8);
-        if (p == P_BLOBBY)
-            permille = tu_range(420, 580);
-        bm = pattern_bitmap(p, rows, cols, permille, flip);
-        total += compare(bm, rows, cols);
-        free(bm);
+        total += compare_pattern(p, rows, cols, permille, flip);
     }
     TEST_ASSERT_GREATER_THAN(iters, total);
 }
@@ -274,12 +283,7 @@ static void test_wide_rows(void)
     for (it = 0; it < iters; it++) {
         int p = it % P_N, rows = tu_range(1, 8), cols = tu_range(540, 1100);
         int permille = tu_range(300, 700), flip = it % 3 ? 0 : tu_range(1, 60);
-        uint32_t *bm;
-        if (p == P_BLOBBY)
-            permille = tu_range(420, 580);
-        bm = pattern_bitmap(p, rows, cols, permille, flip);
-        total += compare(bm, rows, cols);
-        free(bm);
+        total += compare_pattern(p, rows, cols, permille, flip);
     }
     TEST_ASSERT_GREATER_THAN(iters, total);
 }
