@@ -891,6 +891,24 @@ static void test_thirty_two_row_blocks(void)
     free(img);
 }
 
+static void test_radius_four_network(void)
+{
+    /* At radius 4 on x86-64 with AVX2 the library takes median_net32 (a
+     * sorting network on 2 x 2 tiles, 64 columns and two rows a pass, the
+     * last pass of a row overlapping the one before it, the frame's edges
+     * through a clamped copy): every width 1..200 (one pass, the edge copy
+     * on one side or both, overlapping last passes), heights 1..12 (odd
+     * ones drop the pass's second row) and taller, every fill (the few-
+     * level ones make ties), strides beyond cols. */
+    int cols, step = TU_EMULATED ? 7 : 1;
+    rng_state = 0x9E7u;
+    for (cols = 1; cols <= 200; cols += step) {
+        int rows = cols <= 12 ? cols : rnd_range(1, 30);
+        int kind = (int)(rnd() % FILL_N);
+        check_case(rows, cols, 4, kind, cols & 3 ? rnd_range(1, 9) : 0, cols & 4 ? 2 : 0);
+    }
+}
+
 static void test_inplace_errors(void)
 {
     uint8_t img[64], scr[ACTAG_MEDIAN_INPLACE_SCRATCH_SIZE(8)], before[64];
@@ -1183,6 +1201,7 @@ int main(void)
     RUN_TEST(test_16bit_scaling_exact);
     RUN_TEST(test_inplace_equals_brute_force);
     RUN_TEST(test_thirty_two_row_blocks);
+    RUN_TEST(test_radius_four_network);
     RUN_TEST(test_inplace_errors);
     RUN_TEST(test_bands_equal_brute_force);
     RUN_TEST(test_bands_errors);
