@@ -50,12 +50,17 @@
  * same code on 32 rows with 32-byte vectors (median_avx2.h): 8.5 M
  * instructions per pool frame at R = 4 against 11.9 M, 10-20 % less time
  * (bench/stage_bench, bench/actag_bench; the run-to-run spread is wide).
- * At R = 4 (the paper's radius, the default) AVX2 processors take
- * median_net32 instead: sorting networks on 2 x 2 tiles of outputs
- * (median_net9.h, from tools/gen_median_net.py), 3.8 M instructions per
- * pool frame and 0.37 ms against median_rows32's 8.5 M and 0.85 ms, side
- * by side (2026-12-06); it keeps about 14 KB of stack (the shared pieces
- * of two rows by 256 columns), where the other paths keep under 3 KB. */
+ * At R = 4 (the paper's radius, the default) the vector paths take
+ * sorting networks on 2 x 2 tiles of outputs instead (median_net.h, on
+ * the networks of median_net9.h from tools/gen_median_net.py), one text
+ * for both widths: median_net32 on AVX2 processors, 3.8 M instructions
+ * per pool frame and 0.37 ms against median_rows32's 8.5 M and 0.85 ms,
+ * side by side (2026-12-06); median_net16 with SSE2 or NEON, 8.5 M
+ * against median_rows16's 12.0 M (callgrind, 58 frames) and 0.52-0.55
+ * ms against 0.95-1.04 (-DACTAG_NO_AVX2 builds, side by side,
+ * 2026-12-06).
+ * Each keeps about 14 KB of stack (the shared pieces of two rows by 256
+ * columns). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 #include "cpu_x86.h"
@@ -345,6 +350,34 @@ static void v_zip(vu8 a, vu8 b, vu8 *lo, vu8 *hi)
 {
     *lo = _mm_unpacklo_epi8(a, b);
     *hi = _mm_unpackhi_epi8(a, b);
+}
+
+/* Lane-wise unsigned min and max (median_net16). */
+static vu8 v_min(vu8 a, vu8 b)
+{
+    return _mm_min_epu8(a, b);
+}
+
+static vu8 v_max(vu8 a, vu8 b)
+{
+    return _mm_max_epu8(a, b);
+}
+
+/* Bytes p[0], p[2], .. p[30] to e and p[1], .. p[31] to o (median_net16):
+ * the packs of the masked and shifted halves are in order. */
+static void mn_split16(const uint8_t *p, uint8_t *e, uint8_t *o)
+{
+    const __m128i lo = _mm_set1_epi16(0x00FF);
+    const __m128i a = load16(p), b = load16(p + 16);
+    store16(e, _mm_packus_epi16(_mm_and_si128(a, lo), _mm_and_si128(b, lo)));
+    store16(o, _mm_packus_epi16(_mm_srli_epi16(a, 8), _mm_srli_epi16(b, 8)));
+}
+
+/* a0 b0 a1 b1 .. a15 b15 to d (median_net16). */
+static void mn_zip16(vu8 a, vu8 b, uint8_t *d)
+{
+    store16(d, _mm_unpacklo_epi8(a, b));
+    store16(d + 16, _mm_unpackhi_epi8(a, b));
 }
 
 /* Lowest and highest lane. */
@@ -1607,37 +1640,53 @@ typedef struct {
 #undef RB_FN_
 #endif /* MEDIAN_SIMD */
 
-#ifdef MEDIAN_AVX2
+#ifdef MEDIAN_SIMD
 /* ----------------------------------------------------------------------
- * Radius 4 with AVX2: median_net32, sorting networks (Adams 2021,
- * "Fast median filters using separable sorting networks") on 2 x 2 tiles
- * of outputs, one tile a byte lane, two output rows and up to 256
- * columns (128 tiles) a pass. median_net9.h (written and checked by
- * tools/gen_median_net.py, which explains the scheme) holds the networks.
- * The columns are split into even and odd ones, so that the pieces the
- * tiles share, indexed by position (column xs + 2e is position e of the
- * even half, xs + 2e + 1 of the odd one), sit at fixed lane offsets from
- * a tile's lane: a tile at column x = xs + 2m reads positions m-2 .. m+2.
- * Per pass: the core rows y-3 .. y+4 of every column sorted (S1), merged
- * in pairs and fours of columns (S2, S4) and the rows above and below in
- * pairs and fours (H2, H4), each once per position; then mn_tile per 32
- * tiles. About 800 min/max a tile (four outputs) against the 31
- * instructions a pixel of median_rows32; the same bytes (a median is a
- * median: test_median checks both against the brute force).
+ * Radius 4: median_net16 (SSE2, NEON) and, on x86-64 processors with
+ * AVX2, median_net32: sorting networks on 2 x 2 tiles of outputs, one
+ * tile a byte lane, from median_net.h (which explains the scheme) on the
+ * vector primitives of each width. The same bytes as the histogram
+ * paths.
  * ---------------------------------------------------------------------- */
+#define MN_FN_(x, n) x##n
+#define MN_FN2(x, n) MN_FN_(x, n)
+#define MN_FN(x) MN_FN2(x, MN_LANES)
+
+/* median_net16 on the 16-byte primitives (mn_split16, mn_zip16 beside
+ * them); 256-column passes as with 32 lanes (a pass computes 4 positions
+ * past its tiles: with 128-column passes 4.5 % more instructions on the
+ * pool frames, about 2 % more time) */
+#define MN_LANES 16
+#define MN_NT 128
+#define MN_V vu8
+#define MN_MIN v_min
+#define MN_MAX v_max
+#define MN_LD load16
+#define MN_ST store16
+#define MN_ATTR
+#include "median_net.h"
+#undef MN_LANES
+#undef MN_NT
+#undef MN_V
+#undef MN_MIN
+#undef MN_MAX
+#undef MN_LD
+#undef MN_ST
+#undef MN_ATTR
+
+#ifdef MEDIAN_AVX2
+/* median_net32: the same text on 32-byte vectors */
+#define MN_LANES 32
+#define MN_NT 128
 #define MN_V __m256i
 #define MN_MIN _mm256_min_epu8
 #define MN_MAX _mm256_max_epu8
 #define MN_LD(p) _mm256_loadu_si256((const __m256i *)(const void *)(p))
 #define MN_ST(p, v) _mm256_storeu_si256((__m256i *)(void *)(p), (v))
 #define MN_ATTR ACTAG__AVX2_TARGET
-#include "median_net9.h"
-
-#define MN_NT 128         /* tiles a pass at most (256 columns) */
-#define MN_W (MN_NT + 4)  /* positions -2 .. NT+1, stored from index 0 */
 
 /* Bytes p[0], p[2], .. p[62] to e and p[1], .. p[63] to o. */
-ACTAG__AVX2_TARGET static void mn_split(const uint8_t *p, uint8_t *e, uint8_t *o)
+ACTAG__AVX2_TARGET static void mn_split32(const uint8_t *p, uint8_t *e, uint8_t *o)
 {
     const __m256i lo = _mm256_set1_epi16(0x00FF);
     const __m256i a = MN_LD(p), b = MN_LD(p + 32);
@@ -1648,121 +1697,17 @@ ACTAG__AVX2_TARGET static void mn_split(const uint8_t *p, uint8_t *e, uint8_t *o
     MN_ST(o, _mm256_permute4x64_epi64(od, 0xD8));
 }
 
-#define MN_CX(a, b)                                                                                \
-    do {                                                                                           \
-        const __m256i t_ = _mm256_min_epu8(a, b);                                                  \
-        b = _mm256_max_epu8(a, b);                                                                 \
-        a = t_;                                                                                    \
-    } while (0)
-
-/* The eight rows at p (stride sp) sorted lane-wise into o (stride so):
- * 19 comparators. */
-ACTAG__AVX2_TARGET static void mn_sort8(const uint8_t *p, size_t sp, uint8_t *o, size_t so)
+/* a0 b0 a1 b1 .. a31 b31 to d (unpack works within 128-bit halves) */
+ACTAG__AVX2_TARGET static void mn_zip32(__m256i a, __m256i b, uint8_t *d)
 {
-    __m256i v[8];
-    int j;
-    for (j = 0; j < 8; j++)
-        v[j] = MN_LD(p + (size_t)j * sp);
-    MN_CX(v[0], v[2]); MN_CX(v[1], v[3]); MN_CX(v[4], v[6]); MN_CX(v[5], v[7]);
-    MN_CX(v[0], v[4]); MN_CX(v[1], v[5]); MN_CX(v[2], v[6]); MN_CX(v[3], v[7]);
-    MN_CX(v[0], v[1]); MN_CX(v[2], v[3]); MN_CX(v[4], v[5]); MN_CX(v[6], v[7]);
-    MN_CX(v[2], v[4]); MN_CX(v[3], v[5]);
-    MN_CX(v[1], v[4]); MN_CX(v[3], v[6]);
-    MN_CX(v[1], v[2]); MN_CX(v[3], v[4]); MN_CX(v[5], v[6]);
-    for (j = 0; j < 8; j++)
-        MN_ST(o + (size_t)j * so, v[j]);
+    const __m256i lo = _mm256_unpacklo_epi8(a, b), hi = _mm256_unpackhi_epi8(a, b);
+    MN_ST(d, _mm256_permute2x128_si256(lo, hi, 0x20));
+    MN_ST(d + 32, _mm256_permute2x128_si256(lo, hi, 0x31));
 }
-#undef MN_CX
 
-/* Vector bases covering indices 0 .. n-1 (n >= 32) 32 at a time, the last
- * one moved back to end at n - 1 (it recomputes some, identically). */
-#define MN_FOR_BASES(q, i, n) for ((i) = 0; (q) = (i) + 32 > (n) ? (n)-32 : (i), (i) < (n); (i) += 32)
-
-/* Output rows y0 .. y1-1 at radius 4, two a pass (the last pass of an odd
- * count computes row y1 too, and drops it). */
-ACTAG__AVX2_TARGET static void median_net32(rowsrc *rs, int rows, int cols, uint8_t *dst,
-                                            size_t dstride, int y0, int y1)
-{
-    /* split[t][h][e + 2]: row y-4+t, half h (0 even, 1 odd columns) */
-    uint8_t split[10][2][MN_W], s1[2][8][MN_W];
-    uint8_t s2[16][MN_W], s4[32][MN_W], h2[2][2][MN_W], h4[2][4][MN_W];
-    uint8_t pad[2 * MN_NT + 8];
-    /* tiles a pass: enough 32-tile vectors for the row, at most four */
-    const int nv = cols >= 2 * MN_NT ? MN_NT / 32 : (cols + 63) / 64;
-    const int nt = 32 * nv, span = 2 * nt + 8;
-    int y, x0, t, h, i, q, v;
-
-    for (y = y0; y < y1; y += 2) {
-        const uint8_t *src[10];
-        for (t = 0; t < 10; t++)
-            src[t] = get_row(rs, clampi(y - 4 + t, 0, rows - 1), -1);
-        for (x0 = 0; x0 < cols; x0 += 2 * nt) {
-            /* the last pass overlaps the one before rather than reading
-             * past the row (outputs written twice are equal) */
-            const int xs = x0 + 2 * nt > cols && cols >= 2 * nt ? cols - 2 * nt : x0;
-            for (t = 0; t < 10; t++) {
-                const uint8_t *p = pad;
-                if (xs >= 4 && xs + span - 4 <= cols) {
-                    p = src[t] + (xs - 4);
-                } else {
-                    /* the frame's edges: columns clamped, as every path */
-                    const int a = xs < 4 ? 4 - xs : 0;                      /* first in the row */
-                    const int b = xs - 4 + span > cols ? cols - xs + 4 : span; /* past the last */
-                    memset(pad, src[t][0], (size_t)a);
-                    memcpy(pad + a, src[t] + (xs - 4 + a), (size_t)(b - a));
-                    memset(pad + b, src[t][cols - 1], (size_t)(span - b));
-                }
-                /* positions -2 .. nt+1: 64 bytes (32 of each half) a step */
-                MN_FOR_BASES(q, i, span / 2)
-                    mn_split(p + 2 * q, &split[t][0][q], &split[t][1][q]);
-            }
-            for (h = 0; h < 2; h++)
-                MN_FOR_BASES(q, i, nt + 4)
-                    mn_sort8(&split[1][h][q], 2 * MN_W, &s1[h][0][q], MN_W);
-            /* S2(q): columns xs + 2q - 3 (odd half, index q) and
-             * xs + 2q - 2 (even half, index q + 1); S4(q): S2(q), S2(q + 1);
-             * H2, H4 likewise on rows y - 4 (split[0]) and y + 5 (split[9]) */
-            MN_FOR_BASES(q, i, nt + 3) {
-                mn_merge_8_8(&s1[1][0][q], MN_W, &s1[0][0][q + 1], MN_W, &s2[0][q], MN_W);
-                mn_sort_1_1(&split[0][1][q], 0, &split[0][0][q + 1], 0, &h2[0][0][q], MN_W);
-                mn_sort_1_1(&split[9][1][q], 0, &split[9][0][q + 1], 0, &h2[1][0][q], MN_W);
-            }
-            MN_FOR_BASES(q, i, nt + 2) {
-                mn_merge_16_16(&s2[0][q], MN_W, &s2[0][q + 1], MN_W, &s4[0][q], MN_W);
-                mn_merge_2_2(&h2[0][0][q], MN_W, &h2[0][0][q + 1], MN_W, &h4[0][0][q], MN_W);
-                mn_merge_2_2(&h2[1][0][q], MN_W, &h2[1][0][q + 1], MN_W, &h4[1][0][q], MN_W);
-            }
-            for (v = 0; v < nv; v++) {
-                /* tile m = 32 v + lane at column xs + 2m: S4(m), S4(m + 2);
-                 * column x - 4 even half index m, x + 5 odd half m + 4 */
-                const int m0 = 32 * v, c0 = xs + 2 * m0;
-                __m256i out[4];
-                mn_tile(&s4[0][m0], &s4[0][m0 + 2], MN_W, &h4[0][0][m0], &h4[0][0][m0 + 2],
-                        &h4[1][0][m0], &h4[1][0][m0 + 2], MN_W, &s1[0][0][m0], &s1[1][0][m0 + 4],
-                        MN_W, &split[0][0][m0], &split[0][1][m0 + 4], &split[9][0][m0],
-                        &split[9][1][m0 + 4], out);
-                for (h = 0; h < 2 && y + h < y1 && c0 < cols; h++) {
-                    /* interleave the even and odd columns of row y + h */
-                    const __m256i lo = _mm256_unpacklo_epi8(out[2 * h], out[2 * h + 1]);
-                    const __m256i hi = _mm256_unpackhi_epi8(out[2 * h], out[2 * h + 1]);
-                    uint8_t *d = dst + (size_t)(y + h) * dstride + (size_t)c0;
-                    if (cols - c0 >= 64) {
-                        MN_ST(d, _mm256_permute2x128_si256(lo, hi, 0x20));
-                        MN_ST(d + 32, _mm256_permute2x128_si256(lo, hi, 0x31));
-                    } else {
-                        uint8_t tmp[64];
-                        MN_ST(tmp, _mm256_permute2x128_si256(lo, hi, 0x20));
-                        MN_ST(tmp + 32, _mm256_permute2x128_si256(lo, hi, 0x31));
-                        memcpy(d, tmp, (size_t)(cols - c0));
-                    }
-                }
-            }
-        }
-    }
-}
-#undef MN_FOR_BASES
+#include "median_net.h"
+#undef MN_LANES
 #undef MN_NT
-#undef MN_W
 #undef MN_V
 #undef MN_MIN
 #undef MN_MAX
@@ -1770,6 +1715,10 @@ ACTAG__AVX2_TARGET static void median_net32(rowsrc *rs, int rows, int cols, uint
 #undef MN_ST
 #undef MN_ATTR
 #endif /* MEDIAN_AVX2 */
+#undef MN_FN
+#undef MN_FN2
+#undef MN_FN_
+#endif /* MEDIAN_SIMD */
 
 /* Large radii (2R + 1 > H / 2 with H column histograms): strips of up to
  * H / 2 output columns s0 .. s1-1 (absolute here, W = s1 - s0 <= 2R + 1),
@@ -1925,7 +1874,9 @@ static void median_strip_agg(rowsrc *rs, int rows, int cols, int s0, int s1, uin
 
 /* Output rows y0 .. y1-1 by the row-block median: median_rows32 when the
  * processor has AVX2 and the block's 2R + 32 source rows are at hand (8-bit
- * rows, or a 16-bit ring that holds them all), else MEDIAN_BLOCK. The
+ * rows, or a 16-bit ring that holds them all), else MEDIAN_BLOCK; at R = 4
+ * with a vector unit the sorting networks instead (median_net32 or
+ * median_net16: 10 source rows, which every ring given here holds). The
  * same bytes either way. */
 static void median_block(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t dstride, int R,
                          int y0, int y1)
@@ -1936,6 +1887,12 @@ static void median_block(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t ds
             median_net32(rs, rows, cols, dst, dstride, y0, y1);
         else
             median_rows32(rs, rows, cols, dst, dstride, R, y0, y1);
+        return;
+    }
+#endif
+#ifdef MEDIAN_SIMD
+    if (R == 4) {
+        median_net16(rs, rows, cols, dst, dstride, y0, y1);
         return;
     }
 #endif

@@ -1,9 +1,9 @@
 /* NEON (AArch64, ARMv7-A with NEON; little-endian) versions of median.c's
  * 16-lane primitives: included by median.c only (MEDIAN_NEON), where the
- * SSE2 ones sit beside the portable ones; median_strip8 and median_rows16
- * there are written once for both vector units. Same integers as the SSE2
- * and portable primitives (tests/test_median.c checks every path against
- * a brute-force median).
+ * SSE2 ones sit beside the portable ones; median_strip8, median_rows16 and
+ * median_net16 there are written once for both vector units. Same
+ * integers as the SSE2 and portable primitives (tests/test_median.c
+ * checks every path against a brute-force median).
  *
  * What differs from SSE2: NEON has unsigned compares (no 0x8000 bias in
  * h16) and widening adds, but no movemask, so a set of lanes is a vector
@@ -64,6 +64,35 @@ static void v_zip(vu8 a, vu8 b, vu8 *lo, vu8 *hi)
     uint8x16x2_t z = vzipq_u8(a, b);
     *lo = z.val[0];
     *hi = z.val[1];
+}
+
+/* Lane-wise unsigned min and max (median_net16). */
+static vu8 v_min(vu8 a, vu8 b)
+{
+    return vminq_u8(a, b);
+}
+
+static vu8 v_max(vu8 a, vu8 b)
+{
+    return vmaxq_u8(a, b);
+}
+
+/* Bytes p[0], p[2], .. p[30] to e and p[1], .. p[31] to o (median_net16):
+ * VLD2 de-interleaves as it loads. */
+static void mn_split16(const uint8_t *p, uint8_t *e, uint8_t *o)
+{
+    const uint8x16x2_t v = vld2q_u8(p);
+    vst1q_u8(e, v.val[0]);
+    vst1q_u8(o, v.val[1]);
+}
+
+/* a0 b0 a1 b1 .. a15 b15 to d (median_net16): VST2 interleaves. */
+static void mn_zip16(vu8 a, vu8 b, uint8_t *d)
+{
+    uint8x16x2_t v;
+    v.val[0] = a;
+    v.val[1] = b;
+    vst2q_u8(d, v);
 }
 
 /* Highest and lowest lane. */

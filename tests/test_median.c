@@ -893,19 +893,29 @@ static void test_thirty_two_row_blocks(void)
 
 static void test_radius_four_network(void)
 {
-    /* At radius 4 on x86-64 with AVX2 the library takes median_net32 (a
-     * sorting network on 2 x 2 tiles, 64 columns and two rows a pass, the
-     * last pass of a row overlapping the one before it, the frame's edges
-     * through a clamped copy): every width 1..200 (one pass, the edge copy
-     * on one side or both, overlapping last passes), heights 1..12 (odd
-     * ones drop the pass's second row) and taller, every fill (the few-
-     * level ones make ties), strides beyond cols. */
-    int cols, step = TU_EMULATED ? 7 : 1;
+    /* At radius 4 the vector paths take sorting networks on 2 x 2 tiles:
+     * median_net32 (x86-64 with AVX2: the library) and median_net16 (SSE2,
+     * NEON: the sse2 path), two rows and up to 256 columns a pass, in
+     * whole vectors of 32 or 16 tiles (64 or 32 columns), the frame's
+     * edges through a clamped copy: every width 1..200 (one pass, the edge
+     * copy on one side or both, a last vector with 1..64 columns), heights
+     * 1..12 (odd ones drop the pass's second row) and taller, every fill
+     * (the few-level ones make ties), strides beyond cols; then widths of
+     * two and three passes, the last one of one vector or more, whole or
+     * not. */
+    static const int wide[] = {255, 256, 257, 270, 288, 289, 300, 319, 320, 321,
+                               383, 385, 448, 511, 512, 513, 530, 545, 600, 767};
+    int cols, k, step = TU_EMULATED ? 7 : 1;
     rng_state = 0x9E7u;
     for (cols = 1; cols <= 200; cols += step) {
         int rows = cols <= 12 ? cols : rnd_range(1, 30);
         int kind = (int)(rnd() % FILL_N);
         check_case(rows, cols, 4, kind, cols & 3 ? rnd_range(1, 9) : 0, cols & 4 ? 2 : 0);
+    }
+    for (k = 0; k < (int)(sizeof wide / sizeof wide[0]); k += TU_EMULATED ? 3 : 1) {
+        int rows = rnd_range(1, 12);
+        int kind = (int)(rnd() % FILL_N);
+        check_case(rows, wide[k], 4, kind, k & 1 ? rnd_range(1, 9) : 0, k & 2 ? 2 : 0);
     }
 }
 
@@ -1175,7 +1185,8 @@ int main(void)
     const int avx2 = 0;
 #endif
     printf("test_median: the library's row-block median (radii 1..7) is %s\n",
-           avx2 ? "median_rows32 (AVX2); the sse2 path median_rows16"
+           avx2 ? "median_rows32, at R = 4 median_net32 (AVX2); the sse2 path median_rows16, "
+                  "at R = 4 median_net16"
                 : "not the AVX2 one (library and sse2 paths alike)");
     UNITY_BEGIN();
     RUN_TEST(test_random_images);

@@ -98,7 +98,8 @@
  *   path's 16-row histogram for R <= 7 about 11 KiB: 512 levels of 16
  *   lanes, half of them spare, and the medians of 64 columns awaiting
  *   their transposition into the output; the AVX2 path's 32-row one about
- *   22 KiB; at radius 4 the AVX2 path's sorting networks about 14 KiB).
+ *   22 KiB; at radius 4 the sorting networks of the AVX2, SSE2 and NEON
+ *   paths about 14 KiB).
  *   scratch is checked for every radius, R = 0 included.
  *
  *   Strips: with H column histograms (H = as many as fit next to the two
