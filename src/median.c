@@ -53,7 +53,7 @@
  * At R = 4 (the paper's radius, the default) the vector paths take
  * sorting networks on 2 x 2 tiles of outputs instead (median_net.h, on
  * the networks of median_net9.h from tools/gen_median_net.py), one text
- * for both widths: median_net32 on AVX2 processors, 3.8 M instructions
+ * for both widths: median_net32 on AVX2 processors, 3.7 M instructions
  * per pool frame and 0.37 ms against median_rows32's 8.5 M and 0.85 ms,
  * side by side (2026-12-06); median_net16 with SSE2 or NEON, 8.5 M
  * against median_rows16's 12.0 M (callgrind, 58 frames) and 0.52-0.55
