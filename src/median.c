@@ -44,12 +44,13 @@
  * median_quad_dsp(), which at R >= 3 takes eight rows a pass where it can
  * (oct_block; about 52 instructions per pixel at R = 4, -O2, 78 with four
  * rows). With NEON (AArch64, ARMv7-A) the vector paths are the SSE2 ones,
- * median_strip8 and median_rows16, on the NEON primitives of
- * median_neon.h: the same bytes. On x86-64 processors with AVX2 (chosen
- * at run time, cpu_x86.h) radii up to 7 take median_rows32 instead, the
- * same code on 32 rows with 32-byte vectors (median_avx2.h): 8.5 M
- * instructions per pool frame at R = 4 against 11.9 M, 10-20 % less time
- * (bench/stage_bench, bench/actag_bench; the run-to-run spread is wide).
+ * median_strip8, median_rows16 and median_net16, on the NEON primitives
+ * of median_neon.h: the same bytes. On x86-64 processors with AVX2
+ * (chosen at run time, cpu_x86.h) radii up to 7 take median_rows32
+ * instead, the same code on 32 rows with 32-byte vectors (median_avx2.h):
+ * 8.5 M instructions per pool frame at R = 4 against 11.9 M, 10-20 % less
+ * time (bench/stage_bench, bench/actag_bench; the run-to-run spread is
+ * wide; figures from before the networks below took R = 4).
  * At R = 4 (the paper's radius, the default) the vector paths take
  * sorting networks on 2 x 2 tiles of outputs instead (median_net.h, on
  * the networks of median_net9.h from tools/gen_median_net.py), one text
@@ -60,7 +61,8 @@
  * ms against 0.95-1.04 (-DACTAG_NO_AVX2 builds, side by side,
  * 2026-12-06).
  * Each keeps about 14 KB of stack (the shared pieces of two rows by 256
- * columns). */
+ * columns; gcc -fstack-usage: 13.8-14.2 KB on x86-64, AArch64, ARMv7),
+ * in a frame of its own (not inlined). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/median.h"
 #include "cpu_x86.h"
@@ -77,12 +79,14 @@
  * medians are read back from vectors in memory as bytes (r16_store). */
 #define MEDIAN_NEON 1
 #endif
-/* A 16-byte vector unit: median_strip8 and median_rows16, written once. */
+/* A 16-byte vector unit: median_strip8, median_rows16 and median_net16,
+ * each written once for SSE2 and NEON. */
 #if defined(MEDIAN_SSE2) || defined(MEDIAN_NEON)
 #define MEDIAN_SIMD 1
 #endif
 /* x86-64 with a compiler that can build the AVX2 path (cpu_x86.h):
- * median_rows32 beside median_rows16, chosen at run time (median_block). */
+ * median_rows32 and median_net32 beside median_rows16 and median_net16,
+ * chosen at run time (median_block). */
 #if defined(MEDIAN_SSE2) && ACTAG__AVX2
 #define MEDIAN_AVX2 1
 #endif
@@ -352,12 +356,13 @@ static void v_zip(vu8 a, vu8 b, vu8 *lo, vu8 *hi)
     *hi = _mm_unpackhi_epi8(a, b);
 }
 
-/* Lane-wise unsigned min and max (median_net16). */
+/* Lane-wise unsigned min (median_net16). */
 static vu8 v_min(vu8 a, vu8 b)
 {
     return _mm_min_epu8(a, b);
 }
 
+/* Lane-wise unsigned max (median_net16). */
 static vu8 v_max(vu8 a, vu8 b)
 {
     return _mm_max_epu8(a, b);
@@ -1899,7 +1904,9 @@ static void median_block(rowsrc *rs, int rows, int cols, uint8_t *dst, size_t ds
     MEDIAN_BLOCK(rs, rows, cols, dst, dstride, R, y0, y1);
 }
 
-/* Rows a pass of median_block on 8-bit rows. */
+/* Rows a pass of median_block's histogram paths on 8-bit rows (the unit
+ * of the in-place bands' height; the R = 4 networks take two rows a pass
+ * and, for an odd count, compute one more row and drop it). */
 static int median_block_rows(void)
 {
 #ifdef MEDIAN_AVX2

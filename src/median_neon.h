@@ -66,12 +66,13 @@ static void v_zip(vu8 a, vu8 b, vu8 *lo, vu8 *hi)
     *hi = z.val[1];
 }
 
-/* Lane-wise unsigned min and max (median_net16). */
+/* Lane-wise unsigned min (median_net16). */
 static vu8 v_min(vu8 a, vu8 b)
 {
     return vminq_u8(a, b);
 }
 
+/* Lane-wise unsigned max (median_net16). */
 static vu8 v_max(vu8 a, vu8 b)
 {
     return vmaxq_u8(a, b);

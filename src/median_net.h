@@ -6,7 +6,9 @@
  *   MN_LANES  16 or 32: tiles a vector, one byte lane each
  *   MN_NT     tiles a pass at most (a multiple of MN_LANES)
  *   MN_FN(x)  the name of function x for this width (x ## MN_LANES)
- *   MN_V, MN_MIN, MN_MAX, MN_LD, MN_ST, MN_ATTR  as median_net9.h says
+ *   MN_V, MN_MIN, MN_MAX, MN_LD, MN_ST, MN_ATTR  the vector type, lane-wise
+ *             unsigned byte min and max, load, store, attribute
+ *             (tools/gen_median_net.py's docstring)
  * and, for this width, MN_FN(mn_split)(p, e, o): the bytes p[0], p[2], ..
  * p[2L-2] to e and p[1], p[3], .. p[2L-1] to o (L = MN_LANES), and
  * MN_FN(mn_zip)(a, b, d): the bytes a0 b0 a1 b1 .. to d[0 .. 2L-1].
@@ -64,15 +66,32 @@ MN_ATTR static void MN_FN(mn_sort8_)(const uint8_t *p, size_t sp, uint8_t *o, si
 #define MN_FOR_BASES(q, i, n)                                                                      \
     for ((i) = 0; (q) = (i) + MN_LANES > (n) ? (n)-MN_LANES : (i), (i) < (n); (i) += MN_LANES)
 
+#define MN_PLANE(i) (planes + (size_t)(i)*MN_W)
+#define MN_SPLIT(t, h) MN_PLANE((t)*2 + (h))
+#define MN_S1(h, j) MN_PLANE(20 + (h)*8 + (j))
+#define MN_S2(j) MN_PLANE(36 + (j))
+#define MN_S4(j) MN_PLANE(52 + (j))
+#define MN_H2(r, j) MN_PLANE(84 + (r)*2 + (j))
+#define MN_H4(r, j) MN_PLANE(88 + (r)*4 + (j))
+
 /* Output rows y0 .. y1-1 at radius 4, two a pass (the last pass of an odd
  * count computes row y1 too, and drops it). rs holds the 10 rows a pass
  * reads (8-bit rows, or a 16-bit ring of at least 10). */
+/* Not inlined (GCC, Clang): its ~14 KB of planes would otherwise join the
+ * frame of median_block, and so the stack of every radius (Clang inlines
+ * it: 18 KB there instead of 11.5). */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
 MN_ATTR static void MN_FN(median_net)(rowsrc *rs, int rows, int cols, uint8_t *dst,
                                       size_t dstride, int y0, int y1)
 {
-    /* split[t][h][e + 2]: row y-4+t, half h (0 even, 1 odd columns) */
-    uint8_t split[10][2][MN_W], s1[2][8][MN_W];
-    uint8_t s2[16][MN_W], s4[32][MN_W], h2[2][2][MN_W], h4[2][4][MN_W];
+    /* 96 planes of MN_W positions in one array (MN_PLANE), so that the
+     * strided lists below stay inside one object: MN_SPLIT(t, h) row
+     * y-4+t, half h (0 even, 1 odd columns) at [e + 2]; MN_S1(h, j) rank j
+     * of the core rows; MN_S2, MN_S4, MN_H2, MN_H4 (r: 0 the row above, 1
+     * below) the merged pieces */
+    uint8_t planes[96 * MN_W];
     uint8_t pad[2 * MN_NT + 8];
     int y, xs, nt, t, h, i, q, v;
 
@@ -104,25 +123,30 @@ MN_ATTR static void MN_FN(median_net)(rowsrc *rs, int rows, int cols, uint8_t *d
                 /* positions -2 .. nt+1: 2 MN_LANES bytes (MN_LANES of each
                  * half) a step */
                 MN_FOR_BASES(q, i, span / 2)
-                    MN_FN(mn_split)(p + 2 * q, &split[t][0][q], &split[t][1][q]);
+                    MN_FN(mn_split)(p + 2 * q, MN_SPLIT(t, 0) + q, MN_SPLIT(t, 1) + q);
             }
             for (h = 0; h < 2; h++)
                 MN_FOR_BASES(q, i, nt + 4)
-                    MN_FN(mn_sort8_)(&split[1][h][q], 2 * MN_W, &s1[h][0][q], MN_W);
+                    MN_FN(mn_sort8_)(MN_SPLIT(1, h) + q, 2 * MN_W, MN_S1(h, 0) + q, MN_W);
             /* S2(q): columns xs + 2q - 3 (odd half, index q) and
              * xs + 2q - 2 (even half, index q + 1); S4(q): S2(q), S2(q + 1);
-             * H2, H4 likewise on rows y - 4 (split[0]) and y + 5 (split[9]) */
+             * H2, H4 likewise on rows y - 4 (MN_SPLIT(0, h)) and y + 5
+             * (MN_SPLIT(9, h)) */
             MN_FOR_BASES(q, i, nt + 3) {
-                MN_FN(mn_merge_8_8_)(&s1[1][0][q], MN_W, &s1[0][0][q + 1], MN_W, &s2[0][q], MN_W);
-                MN_FN(mn_sort_1_1_)(&split[0][1][q], 0, &split[0][0][q + 1], 0, &h2[0][0][q], MN_W);
-                MN_FN(mn_sort_1_1_)(&split[9][1][q], 0, &split[9][0][q + 1], 0, &h2[1][0][q], MN_W);
+                MN_FN(mn_merge_8_8_)(MN_S1(1, 0) + q, MN_W, MN_S1(0, 0) + q + 1, MN_W,
+                                     MN_S2(0) + q, MN_W);
+                MN_FN(mn_sort_1_1_)(MN_SPLIT(0, 1) + q, 0, MN_SPLIT(0, 0) + q + 1, 0,
+                                    MN_H2(0, 0) + q, MN_W);
+                MN_FN(mn_sort_1_1_)(MN_SPLIT(9, 1) + q, 0, MN_SPLIT(9, 0) + q + 1, 0,
+                                    MN_H2(1, 0) + q, MN_W);
             }
             MN_FOR_BASES(q, i, nt + 2) {
-                MN_FN(mn_merge_16_16_)(&s2[0][q], MN_W, &s2[0][q + 1], MN_W, &s4[0][q], MN_W);
-                MN_FN(mn_merge_2_2_)(&h2[0][0][q], MN_W, &h2[0][0][q + 1], MN_W, &h4[0][0][q],
-                                     MN_W);
-                MN_FN(mn_merge_2_2_)(&h2[1][0][q], MN_W, &h2[1][0][q + 1], MN_W, &h4[1][0][q],
-                                     MN_W);
+                MN_FN(mn_merge_16_16_)(MN_S2(0) + q, MN_W, MN_S2(0) + q + 1, MN_W,
+                                       MN_S4(0) + q, MN_W);
+                MN_FN(mn_merge_2_2_)(MN_H2(0, 0) + q, MN_W, MN_H2(0, 0) + q + 1, MN_W,
+                                     MN_H4(0, 0) + q, MN_W);
+                MN_FN(mn_merge_2_2_)(MN_H2(1, 0) + q, MN_W, MN_H2(1, 0) + q + 1, MN_W,
+                                     MN_H4(1, 0) + q, MN_W);
             }
             for (v = 0; v < nv; v++) {
                 /* tile m = MN_LANES v + lane at column xs + 2m: S4(m),
@@ -130,10 +154,11 @@ MN_ATTR static void MN_FN(median_net)(rowsrc *rs, int rows, int cols, uint8_t *d
                  * half m + 4 */
                 const int m0 = MN_LANES * v, c0 = xs + 2 * m0;
                 MN_V out[4];
-                MN_FN(mn_tile)(&s4[0][m0], &s4[0][m0 + 2], MN_W, &h4[0][0][m0], &h4[0][0][m0 + 2],
-                               &h4[1][0][m0], &h4[1][0][m0 + 2], MN_W, &s1[0][0][m0],
-                               &s1[1][0][m0 + 4], MN_W, &split[0][0][m0], &split[0][1][m0 + 4],
-                               &split[9][0][m0], &split[9][1][m0 + 4], out);
+                MN_FN(mn_tile)(MN_S4(0) + m0, MN_S4(0) + m0 + 2, MN_W, MN_H4(0, 0) + m0,
+                               MN_H4(0, 0) + m0 + 2, MN_H4(1, 0) + m0, MN_H4(1, 0) + m0 + 2, MN_W,
+                               MN_S1(0, 0) + m0, MN_S1(1, 0) + m0 + 4, MN_W, MN_SPLIT(0, 0) + m0,
+                               MN_SPLIT(0, 1) + m0 + 4, MN_SPLIT(9, 0) + m0,
+                               MN_SPLIT(9, 1) + m0 + 4, out);
                 for (h = 0; h < 2 && y + h < y1; h++) {
                     /* the even and odd columns of row y + h interleaved */
                     uint8_t *d = dst + (size_t)(y + h) * dstride + (size_t)c0;
@@ -150,4 +175,11 @@ MN_ATTR static void MN_FN(median_net)(rowsrc *rs, int rows, int cols, uint8_t *d
     }
 }
 #undef MN_FOR_BASES
+#undef MN_PLANE
+#undef MN_SPLIT
+#undef MN_S1
+#undef MN_S2
+#undef MN_S4
+#undef MN_H2
+#undef MN_H4
 #undef MN_W

@@ -14,8 +14,9 @@
 #include "../src/median_bands.h" /* the radius bands, the library's */
 
 /* The library's filter without its AVX2 path (median_sse2_copy.c): on an
- * x86-64 processor with AVX2 the library takes median_rows32 and this copy
- * median_rows16; elsewhere both take the same path. */
+ * x86-64 processor with AVX2 the library takes median_rows32 (median_net32
+ * at R = 4) and this copy median_rows16 (median_net16 at R = 4); elsewhere
+ * both take the same path. */
 int actag_median_filter_sse2(const uint8_t *src, int rows, int cols, int src_stride,
                              uint8_t *dst, int dst_stride, int radius, void *scratch,
                              size_t scratch_size);
@@ -897,8 +898,8 @@ static void test_radius_four_network(void)
      * median_net32 (x86-64 with AVX2: the library) and median_net16 (SSE2,
      * NEON: the sse2 path), two rows and up to 256 columns a pass, in
      * whole vectors of 32 or 16 tiles (64 or 32 columns), the frame's
-     * edges through a clamped copy: every width 1..200 (one pass, the edge
-     * copy on one side or both, a last vector with 1..64 columns), heights
+     * edges through a clamped copy: every width 1..200 (one pass, copied
+     * with both edges clamped, a last vector with 1..64 columns), heights
      * 1..12 (odd ones drop the pass's second row) and taller, every fill
      * (the few-level ones make ties), strides beyond cols; then widths of
      * two and three passes, the last one of one vector or more, whole or
@@ -917,6 +918,11 @@ static void test_radius_four_network(void)
         int kind = (int)(rnd() % FILL_N);
         check_case(rows, wide[k], 4, kind, k & 1 ? rnd_range(1, 9) : 0, k & 2 ? 2 : 0);
     }
+    /* 16-bit rows from the scaled ring: wide enough for passes that read
+     * the ring's rows directly (no edge copy), narrow enough for a ring of
+     * the 40 rows median_net32 asks for */
+    check16(9, 600, 4, 4095u, 3);
+    check16(6, 767, 4, 65535u, 0);
 }
 
 static void test_inplace_errors(void)
