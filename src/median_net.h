@@ -34,32 +34,6 @@
 
 #define MN_W (MN_NT + 4) /* positions -2 .. NT+1, stored from index 0 */
 
-#define MN_CX(a, b)                                                                                \
-    do {                                                                                           \
-        const MN_V t_ = MN_MIN(a, b);                                                              \
-        b = MN_MAX(a, b);                                                                          \
-        a = t_;                                                                                    \
-    } while (0)
-
-/* The eight rows at p (stride sp) sorted lane-wise into o (stride so):
- * 19 comparators. */
-MN_ATTR static void MN_FN(mn_sort8_)(const uint8_t *p, size_t sp, uint8_t *o, size_t so)
-{
-    MN_V v[8];
-    int j;
-    for (j = 0; j < 8; j++)
-        v[j] = MN_LD(p + (size_t)j * sp);
-    MN_CX(v[0], v[2]); MN_CX(v[1], v[3]); MN_CX(v[4], v[6]); MN_CX(v[5], v[7]);
-    MN_CX(v[0], v[4]); MN_CX(v[1], v[5]); MN_CX(v[2], v[6]); MN_CX(v[3], v[7]);
-    MN_CX(v[0], v[1]); MN_CX(v[2], v[3]); MN_CX(v[4], v[5]); MN_CX(v[6], v[7]);
-    MN_CX(v[2], v[4]); MN_CX(v[3], v[5]);
-    MN_CX(v[1], v[4]); MN_CX(v[3], v[6]);
-    MN_CX(v[1], v[2]); MN_CX(v[3], v[4]); MN_CX(v[5], v[6]);
-    for (j = 0; j < 8; j++)
-        MN_ST(o + (size_t)j * so, v[j]);
-}
-#undef MN_CX
-
 /* Vector bases covering indices 0 .. n-1 (n >= MN_LANES) MN_LANES at a
  * time, the last one moved back to end at n - 1 (it recomputes some,
  * identically). */
@@ -127,7 +101,7 @@ MN_ATTR static void MN_FN(median_net)(rowsrc *rs, int rows, int cols, uint8_t *d
             }
             for (h = 0; h < 2; h++)
                 MN_FOR_BASES(q, i, nt + 4)
-                    MN_FN(mn_sort8_)(MN_SPLIT(1, h) + q, 2 * MN_W, MN_S1(h, 0) + q, MN_W);
+                    MN_FN(mn_sort_8_)(MN_SPLIT(1, h) + q, 2 * MN_W, MN_S1(h, 0) + q, MN_W);
             /* S2(q): columns xs + 2q - 3 (odd half, index q) and
              * xs + 2q - 2 (even half, index q + 1); S4(q): S2(q), S2(q + 1);
              * H2, H4 likewise on rows y - 4 (MN_SPLIT(0, h)) and y + 5

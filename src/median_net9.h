@@ -4,6 +4,57 @@
  * MN_ATTR and MN_FN. The 9 x 9 median on 2 x 2 tiles of outputs from
  * shared sorted pieces; the script says how. */
 
+/* mn_sort_8: the 8 vectors at p (stride sp) sorted lane-wise into o (38 min/max) */
+MN_ATTR static void MN_FN(mn_sort_8_)(const uint8_t *p, size_t sp, uint8_t *o, size_t so)
+{
+    const MN_V v0 = MN_MIN(MN_LD(p + 0 * sp), MN_LD(p + 1 * sp));
+    const MN_V v1 = MN_MAX(MN_LD(p + 0 * sp), MN_LD(p + 1 * sp));
+    const MN_V v2 = MN_MIN(MN_LD(p + 2 * sp), MN_LD(p + 3 * sp));
+    const MN_V v3 = MN_MAX(MN_LD(p + 2 * sp), MN_LD(p + 3 * sp));
+    const MN_V v4 = MN_MIN(v0, v2);
+    const MN_V v5 = MN_MAX(v0, v2);
+    const MN_V v6 = MN_MIN(MN_LD(p + 4 * sp), MN_LD(p + 5 * sp));
+    const MN_V v7 = MN_MAX(MN_LD(p + 4 * sp), MN_LD(p + 5 * sp));
+    const MN_V v8 = MN_MIN(MN_LD(p + 6 * sp), MN_LD(p + 7 * sp));
+    const MN_V v9 = MN_MAX(MN_LD(p + 6 * sp), MN_LD(p + 7 * sp));
+    const MN_V v10 = MN_MIN(v6, v8);
+    const MN_V v11 = MN_MAX(v6, v8);
+    const MN_V v12 = MN_MIN(v4, v10);
+    const MN_V v13 = MN_MAX(v4, v10);
+    const MN_V v14 = MN_MIN(v1, v3);
+    const MN_V v15 = MN_MAX(v1, v3);
+    const MN_V v16 = MN_MIN(v14, v5);
+    const MN_V v17 = MN_MAX(v14, v5);
+    const MN_V v18 = MN_MIN(v7, v9);
+    const MN_V v19 = MN_MAX(v7, v9);
+    const MN_V v20 = MN_MIN(v18, v11);
+    const MN_V v21 = MN_MAX(v18, v11);
+    const MN_V v22 = MN_MIN(v16, v20);
+    const MN_V v23 = MN_MAX(v16, v20);
+    const MN_V v24 = MN_MIN(v17, v21);
+    const MN_V v25 = MN_MAX(v17, v21);
+    const MN_V v26 = MN_MIN(v24, v13);
+    const MN_V v27 = MN_MAX(v24, v13);
+    const MN_V v28 = MN_MIN(v22, v26);
+    const MN_V v29 = MN_MAX(v22, v26);
+    const MN_V v30 = MN_MIN(v15, v19);
+    const MN_V v31 = MN_MAX(v15, v19);
+    const MN_V v32 = MN_MIN(v30, v23);
+    const MN_V v33 = MN_MAX(v30, v23);
+    const MN_V v34 = MN_MIN(v32, v27);
+    const MN_V v35 = MN_MAX(v32, v27);
+    const MN_V v36 = MN_MIN(v33, v25);
+    const MN_V v37 = MN_MAX(v33, v25);
+    MN_ST(o + 0 * so, v12);
+    MN_ST(o + 1 * so, v28);
+    MN_ST(o + 2 * so, v29);
+    MN_ST(o + 3 * so, v34);
+    MN_ST(o + 4 * so, v35);
+    MN_ST(o + 5 * so, v36);
+    MN_ST(o + 6 * so, v37);
+    MN_ST(o + 7 * so, v31);
+}
+
 /* mn_merge_8_8: sorted lists of 8 at a and 8 at b merged into o (50 min/max) */
 MN_ATTR static void MN_FN(mn_merge_8_8_)(const uint8_t *a, size_t sa, const uint8_t *b,
                                          size_t sb, uint8_t *o, size_t so)
