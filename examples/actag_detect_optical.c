@@ -54,7 +54,8 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: " PROG " [--family NAME] [--tag-size M --fx F --fy F --cx C --cy C]\n"
-        "       [--no-invert] [--json] [--bits-corrected N] [--decimate X] IMAGE.pgm...\n"
+        "       [--no-invert] [--json] [--sensor-frame] [--pixel-sd PX] [--bits-corrected N]\n"
+        "       [--decimate X] IMAGE.pgm...\n"
         "  IMAGE                binary PGM, 8 or 16 bit; - reads standard input\n"
         "  --family NAME        AcTag family (default AcTag24h10); built in:");
     for (int i = 0; i < actag_apriltag_family_count(); i++)
@@ -69,6 +70,10 @@ static void usage(FILE *f)
         "  --json               one JSON line per image (corners as x_col, y_row)\n"
         "  --sensor-frame       also the pose in the frame shared with the sonar (actag/pose.h:\n"
         "                       x forward, y left, z up), JSON member pose_sensor\n"
+        "  --pixel-sd PX        with it the pose's covariance (actag/pose.h), from this sd of\n"
+        "                       each corner coordinate in pixels (1e-6..1e3; 0.1-0.3 on sharp\n"
+        "                       images); implies --sensor-frame. JSON: sd (of dt and the\n"
+        "                       rotation vector w), cov (6 x 6), chi2, flags\n"
         "  --bits-corrected N   bit errors AprilTag may correct (default min(2, family limit))\n"
         "  --decimate X         AprilTag quad_decimate >= 1 (default 2)\n"
         "  --help  --version\n"
@@ -127,6 +132,7 @@ typedef struct {
     int have[5]; /* tag-size fx fy cx cy given */
     int invert, json, bits, sensor;
     double decimate;
+    double pixel_sd; /* > 0: the sensor-frame pose's covariance (--pixel-sd) */
 } options;
 
 /* The pose in the sensor frame shared with the sonar (actag/pose.h). */
@@ -135,7 +141,11 @@ static void print_sensor_pose(const apriltag_detection_t *det, const options *o,
 {
     actag_pose p;
     int k;
-    if (actag_apriltag_pose_sensor(det, o->tag_size, o->fx, o->fy, o->cx, o->cy, &p) != ACTAG_OK) {
+    int rc = o->pixel_sd > 0.0
+                 ? actag_apriltag_pose_sensor_cov(det, o->tag_size, o->fx, o->fy, o->cx, o->cy,
+                                                  o->pixel_sd, &p)
+                 : actag_apriltag_pose_sensor(det, o->tag_size, o->fx, o->fy, o->cx, o->cy, &p);
+    if (rc != ACTAG_OK) {
         /* (|t| beyond actag_pose_from_camera's 1e4 m): said, not silently left out */
         fprintf(stderr, PROG ": %s: tag %d: no sensor-frame pose (actag_pose_from_camera refused it)\n",
                 name, det->id);
@@ -160,12 +170,40 @@ static void print_sensor_pose(const apriltag_detection_t *det, const options *o,
         json_number(p.azimuth, "%.6f");
         printf(",\"elevation\":");
         json_number(p.elevation, "%.6f");
+        if (o->pixel_sd > 0.0) {
+            /* the sds of (dt, w) (m, rad), the whole covariance, chi2 */
+            printf(",\"sd\":[");
+            for (k = 0; k < 6; k++) {
+                if (k)
+                    putchar(',');
+                json_number(sqrtf(p.cov[7 * k]), "%.6g");
+            }
+            printf("],\"cov\":[");
+            for (k = 0; k < 36; k++) {
+                if (k)
+                    putchar(',');
+                json_number(p.cov[k], "%.6g");
+            }
+            printf("],\"chi2\":");
+            json_number(p.chi2, "%.4f");
+            printf(",\"flags\":%u", p.flags);
+        }
         putchar('}');
     } else {
         printf("    sensor frame (x forward, y left, z up): t [m] %.6f %.6f %.6f, range %.6f m, "
                "azimuth %.6f rad, elevation %.6f rad\n",
                (double)p.t[0], (double)p.t[1], (double)p.t[2], (double)p.range,
                (double)p.azimuth, (double)p.elevation);
+        if (o->pixel_sd > 0.0) {
+            if (p.flags & ACTAG_POSE_NO_COVARIANCE)
+                printf("    no covariance (degenerate geometry, flags %u)\n", p.flags);
+            else
+                printf("    sd: position [m] %.6f %.6f %.6f, rotation [rad] %.6f %.6f %.6f; "
+                       "chi2 %.3f (about 2 expected)\n",
+                       (double)sqrtf(p.cov[0]), (double)sqrtf(p.cov[7]), (double)sqrtf(p.cov[14]),
+                       (double)sqrtf(p.cov[21]), (double)sqrtf(p.cov[28]), (double)sqrtf(p.cov[35]),
+                       (double)p.chi2);
+        }
     }
 }
 
@@ -241,6 +279,10 @@ int main(int argc, char **argv)
             o.json = 1;
         } else if (strcmp(a, "--sensor-frame") == 0) {
             o.sensor = 1;
+        } else if (strcmp(a, "--pixel-sd") == 0) {
+            o.pixel_sd = hostio_opt_double(PROG, a, v, 1e-6, 1e3);
+            o.sensor = 1;
+            i++;
         } else if (strcmp(a, "--bits-corrected") == 0) {
             o.bits = (int)hostio_opt_long(PROG, a, v, 0, 3);
             i++;

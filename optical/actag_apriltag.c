@@ -572,3 +572,31 @@ int actag_apriltag_pose_sensor(const apriltag_detection_t *det, double tag_size,
         out->residual = (float)err;
     return rc;
 }
+
+int actag_apriltag_pose_sensor_cov(const apriltag_detection_t *det, double tag_size, double fx,
+                                   double fy, double cx, double cy, double pixel_sd,
+                                   actag_pose *out)
+{
+    actag_pose p;
+    double c[4][2];
+    float cf[8];
+    int i, rc;
+    if (det == NULL || out == NULL)
+        return ACTAG_ERR_NULL;
+    /* pixel_sd first: nothing is estimated for a call that must fail */
+    if (!(pixel_sd >= 1e-6 && pixel_sd <= 1e3))
+        return ACTAG_ERR_PARAM;
+    rc = actag_apriltag_pose_sensor(det, tag_size, fx, fy, cx, cy, &p);
+    if (rc != ACTAG_OK)
+        return rc;
+    actag_apriltag_corners_to_actag(det, c);
+    for (i = 0; i < 4; i++) {
+        cf[2 * i] = (float)c[i][0];
+        cf[2 * i + 1] = (float)c[i][1];
+    }
+    rc = actag_pose_camera_covariance(cf, (float)fx, (float)fy, (float)cx, (float)cy,
+                                      (float)pixel_sd, (float)tag_size, &p);
+    if (rc == ACTAG_OK)
+        *out = p;
+    return rc;
+}

@@ -641,18 +641,18 @@ static int p_lsq(float *A, float *b, int m, float *d, float *sc)
     return 0;
 }
 
-/* Covariance (J^T J)^-1 of the fit at x (the priors as set in m), from the
- * QR factor: (R^T R)^-1 = R^-1 R^-T, columns rescaled. The upper triangle
- * is computed and mirrored, so cov is exactly symmetric. Returns 0, or -1
- * when J is rank deficient (cov untouched). */
-static int p_cov(const p_model *m, const p_state *x, float *cov)
+/* Covariance (J^T J)^-1 from a Jacobian A (nres <= P_NRES rows of P_NPAR,
+ * whitened residuals; overwritten), by its QR factor: (R^T R)^-1 = R^-1
+ * R^-T, columns rescaled. The upper triangle is computed and mirrored, so
+ * cov is exactly symmetric. Returns 0, or -1 when A is rank deficient (cov
+ * untouched). */
+static int p_cov_of(float *A, int nres, float *cov)
 {
-    float f[P_NRES], A[P_NRES * P_NPAR], b[P_NRES], d[P_NPAR], sc[P_NPAR], Ri[36];
+    float b[P_NRES], d[P_NPAR], sc[P_NPAR], Ri[36];
     int i, j, k;
-    p_eval(m, x, f, A);
-    for (i = 0; i < P_NRES; i++)
+    for (i = 0; i < nres; i++)
         b[i] = 0.0f;
-    if (p_lsq(A, b, P_NRES, d, sc) != 0)
+    if (p_lsq(A, b, nres, d, sc) != 0)
         return -1;
     for (i = 0; i < 36; i++)
         Ri[i] = 0.0f;
@@ -674,6 +674,14 @@ static int p_cov(const p_model *m, const p_state *x, float *cov)
             cov[j * P_NPAR + i] = cov[i * P_NPAR + j];
         }
     return 0;
+}
+
+/* The covariance of the fit at x (p_cov_of of its Jacobian). */
+static int p_cov(const p_model *m, const p_state *x, float *cov)
+{
+    float f[P_NRES], A[P_NRES * P_NPAR];
+    p_eval(m, x, f, A);
+    return p_cov_of(A, P_NRES, cov);
 }
 
 /* The elevation prior at x: the band alone first, then widened by its
@@ -1117,5 +1125,106 @@ int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pos
     out->azimuth = p_atan2(out->t[1], out->t[0]);
     out->elevation = p_elev(out->t);
     out->flags = ACTAG_POSE_NO_COVARIANCE;
+    return ACTAG_OK;
+}
+
+/* ------------------------------------------------------------ camera covariance */
+
+#define P_MAX_FOCAL 1.0e6f  /* px, as the optical adapter's ACTAG_APRILTAG_MAX_FOCAL */
+#define P_MAX_CENTRE 1.0e5f /* px, principal point */
+#define P_MAX_PIXEL 1.0e7f  /* px, a measured corner */
+#define P_MIN_PIXEL_SD 1.0e-6f /* px */
+#define P_MAX_PIXEL_SD 1.0e3f
+
+int actag_pose_camera_covariance(const float corners[8], float fx, float fy, float cx, float cy,
+                                 float pixel_sd, float tag_size, actag_pose *pose)
+{
+    /* optical = Cm^T sensor (Cm of actag_pose_from_camera): x_opt = -y,
+     * y_opt = -z, z_opt = x */
+    float J[8 * P_NPAR], q[4][3], cov[36], res2 = 0.0f, chi2 = 0.0f;
+    int i, j;
+    if (pose == NULL)
+        return ACTAG_ERR_NULL;
+    if (actag_fp_fuses())
+        return ACTAG_ERR_BUILD;
+    if (!(fx >= 1.0f && fx <= P_MAX_FOCAL) || !(fy >= 1.0f && fy <= P_MAX_FOCAL) ||
+        !(cx >= -P_MAX_CENTRE && cx <= P_MAX_CENTRE) ||
+        !(cy >= -P_MAX_CENTRE && cy <= P_MAX_CENTRE) ||
+        !(pixel_sd >= P_MIN_PIXEL_SD && pixel_sd <= P_MAX_PIXEL_SD) || !p_length_ok(tag_size))
+        return ACTAG_ERR_PARAM;
+    for (i = 0; i < 9; i++)
+        if (!p_finite(pose->R[i]))
+            return ACTAG_ERR_PARAM;
+    for (i = 0; i < 3; i++)
+        if (!(pose->t[i] >= -P_MAX_LENGTH && pose->t[i] <= P_MAX_LENGTH))
+            return ACTAG_ERR_PARAM;
+    if (corners != NULL)
+        for (i = 0; i < 8; i++)
+            if (!(corners[i] >= -P_MAX_PIXEL && corners[i] <= P_MAX_PIXEL))
+                return ACTAG_ERR_PARAM;
+    for (i = 0; i < 36; i++)
+        pose->cov[i] = 0.0f;
+    pose->flags |= ACTAG_POSE_NO_COVARIANCE;
+    for (i = 0; i < 4; i++) {
+        /* the corner Rc + t (sensor), its rows of d(u, v)/d(dt, w) */
+        float c[3], rc[3], p[3], gu[3], gv[3], z;
+        c[0] = p_cx[i] * tag_size;
+        c[1] = p_cy[i] * tag_size;
+        c[2] = 0.0f;
+        mat_vec(pose->R, c, rc);
+        for (j = 0; j < 3; j++)
+            p[j] = rc[j] + pose->t[j];
+        q[i][0] = -p[1];
+        q[i][1] = -p[2];
+        q[i][2] = p[0];
+        z = q[i][2];
+        /* a corner at or behind the camera's plane: no projection */
+        if (!(z > 1.0e-3f * tag_size)) {
+            pose->flags |= ACTAG_POSE_DEGENERATE;
+            return ACTAG_OK;
+        }
+        /* du/dp_sensor = du/dq Cm^T: du/dq = fx (1/z, 0, -x/z^2),
+         * dv/dq = fy (0, 1/z, -y/z^2); q = (-p1, -p2, p0) */
+        gu[0] = -fx * q[i][0] / (z * z);
+        gu[1] = -fx / z;
+        gu[2] = 0.0f;
+        gv[0] = -fy * q[i][1] / (z * z);
+        gv[1] = 0.0f;
+        gv[2] = -fy / z;
+        for (j = 0; j < 3; j++) {
+            J[(2 * i) * P_NPAR + j] = gu[j] / pixel_sd;
+            J[(2 * i + 1) * P_NPAR + j] = gv[j] / pixel_sd;
+        }
+        /* d p / d w = -[Rc]x: g . (w x Rc) = w . (Rc x g) */
+        {
+            float wu[3], wv[3];
+            cross3(rc, gu, wu);
+            cross3(rc, gv, wv);
+            for (j = 0; j < 3; j++) {
+                J[(2 * i) * P_NPAR + 3 + j] = wu[j] / pixel_sd;
+                J[(2 * i + 1) * P_NPAR + 3 + j] = wv[j] / pixel_sd;
+            }
+        }
+        if (corners != NULL) {
+            float du = corners[2 * i] - (cx + fx * q[i][0] / z);
+            float dv = corners[2 * i + 1] - (cy + fy * q[i][1] / z);
+            float ex = du * z / fx, ey = dv * z / fy;
+            chi2 += (du * du + dv * dv) / (pixel_sd * pixel_sd);
+            res2 += ex * ex + ey * ey;
+        }
+    }
+    if (corners != NULL) {
+        pose->residual = actag_sqrtf(res2 / 4.0f);
+        pose->chi2 = chi2;
+    }
+    if (p_cov_of(J, 8, cov) != 0) {
+        /* some motion leaves the image unchanged to first order, or the
+         * Jacobian left the float range (absurd geometry) */
+        pose->flags |= ACTAG_POSE_DEGENERATE;
+        return ACTAG_OK;
+    }
+    for (i = 0; i < 36; i++)
+        pose->cov[i] = cov[i];
+    pose->flags &= ~ACTAG_POSE_NO_COVARIANCE;
     return ACTAG_OK;
 }

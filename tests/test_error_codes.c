@@ -35,6 +35,12 @@ static int pose_rotation_bounded(const actag_pose *p)
     return 1;
 }
 
+/* Sets entry k of a pose's rotation (before the macro R below, too). */
+static void pose_set_rotation(actag_pose *p, int k, float v)
+{
+    p->R[k] = v;
+}
+
 /* a small frame, big enough for the structure search (>= 16 x 16) */
 #define R 32
 #define C 32
@@ -1692,6 +1698,51 @@ static void test_pose_from_camera(void)
     TEST_ASSERT_EQUAL_UINT(ACTAG_POSE_NO_COVARIANCE, pose.flags);
 }
 
+static void test_pose_camera_covariance(void)
+{
+    float Ro[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, to[3] = {0.0f, 0.0f, 2.0f};
+    float c[8] = {0, 0, 1, 0, 1, 1, 0, 1};
+    actag_pose pose, keep;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_from_camera(Ro, to, &pose));
+    keep = pose;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag_pose_camera_covariance(c, 500, 500, 0, 0, 0.3f, 0.13f, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 0.9f, 500, 0, 0, 0.3f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 500, 1.1e6f, 0, 0, 0.3f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 500, 500, NAN, 0, 0.3f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 500, 500, 0, 1.1e5f, 0.3f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 500, 500, 0, 0, 0.0f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 500, 500, 0, 0, 1.1e3f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 500, 500, 0, 0, 0.3f, 0.9e-3f, &pose));
+    c[5] = INFINITY;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(c, 500, 500, 0, 0, 0.3f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_MEMORY(&keep, &pose, sizeof pose);
+    pose.t[2] = 2e4f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(NULL, 500, 500, 0, 0, 0.3f, 0.13f, &pose));
+    pose = keep;
+    pose_set_rotation(&pose, 1, NAN);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag_pose_camera_covariance(NULL, 500, 500, 0, 0, 0.3f, 0.13f, &pose));
+    pose = keep;
+    /* the bounds themselves are taken; a tag ahead gets its covariance */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                          actag_pose_camera_covariance(NULL, 1.0f, 1e6f, -1e5f, 1e5f, 1e-6f, 1e-3f, &pose));
+    pose = keep;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                          actag_pose_camera_covariance(NULL, 500, 500, 0, 0, 1e3f, 0.13f, &pose));
+    TEST_ASSERT_EQUAL_UINT(0u, pose.flags & ACTAG_POSE_NO_COVARIANCE);
+    TEST_ASSERT_TRUE(pose.cov[0] > 0.0f);
+}
+
 static void test_pose_angle_and_rotation_vector(void)
 {
     /* no error codes (no checks) */
@@ -1770,6 +1821,7 @@ int main(void)
     RUN_TEST(test_pose_estimate);
     RUN_TEST(test_pose_from_detection);
     RUN_TEST(test_pose_from_camera);
+    RUN_TEST(test_pose_camera_covariance);
     RUN_TEST(test_pose_angle_and_rotation_vector);
     return UNITY_END();
 }

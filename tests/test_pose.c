@@ -7,6 +7,7 @@
 #include "actag/pose.h"
 
 #include <math.h>
+#include <string.h>
 
 void setUp(void) {}
 void tearDown(void) {}
@@ -1042,6 +1043,376 @@ static void test_camera_pose_in_the_sensor_frame(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_from_camera(NULL, to, &E));
 }
 
+/* ------------------------------------------------------------ camera covariance */
+
+#define CAM_FX 800.0
+#define CAM_FY 760.0
+#define CAM_CX 319.5
+#define CAM_CY 239.5
+
+/* The tag's corners (tag order) through a pinhole camera at the sensor
+ * origin (optical frame x = -y, y = -z, z = x of the sensor), in double:
+ * uv[2i], uv[2i + 1]. Returns 0 when a corner is not in front. */
+static int cam_project(const double *R, const double *t, double s, double *uv)
+{
+    static const double cx[4] = {-0.5, 0.5, 0.5, -0.5}, cy[4] = {-0.5, -0.5, 0.5, 0.5};
+    int i, j;
+    for (i = 0; i < 4; i++) {
+        double p[3];
+        for (j = 0; j < 3; j++)
+            p[j] = R[3 * j] * cx[i] * s + R[3 * j + 1] * cy[i] * s + t[j];
+        if (!(p[0] > 0.0))
+            return 0;
+        uv[2 * i] = CAM_CX + CAM_FX * -p[1] / p[0];
+        uv[2 * i + 1] = CAM_CY + CAM_FY * -p[2] / p[0];
+    }
+    return 1;
+}
+
+/* The pose (R, t) moved by the error vector e = (dt, w): t + dt, exp([w]x) R. */
+static void cam_move(const double *R, const double *t, const double *e, double *R2, double *t2)
+{
+    double Q[9];
+    int i, j, k;
+    rodrigues(e + 3, Q);
+    for (i = 0; i < 3; i++) {
+        t2[i] = t[i] + e[i];
+        for (j = 0; j < 3; j++) {
+            double v = 0.0;
+            for (k = 0; k < 3; k++)
+                v += Q[3 * i + k] * R[3 * k + j];
+            R2[3 * i + j] = v;
+        }
+    }
+}
+
+/* d(uv)/d(dt, w) by central differences (8 x 6, row-major). */
+static void cam_jacobian(const double *R, const double *t, double s, double *J)
+{
+    int i, k;
+    for (k = 0; k < 6; k++) {
+        double e[6] = {0, 0, 0, 0, 0, 0}, R2[9], t2[3], up[8], um[8], h = 1e-6;
+        e[k] = h;
+        cam_move(R, t, e, R2, t2);
+        TEST_ASSERT_TRUE(cam_project(R2, t2, s, up));
+        e[k] = -h;
+        cam_move(R, t, e, R2, t2);
+        TEST_ASSERT_TRUE(cam_project(R2, t2, s, um));
+        for (i = 0; i < 8; i++)
+            J[6 * i + k] = (up[i] - um[i]) / (2.0 * h);
+    }
+}
+
+/* (J^T J / sd^2)^-1 by Gauss-Jordan elimination with partial pivoting. */
+static void cam_cov_reference(const double *J, double sd, double *C)
+{
+    double A[6][12];
+    int i, j, k;
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < 6; j++) {
+            double v = 0.0;
+            for (k = 0; k < 8; k++)
+                v += J[6 * k + i] * J[6 * k + j];
+            A[i][j] = v / (sd * sd);
+            A[i][6 + j] = i == j;
+        }
+    for (j = 0; j < 6; j++) {
+        int piv = j;
+        for (i = j + 1; i < 6; i++)
+            if (fabs(A[i][j]) > fabs(A[piv][j]))
+                piv = i;
+        for (k = 0; k < 12; k++) {
+            double tmp = A[j][k];
+            A[j][k] = A[piv][k];
+            A[piv][k] = tmp;
+        }
+        for (i = 0; i < 6; i++) {
+            double f;
+            if (i == j)
+                continue;
+            f = A[i][j] / A[j][j];
+            for (k = 0; k < 12; k++)
+                A[i][k] -= f * A[j][k];
+        }
+    }
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < 6; j++)
+            C[6 * i + j] = A[i][6 + j] / A[i][i];
+}
+
+/* A tag in front of the camera: 0.4-4 m, within +-0.45 rad of the axis
+ * both ways, facing it at inc0..inc1 degrees of incidence, turned anyhow. */
+static void cam_view(tpose *P, double inc0, double inc1)
+{
+    double d = urange(0.4, 4.0);
+    double az = urange(-0.45, 0.45);
+    double el = urange(-0.35, 0.35);
+    double inc = urange(inc0, inc1) * DEG;
+    double phi = urange(0.0, 6.283);
+    double psi = urange(0.0, 6.283);
+    make_pose(d, az, el, inc, phi, psi, P);
+}
+
+static void cam_pose_of(const tpose *P, actag_pose *E)
+{
+    int i;
+    memset(E, 0, sizeof *E);
+    for (i = 0; i < 9; i++)
+        E->R[i] = (float)P->R[i];
+    for (i = 0; i < 3; i++)
+        E->t[i] = (float)P->t[i];
+    E->flags = ACTAG_POSE_NO_COVARIANCE;
+}
+
+/* The covariance is the brute-force one: the projection's Jacobian by
+ * central differences in double, (J^T J)^-1 by Gauss-Jordan, over random
+ * views and two focal lengths; entries compared relative to the product of
+ * their sds (a sign or axis slip in the rotation columns gives errors of
+ * order 1). */
+static void test_camera_covariance_matches_brute_force(void)
+{
+    int t, trials = TU_TRIALS(300, 20);
+    double worst = 0.0;
+    tu_seed(41);
+    for (t = 0; t < trials; t++) {
+        tpose P;
+        actag_pose E;
+        double J[48], C[36], sd = urange(0.1, 2.0);
+        int i, j;
+        cam_view(&P, 0.0, 65.0);
+        cam_pose_of(&P, &E);
+        /* the reference at the pose the library sees (float) */
+        for (i = 0; i < 9; i++)
+            P.R[i] = E.R[i];
+        for (i = 0; i < 3; i++)
+            P.t[i] = E.t[i];
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_camera_covariance(NULL, (float)CAM_FX, (float)CAM_FY,
+                                                                     (float)CAM_CX, (float)CAM_CY,
+                                                                     (float)sd, S, &E));
+        TEST_ASSERT_EQUAL_UINT(0u, E.flags & (ACTAG_POSE_NO_COVARIANCE | ACTAG_POSE_DEGENERATE));
+        cam_jacobian(P.R, P.t, S, J);
+        cam_cov_reference(J, sd, C);
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < 6; j++) {
+                double rel = fabs(E.cov[6 * i + j] - C[6 * i + j]) / sqrt(C[7 * i] * C[7 * j]);
+                if (rel > worst)
+                    worst = rel;
+                TEST_ASSERT_TRUE(rel < 1e-3);
+                TEST_ASSERT_EQUAL_FLOAT(E.cov[6 * i + j], E.cov[6 * j + i]);
+            }
+    }
+    printf("camera covariance against the brute-force one: worst entry %.2e of its sds\n", worst);
+}
+
+/* Corners drawn from the assumed pixel noise, the pose fitted to them by
+ * Gauss-Newton (double, from the truth): at 20-65 degrees of incidence the
+ * errors fall inside the predicted 95 % ellipsoid about 95 % of the time
+ * (93.5 % measured), and chi2 averages 2 (8 coordinates - 6 parameters).
+ * Checked from both sides: a covariance 20 % too large or too small leaves
+ * the band. Near head-on the tilt enters the image only weakly and its
+ * error is not Gaussian (pose.h): 0-10 degrees, about 73 % inside; printed,
+ * not asserted beyond a floor. */
+static double cam_coverage(int n, double inc0, double inc1, double *in_position, double *chi2_mean);
+
+static void test_camera_covariance_is_consistent(void)
+{
+    int n = TU_TRIALS(1500, 200);
+    double in6, in3, chi2, h6, h3, hchi2;
+    tu_seed(43);
+    in6 = cam_coverage(n, 20.0, 65.0, &in3, &chi2);
+    h6 = cam_coverage(n / 3, 0.0, 10.0, &h3, &hchi2);
+    printf("camera covariance: %d views at 20-65 degrees, inside the 95 %% ellipsoid: 6-D %.3f, "
+           "position %.3f; mean chi2 %.3f (2 expected); %d views at 0-10 degrees: 6-D %.3f, "
+           "position %.3f\n", n, in6, in3, chi2, n / 3, h6, h3);
+    /* binomial sd at 1500 views 0.56 %: about +-3 sds, and 1.5 % for the
+     * linearisation below */
+    TEST_ASSERT_TRUE(in6 >= 0.915 && in6 <= 0.97);
+    TEST_ASSERT_TRUE(in3 >= 0.915 && in3 <= 0.97);
+    TEST_ASSERT_TRUE(chi2 > 1.75 && chi2 < 2.25);
+    TEST_ASSERT_TRUE(h6 >= 0.5 && h3 >= 0.5);
+}
+
+/* The fraction of n views (incidence inc0..inc1 degrees) whose 6-D error
+ * lies inside the 95 % ellipsoid; *in_position the same for the position,
+ * *chi2_mean the mean chi2. */
+static double cam_coverage(int n, double inc0, double inc1, double *in_position, double *chi2_mean)
+{
+    int t, in6 = 0, in3 = 0;
+    double chi2 = 0.0;
+    for (t = 0; t < n; t++) {
+        tpose P;
+        actag_pose E;
+        double uv[8], R[9], tt[3], sd = urange(0.1, 1.0), e[6];
+        float meas[8], Rt[9], w[3];
+        int i, it;
+        cam_view(&P, inc0, inc1);
+        TEST_ASSERT_TRUE(cam_project(P.R, P.t, S, uv));
+        for (i = 0; i < 8; i++) {
+            double g = gauss();
+            meas[i] = (float)(uv[i] + sd * g);
+        }
+        memcpy(R, P.R, sizeof R);
+        memcpy(tt, P.t, sizeof tt);
+        for (it = 0; it < 8; it++) { /* Gauss-Newton on (dt, w) */
+            double J[48], g6[6], d[6], C[36], r[8], R2[9], t2[3];
+            int a, b;
+            TEST_ASSERT_TRUE(cam_project(R, tt, S, uv));
+            for (i = 0; i < 8; i++)
+                r[i] = meas[i] - uv[i];
+            cam_jacobian(R, tt, S, J);
+            cam_cov_reference(J, 1.0, C); /* (J^T J)^-1 */
+            for (a = 0; a < 6; a++) {
+                g6[a] = 0.0;
+                for (i = 0; i < 8; i++)
+                    g6[a] += J[6 * i + a] * r[i];
+            }
+            for (a = 0; a < 6; a++) {
+                d[a] = 0.0;
+                for (b = 0; b < 6; b++)
+                    d[a] += C[6 * a + b] * g6[b];
+            }
+            cam_move(R, tt, d, R2, t2);
+            memcpy(R, R2, sizeof R);
+            memcpy(tt, t2, sizeof tt);
+        }
+        memset(&E, 0, sizeof E);
+        for (i = 0; i < 9; i++)
+            E.R[i] = (float)R[i];
+        for (i = 0; i < 3; i++)
+            E.t[i] = (float)tt[i];
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_camera_covariance(meas, (float)CAM_FX, (float)CAM_FY,
+                                                                     (float)CAM_CX, (float)CAM_CY,
+                                                                     (float)sd, S, &E));
+        TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_NO_COVARIANCE);
+        chi2 += E.chi2;
+        for (i = 0; i < 9; i++)
+            Rt[i] = (float)P.R[i];
+        actag_pose_rotation_vector(Rt, E.R, w);
+        for (i = 0; i < 3; i++) {
+            e[i] = P.t[i] - E.t[i];
+            e[3 + i] = w[i];
+        }
+        if (mahalanobis2(E.cov, e, 6) <= 12.592)
+            in6++;
+        if (mahalanobis2(E.cov, e, 3) <= 7.815)
+            in3++;
+    }
+    *chi2_mean = chi2 / n;
+    *in_position = (double)in3 / n;
+    return (double)in6 / n;
+}
+
+/* The reprojection figures, degenerate views and every error. */
+static void test_camera_covariance_flags_and_errors(void)
+{
+    tpose P;
+    actag_pose E, keep;
+    double uv[8];
+    float c[8];
+    int i;
+    make_pose(1.5, 0.1, -0.05, 20.0 * DEG, 0.4, 0.9, &P);
+    TEST_ASSERT_TRUE(cam_project(P.R, P.t, S, uv));
+    for (i = 0; i < 8; i++)
+        c[i] = (float)uv[i];
+    cam_pose_of(&P, &E);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_camera_covariance(c, 800.0f, 760.0f, 319.5f, 239.5f,
+                                                                 0.5f, S, &E));
+    TEST_ASSERT_TRUE(E.chi2 < 1e-3f);
+    TEST_ASSERT_TRUE(E.residual < 1e-6f);
+    /* one coordinate 1 px off: chi2 = 1 / sd^2, the residual 1 px at its depth */
+    c[4] += 1.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_camera_covariance(c, 800.0f, 760.0f, 319.5f, 239.5f,
+                                                                 0.5f, S, &E));
+    TEST_ASSERT_FLOAT_WITHIN(0.01f, 4.0f, E.chi2);
+    {
+        double p0 = P.R[0] * 0.5 * S + P.R[1] * 0.5 * S + P.t[0]; /* corner 2's depth */
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, (float)(p0 / 800.0 / 2.0), E.residual);
+    }
+    /* edge-on (the face contains the line of sight, the image is a line):
+     * not degenerate for a camera, the tilt is known best there (the
+     * image's width changes at first order): rotation sds under 0.6 degree
+     * at 1.5 m, 0.5 px */
+    make_pose(1.5, 0.1, -0.05, 90.0 * DEG, 0.0, 0.9, &P);
+    cam_pose_of(&P, &E);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_camera_covariance(NULL, 800.0f, 760.0f, 319.5f, 239.5f,
+                                                                 0.5f, S, &E));
+    TEST_ASSERT_EQUAL_UINT(0u, E.flags & (ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE));
+    for (i = 3; i < 6; i++)
+        TEST_ASSERT_TRUE(E.cov[7 * i] > 0.0f && E.cov[7 * i] < 1e-4f);
+    /* garbage within the bounds: never a NaN; a covariance only finite */
+    tu_seed(47);
+    for (i = 0; i < TU_TRIALS(3000, 200); i++) {
+        double w[3], Rd[9];
+        float fx = (float)pow(10.0, urange(0.0, 6.0));
+        float sd = (float)pow(10.0, urange(-6.0, 3.0));
+        float ts = (float)pow(10.0, urange(-3.0, 4.0));
+        int j;
+        w[0] = urange(-4.0, 4.0);
+        w[1] = urange(-4.0, 4.0);
+        w[2] = urange(-4.0, 4.0);
+        rodrigues(w, Rd);
+        memset(&E, 0, sizeof E);
+        for (j = 0; j < 9; j++)
+            E.R[j] = (float)Rd[j];
+        for (j = 0; j < 3; j++)
+            E.t[j] = (float)(pow(10.0, urange(-4.0, 4.0)) * (tu_rand() & 1u ? 1.0 : -1.0));
+        for (j = 0; j < 8; j++)
+            c[j] = (float)urange(-1e7, 1e7);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_camera_covariance(c, fx, fx, 0.0f, 0.0f, sd, ts, &E));
+        TEST_ASSERT_FALSE(E.residual != E.residual || E.chi2 != E.chi2);
+        for (j = 0; j < 36; j++) {
+            TEST_ASSERT_FALSE(E.cov[j] != E.cov[j]);
+            if (!(E.flags & ACTAG_POSE_NO_COVARIANCE))
+                TEST_ASSERT_TRUE(E.cov[j] > -3e38f && E.cov[j] < 3e38f);
+        }
+    }
+    for (i = 0; i < 8; i++)
+        c[i] = (float)uv[i];
+    /* behind the camera */
+    make_pose(1.5, 0.1, -0.05, 20.0 * DEG, 0.4, 0.9, &P);
+    for (i = 0; i < 3; i++)
+        P.t[i] = -P.t[i];
+    cam_pose_of(&P, &E);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_camera_covariance(NULL, 800.0f, 760.0f, 319.5f, 239.5f,
+                                                                 0.5f, S, &E));
+    TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_DEGENERATE);
+    TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_NO_COVARIANCE);
+    /* errors leave the pose as it was */
+    make_pose(1.5, 0.1, -0.05, 20.0 * DEG, 0.4, 0.9, &P);
+    cam_pose_of(&P, &E);
+    keep = E;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_pose_camera_covariance(c, 800, 760, 319.5f, 239.5f,
+                                                                       0.5f, S, NULL));
+    {
+        /* fx, fy, cx, cy, pixel_sd, tag_size */
+        static const float bad[][6] = {
+            {0.5f, 760, 0, 0, 0.5f, S},   {2e6f, 760, 0, 0, 0.5f, S},  {800, 0.0f, 0, 0, 0.5f, S},
+            {800, 760, 2e5f, 0, 0.5f, S}, {800, 760, 0, -2e5f, 0.5f, S}, {800, 760, 0, 0, 0.0f, S},
+            {800, 760, 0, 0, -1.0f, S},   {800, 760, 0, 0, 2e3f, S},   {800, 760, 0, 0, 1e-30f, S},
+            {800, 760, 0, 0, 0.5f, 0.0f}, {800, 760, 0, 0, 0.5f, 2e4f}, {800, 760, 0, 0, 5e-7f, S}};
+        for (i = 0; i < (int)(sizeof bad / sizeof bad[0]); i++) {
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                                  actag_pose_camera_covariance(c, bad[i][0], bad[i][1], bad[i][2],
+                                                               bad[i][3], bad[i][4], bad[i][5], &E));
+            TEST_ASSERT_EQUAL_MEMORY(&keep, &E, sizeof E);
+        }
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_camera_covariance(c, NAN, 760, 0, 0, 0.5f, S, &E));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_camera_covariance(c, 800, 760, NAN, 0, 0.5f, S, &E));
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_camera_covariance(c, 800, 760, 0, 0, NAN, S, &E));
+        TEST_ASSERT_EQUAL_MEMORY(&keep, &E, sizeof E);
+        c[3] = NAN;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_camera_covariance(c, 800, 760, 0, 0, 0.5f, S, &E));
+        c[3] = 2e7f;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_camera_covariance(c, 800, 760, 0, 0, 0.5f, S, &E));
+        TEST_ASSERT_EQUAL_MEMORY(&keep, &E, sizeof E);
+        E.R[5] = INFINITY;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_camera_covariance(NULL, 800, 760, 0, 0, 0.5f, S, &E));
+        E = keep;
+        E.t[1] = 2e4f;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_pose_camera_covariance(NULL, 800, 760, 0, 0, 0.5f, S, &E));
+    }
+}
+
 static void test_errors_and_determinism(void)
 {
     actag_pose_params pp, bad;
@@ -1163,6 +1534,9 @@ int main(void)
     RUN_TEST(test_not_converged_is_flagged);
     RUN_TEST(test_good_corners_converge_within_the_default_cap);
     RUN_TEST(test_camera_pose_in_the_sensor_frame);
+    RUN_TEST(test_camera_covariance_matches_brute_force);
+    RUN_TEST(test_camera_covariance_is_consistent);
+    RUN_TEST(test_camera_covariance_flags_and_errors);
     RUN_TEST(test_errors_and_determinism);
     RUN_TEST(test_angles_in_every_octant);
     RUN_TEST(test_garbage_corners_are_safe);

@@ -158,6 +158,16 @@
  *     above, so both sensors report p_sensor = R p_tag + t with x forward,
  *     y left, z up; a vehicle then applies each sensor's mounting.
  *     (optical/: actag_apriltag_pose_sensor does both steps.)
+ *     actag_pose_camera_covariance() then gives such a pose the covariance
+ *     the sonar's have (the same error vector and frame): the four corners'
+ *     pixel noise (pixel_sd, a sd per coordinate, independent) carried
+ *     through the pinhole projection to first order, (J^T J)^-1 of the
+ *     whitened Jacobian of the 8 corner coordinates in (dt, w). It is the
+ *     covariance of the estimate's local minimum: a view close to head-on
+ *     has a second, mirror-image minimum (the planar pose ambiguity) that
+ *     a camera estimator may choose instead, which no local covariance
+ *     describes. Distortion is assumed removed. (optical/:
+ *     actag_apriltag_pose_sensor_cov does all three steps.)
  *
  * FUNCTIONS
  *   void actag_pose_params_default(actag_pose_params *p, const actag_family *family,
@@ -193,9 +203,39 @@
  *   int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pose *out)
  *       Camera pose in the optical frame (R row-major tag -> camera, t in
  *       metres) to the sensor frame; fills R, t, range, azimuth, elevation,
- *       zeroes the rest (no covariance: flags = ACTAG_POSE_NO_COVARIANCE).
+ *       zeroes the rest (no covariance: flags = ACTAG_POSE_NO_COVARIANCE;
+ *       actag_pose_camera_covariance adds it).
  *       ACTAG_ERR_NULL, or ACTAG_ERR_PARAM (an entry not finite, or of t_opt
  *       beyond +-1e4 m), else ACTAG_OK.
+ *   int actag_pose_camera_covariance(const float corners[8], float fx, float fy,
+ *                                    float cx, float cy, float pixel_sd,
+ *                                    float tag_size, actag_pose *pose)
+ *       The covariance of a camera pose (pose->R, pose->t in the sensor
+ *       frame, as actag_pose_from_camera leaves them) from the corner noise
+ *       (CAMERA POSES above). fx, fy: focal lengths (px, 1 .. 1e6); cx, cy:
+ *       principal point (px, within +-1e5; the centre of the top-left pixel
+ *       at (0, 0), as actag_detection's corners); pixel_sd: sd of each
+ *       measured corner coordinate (px, 1e-6 .. 1e3; 0.1-0.3 px is
+ *       typical of AprilTag's corners on sharp images, more with blur or
+ *       turbid water: measure it for your camera); tag_size: side of the
+ *       inner white square (m). corners: the four measured corners of the
+ *       inner white square in tag order (x0, y0, .. x3, y3; px), or NULL.
+ *       Fills pose->cov and clears ACTAG_POSE_NO_COVARIANCE; with corners,
+ *       also sets pose->residual to the RMS reprojection error of the
+ *       corners in metres at each corner's depth (pixels x depth / focal
+ *       length) and pose->chi2 to the sum of the 8 squared reprojection
+ *       errors over pixel_sd^2 (about 2 expected: 8 coordinates - 6
+ *       parameters); without, those stay as they are. A corner not in front
+ *       of the camera (depth under tag_size / 1000), or a Jacobian that is
+ *       singular or leaves the float range (only absurd geometry does: even
+ *       an edge-on tag's image changes at first order with every motion,
+ *       its tilt best of all), sets ACTAG_POSE_DEGENERATE and leaves cov
+ *       zero and ACTAG_POSE_NO_COVARIANCE set; that is not an error.
+ *       Returns ACTAG_OK, ACTAG_ERR_NULL (pose NULL), ACTAG_ERR_PARAM (a
+ *       value outside the ranges above, NaN included, an entry of pose->R
+ *       not finite, of pose->t beyond +-1e4 m, a corner coordinate beyond
+ *       +-1e7 px), ACTAG_ERR_BUILD (compiled with fused multiply-adds, as
+ *       actag_detect). Nothing of *pose changes on an error.
  *   float actag_pose_angle(const float Ra[9], const float Rb[9])
  *       The angle (rad, 0..pi) of the rotation between Ra and Rb. This and
  *       actag_pose_rotation_vector check nothing and have no error codes.
@@ -228,9 +268,10 @@ extern "C" {
 #define ACTAG_POSE_NOT_CONVERGED 4u    /* the last pass reached max_iterations before a
                                           step shorter than 1e-3 sd (see METHOD) */
 #define ACTAG_POSE_MIRROR_CONFLICT 8u  /* the corners' winding contradicts `mirrored` */
-#define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed, all zero: camera poses, and
-                                          sonar fits whose Jacobian is singular (then
-                                          with ACTAG_POSE_DEGENERATE) */
+#define ACTAG_POSE_NO_COVARIANCE 16u   /* cov not computed, all zero: camera poses
+                                          without actag_pose_camera_covariance, and
+                                          fits whose Jacobian is singular (then with
+                                          ACTAG_POSE_DEGENERATE) */
 #define ACTAG_POSE_PLANE 32u           /* the fit left the known plane by more than 3 of its
                                           sds (offset, or tilt): plane or corners wrong */
 
@@ -276,6 +317,8 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
 int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
                               actag_pose *out);
 int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pose *out);
+int actag_pose_camera_covariance(const float corners[8], float fx, float fy, float cx, float cy,
+                                 float pixel_sd, float tag_size, actag_pose *pose);
 float actag_pose_angle(const float Ra[9], const float Rb[9]);
 void actag_pose_rotation_vector(const float Ra[9], const float Rb[9], float w[3]);
 

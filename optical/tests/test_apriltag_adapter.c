@@ -670,6 +670,49 @@ static void test_pose_tag_size_is_inner_square(void)
                                                                              600.0, centre,
                                                                              centre, NULL));
         }
+        {
+            /* with the covariance: the same pose, the detected corners
+             * reprojected within a pixel (corners matched to the wrong tag
+             * corners would be off by the tag's side), positive variances */
+            actag_pose ps, pc, keep;
+            double rms;
+            const double nan = strtod("nan", NULL);
+            const double bad_sd[] = {0.0, -0.3, 5e-7, 2e3, nan};
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_apriltag_pose_sensor(det, 0.13, 600.0, 600.0,
+                                                                       centre, centre, &ps));
+            TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_apriltag_pose_sensor_cov(det, 0.13, 600.0, 600.0,
+                                                                           centre, centre, 0.3, &pc));
+            TEST_ASSERT_EQUAL_MEMORY(ps.R, pc.R, sizeof ps.R);
+            TEST_ASSERT_EQUAL_MEMORY(ps.t, pc.t, sizeof ps.t);
+            TEST_ASSERT_EQUAL_UINT(0u, pc.flags & (ACTAG_POSE_NO_COVARIANCE | ACTAG_POSE_DEGENERATE));
+            for (i = 0; i < 6; i++)
+                TEST_ASSERT_TRUE(pc.cov[7 * i] > 0.0f);
+            rms = sqrt((double)pc.chi2 * 0.3 * 0.3 / 8.0);
+            {
+                char m[96];
+                snprintf(m, sizeof m, "rot %d: reprojection %.3f px RMS a coordinate", r, rms);
+                TEST_MESSAGE(m);
+            }
+            TEST_ASSERT_TRUE(rms < 1.0);
+            memset(&keep, 0x5a, sizeof keep);
+            for (i = 0; i < (int)(sizeof bad_sd / sizeof bad_sd[0]); i++) {
+                pc = keep;
+                TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                                      actag_apriltag_pose_sensor_cov(det, 0.13, 600.0, 600.0, centre,
+                                                                     centre, bad_sd[i], &pc));
+                TEST_ASSERT_EQUAL_MEMORY(&keep, &pc, sizeof pc);
+            }
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_apriltag_pose_sensor_cov(det, 0.0, 600.0, 600.0,
+                                                                                  centre, centre, 0.3,
+                                                                                  &pc));
+            TEST_ASSERT_EQUAL_MEMORY(&keep, &pc, sizeof pc);
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_apriltag_pose_sensor_cov(NULL, 0.13, 600.0, 600.0,
+                                                                                 centre, centre, 0.3,
+                                                                                 &pc));
+            TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag_apriltag_pose_sensor_cov(det, 0.13, 600.0, 600.0,
+                                                                                 centre, centre, 0.3,
+                                                                                 NULL));
+        }
         apriltag_detections_destroy(dets);
         TEST_ASSERT_TRUE(err >= 0);
         {

@@ -218,6 +218,22 @@
  *       computed (flags ACTAG_POSE_NO_COVARIANCE); out->residual holds
  *       AprilTag's object-space error. Returns ACTAG_OK, ACTAG_ERR_NULL
  *       (det or out NULL) or ACTAG_ERR_PARAM (bad sizes or a failed estimate).
+ *   int actag_apriltag_pose_sensor_cov(const apriltag_detection_t *det,
+ *                                      double tag_size, double fx, double fy,
+ *                                      double cx, double cy, double pixel_sd,
+ *                                      actag_pose *out)
+ *       actag_apriltag_pose_sensor() with the covariance the sonar's poses
+ *       have (actag_pose_camera_covariance, actag/pose.h): pixel_sd is the sd
+ *       of each detected corner coordinate in pixels (1e-6 .. 1e3; measure it
+ *       for your camera and water: 0.1-0.3 px on sharp images). out->cov is
+ *       filled (ACTAG_POSE_NO_COVARIANCE cleared unless the geometry is
+ *       degenerate), out->residual is the corners' RMS reprojection error in
+ *       metres at their depth, out->chi2 their sum of squared reprojection
+ *       errors over pixel_sd^2 (about 2 expected; much more means a wrong
+ *       pixel_sd, a distorted image or a bad detection). Returns ACTAG_OK,
+ *       ACTAG_ERR_NULL (det or out NULL), ACTAG_ERR_PARAM (pixel_sd out of
+ *       range, else as actag_apriltag_pose_sensor), ACTAG_ERR_BUILD (as
+ *       actag_pose_camera_covariance); *out is untouched on an error.
  *   zarray_t *actag_apriltag_detect(apriltag_detector_t *td, image_u8_t *im)
  *       apriltag_detector_detect(td, im) without the detections that
  *       actag_apriltag_mirror_check() (with td->decode_sharpening) judges
@@ -287,6 +303,9 @@ double actag_apriltag_pose(const apriltag_detection_t *det, double tag_size,
                           double R[9], double t[3]);
 int actag_apriltag_pose_sensor(const apriltag_detection_t *det, double tag_size, double fx,
                                double fy, double cx, double cy, actag_pose *out);
+int actag_apriltag_pose_sensor_cov(const apriltag_detection_t *det, double tag_size, double fx,
+                                   double fy, double cx, double cy, double pixel_sd,
+                                   actag_pose *out);
 zarray_t *actag_apriltag_detect(apriltag_detector_t *td, image_u8_t *im);
 int actag_apriltag_mirror_check(const apriltag_detection_t *det, const image_u8_t *im);
 void actag_apriltag_invert(image_u8_t *im);
