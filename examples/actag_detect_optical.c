@@ -23,6 +23,9 @@
  *   pixels, principal point with pixel centres at integers (OpenCV, ROS).
  * --sensor-frame adds the same pose in the frame shared with the sonar
  * (actag/pose.h: x forward, y left, z up; the same tag frame), "pose_sensor".
+ * --pixel-sd PX adds its covariance (actag_pose_camera_covariance) from the
+ * corners' pixel noise: "sd", "cov" (6 x 6), "chi2" and "flags" in
+ * "pose_sensor".
  * --json prints one line per image:
  *   {"file":...,"detections":[{"id":..,"hamming":..,"margin":..,
  *    "corners":[{"x_col":..,"y_row":..} x 4],"pose":{"R":[9],"t":[3]}}]}
