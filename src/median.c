@@ -558,10 +558,16 @@ static unsigned h16_get(const h16 *h, unsigned k)
  * ---------------------------------------------------------------------- */
 #define MEDIAN_QUAD_MAX_R 7
 
-/* Cortex-M4/M7 (__ARM_FEATURE_SIMD32, little-endian): median_quad_dsp();
- * ACTAG_NO_DSP selects the portable median_quad() there too. */
+/* Cortex-M4/M7 (__ARM_FEATURE_SIMD32, little-endian, Thumb-2):
+ * median_quad_dsp(); ACTAG_NO_DSP selects the portable median_quad() there
+ * too. Thumb-2 only: the asm's LDRD/STRD take any two registers there, an
+ * even-odd pair in ARM state (a Cortex-A build with -marm failed to
+ * assemble). A build that keeps a frame pointer and reserves r9 as well
+ * (-fno-omit-frame-pointer with -ffixed-r9, -msingle-pic-base or
+ * -mpic-register=r9) leaves the column asm too few registers: define
+ * ACTAG_NO_DSP there. */
 #if defined(__ARM_FEATURE_SIMD32) && defined(__GNUC__) && !defined(ACTAG_NO_DSP) &&            \
-    !defined(__ARM_BIG_ENDIAN)
+    !defined(__ARM_BIG_ENDIAN) && defined(__thumb2__)
 #define MEDIAN_DSP 1
 #endif
 

@@ -304,8 +304,10 @@ static int t_detect_roi(actag_tracker *t, const actag_frame *frame,
     ra = actag_geometry_range(g, frame->rows, (float)y0);
     rb = actag_geometry_range(g, frame->rows, (float)y1);
     sub = *frame;
-    sub.data = frame->depth == 16 ? (const void *)((const uint16_t *)frame->data + off)
-                                  : (const void *)((const uint8_t *)frame->data + off);
+    /* bytes, not a uint16_t pointer: a 16-bit frame may start at an odd
+     * address (actag.h), where such a pointer would be undefined */
+    sub.data = (const void *)((const uint8_t *)frame->data +
+                              (frame->depth == 16 ? 2u * off : off));
     sub.rows = h;
     sub.cols = w;
     for (j = 0; j < w; j++)
