@@ -16,7 +16,9 @@ const char *actag_strerror(int code)
     case ACTAG_ERR_NO_MATCH: return "no match";
     case ACTAG_ERR_OVERFLOW: return "a bounded buffer is too small";
     case ACTAG_ERR_NO_QUAD: return "no quadrilateral could be fitted";
-    case ACTAG_ERR_BUILD: return "library compiled with fused multiply-adds (-ffp-contract=fast)";
+    case ACTAG_ERR_BUILD:
+        return "library compiled with fused multiply-adds (-ffp-contract=fast) or reciprocal "
+               "divisions (clang -freciprocal-math)";
     default: return code > 0 ? "success" : "unknown error";
     }
 }

@@ -27,10 +27,14 @@
  *    -fassociative-math, -funsafe-math-optimizations and
  *    -ffinite-math-only (which would compile the validators' NaN checks
  *    out) are reset for these files by the same GCC pragma, and Clang's
- *    by "float_control(precise, on)" but for -ffinite-math-only, which is
- *    refused at compile time; -ffast-math (__FAST_MATH__) and x87 excess
- *    precision (FLT_EVAL_METHOD != 0: i386 without -msse2 -mfpmath=sse)
- *    are refused at compile time.
+ *    on x86 by "float_control(precise, on)" but for -ffinite-math-only,
+ *    which is refused at compile time. Clang ignores float_control on ARM
+ *    and AArch64: there "clang fp reassociate(off)" stops reassociation
+ *    and actag_fp_fuses() also finds divisions rewritten as reciprocal
+ *    products (-freciprocal-math, -funsafe-math-optimizations), so such a
+ *    build is refused at run time too. -ffast-math (__FAST_MATH__) and
+ *    x87 excess precision (FLT_EVAL_METHOD != 0: i386 without -msse2
+ *    -mfpmath=sse) are refused at compile time.
  * 3. No errno. libm's sqrtf and logf set errno on a domain error, and on
  *    newlib that pulls the reentrancy structure (impure_data, ~1 KB of
  *    .data) into every firmware; GCC only inlines sqrtf without a call
@@ -48,13 +52,21 @@
  * the options that change float results, reset for the rest of the file
  * (a project's -freciprocal-math, -funsafe-math-optimizations,
  * -fassociative-math or -ffinite-math-only then leave these sources
- * alone). Clang: precise semantics for the file (undoes the reciprocal,
- * reassociation and unsafe-math flags; clang 11 and later); its
- * -ffinite-math-only is refused below and its -ffp-contract=fast caught at
- * run time (actag_fp_fuses). */
+ * alone). Clang on x86: precise semantics for the file (undoes the
+ * reciprocal, reassociation and unsafe-math flags; clang 11 and later);
+ * elsewhere only reassociation can be switched off by a pragma (clang 12),
+ * and its -freciprocal-math (or -funsafe-math-optimizations, which implies
+ * it) is caught at run time with -ffp-contract=fast (actag_fp_fuses); its
+ * -ffinite-math-only is refused below. */
 #if defined(__clang__)
-#if __clang_major__ >= 11
+/* float_control is x86-only in clang 14 (ignored, with a warning, on ARM
+ * and AArch64): there reassociation is switched off below and reciprocal
+ * rewrites are caught at run time (actag_fp_fuses) */
+#if __clang_major__ >= 11 && (defined(__x86_64__) || defined(__i386__))
 #pragma float_control(precise, on)
+#endif
+#if __clang_major__ >= 12
+#pragma clang fp reassociate(off)
 #endif
 #pragma STDC FP_CONTRACT OFF
 #elif defined(__GNUC__)
@@ -238,8 +250,10 @@ static inline float actag_logf(float x)
  * fused operations move corners and can flip decisions. (1 + 2^-12)^2 =
  * 1 + 2^-11 + 2^-24: the rounded product drops the 2^-24 (a tie, to even),
  * which a fused a * b - p keeps. The operands are volatile reads, so the
- * compiler cannot fold the test away or share the two products. */
-static inline int actag_fp_fuses(void)
+ * compiler cannot fold the test away or share the two products. (Kept
+ * apart from the test below: merged into one expression with it, clang
+ * 14 -march=haswell -ffp-contract=fast no longer fused this one.) */
+static inline int actag__fp_fma(void)
 {
     volatile float va = 1.000244140625f, vb = 1.000244140625f, vp;
     float a = va, b = vb, p;
@@ -248,6 +262,30 @@ static inline int actag_fp_fuses(void)
     a = va;
     b = vb;
     return a * b - p != 0.0f;
+}
+
+/* Does this build turn divisions into products with a reciprocal? Clang's
+ * -freciprocal-math or -funsafe-math-optimizations on ARM and AArch64,
+ * where its float_control pragma is ignored (clang 14: the pose's results
+ * changed). 10/3, 20/3 and 40/3 round down, 10, 20 and 40 times float(1/3)
+ * up; three quotients by one divisor and one by a constant are the shapes
+ * clang rewrites (AArch64 from three uses, ARM the constant). Volatile
+ * operands; the comparisons combined without branches, which would put the
+ * quotients in separate blocks (clang rewrites repeated divisors within
+ * one). */
+static inline int actag__fp_reciprocal(void)
+{
+    volatile float vx = 10.0f, vy = 20.0f, vw = 40.0f, vz = 3.0f;
+    float x = vx, y = vy, w = vw, z = vz;
+    return (x / z != 0x1.aaaaaap+1f) | (y / z != 0x1.aaaaaap+2f) | (w / z != 0x1.aaaaaap+3f) |
+           (x / 3.0f != 0x1.aaaaaap+1f);
+}
+
+/* 1 when this build rounds float arithmetic other than IEEE's way in one
+ * of the two ways above (the entry points then return ACTAG_ERR_BUILD). */
+static inline int actag_fp_fuses(void)
+{
+    return actag__fp_fma() || actag__fp_reciprocal();
 }
 
 #endif

@@ -376,7 +376,9 @@ static int check_call(const actag_frame *f, const actag_sonar_geometry *g, const
     if (actag_fp_fuses())
         return fail(d, ACTAG_ERR_BUILD, "build", 0.0,
                     "the library's sources were compiled with floating-point contraction "
-                    "(Clang -ffp-contract=fast): compile them with -ffp-contract=off");
+                    "(Clang -ffp-contract=fast) or reciprocal divisions (Clang -freciprocal-math "
+                    "or -funsafe-math-optimizations, ARM/AArch64): compile them with "
+                    "-ffp-contract=off and without those");
     if (f == NULL)
         return fail(d, ACTAG_ERR_NULL, "frame", 0.0, "must not be NULL");
     if (g == NULL)

@@ -68,8 +68,12 @@
  * ERRORS (negative return values of actag_detect)
  *   ACTAG_ERR_BUILD        the library's sources were compiled to fuse multiplies
  *                          and adds (Clang -ffp-contract=fast on an FMA target,
- *                          which ignores the sources' pragmas; GCC honours them):
- *                          compile them with -ffp-contract=off (checked first)
+ *                          which ignores the sources' pragmas; GCC honours them)
+ *                          or to turn divisions into reciprocal products (Clang
+ *                          -freciprocal-math or -funsafe-math-optimizations on
+ *                          ARM/AArch64, where its float_control pragma is
+ *                          ignored): compile them with -ffp-contract=off and
+ *                          without those (checked first)
  *   ACTAG_ERR_NULL         frame, frame->data, geometry, params, params->family,
  *                          workspace or out (when max_out > 0) is NULL
  *   ACTAG_ERR_SIZE         rows/cols < 1 or > ACTAG_MAX_DIM, stride < cols,

@@ -54,8 +54,11 @@ extern "C" {
                                       returns it at present) */
 #define ACTAG_ERR_NO_QUAD (-10)    /* no quadrilateral could be fitted */
 #define ACTAG_ERR_BUILD (-11)      /* the library was compiled to fuse multiplies and adds
-                                      (Clang -ffp-contract=fast on an FMA target): its
-                                      results would differ from every other build */
+                                      (Clang -ffp-contract=fast on an FMA target) or to
+                                      turn divisions into reciprocal products (Clang
+                                      -freciprocal-math or -funsafe-math-optimizations on
+                                      ARM/AArch64): its results would differ from every
+                                      other build */
 
 /* Bitmaps: binary images at one bit per pixel (the adaptive threshold's
  * output and the contour scanner's input, threshold.h and contours.h).
