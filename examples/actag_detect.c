@@ -85,7 +85,8 @@ static void usage(FILE *f)
             "  --min-structure F      least fraction of ring / interior cells read right, 0..1\n"
             "                         (default 0: the corrections budget is the gate)\n"
             "  --min-side-fraction F  least quad side / tag size (default 0.5; 0.4 for grazing\n"
-            "                         views)\n");
+            "                         views), at most --max-side-fraction\n"
+            "  --max-side-fraction F  largest quad side / tag size (default 1.6)\n");
     fprintf(f,
             "Output (coordinates: x = column, y = row, pixels, centre of the top-left pixel at\n"
             "(0,0); corners in the tag's order TL TR BR BL as printed):\n"
@@ -150,6 +151,7 @@ static const hostio_optname option_names[] = {
     {"tuning.search_candidates", "--search", 0},
     {"tuning.min_structure", "--min-structure", 0},
     {"tuning.min_side_fraction", "--min-side-fraction", 0},
+    {"tuning.max_side_fraction", "--max-side-fraction", 0},
     {"tuning.search_min_margin", "--search-min-margin", 0},
     {"tuning.fit.many_corrections_margin", "--many-corrections-margin", 0},
     {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
@@ -323,6 +325,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--min-side-fraction") == 0) {
             NEEDV();
             o->params.tuning.min_side_fraction = fnum(a, v);
+        } else if (strcmp(a, "--max-side-fraction") == 0) {
+            NEEDV();
+            o->params.tuning.max_side_fraction = fnum(a, v);
         } else if (strcmp(a, "--min-margin") == 0) {
             NEEDV();
             o->params.min_margin = fnum(a, v);
@@ -852,8 +857,8 @@ static int process(const options *o, const char *file, const char *picname,
     if (o->raw.rows > 0 && (im.rows != o->raw.rows || im.cols != o->raw.cols ||
                             im.depth != o->raw.depth)) /* read as a PGM: say so */
         fprintf(stderr,
-                PROG ": %s: a PGM of %d x %d, %d bit: --rows/--cols/--depth/--stride (raw "
-                "frames) do not apply to it\n",
+                PROG ": warning: %s: a PGM of %d x %d, %d bit: --rows/--cols/--depth/--stride "
+                "(raw frames) do not apply to it; read as the PGM\n",
                 hostio_frame_name(file), im.cols, im.rows, im.depth);
     if (o->track && tracker->rows > 0 && (im.rows != tracker->rows || im.cols != tracker->cols)) {
         /* the tracker's own refusal said only "invalid image size or stride" */
@@ -981,9 +986,21 @@ static int process(const options *o, const char *file, const char *picname,
                     status = -1;
                 }
             }
-            if (o->stages && pic_stages(o->stages, picname, &pf, err) != 0) {
-                fprintf(stderr, PROG ": %s\n", err);
-                status = -1;
+            if (o->stages) {
+                char path[4096];
+                int k, clash = 0;
+                for (k = 0; k < PIC_STAGE_FILES && !clash; k++) {
+                    pic_stage_path(o->stages, picname, k, path, sizeof path);
+                    clash = overwrites_input(path, files, nfiles, o->bearings_path);
+                }
+                if (clash) {
+                    fprintf(stderr, PROG ": --stages %s: would overwrite an input file; not written\n",
+                            path);
+                    status = -1;
+                } else if (pic_stages(o->stages, picname, &pf, err) != 0) {
+                    fprintf(stderr, PROG ": %s\n", err);
+                    status = -1;
+                }
             }
         }
         free(in8);

@@ -964,6 +964,14 @@ static int stage_decoded(const char *dir, const char *stem, const pic_frame *f, 
     return finish_stage(&cv, f, it, n, dir, stem, "7-decoded", err);
 }
 
+void pic_stage_path(const char *dir, const char *stem, int i, char *out, size_t n)
+{
+    static const char *const name[PIC_STAGE_FILES] = {
+        "1-input.pgm", "2-median.pgm", "3-search.ppm", "4-binary.pgm",
+        "5-contours.ppm", "6-quads.ppm", "7-decoded.ppm"};
+    snprintf(out, n, "%s/%s-%s", dir, stem, name[i < 0 || i >= PIC_STAGE_FILES ? 0 : i]);
+}
+
 int pic_stages(const char *dir, const char *stem, const pic_frame *f, char *err)
 {
     if (write_grey(dir, stem, "1-input", f->input8, f->rows, f->cols, 0, err) != 0 ||

@@ -105,5 +105,9 @@ typedef struct pic_frame {
 
 int pic_overlay(const char *path, const pic_frame *f, int show_rejected, char *err);
 int pic_stages(const char *dir, const char *stem, const pic_frame *f, char *err);
+/* The path of stage file i (0 .. PIC_STAGE_FILES - 1) that pic_stages
+ * writes for dir and stem (so a caller can refuse to overwrite an input). */
+#define PIC_STAGE_FILES 7
+void pic_stage_path(const char *dir, const char *stem, int i, char *out, size_t n);
 
 #endif

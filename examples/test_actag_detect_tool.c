@@ -421,8 +421,9 @@ static void test_overlay_and_stages(void)
 }
 
 /* --overlay naming an input (the frame itself, under another spelling of
- * its path, or the bearing table): refused, status 2, the input kept
- * byte for byte (it was overwritten with the picture); a tall frame's
+ * its path, or the bearing table), or --stages writing onto one:
+ * refused, status 2, the input kept byte for byte (it was overwritten with
+ * the picture; --stages overwrote it before it was read); a tall frame's
  * overlay keeps its fan panel at 2,048 px (a 2 x 8,000 frame took a
  * 8k x 8k picture). */
 static void test_overlay_never_overwrites_an_input(void)
@@ -461,6 +462,26 @@ static void test_overlay_never_overwrites_an_input(void)
     s = slurp(OUT "/ovin/b.txt");
     TEST_ASSERT_EQUAL_INT('0', s[0]); /* still the table's text */
     free(s);
+    /* --stages too: a.pgm's stage picture a-1-input.pgm is another input
+     * here; refused (status 2), that input kept and still read */
+    {
+        static const uint8_t small[] = "P5\n4 4\n255\n\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";
+        TEST_ASSERT_EQUAL_INT(0, system("cp \"" EXAMPLE "\" \"" OUT "/ovin/a.pgm\""));
+        write_file(OUT "/ovin/a-1-input.pgm", small, sizeof small - 1);
+        TEST_ASSERT_EQUAL_INT(2, run(GEO " --stages " OUT "/ovin " OUT "/ovin/a.pgm " OUT
+                                     "/ovin/a-1-input.pgm"));
+        s = err_text();
+        TEST_ASSERT_NOT_NULL(strstr(s, "--stages " OUT "/ovin/a-1-input.pgm: would overwrite an input file"));
+        free(s);
+        s = out_text();
+        TEST_ASSERT_NOT_NULL(strstr(s, "a-1-input.pgm: no tags"));
+        free(s);
+        after = (uint8_t *)hostio_slurp(OUT "/ovin/a-1-input.pgm", &n1, NULL);
+        TEST_ASSERT_NOT_NULL(after);
+        TEST_ASSERT_EQUAL_size_t(sizeof small - 1, n1);
+        TEST_ASSERT_EQUAL_MEMORY(small, after, n1);
+        free(after);
+    }
     /* standard output carries the detections: no picture there */
     TEST_ASSERT_EQUAL_INT(2, run(GEO " --overlay - " OUT "/ovin/f.pgm"));
     s = err_text();
@@ -713,6 +734,13 @@ static void test_bad_options(void)
     expect_option_error("--min-range 2 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
                         "actag_detect: --min-range/--max-range: must be below --max-range "
                         "(got 2, limit 1.5)\n");
+    /* a least side above the largest: both named, the largest settable
+     * (--min-side-fraction 2 used to name only tuning.max_side_fraction,
+     * which no option set) */
+    expect_option_error(GEO " --min-side-fraction 2 " EXAMPLE,
+                        "actag_detect: --max-side-fraction/--min-side-fraction: must be at least "
+                        "--min-side-fraction (got 1.6, limit 2)\n");
+    TEST_ASSERT_EQUAL_INT(0, run(GEO " --min-side-fraction 2 --max-side-fraction 3 " EXAMPLE));
     /* values the library judges: its rule, in the option's name */
     expect_option_error(GEO " --tag-size 0 " EXAMPLE,
                         "actag_detect: --tag-size: must be a finite number > 0 (metres) (got 0)\n");
@@ -800,11 +828,14 @@ static void test_options_that_need_others(void)
         free(o2);
     }
     free(e);
-    /* raw layout options with a PGM: read as the PGM, and said so */
+    /* raw layout options with a PGM: read as the PGM, and said so (a
+     * warning, as the status is 0) */
     TEST_ASSERT_EQUAL_INT(0, run(GEO " --rows 530 --cols 512 " EXAMPLE));
     e = err_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "actag_detect: warning: "), e);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "a PGM of 620 x 463, 8 bit: --rows/--cols/--depth/"
-                                           "--stride (raw frames) do not apply to it"), e);
+                                           "--stride (raw frames) do not apply to it; read as "
+                                           "the PGM"), e);
     free(e);
     /* two frames in one stream: an error, not the first frame alone */
     snprintf(args, sizeof args, GEO " - < \"%s/two_frames.pgm\"", ACTAG_BINARY_DIR);

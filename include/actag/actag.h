@@ -631,9 +631,10 @@ int actag_tuning_validate(const actag_tuning *t, actag_error_detail *detail);
 
 /* Every check actag_detect(frame, geometry, params, <workspace>,
  * workspace_size, <out>, max_out, ...) makes before it runs, with the same
- * result code (ERROR DETAILS above): ACTAG_OK, or ACTAG_ERR_NULL, _SIZE,
- * _PARAM, _GEOMETRY, _FAMILY, _CORRECTIONS, _WORKSPACE. Fills *detail when
- * not NULL. Reads the bearing table, no pixels. */
+ * result code (ERROR DETAILS above): ACTAG_OK, or ACTAG_ERR_BUILD (checked
+ * first), _NULL, _SIZE, _PARAM, _GEOMETRY, _FAMILY, _CORRECTIONS,
+ * _WORKSPACE. Fills *detail when not NULL. Reads the bearing table, no
+ * pixels. */
 int actag_check(const actag_frame *frame, const actag_sonar_geometry *geometry,
                 const actag_params *params, size_t workspace_size, int max_out,
                 actag_error_detail *detail);
