@@ -22,3 +22,8 @@ const char *actag_strerror(int code)
     default: return code > 0 ? "success" : "unknown error";
     }
 }
+
+int actag_check_build(void)
+{
+    return actag_fp_fuses() ? ACTAG_ERR_BUILD : ACTAG_OK;
+}

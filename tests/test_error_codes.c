@@ -61,6 +61,14 @@ static void setup(actag_frame *f, actag_sonar_geometry *g, actag_params *p)
 
 /* ------------------------------------------------------------ common.h */
 
+/* The build check: ACTAG_OK in this (CMake, -ffp-contract=off) build, and
+ * the same answer as actag_check's first test (.ci/fpcontract has the
+ * builds that return ACTAG_ERR_BUILD). */
+static void test_check_build(void)
+{
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_check_build());
+}
+
 static void test_strerror(void)
 {
     static const int codes[] = {ACTAG_OK,           ACTAG_ERR_NULL,      ACTAG_ERR_SIZE,
@@ -1760,6 +1768,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_strerror);
+    RUN_TEST(test_check_build);
     RUN_TEST(test_workspace_size);
     RUN_TEST(test_workspace_size_inplace);
     RUN_TEST(test_params_and_tuning_default);

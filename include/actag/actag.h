@@ -12,7 +12,9 @@
  *     adaptive threshold (threshold.h) -> contours (contours.h) ->
  *     physical size filter (geometry.h) -> RANSAC quadrilateral (quad.h) ->
  *     decode (decode.h, grid-fitting grey decoder by default).
- *   See DEFAULTS AND WHY below actag_params.
+ *   See DEFAULTS AND WHY below actag_params. (A program that calls the
+ *   stages alone calls actag_check_build() (common.h) once: actag_detect
+ *   checks the build itself, the stages do not.)
  *
  *   Memory: the caller hands in one workspace; the library never allocates.
  *   ACTAG_WORKSPACE_SIZE(rows, cols) is a constant expression, so firmware can

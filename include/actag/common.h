@@ -123,6 +123,17 @@ typedef struct actag_error_detail {
  * ("unknown error" for an unknown negative code, "success" for >= 0). */
 const char *actag_strerror(int code);
 
+/* ACTAG_OK, or ACTAG_ERR_BUILD when the library's sources were compiled to
+ * round float arithmetic other than IEEE's way (fused multiply-adds: Clang
+ * -ffp-contract=fast on an FMA target; reciprocal divisions: Clang
+ * -freciprocal-math or -funsafe-math-optimizations on ARM/AArch64), so that
+ * results would differ from every other build. actag_detect, the tracker
+ * and the pose functions check it first; the stage functions (median.h,
+ * search.h, quad.h, decode.h, refine.h, ...) do not, once per call being
+ * the entry points' business: a program that calls stages alone calls
+ * this once at start-up. No other error codes. */
+int actag_check_build(void);
+
 #ifdef __cplusplus
 }
 #endif
