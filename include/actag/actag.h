@@ -28,9 +28,9 @@
  *   530 x 512: a 128 KiB DTCM) and the same tags.
  *   (The library stores integers and floats in the workspace. Strict C99
  *   effective-type rules allow that in allocated storage; in a declared
- *   uint8_t array they do not, though GCC and Clang, which let character
- *   arrays alias every type and see the workspace only through a pointer
- *   passed across files, compile it as intended. Firmware that wants the
+ *   uint8_t array they do not, though GCC and Clang, which see the
+ *   workspace only through a pointer passed across files, have no way to
+ *   exploit it and compile it as intended. Firmware that wants the
  *   letter of the standard gives the workspace no declared type, e.g. a
  *   linker-script section it reaches through an extern pointer.)
  *
