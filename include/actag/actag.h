@@ -29,8 +29,8 @@
  *   (The library stores integers and floats in the workspace. Strict C99
  *   effective-type rules allow that in allocated storage; in a declared
  *   uint8_t array they do not, though GCC and Clang, which see the
- *   workspace only through a pointer passed across files, have no way to
- *   exploit it and compile it as intended. Firmware that wants the
+ *   workspace only through a pointer passed across files (unless link-time
+ *   optimisation joins them), compile it as intended. Firmware that wants the
  *   letter of the standard gives the workspace no declared type, e.g. a
  *   linker-script section it reaches through an extern pointer.)
  *
