@@ -75,7 +75,8 @@ static void usage(FILE *f)
         "  --compare-real DIR     print background and foam/metal statistics of DIR's real\n"
         "                         frames (tag found by actag_detect, pool settings) beside\n"
         "                         simulated pool frames (N = --random, default 60);\n"
-        "                         --montage FILE.pgm writes 4 real and 4 simulated frames\n"
+        "                         --montage FILE.pgm writes 4 real and 4 simulated frames;\n"
+        "                         a DIR none of whose .pgm frames gives a tag is an error\n"
         "  --help  --version\n");
 }
 

@@ -460,6 +460,13 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
         }
         hostio_image_free(&im);
     }
+    if (st[0][0].n == 0) { /* nothing to compare with: not a table of zeros and status 0 */
+        if (err)
+            snprintf(err, HOSTIO_ERRLEN,
+                     "--compare-real: no tag detected in any of the %d .pgm frames in '%.150s'",
+                     nnames, dir);
+        goto done;
+    }
     for (i = 0; i < n; i++) {
         sim_tag tag;
         sim_scene sc;

@@ -94,7 +94,8 @@ int simio_tag_stats_of(const uint8_t *img, int rows, int cols, const actag_point
 
 /* actag-sim --compare-real: statistics of real frames in dir (the tag found
  * by actag_detect with the pool settings) beside n simulated pool frames;
- * with montage, a PGM of 4 real and 4 simulated frames. */
+ * with montage, a PGM of 4 real and 4 simulated frames. A folder without
+ * .pgm frames, or none of whose frames gives a tag, is an error (-1, err). */
 int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearance *a,
                        const char *montage, FILE *out, char *err);
 

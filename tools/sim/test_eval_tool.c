@@ -585,6 +585,23 @@ static void test_sim_compare_real_stdout_error(void)
     snprintf(args, sizeof args, "--compare-real \"%s/data/pool-video\" --random 2 --rows 100",
              ACTAG_SOURCE_DIR);
     expect_error_of(ACTAG_SIM_PATH, args, "--rows", "does not apply with --compare-real");
+    /* .pgm frames none of which gives a tag: an error naming the folder, status 2 (it
+     * printed "frames 0" and statistics of 0.0 with status 0) */
+    {
+        char dir[700], path[800];
+        static const char pgm[] = "P5\n4 4\n255\n\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";
+        snprintf(dir, sizeof dir, "%s/compare_tagfree", ACTAG_BINARY_DIR);
+        mkdir(dir, 0777);
+        snprintf(path, sizeof path, "%s/a.pgm", dir);
+        TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, pgm, sizeof pgm - 1, NULL));
+        snprintf(args, sizeof args, "--compare-real \"%s\" --random 2", dir);
+        expect_error_of(ACTAG_SIM_PATH, args, "no tag detected in any of the 1 .pgm frames",
+                        "/compare_tagfree'"); /* the folder named */
+        e = slurp(out_path);
+        TEST_ASSERT_NOT_NULL(e);
+        TEST_ASSERT_NULL_MESSAGE(strstr(e, "frames"), e); /* no table of zeros */
+        free(e);
+    }
     /* a frame the comparison cannot read (16-bit) is named, not silently left out */
     {
         char dir[700], path[800];
@@ -593,6 +610,8 @@ static void test_sim_compare_real_stdout_error(void)
         FILE *f;
         snprintf(dir, sizeof dir, "%s/compare16", ACTAG_BINARY_DIR);
         mkdir(dir, 0777);
+        snprintf(path, sizeof path, "%s/f_0001.pgm", dir);
+        remove(path); /* from an earlier run */
         snprintf(path, sizeof path, "%s/f16.pgm", dir);
         f = fopen(path, "wb");
         TEST_ASSERT_NOT_NULL(f);
@@ -600,6 +619,25 @@ static void test_sim_compare_real_stdout_error(void)
         TEST_ASSERT_EQUAL_INT(1, (int)fwrite(px, sizeof px, 1, f));
         TEST_ASSERT_EQUAL_INT(0, fclose(f));
         snprintf(args, sizeof args, "--compare-real \"%s\" --random 1", dir);
+        /* its only frame skipped: nothing to compare with, status 2 */
+        TEST_ASSERT_EQUAL_INT(2, run(ACTAG_SIM_PATH, args));
+        e = slurp(err_path);
+        TEST_ASSERT_NOT_NULL(e);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "f16.pgm: skipped (a 4 x 4, 16-bit frame"), e);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "no tag detected in any of the 1 .pgm frames"), e);
+        free(e);
+        /* beside a pool frame with its tag: skipped, and the comparison made */
+        {
+            char src[800];
+            size_t len = 0;
+            void *img;
+            snprintf(src, sizeof src, "%s/data/pool-video/f_0001.pgm", ACTAG_SOURCE_DIR);
+            img = hostio_slurp(src, &len, NULL);
+            TEST_ASSERT_NOT_NULL(img);
+            snprintf(path, sizeof path, "%s/f_0001.pgm", dir);
+            TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, img, len, NULL));
+            free(img);
+        }
         TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
         e = slurp(err_path);
         TEST_ASSERT_NOT_NULL(e);
