@@ -22,6 +22,7 @@
  * ignored); a file whose writing fails is removed again, not left half
  * written. Run with --help for the options.
  */
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -162,7 +163,10 @@ static void usage(FILE *f)
         "  --out FILE             output file (default or -: stdout). A sheet that fits one\n"
         "                         page is FILE itself; a longer one is FILE with -p1,\n"
         "                         -p2, ... before the extension (tags.svg: tags-p1.svg,\n"
-        "                         tags-p2.svg, ...; the names are reported on stderr)\n"
+        "                         tags-p2.svg, ...; the names are reported on stderr).\n"
+        "                         The format is not taken from FILE: a .pgm, .svg or .dxf\n"
+        "                         name must match it (--format; default pgm, dxf with\n"
+        "                         --cut or --back-plate), other names are written as given\n"
         "  --out-dir DIR          one file per tag: DIR/FAMILY-ID[-face|-back].EXT,\n"
         "                         sheets DIR/FAMILY[-face|-back]-sheet-pN.EXT (DIR is\n"
         "                         created)\n"
@@ -275,6 +279,57 @@ static const char *need_arg(int argc, char **argv, int *i)
         die("%s needs a value", argv[*i]);
     (*i)++;
     return argv[*i];
+}
+
+/* The format a file name's extension says (.pgm, .svg or .dxf, in any case);
+ * FMT_NONE for another extension or none. */
+static int format_of_name(const char *path, const char **ext)
+{
+    static const char *const names[] = {"pgm", "svg", "dxf"};
+    static const int formats[] = {FMT_PGM, FMT_SVG, FMT_DXF};
+    const char *base = strrchr(path, '/'), *dot;
+    int k, j;
+    base = base ? base + 1 : path;
+    dot = strrchr(base, '.');
+    *ext = dot ? dot + 1 : "";
+    if (dot == NULL || dot == base || strlen(dot + 1) != 3)
+        return FMT_NONE;
+    for (k = 0; k < 3; k++) {
+        for (j = 0; j < 3; j++)
+            if (tolower((unsigned char)dot[1 + j]) != names[k][j])
+                break;
+        if (j == 3)
+            return formats[k];
+    }
+    return FMT_NONE;
+}
+
+/* An --out name whose extension is another known format's than the output's
+ * is refused: "--out a.dxf" (no --format) wrote a PGM image into a.dxf. A
+ * name with another extension, or none, is written as given. */
+static void check_out_name(const opts_t *o, const char *fmt, int cut, int back)
+{
+    static const char *const fmt_names[] = {"", "pgm", "svg", "dxf"};
+    const char *ext, *have = fmt_names[o->format];
+    char chosen[64];
+    int says;
+    if (o->out == NULL) /* standard output */
+        return;
+    says = format_of_name(o->out, &ext);
+    if (says == FMT_NONE || says == o->format)
+        return;
+    if (fmt)
+        snprintf(chosen, sizeof chosen, "--format %s", have);
+    else
+        snprintf(chosen, sizeof chosen, "the default for %s", o->mode == MODE_IMAGE ? "images"
+                                                                : "cut files");
+    if (says == FMT_PGM && (cut || back))
+        die("--out '%s': the extension .%s does not match the output format %s (%s); PGM is "
+            "for images, not cut files (%s): name the file .%s, or .svg with --format svg",
+            o->out, ext, have, chosen, cut ? "--cut" : "--back-plate", have);
+    die("--out '%s': the extension .%s does not match the output format %s (%s); choose the "
+        "format with --format %s, or name the file .%s", o->out, ext, have, chosen,
+        fmt_names[says], have);
 }
 
 static void parse_args(int argc, char **argv, opts_t *o)
@@ -479,6 +534,7 @@ static void parse_args(int argc, char **argv, opts_t *o)
         die("give --out or --out-dir, not both");
     if (!o->sheet && !o->list_tabs && o->nids > 1 && o->out_dir == NULL)
         die("several tags make several files: use --out-dir DIR (or --sheet)");
+    check_out_name(o, fmt, cut, back);
 }
 
 /* ------------------------------------------------------------------ geometry */

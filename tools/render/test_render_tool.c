@@ -1456,6 +1456,69 @@ static void test_out_dash_is_stdout(void)
     TEST_ASSERT_NOT_NULL(strstr(errtext, "not both"));
 }
 
+/* An --out name whose extension (.pgm, .svg, .dxf) is another format's than
+ * the output's is refused: status 2, one line naming the file, the format and
+ * how to choose it, and no file ("--out a.dxf" and "--out a.svg" wrote a PGM
+ * image under those names, status 0). Matching names, in any case, other
+ * extensions and none are written as before. */
+static void test_out_extension_matches_format(void)
+{
+    static const refused_t as_dxf[] = {
+        {"--id 1", "/a.dxf': the extension .dxf does not match the output format pgm",
+         "--format dxf"},
+        {"--id 1 --format svg", "does not match the output format svg (--format svg)",
+         "--format dxf"},
+        {"--id 1 --cut --format svg", "a.dxf", "name the file .svg"},
+        {NULL, NULL, NULL}};
+    static const refused_t as_svg[] = {
+        {"--id 1", "/a.svg': the extension .svg does not match the output format pgm",
+         "--format svg"},
+        {"--id 1 --cut", "does not match the output format dxf (the default for cut files)",
+         "--format svg"},
+        {"--id 1 --back-plate", "a.svg", "--format svg"},
+        {"--ids 0-2 --sheet", "a.svg", "--format svg"},
+        {NULL, NULL, NULL}};
+    static const refused_t as_pgm[] = {
+        {"--id 1 --format svg", "a.pgm", "--format pgm"},
+        {"--id 1 --format dxf", "a.pgm", "--format pgm"},
+        {"--id 1 --cut", "a.pgm", "PGM is for images, not cut files (--cut)"},
+        {"--id 1 --back-plate --format svg", "a.pgm", "not cut files (--back-plate)"},
+        {NULL, NULL, NULL}};
+    static const struct {
+        const char *args, *out, *magic;
+    } ok[] = {{"--id 1", "ok.pgm", "P5"},
+              {"--id 1", "ok.PGM", "P5"},
+              {"--id 1", "ok.png", "P5"}, /* not a known format: written as given */
+              {"--id 1", "ok", "P5"},
+              {"--id 1 --format svg", "ok.svg", "<?xml"},
+              {"--id 1 --cut", "ok.DXF", "999\n"},
+              {"--id 1 --cut --format svg", "ok.Svg", "<?xml"},
+              {NULL, NULL, NULL}};
+    int i;
+    check_refused("AcTag24h10", as_dxf, "a.dxf");
+    check_refused("AcTag24h10", as_svg, "a.svg");
+    check_refused("AcTag24h10", as_pgm, "a.pgm");
+    for (i = 0; ok[i].args; i++) {
+        char args[1200], msg[2000];
+        char *f;
+        size_t n = 0;
+        int st;
+        path_of(msg, sizeof msg, ok[i].out);
+        remove(msg);
+        snprintf(args, sizeof args, "--family AcTag24h10 %s --out '%s/%s'", ok[i].args, dir,
+                 ok[i].out);
+        st = run(args);
+        snprintf(msg, sizeof msg, "args '%s': stderr '%.400s'", args, errtext);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, st, msg);
+        f = slurp(ok[i].out, &n);
+        TEST_ASSERT_NOT_NULL_MESSAGE(f, args);
+        TEST_ASSERT_TRUE_MESSAGE(n > strlen(ok[i].magic) &&
+                                     strncmp(f, ok[i].magic, strlen(ok[i].magic)) == 0,
+                                 args);
+        free(f);
+    }
+}
+
 int main(void)
 {
     snprintf(dir, sizeof dir, "%s/render_tool_test", ACTAG_BINARY_DIR);
@@ -1479,5 +1542,6 @@ int main(void)
     RUN_TEST(test_dxf_checker_rejects);
     RUN_TEST(test_readme_commands_write_what_they_say);
     RUN_TEST(test_pages_folders_version);
+    RUN_TEST(test_out_extension_matches_format);
     return UNITY_END();
 }
