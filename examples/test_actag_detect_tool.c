@@ -727,6 +727,16 @@ static void test_bad_options(void)
     expect_option_error(GEO " --aperture-deg -5 " EXAMPLE,
                         "--aperture-deg: must be a number > 0 and < 360 (got -5)");
     expect_option_error(GEO " --min-range nan " EXAMPLE, "--min-range: must be a finite number (got 'nan')");
+    /* out of range, not malformed: an underflow ("must be a finite number"), a
+     * seed beyond 64 bits ("must be an integer"); a '+' named as elsewhere */
+    expect_option_error("--min-range 1e-400 --max-range 1.5 --aperture-deg 60 " EXAMPLE,
+                        "--min-range: must be 0 or at least 2.22507e-308 in magnitude "
+                        "(got 1e-400: too small for a double)");
+    expect_option_error(GEO " --seed 99999999999999999999 " EXAMPLE,
+                        "--seed: must be a whole number from 0 to 4294967295 "
+                        "(got 99999999999999999999)");
+    expect_option_error(GEO " --seed +5 " EXAMPLE,
+                        "--seed: must be an integer without a '+' sign (got '+5')");
     expect_option_error(GEO " --decode guess " EXAMPLE, "--decode: must be fit or binary (got 'guess')");
     expect_option_error(GEO " --depth 12 " EXAMPLE, "--depth: must be 8 or 16 (got 12)");
     expect_option_error(GEO " --tag-size", "--tag-size: missing value");

@@ -6,6 +6,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -619,8 +620,17 @@ int hostio_parse_double(const char *name, const char *s, double lo, double hi, d
         return fail(err, "%s: must be a number %s (got '%s')", name, why, s);
     errno = 0;
     x = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(x))
+    if (end == s || *end != '\0' || !isfinite(x))
         return fail(err, "%s: must be a finite number (got '%s')", name, s);
+    if (errno == ERANGE || (x != 0.0 && fabs(x) < DBL_MIN)) {
+        /* below the smallest normal double: 0 or a denormal, with ERANGE
+         * ("1e-400" was "not a finite number"); an overflow is infinite above */
+        int neg = *s == '-';
+        if (neg ? (lo >= 0.0 || hi < 0.0) : (lo > 0.0 || hi <= 0.0))
+            return fail(err, "%s: must be from %g to %g (got %s)", name, lo, hi, s);
+        return fail(err, "%s: must be 0 or at least %g in magnitude (got %s: too small for "
+                    "a double)", name, DBL_MIN, s);
+    }
     if (x < lo || x > hi)
         return fail(err, "%s: must be from %g to %g (got %s)", name, lo, hi, s);
     *v = x;
@@ -638,9 +648,9 @@ int hostio_parse_long(const char *name, const char *s, long lo, long hi, long *v
         return fail(err, "%s: must be an integer %s (got '%s')", name, why, s);
     errno = 0;
     x = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE)
+    if (end == s || *end != '\0')
         return fail(err, "%s: must be an integer (got '%s')", name, s);
-    if (x < lo || x > hi)
+    if (errno == ERANGE || x < lo || x > hi) /* ERANGE: beyond long, so beyond lo..hi */
         return fail(err, "%s: must be an integer from %ld to %ld (got %s)", name, lo, hi, s);
     *v = x;
     return HOSTIO_OK;
@@ -651,19 +661,21 @@ int hostio_parse_u32(const char *name, const char *s, uint32_t lo, uint32_t hi, 
 {
     char *end;
     unsigned long long x;
+    const char *why;
     if (!s)
         return fail(err, "%s: missing value", name);
-    if (isspace((unsigned char)*s)) /* strtoull would skip it */
-        return fail(err, "%s: must be an integer without leading whitespace (got '%s')", name,
-                    s);
-    if (*s == '-' || *s == '+') /* strtoull would wrap a minus sign */
+    /* strtoull would skip whitespace and take a '+' sign: the same words as
+     * hostio_parse_long ("+5" was "a whole number from 0 to ..., got +5") */
+    if ((why = not_decimal(s)) != NULL)
+        return fail(err, "%s: must be an integer %s (got '%s')", name, why, s);
+    if (*s == '-') /* strtoull would wrap a minus sign */
         return fail(err, "%s: must be a whole number from %lu to %lu (got %s)", name,
                     (unsigned long)lo, (unsigned long)hi, s);
     errno = 0;
     x = strtoull(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE)
+    if (end == s || *end != '\0')
         return fail(err, "%s: must be an integer (got '%s')", name, s);
-    if (x < lo || x > hi)
+    if (errno == ERANGE || x < lo || x > hi) /* ERANGE: beyond 64 bits, so beyond hi */
         return fail(err, "%s: must be a whole number from %lu to %lu (got %s)", name,
                     (unsigned long)lo, (unsigned long)hi, s);
     *v = (uint32_t)x;

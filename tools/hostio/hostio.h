@@ -76,7 +76,9 @@
  *   in decimal: an optional '-', digits with an optional point and exponent
  *   ("5", "-5", "0.5", ".5", "5.", "1e-3"); no leading whitespace, '+' sign,
  *   hexadecimal ("0x10", "0x1p-3"), inf or nan (u32: no sign at all; list:
- *   a '+' sign is taken, whitespace separates)
+ *   a '+' sign is taken, whitespace separates). A number beyond the type
+ *   (an integer past long or 64 bits, a double below the smallest normal
+ *   one other than 0) is reported as out of range, not as malformed
  *     hostio_parse_double(name, s, lo, hi, &v, err)
  *     hostio_parse_long(name, s, lo, hi, &v, err)
  *     hostio_parse_doubles(name, s, sep, out, n, err)  exactly n numbers

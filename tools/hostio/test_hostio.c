@@ -471,6 +471,9 @@ static void test_parse_u32(void)
     TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "", 0u, 4294967295u, &v, err) != HOSTIO_OK);
     TEST_ASSERT_TRUE(hostio_parse_u32("--seed", "99999999999999999999999", 0u, 4294967295u, &v,
                                       err) != HOSTIO_OK);
+    /* beyond 64 bits (strtoull's ERANGE) is out of range, not "not an integer" */
+    TEST_ASSERT_EQUAL_STRING("--seed: must be a whole number from 0 to 4294967295 "
+                             "(got 99999999999999999999999)", err);
     TEST_ASSERT_TRUE(hostio_parse_u32("--n", "3", 5u, 9u, &v, err) != HOSTIO_OK);
     TEST_ASSERT_EQUAL_STRING("--n: must be a whole number from 5 to 9 (got 3)", err);
     TEST_ASSERT_TRUE(hostio_parse_u32("--seed", NULL, 0u, 1u, &v, err) != HOSTIO_OK);
@@ -538,7 +541,11 @@ static void test_parse_number_forms(void)
                              err);
     TEST_ASSERT_EQUAL_INT(-1, hostio_parse_u32("--seed", "\t5", 0u, 4294967295u, &u, err));
     TEST_ASSERT_EQUAL_INT(-1, hostio_parse_u32("--seed", "+5", 0u, 4294967295u, &u, err));
+    /* the '+' named as the other parsers name it (it said "from 0 to 4294967295") */
+    TEST_ASSERT_EQUAL_STRING("--seed: must be an integer without a '+' sign (got '+5')", err);
     TEST_ASSERT_EQUAL_INT(-1, hostio_parse_u32("--seed", "0x10", 0u, 4294967295u, &u, err));
+    TEST_ASSERT_EQUAL_STRING("--seed: must be an integer in decimal, not hexadecimal (got "
+                             "'0x10')", err);
     TEST_ASSERT_EQUAL_UINT32(42u, u);
     /* the ordinary forms */
     for (i = 0; i < sizeof good_double / sizeof good_double[0]; i++) {
@@ -555,6 +562,45 @@ static void test_parse_number_forms(void)
     TEST_ASSERT_EQUAL_INT32(10, (int32_t)l); /* decimal, not octal */
     TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_u32("--seed", "5", 0u, 9u, &u, err));
     TEST_ASSERT_EQUAL_UINT32(5u, u);
+}
+
+/* Numbers beyond the type are out of range, not malformed: strtol's and
+ * strtoull's ERANGE said "must be an integer", and a double below the
+ * smallest normal one (strtod's ERANGE: 0 or a denormal) "must be a finite
+ * number". An overflowing double is infinite: still "finite number". */
+static void test_parse_out_of_range(void)
+{
+    char err[HOSTIO_ERRLEN];
+    double d = 42.0;
+    long l = 42;
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_long("--median-radius", "99999999999999999999",
+                                                -2147483647L - 1, 2147483647L, &l, err));
+    TEST_ASSERT_EQUAL_STRING("--median-radius: must be an integer from -2147483648 to 2147483647 "
+                             "(got 99999999999999999999)", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_long("--n", "-99999999999999999999", 0, 9, &l, err));
+    TEST_ASSERT_EQUAL_STRING("--n: must be an integer from 0 to 9 (got -99999999999999999999)",
+                             err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--min-range", "1e-400", -1e9, 1e9, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--min-range: must be 0 or at least 2.22507e-308 in magnitude "
+                             "(got 1e-400: too small for a double)", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--x", "-1e-400", -1.0, 1.0, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--x: must be 0 or at least 2.22507e-308 in magnitude "
+                             "(got -1e-400: too small for a double)", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--x", "1e-310", 0.0, 1.0, &d, err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "(got 1e-310: too small for a double)"), err);
+    /* a range that leaves out the tiny value: the range is the reason */
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--tag-size", "1e-400", 1e-4, 10.0, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--tag-size: must be from 0.0001 to 10 (got 1e-400)", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--x", "-1e-400", 0.0, 10.0, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--x: must be from 0 to 10 (got -1e-400)", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_double("--x", "1e400", -1e9, 1e9, &d, err));
+    TEST_ASSERT_EQUAL_STRING("--x: must be a finite number (got '1e400')", err);
+    TEST_ASSERT_TRUE(d == 42.0); /* untouched by the failures */
+    TEST_ASSERT_EQUAL_INT32(42, (int32_t)l);
+    /* the smallest normal double and 0 are numbers */
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_double("--x", "2.3e-308", 0.0, 1.0, &d, err));
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_parse_double("--x", "0e-400", 0.0, 1.0, &d, err));
+    TEST_ASSERT_TRUE(d == 0.0);
 }
 
 /* The same for the number lists: no hexadecimal, no whitespace or '+'
@@ -865,6 +911,7 @@ int main(void)
     RUN_TEST(test_parse_u32);
     RUN_TEST(test_pgm_header_messages);
     RUN_TEST(test_parse_number_forms);
+    RUN_TEST(test_parse_out_of_range);
     RUN_TEST(test_parse_lists_decimal);
     RUN_TEST(test_pgm_magic_quoted);
     RUN_TEST(test_pgm_comment_after_maxval);
