@@ -149,9 +149,11 @@ static void print_sensor_pose(const apriltag_detection_t *det, const options *o,
                                                   o->pixel_sd, &p)
                  : actag_apriltag_pose_sensor(det, o->tag_size, o->fx, o->fy, o->cx, o->cy, &p);
     if (rc != ACTAG_OK) {
-        /* (|t| beyond actag_pose_from_camera's 1e4 m): said, not silently left out */
-        fprintf(stderr, PROG ": %s: tag %d: no sensor-frame pose (actag_pose_from_camera refused it)\n",
-                name, det->id);
+        /* (|t| beyond actag_pose_from_camera's 1e4 m, a corner beyond the
+         * covariance's 1e7 px, a build refused): said, not silently left out */
+        fprintf(stderr, PROG ": %s: tag %d: no sensor-frame pose (%s: %s)\n", name, det->id,
+                o->pixel_sd > 0.0 ? "actag_apriltag_pose_sensor_cov" : "actag_pose_from_camera",
+                actag_strerror(rc));
         return;
     }
     if (json) {
@@ -309,8 +311,8 @@ int main(int argc, char **argv)
         goto bad_option;
     }
     if (o.sensor && npose != 5) {
-        fprintf(stderr, PROG ": --sensor-frame needs the pose: --tag-size, --fx, --fy, --cx and "
-                             "--cy\n");
+        fprintf(stderr, PROG ": %s needs the pose: --tag-size, --fx, --fy, --cx and --cy\n",
+                o.pixel_sd > 0.0 ? "--pixel-sd" : "--sensor-frame");
         goto bad_option;
     }
 

@@ -52,20 +52,26 @@
  * the options that change float results, reset for the rest of the file
  * (a project's -freciprocal-math, -funsafe-math-optimizations,
  * -fassociative-math or -ffinite-math-only then leave these sources
- * alone). Clang on x86: precise semantics for the file (undoes the
- * reciprocal, reassociation and unsafe-math flags; clang 11 and later);
- * elsewhere only reassociation can be switched off by a pragma (clang 12),
- * and its -freciprocal-math (or -funsafe-math-optimizations, which implies
- * it) is caught at run time with -ffp-contract=fast (actag_fp_fuses); its
- * -ffinite-math-only is refused below. */
+ * alone). Clang: precise semantics for the file where it honours
+ * float_control (x86, PowerPC, SystemZ: undoes the reciprocal,
+ * reassociation and unsafe-math flags; clang 11 and later); elsewhere (ARM,
+ * AArch64, RISC-V) only reassociation can be switched off by a pragma
+ * (clang 12), and its -freciprocal-math (or -funsafe-math-optimizations,
+ * which implies it) is caught at run time with -ffp-contract=fast
+ * (actag_fp_fuses); its -ffinite-math-only is refused below. */
 #if defined(__clang__)
-/* float_control is x86-only in clang 14 (ignored, with a warning, on ARM
- * and AArch64): there reassociation is switched off below and reciprocal
- * rewrites are caught at run time (actag_fp_fuses) */
-#if __clang_major__ >= 11 && (defined(__x86_64__) || defined(__i386__))
+/* float_control is honoured on some targets only (clang 14: x86, PowerPC,
+ * SystemZ; ignored with a warning on ARM, AArch64 and RISC-V, hence the
+ * diagnostic kept quiet): where it is ignored, reassociation is switched
+ * off below and reciprocal rewrites are caught at run time
+ * (actag_fp_fuses). Apple's clang 12 is LLVM 10, without "fp reassociate". */
+#if __clang_major__ >= 11
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Wignored-pragmas"
 #pragma float_control(precise, on)
+#pragma clang diagnostic pop
 #endif
-#if __clang_major__ >= 12
+#if __clang_major__ >= 13 || (__clang_major__ >= 12 && !defined(__apple_build_version__))
 #pragma clang fp reassociate(off)
 #endif
 #pragma STDC FP_CONTRACT OFF
@@ -86,7 +92,9 @@
 #if defined(__clang__) && defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
 #error "actag: built with -ffinite-math-only; the NaN checks of the validators would be compiled out (drop it for the actag sources)"
 #endif
-#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != -1
+/* 16: GCC 12 with AVX512-FP16 (-march=native on such a CPU) in a GNU
+ * dialect; it concerns _Float16 only, float is still evaluated as float */
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != -1 && FLT_EVAL_METHOD != 16
 #error "actag: float arithmetic in excess precision (FLT_EVAL_METHOD != 0); on i386 use -msse2 -mfpmath=sse"
 #endif
 
@@ -265,8 +273,8 @@ static inline int actag__fp_fma(void)
 }
 
 /* Does this build turn divisions into products with a reciprocal? Clang's
- * -freciprocal-math or -funsafe-math-optimizations on ARM and AArch64,
- * where its float_control pragma is ignored (clang 14: the pose's results
+ * -freciprocal-math or -funsafe-math-optimizations on ARM, AArch64 or
+ * RISC-V, where its float_control pragma is ignored (clang 14: the pose's results
  * changed). 10/3, 20/3 and 40/3 round down, 10, 20 and 40 times float(1/3)
  * up; three quotients by one divisor and one by a constant are the shapes
  * clang rewrites (AArch64 from three uses, ARM the constant). Volatile
@@ -281,11 +289,17 @@ static inline int actag__fp_reciprocal(void)
            (x / 3.0f != 0x1.aaaaaap+1f);
 }
 
-/* 1 when this build rounds float arithmetic other than IEEE's way in one
- * of the two ways above (the entry points then return ACTAG_ERR_BUILD). */
+/* Nonzero when this build rounds float arithmetic other than IEEE's way
+ * in one of the two ways above (the entry points then return
+ * ACTAG_ERR_BUILD): ACTAG__FP_FMA | ACTAG__FP_RECIPROCAL, which says which. */
+#define ACTAG__FP_FMA 1
+#define ACTAG__FP_RECIPROCAL 2
 static inline int actag_fp_fuses(void)
 {
-    return actag__fp_fma() || actag__fp_reciprocal();
+    int r = actag__fp_fma() ? ACTAG__FP_FMA : 0;
+    if (actag__fp_reciprocal())
+        r |= ACTAG__FP_RECIPROCAL;
+    return r;
 }
 
 #endif

@@ -1165,6 +1165,7 @@ int actag_pose_camera_covariance(const float corners[8], float fx, float fy, flo
     for (i = 0; i < 36; i++)
         pose->cov[i] = 0.0f;
     pose->flags |= ACTAG_POSE_NO_COVARIANCE;
+    pose->flags &= ~ACTAG_POSE_DEGENERATE; /* decided here for a camera pose */
     for (i = 0; i < 4; i++) {
         /* the corner Rc + t (sensor), its rows of d(u, v)/d(dt, w) */
         float c[3], rc[3], p[3], gu[3], gv[3], z;

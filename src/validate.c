@@ -373,12 +373,16 @@ static int check_call(const actag_frame *f, const actag_sonar_geometry *g, const
                       int max_out, actag_error_detail *d)
 {
     int rc, bytes;
-    if (actag_fp_fuses())
+    int fp = actag_fp_fuses();
+    if (fp & ACTAG__FP_FMA)
         return fail(d, ACTAG_ERR_BUILD, "build", 0.0,
                     "the library's sources were compiled with floating-point contraction "
-                    "(Clang -ffp-contract=fast) or reciprocal divisions (Clang -freciprocal-math "
-                    "or -funsafe-math-optimizations, ARM/AArch64): compile them with "
-                    "-ffp-contract=off and without those");
+                    "(Clang -ffp-contract=fast): compile them with -ffp-contract=off");
+    if (fp)
+        return fail(d, ACTAG_ERR_BUILD, "build", 0.0,
+                    "the library's sources were compiled to divide by reciprocals (Clang "
+                    "-freciprocal-math or -funsafe-math-optimizations on a target that ignores "
+                    "its float_control pragma: ARM, AArch64, RISC-V): compile them without those");
     if (f == NULL)
         return fail(d, ACTAG_ERR_NULL, "frame", 0.0, "must not be NULL");
     if (g == NULL)

@@ -61,9 +61,8 @@ static void setup(actag_frame *f, actag_sonar_geometry *g, actag_params *p)
 
 /* ------------------------------------------------------------ common.h */
 
-/* The build check: ACTAG_OK in this (CMake, -ffp-contract=off) build, and
- * the same answer as actag_check's first test (.ci/fpcontract has the
- * builds that return ACTAG_ERR_BUILD). */
+/* The build check: ACTAG_OK in this (CMake, -ffp-contract=off) build
+ * (.ci/fpcontract has the builds that return ACTAG_ERR_BUILD). */
 static void test_check_build(void)
 {
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_check_build());

@@ -80,7 +80,7 @@
  *                          which ignores the sources' pragmas; GCC honours them)
  *                          or to turn divisions into reciprocal products (Clang
  *                          -freciprocal-math or -funsafe-math-optimizations on
- *                          ARM/AArch64, where its float_control pragma is
+ *                          ARM, AArch64 or RISC-V, where its float_control pragma is
  *                          ignored): compile them with -ffp-contract=off and
  *                          without those (checked first)
  *   ACTAG_ERR_NULL         frame, frame->data, geometry, params, params->family,

@@ -57,7 +57,7 @@ extern "C" {
                                       (Clang -ffp-contract=fast on an FMA target) or to
                                       turn divisions into reciprocal products (Clang
                                       -freciprocal-math or -funsafe-math-optimizations on
-                                      ARM/AArch64): its results would differ from every
+                                      ARM, AArch64, RISC-V): its results would differ from every
                                       other build */
 
 /* Bitmaps: binary images at one bit per pixel (the adaptive threshold's
@@ -126,7 +126,8 @@ const char *actag_strerror(int code);
 /* ACTAG_OK, or ACTAG_ERR_BUILD when the library's sources were compiled to
  * round float arithmetic other than IEEE's way (fused multiply-adds: Clang
  * -ffp-contract=fast on an FMA target; reciprocal divisions: Clang
- * -freciprocal-math or -funsafe-math-optimizations on ARM/AArch64), so that
+ * -freciprocal-math or -funsafe-math-optimizations on ARM, AArch64 or
+ * RISC-V), so that
  * results would differ from every other build. actag_detect, the tracker
  * and the pose functions check it first; the stage functions (median.h,
  * search.h, quad.h, decode.h, refine.h, ...) do not, once per call being

@@ -193,8 +193,8 @@
  *       1e4 m; the normal may have any scale, (0, 0, 1e-30) as (0, 0, 1e20)).
  *       "Finite" here means |v| < 3e38, a little below FLT_MAX, for every
  *       float argument (also actag_pose_from_camera's).
- *       ACTAG_ERR_BUILD (compiled with fused multiply-adds, as
- *       actag_detect). Degenerate geometry is not an error: out is filled
+ *       ACTAG_ERR_BUILD (compiled with fused multiply-adds or reciprocal
+ *       divisions, as actag_detect). Degenerate geometry is not an error: out is filled
  *       as well as possible and flagged.
  *   int actag_pose_from_detection(const actag_detection *d, const actag_pose_params *p,
  *                                 actag_pose *out)
@@ -226,16 +226,20 @@
  *       length) and pose->chi2 to the sum of the 8 squared reprojection
  *       errors over pixel_sd^2 (about 2 expected: 8 coordinates - 6
  *       parameters); without, those stay as they are. A corner not in front
- *       of the camera (depth under tag_size / 1000), or a Jacobian that is
+ *       of the camera (depth under tag_size / 1000: nothing to project, so
+ *       residual and chi2 stay as they are too), or a Jacobian that is
  *       singular or leaves the float range (only absurd geometry does: even
  *       an edge-on tag's image changes at first order with every motion,
  *       its tilt best of all), sets ACTAG_POSE_DEGENERATE and leaves cov
  *       zero and ACTAG_POSE_NO_COVARIANCE set; that is not an error.
+ *       Otherwise ACTAG_POSE_DEGENERATE is cleared (this function decides
+ *       it for a camera pose); other flags are kept.
  *       Returns ACTAG_OK, ACTAG_ERR_NULL (pose NULL), ACTAG_ERR_PARAM (a
- *       value outside the ranges above, NaN included, an entry of pose->R
- *       not finite, of pose->t beyond +-1e4 m, a corner coordinate beyond
- *       +-1e7 px), ACTAG_ERR_BUILD (compiled with fused multiply-adds, as
- *       actag_detect). Nothing of *pose changes on an error.
+ *       value outside the ranges above, NaN included, tag_size outside 1e-3
+ *       .. 1e4 m, an entry of pose->R not finite, of pose->t beyond +-1e4
+ *       m, a corner coordinate beyond +-1e7 px), ACTAG_ERR_BUILD (compiled
+ *       with fused multiply-adds or reciprocal divisions, as actag_detect).
+ *       Nothing of *pose changes on an error.
  *   float actag_pose_angle(const float Ra[9], const float Rb[9])
  *       The angle (rad, 0..pi) of the rotation between Ra and Rb. This and
  *       actag_pose_rotation_vector check nothing and have no error codes.

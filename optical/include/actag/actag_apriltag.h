@@ -228,7 +228,8 @@
  *       for your camera and water: 0.1-0.3 px on sharp images). out->cov is
  *       filled (ACTAG_POSE_NO_COVARIANCE cleared unless the geometry is
  *       degenerate), out->residual is the corners' RMS reprojection error in
- *       metres at their depth, out->chi2 their sum of squared reprojection
+ *       metres at their depth (AprilTag's object-space error, as above, when
+ *       a corner lies behind the camera), out->chi2 their sum of squared reprojection
  *       errors over pixel_sd^2 (about 2 expected; much more means a wrong
  *       pixel_sd, a distorted image or a bad detection). Returns ACTAG_OK,
  *       ACTAG_ERR_NULL (det or out NULL), ACTAG_ERR_PARAM (pixel_sd out of
