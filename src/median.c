@@ -1676,14 +1676,6 @@ typedef struct {
 #define MN_ST store16
 #define MN_ATTR
 #include "median_net.h"
-#undef MN_LANES
-#undef MN_NT
-#undef MN_V
-#undef MN_MIN
-#undef MN_MAX
-#undef MN_LD
-#undef MN_ST
-#undef MN_ATTR
 
 #ifdef MEDIAN_AVX2
 /* median_net32: the same text on 32-byte vectors */
@@ -1717,14 +1709,6 @@ ACTAG__AVX2_TARGET static void mn_zip32(__m256i a, __m256i b, uint8_t *d)
 }
 
 #include "median_net.h"
-#undef MN_LANES
-#undef MN_NT
-#undef MN_V
-#undef MN_MIN
-#undef MN_MAX
-#undef MN_LD
-#undef MN_ST
-#undef MN_ATTR
 #endif /* MEDIAN_AVX2 */
 #undef MN_FN
 #undef MN_FN2

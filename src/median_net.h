@@ -12,6 +12,8 @@
  * and, for this width, MN_FN(mn_split)(p, e, o): the bytes p[0], p[2], ..
  * p[2L-2] to e and p[1], p[3], .. p[2L-1] to o (L = MN_LANES), and
  * MN_FN(mn_zip)(a, b, d): the bytes a0 b0 a1 b1 .. to d[0 .. 2L-1].
+ * The end of this file undefines those parameters (not MN_FN), so the
+ * next inclusion starts afresh.
  *
  * Sorting networks (Adams 2021, "Fast median filters using separable
  * sorting networks") on 2 x 2 tiles of outputs, one tile a byte lane, two
@@ -157,3 +159,11 @@ MN_ATTR static void MN_FN(median_net)(rowsrc *rs, int rows, int cols, uint8_t *d
 #undef MN_H2
 #undef MN_H4
 #undef MN_W
+#undef MN_LANES
+#undef MN_NT
+#undef MN_V
+#undef MN_MIN
+#undef MN_MAX
+#undef MN_LD
+#undef MN_ST
+#undef MN_ATTR

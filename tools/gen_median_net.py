@@ -99,6 +99,15 @@ def oemerge(net, a, b, top=True):
     return seq
 
 
+def apply(cmps, val):
+    """The comparators (i, j, lo, hi, ...) in order on the values val (a
+    list indexed by wire), in place; returns val."""
+    for c in cmps:
+        i, j, lo, hi = c[:4]
+        val[lo], val[hi] = min(val[i], val[j]), max(val[i], val[j])
+    return val
+
+
 def check_merges(sizes):
     """Each merge of lengths (m, n) on every sorted 0-1 input."""
     for m, n in sorted(sizes):
@@ -110,8 +119,7 @@ def check_merges(sizes):
             for zb in range(n + 1):
                 val = [0] * (m - za) + [1] * za + [0] * (n - zb) + [1] * zb
                 val += [0] * (net.nwires - len(val))
-                for i, j, lo, hi in net.cmps:
-                    val[lo], val[hi] = min(val[i], val[j]), max(val[i], val[j])
+                apply(net.cmps, val)
                 o = [val[w] for w in out]
                 assert o == sorted(o), (m, n)
 
@@ -161,9 +169,7 @@ def run(kept, nwires, inputs):
     val = [0] * nwires
     for w, v in inputs.items():
         val[w] = v
-    for i, j, lo, hi, _, _ in kept:
-        val[lo], val[hi] = min(val[i], val[j]), max(val[i], val[j])
-    return val
+    return apply(kept, val)
 
 
 def build_tile():
@@ -277,9 +283,19 @@ def emit_merge(m, n, fname):
         name[w] = "MN_LD(b + %d * sb)" % j
     lines, nv = body(kept, out, name)
     head = "MN_ATTR static void MN_FN(%s_)(" % fname
-    print("/* %s: sorted lists of %d at a and %d at b merged into o (%d min/max) */" % (fname, m, n, nv))
-    print("%sconst uint8_t *a, size_t sa, const uint8_t *b," % head)
-    print("%s size_t sb, uint8_t *o, size_t so)" % (" " * (len(head) - 1)))
+    emit_fn(["/* %s: sorted lists of %d at a and %d at b merged into o (%d min/max) */"
+             % (fname, m, n, nv),
+             "%sconst uint8_t *a, size_t sa, const uint8_t *b," % head,
+             "%s size_t sb, uint8_t *o, size_t so)" % (" " * (len(head) - 1))],
+            lines, out, name)
+    return nv
+
+
+def emit_fn(header, lines, out, name):
+    """A function: its comment and signature lines, the body's lines, then
+    each output stored at o (stride so)."""
+    for l in header:
+        print(l)
     print("{")
     for l in lines:
         print(l)
@@ -287,7 +303,6 @@ def emit_merge(m, n, fname):
         print("    MN_ST(o + %d * so, %s);" % (j, name[w]))
     print("}")
     print()
-    return nv
 
 
 def sort_net(n):
@@ -309,8 +324,7 @@ def check_sort(n):
         val = [0] * net.nwires
         for k, w in enumerate(ins):
             val[w] = bits >> k & 1
-        for i, j, lo, hi in net.cmps:
-            val[lo], val[hi] = min(val[i], val[j]), max(val[i], val[j])
+        apply(net.cmps, val)
         o = [val[w] for w in out]
         assert o == sorted(o), n
 
@@ -321,17 +335,11 @@ def emit_sort(n, fname):
     kept = prune(net, out)
     name = {w: "MN_LD(p + %d * sp)" % j for j, w in enumerate(ins)}
     lines, nv = body(kept, out, name)
-    print("/* %s: the %d vectors at p (stride sp) sorted lane-wise into o (%d min/max) */"
-          % (fname, n, nv))
-    print("MN_ATTR static void MN_FN(%s_)(const uint8_t *p, size_t sp, uint8_t *o, size_t so)"
-          % fname)
-    print("{")
-    for l in lines:
-        print(l)
-    for j, w in enumerate(out):
-        print("    MN_ST(o + %d * so, %s);" % (j, name[w]))
-    print("}")
-    print()
+    emit_fn(["/* %s: the %d vectors at p (stride sp) sorted lane-wise into o (%d min/max) */"
+             % (fname, n, nv),
+             "MN_ATTR static void MN_FN(%s_)(const uint8_t *p, size_t sp, uint8_t *o, size_t so)"
+             % fname],
+            lines, out, name)
     return nv
 
 
