@@ -626,6 +626,21 @@ static void test_mirrored_only_flags(void)
     }
 }
 
+/* The error vector (dt, w) of the estimate E against the truth P, as the
+ * covariance's (pose.h): dt = t_true - t, R_true = exp([w]x) R. */
+static void pose_error(const tpose *P, const actag_pose *E, double e[6])
+{
+    float Rt[9], w[3];
+    int i;
+    for (i = 0; i < 9; i++)
+        Rt[i] = (float)P->R[i];
+    actag_pose_rotation_vector(Rt, E->R, w);
+    for (i = 0; i < 3; i++) {
+        e[i] = P->t[i] - E->t[i];
+        e[3 + i] = w[i];
+    }
+}
+
 /* e^T C^-1 e over the leading nn (3: position, 6: all) of (dt, w), by
  * Gaussian elimination in double. */
 static double mahalanobis2(const float *cov, const double *e, int nn)
@@ -683,7 +698,7 @@ static void test_covariance_is_consistent(void)
     for (t = 0; t < 400; t++) {
         tpose P;
         actag_pose E;
-        float r[4], az[4], w[3], Rt[9];
+        float r[4], az[4];
         double e[6];
         int i, j, mir;
         draw_pose(0.7, 3.0, -2.0 * DEG, 2.0 * DEG, 30.0 * DEG, 60.0 * DEG, 6.283, &P);
@@ -695,13 +710,7 @@ static void test_covariance_is_consistent(void)
         if (E.flags & (ACTAG_POSE_DEGENERATE | ACTAG_POSE_ELEVATION))
             continue;
         n++;
-        for (i = 0; i < 9; i++)
-            Rt[i] = (float)P.R[i];
-        actag_pose_rotation_vector(Rt, E.R, w);
-        for (i = 0; i < 3; i++) {
-            e[i] = P.t[i] - E.t[i];
-            e[3 + i] = w[i];
-        }
+        pose_error(&P, &E, e);
         if (mahalanobis2(E.cov, e, 3) <= 7.815)
             in_pos++;
         m2all[n - 1] = mahalanobis2(E.cov, e, 6);
@@ -1245,7 +1254,7 @@ static double cam_coverage(int n, double inc0, double inc1, double *in_position,
         tpose P;
         actag_pose E;
         double uv[8], R[9], tt[3], sd = urange(0.1, 1.0), e[6];
-        float meas[8], Rt[9], w[3];
+        float meas[8];
         int i, it;
         cam_view(&P, inc0, inc1);
         TEST_ASSERT_TRUE(cam_project(P.R, P.t, S, uv));
@@ -1287,13 +1296,7 @@ static double cam_coverage(int n, double inc0, double inc1, double *in_position,
                                                                      (float)sd, S, &E));
         TEST_ASSERT_EQUAL_UINT(0u, E.flags & ACTAG_POSE_NO_COVARIANCE);
         chi2 += E.chi2;
-        for (i = 0; i < 9; i++)
-            Rt[i] = (float)P.R[i];
-        actag_pose_rotation_vector(Rt, E.R, w);
-        for (i = 0; i < 3; i++) {
-            e[i] = P.t[i] - E.t[i];
-            e[3 + i] = w[i];
-        }
+        pose_error(&P, &E, e);
         if (mahalanobis2(E.cov, e, 6) <= 12.592)
             in6++;
         if (mahalanobis2(E.cov, e, 3) <= 7.815)
