@@ -125,6 +125,17 @@ static void json_number(double v, const char *fmt)
         printf("null");
 }
 
+/* n floats as the inside of a JSON array (comma-separated) */
+static void json_floats(const float *v, int n, const char *fmt)
+{
+    int k;
+    for (k = 0; k < n; k++) {
+        if (k)
+            putchar(',');
+        json_number(v[k], fmt);
+    }
+}
+
 /* ------------------------------------------------------------------ options */
 
 #define die(msg) hostio_die(PROG, (msg))
@@ -158,17 +169,9 @@ static void print_sensor_pose(const apriltag_detection_t *det, const options *o,
     }
     if (json) {
         printf(",\"pose_sensor\":{\"R\":[");
-        for (k = 0; k < 9; k++) {
-            if (k)
-                putchar(',');
-            json_number(p.R[k], "%.6f");
-        }
+        json_floats(p.R, 9, "%.6f");
         printf("],\"t\":[");
-        for (k = 0; k < 3; k++) {
-            if (k)
-                putchar(',');
-            json_number(p.t[k], "%.6f");
-        }
+        json_floats(p.t, 3, "%.6f");
         printf("],\"range\":");
         json_number(p.range, "%.6f");
         printf(",\"azimuth\":");
@@ -177,18 +180,13 @@ static void print_sensor_pose(const apriltag_detection_t *det, const options *o,
         json_number(p.elevation, "%.6f");
         if (o->pixel_sd > 0.0) {
             /* the sds of (dt, w) (m, rad), the whole covariance, chi2 */
+            float sd[6];
+            for (k = 0; k < 6; k++)
+                sd[k] = sqrtf(p.cov[7 * k]);
             printf(",\"sd\":[");
-            for (k = 0; k < 6; k++) {
-                if (k)
-                    putchar(',');
-                json_number(sqrtf(p.cov[7 * k]), "%.6g");
-            }
+            json_floats(sd, 6, "%.6g");
             printf("],\"cov\":[");
-            for (k = 0; k < 36; k++) {
-                if (k)
-                    putchar(',');
-                json_number(p.cov[k], "%.6g");
-            }
+            json_floats(p.cov, 36, "%.6g");
             printf("],\"chi2\":");
             json_number(p.chi2, "%.4f");
             printf(",\"flags\":%u", p.flags);
@@ -285,7 +283,7 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--sensor-frame") == 0) {
             o.sensor = 1;
         } else if (strcmp(a, "--pixel-sd") == 0) {
-            o.pixel_sd = hostio_opt_double(PROG, a, v, 1e-6, 1e3);
+            o.pixel_sd = hostio_opt_double(PROG, a, v, ACTAG_POSE_PIXEL_SD_MIN, ACTAG_POSE_PIXEL_SD_MAX);
             o.sensor = 1;
             i++;
         } else if (strcmp(a, "--bits-corrected") == 0) {

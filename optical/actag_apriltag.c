@@ -584,7 +584,7 @@ int actag_apriltag_pose_sensor_cov(const apriltag_detection_t *det, double tag_s
     if (det == NULL || out == NULL)
         return ACTAG_ERR_NULL;
     /* pixel_sd first: nothing is estimated for a call that must fail */
-    if (!(pixel_sd >= 1e-6 && pixel_sd <= 1e3))
+    if (!(pixel_sd >= ACTAG_POSE_PIXEL_SD_MIN && pixel_sd <= ACTAG_POSE_PIXEL_SD_MAX))
         return ACTAG_ERR_PARAM;
     rc = actag_apriltag_pose_sensor(det, tag_size, fx, fy, cx, cy, &p);
     if (rc != ACTAG_OK)

@@ -1104,6 +1104,20 @@ int actag_pose_from_detection(const actag_detection *d, const actag_pose_params 
     return actag_pose_estimate(d->range, d->azimuth, d->mirrored, p, out);
 }
 
+/* A rotation's entries finite and a translation within +-P_MAX_LENGTH m
+ * (NaN fails): what a camera pose must hold. */
+static int p_rt_ok(const float *R, const float *t)
+{
+    int i;
+    for (i = 0; i < 9; i++)
+        if (!p_finite(R[i]))
+            return 0;
+    for (i = 0; i < 3; i++)
+        if (!(t[i] >= -P_MAX_LENGTH && t[i] <= P_MAX_LENGTH))
+            return 0;
+    return 1;
+}
+
 int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pose *out)
 {
     /* sensor = C optical: x = z_opt, y = -x_opt, z = -y_opt */
@@ -1111,12 +1125,8 @@ int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pos
     int i;
     if (R_opt == NULL || t_opt == NULL || out == NULL)
         return ACTAG_ERR_NULL;
-    for (i = 0; i < 9; i++)
-        if (!p_finite(R_opt[i]))
-            return ACTAG_ERR_PARAM;
-    for (i = 0; i < 3; i++)
-        if (!(t_opt[i] >= -P_MAX_LENGTH && t_opt[i] <= P_MAX_LENGTH)) /* NaN fails */
-            return ACTAG_ERR_PARAM;
+    if (!p_rt_ok(R_opt, t_opt))
+        return ACTAG_ERR_PARAM;
     for (i = 0; i < (int)sizeof *out; i++)
         ((unsigned char *)out)[i] = 0;
     mat_mul(Cm, R_opt, out->R);
@@ -1133,8 +1143,6 @@ int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pos
 #define P_MAX_FOCAL 1.0e6f  /* px, as the optical adapter's ACTAG_APRILTAG_MAX_FOCAL */
 #define P_MAX_CENTRE 1.0e5f /* px, principal point */
 #define P_MAX_PIXEL 1.0e7f  /* px, a measured corner */
-#define P_MIN_PIXEL_SD 1.0e-6f /* px */
-#define P_MAX_PIXEL_SD 1.0e3f
 
 int actag_pose_camera_covariance(const float corners[8], float fx, float fy, float cx, float cy,
                                  float pixel_sd, float tag_size, actag_pose *pose)
@@ -1150,14 +1158,9 @@ int actag_pose_camera_covariance(const float corners[8], float fx, float fy, flo
     if (!(fx >= 1.0f && fx <= P_MAX_FOCAL) || !(fy >= 1.0f && fy <= P_MAX_FOCAL) ||
         !(cx >= -P_MAX_CENTRE && cx <= P_MAX_CENTRE) ||
         !(cy >= -P_MAX_CENTRE && cy <= P_MAX_CENTRE) ||
-        !(pixel_sd >= P_MIN_PIXEL_SD && pixel_sd <= P_MAX_PIXEL_SD) || !p_length_ok(tag_size))
+        !(pixel_sd >= ACTAG_POSE_PIXEL_SD_MIN && pixel_sd <= ACTAG_POSE_PIXEL_SD_MAX) || !p_length_ok(tag_size) ||
+        !p_rt_ok(pose->R, pose->t))
         return ACTAG_ERR_PARAM;
-    for (i = 0; i < 9; i++)
-        if (!p_finite(pose->R[i]))
-            return ACTAG_ERR_PARAM;
-    for (i = 0; i < 3; i++)
-        if (!(pose->t[i] >= -P_MAX_LENGTH && pose->t[i] <= P_MAX_LENGTH))
-            return ACTAG_ERR_PARAM;
     if (corners != NULL)
         for (i = 0; i < 8; i++)
             if (!(corners[i] >= -P_MAX_PIXEL && corners[i] <= P_MAX_PIXEL))

@@ -215,7 +215,8 @@
  *       (CAMERA POSES above). fx, fy: focal lengths (px, 1 .. 1e6); cx, cy:
  *       principal point (px, within +-1e5; the centre of the top-left pixel
  *       at (0, 0), as actag_detection's corners); pixel_sd: sd of each
- *       measured corner coordinate (px, 1e-6 .. 1e3; 0.1-0.3 px is
+ *       measured corner coordinate (px, ACTAG_POSE_PIXEL_SD_MIN .. _MAX:
+ *       1e-6 .. 1e3; 0.1-0.3 px is
  *       typical of AprilTag's corners on sharp images, more with blur or
  *       turbid water: measure it for your camera); tag_size: side of the
  *       inner white square (m). corners: the four measured corners of the
@@ -261,6 +262,10 @@ extern "C" {
 #ifndef ACTAG_POSE_AZIMUTH_SD
 #define ACTAG_POSE_AZIMUTH_SD 0.0013f /* rad */
 #endif
+
+/* Bounds of actag_pose_camera_covariance's pixel_sd (px), inclusive. */
+#define ACTAG_POSE_PIXEL_SD_MIN 1.0e-6f
+#define ACTAG_POSE_PIXEL_SD_MAX 1.0e3f
 
 /* flags of actag_pose */
 #define ACTAG_POSE_DEGENERATE 1u       /* image of the tag nearly a line (edge-on in the
