@@ -615,14 +615,24 @@ int pic_overlay(const char *path, const pic_frame *f, int show_rejected, char *e
 
 /* ---------------------------------------------------------------- stages */
 
-static int write_grey(const char *dir, const char *stem, const char *stage, const uint8_t *px,
+/* The stage files, in pipeline order: their one list (pic_stage_path) */
+void pic_stage_path(const char *dir, const char *stem, int i, char *out, size_t n)
+{
+    static const char *const name[PIC_STAGE_FILES] = {
+        "1-input.pgm", "2-median.pgm", "3-search.ppm", "4-binary.pgm",
+        "5-contours.ppm", "6-quads.ppm", "7-decoded.ppm"};
+    snprintf(out, n, "%s/%s-%s", dir, stem, name[i < 0 || i >= PIC_STAGE_FILES ? 0 : i]);
+}
+
+/* Stage file `stage` (pic_stage_path's index; a .pgm) from px. */
+static int write_grey(const char *dir, const char *stem, int stage, const uint8_t *px,
                       int rows, int cols, int binary, char *err)
 {
     char path[4096];
     hostio_image im;
     uint8_t *copy = NULL;
     int rc;
-    snprintf(path, sizeof path, "%s/%s-%s.pgm", dir, stem, stage);
+    pic_stage_path(dir, stem, stage, path, sizeof path);
     if (binary) {
         size_t i, n = (size_t)rows * (size_t)cols;
         copy = (uint8_t *)malloc(n);
@@ -655,14 +665,15 @@ static int colour_stage(canvas *cv, const pic_frame *f, const item *it, int n)
     return canvas_new(cv, f->cols, f->rows + legend_h, C_PANEL);
 }
 
+/* Stage file `stage` (pic_stage_path's index; a .ppm) from cv, legend added. */
 static int finish_stage(canvas *cv, const pic_frame *f, const item *it, int n, const char *dir,
-                        const char *stem, const char *stage, char *err)
+                        const char *stem, int stage, char *err)
 {
     char path[4096];
     int rc;
     if (f->cols >= 160) /* as colour_stage() made room */
         legend_flow(cv, 6, f->rows + 6, f->cols - 12, it, n);
-    snprintf(path, sizeof path, "%s/%s-%s.ppm", dir, stem, stage);
+    pic_stage_path(dir, stem, stage, path, sizeof path);
     rc = hostio_ppm_write(path, cv->rgb, cv->h, cv->w, err);
     canvas_free(cv);
     return rc;
@@ -718,7 +729,7 @@ static int stage_search(const char *dir, const char *stem, const pic_frame *f, c
                           1.0f);
     free(map);
     free(ii);
-    return finish_stage(&cv, f, it, n, dir, stem, "3-search", err);
+    return finish_stage(&cv, f, it, n, dir, stem, 2, err);
 }
 
 static int stage_contours(const char *dir, const char *stem, const pic_frame *f, char *err)
@@ -765,7 +776,7 @@ static int stage_contours(const char *dir, const char *stem, const pic_frame *f,
                 canvas_put(&cv, p->x, p->y, col, 1.0f);
             }
         }
-    return finish_stage(&cv, f, it, n, dir, stem, "5-contours", err);
+    return finish_stage(&cv, f, it, n, dir, stem, 4, err);
 }
 
 static int stage_quads(const char *dir, const char *stem, const pic_frame *f, char *err)
@@ -801,7 +812,7 @@ static int stage_quads(const char *dir, const char *stem, const pic_frame *f, ch
                 continue;
             view_quad(&cv, &vw, q->quad, col, q->kind == ACTAG_TRACE_GUESS ? 0.5f : 1.0f);
         }
-    return finish_stage(&cv, f, it, n, dir, stem, "6-quads", err);
+    return finish_stage(&cv, f, it, n, dir, stem, 5, err);
 }
 
 /* The value cell (cx, cy) of a (k+1)-cell grid has for this code: data ring
@@ -961,23 +972,15 @@ static int stage_decoded(const char *dir, const char *stem, const pic_frame *f, 
         canvas_label(&cv, x + 4, y_inset + 4, 2, buf, C_LABEL);
         y_inset += box[i][3] * z + 8;
     }
-    return finish_stage(&cv, f, it, n, dir, stem, "7-decoded", err);
-}
-
-void pic_stage_path(const char *dir, const char *stem, int i, char *out, size_t n)
-{
-    static const char *const name[PIC_STAGE_FILES] = {
-        "1-input.pgm", "2-median.pgm", "3-search.ppm", "4-binary.pgm",
-        "5-contours.ppm", "6-quads.ppm", "7-decoded.ppm"};
-    snprintf(out, n, "%s/%s-%s", dir, stem, name[i < 0 || i >= PIC_STAGE_FILES ? 0 : i]);
+    return finish_stage(&cv, f, it, n, dir, stem, 6, err);
 }
 
 int pic_stages(const char *dir, const char *stem, const pic_frame *f, char *err)
 {
-    if (write_grey(dir, stem, "1-input", f->input8, f->rows, f->cols, 0, err) != 0 ||
-        write_grey(dir, stem, "2-median", f->filtered, f->rows, f->cols, 0, err) != 0 ||
+    if (write_grey(dir, stem, 0, f->input8, f->rows, f->cols, 0, err) != 0 ||
+        write_grey(dir, stem, 1, f->filtered, f->rows, f->cols, 0, err) != 0 ||
         stage_search(dir, stem, f, err) != 0 ||
-        write_grey(dir, stem, "4-binary", f->binary, f->rows, f->cols, 1, err) != 0 ||
+        write_grey(dir, stem, 3, f->binary, f->rows, f->cols, 1, err) != 0 ||
         stage_contours(dir, stem, f, err) != 0 || stage_quads(dir, stem, f, err) != 0 ||
         stage_decoded(dir, stem, f, err) != 0)
         return -1;
