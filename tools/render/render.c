@@ -281,25 +281,29 @@ static const char *need_arg(int argc, char **argv, int *i)
     return argv[*i];
 }
 
+/* A format's file extension (without the dot). */
+static const char *ext_of(int format)
+{
+    return format == FMT_PGM ? "pgm" : format == FMT_SVG ? "svg" : "dxf";
+}
+
 /* The format a file name's extension says (.pgm, .svg or .dxf, in any case);
  * FMT_NONE for another extension or none. */
 static int format_of_name(const char *path, const char **ext)
 {
-    static const char *const names[] = {"pgm", "svg", "dxf"};
-    static const int formats[] = {FMT_PGM, FMT_SVG, FMT_DXF};
     const char *base = strrchr(path, '/'), *dot;
-    int k, j;
+    int f, j;
     base = base ? base + 1 : path;
     dot = strrchr(base, '.');
     *ext = dot ? dot + 1 : "";
     if (dot == NULL || dot == base || strlen(dot + 1) != 3)
         return FMT_NONE;
-    for (k = 0; k < 3; k++) {
+    for (f = FMT_PGM; f <= FMT_DXF; f++) {
         for (j = 0; j < 3; j++)
-            if (tolower((unsigned char)dot[1 + j]) != names[k][j])
+            if (tolower((unsigned char)dot[1 + j]) != ext_of(f)[j])
                 break;
         if (j == 3)
-            return formats[k];
+            return f;
     }
     return FMT_NONE;
 }
@@ -309,8 +313,7 @@ static int format_of_name(const char *path, const char **ext)
  * name with another extension, or none, is written as given. */
 static void check_out_name(const opts_t *o, const char *fmt, int cut, int back)
 {
-    static const char *const fmt_names[] = {"", "pgm", "svg", "dxf"};
-    const char *ext, *have = fmt_names[o->format];
+    const char *ext, *have = ext_of(o->format);
     char chosen[64];
     int says;
     if (o->out == NULL) /* standard output */
@@ -329,7 +332,7 @@ static void check_out_name(const opts_t *o, const char *fmt, int cut, int back)
             o->out, ext, have, chosen, cut ? "--cut" : "--back-plate", have);
     die("--out '%s': the extension .%s does not match the output format %s (%s); choose the "
         "format with --format %s, or name the file .%s", o->out, ext, have, chosen,
-        fmt_names[says], have);
+        ext_of(says), have);
 }
 
 static void parse_args(int argc, char **argv, opts_t *o)
@@ -846,11 +849,6 @@ static void close_out(void)
     if (g_out.why != 0)
         die("cannot write '%s': %s", path, strerror(g_out.why));
     die("cannot write '%s'", path);
-}
-
-static const char *ext_of(int format)
-{
-    return format == FMT_PGM ? "pgm" : format == FMT_SVG ? "svg" : "dxf";
 }
 
 static const char *mode_suffix(int mode)
