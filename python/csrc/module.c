@@ -322,6 +322,12 @@ static PyMethodDef module_methods[] = {
      "           range_sd, azimuth_sd, max_iterations, plane, plane_sd, plane_tilt_sd)\n"
      "-> (R, t, cov, range, azimuth, elevation, elevation_lo, elevation_hi, residual,\n"
      "    chi2, iterations, flags): actag_pose_estimate (use pyactag.sonar_pose)"},
+    {"camera_pose", pyactag_camera_pose, METH_VARARGS,
+     "camera_pose(R_opt, t_opt, camera, corners)\n"
+     "R_opt: 9 numbers (row-major, tag -> optical frame), t_opt: 3 (m), camera: None or\n"
+     "(fx, fy, cx, cy, pixel_sd, tag_size), corners: None or 8 (x0, y0, .. x3, y3, px)\n"
+     "-> the tuple of sonar_pose: actag_pose_from_camera, then\n"
+     "actag_pose_camera_covariance with camera (use pyactag.camera_pose)"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {PyModuleDef_HEAD_INIT, "_core",
@@ -390,7 +396,10 @@ PyMODINIT_FUNC PyInit__core(void)
         PyModule_AddIntConstant(m, "TRACK_MAX", ACTAG_TRACK_MAX) != 0 ||
         /* the pose's default corner noise (pose.h), as the library has it */
         add(m, "POSE_RANGE_SD", PyFloat_FromDouble((double)ACTAG_POSE_RANGE_SD)) != 0 ||
-        add(m, "POSE_AZIMUTH_SD", PyFloat_FromDouble((double)ACTAG_POSE_AZIMUTH_SD)) != 0)
+        add(m, "POSE_AZIMUTH_SD", PyFloat_FromDouble((double)ACTAG_POSE_AZIMUTH_SD)) != 0 ||
+        /* the camera covariance's pixel_sd bounds (pose.h), as the library has them */
+        add(m, "POSE_PIXEL_SD_MIN", PyFloat_FromDouble((double)ACTAG_POSE_PIXEL_SD_MIN)) != 0 ||
+        add(m, "POSE_PIXEL_SD_MAX", PyFloat_FromDouble((double)ACTAG_POSE_PIXEL_SD_MAX)) != 0)
         goto fail;
     return m;
 fail:

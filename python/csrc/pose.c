@@ -1,17 +1,19 @@
 /*
  * pose.c -- pyactag._core.sonar_pose: actag_pose_estimate (actag/pose.h) on
- * four corners. The Python layer (pyactag/pose.py) checks every argument
- * and names the bad one; here only what it cannot see (the floats the
- * library gets) is checked again, so a direct call of _core.sonar_pose
- * with bad values still gets ActagError, never a crash.
+ * four corners; pyactag._core.camera_pose: actag_pose_from_camera and
+ * actag_pose_camera_covariance on a camera's pose. The Python layer
+ * (pyactag/pose.py) checks every argument and names the bad one; here only
+ * what it cannot see (the floats the library gets) is checked again, so a
+ * direct call of _core.sonar_pose or _core.camera_pose with bad values
+ * still gets ActagError, never a crash.
  */
 #include "pyactag.h"
 
 #include "actag/pose.h"
 
-/* Four real numbers from a sequence of exactly four (name: for messages).
+/* n real numbers from a sequence of exactly n (name: for messages).
  * (PySequence_Fast's item access is not in the limited API.) */
-static int four_floats(PyObject *seq, const char *name, float out[4])
+static int n_floats(PyObject *seq, const char *name, int n_want, float *out)
 {
     Py_ssize_t n = PySequence_Check(seq) ? PySequence_Size(seq) : -1;
     int i;
@@ -20,15 +22,15 @@ static int four_floats(PyObject *seq, const char *name, float out[4])
         if (PyErr_Occurred() && !PyErr_ExceptionMatches(PyExc_TypeError))
             return -1;
         PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "%s must be a sequence of 4 numbers, got %R", name, seq);
+        PyErr_Format(PyExc_TypeError, "%s must be a sequence of %d numbers, got %R", name,
+                     n_want, seq);
         return -1;
     }
-    if (n != 4) {
-        PyErr_Format(PyExc_ValueError, "%s must hold 4 numbers, got %zd", name,
-                     n);
+    if (n != n_want) {
+        PyErr_Format(PyExc_ValueError, "%s must hold %d numbers, got %zd", name, n_want, n);
         return -1;
     }
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < n_want; i++) {
         PyObject *item = PySequence_GetItem(seq, i);
         double d;
         int bad;
@@ -79,6 +81,21 @@ static PyObject *float_tuple(const float *v, int n)
     return t;
 }
 
+/* The tuple both functions return (see sonar_pose), or NULL with an exception. */
+static PyObject *pose_tuple(const actag_pose *P)
+{
+    PyObject *R = float_tuple(P->R, 9), *t = float_tuple(P->t, 3), *cov = float_tuple(P->cov, 36);
+    if (R == NULL || t == NULL || cov == NULL) {
+        Py_XDECREF(R);
+        Py_XDECREF(t);
+        Py_XDECREF(cov);
+        return NULL;
+    }
+    return Py_BuildValue("(NNNdddddddiI)", R, t, cov, (double)P->range, (double)P->azimuth,
+                         (double)P->elevation, (double)P->elevation_lo, (double)P->elevation_hi,
+                         (double)P->residual, (double)P->chi2, P->iterations, P->flags);
+}
+
 /* sonar_pose(ranges, azimuths, mirrored, family, tag_size, vertical_aperture,
  *            extent, range_sd, azimuth_sd, max_iterations, plane, plane_sd,
  *            plane_tilt_sd)
@@ -100,8 +117,8 @@ PyObject *pyactag_sonar_pose(PyObject *self, PyObject *args)
                           &family_o, &tag_size, &vertical, &extent_o, &rsd_o, &asd_o,
                           &max_iterations, &plane_o, &plane_sd, &plane_tilt_sd))
         return NULL;
-    if (four_floats(ranges_o, "ranges", range) != 0 ||
-        four_floats(azimuths_o, "azimuths", azimuth) != 0)
+    if (n_floats(ranges_o, "ranges", 4, range) != 0 ||
+        n_floats(azimuths_o, "azimuths", 4, azimuth) != 0)
         return NULL;
     if (family_o != Py_None) {
         fam = pyactag_family_of(family_o);
@@ -113,7 +130,7 @@ PyObject *pyactag_sonar_pose(PyObject *self, PyObject *args)
         optional_float(asd_o, &pp.azimuth_sd) != 0)
         return NULL;
     pp.max_iterations = max_iterations;
-    if (plane_o != Py_None && four_floats(plane_o, "plane", pp.plane) != 0)
+    if (plane_o != Py_None && n_floats(plane_o, "plane", 4, pp.plane) != 0)
         return NULL;
     pp.plane_sd = (float)plane_sd;
     pp.plane_tilt_sd = (float)plane_tilt_sd;
@@ -122,16 +139,47 @@ PyObject *pyactag_sonar_pose(PyObject *self, PyObject *args)
         return pyactag_raise(rc, "sonar_pose (pose.h: corner ranges 0.001 to 10000 m, azimuths "
                                  "within +-4 pi, tag_size 0.001 to 10000 m, vertical aperture "
                                  "in (0, pi), positive noise sds, max_iterations 1 to 100)");
-    {
-        PyObject *R = float_tuple(P.R, 9), *t = float_tuple(P.t, 3), *cov = float_tuple(P.cov, 36);
-        if (R == NULL || t == NULL || cov == NULL) {
-            Py_XDECREF(R);
-            Py_XDECREF(t);
-            Py_XDECREF(cov);
+    return pose_tuple(&P);
+}
+
+/* camera_pose(R_opt, t_opt, camera, corners)
+ * R_opt: 9 numbers (row-major, tag -> optical frame); t_opt: 3 numbers (m);
+ * camera: None (no covariance), or (fx, fy, cx, cy, pixel_sd, tag_size) as
+ * actag_pose_camera_covariance takes them; corners: None or 8 numbers (x0,
+ * y0, .. x3, y3; px, tag order), only with camera.
+ * -> the tuple of sonar_pose */
+PyObject *pyactag_camera_pose(PyObject *self, PyObject *args)
+{
+    PyObject *R_o, *t_o, *camera_o, *corners_o;
+    float R_opt[9], t_opt[3], cam[6], corners[8];
+    actag_pose P;
+    int rc;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "OOOO:camera_pose", &R_o, &t_o, &camera_o, &corners_o))
+        return NULL;
+    if (n_floats(R_o, "R_opt", 9, R_opt) != 0 || n_floats(t_o, "t_opt", 3, t_opt) != 0)
+        return NULL;
+    if (camera_o != Py_None && n_floats(camera_o, "camera", 6, cam) != 0)
+        return NULL;
+    if (corners_o != Py_None) {
+        if (camera_o == Py_None) {
+            PyErr_SetString(PyExc_ValueError,
+                            "corners need camera (fx, fy, cx, cy, pixel_sd, tag_size)");
             return NULL;
         }
-        return Py_BuildValue("(NNNdddddddiI)", R, t, cov, (double)P.range, (double)P.azimuth,
-                             (double)P.elevation, (double)P.elevation_lo, (double)P.elevation_hi,
-                             (double)P.residual, (double)P.chi2, P.iterations, P.flags);
+        if (n_floats(corners_o, "corners", 8, corners) != 0)
+            return NULL;
     }
+    rc = actag_pose_from_camera(R_opt, t_opt, &P);
+    if (rc != ACTAG_OK)
+        return pyactag_raise(rc, "camera_pose (pose.h: R_opt finite, t_opt within +-10000 m)");
+    if (camera_o != Py_None) {
+        rc = actag_pose_camera_covariance(corners_o != Py_None ? corners : NULL, cam[0], cam[1],
+                                          cam[2], cam[3], cam[4], cam[5], &P);
+        if (rc != ACTAG_OK)
+            return pyactag_raise(rc, "camera_pose (pose.h: fx, fy 1 to 1e6 px, cx, cy within "
+                                     "+-1e5 px, pixel_sd 1e-6 to 1e3 px, tag_size 0.001 to "
+                                     "10000 m, corners within +-1e7 px)");
+    }
+    return pose_tuple(&P);
 }

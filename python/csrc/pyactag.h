@@ -9,7 +9,8 @@
  *   frame.c         a Python 2-D uint8/uint16 buffer -> actag_frame
  *   family_type.c   the Family type (built-in or caller-supplied codes)
  *   detector_type.c the Detector type (parameters, workspace, detection)
- *   pose.c          sonar_pose (actag_pose_estimate)
+ *   pose.c          sonar_pose (actag_pose_estimate), camera_pose
+ *                   (actag_pose_from_camera, actag_pose_camera_covariance)
  *   geometry.c      the sonar geometry arguments of Detector and Tracker
  *   tracker_type.c  the Tracker type (actag/track.h state, workspace)
  *
@@ -161,5 +162,8 @@ PyObject *pyactag_tracker_type_create(PyObject *module);
 
 /* _core.sonar_pose (pose.c has the arguments); METH_VARARGS. */
 PyObject *pyactag_sonar_pose(PyObject *self, PyObject *args);
+
+/* _core.camera_pose (pose.c has the arguments); METH_VARARGS. */
+PyObject *pyactag_camera_pose(PyObject *self, PyObject *args);
 
 #endif /* PYACTAG_H */

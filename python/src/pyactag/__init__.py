@@ -18,7 +18,8 @@ from .detection import (GEOMETRY_KEYS, Corner, Detection, Detector, Result, defa
                         tuning_names)
 from .families import Family, code_mirror, code_reverse, code_rot90, family_names, rule_of_name
 from .pgm import parse_pgm, read_pgm, write_pgm
-from .pose import POSE_AZIMUTH_SD, POSE_FLAGS, POSE_RANGE_SD, Pose, sonar_pose
+from .pose import (POSE_AZIMUTH_SD, POSE_FLAGS, POSE_PIXEL_SD_MAX, POSE_PIXEL_SD_MIN,
+                   POSE_RANGE_SD, Pose, camera_pose, sonar_pose)
 from .tracking import TRACK_PARAMS, Track, Tracker, TrackResult
 
 __version__ = _core.LIBRARY_VERSION
@@ -42,10 +43,10 @@ def strerror(code):
 
 __all__ = [
     "AcTag", "ActagError", "Corner", "Detection", "Detector", "Family", "GEOMETRY_KEYS", "Pose",
-    "Result", "code_mirror", "code_reverse", "code_rot90", "default_params", "detect",
-    "family_names", "have_numpy", "parse_pgm", "read_pgm", "rule_of_name", "sonar_pose",
-    "strerror", "tuning_names", "workspace_size", "write_pgm", "LIBRARY_VERSION",
+    "Result", "camera_pose", "code_mirror", "code_reverse", "code_rot90", "default_params",
+    "detect", "family_names", "have_numpy", "parse_pgm", "read_pgm", "rule_of_name",
+    "sonar_pose", "strerror", "tuning_names", "workspace_size", "write_pgm", "LIBRARY_VERSION",
     "CORNER_TOP_LEFT", "CORNER_TOP_RIGHT", "CORNER_BOTTOM_RIGHT", "CORNER_BOTTOM_LEFT",
-    "POSE_AZIMUTH_SD", "POSE_FLAGS", "POSE_RANGE_SD", "TRACK_PARAMS", "Track", "Tracker",
-    "TrackResult",
+    "POSE_AZIMUTH_SD", "POSE_FLAGS", "POSE_PIXEL_SD_MAX", "POSE_PIXEL_SD_MIN", "POSE_RANGE_SD",
+    "TRACK_PARAMS", "Track", "Tracker", "TrackResult",
 ]

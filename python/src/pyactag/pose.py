@@ -1,4 +1,6 @@
-"""The tag's 6-DOF pose in the sonar frame from one detection (C: actag/pose.h).
+"""The tag's 6-DOF pose in the sonar frame from one detection, and a camera's
+pose of the same tag in the same frame convention with its covariance (C:
+actag/pose.h).
 
     det = pyactag.Detector("AcTag24h10", tag_size=0.130628571,
                            min_range=0.1, max_range=1.5, aperture_deg=60)
@@ -13,8 +15,14 @@ square. A sonar loses the elevation, so it comes from the vertical aperture
 vehicle knows it, the plane the tag lies on (``plane``): the covariance says
 how well each part is known. ``mirrored`` picks the side of the sonar's
 horizontal plane.
+
+``camera_pose`` turns a camera's pose of the tag (AprilTag's or OpenCV's
+optical frame: x right, y down, z forward) into the same sensor frame (x
+along the optical axis, y left, z up) and, given the intrinsics and the
+corners' pixel noise, gives it the covariance the sonar's poses have.
 """
 import math
+import numbers
 import struct
 
 from . import _core
@@ -29,9 +37,17 @@ POSE_FLAGS = ("degenerate", "elevation", "not_converged", "mirror_conflict", "no
 POSE_RANGE_SD = _core.POSE_RANGE_SD
 POSE_AZIMUTH_SD = _core.POSE_AZIMUTH_SD
 
+#: The bounds of camera_pose's pixel_sd (px, inclusive; pose.h's
+#: ACTAG_POSE_PIXEL_SD_MIN, _MAX as the library's floats).
+POSE_PIXEL_SD_MIN = _core.POSE_PIXEL_SD_MIN
+POSE_PIXEL_SD_MAX = _core.POSE_PIXEL_SD_MAX
+
 
 class Pose(SlotRecord):
-    """A tag's pose in the sonar frame (``actag_pose``).
+    """A tag's pose in the sonar frame (``actag_pose``), or in a camera's
+    sensor frame (``camera_pose``: x along the optical axis, y left, z up;
+    elevation_band (0.0, 0.0), iterations 0, residual_m and chi2 from the
+    corners when given, else 0).
 
     Attributes:
         R: rotation tag -> sonar, 3 rows of 3.
@@ -325,3 +341,174 @@ def sonar_pose(corners, mirrored=None, *, tag_size, vertical_aperture_deg=None,
     pl, psd, ptilt = _plane_of(plane, plane_sd, plane_tilt_deg)
     return Pose._of_core(_core.sonar_pose(ranges, azimuths, mirrored, fam, ts, va, ext, rsd, asd,
                                           its, pl, psd, ptilt))
+
+
+# actag_pose_camera_covariance's bounds (pose.h; exact as floats)
+_MAX_FOCAL = 1e6  # px
+_MAX_CENTRE = 1e5  # px, principal point
+_MAX_PIXEL = 1e7  # px, a measured corner
+_MAX_T = 1e4  # m, an entry of t
+_ROTATION_TOL = 1e-3
+
+
+def _matrix3(R_opt):
+    """R_opt as 9 floats row by row: 3 rows of 3 finite numbers that form a
+    rotation (orthonormal to 1e-3, determinant +1)."""
+    what = "R_opt must be 3 rows of 3 numbers (rotation tag -> camera, optical frame)"
+    if isinstance(R_opt, (str, bytes)):
+        raise TypeError("{}, got {!r}".format(what, R_opt))
+    try:
+        rows = [r for r in R_opt]
+        if any(isinstance(r, (str, bytes)) for r in rows):
+            raise TypeError
+        rows = [list(r) for r in rows]
+    except TypeError:
+        raise TypeError("{}, got {!r}".format(what, R_opt)) from None
+    if len(rows) != 3 or any(len(r) != 3 for r in rows):
+        raise ValueError("{}, got {!r}".format(what, R_opt))
+    R = [[_finite("R_opt[{}][{}]".format(i, j), v) for j, v in enumerate(r)]
+         for i, r in enumerate(rows)]
+    worst = max(abs(sum(R[i][k] * R[j][k] for k in range(3)) - (i == j))
+                for i in range(3) for j in range(3))
+    det = (R[0][0] * (R[1][1] * R[2][2] - R[1][2] * R[2][1]) -
+           R[0][1] * (R[1][0] * R[2][2] - R[1][2] * R[2][0]) +
+           R[0][2] * (R[1][0] * R[2][1] - R[1][1] * R[2][0]))
+    if not (worst <= _ROTATION_TOL and det > 0.0):
+        raise ValueError("R_opt must be a rotation (orthonormal rows to {:g}, determinant +1), "
+                         "got {!r}".format(_ROTATION_TOL, R_opt))
+    return [v for r in R for v in r]
+
+
+def _vector3(t_opt):
+    """t_opt as 3 floats (m, each within +-10000 as the library's float): 3
+    numbers, or a 3 x 1 column (AprilTag's pose_t, OpenCV's tvec)."""
+    what = "t_opt must be 3 numbers or a 3 x 1 column (metres, optical frame)"
+    if isinstance(t_opt, (str, bytes)):
+        raise TypeError("{}, got {!r}".format(what, t_opt))
+    try:
+        items = list(t_opt)
+    except TypeError:
+        raise TypeError("{}, got {!r}".format(what, t_opt)) from None
+    if len(items) != 3:
+        raise ValueError("{}, got {!r}".format(what, t_opt))
+    out = []
+    for i, v in enumerate(items):
+        if not isinstance(v, (numbers.Real, str, bytes)):
+            try:
+                row = list(v)  # a row of a 3 x 1 column: one number
+            except TypeError:
+                row = None  # as_real names it
+            if row is not None:
+                if len(row) != 1:
+                    raise ValueError("{}, got {!r}".format(what, t_opt))
+                v = row[0]
+        x = _finite("t_opt[{}]".format(i), v)
+        if not -_MAX_T <= _f32(x) <= _MAX_T:
+            raise ValueError("t_opt[{}] must be within +-10000 m (pose.h), got {!r}".format(i, v))
+        out.append(x)
+    return out
+
+
+def _pixels_of(corners):
+    """8 floats (x0, y0, .. x3, y3) of 4 (x, y) pixel pairs, each within
+    +-1e7 px as the library's float."""
+    what = ("corners must be 4 (x, y) pixel pairs in tag order (top-left, top-right, "
+            "bottom-right, bottom-left as printed)")
+    if isinstance(corners, (str, bytes)):
+        raise TypeError("{}, got {!r}".format(what, corners))
+    try:
+        pairs = [p for p in corners]
+        if any(isinstance(p, (str, bytes)) for p in pairs):
+            raise TypeError
+        pairs = [tuple(p) for p in pairs]
+    except TypeError:
+        raise TypeError("{}, got {!r}".format(what, corners)) from None
+    if len(pairs) != 4 or any(len(p) != 2 for p in pairs):
+        raise ValueError("{}, got {!r}".format(what, corners))
+    out = []
+    for i, p in enumerate(pairs):
+        for axis, v in zip("xy", p):
+            name = "corners[{}] {}".format(i, axis)
+            x = _finite(name, v)
+            if not -_MAX_PIXEL <= _f32(x) <= _MAX_PIXEL:
+                raise ValueError("{} must be within +-1e7 px (pose.h), got {!r}".format(name, v))
+            out.append(x)
+    return out
+
+
+def _in_range(name, value, lo, hi, rule):
+    """A finite number whose float (what the library gets) lies in lo..hi."""
+    v = _finite(name, value)
+    if not lo <= _f32(v) <= hi:
+        raise ValueError("{} must be {} (pose.h), got {!r}".format(name, rule, value))
+    return v
+
+
+def camera_pose(R_opt, t_opt, *, tag_size=None, fx=None, fy=None, cx=None, cy=None,
+                pixel_sd=None, corners=None):
+    """A camera's pose of the tag in the sensor frame the sonar's poses use,
+    with their covariance when the camera is described.
+
+    ``R_opt``, ``t_opt``: the pose in the optical frame of AprilTag and
+    OpenCV (x right, y down, z forward): p_camera = R_opt p_tag + t_opt,
+    R_opt 3 rows of 3 numbers (a rotation: orthonormal to 1e-3, determinant
+    +1), t_opt 3 numbers or a 3 x 1 column, metres (each within +-10000).
+    The tag frame is AprilTag's and the sonar pose's: origin at the centre
+    of the inner white square, x toward the printed right edge, y toward the
+    printed bottom, z into the tag. The result is in the sensor frame: x
+    along the optical axis, y left, z up (x = z_opt, y = -x_opt, z =
+    -y_opt); ``Pose.R`` maps tag -> sensor.
+
+    The covariance (keywords, all six together or none):
+
+    - ``tag_size``: side of the inner white square, metres (0.001 to 10000);
+    - ``fx``, ``fy``: focal lengths, pixels (1 to 1e6);
+    - ``cx``, ``cy``: principal point, pixels (within +-1e5), with the centre
+      of the top-left pixel at (0, 0) (OpenCV's calibration; AprilTag's
+      convention is 0.5 more);
+    - ``pixel_sd``: sd of each measured corner coordinate, pixels
+      (``POSE_PIXEL_SD_MIN`` .. ``POSE_PIXEL_SD_MAX``, 1e-6 to 1e3; about
+      0.1 to 0.3 on sharp images: measure it for your camera and water);
+
+    fill ``Pose.cov`` (6 x 6 of (dt, w) as the sonar's: the corners' pixel
+    noise through the pinhole projection, to first order; distortion must
+    have been removed). ``corners``, 4 (x, y) pixel pairs (within +-1e7) in
+    tag order (top-left, top-right, bottom-right, bottom-left as printed,
+    pixel centres at whole numbers: AprilTag's corners, det->p, reversed
+    and minus 0.5 px, as actag_apriltag_corners_to_actag gives them), add
+    ``residual_m`` (the corners' RMS reprojection error in metres at their
+    depth) and ``chi2`` (the sum of their 8 squared reprojection errors
+    over pixel_sd^2, about 2 expected).
+
+    Without the six keywords the Pose has no covariance (flag
+    ``no_covariance``). A corner of the tag not in front of the camera, or
+    a singular projection, is no error: flags ``degenerate`` and
+    ``no_covariance``. Bad values raise TypeError, ValueError or
+    OverflowError naming them, checked as the library checks the floats it
+    gets. Returns a ``Pose``.
+    """
+    R = _matrix3(R_opt)
+    t = _vector3(t_opt)
+    given = dict(tag_size=tag_size, fx=fx, fy=fy, cx=cx, cy=cy, pixel_sd=pixel_sd)
+    missing = [k for k, v in given.items() if v is None]
+    camera = None
+    if len(missing) < len(given):
+        if missing:
+            raise TypeError("the covariance needs tag_size, fx, fy, cx, cy and pixel_sd: give "
+                            "all six or none (missing: {})".format(", ".join(missing)))
+        camera = [
+            _in_range("fx", fx, 1.0, _MAX_FOCAL, "1 to 1e6 px"),
+            _in_range("fy", fy, 1.0, _MAX_FOCAL, "1 to 1e6 px"),
+            _in_range("cx", cx, -_MAX_CENTRE, _MAX_CENTRE, "within +-1e5 px"),
+            _in_range("cy", cy, -_MAX_CENTRE, _MAX_CENTRE, "within +-1e5 px"),
+            _in_range("pixel_sd", pixel_sd, POSE_PIXEL_SD_MIN, POSE_PIXEL_SD_MAX,
+                      "1e-6 to 1e3 px"),
+            _length("tag_size", tag_size, " (side of the inner white square)"),
+        ]
+    pixels = None
+    if corners is not None:
+        if camera is None:
+            raise TypeError("corners need the covariance's tag_size, fx, fy, cx, cy and "
+                            "pixel_sd")
+        pixels = _pixels_of(corners)
+    return Pose._of_core(_core.camera_pose(R, t, camera, pixels))
