@@ -46,6 +46,12 @@ def test_readme_pose_example_output():
     assert got == shown
 
 
+def test_readme_camera_pose_example_output():
+    # The "Camera pose" example prints what the README shows.
+    got, shown = readme_example("## Camera pose")
+    assert got == shown
+
+
 def test_readme_tracking_example_runs():
     # The "Tracking across pings" example runs on the repository's frames
     # and reports tag 0's track.
