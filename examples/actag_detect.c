@@ -84,8 +84,9 @@ static void usage(FILE *f)
             "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
             "  --min-structure F      least fraction of ring / interior cells read right, 0..1\n"
             "                         (default 0: the corrections budget is the gate)\n"
-            "  --min-side-fraction F  least quad side / tag size (default 0.5; 0.4 for grazing\n"
-            "                         views), at most --max-side-fraction\n"
+            "  --min-side-fraction F  least quad side / tag size (default 0.5; 0.4 reads more\n"
+            "                         grazing views and more clutter), at most\n"
+            "                         --max-side-fraction\n"
             "  --max-side-fraction F  largest quad side / tag size (default 1.6)\n");
     fprintf(f,
             "Output (coordinates: x = column, y = row, pixels, centre of the top-left pixel at\n"
