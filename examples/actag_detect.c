@@ -21,6 +21,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "actag/actag.h"
 #include "actag/pose.h"
+#include "geometry_check.h"
 #include "actag/track.h"
 #include "actag/version.h"
 #include "hostio.h"
@@ -99,7 +100,14 @@ static void usage(FILE *f)
             "                         \"azimuth_rad\"} x 4]}], \"time_ms\"}, or {\"file\", \"error\"}\n"
             "  --pose                 each tag's 6-DOF pose in the sonar frame with its covariance\n"
             "                         (actag/pose.h: x forward, y left, z up; JSON member \"pose\")\n"
-            "  --vertical-aperture-deg D  the sonar's vertical aperture for --pose (default 12)\n"
+            "  --check-geometry       after the files: is the geometry and tag size given right?\n"
+            "                         The median pose chi2 of all tags (about 3 expected), and\n"
+            "                         the azimuth scale and the tag-size scale (0.80-1.25) that\n"
+            "                         fit the corners best (docs/pose.md); with --json one last\n"
+            "                         line {\"geometry_check\": {...}}. Exit status 2 when no tag\n"
+            "                         was found (not with --track)\n"
+            "  --vertical-aperture-deg D  the sonar's vertical aperture for --pose and\n"
+            "                         --check-geometry (default 12)\n"
             "  --plane NX,NY,NZ,D --plane-sd M --plane-tilt-deg D  for --pose: the plane the tags\n"
             "                         lie on, n.p = D in the sonar frame (a seabed at altitude H\n"
             "                         under an upright sonar: 0,0,1,-H), with the sd of its\n"
@@ -183,6 +191,7 @@ typedef struct options {
     int have_min, have_max, have_aperture;
     double aperture_deg;
     int pose, track;                 /* --pose, --track */
+    int check_geometry;              /* --check-geometry */
     int report_coasting;             /* --report-coasting */
     int inplace;                     /* --inplace */
     double vertical_deg;             /* --vertical-aperture-deg */
@@ -229,6 +238,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             o->pose = 1;
         } else if (strcmp(a, "--track") == 0) {
             o->track = 1;
+        } else if (strcmp(a, "--check-geometry") == 0) {
+            o->check_geometry = 1;
         } else if (strcmp(a, "--report-coasting") == 0) {
             o->report_coasting = 1;
         } else if (strcmp(a, "--inplace") == 0) {
@@ -443,14 +454,19 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         die("--overlay -: standard output carries the detections; give the picture a file name");
     if (o->show_rejected && !o->overlay && !o->stages)
         die("--show-rejected draws into pictures: it needs --overlay or --stages");
-    if (!o->pose && (o->have_vertical || o->have_plane || o->have_plane_sd || o->have_plane_tilt))
-        die("--vertical-aperture-deg, --plane, --plane-sd and --plane-tilt-deg need --pose");
+    if (!o->pose && !o->check_geometry && o->have_vertical)
+        die("--vertical-aperture-deg needs --pose or --check-geometry");
+    if (!o->pose && (o->have_plane || o->have_plane_sd || o->have_plane_tilt))
+        die("--plane, --plane-sd and --plane-tilt-deg need --pose");
+    if (o->check_geometry && o->track)
+        die("--check-geometry does not combine with --track (it checks the detections' corners)");
     if ((o->have_plane_sd || o->have_plane_tilt) && !o->have_plane)
         die("--plane-sd and --plane-tilt-deg need --plane NX,NY,NZ,D");
-    if (o->pose && !(o->params.tag_size >= 1e-3f && o->params.tag_size <= 1e4f)) {
+    if ((o->pose || o->check_geometry) &&
+        !(o->params.tag_size >= 1e-3f && o->params.tag_size <= 1e4f)) {
         char m[HOSTIO_ERRLEN];
-        snprintf(m, sizeof m, "--pose: the tag size must be 0.001 to 10000 m (pose.h), got %g",
-                 (double)o->params.tag_size);
+        snprintf(m, sizeof m, "%s: the tag size must be 0.001 to 10000 m (pose.h), got %g",
+                 o->pose ? "--pose" : "--check-geometry", (double)o->params.tag_size);
         die(m);
     }
     actag_pose_params_default(&o->pose_params, &o->fam, o->params.tag_size,
@@ -838,7 +854,7 @@ static int load_bearings(const char *path, const char *text, int cols, float *ou
 
 /* Detects, prints and draws one file. Returns 0, or -1 after reporting. */
 static int process(const options *o, const char *file, const char *picname,
-                   const char *const *files, int nfiles, actag_tracker *tracker)
+                   const char *const *files, int nfiles, actag_tracker *tracker, gc_tags *gc)
 {
     char err[HOSTIO_ERRLEN];
     hostio_image im;
@@ -945,6 +961,10 @@ static int process(const options *o, const char *file, const char *picname,
     else
         print_text(file, &o->fam, det, n, t1 - t0, o->pose ? &o->pose_params : NULL);
     fflush(stdout);
+    if (gc && gc_add(gc, det, n) != 0) {
+        fprintf(stderr, PROG ": %s: out of memory for --check-geometry\n", hostio_frame_name(file));
+        status = -1;
+    }
     if (st.dropped > 0)
         fprintf(stderr, PROG ": %s: %d more tags than the %d reported\n", hostio_frame_name(file),
                 st.dropped, MAX_DETECTIONS);
@@ -1023,12 +1043,54 @@ fail:
     return -1;
 }
 
+/* --check-geometry's summary after the files (geometry_check.h). Returns 0,
+ * or -1 after a message when there was nothing to check. */
+static int print_geometry_check(const options *o, const gc_tags *gc)
+{
+    gc_result r;
+    /* the aperture the scale applies to (none with a bearing table) */
+    double ap = o->bearings_path ? -1.0 : (double)o->geo.aperture * 180.0 / 3.14159265358979323846;
+    double ts = (double)o->params.tag_size;
+    if (gc_check(gc, &o->pose_params, &r) != 0) {
+        fprintf(stderr, PROG ": --check-geometry: %s\n",
+                r.tags == 0 ? "no tag was found in any file: nothing to check"
+                            : "no tag's corners gave a pose (pose.h's bounds): nothing to check");
+        return -1;
+    }
+    if (o->json) {
+        printf("{\"geometry_check\": {\"tags\": %d, \"fitted\": %d, \"median_chi2\": %.3f, "
+               "\"azimuth_scale\": %.4f, \"aperture_deg\": ",
+               r.tags, r.fitted, r.chi2, r.az_scale);
+        if (ap > 0.0)
+            printf("%.3f", ap * r.az_scale);
+        else
+            printf("null");
+        printf(", \"azimuth_scale_chi2\": %.3f, \"tag_size_scale\": %.4f, \"tag_size\": %.6f, "
+               "\"tag_size_scale_chi2\": %.3f, \"at_scan_end\": [%s%s%s]}}\n",
+               r.az_chi2, r.size_scale, ts * r.size_scale, r.size_chi2,
+               r.az_edge ? "\"azimuth_scale\"" : "", r.az_edge && r.size_edge ? ", " : "",
+               r.size_edge ? "\"tag_size_scale\"" : "");
+        return 0;
+    }
+    printf("geometry check: %d tags (%d with a pose), median pose chi2 %.2f (about 3 expected)\n",
+           r.tags, r.fitted, r.chi2);
+    printf("geometry check: least median chi2 %.2f with the azimuths x %.4f", r.az_chi2, r.az_scale);
+    if (ap > 0.0)
+        printf(" (aperture %.2f degrees)", ap * r.az_scale);
+    printf("%s\n", r.az_edge ? " at the end of the scan (0.80-1.25)" : "");
+    printf("geometry check: least median chi2 %.2f with the tag size x %.4f (%.4f m)%s\n",
+           r.size_chi2, r.size_scale, ts * r.size_scale,
+           r.size_edge ? " at the end of the scan (0.80-1.25)" : "");
+    return 0;
+}
+
 /* ------------------------------------------------------------------- main */
 
 int main(int argc, char **argv)
 {
     options o;
     static actag_tracker tracker; /* --track: one stream over all files */
+    gc_tags gc = {NULL, 0, 0};    /* --check-geometry: every file's tags */
     actag_track_params tp;
     int i, nfiles, status = 0, number_all = 0;
     /* The file list is gathered in argv itself (file j goes to argv[j + 1],
@@ -1065,11 +1127,15 @@ int main(int argc, char **argv)
     for (i = 0; i < nfiles; i++) {
         char picname[PICNAME_LEN];
         picture_name(files, nfiles, i, number_all, picname, sizeof picname);
-        if (process(&o, files[i], picname, files, nfiles, &tracker) != 0)
+        if (process(&o, files[i], picname, files, nfiles, &tracker,
+                    o.check_geometry ? &gc : NULL) != 0)
             status = 2;
         if (ferror(stdout)) /* a full disk or a closed pipe: the results are lost */
             break;
     }
+    if (o.check_geometry && !ferror(stdout) && print_geometry_check(&o, &gc) != 0)
+        status = 2;
+    gc_free(&gc);
     if (fflush(stdout) != 0 || ferror(stdout)) {
         fprintf(stderr, PROG ": standard output: write error (results not written)\n");
         status = 2;

@@ -798,7 +798,7 @@ static void test_options_that_need_others(void)
     FILE *f;
     expect_option_error(GEO " --show-rejected " EXAMPLE, "--show-rejected draws into pictures: it "
                         "needs --overlay or --stages");
-    expect_option_error(GEO " --vertical-aperture-deg 2.5 " EXAMPLE, "need --pose");
+    expect_option_error(GEO " --vertical-aperture-deg 2.5 " EXAMPLE, "needs --pose or --check-geometry");
     expect_option_error(GEO " --plane 0,0,1,-0.3 --plane-sd 0.02 " EXAMPLE, "need --pose");
     expect_option_error(GEO " --pose --plane-sd 0 " EXAMPLE, "need --plane NX,NY,NZ,D");
     /* a tag size the pose refuses (pose.h: 1e-3 .. 1e4 m) is named up front */
@@ -954,6 +954,76 @@ static void test_version(void)
     free(o);
 }
 
+/* --check-geometry (geometry_check.h): on the example frame the aperture it
+ * finds is the same whatever aperture was stated (the corners' pixels do
+ * not change, only their azimuths), and so is the tag size; its median chi2
+ * of one tag is the chi2 --pose prints; the text has three lines; no tag in
+ * any file and --track are errors (exit 2, one message). Ground truth:
+ * tools/sim/test_check_geometry.c. */
+static double gc_num(const char *s, const char *key)
+{
+    char pat[64];
+    const char *p = strstr(s, "{\"geometry_check\": ");
+    TEST_ASSERT_NOT_NULL_MESSAGE(p, s);
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    p = strstr(p, pat);
+    TEST_ASSERT_NOT_NULL_MESSAGE(p, key);
+    return atof(p + strlen(pat));
+}
+
+static void test_check_geometry(void)
+{
+    static const char *const stated[3] = {"--aperture-deg 60", "--aperture-deg 54",
+                                          "--aperture-deg 60 --tag-size 0.12"};
+    double ap[3], size[3], chi2 = -1.0;
+    char args[512], *o, *e, *p;
+    unsigned char blank[13 + 64 * 64];
+    int k;
+    for (k = 0; k < 3; k++) {
+        snprintf(args, sizeof args, "--check-geometry --json --min-range 0.1 --max-range 1.5 %s %s",
+                 stated[k], EXAMPLE);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(args), args);
+        o = out_text();
+        TEST_ASSERT_EQUAL_INT(2, count_lines(o)); /* the frame's line, then the check */
+        TEST_ASSERT_EQUAL_INT(1, (int)gc_num(o, "tags"));
+        ap[k] = gc_num(o, "aperture_deg");
+        size[k] = gc_num(o, "tag_size");
+        if (k == 0)
+            chi2 = gc_num(o, "median_chi2");
+        TEST_ASSERT_TRUE(gc_num(o, "azimuth_scale_chi2") <= gc_num(o, "median_chi2"));
+        free(o);
+    }
+    TEST_ASSERT_FLOAT_WITHIN(0.3f, (float)ap[0], (float)ap[1]);
+    TEST_ASSERT_FLOAT_WITHIN(0.002f, (float)size[0], (float)size[2]);
+    /* the example frame is not at its published geometry either (docs/pose.md) */
+    TEST_ASSERT_TRUE(chi2 > 3.0 && ap[0] > 55.0 && ap[0] < 59.0);
+    TEST_ASSERT_EQUAL_INT(0, run("--json --pose " GEO " " EXAMPLE));
+    o = out_text();
+    p = strstr(o, "\"chi2\": ");
+    TEST_ASSERT_NOT_NULL(p);
+    TEST_ASSERT_FLOAT_WITHIN(0.002f, (float)chi2, (float)atof(p + 8));
+    free(o);
+
+    TEST_ASSERT_EQUAL_INT(0, run("--check-geometry " GEO " " EXAMPLE));
+    o = out_text();
+    TEST_ASSERT_EQUAL_INT(4, count_lines(o));
+    TEST_ASSERT_NOT_NULL(strstr(o, "geometry check: 1 tags (1 with a pose), median pose chi2 "));
+    TEST_ASSERT_NOT_NULL(strstr(o, "with the azimuths x "));
+    TEST_ASSERT_NOT_NULL(strstr(o, "degrees)"));
+    TEST_ASSERT_NOT_NULL(strstr(o, "with the tag size x "));
+    free(o);
+
+    memcpy(blank, "P5\n64 64\n255\n", 13);
+    memset(blank + 13, 0, 64 * 64);
+    write_file(OUT "_blank.pgm", blank, sizeof blank);
+    TEST_ASSERT_EQUAL_INT(2, run("--check-geometry " GEO " " OUT "_blank.pgm"));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "--check-geometry: no tag was found in any file"), e);
+    free(e);
+    expect_option_error(GEO " --check-geometry --track " EXAMPLE, "--check-geometry does not combine");
+    TEST_ASSERT_EQUAL_INT(0, run("--check-geometry --vertical-aperture-deg 20 " GEO " " EXAMPLE));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -973,5 +1043,6 @@ int main(void)
     RUN_TEST(test_options_that_need_others);
     RUN_TEST(test_report_coasting);
     RUN_TEST(test_version);
+    RUN_TEST(test_check_geometry);
     return UNITY_END();
 }
