@@ -15,15 +15,16 @@
  * printed. Each corner also has its range (m) and azimuth (rad).
  *
  * Exit status 0 when every file was processed, 2 when an option was bad
- * (nothing processed) or any file failed (the others are still processed);
- * every message is one line naming the file or option and the value.
+ * (nothing processed) or any file failed (the others are still processed),
+ * or when --check-geometry had no tag to check; every message is one line
+ * naming the file or option and the value.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "actag/actag.h"
 #include "actag/pose.h"
-#include "geometry_check.h"
 #include "actag/track.h"
 #include "actag/version.h"
+#include "geometry_check.h"
 #include "hostio.h"
 #include "pictures.h"
 
@@ -100,12 +101,15 @@ static void usage(FILE *f)
             "                         \"azimuth_rad\"} x 4]}], \"time_ms\"}, or {\"file\", \"error\"}\n"
             "  --pose                 each tag's 6-DOF pose in the sonar frame with its covariance\n"
             "                         (actag/pose.h: x forward, y left, z up; JSON member \"pose\")\n"
-            "  --check-geometry       after the files: is the geometry and tag size given right?\n"
-            "                         The median pose chi2 of all tags (about 3 expected), and\n"
-            "                         the azimuth scale and the tag-size scale (0.80-1.25) that\n"
-            "                         fit the corners best (docs/pose.md); with --json one last\n"
-            "                         line {\"geometry_check\": {...}}. Exit status 2 when no tag\n"
-            "                         was found (not with --track)\n"
+            "  --check-geometry       after the files: do the geometry and tag size given fit the\n"
+            "                         tags' corners? The median pose chi2 of all tags (0.1-0.5\n"
+            "                         where they fit, with pose.h's corner noise), and the\n"
+            "                         azimuth scale or else the tag-size scale (0.80-1.25) that\n"
+            "                         would fit best: alternatives, for one of aperture, tag\n"
+            "                         size and range scale can be found given the other two\n"
+            "                         (docs/pose.md; about 12 ms a tag). With --json one last\n"
+            "                         line {\"geometry_check\": {...}}. No tag to check: exit\n"
+            "                         status 2. Not with --track\n"
             "  --vertical-aperture-deg D  the sonar's vertical aperture for --pose and\n"
             "                         --check-geometry (default 12)\n"
             "  --plane NX,NY,NZ,D --plane-sd M --plane-tilt-deg D  for --pose: the plane the tags\n"
@@ -1048,13 +1052,26 @@ fail:
 static int print_geometry_check(const options *o, const gc_tags *gc)
 {
     gc_result r;
+    actag_pose_params pp = o->pose_params;
     /* the aperture the scale applies to (none with a bearing table) */
     double ap = o->bearings_path ? -1.0 : (double)o->geo.aperture * 180.0 / 3.14159265358979323846;
     double ts = (double)o->params.tag_size;
-    if (gc_check(gc, &o->pose_params, &r) != 0) {
-        fprintf(stderr, PROG ": --check-geometry: %s\n",
-                r.tags == 0 ? "no tag was found in any file: nothing to check"
-                            : "no tag's corners gave a pose (pose.h's bounds): nothing to check");
+    int rc;
+    /* the corners alone: a --plane given for --pose would pull the fit */
+    pp.plane_sd = 0.0f;
+    pp.plane_tilt_sd = 0.0f;
+    rc = gc_check(gc, &pp, &r);
+    if (rc != 0) {
+        const char *why = rc == GC_NO_MEMORY ? "out of memory"
+                          : r.tags == 0      ? "no tag was found in the files read: nothing to check"
+                                             : "no tag's corners gave a pose (pose.h's bounds): "
+                                               "nothing to check";
+        fprintf(stderr, PROG ": --check-geometry: %s\n", why);
+        if (o->json) {
+            printf("{\"geometry_check\": {\"error\": ");
+            hostio_json_string(stdout, why);
+            printf("}}\n");
+        }
         return -1;
     }
     if (o->json) {
@@ -1072,13 +1089,15 @@ static int print_geometry_check(const options *o, const gc_tags *gc)
                r.size_edge ? "\"tag_size_scale\"" : "");
         return 0;
     }
-    printf("geometry check: %d tags (%d with a pose), median pose chi2 %.2f (about 3 expected)\n",
+    printf("geometry check: %d tags (%d with a pose), median pose chi2 %.2f (0.1-0.5 where "
+           "the geometry fits)\n",
            r.tags, r.fitted, r.chi2);
     printf("geometry check: least median chi2 %.2f with the azimuths x %.4f", r.az_chi2, r.az_scale);
     if (ap > 0.0)
         printf(" (aperture %.2f degrees)", ap * r.az_scale);
     printf("%s\n", r.az_edge ? " at the end of the scan (0.80-1.25)" : "");
-    printf("geometry check: least median chi2 %.2f with the tag size x %.4f (%.4f m)%s\n",
+    printf("geometry check: or %.2f with the tag size x %.4f (%.4f m)%s (alternatives: "
+           "one of aperture, tag size and range scale, given the other two)\n",
            r.size_chi2, r.size_scale, ts * r.size_scale,
            r.size_edge ? " at the end of the scan (0.80-1.25)" : "");
     return 0;

@@ -7,17 +7,19 @@
 int gc_add(gc_tags *t, const actag_detection *det, int n)
 {
     int k;
+    if (t->n + n > t->cap) { /* room for all of them first: all or none */
+        int cap = t->cap ? t->cap : 64;
+        gc_tag *p;
+        while (cap < t->n + n)
+            cap *= 2;
+        p = (gc_tag *)realloc(t->tag, (size_t)cap * sizeof *p);
+        if (!p)
+            return GC_NO_MEMORY;
+        t->tag = p;
+        t->cap = cap;
+    }
     for (k = 0; k < n; k++) {
-        gc_tag *g;
-        if (t->n == t->cap) {
-            int cap = t->cap ? 2 * t->cap : 64;
-            gc_tag *p = (gc_tag *)realloc(t->tag, (size_t)cap * sizeof *p);
-            if (!p)
-                return -1;
-            t->tag = p;
-            t->cap = cap;
-        }
-        g = &t->tag[t->n++];
+        gc_tag *g = &t->tag[t->n++];
         memcpy(g->range, det[k].range, sizeof g->range);
         memcpy(g->azimuth, det[k].azimuth, sizeof g->azimuth);
         g->mirrored = det[k].mirrored;
@@ -99,14 +101,14 @@ int gc_check(const gc_tags *t, const actag_pose_params *pp, gc_result *r)
     memset(r, 0, sizeof *r);
     r->tags = t->n;
     if (t->n == 0)
-        return -1;
+        return GC_NO_TAG;
     buf = (double *)malloc((size_t)t->n * sizeof *buf);
     if (!buf)
-        return -1;
+        return GC_NO_MEMORY;
     r->chi2 = median_chi2(t, pp, 1.0, 1.0, buf, &r->fitted);
     if (r->fitted == 0) {
         free(buf);
-        return -1;
+        return GC_NO_TAG;
     }
     scan(t, pp, 0, buf, &r->az_scale, &r->az_chi2, &r->az_edge);
     scan(t, pp, 1, buf, &r->size_scale, &r->size_chi2, &r->size_edge);

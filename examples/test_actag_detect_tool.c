@@ -955,11 +955,12 @@ static void test_version(void)
 }
 
 /* --check-geometry (geometry_check.h): on the example frame the aperture it
- * finds is the same whatever aperture was stated (the corners' pixels do
- * not change, only their azimuths), and so is the tag size; its median chi2
- * of one tag is the chi2 --pose prints; the text has three lines; no tag in
- * any file and --track are errors (exit 2, one message). Ground truth:
- * tools/sim/test_check_geometry.c. */
+ * finds is the same whatever aperture was stated (the corners' pixels move
+ * by under a pixel, their azimuths scale), and so is the tag size; its
+ * median chi2 of one tag is the chi2 --pose prints, and a --plane given for
+ * --pose does not enter it; the text has three lines; no tag in any file
+ * and --track are errors (exit 2, one message; with --json an error line
+ * too). Ground truth: tools/sim/test_check_geometry.c. */
 static double gc_num(const char *s, const char *key)
 {
     char pat[64];
@@ -990,7 +991,7 @@ static void test_check_geometry(void)
         size[k] = gc_num(o, "tag_size");
         if (k == 0)
             chi2 = gc_num(o, "median_chi2");
-        TEST_ASSERT_TRUE(gc_num(o, "azimuth_scale_chi2") <= gc_num(o, "median_chi2"));
+        TEST_ASSERT_EQUAL_INT(1, (int)gc_num(o, "fitted"));
         free(o);
     }
     TEST_ASSERT_FLOAT_WITHIN(0.3f, (float)ap[0], (float)ap[1]);
@@ -1012,14 +1013,23 @@ static void test_check_geometry(void)
     TEST_ASSERT_NOT_NULL(strstr(o, "degrees)"));
     TEST_ASSERT_NOT_NULL(strstr(o, "with the tag size x "));
     free(o);
+    TEST_ASSERT_EQUAL_INT(0, run("--check-geometry --json --pose --plane 0,0,1,-0.3 --plane-sd 0.02 "
+                                 "--plane-tilt-deg 1 " GEO " " EXAMPLE));
+    o = out_text();
+    TEST_ASSERT_EQUAL_FLOAT((float)chi2, (float)gc_num(o, "median_chi2"));
+    TEST_ASSERT_EQUAL_FLOAT((float)ap[0], (float)gc_num(o, "aperture_deg"));
+    free(o);
 
     memcpy(blank, "P5\n64 64\n255\n", 13);
     memset(blank + 13, 0, 64 * 64);
     write_file(OUT "_blank.pgm", blank, sizeof blank);
-    TEST_ASSERT_EQUAL_INT(2, run("--check-geometry " GEO " " OUT "_blank.pgm"));
+    TEST_ASSERT_EQUAL_INT(2, run("--check-geometry --json " GEO " " OUT "_blank.pgm"));
     e = err_text();
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "--check-geometry: no tag was found in any file"), e);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, "--check-geometry: no tag was found in the files read"), e);
     free(e);
+    o = out_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(o, "{\"geometry_check\": {\"error\": \"no tag was found"), o);
+    free(o);
     expect_option_error(GEO " --check-geometry --track " EXAMPLE, "--check-geometry does not combine");
     TEST_ASSERT_EQUAL_INT(0, run("--check-geometry --vertical-aperture-deg 20 " GEO " " EXAMPLE));
 }
