@@ -1096,8 +1096,7 @@ static int print_geometry_check(const options *o, const gc_tags *gc)
     if (ap > 0.0)
         printf(" (aperture %.2f degrees)", ap * r.az_scale);
     printf("%s\n", r.az_edge ? " at the end of the scan (0.80-1.25)" : "");
-    printf("geometry check: or %.2f with the tag size x %.4f (%.4f m)%s (alternatives: "
-           "one of aperture, tag size and range scale, given the other two)\n",
+    printf("geometry check: or %.2f with the tag size x %.4f (%.4f m)%s: one or the other\n",
            r.size_chi2, r.size_scale, ts * r.size_scale,
            r.size_edge ? " at the end of the scan (0.80-1.25)" : "");
     return 0;
