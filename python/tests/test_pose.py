@@ -76,17 +76,19 @@ def corners_of_pose(R, t, size):
     return out
 
 
+def unit(v):
+    n = math.sqrt(sum(x * x for x in v))
+    return [x / n for x in v]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
 def face_toward(t, incidence_deg, turn_deg):
     """A rotation (rows, tag -> sonar) whose tag z (into the tag) makes
     incidence_deg with the line of sight to t (so the sonar sees the printed
     face), turned turn_deg about that normal."""
-    def unit(v):
-        n = math.sqrt(sum(x * x for x in v))
-        return [x / n for x in v]
-
-    def cross(a, b):
-        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
     los = unit(t)
     axis = unit(cross(los, [0.0, 0.0, 1.0]))
     a = math.radians(incidence_deg)
@@ -313,13 +315,6 @@ def sensor_pose(d, az, el, inc, phi, psi):
     elevation el (sensor frame) whose face normal makes the angle inc with
     the line of sight, tilted about it by phi, turned about its normal by
     psi. -> (R rows tag -> sensor, t)."""
-    def cross(a, b):
-        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-    def unit(v):
-        n = math.sqrt(sum(x * x for x in v))
-        return [x / n for x in v]
-
     h = [0.0, 0.0, 1.0]
     p = [math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)]
     a = unit(cross(p, h))

@@ -351,21 +351,37 @@ _MAX_T = 1e4  # m, an entry of t
 _ROTATION_TOL = 1e-3
 
 
-def _matrix3(R_opt):
-    """R_opt as 9 floats row by row: 3 rows of 3 finite numbers that form a
-    rotation (orthonormal to 1e-3, determinant +1)."""
-    what = "R_opt must be 3 rows of 3 numbers (rotation tag -> camera, optical frame)"
-    if isinstance(R_opt, (str, bytes)):
-        raise TypeError("{}, got {!r}".format(what, R_opt))
+def _in_range(name, value, lo, hi, rule):
+    """A finite number whose float (what the library gets) lies in lo..hi."""
+    v = _finite(name, value)
+    if not lo <= _f32(v) <= hi:
+        raise ValueError("{} must be {} (pose.h), got {!r}".format(name, rule, value))
+    return v
+
+
+def _grid(value, nrows, ncols, what):
+    """value as nrows lists of ncols items (numbers checked by the caller):
+    not a sequence of sequences (or strings in it) is a TypeError, other
+    shapes a ValueError, each with ``what`` and the value."""
+    if isinstance(value, (str, bytes)):
+        raise TypeError("{}, got {!r}".format(what, value))
     try:
-        rows = [r for r in R_opt]
+        rows = [r for r in value]
         if any(isinstance(r, (str, bytes)) for r in rows):
             raise TypeError
         rows = [list(r) for r in rows]
     except TypeError:
-        raise TypeError("{}, got {!r}".format(what, R_opt)) from None
-    if len(rows) != 3 or any(len(r) != 3 for r in rows):
-        raise ValueError("{}, got {!r}".format(what, R_opt))
+        raise TypeError("{}, got {!r}".format(what, value)) from None
+    if len(rows) != nrows or any(len(r) != ncols for r in rows):
+        raise ValueError("{}, got {!r}".format(what, value))
+    return rows
+
+
+def _matrix3(R_opt):
+    """R_opt as 9 floats row by row: 3 rows of 3 finite numbers that form a
+    rotation (orthonormal to 1e-3, determinant +1)."""
+    rows = _grid(R_opt, 3, 3,
+                 "R_opt must be 3 rows of 3 numbers (rotation tag -> camera, optical frame)")
     R = [[_finite("R_opt[{}][{}]".format(i, j), v) for j, v in enumerate(r)]
          for i, r in enumerate(rows)]
     worst = max(abs(sum(R[i][k] * R[j][k] for k in range(3)) - (i == j))
@@ -402,46 +418,18 @@ def _vector3(t_opt):
                 if len(row) != 1:
                     raise ValueError("{}, got {!r}".format(what, t_opt))
                 v = row[0]
-        x = _finite("t_opt[{}]".format(i), v)
-        if not -_MAX_T <= _f32(x) <= _MAX_T:
-            raise ValueError("t_opt[{}] must be within +-10000 m (pose.h), got {!r}".format(i, v))
-        out.append(x)
+        out.append(_in_range("t_opt[{}]".format(i), v, -_MAX_T, _MAX_T, "within +-10000 m"))
     return out
 
 
 def _pixels_of(corners):
     """8 floats (x0, y0, .. x3, y3) of 4 (x, y) pixel pairs, each within
     +-1e7 px as the library's float."""
-    what = ("corners must be 4 (x, y) pixel pairs in tag order (top-left, top-right, "
-            "bottom-right, bottom-left as printed)")
-    if isinstance(corners, (str, bytes)):
-        raise TypeError("{}, got {!r}".format(what, corners))
-    try:
-        pairs = [p for p in corners]
-        if any(isinstance(p, (str, bytes)) for p in pairs):
-            raise TypeError
-        pairs = [tuple(p) for p in pairs]
-    except TypeError:
-        raise TypeError("{}, got {!r}".format(what, corners)) from None
-    if len(pairs) != 4 or any(len(p) != 2 for p in pairs):
-        raise ValueError("{}, got {!r}".format(what, corners))
-    out = []
-    for i, p in enumerate(pairs):
-        for axis, v in zip("xy", p):
-            name = "corners[{}] {}".format(i, axis)
-            x = _finite(name, v)
-            if not -_MAX_PIXEL <= _f32(x) <= _MAX_PIXEL:
-                raise ValueError("{} must be within +-1e7 px (pose.h), got {!r}".format(name, v))
-            out.append(x)
-    return out
-
-
-def _in_range(name, value, lo, hi, rule):
-    """A finite number whose float (what the library gets) lies in lo..hi."""
-    v = _finite(name, value)
-    if not lo <= _f32(v) <= hi:
-        raise ValueError("{} must be {} (pose.h), got {!r}".format(name, rule, value))
-    return v
+    pairs = _grid(corners, 4, 2, "corners must be 4 (x, y) pixel pairs in tag order (top-left, "
+                  "top-right, bottom-right, bottom-left as printed)")
+    return [_in_range("corners[{}] {}".format(i, axis), v, -_MAX_PIXEL, _MAX_PIXEL,
+                      "within +-1e7 px")
+            for i, p in enumerate(pairs) for axis, v in zip("xy", p)]
 
 
 def camera_pose(R_opt, t_opt, *, tag_size=None, fx=None, fy=None, cx=None, cy=None,
