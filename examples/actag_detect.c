@@ -1056,7 +1056,10 @@ static int print_geometry_check(const options *o, const gc_tags *gc)
     /* the aperture the scale applies to (none with a bearing table) */
     double ap = o->bearings_path ? -1.0 : (double)o->geo.aperture * 180.0 / 3.14159265358979323846;
     double ts = (double)o->params.tag_size;
+    char at_end[64];
     int rc;
+    snprintf(at_end, sizeof at_end, " at the end of the scan (%.2f-%.2f)", GC_SCALE_MIN,
+             GC_SCALE_MAX);
     /* the corners alone: a --plane given for --pose would pull the fit */
     pp.plane_sd = 0.0f;
     pp.plane_tilt_sd = 0.0f;
@@ -1095,10 +1098,10 @@ static int print_geometry_check(const options *o, const gc_tags *gc)
     printf("geometry check: least median chi2 %.2f with the azimuths x %.4f", r.az_chi2, r.az_scale);
     if (ap > 0.0)
         printf(" (aperture %.2f degrees)", ap * r.az_scale);
-    printf("%s\n", r.az_edge ? " at the end of the scan (0.80-1.25)" : "");
+    printf("%s\n", r.az_edge ? at_end : "");
     printf("geometry check: or %.2f with the tag size x %.4f (%.4f m)%s: one or the other\n",
            r.size_chi2, r.size_scale, ts * r.size_scale,
-           r.size_edge ? " at the end of the scan (0.80-1.25)" : "");
+           r.size_edge ? at_end : "");
     return 0;
 }
 
