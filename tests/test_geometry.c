@@ -209,6 +209,61 @@ static void test_bearing_table_without_beams(void)
     TEST_ASSERT_EQUAL_FLOAT(0.3f, actag_geometry_azimuth(&g, 1, 0.5f));
 }
 
+/* Boundaries found by mutation testing (tools/mutate/mutate.py): the
+ * smallest frames and the last beam exactly. A frame of 2 rows has a range
+ * step (1 row: none); a frame of 1 column a finite azimuth and no step; at
+ * the last column of a bearing table, and past it, the mapping and its step
+ * read no entry after the table (a NaN sits there: reading it would show). */
+static void test_boundaries_of_the_mappings(void)
+{
+    float mem[7] = {0.3f, 0.2f, 0.15f, 0.0f, -0.1f, -0.3f, NAN};
+    actag_sonar_geometry g = {0.5f, 2.5f, 1.0f, NULL, 0u};
+    actag_sonar_geometry t = {0.5f, 2.5f, 0.0f, mem, 0u};
+    float x;
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_range_step(&g, 1));
+    TEST_ASSERT_EQUAL_FLOAT(2.0f, actag_geometry_range_step(&g, 2));
+    TEST_ASSERT_EQUAL_FLOAT(2.5f, actag_geometry_range(&g, 2, 0.0f));
+    TEST_ASSERT_EQUAL_FLOAT(0.5f, actag_geometry_range(&g, 2, 1.0f));
+    TEST_ASSERT_EQUAL_FLOAT(0.75f, actag_geometry_row(&g, 2, 1.0f));
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_row(&g, 1, 1.0f));
+    /* one column: the fan's edge, the same for every x, no step */
+    TEST_ASSERT_EQUAL_FLOAT(0.5f, actag_geometry_azimuth(&g, 1, 0.0f));
+    TEST_ASSERT_EQUAL_FLOAT(0.5f, actag_geometry_azimuth(&g, 1, 0.25f));
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_azimuth_step(&g, 1, 0.0f));
+    TEST_ASSERT_EQUAL_FLOAT(0.0f, actag_geometry_column(&g, 1, 0.1f));
+    /* two columns: the fan's two edges */
+    TEST_ASSERT_EQUAL_FLOAT(0.5f, actag_geometry_azimuth(&g, 2, 0.0f));
+    TEST_ASSERT_EQUAL_FLOAT(-0.5f, actag_geometry_azimuth(&g, 2, 1.0f));
+    TEST_ASSERT_EQUAL_FLOAT(1.0f, actag_geometry_azimuth_step(&g, 2, 0.5f));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&t, 10, 6, NULL));
+    /* the last beam exactly, and past it (extrapolated from the last interval) */
+    TEST_ASSERT_EQUAL_FLOAT(-0.3f, actag_geometry_azimuth(&t, 6, 5.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.5f, actag_geometry_azimuth(&t, 6, 6.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, -0.7f, actag_geometry_azimuth(&t, 6, 7.0f));
+    for (x = 4.0f; x <= 8.0f; x += 0.25f)
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.2f, actag_geometry_azimuth_step(&t, 6, x));
+    /* the first interval up to the first beam and before it */
+    for (x = -2.0f; x < 1.0f; x += 0.25f) {
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.1f, actag_geometry_azimuth_step(&t, 6, x));
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.3f - 0.1f * x, actag_geometry_azimuth(&t, 6, x));
+    }
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 5.0f, actag_geometry_column(&t, 6, -0.3f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-5f, 6.0f, actag_geometry_column(&t, 6, -0.5f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.0f, actag_geometry_column(&t, 6, 0.3f));
+    /* a table of two beams, ascending: its direction comes from both ends */
+    {
+        static const float two[3] = {-0.2f, 0.2f, NAN};
+        actag_sonar_geometry t2 = {0.5f, 2.5f, 0.0f, two, 0u};
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&t2, 10, 2, NULL));
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.5f, actag_geometry_column(&t2, 2, 0.0f));
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, actag_geometry_column(&t2, 2, 0.2f));
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.5f, actag_geometry_column(&t2, 2, 0.4f));
+        TEST_ASSERT_EQUAL_INT(1, actag_geometry_mirrors(&t2, 2));
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.2f, actag_geometry_azimuth(&t2, 2, 1.0f));
+        TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.4f, actag_geometry_azimuth_step(&t2, 2, 1.0f));
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -219,6 +274,7 @@ int main(void)
     RUN_TEST(test_nan_column_with_bearing_table);
     RUN_TEST(test_bearing_table_without_beams);
     RUN_TEST(test_mirrors_from_the_mapping);
+    RUN_TEST(test_boundaries_of_the_mappings);
     RUN_TEST(test_errors);
     return UNITY_END();
 }
