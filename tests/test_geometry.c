@@ -247,12 +247,15 @@ static void test_boundaries_of_the_mappings(void)
         TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.1f, actag_geometry_azimuth_step(&t, 6, x));
         TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.3f - 0.1f * x, actag_geometry_azimuth(&t, 6, x));
     }
+    /* a beam exactly starts its own interval */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.05f, actag_geometry_azimuth_step(&t, 6, 1.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.15f, actag_geometry_azimuth_step(&t, 6, 2.0f));
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, 5.0f, actag_geometry_column(&t, 6, -0.3f));
     TEST_ASSERT_FLOAT_WITHIN(1e-5f, 6.0f, actag_geometry_column(&t, 6, -0.5f));
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.0f, actag_geometry_column(&t, 6, 0.3f));
     /* a table of two beams, ascending: its direction comes from both ends */
     {
-        static const float two[3] = {-0.2f, 0.2f, NAN};
+        static const float two[4] = {-0.2f, 0.2f, NAN, NAN}; /* NaNs: nothing past the beams is read */
         actag_sonar_geometry t2 = {0.5f, 2.5f, 0.0f, two, 0u};
         TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&t2, 10, 2, NULL));
         TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.5f, actag_geometry_column(&t2, 2, 0.0f));

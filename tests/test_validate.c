@@ -400,6 +400,7 @@ static void test_bearing_tables_name_the_entry(void)
            (double)g_bearings[17], "non-monotonic");
     actag_check(&f, &g, &p, sizeof g_ws, 4, &d);
     TEST_ASSERT_EQUAL_INT(17, d.index);
+    TEST_ASSERT_NOT_NULL(strstr(d.rule, "must be below the previous bearing"));
     TEST_ASSERT_EQUAL_STRING("geometry.bearings", d.other);
     TEST_ASSERT_TRUE(d.limit == (double)g_bearings[16]);
     g_bearings[17] = g_bearings[16]; /* repeated */
@@ -411,6 +412,7 @@ static void test_bearing_tables_name_the_entry(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, d.code);
     TEST_ASSERT_EQUAL_INT(17, d.index);
     TEST_ASSERT_NOT_NULL(strstr(d.rule, "ACTAG_MIN_AZIMUTH_STEP"));
+    TEST_ASSERT_TRUE(d.limit == (double)g_bearings[16]);
     for (c = 0; c < COLS; c++)
         g_bearings[c] = 0.5f - 0.01f * (float)c;
     g_bearings[40] = NAN;
@@ -428,6 +430,85 @@ static void test_bearing_tables_name_the_entry(void)
     for (c = 0; c < COLS; c++)
         g_bearings[c] = 0.099f * (float)c; /* 6.24 rad: fine */
     expect(&f, &g, &p, sizeof g_ws, 4, ACTAG_OK, NULL, 0, "6.24 rad table");
+}
+
+/* Boundaries found by mutation testing (tools/mutate/mutate.py): the
+ * largest finite bearings are numbers (refused for the table's span, not as
+ * non-finite); two equal first bearings get the rule for a table of no
+ * direction yet; a passing check resets every field of the detail. */
+static void test_bearing_boundaries_and_a_reset_detail(void)
+{
+    actag_frame f;
+    actag_sonar_geometry g;
+    actag_params p;
+    actag_error_detail d;
+    int c;
+    base(&f, &g, &p);
+    g.bearings = g_bearings;
+    for (c = 0; c < COLS; c++)
+        g_bearings[c] = -0.5f + 0.01f * (float)c;
+    g_bearings[0] = -FLT_MAX;
+    actag_check(&f, &g, &p, sizeof g_ws, 4, &d);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, d.code);
+    TEST_ASSERT_EQUAL_INT(COLS - 1, d.index); /* the span, at the last entry */
+    TEST_ASSERT_TRUE(d.limit == (double)-FLT_MAX); /* against the first */
+    TEST_ASSERT_TRUE(d.value == (double)g_bearings[COLS - 1]);
+    g_bearings[0] = -0.5f;
+    g_bearings[COLS - 1] = FLT_MAX;
+    actag_check(&f, &g, &p, sizeof g_ws, 4, &d);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, d.code);
+    TEST_ASSERT_EQUAL_INT(COLS - 1, d.index);
+    TEST_ASSERT_NULL(strstr(d.rule, "finite"));
+    g_bearings[COLS - 1] = -0.5f + 0.01f * (float)(COLS - 1);
+    g_bearings[1] = g_bearings[0];
+    actag_check(&f, &g, &p, sizeof g_ws, 4, &d);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, d.code);
+    TEST_ASSERT_EQUAL_INT(1, d.index);
+    TEST_ASSERT_NOT_NULL(strstr(d.rule, "must differ from the previous bearing (the table"));
+    g_bearings[1] = -0.49f;
+    {   /* two beams a full turn apart */
+        static const float two[2] = {0.0f, 6.3f};
+        actag_sonar_geometry g2 = g;
+        g2.bearings = two;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g2, ROWS, 2, &d));
+        TEST_ASSERT_EQUAL_INT(1, d.index);
+        TEST_ASSERT_TRUE(d.limit == 0.0);
+        g2.bearings = two + 1; /* one beam: no span */
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g2, ROWS, 1, NULL));
+    }
+    {   /* the limits themselves: a step of exactly ACTAG_MIN_AZIMUTH_STEP is
+         * enough, a span of exactly 6.2831853f (2 pi in float) is a full turn */
+        static const float least[2] = {0.0f, ACTAG_MIN_AZIMUTH_STEP};
+        static const float turn[2] = {0.0f, 6.2831853f}, turn_down[2] = {6.2831853f, 0.0f};
+        static const float below[2] = {0.0f, 6.283185f}, below_down[2] = {6.283185f, 0.0f};
+        actag_sonar_geometry g2 = g;
+        g2.bearings = least;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g2, ROWS, 2, NULL));
+        g2.bearings = turn;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g2, ROWS, 2, NULL));
+        g2.bearings = turn_down;
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_GEOMETRY, actag_geometry_validate(&g2, ROWS, 2, NULL));
+        g2.bearings = below;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g2, ROWS, 2, NULL));
+        g2.bearings = below_down;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_geometry_validate(&g2, ROWS, 2, NULL));
+    }
+    /* an ascending table that turns back is told to go up (a descending one
+     * down: test_bearing_tables_name_the_entry) */
+    g_bearings[5] = g_bearings[3];
+    actag_check(&f, &g, &p, sizeof g_ws, 4, &d);
+    TEST_ASSERT_EQUAL_INT(5, d.index);
+    TEST_ASSERT_NOT_NULL(strstr(d.rule, "must be above the previous bearing"));
+    g_bearings[5] = -0.5f + 0.01f * 5.0f;
+    /* the detail of the failure above is replaced, field by field */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_check(&f, &g, &p, sizeof g_ws, 4, &d));
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, d.code);
+    TEST_ASSERT_NULL(d.field);
+    TEST_ASSERT_EQUAL_INT(-1, d.index);
+    TEST_ASSERT_TRUE(d.value == 0.0);
+    TEST_ASSERT_NULL(d.rule);
+    TEST_ASSERT_NULL(d.other);
+    TEST_ASSERT_TRUE(d.limit == 0.0);
 }
 
 /* --------------------------------------------------- frame-derived bounds */
@@ -813,6 +894,7 @@ int main(void)
     RUN_TEST(test_swapped_and_too_close_ranges);
     RUN_TEST(test_flags);
     RUN_TEST(test_bearing_tables_name_the_entry);
+    RUN_TEST(test_bearing_boundaries_and_a_reset_detail);
     RUN_TEST(test_huge_tag_size_is_rejected_against_the_range);
     RUN_TEST(test_tag_size_the_refinement_refuses_is_an_error);
     RUN_TEST(test_tiny_azimuth_steps);
