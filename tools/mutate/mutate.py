@@ -268,9 +268,12 @@ def main():
                 outcome = "timeout" if rc is None else ("survived" if rc == 0 else "killed")
                 if outcome == "survived" and confirm_test:
                     rc, out = run(confirm_build, a.timeout * 4)
-                    if rc == 0:
+                    if rc != 0:  # the rest of the tree does not build with it
+                        outcome = "stillborn"
+                    else:
                         rc, out = run(confirm_test, a.timeout * 4)
-                    outcome = "timeout" if rc is None else ("survived" if rc == 0 else "killed")
+                        outcome = ("timeout" if rc is None
+                                   else ("survived" if rc == 0 else "killed"))
             counts[outcome] += 1
             src_line = original.splitlines()[line - 1].strip()
             results.append({"line": line, "old": old, "new": new,

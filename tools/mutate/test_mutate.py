@@ -92,18 +92,26 @@ int main(void) {
     return !(tested(2) == 1 && tested(3) == 0);
 }
 """
+TOY_WIDE = """int untested(int a);
+int main(void) {
+    return untested(1) != 8;
+}
+"""
 TOY_CMAKE = """cmake_minimum_required(VERSION 3.13)
 project(toy C)
 enable_testing()
 add_executable(toy_test toy.c toy_test.c)
 add_test(NAME toy_test COMMAND toy_test)
+add_executable(toy_wide toy.c toy_wide.c)
+add_test(NAME toy_wide COMMAND toy_wide)
 """
 
 
 def test_toy_run(tmp):
     src = os.path.join(tmp, "toy")
     os.makedirs(src)
-    for name, body in (("toy.c", TOY_C), ("toy_test.c", TOY_TEST), ("CMakeLists.txt", TOY_CMAKE)):
+    for name, body in (("toy.c", TOY_C), ("toy_test.c", TOY_TEST), ("toy_wide.c", TOY_WIDE),
+                       ("CMakeLists.txt", TOY_CMAKE)):
         with open(os.path.join(src, name), "w") as f:
             f.write(body)
     out = os.path.join(tmp, "out.json")
@@ -125,6 +133,15 @@ def test_toy_run(tmp):
           "counts %r" % res["counts"])
     check(open(os.path.join(src, "toy.c")).read() == TOY_C, "toy.c not restored")
     check("mutation score 50.0 %" in stdout, "score line missing: %r" % stdout[-300:])
+    # --confirm: the wider set (toy_wide tests untested()) kills the survivors
+    rc, stdout, err = run_tool(["--source", src, "--build", os.path.join(tmp, "b"),
+                                "--file", "toy.c", "--tests", "^toy_test$",
+                                "--confirm", "^toy_", "--timeout", "60", "--json", out])
+    check(rc == 0, "toy run with --confirm failed: %d %s %s" % (rc, stdout, err))
+    if rc == 0:
+        res = json.load(open(out))
+        check(res["counts"]["killed"] == 4 and res["counts"]["survived"] == 0,
+              "--confirm counts %r" % res["counts"])
 
 
 def main():
