@@ -122,8 +122,6 @@ def sites(text, lines):
         if lines and not (lines[0] <= line <= lines[1]):
             continue
         tok = m.group(0)
-        # skip array sizes and #-less table rows: lines that are part of a
-        # static const table are mostly data, not logic
         src_line = text[text.rfind("\n", 0, a) + 1:text.find("\n", a)]
         if re.fullmatch(r"[\s\w,{}()+-]*", src_line) and not re.search(r"[a-zA-Z_]\w*\s*\(|=|;", src_line):
             continue  # a row of a data table, not logic
@@ -138,8 +136,8 @@ def sites(text, lines):
             digits = re.match(r"\d+", tok).group(0)
             if len(digits) > 1 and digits.startswith("0"):
                 continue  # octal
-            if "[" in src_line and "]" in src_line and re.search(r"\[\s*" + digits + r"\s*\]", src_line) and "static" in src_line:
-                continue
+            if "static" in src_line and re.search(r"\[\s*" + digits + r"\s*\]", src_line):
+                continue  # the size of a static table
             new = str(int(digits) + 1) + tok[len(digits):]
         elif m.group("rel"):
             new = REL[tok]
@@ -155,10 +153,10 @@ def sites(text, lines):
     return out
 
 
-def run(cmd, timeout, cwd=None):
+def run(cmd, timeout):
     """(returncode or None on timeout, output tail)."""
     try:
-        p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE,
+        p = subprocess.Popen(cmd, stdout=subprocess.PIPE,
                              stderr=subprocess.STDOUT, start_new_session=True)
         out, _ = p.communicate(timeout=timeout)
         return p.returncode, out.decode("utf-8", "replace")[-2000:]
@@ -166,6 +164,20 @@ def run(cmd, timeout, cwd=None):
         os.killpg(p.pid, signal.SIGKILL)
         p.communicate()
         return None, "timeout"
+
+
+def verdict(rc):
+    """A test run's return code as a mutant's outcome."""
+    return "timeout" if rc is None else ("survived" if rc == 0 else "killed")
+
+
+def listed(build_dir, regex, option):
+    """The CTest tests of build_dir matching regex; exits when there is none."""
+    rc, out = run(["ctest", "--test-dir", build_dir, "-N", "-R", regex], 60)
+    names = re.findall(r"Test +#\d+: (\S+)", out)
+    if not names:
+        fail("%s '%s' matches no CTest test in %s" % (option, regex, build_dir))
+    return names
 
 
 def main():
@@ -207,20 +219,14 @@ def main():
                        "-DCMAKE_BUILD_TYPE=Release"], a.timeout * 4)
         if rc != 0:
             fail("cannot configure %s:\n%s" % (a.build, out))
-    rc, out = run(["ctest", "--test-dir", a.build, "-N", "-R", a.tests], 60)
-    names = re.findall(r"Test +#\d+: (\S+)", out)
-    if not names:
-        fail("--tests '%s' matches no CTest test in %s" % (a.tests, a.build))
+    names = listed(a.build, a.tests, "--tests")
     targets = [t for t in a.targets.split(",") if t] or names
     build = ["cmake", "--build", a.build, "-j2", "--target"] + targets
     test = ["ctest", "--test-dir", a.build, "-R", a.tests, "-j2",
             "--stop-on-failure", "--timeout", str(int(a.timeout))]
     confirm_build = confirm_test = None
     if a.confirm:
-        rc, out = run(["ctest", "--test-dir", a.build, "-N", "-R", a.confirm], 60)
-        wide = re.findall(r"Test +#\d+: (\S+)", out)
-        if not wide:
-            fail("--confirm '%s' matches no CTest test in %s" % (a.confirm, a.build))
+        listed(a.build, a.confirm, "--confirm")
         confirm_build = ["cmake", "--build", a.build, "-j2"]
         confirm_test = ["ctest", "--test-dir", a.build, "-R", a.confirm, "-j2",
                         "--stop-on-failure", "--timeout", str(int(a.timeout))]
@@ -228,10 +234,12 @@ def main():
     with open(path, "r", encoding="utf-8") as f:
         original = f.read()
 
-    def restore(*_):
+    source_lines = original.splitlines()
+
+    def restore(*from_signal):
         with open(path, "w", encoding="utf-8") as f:
             f.write(original)
-        if _:
+        if from_signal:
             sys.exit(130)
     signal.signal(signal.SIGINT, restore)
     signal.signal(signal.SIGTERM, restore)
@@ -265,17 +273,16 @@ def main():
                 outcome = "stillborn"
             else:
                 rc, out = run(test, a.timeout * 2)
-                outcome = "timeout" if rc is None else ("survived" if rc == 0 else "killed")
+                outcome = verdict(rc)
                 if outcome == "survived" and confirm_test:
                     rc, out = run(confirm_build, a.timeout * 4)
                     if rc != 0:  # the rest of the tree does not build with it
                         outcome = "stillborn"
                     else:
                         rc, out = run(confirm_test, a.timeout * 4)
-                        outcome = ("timeout" if rc is None
-                                   else ("survived" if rc == 0 else "killed"))
+                        outcome = verdict(rc)
             counts[outcome] += 1
-            src_line = original.splitlines()[line - 1].strip()
+            src_line = source_lines[line - 1].strip()
             results.append({"line": line, "old": old, "new": new,
                             "outcome": outcome, "source": src_line})
             print("[%d/%d] %s:%d %s -> %s: %s (%.0f s)%s"

@@ -42,7 +42,7 @@ static int count(const char *s, const char *what)
 
 static void test_run_13004_frame_49_is_not_read_in_the_wrong_handedness(void)
 {
-    char cmd[2048], path[512], *truth, *out, *last;
+    char cmd[2048], path[512], *truth, *out, *frame49;
     snprintf(cmd, sizeof cmd,
              "rm -rf \"%s\" && \"%s\" --seed 13004 --random 50 " RUN_13004
              " --out-dir \"%s\" > /dev/null",
@@ -53,10 +53,10 @@ static void test_run_13004_frame_49_is_not_read_in_the_wrong_handedness(void)
     snprintf(path, sizeof path, "%s/truth.jsonl", FRAMES);
     truth = (char *)hostio_slurp(path, NULL, NULL);
     TEST_ASSERT_NOT_NULL(truth);
-    last = strstr(truth, "\"frame\": 49,");
-    TEST_ASSERT_NOT_NULL_MESSAGE(last, "no frame 49 in truth.jsonl");
-    TEST_ASSERT_NOT_NULL(strstr(last, "\"id\": 0, \"tag_size\""));
-    TEST_ASSERT_NOT_NULL(strstr(last, "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.117"));
+    frame49 = strstr(truth, "\"frame\": 49,"); /* the last line */
+    TEST_ASSERT_NOT_NULL_MESSAGE(frame49, "no frame 49 in truth.jsonl");
+    TEST_ASSERT_NOT_NULL(strstr(frame49, "\"id\": 0, \"tag_size\""));
+    TEST_ASSERT_NOT_NULL(strstr(frame49, "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.117"));
     free(truth);
 
     snprintf(path, sizeof path, "%s/detect.json", FRAMES);
