@@ -1072,6 +1072,449 @@ static void count_budget(actag_stats *st, int cut, int *contour_counted)
     }
 }
 
+/* One frame's detection for one resolved parameter set, in progress: what
+ * the stages of detect_filtered share. */
+typedef struct {
+    const actag_sonar_geometry *geometry;
+    const actag_params *params;
+    const ws_layout *w;
+    int rows, cols, flip_mirror;
+    const tracer *tr;
+    actag_stats st;
+    actag_detection *out;
+    int max_out, nout;
+    /* the decoder's fitted-grid corners of out[0 .. REFINE_STARTS-1]: the
+     * refinement's second start (refine_det) */
+    actag_point fit_start[REFINE_STARTS][4];
+    /* the search's tentative readings, their search boxes and kept grids */
+    actag_decode_result sk_dr[ACTAG_SEARCH_MAX];
+    actag_point sk_box[ACTAG_SEARCH_MAX][4];
+    actag__fit_grids sk_grids[ACTAG_SEARCH_MAX];
+    int nsk;
+    /* search readings that a quad's or guess's reading superseded */
+    int sk_used[ACTAG_SEARCH_MAX];
+    /* search readings that refused another reading at their place */
+    int sk_contested[ACTAG_SEARCH_MAX];
+    /* quad and guess readings refused as too close to call (rival_explains) */
+    actag__fit_rival held[ACTAG_HELD_MAX];
+    int nheld;
+    int nguess;      /* contour guesses read, at most ACTAG_GUESS_MAX */
+    actag_rng rng;   /* RANSAC's samples, seeded once a frame */
+    int frame_iters; /* RANSAC iterations left in the frame */
+} frame_run;
+
+/* One size-plausible contour's readings in progress (read_contour). */
+typedef struct {
+    /* hypotheses of its quads' readings refused as too close to call */
+    actag__fit_rival amb[ACTAG_AMB_MAX];
+    int namb;
+    /* its grid guess gq (grids ggx), once read tentatively by the
+     * cross-check (guess_read 1), and kept for the guess stage when it
+     * refused the quad's reading (2) */
+    int guess_read;
+    actag_point gq[4];
+    actag__fit_grids ggx;
+    int decoded_quads; /* quads that reached the decoder */
+} contour_run;
+
+/* The checks every blind reading (a search position's, a contour guess's,
+ * a merged blob's box q) passes before it is reported: an accepted
+ * verdict becomes ACTAG_TRACE_RIVAL when a rival at its place explains the
+ * cells at least as well: the search readings (with_search: those in f,
+ * marked contested when they win) or the held hypotheses amb (namb), then
+ * the readings of q turned (turned_rival_refuses). Traced as kind; returns
+ * the verdict. */
+static inline int judge_blind(frame_run *f, int kind, int verdict, const actag_decode_result *dr,
+                              int with_search, const actag__fit_rival *amb, int namb,
+                              const actag_point q[4])
+{
+    if (verdict == ACTAG_TRACE_ACCEPTED &&
+        rival_explains(f->w, f->rows, f->cols, f->params, dr, with_search ? f->sk_dr : NULL,
+                       with_search ? f->nsk : 0, amb, namb, dr->fit_corners,
+                       with_search ? f->sk_contested : NULL))
+        verdict = ACTAG_TRACE_RIVAL;
+    if (verdict == ACTAG_TRACE_ACCEPTED &&
+        turned_rival_refuses(f->w, f->rows, f->cols, f->geometry, f->params, q, dr))
+        verdict = ACTAG_TRACE_RIVAL;
+    trace_quad(f->tr, kind, verdict, q, 0.0f, verdict == ACTAG_TRACE_NO_MATCH ? NULL : dr);
+    return verdict;
+}
+
+/* 2. The structure search (before the threshold overwrites A): candidates
+ * the contours may miss. Each is read without the template check (the
+ * wide reading's costliest part, a full-range polish of every likely
+ * hypothesis): a tentative reading. Contours at one get more RANSAC
+ * iterations (read_quads), so a tag seen by both reports the quad's
+ * corners; a tentative reading that no quad supersedes is read again with
+ * the check, from the grids found here, before it is reported
+ * (search_readings). On the pool frames most search readings are
+ * superseded, so their check was spent for nothing (Cortex-M7: 68.2 -> ~62
+ * M instructions per frame). */
+static void search_stage(frame_run *f)
+{
+    const actag_params *params = f->params;
+    const ws_layout *w = f->w;
+    actag_search z;
+    actag_point quad[4];
+    int ncand = 0;
+    if (params->tuning.search_candidates <= 0)
+        return;
+    /* the map uses A and M (free until the threshold), the integral image
+     * S; a frame too small for them is simply not searched */
+    if (actag_search_map(&z, w->b, f->rows, f->cols, f->cols, f->geometry, params->tag_size,
+                         params->family->bits, params->tuning.search_range_scale, w->map,
+                         w->map_size, w->ii, w->ii_size) != ACTAG_OK)
+        return;
+    while (ncand < params->tuning.search_candidates &&
+           actag_search_next(&z, params->tuning.search_min_score * 8, f->geometry,
+                             params->tag_size, params->tuning.search_range_scale, f->rows,
+                             f->cols, quad)) {
+        actag__fit_grids *gg = &f->sk_grids[f->nsk];
+        actag_decode_result dr;
+        int verdict;
+        ncand++;
+        if (!decode_budget(&f->st, params)) {
+            /* this candidate, above the least score, is left undecoded */
+            f->st.search_cap = 1;
+            return;
+        }
+        f->st.searched++;
+        memset(gg, 0, sizeof *gg); /* state 0, not read before */
+        gg->blind = 1;             /* a box, not a fitted quad */
+        verdict = read_wide(w->b, f->rows, f->cols, quad, f->geometry, params, 0, gg, NULL, &dr);
+        if (verdict != ACTAG_TRACE_ACCEPTED) {
+            /* the check only refuses: no reading either way */
+            trace_quad(f->tr, ACTAG_TRACE_SEARCH, verdict, quad, 0.0f,
+                       verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
+            continue;
+        }
+        /* kept apart from the others at its place until checked */
+        f->sk_dr[f->nsk] = dr;
+        memcpy(f->sk_box[f->nsk], quad, sizeof f->sk_box[f->nsk]);
+        f->nsk++;
+    }
+    /* candidates left above the least score: the limit decided */
+    if (ncand == params->tuning.search_candidates &&
+        actag_search_next(&z, params->tuning.search_min_score * 8, f->geometry, params->tag_size,
+                          params->tuning.search_range_scale, f->rows, f->cols, quad))
+        f->st.search_cap = 1;
+}
+
+/* A contour refused by size that may be a white square merged with its
+ * neighbours: a guess at its centre (merged_box), judged like a contour's
+ * guess, with at most ACTAG_MERGED_CORRECTIONS corrected bits (a blind
+ * start inside a corrupted blob: stronger evidence). Returns the reading's
+ * corners (in *dr) or NULL. */
+static const actag_point *read_merged(frame_run *f, const actag_contour_info *ci,
+                                      actag_decode_result *dr)
+{
+    const actag_params *params = f->params;
+    actag_point gq[4];
+    actag__fit_grids gg;
+    int verdict;
+    if (params->tuning.decode_mode != ACTAG_DECODE_FIT ||
+        !merged_box(ci, f->geometry, params, f->rows, f->cols, gq))
+        return NULL; /* not a merged white square: nothing to read */
+    if (guess_on_border(gq, f->rows, f->cols)) {
+        trace_quad(f->tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
+        return NULL;
+    }
+    if (f->nguess >= ACTAG_GUESS_MAX) {
+        f->st.guess_cap++;
+        return NULL;
+    }
+    if (!decode_budget(&f->st, params))
+        return NULL;
+    memset(&gg, 0, sizeof gg);
+    gg.blind = 1; /* a box, not a fitted quad */
+    f->nguess++;
+    verdict = read_guess(f->w, f->rows, f->cols, f->geometry, params, &gg, f->held, &f->nheld,
+                         gq, dr);
+    if (verdict == ACTAG_TRACE_ACCEPTED && dr->hamming > ACTAG_MERGED_CORRECTIONS)
+        verdict = ACTAG_TRACE_MARGIN;
+    verdict = judge_blind(f, ACTAG_TRACE_GUESS, verdict, dr, 1, NULL, 0, gq);
+    /* kept as a contour's guess is (no quad to try) */
+    return verdict == ACTAG_TRACE_ACCEPTED ? dr->fit_corners : NULL;
+}
+
+/* RANSAC quads of one size-plausible contour (pts, ci), each decoded,
+ * until one reads: two tries, ACTAG_SEEK_QUAD_EFFORT at a place the search
+ * found a tag, each within the contour's and the frame's iteration limits.
+ * A reading is refused by the structure budget, by a search reading that
+ * explains its place at least as well (rival_explains) and by the
+ * cross-check. Returns ACTAG_OK with the reading in *dr and the quad's
+ * RANSAC support in *ratio, or the last try's failure. */
+static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour_info *ci,
+                      void *qscratch, size_t qscratch_size, contour_run *c,
+                      actag_decode_result *dr, float *ratio)
+{
+    const actag_params *params = f->params;
+    actag_quad q;
+    int k, rc = ACTAG_ERR_NO_QUAD, tries = 2,
+           contour_iters = params->tuning.limits.max_contour_iterations, contour_limited = 0;
+    /* A contour at a tag the search found gets several RANSAC quads (each
+     * the first acceptable one) until one decodes, so the tag is reported
+     * with a quad's corners. */
+    for (k = 0; k < f->nsk; k++) {
+        actag_point m = centre(f->sk_dr[k].fit_corners);
+        if (m.x >= (float)ci->min_x && m.x <= (float)ci->max_x && m.y >= (float)ci->min_y &&
+            m.y <= (float)ci->max_y) {
+            tries = ACTAG_SEEK_QUAD_EFFORT;
+            break;
+        }
+    }
+    for (k = 0; k < tries; k++) {
+        actag_quad_params qp = params->tuning.quad;
+        actag__fit_amb qa;
+        /* which limit lowered this fit's cap: 0 none, 1 the frame's, 2 the
+         * contour's; counted only when reached (a skipped fit, or one that
+         * ran the lowered cap without stopping early) */
+        int cut = 0;
+        /* iterations: the per-fit limit, within the contour's and the frame's */
+        if (qp.max_iterations > contour_iters)
+            qp.max_iterations = contour_iters;
+        if (qp.max_iterations > f->frame_iters)
+            qp.max_iterations = f->frame_iters;
+        if (qp.max_iterations < params->tuning.quad.max_iterations)
+            cut = f->frame_iters < contour_iters ? 1 : 2;
+        if (cut && qp.max_iterations < 1) {
+            count_budget(&f->st, cut, &contour_limited);
+            return ACTAG_ERR_NO_QUAD;
+        }
+        q.iterations = 0;
+        q.stopped_early = 0;
+        rc = actag_quad_fit(pts, ci->stored, &qp, &f->rng, qscratch, qscratch_size, &q);
+        contour_iters -= q.iterations;
+        f->frame_iters -= q.iterations;
+        f->st.iterations += q.iterations;
+        if (!q.stopped_early && q.iterations >= qp.max_iterations) {
+            f->st.ransac_exhausted++;
+            if (cut)
+                count_budget(&f->st, cut, &contour_limited);
+        }
+        if (rc != ACTAG_OK)
+            continue; /* another try draws other samples */
+        f->st.quads++;
+        if (!sides_plausible(q.corners, f->geometry, params, f->rows, f->cols)) {
+            trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_SIDES, q.corners, q.inlier_ratio,
+                       NULL);
+            rc = ACTAG_ERR_NO_QUAD;
+            continue;
+        }
+        if (!decode_budget(&f->st, params))
+            return ACTAG_ERR_NO_MATCH;
+        rc = decode_any(f->w, f->rows, f->cols, q.corners, params, &qa, dr);
+        if (rc == ACTAG_ERR_NO_MATCH && qa.amb) {
+            /* each grid's refused pair: the reading, its rival */
+            const actag__fit_rival *pair[2];
+            int np = 0, ip;
+            pair[np++] = qa.r;
+            if (qa.amb2)
+                pair[np++] = qa.r2;
+            for (ip = 0; ip < np; ip++) {
+                if (c->namb + 2 <= ACTAG_AMB_MAX) {
+                    c->amb[c->namb++] = pair[ip][0];
+                    c->amb[c->namb++] = pair[ip][1];
+                }
+                hold_pair(f->held, &f->nheld, pair[ip]);
+            }
+        }
+        c->decoded_quads++;
+        if (rc != ACTAG_OK) {
+            trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_NO_MATCH, q.corners, q.inlier_ratio,
+                       NULL);
+            continue;
+        }
+        /* the fit decoder's structure gate: black ring and white interior
+         * cells on the right side of the mid level */
+        if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
+            !structure_ok(dr, params, params->max_bit_corrections)) {
+            trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_STRUCTURE, q.corners,
+                       q.inlier_ratio, dr);
+            rc = ACTAG_ERR_NO_MATCH;
+            continue;
+        }
+        /* a search reading here that disagrees and explains the cells at
+         * least as well: no reading (another quad may) */
+        if (rival_explains(f->w, f->rows, f->cols, params, dr, f->sk_dr, f->nsk, NULL, 0,
+                           dr->corners, f->sk_contested)) {
+            trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners, q.inlier_ratio,
+                       dr);
+            rc = ACTAG_ERR_NO_MATCH;
+            continue;
+        }
+        /* Cross-check: a reading with corrected bits is read once more
+         * from the contour's own grid guess (the wide search, other grids
+         * than the quad's). When that reads another tag, handedness or
+         * corner order here, the two are judged as whole templates, each
+         * polished over the full range at both places: unless the quad's
+         * leads by the least decision margin (the log-likelihood ratio
+         * under the template check's noise model; each reading paid its
+         * look-elsewhere allowance in its own check), the place has two
+         * readings and the quad's is refused; the guess is then judged in
+         * its place, against the quad's reading (amb), so it is reported
+         * only when it explains the cells better. (Frame 435 of
+         * bench/heldout_sweep.py's seed 9609, pool sonar, AcTag24h8: a
+         * mirrored tag 27 whose quad read tag 8 unmirrored at hamming 2,
+         * margin 4.6; the guess reads tag 27 at hamming 1, margin 9.9; as
+         * templates tag 8 leads by 1.0 nat: no reading.) */
+        if (params->tuning.decode_mode == ACTAG_DECODE_FIT && dr->hamming >= ACTAG_CROSS_HAMMING &&
+            !c->guess_read && f->nguess < ACTAG_GUESS_MAX) {
+            c->guess_read = 1;
+            if (cross_check(f->w, f->rows, f->cols, pts, ci->stored, f->geometry, params, &f->st,
+                            &f->nguess, dr, c->gq, &c->ggx)) {
+                trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
+                           q.inlier_ratio, dr);
+                if (c->namb < ACTAG_AMB_MAX)
+                    c->amb[c->namb++] = rival_of(dr);
+                c->guess_read = 2;
+                return ACTAG_ERR_NO_MATCH; /* the guess is read with the check */
+            }
+        }
+        trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_ACCEPTED, q.corners, q.inlier_ratio, dr);
+        *ratio = q.inlier_ratio;
+        return ACTAG_OK;
+    }
+    return rc;
+}
+
+/* 4.-6. One size-plausible contour: its quads (read_quads); when none
+ * reads, its extreme points as a first guess for the wide grid search,
+ * judged like a search reading (after the cross-check's tentative reading,
+ * read again with the template check from its grids). Returns the
+ * reading's corners (in *dr, RANSAC support in *ratio, 0 for a guess) or
+ * NULL. */
+static const actag_point *read_contour(frame_run *f, const actag_ipoint *pts,
+                                       const actag_contour_info *ci, void *qscratch,
+                                       size_t qscratch_size, actag_decode_result *dr,
+                                       float *ratio)
+{
+    const actag_params *params = f->params;
+    contour_run c;
+    int rc, verdict, fit = params->tuning.decode_mode == ACTAG_DECODE_FIT;
+    c.namb = 0;
+    c.guess_read = 0;
+    c.decoded_quads = 0;
+    rc = read_quads(f, pts, ci, qscratch, qscratch_size, &c, dr, ratio);
+    if (rc == ACTAG_OK)
+        return dr->corners;
+    if (!fit)
+        return NULL;
+    if (c.guess_read != 2 && f->nguess >= ACTAG_GUESS_MAX) {
+        f->st.guess_cap++;
+        return NULL;
+    }
+    verdict = c.guess_read == 2
+                  ? read_guess_again(f->w, f->rows, f->cols, f->geometry, params, &f->st, &c.ggx,
+                                     f->held, &f->nheld, c.gq, dr)
+                  : contour_guess(f->w, f->rows, f->cols, pts, ci->stored, f->geometry, params,
+                                  &f->st, c.decoded_quads > 0, &c.ggx, &f->nguess, f->held,
+                                  &f->nheld, c.gq, dr);
+    if (verdict == GUESS_BORDER) {
+        trace_quad(f->tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, c.gq, 0.0f, NULL);
+        return NULL;
+    }
+    if (verdict == GUESS_UNREAD ||
+        judge_blind(f, ACTAG_TRACE_GUESS, verdict, dr, 1, c.amb, c.namb, c.gq) !=
+            ACTAG_TRACE_ACCEPTED)
+        return NULL;
+    *ratio = 0.0f;
+    return dr->fit_corners;
+}
+
+/* A reading of a contour, at corners: a detection (record), and the search
+ * readings at its place superseded. */
+static void keep_reading(frame_run *f, const actag_decode_result *dr, const actag_point *corners,
+                         float ratio)
+{
+    actag_detection d;
+    int k;
+    f->st.decoded++;
+    fill_det(&d, dr, corners, ratio, f->geometry, f->rows, f->cols, f->flip_mirror);
+    for (k = 0; k < f->nsk; k++)
+        if (same_place(d.corners, f->sk_dr[k].fit_corners))
+            f->sk_used[k] = 1;
+    record(f->out, f->max_out, &f->nout, &f->st, &d, dr->fit_corners, f->fit_start);
+}
+
+/* 4.-6. Contours, one at a time (the scanner over the bitmap A), each
+ * through the size filter to its quads and guesses (read_contour), or, too
+ * large, to a merged white square's box (read_merged). pts and qscratch:
+ * the point buffer (cap points) and the quad fit's scratch in S. */
+static int contour_stage(frame_run *f, actag_contour_scanner *scan, actag_ipoint *pts, int cap,
+                         void *qscratch, size_t qscratch_size)
+{
+    const actag_params *params = f->params;
+    for (;;) {
+        actag_contour_info ci;
+        actag_decode_result dr;
+        const actag_point *corners;
+        float ratio = 0.0f;
+        int rc = actag_contour_next(scan, pts, cap, &ci);
+        if (rc < 0)
+            return rc;
+        if (rc == 0)
+            return ACTAG_OK;
+        /* asked after the next border is found: a frame of exactly
+         * max_contours borders has been examined whole */
+        if (f->st.contours >= params->tuning.limits.max_contours) {
+            f->st.contour_cap = 1; /* the rest of the frame is not examined */
+            return ACTAG_OK;
+        }
+        f->st.contours++;
+        if (ci.overflow) {
+            f->st.overflowed++;
+            trace_contour(f->tr, ACTAG_TRACE_OVERFLOW, pts, &ci);
+            continue;
+        }
+        if (size_plausible(&ci, f->geometry, params, f->rows, f->cols)) {
+            trace_contour(f->tr, ACTAG_TRACE_ACCEPTED, pts, &ci);
+            f->st.size_ok++;
+            corners = read_contour(f, pts, &ci, qscratch, qscratch_size, &dr, &ratio);
+        } else {
+            trace_contour(f->tr, ACTAG_TRACE_SIZE, pts, &ci);
+            corners = read_merged(f, &ci, &dr);
+        }
+        if (corners != NULL)
+            keep_reading(f, &dr, corners, ratio);
+    }
+}
+
+/* Search readings that no quad superseded: read again with the template
+ * check from their grids; of those at one place, record keeps the one with
+ * the fewest corrections. A contested one (it refused a quad's or guess's
+ * reading that disagreed with it: rival_explains) is not: two readings of
+ * one place that each pass their own checks give no reading (a wrong ID is
+ * worse than a miss). */
+static void search_readings(frame_run *f)
+{
+    int k;
+    for (k = 0; k < f->nsk; k++) {
+        actag_decode_result dr;
+        actag_detection d;
+        int verdict;
+        if (f->sk_used[k]) { /* the tentative reading went on, a quad's superseded it */
+            f->st.decoded++;
+            trace_quad(f->tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_ACCEPTED, f->sk_box[k], 0.0f,
+                       &f->sk_dr[k]);
+            continue;
+        }
+        if (f->sk_contested[k]) {
+            trace_quad(f->tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_RIVAL, f->sk_box[k], 0.0f,
+                       &f->sk_dr[k]);
+            continue;
+        }
+        verdict = read_wide(f->w->b, f->rows, f->cols, f->sk_box[k], f->geometry, f->params, 1,
+                            &f->sk_grids[k], NULL, &dr);
+        if (judge_blind(f, ACTAG_TRACE_SEARCH, verdict, &dr, 0, f->held, f->nheld,
+                        f->sk_box[k]) != ACTAG_TRACE_ACCEPTED)
+            continue;
+        f->st.decoded++;
+        fill_det(&d, &dr, dr.fit_corners, 0.0f, f->geometry, f->rows, f->cols, f->flip_mirror);
+        record(f->out, f->max_out, &f->nout, &f->st, &d, dr.fit_corners, f->fit_start);
+    }
+}
+
 /* Stages 2-7 on a filtered frame (B) for one resolved parameter set. */
 static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry *geometry,
                            const actag_params *params,
@@ -1080,89 +1523,27 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
                            actag_detection *out, int max_out, actag_stats *stats,
                            const tracer *tr)
 {
-    actag_stats st;
-    ws_layout w = *wl;
-    int rc, nout = 0, nsk = 0, k, nguess = 0;
-    /* the decoder's fitted-grid corners of out[0 .. REFINE_STARTS-1]: the
-     * refinement's second start (refine_det) */
-    actag_point fit_start[REFINE_STARTS][4];
-    /* the search's tentative readings, their search boxes and kept grids */
-    actag_decode_result sk_dr[ACTAG_SEARCH_MAX];
-    actag_point sk_box[ACTAG_SEARCH_MAX][4];
-    actag__fit_grids sk_grids[ACTAG_SEARCH_MAX];
-    int sk_used[ACTAG_SEARCH_MAX] = {0};
-    /* search readings that refused another reading at their place */
-    int sk_contested[ACTAG_SEARCH_MAX] = {0};
-    /* quad and guess readings refused as too close to call (rival_explains) */
-    actag__fit_rival held[ACTAG_HELD_MAX];
-    int nheld = 0;
+    frame_run f;
     actag_contour_scanner scan;
-    actag_ipoint *pts;
-    void *qscratch;
-    size_t cap, qscratch_size;
-    actag_rng rng;
-    int frame_iters;
+    size_t cap, pts_size;
+    int rc, k;
 
-    memset(&st, 0, sizeof st);
-    /* 2. structure search (before the threshold overwrites A): candidates
-     * the contours may miss. Each is read without the template check (the
-     * wide reading's costliest part, a full-range polish of every likely
-     * hypothesis): a tentative reading. Contours at one get more RANSAC
-     * iterations below, so a tag seen by both reports the quad's corners;
-     * a tentative reading that no quad supersedes is read again with the
-     * check, from the grids found here, before it is reported. On the pool
-     * frames most search readings are superseded, so their check was spent
-     * for nothing (Cortex-M7: 68.2 -> ~62 M instructions per frame). */
-    if (params->tuning.search_candidates > 0) {
-        actag_search z;
-        int ncand = 0;
-        /* the map uses A and M (free until the threshold), the integral
-         * image S; a frame too small for them is simply not searched */
-        if (actag_search_map(&z, w.b, rows, cols, cols, geometry, params->tag_size,
-                             params->family->bits,
-                             params->tuning.search_range_scale, w.map, w.map_size, w.ii,
-                             w.ii_size) == ACTAG_OK) {
-            actag_point quad[4];
-            while (ncand < params->tuning.search_candidates &&
-                   actag_search_next(&z, params->tuning.search_min_score * 8, geometry,
-                                     params->tag_size, params->tuning.search_range_scale, rows, cols,
-                                     quad)) {
-                actag_decode_result dr;
-                int verdict;
-                ncand++;
-                if (!decode_budget(&st, params)) {
-                    /* this candidate, above the least score, is left undecoded */
-                    st.search_cap = 1;
-                    ncand = params->tuning.search_candidates;
-                    break;
-                }
-                st.searched++;
-                memset(&sk_grids[nsk], 0, sizeof sk_grids[nsk]); /* state 0, not read before */
-                sk_grids[nsk].blind = 1; /* a box, not a fitted quad */
-                verdict = read_wide(w.b, rows, cols, quad, geometry, params, 0, &sk_grids[nsk],
-                                    NULL, &dr);
-                if (verdict != ACTAG_TRACE_ACCEPTED) {
-                    /* the check only refuses: no reading either way */
-                    trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, quad, 0.0f,
-                               verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
-                    continue;
-                }
-                /* kept apart from the others at its place until checked */
-                sk_dr[nsk] = dr;
-                memcpy(sk_box[nsk], quad, sizeof sk_box[nsk]);
-                nsk++;
-            }
-            /* candidates left above the least score: the limit decided */
-            if (ncand == params->tuning.search_candidates && !st.search_cap &&
-                actag_search_next(&z, params->tuning.search_min_score * 8, geometry, params->tag_size,
-                                  params->tuning.search_range_scale, rows, cols, quad))
-                st.search_cap = 1;
-        }
-    }
+    memset(&f, 0, sizeof f);
+    f.geometry = geometry;
+    f.params = params;
+    f.w = wl;
+    f.rows = rows;
+    f.cols = cols;
+    f.flip_mirror = flip_mirror;
+    f.tr = tr;
+    f.out = out;
+    f.max_out = max_out;
+    search_stage(&f);
+
     /* 3. adaptive threshold: B -> the bitmap A (the search map is done) */
-    rc = actag_adaptive_threshold_bitmap(w.b, rows, cols, cols, w.bin,
+    rc = actag_adaptive_threshold_bitmap(wl->b, rows, cols, cols, wl->bin,
                                          params->tuning.threshold_radius,
-                                         params->tuning.threshold_offset, w.th, w.th_size);
+                                         params->tuning.threshold_offset, wl->th, wl->th_size);
     if (rc != ACTAG_OK)
         return rc;
 
@@ -1175,323 +1556,28 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
      * than refused by actag_quad_fit without a count or a trace */
     if (cap > (size_t)ACTAG_QUAD_MAX_POINTS)
         cap = (size_t)ACTAG_QUAD_MAX_POINTS;
-    pts = (actag_ipoint *)(void *)w.s;
-    qscratch = w.s + ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
-    qscratch_size = w.s_size - ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
-    frame_iters = params->tuning.limits.max_frame_iterations;
-    rc = actag_contour_scanner_init(&scan, w.bin, w.marks, rows, cols);
+    pts_size = ACTAG__ALIGN16(ACTAG_CONTOUR_CAP(rows, cols) * sizeof(actag_ipoint));
+    f.frame_iters = params->tuning.limits.max_frame_iterations;
+    rc = actag_contour_scanner_init(&scan, wl->bin, wl->marks, rows, cols);
     if (rc != ACTAG_OK)
         return rc;
-    actag_rng_seed(&rng, params->seed);
-    {
-        for (;;) {
-            actag_contour_info ci;
-            actag_quad q;
-            actag_decode_result dr;
-            const actag_point *corners = NULL;
-            float ratio = 0.0f;
-            int tries, contour_iters = params->tuning.limits.max_contour_iterations,
-                contour_limited = 0, decoded_quads = 0, namb = 0;
-            /* hypotheses of this contour's quads refused as too close to call */
-            actag__fit_rival amb[ACTAG_AMB_MAX];
-            /* the contour's grid guess, once read tentatively by the
-             * cross-check (guess_read 1), and kept for the guess stage when
-             * it refused the quad's reading (2) */
-            int guess_read = 0;
-            actag_point gq[4];
-            actag__fit_grids ggx;
+    actag_rng_seed(&f.rng, params->seed);
+    rc = contour_stage(&f, &scan, (actag_ipoint *)(void *)wl->s, (int)cap, wl->s + pts_size,
+                       wl->s_size - pts_size);
+    if (rc != ACTAG_OK)
+        return rc;
+    search_readings(&f);
 
-            rc = actag_contour_next(&scan, pts, (int)cap, &ci);
-            if (rc < 0)
-                return rc;
-            if (rc == 0)
-                break;
-            /* asked after the next border is found: a frame of exactly
-             * max_contours borders has been examined whole */
-            if (st.contours >= params->tuning.limits.max_contours) {
-                st.contour_cap = 1; /* the rest of the frame is not examined */
-                break;
-            }
-            st.contours++;
-            if (ci.overflow) {
-                st.overflowed++;
-                trace_contour(tr, ACTAG_TRACE_OVERFLOW, pts, &ci);
-                continue;
-            }
-            if (!size_plausible(&ci, geometry, params, rows, cols)) {
-                trace_contour(tr, ACTAG_TRACE_SIZE, pts, &ci);
-                /* a white square merged with its neighbours: a guess at
-                 * its centre, judged like a contour's guess */
-                if (params->tuning.decode_mode != ACTAG_DECODE_FIT ||
-                    !merged_box(&ci, geometry, params, rows, cols, gq)) {
-                    /* not a merged white square: nothing to read */
-                } else if (guess_on_border(gq, rows, cols)) {
-                    trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
-                } else if (nguess >= ACTAG_GUESS_MAX) {
-                    st.guess_cap++;
-                } else if (decode_budget(&st, params)) {
-                    int verdict;
-                    memset(&ggx, 0, sizeof ggx);
-                    ggx.blind = 1; /* a box, not a fitted quad */
-                    nguess++;
-                    verdict = read_guess(&w, rows, cols, geometry, params, &ggx, held, &nheld, gq,
-                                         &dr);
-                    /* a blind start inside a corrupted blob: stronger evidence */
-                    if (verdict == ACTAG_TRACE_ACCEPTED && dr.hamming > ACTAG_MERGED_CORRECTIONS)
-                        verdict = ACTAG_TRACE_MARGIN;
-                    if (verdict == ACTAG_TRACE_ACCEPTED &&
-                        rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, 0,
-                                       dr.fit_corners, sk_contested))
-                        verdict = ACTAG_TRACE_RIVAL;
-                    if (verdict == ACTAG_TRACE_ACCEPTED &&
-                        turned_rival_refuses(&w, rows, cols, geometry, params, gq, &dr))
-                        verdict = ACTAG_TRACE_RIVAL;
-                    trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
-                               verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
-                    if (verdict == ACTAG_TRACE_ACCEPTED) {
-                        /* kept as a contour's guess is (no quad to try) */
-                        corners = dr.fit_corners;
-                        ratio = 0.0f;
-                        goto keep;
-                    }
-                }
-                continue;
-            }
-            trace_contour(tr, ACTAG_TRACE_ACCEPTED, pts, &ci);
-            st.size_ok++;
-            /* A contour at a tag the search found gets several RANSAC
-             * quads (each the first acceptable one) until one decodes, so
-             * the tag is reported with a quad's corners. */
-            tries = 2;
-            for (k = 0; k < nsk; k++) {
-                actag_point m = centre(sk_dr[k].fit_corners);
-                if (m.x >= (float)ci.min_x && m.x <= (float)ci.max_x && m.y >= (float)ci.min_y &&
-                    m.y <= (float)ci.max_y) {
-                    tries = ACTAG_SEEK_QUAD_EFFORT;
-                    break;
-                }
-            }
-            rc = ACTAG_ERR_NO_QUAD;
-            for (k = 0; k < tries; k++) {
-                actag_quad_params qp = params->tuning.quad;
-                /* which limit lowered this fit's cap: 0 none, 1 the frame's,
-                 * 2 the contour's; counted only when reached (a skipped fit,
-                 * or one that ran the lowered cap without stopping early) */
-                int cut = 0;
-                /* iterations: the per-fit limit, within the contour's and the frame's */
-                if (qp.max_iterations > contour_iters)
-                    qp.max_iterations = contour_iters;
-                if (qp.max_iterations > frame_iters)
-                    qp.max_iterations = frame_iters;
-                if (qp.max_iterations < params->tuning.quad.max_iterations)
-                    cut = frame_iters < contour_iters ? 1 : 2;
-                if (cut && qp.max_iterations < 1) {
-                    count_budget(&st, cut, &contour_limited);
-                    rc = ACTAG_ERR_NO_QUAD;
-                    break;
-                }
-                q.iterations = 0;
-                q.stopped_early = 0;
-                rc = actag_quad_fit(pts, ci.stored, &qp, &rng, qscratch, qscratch_size, &q);
-                contour_iters -= q.iterations;
-                frame_iters -= q.iterations;
-                st.iterations += q.iterations;
-                if (!q.stopped_early && q.iterations >= qp.max_iterations) {
-                    st.ransac_exhausted++;
-                    if (cut)
-                        count_budget(&st, cut, &contour_limited);
-                }
-                if (rc != ACTAG_OK)
-                    continue; /* another try draws other samples */
-                st.quads++;
-                if (!sides_plausible(q.corners, geometry, params, rows, cols)) {
-                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_SIDES, q.corners,
-                               q.inlier_ratio, NULL);
-                    rc = ACTAG_ERR_NO_QUAD;
-                    continue;
-                }
-                if (!decode_budget(&st, params)) {
-                    rc = ACTAG_ERR_NO_MATCH;
-                    break;
-                }
-                {
-                    actag__fit_amb qa;
-                    rc = decode_any(&w, rows, cols, q.corners, params, &qa, &dr);
-                    if (rc == ACTAG_ERR_NO_MATCH && qa.amb) {
-                        /* each grid's refused pair: the reading, its rival */
-                        const actag__fit_rival *pair[2];
-                        int np = 0, ip;
-                        pair[np++] = qa.r;
-                        if (qa.amb2)
-                            pair[np++] = qa.r2;
-                        for (ip = 0; ip < np; ip++) {
-                            if (namb + 2 <= ACTAG_AMB_MAX) {
-                                amb[namb++] = pair[ip][0];
-                                amb[namb++] = pair[ip][1];
-                            }
-                            hold_pair(held, &nheld, pair[ip]);
-                        }
-                    }
-                }
-                decoded_quads++;
-                if (rc != ACTAG_OK) {
-                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_NO_MATCH, q.corners,
-                               q.inlier_ratio, NULL);
-                    continue;
-                }
-                /* the fit decoder's structure gate: black ring and white
-                 * interior cells on the right side of the mid level */
-                if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-                    !structure_ok(&dr, params, params->max_bit_corrections)) {
-                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_STRUCTURE, q.corners,
-                               q.inlier_ratio, &dr);
-                    rc = ACTAG_ERR_NO_MATCH;
-                    continue;
-                }
-                /* a search reading here that disagrees and explains the
-                 * cells at least as well: no reading (another quad may) */
-                if (rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, NULL, 0, dr.corners,
-                                   sk_contested)) {
-                    trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
-                               q.inlier_ratio, &dr);
-                    rc = ACTAG_ERR_NO_MATCH;
-                    continue;
-                }
-                /* Cross-check: a reading with corrected bits is read once
-                 * more from the contour's own grid guess (the wide search,
-                 * other grids than the quad's). When that reads another
-                 * tag, handedness or corner order here, the two are judged
-                 * as whole templates, each polished over the full range at
-                 * both places: unless the quad's leads by the least
-                 * decision margin (the log-likelihood ratio under the
-                 * template check's noise model; each reading paid its
-                 * look-elsewhere allowance in its own check), the place has
-                 * two readings and the quad's is refused; the guess is then
-                 * judged in its place, against the quad's reading (amb), so
-                 * it is reported only when it explains the cells better.
-                 * (Frame 435 of bench/heldout_sweep.py's seed 9609, pool
-                 * sonar, AcTag24h8: a mirrored tag 27 whose quad read tag 8
-                 * unmirrored at hamming 2, margin 4.6; the guess reads tag
-                 * 27 at hamming 1, margin 9.9; as templates tag 8 leads by
-                 * 1.0 nat: no reading.) */
-                if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-                    dr.hamming >= ACTAG_CROSS_HAMMING && !guess_read &&
-                    nguess < ACTAG_GUESS_MAX) {
-                    guess_read = 1;
-                    if (cross_check(&w, rows, cols, pts, ci.stored, geometry, params, &st,
-                                    &nguess, &dr, gq, &ggx)) {
-                        trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
-                                   q.inlier_ratio, &dr);
-                        if (namb < ACTAG_AMB_MAX)
-                            amb[namb++] = rival_of(&dr);
-                        guess_read = 2;
-                        rc = ACTAG_ERR_NO_MATCH;
-                        break; /* the guess is read with the check below */
-                    }
-                }
-                trace_quad(tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_ACCEPTED, q.corners,
-                           q.inlier_ratio, &dr);
-                break;
-            }
-            if (rc != ACTAG_OK && params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-                guess_read != 2 && nguess >= ACTAG_GUESS_MAX)
-                st.guess_cap++;
-            if (rc == ACTAG_OK) {
-                corners = dr.corners;
-                ratio = q.inlier_ratio;
-            } else if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-                       (guess_read == 2 || nguess < ACTAG_GUESS_MAX)) {
-                /* no quad reads: the blob's extreme points as a first guess
-                 * for the wide grid search, judged like a search reading
-                 * (after the cross-check's tentative reading, read again
-                 * with the template check from its grids) */
-                int verdict =
-                    guess_read == 2
-                        ? read_guess_again(&w, rows, cols, geometry, params, &st, &ggx, held,
-                                           &nheld, gq, &dr)
-                        : contour_guess(&w, rows, cols, pts, ci.stored, geometry, params, &st,
-                                        decoded_quads > 0, &ggx, &nguess, held, &nheld, gq, &dr);
-                if (verdict == GUESS_BORDER) {
-                    trace_quad(tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
-                } else if (verdict != GUESS_UNREAD) {
-                    if (verdict == ACTAG_TRACE_ACCEPTED &&
-                        rival_explains(&w, rows, cols, params, &dr, sk_dr, nsk, amb, namb,
-                                       dr.fit_corners, sk_contested))
-                        verdict = ACTAG_TRACE_RIVAL;
-                    if (verdict == ACTAG_TRACE_ACCEPTED &&
-                        turned_rival_refuses(&w, rows, cols, geometry, params, gq, &dr))
-                        verdict = ACTAG_TRACE_RIVAL;
-                    trace_quad(tr, ACTAG_TRACE_GUESS, verdict, gq, 0.0f,
-                               verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
-                    if (verdict == ACTAG_TRACE_ACCEPTED) {
-                        rc = ACTAG_OK;
-                        corners = dr.fit_corners;
-                        ratio = 0.0f;
-                    }
-                }
-            }
-            if (rc != ACTAG_OK)
-                continue;
-        keep: /* a reading of this contour, at corners */
-            st.decoded++;
-            {
-                actag_detection d;
-                fill_det(&d, &dr, corners, ratio, geometry, rows, cols, flip_mirror);
-                /* a search reading at this place is superseded by this one */
-                for (k = 0; k < nsk; k++)
-                    if (same_place(d.corners, sk_dr[k].fit_corners))
-                        sk_used[k] = 1;
-                record(out, max_out, &nout, &st, &d, dr.fit_corners, fit_start);
-            }
-        }
-    }
-
-    /* search readings that no quad superseded: read again with the template
-     * check from their grids; of those at one place, record keeps the one
-     * with the fewest corrections. A contested one (it refused a quad's or
-     * guess's reading that disagreed with it: rival_explains) is not: two
-     * readings of one place that each pass their own checks give no reading
-     * (a wrong ID is worse than a miss). */
-    for (k = 0; k < nsk; k++) {
-        actag_decode_result dr;
-        actag_detection d;
-        int verdict;
-        if (sk_used[k]) { /* the tentative reading went on, a quad's superseded it */
-            st.decoded++;
-            trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_ACCEPTED, sk_box[k], 0.0f, &sk_dr[k]);
-            continue;
-        }
-        if (sk_contested[k]) {
-            trace_quad(tr, ACTAG_TRACE_SEARCH, ACTAG_TRACE_RIVAL, sk_box[k], 0.0f, &sk_dr[k]);
-            continue;
-        }
-        verdict = read_wide(w.b, rows, cols, sk_box[k], geometry, params, 1, &sk_grids[k], NULL,
-                            &dr);
-        if (verdict == ACTAG_TRACE_ACCEPTED &&
-            rival_explains(&w, rows, cols, params, &dr, NULL, 0, held, nheld, dr.fit_corners,
-                           NULL))
-            verdict = ACTAG_TRACE_RIVAL;
-        if (verdict == ACTAG_TRACE_ACCEPTED &&
-            turned_rival_refuses(&w, rows, cols, geometry, params, sk_box[k], &dr))
-            verdict = ACTAG_TRACE_RIVAL;
-        trace_quad(tr, ACTAG_TRACE_SEARCH, verdict, sk_box[k], 0.0f,
-                   verdict == ACTAG_TRACE_NO_MATCH ? NULL : &dr);
-        if (verdict != ACTAG_TRACE_ACCEPTED)
-            continue;
-        st.decoded++;
-        fill_det(&d, &dr, dr.fit_corners, 0.0f, geometry, rows, cols, flip_mirror);
-        record(out, max_out, &nout, &st, &d, dr.fit_corners, fit_start);
-    }
     /* 7. the reported tags' corners refined on the caller's frame (refine.h;
      * a 16-bit frame at the median's scale, max16); which tags, IDs,
      * handedness and corner order stay as they are */
     if (params->tuning.refine_corners)
-        for (k = 0; k < nout && k < max_out; k++)
+        for (k = 0; k < f.nout && k < max_out; k++)
             refine_det(&out[k], frame, max16, geometry, params,
-                       k < REFINE_STARTS ? &fit_start[k][0] : NULL);
+                       k < REFINE_STARTS ? &f.fit_start[k][0] : NULL);
     if (stats)
-        *stats = st;
-    return nout;
+        *stats = f.st;
+    return f.nout;
 }
 
 int actag_detect_multi(const actag_frame *frame, const actag_sonar_geometry *geometry,
