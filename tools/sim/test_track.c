@@ -7,6 +7,7 @@
 #include "sim.h"
 #include "simio.h"
 #include "actag/track.h"
+#include "actag/render.h"
 #include "actag/tag_grid.h"
 #include "hostio.h"
 
@@ -1863,6 +1864,114 @@ static void test_the_family_is_one_and_the_same(void)
     free(changed_codes);
 }
 
+/* Every parameter bound of actag_tracker_init at its exact value (taken)
+ * and one step past it (refused): the validator's limits, not only NaN. */
+static void test_params_at_their_bounds(void)
+{
+    actag_tracker tr;
+    actag_track_params tp, b;
+    actag_track_params_default(&tp);
+    b = tp; b.full_every = 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.confirm_frames = 1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.confirm_frames = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    b = tp; b.max_missed = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.max_missed = -1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    b = tp; b.refind_after = 0;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.refind_after = -1;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    /* roi_scale and gate in (0, 10], smoothing in (0, 1] */
+    b = tp; b.roi_scale = 10.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.roi_scale = nextafterf(10.0f, 11.0f);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    b = tp; b.roi_scale = FLT_MIN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.roi_scale = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    b = tp; b.gate = 10.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.gate = nextafterf(10.0f, 11.0f);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    b = tp; b.gate = FLT_MIN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.gate = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    b = tp; b.smoothing = 1.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+    b = tp; b.smoothing = nextafterf(1.0f, 2.0f);
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_tracker_init(&tr, &b));
+    b = tp; b.smoothing = FLT_MIN;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &b));
+}
+
+/* More tags in view than a tracker holds: nine clean AcTag24h8 tags in one
+ * row of a frame. The whole frame reads all nine; the tracker keeps
+ * ACTAG_TRACK_MAX tracks of distinct tags and never more, frame after
+ * frame, without an error. */
+static void test_more_tags_than_tracks(void)
+{
+    enum { R = 512, C = 600, CELL = 8, MARGIN = 4, NTAGS = 9 };
+    /* 1 m a row; at row 100 (411 m) 1 m a beam: square cells there */
+    const actag_sonar_geometry g = {0.0f, 511.0f, 599.0f / 411.0f, NULL, 0u};
+    actag_family f8;
+    actag_params p;
+    actag_track_params tp;
+    actag_tracker tr;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_detection det[16];
+    static uint8_t img[R * C];
+    uint8_t tag[80 * 80];
+    size_t wsz = actag_workspace_size(R, C);
+    void *w = malloc(wsz);
+    actag_frame fr;
+    int side, i, j, n, frame_no, seen[NTAGS];
+    TEST_ASSERT_NOT_NULL(w);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h8", &f8));
+    side = actag_render_side(f8.bits, CELL, MARGIN);
+    TEST_ASSERT_TRUE(side <= 80 && NTAGS * (side + 2) <= C);
+    memset(img, 0, sizeof img);
+    for (i = 0; i < NTAGS; i++) {
+        int x0 = 4 + i * (side + 2), y0 = 100 - side / 2, y;
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                              actag_render_tag(&f8, i, CELL, MARGIN, 0, 0, tag, side, sizeof tag));
+        for (y = 0; y < side; y++)
+            memcpy(img + (size_t)(y0 + y) * C + (size_t)x0, tag + (size_t)y * (size_t)side,
+                   (size_t)side);
+    }
+    fr.data = img;
+    fr.rows = R;
+    fr.cols = C;
+    fr.stride = C;
+    fr.depth = 8;
+    actag_params_default(&p);
+    p.family = &f8;
+    p.tag_size = 3.0f * CELL; /* the white square: 3 cells of 8 m */
+    n = actag_detect(&fr, &g, &p, w, wsz, det, 16, NULL);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(NTAGS, n, "the whole frame reads every tag");
+    actag_track_params_default(&tp);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (frame_no = 0; frame_no < 12; frame_no++) {
+        n = actag_tracker_update(&tr, &fr, &g, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX, NULL);
+        TEST_ASSERT_TRUE_MESSAGE(n >= 0 && n <= ACTAG_TRACK_MAX, "confirmed tracks");
+        TEST_ASSERT_TRUE_MESSAGE(tr.ntracks >= 0 && tr.ntracks <= ACTAG_TRACK_MAX, "tracks held");
+        memset(seen, 0, sizeof seen);
+        for (j = 0; j < n; j++) {
+            TEST_ASSERT_TRUE(out[j].id >= 0 && out[j].id < NTAGS);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, seen[out[j].id], "one track per tag");
+            seen[out[j].id] = 1;
+        }
+    }
+    /* the clean tags are confirmed: a full tracker reports every track */
+    TEST_ASSERT_EQUAL_INT(ACTAG_TRACK_MAX, n);
+    free(w);
+}
+
 static void test_errors(void)
 {
     static actag_tracker tr;
@@ -2014,6 +2123,8 @@ int main(void)
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
     RUN_TEST(test_the_family_is_one_and_the_same);
+    RUN_TEST(test_params_at_their_bounds);
+    RUN_TEST(test_more_tags_than_tracks);
     RUN_TEST(test_errors);
     for (i = 0; i < NSEQ; i++)
         free(frames[i]);
