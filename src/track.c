@@ -1,6 +1,7 @@
 /* Tag tracking across frames: ROI search, confirmation, smoothing (see actag/track.h). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/track.h"
+#include "track_window.h"
 
 #include <float.h>
 #include <limits.h>
@@ -27,7 +28,7 @@
 /* A verify's fitted grid may change shape by at most this many predicted
  * diagonals (t_verify) */
 #define T_VERIFY_SHAPE 0.25f
-#define T_MIN_ROI 24 /* pixels per side: the structure search wants >= 16 */
+#define T_MIN_ROI ACTAG__TRACK_MIN_WINDOW
 /* cells of the track's template that may disagree in a verify reading
  * (t_verify): twice the whole-frame budget */
 #define T_VERIFY_BUDGET(limit) (2 * (limit))
@@ -238,25 +239,20 @@ static float t_extent(const actag_params *p)
     return k > 3 ? (float)(k + 1) / (float)(k - 3) : 1.0f;
 }
 
-/* ROI of a track: [x0, x1] x [y0, y1] (inclusive, clamped). Returns 0, or -1
- * when it would be wider than the bearing table allows. */
-static int t_roi(const actag_tracker *t, const actag_track *k, const actag_params *p, float grow,
-                 float pad, int *x0, int *y0, int *x1, int *y1)
+int actag__track_window(const actag_point pred[4], float extent, float grow, float pad, int rows,
+                        int cols, int *x0, int *y0, int *x1, int *y1)
 {
-    actag_point pred[4], c;
-    float minx = 3.0e38f, maxx = -3.0e38f, miny = 3.0e38f, maxy = -3.0e38f, hx, hy, E;
-    int i, cols = t->cols, rows = t->rows;
-    t_predict(k, pred);
+    actag_point c = t_centre(pred);
+    float minx = 3.0e38f, maxx = -3.0e38f, miny = 3.0e38f, maxy = -3.0e38f, hx, hy;
+    int i;
     for (i = 0; i < 4; i++) {
         if (pred[i].x < minx) minx = pred[i].x;
         if (pred[i].x > maxx) maxx = pred[i].x;
         if (pred[i].y < miny) miny = pred[i].y;
         if (pred[i].y > maxy) maxy = pred[i].y;
     }
-    c = t_centre(pred);
-    E = t_extent(p);
-    hx = 0.5f * (maxx - minx) * E;
-    hy = 0.5f * (maxy - miny) * E;
+    hx = 0.5f * (maxx - minx) * extent;
+    hy = 0.5f * (maxy - miny) * extent;
     hx = hx * (1.0f + grow) + pad;
     hy = hy * (1.0f + grow) + pad;
     if (hx < 0.5f * T_MIN_ROI)
@@ -283,6 +279,16 @@ static int t_roi(const actag_tracker *t, const actag_track *k, const actag_param
     if (*x1 < *x0 || *y1 < *y0)
         return -1;
     return *x1 - *x0 + 1 > ACTAG_TRACK_ROI_MAX_COLS ? -1 : 0;
+}
+
+/* ROI of a track: its window (actag__track_window) around its predicted
+ * corners, in the tracker's frame size. */
+static int t_roi(const actag_tracker *t, const actag_track *k, const actag_params *p, float grow,
+                 float pad, int *x0, int *y0, int *x1, int *y1)
+{
+    actag_point pred[4];
+    t_predict(k, pred);
+    return actag__track_window(pred, t_extent(p), grow, pad, t->rows, t->cols, x0, y0, x1, y1);
 }
 
 /* actag_detect() on the ROI view; readings into t->det, how many (0 for a

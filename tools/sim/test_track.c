@@ -10,6 +10,8 @@
 #include "actag/render.h"
 #include "actag/tag_grid.h"
 #include "hostio.h"
+#include "../../src/track_window.h"
+#include "test_util.h"
 
 #include <float.h>
 #include <limits.h>
@@ -1864,6 +1866,75 @@ static void test_the_family_is_one_and_the_same(void)
     free(changed_codes);
 }
 
+/* The tracker's search window (src/track_window.h) against its rule, on
+ * random predictions inside, across and outside frames of every size from
+ * 1 pixel up: inside the frame, at least the minimum size (or the frame's),
+ * no wider than ACTAG_TRACK_ROI_MAX_COLS, and holding every pixel of the
+ * rule's box that lies in the frame (float against double: a pixel of
+ * slack at the box's edges). */
+static void test_windows_stay_inside_the_frame_and_hold_the_tag(void)
+{
+    int t, edge_cut = 0, unset = 0, checked = 0;
+    tu_seed(74);
+    for (t = 0; t < 40000; t++) {
+        int rows = t % 7 == 0 ? tu_range(1, 30) : tu_range(1, 1200);
+        int cols = t % 5 == 0 ? tu_range(1, 30) : tu_range(1, 1200);
+        float extent = (float)tu_range(100, 300) * 0.01f, grow = (float)tu_range(0, 100) * 0.01f;
+        float pad = (float)tu_range(0, 40), cx, cy, s;
+        double mnx = 1e300, mxx = -1e300, mny = 1e300, mxy = -1e300, hx, hy, lo, hi;
+        actag_point pred[4];
+        int i, x0 = -7, y0 = -7, x1 = -7, y1 = -7, rc, minw, minh;
+        /* a tag of 2-300 pixels anywhere within 2 frames of this one */
+        cx = (float)tu_range(-2 * cols, 3 * cols);
+        cy = (float)tu_range(-2 * rows, 3 * rows);
+        s = (float)tu_range(2, 300);
+        for (i = 0; i < 4; i++) {
+            pred[i].x = cx + (float)tu_range(-100, 100) * 0.01f * s;
+            pred[i].y = cy + (float)tu_range(-100, 100) * 0.01f * s;
+            mnx = pred[i].x < mnx ? pred[i].x : mnx;
+            mxx = pred[i].x > mxx ? pred[i].x : mxx;
+            mny = pred[i].y < mny ? pred[i].y : mny;
+            mxy = pred[i].y > mxy ? pred[i].y : mxy;
+        }
+        rc = actag__track_window(pred, extent, grow, pad, rows, cols, &x0, &y0, &x1, &y1);
+        hx = 0.5 * (mxx - mnx) * extent * (1.0 + grow) + pad;
+        hy = 0.5 * (mxy - mny) * extent * (1.0 + grow) + pad;
+        hx = hx < 0.5 * ACTAG__TRACK_MIN_WINDOW ? 0.5 * ACTAG__TRACK_MIN_WINDOW : hx;
+        hy = hy < 0.5 * ACTAG__TRACK_MIN_WINDOW ? 0.5 * ACTAG__TRACK_MIN_WINDOW : hy;
+        if (rc != 0) {
+            TEST_ASSERT_EQUAL_INT(-1, rc);
+            /* only a window too wide for the bearing table */
+            TEST_ASSERT_TRUE_MESSAGE(2.0 * hx + 1.0 >= ACTAG_TRACK_ROI_MAX_COLS - 1,
+                                     "a window refused that the rule allows");
+            unset++;
+            continue;
+        }
+        checked++;
+        minw = cols < ACTAG__TRACK_MIN_WINDOW ? cols : ACTAG__TRACK_MIN_WINDOW;
+        minh = rows < ACTAG__TRACK_MIN_WINDOW ? rows : ACTAG__TRACK_MIN_WINDOW;
+        TEST_ASSERT_TRUE_MESSAGE(x0 >= 0 && x0 <= x1 && x1 <= cols - 1, "columns outside the frame");
+        TEST_ASSERT_TRUE_MESSAGE(y0 >= 0 && y0 <= y1 && y1 <= rows - 1, "rows outside the frame");
+        TEST_ASSERT_TRUE_MESSAGE(x1 - x0 + 1 >= minw && y1 - y0 + 1 >= minh, "window too small");
+        TEST_ASSERT_TRUE(x1 - x0 + 1 <= ACTAG_TRACK_ROI_MAX_COLS);
+        /* the rule's box, as far as it lies in the frame */
+        lo = ceil(0.25 * (pred[0].x + pred[1].x + pred[2].x + pred[3].x) - hx) + 1.0;
+        hi = floor(0.25 * (pred[0].x + pred[1].x + pred[2].x + pred[3].x) + hx) - 1.0;
+        if (lo < 0.0) lo = 0.0;
+        if (hi > cols - 1) hi = cols - 1;
+        if (lo <= hi)
+            TEST_ASSERT_TRUE_MESSAGE(x0 <= lo && x1 >= hi, "the box's columns are not all in");
+        lo = ceil(0.25 * (pred[0].y + pred[1].y + pred[2].y + pred[3].y) - hy) + 1.0;
+        hi = floor(0.25 * (pred[0].y + pred[1].y + pred[2].y + pred[3].y) + hy) - 1.0;
+        if (lo < 0.0) lo = 0.0;
+        if (hi > rows - 1) hi = rows - 1;
+        if (lo <= hi)
+            TEST_ASSERT_TRUE_MESSAGE(y0 <= lo && y1 >= hi, "the box's rows are not all in");
+        edge_cut += x1 == cols - 1 || y1 == rows - 1;
+    }
+    /* every kind was met: windows cut at the far edges, windows refused */
+    TEST_ASSERT_TRUE(edge_cut > 1000 && unset > 100 && checked > 20000);
+}
+
 /* Every parameter bound of actag_tracker_init at its exact value (taken)
  * and one step past it (refused): the validator's limits, not only NaN. */
 static void test_params_at_their_bounds(void)
@@ -2123,6 +2194,7 @@ int main(void)
     RUN_TEST(test_a_track_is_verified_once_per_frame);
     RUN_TEST(test_a_track_is_verified_once_per_frame_pool);
     RUN_TEST(test_the_family_is_one_and_the_same);
+    RUN_TEST(test_windows_stay_inside_the_frame_and_hold_the_tag);
     RUN_TEST(test_params_at_their_bounds);
     RUN_TEST(test_more_tags_than_tracks);
     RUN_TEST(test_errors);
