@@ -60,9 +60,18 @@ def code_mask(text):
             i += 1
             continue
         if line_start and c == "#":
-            # preprocessor line, with continuations
+            # preprocessor line, with continuations; a comment in it may
+            # run on over later lines (the directive ends after it)
             j = i
             while j < n:
+                if text.startswith("/*", j):
+                    e = text.find("*/", j + 2)
+                    j = n if e < 0 else e + 2
+                    continue
+                if text.startswith("//", j):
+                    e = text.find("\n", j)
+                    j = n if e < 0 else e
+                    continue
                 if text[j] == "\n" and text[j - 1] != "\\":
                     break
                 j += 1

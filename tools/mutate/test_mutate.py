@@ -51,6 +51,13 @@ def test_sites():
     check(("0.5f", "1.0f", 11) in got, "float literal not doubled: %r" % got)
     check(("==", "!=", 11) in got, "== not mutated")
     check(not any(old == "1" and line == 7 for old, _, line in got), "comment on line 7 mutated")
+    # a comment that starts on a directive and runs on: no sites in it
+    text2 = ("#define STEP 0.07f /* rad: 5 starts\n"
+             "                    * (33 degrees < 40) */\n"
+             "int g(int a) { return a + 5; }\n")
+    got2 = [(old, new, line) for _, old, new, line in mutate.sites(text2, None)]
+    check(all(line == 3 for _, _, line in got2) and ("5", "6", 3) in got2,
+          "a directive's comment mutated: %r" % got2)
     only = [line for _, _, _, line in mutate.sites(text, (10, 10))]
     check(only and all(line == 10 for line in only), "--lines not honoured: %r" % only)
     # the mutated text still differs from the original at exactly the site
