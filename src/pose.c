@@ -1,12 +1,11 @@
 /* 6-DOF tag pose from one sonar detection (see actag/pose.h). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/pose.h"
+#include "rotation.h"
 
 #include <math.h>
 
 #define P_PI 3.14159265f
-#define P_PIO2_HI 1.57079637e+00f  /* float(pi/2) */
-#define P_PIO2_LO -4.37113883e-08f /* pi/2 - P_PIO2_HI */
 #define P_NPAR 6
 #define P_NRES 12 /* 8 corner residuals, the elevation prior, the plane's offset and tilt */
 #define P_PASSES 3
@@ -19,97 +18,7 @@
                               * degrees off, with 17 (8.3 degrees apart) it did not
                               * (test_pose) */
 
-/* ------------------------------------------------------------ trigonometry
- * Our own, from sums, products and sqrtf only: libm's sinf/atan2f differ in
- * the last bits between C libraries, and results must not. Accuracy a few
- * float ulps over the arguments used here. */
-
 static int p_finite(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
-
-/* sin and cos of r, |r| <= pi/4 */
-static float p_sin_k(float r)
-{
-    float z = r * r;
-    return r + r * z * (-1.66666672e-01f +
-                        z * (8.33333377e-03f + z * (-1.98412701e-04f + z * 2.75573188e-06f)));
-}
-
-static float p_cos_k(float r)
-{
-    float z = r * r;
-    return 1.0f + z * (-0.5f + z * (4.16666679e-02f +
-                                    z * (-1.38888892e-03f + z * (2.48015876e-05f -
-                                                                 z * 2.75573188e-07f))));
-}
-
-/* sin and cos together; accurate for |x| up to a few thousand radians and
- * defined for any x. Past 2^23 floats are a radian or more apart (no angle
- * is left in them) and past 3.4e9 the quadrant count overflows the int: a
- * float-to-int conversion out of range is undefined behaviour, and x86 and
- * ARM then give different results (garbage corners fitted with tiny sds
- * steered a rotation step there). Such an x, or a NaN, is taken as 0. */
-static void p_sincos(float x, float *s, float *c)
-{
-    float kf, r, sr, cr;
-    int k;
-    if (!(x > -8388608.0f && x < 8388608.0f))
-        x = 0.0f;
-    kf = x * 0.636619772f;
-    kf = kf >= 0.0f ? kf + 0.5f : kf - 0.5f;
-    k = (int)kf;
-    r = (x - (float)k * P_PIO2_HI) - (float)k * P_PIO2_LO;
-    sr = p_sin_k(r);
-    cr = p_cos_k(r);
-    switch (k & 3) {
-    case 0: *s = sr; *c = cr; break;
-    case 1: *s = cr; *c = -sr; break;
-    case 2: *s = -sr; *c = -cr; break;
-    default: *s = -cr; *c = sr; break;
-    }
-}
-
-/* atan(x), |x| <= 1 */
-static float p_atan01(float x)
-{
-    const float t15 = 0.267949194f, sqrt3 = 1.73205081f, pio6 = 0.523598776f;
-    float off = 0.0f, z;
-    int neg = x < 0.0f; /* an int: Clang's -Wconversion refuses a float tested as a bool */
-    if (neg)
-        x = -x;
-    if (x > t15) {
-        x = (x * sqrt3 - 1.0f) / (x + sqrt3);
-        off = pio6;
-    }
-    z = x * x;
-    x = off + x * (1.0f + z * (-3.33333343e-01f +
-                               z * (2.00000003e-01f +
-                                    z * (-1.42857149e-01f +
-                                         z * (1.11111112e-01f - z * 9.09090936e-02f)))));
-    return neg ? -x : x;
-}
-
-static float p_atan2(float y, float x)
-{
-    float ax = x < 0.0f ? -x : x, ay = y < 0.0f ? -y : y, a;
-    if (ax == 0.0f && ay == 0.0f)
-        return 0.0f;
-    if (ay <= ax)
-        a = p_atan01(ay / ax);
-    else
-        a = (P_PIO2_HI - p_atan01(ax / ay)) + P_PIO2_LO; /* pi/2 - atan(ax / ay) */
-    if (x < 0.0f)
-        a = (2.0f * P_PIO2_HI - a) + 2.0f * P_PIO2_LO; /* pi - a */
-    return y < 0.0f ? -a : a;
-}
-
-static float p_asin(float v)
-{
-    if (v > 1.0f)
-        v = 1.0f;
-    if (v < -1.0f)
-        v = -1.0f;
-    return p_atan2(v, actag_sqrtf((1.0f - v) * (1.0f + v)));
-}
 
 static float p_fabs(float a) { return a < 0.0f ? -a : a; }
 
@@ -122,123 +31,6 @@ static float p_wrap(float a) /* to (-pi, pi] */
     return a;
 }
 
-/* ------------------------------------------------------------ 3-vectors, rotations */
-
-static float dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-static void cross3(const float *a, const float *b, float *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static float norm3(const float *a) { return actag_sqrtf(dot3(a, a)); }
-
-static void mat_vec(const float *R, const float *v, float *o)
-{
-    o[0] = R[0] * v[0] + R[1] * v[1] + R[2] * v[2];
-    o[1] = R[3] * v[0] + R[4] * v[1] + R[5] * v[2];
-    o[2] = R[6] * v[0] + R[7] * v[1] + R[8] * v[2];
-}
-
-static void mat_mul(const float *A, const float *B, float *o)
-{
-    int i, j;
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
-            o[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
-}
-
-/* Rotation with columns x, y (orthonormalised), z = x cross y. */
-static void rot_from_axes(const float *xa, const float *ya, float *R)
-{
-    float x[3], y[3], z[3], d, n;
-    int i;
-    n = norm3(xa);
-    for (i = 0; i < 3; i++)
-        x[i] = n > 0.0f ? xa[i] / n : (i == 0);
-    d = dot3(ya, x);
-    for (i = 0; i < 3; i++)
-        y[i] = ya[i] - d * x[i];
-    n = norm3(y);
-    if (!(n > 1e-12f)) { /* any perpendicular */
-        float e[3] = {0.0f, 0.0f, 0.0f};
-        e[(x[0] * x[0] < 0.5f) ? 0 : 1] = 1.0f;
-        cross3(x, e, z);
-        cross3(z, x, y);
-        n = norm3(y);
-    }
-    for (i = 0; i < 3; i++)
-        y[i] /= n;
-    cross3(x, y, z);
-    for (i = 0; i < 3; i++) {
-        R[3 * i] = x[i];
-        R[3 * i + 1] = y[i];
-        R[3 * i + 2] = z[i];
-    }
-}
-
-/* exp([w]x), Rodrigues */
-static void rot_exp(const float *w, float *R)
-{
-    float th2 = dot3(w, w), a, b, s, c;
-    if (th2 < 1e-8f) {
-        a = 1.0f - th2 / 6.0f;
-        b = 0.5f - th2 / 24.0f;
-    } else {
-        float th = actag_sqrtf(th2);
-        p_sincos(th, &s, &c);
-        a = s / th;
-        b = (1.0f - c) / th2;
-    }
-    R[0] = 1.0f - b * (w[1] * w[1] + w[2] * w[2]);
-    R[4] = 1.0f - b * (w[0] * w[0] + w[2] * w[2]);
-    R[8] = 1.0f - b * (w[0] * w[0] + w[1] * w[1]);
-    R[1] = -a * w[2] + b * w[0] * w[1];
-    R[3] = a * w[2] + b * w[0] * w[1];
-    R[2] = a * w[1] + b * w[0] * w[2];
-    R[6] = -a * w[1] + b * w[0] * w[2];
-    R[5] = -a * w[0] + b * w[1] * w[2];
-    R[7] = a * w[0] + b * w[1] * w[2];
-}
-
-/* w with R = exp([w]x) */
-static void rot_log(const float *R, float *w)
-{
-    float v[3], sn, cs, th, tr = R[0] + R[4] + R[8];
-    v[0] = 0.5f * (R[7] - R[5]);
-    v[1] = 0.5f * (R[2] - R[6]);
-    v[2] = 0.5f * (R[3] - R[1]);
-    sn = norm3(v);
-    cs = 0.5f * (tr - 1.0f);
-    th = p_atan2(sn, cs);
-    if (cs > -0.9f) {
-        float k = sn > 1e-7f ? th / sn : 1.0f + sn * sn / 6.0f;
-        w[0] = k * v[0];
-        w[1] = k * v[1];
-        w[2] = k * v[2];
-    } else {
-        /* near pi: the axis from the symmetric part, (R + R^T)/2 = I + (1-cos) (u u^T - I) */
-        float om = 1.0f - cs, u[3], n;
-        int i = (R[0] >= R[4] && R[0] >= R[8]) ? 0 : (R[4] >= R[8] ? 1 : 2), j;
-        float d = (R[4 * i] - cs) / om;
-        u[i] = actag_sqrtf(d > 0.0f ? d : 0.0f);
-        for (j = 0; j < 3; j++)
-            if (j != i)
-                u[j] = 0.5f * (R[3 * i + j] + R[3 * j + i]) / (om * (u[i] > 1e-6f ? u[i] : 1e-6f));
-        n = norm3(u);
-        if (n > 0.0f)
-            for (j = 0; j < 3; j++)
-                u[j] /= n;
-        if (dot3(u, v) < 0.0f)
-            for (j = 0; j < 3; j++)
-                u[j] = -u[j];
-        for (j = 0; j < 3; j++)
-            w[j] = th * u[j];
-    }
-}
-
 void actag_pose_rotation_vector(const float Ra[9], const float Rb[9], float w[3])
 {
     float Bt[9], M[9];
@@ -246,15 +38,15 @@ void actag_pose_rotation_vector(const float Ra[9], const float Rb[9], float w[3]
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++)
             Bt[3 * i + j] = Rb[3 * j + i];
-    mat_mul(Ra, Bt, M);
-    rot_log(M, w);
+    actag__mat_mul(Ra, Bt, M);
+    actag__rot_log(M, w);
 }
 
 float actag_pose_angle(const float Ra[9], const float Rb[9])
 {
     float w[3];
     actag_pose_rotation_vector(Ra, Rb, w);
-    return norm3(w);
+    return actag__norm3(w);
 }
 
 /* ------------------------------------------------------------ 6x6 linear algebra */
@@ -279,14 +71,14 @@ static const float p_cx[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, p_cy[4] = {-0.5f, -0.5f
 
 static float p_elev(const float *p)
 {
-    float n = norm3(p);
-    return n > 0.0f ? p_asin(p[2] / n) : 0.0f;
+    float n = actag__norm3(p);
+    return n > 0.0f ? actag__asin(p[2] / n) : 0.0f;
 }
 
 /* Gradient of elevation asin(p_z / |p|) with respect to p (0 on the z axis). */
 static void p_elev_grad(const float *p, float *g)
 {
-    float r2 = dot3(p, p), rho = actag_sqrtf(p[0] * p[0] + p[1] * p[1]);
+    float r2 = actag__dot3(p, p), rho = actag_sqrtf(p[0] * p[0] + p[1] * p[1]);
     if (!(r2 > 0.0f) || !(rho > 0.0f)) {
         g[0] = g[1] = g[2] = 0.0f;
         return;
@@ -313,12 +105,12 @@ static void p_band_of(const p_model *m, const p_state *x, const float *C, float 
         c[0] = p_cx[k] * E * m->s;
         c[1] = p_cy[k] * E * m->s;
         c[2] = 0.0f;
-        mat_vec(x->R, c, q);
+        actag__mat_vec(x->R, c, q);
         for (j = 0; j < 3; j++)
             p[j] = q[j] + x->t[j];
         e = p_elev(p) - e0;
         p_elev_grad(p, g);
-        cross3(q, g, w);
+        actag__cross3(q, g, w);
         for (j = 0; j < 3; j++) {
             G[k][j] = g[j] - g0[j];
             G[k][3 + j] = w[j];
@@ -439,11 +231,11 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
         c[0] = p_cx[i] * m->s;
         c[1] = p_cy[i] * m->s;
         c[2] = 0.0f;
-        mat_vec(x->R, c, q);
+        actag__mat_vec(x->R, c, q);
         for (j = 0; j < 3; j++)
             p[j] = q[j] + x->t[j];
-        r = norm3(p);
-        th = p_atan2(p[1], p[0]);
+        r = actag__norm3(p);
+        th = actag__atan2(p[1], p[0]);
         f[2 * i] = (r - m->r[i]) / m->sr;
         f[2 * i + 1] = p_wrap(th - m->az[i]) / m->sa;
         if (J) {
@@ -460,10 +252,10 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
                 J[(2 * i) * P_NPAR + j] = gr[j];
                 J[(2 * i + 1) * P_NPAR + j] = ga[j];
             }
-            cross3(q, gr, w);
+            actag__cross3(q, gr, w);
             for (j = 0; j < 3; j++)
                 J[(2 * i) * P_NPAR + 3 + j] = w[j];
-            cross3(q, ga, w);
+            actag__cross3(q, ga, w);
             for (j = 0; j < 3; j++)
                 J[(2 * i + 1) * P_NPAR + 3 + j] = w[j];
         }
@@ -471,7 +263,7 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
     e0 = p_elev(x->t);
     f[8] = (e0 - m->mu) / m->sp;
     if (J) {
-        tn = norm3(x->t);
+        tn = actag__norm3(x->t);
         rho2 = x->t[0] * x->t[0] + x->t[1] * x->t[1];
         rho = actag_sqrtf(rho2);
         if (tn > 0.0f && rho > 0.0f) {
@@ -493,7 +285,7 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
         for (i = 9 * P_NPAR; i < P_NRES * P_NPAR; i++)
             J[i] = 0.0f;
     if (m->wd > 0.0f) {
-        f[9] = (dot3(m->n, x->t) - m->d) * m->wd;
+        f[9] = (actag__dot3(m->n, x->t) - m->d) * m->wd;
         if (J)
             for (j = 0; j < 3; j++)
                 J[9 * P_NPAR + j] = m->n[j] * m->wd;
@@ -503,13 +295,13 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
         z[0] = x->R[2];
         z[1] = x->R[5];
         z[2] = x->R[8];
-        f[10] = dot3(m->u, z) * m->wt;
-        f[11] = dot3(m->v, z) * m->wt;
+        f[10] = actag__dot3(m->u, z) * m->wt;
+        f[11] = actag__dot3(m->v, z) * m->wt;
         if (J) {
-            cross3(z, m->u, w);
+            actag__cross3(z, m->u, w);
             for (j = 0; j < 3; j++)
                 J[10 * P_NPAR + 3 + j] = w[j] * m->wt;
-            cross3(z, m->v, w);
+            actag__cross3(z, m->v, w);
             for (j = 0; j < 3; j++)
                 J[11 * P_NPAR + 3 + j] = w[j] * m->wt;
         }
@@ -530,7 +322,7 @@ static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
  * ellipsoid about one time in five (actag-eval, docs/pose.md). */
 static void p_arc_term(const float *t, float *cov)
 {
-    float r2 = dot3(t, t), rho2 = t[0] * t[0] + t[1] * t[1], rho, r, e[3], u[3], ve, c;
+    float r2 = actag__dot3(t, t), rho2 = t[0] * t[0] + t[1] * t[1], rho, r, e[3], u[3], ve, c;
     int i, j;
     if (!(r2 > 0.0f) || !(rho2 > 0.0f))
         return;
@@ -562,15 +354,15 @@ static void p_step(const p_state *x, const float *d, p_state *o)
     int j;
     for (j = 0; j < 3; j++)
         o->t[j] = x->t[j] + d[j];
-    rot_exp(d + 3, dR);
-    mat_mul(dR, x->R, o->R);
+    actag__rot_exp(d + 3, dR);
+    actag__mat_mul(dR, x->R, o->R);
     { /* keep R orthonormal */
         float xa[3], ya[3];
         for (j = 0; j < 3; j++) {
             xa[j] = o->R[3 * j];
             ya[j] = o->R[3 * j + 1];
         }
-        rot_from_axes(xa, ya, o->R);
+        actag__rot_from_axes(xa, ya, o->R);
     }
 }
 
@@ -787,7 +579,7 @@ static void p_start(const p_model *m, float e, p_state *x, float *winding)
     abar = p_wrap(abar + m->az[0]);
     for (i = 0; i < 4; i++) {
         float s, c, d = p_wrap(m->az[i] - abar);
-        p_sincos(d, &s, &c);
+        actag__sincos(d, &s, &c);
         q[i][0] = m->r[i] * c;
         q[i][1] = m->r[i] * s;
     }
@@ -821,8 +613,8 @@ static void p_start(const p_model *m, float e, p_state *x, float *winding)
         ha = -ha;
         hb = -hb;
     }
-    p_sincos(abar, &sa, &ca);
-    p_sincos(e, &se, &ce);
+    actag__sincos(abar, &sa, &ca);
+    actag__sincos(e, &se, &ce);
     ur[0] = ca * ce; ur[1] = sa * ce; ur[2] = se;
     ua[0] = -sa;     ua[1] = ca;      ua[2] = 0.0f;
     ue[0] = -ca * se; ue[1] = -sa * se; ue[2] = ce;
@@ -834,7 +626,7 @@ static void p_start(const p_model *m, float e, p_state *x, float *winding)
         xa[j] = al[j];
         ya[j] = bl[j];
     }
-    rot_from_axes(xa, ya, x->R);
+    actag__rot_from_axes(xa, ya, x->R);
     for (j = 0; j < 3; j++)
         x->t[j] = rbar * ur[j];
 }
@@ -861,7 +653,7 @@ static int p_plane_of(const actag_pose_params *p, p_model *m)
         return -1;
     for (j = 0; j < 3; j++)
         n[j] = p->plane[j] / big;
-    nn = norm3(n); /* 1 .. sqrt(3) */
+    nn = actag__norm3(n); /* 1 .. sqrt(3) */
     for (j = 0; j < 3; j++)
         m->n[j] = n[j] / nn;
     m->d = p->plane[3] / big / nn;
@@ -869,11 +661,11 @@ static int p_plane_of(const actag_pose_params *p, p_model *m)
         return -1;
     /* u: n x (the axis least along n), v = n x u */
     a[(m->n[0] < 0.0f ? -m->n[0] : m->n[0]) < 0.9f ? 0 : 1] = 1.0f;
-    cross3(m->n, a, m->u);
-    nn = norm3(m->u);
+    actag__cross3(m->n, a, m->u);
+    nn = actag__norm3(m->u);
     for (j = 0; j < 3; j++)
         m->u[j] /= nn;
-    cross3(m->n, m->u, m->v);
+    actag__cross3(m->n, m->u, m->v);
     m->wd = p->plane_sd > 0.0f ? 1.0f / p->plane_sd : 0.0f;
     m->wt = p->plane_tilt_sd > 0.0f ? 1.0f / p->plane_tilt_sd : 0.0f;
     return 0;
@@ -892,7 +684,7 @@ static int p_plane_elevation(const p_model *m, int k, float *e)
         abar += 0.25f * p_wrap(m->az[i] - m->az[0]);
     }
     abar = p_wrap(abar + m->az[0]);
-    p_sincos(abar, &sa, &ca);
+    actag__sincos(abar, &sa, &ca);
     A = m->n[0] * ca + m->n[1] * sa;
     B = m->n[2];
     h = actag_sqrtf(A * A + B * B);
@@ -901,8 +693,8 @@ static int p_plane_elevation(const p_model *m, int k, float *e)
     q = m->d / (rbar * h);
     if (!(q >= -1.0f && q <= 1.0f))
         return 0;
-    phi = p_atan2(B, A);
-    al = 0.5f * P_PI - p_asin(q); /* acos(q) */
+    phi = actag__atan2(B, A);
+    al = 0.5f * P_PI - actag__asin(q); /* acos(q) */
     *e = p_wrap(k ? phi - al : phi + al);
     return *e >= -4.0f * m->half_v && *e <= 4.0f * m->half_v;
 }
@@ -1075,8 +867,8 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         out->R[i] = x.R[i];
     for (i = 0; i < 3; i++)
         out->t[i] = x.t[i];
-    out->range = norm3(x.t);
-    out->azimuth = p_atan2(x.t[1], x.t[0]);
+    out->range = actag__norm3(x.t);
+    out->azimuth = actag__atan2(x.t[1], x.t[0]);
     out->elevation = p_elev(x.t);
     out->elevation_lo = lo;
     out->elevation_hi = hi;
@@ -1129,10 +921,10 @@ int actag_pose_from_camera(const float R_opt[9], const float t_opt[3], actag_pos
         return ACTAG_ERR_PARAM;
     for (i = 0; i < (int)sizeof *out; i++)
         ((unsigned char *)out)[i] = 0;
-    mat_mul(Cm, R_opt, out->R);
-    mat_vec(Cm, t_opt, out->t);
-    out->range = norm3(out->t);
-    out->azimuth = p_atan2(out->t[1], out->t[0]);
+    actag__mat_mul(Cm, R_opt, out->R);
+    actag__mat_vec(Cm, t_opt, out->t);
+    out->range = actag__norm3(out->t);
+    out->azimuth = actag__atan2(out->t[1], out->t[0]);
     out->elevation = p_elev(out->t);
     out->flags = ACTAG_POSE_NO_COVARIANCE;
     return ACTAG_OK;
@@ -1175,7 +967,7 @@ int actag_pose_camera_covariance(const float corners[8], float fx, float fy, flo
         c[0] = p_cx[i] * tag_size;
         c[1] = p_cy[i] * tag_size;
         c[2] = 0.0f;
-        mat_vec(pose->R, c, rc);
+        actag__mat_vec(pose->R, c, rc);
         for (j = 0; j < 3; j++)
             p[j] = rc[j] + pose->t[j];
         q[i][0] = -p[1];
@@ -1202,8 +994,8 @@ int actag_pose_camera_covariance(const float corners[8], float fx, float fy, flo
         /* d p / d w = -[Rc]x: g . (w x Rc) = w . (Rc x g) */
         {
             float wu[3], wv[3];
-            cross3(rc, gu, wu);
-            cross3(rc, gv, wv);
+            actag__cross3(rc, gu, wu);
+            actag__cross3(rc, gv, wv);
             for (j = 0; j < 3; j++) {
                 J[(2 * i) * P_NPAR + 3 + j] = wu[j] / pixel_sd;
                 J[(2 * i + 1) * P_NPAR + 3 + j] = wv[j] / pixel_sd;

@@ -5,6 +5,7 @@
 #include "actag/decode.h"
 #include "frame16.h"
 #include "refine_frame.h"
+#include "trig.h"
 
 #include <string.h>
 
@@ -116,33 +117,6 @@ static uint32_t rscale16(const struct rctx *c, const uint8_t *p)
     return c->max16 ? (frame16_load(p) * 255u + c->max16 / 2u) / c->max16 : 0u;
 }
 
-/* sin, cos of a small angle (|d| <= 0.6: Taylor, error < 1e-8; |d| < 0.2,
- * most pixels of a tag about its centre beam: two terms fewer, error
- * < 3e-9) */
-static void rsincos(float d, float *s, float *c)
-{
-    const float i6 = 1.0f / 6.0f, i20 = 1.0f / 20.0f, i42 = 1.0f / 42.0f, i72 = 1.0f / 72.0f;
-    const float i12 = 1.0f / 12.0f, i30 = 1.0f / 30.0f, i56 = 1.0f / 56.0f;
-    float d2 = d * d;
-    if (d2 < 0.04f) {
-        *s = d * (1.0f - d2 * i6 * (1.0f - d2 * i20));
-        *c = 1.0f - d2 * 0.5f * (1.0f - d2 * i12 * (1.0f - d2 * i30));
-        return;
-    }
-    *s = d * (1.0f - d2 * i6 * (1.0f - d2 * i20 * (1.0f - d2 * i42 * (1.0f - d2 * i72))));
-    *c = 1.0f - d2 * 0.5f * (1.0f - d2 * i12 * (1.0f - d2 * i30 * (1.0f - d2 * i56)));
-}
-
-/* atan(t), |t| <= 0.7 (series, error < 2e-7 there) */
-static float ratan(float t)
-{
-    float t2 = t * t, s = 0.0f;
-    int i;
-    for (i = 25; i >= 1; i -= 2)
-        s = 1.0f / (float)i - t2 * s;
-    return t * s;
-}
-
 /* Fan-plane coordinates of pixel (x, y); 0 when too far off the centre beam. */
 static int rplane(const rctx *c, float x, float y, float *X, float *Y)
 {
@@ -156,7 +130,7 @@ static int rplane(const rctx *c, float x, float y, float *X, float *Y)
     d = actag_geometry_azimuth(c->geo, c->cols, x) - c->ac;
     if (!(d >= -0.6f && d <= 0.6f))
         return 0;
-    rsincos(d, &sn, &cs);
+    actag__sincos_small(d, &sn, &cs);
     *X = r * cs;
     *Y = r * sn;
     return 1;
@@ -172,7 +146,7 @@ static void rpixel(const rctx *c, float X, float Y, actag_point *p)
         return;
     }
     r = actag_sqrtf(X * X + Y * Y);
-    a = c->ac + ratan(Y / X);
+    a = c->ac + actag__atan_small(Y / X);
     p->x = actag_geometry_column(c->geo, c->cols, a);
     p->y = actag_geometry_row(c->geo, c->rows, r);
 }
@@ -401,7 +375,7 @@ static int rcolumn_dir(const rctx *c, int j, float *cs, float *sn)
         *sn = 0.0f;
         return 0;
     }
-    rsincos(d, sn, cs);
+    actag__sincos_small(d, sn, cs);
     return 1;
 }
 
