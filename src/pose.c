@@ -1,13 +1,14 @@
 /* 6-DOF tag pose from one sonar detection (see actag/pose.h). */
 #include "fpmath.h" /* first: float results independent of the build flags */
 #include "actag/pose.h"
+#include "pose_model.h"
 #include "rotation.h"
 
 #include <math.h>
 
 #define P_PI 3.14159265f
-#define P_NPAR 6
-#define P_NRES 12 /* 8 corner residuals, the elevation prior, the plane's offset and tilt */
+#define P_NPAR ACTAG__POSE_NPAR
+#define P_NRES ACTAG__POSE_NRES
 #define P_PASSES 3
 #define P_STARTS 5      /* start elevations across the band, at least */
 #define P_STARTS_MAX 17 /* and at most: a band wider than 16 degrees gets one start
@@ -53,19 +54,8 @@ float actag_pose_angle(const float Ra[9], const float Rb[9])
 
 /* ------------------------------------------------------------ the model */
 
-typedef struct {
-    float r[4], az[4];   /* measured corners */
-    float s, E, half_v;  /* tag size, outline extent (tag sizes), half aperture */
-    float sr, sa;        /* noise sds */
-    float mu, sp;        /* elevation prior: mean, sd (rad) */
-    /* the plane prior (params.plane): unit normal n, offset d (n.p = d), the
-     * normal's two unit tangents u, v, and the sds' inverses (0: unused) */
-    float n[3], d, u[3], v[3], wd, wt;
-} p_model;
-
-typedef struct {
-    float R[9], t[3];
-} p_state;
+typedef actag__pose_model p_model;
+typedef actag__pose_state p_state;
 
 static const float p_cx[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, p_cy[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
 
@@ -222,7 +212,7 @@ static int p_set_prior(p_model *m, const p_state *x, const float *C, float *lo, 
 
 /* Residuals f (P_NRES) and, when J != NULL, the Jacobian (P_NRES x P_NPAR).
  * Returns the sum of squares. */
-static float p_eval(const p_model *m, const p_state *x, float *f, float *J)
+float actag__pose_eval(const p_model *m, const p_state *x, float *f, float *J)
 {
     float cost = 0.0f, tn, rho2, rho, e0;
     int i, j;
@@ -348,7 +338,7 @@ static void p_arc_term(const float *t, float *cov)
         }
 }
 
-static void p_step(const p_state *x, const float *d, p_state *o)
+void actag__pose_step(const p_state *x, const float *d, p_state *o)
 {
     float dR[9];
     int j;
@@ -472,7 +462,7 @@ static int p_cov_of(float *A, int nres, float *cov)
 static int p_cov(const p_model *m, const p_state *x, float *cov)
 {
     float f[P_NRES], A[P_NRES * P_NPAR];
-    p_eval(m, x, f, A);
+    actag__pose_eval(m, x, f, A);
     return p_cov_of(A, P_NRES, cov);
 }
 
@@ -495,7 +485,7 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
     float f[P_NRES], J[P_NRES * P_NPAR], A[P_MAXR * P_NPAR], b[P_MAXR], d[P_NPAR];
     float dg[P_NPAR], sc[P_NPAR], cost, lambda = 1e-3f, jd2 = 0.0f;
     int it, i, j, small;
-    cost = p_eval(m, x, f, J);
+    cost = actag__pose_eval(m, x, f, J);
     for (it = 1; it <= max_it; it++) {
         p_state y;
         float fy[P_NRES], cy;
@@ -521,8 +511,8 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
                 return it;
             continue;
         }
-        p_step(x, d, &y);
-        cy = p_eval(m, &y, fy, NULL);
+        actag__pose_step(x, d, &y);
+        cy = actag__pose_eval(m, &y, fy, NULL);
         /* Converged: a nearly undamped step shorter than 1e-3 of the
          * solution's sd (the covariance is (J^T J)^-1 of the normalised
          * residuals, so that is |J d| < 1e-3), or one shorter than 1e-2 sd
@@ -547,7 +537,7 @@ static int p_lm(const p_model *m, p_state *x, int max_it)
             int done = small || ((cost - cy) <= 1e-7f * cost + 1e-12f && lambda < 1e-2f) ||
                        (dt < 1e-7f && dw < 1e-7f);
             *x = y;
-            cost = p_eval(m, x, f, J);
+            cost = actag__pose_eval(m, x, f, J);
             lambda = lambda * 0.1f > 1e-9f ? lambda * 0.1f : 1e-9f;
             if (done)
                 return it;
@@ -807,7 +797,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
             p_start(&m, es[k], &y, &winding);
             it = p_lm(&m, &y, p->max_iterations);
             total += it > 0 ? it : -it;
-            cy = p_eval(&m, &y, f0, NULL);
+            cy = actag__pose_eval(&m, &y, f0, NULL);
             /* Every pose has a twin reflected in the horizontal plane whose
              * corners have the same ranges and azimuths (exactly: the twin
              * is a proper rotation of the same printed face); the twin shows
@@ -858,7 +848,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         p_model mn = m;
         none = p_prior_at(&mn, &x, &lo, &hi);
     }
-    p_eval(&m, &x, f, NULL);
+    actag__pose_eval(&m, &x, f, NULL);
     if (p_cov(&m, &x, out->cov) != 0)
         out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
     else

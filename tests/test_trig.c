@@ -44,6 +44,14 @@ static void test_sincos(void)
         NEAR(2e-7, sin((double)x), s);
         NEAR(2e-7, cos((double)x), c);
     }
+    /* a few turns, every quadrant (the reduction's low part matters here:
+     * with its sign flipped, 5.6e-7): 2e-7 */
+    for (t = 0; t < TU_TRIALS(200000, 20); t++) {
+        float x = (float)uni(-8.0, 8.0);
+        actag__sincos(x, &s, &c);
+        NEAR(2e-7, sin((double)x), s);
+        NEAR(2e-7, cos((double)x), c);
+    }
     /* far out, the quadrant count's product rounds: within an ulp of x
      * (the angle itself is no better known) */
     for (t = 0; t < TU_TRIALS(100000, 20); t++) {
