@@ -5,6 +5,7 @@
 #include "actag/decode.h"
 #include "frame16.h"
 #include "refine_frame.h"
+#include "refine_probe.h"
 #include "trig.h"
 
 #include <string.h>
@@ -1280,6 +1281,168 @@ int actag_refine_corners_depth(const void *img, int depth, int rows, int cols, i
                                        family, id, corners, rp, out, info);
 }
 
+/* The refinement's context (*c) and start grid (*G) for a tag of family's
+ * code id at corners (tag order; checked by the caller): the layout, the
+ * start grid (the corners' affine fit in the fan plane), the level ramps,
+ * the pixel set and its lattice; *count its pixels. ACTAG_OK, or
+ * ACTAG_ERR_PARAM / ACTAG_ERR_NO_MATCH as actag_refine_corners says. */
+static int rsetup(rctx *c, rgrid *G, int *count, const void *img, int depth, uint32_t max16,
+                  int rows, int cols, int stride, const actag_sonar_geometry *geometry,
+                  float tag_size, const actag_family *family, int id,
+                  const actag_point corners[4], const actag_refine_params *rp)
+{
+    float H[9];
+    actag_point pl[4];
+    int k, bits = family->bits, i, cx, cy, rc;
+    uint32_t code;
+    *count = 0;
+    k = bits / 4;
+    memset(c, 0, sizeof *c);
+    c->img = (const uint8_t *)img;
+    c->depth = depth;
+    if (depth == 16)
+        c->max16 = max16 ? max16 : frame16_max(c->img, rows, cols, (size_t)stride);
+    c->rows = rows;
+    c->cols = cols;
+    c->stride = stride;
+    c->geo = geometry;
+    c->n = k + 1;
+    c->g = 0.5f * (float)c->n;
+    c->lo = rp->margin;
+    c->hi = (float)c->n - rp->margin;
+    /* the layout as printed (corners are in tag order: no rotation) */
+    code = family->codes[id];
+    for (cy = 0; cy < c->n; cy++)
+        for (cx = 0; cx < c->n; cx++)
+            c->Lp[(cy + 1) * RL_PAD + cx + 1] =
+                (cx >= 2 && cy >= 2 && cx <= k - 2 && cy <= k - 2) ? 1.0f : 0.0f;
+    for (i = 0; i < bits; i++) {
+        int q = i / k, j = i % k;
+        cx = q == 0 ? j : q == 1 ? k : q == 2 ? k - j : 0;
+        cy = q == 0 ? 0 : q == 1 ? j : q == 2 ? k : k - j;
+        c->Lp[(cy + 1) * RL_PAD + cx + 1] = (float)((code >> (bits - 1 - i)) & 1u);
+    }
+
+    /* the start grid: the corners' affine fit in the fan plane */
+    if (geometry != NULL) {
+        float mx = 0.25f * (corners[0].x + corners[1].x + corners[2].x + corners[3].x);
+        c->ac = actag_geometry_azimuth(geometry, cols, mx);
+        c->cell2 = tag_size / (float)(k - 3);
+        c->cell2 *= c->cell2;
+    }
+    for (i = 0; i < 4; i++)
+        if (!rplane(c, corners[i].x, corners[i].y, &pl[i].x, &pl[i].y))
+            return ACTAG_ERR_PARAM;
+    rc = actag_tag_affine(pl, bits, H);
+    if (rc != ACTAG_OK)
+        return rc;
+    G->p[0] = H[0] * c->g + H[1] * c->g + H[2];
+    G->p[1] = H[3] * c->g + H[4] * c->g + H[5];
+    G->p[2] = H[0];
+    G->p[3] = H[3];
+    G->p[4] = H[1];
+    G->p[5] = H[4];
+    for (i = 0; i < 6; i++)
+        if (!finite_f(G->p[i]))
+            return ACTAG_ERR_PARAM;
+    rcurv(c, G);
+    c->G0 = *G;
+    {
+        /* the level ramps' frame: the start grid's affine coordinates / (k + 1) */
+        float det = G->p[2] * G->p[5] - G->p[4] * G->p[3], s = 1.0f / (float)c->n;
+        if (!finite_f(det) || det == 0.0f)
+            return ACTAG_ERR_PARAM;
+        c->rx = G->p[0];
+        c->ry = G->p[1];
+        c->ra[0] = G->p[5] / det * s;
+        c->ra[1] = -G->p[4] / det * s;
+        c->ra[2] = -G->p[3] / det * s;
+        c->ra[3] = G->p[2] / det * s;
+    }
+    {
+        /* the pixel box: the start outline's pixels (its sides are nearly
+         * straight: a 2 pixel pad), clipped to the image */
+        float bx0 = 1e30f, bx1 = -1e30f, by0 = 1e30f, by1 = -1e30f, area;
+        int j;
+        for (j = 0; j < 8; j++) {
+            float t = j < 4 ? 0.0f : 0.5f;
+            int e = j & 3;
+            float u = e == 0 ? t : e == 1 ? 1.0f : e == 2 ? 1.0f - t : 0.0f;
+            float v = e == 0 ? 0.0f : e == 1 ? t : e == 2 ? 1.0f : 1.0f - t;
+            actag_point q;
+            u = c->lo + u * (c->hi - c->lo) - c->g;
+            v = c->lo + v * (c->hi - c->lo) - c->g;
+            rgrid_pixel(c, G, u, v, &q);
+            if (!finite_f(q.x) || !finite_f(q.y))
+                return ACTAG_ERR_PARAM;
+            bx0 = q.x < bx0 ? q.x : bx0;
+            bx1 = q.x > bx1 ? q.x : bx1;
+            by0 = q.y < by0 ? q.y : by0;
+            by1 = q.y > by1 ? q.y : by1;
+        }
+        bx0 -= 2.0f;
+        by0 -= 2.0f;
+        bx1 += 2.0f;
+        by1 += 2.0f;
+        if (!(bx0 < (float)cols && by0 < (float)rows && bx1 >= 0.0f && by1 >= 0.0f))
+            return ACTAG_ERR_NO_MATCH;
+        c->x0 = bx0 < 0.0f ? 0 : (int)bx0 + 1;
+        c->y0 = by0 < 0.0f ? 0 : (int)by0 + 1;
+        c->x1 = bx1 > (float)(cols - 1) ? cols - 1 : (int)bx1;
+        c->y1 = by1 > (float)(rows - 1) ? rows - 1 : (int)by1;
+        if (c->x1 < c->x0 || c->y1 < c->y0)
+            return ACTAG_ERR_NO_MATCH;
+        /* the set covers about the corners' quad's area x ((hi - lo) / (k - 3))^2 */
+        area = 0.5f * ((corners[2].x - corners[0].x) * (corners[3].y - corners[1].y) -
+                       (corners[3].x - corners[1].x) * (corners[2].y - corners[0].y));
+        area = (area < 0.0f ? -area : area) * (c->hi - c->lo) * (c->hi - c->lo) /
+               (float)((k - 3) * (k - 3));
+        c->step = 1;
+        while (((float)(c->step * c->step) * (float)rp->max_samples < area ||
+                (c->x1 - c->x0) / c->step >= RCOL_MAX || (c->y1 - c->y0) / c->step >= RROW_MAX) &&
+               c->step < 1024)
+            c->step++;
+    }
+    {
+        /* the pixel set: each lattice row's members from the first to the
+         * last (the set is convex: an affine image of a square, mildly bent) */
+        rmap q0;
+        int ncol = (c->x1 - c->x0) / c->step + 1, r;
+        if (!rmap_init(&c->G0, &q0))
+            return ACTAG_ERR_NO_MATCH;
+        /* every sweep visits the same columns: their directions once (up
+         * to the first too far off the centre beam: rlattice_plane asks
+         * rcolumn_dir for the columns past ndir) */
+        c->ndir = 0;
+        if (c->geo != NULL) {
+            int nd = ncol < RDIR_MAX ? ncol : RDIR_MAX;
+            while (c->ndir < nd &&
+                   rcolumn_dir(c, c->ndir, &c->dir[2 * c->ndir], &c->dir[2 * c->ndir + 1]))
+                c->ndir++;
+        }
+        c->nrow = (c->y1 - c->y0) / c->step + 1;
+        for (r = 0; r < c->nrow; r++) {
+            float rr = rrange(c, c->y0 + r * c->step);
+            int a = 0, b = ncol - 1;
+            while (a < ncol && !rmember(c, &q0, rr, a))
+                a++;
+            while (b > a && !rmember(c, &q0, rr, b))
+                b--;
+            if (a < ncol) {
+                c->ja[r] = (uint8_t)a;
+                c->jb[r] = (uint8_t)b;
+                (*count) += b - a + 1;
+            } else {
+                c->ja[r] = 1;
+                c->jb[r] = 0;
+            }
+        }
+        if ((*count) < 16)
+            return ACTAG_ERR_NO_MATCH;
+    }
+    return ACTAG_OK;
+}
+
 int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int rows, int cols,
                                 int stride, const actag_sonar_geometry *geometry, float tag_size,
                                 const actag_family *family, int id, const actag_point corners[4],
@@ -1288,10 +1451,9 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
 {
     rctx c;
     rgrid G;
-    float H[9], cl[6], rss = 0.0f, shift2 = 0.0f, cu[4], cv[4];
-    actag_point pl[4], p[4];
-    int k, bits, i, cx, cy, rc, count = 0, iters = 0, steps, lsub;
-    uint32_t code;
+    float cl[6], rss = 0.0f, shift2 = 0.0f, cu[4], cv[4];
+    actag_point p[4];
+    int k, bits, i, rc, count = 0, iters = 0, steps, lsub;
 
     if (img == NULL || family == NULL || corners == NULL || rp == NULL || out == NULL)
         return ACTAG_ERR_NULL;
@@ -1318,149 +1480,10 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
         out[i] = corners[i];
     }
     k = bits / 4;
-    memset(&c, 0, sizeof c);
-    c.img = (const uint8_t *)img;
-    c.depth = depth;
-    if (depth == 16)
-        c.max16 = max16 ? max16 : frame16_max(c.img, rows, cols, (size_t)stride);
-    c.rows = rows;
-    c.cols = cols;
-    c.stride = stride;
-    c.geo = geometry;
-    c.n = k + 1;
-    c.g = 0.5f * (float)c.n;
-    c.lo = rp->margin;
-    c.hi = (float)c.n - rp->margin;
-    /* the layout as printed (corners are in tag order: no rotation) */
-    code = family->codes[id];
-    for (cy = 0; cy < c.n; cy++)
-        for (cx = 0; cx < c.n; cx++)
-            c.Lp[(cy + 1) * RL_PAD + cx + 1] =
-                (cx >= 2 && cy >= 2 && cx <= k - 2 && cy <= k - 2) ? 1.0f : 0.0f;
-    for (i = 0; i < bits; i++) {
-        int q = i / k, j = i % k;
-        cx = q == 0 ? j : q == 1 ? k : q == 2 ? k - j : 0;
-        cy = q == 0 ? 0 : q == 1 ? j : q == 2 ? k : k - j;
-        c.Lp[(cy + 1) * RL_PAD + cx + 1] = (float)((code >> (bits - 1 - i)) & 1u);
-    }
-
-    /* the start grid: the corners' affine fit in the fan plane */
-    if (geometry != NULL) {
-        float mx = 0.25f * (corners[0].x + corners[1].x + corners[2].x + corners[3].x);
-        c.ac = actag_geometry_azimuth(geometry, cols, mx);
-        c.cell2 = tag_size / (float)(k - 3);
-        c.cell2 *= c.cell2;
-    }
-    for (i = 0; i < 4; i++)
-        if (!rplane(&c, corners[i].x, corners[i].y, &pl[i].x, &pl[i].y))
-            return ACTAG_ERR_PARAM;
-    rc = actag_tag_affine(pl, bits, H);
+    rc = rsetup(&c, &G, &count, img, depth, max16, rows, cols, stride, geometry, tag_size, family,
+                id, corners, rp);
     if (rc != ACTAG_OK)
         return rc;
-    G.p[0] = H[0] * c.g + H[1] * c.g + H[2];
-    G.p[1] = H[3] * c.g + H[4] * c.g + H[5];
-    G.p[2] = H[0];
-    G.p[3] = H[3];
-    G.p[4] = H[1];
-    G.p[5] = H[4];
-    for (i = 0; i < 6; i++)
-        if (!finite_f(G.p[i]))
-            return ACTAG_ERR_PARAM;
-    rcurv(&c, &G);
-    c.G0 = G;
-    {
-        /* the level ramps' frame: the start grid's affine coordinates / (k + 1) */
-        float det = G.p[2] * G.p[5] - G.p[4] * G.p[3], s = 1.0f / (float)c.n;
-        if (!finite_f(det) || det == 0.0f)
-            return ACTAG_ERR_PARAM;
-        c.rx = G.p[0];
-        c.ry = G.p[1];
-        c.ra[0] = G.p[5] / det * s;
-        c.ra[1] = -G.p[4] / det * s;
-        c.ra[2] = -G.p[3] / det * s;
-        c.ra[3] = G.p[2] / det * s;
-    }
-    {
-        /* the pixel box: the start outline's pixels (its sides are nearly
-         * straight: a 2 pixel pad), clipped to the image */
-        float bx0 = 1e30f, bx1 = -1e30f, by0 = 1e30f, by1 = -1e30f, area;
-        int j;
-        for (j = 0; j < 8; j++) {
-            float t = j < 4 ? 0.0f : 0.5f;
-            int e = j & 3;
-            float u = e == 0 ? t : e == 1 ? 1.0f : e == 2 ? 1.0f - t : 0.0f;
-            float v = e == 0 ? 0.0f : e == 1 ? t : e == 2 ? 1.0f : 1.0f - t;
-            actag_point q;
-            u = c.lo + u * (c.hi - c.lo) - c.g;
-            v = c.lo + v * (c.hi - c.lo) - c.g;
-            rgrid_pixel(&c, &G, u, v, &q);
-            if (!finite_f(q.x) || !finite_f(q.y))
-                return ACTAG_ERR_PARAM;
-            bx0 = q.x < bx0 ? q.x : bx0;
-            bx1 = q.x > bx1 ? q.x : bx1;
-            by0 = q.y < by0 ? q.y : by0;
-            by1 = q.y > by1 ? q.y : by1;
-        }
-        bx0 -= 2.0f;
-        by0 -= 2.0f;
-        bx1 += 2.0f;
-        by1 += 2.0f;
-        if (!(bx0 < (float)cols && by0 < (float)rows && bx1 >= 0.0f && by1 >= 0.0f))
-            return ACTAG_ERR_NO_MATCH;
-        c.x0 = bx0 < 0.0f ? 0 : (int)bx0 + 1;
-        c.y0 = by0 < 0.0f ? 0 : (int)by0 + 1;
-        c.x1 = bx1 > (float)(cols - 1) ? cols - 1 : (int)bx1;
-        c.y1 = by1 > (float)(rows - 1) ? rows - 1 : (int)by1;
-        if (c.x1 < c.x0 || c.y1 < c.y0)
-            return ACTAG_ERR_NO_MATCH;
-        /* the set covers about the corners' quad's area x ((hi - lo) / (k - 3))^2 */
-        area = 0.5f * ((corners[2].x - corners[0].x) * (corners[3].y - corners[1].y) -
-                       (corners[3].x - corners[1].x) * (corners[2].y - corners[0].y));
-        area = (area < 0.0f ? -area : area) * (c.hi - c.lo) * (c.hi - c.lo) /
-               (float)((k - 3) * (k - 3));
-        c.step = 1;
-        while (((float)(c.step * c.step) * (float)rp->max_samples < area ||
-                (c.x1 - c.x0) / c.step >= RCOL_MAX || (c.y1 - c.y0) / c.step >= RROW_MAX) &&
-               c.step < 1024)
-            c.step++;
-    }
-    {
-        /* the pixel set: each lattice row's members from the first to the
-         * last (the set is convex: an affine image of a square, mildly bent) */
-        rmap q0;
-        int ncol = (c.x1 - c.x0) / c.step + 1, r;
-        if (!rmap_init(&c.G0, &q0))
-            return ACTAG_ERR_NO_MATCH;
-        /* every sweep visits the same columns: their directions once (up
-         * to the first too far off the centre beam: rlattice_plane asks
-         * rcolumn_dir for the columns past ndir) */
-        c.ndir = 0;
-        if (c.geo != NULL) {
-            int nd = ncol < RDIR_MAX ? ncol : RDIR_MAX;
-            while (c.ndir < nd &&
-                   rcolumn_dir(&c, c.ndir, &c.dir[2 * c.ndir], &c.dir[2 * c.ndir + 1]))
-                c.ndir++;
-        }
-        c.nrow = (c.y1 - c.y0) / c.step + 1;
-        for (r = 0; r < c.nrow; r++) {
-            float rr = rrange(&c, c.y0 + r * c.step);
-            int a = 0, b = ncol - 1;
-            while (a < ncol && !rmember(&c, &q0, rr, a))
-                a++;
-            while (b > a && !rmember(&c, &q0, rr, b))
-                b--;
-            if (a < ncol) {
-                c.ja[r] = (uint8_t)a;
-                c.jb[r] = (uint8_t)b;
-                count += b - a + 1;
-            } else {
-                c.ja[r] = 1;
-                c.jb[r] = 0;
-            }
-        }
-        if (count < 16)
-            return ACTAG_ERR_NO_MATCH;
-    }
 
     /* pass 1: wide edges (a basin for corners a cell off) on every sub-th
      * lattice row and column, sub leaving at least RSUB1 pixels; pass 2: the
@@ -1521,5 +1544,58 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
     }
     for (i = 0; i < 4; i++)
         out[i] = p[i];
+    return ACTAG_OK;
+}
+
+int actag__refine_probe(const uint8_t *img, int rows, int cols, int stride,
+                        const actag_sonar_geometry *geometry, float tag_size,
+                        const actag_family *family, int id, const actag_point corners[4],
+                        float blur, const float dp[6], float *rss, float b[6], float A[21],
+                        float start[6])
+{
+    actag_refine_params rp;
+    actag_point out[4];
+    rctx c;
+    rgrid G, T;
+    rsums S;
+    float cl[6], r0;
+    int i, rc, count;
+    if (img == NULL || family == NULL || corners == NULL || dp == NULL || rss == NULL ||
+        b == NULL || A == NULL)
+        return ACTAG_ERR_NULL;
+    actag_refine_params_default(&rp);
+    rp.blur = blur;
+    /* the public entry's checks, on a copy of the corners it would write */
+    if (rows < 1 || cols < 1 || rows > ACTAG_MAX_DIM || cols > ACTAG_MAX_DIM || stride < cols)
+        return ACTAG_ERR_SIZE;
+    if (family->bits < 16 || family->bits > 4 * RK_MAX || family->bits % 4 != 0 ||
+        family->codes == NULL || id < 0 || id >= family->ncodes ||
+        !(blur >= 0.25f && blur <= 20.0f) ||
+        (geometry != NULL && !(tag_size > 0.0f && tag_size < ACTAG_MAX_TAG_SIZE)))
+        return ACTAG_ERR_PARAM;
+    for (i = 0; i < 4; i++) {
+        if (!finite_f(corners[i].x) || !finite_f(corners[i].y))
+            return ACTAG_ERR_PARAM;
+        out[i] = corners[i];
+    }
+    rc = rsetup(&c, &G, &count, img, 8, 0u, rows, cols, stride, geometry, tag_size, family, id,
+                out, &rp);
+    if (rc != ACTAG_OK)
+        return rc;
+    rwidths(&c, &G, rp.blur, 0.05f);
+    rcurv(&c, &G);
+    if (!rsweep_levels(&c, &G, 1, &S) || !rbest(&S, cl, &r0))
+        return ACTAG_ERR_NO_MATCH;
+    T = G;
+    for (i = 0; i < 6; i++)
+        T.p[i] += dp[i];
+    rcurv(&c, &T);
+    if (!rsweep_grid(&c, &T, cl, 1, &S))
+        return ACTAG_ERR_NO_MATCH;
+    *rss = S.ss;
+    memcpy(b, S.b, sizeof S.b);
+    memcpy(A, S.A, sizeof S.A);
+    if (start != NULL)
+        memcpy(start, G.p, sizeof G.p);
     return ACTAG_OK;
 }

@@ -47,7 +47,9 @@ int actag__refine_shape_ok_portable(const float start[6], const float fit[6], fl
 #define actag_refine_corners_depth actag_refine_corners_depth_portable
 #define actag__refine_corners_max16 actag__refine_corners_max16_portable
 #define actag__refine_shape_ok actag__refine_shape_ok_portable
+#define actag__refine_probe actag__refine_probe_portable
 #include "../src/refine.c"
+#undef actag__refine_probe
 #undef actag_refine_params_default
 #undef actag_refine_corners
 #undef actag_refine_corners_depth
