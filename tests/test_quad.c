@@ -490,6 +490,28 @@ static void test_error_codes_and_scratch_size(void)
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_quad_fit(g_pts, -1, &p, &r, g_scratch, need, &q));
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_SIZE, actag_quad_fit(g_pts, ACTAG_QUAD_MAX_POINTS + 1, &p, &r,
                                                          g_scratch, (size_t)1 << 20, &q));
+    {
+        /* exactly ACTAG_QUAD_MAX_POINTS points (the border of a square of
+         * 8191 pixels, its first 3 points again) is a size it takes */
+        actag_ipoint *big = (actag_ipoint *)malloc(ACTAG_QUAD_MAX_POINTS * sizeof *big);
+        size_t bs = ACTAG_QUAD_SCRATCH_SIZE(ACTAG_QUAD_MAX_POINTS);
+        void *bscr = malloc(bs);
+        int i, side = 8191, rc;
+        TEST_ASSERT_NOT_NULL(big);
+        TEST_ASSERT_NOT_NULL(bscr);
+        for (i = 0; i < 4 * side; i++) {
+            int e = i / side, o = i % side;
+            big[i].x = (int16_t)(e == 0 ? o : e == 1 ? side : e == 2 ? side - o : 0);
+            big[i].y = (int16_t)(e == 0 ? 0 : e == 1 ? o : e == 2 ? side : side - o);
+        }
+        for (; i < ACTAG_QUAD_MAX_POINTS; i++)
+            big[i] = big[i - 4 * side];
+        rc = actag_quad_fit(big, ACTAG_QUAD_MAX_POINTS, &p, &r, bscr, bs, &q);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, rc);
+        check_quad_invariants(big, ACTAG_QUAD_MAX_POINTS, &p, &q);
+        free(big);
+        free(bscr);
+    }
 
     /* Scratch: one byte short fails, exact size works. */
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_WORKSPACE, actag_quad_fit(g_pts, n, &p, &r, g_scratch, need - 1, &q));
