@@ -10,6 +10,7 @@
 #include "frame16.h"
 #include "median_bands.h"
 #include "refine_frame.h"
+#include "readings.h"
 #include "size_filter.h"
 
 #include <string.h>
@@ -167,445 +168,12 @@ void actag_params_default(actag_params *p)
 /* actag_params_validate(), actag_tuning_validate() and actag_check() are in
  * validate.c with the other rules. */
 
-/* Contours per frame whose extreme points are tried as a grid guess when
- * RANSAC gives no reading (each a wide-search decode, ~0.1 ms). */
-#define ACTAG_GUESS_MAX 16
-
-/* One more decoder call within limits.max_decodes? Counts the call, or
- * the refusal (stats.decode_cap). */
-static int decode_budget(actag_stats *st, const actag_params *p)
-{
-    if (st->decodes >= p->tuning.limits.max_decodes) {
-        st->decode_cap++;
-        return 0;
-    }
-    st->decodes++;
-    return 1;
-}
-
-/* Hypotheses of one contour's ambiguous quad readings kept for the rival
- * check (the reading and its rival, for each of the two grids of two
- * quads). */
-#define ACTAG_AMB_MAX 8
-
-/* Hypotheses of quad and contour-guess readings that the template check
- * refused as too close to call (the reading and the rival that refused
- * it), kept per frame so that a search reading of their place must explain
- * the cells better than each (rival_explains). */
-#define ACTAG_HELD_MAX 8
-
 /* RANSAC iterations multiplier for contours at a tag the search found. */
 #define ACTAG_SEEK_QUAD_EFFORT 10
-
-/* A quad reading with this many corrected bits or more is checked against
- * its contour's grid guess (detect_filtered, "cross-check"). */
-#define ACTAG_CROSS_HAMMING 2
-
-/* The structure budget: black-ring cells read white, interior cells read
- * black and corrected bits together may not exceed the reading's
- * corrections limit, and each structure fraction must reach min_structure.
- * (One budget instead of an all-or-nothing gate: a speckled ring cell
- * costs what a corrected bit costs.) */
-static int structure_ok(const actag_decode_result *dr, const actag_params *p, int limit)
-{
-    int k = p->family->bits / 4;
-    float ring = (float)(4 * (k - 2)), in = (float)((k - 3) * (k - 3));
-    int misses = (int)((1.0f - dr->ring_black) * ring + 0.5f) +
-                 (int)((1.0f - dr->interior_white) * in + 0.5f);
-    return dr->ring_black >= p->tuning.min_structure && dr->interior_white >= p->tuning.min_structure &&
-           misses + dr->hamming <= limit;
-}
-
-/* The grid-fitting decoder with the pipeline's options (flags added, and
- * ACTAG_FIT_VERIFY dropped when verify is 0); grids: a wide reading's
- * grids kept for a second reading (decode_fit_grids.h), or NULL. */
-static int decode_fit(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
-                      const actag_params *p, int max_corrections, int extra_flags, int verify,
-                      actag__fit_grids *grids, actag__fit_amb *amb, actag_decode_result *dr)
-{
-    actag_fit_params fp = p->tuning.fit;
-    fp.flags |= extra_flags;
-    if (!verify)
-        fp.flags &= ~ACTAG_FIT_VERIFY;
-    fp.min_margin = p->min_margin; /* the user's margin wins over the tuning's */
-    return actag__decode_quad_fit_grids(grey, rows, cols, cols, quad, p->family, max_corrections,
-                                        &fp, dr, grids, amb);
-}
-
-/* The configured decoder on one quad. */
-static int decode_any(const ws_layout *w, int rows, int cols, const actag_point quad[4],
-                      const actag_params *params, actag__fit_amb *amb, actag_decode_result *dr)
-{
-    if (amb)
-        amb->amb = amb->amb2 = 0;
-    switch (params->tuning.decode_mode) {
-    case ACTAG_DECODE_FIT:
-        return decode_fit(w->b, rows, cols, quad, params, params->max_bit_corrections, 0, 1, NULL,
-                          amb, dr);
-    default: {
-        /* the paper's decoder has no hypothesis set to restrict: its
-         * readings of the other handedness are dropped */
-        int f = params->tuning.fit.flags, rc;
-        rc = actag_decode_quad_bitmap(w->bin, rows, cols, quad, params->family,
-                                      params->max_bit_corrections, dr);
-        if (rc == ACTAG_OK && (((f & ACTAG_FIT_ONLY_UNMIRRORED) && dr->mirrored) ||
-                               ((f & ACTAG_FIT_ONLY_MIRRORED) && !dr->mirrored)))
-            rc = ACTAG_ERR_NO_MATCH;
-        return rc;
-    }
-    }
-}
-
-/* A first guess of a tag's grid (a search box, a contour's extreme points)
- * read with the fit decoder's wide search and judged as such readings are:
- * the wide-search corrections, search_min_margin, the structure budget and
- * the fitted grid's sides. verify 0: without the template check (a
- * tentative reading, see detect_filtered), 1: with it as configured. grids:
- * as for decode_fit. amb (or NULL): the template check's hypotheses when
- * it refused the reading as too close to call (amb->amb 1). Returns
- * ACTAG_TRACE_ACCEPTED or the reason for refusing it; *dr is filled unless
- * ACTAG_TRACE_NO_MATCH. */
-static int read_wide(const uint8_t *grey, int rows, int cols, const actag_point quad[4],
-                     const actag_sonar_geometry *geometry, const actag_params *params,
-                     int verify, actag__fit_grids *grids, actag__fit_amb *amb,
-                     actag_decode_result *dr)
-{
-    /* search_max_corrections, capped by max_bit_corrections */
-    int lim = params->tuning.search_max_corrections < params->max_bit_corrections
-                  ? params->tuning.search_max_corrections
-                  : params->max_bit_corrections;
-    if (amb)
-        amb->amb = amb->amb2 = 0;
-    if (decode_fit(grey, rows, cols, quad, params, lim, ACTAG_FIT_WIDE, verify, grids, amb, dr) !=
-        ACTAG_OK)
-        return ACTAG_TRACE_NO_MATCH;
-    if (!(dr->decision_margin >= params->tuning.search_min_margin))
-        return ACTAG_TRACE_MARGIN;
-    if (!structure_ok(dr, params, lim))
-        return ACTAG_TRACE_STRUCTURE;
-    if (!actag__sides_plausible(dr->fit_corners, geometry, params, rows, cols))
-        return ACTAG_TRACE_SIDES;
-    return ACTAG_TRACE_ACCEPTED;
-}
-
-static int same_place(const actag_point *d, const actag_point *c);
-
-/* Keeps hypothesis h in held[] (ACTAG_HELD_MAX) unless one of the same
- * tag, handedness and rotation at the same place is kept already. */
-static void hold(actag__fit_rival *held, int *nheld, const actag__fit_rival *h)
-{
-    int i;
-    for (i = 0; i < *nheld; i++)
-        if (held[i].id == h->id && held[i].mirrored == h->mirrored &&
-            held[i].rotation == h->rotation && same_place(held[i].fit_corners, h->fit_corners))
-            return;
-    if (*nheld < ACTAG_HELD_MAX)
-        held[(*nheld)++] = *h;
-}
-
-/* Keeps both hypotheses of a reading refused as too close to call (the
- * reading and the rival that refused it: pair[0], pair[1]). */
-static void hold_pair(actag__fit_rival *held, int *nheld, const actag__fit_rival pair[2])
-{
-    hold(held, nheld, &pair[0]);
-    hold(held, nheld, &pair[1]);
-}
-
-/* contour_guess's outcomes besides read_wide's verdicts (ACTAG_TRACE_*) */
-#define GUESS_UNREAD (-1) /* no extreme points, or the decode budget is spent */
-#define GUESS_BORDER (-2) /* a corner on the frame's border: not read */
-
-/* The start of a contour's grid guess: its extreme points (gq), not on
- * the frame's border (such a guess is not read and not counted against
- * ACTAG_GUESS_MAX), within the decode budget; *gg is cleared for the read
- * (read_before: a quad of the contour was read before: one more look) and
- * the guess counted. Returns 0, GUESS_UNREAD or GUESS_BORDER. */
-static int guess_start(const actag_ipoint *pts, int npts, int rows, int cols,
-                       const actag_params *params, actag_stats *st, int read_before,
-                       actag__fit_grids *gg, int *nguess, actag_point gq[4])
-{
-    if (!actag__extreme_quad(pts, npts, gq))
-        return GUESS_UNREAD;
-    if (actag__guess_on_border(gq, rows, cols))
-        return GUESS_BORDER;
-    if (!decode_budget(st, params))
-        return GUESS_UNREAD;
-    memset(gg, 0, sizeof *gg);
-    gg->read_before = read_before;
-    (*nguess)++;
-    return 0;
-}
-
-/* A guess gq read with the wide search and the template check (read_wide,
- * into *dr; *gg: its grids, kept or found); a reading the check refused
- * as too close to call is held for the search readings' rival check.
- * Returns read_wide's verdict. */
-static int read_guess(const ws_layout *w, int rows, int cols, const actag_sonar_geometry *geometry,
-                      const actag_params *params, actag__fit_grids *gg, actag__fit_rival *held,
-                      int *nheld, const actag_point gq[4], actag_decode_result *dr)
-{
-    actag__fit_amb ga;
-    int verdict = read_wide(w->b, rows, cols, gq, geometry, params, 1, gg, &ga, dr);
-    if (verdict == ACTAG_TRACE_NO_MATCH && ga.amb)
-        hold_pair(held, nheld, ga.r);
-    return verdict;
-}
-
-/* A contour's grid guess (guess_start, then read_guess). Returns
- * read_wide's verdict, GUESS_UNREAD or GUESS_BORDER. */
-static int contour_guess(const ws_layout *w, int rows, int cols, const actag_ipoint *pts,
-                         int npts, const actag_sonar_geometry *geometry,
-                         const actag_params *params, actag_stats *st, int read_before,
-                         actag__fit_grids *gg, int *nguess, actag__fit_rival *held, int *nheld,
-                         actag_point gq[4], actag_decode_result *dr)
-{
-    int rc = guess_start(pts, npts, rows, cols, params, st, read_before, gg, nguess, gq);
-    return rc ? rc : read_guess(w, rows, cols, geometry, params, gg, held, nheld, gq, dr);
-}
-
-/* The second reading of a guess read tentatively (cross_check), now with
- * the template check, from the grids the first one kept: what a first
- * reading with the check would have given (decode_fit_grids.h). Returns
- * read_wide's verdict or GUESS_UNREAD (decode budget spent). */
-static int read_guess_again(const ws_layout *w, int rows, int cols,
-                            const actag_sonar_geometry *geometry, const actag_params *params,
-                            actag_stats *st, actag__fit_grids *gg, actag__fit_rival *held,
-                            int *nheld, const actag_point gq[4], actag_decode_result *dr)
-{
-    if (!decode_budget(st, params))
-        return GUESS_UNREAD;
-    return read_guess(w, rows, cols, geometry, params, gg, held, nheld, gq, dr);
-}
-
-static float dist2(actag_point a, actag_point b)
-{
-    float dx = a.x - b.x, dy = a.y - b.y;
-    return dx * dx + dy * dy;
-}
-
-static actag_point centre(const actag_point c[4])
-{
-    actag_point m;
-    m.x = 0.25f * (c[0].x + c[1].x + c[2].x + c[3].x);
-    m.y = 0.25f * (c[0].y + c[1].y + c[2].y + c[3].y);
-    return m;
-}
-
-/* Centre inside the other quad's circumcircle (either way round); d, c: 4 corners each. */
-static int same_place(const actag_point *d, const actag_point *c)
-{
-    actag_point a = centre(d), b = centre(c);
-    float r2 = dist2(d[0], d[2]) * 0.25f;
-    float r2b = dist2(c[0], c[2]) * 0.25f;
-    return dist2(a, b) <= (r2 > r2b ? r2 : r2b);
-}
 
 static int better(int hamming, float ratio, const actag_detection *d)
 {
     return hamming < d->hamming || (hamming == d->hamming && ratio > d->inlier_ratio);
-}
-
-/* A reading as the rival check sees it (decode_fit_grids.h). */
-static actag__fit_rival rival_of(const actag_decode_result *r)
-{
-    actag__fit_rival v;
-    v.id = r->id;
-    v.rotation = r->rotation;
-    v.mirrored = r->mirrored;
-    memcpy(v.fit_corners, r->fit_corners, sizeof v.fit_corners);
-    return v;
-}
-
-/* Do two readings of one place name different tags, handedness or corner
- * order? Corner order: b's first corner is not the nearest of a's corners
- * to a's first. */
-static int readings_disagree(const actag__fit_rival *a, const actag__fit_rival *b)
-{
-    int j, near = 0;
-    if (a->id != b->id || a->mirrored != b->mirrored)
-        return 1;
-    for (j = 1; j < 4; j++)
-        if (dist2(a->fit_corners[0], b->fit_corners[j]) <
-            dist2(a->fit_corners[0], b->fit_corners[near]))
-            near = j;
-    return near != 0;
-}
-
-/* A reading (a quad's or a contour guess's, *dr, reported at corners) at
- * the place of other readings (other[0..nother-1]) that disagree with it:
- * each disagreeing pair is judged as whole templates, polished over the
- * full range at both places (actag__fit_rival_explains); when the other
- * explains the cells at least as well, the place has two readings and
- * neither has the lead its decision margin stands for. The others are the
- * tentative search readings and, for a contour's grid guess, the
- * hypotheses of the contour's quads that the template check refused as too
- * close to call (the reading and the rival that refused it); for a search
- * reading reported after the contours (nsk 0), the hypotheses of the
- * readings that the template checks of the frame's quads and guesses
- * refused as too close to call, each reading and its rival (held,
- * detect_filtered; heldout seed 9722 frame 177 of bench/heldout_sweep.py
- * --mix c24h10: the rival was the truth). A search
- * reading that refuses a reading here is marked in contested[] (nsk
- * entries): the place then has two readings that each passed their own
- * checks, and neither is reported (detect_filtered). (Simulated frame 408 of actag-eval --seed 311:
- * an unmirrored tag 4 at 2.5 m whose thresholded white square lost a fifth
- * of its height at both range edges; the quad read tag 5 at margin 6.3 on
- * the short grid, the search tag 4 on a grid of the right height. Frame 62
- * of pass 17 of actag-eval --pool --sequences 20 --seed 81: the quads found
- * tag 2 and a mirrored tag 6 too close to call, the guess read tag 6 at
- * margin 7.4 on a grid a quarter short. Frame 672 of actag-eval --seed 401
- * --family AcTag24h8: an unmirrored tag 5 at 1.03 m and 68 degrees, read
- * right by its quad at margin 25.9, hamming 0; the search, whose grids are
- * not sheared like the tag's image, read tag 32 turned half a turn at
- * margin 23.3, and its template explained the filtered cells better, so
- * tag 32 was reported. Frame 15 of actag-eval --pool --seed 3005 --clutter
- * 12 --azimuth-ascending: an unmirrored tag 0 at 1.23 m whose guess read
- * tag 0 on the right grid, residual 4,806, and was refused as too close to
- * call; the search read the mirrored tag 5 on a grid where tag 0 was no
- * candidate, margin 9.2, and nothing contested it.) Returns 1 to refuse the reading. */
-static int rival_explains(const ws_layout *w, int rows, int cols, const actag_params *params,
-                          const actag_decode_result *dr, const actag_decode_result *sk,
-                          int nsk, const actag__fit_rival *amb, int namb,
-                          const actag_point corners[4], int *contested)
-{
-    actag__fit_rival a = rival_of(dr), o;
-    int k;
-    float own = -1.0f; /* the reading's polish at its own place, once */
-    if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
-        return 0;
-    for (k = 0; k < nsk + namb; k++) {
-        float r1, r2;
-        o = k < nsk ? rival_of(&sk[k]) : amb[k - nsk];
-        if (!same_place(corners, o.fit_corners) || !readings_disagree(&a, &o))
-            continue;
-        if (actag__fit_rival_explains_own(w->b, rows, cols, cols, params->family,
-                                          &params->tuning.fit, a.id, a.fit_corners, o.id,
-                                          o.fit_corners, &r1, &r2, &own) == 1) {
-            if (k < nsk)
-                contested[k] = 1;
-            return 1;
-        }
-    }
-    return 0;
-}
-
-/* Turns of a blind box about its centre (cos, sin), in the box's own
- * frame: +30, -30 and +45 degrees. With the box itself these are clean
- * starts at 0, 30, 45 and 60 degrees (-30 is 60 modulo 90) in the tag's
- * plane, so every turn of a tag lies within 15 degrees of one; the wide
- * search adds its own starts turned +-30 degrees in pixels (decode.h),
- * which for a box square in pixels are the same turns (and bring every
- * turn within 7.5 degrees of a start), for an oblong one sheared ones. */
-static const float blind_turns[3][2] = {
-    {0.8660254f, 0.5f}, {0.8660254f, -0.5f}, {0.70710678f, 0.70710678f}};
-
-/* The box q turned by (c, s) = (cos, sin) about its centre in its own
- * frame (q as the affine image of a unit square, so that a box of one tag
- * size along range and along azimuth turns as the tag would), into t. */
-static void turn_box(const actag_point q[4], float c, float s, actag_point t[4])
-{
-    static const float su[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, sv[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
-    actag_point m = centre(q);
-    float ax = 0.5f * (q[1].x - q[0].x + q[2].x - q[3].x);
-    float ay = 0.5f * (q[1].y - q[0].y + q[2].y - q[3].y);
-    float bx = 0.5f * (q[3].x - q[0].x + q[2].x - q[1].x);
-    float by = 0.5f * (q[3].y - q[0].y + q[2].y - q[1].y);
-    int j;
-    for (j = 0; j < 4; j++) {
-        float u = c * su[j] - s * sv[j], v = s * su[j] + c * sv[j];
-        t[j].x = m.x + u * ax + v * bx;
-        t[j].y = m.y + u * ay + v * by;
-    }
-}
-
-/* A blind reading *dr (a search position's or a contour guess's, box q:
- * a start that knows the tag's size but not its turn) against the readings
- * of q turned (blind_turns, each read as a tentative wide reading): when
- * one reads another tag, handedness or corner order at the same place and
- * its template explains the cells at least as well (both polished over
- * the full range at both places, as rival_explains judges), the place has
- * two readings and *dr is refused; the first turned start that reads the
- * same tag, handedness and corner order there ends the check (two starts
- * agree), one that reads nothing says nothing. The wide search picks its
- * start grid by a code-agnostic score, so over a tag turned 30-45 degrees
- * it can settle on a grid across the tag's cells whose reading is a chance
- * word; a turned start then finds the tag's own grid, which explains the
- * cells far better (docs/decoder.md, "Blind readings and turned starts":
- * with AcTag24m10, whose one code such grids read in the wrong handedness,
- * 7 mirrored-flag and corner-order errors in 12 held-out runs, 3 after).
- * Returns 1 to refuse. */
-#if defined(__GNUC__)
-__attribute__((noinline))
-#endif
-static int turned_rival_refuses(const ws_layout *w, int rows, int cols,
-                                const actag_sonar_geometry *geometry,
-                                const actag_params *params, const actag_point q[4],
-                                const actag_decode_result *dr)
-{
-    actag__fit_rival a = rival_of(dr);
-    float own = -1.0f; /* the reading's polish at its own place, once */
-    int i;
-    if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
-        return 0;
-    for (i = 0; i < (int)(sizeof blind_turns / sizeof blind_turns[0]); i++) {
-        actag_point t[4];
-        actag__fit_grids gg;
-        actag_decode_result tdr;
-        actag__fit_rival o;
-        float r1, r2;
-        turn_box(q, blind_turns[i][0], blind_turns[i][1], t);
-        memset(&gg, 0, sizeof gg); /* state 0: not read before */
-        gg.blind = 1;
-        if (read_wide(w->b, rows, cols, t, geometry, params, 0, &gg, NULL, &tdr) !=
-            ACTAG_TRACE_ACCEPTED)
-            continue;
-        o = rival_of(&tdr);
-        if (!same_place(dr->fit_corners, o.fit_corners))
-            continue;
-        if (!readings_disagree(&a, &o))
-            return 0; /* a second start reads the same: the reading stands */
-        if (actag__fit_rival_explains_own(w->b, rows, cols, cols, params->family,
-                                          &params->tuning.fit, a.id, a.fit_corners, o.id,
-                                          o.fit_corners, &r1, &r2, &own) == 1)
-            return 1;
-    }
-    return 0;
-}
-
-/* The cross-check of a quad reading *qdr (detect_filtered): its contour's
- * grid guess read tentatively, without the template check (gq and *gg keep
- * it for read_guess_again). Returns 1 when the guess reads another tag,
- * handedness or corner order at the quad's place and the quad's template
- * does not lead the guess's by the least decision margin (both polished
- * over the full range at both places): the quad's reading is to be
- * refused. Its own frame keeps the guess's reading off detect_filtered's. */
-#if defined(__GNUC__)
-__attribute__((noinline))
-#endif
-static int cross_check(const ws_layout *w, int rows, int cols, const actag_ipoint *pts, int npts,
-                       const actag_sonar_geometry *geometry, const actag_params *params,
-                       actag_stats *st, int *nguess, const actag_decode_result *qdr,
-                       actag_point gq[4], actag__fit_grids *gg)
-{
-    actag_decode_result gdr;
-    actag__fit_rival a, o;
-    float r1, r2;
-    /* read without the template check, in this frame: no refused
-     * hypothesis is held from a tentative read */
-    if (guess_start(pts, npts, rows, cols, params, st, 1, gg, nguess, gq) != 0)
-        return 0;
-    if (read_wide(w->b, rows, cols, gq, geometry, params, 0, gg, NULL, &gdr) != ACTAG_TRACE_ACCEPTED)
-        return 0;
-    a = rival_of(qdr);
-    o = rival_of(&gdr);
-    if (!same_place(qdr->corners, gdr.fit_corners) || !readings_disagree(&a, &o))
-        return 0;
-    if (actag__fit_rival_explains_own(w->b, rows, cols, cols, params->family, &params->tuning.fit,
-                                      a.id, a.fit_corners, o.id, o.fit_corners, &r1, &r2,
-                                      NULL) < 0)
-        return 0;
-    return actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2, qdr->contrast) <
-           params->min_margin;
 }
 
 /* A detection from a decoder result, its corners and quad support. */
@@ -674,7 +242,7 @@ static void record(actag_detection *out, int max_out, int *nout, actag_stats *st
      * the same tag (same ID) or a misreading of one of the two (other ID);
      * either way only the better reading survives. */
     for (k = 0; k < *nout && k < max_out; k++)
-        if (same_place(out[k].corners, d->corners)) {
+        if (actag__same_place(out[k].corners, d->corners)) {
             dup = k;
             break;
         }
@@ -886,6 +454,7 @@ typedef struct {
     const actag_sonar_geometry *geometry;
     const actag_params *params;
     const ws_layout *w;
+    actag__reader rd; /* the readings' view of w, the geometry and params */
     int rows, cols, flip_mirror;
     const tracer *tr;
     actag_stats st;
@@ -937,12 +506,12 @@ static inline int judge_blind(frame_run *f, int kind, int verdict, const actag_d
                               const actag_point q[4])
 {
     if (verdict == ACTAG_TRACE_ACCEPTED &&
-        rival_explains(f->w, f->rows, f->cols, f->params, dr, with_search ? f->sk_dr : NULL,
+        actag__rival_explains(&f->rd, dr, with_search ? f->sk_dr : NULL,
                        with_search ? f->nsk : 0, amb, namb, dr->fit_corners,
                        with_search ? f->sk_contested : NULL))
         verdict = ACTAG_TRACE_RIVAL;
     if (verdict == ACTAG_TRACE_ACCEPTED &&
-        turned_rival_refuses(f->w, f->rows, f->cols, f->geometry, f->params, q, dr))
+        actag__turned_rival_refuses(&f->rd, q, dr))
         verdict = ACTAG_TRACE_RIVAL;
     trace_quad(f->tr, kind, verdict, q, 0.0f, verdict == ACTAG_TRACE_NO_MATCH ? NULL : dr);
     return verdict;
@@ -981,7 +550,7 @@ static void search_stage(frame_run *f)
         actag_decode_result dr;
         int verdict;
         ncand++;
-        if (!decode_budget(&f->st, params)) {
+        if (!actag__decode_budget(&f->st, params)) {
             /* this candidate, above the least score, is left undecoded */
             f->st.search_cap = 1;
             return;
@@ -989,7 +558,7 @@ static void search_stage(frame_run *f)
         f->st.searched++;
         memset(gg, 0, sizeof *gg); /* state 0, not read before */
         gg->blind = 1;             /* a box, not a fitted quad */
-        verdict = read_wide(w->b, f->rows, f->cols, quad, f->geometry, params, 0, gg, NULL, &dr);
+        verdict = actag__read_wide(&f->rd, quad, 0, gg, NULL, &dr);
         if (verdict != ACTAG_TRACE_ACCEPTED) {
             /* the check only refuses: no reading either way */
             trace_quad(f->tr, ACTAG_TRACE_SEARCH, verdict, quad, 0.0f,
@@ -1039,12 +608,12 @@ static const actag_point *read_merged(frame_run *f, const actag_contour_info *ci
         f->st.guess_cap++;
         return NULL;
     }
-    if (!decode_budget(&f->st, params))
+    if (!actag__decode_budget(&f->st, params))
         return NULL;
     memset(&gg, 0, sizeof gg);
     gg.blind = 1; /* a box, not a fitted quad */
     f->nguess++;
-    verdict = read_guess(f->w, f->rows, f->cols, f->geometry, params, &gg, f->held, &f->nheld,
+    verdict = actag__read_guess(&f->rd, &gg, f->held, &f->nheld,
                          gq, dr);
     if (verdict == ACTAG_TRACE_ACCEPTED && dr->hamming > ACTAG_MERGED_CORRECTIONS)
         verdict = ACTAG_TRACE_MARGIN;
@@ -1072,7 +641,7 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
      * the first acceptable one) until one decodes, so the tag is reported
      * with a quad's corners. */
     for (k = 0; k < f->nsk; k++) {
-        actag_point m = centre(f->sk_dr[k].fit_corners);
+        actag_point m = actag__centre(f->sk_dr[k].fit_corners);
         if (m.x >= (float)ci->min_x && m.x <= (float)ci->max_x && m.y >= (float)ci->min_y &&
             m.y <= (float)ci->max_y) {
             tries = ACTAG_SEEK_QUAD_EFFORT;
@@ -1117,9 +686,9 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
             rc = ACTAG_ERR_NO_QUAD;
             continue;
         }
-        if (!decode_budget(&f->st, params))
+        if (!actag__decode_budget(&f->st, params))
             return ACTAG_ERR_NO_MATCH;
-        rc = decode_any(f->w, f->rows, f->cols, q.corners, params, &qa, dr);
+        rc = actag__decode_any(&f->rd, q.corners, &qa, dr);
         if (rc == ACTAG_ERR_NO_MATCH && qa.amb) {
             /* each grid's refused pair: the reading, its rival */
             const actag__fit_rival *pair[2];
@@ -1132,7 +701,7 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
                     c->amb[c->namb++] = pair[ip][0];
                     c->amb[c->namb++] = pair[ip][1];
                 }
-                hold_pair(f->held, &f->nheld, pair[ip]);
+                actag__hold_pair(f->held, &f->nheld, pair[ip]);
             }
         }
         c->decoded_quads++;
@@ -1144,7 +713,7 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
         /* the fit decoder's structure gate: black ring and white interior
          * cells on the right side of the mid level */
         if (params->tuning.decode_mode == ACTAG_DECODE_FIT &&
-            !structure_ok(dr, params, params->max_bit_corrections)) {
+            !actag__structure_ok(dr, params, params->max_bit_corrections)) {
             trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_STRUCTURE, q.corners,
                        q.inlier_ratio, dr);
             rc = ACTAG_ERR_NO_MATCH;
@@ -1152,7 +721,7 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
         }
         /* a search reading here that disagrees and explains the cells at
          * least as well: no reading (another quad may) */
-        if (rival_explains(f->w, f->rows, f->cols, params, dr, f->sk_dr, f->nsk, NULL, 0,
+        if (actag__rival_explains(&f->rd, dr, f->sk_dr, f->nsk, NULL, 0,
                            dr->corners, f->sk_contested)) {
             trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners, q.inlier_ratio,
                        dr);
@@ -1177,12 +746,12 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
         if (params->tuning.decode_mode == ACTAG_DECODE_FIT && dr->hamming >= ACTAG_CROSS_HAMMING &&
             !c->guess_read && f->nguess < ACTAG_GUESS_MAX) {
             c->guess_read = 1;
-            if (cross_check(f->w, f->rows, f->cols, pts, ci->stored, f->geometry, params, &f->st,
+            if (actag__cross_check(&f->rd, pts, ci->stored, &f->st,
                             &f->nguess, dr, c->gq, &c->ggx)) {
                 trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
                            q.inlier_ratio, dr);
                 if (c->namb < ACTAG_AMB_MAX)
-                    c->amb[c->namb++] = rival_of(dr);
+                    c->amb[c->namb++] = actag__rival_of(dr);
                 c->guess_read = 2;
                 return ACTAG_ERR_NO_MATCH; /* the guess is read with the check */
             }
@@ -1221,10 +790,9 @@ static const actag_point *read_contour(frame_run *f, const actag_ipoint *pts,
         return NULL;
     }
     verdict = c.guess_read == 2
-                  ? read_guess_again(f->w, f->rows, f->cols, f->geometry, params, &f->st, &c.ggx,
+                  ? actag__read_guess_again(&f->rd, &f->st, &c.ggx,
                                      f->held, &f->nheld, c.gq, dr)
-                  : contour_guess(f->w, f->rows, f->cols, pts, ci->stored, f->geometry, params,
-                                  &f->st, c.decoded_quads > 0, &c.ggx, &f->nguess, f->held,
+                  : actag__contour_guess(&f->rd, pts, ci->stored, &f->st, c.decoded_quads > 0, &c.ggx, &f->nguess, f->held,
                                   &f->nheld, c.gq, dr);
     if (verdict == GUESS_BORDER) {
         trace_quad(f->tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, c.gq, 0.0f, NULL);
@@ -1248,7 +816,7 @@ static void keep_reading(frame_run *f, const actag_decode_result *dr, const acta
     f->st.decoded++;
     fill_det(&d, dr, corners, ratio, f->geometry, f->rows, f->cols, f->flip_mirror);
     for (k = 0; k < f->nsk; k++)
-        if (same_place(d.corners, f->sk_dr[k].fit_corners))
+        if (actag__same_place(d.corners, f->sk_dr[k].fit_corners))
             f->sk_used[k] = 1;
     record(f->out, f->max_out, &f->nout, &f->st, &d, dr->fit_corners, f->fit_start);
 }
@@ -1320,8 +888,7 @@ static void search_readings(frame_run *f)
                        &f->sk_dr[k]);
             continue;
         }
-        verdict = read_wide(f->w->b, f->rows, f->cols, f->sk_box[k], f->geometry, f->params, 1,
-                            &f->sk_grids[k], NULL, &dr);
+        verdict = actag__read_wide(&f->rd, f->sk_box[k], 1, &f->sk_grids[k], NULL, &dr);
         if (judge_blind(f, ACTAG_TRACE_SEARCH, verdict, &dr, 0, f->held, f->nheld,
                         f->sk_box[k]) != ACTAG_TRACE_ACCEPTED)
             continue;
@@ -1354,6 +921,12 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     f.tr = tr;
     f.out = out;
     f.max_out = max_out;
+    f.rd.grey = wl->b;
+    f.rd.bin = wl->bin;
+    f.rd.rows = rows;
+    f.rd.cols = cols;
+    f.rd.geometry = geometry;
+    f.rd.params = params;
     search_stage(&f);
 
     /* 3. adaptive threshold: B -> the bitmap A (the search map is done) */
