@@ -1,6 +1,6 @@
 /* The box the structure search reads a candidate at (internal): the tag's
  * white square, axis-aligned in pixels, centred at (x, y). Shared by
- * actag_search_next and the merged-blob guess of actag_detect (detect.c),
+ * actag_search_next and the merged-blob guess of actag_detect (size_filter.c),
  * so both read a white square of the same size at one place. */
 #ifndef ACTAG_SEARCH_BOX_H
 #define ACTAG_SEARCH_BOX_H

@@ -185,8 +185,8 @@ typedef struct actag_limits {
                                    so do the checks of a reported search or guess reading
                                    from its box turned +30, -30 and +45 degrees (at most 3
                                    wide readings and 3 template polishes each, so at most
-                                   3 x (16 guesses + search_candidates) a frame; detect.c,
-                                   turned_rival_refuses) */
+                                   3 x (16 guesses + search_candidates) a frame; readings.c,
+                                   actag__turned_rival_refuses) */
 } actag_limits;
 
 #define ACTAG_LIMIT_CONTOURS 20000

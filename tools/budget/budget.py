@@ -45,21 +45,25 @@ CORES = {
     "m7": ("cortex-m7.cmake", "mps2-an500"),
 }
 STAGES = ["median", "search", "threshold", "contours", "ransac", "decode", "refine", "other"]
-# detect.c's calls into the stages; each must be wrapped (tools/budget/CMakeLists.txt),
-# or its instructions would silently count as "other"
+# the pipeline's calls into the stages (detect.c, and readings.c for the decoders);
+# each must be wrapped (tools/budget/CMakeLists.txt), or its instructions would
+# silently count as "other"
+PIPELINE_SOURCES = ["detect.c", "readings.c"]
 STAGE_CALL = re.compile(r"\b(actag__?(?:median_filter\w*|adaptive_threshold\w*|contour_scanner_init|"
                         r"contour_next|quad_fit|decode_quad\w*|fit_rival\w*|search_map|search_next|"
                         r"refine_corners\w*))\s*\(")
 
 
 def check_wrapped():
-    with open(os.path.join(ROOT, "src", "detect.c")) as f:
-        called = set(STAGE_CALL.findall(f.read()))
+    called = set()
+    for name in PIPELINE_SOURCES:
+        with open(os.path.join(ROOT, "src", name)) as f:
+            called |= set(STAGE_CALL.findall(f.read()))
     with open(os.path.join(ROOT, "tools", "budget", "CMakeLists.txt")) as f:
         wrapped = set(re.findall(r"\bactag_\w+", f.read()))
     missing = sorted(c for c in called if c not in wrapped)
     if missing:
-        sys.exit("budget: detect.c calls stage functions the firmware does not time: %s "
+        sys.exit("budget: the pipeline calls stage functions the firmware does not time: %s "
                  "(add them to tools/budget/CMakeLists.txt and budget_fw.c)" % ", ".join(missing))
 
 
