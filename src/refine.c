@@ -1286,6 +1286,9 @@ int actag_refine_corners_depth(const void *img, int depth, int rows, int cols, i
  * start grid (the corners' affine fit in the fan plane), the level ramps,
  * the pixel set and its lattice; *count its pixels. ACTAG_OK, or
  * ACTAG_ERR_PARAM / ACTAG_ERR_NO_MATCH as actag_refine_corners says. */
+#if defined(__GNUC__)
+__attribute__((noinline)) /* one copy for the refinement and the probe */
+#endif
 static int rsetup(rctx *c, rgrid *G, int *count, const void *img, int depth, uint32_t max16,
                   int rows, int cols, int stride, const actag_sonar_geometry *geometry,
                   float tag_size, const actag_family *family, int id,

@@ -1,32 +1,32 @@
 /* 3-vectors and rotations in float (internal; pose.c): row-major 3 x 3
  * matrices, R = exp([w]x) by Rodrigues and its inverse, an orthonormal
  * frame from two axes. Tested against double references by
- * tests/test_trig.c. Static inline (pose.c's least-squares loop calls them
- * per step). */
+ * tests/test_trig.c. Static (ACTAG__INTERNAL, trig.h), as in pose.c
+ * before. */
 #ifndef ACTAG_ROTATION_H
 #define ACTAG_ROTATION_H
 
 #include "trig.h"
 
-static inline float actag__dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+ACTAG__INTERNAL float actag__dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-static inline void actag__cross3(const float *a, const float *b, float *o)
+ACTAG__INTERNAL void actag__cross3(const float *a, const float *b, float *o)
 {
     o[0] = a[1] * b[2] - a[2] * b[1];
     o[1] = a[2] * b[0] - a[0] * b[2];
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static inline float actag__norm3(const float *a) { return actag_sqrtf(actag__dot3(a, a)); }
+ACTAG__INTERNAL float actag__norm3(const float *a) { return actag_sqrtf(actag__dot3(a, a)); }
 
-static inline void actag__mat_vec(const float *R, const float *v, float *o)
+ACTAG__INTERNAL void actag__mat_vec(const float *R, const float *v, float *o)
 {
     o[0] = R[0] * v[0] + R[1] * v[1] + R[2] * v[2];
     o[1] = R[3] * v[0] + R[4] * v[1] + R[5] * v[2];
     o[2] = R[6] * v[0] + R[7] * v[1] + R[8] * v[2];
 }
 
-static inline void actag__mat_mul(const float *A, const float *B, float *o)
+ACTAG__INTERNAL void actag__mat_mul(const float *A, const float *B, float *o)
 {
     int i, j;
     for (i = 0; i < 3; i++)
@@ -38,7 +38,7 @@ static inline void actag__mat_mul(const float *A, const float *B, float *o)
 /* R with columns x = xa / |xa| (the first axis when xa is 0), y = ya
  * made perpendicular to x and normalised (any perpendicular when ya is
  * parallel to xa or 0), z = x cross y: a rotation for any finite input. */
-static inline void actag__rot_from_axes(const float *xa, const float *ya, float *R)
+ACTAG__INTERNAL void actag__rot_from_axes(const float *xa, const float *ya, float *R)
 {
     float x[3], y[3], z[3], d, n;
     int i;
@@ -76,7 +76,7 @@ static inline void actag__rot_from_axes(const float *xa, const float *ya, float 
 }
 
 /* exp([w]x), Rodrigues */
-static inline void actag__rot_exp(const float *w, float *R)
+ACTAG__INTERNAL void actag__rot_exp(const float *w, float *R)
 {
     float th2 = actag__dot3(w, w), a, b, s, c;
     if (th2 < 1e-8f) {
@@ -100,7 +100,7 @@ static inline void actag__rot_exp(const float *w, float *R)
 }
 
 /* w with R = exp([w]x) */
-static inline void actag__rot_log(const float *R, float *w)
+ACTAG__INTERNAL void actag__rot_log(const float *R, float *w)
 {
     float v[3], sn, cs, th, tr = R[0] + R[4] + R[8];
     v[0] = 0.5f * (R[7] - R[5]);

@@ -2,26 +2,36 @@
  * sinf/atan2f differ in the last bits between C libraries, and the
  * library's results must not. Used by pose.c (any angle) and refine.c
  * (the small-angle forms, on its hot path); tested against libm in double
- * by tests/test_trig.c over each function's stated domain. Static inline,
- * so each caller keeps them inlined as before; a file that includes this
- * header includes fpmath.h first (this header does so itself). */
+ * by tests/test_trig.c over each function's stated domain. Static, so
+ * each caller compiles them as its own, as before; a file that includes
+ * this header includes fpmath.h first (this header does so itself). */
 #ifndef ACTAG_TRIG_H
 #define ACTAG_TRIG_H
 
 #include "fpmath.h"
 
+/* Static functions, not inline: the compiler inlines them where it would
+ * have inlined the file-local functions they were (pose.c grew 5 KB on the
+ * Cortex-M4 with "inline"), and says nothing of the ones a file does not
+ * call. */
+#if defined(__GNUC__)
+#define ACTAG__INTERNAL static __attribute__((unused))
+#else
+#define ACTAG__INTERNAL static
+#endif
+
 #define ACTAG__PIO2_HI 1.57079637e+00f  /* float(pi/2) */
 #define ACTAG__PIO2_LO -4.37113883e-08f /* pi/2 - ACTAG__PIO2_HI */
 
 /* sin and cos of r, |r| <= pi/4 */
-static inline float actag__sin_k(float r)
+ACTAG__INTERNAL float actag__sin_k(float r)
 {
     float z = r * r;
     return r + r * z * (-1.66666672e-01f +
                         z * (8.33333377e-03f + z * (-1.98412701e-04f + z * 2.75573188e-06f)));
 }
 
-static inline float actag__cos_k(float r)
+ACTAG__INTERNAL float actag__cos_k(float r)
 {
     float z = r * r;
     return 1.0f + z * (-0.5f + z * (4.16666679e-02f +
@@ -35,7 +45,7 @@ static inline float actag__cos_k(float r)
  * float-to-int conversion out of range is undefined behaviour, and x86 and
  * ARM then give different results (garbage corners fitted with tiny sds
  * steered a rotation step there). Such an x, or a NaN, is taken as 0. */
-static inline void actag__sincos(float x, float *s, float *c)
+ACTAG__INTERNAL void actag__sincos(float x, float *s, float *c)
 {
     float kf, r, sr, cr;
     int k;
@@ -56,7 +66,7 @@ static inline void actag__sincos(float x, float *s, float *c)
 }
 
 /* atan(x), |x| <= 1 */
-static inline float actag__atan01(float x)
+ACTAG__INTERNAL float actag__atan01(float x)
 {
     const float t15 = 0.267949194f, sqrt3 = 1.73205081f, pio6 = 0.523598776f;
     float off = 0.0f, z;
@@ -75,7 +85,7 @@ static inline float actag__atan01(float x)
     return neg ? -x : x;
 }
 
-static inline float actag__atan2(float y, float x)
+ACTAG__INTERNAL float actag__atan2(float y, float x)
 {
     float ax = x < 0.0f ? -x : x, ay = y < 0.0f ? -y : y, a;
     if (ax == 0.0f && ay == 0.0f)
@@ -89,7 +99,7 @@ static inline float actag__atan2(float y, float x)
     return y < 0.0f ? -a : a;
 }
 
-static inline float actag__asin(float v)
+ACTAG__INTERNAL float actag__asin(float v)
 {
     if (v > 1.0f)
         v = 1.0f;
@@ -101,7 +111,7 @@ static inline float actag__asin(float v)
 /* sin, cos of a small angle (|d| <= 0.6: Taylor, error < 1e-8; |d| < 0.2,
  * most pixels of a tag about its centre beam: two terms fewer, error
  * < 3e-9) */
-static inline void actag__sincos_small(float d, float *s, float *c)
+ACTAG__INTERNAL void actag__sincos_small(float d, float *s, float *c)
 {
     const float i6 = 1.0f / 6.0f, i20 = 1.0f / 20.0f, i42 = 1.0f / 42.0f, i72 = 1.0f / 72.0f;
     const float i12 = 1.0f / 12.0f, i30 = 1.0f / 30.0f, i56 = 1.0f / 56.0f;
@@ -119,7 +129,7 @@ static inline void actag__sincos_small(float d, float *s, float *c)
  * 1e-6 to tan 0.6 = 0.684 (the refinement's widest, refine.c: an azimuth
  * error of a micrometre at a metre), 1.7e-6 at 0.7 (test_trig; this said
  * 2e-7 to 0.7 before it was measured) */
-static inline float actag__atan_small(float t)
+ACTAG__INTERNAL float actag__atan_small(float t)
 {
     float t2 = t * t, s = 0.0f;
     int i;
