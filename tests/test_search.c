@@ -233,6 +233,12 @@ static void test_finds_a_synthetic_square(void)
     TEST_ASSERT_EQUAL_INT(1, actag_search_next(&z, 8 * 60, &g, 0.13f, 1.0f, R, C, q));
     TEST_ASSERT_FLOAT_WITHIN(4.0f, cx, 0.25f * (q[0].x + q[1].x + q[2].x + q[3].x));
     TEST_ASSERT_FLOAT_WITHIN(4.0f, cy, 0.25f * (q[0].y + q[1].y + q[2].y + q[3].y));
+    /* centred on its block's centre, (F b + (F - 1) / 2) in full-resolution
+     * pixels (search.h): a start 1.5 px off changes what the decoder reads */
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, 0.0f,
+                             fmodf(0.25f * (q[0].x + q[1].x + q[2].x + q[3].x) - 1.5f, 4.0f));
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, 0.0f,
+                             fmodf(0.25f * (q[0].y + q[1].y + q[2].y + q[3].y) - 1.5f, 4.0f));
     TEST_ASSERT_TRUE(q[1].x > q[0].x && q[2].y > q[1].y && q[3].x < q[2].x); /* clockwise */
     TEST_ASSERT_FLOAT_WITHIN(3.0f, 30.0f, q[1].x - q[0].x);                   /* tag-sized */
     /* the neighbourhood is suppressed: nothing else of that contrast */
