@@ -71,6 +71,8 @@ static void test_sincos(void)
     /* no angle left (2^23 and beyond), infinities and NaN: taken as 0 */
     actag__sincos(8388608.0f, &s, &c);
     TEST_ASSERT_TRUE(s == 0.0f && c == 1.0f);
+    actag__sincos(-8388608.0f, &s, &c);
+    TEST_ASSERT_TRUE(s == 0.0f && c == 1.0f);
     actag__sincos(-INFINITY, &s, &c);
     TEST_ASSERT_TRUE(s == 0.0f && c == 1.0f);
     actag__sincos(NAN, &s, &c);
@@ -104,6 +106,7 @@ static void test_atan2_and_asin(void)
         NEAR(3.5e-7, asin((double)v), actag__asin(v));
     }
     NEAR(3.5e-7, PI / 2, actag__asin(1.5f));
+    NEAR(3.5e-7, -PI / 2, actag__asin(-1.5f));
     NEAR(3.5e-7, -PI / 2, actag__asin(-1.0f));
 }
 
