@@ -538,6 +538,27 @@ static void test_edge_cases(void)
     }
 }
 
+/* One-pixel holes (no walk: scanner.holes does not count them) beside
+ * black notches, at every column offset in a word. (The mutation run of
+ * contours.c asked whether the scan's second test of a one-pixel hole reads
+ * the hole's neighbours: it does, but the word-wise candidate test before
+ * it already drops such holes, so a wrong second test changes nothing.) */
+static void test_one_pixel_holes_beside_notches(void)
+{
+    static const char *pat[5] = {"0000000", "0101110", "0111010", "0111110", "0000000"};
+    int off, r, c;
+    for (off = 0; off < 70; off++) {
+        timg t = timg_new(5, off + 9, off % 3);
+        for (r = 0; r < 5; r++)
+            for (c = 0; c < t.cols; c++)
+                setpx(&t, r, c, c >= off && c < off + 7 && pat[r][c - off] == '1');
+        /* one blob; its one-pixel hole at (2, off + 4) and the notch at
+         * (1, off + 2), open to the outside through (0, off + 2) */
+        TEST_ASSERT_EQUAL_INT(1, check_image(&t));
+        free(t.px);
+    }
+}
+
 /* Concentric square rings, alternating white/black, with a dot in the middle:
  * every ring is its own blob (and every black ring a hole of the one outside). */
 static void test_nested_rings(void)
@@ -756,6 +777,7 @@ int main(void)
     RUN_TEST(test_rectangle_geometry);
     RUN_TEST(test_overflow_then_continue);
     RUN_TEST(test_edge_cases);
+    RUN_TEST(test_one_pixel_holes_beside_notches);
     RUN_TEST(test_nested_rings);
     RUN_TEST(test_random_images);
     RUN_TEST(test_larger_images);
