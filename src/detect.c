@@ -451,11 +451,11 @@ static void count_budget(actag_stats *st, int cut, int *contour_counted)
 /* One frame's detection for one resolved parameter set, in progress: what
  * the stages of detect_filtered share. */
 typedef struct {
-    const actag_sonar_geometry *geometry;
-    const actag_params *params;
     const ws_layout *w;
-    actag__reader rd; /* the readings' view of w, the geometry and params */
-    int rows, cols, flip_mirror;
+    /* the frame's size, geometry and resolved parameters, and the filtered
+     * frame and bitmap of w, as the readings see them */
+    actag__reader rd;
+    int flip_mirror;
     const tracer *tr;
     actag_stats st;
     actag_detection *out;
@@ -507,8 +507,8 @@ static inline int judge_blind(frame_run *f, int kind, int verdict, const actag_d
 {
     if (verdict == ACTAG_TRACE_ACCEPTED &&
         actag__rival_explains(&f->rd, dr, with_search ? f->sk_dr : NULL,
-                       with_search ? f->nsk : 0, amb, namb, dr->fit_corners,
-                       with_search ? f->sk_contested : NULL))
+                              with_search ? f->nsk : 0, amb, namb, dr->fit_corners,
+                              with_search ? f->sk_contested : NULL))
         verdict = ACTAG_TRACE_RIVAL;
     if (verdict == ACTAG_TRACE_ACCEPTED &&
         actag__turned_rival_refuses(&f->rd, q, dr))
@@ -529,7 +529,7 @@ static inline int judge_blind(frame_run *f, int kind, int verdict, const actag_d
  * M instructions per frame). */
 static void search_stage(frame_run *f)
 {
-    const actag_params *params = f->params;
+    const actag_params *params = f->rd.params;
     const ws_layout *w = f->w;
     actag_search z;
     actag_point quad[4];
@@ -538,14 +538,15 @@ static void search_stage(frame_run *f)
         return;
     /* the map uses A and M (free until the threshold), the integral image
      * S; a frame too small for them is simply not searched */
-    if (actag_search_map(&z, w->b, f->rows, f->cols, f->cols, f->geometry, params->tag_size,
-                         params->family->bits, params->tuning.search_range_scale, w->map,
-                         w->map_size, w->ii, w->ii_size) != ACTAG_OK)
+    if (actag_search_map(&z, w->b, f->rd.rows, f->rd.cols, f->rd.cols, f->rd.geometry,
+                         params->tag_size, params->family->bits,
+                         params->tuning.search_range_scale, w->map, w->map_size, w->ii,
+                         w->ii_size) != ACTAG_OK)
         return;
     while (ncand < params->tuning.search_candidates &&
-           actag_search_next(&z, params->tuning.search_min_score * 8, f->geometry,
-                             params->tag_size, params->tuning.search_range_scale, f->rows,
-                             f->cols, quad)) {
+           actag_search_next(&z, params->tuning.search_min_score * 8, f->rd.geometry,
+                             params->tag_size, params->tuning.search_range_scale, f->rd.rows,
+                             f->rd.cols, quad)) {
         actag__fit_grids *gg = &f->sk_grids[f->nsk];
         actag_decode_result dr;
         int verdict;
@@ -572,8 +573,8 @@ static void search_stage(frame_run *f)
     }
     /* candidates left above the least score: the limit decided */
     if (ncand == params->tuning.search_candidates &&
-        actag_search_next(&z, params->tuning.search_min_score * 8, f->geometry, params->tag_size,
-                          params->tuning.search_range_scale, f->rows, f->cols, quad))
+        actag_search_next(&z, params->tuning.search_min_score * 8, f->rd.geometry, params->tag_size,
+                          params->tuning.search_range_scale, f->rd.rows, f->rd.cols, quad))
         f->st.search_cap = 1;
 }
 
@@ -593,14 +594,14 @@ static void search_stage(frame_run *f)
 static const actag_point *read_merged(frame_run *f, const actag_contour_info *ci,
                                       actag_decode_result *dr)
 {
-    const actag_params *params = f->params;
+    const actag_params *params = f->rd.params;
     actag_point gq[4];
     actag__fit_grids gg;
     int verdict;
     if (params->tuning.decode_mode != ACTAG_DECODE_FIT ||
-        !actag__merged_box(ci, f->geometry, params, f->rows, f->cols, gq))
+        !actag__merged_box(ci, f->rd.geometry, params, f->rd.rows, f->rd.cols, gq))
         return NULL; /* not a merged white square: nothing to read */
-    if (actag__guess_on_border(gq, f->rows, f->cols)) {
+    if (actag__guess_on_border(gq, f->rd.rows, f->rd.cols)) {
         trace_quad(f->tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, gq, 0.0f, NULL);
         return NULL;
     }
@@ -613,8 +614,7 @@ static const actag_point *read_merged(frame_run *f, const actag_contour_info *ci
     memset(&gg, 0, sizeof gg);
     gg.blind = 1; /* a box, not a fitted quad */
     f->nguess++;
-    verdict = actag__read_guess(&f->rd, &gg, f->held, &f->nheld,
-                         gq, dr);
+    verdict = actag__read_guess(&f->rd, &gg, f->held, &f->nheld, gq, dr);
     if (verdict == ACTAG_TRACE_ACCEPTED && dr->hamming > ACTAG_MERGED_CORRECTIONS)
         verdict = ACTAG_TRACE_MARGIN;
     verdict = judge_blind(f, ACTAG_TRACE_GUESS, verdict, dr, 1, NULL, 0, gq);
@@ -633,7 +633,7 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
                       void *qscratch, size_t qscratch_size, contour_run *c,
                       actag_decode_result *dr, float *ratio)
 {
-    const actag_params *params = f->params;
+    const actag_params *params = f->rd.params;
     actag_quad q;
     int k, rc = ACTAG_ERR_NO_QUAD, tries = 2,
            contour_iters = params->tuning.limits.max_contour_iterations, contour_limited = 0;
@@ -680,7 +680,7 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
         if (rc != ACTAG_OK)
             continue; /* another try draws other samples */
         f->st.quads++;
-        if (!actag__sides_plausible(q.corners, f->geometry, params, f->rows, f->cols)) {
+        if (!actag__sides_plausible(q.corners, f->rd.geometry, params, f->rd.rows, f->rd.cols)) {
             trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_SIDES, q.corners, q.inlier_ratio,
                        NULL);
             rc = ACTAG_ERR_NO_QUAD;
@@ -721,8 +721,8 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
         }
         /* a search reading here that disagrees and explains the cells at
          * least as well: no reading (another quad may) */
-        if (actag__rival_explains(&f->rd, dr, f->sk_dr, f->nsk, NULL, 0,
-                           dr->corners, f->sk_contested)) {
+        if (actag__rival_explains(&f->rd, dr, f->sk_dr, f->nsk, NULL, 0, dr->corners,
+                                  f->sk_contested)) {
             trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners, q.inlier_ratio,
                        dr);
             rc = ACTAG_ERR_NO_MATCH;
@@ -746,8 +746,8 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
         if (params->tuning.decode_mode == ACTAG_DECODE_FIT && dr->hamming >= ACTAG_CROSS_HAMMING &&
             !c->guess_read && f->nguess < ACTAG_GUESS_MAX) {
             c->guess_read = 1;
-            if (actag__cross_check(&f->rd, pts, ci->stored, &f->st,
-                            &f->nguess, dr, c->gq, &c->ggx)) {
+            if (actag__cross_check(&f->rd, pts, ci->stored, &f->st, &f->nguess, dr, c->gq,
+                                   &c->ggx)) {
                 trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_RIVAL, q.corners,
                            q.inlier_ratio, dr);
                 if (c->namb < ACTAG_AMB_MAX)
@@ -774,7 +774,7 @@ static const actag_point *read_contour(frame_run *f, const actag_ipoint *pts,
                                        size_t qscratch_size, actag_decode_result *dr,
                                        float *ratio)
 {
-    const actag_params *params = f->params;
+    const actag_params *params = f->rd.params;
     contour_run c;
     int rc, verdict, fit = params->tuning.decode_mode == ACTAG_DECODE_FIT;
     c.namb = 0;
@@ -790,15 +790,15 @@ static const actag_point *read_contour(frame_run *f, const actag_ipoint *pts,
         return NULL;
     }
     verdict = c.guess_read == 2
-                  ? actag__read_guess_again(&f->rd, &f->st, &c.ggx,
-                                     f->held, &f->nheld, c.gq, dr)
-                  : actag__contour_guess(&f->rd, pts, ci->stored, &f->st, c.decoded_quads > 0, &c.ggx, &f->nguess, f->held,
-                                  &f->nheld, c.gq, dr);
-    if (verdict == GUESS_BORDER) {
+                  ? actag__read_guess_again(&f->rd, &f->st, &c.ggx, f->held, &f->nheld, c.gq,
+                                            dr)
+                  : actag__contour_guess(&f->rd, pts, ci->stored, &f->st, c.decoded_quads > 0,
+                                         &c.ggx, &f->nguess, f->held, &f->nheld, c.gq, dr);
+    if (verdict == ACTAG__GUESS_BORDER) {
         trace_quad(f->tr, ACTAG_TRACE_GUESS, ACTAG_TRACE_BORDER, c.gq, 0.0f, NULL);
         return NULL;
     }
-    if (verdict == GUESS_UNREAD ||
+    if (verdict == ACTAG__GUESS_UNREAD ||
         judge_blind(f, ACTAG_TRACE_GUESS, verdict, dr, 1, c.amb, c.namb, c.gq) !=
             ACTAG_TRACE_ACCEPTED)
         return NULL;
@@ -814,7 +814,7 @@ static void keep_reading(frame_run *f, const actag_decode_result *dr, const acta
     actag_detection d;
     int k;
     f->st.decoded++;
-    fill_det(&d, dr, corners, ratio, f->geometry, f->rows, f->cols, f->flip_mirror);
+    fill_det(&d, dr, corners, ratio, f->rd.geometry, f->rd.rows, f->rd.cols, f->flip_mirror);
     for (k = 0; k < f->nsk; k++)
         if (actag__same_place(d.corners, f->sk_dr[k].fit_corners))
             f->sk_used[k] = 1;
@@ -828,7 +828,7 @@ static void keep_reading(frame_run *f, const actag_decode_result *dr, const acta
 static int contour_stage(frame_run *f, actag_contour_scanner *scan, actag_ipoint *pts, int cap,
                          void *qscratch, size_t qscratch_size)
 {
-    const actag_params *params = f->params;
+    const actag_params *params = f->rd.params;
     for (;;) {
         actag_contour_info ci;
         actag_decode_result dr;
@@ -851,7 +851,7 @@ static int contour_stage(frame_run *f, actag_contour_scanner *scan, actag_ipoint
             trace_contour(f->tr, ACTAG_TRACE_OVERFLOW, pts, &ci);
             continue;
         }
-        if (actag__size_plausible(&ci, f->geometry, params, f->rows, f->cols)) {
+        if (actag__size_plausible(&ci, f->rd.geometry, params, f->rd.rows, f->rd.cols)) {
             trace_contour(f->tr, ACTAG_TRACE_ACCEPTED, pts, &ci);
             f->st.size_ok++;
             corners = read_contour(f, pts, &ci, qscratch, qscratch_size, &dr, &ratio);
@@ -893,7 +893,8 @@ static void search_readings(frame_run *f)
                         f->sk_box[k]) != ACTAG_TRACE_ACCEPTED)
             continue;
         f->st.decoded++;
-        fill_det(&d, &dr, dr.fit_corners, 0.0f, f->geometry, f->rows, f->cols, f->flip_mirror);
+        fill_det(&d, &dr, dr.fit_corners, 0.0f, f->rd.geometry, f->rd.rows, f->rd.cols,
+                 f->flip_mirror);
         record(f->out, f->max_out, &f->nout, &f->st, &d, dr.fit_corners, f->fit_start);
     }
 }
@@ -912,11 +913,7 @@ static int detect_filtered(const actag_frame *frame, const actag_sonar_geometry 
     int rc, k;
 
     memset(&f, 0, sizeof f);
-    f.geometry = geometry;
-    f.params = params;
     f.w = wl;
-    f.rows = rows;
-    f.cols = cols;
     f.flip_mirror = flip_mirror;
     f.tr = tr;
     f.out = out;

@@ -118,7 +118,8 @@ static void hold(actag__fit_rival *held, int *nheld, const actag__fit_rival *h)
     int i;
     for (i = 0; i < *nheld; i++)
         if (held[i].id == h->id && held[i].mirrored == h->mirrored &&
-            held[i].rotation == h->rotation && actag__same_place(held[i].fit_corners, h->fit_corners))
+            held[i].rotation == h->rotation &&
+            actag__same_place(held[i].fit_corners, h->fit_corners))
             return;
     if (*nheld < ACTAG_HELD_MAX)
         held[(*nheld)++] = *h;
@@ -138,17 +139,17 @@ void actag__hold_pair(actag__fit_rival *held, int *nheld, const actag__fit_rival
  * the frame's border (such a guess is not read and not counted against
  * ACTAG_GUESS_MAX), within the decode budget; *gg is cleared for the read
  * (read_before: a quad of the contour was read before: one more look) and
- * the guess counted. Returns 0, GUESS_UNREAD or GUESS_BORDER. */
+ * the guess counted. Returns 0, ACTAG__GUESS_UNREAD or ACTAG__GUESS_BORDER. */
 static int guess_start(const actag__reader *r, const actag_ipoint *pts, int npts,
                        actag_stats *st, int read_before, actag__fit_grids *gg, int *nguess,
                        actag_point gq[4])
 {
     if (!actag__extreme_quad(pts, npts, gq))
-        return GUESS_UNREAD;
+        return ACTAG__GUESS_UNREAD;
     if (actag__guess_on_border(gq, r->rows, r->cols))
-        return GUESS_BORDER;
+        return ACTAG__GUESS_BORDER;
     if (!actag__decode_budget(st, r->params))
-        return GUESS_UNREAD;
+        return ACTAG__GUESS_UNREAD;
     memset(gg, 0, sizeof *gg);
     gg->read_before = read_before;
     (*nguess)++;
@@ -170,7 +171,7 @@ int actag__read_guess(const actag__reader *r, actag__fit_grids *gg, actag__fit_r
 }
 
 /* A contour's grid guess (guess_start, then read_guess). Returns
- * read_wide's verdict, GUESS_UNREAD or GUESS_BORDER. */
+ * read_wide's verdict, ACTAG__GUESS_UNREAD or ACTAG__GUESS_BORDER. */
 int actag__contour_guess(const actag__reader *r, const actag_ipoint *pts, int npts,
                          actag_stats *st, int read_before, actag__fit_grids *gg, int *nguess,
                          actag__fit_rival *held, int *nheld, actag_point gq[4],
@@ -183,13 +184,13 @@ int actag__contour_guess(const actag__reader *r, const actag_ipoint *pts, int np
 /* The second reading of a guess read tentatively (cross_check), now with
  * the template check, from the grids the first one kept: what a first
  * reading with the check would have given (decode_fit_grids.h). Returns
- * read_wide's verdict or GUESS_UNREAD (decode budget spent). */
+ * read_wide's verdict or ACTAG__GUESS_UNREAD (decode budget spent). */
 int actag__read_guess_again(const actag__reader *r, actag_stats *st, actag__fit_grids *gg,
                             actag__fit_rival *held, int *nheld, const actag_point gq[4],
                             actag_decode_result *dr)
 {
     if (!actag__decode_budget(st, r->params))
-        return GUESS_UNREAD;
+        return ACTAG__GUESS_UNREAD;
     return actag__read_guess(r, gg, held, nheld, gq, dr);
 }
 
@@ -410,9 +411,9 @@ int actag__cross_check(const actag__reader *r, const actag_ipoint *pts, int npts
     o = actag__rival_of(&gdr);
     if (!actag__same_place(qdr->corners, gdr.fit_corners) || !readings_disagree(&a, &o))
         return 0;
-    if (actag__fit_rival_explains_own(r->grey, r->rows, r->cols, r->cols, params->family, &params->tuning.fit,
-                                      a.id, a.fit_corners, o.id, o.fit_corners, &r1, &r2,
-                                      NULL) < 0)
+    if (actag__fit_rival_explains_own(r->grey, r->rows, r->cols, r->cols, params->family,
+                                      &params->tuning.fit, a.id, a.fit_corners, o.id,
+                                      o.fit_corners, &r1, &r2, NULL) < 0)
         return 0;
     return actag__fit_rss_llr(params->family, &params->tuning.fit, r1, r2, qdr->contrast) <
            params->min_margin;

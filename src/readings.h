@@ -25,8 +25,8 @@ typedef struct actag__reader {
  * RANSAC gives no reading (each a wide-search decode, ~0.1 ms). */
 #define ACTAG_GUESS_MAX 16
 
-#define GUESS_UNREAD (-1) /* no extreme points, or the decode budget is spent */
-#define GUESS_BORDER (-2) /* a corner on the frame's border: not read */
+#define ACTAG__GUESS_UNREAD (-1) /* no extreme points, or the decode budget is spent */
+#define ACTAG__GUESS_BORDER (-2) /* a corner on the frame's border: not read */
 
 /* Hypotheses of one contour's ambiguous quad readings kept for the rival
  * check (the reading and its rival, for each of the two grids of two
@@ -66,7 +66,7 @@ int actag__read_wide(const actag__reader *r, const actag_point quad[4], int veri
 void actag__hold_pair(actag__fit_rival *held, int *nheld, const actag__fit_rival pair[2]);
 
 /* Guesses: gq read with the template check (refused pairs held); a
- * contour's guess from its extreme points (GUESS_UNREAD, GUESS_BORDER or
+ * contour's guess from its extreme points (ACTAG__GUESS_UNREAD, ACTAG__GUESS_BORDER or
  * the verdict); a tentative guess read again with the check. */
 int actag__read_guess(const actag__reader *r, actag__fit_grids *gg, actag__fit_rival *held,
                       int *nheld, const actag_point gq[4], actag_decode_result *dr);

@@ -8,7 +8,10 @@
 
 #include "trig.h"
 
-ACTAG__INTERNAL float actag__dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+ACTAG__INTERNAL float actag__dot3(const float *a, const float *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 
 ACTAG__INTERNAL void actag__cross3(const float *a, const float *b, float *o)
 {
