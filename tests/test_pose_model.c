@@ -12,19 +12,17 @@
 void setUp(void) {}
 void tearDown(void) {}
 
-static double uni(double lo, double hi) { return lo + (hi - lo) * (double)tu_rand() / 4294967295.0; }
-
 /* A random model whose corners are those of a tag at a random pose (x),
  * measured with a little noise, with an elevation prior and a plane. */
 static void random_case(actag__pose_model *m, actag__pose_state *x)
 {
     float w[3], R[9], t[3], n[3], e[3] = {0.0f, 0.0f, 0.0f}, len;
-    double r = uni(0.5, 4.0), a = uni(-0.5, 0.5), el = uni(0.05, 0.15) * (tu_rand() & 1u ? 1 : -1);
+    double r = tu_uniform(0.5, 4.0), a = tu_uniform(-0.5, 0.5), el = tu_uniform(0.05, 0.15) * (tu_rand() & 1u ? 1 : -1);
     static const float cx[4] = {-0.5f, 0.5f, 0.5f, -0.5f}, cy[4] = {-0.5f, -0.5f, 0.5f, 0.5f};
     int i, j;
     memset(m, 0, sizeof *m);
     for (i = 0; i < 3; i++)
-        w[i] = (float)uni(-0.7, 0.7);
+        w[i] = (float)tu_uniform(-0.7, 0.7);
     actag__rot_exp(w, R);
     t[0] = (float)(r * cos(el) * cos(a));
     t[1] = (float)(r * cos(el) * sin(a));
@@ -41,16 +39,16 @@ static void random_case(actag__pose_model *m, actag__pose_state *x)
         actag__mat_vec(R, c, q);
         for (j = 0; j < 3; j++)
             p[j] = q[j] + t[j];
-        m->r[i] = actag__norm3(p) + (float)uni(-0.004, 0.004);
-        m->az[i] = (float)atan2(p[1], p[0]) + (float)uni(-0.003, 0.003);
+        m->r[i] = actag__norm3(p) + (float)tu_uniform(-0.004, 0.004);
+        m->az[i] = (float)atan2(p[1], p[0]) + (float)tu_uniform(-0.003, 0.003);
     }
     /* a plane near the tag's centre, tilted a little from its face */
     for (i = 0; i < 3; i++)
-        n[i] = R[3 * i + 2] + (float)uni(-0.1, 0.1);
+        n[i] = R[3 * i + 2] + (float)tu_uniform(-0.1, 0.1);
     len = actag__norm3(n);
     for (i = 0; i < 3; i++)
         m->n[i] = n[i] / len;
-    m->d = actag__dot3(m->n, t) + (float)uni(-0.02, 0.02);
+    m->d = actag__dot3(m->n, t) + (float)tu_uniform(-0.02, 0.02);
     e[fabsf(m->n[0]) < 0.5f ? 0 : 1] = 1.0f;
     actag__cross3(m->n, e, m->u);
     len = actag__norm3(m->u);
@@ -61,8 +59,8 @@ static void random_case(actag__pose_model *m, actag__pose_state *x)
     m->wt = 1.0f / 0.1f;
     /* the state: the pose moved a little */
     for (i = 0; i < 3; i++) {
-        x->t[i] = t[i] + (float)uni(-0.02, 0.02);
-        w[i] = (float)uni(-0.05, 0.05);
+        x->t[i] = t[i] + (float)tu_uniform(-0.02, 0.02);
+        w[i] = (float)tu_uniform(-0.05, 0.05);
     }
     actag__rot_exp(w, x->R);
     {
@@ -129,7 +127,7 @@ static void test_the_step(void)
         for (i = 0; i < 9; i++)
             TEST_ASSERT_FLOAT_WITHIN(2e-6f, x.R[i], o.R[i]);
         for (i = 0; i < ACTAG__POSE_NPAR; i++)
-            d[i] = (float)uni(-1.0, 1.0);
+            d[i] = (float)tu_uniform(-1.0, 1.0);
         actag__pose_step(&x, d, &o);
         for (i = 0; i < 3; i++)
             TEST_ASSERT_TRUE(o.t[i] == x.t[i] + d[i]);

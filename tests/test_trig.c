@@ -26,9 +26,6 @@ void tearDown(void) {}
         TEST_ASSERT_TRUE_MESSAGE(fabs(got_ - want_) <= (tol), m_);                                \
     } while (0)
 
-/* uniform in [lo, hi] from the test PRNG */
-static double uni(double lo, double hi) { return lo + (hi - lo) * (double)tu_rand() / 4294967295.0; }
-
 static void test_sincos(void)
 {
     static const float edge[] = {0.0f, -0.0f, 0.78539819f, 0.78539813f, -0.78539819f,
@@ -39,7 +36,7 @@ static void test_sincos(void)
     tu_seed(81);
     /* within the first octant's reach (no reduction): 2e-7 (2 ulps of 1) */
     for (t = 0; t < TU_TRIALS(200000, 20); t++) {
-        float x = (float)uni(-0.785, 0.785);
+        float x = (float)tu_uniform(-0.785, 0.785);
         actag__sincos(x, &s, &c);
         NEAR(2e-7, sin((double)x), s);
         NEAR(2e-7, cos((double)x), c);
@@ -47,7 +44,7 @@ static void test_sincos(void)
     /* a few turns, every quadrant (the reduction's low part matters here:
      * with its sign flipped, 5.6e-7): 2e-7 */
     for (t = 0; t < TU_TRIALS(200000, 20); t++) {
-        float x = (float)uni(-8.0, 8.0);
+        float x = (float)tu_uniform(-8.0, 8.0);
         actag__sincos(x, &s, &c);
         NEAR(2e-7, sin((double)x), s);
         NEAR(2e-7, cos((double)x), c);
@@ -55,7 +52,7 @@ static void test_sincos(void)
     /* far out, the quadrant count's product rounds: within an ulp of x
      * (the angle itself is no better known) */
     for (t = 0; t < TU_TRIALS(100000, 20); t++) {
-        float x = (float)uni(-5000.0, 5000.0);
+        float x = (float)tu_uniform(-5000.0, 5000.0);
         double ulp = ldexp(1.0, ilogb(x) - 23);
         actag__sincos(x, &s, &c);
         NEAR(ulp + 3e-7, sin((double)x), s);
@@ -85,8 +82,8 @@ static void test_atan2_and_asin(void)
     tu_seed(82);
     /* every quadrant, magnitudes 1e-30 to 1e30: within 3.5e-7 (1.5 ulps of pi) */
     for (t = 0; t < TU_TRIALS(300000, 20); t++) {
-        double my = pow(10.0, uni(t % 3 ? -3.0 : -30.0, t % 3 ? 3.0 : 30.0));
-        double mx = pow(10.0, uni(t % 3 ? -3.0 : -30.0, t % 3 ? 3.0 : 30.0));
+        double my = pow(10.0, tu_uniform(t % 3 ? -3.0 : -30.0, t % 3 ? 3.0 : 30.0));
+        double mx = pow(10.0, tu_uniform(t % 3 ? -3.0 : -30.0, t % 3 ? 3.0 : 30.0));
         float y = (float)(tu_rand() & 1u ? my : -my), x = (float)(tu_rand() & 1u ? mx : -mx);
         NEAR(3.5e-7, atan2((double)y, (double)x), actag__atan2(y, x));
     }
@@ -102,7 +99,7 @@ static void test_atan2_and_asin(void)
     NEAR(3.5e-7, atan2(0.2679492, 1.0), actag__atan2(0.2679492f, 1.0f));
     /* asin over [-1, 1] (near 1 too), and clamped outside */
     for (t = 0; t < TU_TRIALS(200000, 20); t++) {
-        float v = t % 4 ? (float)uni(-1.0, 1.0) : (float)(1.0 - uni(0.0, 1e-4));
+        float v = t % 4 ? (float)tu_uniform(-1.0, 1.0) : (float)(1.0 - tu_uniform(0.0, 1e-4));
         NEAR(3.5e-7, asin((double)v), actag__asin(v));
     }
     NEAR(3.5e-7, PI / 2, actag__asin(1.5f));
@@ -117,7 +114,7 @@ static void test_small_angle_forms(void)
     tu_seed(83);
     /* sin, cos for |d| <= 0.6 (both series: under 0.2 and above) */
     for (t = 0; t < TU_TRIALS(200000, 20); t++) {
-        float d = t % 2 ? (float)uni(-0.6, 0.6) : (float)uni(-0.2, 0.2);
+        float d = t % 2 ? (float)tu_uniform(-0.6, 0.6) : (float)tu_uniform(-0.2, 0.2);
         actag__sincos_small(d, &s, &c);
         NEAR(1e-7, sin((double)d), s);
         NEAR(1e-7, cos((double)d), c);
@@ -125,7 +122,7 @@ static void test_small_angle_forms(void)
     /* atan: under 1e-7 to |t| = 0.6, 1e-6 to tan 0.6 = 0.684 (the
      * refinement's widest), 2e-6 to 0.7 */
     for (t = 0; t < TU_TRIALS(200000, 20); t++) {
-        float a = (float)uni(-0.6, 0.6), b = (float)uni(-0.6841, 0.6841), e = (float)uni(-0.7, 0.7);
+        float a = (float)tu_uniform(-0.6, 0.6), b = (float)tu_uniform(-0.6841, 0.6841), e = (float)tu_uniform(-0.7, 0.7);
         NEAR(1e-7, atan((double)a), actag__atan_small(a));
         NEAR(1e-6, atan((double)b), actag__atan_small(b));
         NEAR(2e-6, atan((double)e), actag__atan_small(e));
@@ -152,11 +149,11 @@ static void rodrigues(const double w[3], double R[9])
 /* A random rotation vector of angle in [lo, hi] (radians). */
 static void random_w(double lo, double hi, double w[3])
 {
-    double u[3], n = 0.0, th = uni(lo, hi);
+    double u[3], n = 0.0, th = tu_uniform(lo, hi);
     int i;
     do {
         for (i = 0; i < 3; i++)
-            u[i] = uni(-1.0, 1.0);
+            u[i] = tu_uniform(-1.0, 1.0);
         n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
     } while (n < 0.1 || n > 1.0);
     for (i = 0; i < 3; i++)
@@ -218,15 +215,15 @@ static void test_frames_and_products(void)
     for (t = 0; t < TU_TRIALS(20000, 20); t++) {
         float xa[3], ya[3], R[9], n, v[3], o[3], M[9], Rt[9];
         for (i = 0; i < 3; i++) {
-            xa[i] = (float)uni(-2.0, 2.0);
-            ya[i] = (float)uni(-2.0, 2.0);
+            xa[i] = (float)tu_uniform(-2.0, 2.0);
+            ya[i] = (float)tu_uniform(-2.0, 2.0);
         }
         if (t % 10 == 0) /* y along x: any perpendicular */
             for (i = 0; i < 3; i++)
                 ya[i] = 3.0f * xa[i];
         if (t % 10 == 1) /* y 1-6 degrees off x */
             for (i = 0; i < 3; i++)
-                ya[i] = xa[i] + (float)uni(-0.05, 0.05) * actag__norm3(xa);
+                ya[i] = xa[i] + (float)tu_uniform(-0.05, 0.05) * actag__norm3(xa);
         if (t % 10 == 2) /* y zero */
             ya[0] = ya[1] = ya[2] = 0.0f;
         actag__rot_from_axes(xa, ya, R);
@@ -250,7 +247,7 @@ static void test_frames_and_products(void)
         }
         /* products: R v against the sums, R R^T = I */
         for (i = 0; i < 3; i++)
-            v[i] = (float)uni(-5.0, 5.0);
+            v[i] = (float)tu_uniform(-5.0, 5.0);
         actag__mat_vec(R, v, o);
         for (i = 0; i < 3; i++)
             NEAR(1e-5, (double)R[3 * i] * v[0] + (double)R[3 * i + 1] * v[1] +

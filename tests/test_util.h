@@ -59,6 +59,11 @@ static inline int tu_range(int lo, int hi) /* inclusive */
 {
     return lo + (int)(tu_rand() % (uint32_t)(hi - lo + 1));
 }
+/* A double in [lo, hi] (both ends included) from the same PRNG. */
+static inline double tu_uniform(double lo, double hi)
+{
+    return lo + (hi - lo) * (double)tu_rand() / 4294967295.0;
+}
 
 /* Set bits of v: the tests' reference, independent of actag_popcount32. */
 static inline int tu_popcount(uint32_t v)
