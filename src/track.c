@@ -182,7 +182,16 @@ static float t_diag(const actag_point c[4])
  * widening while the track coasts. */
 static float t_gate(const actag_tracker *t, const actag_track *k, const actag_point pred[4])
 {
-    return t->params.gate * t_diag(pred) * (float)(1 + k->missed) + 2.0f;
+    return t->params.gate * t_diag(pred) * (1.0f + (float)k->missed) + 2.0f;
+}
+
+/* The place of a tracked tag where another ID's reading is ignored
+ * (pixels): `gate` predicted diagonals, not widened while the track coasts
+ * (the widened gate, meant for finding the track's own tag again, would
+ * hide a new tag anywhere near a lost one for max_missed frames). */
+static float t_place(const actag_tracker *t, const actag_point pred[4])
+{
+    return t->params.gate * t_diag(pred) + 2.0f;
 }
 
 /* Is there a reading of track k (its ID and handedness) within its gate
@@ -658,9 +667,12 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
     if (t->frame == LONG_MAX) {
         /* a count at its end (2^31 frames of a 32-bit long: 1.7 years at
          * 40 Hz) goes on from full_every + 1, the last whole-frame search
-         * kept as far back (or none: one more whole-frame search) */
+         * kept as far back (or none: one more whole-frame search); at most
+         * from LONG_MAX - 1, so that neither the sum nor the increment
+         * below overflows where long is as narrow as int (ILP32) */
         long back = t->last_full >= 0 ? t->frame - t->last_full : -1;
-        t->frame = (long)t->params.full_every + 1;
+        long every = t->params.full_every;
+        t->frame = every < LONG_MAX - 1 ? every + 1 : LONG_MAX - 1;
         t->last_full = back >= 0 && back <= t->frame ? t->frame - back : -1;
     }
     cur = t->frame++; /* every frame fed counts, failed ones too (track.h) */
@@ -744,7 +756,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             for (i = 0; i < t->ntracks && !need_full; i++) {
                 const actag_track *k = &t->tracks[i];
                 int found = 0;
-                if (!k->confirmed || k->missed + 1 < t->params.refind_after)
+                if (!k->confirmed || k->missed < t->params.refind_after - 1)
                     continue;
                 for (j = 0; j < npool; j++)
                     if (t->pool[j].id == k->id && t->pool[j].mirrored == k->mirrored)
@@ -826,7 +838,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
             actag_point pred[4];
             float gate;
             t_predict(&t->tracks[i], pred);
-            gate = t_gate(t, &t->tracks[i], pred);
+            gate = t_place(t, pred);
             if (t_dist2(t_centre(t->pool[j].corners), t_centre(pred)) <= gate * gate)
                 break;
         }
@@ -852,7 +864,7 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
                 /* the second reading: the filter starts from the two
                  * (no velocity was known, so the prediction was only the
                  * first reading's place) */
-                t_from_two(k, d, k->missed + 1);
+                t_from_two(k, d, k->missed < INT_MAX ? k->missed + 1 : INT_MAX);
             } else {
                 /* smoothing averages the corners' noise (a pixel or two);
                  * a reading more than a quarter of its diagonal from the
@@ -887,7 +899,8 @@ int actag_tracker_update(actag_tracker *t, const actag_frame *frame,
                 k->velocity[c].x *= 0.5f;
                 k->velocity[c].y *= 0.5f;
             }
-            k->missed++;
+            if (k->missed < INT_MAX) /* saturates, as hits and age do */
+                k->missed++;
             k->measured = 0;
         }
     }

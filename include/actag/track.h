@@ -80,8 +80,9 @@
  *   window at the sonar too short in range for a tag is read as holding
  *   none, not as an error). A track's tag ID and
  *   handedness never change: a reading of another ID (or the other
- *   handedness) at a tracked tag's place is ignored and counted
- *   (stats.conflicts), never assigned. Corners are smoothed by an alpha-beta
+ *   handedness) at a tracked tag's place (its centre within `gate`
+ *   predicted diagonals of the prediction's, not widened while the track
+ *   coasts) is ignored and counted (stats.conflicts), never assigned. Corners are smoothed by an alpha-beta
  *   filter per pixel coordinate (alpha = smoothing, beta = alpha^2 /
  *   (2 - alpha)), which also predicts the next frame's position; a reading
  *   whose corners lie more than a quarter of its diagonal from the prediction
@@ -209,7 +210,7 @@ typedef struct actag_track {
     int confirmed;           /* 1 once confirmed */
     int measured;            /* 1: read in this frame; 0: coasting on the prediction */
     int hits;                /* frames with a reading (saturates at INT_MAX, as age) */
-    int missed;              /* consecutive frames without one */
+    int missed;              /* consecutive frames without one (saturates at INT_MAX) */
     int age;                 /* frames since the track started */
     actag_point corners[4];  /* smoothed corners, tag order (x = column, y = row) */
     float range[4];          /* metres, of the smoothed corners (a coasting
@@ -243,7 +244,8 @@ typedef struct actag_tracker {
     actag_track tracks[ACTAG_TRACK_MAX];
     int ntracks;
     long frame;              /* frames fed (including failed ones); past LONG_MAX
-                                it goes on from params.full_every + 1 */
+                                it goes on from params.full_every + 1 (at most
+                                from LONG_MAX - 1) */
     long last_full;          /* frame index of the last whole-frame search (-1: none) */
     uint32_t next_track_id;
     int rows, cols;          /* of the last frame (0: none yet) */

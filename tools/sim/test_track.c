@@ -2043,6 +2043,150 @@ static void test_more_tags_than_tracks(void)
     free(w);
 }
 
+/* Frames of AcTag24h8 tags drawn on a black 512 x 600 polar frame (the
+ * geometry of test_more_tags_than_tracks: square 8 m cells near row 100):
+ * tags ids[i] with their top-left corners at (xs[i], ys[i]). */
+enum { LT_R = 512, LT_C = 600, LT_CELL = 8, LT_MARGIN = 4 };
+static const actag_sonar_geometry lt_geometry = {0.0f, 511.0f, 599.0f / 411.0f, NULL, 0u};
+
+static void lt_draw(const actag_family *f8, uint8_t *img, int n, const int *ids, const int *xs,
+                    const int *ys)
+{
+    uint8_t tag[80 * 80];
+    int side = actag_render_side(f8->bits, LT_CELL, LT_MARGIN), i, y;
+    TEST_ASSERT_TRUE(side <= 80);
+    memset(img, 0, (size_t)LT_R * LT_C);
+    for (i = 0; i < n; i++) {
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(f8, ids[i], LT_CELL, LT_MARGIN, 0, 0,
+                                                         tag, side, sizeof tag));
+        for (y = 0; y < side; y++)
+            memcpy(img + (size_t)(ys[i] + y) * LT_C + (size_t)xs[i],
+                   tag + (size_t)y * (size_t)side, (size_t)side);
+    }
+}
+
+/* A confirmed track whose tag has gone coasts with a gate that widens by
+ * a diagonal a frame. Another ID's reading is ignored only at the tracked
+ * tag's place (one diagonal): a new tag 3.5 diagonals from a tag lost
+ * three frames ago is tracked from its first frame (the widened gate hid
+ * it until the lost track was dropped, max_missed frames later; with
+ * max_missed 40, for 33 frames). */
+static void test_a_lost_track_hides_no_tag_beside_it(void)
+{
+    static uint8_t img[LT_R * LT_C];
+    static actag_tracker tr;
+    actag_family f8;
+    actag_params p;
+    actag_track_params tp;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    actag_frame fr;
+    size_t wsz = actag_workspace_size(LT_R, LT_C);
+    void *w = malloc(wsz);
+    const int ida = 0, idb = 1, xa = 40, xb = 160, y0 = 60;
+    int f, n, k, saw_b = -1;
+    TEST_ASSERT_NOT_NULL(w);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h8", &f8));
+    actag_params_default(&p);
+    p.family = &f8;
+    p.tag_size = 3.0f * LT_CELL;
+    actag_track_params_default(&tp);
+    tp.max_missed = 40;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    fr.data = img;
+    fr.rows = LT_R;
+    fr.cols = LT_C;
+    fr.stride = LT_C;
+    fr.depth = 8;
+    for (f = 0; f < 4; f++) { /* tag A read and confirmed */
+        lt_draw(&f8, img, 1, &ida, &xa, &y0);
+        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
+                                 &st);
+    }
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(ida, out[0].id);
+    for (; f < 7; f++) { /* A gone: its track coasts */
+        lt_draw(&f8, img, 0, NULL, NULL, NULL);
+        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
+                                 &st);
+        TEST_ASSERT_TRUE(n >= 0);
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, tr.ntracks, "A's track is kept, coasting");
+    for (; f < 16; f++) { /* B, 120 px (3.5 diagonals) to the right */
+        lt_draw(&f8, img, 1, &idb, &xb, &y0);
+        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
+                                 &st);
+        TEST_ASSERT_TRUE(n >= 0);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, st.conflicts, "B is not at A's place");
+        for (k = 0; k < n; k++) {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(idb, out[k].id, "only B is in view");
+            if (saw_b < 0)
+                saw_b = f;
+        }
+    }
+    /* B's first reading starts its track, confirmed at once by its margin
+     * (a clean render: above confirm_margin) */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(7, saw_b, "B reported from its first frame");
+    free(w);
+}
+
+/* A track that coasts without end (max_missed INT_MAX, which init
+ * accepts) counts its missed frames up to INT_MAX and stays there, with no
+ * signed overflow (the sanitizer build stops at one) and a gate that stays
+ * finite and positive. */
+static void test_missed_saturates(void)
+{
+    static uint8_t img[LT_R * LT_C];
+    static actag_tracker tr;
+    actag_family f8;
+    actag_params p;
+    actag_track_params tp;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_frame fr;
+    size_t wsz = actag_workspace_size(LT_R, LT_C);
+    void *w = malloc(wsz);
+    const int ida = 0, xa = 40, y0 = 60;
+    int f, n;
+    TEST_ASSERT_NOT_NULL(w);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h8", &f8));
+    actag_params_default(&p);
+    p.family = &f8;
+    p.tag_size = 3.0f * LT_CELL;
+    actag_track_params_default(&tp);
+    tp.max_missed = INT_MAX;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    fr.data = img;
+    fr.rows = LT_R;
+    fr.cols = LT_C;
+    fr.stride = LT_C;
+    fr.depth = 8;
+    lt_draw(&f8, img, 1, &ida, &xa, &y0);
+    for (f = 0; f < 4; f++)
+        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
+                                 NULL);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    lt_draw(&f8, img, 0, NULL, NULL, NULL);
+    n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX, NULL);
+    TEST_ASSERT_EQUAL_INT(0, n);
+    TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
+    tr.tracks[0].missed = INT_MAX - 1; /* stands for 2^31 - 2 more empty pings */
+    for (f = 0; f < 3; f++) {
+        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
+                                 NULL);
+        TEST_ASSERT_EQUAL_INT(0, n);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, tr.ntracks, "kept: max_missed is INT_MAX");
+        TEST_ASSERT_EQUAL_INT(INT_MAX, tr.tracks[0].missed);
+    }
+    /* the tag again, where it was: its track reads it (the refind search) */
+    lt_draw(&f8, img, 1, &ida, &xa, &y0);
+    n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX, NULL);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    TEST_ASSERT_EQUAL_INT(ida, out[0].id);
+    TEST_ASSERT_EQUAL_INT(1, out[0].measured);
+    TEST_ASSERT_EQUAL_INT(0, out[0].missed);
+    free(w);
+}
+
 static void test_errors(void)
 {
     static actag_tracker tr;
@@ -2197,6 +2341,8 @@ int main(void)
     RUN_TEST(test_windows_stay_inside_the_frame_and_hold_the_tag);
     RUN_TEST(test_params_at_their_bounds);
     RUN_TEST(test_more_tags_than_tracks);
+    RUN_TEST(test_a_lost_track_hides_no_tag_beside_it);
+    RUN_TEST(test_missed_saturates);
     RUN_TEST(test_errors);
     for (i = 0; i < NSEQ; i++)
         free(frames[i]);
