@@ -426,11 +426,13 @@ static int p_lsq(float *A, float *b, int m, float *d, float *sc)
 /* Covariance (J^T J)^-1 from a Jacobian A (nres <= P_NRES rows of P_NPAR,
  * whitened residuals; overwritten), by its QR factor: (R^T R)^-1 = R^-1
  * R^-T, columns rescaled. The upper triangle is computed and mirrored, so
- * cov is exactly symmetric. Returns 0, or -1 when A is rank deficient (cov
- * untouched). */
+ * cov is exactly symmetric. Returns 0, or -1 when A is rank deficient or
+ * an entry leaves the float range (the columns' rescaling can overflow
+ * where the rank test, on the scaled columns, passed: a vertical aperture
+ * of 1e-8 rad with four equal corners); cov untouched then. */
 static int p_cov_of(float *A, int nres, float *cov)
 {
-    float b[P_NRES], d[P_NPAR], sc[P_NPAR], Ri[36];
+    float b[P_NRES], d[P_NPAR], sc[P_NPAR], Ri[36], c[36];
     int i, j, k;
     for (i = 0; i < nres; i++)
         b[i] = 0.0f;
@@ -452,9 +454,14 @@ static int p_cov_of(float *A, int nres, float *cov)
             float v = 0.0f;
             for (k = j; k < P_NPAR; k++)
                 v += Ri[i * P_NPAR + k] * Ri[j * P_NPAR + k];
-            cov[i * P_NPAR + j] = v * sc[i] * sc[j];
-            cov[j * P_NPAR + i] = cov[i * P_NPAR + j];
+            c[i * P_NPAR + j] = v * sc[i] * sc[j];
+            c[j * P_NPAR + i] = c[i * P_NPAR + j];
         }
+    for (i = 0; i < 36; i++)
+        if (!p_finite(c[i]))
+            return -1;
+    for (i = 0; i < 36; i++)
+        cov[i] = c[i];
     return 0;
 }
 
@@ -849,10 +856,18 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         none = p_prior_at(&mn, &x, &lo, &hi);
     }
     actag__pose_eval(&m, &x, f, NULL);
-    if (p_cov(&m, &x, out->cov) != 0)
+    if (p_cov(&m, &x, out->cov) != 0) {
         out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
-    else
+    } else {
         p_arc_term(x.t, out->cov);
+        for (i = 0; i < 36 && p_finite(out->cov[i]); i++)
+            ;
+        if (i < 36) { /* the arc's term overflowed: no covariance, all zero */
+            for (i = 0; i < 36; i++)
+                out->cov[i] = 0.0f;
+            out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
+        }
+    }
     for (i = 0; i < 9; i++)
         out->R[i] = x.R[i];
     for (i = 0; i < 3; i++)

@@ -1502,6 +1502,36 @@ static void test_garbage_corners_are_safe(void)
     TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_DEGENERATE);
 }
 
+/* A covariance is finite or not there (regression, review of 2026-12-07):
+ * four equal corners at 5 m and a vertical aperture of 1e-8 or 1e-10 rad
+ * (inside the documented 0 .. pi) passed the rank test on the scaled
+ * Jacobian, and the columns' rescaling overflowed: cov held inf with
+ * ACTAG_POSE_NO_COVARIANCE clear. Now: either every entry is finite, or
+ * all are zero and the flag says no covariance. */
+static void test_covariance_is_finite_or_flagged(void)
+{
+    static const float aps[] = {0.35f, 0.05f, 1e-3f, 1e-5f, 1e-6f, 1e-8f, 1e-10f, 1e-13f};
+    float r[4] = {5.0f, 5.0f, 5.0f, 5.0f}, az[4] = {0.1f, 0.1f, 0.1f, 0.1f};
+    unsigned i;
+    int k;
+    for (i = 0; i < sizeof aps / sizeof aps[0]; i++) {
+        actag_pose_params pp;
+        actag_pose E;
+        int nonfinite = 0, nonzero = 0;
+        actag_pose_params_default(&pp, NULL, 0.13f, aps[i]);
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_pose_estimate(r, az, 0, &pp, &E));
+        TEST_ASSERT_TRUE(E.flags & ACTAG_POSE_DEGENERATE); /* all corners at one place */
+        for (k = 0; k < 36; k++) {
+            nonfinite += !(E.cov[k] - E.cov[k] == 0.0f);
+            nonzero += E.cov[k] != 0.0f;
+        }
+        if (E.flags & ACTAG_POSE_NO_COVARIANCE)
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, nonzero, "no covariance: all zero");
+        else
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, nonfinite, "a covariance: every entry finite");
+    }
+}
+
 /* Angles in every octant (regression: the library's atan2 returned pi -
  * atan(x / y) instead of pi/2 - atan(x / y) when |y| > |x|, and 2 pi - a
  * instead of pi - a for x < 0, so camera azimuths beyond 45 degrees and
@@ -1554,5 +1584,6 @@ int main(void)
     RUN_TEST(test_errors_and_determinism);
     RUN_TEST(test_angles_in_every_octant);
     RUN_TEST(test_garbage_corners_are_safe);
+    RUN_TEST(test_covariance_is_finite_or_flagged);
     return UNITY_END();
 }
