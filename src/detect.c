@@ -230,11 +230,45 @@ static void refine_det(actag_detection *d, const actag_frame *frame, uint32_t ma
  * fitted grid (kept on the stack, 32 bytes each). */
 #define REFINE_STARTS 8
 
+/* Tags that did not fit out[] (max_out), by place: the centre and the
+ * squared half diagonal of their first reading, as actag__same_place
+ * measures them, so that another reading of such a tag counts in
+ * stats.duplicates, not as one more tag in stats.dropped. Beyond
+ * DROPPED_PLACES such tags, every further reading counts as dropped. */
+#define DROPPED_PLACES 8
+typedef struct {
+    actag_point c[DROPPED_PLACES];
+    float r2[DROPPED_PLACES];
+    int n;
+} dropped_places;
+
+/* Is the reading at corners q at the place of a dropped tag? If not, and
+ * there is room, it is one now. */
+static int dropped_before(dropped_places *dp, const actag_point q[4])
+{
+    actag_point c = actag__centre(q);
+    float dx = q[0].x - q[2].x, dy = q[0].y - q[2].y, r2 = (dx * dx + dy * dy) * 0.25f;
+    int i;
+    for (i = 0; i < dp->n; i++) {
+        float ex = c.x - dp->c[i].x, ey = c.y - dp->c[i].y;
+        if (ex * ex + ey * ey <= (r2 > dp->r2[i] ? r2 : dp->r2[i]))
+            return 1;
+    }
+    if (dp->n < DROPPED_PLACES) {
+        dp->c[dp->n] = c;
+        dp->r2[dp->n] = r2;
+        dp->n++;
+    }
+    return 0;
+}
+
 /* Adds a detection to out[], or replaces the reading at the same place
  * when this one is better; when it lands in out[0 .. REFINE_STARTS-1], its
- * reading's fitted-grid corners (fit) go to fit_start at the same index. */
+ * reading's fitted-grid corners (fit) go to fit_start at the same index. A
+ * reading with no room in out[] is counted in stats.dropped once per tag
+ * (dp). */
 static void record(actag_detection *out, int max_out, int *nout, actag_stats *st,
-                   const actag_detection *d, const actag_point fit[4],
+                   dropped_places *dp, const actag_detection *d, const actag_point fit[4],
                    actag_point fit_start[REFINE_STARTS][4])
 {
     int k, dup = -1;
@@ -253,7 +287,10 @@ static void record(actag_detection *out, int max_out, int *nout, actag_stats *st
         k = dup;
     } else {
         if (*nout >= max_out) {
-            st->dropped++;
+            if (dropped_before(dp, d->corners))
+                st->duplicates++;
+            else
+                st->dropped++;
             return;
         }
         k = (*nout)++;
@@ -460,6 +497,7 @@ typedef struct {
     actag_stats st;
     actag_detection *out;
     int max_out, nout;
+    dropped_places dropped; /* tags beyond max_out, by place (record) */
     /* the decoder's fitted-grid corners of out[0 .. REFINE_STARTS-1]: the
      * refinement's second start (refine_det) */
     actag_point fit_start[REFINE_STARTS][4];
@@ -786,7 +824,12 @@ static const actag_point *read_contour(frame_run *f, const actag_ipoint *pts,
     if (!fit)
         return NULL;
     if (c.guess_read != 2 && f->nguess >= ACTAG_GUESS_MAX) {
-        f->st.guess_cap++;
+        /* counted only where a guess would be read, as read_merged counts:
+         * its extreme points found, off the frame's border */
+        actag_point gq[4];
+        if (actag__extreme_quad(pts, ci->stored, gq) &&
+            !actag__guess_on_border(gq, f->rd.rows, f->rd.cols))
+            f->st.guess_cap++;
         return NULL;
     }
     verdict = c.guess_read == 2
@@ -818,7 +861,8 @@ static void keep_reading(frame_run *f, const actag_decode_result *dr, const acta
     for (k = 0; k < f->nsk; k++)
         if (actag__same_place(d.corners, f->sk_dr[k].fit_corners))
             f->sk_used[k] = 1;
-    record(f->out, f->max_out, &f->nout, &f->st, &d, dr->fit_corners, f->fit_start);
+    record(f->out, f->max_out, &f->nout, &f->st, &f->dropped, &d, dr->fit_corners,
+           f->fit_start);
 }
 
 /* 4.-6. Contours, one at a time (the scanner over the bitmap A), each
@@ -895,7 +939,8 @@ static void search_readings(frame_run *f)
         f->st.decoded++;
         fill_det(&d, &dr, dr.fit_corners, 0.0f, f->rd.geometry, f->rd.rows, f->rd.cols,
                  f->flip_mirror);
-        record(f->out, f->max_out, &f->nout, &f->st, &d, dr.fit_corners, f->fit_start);
+        record(f->out, f->max_out, &f->nout, &f->st, &f->dropped, &d, dr.fit_corners,
+               f->fit_start);
     }
 }
 

@@ -84,7 +84,7 @@ int actag__decode_any(const actag__reader *r, const actag_point quad[4], actag__
  * read with the fit decoder's wide search and judged as such readings are:
  * the wide-search corrections, search_min_margin, the structure budget and
  * the fitted grid's sides. verify 0: without the template check (a
- * tentative reading, see detect_filtered), 1: with it as configured. grids:
+ * tentative reading, see detect.c's search_stage), 1: with it as configured. grids:
  * as for decode_fit. amb (or NULL): the template check's hypotheses when
  * it refused the reading as too close to call (amb->amb 1). Returns
  * ACTAG_TRACE_ACCEPTED or the reason for refusing it; *dr is filled unless
@@ -132,8 +132,6 @@ void actag__hold_pair(actag__fit_rival *held, int *nheld, const actag__fit_rival
     hold(held, nheld, &pair[0]);
     hold(held, nheld, &pair[1]);
 }
-
-/* contour_guess's outcomes besides read_wide's verdicts (ACTAG_TRACE_*) */
 
 /* The start of a contour's grid guess: its extreme points (gq), not on
  * the frame's border (such a guess is not read and not counted against
@@ -256,11 +254,12 @@ static int readings_disagree(const actag__fit_rival *a, const actag__fit_rival *
  * reading reported after the contours (nsk 0), the hypotheses of the
  * readings that the template checks of the frame's quads and guesses
  * refused as too close to call, each reading and its rival (held,
- * detect_filtered; heldout seed 9722 frame 177 of bench/heldout_sweep.py
+ * detect.c's search_readings and judge_blind; heldout seed 9722 frame 177 of bench/heldout_sweep.py
  * --mix c24h10: the rival was the truth). A search
  * reading that refuses a reading here is marked in contested[] (nsk
  * entries): the place then has two readings that each passed their own
- * checks, and neither is reported (detect_filtered). (Simulated frame 408 of actag-eval --seed 311:
+ * checks, and neither is reported (detect.c's search_readings). (Simulated
+ * frame 408 of actag-eval --seed 311:
  * an unmirrored tag 4 at 2.5 m whose thresholded white square lost a fifth
  * of its height at both range edges; the quad read tag 5 at margin 6.3 on
  * the short grid, the search tag 4 on a grid of the right height. Frame 62
@@ -383,13 +382,13 @@ int actag__turned_rival_refuses(const actag__reader *r, const actag_point q[4],
     return 0;
 }
 
-/* The cross-check of a quad reading *qdr (detect_filtered): its contour's
+/* The cross-check of a quad reading *qdr (detect.c's read_quads): its contour's
  * grid guess read tentatively, without the template check (gq and *gg keep
  * it for read_guess_again). Returns 1 when the guess reads another tag,
  * handedness or corner order at the quad's place and the quad's template
  * does not lead the guess's by the least decision margin (both polished
  * over the full range at both places): the quad's reading is to be
- * refused. Its own frame keeps the guess's reading off detect_filtered's. */
+ * refused. Its own frame keeps the guess's reading off read_quads'. */
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif

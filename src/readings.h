@@ -40,7 +40,7 @@ typedef struct actag__reader {
 #define ACTAG_HELD_MAX 8
 
 /* A quad reading with this many corrected bits or more is checked against
- * its contour's grid guess (detect_filtered, "cross-check"). */
+ * its contour's grid guess (detect.c's read_quads, "cross-check"). */
 #define ACTAG_CROSS_HAMMING 2
 
 /* One more decoder call within limits.max_decodes? Counts the call, or

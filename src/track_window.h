@@ -8,10 +8,11 @@
  * (k + 1) / (k - 3) for a family of 4k bits), times 1 + grow, plus pad
  * pixels, at least ACTAG__TRACK_MIN_WINDOW / 2 each side; cut to the
  * frame, then widened back to ACTAG__TRACK_MIN_WINDOW pixels (or the whole
- * frame's side, when smaller) inside it. Returns 0, or -1 (the window
- * unset or useless) when a side of it lies beyond 1e7 pixels (or is NaN),
- * when it holds no pixel, or when it is wider than
- * ACTAG_TRACK_ROI_MAX_COLS. */
+ * frame's side, when smaller) inside it, so it always holds pixels: a
+ * prediction wholly outside the frame gets the strip of that width at the
+ * nearest edge (a tag leaving the view is read there, if at all). Returns
+ * 0, or -1 (the window unset or useless) when a side of it lies beyond 1e7
+ * pixels (or is NaN), or when it is wider than ACTAG_TRACK_ROI_MAX_COLS. */
 #ifndef ACTAG_TRACK_WINDOW_H
 #define ACTAG_TRACK_WINDOW_H
 

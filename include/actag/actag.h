@@ -97,7 +97,9 @@
  *                          family's limit
  *   ACTAG_ERR_WORKSPACE    workspace_size < actag_workspace_size(rows, cols)
  *   When more tags are found than max_out, the first max_out (in scan order)
- *   are written and stats->dropped counts the rest.
+ *   are written and stats->dropped counts the rest (a tag read twice once:
+ *   its other reading counts in stats->duplicates; past 8 such tags every
+ *   further reading counts as dropped).
  *
  * ERROR DETAILS (which input was wrong, and why)
  *   actag_check(frame, geometry, params, workspace_size, max_out, &detail)
@@ -511,10 +513,12 @@ typedef struct actag_stats {
     int size_ok;         /* contours that passed the physical size filter */
     int overflowed;      /* contours longer than the point buffer (skipped) */
     int quads;           /* quadrilaterals fitted */
-    int decoded;         /* readings accepted (of quads, search candidates and contour
-                            guesses), before duplicates and rival checks drop some */
-    int duplicates;      /* decodes dropped as the same tag seen twice */
-    int dropped;         /* detections beyond max_out */
+    int decoded;         /* readings accepted after their rival checks (of quads, search
+                            candidates and contour guesses; a search reading that a
+                            quad's or guess's reading of its place superseded counts
+                            too), before duplicates and max_out drop some */
+    int duplicates;      /* accepted readings dropped as the same tag seen twice */
+    int dropped;         /* tags beyond max_out (one per tag: see ERRORS above) */
     int searched;        /* structure-search candidates decoded */
     /* work done and limits reached (actag_limits): contour_cap, contour_budget,
      * frame_budget, decode_cap and guess_cap are 0 on every pool frame at the
