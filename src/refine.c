@@ -1477,11 +1477,11 @@ int actag__refine_corners_max16(const void *img, int depth, uint32_t max16, int 
         return ACTAG_ERR_PARAM;
     if (geometry != NULL && !(tag_size > 0.0f && tag_size < ACTAG_MAX_TAG_SIZE))
         return ACTAG_ERR_PARAM;
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < 4; i++) /* all checked before out is written */
         if (!finite_f(corners[i].x) || !finite_f(corners[i].y))
             return ACTAG_ERR_PARAM;
+    for (i = 0; i < 4; i++)
         out[i] = corners[i];
-    }
     k = bits / 4;
     rc = rsetup(&c, &G, &count, img, depth, max16, rows, cols, stride, geometry, tag_size, family,
                 id, corners, rp);

@@ -323,6 +323,19 @@ static void test_refusals_and_errors(void)
         TEST_ASSERT_EQUAL_INT(8, rp.max_iterations);
         TEST_ASSERT_EQUAL_INT(6000, rp.max_samples);
     }
+    {   /* a non-finite third corner: refused before out is written (the
+         * first two corners had been copied, review of 2026-12-07) */
+        actag_point nf[4], sentinel[4];
+        memcpy(nf, s, sizeof nf);
+        nf[2].y = (float)NAN;
+        for (c = 0; c < 4; c++)
+            sentinel[c].x = sentinel[c].y = -7.0f;
+        memcpy(f, sentinel, sizeof f);
+        TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                              actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS, NULL, 0.0f,
+                                                   &g_fam, 0, nf, &rp, f, NULL));
+        TEST_ASSERT_EQUAL_MEMORY(sentinel, f, sizeof f);
+    }
     s[2] = s[0]; /* degenerate quad */
     TEST_ASSERT_TRUE(actag_refine_corners(g_img, RT_ROWS, RT_COLS, RT_COLS, NULL, 0.0f, &g_fam, 0,
                                           s, &rp, f, NULL) < 0);

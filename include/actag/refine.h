@@ -117,6 +117,9 @@
  *   ACTAG_ERR_GEOMETRY the geometry (when not NULL) fails
  *                     actag_geometry_validate() for rows x cols
  *   ACTAG_ERR_NO_MATCH the fit did not give acceptable corners (out = corners)
+ *   On ACTAG_ERR_PARAM for a degenerate quad (one the tag's grid cannot be
+ *   laid on: found after the checks above) out = corners too; on every other
+ *   error out is untouched.
  */
 #ifndef ACTAG_REFINE_H
 #define ACTAG_REFINE_H
