@@ -11,7 +11,7 @@
  *   tag); the hostile inputs of issue 10 (huge tag size, NaN and swapped
  *   ranges, apertures 0 and > 2 pi, workspace one byte short, stride < cols,
  *   odd 16-bit frames, ...).
- * OUTDIR/decode, family, hostio, quad: small hand-made starts.
+ * OUTDIR/decode, family, hostio, quad, pose, track: small hand-made starts.
  * Every file is a valid input of its harness by construction (the detect
  * seeds through fzd_encode); OUTDIR/stamp marks completion.
  */
@@ -403,6 +403,55 @@ static void small_seeds(void)
             b[at] = (uint8_t)(at * 37u);
         snprintf(name, sizeof name, "quad-%d", i);
         put("quad", name, b, sizeof b);
+    }
+    /* pose: squares at 0.5-20 m, tilted 0-1.4 rad (fuzz_pose's mode 1),
+     * with apertures from the paper's 12 degrees down to 1e-6 rad */
+    for (i = 0; i < 6; i++) {
+        static const float dist[6] = {0.5f, 1.0f, 2.0f, 4.0f, 8.0f, 20.0f};
+        static const float aps[6] = {0.2094f, 0.2094f, 0.05f, 0.01f, 1e-4f, 1e-6f};
+        char name[32];
+        memset(b, 0, sizeof b);
+        at = fz_put_u8(b, 0, 1);               /* mode 1: an exact square */
+        at = fz_put_default(b, at);            /* tag size */
+        at = fz_put_float(b, at, aps[i]);      /* vertical aperture */
+        at = fz_put_default(b, at);            /* range sd */
+        at = fz_put_default(b, at);            /* azimuth sd */
+        at = fz_put_default(b, at);            /* iterations */
+        at = fz_put_u8(b, at, (uint8_t)(i & 1)); /* a known plane (its defaults) */
+        if (i & 1)
+            at += 6;                           /* the plane's six values: defaults */
+        at = fz_put_u8(b, at, (uint8_t)(i >> 1 & 1)); /* mirrored */
+        at = fz_put_float(b, at, dist[i]);
+        at = fz_put_float(b, at, 0.1f * (float)i);   /* azimuth */
+        at = fz_put_default(b, at);                 /* elevation */
+        at = fz_put_default(b, at);                 /* yaw */
+        at = fz_put_float(b, at, 0.28f * (float)i); /* tilt */
+        snprintf(name, sizeof name, "pose-%d", i);
+        put("pose", name, b, at + 40);
+    }
+    /* track: default parameters, six frames of a tag moving 3 px a frame;
+     * then a second tag beside it; then the first gone, a third ID come */
+    for (i = 0; i < 3; i++) {
+        char name[32];
+        int f;
+        memset(b, 0, sizeof b);
+        at = 10;                                    /* ten parameters: defaults */
+        at = fz_put_u8(b, at, i == 2 ? 230 : 0);    /* the frame counter (230: near its end) */
+        at = fz_put_u8(b, at, 5);                   /* six frames */
+        for (f = 0; f < 6; f++) {
+            int two = i >= 1 && f >= 2, gone = i == 2 && f >= 4;
+            at = fz_put_u8(b, at, (uint8_t)(two ? 2 : 1));
+            at = fz_put_u8(b, at, (uint8_t)(gone ? 3 : 0));           /* id */
+            at = fz_put_u8(b, at, (uint8_t)(20 + 3 * f));             /* x */
+            at = fz_put_u8(b, at, 20);                                /* y - 40 */
+            if (two) {
+                at = fz_put_u8(b, at, 1);
+                at = fz_put_u8(b, at, 110);
+                at = fz_put_u8(b, at, 24);
+            }
+        }
+        snprintf(name, sizeof name, "track-%d", i);
+        put("track", name, b, at);
     }
 }
 
