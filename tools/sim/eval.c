@@ -950,6 +950,32 @@ static char **pool_frames(const char *dir, int *count)
     return names;
 }
 
+/* The run's output paths (NULL: option not given) are checked before any
+ * of them is opened: one that names an input frame (--pool-sequence) would
+ * be truncated when opened and removed by die(), and a path given to two
+ * outputs would get both interleaved. Exits with status 2 naming both. */
+typedef struct {
+    const char *opt;
+    const char *path;
+} out_path;
+
+static void check_outputs(const out_path *outs, int nout, char *const *inputs, int ninputs)
+{
+    int a, b;
+    for (a = 0; a < nout; a++) {
+        if (!outs[a].path)
+            continue;
+        for (b = 0; b < ninputs; b++)
+            if (hostio_same_file(outs[a].path, inputs[b])) {
+                char m[1300];
+                snprintf(m, sizeof m, "%s '%.500s': is the input frame '%.500s' "
+                         "(--pool-sequence); not overwritten", outs[a].opt, outs[a].path,
+                         inputs[b]);
+                die(m);
+            }
+    }
+}
+
 /* A family list with an empty name ("A,", ",A", "A,,B") is refused, not
  * read as the names it has. */
 static void check_names(const char *opt, const char *list)
@@ -1401,6 +1427,12 @@ int main(int argc, char **argv)
      * (the files are closed when the run has succeeded). */
     if (pool_dir)
         pool_names = pool_frames(pool_dir, &npool);
+    {
+        const out_path outs[] = {{"--pose-dump", pose_dump},
+                                 {"--failures", failures},
+                                 {"--sequence-failures", seq_failures}};
+        check_outputs(outs, (int)(sizeof outs / sizeof outs[0]), pool_names, npool);
+    }
     if (pose_dump)
         open_output(&g_pose_out, "--pose-dump", pose_dump);
     if (failures)

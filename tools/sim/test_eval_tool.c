@@ -889,6 +889,54 @@ static void test_pool_sequence_source_is_escaped(void)
     hostio_run(cmd, NULL);
 }
 
+/* A folder of three pool frames for --pool-sequence (dir gets its path). */
+static void pool_copy(const char *name, char *dir, size_t n)
+{
+    char cmd[2400];
+    snprintf(dir, n, "%s/%s", ACTAG_BINARY_DIR, name);
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s' && mkdir -p '%s' && cp \"%s\"/data/pool-video/f_0001.pgm "
+             "\"%s\"/data/pool-video/f_0011.pgm \"%s\"/data/pool-video/f_0291.pgm '%s'/",
+             dir, dir, ACTAG_SOURCE_DIR, ACTAG_SOURCE_DIR, ACTAG_SOURCE_DIR, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+}
+
+/* The file at path is still the repository's pool frame `name`. */
+static void expect_pool_frame_intact(const char *path, const char *name)
+{
+    char src[800];
+    size_t la = 0, lb = 0;
+    uint8_t *a, *b;
+    snprintf(src, sizeof src, "%s/data/pool-video/%s", ACTAG_SOURCE_DIR, name);
+    a = hostio_slurp(src, &la, NULL);
+    b = hostio_slurp(path, &lb, NULL);
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL_MESSAGE(b, path);
+    TEST_ASSERT_EQUAL_UINT_MESSAGE((unsigned)la, (unsigned)lb, path);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, memcmp(a, b, la), path);
+    free(a);
+    free(b);
+}
+
+/* An output path that is one of --pool-sequence's frames is refused before
+ * anything is opened: --pose-dump DIR/f_0011.pgm truncated the frame, which
+ * the run then could not read, and die() removed it. */
+static void test_eval_output_is_not_an_input(void)
+{
+    char dir[700], args[2000], frame[800];
+    static const char *const opts[] = {"--pose-dump", "--failures", "--sequence-failures"};
+    int k;
+    pool_copy("eval_out_is_input", dir, sizeof dir);
+    for (k = 0; k < 3; k++) {
+        snprintf(frame, sizeof frame, "%s/./f_0011.pgm", dir);
+        snprintf(args, sizeof args, "--pool --frames 3 --quiet %s%s \"%s\" --pool-sequence \"%s\"",
+                 k == 2 ? "--sequences 1 " : "", opts[k], frame, dir);
+        expect_error_of(ACTAG_EVAL_PATH, args, opts[k], "is the input frame");
+        snprintf(frame, sizeof frame, "%s/f_0011.pgm", dir);
+        expect_pool_frame_intact(frame, "f_0011.pgm");
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -917,5 +965,6 @@ int main(void)
     RUN_TEST(test_far_bins_and_empty_bins);
     RUN_TEST(test_far_sonar_without_tag_free_frames);
     RUN_TEST(test_pool_sequence_source_is_escaped);
+    RUN_TEST(test_eval_output_is_not_an_input);
     return UNITY_END();
 }
