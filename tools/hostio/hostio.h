@@ -27,9 +27,11 @@
  *     hostio_mkdirs(path, err)             creates a folder and its parents
  *                                           (like mkdir -p; fine when it exists)
  *     hostio_same_file(a, b)               1 when the two paths name one file
- *                                           (the same file found by both, or the
- *                                           same string), else 0: an output
- *                                           must not overwrite an input
+ *                                           (the same file found by both, the
+ *                                           same string, or, when neither exists
+ *                                           yet, the same name in the same
+ *                                           folder), else 0: an output must not
+ *                                           overwrite an input or another output
  *   Output guard (a tool's output file: none is left half-written by a
  *   failed run; a device, a link or standard output is never removed)
  *     hostio_out_open(&out, path, mode, err)  fopen (NULL path: standard

@@ -307,7 +307,10 @@ static void test_slurp_text_refuses_nul(void)
 }
 
 /* hostio_same_file: one file by two names (a path and the same path with
- * "./" parts), the same string, two different files, a missing file. */
+ * "./" parts), the same string, two different files, a missing file; two
+ * spellings of one file not yet created are one file (two outputs of
+ * actag-eval, --pose-dump out.jsonl --failures ./out.jsonl, were written
+ * interleaved into it). */
 static void test_same_file(void)
 {
     char err[HOSTIO_ERRLEN];
@@ -318,7 +321,11 @@ static void test_same_file(void)
     TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/a.txt", DIR "/a.txt"));
     TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/a.txt", DIR "/b.txt"));
     TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/a.txt", DIR "/missing.txt"));
-    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/./missing.txt"));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/missing.txt", DIR "/./missing.txt"));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/missing.txt", DIR "//missing.txt"));
+    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/missing2.txt"));
+    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/nodir/missing.txt"));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file("hostio_missing.txt", "./hostio_missing.txt"));
 }
 
 /* hostio_pgm_read (the pool frames of actag-eval --pool-sequence, actag-sim

@@ -965,6 +965,14 @@ static void check_outputs(const out_path *outs, int nout, char *const *inputs, i
     for (a = 0; a < nout; a++) {
         if (!outs[a].path)
             continue;
+        for (b = 0; b < a; b++)
+            if (outs[b].path && hostio_same_file(outs[a].path, outs[b].path)) {
+                char m[1300];
+                snprintf(m, sizeof m, "%s '%.500s' and %s '%.500s' are the same file; "
+                         "give each output its own", outs[b].opt, outs[b].path, outs[a].opt,
+                         outs[a].path);
+                die(m);
+            }
         for (b = 0; b < ninputs; b++)
             if (hostio_same_file(outs[a].path, inputs[b])) {
                 char m[1300];
@@ -1428,10 +1436,31 @@ int main(int argc, char **argv)
     if (pool_dir)
         pool_names = pool_frames(pool_dir, &npool);
     {
-        const out_path outs[] = {{"--pose-dump", pose_dump},
-                                 {"--failures", failures},
-                                 {"--sequence-failures", seq_failures}};
-        check_outputs(outs, (int)(sizeof outs / sizeof outs[0]), pool_names, npool);
+        /* the files of --svg DIR too (svg_histogram and svg_rate's names) */
+        static const char *const svg_names[4] = {"range_error.svg", "azimuth_error.svg",
+                                                 "rate_vs_distance.svg", "rate_vs_incidence.svg"};
+        char *svg_paths[4] = {NULL, NULL, NULL, NULL};
+        int k;
+        for (k = 0; k < 4 && svg; k++) {
+            size_t n = strlen(svg) + strlen(svg_names[k]) + 2;
+            svg_paths[k] = (char *)malloc(n);
+            if (svg_paths[k])
+                snprintf(svg_paths[k], n, "%s/%s", svg, svg_names[k]);
+            else
+                die("out of memory");
+        }
+        {
+            const out_path outs[] = {{"--pose-dump", pose_dump},
+                                     {"--failures", failures},
+                                     {"--sequence-failures", seq_failures},
+                                     {"--svg", svg_paths[0]},
+                                     {"--svg", svg_paths[1]},
+                                     {"--svg", svg_paths[2]},
+                                     {"--svg", svg_paths[3]}};
+            check_outputs(outs, (int)(sizeof outs / sizeof outs[0]), pool_names, npool);
+        }
+        for (k = 0; k < 4; k++)
+            free(svg_paths[k]);
     }
     if (pose_dump)
         open_output(&g_pose_out, "--pose-dump", pose_dump);

@@ -937,6 +937,36 @@ static void test_eval_output_is_not_an_input(void)
     }
 }
 
+/* One path given to two outputs is refused (both options named), not
+ * written by both interleaved: the same string, another spelling of a file
+ * not yet created, and one of --svg DIR's files. Nothing is created. */
+static void test_eval_outputs_are_distinct(void)
+{
+    char args[2400], a[700], b[700], dir[600];
+    struct stat st;
+    snprintf(dir, sizeof dir, "%s/eval_two_outputs", ACTAG_BINARY_DIR);
+    snprintf(a, sizeof a, "%s/out.jsonl", dir);
+    snprintf(b, sizeof b, "%s/./out.jsonl", dir);
+    snprintf(args, sizeof args, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(args, NULL));
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --pose-dump \"%s\" --failures \"%s\"",
+             a, a);
+    expect_error_of(ACTAG_EVAL_PATH, args, "--pose-dump", "and --failures");
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --sequences 1 --sequence-length 2 "
+             "--failures \"%s\" --sequence-failures \"%s\"", a, b);
+    expect_error_of(ACTAG_EVAL_PATH, args, "--failures", "and --sequence-failures");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(a, &st), "an output created by a refused run");
+    snprintf(b, sizeof b, "%s/rate_vs_distance.svg", dir);
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --svg \"%s\" --pose-dump \"%s\"",
+             dir, b);
+    expect_error_of(ACTAG_EVAL_PATH, args, "--pose-dump", "and --svg");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(b, &st), "an output created by a refused run");
+    /* distinct files: the run is made */
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --svg \"%s\" --pose-dump \"%s\"",
+             dir, a);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -966,5 +996,6 @@ int main(void)
     RUN_TEST(test_far_sonar_without_tag_free_frames);
     RUN_TEST(test_pool_sequence_source_is_escaped);
     RUN_TEST(test_eval_output_is_not_an_input);
+    RUN_TEST(test_eval_outputs_are_distinct);
     return UNITY_END();
 }
