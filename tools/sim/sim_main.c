@@ -181,6 +181,33 @@ static float *load_bearings(const char *path, int cols)
     return b;
 }
 
+/* The run writes DIR/truth.jsonl and DIR/PREFIX_NNNN.EXT (frames 0 ..
+ * total - 1): none of them may be the --bearings table (it was replaced by
+ * the truth file). Checked before anything is created; exits 2 naming both. */
+static void check_outputs_keep(const char *bearings, const char *out_dir, const char *prefix,
+                               const char *ext, int total)
+{
+    size_t n = strlen(out_dir) + strlen(prefix) + 40;
+    char *p = (char *)malloc(n);
+    int i;
+    if (!p)
+        die("out of memory");
+    for (i = -1; i < total; i++) {
+        if (i < 0)
+            snprintf(p, n, "%s/truth.jsonl", out_dir);
+        else
+            snprintf(p, n, "%s/%s_%04d.%s", out_dir, prefix, i, ext);
+        if (hostio_same_file(p, bearings)) {
+            char m[HOSTIO_ERRLEN + 200];
+            snprintf(m, sizeof m, "--out-dir: its file '%.150s' is the --bearings table "
+                     "'%.150s'; not overwritten", p, bearings);
+            free(p);
+            die(m);
+        }
+    }
+    free(p);
+}
+
 int main(int argc, char **argv)
 {
     sim_sonar sonar;
@@ -436,6 +463,9 @@ int main(int argc, char **argv)
             fprintf(stderr, PROG ": warning: --tag %s: the tag's face is turned away from the "
                     "sonar (incidence %.1f degrees)\n", tag_spec[i], (double)tr.incidence / DEG);
     }
+    if (bearings)
+        check_outputs_keep(bearings, out_dir, prefix, raw ? "raw" : "pgm",
+                           ntags > 0 ? frames : (nrandom > 0 ? nrandom : (nfree > 0 ? nfree : nseq)));
     hostio_opt_mkdirs(PROG, "--out-dir", out_dir); /* parents too */
     if (depth == 16)
         img16 = (uint16_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols * 2);

@@ -405,6 +405,13 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
         goto done;
     }
     qsort(names, (size_t)nnames, sizeof *names, cmp_str);
+    for (i = 0; montage && i < nnames; i++)
+        if (hostio_same_file(montage, names[i])) { /* refused before any work, not replaced */
+            if (err)
+                snprintf(err, HOSTIO_ERRLEN, "--montage '%.80s': is the input frame '%.80s' "
+                         "(--compare-real); not overwritten", montage, names[i]);
+            goto done;
+        }
     for (q = 0; q < 2; q++)
         for (i = 0; i < 5; i++) {
             st[q][i].v = (float *)malloc((size_t)(nnames > n ? nnames : n) * sizeof(float));

@@ -967,6 +967,39 @@ static void test_eval_outputs_are_distinct(void)
     TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
 }
 
+/* actag-sim never writes over its inputs: --montage naming one of
+ * --compare-real's frames replaced the real frame, and a --bearings table
+ * in --out-dir named truth.jsonl (or as a frame) was replaced by the truth
+ * file. Both are refused before anything is written, naming both files. */
+static void test_sim_outputs_are_not_inputs(void)
+{
+    char dir[600], args[2000], path[800], *t;
+    int k;
+    pool_copy("sim_out_is_input", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/f_0001.pgm", dir);
+    snprintf(args, sizeof args, "--compare-real \"%s\" --random 2 --montage \"%s\"", dir, path);
+    expect_error_of(ACTAG_SIM_PATH, args, "--montage", "is the input frame");
+    expect_pool_frame_intact(path, "f_0001.pgm");
+    for (k = 0; k < 2; k++) {
+        /* 50 bearings, descending */
+        static const char *const names[2] = {"truth.jsonl", "sim_0000.pgm"};
+        char table[600];
+        int c, len = 0;
+        for (c = 0; c < 50; c++)
+            len += snprintf(table + len, sizeof table - (size_t)len, "%.2f\n", 0.5 - 0.02 * c);
+        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+        TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, table, (size_t)len, NULL));
+        snprintf(args, sizeof args, "--random 1 --rows 60 --cols 50 --quiet --bearings \"%s\" "
+                 "--out-dir \"%s/.\"", path, dir);
+        expect_error_of(ACTAG_SIM_PATH, args, "--bearings table", names[k]);
+        t = slurp(path);
+        TEST_ASSERT_NOT_NULL(t);
+        TEST_ASSERT_EQUAL_STRING_MESSAGE(table, t, "the --bearings table was overwritten");
+        free(t);
+        remove(path);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -997,5 +1030,6 @@ int main(void)
     RUN_TEST(test_pool_sequence_source_is_escaped);
     RUN_TEST(test_eval_output_is_not_an_input);
     RUN_TEST(test_eval_outputs_are_distinct);
+    RUN_TEST(test_sim_outputs_are_not_inputs);
     return UNITY_END();
 }
