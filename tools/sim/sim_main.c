@@ -181,6 +181,36 @@ static float *load_bearings(const char *path, int cols)
     return b;
 }
 
+/* --seabed NX,NY,NZ,D (the text v, for messages) to a unit normal and its
+ * offset, while the options are checked (before --out-dir is made). The
+ * normal is divided by its largest component first, as actag_detect's
+ * --plane: its squares then neither overflow (1e300 gave a zero normal)
+ * nor vanish (1e-200 was "must not be zero"). The offset must be a
+ * distance a frame can show: at most 1e6 m. */
+static void seabed_normalise(double p[4], const char *v)
+{
+    double big = fabs(p[0]), u[4], ns;
+    char m[HOSTIO_ERRLEN];
+    int j;
+    for (j = 1; j < 3; j++)
+        if (fabs(p[j]) > big)
+            big = fabs(p[j]);
+    if (!(big > 0.0)) {
+        snprintf(m, sizeof m, "--seabed: the normal must not be zero (got %.100s)", v);
+        die(m);
+    }
+    for (j = 0; j < 4; j++)
+        u[j] = p[j] / big;
+    ns = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]); /* 1 to sqrt 3 */
+    if (!(fabs(u[3]) / ns <= 1e6)) {
+        snprintf(m, sizeof m, "--seabed: the plane must lie within 1e6 m of the sonar (got "
+                 "offset %g m for %.100s)", u[3] / ns, v);
+        die(m);
+    }
+    for (j = 0; j < 4; j++)
+        p[j] = u[j] / ns;
+}
+
 /* The run writes DIR/truth.jsonl and DIR/PREFIX_NNNN.EXT (frames 0 ..
  * total - 1): none of them may be the --bearings table (it was replaced by
  * the truth file). Checked before anything is created; exits 2 naming both. */
@@ -286,6 +316,7 @@ int main(int argc, char **argv)
             else {
                 if (hostio_parse_doubles(o, v, ',', seabed_plane, 4, err) != HOSTIO_OK)
                     die(err);
+                seabed_normalise(seabed_plane, v);
                 seabed_mode = 2;
             }
         } else if (!strcmp(o, "--family")) {
@@ -519,16 +550,11 @@ int main(int argc, char **argv)
                     scene.seabed_n[2] = -t0->pose.R[8];
                     scene.seabed_d = -(t0->pose.R[2] * t0->pose.t[0] + t0->pose.R[5] * t0->pose.t[1] +
                                        t0->pose.R[8] * t0->pose.t[2]) - 0.014f;
-                } else if (seabed_mode == 2) {
-                    double nn = sqrt(seabed_plane[0] * seabed_plane[0] +
-                                     seabed_plane[1] * seabed_plane[1] +
-                                     seabed_plane[2] * seabed_plane[2]);
-                    if (nn <= 0.0)
-                        die("--seabed: the normal must not be zero");
+                } else if (seabed_mode == 2) { /* normalised by seabed_normalise */
                     scene.has_seabed = 1;
                     for (t = 0; t < 3; t++)
-                        scene.seabed_n[t] = (float)(seabed_plane[t] / nn);
-                    scene.seabed_d = (float)(seabed_plane[3] / nn);
+                        scene.seabed_n[t] = (float)seabed_plane[t];
+                    scene.seabed_d = (float)seabed_plane[3];
                 }
             } else if (nrandom > 0) {
                 sim_tag tg = base;

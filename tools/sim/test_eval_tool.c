@@ -1000,6 +1000,48 @@ static void test_sim_outputs_are_not_inputs(void)
     }
 }
 
+/* actag-sim --seabed: the normal at any scale is the same plane (its
+ * components were squared as given: 1e300 overflowed to a zero normal and
+ * a frame without the seabed, exit 0; 1e-200 was refused as zero), and a
+ * bad normal is refused while the options are checked (the output folder
+ * and the truth file were made first). */
+static void test_sim_seabed_scale(void)
+{
+    static const char *const planes[3] = {"0,0.2,1,-1.3", "0,2e299,1e300,-1.3e300",
+                                          "0,2e-201,1e-200,-1.3e-200"};
+    char args[1200], dir[700], path[800], cmd[800];
+    uint8_t *frame[3];
+    size_t len[3];
+    struct stat st;
+    int k;
+    for (k = 0; k < 3; k++) {
+        snprintf(dir, sizeof dir, "%s/sim_seabed%d", ACTAG_BINARY_DIR, k);
+        snprintf(args, sizeof args, "--pool --tag AcTag24h10:3:1.2,0.1,-0.04,180,-25,0 --quiet "
+                 "--seabed %s --out-dir \"%s\"", planes[k], dir);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_SIM_PATH, args), args);
+        snprintf(path, sizeof path, "%s/sim_0000.pgm", dir);
+        frame[k] = hostio_slurp(path, &len[k], NULL);
+        TEST_ASSERT_NOT_NULL(frame[k]);
+    }
+    for (k = 1; k < 3; k++) {
+        TEST_ASSERT_EQUAL_UINT(len[0], len[k]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, memcmp(frame[0], frame[k], len[0]), planes[k]);
+    }
+    for (k = 0; k < 3; k++)
+        free(frame[k]);
+    snprintf(dir, sizeof dir, "%s/sim_seabed_zero", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+    snprintf(args, sizeof args, "--pool --tag AcTag24h10:3:1.2,0.1,-0.04,180,-25,0 --quiet "
+             "--seabed 0,0,0,1 --out-dir \"%s\"", dir);
+    expect_error_of(ACTAG_SIM_PATH, args, "--seabed: the normal must not be zero", "0,0,0,1");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "--out-dir made by a refused run");
+    snprintf(args, sizeof args, "--pool --tag AcTag24h10:3:1.2,0.1,-0.04,180,-25,0 --quiet "
+             "--seabed 0,0,1e-200,1 --out-dir \"%s\"", dir);
+    expect_error_of(ACTAG_SIM_PATH, args, "--seabed", "0,0,1e-200,1");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "--out-dir made by a refused run");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1031,5 +1073,6 @@ int main(void)
     RUN_TEST(test_eval_output_is_not_an_input);
     RUN_TEST(test_eval_outputs_are_distinct);
     RUN_TEST(test_sim_outputs_are_not_inputs);
+    RUN_TEST(test_sim_seabed_scale);
     return UNITY_END();
 }
