@@ -1513,9 +1513,13 @@ int main(int argc, char **argv)
                     if (!strncmp(b + 2, partial[a2], 4))
                         vis[i] = 0;
             }
-            if (te_run_files((const char *const *)names, nn, &pg, &f24, tag_size_default, 0, vis,
-                             &topt, &pool_counts, err) != 0)
-                die(err);
+            /* pg is the pool recording's geometry: its 530 x 512 frames only */
+            if (te_run_files((const char *const *)names, nn, 530, 512, &pg, &f24,
+                             tag_size_default, 0, vis, &topt, &pool_counts, err) != 0) {
+                char m[HOSTIO_ERRLEN + 100];
+                snprintf(m, sizeof m, "--pool-sequence: %s", err);
+                die(m);
+            }
             free(vis);
         }
         for (i = 0; i < nn; i++)

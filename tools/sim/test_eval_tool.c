@@ -1042,6 +1042,34 @@ static void test_sim_seabed_scale(void)
     TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "--out-dir made by a refused run");
 }
 
+/* --pool-sequence runs its frames with the pool recording's geometry,
+ * which holds for its 530 x 512 frames only: frames of another size were
+ * run as if they were pool frames (exit 0); now refused naming the file
+ * and its size. */
+static void test_pool_sequence_frame_size(void)
+{
+    char dir[600], args[1400], path[800], cmd[1400];
+    static const char pgm[] = "P5 4 3 255\n\0\0\0\0\0\0\0\0\0\0\0\0";
+    /* a folder of small frames only */
+    snprintf(dir, sizeof dir, "%s/eval_pool_small", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+    snprintf(path, sizeof path, "%s/f_0001.pgm", dir);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, pgm, sizeof pgm - 1, NULL));
+    snprintf(path, sizeof path, "%s/f_0002.pgm", dir);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, pgm, sizeof pgm - 1, NULL));
+    snprintf(args, sizeof args, "--frames 0 --quiet --pool-sequence \"%s\"", dir);
+    expect_error_of(ACTAG_EVAL_PATH, args, "f_0001.pgm: a 3 x 4 frame", "needs 530 x 512");
+    /* one among pool frames */
+    pool_copy("eval_pool_size", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/f_0005.pgm", dir);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, pgm, sizeof pgm - 1, NULL));
+    snprintf(args, sizeof args, "--frames 0 --quiet --pool-sequence \"%s\"", dir);
+    expect_error_of(ACTAG_EVAL_PATH, args, "f_0005.pgm: a 3 x 4 frame", "needs 530 x 512");
+    remove(path);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -1074,5 +1102,6 @@ int main(void)
     RUN_TEST(test_eval_outputs_are_distinct);
     RUN_TEST(test_sim_outputs_are_not_inputs);
     RUN_TEST(test_sim_seabed_scale);
+    RUN_TEST(test_pool_sequence_frame_size);
     return UNITY_END();
 }
