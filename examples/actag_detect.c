@@ -832,30 +832,6 @@ static uint8_t *to8(const hostio_image *im)
     return out;
 }
 
-/* Parses the bearing table (text: the file path's contents): exactly
- * `cols` numbers. */
-static int load_bearings(const char *path, const char *text, int cols, float *out, char *err)
-{
-    double *v = (double *)malloc(((size_t)cols + 1) * sizeof(double));
-    int n = 0, i, rc = -1;
-    if (!v) {
-        snprintf(err, HOSTIO_ERRLEN, "%s: out of memory", path);
-        return -1;
-    }
-    if (hostio_parse_list(path, text, v, cols, &n, err) == HOSTIO_OK) {
-        if (n != cols) {
-            snprintf(err, HOSTIO_ERRLEN, "%s: bearing table has %s%d values, the frame has %d columns",
-                     path, n > cols ? "more than " : "", n > cols ? cols : n, cols);
-        } else {
-            for (i = 0; i < cols; i++)
-                out[i] = (float)v[i];
-            rc = 0;
-        }
-    }
-    free(v);
-    return rc;
-}
-
 /* Detects, prints and draws one file. Returns 0, or -1 after reporting. */
 static int process(const options *o, const char *file, const char *picname,
                    const char *const *files, int nfiles, actag_tracker *tracker, gc_tags *gc)
@@ -893,7 +869,8 @@ static int process(const options *o, const char *file, const char *picname,
             snprintf(err, HOSTIO_ERRLEN, "%s: out of memory", hostio_frame_name(file));
             goto fail;
         }
-        if (load_bearings(o->bearings_path, o->bearings_text, im.cols, bearings, err) != 0)
+        if (hostio_parse_bearings(o->bearings_path, o->bearings_text, im.cols, NULL, bearings,
+                                  err) != HOSTIO_OK)
             goto fail;
         geo.bearings = bearings;
     }

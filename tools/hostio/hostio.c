@@ -181,6 +181,47 @@ static int same_inode(const struct stat *sa, const struct stat *sb)
     return sa->st_dev == sb->st_dev && sa->st_ino == sb->st_ino && sa->st_ino != 0;
 }
 
+int hostio_parse_bearings(const char *name, const char *text, int cols, const char *cols_opt,
+                          float *out, char *err)
+{
+    double *v;
+    int n = 0, i, rc = -1;
+    if (cols < 1)
+        return fail(err, "%.200s: bearing table for %d columns", name, cols);
+    v = (double *)malloc(((size_t)cols + 1) * sizeof *v);
+    if (!v)
+        return fail(err, "%.200s: out of memory", name);
+    if (hostio_parse_list(name, text, v, cols, &n, err) == HOSTIO_OK) {
+        if (n != cols) {
+            if (cols_opt)
+                fail(err, "%.200s: bearing table has %s%d values, %.20s is %d", name,
+                     n > cols ? "more than " : "", n > cols ? cols : n, cols_opt, cols);
+            else
+                fail(err, "%.200s: bearing table has %s%d values, the frame has %d columns",
+                     name, n > cols ? "more than " : "", n > cols ? cols : n, cols);
+        } else {
+            for (i = 0; i < cols; i++)
+                out[i] = (float)v[i];
+            rc = HOSTIO_OK;
+        }
+    }
+    free(v);
+    return rc;
+}
+
+int hostio_read_bearings(const char *path, int cols, const char *cols_opt, float *out,
+                         char *err)
+{
+    size_t len;
+    char *text = hostio_slurp_text(path, &len, err);
+    int rc;
+    if (!text)
+        return -1;
+    rc = hostio_parse_bearings(hostio_frame_name(path), text, cols, cols_opt, out, err);
+    free(text);
+    return rc;
+}
+
 int hostio_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;

@@ -30,7 +30,6 @@
 #include "eval_track.h"
 #include "actag/pose.h"
 
-#include <dirent.h>
 
 #include <errno.h>
 #include <math.h>
@@ -910,43 +909,17 @@ static void check_geometry(const sim_sonar *s, const hostio_optname *names, int 
  * DIR/NAME, malloc'd; dies when DIR cannot be read or holds none. */
 static char **pool_frames(const char *dir, int *count)
 {
-    DIR *dp = opendir(dir);
-    struct dirent *de;
-    char **names = NULL;
-    int nn = 0, cap = 0, a, b;
-    if (!dp) {
-        char m[700];
-        snprintf(m, sizeof m, "--pool-sequence: cannot open '%.500s': %s", dir, strerror(errno));
+    char err[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 40];
+    char **names = hostio_list_dir(dir, "f_", ".pgm", count, err);
+    if (!names) {
+        snprintf(m, sizeof m, "--pool-sequence: %s", err);
         die(m);
     }
-    while ((de = readdir(dp)) != NULL) {
-        size_t L = strlen(de->d_name);
-        if (L < 7 || strncmp(de->d_name, "f_", 2) != 0 || strcmp(de->d_name + L - 4, ".pgm"))
-            continue;
-        if (nn == cap) {
-            cap = cap ? 2 * cap : 64;
-            names = (char **)realloc(names, (size_t)cap * sizeof *names);
-            if (!names)
-                die("out of memory");
-        }
-        names[nn] = (char *)malloc(strlen(dir) + L + 2);
-        if (!names[nn])
-            die("out of memory");
-        sprintf(names[nn++], "%s/%s", dir, de->d_name);
-    }
-    closedir(dp);
-    if (nn == 0) {
-        char m[700];
-        snprintf(m, sizeof m, "--pool-sequence: no f_*.pgm in '%.500s'", dir);
+    if (*count == 0) {
+        hostio_list_free(names, 0);
+        snprintf(m, sizeof m, "--pool-sequence: no f_*.pgm in '%.200s'", dir);
         die(m);
     }
-    for (a = 1; a < nn; a++)
-        for (b = a; b > 0 && strcmp(names[b - 1], names[b]) > 0; b--) {
-            char *t = names[b];
-            names[b] = names[b - 1];
-            names[b - 1] = t;
-        }
-    *count = nn;
     return names;
 }
 
@@ -1522,9 +1495,7 @@ int main(int argc, char **argv)
             }
             free(vis);
         }
-        for (i = 0; i < nn; i++)
-            free(names[i]);
-        free(names);
+        hostio_list_free(names, nn);
         have_pool = 1;
     }
     elapsed = now_s() - c.t0;

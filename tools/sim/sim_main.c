@@ -151,36 +151,6 @@ bad:
     die(msg);
 }
 
-/* The bearing table through hostio's list parser, as actag_detect reads it
- * (numbers separated by whitespace or commas): a parser of its own here
- * refused "0.5,0.4" and printed a binary file's bytes. */
-static float *load_bearings(const char *path, int cols)
-{
-    char err[HOSTIO_ERRLEN];
-    size_t len;
-    char *txt = hostio_slurp_text(path, &len, err);
-    double *v = (double *)malloc(((size_t)cols + 1) * sizeof *v);
-    float *b = (float *)malloc((size_t)cols * sizeof *b);
-    int n = 0, i;
-    if (!txt)
-        die(err);
-    if (!v || !b)
-        die("out of memory");
-    if (hostio_parse_list(path, txt, v, cols, &n, err) != HOSTIO_OK)
-        die(err); /* "PATH: value K is not a finite number (got '...')" */
-    free(txt);
-    if (n != cols) {
-        char msg[HOSTIO_ERRLEN + 64];
-        snprintf(msg, sizeof msg, "%.200s: bearing table has %s%d values, --cols is %d", path,
-                 n > cols ? "more than " : "", n > cols ? cols : n, cols);
-        die(msg);
-    }
-    for (i = 0; i < cols; i++)
-        b[i] = (float)v[i];
-    free(v);
-    return b;
-}
-
 /* --seabed NX,NY,NZ,D (the text v, for messages) to a unit normal and its
  * offset, while the options are checked (before --out-dir is made). The
  * normal is divided by its largest component first, as actag_detect's
@@ -423,7 +393,11 @@ int main(int argc, char **argv)
     if (montage && !compare)
         die("--montage: needs --compare-real DIR (it shows real and simulated frames)");
     if (bearings) {
-        btab = load_bearings(bearings, sonar.cols);
+        btab = (float *)malloc((size_t)sonar.cols * sizeof *btab);
+        if (!btab)
+            die("out of memory");
+        if (hostio_read_bearings(bearings, sonar.cols, "--cols", btab, err) != HOSTIO_OK)
+            die(err); /* "PATH: value K is not a finite number (got '...')" */
         sonar.geo.bearings = btab;
     } else {
         sonar.geo.aperture = (float)(aperture_deg * DEG);
