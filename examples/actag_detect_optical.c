@@ -26,7 +26,8 @@
  * --pixel-sd PX adds its covariance (actag_pose_camera_covariance) from the
  * corners' pixel noise: "sd", "cov" (6 x 6), "chi2" and "flags" in
  * "pose_sensor".
- * --json prints one line per image:
+ * --json prints one line per image (an image that cannot be read:
+ * {"file":...,"error":...}):
  *   {"file":...,"detections":[{"id":..,"hamming":..,"margin":..,
  *    "corners":[{"x_col":..,"y_row":..} x 4],"pose":{"R":[9],"t":[3]}}]}
  * Images: binary PGM (P5) through the host I/O library (tools/hostio), 8 or
@@ -339,6 +340,13 @@ int main(int argc, char **argv)
         image_u8_t *im = read_image(path, msg);
         if (im == NULL) {
             fprintf(stderr, PROG ": %s\n", msg);
+            if (o.json) { /* every file gets its line, as actag_detect's --json */
+                printf("{\"file\":");
+                hostio_json_string(stdout, path);
+                printf(",\"error\":");
+                hostio_json_string(stdout, msg);
+                printf("}\n");
+            }
             status = 2;
             continue;
         }
