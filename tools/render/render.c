@@ -242,6 +242,19 @@ static void parse_ids(opts_t *o, const char *s, int ncodes)
     }
     if (o->nids == 0)
         die("--ids: empty list");
+    {
+        /* an ID given twice wrote its file twice (--out-dir) or printed it
+         * twice: refused, naming it */
+        unsigned char *seen = (unsigned char *)xmalloc((size_t)ncodes);
+        int k;
+        memset(seen, 0, (size_t)ncodes);
+        for (k = 0; k < o->nids; k++) {
+            if (seen[o->ids[k]])
+                die("--ids: ID %d given twice in '%s'", o->ids[k], s);
+            seen[o->ids[k]] = 1;
+        }
+        free(seen);
+    }
 }
 
 static void parse_holes(opts_t *o, const char *s)
