@@ -219,15 +219,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
-#define NEEDV()                                                                                   \
-    do {                                                                                          \
-        if (!v) {                                                                                 \
-            char m_[128];                                                                         \
-            snprintf(m_, sizeof m_, "%s: missing value", a);                                      \
-            die(m_);                                                                              \
-        }                                                                                         \
-        i++;                                                                                      \
-    } while (0)
+/* v, the value, is argv[i + 1]: hostio_opt_value dies without it and moves i onto it */
+#define NEEDV() ((void)hostio_opt_value(PROG, argc, argv, &i))
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
             exit(0);
@@ -390,9 +383,7 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             NEEDV();
             o->stages = v;
         } else if (a[0] == '-' && a[1] != '\0') {
-            char m[160];
-            snprintf(m, sizeof m, "unknown option %.100s (see --help)", a);
-            die(m);
+            hostio_opt_unknown(PROG, a);
         } else {
             if (strcmp(a, "-") == 0 && ++stdin_files > 1)
                 die(o->bearings_path && strcmp(o->bearings_path, "-") == 0

@@ -273,10 +273,7 @@ int main(int argc, char **argv)
         if (matched)
             continue;
         if (strcmp(a, "--family") == 0) {
-            if (v == NULL)
-                die("--family: missing value");
-            o.family = v;
-            i++;
+            o.family = hostio_opt_value(PROG, argc, argv, &i);
         } else if (strcmp(a, "--no-invert") == 0) {
             o.invert = 0;
         } else if (strcmp(a, "--json") == 0) {
@@ -294,9 +291,7 @@ int main(int argc, char **argv)
             o.decimate = hostio_opt_double(PROG, a, v, 1.0, 64.0);
             i++;
         } else {
-            char m[160];
-            snprintf(m, sizeof m, "unknown option '%.100s' (see --help)", a);
-            die(m);
+            hostio_opt_unknown(PROG, a);
         }
     }
     if (nfiles == 0) {

@@ -748,7 +748,8 @@ static void test_bad_options(void)
                         "--aperture-deg or --bearings is required");
     expect_option_error(GEO " --bearings " ACTAG_BINARY_DIR "/bearings620.txt " EXAMPLE,
                         "--aperture-deg and --bearings exclude each other");
-    expect_option_error(GEO " --frobnicate " EXAMPLE, "unknown option --frobnicate");
+    /* hostio_opt_unknown's wording, as every host tool (it said "unknown option --frobnicate (see --help)") */
+    expect_option_error(GEO " --frobnicate " EXAMPLE, "unknown option '--frobnicate' (try --help)");
     expect_option_error(GEO " --median-radius x " EXAMPLE, "--median-radius: must be an integer (got 'x')");
     expect_option_error(GEO " --aperture-deg -5 " EXAMPLE,
                         "--aperture-deg: must be a number > 0 and < 360 (got -5)");

@@ -286,12 +286,11 @@ static void parse_holes(opts_t *o, const char *s)
         die("--screw-holes: expected pairs X,Y in mm, got '%s'", s);
 }
 
+/* Options are parsed before any output is open: hostio's helpers (exit
+ * status 2, the message every host tool gives) need no clean-up. */
 static const char *need_arg(int argc, char **argv, int *i)
 {
-    if (*i + 1 >= argc)
-        die("%s needs a value", argv[*i]);
-    (*i)++;
-    return argv[*i];
+    return hostio_opt_value("actag-render", argc, argv, i);
 }
 
 /* A format's file extension (without the dot). */
@@ -458,7 +457,7 @@ static void parse_args(int argc, char **argv, opts_t *o)
         } else if (strcmp(a, "--out-dir") == 0) {
             o->out_dir = need_arg(argc, argv, &i);
         } else {
-            die("unknown option '%s' (try --help)", a);
+            hostio_opt_unknown("actag-render", a);
         }
     }
 

@@ -1080,6 +1080,11 @@ static void test_errors(void)
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
     }
     TEST_ASSERT_EQUAL_INT(0, run("--help"));
+    /* hostio's option messages, as every host tool ("--id needs a value" before) */
+    TEST_ASSERT_EQUAL_INT(2, run("--family AcTag24h4 --id"));
+    TEST_ASSERT_EQUAL_STRING("actag-render: --id: missing value\n", errtext);
+    TEST_ASSERT_EQUAL_INT(2, run("--family AcTag24h4 --id 1 --frobnicate"));
+    TEST_ASSERT_EQUAL_STRING("actag-render: unknown option '--frobnicate' (try --help)\n", errtext);
 }
 
 /* Arguments actag-render refuses, the option the message must name and

@@ -1247,7 +1247,7 @@ int main(int argc, char **argv)
             track_opt = o;
             topt.track.report_coasting = 1;
         } else {
-            simio_opt_unknown(PROG, o);
+            hostio_opt_unknown(PROG, o);
         }
 #undef NEED
     }

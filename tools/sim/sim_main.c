@@ -373,7 +373,7 @@ int main(int argc, char **argv)
             NEED();
             montage = v;
         } else {
-            simio_opt_unknown(PROG, o);
+            hostio_opt_unknown(PROG, o);
         }
 #undef NEED
     }

@@ -66,9 +66,9 @@ int simio_opt_defaults(int argc, char **argv, sim_sonar *s, sim_view_params *v,
 
 void simio_opt_need(const char *prog, const char *opt, const char *value, int *i)
 {
-    if (!value) {
+    if (!value) { /* hostio_opt_value's wording */
         char m[128];
-        snprintf(m, sizeof m, "%s: missing value", opt);
+        snprintf(m, sizeof m, "%.100s: missing value", opt);
         hostio_die(prog, m);
     }
     (*i)++;
@@ -141,13 +141,6 @@ int simio_opt_common(const simio_cli *cli, int argc, char **argv, int *i)
 #undef NEED
 #undef num
 #undef inum
-}
-
-void simio_opt_unknown(const char *prog, const char *opt)
-{
-    char m[300];
-    snprintf(m, sizeof m, "unknown option '%s' (see --help)", opt);
-    hostio_die(prog, m);
 }
 
 void simio_opt_check_views(const char *prog, const sim_view_params *v)

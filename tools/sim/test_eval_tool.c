@@ -261,6 +261,9 @@ static void test_bad_options(void)
     expect_error_of(ACTAG_EVAL_PATH, "--many-corrections-margin -1", "--many-corrections-margin",
                     "-1");
     expect_error(ACTAG_EVAL_PATH, "--bogus", "--bogus");
+    /* hostio_opt_unknown's wording, as every host tool (it said "(see --help)") */
+    expect_error_of(ACTAG_EVAL_PATH, "--bogus", "unknown option '--bogus'", "(try --help)");
+    expect_error_of(ACTAG_SIM_PATH, "--bogus", "unknown option '--bogus'", "(try --help)");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --plane-sd -0.1", "--plane-sd");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --plane-tilt-deg 91", "--plane-tilt-deg");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --pose-dump /nonexistent-dir/p.jsonl",
