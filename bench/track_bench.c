@@ -80,6 +80,14 @@ NOINLINE int bench_track_tracked(actag_tracker *t, const actag_frame *f,
     return actag_tracker_update(t, f, g, p, roi_params, ws, wss, o, n, st);
 }
 
+/* A library error on frame `file`: the file named beside the message. */
+static void die_frame(const char *file, int code)
+{
+    char m[400];
+    snprintf(m, sizeof m, "%.300s: %s", file, actag_strerror(code));
+    hostio_die(PROG, m);
+}
+
 int main(int argc, char **argv)
 {
     static actag_tracker tr;
@@ -87,7 +95,7 @@ int main(int argc, char **argv)
     actag_params p;
     actag_family fam;
     actag_sonar_geometry g = {0.1f, 1.5f, 1.0471976f, NULL, 0u};
-    const char *family = "AcTag24h10";
+    const char *family = "AcTag24h10", *first = "";
     double tag_size = 0.130628571;
     void *ws = NULL;
     size_t wss = 0;
@@ -135,8 +143,11 @@ int main(int argc, char **argv)
     }
     if (i >= argc)
         hostio_die(PROG, "no frames (try --help)");
-    if (actag_family_get(family, &fam) != ACTAG_OK)
-        hostio_die(PROG, "--family: unknown family");
+    if (actag_family_get(family, &fam) != ACTAG_OK) {
+        char m[300];
+        snprintf(m, sizeof m, "--family: unknown family '%.100s' (e.g. AcTag24h10)", family);
+        hostio_die(PROG, m);
+    }
     actag_params_default(&p);
     p.family = &fam;
     p.tag_size = (float)tag_size;
@@ -161,6 +172,20 @@ int main(int argc, char **argv)
         if (hostio_pgm_read(argv[i], &im, err) != HOSTIO_OK)
             hostio_die(PROG, err);
         if (nfiles == 0) {
+            /* the geometry against the first frame, in this tool's option
+             * names (detection said "invalid sonar geometry") */
+            static const hostio_optname names[] = {
+                {"min_range", "--min-range", 0},
+                {"max_range", "--max-range", 0},
+                {"aperture", "--aperture-deg", 57.29577951308232}};
+            actag_error_detail d;
+            if (actag_geometry_validate(&g, im.rows, im.cols, &d) != ACTAG_OK) {
+                char m[HOSTIO_ERRLEN], m2[HOSTIO_ERRLEN + 200];
+                hostio_detail_message(&d, names, (int)(sizeof names / sizeof names[0]), m);
+                snprintf(m2, sizeof m2, "%s (frame %.150s)", m, argv[i]);
+                hostio_die(PROG, m2);
+            }
+            first = argv[i];
             rows = im.rows;
             cols = im.cols;
             wss = actag_workspace_size(rows, cols);
@@ -168,13 +193,17 @@ int main(int argc, char **argv)
             if (!ws)
                 hostio_die(PROG, "out of memory");
         } else if (im.rows != rows || im.cols != cols) {
-            hostio_die(PROG, "frames of different sizes");
+            char m[600];
+            snprintf(m, sizeof m, "%.200s: a %d x %d frame (rows x columns), the first one "
+                     "(%.200s) is %d x %d: frames of one size only", argv[i], im.rows, im.cols,
+                     first, rows, cols);
+            hostio_die(PROG, m);
         }
         nfiles++;
         hostio_image_frame(&im, &f);
         n = bench_full(&f, &g, &p, ws, wss, det, 16);
         if (n < 0)
-            hostio_die(PROG, actag_strerror(n));
+            die_frame(argv[i], n);
         n_full++;
         px_full += (long)rows * cols;
         full_read += n > 0;
@@ -183,7 +212,7 @@ int main(int argc, char **argv)
         n = tracked ? bench_track_tracked(&tr, &f, &g, &p, ws, wss, out, ACTAG_TRACK_MAX, &st)
                     : bench_track(&tr, &f, &g, &p, ws, wss, out, ACTAG_TRACK_MAX, &st);
         if (n < 0)
-            hostio_die(PROG, actag_strerror(n));
+            die_frame(argv[i], n);
         if (tracked) {
             n_tracked++;
             px_tracked += st.pixels;

@@ -49,6 +49,7 @@
 #define PROG "worst_bench"
 #define ROWS ADV_ROWS
 #define COLS ADV_COLS
+#define MAX_POOL 200 /* pool frames given; v[] holds them and adv_specs' 31 */
 
 static uint8_t g_ws[ACTAG_WORKSPACE_SIZE(ROWS, COLS)];
 
@@ -107,11 +108,20 @@ int main(int argc, char **argv)
             only = hostio_opt_value(PROG, argc, argv, &i);
         else if (argv[i][0] == '-' && argv[i][1] != '\0') /* "-" is a frame: standard input */
             hostio_opt_unknown(PROG, argv[i]);
-        else if (n < 200) {
-            v[n].kind = K_POOL;
-            snprintf(v[n].path, sizeof v[n].path, "%s", argv[i]);
-            snprintf(v[n].name, sizeof v[n].name, "pool %s",
-                     strrchr(argv[i], '/') ? strrchr(argv[i], '/') + 1 : argv[i]);
+        else {
+            /* refused, not left out: frames past the 200th were ignored and a
+             * path past 511 characters cut short without a word */
+            char m[300];
+            if (n >= MAX_POOL) {
+                snprintf(m, sizeof m, "at most %d frames ('%.150s' is one more)", MAX_POOL,
+                         argv[i]);
+                hostio_die(PROG, m);
+            }
+            if (adv_pool_spec(&v[n], argv[i]) != 0) {
+                snprintf(m, sizeof m, "'%.60s...': a path of %lu characters (at most %d)",
+                         argv[i], (unsigned long)strlen(argv[i]), (int)sizeof v[n].path - 1);
+                hostio_die(PROG, m);
+            }
             n++;
         }
     }

@@ -219,15 +219,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
-#define NEEDV()                                                                                   \
-    do {                                                                                          \
-        if (!v) {                                                                                 \
-            char m_[128];                                                                         \
-            snprintf(m_, sizeof m_, "%s: missing value", a);                                      \
-            die(m_);                                                                              \
-        }                                                                                         \
-        i++;                                                                                      \
-    } while (0)
+/* v, the value, is argv[i + 1]: hostio_opt_value dies without it and moves i onto it */
+#define NEEDV() ((void)hostio_opt_value(PROG, argc, argv, &i))
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
             exit(0);
@@ -390,9 +383,7 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
             NEEDV();
             o->stages = v;
         } else if (a[0] == '-' && a[1] != '\0') {
-            char m[160];
-            snprintf(m, sizeof m, "unknown option %.100s (see --help)", a);
-            die(m);
+            hostio_opt_unknown(PROG, a);
         } else {
             if (strcmp(a, "-") == 0 && ++stdin_files > 1)
                 die(o->bearings_path && strcmp(o->bearings_path, "-") == 0
@@ -832,30 +823,6 @@ static uint8_t *to8(const hostio_image *im)
     return out;
 }
 
-/* Parses the bearing table (text: the file path's contents): exactly
- * `cols` numbers. */
-static int load_bearings(const char *path, const char *text, int cols, float *out, char *err)
-{
-    double *v = (double *)malloc(((size_t)cols + 1) * sizeof(double));
-    int n = 0, i, rc = -1;
-    if (!v) {
-        snprintf(err, HOSTIO_ERRLEN, "%s: out of memory", path);
-        return -1;
-    }
-    if (hostio_parse_list(path, text, v, cols, &n, err) == HOSTIO_OK) {
-        if (n != cols) {
-            snprintf(err, HOSTIO_ERRLEN, "%s: bearing table has %s%d values, the frame has %d columns",
-                     path, n > cols ? "more than " : "", n > cols ? cols : n, cols);
-        } else {
-            for (i = 0; i < cols; i++)
-                out[i] = (float)v[i];
-            rc = 0;
-        }
-    }
-    free(v);
-    return rc;
-}
-
 /* Detects, prints and draws one file. Returns 0, or -1 after reporting. */
 static int process(const options *o, const char *file, const char *picname,
                    const char *const *files, int nfiles, actag_tracker *tracker, gc_tags *gc)
@@ -893,7 +860,8 @@ static int process(const options *o, const char *file, const char *picname,
             snprintf(err, HOSTIO_ERRLEN, "%s: out of memory", hostio_frame_name(file));
             goto fail;
         }
-        if (load_bearings(o->bearings_path, o->bearings_text, im.cols, bearings, err) != 0)
+        if (hostio_parse_bearings(o->bearings_path, o->bearings_text, im.cols, NULL, bearings,
+                                  err) != HOSTIO_OK)
             goto fail;
         geo.bearings = bearings;
     }

@@ -26,7 +26,8 @@
  * --pixel-sd PX adds its covariance (actag_pose_camera_covariance) from the
  * corners' pixel noise: "sd", "cov" (6 x 6), "chi2" and "flags" in
  * "pose_sensor".
- * --json prints one line per image:
+ * --json prints one line per image (an image that cannot be read:
+ * {"file":...,"error":...}):
  *   {"file":...,"detections":[{"id":..,"hamming":..,"margin":..,
  *    "corners":[{"x_col":..,"y_row":..} x 4],"pose":{"R":[9],"t":[3]}}]}
  * Images: binary PGM (P5) through the host I/O library (tools/hostio), 8 or
@@ -272,10 +273,7 @@ int main(int argc, char **argv)
         if (matched)
             continue;
         if (strcmp(a, "--family") == 0) {
-            if (v == NULL)
-                die("--family: missing value");
-            o.family = v;
-            i++;
+            o.family = hostio_opt_value(PROG, argc, argv, &i);
         } else if (strcmp(a, "--no-invert") == 0) {
             o.invert = 0;
         } else if (strcmp(a, "--json") == 0) {
@@ -293,9 +291,7 @@ int main(int argc, char **argv)
             o.decimate = hostio_opt_double(PROG, a, v, 1.0, 64.0);
             i++;
         } else {
-            char m[160];
-            snprintf(m, sizeof m, "unknown option '%.100s' (see --help)", a);
-            die(m);
+            hostio_opt_unknown(PROG, a);
         }
     }
     if (nfiles == 0) {
@@ -339,6 +335,13 @@ int main(int argc, char **argv)
         image_u8_t *im = read_image(path, msg);
         if (im == NULL) {
             fprintf(stderr, PROG ": %s\n", msg);
+            if (o.json) { /* every file gets its line, as actag_detect's --json */
+                printf("{\"file\":");
+                hostio_json_string(stdout, path);
+                printf(",\"error\":");
+                hostio_json_string(stdout, msg);
+                printf("}\n");
+            }
             status = 2;
             continue;
         }

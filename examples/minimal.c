@@ -41,7 +41,17 @@ static int header_int(FILE *f, int *v)
     return digits > 0 && (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r');
 }
 
-/* A bare-bones P5 reader (8 bit). Returns NULL, or why the file is refused. */
+/* After the magic "P5": whitespace or a comment, not a digit ("P540 30 255"
+ * is no PGM; it was read as 40 columns). */
+static int magic_end(FILE *f)
+{
+    int ch = fgetc(f);
+    return (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r' || ch == '#') &&
+           ungetc(ch, f) != EOF;
+}
+
+/* A bare-bones P5 reader (8 bit), one frame a file. Returns NULL, or why the
+ * file is refused. */
 static const char *read_pgm(const char *path, int *rows, int *cols)
 {
     FILE *f = fopen(path, "rb");
@@ -49,8 +59,8 @@ static const char *read_pgm(const char *path, int *rows, int *cols)
     int maxval = 0;
     if (!f)
         return "cannot open it";
-    if (fgetc(f) != 'P' || fgetc(f) != '5' || !header_int(f, cols) || !header_int(f, rows) ||
-        !header_int(f, &maxval))
+    if (fgetc(f) != 'P' || fgetc(f) != '5' || !magic_end(f) || !header_int(f, cols) ||
+        !header_int(f, rows) || !header_int(f, &maxval))
         why = "not a binary (P5) PGM";
     else if (*rows < 1 || *rows > MAX_ROWS || *cols < 1 || *cols > MAX_COLS)
         why = "larger than 1024 x 1024 pixels (or empty)";
@@ -58,6 +68,8 @@ static const char *read_pgm(const char *path, int *rows, int *cols)
         why = "not an 8-bit PGM of maxval 255 (this example does not rescale)";
     else if (fread(pixels, 1, (size_t)*rows * (size_t)*cols, f) != (size_t)*rows * (size_t)*cols)
         why = "cut short (fewer pixels than its header says)";
+    else if (fgetc(f) != EOF) /* trailing bytes: not the frame its header says */
+        why = "longer than its header says (bytes after the pixels)";
     fclose(f);
     return why;
 }

@@ -174,17 +174,23 @@ static void fan_free(fan *fn)
 /* The tallest fan panel of an overlay, pixels. */
 #define PIC_FAN_MAX_H 2048
 
-/* Sets up a fan of height h for frame f; fn->w is the width it needs. */
-static int fan_setup(fan *fn, const pic_frame *f, int h)
+/* Sets up a fan of height h for frame f; fn->w is the width it needs.
+ * Returns -1 with a message in err (path labels it) when memory runs out or
+ * the geometry's fan cannot be drawn: ranges so large (1e30..3e38 m, which
+ * the library accepts) that the fan's extent or a pixel's squared distance
+ * is not finite in float made a NaN canvas width, converted to int. */
+static int fan_setup(fan *fn, const pic_frame *f, int h, const char *path, char *err)
 {
     const int pad = 24;
     int i;
     float lmin = 0, lmax = 0, xmin = 0, xmax = 0;
+    double wd;
     memset(fn, 0, sizeof *fn);
     fn->row_range = (float *)malloc((size_t)f->rows * sizeof(float));
     fn->col_az = (float *)malloc((size_t)f->cols * sizeof(float));
     if (!fn->row_range || !fn->col_az) {
         fan_free(fn);
+        snprintf(err, HOSTIO_ERRLEN, "%.200s: out of memory", path);
         return -1;
     }
     for (i = 0; i < f->rows; i++)
@@ -203,13 +209,37 @@ static int fan_setup(fan *fn, const pic_frame *f, int h)
         xmin = fminf(xmin, x);
         xmax = fmaxf(xmax, x);
     }
+    /* fan_paint squares a pixel's distance in metres: the extent squared must
+     * be finite too (ranges up to about 1e18 m) */
+    if (!isfinite(fn->rmin) || !isfinite(fn->rmax) || !isfinite(fn->azmin) ||
+        !isfinite(fn->azmax) || !isfinite((xmax - xmin) * (xmax - xmin) + (lmax - lmin) * (lmax - lmin))) {
+        snprintf(err, HOSTIO_ERRLEN,
+                 "%.60s: no fan picture for ranges %.3g..%.3g m, azimuths %.4g..%.4g deg "
+                 "(--min-range/--max-range/--aperture-deg or --bearings): too large",
+                 path, (double)f->geo->min_range, (double)f->geo->max_range, (double)fn->azmin * RAD2DEG,
+                 (double)fn->azmax * RAD2DEG);
+        fan_free(fn);
+        return -1;
+    }
     fn->h = h;
     fn->scale = (float)(h - 2 * pad) / fmaxf(xmax - xmin, 1e-6f);
     if ((lmax - lmin) * fn->scale > 3.0f * (float)h) /* very wide fans: keep it sane */
         fn->scale = 3.0f * (float)h / (lmax - lmin);
-    fn->w = (int)ceilf((lmax - lmin) * fn->scale) + 2 * pad;
+    wd = ceil((double)(lmax - lmin) * (double)fn->scale) + 2.0 * pad;
     fn->ox = (float)pad + lmax * fn->scale; /* left (positive azimuth) is to the left */
     fn->oy = (float)pad + xmax * fn->scale;
+    /* checked before the conversion to int: at most 3 h wide (above) */
+    if (!(fn->scale > 0.0f) || !isfinite(fn->scale) || !(wd >= 1.0) ||
+        !(wd <= 3.0 * h + 2.0 * pad + 1.0) || !isfinite(fn->ox) || !isfinite(fn->oy)) {
+        snprintf(err, HOSTIO_ERRLEN,
+                 "%.60s: no fan picture for ranges %.3g..%.3g m, azimuths %.4g..%.4g deg "
+                 "(--min-range/--max-range/--aperture-deg or --bearings): no sane size",
+                 path, (double)f->geo->min_range, (double)f->geo->max_range, (double)fn->azmin * RAD2DEG,
+                 (double)fn->azmax * RAD2DEG);
+        fan_free(fn);
+        return -1;
+    }
+    fn->w = (int)wd;
     return 0;
 }
 
@@ -524,10 +554,8 @@ int pic_overlay(const char *path, const pic_frame *f, int show_rejected, char *e
     /* the fan panel is as tall as the frame, but at most PIC_FAN_MAX_H
      * pixels (it may be 3 times as wide): a frame of 32,767 rows would
      * otherwise take a picture of gigabytes */
-    if (fan_setup(&fn, f, f->rows < PIC_FAN_MAX_H ? f->rows : PIC_FAN_MAX_H) != 0) {
-        snprintf(err, HOSTIO_ERRLEN, "%.200s: out of memory", path);
+    if (fan_setup(&fn, f, f->rows < PIC_FAN_MAX_H ? f->rows : PIC_FAN_MAX_H, path, err) != 0)
         return -1;
-    }
     w = margin + f->cols + gap + fn.w + margin;
     if (f->trace)
         for (i = 0; i < f->trace->ncand; i++)

@@ -420,6 +420,32 @@ static void test_overlay_and_stages(void)
     free(s);
 }
 
+/* --overlay with a geometry the library accepts but no picture can show
+ * (ranges up to 3e38 m): the fan's extent was inf, its width a NaN
+ * converted to int, and the run failed with "out of memory" (under ASan an
+ * allocation-size-too-big crash). Now one line naming the options and
+ * values, status 2, no picture; a large but drawable fan still works. */
+static void test_overlay_extreme_geometry(void)
+{
+    char *s;
+    TEST_ASSERT_EQUAL_INT(0, system("mkdir -p \"" OUT "\""));
+    remove(OUT "/extreme.ppm");
+    TEST_ASSERT_EQUAL_INT(2, run("--min-range 1e30 --max-range 3e38 --aperture-deg 359.99 "
+                                 "--overlay " OUT "/extreme.ppm " EXAMPLE));
+    s = err_text();
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, count_lines(s), s);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(s, "extreme.ppm: no fan picture for ranges 1e+30..3e+38 m"), s);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(s, "--max-range"), s);
+    TEST_ASSERT_NULL_MESSAGE(strstr(s, "out of memory"), s);
+    free(s);
+    TEST_ASSERT_FALSE(exists(OUT "/extreme.ppm"));
+    TEST_ASSERT_EQUAL_INT(2, run("--min-range 1e18 --max-range 1e19 --aperture-deg 359.99 "
+                                 "--overlay " OUT "/extreme.ppm " EXAMPLE));
+    TEST_ASSERT_EQUAL_INT(0, run("--min-range 1e16 --max-range 1e17 --aperture-deg 359.99 "
+                                 "--overlay " OUT "/extreme.ppm " EXAMPLE));
+    TEST_ASSERT_TRUE(exists(OUT "/extreme.ppm"));
+}
+
 /* --overlay naming an input (the frame itself, under another spelling of
  * its path, or the bearing table), or --stages writing onto one:
  * refused, status 2, the input kept byte for byte (it was overwritten with
@@ -722,7 +748,8 @@ static void test_bad_options(void)
                         "--aperture-deg or --bearings is required");
     expect_option_error(GEO " --bearings " ACTAG_BINARY_DIR "/bearings620.txt " EXAMPLE,
                         "--aperture-deg and --bearings exclude each other");
-    expect_option_error(GEO " --frobnicate " EXAMPLE, "unknown option --frobnicate");
+    /* hostio_opt_unknown's wording, as every host tool (it said "unknown option --frobnicate (see --help)") */
+    expect_option_error(GEO " --frobnicate " EXAMPLE, "unknown option '--frobnicate' (try --help)");
     expect_option_error(GEO " --median-radius x " EXAMPLE, "--median-radius: must be an integer (got 'x')");
     expect_option_error(GEO " --aperture-deg -5 " EXAMPLE,
                         "--aperture-deg: must be a number > 0 and < 360 (got -5)");
@@ -1043,6 +1070,7 @@ int main(void)
     RUN_TEST(test_stdin_gives_the_same_json);
     RUN_TEST(test_overlay_and_stages);
     RUN_TEST(test_overlay_never_overwrites_an_input);
+    RUN_TEST(test_overlay_extreme_geometry);
     RUN_TEST(test_show_rejected_changes_the_overlay);
     RUN_TEST(test_same_named_files_do_not_overwrite);
     RUN_TEST(test_bad_files_are_reported_and_the_rest_processed);

@@ -35,6 +35,22 @@ typedef struct adv_spec {
 
 enum { K_POOL, K_SPECKLE, K_CHECKER, K_BLOBS, K_SQUARES, K_FAKETAGS, K_NOISE, K_CONST, K_STRIPES };
 
+/* A pool file's spec (its name "pool BASENAME", a label, may be cut).
+ * Returns 0, or -1 when the path does not fit in path[] (511 characters):
+ * it was cut short silently, naming another file or none. */
+static inline int adv_pool_spec(adv_spec *f, const char *path)
+{
+    const char *base = strrchr(path, '/');
+    size_t n = strlen(path);
+    if (n >= sizeof f->path)
+        return -1;
+    memset(f, 0, sizeof *f);
+    f->kind = K_POOL;
+    memcpy(f->path, path, n + 1);
+    snprintf(f->name, sizeof f->name, "pool %s", base ? base + 1 : path);
+    return 0;
+}
+
 /* Adversarial frame of kind k into img (ADV_ROWS x ADV_COLS). */
 static inline void adv_generate(const adv_spec *f, uint8_t *img)
 {

@@ -156,13 +156,92 @@ char *hostio_slurp_text(const char *path, size_t *len, char *err)
     return (char *)buf;
 }
 
+/* path's folder into dir (cap bytes; "." when it names none) and its last
+ * name returned; NULL when it ends in '/' or the folder does not fit. */
+static const char *split_path(const char *path, char *dir, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    size_t n;
+    if (!slash) {
+        snprintf(dir, cap, ".");
+        return path;
+    }
+    if (slash[1] == '\0')
+        return NULL;
+    n = slash == path ? 1 : (size_t)(slash - path); /* "/x": the root */
+    if (n >= cap)
+        return NULL;
+    memcpy(dir, path, n);
+    dir[n] = '\0';
+    return slash + 1;
+}
+
+static int same_inode(const struct stat *sa, const struct stat *sb)
+{
+    return sa->st_dev == sb->st_dev && sa->st_ino == sb->st_ino && sa->st_ino != 0;
+}
+
+int hostio_parse_bearings(const char *name, const char *text, int cols, const char *cols_opt,
+                          float *out, char *err)
+{
+    double *v;
+    int n = 0, i, rc = -1;
+    if (cols < 1)
+        return fail(err, "%.200s: bearing table for %d columns", name, cols);
+    v = (double *)malloc(((size_t)cols + 1) * sizeof *v);
+    if (!v)
+        return fail(err, "%.200s: out of memory", name);
+    if (hostio_parse_list(name, text, v, cols, &n, err) == HOSTIO_OK) {
+        if (n != cols) {
+            if (cols_opt)
+                fail(err, "%.200s: bearing table has %s%d values, %.20s is %d", name,
+                     n > cols ? "more than " : "", n > cols ? cols : n, cols_opt, cols);
+            else
+                fail(err, "%.200s: bearing table has %s%d values, the frame has %d columns",
+                     name, n > cols ? "more than " : "", n > cols ? cols : n, cols);
+        } else {
+            for (i = 0; i < cols; i++)
+                out[i] = (float)v[i];
+            rc = HOSTIO_OK;
+        }
+    }
+    free(v);
+    return rc;
+}
+
+int hostio_read_bearings(const char *path, int cols, const char *cols_opt, float *out,
+                         char *err)
+{
+    size_t len;
+    char *text = hostio_slurp_text(path, &len, err);
+    int rc;
+    if (!text)
+        return -1;
+    rc = hostio_parse_bearings(hostio_frame_name(path), text, cols, cols_opt, out, err);
+    free(text);
+    return rc;
+}
+
 int hostio_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
+    int ha, hb;
+    char da[4096], db[4096];
+    const char *na, *nb;
     if (strcmp(a, b) == 0)
         return 1;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-           sa.st_ino == sb.st_ino && sa.st_ino != 0;
+    ha = stat(a, &sa) == 0;
+    hb = stat(b, &sb) == 0;
+    if (ha && hb)
+        return same_inode(&sa, &sb);
+    if (ha || hb)
+        return 0;
+    /* Neither exists yet (two outputs about to be created): the same name
+     * in the same folder ("out.txt" and "./out.txt") is one file. */
+    na = split_path(a, da, sizeof da);
+    nb = split_path(b, db, sizeof db);
+    return na && nb && strcmp(na, nb) == 0 && stat(da, &sa) == 0 && stat(db, &sb) == 0 &&
+           same_inode(&sa, &sb);
 }
 
 /* Length of the well-formed UTF-8 sequence at s (RFC 3629: no overlong

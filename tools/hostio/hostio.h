@@ -27,9 +27,11 @@
  *     hostio_mkdirs(path, err)             creates a folder and its parents
  *                                           (like mkdir -p; fine when it exists)
  *     hostio_same_file(a, b)               1 when the two paths name one file
- *                                           (the same file found by both, or the
- *                                           same string), else 0: an output
- *                                           must not overwrite an input
+ *                                           (the same file found by both, the
+ *                                           same string, or, when neither exists
+ *                                           yet, the same name in the same
+ *                                           folder), else 0: an output must not
+ *                                           overwrite an input or another output
  *   Output guard (a tool's output file: none is left half-written by a
  *   failed run; a device, a link or standard output is never removed)
  *     hostio_out_open(&out, path, mode, err)  fopen (NULL path: standard
@@ -95,6 +97,26 @@
  *         or "--bearings b.txt: value 7 must be below the previous bearing
  *         (...) (got 0.3 after 0.29)"; field names inside the rule are
  *         translated too, unmapped ones are printed as the library names them
+ *   Bearing tables (actag_detect and actag-sim --bearings: one bearing per
+ *   column in radians, in hostio_parse_list's format)
+ *     hostio_parse_bearings(name, text, cols, cols_opt, out, err)  exactly
+ *                                           cols finite numbers into out (as
+ *                                           floats); another count is an error
+ *                                           naming the file ("name: bearing
+ *                                           table has 49 values, the frame has
+ *                                           50 columns", or "..., --cols is 50"
+ *                                           when cols_opt is "--cols")
+ *     hostio_read_bearings(path, cols, cols_opt, out, err)  the same read from
+ *                                           a file (hostio_slurp_text)
+ *   Folders (host only: not in the emulated suites' build)
+ *     hostio_list_dir(dir, prefix, suffix, &n, err)  "DIR/NAME" for each entry
+ *                                           whose name starts with prefix, ends
+ *                                           with suffix and is longer than both,
+ *                                           sorted (strcmp); malloc'd, freed with
+ *                                           hostio_list_free; NULL and a message
+ *                                           ("cannot open folder 'DIR': REASON")
+ *                                           when it cannot be read; *n may be 0
+ *     hostio_list_free(names, n)
  *   Family code lists (the published AcTag<N>h<H>.txt format, actag-familygen
  *   --format txt: '#' comment lines, blank lines, one code per line in ID
  *   order as 0x-prefixed hexadecimal)
@@ -260,6 +282,19 @@ int hostio_parse_list(const char *name, const char *s, double *out, int cap, int
  * of a miss names the option, the words and the value. */
 int hostio_parse_choice(const char *name, const char *s, const char *const *choices, int n,
                         int *index, char *err);
+/* A bearing table: exactly cols numbers (see MANUAL); cols_opt NULL: the
+ * frame's columns. */
+int hostio_parse_bearings(const char *name, const char *text, int cols, const char *cols_opt,
+                          float *out, char *err);
+int hostio_read_bearings(const char *path, int cols, const char *cols_opt, float *out,
+                         char *err);
+
+/* The folder's entries named PREFIX...SUFFIX as sorted "dir/name" paths
+ * (host only). */
+char **hostio_list_dir(const char *dir, const char *prefix, const char *suffix, int *n,
+                       char *err);
+void hostio_list_free(char **names, int n);
+
 /* Family code list: *n codes stored (error when the file holds more than cap). */
 int hostio_read_codes(const char *path, uint32_t *codes, size_t cap, size_t *n, char *err);
 

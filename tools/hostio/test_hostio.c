@@ -307,7 +307,10 @@ static void test_slurp_text_refuses_nul(void)
 }
 
 /* hostio_same_file: one file by two names (a path and the same path with
- * "./" parts), the same string, two different files, a missing file. */
+ * "./" parts), the same string, two different files, a missing file; two
+ * spellings of one file not yet created are one file (two outputs of
+ * actag-eval, --pose-dump out.jsonl --failures ./out.jsonl, were written
+ * interleaved into it). */
 static void test_same_file(void)
 {
     char err[HOSTIO_ERRLEN];
@@ -318,7 +321,76 @@ static void test_same_file(void)
     TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/a.txt", DIR "/a.txt"));
     TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/a.txt", DIR "/b.txt"));
     TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/a.txt", DIR "/missing.txt"));
-    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/./missing.txt"));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/missing.txt", DIR "/./missing.txt"));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file(DIR "/missing.txt", DIR "//missing.txt"));
+    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/missing2.txt"));
+    TEST_ASSERT_EQUAL_INT(0, hostio_same_file(DIR "/missing.txt", DIR "/nodir/missing.txt"));
+    TEST_ASSERT_EQUAL_INT(1, hostio_same_file("hostio_missing.txt", "./hostio_missing.txt"));
+}
+
+/* hostio_parse_bearings / hostio_read_bearings: the one bearing-table
+ * reader of actag_detect and actag-sim (each had its own): exactly cols
+ * numbers, whitespace or commas; the wrong count names the file and where
+ * the columns come from. */
+static void test_bearings(void)
+{
+    char err[HOSTIO_ERRLEN];
+    float b[3];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_parse_bearings("t.txt", "0.5, 0.1\n-0.25", 3,
+                                                                   NULL, b, err), err);
+    TEST_ASSERT_EQUAL_FLOAT(0.5f, b[0]);
+    TEST_ASSERT_EQUAL_FLOAT(0.1f, b[1]);
+    TEST_ASSERT_EQUAL_FLOAT(-0.25f, b[2]);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_bearings("t.txt", "0.5 0.1", 3, NULL, b, err));
+    TEST_ASSERT_EQUAL_STRING("t.txt: bearing table has 2 values, the frame has 3 columns", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_bearings("t.txt", "4 3 2 1", 3, "--cols", b, err));
+    TEST_ASSERT_EQUAL_STRING("t.txt: bearing table has more than 3 values, --cols is 3", err);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_parse_bearings("t.txt", "0.5 x 1", 3, NULL, b, err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "t.txt: value 2"), err);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_mkdirs(DIR, err));
+    put("bearings.txt", "0.3\n0.2\n0.1\n", 12);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(HOSTIO_OK, hostio_read_bearings(DIR "/bearings.txt", 3, "--cols",
+                                                                  b, err), err);
+    TEST_ASSERT_EQUAL_FLOAT(0.1f, b[2]);
+    TEST_ASSERT_EQUAL_INT(-1, hostio_read_bearings(DIR "/missing.txt", 3, "--cols", b, err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err, "missing.txt"), err);
+}
+
+/* hostio_list_dir: the one folder scan of actag-eval --pool-sequence and
+ * actag-sim --compare-real (each had its own): names by prefix and suffix,
+ * longer than both, sorted; an empty match is a list of 0; a missing
+ * folder is an error naming it. */
+static void test_list_dir(void)
+{
+    char err[HOSTIO_ERRLEN];
+    char **names;
+    int n = -1;
+    TEST_ASSERT_EQUAL_INT(0, system("rm -rf '" DIR "/list' && mkdir -p '" DIR "/list'"));
+    put("list/f_0011.pgm", "x", 1);
+    put("list/f_0001.pgm", "x", 1);
+    put("list/f_.pgm", "x", 1);      /* nothing between prefix and suffix */
+    put("list/g_0002.pgm", "x", 1);  /* another prefix */
+    put("list/f_0003.pgm.txt", "x", 1);
+    names = hostio_list_dir(DIR "/list", "f_", ".pgm", &n, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(names, err);
+    TEST_ASSERT_EQUAL_INT(2, n);
+    TEST_ASSERT_EQUAL_STRING(DIR "/list/f_0001.pgm", names[0]);
+    TEST_ASSERT_EQUAL_STRING(DIR "/list/f_0011.pgm", names[1]);
+    hostio_list_free(names, n);
+    names = hostio_list_dir(DIR "/list", "", ".pgm", &n, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(names, err);
+    TEST_ASSERT_EQUAL_INT(4, n);
+    TEST_ASSERT_EQUAL_STRING(DIR "/list/f_.pgm", names[0]);
+    TEST_ASSERT_EQUAL_STRING(DIR "/list/g_0002.pgm", names[3]);
+    hostio_list_free(names, n);
+    names = hostio_list_dir(DIR "/list", "", ".raw", &n, err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(names, err);
+    TEST_ASSERT_EQUAL_INT(0, n);
+    hostio_list_free(names, n);
+    TEST_ASSERT_NULL(hostio_list_dir(DIR "/no-such-folder", "", ".pgm", &n, err));
+    TEST_ASSERT_EQUAL_INT(0, n);
+    TEST_ASSERT_EQUAL_STRING("cannot open folder '" DIR "/no-such-folder': No such file or directory",
+                             err);
 }
 
 /* hostio_pgm_read (the pool frames of actag-eval --pool-sequence, actag-sim
@@ -904,6 +976,8 @@ int main(void)
     RUN_TEST(test_slurp_folder_names_the_reason);
     RUN_TEST(test_slurp_text_refuses_nul);
     RUN_TEST(test_same_file);
+    RUN_TEST(test_bearings);
+    RUN_TEST(test_list_dir);
     RUN_TEST(test_raw_size_overflow);
     RUN_TEST(test_json_string);
     RUN_TEST(test_json_num);

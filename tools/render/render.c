@@ -242,6 +242,19 @@ static void parse_ids(opts_t *o, const char *s, int ncodes)
     }
     if (o->nids == 0)
         die("--ids: empty list");
+    {
+        /* an ID given twice wrote its file twice (--out-dir) or printed it
+         * twice: refused, naming it */
+        unsigned char *seen = (unsigned char *)xmalloc((size_t)ncodes);
+        int k;
+        memset(seen, 0, (size_t)ncodes);
+        for (k = 0; k < o->nids; k++) {
+            if (seen[o->ids[k]])
+                die("--ids: ID %d given twice in '%s'", o->ids[k], s);
+            seen[o->ids[k]] = 1;
+        }
+        free(seen);
+    }
 }
 
 static void parse_holes(opts_t *o, const char *s)
@@ -273,12 +286,11 @@ static void parse_holes(opts_t *o, const char *s)
         die("--screw-holes: expected pairs X,Y in mm, got '%s'", s);
 }
 
+/* Options are parsed before any output is open: hostio's helpers (exit
+ * status 2, the message every host tool gives) need no clean-up. */
 static const char *need_arg(int argc, char **argv, int *i)
 {
-    if (*i + 1 >= argc)
-        die("%s needs a value", argv[*i]);
-    (*i)++;
-    return argv[*i];
+    return hostio_opt_value("actag-render", argc, argv, i);
 }
 
 /* A format's file extension (without the dot). */
@@ -445,7 +457,7 @@ static void parse_args(int argc, char **argv, opts_t *o)
         } else if (strcmp(a, "--out-dir") == 0) {
             o->out_dir = need_arg(argc, argv, &i);
         } else {
-            die("unknown option '%s' (try --help)", a);
+            hostio_opt_unknown("actag-render", a);
         }
     }
 

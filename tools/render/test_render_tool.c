@@ -1080,6 +1080,11 @@ static void test_errors(void)
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(errtext, "actag-render: ", 14), msg);
     }
     TEST_ASSERT_EQUAL_INT(0, run("--help"));
+    /* hostio's option messages, as every host tool ("--id needs a value" before) */
+    TEST_ASSERT_EQUAL_INT(2, run("--family AcTag24h4 --id"));
+    TEST_ASSERT_EQUAL_STRING("actag-render: --id: missing value\n", errtext);
+    TEST_ASSERT_EQUAL_INT(2, run("--family AcTag24h4 --id 1 --frobnicate"));
+    TEST_ASSERT_EQUAL_STRING("actag-render: unknown option '--frobnicate' (try --help)\n", errtext);
 }
 
 /* Arguments actag-render refuses, the option the message must name and
@@ -1203,9 +1208,16 @@ static void test_bad_values_named(void)
         {"--ids '1,+2'", "--ids", "'+2'"},
         {"--id +1", "--id", "'+1'"},
         {"--id 1 --cell-px ' 8'", "--cell-px", "' 8'"},
+        /* an ID given twice (a sheet drew it twice, --out-dir wrote its file twice) */
+        {"--ids 1,1 --sheet", "--ids", "ID 1 given twice in '1,1'"},
+        {"--ids 0-2,1 --sheet", "--ids", "ID 1 given twice in '0-2,1'"},
         {NULL, NULL, NULL}};
     char args[2048];
     check_refused("AcTag24h4", bad, "badval.out");
+    snprintf(args, sizeof args, "--family AcTag24h4 --ids 2,3,2 --out-dir '%s/dup_ids'", dir);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, run(args), errtext);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(errtext, "--ids: ID 2 given twice"), errtext);
+    TEST_ASSERT_FALSE(file_exists("dup_ids/AcTag24h4-3.pgm"));
     /* the ordinary forms are taken */
     snprintf(args, sizeof args,
              "--family AcTag24h4 --id 1 --format svg --tag-size .05 --out '%s/badval.svg'", dir);

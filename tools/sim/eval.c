@@ -30,7 +30,6 @@
 #include "eval_track.h"
 #include "actag/pose.h"
 
-#include <dirent.h>
 
 #include <errno.h>
 #include <math.h>
@@ -910,44 +909,52 @@ static void check_geometry(const sim_sonar *s, const hostio_optname *names, int 
  * DIR/NAME, malloc'd; dies when DIR cannot be read or holds none. */
 static char **pool_frames(const char *dir, int *count)
 {
-    DIR *dp = opendir(dir);
-    struct dirent *de;
-    char **names = NULL;
-    int nn = 0, cap = 0, a, b;
-    if (!dp) {
-        char m[700];
-        snprintf(m, sizeof m, "--pool-sequence: cannot open '%.500s': %s", dir, strerror(errno));
+    char err[HOSTIO_ERRLEN], m[HOSTIO_ERRLEN + 40];
+    char **names = hostio_list_dir(dir, "f_", ".pgm", count, err);
+    if (!names) {
+        snprintf(m, sizeof m, "--pool-sequence: %s", err);
         die(m);
     }
-    while ((de = readdir(dp)) != NULL) {
-        size_t L = strlen(de->d_name);
-        if (L < 7 || strncmp(de->d_name, "f_", 2) != 0 || strcmp(de->d_name + L - 4, ".pgm"))
-            continue;
-        if (nn == cap) {
-            cap = cap ? 2 * cap : 64;
-            names = (char **)realloc(names, (size_t)cap * sizeof *names);
-            if (!names)
-                die("out of memory");
-        }
-        names[nn] = (char *)malloc(strlen(dir) + L + 2);
-        if (!names[nn])
-            die("out of memory");
-        sprintf(names[nn++], "%s/%s", dir, de->d_name);
-    }
-    closedir(dp);
-    if (nn == 0) {
-        char m[700];
-        snprintf(m, sizeof m, "--pool-sequence: no f_*.pgm in '%.500s'", dir);
+    if (*count == 0) {
+        hostio_list_free(names, 0);
+        snprintf(m, sizeof m, "--pool-sequence: no f_*.pgm in '%.200s'", dir);
         die(m);
     }
-    for (a = 1; a < nn; a++)
-        for (b = a; b > 0 && strcmp(names[b - 1], names[b]) > 0; b--) {
-            char *t = names[b];
-            names[b] = names[b - 1];
-            names[b - 1] = t;
-        }
-    *count = nn;
     return names;
+}
+
+/* The run's output paths (NULL: option not given) are checked before any
+ * of them is opened: one that names an input frame (--pool-sequence) would
+ * be truncated when opened and removed by die(), and a path given to two
+ * outputs would get both interleaved. Exits with status 2 naming both. */
+typedef struct {
+    const char *opt;
+    const char *path;
+} out_path;
+
+static void check_outputs(const out_path *outs, int nout, char *const *inputs, int ninputs)
+{
+    int a, b;
+    for (a = 0; a < nout; a++) {
+        if (!outs[a].path)
+            continue;
+        for (b = 0; b < a; b++)
+            if (outs[b].path && hostio_same_file(outs[a].path, outs[b].path)) {
+                char m[1300];
+                snprintf(m, sizeof m, "%s '%.500s' and %s '%.500s' are the same file; "
+                         "give each output its own", outs[b].opt, outs[b].path, outs[a].opt,
+                         outs[a].path);
+                die(m);
+            }
+        for (b = 0; b < ninputs; b++)
+            if (hostio_same_file(outs[a].path, inputs[b])) {
+                char m[1300];
+                snprintf(m, sizeof m, "%s '%.500s': is the input frame '%.500s' "
+                         "(--pool-sequence); not overwritten", outs[a].opt, outs[a].path,
+                         inputs[b]);
+                die(m);
+            }
+    }
 }
 
 /* A family list with an empty name ("A,", ",A", "A,,B") is refused, not
@@ -1240,7 +1247,7 @@ int main(int argc, char **argv)
             track_opt = o;
             topt.track.report_coasting = 1;
         } else {
-            simio_opt_unknown(PROG, o);
+            hostio_opt_unknown(PROG, o);
         }
 #undef NEED
     }
@@ -1401,6 +1408,33 @@ int main(int argc, char **argv)
      * (the files are closed when the run has succeeded). */
     if (pool_dir)
         pool_names = pool_frames(pool_dir, &npool);
+    {
+        /* the files of --svg DIR too (svg_histogram and svg_rate's names) */
+        static const char *const svg_names[4] = {"range_error.svg", "azimuth_error.svg",
+                                                 "rate_vs_distance.svg", "rate_vs_incidence.svg"};
+        char *svg_paths[4] = {NULL, NULL, NULL, NULL};
+        int k;
+        for (k = 0; k < 4 && svg; k++) {
+            size_t n = strlen(svg) + strlen(svg_names[k]) + 2;
+            svg_paths[k] = (char *)malloc(n);
+            if (svg_paths[k])
+                snprintf(svg_paths[k], n, "%s/%s", svg, svg_names[k]);
+            else
+                die("out of memory");
+        }
+        {
+            const out_path outs[] = {{"--pose-dump", pose_dump},
+                                     {"--failures", failures},
+                                     {"--sequence-failures", seq_failures},
+                                     {"--svg", svg_paths[0]},
+                                     {"--svg", svg_paths[1]},
+                                     {"--svg", svg_paths[2]},
+                                     {"--svg", svg_paths[3]}};
+            check_outputs(outs, (int)(sizeof outs / sizeof outs[0]), pool_names, npool);
+        }
+        for (k = 0; k < 4; k++)
+            free(svg_paths[k]);
+    }
     if (pose_dump)
         open_output(&g_pose_out, "--pose-dump", pose_dump);
     if (failures)
@@ -1452,14 +1486,16 @@ int main(int argc, char **argv)
                     if (!strncmp(b + 2, partial[a2], 4))
                         vis[i] = 0;
             }
-            if (te_run_files((const char *const *)names, nn, &pg, &f24, tag_size_default, 0, vis,
-                             &topt, &pool_counts, err) != 0)
-                die(err);
+            /* pg is the pool recording's geometry: its 530 x 512 frames only */
+            if (te_run_files((const char *const *)names, nn, 530, 512, &pg, &f24,
+                             tag_size_default, 0, vis, &topt, &pool_counts, err) != 0) {
+                char m[HOSTIO_ERRLEN + 100];
+                snprintf(m, sizeof m, "--pool-sequence: %s", err);
+                die(m);
+            }
             free(vis);
         }
-        for (i = 0; i < nn; i++)
-            free(names[i]);
-        free(names);
+        hostio_list_free(names, nn);
         have_pool = 1;
     }
     elapsed = now_s() - c.t0;

@@ -355,9 +355,9 @@ int te_run_sequences(const sim_sonar *s, const sim_view_params *v, const sim_app
 
 /* ------------------------------------------------------------ files */
 
-int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
-                 const actag_family *fam, float tag_size, int tag_id, const int *visible,
-                 const te_options *o, te_counts *out, char *err)
+int te_run_files(const char *const *names, int n, int want_rows, int want_cols,
+                 const actag_sonar_geometry *g, const actag_family *fam, float tag_size,
+                 int tag_id, const int *visible, const te_options *o, te_counts *out, char *err)
 {
     te_run *run = (te_run *)calloc(1, sizeof *run);
     actag_params p, rp;
@@ -380,6 +380,13 @@ int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
         actag_frame fr;
         if (hostio_pgm_read(names[i], &im, err) != HOSTIO_OK)
             goto fail;
+        if (want_rows > 0 && (im.rows != want_rows || im.cols != want_cols)) {
+            snprintf(err, HOSTIO_ERRLEN, "%.150s: a %d x %d frame (rows x columns); "
+                     "the geometry needs %d x %d", names[i], im.rows, im.cols, want_rows,
+                     want_cols);
+            hostio_image_free(&im);
+            goto fail;
+        }
         if (i == 0) {
             rows = im.rows;
             cols = im.cols;

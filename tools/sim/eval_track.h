@@ -66,13 +66,15 @@ int te_run_sequences(const sim_sonar *s, const sim_view_params *v, const sim_app
                      const te_options *o, te_counts *out, int quiet);
 
 /* Frames from files (8-bit PGM), in the order given, with one sonar
- * geometry; tag_id is the ID present. visible[i] (NULL: all 1): 1 the whole
+ * geometry, each want_rows x want_cols (a frame of another size is an
+ * error naming it and its size; want_rows 0: any size, all frames the
+ * first one's); tag_id is the ID present. visible[i] (NULL: all 1): 1 the whole
  * tag is in view (counts for recall), 0 part of it (a reading of tag_id is
  * neither counted nor an error), -1 no tag (every reading is a false tag).
  * Returns 0, or -1 with a message in err (HOSTIO_ERRLEN). */
-int te_run_files(const char *const *names, int n, const actag_sonar_geometry *g,
-                 const actag_family *fam, float tag_size, int tag_id, const int *visible, const te_options *o,
-                 te_counts *out, char *err);
+int te_run_files(const char *const *names, int n, int want_rows, int want_cols,
+                 const actag_sonar_geometry *g, const actag_family *fam, float tag_size,
+                 int tag_id, const int *visible, const te_options *o, te_counts *out, char *err);
 
 /* Errors: provided by the program (actag-eval's die(): the message on
  * stderr, the run's output files removed, exit status 2). */

@@ -151,34 +151,61 @@ bad:
     die(msg);
 }
 
-/* The bearing table through hostio's list parser, as actag_detect reads it
- * (numbers separated by whitespace or commas): a parser of its own here
- * refused "0.5,0.4" and printed a binary file's bytes. */
-static float *load_bearings(const char *path, int cols)
+/* --seabed NX,NY,NZ,D (the text v, for messages) to a unit normal and its
+ * offset, while the options are checked (before --out-dir is made). The
+ * normal is divided by its largest component first, as actag_detect's
+ * --plane: its squares then neither overflow (1e300 gave a zero normal)
+ * nor vanish (1e-200 was "must not be zero"). The offset must be a
+ * distance a frame can show: at most 1e6 m. */
+static void seabed_normalise(double p[4], const char *v)
 {
-    char err[HOSTIO_ERRLEN];
-    size_t len;
-    char *txt = hostio_slurp_text(path, &len, err);
-    double *v = (double *)malloc(((size_t)cols + 1) * sizeof *v);
-    float *b = (float *)malloc((size_t)cols * sizeof *b);
-    int n = 0, i;
-    if (!txt)
-        die(err);
-    if (!v || !b)
-        die("out of memory");
-    if (hostio_parse_list(path, txt, v, cols, &n, err) != HOSTIO_OK)
-        die(err); /* "PATH: value K is not a finite number (got '...')" */
-    free(txt);
-    if (n != cols) {
-        char msg[HOSTIO_ERRLEN + 64];
-        snprintf(msg, sizeof msg, "%.200s: bearing table has %s%d values, --cols is %d", path,
-                 n > cols ? "more than " : "", n > cols ? cols : n, cols);
-        die(msg);
+    double big = fabs(p[0]), u[4], ns;
+    char m[HOSTIO_ERRLEN];
+    int j;
+    for (j = 1; j < 3; j++)
+        if (fabs(p[j]) > big)
+            big = fabs(p[j]);
+    if (!(big > 0.0)) {
+        snprintf(m, sizeof m, "--seabed: the normal must not be zero (got %.100s)", v);
+        die(m);
     }
-    for (i = 0; i < cols; i++)
-        b[i] = (float)v[i];
-    free(v);
-    return b;
+    for (j = 0; j < 4; j++)
+        u[j] = p[j] / big;
+    ns = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]); /* 1 to sqrt 3 */
+    if (!(fabs(u[3]) / ns <= 1e6)) {
+        snprintf(m, sizeof m, "--seabed: the plane must lie within 1e6 m of the sonar (got "
+                 "offset %g m for %.100s)", u[3] / ns, v);
+        die(m);
+    }
+    for (j = 0; j < 4; j++)
+        p[j] = u[j] / ns;
+}
+
+/* The run writes DIR/truth.jsonl and DIR/PREFIX_NNNN.EXT (frames 0 ..
+ * total - 1): none of them may be the --bearings table (it was replaced by
+ * the truth file). Checked before anything is created; exits 2 naming both. */
+static void check_outputs_keep(const char *bearings, const char *out_dir, const char *prefix,
+                               const char *ext, int total)
+{
+    size_t n = strlen(out_dir) + strlen(prefix) + 40;
+    char *p = (char *)malloc(n);
+    int i;
+    if (!p)
+        die("out of memory");
+    for (i = -1; i < total; i++) {
+        if (i < 0)
+            snprintf(p, n, "%s/truth.jsonl", out_dir);
+        else
+            snprintf(p, n, "%s/%s_%04d.%s", out_dir, prefix, i, ext);
+        if (hostio_same_file(p, bearings)) {
+            char m[HOSTIO_ERRLEN + 200];
+            snprintf(m, sizeof m, "--out-dir: its file '%.150s' is the --bearings table "
+                     "'%.150s'; not overwritten", p, bearings);
+            free(p);
+            die(m);
+        }
+    }
+    free(p);
 }
 
 int main(int argc, char **argv)
@@ -259,6 +286,7 @@ int main(int argc, char **argv)
             else {
                 if (hostio_parse_doubles(o, v, ',', seabed_plane, 4, err) != HOSTIO_OK)
                     die(err);
+                seabed_normalise(seabed_plane, v);
                 seabed_mode = 2;
             }
         } else if (!strcmp(o, "--family")) {
@@ -345,7 +373,7 @@ int main(int argc, char **argv)
             NEED();
             montage = v;
         } else {
-            simio_opt_unknown(PROG, o);
+            hostio_opt_unknown(PROG, o);
         }
 #undef NEED
     }
@@ -365,7 +393,11 @@ int main(int argc, char **argv)
     if (montage && !compare)
         die("--montage: needs --compare-real DIR (it shows real and simulated frames)");
     if (bearings) {
-        btab = load_bearings(bearings, sonar.cols);
+        btab = (float *)malloc((size_t)sonar.cols * sizeof *btab);
+        if (!btab)
+            die("out of memory");
+        if (hostio_read_bearings(bearings, sonar.cols, "--cols", btab, err) != HOSTIO_OK)
+            die(err); /* "PATH: value K is not a finite number (got '...')" */
         sonar.geo.bearings = btab;
     } else {
         sonar.geo.aperture = (float)(aperture_deg * DEG);
@@ -436,6 +468,9 @@ int main(int argc, char **argv)
             fprintf(stderr, PROG ": warning: --tag %s: the tag's face is turned away from the "
                     "sonar (incidence %.1f degrees)\n", tag_spec[i], (double)tr.incidence / DEG);
     }
+    if (bearings)
+        check_outputs_keep(bearings, out_dir, prefix, raw ? "raw" : "pgm",
+                           ntags > 0 ? frames : (nrandom > 0 ? nrandom : (nfree > 0 ? nfree : nseq)));
     hostio_opt_mkdirs(PROG, "--out-dir", out_dir); /* parents too */
     if (depth == 16)
         img16 = (uint16_t *)malloc((size_t)sonar.rows * (size_t)sonar.cols * 2);
@@ -489,16 +524,11 @@ int main(int argc, char **argv)
                     scene.seabed_n[2] = -t0->pose.R[8];
                     scene.seabed_d = -(t0->pose.R[2] * t0->pose.t[0] + t0->pose.R[5] * t0->pose.t[1] +
                                        t0->pose.R[8] * t0->pose.t[2]) - 0.014f;
-                } else if (seabed_mode == 2) {
-                    double nn = sqrt(seabed_plane[0] * seabed_plane[0] +
-                                     seabed_plane[1] * seabed_plane[1] +
-                                     seabed_plane[2] * seabed_plane[2]);
-                    if (nn <= 0.0)
-                        die("--seabed: the normal must not be zero");
+                } else if (seabed_mode == 2) { /* normalised by seabed_normalise */
                     scene.has_seabed = 1;
                     for (t = 0; t < 3; t++)
-                        scene.seabed_n[t] = (float)(seabed_plane[t] / nn);
-                    scene.seabed_d = (float)(seabed_plane[3] / nn);
+                        scene.seabed_n[t] = (float)seabed_plane[t];
+                    scene.seabed_d = (float)seabed_plane[3];
                 }
             } else if (nrandom > 0) {
                 sim_tag tg = base;

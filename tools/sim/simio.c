@@ -5,7 +5,6 @@
 #include "actag/version.h"
 #include "../hostio/hostio.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -67,9 +66,9 @@ int simio_opt_defaults(int argc, char **argv, sim_sonar *s, sim_view_params *v,
 
 void simio_opt_need(const char *prog, const char *opt, const char *value, int *i)
 {
-    if (!value) {
+    if (!value) { /* hostio_opt_value's wording */
         char m[128];
-        snprintf(m, sizeof m, "%s: missing value", opt);
+        snprintf(m, sizeof m, "%.100s: missing value", opt);
         hostio_die(prog, m);
     }
     (*i)++;
@@ -142,13 +141,6 @@ int simio_opt_common(const simio_cli *cli, int argc, char **argv, int *i)
 #undef NEED
 #undef num
 #undef inum
-}
-
-void simio_opt_unknown(const char *prog, const char *opt)
-{
-    char m[300];
-    snprintf(m, sizeof m, "unknown option '%s' (see --help)", opt);
-    hostio_die(prog, m);
 }
 
 void simio_opt_check_views(const char *prog, const sim_view_params *v)
@@ -331,11 +323,6 @@ static float pct(series *s, float p)
     return s->v[(int)(p * (float)(s->n - 1) + 0.5f)];
 }
 
-static int cmp_str(const void *a, const void *b)
-{
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
 static void downscale_into(const uint8_t *img, int rows, int cols, uint8_t *canvas, int cw,
                            int ox, int oy)
 {
@@ -353,10 +340,8 @@ static void downscale_into(const uint8_t *img, int rows, int cols, uint8_t *canv
 int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearance *a,
                        const char *montage, FILE *out, char *err)
 {
-    DIR *d;
-    struct dirent *e;
     char **names = NULL;
-    int nnames = 0, cap = 0, i, q, shown_real = 0, shown_sim = 0, rc = -1;
+    int nnames = 0, i, q, shown_real = 0, shown_sim = 0, rc = -1;
     series st[2][5]; /* [real/sim][background, foam, metal, contrast, ratio] */
     static const char *label[5] = {"background median", "foam mean", "metal mean",
                                    "foam - metal", "foam / metal"};
@@ -369,42 +354,27 @@ int simio_compare_real(const char *dir, int n, uint32_t seed, const sim_appearan
     uint8_t *canvas = NULL, *img = NULL;
     int cw = 4 * 256, ch = 2 * 265;
     memset(st, 0, sizeof st); /* every series NULL: freed below whatever was made */
-    d = opendir(dir);
-    if (!d) {
-        if (err)
-            snprintf(err, HOSTIO_ERRLEN, "--compare-real: cannot open folder '%.150s': %s", dir,
-                     strerror(errno));
-        return -1;
-    }
-    while ((e = readdir(d)) != NULL) {
-        size_t L = strlen(e->d_name);
-        if (L > 4 && !strcmp(e->d_name + L - 4, ".pgm")) {
-            if (nnames == cap) {
-                int ncap = cap ? 2 * cap : 64;
-                char **nn = (char **)realloc(names, (size_t)ncap * sizeof *names);
-                if (!nn) {
-                    closedir(d);
-                    goto out_of_memory;
-                }
-                names = nn;
-                cap = ncap;
-            }
-            names[nnames] = (char *)malloc(strlen(dir) + L + 2);
-            if (!names[nnames]) {
-                closedir(d);
-                goto out_of_memory;
-            }
-            sprintf(names[nnames], "%s/%s", dir, e->d_name);
-            nnames++;
+    {
+        char e2[HOSTIO_ERRLEN];
+        names = hostio_list_dir(dir, "", ".pgm", &nnames, e2);
+        if (!names) {
+            if (err)
+                snprintf(err, HOSTIO_ERRLEN, "--compare-real: %.200s", e2);
+            return -1;
         }
     }
-    closedir(d);
     if (nnames == 0) {
         if (err)
             snprintf(err, HOSTIO_ERRLEN, "--compare-real: no .pgm frames in '%.150s'", dir);
         goto done;
     }
-    qsort(names, (size_t)nnames, sizeof *names, cmp_str);
+    for (i = 0; montage && i < nnames; i++)
+        if (hostio_same_file(montage, names[i])) { /* refused before any work, not replaced */
+            if (err)
+                snprintf(err, HOSTIO_ERRLEN, "--montage '%.80s': is the input frame '%.80s' "
+                         "(--compare-real); not overwritten", montage, names[i]);
+            goto done;
+        }
     for (q = 0; q < 2; q++)
         for (i = 0; i < 5; i++) {
             st[q][i].v = (float *)malloc((size_t)(nnames > n ? nnames : n) * sizeof(float));
@@ -531,9 +501,7 @@ done:
     for (q = 0; q < 2; q++)
         for (i = 0; i < 5; i++)
             free(st[q][i].v);
-    for (i = 0; i < nnames; i++)
-        free(names[i]);
-    free(names);
+    hostio_list_free(names, nnames);
     free(ws);
     free(img);
     free(canvas);

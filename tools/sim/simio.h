@@ -62,9 +62,6 @@ typedef struct simio_cli {
  * with *i past its value; returns 0 when argv[*i] is none of them. */
 int simio_opt_common(const simio_cli *cli, int argc, char **argv, int *i);
 
-/* An option neither the tool nor simio_opt_common knows: dies with
- * "unknown option 'opt' (see --help)". */
-void simio_opt_unknown(const char *prog, const char *opt);
 
 /* The view limits in order (--max-distance >= --min-distance,
  * --max-incidence-deg >= --min-incidence-deg), else dies naming them. */

@@ -261,6 +261,9 @@ static void test_bad_options(void)
     expect_error_of(ACTAG_EVAL_PATH, "--many-corrections-margin -1", "--many-corrections-margin",
                     "-1");
     expect_error(ACTAG_EVAL_PATH, "--bogus", "--bogus");
+    /* hostio_opt_unknown's wording, as every host tool (it said "(see --help)") */
+    expect_error_of(ACTAG_EVAL_PATH, "--bogus", "unknown option '--bogus'", "(try --help)");
+    expect_error_of(ACTAG_SIM_PATH, "--bogus", "unknown option '--bogus'", "(try --help)");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --plane-sd -0.1", "--plane-sd");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --plane-tilt-deg 91", "--plane-tilt-deg");
     expect_error(ACTAG_EVAL_PATH, "--frames 2 --pose-dump /nonexistent-dir/p.jsonl",
@@ -889,6 +892,187 @@ static void test_pool_sequence_source_is_escaped(void)
     hostio_run(cmd, NULL);
 }
 
+/* A folder of three pool frames for --pool-sequence (dir gets its path). */
+static void pool_copy(const char *name, char *dir, size_t n)
+{
+    char cmd[2400];
+    snprintf(dir, n, "%s/%s", ACTAG_BINARY_DIR, name);
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s' && mkdir -p '%s' && cp \"%s\"/data/pool-video/f_0001.pgm "
+             "\"%s\"/data/pool-video/f_0011.pgm \"%s\"/data/pool-video/f_0291.pgm '%s'/",
+             dir, dir, ACTAG_SOURCE_DIR, ACTAG_SOURCE_DIR, ACTAG_SOURCE_DIR, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+}
+
+/* The file at path is still the repository's pool frame `name`. */
+static void expect_pool_frame_intact(const char *path, const char *name)
+{
+    char src[800];
+    size_t la = 0, lb = 0;
+    uint8_t *a, *b;
+    snprintf(src, sizeof src, "%s/data/pool-video/%s", ACTAG_SOURCE_DIR, name);
+    a = hostio_slurp(src, &la, NULL);
+    b = hostio_slurp(path, &lb, NULL);
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL_MESSAGE(b, path);
+    TEST_ASSERT_EQUAL_UINT_MESSAGE((unsigned)la, (unsigned)lb, path);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, memcmp(a, b, la), path);
+    free(a);
+    free(b);
+}
+
+/* An output path that is one of --pool-sequence's frames is refused before
+ * anything is opened: --pose-dump DIR/f_0011.pgm truncated the frame, which
+ * the run then could not read, and die() removed it. */
+static void test_eval_output_is_not_an_input(void)
+{
+    char dir[700], args[2000], frame[800];
+    static const char *const opts[] = {"--pose-dump", "--failures", "--sequence-failures"};
+    int k;
+    pool_copy("eval_out_is_input", dir, sizeof dir);
+    for (k = 0; k < 3; k++) {
+        snprintf(frame, sizeof frame, "%s/./f_0011.pgm", dir);
+        snprintf(args, sizeof args, "--pool --frames 3 --quiet %s%s \"%s\" --pool-sequence \"%s\"",
+                 k == 2 ? "--sequences 1 " : "", opts[k], frame, dir);
+        expect_error_of(ACTAG_EVAL_PATH, args, opts[k], "is the input frame");
+        snprintf(frame, sizeof frame, "%s/f_0011.pgm", dir);
+        expect_pool_frame_intact(frame, "f_0011.pgm");
+    }
+}
+
+/* One path given to two outputs is refused (both options named), not
+ * written by both interleaved: the same string, another spelling of a file
+ * not yet created, and one of --svg DIR's files. Nothing is created. */
+static void test_eval_outputs_are_distinct(void)
+{
+    char args[2400], a[700], b[700], dir[600];
+    struct stat st;
+    snprintf(dir, sizeof dir, "%s/eval_two_outputs", ACTAG_BINARY_DIR);
+    snprintf(a, sizeof a, "%s/out.jsonl", dir);
+    snprintf(b, sizeof b, "%s/./out.jsonl", dir);
+    snprintf(args, sizeof args, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(args, NULL));
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --pose-dump \"%s\" --failures \"%s\"",
+             a, a);
+    expect_error_of(ACTAG_EVAL_PATH, args, "--pose-dump", "and --failures");
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --sequences 1 --sequence-length 2 "
+             "--failures \"%s\" --sequence-failures \"%s\"", a, b);
+    expect_error_of(ACTAG_EVAL_PATH, args, "--failures", "and --sequence-failures");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(a, &st), "an output created by a refused run");
+    snprintf(b, sizeof b, "%s/rate_vs_distance.svg", dir);
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --svg \"%s\" --pose-dump \"%s\"",
+             dir, b);
+    expect_error_of(ACTAG_EVAL_PATH, args, "--pose-dump", "and --svg");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(b, &st), "an output created by a refused run");
+    /* distinct files: the run is made */
+    snprintf(args, sizeof args, "--pool --frames 3 --quiet --svg \"%s\" --pose-dump \"%s\"",
+             dir, a);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+}
+
+/* actag-sim never writes over its inputs: --montage naming one of
+ * --compare-real's frames replaced the real frame, and a --bearings table
+ * in --out-dir named truth.jsonl (or as a frame) was replaced by the truth
+ * file. Both are refused before anything is written, naming both files. */
+static void test_sim_outputs_are_not_inputs(void)
+{
+    char dir[600], args[2000], path[800], *t;
+    int k;
+    pool_copy("sim_out_is_input", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/f_0001.pgm", dir);
+    snprintf(args, sizeof args, "--compare-real \"%s\" --random 2 --montage \"%s\"", dir, path);
+    expect_error_of(ACTAG_SIM_PATH, args, "--montage", "is the input frame");
+    expect_pool_frame_intact(path, "f_0001.pgm");
+    for (k = 0; k < 2; k++) {
+        /* 50 bearings, descending */
+        static const char *const names[2] = {"truth.jsonl", "sim_0000.pgm"};
+        char table[600];
+        int c, len = 0;
+        for (c = 0; c < 50; c++)
+            len += snprintf(table + len, sizeof table - (size_t)len, "%.2f\n", 0.5 - 0.02 * c);
+        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+        TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, table, (size_t)len, NULL));
+        snprintf(args, sizeof args, "--random 1 --rows 60 --cols 50 --quiet --bearings \"%s\" "
+                 "--out-dir \"%s/.\"", path, dir);
+        expect_error_of(ACTAG_SIM_PATH, args, "--bearings table", names[k]);
+        t = slurp(path);
+        TEST_ASSERT_NOT_NULL(t);
+        TEST_ASSERT_EQUAL_STRING_MESSAGE(table, t, "the --bearings table was overwritten");
+        free(t);
+        remove(path);
+    }
+}
+
+/* actag-sim --seabed: the normal at any scale is the same plane (its
+ * components were squared as given: 1e300 overflowed to a zero normal and
+ * a frame without the seabed, exit 0; 1e-200 was refused as zero), and a
+ * bad normal is refused while the options are checked (the output folder
+ * and the truth file were made first). */
+static void test_sim_seabed_scale(void)
+{
+    static const char *const planes[3] = {"0,0.2,1,-1.3", "0,2e299,1e300,-1.3e300",
+                                          "0,2e-201,1e-200,-1.3e-200"};
+    char args[1200], dir[700], path[800], cmd[800];
+    uint8_t *frame[3];
+    size_t len[3];
+    struct stat st;
+    int k;
+    for (k = 0; k < 3; k++) {
+        snprintf(dir, sizeof dir, "%s/sim_seabed%d", ACTAG_BINARY_DIR, k);
+        snprintf(args, sizeof args, "--pool --tag AcTag24h10:3:1.2,0.1,-0.04,180,-25,0 --quiet "
+                 "--seabed %s --out-dir \"%s\"", planes[k], dir);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, run(ACTAG_SIM_PATH, args), args);
+        snprintf(path, sizeof path, "%s/sim_0000.pgm", dir);
+        frame[k] = hostio_slurp(path, &len[k], NULL);
+        TEST_ASSERT_NOT_NULL(frame[k]);
+    }
+    for (k = 1; k < 3; k++) {
+        TEST_ASSERT_EQUAL_UINT(len[0], len[k]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, memcmp(frame[0], frame[k], len[0]), planes[k]);
+    }
+    for (k = 0; k < 3; k++)
+        free(frame[k]);
+    snprintf(dir, sizeof dir, "%s/sim_seabed_zero", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+    snprintf(args, sizeof args, "--pool --tag AcTag24h10:3:1.2,0.1,-0.04,180,-25,0 --quiet "
+             "--seabed 0,0,0,1 --out-dir \"%s\"", dir);
+    expect_error_of(ACTAG_SIM_PATH, args, "--seabed: the normal must not be zero", "0,0,0,1");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "--out-dir made by a refused run");
+    snprintf(args, sizeof args, "--pool --tag AcTag24h10:3:1.2,0.1,-0.04,180,-25,0 --quiet "
+             "--seabed 0,0,1e-200,1 --out-dir \"%s\"", dir);
+    expect_error_of(ACTAG_SIM_PATH, args, "--seabed", "0,0,1e-200,1");
+    TEST_ASSERT_NOT_EQUAL_MESSAGE(0, stat(dir, &st), "--out-dir made by a refused run");
+}
+
+/* --pool-sequence runs its frames with the pool recording's geometry,
+ * which holds for its 530 x 512 frames only: frames of another size were
+ * run as if they were pool frames (exit 0); now refused naming the file
+ * and its size. */
+static void test_pool_sequence_frame_size(void)
+{
+    char dir[600], args[1400], path[800], cmd[1400];
+    static const char pgm[] = "P5 4 3 255\n\0\0\0\0\0\0\0\0\0\0\0\0";
+    /* a folder of small frames only */
+    snprintf(dir, sizeof dir, "%s/eval_pool_small", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+    snprintf(path, sizeof path, "%s/f_0001.pgm", dir);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, pgm, sizeof pgm - 1, NULL));
+    snprintf(path, sizeof path, "%s/f_0002.pgm", dir);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, pgm, sizeof pgm - 1, NULL));
+    snprintf(args, sizeof args, "--frames 0 --quiet --pool-sequence \"%s\"", dir);
+    expect_error_of(ACTAG_EVAL_PATH, args, "f_0001.pgm: a 3 x 4 frame", "needs 530 x 512");
+    /* one among pool frames */
+    pool_copy("eval_pool_size", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/f_0005.pgm", dir);
+    TEST_ASSERT_EQUAL_INT(HOSTIO_OK, hostio_write_file(path, pgm, sizeof pgm - 1, NULL));
+    snprintf(args, sizeof args, "--frames 0 --quiet --pool-sequence \"%s\"", dir);
+    expect_error_of(ACTAG_EVAL_PATH, args, "f_0005.pgm: a 3 x 4 frame", "needs 530 x 512");
+    remove(path);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -917,5 +1101,10 @@ int main(void)
     RUN_TEST(test_far_bins_and_empty_bins);
     RUN_TEST(test_far_sonar_without_tag_free_frames);
     RUN_TEST(test_pool_sequence_source_is_escaped);
+    RUN_TEST(test_eval_output_is_not_an_input);
+    RUN_TEST(test_eval_outputs_are_distinct);
+    RUN_TEST(test_sim_outputs_are_not_inputs);
+    RUN_TEST(test_sim_seabed_scale);
+    RUN_TEST(test_pool_sequence_frame_size);
     return UNITY_END();
 }
