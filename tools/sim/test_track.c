@@ -2044,25 +2044,62 @@ static void test_more_tags_than_tracks(void)
 }
 
 /* Frames of AcTag24h8 tags drawn on a black 512 x 600 polar frame (the
- * geometry of test_more_tags_than_tracks: square 8 m cells near row 100):
- * tags ids[i] with their top-left corners at (xs[i], ys[i]). */
+ * geometry of test_more_tags_than_tracks: square 8 m cells near row 100),
+ * with the parameters, workspace and tracker of one test. */
 enum { LT_R = 512, LT_C = 600, LT_CELL = 8, LT_MARGIN = 4 };
 static const actag_sonar_geometry lt_geometry = {0.0f, 511.0f, 599.0f / 411.0f, NULL, 0u};
 
-static void lt_draw(const actag_family *f8, uint8_t *img, int n, const int *ids, const int *xs,
-                    const int *ys)
+typedef struct {
+    uint8_t img[LT_R * LT_C];
+    actag_family f8;
+    actag_params p;
+    actag_tracker tr;
+    actag_frame fr;
+    void *w;
+    size_t wsz;
+} lt_fixture;
+
+static lt_fixture lt; /* large: static, set up by each test */
+
+static void lt_setup(int max_missed)
+{
+    actag_track_params tp;
+    memset(&lt, 0, sizeof lt);
+    lt.wsz = actag_workspace_size(LT_R, LT_C);
+    lt.w = malloc(lt.wsz);
+    TEST_ASSERT_NOT_NULL(lt.w);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h8", &lt.f8));
+    actag_params_default(&lt.p);
+    lt.p.family = &lt.f8;
+    lt.p.tag_size = 3.0f * LT_CELL;
+    actag_track_params_default(&tp);
+    tp.max_missed = max_missed;
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&lt.tr, &tp));
+    lt.fr.data = lt.img;
+    lt.fr.rows = LT_R;
+    lt.fr.cols = LT_C;
+    lt.fr.stride = LT_C;
+    lt.fr.depth = 8;
+}
+
+/* Draws n tags, ids[i] with their top-left corners at (xs[i], y0), on a
+ * black frame, and feeds it to the tracker. Returns the update's result. */
+static int lt_feed(int n, const int *ids, const int *xs, int y0, actag_track *out,
+                   actag_track_stats *st)
 {
     uint8_t tag[80 * 80];
-    int side = actag_render_side(f8->bits, LT_CELL, LT_MARGIN), i, y;
+    int side = actag_render_side(lt.f8.bits, LT_CELL, LT_MARGIN), i, y;
     TEST_ASSERT_TRUE(side <= 80);
-    memset(img, 0, (size_t)LT_R * LT_C);
+    memset(lt.img, 0, sizeof lt.img);
     for (i = 0; i < n; i++) {
-        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(f8, ids[i], LT_CELL, LT_MARGIN, 0, 0,
-                                                         tag, side, sizeof tag));
+        TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_render_tag(&lt.f8, ids[i], LT_CELL, LT_MARGIN, 0,
+                                                         0, tag, side, sizeof tag));
         for (y = 0; y < side; y++)
-            memcpy(img + (size_t)(ys[i] + y) * LT_C + (size_t)xs[i],
+            memcpy(lt.img + (size_t)(y0 + y) * LT_C + (size_t)xs[i],
                    tag + (size_t)y * (size_t)side, (size_t)side);
     }
+    return actag_tracker_update(&lt.tr, &lt.fr, &lt_geometry, &lt.p, NULL, lt.w, lt.wsz, out,
+                                ACTAG_TRACK_MAX, st);
 }
 
 /* A confirmed track whose tag has gone coasts with a gate that widens by
@@ -2073,49 +2110,20 @@ static void lt_draw(const actag_family *f8, uint8_t *img, int n, const int *ids,
  * max_missed 40, for 33 frames). */
 static void test_a_lost_track_hides_no_tag_beside_it(void)
 {
-    static uint8_t img[LT_R * LT_C];
-    static actag_tracker tr;
-    actag_family f8;
-    actag_params p;
-    actag_track_params tp;
     actag_track out[ACTAG_TRACK_MAX];
     actag_track_stats st;
-    actag_frame fr;
-    size_t wsz = actag_workspace_size(LT_R, LT_C);
-    void *w = malloc(wsz);
     const int ida = 0, idb = 1, xa = 40, xb = 160, y0 = 60;
-    int f, n, k, saw_b = -1;
-    TEST_ASSERT_NOT_NULL(w);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h8", &f8));
-    actag_params_default(&p);
-    p.family = &f8;
-    p.tag_size = 3.0f * LT_CELL;
-    actag_track_params_default(&tp);
-    tp.max_missed = 40;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
-    fr.data = img;
-    fr.rows = LT_R;
-    fr.cols = LT_C;
-    fr.stride = LT_C;
-    fr.depth = 8;
-    for (f = 0; f < 4; f++) { /* tag A read and confirmed */
-        lt_draw(&f8, img, 1, &ida, &xa, &y0);
-        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
-                                 &st);
-    }
+    int f, n = 0, k, saw_b = -1;
+    lt_setup(40);
+    for (f = 0; f < 4; f++) /* tag A read and confirmed */
+        n = lt_feed(1, &ida, &xa, y0, out, &st);
     TEST_ASSERT_EQUAL_INT(1, n);
     TEST_ASSERT_EQUAL_INT(ida, out[0].id);
-    for (; f < 7; f++) { /* A gone: its track coasts */
-        lt_draw(&f8, img, 0, NULL, NULL, NULL);
-        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
-                                 &st);
-        TEST_ASSERT_TRUE(n >= 0);
-    }
-    TEST_ASSERT_EQUAL_INT_MESSAGE(1, tr.ntracks, "A's track is kept, coasting");
+    for (; f < 7; f++) /* A gone: its track coasts */
+        TEST_ASSERT_TRUE(lt_feed(0, NULL, NULL, y0, out, &st) >= 0);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, lt.tr.ntracks, "A's track is kept, coasting");
     for (; f < 16; f++) { /* B, 120 px (3.5 diagonals) to the right */
-        lt_draw(&f8, img, 1, &idb, &xb, &y0);
-        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
-                                 &st);
+        n = lt_feed(1, &idb, &xb, y0, out, &st);
         TEST_ASSERT_TRUE(n >= 0);
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, st.conflicts, "B is not at A's place");
         for (k = 0; k < n; k++) {
@@ -2127,64 +2135,37 @@ static void test_a_lost_track_hides_no_tag_beside_it(void)
     /* B's first reading starts its track, confirmed at once by its margin
      * (a clean render: above confirm_margin) */
     TEST_ASSERT_EQUAL_INT_MESSAGE(7, saw_b, "B reported from its first frame");
-    free(w);
+    free(lt.w);
 }
 
 /* A track that coasts without end (max_missed INT_MAX, which init
  * accepts) counts its missed frames up to INT_MAX and stays there, with no
- * signed overflow (the sanitizer build stops at one) and a gate that stays
- * finite and positive. */
+ * signed overflow (the sanitizer build stops at one), and still reads its
+ * tag when it comes back. */
 static void test_missed_saturates(void)
 {
-    static uint8_t img[LT_R * LT_C];
-    static actag_tracker tr;
-    actag_family f8;
-    actag_params p;
-    actag_track_params tp;
     actag_track out[ACTAG_TRACK_MAX];
-    actag_frame fr;
-    size_t wsz = actag_workspace_size(LT_R, LT_C);
-    void *w = malloc(wsz);
     const int ida = 0, xa = 40, y0 = 60;
-    int f, n;
-    TEST_ASSERT_NOT_NULL(w);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_family_get("AcTag24h8", &f8));
-    actag_params_default(&p);
-    p.family = &f8;
-    p.tag_size = 3.0f * LT_CELL;
-    actag_track_params_default(&tp);
-    tp.max_missed = INT_MAX;
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
-    fr.data = img;
-    fr.rows = LT_R;
-    fr.cols = LT_C;
-    fr.stride = LT_C;
-    fr.depth = 8;
-    lt_draw(&f8, img, 1, &ida, &xa, &y0);
+    int f, n = 0;
+    lt_setup(INT_MAX);
     for (f = 0; f < 4; f++)
-        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
-                                 NULL);
+        n = lt_feed(1, &ida, &xa, y0, out, NULL);
     TEST_ASSERT_EQUAL_INT(1, n);
-    lt_draw(&f8, img, 0, NULL, NULL, NULL);
-    n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX, NULL);
-    TEST_ASSERT_EQUAL_INT(0, n);
-    TEST_ASSERT_EQUAL_INT(1, tr.ntracks);
-    tr.tracks[0].missed = INT_MAX - 1; /* stands for 2^31 - 2 more empty pings */
+    TEST_ASSERT_EQUAL_INT(0, lt_feed(0, NULL, NULL, y0, out, NULL));
+    TEST_ASSERT_EQUAL_INT(1, lt.tr.ntracks);
+    lt.tr.tracks[0].missed = INT_MAX - 1; /* stands for 2^31 - 2 more empty pings */
     for (f = 0; f < 3; f++) {
-        n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX,
-                                 NULL);
-        TEST_ASSERT_EQUAL_INT(0, n);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(1, tr.ntracks, "kept: max_missed is INT_MAX");
-        TEST_ASSERT_EQUAL_INT(INT_MAX, tr.tracks[0].missed);
+        TEST_ASSERT_EQUAL_INT(0, lt_feed(0, NULL, NULL, y0, out, NULL));
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, lt.tr.ntracks, "kept: max_missed is INT_MAX");
+        TEST_ASSERT_EQUAL_INT(INT_MAX, lt.tr.tracks[0].missed);
     }
-    /* the tag again, where it was: its track reads it (the refind search) */
-    lt_draw(&f8, img, 1, &ida, &xa, &y0);
-    n = actag_tracker_update(&tr, &fr, &lt_geometry, &p, NULL, w, wsz, out, ACTAG_TRACK_MAX, NULL);
+    /* the tag again, where it was: its track reads it */
+    n = lt_feed(1, &ida, &xa, y0, out, NULL);
     TEST_ASSERT_EQUAL_INT(1, n);
     TEST_ASSERT_EQUAL_INT(ida, out[0].id);
     TEST_ASSERT_EQUAL_INT(1, out[0].measured);
     TEST_ASSERT_EQUAL_INT(0, out[0].missed);
-    free(w);
+    free(lt.w);
 }
 
 static void test_errors(void)
