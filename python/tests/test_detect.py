@@ -12,7 +12,7 @@ import pytest
 
 import pyactag
 from conftest import (EXAMPLE, FAMILY, GEOMETRY, REPO, TAG_SIZE, assert_same_as_c,
-                      detections_key, run_c_tool)
+                      detections_key, freed_with_its_family, gc_clear, run_c_tool)
 
 np = pytest.importorskip("numpy")
 
@@ -222,6 +222,23 @@ def test_workspace_kept_by_detector(example_frame):
     assert det._core.workspace_bytes == pyactag.workspace_size(*example_frame.shape)
     det.detect(example_frame[:200, :300])  # a smaller frame reuses it
     assert det._core.workspace_bytes == pyactag.workspace_size(*example_frame.shape)
+
+
+def test_detector_family_cycle_is_collected(example_frame):
+    # A Detector holds its Family; without GC support a cycle through it
+    # (the family holding its detector) was never freed (review).
+    assert freed_with_its_family(pyactag._core.Detector)
+    assert freed_with_its_family(pyactag.Detector)
+    # A Detector the collector cleared refuses to run rather than crash.
+    det = pyactag._core.Detector(pyactag.Family(FAMILY))
+    det.detect(example_frame, 0.1, 1.5, 1.0)  # a workspace to free later
+    assert gc_clear(det) == 0
+    with pytest.raises(RuntimeError, match="cleared"):
+        det.detect(example_frame, 0.1, 1.5, 1.0)
+    with pytest.raises(RuntimeError, match="cleared"):
+        det.family
+    assert det.params["tag_size"] > 0 and det.workspace_bytes > 0
+    del det
 
 
 def test_without_numpy(tmp_path):

@@ -8,7 +8,7 @@ import threading
 import pytest
 
 import pyactag
-from conftest import FAMILY, GEOMETRY, TAG_SIZE, run_c_tool
+from conftest import FAMILY, GEOMETRY, TAG_SIZE, freed_with_its_family, gc_clear, run_c_tool
 from test_pose import assert_pose_as_c
 
 
@@ -267,3 +267,20 @@ def test_huge_geometry_named(example_frame):
     with pytest.raises(OverflowError, match="max_range"):
         pyactag.Detector(FAMILY, **GEOMETRY).detect(example_frame, max_range=10 ** 400)
     assert tr.frames == 0
+
+
+def test_tracker_family_cycle_is_collected(example_frame):
+    # A Tracker holds its Family; without GC support a cycle through it was
+    # never freed (review).
+    assert freed_with_its_family(pyactag._core.Tracker)
+    assert freed_with_its_family(lambda fam: pyactag.Tracker(fam, **GEOMETRY))
+    # A Tracker the collector cleared refuses to run rather than crash.
+    tr = pyactag._core.Tracker(pyactag.Family(FAMILY), None, {"min_margin": -2})
+    tr.update(example_frame, 0.1, 1.5, 1.0)
+    assert gc_clear(tr) == 0
+    with pytest.raises(RuntimeError, match="cleared"):
+        tr.update(example_frame, 0.1, 1.5, 1.0)
+    with pytest.raises(RuntimeError, match="cleared"):
+        tr.family
+    assert tr.frame == 1 and tr.track_params["full_every"] >= 1
+    del tr
