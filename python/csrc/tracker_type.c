@@ -492,7 +492,8 @@ static PyMethodDef tracker_methods[] = {
      "update(frame, min_range, max_range, aperture=None, bearings=None, range_ascending=False,\n"
      "       azimuth_ascending=False)\n"
      "-> (list of (track_id, id, mirrored, confirmed, measured, hits, missed, age,\n"
-     "             ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), last detection),\n"
+     "             ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), innovation,\n"
+     "             last detection),\n"
      "    stats dict)"},
     {NULL, NULL, 0, NULL}};
 
