@@ -59,15 +59,47 @@ static PyObject *detector_new(PyTypeObject *type, PyObject *args, PyObject *kwds
     return (PyObject *)self;
 }
 
+/* Cyclic GC: the Family is the one object a Detector holds, and a cycle
+ * through it (a Family subclass instance holding its Detector) is freed
+ * only if the collector sees that reference. A heap type's instances also
+ * visit their type (3.9+). */
+static int detector_traverse(PyObject *o, visitproc visit, void *arg)
+{
+    Py_VISIT(Py_TYPE(o));
+    Py_VISIT(((detobj *)o)->family);
+    return 0;
+}
+
+/* Drops the Family (and params.family, which points into it); the
+ * workspace stays for dealloc. A cleared Detector refuses detect(). */
+static int detector_clear(PyObject *o)
+{
+    detobj *self = (detobj *)o;
+    self->params.family = NULL;
+    Py_CLEAR(self->family);
+    return 0;
+}
+
 static void detector_dealloc(PyObject *o)
 {
     detobj *self = (detobj *)o;
     PyTypeObject *tp = Py_TYPE(o);
     freefunc tfree = (freefunc)PyType_GetSlot(tp, Py_tp_free);
+    PyObject_GC_UnTrack(o);
+    detector_clear(o);
     free(self->ws);
-    Py_XDECREF(self->family);
+    self->ws = NULL;
     tfree(o);
     Py_DECREF(tp);
+}
+
+static int detector_cleared(const detobj *self)
+{
+    if (self->family != NULL)
+        return 0;
+    PyErr_SetString(PyExc_RuntimeError,
+                    "Detector: cleared by the garbage collector (it no longer has a family)");
+    return 1;
 }
 
 PyObject *pyactag_detection_tuple(const actag_detection *d)
@@ -151,6 +183,8 @@ static PyObject *detector_detect(PyObject *o, PyObject *args, PyObject *kwds)
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|OOppip:detect", kwlist, &frame_o,
                                      &min_range, &max_range, &aperture_o, &bearings_o,
                                      &range_asc, &az_asc, &max_out, &want_stages))
+        return NULL;
+    if (detector_cleared(self))
         return NULL;
     if (max_out < 0 || max_out > PYACTAG_MAX_DETECTIONS) {
         PyErr_Format(PyExc_ValueError, "max_detections must be 0..%d", PYACTAG_MAX_DETECTIONS);
@@ -255,6 +289,8 @@ static PyObject *get_family(PyObject *o, void *c)
 {
     detobj *self = (detobj *)o;
     (void)c;
+    if (detector_cleared(self))
+        return NULL;
     Py_INCREF(self->family);
     return self->family;
 }
@@ -283,13 +319,16 @@ static PyMethodDef detector_methods[] = {
 static PyType_Slot detector_slots[] = {
     {Py_tp_new, (void *)detector_new},
     {Py_tp_dealloc, (void *)detector_dealloc},
+    {Py_tp_traverse, (void *)detector_traverse},
+    {Py_tp_clear, (void *)detector_clear},
     {Py_tp_getset, detector_getset},
     {Py_tp_methods, detector_methods},
     {Py_tp_doc, (void *)"Detector(family, params=None): validated parameters and a workspace."},
     {0, NULL}};
 
 static PyType_Spec detector_spec = {"pyactag._core.Detector", sizeof(detobj), 0,
-                                    Py_TPFLAGS_DEFAULT, detector_slots};
+                                    Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
+                                    detector_slots};
 
 PyObject *pyactag_detector_type_create(PyObject *module)
 {

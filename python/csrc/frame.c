@@ -70,12 +70,26 @@ static void *gather(const char *base, long long rows, long long cols, long long 
     return dst;
 }
 
+/* An integer: a Python int or any object with __index__ (numpy integers,
+ * which a shape may hold). Returns 0; -1 when o is no integer, -2 when it
+ * does not fit a long long; no exception is left set. __index__ may run
+ * Python code: the caller holds what o is borrowed from. */
 static int get_ll(PyObject *o, long long *out)
 {
+    PyObject *ix;
     long long v;
-    if (!PyLong_Check(o))
+    int overflow = 0;
+    if (o == NULL)
         return -1;
-    v = PyLong_AsLongLong(o);
+    ix = PyNumber_Index(o); /* TypeError for a float, a str, ... */
+    if (ix == NULL) {
+        PyErr_Clear();
+        return -1;
+    }
+    v = PyLong_AsLongLongAndOverflow(ix, &overflow);
+    Py_DECREF(ix);
+    if (overflow)
+        return -2;
     if (v == -1 && PyErr_Occurred()) {
         PyErr_Clear();
         return -1;
@@ -84,13 +98,15 @@ static int get_ll(PyObject *o, long long *out)
     return 0;
 }
 
-/* Shape or strides tuple of length 2. */
+/* Shape or strides tuple of length 2: 0, or get_ll's -1 or -2 (-1 also when
+ * t is no tuple of 2). */
 static int get_pair(PyObject *t, long long out[2])
 {
+    int rc;
     if (t == NULL || !PyTuple_Check(t) || PyTuple_Size(t) != 2)
         return -1;
-    return get_ll(PyTuple_GetItem(t, 0), &out[0]) || get_ll(PyTuple_GetItem(t, 1), &out[1]) ? -1
-                                                                                             : 0;
+    rc = get_ll(PyTuple_GetItem(t, 0), &out[0]);
+    return rc != 0 ? rc : get_ll(PyTuple_GetItem(t, 1), &out[1]);
 }
 
 static int fill(pyactag_frame_view *v, const void *data, long long rows, long long cols,
@@ -104,23 +120,22 @@ static int fill(pyactag_frame_view *v, const void *data, long long rows, long lo
     return 0;
 }
 
-/* Path 1. Returns 0 done, -1 error, 1 "not usable here, try the buffer protocol". */
-static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view *v)
+/* The entries of __array_interface__ that are read (NULL when absent). */
+enum { AI_TYPESTR, AI_SHAPE, AI_DATA, AI_STRIDES, AI_MASK, AI_OFFSET, AI_N };
+
+/* Path 1 on the entries e[AI_N]. Returns 0 done, -1 error, 1 "not usable
+ * here, try the buffer protocol". */
+static int read_array_interface(PyObject *obj, PyObject *const *e, pyactag_frame_view *v)
 {
-    PyObject *typestr_o, *data_o, *strides_o, *mask_o;
+    PyObject *typestr_o = e[AI_TYPESTR], *shape_o = e[AI_SHAPE], *data_o = e[AI_DATA];
+    PyObject *strides_o = e[AI_STRIDES], *mask_o = e[AI_MASK];
     char typestr[8];
     long long shape[2], strides[2], ptr;
-    int isize, swap = 0;
+    int isize, swap = 0, rc;
     const char *t;
     char *tmp;
     PyObject *keep = obj; /* what holds the pixels */
 
-    if (!PyDict_Check(ai))
-        return 1;
-    typestr_o = PyDict_GetItemString(ai, "typestr");
-    data_o = PyDict_GetItemString(ai, "data");
-    strides_o = PyDict_GetItemString(ai, "strides");
-    mask_o = PyDict_GetItemString(ai, "mask");
     if (typestr_o == NULL || !PyUnicode_Check(typestr_o))
         return bad_type("__array_interface__ has no typestr");
     tmp = pyactag_strdup(typestr_o);
@@ -144,10 +159,19 @@ static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view 
                      t);
         return -1;
     }
-    if (get_pair(PyDict_GetItemString(ai, "shape"), shape) != 0) {
-        PyObject *s = PyDict_GetItemString(ai, "shape");
-        if (s != NULL && PyTuple_Check(s))
-            PyErr_Format(PyExc_ValueError, "frame must be 2-D, not %zd-D", PyTuple_Size(s));
+    rc = get_pair(shape_o, shape);
+    if (rc != 0) {
+        if (shape_o != NULL && PyTuple_Check(shape_o) && PyTuple_Size(shape_o) != 2)
+            PyErr_Format(PyExc_ValueError, "frame must be 2-D, not %zd-D",
+                         PyTuple_Size(shape_o));
+        else if (rc == -2)
+            PyErr_Format(PyExc_ValueError, "frame shape %R: rows and columns must be 1..%d",
+                         shape_o, ACTAG_MAX_DIM);
+        else if (shape_o != NULL && PyTuple_Check(shape_o))
+            PyErr_Format(PyExc_TypeError,
+                         "frame must be a 2-D uint8 or uint16 array or buffer: its "
+                         "__array_interface__ shape must be 2 integers, got %R",
+                         shape_o);
         else
             bad_type("__array_interface__ has no 2-D shape");
         return -1;
@@ -158,10 +182,12 @@ static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view 
      * optional offset; anything else (another buffer object, None): let the
      * buffer protocol read the object. */
     if (data_o != NULL && PyBytes_Check(data_o)) {
-        PyObject *off_o = PyDict_GetItemString(ai, "offset");
+        PyObject *off_o = e[AI_OFFSET];
         long long off = 0;
-        if (off_o != NULL && off_o != Py_None && get_ll(off_o, &off) != 0)
-            return bad_type("__array_interface__ offset is not an integer");
+        rc = off_o != NULL && off_o != Py_None ? get_ll(off_o, &off) : 0;
+        if (rc != 0)
+            return bad_type(rc == -2 ? "__array_interface__ offset outside its data"
+                                     : "__array_interface__ offset is not an integer");
         if (dims_ok(shape[0], shape[1]) != 0)
             return -1;
         if (off < 0 || off > (long long)PyBytes_Size(data_o))
@@ -212,6 +238,26 @@ static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view 
     }
     v->copied = 1;
     return fill(v, v->copy, shape[0], shape[1], shape[1], 8 * isize);
+}
+
+/* Path 1: the entries held while they are read (an __index__ of a shape
+ * entry runs Python code, which could empty the dict and free them). */
+static int from_array_interface(PyObject *obj, PyObject *ai, pyactag_frame_view *v)
+{
+    static const char *const keys[AI_N] = {"typestr", "shape", "data", "strides", "mask",
+                                           "offset"};
+    PyObject *e[AI_N];
+    int i, rc;
+    if (!PyDict_Check(ai))
+        return 1;
+    for (i = 0; i < AI_N; i++) {
+        e[i] = PyDict_GetItemString(ai, keys[i]);
+        Py_XINCREF(e[i]);
+    }
+    rc = read_array_interface(obj, e, v);
+    for (i = 0; i < AI_N; i++)
+        Py_XDECREF(e[i]);
+    return rc;
 }
 
 /* Path 2: the buffer protocol through memoryview. */

@@ -9,8 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Bearing table: an iterable of exactly `cols` numbers (radians); an element
- * that is no real number (a str, a bool) is a TypeError naming bearings[i]. */
 /* A geometry value narrowed to the C float the library takes: a finite
  * value the float cannot hold (beyond FLT_MAX: inf; nonzero below the least
  * subnormal: 0) is an OverflowError naming the value given, as for the
@@ -35,6 +33,10 @@ static int narrow_geo(double d, const char *name, int index, float *out)
     return 0;
 }
 
+/* Bearing table: an iterable of exactly `cols` numbers (radians); an element
+ * that is no real number (a str, a bool) is a TypeError naming bearings[i].
+ * Reading stops at the first value past `cols` (cols <= ACTAG_MAX_DIM), so an
+ * endless iterator (itertools.count()) is refused, not read forever. */
 float *pyactag_read_bearings(PyObject *obj, int cols)
 {
     PyObject *it = PyObject_GetIter(obj), *item;
@@ -49,8 +51,27 @@ float *pyactag_read_bearings(PyObject *obj, int cols)
         return NULL;
     }
     while ((item = PyIter_Next(it)) != NULL) {
-        int is_bool = pyactag_is_bool(item);
-        double d = is_bool ? -1.0 : PyFloat_AsDouble(item);
+        int is_bool;
+        double d;
+        if (n == cols) { /* one value too many: the count when it has one */
+            Py_ssize_t len;
+            Py_DECREF(item);
+            Py_DECREF(it);
+            free(b);
+            len = PyObject_Size(obj); /* a sequence's; an iterator has none */
+            if (len < 0)
+                PyErr_Clear();
+            if (len > cols)
+                PyErr_Format(PyExc_ValueError, "bearings has %zd values, the frame has %d columns",
+                             len, cols);
+            else
+                PyErr_Format(PyExc_ValueError,
+                             "bearings has more than %d values, the frame has %d columns", cols,
+                             cols);
+            return NULL;
+        }
+        is_bool = pyactag_is_bool(item);
+        d = is_bool ? -1.0 : PyFloat_AsDouble(item);
         if (is_bool || (d == -1.0 && PyErr_Occurred())) {
             PyErr_Clear();
             PyErr_Format(PyExc_TypeError, "bearings[%d] must be a real number, got %R", n, item);
@@ -58,7 +79,7 @@ float *pyactag_read_bearings(PyObject *obj, int cols)
             break;
         }
         Py_DECREF(item);
-        if (n < cols && narrow_geo(d, "bearings", n, &b[n]) != 0)
+        if (narrow_geo(d, "bearings", n, &b[n]) != 0)
             break;
         n++;
     }

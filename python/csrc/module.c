@@ -7,6 +7,7 @@
 #include "actag/track.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -172,11 +173,31 @@ static PyObject *m_tuning_names(PyObject *self, PyObject *noargs)
     return pyactag_tuning_names();
 }
 
+/* A size of workspace_size(): any integer (TypeError otherwise); one beyond
+ * a C int is a bad size like 0, not an OverflowError. Returns 0 or -1. */
+static int size_arg(PyObject *o, int *out)
+{
+    PyObject *ix = PyNumber_Index(o);
+    long v;
+    int overflow = 0;
+    if (ix == NULL)
+        return -1;
+    v = PyLong_AsLongAndOverflow(ix, &overflow);
+    Py_DECREF(ix);
+    if (v == -1 && PyErr_Occurred())
+        return -1;
+    *out = overflow || v < INT_MIN || v > INT_MAX ? 0 : (int)v;
+    return 0;
+}
+
 static PyObject *m_workspace_size(PyObject *self, PyObject *args)
 {
+    PyObject *rows_o, *cols_o;
     int rows, cols;
     (void)self;
-    if (!PyArg_ParseTuple(args, "ii:workspace_size", &rows, &cols))
+    if (!PyArg_ParseTuple(args, "OO:workspace_size", &rows_o, &cols_o))
+        return NULL;
+    if (size_arg(rows_o, &rows) != 0 || size_arg(cols_o, &cols) != 0)
         return NULL;
     return PyLong_FromSize_t(actag_workspace_size(rows, cols));
 }
@@ -308,7 +329,8 @@ static PyMethodDef module_methods[] = {
      "every detection parameter with its C default (actag_params_default)"},
     {"tuning_names", m_tuning_names, METH_NOARGS, "names of the tuning parameters"},
     {"workspace_size", m_workspace_size, METH_VARARGS,
-     "workspace_size(rows, cols) -> bytes (actag_workspace_size; 0 for bad sizes)"},
+     "workspace_size(rows, cols) -> bytes (actag_workspace_size; 0 for bad sizes: any\n"
+     "integer outside 1..MAX_DIM)"},
     {"strerror", m_strerror, METH_VARARGS, "strerror(code) -> the library's message"},
     {"code_rot90", m_code_rot90, METH_VARARGS,
      "code_rot90(code, bits): the code of the tag turned 90 degrees counter-clockwise"},

@@ -256,16 +256,48 @@ static PyObject *tracker_new(PyTypeObject *type, PyObject *args, PyObject *kwds)
     return (PyObject *)self;
 }
 
+/* Cyclic GC, as the Detector (detector_type.c): the Family is the one
+ * object a Tracker holds; a heap type's instances also visit their type. */
+static int tracker_traverse(PyObject *o, visitproc visit, void *arg)
+{
+    Py_VISIT(Py_TYPE(o));
+    Py_VISIT(((trackobj *)o)->family);
+    return 0;
+}
+
+/* Drops the Family (both parameter sets point into it); the tracker state
+ * and the workspace stay for dealloc. A cleared Tracker refuses update(). */
+static int tracker_clear(PyObject *o)
+{
+    trackobj *self = (trackobj *)o;
+    self->params.family = NULL;
+    self->roi_params.family = NULL;
+    Py_CLEAR(self->family);
+    return 0;
+}
+
 static void tracker_dealloc(PyObject *o)
 {
     trackobj *self = (trackobj *)o;
     PyTypeObject *tp = Py_TYPE(o);
     freefunc tfree = (freefunc)PyType_GetSlot(tp, Py_tp_free);
+    PyObject_GC_UnTrack(o);
+    tracker_clear(o);
     free(self->ws);
+    self->ws = NULL;
     free(self->tracker);
-    Py_XDECREF(self->family);
+    self->tracker = NULL;
     tfree(o);
     Py_DECREF(tp);
+}
+
+static int tracker_cleared(const trackobj *self)
+{
+    if (self->family != NULL)
+        return 0;
+    PyErr_SetString(PyExc_RuntimeError,
+                    "Tracker: cleared by the garbage collector (it no longer has a family)");
+    return 1;
 }
 
 static PyObject *xy4(const actag_point *p)
@@ -330,6 +362,8 @@ static PyObject *tracker_update(PyObject *o, PyObject *args, PyObject *kwds)
 
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|OOpp:update", kwlist, &frame_o, &min_range,
                                      &max_range, &aperture_o, &bearings_o, &range_asc, &az_asc))
+        return NULL;
+    if (tracker_cleared(self))
         return NULL;
     if (pyactag_geometry_head(min_range, max_range, aperture_o, bearings_o, range_asc, az_asc,
                               &geo) != 0)
@@ -439,6 +473,8 @@ static PyObject *get_family(PyObject *o, void *c)
 {
     trackobj *self = (trackobj *)o;
     (void)c;
+    if (tracker_cleared(self))
+        return NULL;
     Py_INCREF(self->family);
     return self->family;
 }
@@ -456,13 +492,16 @@ static PyMethodDef tracker_methods[] = {
      "update(frame, min_range, max_range, aperture=None, bearings=None, range_ascending=False,\n"
      "       azimuth_ascending=False)\n"
      "-> (list of (track_id, id, mirrored, confirmed, measured, hits, missed, age,\n"
-     "             ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), last detection),\n"
+     "             ((x, y) x 4), ((range, azimuth) x 4), ((vx, vy) x 4), innovation,\n"
+     "             last detection),\n"
      "    stats dict)"},
     {NULL, NULL, 0, NULL}};
 
 static PyType_Slot tracker_slots[] = {
     {Py_tp_new, (void *)tracker_new},
     {Py_tp_dealloc, (void *)tracker_dealloc},
+    {Py_tp_traverse, (void *)tracker_traverse},
+    {Py_tp_clear, (void *)tracker_clear},
     {Py_tp_getset, tracker_getset},
     {Py_tp_methods, tracker_methods},
     {Py_tp_doc, (void *)"Tracker(family, params=None, roi_params=None, track_params=None): "
@@ -470,7 +509,7 @@ static PyType_Slot tracker_slots[] = {
     {0, NULL}};
 
 static PyType_Spec tracker_spec = {"pyactag._core.Tracker", sizeof(trackobj), 0,
-                                   Py_TPFLAGS_DEFAULT, tracker_slots};
+                                   Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC, tracker_slots};
 
 PyObject *pyactag_tracker_type_create(PyObject *module)
 {

@@ -183,3 +183,26 @@ def detections_key(dets):
     """Exact, comparable form of a detection list."""
     return [(d.id, d.hamming, d.mirrored, d.decision_margin, d.inlier_ratio, d.corners_xy,
              d.corners_polar) for d in dets]
+
+
+def freed_with_its_family(make):
+    """True when a cycle Family -> make(family) -> Family is freed by the
+    cyclic collector (the C objects holding a Family must let it see them)."""
+    import gc
+    import weakref
+    fam = pyactag.Family(FAMILY)
+    fam.user_object = make(fam)
+    ref = weakref.ref(fam)
+    del fam
+    gc.collect()
+    return ref() is None
+
+
+def gc_clear(obj):
+    """Run obj's tp_clear, as the cyclic collector does on a cycle (ctypes)."""
+    ctypes = pytest.importorskip("ctypes")
+    get_slot = ctypes.pythonapi.PyType_GetSlot
+    get_slot.restype, get_slot.argtypes = ctypes.c_void_p, [ctypes.py_object, ctypes.c_int]
+    addr = get_slot(type(obj), 51)  # Py_tp_clear
+    assert addr, "{} has no tp_clear".format(type(obj).__name__)
+    return ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.py_object)(addr)(obj)

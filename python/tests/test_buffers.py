@@ -113,6 +113,52 @@ def test_array_interface_object(example_frame, reference):
     same(ArrayInterfaceOnly(big[:463, :620]), reference)
 
 
+def test_array_interface_with_numpy_integers(example_frame, reference):
+    # A valid 2-D __array_interface__ whose shape holds numpy integers was
+    # refused as "frame must be 2-D, not 2-D" (review): any integer is taken
+    # (__index__), and a shape that is wrong says what is wrong.
+    view = example_frame[:, ::2]  # strided: the strides are read too
+    expected = detections_key(pyactag.detect(view, **GEOMETRY))
+    for kind in (np.int64, np.uint16, np.intp):
+        obj = ArrayInterfaceOnly(example_frame)
+        obj.__array_interface__ = dict(obj.__array_interface__,
+                                       shape=tuple(kind(n) for n in example_frame.shape))
+        same(obj, reference)
+        obj = ArrayInterfaceOnly(view)
+        obj.__array_interface__ = dict(obj.__array_interface__,
+                                       shape=tuple(kind(n) for n in view.shape),
+                                       strides=tuple(np.int64(n) for n in view.strides))
+        assert detections_key(pyactag.detect(obj, **GEOMETRY)) == expected
+    same(PillowLike(example_frame, offset=np.int64(0)), reference)
+    bad = ArrayInterfaceOnly(example_frame)
+    bad.__array_interface__ = dict(bad.__array_interface__, shape=(463.0, 620))
+    with pytest.raises(TypeError, match=r"shape must be 2 integers, got \(463.0, 620\)"):
+        pyactag.detect(bad, **GEOMETRY)
+    bad.__array_interface__["shape"] = (463, 2 ** 70)
+    with pytest.raises(ValueError, match="rows and columns must be 1"):
+        pyactag.detect(bad, **GEOMETRY)
+    bad.__array_interface__["shape"] = (463, 620, np.int64(1))
+    with pytest.raises(ValueError, match="frame must be 2-D, not 3-D"):
+        pyactag.detect(bad, **GEOMETRY)
+
+
+def test_index_that_empties_the_array_interface(example_frame):
+    # The entries are held while a shape entry's __index__ runs Python code
+    # (here it empties the dict they are borrowed from).
+    obj = ArrayInterfaceOnly(example_frame)
+    ai = dict(obj.__array_interface__)
+
+    class Rows:
+        def __index__(self):
+            ai.clear()
+            return example_frame.shape[0]
+
+    ai["shape"] = (Rows(), example_frame.shape[1])
+    obj.__array_interface__ = ai
+    assert detections_key(pyactag.detect(obj, **GEOMETRY)) == detections_key(
+        pyactag.detect(example_frame, **GEOMETRY))
+
+
 def test_input_is_not_modified(example_frame):
     f = example_frame.copy()
     pyactag.detect(f, **GEOMETRY)

@@ -12,7 +12,7 @@ import pytest
 
 import pyactag
 from conftest import (EXAMPLE, FAMILY, GEOMETRY, REPO, TAG_SIZE, assert_same_as_c,
-                      detections_key, run_c_tool)
+                      detections_key, freed_with_its_family, gc_clear, run_c_tool)
 
 np = pytest.importorskip("numpy")
 
@@ -222,6 +222,40 @@ def test_workspace_kept_by_detector(example_frame):
     assert det._core.workspace_bytes == pyactag.workspace_size(*example_frame.shape)
     det.detect(example_frame[:200, :300])  # a smaller frame reuses it
     assert det._core.workspace_bytes == pyactag.workspace_size(*example_frame.shape)
+
+
+def test_workspace_size_of_bad_sizes_is_zero():
+    # "0 for bad sizes", as documented: sizes beyond a C int were an
+    # OverflowError (workspace_size(2**31, 5); review).
+    big = pyactag.workspace_size(530, 512)
+    assert big == 398752 and pyactag.workspace_size(np.int64(530), np.uint16(512)) == big
+    top = pyactag._core.MAX_DIM
+    assert pyactag.workspace_size(top, 1) > 0
+    for rows, cols in ((0, 5), (-1, 5), (top + 1, 5), (5, top + 1), (2 ** 31, 5), (5, 2 ** 31),
+                       (-2 ** 31 - 1, 5), (2 ** 63, 2 ** 63), (-2 ** 100, 5),
+                       (np.int64(2 ** 40), 5)):
+        assert pyactag.workspace_size(rows, cols) == 0, (rows, cols)
+        assert pyactag._core.workspace_size(rows, cols) == 0, (rows, cols)
+    for bad in (1.5, "5", None):
+        with pytest.raises(TypeError):
+            pyactag.workspace_size(bad, 5)
+
+
+def test_detector_family_cycle_is_collected(example_frame):
+    # A Detector holds its Family; without GC support a cycle through it
+    # (the family holding its detector) was never freed (review).
+    assert freed_with_its_family(pyactag._core.Detector)
+    assert freed_with_its_family(pyactag.Detector)
+    # A Detector the collector cleared refuses to run rather than crash.
+    det = pyactag._core.Detector(pyactag.Family(FAMILY))
+    det.detect(example_frame, 0.1, 1.5, 1.0)  # a workspace to free later
+    assert gc_clear(det) == 0
+    with pytest.raises(RuntimeError, match="cleared"):
+        det.detect(example_frame, 0.1, 1.5, 1.0)
+    with pytest.raises(RuntimeError, match="cleared"):
+        det.family
+    assert det.params["tag_size"] > 0 and det.workspace_bytes > 0
+    del det
 
 
 def test_without_numpy(tmp_path):

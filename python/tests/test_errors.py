@@ -332,3 +332,36 @@ def test_azimuth_ascending_refused_with_bearings(example_frame):
     assert det.detect(np.ascontiguousarray(example_frame[:, ::-1]))
     assert detections_key(det.detect(example_frame, bearings=bearings,
                                      azimuth_ascending=False)) == plain
+
+
+def test_endless_bearings_refused():
+    # Reading stops at the first value past the frame's columns: an endless
+    # iterator hung the call before, uninterruptibly (review). The guard
+    # fails if more than cols + 1 values are drawn.
+    import itertools
+    frame = np.zeros((4, 4), np.uint8)
+    drawn = []
+
+    def guarded():
+        for i in itertools.count():
+            assert i <= 4, "bearings read past cols + 1 values"
+            drawn.append(i)
+            yield 0.5 - i / 8.0
+
+    with pytest.raises(ValueError, match="bearings has more than 4 values, the frame has 4 "
+                                         "columns"):
+        pyactag.detect(frame, min_range=0.1, max_range=1.5, bearings=guarded())
+    assert drawn == [0, 1, 2, 3, 4]
+    with pytest.raises(ValueError, match="more than 4 values"):
+        pyactag.detect(frame, min_range=0.1, max_range=1.5, bearings=itertools.count())
+    core = pyactag._core.Detector(pyactag.Family("AcTag24h10"))
+    with pytest.raises(ValueError, match="more than 4 values"):
+        core.detect(frame, 0.1, 1.5, None, itertools.repeat(0.1))
+    tr = pyactag._core.Tracker(pyactag.Family("AcTag24h10"))
+    with pytest.raises(ValueError, match="more than 4 values"):
+        tr.update(frame, 0.1, 1.5, None, itertools.repeat(0.1))
+    assert tr.frame == 0
+    # a sequence one too long still says how long it is; the right length works
+    with pytest.raises(ValueError, match="bearings has 5 values, the frame has 4 columns"):
+        core.detect(frame, 0.1, 1.5, None, [0.4, 0.2, 0.0, -0.2, -0.4])
+    assert core.detect(frame, 0.1, 1.5, None, iter([0.3, 0.1, -0.1, -0.3]))[0] == []

@@ -2,13 +2,14 @@
 actag_detect --track --json (and their poses, --pose), the settings reach
 the tracker, the same stream gives the same tracks, a track never changes
 ID, one stream per tracker, and every bad argument is named."""
+import math
 import pickle
 import threading
 
 import pytest
 
 import pyactag
-from conftest import FAMILY, GEOMETRY, TAG_SIZE, run_c_tool
+from conftest import FAMILY, GEOMETRY, TAG_SIZE, freed_with_its_family, gc_clear, run_c_tool
 from test_pose import assert_pose_as_c
 
 
@@ -267,3 +268,43 @@ def test_huge_geometry_named(example_frame):
     with pytest.raises(OverflowError, match="max_range"):
         pyactag.Detector(FAMILY, **GEOMETRY).detect(example_frame, max_range=10 ** 400)
     assert tr.frames == 0
+
+
+def test_tracker_family_cycle_is_collected(example_frame):
+    # A Tracker holds its Family; without GC support a cycle through it was
+    # never freed (review).
+    assert freed_with_its_family(pyactag._core.Tracker)
+    assert freed_with_its_family(lambda fam: pyactag.Tracker(fam, **GEOMETRY))
+    # A Tracker the collector cleared refuses to run rather than crash.
+    tr = pyactag._core.Tracker(pyactag.Family(FAMILY), None, {"min_margin": -2})
+    tr.update(example_frame, 0.1, 1.5, 1.0)
+    assert gc_clear(tr) == 0
+    with pytest.raises(RuntimeError, match="cleared"):
+        tr.update(example_frame, 0.1, 1.5, 1.0)
+    with pytest.raises(RuntimeError, match="cleared"):
+        tr.family
+    assert tr.frame == 1 and tr.track_params["full_every"] >= 1
+    del tr
+
+
+def test_update_docstring_lists_every_item(example_frame):
+    # The docstring listed 12 items per track; a track tuple has 13 (the
+    # innovation was missing; review). Its items, in order, are Track's.
+    doc = pyactag._core.Tracker.update.__doc__
+    listed = doc.split("list of (", 1)[1].rsplit("),", 1)[0]
+    items, depth, cur = [], 0, ""
+    for ch in listed:  # the top-level commas
+        depth += (ch == "(") - (ch == ")")
+        if ch == "," and depth == 0:
+            items.append(" ".join(cur.split()))
+            cur = ""
+        else:
+            cur += ch
+    items.append(" ".join(cur.split()))
+    fields = pyactag.Track.__slots__
+    assert len(items) == len(fields) == 13
+    assert items[:8] == list(fields[:8]) and items[11] == fields[11] == "innovation"
+    tr = pyactag._core.Tracker(pyactag.Family(FAMILY), {"tag_size": TAG_SIZE}, None,
+                               {"confirm_frames": 1})
+    raw, _ = tr.update(example_frame, 0.1, 1.5, math.radians(60))
+    assert raw and all(len(t) == 13 for t in raw)

@@ -32,7 +32,9 @@ CORNER_BOTTOM_LEFT = _core.CORNER_BOTTOM_LEFT
 
 
 def workspace_size(rows, cols):
-    """Bytes of workspace libactag needs for rows x cols frames (0 for bad sizes)."""
+    """Bytes of workspace libactag needs for rows x cols frames (0 for bad
+    sizes: any integer outside 1..``_core.MAX_DIM``; a non-integer is a
+    TypeError)."""
     return _core.workspace_size(rows, cols)
 
 
