@@ -360,6 +360,11 @@ def test_endless_bearings_refused():
     tr = pyactag._core.Tracker(pyactag.Family("AcTag24h10"))
     with pytest.raises(ValueError, match="more than 4 values"):
         tr.update(frame, 0.1, 1.5, None, itertools.repeat(0.1))
+    # the constructors keep a default geometry: an endless iterator there
+    # is refused after MAX_DIM + 1 values (it hung them)
+    for make in (pyactag.Detector, pyactag.Tracker):
+        with pytest.raises(ValueError, match="more than {} values".format(pyactag._core.MAX_DIM)):
+            make("AcTag24h10", min_range=0.1, max_range=1.5, bearings=itertools.count())
     assert tr.frame == 0
     # a sequence one too long still says how long it is; the right length works
     with pytest.raises(ValueError, match="bearings has 5 values, the frame has 4 columns"):

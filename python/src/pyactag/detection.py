@@ -1,5 +1,6 @@
 """Detection: ``detect()``, ``Detector`` and the ``Detection`` result."""
 
+import itertools
 import math
 from collections import namedtuple
 
@@ -244,10 +245,17 @@ def _stored_geometry(min_range, max_range, aperture, aperture_deg, bearings, ran
     if bearings is not None and not isinstance(bearings, (str, bytes)):
         # kept as a tuple: an iterator or generator would be spent by the
         # first frame (a str is left for the C side to refuse)
+        # (at most MAX_DIM + 1 values are drawn: no frame has more columns,
+        # and an endless iterator would hang the constructor)
         try:
-            bearings = tuple(bearings)
+            it = iter(bearings)
         except TypeError:
             pass  # not iterable: the C side's TypeError names it
+        else:
+            bearings = tuple(itertools.islice(it, _core.MAX_DIM + 1))
+            if len(bearings) > _core.MAX_DIM:
+                raise ValueError("bearings has more than {} values, more than any frame has "
+                                 "columns".format(_core.MAX_DIM))
     g = dict(min_range=min_range, max_range=max_range, aperture=aperture,
              aperture_deg=aperture_deg, bearings=bearings, range_ascending=range_ascending,
              azimuth_ascending=azimuth_ascending)
