@@ -1,6 +1,10 @@
 /* hostio_dir.c -- folder listings for the host tools (hostio.h): not built
  * for the emulated suites, whose C library has no <dirent.h>. */
 #define _POSIX_C_SOURCE 200809L
+/* 64-bit inode numbers and offsets on 32-bit hosts: without it, glibc's
+ * readdir on armhf fails with EOVERFLOW on file systems with large inode
+ * numbers (an overlay, qemu-user), which read as an empty folder */
+#define _FILE_OFFSET_BITS 64
 #include "hostio.h"
 
 #include <dirent.h>
@@ -38,8 +42,23 @@ char **hostio_list_dir(const char *dir, const char *prefix, const char *suffix, 
             snprintf(err, HOSTIO_ERRLEN, "cannot open folder '%.150s': %s", dir, strerror(errno));
         return NULL;
     }
-    while ((de = readdir(dp)) != NULL) {
-        size_t L = strlen(de->d_name);
+    for (;;) {
+        size_t L;
+        errno = 0;
+        de = readdir(dp);
+        if (de == NULL) {
+            if (errno != 0) { /* an error, not the end of the folder */
+                int e = errno;
+                closedir(dp);
+                hostio_list_free(names, nn);
+                if (err)
+                    snprintf(err, HOSTIO_ERRLEN, "cannot read folder '%.150s': %s", dir,
+                             strerror(e));
+                return NULL;
+            }
+            break;
+        }
+        L = strlen(de->d_name);
         if (L <= lp + ls || strncmp(de->d_name, prefix, lp) != 0 ||
             strcmp(de->d_name + L - ls, suffix) != 0)
             continue;
