@@ -87,20 +87,29 @@ static void te_add(te_counts *a, const te_counts *b)
     a->tracked_pixels += b->tracked_pixels;
 }
 
-/* Track IDs seen in one run and the tag ID each reported. */
+/* Track IDs seen in one run and the tag ID each reported last. */
+#define TE_IDMAP_MAX 4096
 typedef struct {
-    uint32_t tid[256];
-    int id[256];
+    uint32_t tid[TE_IDMAP_MAX];
+    int id[TE_IDMAP_MAX];
     int n;
 } te_idmap;
 
+/* 1 when track tid reports another tag ID than it did last: each change
+ * counts once (a track that keeps its new ID is not counted again). Past
+ * TE_IDMAP_MAX tracks in a run the rest are not followed (a pass starts a
+ * few dozen). */
 static int te_switched(te_idmap *m, uint32_t tid, int id)
 {
     int i;
     for (i = 0; i < m->n; i++)
-        if (m->tid[i] == tid)
-            return m->id[i] != id;
-    if (m->n < 256) {
+        if (m->tid[i] == tid) {
+            if (m->id[i] == id)
+                return 0;
+            m->id[i] = id;
+            return 1;
+        }
+    if (m->n < TE_IDMAP_MAX) {
         m->tid[m->n] = tid;
         m->id[m->n++] = id;
     }
@@ -206,8 +215,8 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
         int at = truth_px ? hypotf(dc.x - tc.x, dc.y - tc.y) < 0.5f * diag + 3.0f : visible >= 0;
         if (te_switched(&run->ids, out[i].track_id, out[i].id))
             c->id_switches++;
-        if (!truth_px && visible < 0 && !out[i].measured)
-            continue; /* a track coasting through a tag-free file: no reading */
+        /* (a track reported coasting through a tag-free file, with
+         * report_coasting, is a tag where there is none: a false tag) */
         if (at && out[i].id == tag_id && !rep) {
             rep = 1;
             at_tid = out[i].track_id;
@@ -216,7 +225,9 @@ static void te_frame(te_run *run, const actag_frame *fr, const actag_sonar_geome
             read = rep_ok && out[i].measured;
         } else if (at && out[i].id != tag_id) {
             c->track_wrong++;
-        } else if (!(at && out[i].id == tag_id)) {
+        } else {
+            /* elsewhere, or a second track of the tag's ID at the tag (as
+             * a second detection there counts in the whole frame's) */
             c->track_false++;
         }
     }

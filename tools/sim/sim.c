@@ -300,7 +300,7 @@ void sim_truth_of(const sim_sonar *s, const sim_tag *tag, sim_truth *out)
 
 int sim_corner_order_wrong(const actag_point det[4], const actag_point truth[4], float *mean_px)
 {
-    float best = 1e30f, ident = 0.0f;
+    float best = 1e30f, ident = 0.0f, side = 0.0f;
     int j, n, m, bestp = 0, misplaced = 0;
     /* a corner that is no number is no right corner (every comparison
      * below would be false and call it well ordered) */
@@ -325,9 +325,16 @@ int sim_corner_order_wrong(const actag_point det[4], const actag_point truth[4],
         }
     }
     /* each corner nearest its own truth corner: the dihedral test alone
-     * ties on a swapped pair (a bow-tie) and misses a single corner far off */
+     * ties on a swapped pair (a bow-tie) and misses a single corner far off;
+     * and near it, within SIM_CORNER_TOLERANCE of a side: a scaled quad
+     * about the right centre is nearest its own corners too */
+    for (n = 0; n < 4; n++)
+        side += 0.25f * hypotf(truth[n].x - truth[(n + 1) & 3].x,
+                               truth[n].y - truth[(n + 1) & 3].y);
     for (n = 0; n < 4; n++) {
         float own = hypotf(det[n].x - truth[n].x, det[n].y - truth[n].y);
+        if (own > SIM_CORNER_TOLERANCE * side)
+            misplaced = 1;
         for (m = 0; m < 4; m++)
             if (m != n && hypotf(det[n].x - truth[m].x, det[n].y - truth[m].y) < own)
                 misplaced = 1;

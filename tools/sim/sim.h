@@ -162,9 +162,18 @@ void sim_truth_of(const sim_sonar *s, const sim_tag *tag, sim_truth *out);
  * reflections of the detection's labels fits the truth better by more than
  * 4 px summed over the corners, or when some detected corner i lies nearer
  * another truth corner than truth corner i (a swapped pair, a bow-tie, a
- * corner far off, a quad a side away), or when a detected coordinate is not
- * finite (*mean_px NaN then); else 0. *mean_px (or NULL): the mean distance
- * of detected corner i to truth corner i. */
+ * corner far off, a quad a side away), or when some detected corner lies
+ * more than SIM_CORNER_TOLERANCE of the truth's mean side from its own truth
+ * corner (a quad about the right centre but of another size: the whole
+ * tag's outline, one cell), or when a detected coordinate is not finite
+ * (*mean_px NaN then); else 0. *mean_px (or NULL): the mean distance of
+ * detected corner i to truth corner i. */
+/* 0.45 of a side: 1.35 cells of a 24-bit tag. A quad scaled about the
+ * right centre by 0.3 or less, or by 7/3 (the whole tag's outline), has
+ * every corner farther (0.49 and 0.94 of a side); right readings reach
+ * 0.33 (actag-eval --frames 1000 --seed 1) and the tracker's smoothed
+ * corners 0.40 (test_track's far passes, 3-4.5 m). */
+#define SIM_CORNER_TOLERANCE 0.45f
 int sim_corner_order_wrong(const actag_point det[4], const actag_point truth[4], float *mean_px);
 
 /* Renders the scene into out (8-bit, rows x cols, row stride out_stride)

@@ -892,6 +892,40 @@ static void test_pool_sequence_source_is_escaped(void)
     hostio_run(cmd, NULL);
 }
 
+/* A track reported coasting (--report-coasting) through a tag-free file of
+ * --pool-sequence is a false tag, as --help says (review of 2026-12-07: such
+ * reports were skipped before counting, and the pool recording with coasting
+ * reports printed "false tags 0" with three of them). Two frames of the tag
+ * (f_0491, f_0561, copied as f_0401 and f_0411: frame names say which are
+ * tag-free) confirm and read the track twice; tag-free f_0421 follows. */
+static void test_coasting_into_a_tag_free_file_is_a_false_tag(void)
+{
+    char dir[400], cmd[4200], args[600], *out;
+    snprintf(dir, sizeof dir, "%s/eval_coast", ACTAG_BINARY_DIR);
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s' && mkdir -p '%s' && cp \"%s\"/data/pool-video/f_0491.pgm '%s'/f_0401.pgm"
+             " && cp \"%s\"/data/pool-video/f_0561.pgm '%s'/f_0411.pgm"
+             " && cp \"%s\"/data/pool-video/f_0421.pgm '%s'/f_0421.pgm",
+             dir, dir, ACTAG_SOURCE_DIR, dir, ACTAG_SOURCE_DIR, dir, ACTAG_SOURCE_DIR, dir);
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+    snprintf(args, sizeof args, "--frames 0 --quiet --report-coasting --pool-sequence '%s'", dir);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    out = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "tag read in 2 = 100.0 %"), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "false tags 1,"), out);
+    free(out);
+    /* without coasting reports nothing is reported in the tag-free file */
+    snprintf(args, sizeof args, "--frames 0 --quiet --pool-sequence '%s'", dir);
+    TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
+    out = slurp(out_path);
+    TEST_ASSERT_NOT_NULL(out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "false tags 0,"), out);
+    free(out);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    hostio_run(cmd, NULL);
+}
+
 /* A folder of three pool frames for --pool-sequence (dir gets its path). */
 static void pool_copy(const char *name, char *dir, size_t n)
 {
@@ -1101,6 +1135,7 @@ int main(void)
     RUN_TEST(test_far_bins_and_empty_bins);
     RUN_TEST(test_far_sonar_without_tag_free_frames);
     RUN_TEST(test_pool_sequence_source_is_escaped);
+    RUN_TEST(test_coasting_into_a_tag_free_file_is_a_false_tag);
     RUN_TEST(test_eval_output_is_not_an_input);
     RUN_TEST(test_eval_outputs_are_distinct);
     RUN_TEST(test_sim_outputs_are_not_inputs);

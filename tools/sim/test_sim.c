@@ -154,8 +154,8 @@ static void test_point_target_lands_on_predicted_pixel(void)
 /* actag-eval's corner-order rule (sim_corner_order_wrong) against every
  * kind of wrong labelling: the 7 other rotations and reflections, a swapped
  * pair (a bow-tie, which the dihedral test alone let through: review,
- * seventeenth session), one corner far off, the whole quad a side away;
- * and no error for the right labels with sub-pixel noise, on large and
+ * seventeenth session), one corner far off, the whole quad a side away,
+ * a quad about the right centre of another size; and no error for the right labels with sub-pixel noise, on large and
  * tiny (3 px) squares. */
 static void test_corner_order_rule(void)
 {
@@ -198,6 +198,26 @@ static void test_corner_order_rule(void)
             d[n].y = t[n].y + (t[1].y - t[0].y);
         }
         TEST_ASSERT_EQUAL_INT(1, sim_corner_order_wrong(d, t, NULL));
+        /* quads about the right centre but of another size (review of
+         * 2026-12-07: each corner is still nearest its own truth corner):
+         * the whole tag's outline (7/3) and a third of the square are
+         * wrong, 0.8 of it is not */
+        {
+            static const float scale[3] = {7.0f / 3.0f, 0.3f, 0.8f};
+            actag_point c = {0.0f, 0.0f};
+            int q;
+            for (n = 0; n < 4; n++) {
+                c.x += 0.25f * t[n].x;
+                c.y += 0.25f * t[n].y;
+            }
+            for (q = 0; q < 3; q++) {
+                for (n = 0; n < 4; n++) {
+                    d[n].x = c.x + scale[q] * (t[n].x - c.x);
+                    d[n].y = c.y + scale[q] * (t[n].y - c.y);
+                }
+                TEST_ASSERT_EQUAL_INT_MESSAGE(q < 2, sim_corner_order_wrong(d, t, NULL), "scaled");
+            }
+        }
         /* a corner that is not a number (each coordinate, NaN and infinite):
          * an error, not a well-ordered quad */
         for (j = 0; j < 8; j++) {
