@@ -230,15 +230,13 @@ static void refine_det(actag_detection *d, const actag_frame *frame, uint32_t ma
  * fitted grid (kept on the stack, 32 bytes each). */
 #define REFINE_STARTS 8
 
-/* Tags that did not fit out[] (max_out), by place: the centre and the
- * squared half diagonal of their first reading, as actag__same_place
- * measures them, so that another reading of such a tag counts in
- * stats.duplicates, not as one more tag in stats.dropped. Beyond
+/* Tags that did not fit out[] (max_out), by the place of their first
+ * reading (actag__place_of), so that another reading of such a tag counts
+ * in stats.duplicates, not as one more tag in stats.dropped. Beyond
  * DROPPED_PLACES such tags, every further reading counts as dropped. */
 #define DROPPED_PLACES 8
 typedef struct {
-    actag_point c[DROPPED_PLACES];
-    float r2[DROPPED_PLACES];
+    actag__place at[DROPPED_PLACES];
     int n;
 } dropped_places;
 
@@ -246,19 +244,13 @@ typedef struct {
  * there is room, it is one now. */
 static int dropped_before(dropped_places *dp, const actag_point q[4])
 {
-    actag_point c = actag__centre(q);
-    float dx = q[0].x - q[2].x, dy = q[0].y - q[2].y, r2 = (dx * dx + dy * dy) * 0.25f;
+    actag__place p = actag__place_of(q);
     int i;
-    for (i = 0; i < dp->n; i++) {
-        float ex = c.x - dp->c[i].x, ey = c.y - dp->c[i].y;
-        if (ex * ex + ey * ey <= (r2 > dp->r2[i] ? r2 : dp->r2[i]))
+    for (i = 0; i < dp->n; i++)
+        if (actag__places_meet(p, dp->at[i]))
             return 1;
-    }
-    if (dp->n < DROPPED_PLACES) {
-        dp->c[dp->n] = c;
-        dp->r2[dp->n] = r2;
-        dp->n++;
-    }
+    if (dp->n < DROPPED_PLACES)
+        dp->at[dp->n++] = p;
     return 0;
 }
 

@@ -206,13 +206,24 @@ actag_point actag__centre(const actag_point c[4])
     return m;
 }
 
-/* Centre inside the other quad's circumcircle (either way round); d, c: 4 corners each. */
+actag__place actag__place_of(const actag_point q[4])
+{
+    actag__place p;
+    p.c = actag__centre(q);
+    p.r2 = dist2(q[0], q[2]) * 0.25f;
+    return p;
+}
+
+/* Centre inside the other quad's circumcircle (either way round). */
+int actag__places_meet(actag__place a, actag__place b)
+{
+    return dist2(a.c, b.c) <= (a.r2 > b.r2 ? a.r2 : b.r2);
+}
+
+/* actag__places_meet of two quads' places; d, c: 4 corners each. */
 int actag__same_place(const actag_point *d, const actag_point *c)
 {
-    actag_point a = actag__centre(d), b = actag__centre(c);
-    float r2 = dist2(d[0], d[2]) * 0.25f;
-    float r2b = dist2(c[0], c[2]) * 0.25f;
-    return dist2(a, b) <= (r2 > r2b ? r2 : r2b);
+    return actag__places_meet(actag__place_of(d), actag__place_of(c));
 }
 
 

@@ -79,8 +79,16 @@ int actag__read_guess_again(const actag__reader *r, actag_stats *st, actag__fit_
                             actag_decode_result *dr);
 
 /* Places: a quad's centre; two quads at one place (either centre inside
- * the other's circumcircle). */
+ * the other's circumcircle). actag__place keeps what the test needs of a
+ * quad (its centre and the square of half its 0-2 diagonal), for a caller
+ * that keeps places rather than corners. */
+typedef struct {
+    actag_point c;
+    float r2;
+} actag__place;
 actag_point actag__centre(const actag_point c[4]);
+actag__place actag__place_of(const actag_point q[4]);
+int actag__places_meet(actag__place a, actag__place b);
 int actag__same_place(const actag_point *d, const actag_point *c);
 
 /* A reading as the rival checks see it. */
