@@ -21,6 +21,16 @@
 
 static int p_finite(float v) { return v == v && v < 3.0e38f && v > -3.0e38f; }
 
+/* Are the n values v all finite (p_finite)? */
+static int p_all_finite(const float *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!p_finite(v[i]))
+            return 0;
+    return 1;
+}
+
 static float p_fabs(float a) { return a < 0.0f ? -a : a; }
 
 static float p_wrap(float a) /* to (-pi, pi] */
@@ -457,9 +467,8 @@ static int p_cov_of(float *A, int nres, float *cov)
             c[i * P_NPAR + j] = v * sc[i] * sc[j];
             c[j * P_NPAR + i] = c[i * P_NPAR + j];
         }
-    for (i = 0; i < 36; i++)
-        if (!p_finite(c[i]))
-            return -1;
+    if (!p_all_finite(c, 36))
+        return -1;
     for (i = 0; i < 36; i++)
         cov[i] = c[i];
     return 0;
@@ -639,9 +648,8 @@ static int p_plane_of(const actag_pose_params *p, p_model *m)
 {
     float nn, big = 0.0f, n[3], a[3] = {0.0f, 0.0f, 0.0f};
     int j;
-    for (j = 0; j < 4; j++)
-        if (!p_finite(p->plane[j]))
-            return -1;
+    if (!p_all_finite(p->plane, 4))
+        return -1;
     /* divide by the largest |component| first: n . n of (0, 0, 1e-30)
      * underflows to 0 and of (0, 0, 1e20) overflows */
     for (j = 0; j < 3; j++)
@@ -860,9 +868,7 @@ int actag_pose_estimate(const float range[4], const float azimuth[4], int mirror
         out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
     } else {
         p_arc_term(x.t, out->cov);
-        for (i = 0; i < 36 && p_finite(out->cov[i]); i++)
-            ;
-        if (i < 36) { /* the arc's term overflowed: no covariance, all zero */
+        if (!p_all_finite(out->cov, 36)) { /* the arc's term overflowed: none, all zero */
             for (i = 0; i < 36; i++)
                 out->cov[i] = 0.0f;
             out->flags |= ACTAG_POSE_DEGENERATE | ACTAG_POSE_NO_COVARIANCE;
