@@ -892,6 +892,32 @@ static void test_pool_sequence_source_is_escaped(void)
     hostio_run(cmd, NULL);
 }
 
+/* A fresh folder ACTAG_BINARY_DIR/name (dir gets its path) holding the
+ * repository's pool frames from[i] (data/pool-video) under the names
+ * to[i], for --pool-sequence. */
+static void pool_copy_as(const char *name, char *dir, size_t n, const char *const *from,
+                         const char *const *to, int count)
+{
+    char cmd[4096];
+    size_t at;
+    int i;
+    snprintf(dir, n, "%s/%s", ACTAG_BINARY_DIR, name);
+    at = (size_t)snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+    for (i = 0; i < count && at < sizeof cmd; i++)
+        at += (size_t)snprintf(cmd + at, sizeof cmd - at,
+                               " && cp \"%s\"/data/pool-video/%s '%s'/%s", ACTAG_SOURCE_DIR,
+                               from[i], dir, to[i]);
+    TEST_ASSERT_TRUE_MESSAGE(at < sizeof cmd, "pool_copy_as: command too long");
+    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+}
+
+/* A folder of three pool frames for --pool-sequence (dir gets its path). */
+static void pool_copy(const char *name, char *dir, size_t n)
+{
+    static const char *const frames[3] = {"f_0001.pgm", "f_0011.pgm", "f_0291.pgm"};
+    pool_copy_as(name, dir, n, frames, frames, 3);
+}
+
 /* A track reported coasting (--report-coasting) through a tag-free file of
  * --pool-sequence is a false tag, as --help says (review of 2026-12-07: such
  * reports were skipped before counting, and the pool recording with coasting
@@ -900,14 +926,10 @@ static void test_pool_sequence_source_is_escaped(void)
  * tag-free) confirm and read the track twice; tag-free f_0421 follows. */
 static void test_coasting_into_a_tag_free_file_is_a_false_tag(void)
 {
-    char dir[400], cmd[4200], args[600], *out;
-    snprintf(dir, sizeof dir, "%s/eval_coast", ACTAG_BINARY_DIR);
-    snprintf(cmd, sizeof cmd,
-             "rm -rf '%s' && mkdir -p '%s' && cp \"%s\"/data/pool-video/f_0491.pgm '%s'/f_0401.pgm"
-             " && cp \"%s\"/data/pool-video/f_0561.pgm '%s'/f_0411.pgm"
-             " && cp \"%s\"/data/pool-video/f_0421.pgm '%s'/f_0421.pgm",
-             dir, dir, ACTAG_SOURCE_DIR, dir, ACTAG_SOURCE_DIR, dir, ACTAG_SOURCE_DIR, dir);
-    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
+    static const char *const from[3] = {"f_0491.pgm", "f_0561.pgm", "f_0421.pgm"};
+    static const char *const to[3] = {"f_0401.pgm", "f_0411.pgm", "f_0421.pgm"};
+    char dir[400], cmd[600], args[600], *out;
+    pool_copy_as("eval_coast", dir, sizeof dir, from, to, 3);
     snprintf(args, sizeof args, "--frames 0 --quiet --report-coasting --pool-sequence '%s'", dir);
     TEST_ASSERT_EQUAL_INT(0, run(ACTAG_EVAL_PATH, args));
     out = slurp(out_path);
@@ -924,18 +946,6 @@ static void test_coasting_into_a_tag_free_file_is_a_false_tag(void)
     free(out);
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     hostio_run(cmd, NULL);
-}
-
-/* A folder of three pool frames for --pool-sequence (dir gets its path). */
-static void pool_copy(const char *name, char *dir, size_t n)
-{
-    char cmd[2400];
-    snprintf(dir, n, "%s/%s", ACTAG_BINARY_DIR, name);
-    snprintf(cmd, sizeof cmd,
-             "rm -rf '%s' && mkdir -p '%s' && cp \"%s\"/data/pool-video/f_0001.pgm "
-             "\"%s\"/data/pool-video/f_0011.pgm \"%s\"/data/pool-video/f_0291.pgm '%s'/",
-             dir, dir, ACTAG_SOURCE_DIR, ACTAG_SOURCE_DIR, ACTAG_SOURCE_DIR, dir);
-    TEST_ASSERT_EQUAL_INT(0, hostio_run(cmd, NULL));
 }
 
 /* The file at path is still the repository's pool frame `name`. */
