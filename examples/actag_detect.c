@@ -75,6 +75,9 @@ static void usage(FILE *f)
             "  --min-bit-margin N     least lead in corrected bits of a reading over the next,\n"
             "                         0..32 (default 2; 3 where a wrong ID must not happen with\n"
             "                         a dense family: docs/families.md)\n"
+            "  --min-bit-odds N       a reading with corrected bits must also lead by enough bits\n"
+            "                         that, at its own bit-error rate, the next is at most 1/N\n"
+            "                         as likely, 1..1000000 (default 100; 1: off; decode.h)\n"
             "  --handedness any|unmirrored|mirrored  the views the sonar's mounting can show\n"
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4): the largest; --median-per-range 0|1 (default 1):\n"
@@ -168,6 +171,7 @@ static const hostio_optname option_names[] = {
     {"tuning.search_min_margin", "--search-min-margin", 0},
     {"tuning.fit.many_corrections_margin", "--many-corrections-margin", 0},
     {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
+    {"tuning.fit.min_bit_odds", "--min-bit-odds", 0},
     {"tuning.median_radius", "--median-radius", 0},
     {"tuning.median_per_range", "--median-per-range", 0},
     {"tuning.threshold_radius", "--threshold-radius", 0},
@@ -349,6 +353,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--min-bit-margin") == 0) {
             NEEDV();
             o->params.tuning.fit.min_bit_margin = anyint(a, v);
+        } else if (strcmp(a, "--min-bit-odds") == 0) {
+            NEEDV();
+            o->params.tuning.fit.min_bit_odds = anyint(a, v);
         } else if (strcmp(a, "--handedness") == 0) {
             NEEDV(); /* the words in ACTAG_HANDEDNESS_* order */
             o->params.handedness = hostio_opt_choice(PROG, a, v, handedness_words, 3);

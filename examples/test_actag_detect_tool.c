@@ -163,6 +163,40 @@ static void test_min_bit_margin_option(void)
     free(o2);
 }
 
+/* --min-bit-odds reaches the decoder: the example's tag 0 has 2 corrected
+ * bits of 20 and leads by 3; at odds 1000000 it would need 7 (9^7 >= 10^6),
+ * so no reading; 100 (the default) gives the same line as no option, and 1
+ * (the rule off) too. A value out of range is refused naming the option. */
+static void test_min_bit_odds_option(void)
+{
+    char *o, *o2, *b, *b2;
+    int odds;
+    TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " --min-bit-odds 1000000 " EXAMPLE));
+    o = out_text();
+    TEST_ASSERT_NOT_NULL(strstr(o, "\"detections\": []"));
+    free(o);
+    TEST_ASSERT_EQUAL_INT(0, run("--json " GEO " " EXAMPLE));
+    o2 = out_text();
+    b2 = json_body(o2);
+    for (odds = 1; odds <= 100; odds += 99) {
+        char cmd[200];
+        snprintf(cmd, sizeof cmd, "--json " GEO " --min-bit-odds %d " EXAMPLE, odds);
+        TEST_ASSERT_EQUAL_INT(0, run(cmd));
+        o = out_text();
+        b = json_body(o);
+        TEST_ASSERT_EQUAL_STRING(b2, b);
+        assert_reference_tag(o);
+        free(b);
+        free(o);
+    }
+    free(b2);
+    free(o2);
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --min-bit-odds 0 " EXAMPLE));
+    o = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(o, "--min-bit-odds"));
+    free(o);
+}
+
 /* The first tag's pose line of text output o: its t and the sd of t_z. */
 static void pose_line(const char *o, float t[3], float *sd_z)
 {
@@ -1077,6 +1111,7 @@ int main(void)
     RUN_TEST(test_bearing_table_file);
     RUN_TEST(test_bad_options);
     RUN_TEST(test_min_bit_margin_option);
+    RUN_TEST(test_min_bit_odds_option);
     RUN_TEST(test_pose_plane_options);
     RUN_TEST(test_options_that_need_others);
     RUN_TEST(test_report_coasting);

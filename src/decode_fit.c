@@ -464,6 +464,53 @@ static int fhopeless(const fimg *im, const fgrid *gr, int k, int flags, float le
     return miss + r.best.hamming >= FIT_HOPELESS;
 }
 
+/* a *= m for a little-endian number of ACTAG__BIG limbs (no overflow: the
+ * operands of actag_fit_bit_lead stay below 2^180) */
+#define ACTAG__BIG 6
+static void big_mul(uint32_t *a, uint32_t m)
+{
+    uint64_t carry = 0;
+    int i;
+    for (i = 0; i < ACTAG__BIG; i++) {
+        uint64_t v = (uint64_t)a[i] * m + carry;
+        a[i] = (uint32_t)v;
+        carry = v >> 32;
+    }
+}
+
+/* a <= b */
+static int big_le(const uint32_t *a, const uint32_t *b)
+{
+    int i;
+    for (i = ACTAG__BIG - 1; i >= 0; i--)
+        if (a[i] != b[i])
+            return a[i] < b[i];
+    return 1;
+}
+
+int actag_fit_bit_lead(int hamming, int nbits, int min_bit_margin, int min_bit_odds)
+{
+    /* exact: odds h^b and (n - h)^b as integers (below 2^20 32^32) */
+    uint32_t lhs[ACTAG__BIG] = {0}, rhs[ACTAG__BIG] = {0};
+    int b;
+    if (nbits < 1 || nbits > 32 || hamming < 0 || hamming > nbits || min_bit_margin < 0 ||
+        min_bit_margin > 32 || min_bit_odds < 1 || min_bit_odds > 1000000)
+        return 33;
+    if (hamming == 0 || min_bit_odds == 1)
+        return min_bit_margin;
+    if (2 * hamming >= nbits) /* a bit more of lead makes the runner-up no less likely */
+        return 33;
+    lhs[0] = (uint32_t)min_bit_odds;
+    rhs[0] = 1u;
+    for (b = 1; b <= 32; b++) {
+        big_mul(lhs, (uint32_t)hamming);
+        big_mul(rhs, (uint32_t)(nbits - hamming));
+        if (big_le(lhs, rhs))
+            return b > min_bit_margin ? b : min_bit_margin;
+    }
+    return 33;
+}
+
 void actag_fit_params_default(actag_fit_params *fp)
 {
     if (fp == NULL)
@@ -474,6 +521,7 @@ void actag_fit_params_default(actag_fit_params *fp)
     fp->sample_offset = 0.2f;
     fp->min_margin = ACTAG_FIT_MIN_MARGIN;
     fp->min_bit_margin = ACTAG_FIT_MIN_BIT_MARGIN;
+    fp->min_bit_odds = ACTAG_FIT_MIN_BIT_ODDS;
     fp->many_corrections = ACTAG_FIT_MANY_CORRECTIONS;
     fp->many_corrections_margin = ACTAG_FIT_MANY_CORRECTIONS_MARGIN;
 }
@@ -728,7 +776,7 @@ typedef struct fjudge {
 static int fjudge_refuse(const fjudge *J, const fgrid *g, int id, int view)
 {
     if (J->ambig)
-        *J->ambig = 1;
+        *J->ambig |= 1;
     if (J->amb)
         famb_set(&J->amb[1], g, J->k, id, view);
     return ACTAG_ERR_NO_MATCH;
@@ -936,7 +984,7 @@ static int fjudge_far(const fjudge *J)
             famb_set(&J->amb[1], &g, k, bid, bv);
         if (ffit(J->im, &g, k, J->mt, J->L, J->erase, 0, J->m, &rf, NULL)) {
             if (J->ambig)
-                *J->ambig = 1;
+                *J->ambig |= 1;
             return ACTAG_ERR_NO_MATCH;
         }
     }
@@ -1143,8 +1191,10 @@ static int fjudge_reading(fjudge *J, int recheck, float *margin)
  * check with the checks after it (fjudge_reading), as the manual in
  * decode.h describes. regrid: this is the quad's own grid read
  * after the fitted one read nothing (one more grid in the look-elsewhere
- * allowance). *ambig (if not NULL) is set to 1 when the template check
- * refused the reading because a rival template came within the margin.
+ * allowance). *ambig (if not NULL) gets bit 1 when the template check
+ * refused the reading because a rival template came within the margin
+ * (amb holds the pair), bit 2 when the bit lead's odds refused it
+ * (actag_fit_bit_lead; no rival recorded).
  * recheck (bits): FIT_RECHECK, before accepting a tightly polished
  * reading, polish every candidate template again over the ascent's full
  * range; FIT_RECHECK_FAR, polish the reading's template and its
@@ -1223,9 +1273,19 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 conf[i] = -0.01f;
             w = (w << 1) | (conf[i] > 0.0f ? 1u : 0u);
         }
-        /* the bit margin needs no template check: refuse before it */
+        /* the bit margin and its odds (ACTAG_FIT_MIN_BIT_ODDS) need no
+         * template check: refuse before it. A reading the odds refuse has
+         * a view too near for its bit errors: the place is ambiguous (2:
+         * no rival recorded), so the quad's own grid is read with the
+         * recheck, as after a rival's refusal */
         if (ml.h2 - ml.best.hamming < fp->min_bit_margin)
             return ACTAG_ERR_NO_MATCH;
+        if (ml.h2 - ml.best.hamming < actag_fit_bit_lead(ml.best.hamming, actag_popcount32(keep),
+                                                          fp->min_bit_margin, fp->min_bit_odds)) {
+            if (ambig)
+                *ambig |= 2;
+            return ACTAG_ERR_NO_MATCH;
+        }
         /* Look-elsewhere allowance: the best of N hypotheses (8 views of
          * every code, times the grids the wide search tries, times 2 on the
          * second grid) beats the next by ln N on pure noise; the margin
@@ -1482,25 +1542,25 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     if (hopeless) {
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, qmax, fp, keep, q, 1, m,
                         out, &ambig, 0, amb ? amb->r : NULL);
-        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig)
+        if (amb && rc == ACTAG_ERR_NO_MATCH && (ambig & 1))
             amb->amb = 1;
         return rc;
     }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
                     &ambig, far, amb ? amb->r : NULL);
-    if (amb && rc == ACTAG_ERR_NO_MATCH && ambig)
+    if (amb && rc == ACTAG_ERR_NO_MATCH && (ambig & 1))
         amb->amb = 1;
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
     if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH) && qmax >= 0) {
-        int ambig2 = 0, first = amb && amb->amb;
+        int ambig2 = 0, first = amb && amb->amb; /* (ambig & 2 names no rival) */
         /* the first grid's ambiguity, if any, stays in r; the second's
          * goes to r (none before) or r2 */
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, qmax, fp, keep, q, 1, m,
                         out, &ambig2, (ambig ? FIT_RECHECK : 0) | far,
                         amb ? (first ? amb->r2 : amb->r) : NULL);
-        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig2) {
+        if (amb && rc == ACTAG_ERR_NO_MATCH && (ambig2 & 1)) {
             if (first)
                 amb->amb2 = 1;
             else

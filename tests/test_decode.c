@@ -1511,6 +1511,87 @@ static void test_fit_renders(void)
  * flipped cells are whole-cell errors, which spread partial mismatches
  * explain more cheaply) and refuse, a miss: in at most 1 of 50 of those
  * cases (2 of 357 on the host). */
+/* Reference for actag_fit_bit_lead: x = odds h^b and y = (n - h)^b as
+ * decimal numbers (base 10000 digits, least significant first), not the
+ * library's binary limbs; the least b in 0..32 with x <= y, at least
+ * margin, or 33. */
+enum { REF_DIGITS = 60 }; /* 10^240 > 2^20 32^32 */
+static void ref_dec_mul(int *a, int m)
+{
+    int i, carry = 0;
+    for (i = 0; i < REF_DIGITS; i++) {
+        int v = a[i] * m + carry;
+        a[i] = v % 10000;
+        carry = v / 10000;
+    }
+    TEST_ASSERT_EQUAL_INT(0, carry);
+}
+
+static int ref_bit_lead(int h, int n, int margin, int odds)
+{
+    int x[REF_DIGITS], y[REF_DIGITS], b, i;
+    if (h == 0 || odds == 1)
+        return margin;
+    memset(x, 0, sizeof x);
+    memset(y, 0, sizeof y);
+    x[0] = odds % 10000;
+    x[1] = odds / 10000;
+    y[0] = 1;
+    for (b = 0; b <= 32; b++) {
+        int le = 1;
+        if (b > 0) {
+            ref_dec_mul(x, h);
+            ref_dec_mul(y, n - h);
+        }
+        for (i = REF_DIGITS - 1; i >= 0; i--)
+            if (x[i] != y[i]) {
+                le = x[i] < y[i];
+                break;
+            }
+        if (le)
+            return b > margin ? b : margin;
+    }
+    return 33;
+}
+
+/* actag_fit_bit_lead against the decimal reference on every valid (hamming,
+ * nbits) and a spread of margins and odds (ties included: odds 4, hamming 1,
+ * nbits 3 needs exactly 2 bits), the examples decode.h gives, and 33 for
+ * arguments out of range. */
+static void test_bit_lead_vs_exact(void)
+{
+    static const int odds[] = {1, 2, 3, 4, 9, 10, 99, 100, 101, 1000, 4096, 999999, 1000000};
+    int n, h, m, o;
+    for (n = 1; n <= 32; n++)
+        for (h = 0; h <= n; h++)
+            for (m = 0; m <= 32; m += (m < 4 ? 1 : 14))
+                for (o = 0; o < (int)(sizeof odds / sizeof odds[0]); o++) {
+                    char msg[120];
+                    snprintf(msg, sizeof msg, "hamming %d of %d, margin %d, odds %d", h, n, m,
+                             odds[o]);
+                    TEST_ASSERT_EQUAL_INT_MESSAGE(ref_bit_lead(h, n, m, odds[o]),
+                                                  actag_fit_bit_lead(h, n, m, odds[o]), msg);
+                }
+    TEST_ASSERT_EQUAL_INT(2, actag_fit_bit_lead(1, 3, 0, 4)); /* 4 = 2^2: a tie passes */
+    TEST_ASSERT_EQUAL_INT(2, actag_fit_bit_lead(1, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(3, actag_fit_bit_lead(2, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(3, actag_fit_bit_lead(3, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(4, actag_fit_bit_lead(4, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(2, actag_fit_bit_lead(2, 24, 2, 100));
+    TEST_ASSERT_EQUAL_INT(3, actag_fit_bit_lead(3, 24, 2, 100));
+    TEST_ASSERT_EQUAL_INT(2, actag_fit_bit_lead(0, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(10, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(2, actag_fit_bit_lead(10, 20, 2, 1)); /* the rule off */
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(-1, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(21, 20, 2, 100));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(1, 0, 2, 100));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(1, 33, 2, 100));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(1, 20, -1, 100));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(1, 20, 33, 100));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(1, 20, 2, 0));
+    TEST_ASSERT_EQUAL_INT(33, actag_fit_bit_lead(1, 20, 2, 1000001));
+}
+
 static void test_fit_matching_vs_brute_force(void)
 {
     enum { CS = 9, MG = 6 };
@@ -1536,7 +1617,7 @@ static void test_fit_matching_vs_brute_force(void)
     for (t = 0; t < TU_TRIALS(3000, 6); t++) {
         uint32_t w;
         int r, c, maxc = tu_range(0, 4), best[2] = {99, 99}, bid[2] = {0, 0}, d1, d2;
-        int h, i, rot, rcode;
+        int h, i, rot, rcode, lead;
         actag_decode_result res;
         uint8_t lo = (uint8_t)tu_range(0, 100), hi = (uint8_t)tu_range(lo + 30, 255);
         /* a random word near a random code (so that many cases decode) */
@@ -1580,9 +1661,12 @@ static void test_fit_matching_vs_brute_force(void)
                 }
             }
         rcode = actag_decode_quad_fit(img, side, side, stride, q, &tf.fam, maxc, &fp, &res);
+        /* the lead in bits the reading needs (min_bit_margin, min_bit_odds) */
+        lead = ref_bit_lead(d1, 20, fp.min_bit_margin, fp.min_bit_odds);
         if (rcode == ACTAG_OK) {
-            /* whatever it accepts is the unique nearest reading */
-            TEST_ASSERT_TRUE(d1 <= maxc && d2 > d1);
+            /* whatever it accepts is the unique nearest reading, and leads
+             * by the bits its corrections ask */
+            TEST_ASSERT_TRUE(d1 <= maxc && d2 > d1 && d2 - d1 >= lead);
             TEST_ASSERT_EQUAL_INT(bid[0], res.id);
             TEST_ASSERT_EQUAL_INT(d1, res.hamming);
             TEST_ASSERT_EQUAL_INT(best[0], res.mirrored);
@@ -1590,7 +1674,7 @@ static void test_fit_matching_vs_brute_force(void)
             TEST_ASSERT_EQUAL_INT(d2 - d1, res.bit_margin);
             accepted++;
         }
-        if (d1 > maxc || d2 == d1) {
+        if (d1 > maxc || d2 - d1 < lead) {
             TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NO_MATCH, rcode);
         } else if ((d1 <= 2 && d2 - d1 >= 2) || d2 - d1 >= 4) {
             /* a clean two-level grid with a clear lead clears every margin
@@ -1688,6 +1772,7 @@ int main(void)
     RUN_TEST(test_real_example_frame);
     RUN_TEST(test_h4_mirror_ambiguity);
     RUN_TEST(test_fit_renders);
+    RUN_TEST(test_bit_lead_vs_exact);
     RUN_TEST(test_fit_matching_vs_brute_force);
     RUN_TEST(test_fit_errors_and_edges);
     return UNITY_END();

@@ -1299,6 +1299,10 @@ static void test_fit_params(void)
     b = fp;
     b.min_bit_margin = 33;
     TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_fit_params_validate(&b, &d));
+    b = fp;
+    b.min_bit_odds = 1000001;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag_fit_params_validate(&b, &d));
+    TEST_ASSERT_EQUAL_INT(0, strcmp(d.field, "min_bit_odds"));
     TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_fit_params_validate(&fp, &d));
 }
 

@@ -136,6 +136,8 @@ static const field_case param_cases[] = {
      {NAN_, 1.1e6, -INF_}, 3, {-1e6, 1e6}, 2},
     {"tuning.fit.min_bit_margin", K_INT, P(tuning.fit.min_bit_margin), ACTAG_ERR_PARAM, {-1, 33},
      2, {0, 32}, 2},
+    {"tuning.fit.min_bit_odds", K_INT, P(tuning.fit.min_bit_odds), ACTAG_ERR_PARAM,
+     {0, 1000001, -5}, 3, {1, 1000000}, 2},
     {"tuning.fit.many_corrections", K_INT, P(tuning.fit.many_corrections), ACTAG_ERR_PARAM,
      {-1, 34}, 2, {0, 33}, 2},
     {"tuning.fit.many_corrections_margin", K_FLOAT, P(tuning.fit.many_corrections_margin),
@@ -813,7 +815,7 @@ static void test_fit_decoder_rejects_what_the_validator_rejects(void)
     actag_params p;
     int k;
     base(&f, &g, &p);
-    for (k = 0; k < 8; k++) {
+    for (k = 0; k < 9; k++) {
         int rc, v;
         actag_fit_params_default(&fp);
         switch (k) {
@@ -824,11 +826,12 @@ static void test_fit_decoder_rejects_what_the_validator_rejects(void)
         case 4: fp.min_bit_margin = -1; break;
         case 5: fp.many_corrections = 34; break;
         case 6: fp.many_corrections_margin = -1.0f; break;
+        case 7: fp.min_bit_odds = 0; break;
         default: break; /* valid */
         }
         v = actag_fit_params_validate(&fp, NULL);
         rc = actag_decode_quad_fit(g_px, ROWS, COLS, COLS, q, &g_fam, 2, &fp, &res);
-        if (k < 7) {
+        if (k < 8) {
             TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, v);
             TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, rc);
         } else {

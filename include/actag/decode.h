@@ -219,6 +219,23 @@ int actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
 /* Default least lead in corrected bits of a fit-decoder reading. */
 #define ACTAG_FIT_MIN_BIT_MARGIN 2
 
+/* Default least odds of a reading over its runner-up from the corrected bits
+ * alone (actag_fit_params.min_bit_odds). A reading that corrected h of the n
+ * bits it read has a bit-error rate of about h / n; were its bits flipped
+ * independently at that rate, a view b bits further (bit_margin b) would be
+ * (h / (n - h))^b times as likely to be the tag. The reading must make that
+ * at most 1 / min_bit_odds. With 100 and the 20 bits a 24-bit family's
+ * decoder reads: 2 bits of lead for 1 corrected bit, 3 for 2 or 3; 28-bit
+ * families (24 bits read): 2 for 1 or 2, 3 for 3. The soft margin cannot do
+ * this: its cell noise model is fitted to the cells, and a view the blur or
+ * the grid turned into another code's explains them well. At the paper's
+ * settings (actag-eval --frames 1000, seeds 101-111, 7,552 right readings)
+ * the 3 wrong IDs were all readings of 2 or 3 corrected bits leading by 2
+ * (margins 5.0-12.5, the other handedness of another ID); with 100 none is
+ * read, for 4-6 % fewer right readings (docs/decoder.md, "Odds from the
+ * corrected bits"). */
+#define ACTAG_FIT_MIN_BIT_ODDS 100
+
 /* Defaults of the extra margin a reading at the correction limit needs
  * (actag_fit_params.many_corrections, .many_corrections_margin): with 3 or
  * more corrected bits a reading must lead by min_margin + 1.5. Over the 20
@@ -246,6 +263,11 @@ typedef struct actag_fit_params {
                             actag_params.min_margin instead. */
     int min_bit_margin;  /* least lead in corrected bits over any other reading
                             (ACTAG_FIT_MIN_BIT_MARGIN, 2) */
+    int min_bit_odds;    /* least odds of a reading with corrected bits over the runner-up
+                            from its hard bits alone (1..1000000; default
+                            ACTAG_FIT_MIN_BIT_ODDS, 100; 1 turns the rule off). Lower it
+                            (e.g. 10) for recall of far or blurred tags where a wrong ID
+                            does little harm; raise it (1000) where none may happen */
     int many_corrections; /* a reading with at least this many corrected bits ... (0..33;
                              default ACTAG_FIT_MANY_CORRECTIONS, 3; 33 turns the rule off) */
     float many_corrections_margin; /* ... needs decision_margin >= min_margin + this
@@ -258,8 +280,23 @@ typedef struct actag_fit_params {
 /* Fills *fp with the defaults above (no-op for NULL). */
 void actag_fit_params_default(actag_fit_params *fp);
 
+/* The least bit_margin a fit-decoder reading of `hamming` corrected bits out
+ * of `nbits` counted bits needs (actag_decode_quad_fit, step 4): the larger
+ * of min_bit_margin and the least b with
+ *     min_bit_odds * hamming^b <= (nbits - hamming)^b
+ * (none for hamming 0 or min_bit_odds 1; ACTAG_FIT_MIN_BIT_ODDS says why),
+ * compared exactly in integers. Returns 33 (no reading leads by that much)
+ * when no b up to 32 does (always when 2 hamming >= nbits), and for
+ * arguments outside nbits 1..32, hamming 0..nbits, min_bit_margin 0..32,
+ * min_bit_odds 1..1000000. No error codes.
+ * Examples (min_bit_margin 2, min_bit_odds 100): 20 bits read (24-bit
+ * families): hamming 0 or 1 -> 2, 2 or 3 -> 3, 4 -> 4; 24 bits (28-bit
+ * families): 1 or 2 -> 2, 3 -> 3. */
+int actag_fit_bit_lead(int hamming, int nbits, int min_bit_margin, int min_bit_odds);
+
 /* Checks *fp: level in [0, 1], min_contrast 0..255, sample_offset in
- * [0, 0.5], min_margin in [-1e6, 1e6], min_bit_margin 0..32,
+ * [0, 0.5], min_margin in [-1e6, 1e6], min_bit_margin 0..32, min_bit_odds
+ * 1..1000000,
  * many_corrections 0..33, many_corrections_margin in [0, 1e6], not both
  * ACTAG_FIT_ONLY_UNMIRRORED and ACTAG_FIT_ONLY_MIRRORED (other unknown flag
  * bits are ignored). Returns ACTAG_OK, ACTAG_ERR_NULL or ACTAG_ERR_PARAM;
@@ -320,7 +357,10 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      (under independent Gaussian cell noise this is maximum likelihood).
  *      Its hard distance `hamming` (over the counted bits) must be within
  *      max_corrections, and lead every other reading by min_bit_margin
- *      bits (bit_margin); a tie between the two handednesses is no reading.
+ *      bits (bit_margin) and, with h > 0 corrected bits of the n counted,
+ *      by enough bits b that min_bit_odds h^b <= (n - h)^b
+ *      (ACTAG_FIT_MIN_BIT_ODDS); a tie between the two handednesses is no
+ *      reading.
  *      Second grid: when the fitted grid gives no reading (grid outside
  *      the image, too little contrast, no split within max_corrections, an
  *      ambiguous split or handedness, the template check or the margins of

@@ -57,6 +57,7 @@ static const field fields[] = {
     F("fit_min_contrast", K_INT, tuning.fit.min_contrast, 1),
     F("fit_sample_offset", K_FLOAT, tuning.fit.sample_offset, 1),
     F("fit_min_bit_margin", K_INT, tuning.fit.min_bit_margin, 1),
+    F("fit_min_bit_odds", K_INT, tuning.fit.min_bit_odds, 1),
     F("fit_many_corrections", K_INT, tuning.fit.many_corrections, 1),
     F("fit_many_corrections_margin", K_FLOAT, tuning.fit.many_corrections_margin, 1),
     F("min_structure", K_FLOAT, tuning.min_structure, 1),

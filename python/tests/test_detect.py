@@ -114,7 +114,7 @@ def test_defaults_are_the_c_defaults():
                     min_side_fraction=0.5, max_side_fraction=1.6, search_candidates=2,
                     search_min_score=15, search_max_corrections=3, search_min_margin=1.0,
                     search_range_scale=0.75, refine_corners=1, fit_level=0.5, fit_min_contrast=5,
-                    fit_sample_offset=0.2, min_margin=2.0, fit_min_bit_margin=2,
+                    fit_sample_offset=0.2, min_margin=2.0, fit_min_bit_margin=2, fit_min_bit_odds=100,
                     fit_many_corrections=3, fit_many_corrections_margin=1.5)
     for k, v in expected.items():
         if isinstance(v, float):  # C floats

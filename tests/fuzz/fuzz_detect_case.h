@@ -13,7 +13,10 @@
  *              (fz_float)
  *   family:    selector (u8), subset size (u16)
  *   params:    every actag_params field in declaration order (fz_int /
- *              fz_float around its default)
+ *              fz_float around its default), but tuning.fit.min_bit_odds,
+ *              which came later and keeps its default (a field read here
+ *              would move every later byte of the corpus' inputs;
+ *              test_decode checks actag_fit_bit_lead on every valid input)
  *   call:      max_out (fz_int), workspace mode (u8), workspace extra (u16),
  *              workspace misalignment (u8 % 16), stats (u8: odd = none),
  *              multi (u8: >= 224 also runs actag_detect_multi; below 224, the

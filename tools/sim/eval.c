@@ -75,6 +75,8 @@ static void usage(FILE *f)
         "                         handedness; default any). The tagged frames of a run with\n"
         "                         unmirrored want --mirror-fraction 0\n"
         "  --min-bit-margin N     least lead in corrected bits over the runner-up\n"
+        "  --min-bit-odds N       least odds of the lead from the corrected bits (decode.h;\n"
+        "                         library default 100, 1: off)\n"
         "  --plane-sd M --plane-tilt-deg D  give each pose fit the tag's plane as a vehicle\n"
         "                         would know it (pose.h KNOWN PLANE): the true face plane,\n"
         "                         its offset and normal perturbed by these sds (default: none)\n"
@@ -226,6 +228,7 @@ typedef struct {
     float min_margin, search_min_margin; /* < 0: the library's defaults */
     float many_margin;                   /* < 0: the library's default */
     int min_bit_margin;                  /* < 0: the library's default */
+    int min_bit_odds;                    /* < 1: the library's default */
     float plane_sd, plane_tilt;          /* --plane-sd (m), --plane-tilt-deg (rad); 0: off */
     int handedness;                      /* actag_params.handedness (default any) */
     float min_structure, min_side;       /* < 0: the library's defaults */
@@ -398,6 +401,8 @@ static void tag_params(const eval_ctx *c, actag_params *p)
         p->min_margin = c->min_margin;
     if (c->min_bit_margin >= 0)
         p->tuning.fit.min_bit_margin = c->min_bit_margin;
+    if (c->min_bit_odds >= 1)
+        p->tuning.fit.min_bit_odds = c->min_bit_odds;
     if (c->min_structure >= 0.0f)
         p->tuning.min_structure = c->min_structure;
     if (c->min_side >= 0.0f)
@@ -1038,6 +1043,7 @@ int main(int argc, char **argv)
     c.min_margin = c.search_min_margin = -1.0e6f;
     c.many_margin = -1.0f;
     c.min_bit_margin = -1;
+    c.min_bit_odds = 0;
     c.min_structure = c.min_side = -1.0f;
     c.median_radius = c.median_per_range = -1;
     pool = simio_opt_defaults(argc, argv, &c.sonar, &c.view, &c.app); /* --pool first */
@@ -1099,6 +1105,10 @@ int main(int argc, char **argv)
             tagged_opt = o;
             NEED();
             c.min_bit_margin = (int)inum(o, v, 0, 32);
+        } else if (!strcmp(o, "--min-bit-odds")) {
+            tagged_opt = o;
+            NEED();
+            c.min_bit_odds = (int)inum(o, v, 1, 1000000);
         } else if (!strcmp(o, "--search-min-margin")) {
             tagged_opt = o;
             NEED();
@@ -1306,6 +1316,7 @@ int main(int argc, char **argv)
             {"min_margin", "--min-margin", 0},
             {"handedness", "--handedness", 0},
             {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
+            {"tuning.fit.min_bit_odds", "--min-bit-odds", 0},
             {"tuning.min_structure", "--min-structure", 0},
             {"tuning.min_side_fraction", "--min-side-fraction", 0},
             {"tuning.median_radius", "--median-radius", 0},

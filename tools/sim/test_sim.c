@@ -520,14 +520,18 @@ static void test_render_errors(void)
  * the correction limit is `limit_margin` (decode.h,
  * ACTAG_FIT_MANY_CORRECTIONS_MARGIN) and the median's radius per range
  * band is `per_range` (tuning.median_per_range: 1 the default, 0 radius 4
- * on every row, as the regression scenes were found before it); trace (may
+ * on every row, as the regression scenes were found before it), the bit
+ * lead's odds `bit_odds` (tuning.fit.min_bit_odds: ACTAG_FIT_MIN_BIT_ODDS
+ * the default, 1 the rule off, as the scenes were found before it, so that
+ * the rules they pin are seen to fire); trace (may
  * be NULL) sees the candidates (actag_detect_traced). Returns the number of
  * detections. */
 static uint8_t scene_img[1024 * 1024]; /* the frame detect_scene rendered last */
 
 static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
                         uint32_t fs, const sim_tag *t, int mirrored, float limit_margin,
-                        int per_range, actag_detection det[8], actag_trace_fn trace, void *user)
+                        int per_range, int bit_odds, actag_detection det[8],
+                        actag_trace_fn trace, void *user)
 {
     uint8_t *img = scene_img;
     static uint8_t ws[ACTAG_WORKSPACE_SIZE(1024, 1024)];
@@ -545,6 +549,7 @@ static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appea
     p.tag_size = t->tag_size;
     p.tuning.fit.many_corrections_margin = limit_margin;
     p.tuning.median_per_range = per_range;
+    p.tuning.fit.min_bit_odds = bit_odds;
     f.data = img;
     f.rows = s->rows;
     f.cols = s->cols;
@@ -565,7 +570,8 @@ static void check_scene_traced(const sim_sonar *s, const sim_scene *sc, const si
 {
     actag_detection det[8];
     int n, k;
-    n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, det, trace,
+    n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
+                     ACTAG_FIT_MIN_BIT_ODDS, det, trace,
                      user);
     for (k = 0; k < n; k++) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
@@ -632,7 +638,7 @@ static const scene_run *check_scene(const sim_sonar *s, const sim_scene *sc,
         actag_detection det[8];
         float side = hypotf(r.tr.px[1].x - r.tr.px[0].x, r.tr.px[1].y - r.tr.px[0].y);
         int k, c, n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN,
-                                   1, det, NULL, NULL);
+                                   1, ACTAG_FIT_MIN_BIT_ODDS, det, NULL, NULL);
         for (k = 0; k < n; k++) {
             TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
             TEST_ASSERT_EQUAL_INT_MESSAGE(mirrored, det[k].mirrored, what);
@@ -643,8 +649,8 @@ static const scene_run *check_scene(const sim_sonar *s, const sim_scene *sc,
         }
     }
     /* the rules: as the scene was found, radius 4 on every row (redecode
-     * reads that filtered frame too) */
-    r.n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 0, r.det,
+     * reads that filtered frame too) and no bit-lead odds */
+    r.n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 0, 1, r.det,
                        log_candidate, &r);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.overflow, what);
     /* check_scene_traced's checks on the same detections */
@@ -715,7 +721,8 @@ static void expect_traced_refusal(const scene_run *r, int kind, int wrong_id, in
  * that stage (ACTAG_FIT_WIDE for search positions and guesses): `checked`,
  * with the default parameters' template check (ACTAG_FIT_VERIFY) and
  * margins; else with neither (no template check, min_margin,
- * min_bit_margin or correction-limit margin): the nearest-code reading.
+ * min_bit_margin, min_bit_odds or correction-limit margin): the
+ * nearest-code reading.
  * Returns the decoder's code; *id and *mirrored on ACTAG_OK. */
 static int redecode(const scene_run *r, const scene_candidate *q, int checked, int *id,
                     int *mirrored)
@@ -739,6 +746,7 @@ static int redecode(const scene_run *r, const scene_candidate *q, int checked, i
         fp.flags &= ~ACTAG_FIT_VERIFY;
         fp.min_margin = -1e6f;
         fp.min_bit_margin = 0;
+        fp.min_bit_odds = 1;
         fp.many_corrections = 33;
     }
     rc = actag_decode_quad_fit(grey, rows, cols, cols, q->quad, &r->t->family,
@@ -1129,7 +1137,7 @@ static void test_regression_m10_heldout13004_frame49(void)
         r.what = "held-out AcTag24m10 run 13004 frame 49 at the defaults";
         r.flip = actag_geometry_mirrors(&c.s.geo, c.s.cols);
         r.n = detect_scene(&c.s, &c.sc, &c.a, c.fs, &c.t, 1, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
-                           r.det, log_candidate, &r);
+                           ACTAG_FIT_MIN_BIT_ODDS, r.det, log_candidate, &r);
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.overflow, r.what);
         /* at most the mirrored tag 0 (case_check: a reading there is the
          * right one), never the search's unmirrored reading */
@@ -1247,6 +1255,18 @@ static void test_regression_pool_h8_seed9609_frame435(void)
     expect_traced_refusal(r, ACTAG_TRACE_QUAD, 8, 0, ACTAG_TRACE_RIVAL);
     /* and the guess's right reading, contested by it, is not reported */
     expect_traced_refusal(r, ACTAG_TRACE_GUESS, 27, 1, ACTAG_TRACE_RIVAL);
+    /* (that was with the bit lead's odds off, as the frame was found); at
+     * the defaults they refuse the quad's reading of tag 8 (2 corrected bits
+     * of the 20 read, a lead of 2), so nothing contests the guess's right
+     * reading, which is reported */
+    {
+        actag_detection det[8];
+        int n = detect_scene(&c.s, &c.sc, &c.a, c.fs, &c.t, 1, ACTAG_FIT_MANY_CORRECTIONS_MARGIN,
+                             1, ACTAG_FIT_MIN_BIT_ODDS, det, NULL, NULL);
+        TEST_ASSERT_EQUAL_INT(1, n);
+        TEST_ASSERT_EQUAL_INT(27, det[0].id);
+        TEST_ASSERT_EQUAL_INT(1, det[0].mirrored);
+    }
 }
 
 /* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
@@ -1254,7 +1274,8 @@ static void test_regression_pool_h8_seed9609_frame435(void)
  * extra margin at the correction limit it is misread (another ID or the
  * other handedness) `wrong_without` times (0 or 1), each with that many
  * corrections at a margin below min_margin + ACTAG_FIT_MANY_CORRECTIONS_MARGIN;
- * with it, whatever is read there is right. */
+ * with it, whatever is read there is right (both with the bit lead's odds
+ * off, as the frames were found, so that the limit rule is what fires). */
 static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored,
                              int wrong_without, int wrong_id, int wrong_mirrored,
                              const char *what)
@@ -1266,7 +1287,7 @@ static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored
     actag_detection det[8];
     int n, k, wrong = 0;
     uint32_t fs = eval_frame(0, "AcTag24h10", seed, frame, id, &s, &a, &t, &sc);
-    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, 0, det, NULL, NULL);
+    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, 0, 1, det, NULL, NULL);
     for (k = 0; k < n; k++)
         if (det[k].id != id || det[k].mirrored != mirrored) {
             TEST_ASSERT_TRUE(det[k].hamming >= ACTAG_FIT_MANY_CORRECTIONS);
@@ -1301,6 +1322,52 @@ static void test_regression_seed313_frame860(void)
 static void test_regression_seed314_frame920(void)
 {
     check_limit_rule(314u, 920u, 6, 1, 0, 6, 0, "the wrong handedness of seed 314 frame 920");
+}
+
+/* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
+ * appearance) holds tag `id` with the mirrored flag `mirrored`. With the
+ * bit lead's odds off (tuning.fit.min_bit_odds 1) it is misread as tag
+ * `wrong_id` with the flag `wrong_mirrored`, a reading of `hamming`
+ * corrected bits that leads its runner-up by fewer bits than the default
+ * odds ask (actag_fit_bit_lead); at the defaults whatever is read there is
+ * right (check_scene_traced). */
+static void check_odds_rule(uint32_t seed, uint32_t frame, int id, int mirrored, int wrong_id,
+                            int wrong_mirrored, int hamming, const char *what)
+{
+    sim_sonar s;
+    sim_appearance a;
+    sim_tag t;
+    sim_scene sc;
+    actag_detection det[8];
+    int n, k, wrong = 0;
+    uint32_t fs = eval_frame(0, "AcTag24h10", seed, frame, id, &s, &a, &t, &sc);
+    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, 1, det,
+                     NULL, NULL);
+    for (k = 0; k < n; k++)
+        if (det[k].id == wrong_id && det[k].mirrored == wrong_mirrored &&
+            det[k].hamming == hamming)
+            wrong++;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, wrong, what);
+    TEST_ASSERT_TRUE_MESSAGE(actag_fit_bit_lead(hamming, 20, ACTAG_FIT_MIN_BIT_MARGIN,
+                                                ACTAG_FIT_MIN_BIT_ODDS) > ACTAG_FIT_MIN_BIT_MARGIN,
+                             what);
+    check_scene_traced(&s, &sc, &a, fs, &t, id, mirrored, what, NULL, NULL);
+}
+
+/* The three wrong IDs of actag-eval --frames 1000 at seeds 101-111 (the
+ * paper's settings, 2026-12-07; seeds nobody tuned on), each the other
+ * handedness of another ID, read by a RANSAC quad with a lead of 2
+ * corrected bits: seed 102 frame 724, a mirrored tag 0 at 4.72 m and 70
+ * degrees read as tag 4 (hamming 3, margin 12.5); seed 110 frame 250, a
+ * mirrored tag 1 at 2.54 m and 77 degrees read as tag 4 (hamming 2, margin
+ * 7.6); seed 111 frame 507, an unmirrored tag 2 at 3.58 m and 62 degrees
+ * read as a mirrored tag 6 (hamming 3, margin 5.0). The bit lead's odds
+ * (decode.h ACTAG_FIT_MIN_BIT_ODDS) refuse them. */
+static void test_regression_bit_odds_paper_seeds(void)
+{
+    check_odds_rule(102u, 724u, 0, 1, 4, 0, 3, "the wrong ID of seed 102 frame 724");
+    check_odds_rule(110u, 250u, 1, 1, 4, 0, 2, "the wrong ID of seed 110 frame 250");
+    check_odds_rule(111u, 507u, 2, 0, 6, 1, 3, "the wrong ID of seed 111 frame 507");
 }
 
 /* Search readings refused at the end as contested (trace callback). */
@@ -1340,8 +1407,8 @@ static void test_regression_h8_seed401_frame672(void)
     memset(&log, 0, sizeof log);
     check_scene_traced(&s, &sc, &a, fs, &t, 5, 0, "the wrong ID of AcTag24h8 seed 401 frame 672",
                        NULL, NULL);
-    n = detect_scene(&s, &sc, &a, fs, &t, 0, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, det,
-                     log_contested, &log);
+    n = detect_scene(&s, &sc, &a, fs, &t, 0, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
+                     ACTAG_FIT_MIN_BIT_ODDS, det, log_contested, &log);
     /* the search box no longer reads tag 32 there (its own grid is read
      * with at most 1 corrected bit: decode_fit_grids.h, blind), so nothing
      * is contested and the quad's right reading is reported */
@@ -1450,7 +1517,10 @@ static void test_regression_seed12_frame759(void)
  * - `actag-sim --pool --seed 902 --random 375`, frames 353 (tag 2) and 374
  *   (tag 5), both mirrored: the fit from the quad (16.6 and 18.3 px off at
  *   one corner) is refused, and the second start from the decoder's fitted
- *   grid (detect.c, refine_det) succeeds. */
+ *   grid (detect.c, refine_det) succeeds.
+ * The views are read with the bit lead's odds off (min_bit_odds 1): this
+ * tests the refinement, and at the default odds seed 931 frame 18 reads
+ * nothing (its readings lead by too few bits for their corrections). */
 static void test_refined_corners_of_hard_views(void)
 {
     enum { PAPER, POOL, NEAR };
@@ -1483,7 +1553,7 @@ static void test_refined_corners_of_hard_views(void)
         }
         sample_frame(&s, &v, fs, cases[i].id, &t, &sc);
         n = detect_scene(&s, &sc, &a, fs, &t, cases[i].mirrored,
-                         ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, det, NULL, NULL);
+                         ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, 1, det, NULL, NULL);
         TEST_ASSERT_EQUAL_INT(1, n);
         TEST_ASSERT_EQUAL_INT(cases[i].id, det[0].id);
         sim_truth_of(&s, &t, &tr);
@@ -1664,6 +1734,7 @@ int main(void)
     RUN_TEST(test_regression_m10_heldout13004_frame49);
     RUN_TEST(test_regression_coarse_seed9213_frame149);
     RUN_TEST(test_regression_pool_h8_seed9609_frame435);
+    RUN_TEST(test_regression_bit_odds_paper_seeds);
     RUN_TEST(test_regression_coarse_seed9722_frame177);
     RUN_TEST(test_regression_coarse_own_handedness);
     return UNITY_END();

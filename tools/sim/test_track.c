@@ -575,9 +575,10 @@ static void test_a_damaged_tag_is_read_where_it_is_predicted(void)
         }
         printf("full_every %d: damaged frames %d, read by the tracker %d\n", every, tried, read);
         TEST_ASSERT_TRUE(tried >= 5);
-        /* 5 of 10 and 1 of 10 here; none before the verify's own budget
-         * and its run on whole-frame frames */
-        TEST_ASSERT_TRUE(every == 1 ? 2 * read >= tried : read >= 1);
+        /* 4 of 10 and 2 of 10 here (5 and 2 before the bit lead's odds,
+         * decode.h ACTAG_FIT_MIN_BIT_ODDS, refused one verify); none before
+         * the verify's own budget and its run on whole-frame frames */
+        TEST_ASSERT_TRUE(every == 1 ? 5 * read >= 2 * tried : read >= 1);
     }
 }
 
