@@ -255,7 +255,12 @@ typedef struct actag_tuning {
                                    same default). Change only to study the decoder, except
                                    fit.many_corrections_margin (1.5): the extra margin a
                                    reading with 3 or more corrected bits needs, raise it on
-                                   murky sonars, 0 for recall where a wrong ID costs little. */
+                                   murky sonars, 0 for recall where a wrong ID costs little;
+                                   and fit.min_bit_odds (100): how much a reading with
+                                   corrected bits must lead the next view by in bits (3 for
+                                   2 or 3 corrected bits of a 24-bit tag), 10 for 4-5 % more
+                                   far or blurred readings where a wrong ID costs little,
+                                   1000 where none may happen. */
     float min_structure;        /* fraction, 0..1 (default 0): the fit decoder's black-ring
                                    and white-interior fractions must reach this; the misses
                                    below 1 are charged to the corrections budget anyway, which
