@@ -1192,9 +1192,9 @@ static int fjudge_reading(fjudge *J, int recheck, float *margin)
  * decode.h describes. regrid: this is the quad's own grid read
  * after the fitted one read nothing (one more grid in the look-elsewhere
  * allowance). *ambig (if not NULL) gets bit 1 when the template check
- * refused the reading because a rival template came within the margin
- * (amb holds the pair), bit 2 when the bit lead's odds refused it
- * (actag_fit_bit_lead; no rival recorded).
+ * refused the reading because a rival template came within the margin, or
+ * the bit lead's odds did (actag_fit_bit_lead; amb then holds the reading
+ * and its nearest other view in bits, both on this grid).
  * recheck (bits): FIT_RECHECK, before accepting a tightly polished
  * reading, polish every candidate template again over the ascent's full
  * range; FIT_RECHECK_FAR, polish the reading's template and its
@@ -1275,15 +1275,26 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
         }
         /* the bit margin and its odds (ACTAG_FIT_MIN_BIT_ODDS) need no
          * template check: refuse before it. A reading the odds refuse has
-         * a view too near for its bit errors: the place is ambiguous (2:
-         * no rival recorded), so the quad's own grid is read with the
-         * recheck, as after a rival's refusal */
+         * a view too near for its bit errors: it is refused as too close
+         * to call, as by a rival template (*ambig, amb: the reading and
+         * its nearest other view in bits, on this grid), so that the
+         * quad's own grid is read with the recheck and the pair contests
+         * other readings of the place (detect.c: the contour's guesses,
+         * the search's readings) as a rival's refusal does */
         if (ml.h2 - ml.best.hamming < fp->min_bit_margin)
             return ACTAG_ERR_NO_MATCH;
         if (ml.h2 - ml.best.hamming < actag_fit_bit_lead(ml.best.hamming, actag_popcount32(keep),
                                                           fp->min_bit_margin, fp->min_bit_odds)) {
+            if (amb) {
+                int jj, near = 0;
+                for (jj = 1; jj < ml.ntop; jj++)
+                    if (near == 0 || ml.top[jj].h < ml.top[near].h)
+                        near = jj;
+                famb_set(&amb[0], gr, k, ml.top[0].id, ml.top[0].view);
+                famb_set(&amb[1], gr, k, ml.top[near].id, ml.top[near].view);
+            }
             if (ambig)
-                *ambig |= 2;
+                *ambig |= 1;
             return ACTAG_ERR_NO_MATCH;
         }
         /* Look-elsewhere allowance: the best of N hypotheses (8 views of
@@ -1554,7 +1565,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
      * read while the quad's own grid does: read that grid too (one more
      * grid in the look-elsewhere allowance). */
     if (rc == ACTAG_ERR_NO_MATCH && !(flags & ACTAG_FIT_NO_SEARCH) && qmax >= 0) {
-        int ambig2 = 0, first = amb && amb->amb; /* (ambig & 2 names no rival) */
+        int ambig2 = 0, first = amb && amb->amb;
         /* the first grid's ambiguity, if any, stays in r; the second's
          * goes to r (none before) or r2 */
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, qmax, fp, keep, q, 1, m,
