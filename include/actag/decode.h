@@ -359,8 +359,9 @@ int actag_fit_params_validate(const actag_fit_params *fp, actag_error_detail *de
  *      max_corrections, and lead every other reading by min_bit_margin
  *      bits (bit_margin) and, with h > 0 corrected bits of the n counted,
  *      by enough bits b that min_bit_odds h^b <= (n - h)^b
- *      (ACTAG_FIT_MIN_BIT_ODDS); a tie between the two handednesses is no
- *      reading.
+ *      (ACTAG_FIT_MIN_BIT_ODDS; a reading refused by that counts as too
+ *      close to call, as a rival template's refusal in step 5 does); a tie
+ *      between the two handednesses is no reading.
  *      Second grid: when the fitted grid gives no reading (grid outside
  *      the image, too little contrast, no split within max_corrections, an
  *      ambiguous split or handedness, the template check or the margins of
