@@ -776,7 +776,7 @@ typedef struct fjudge {
 static int fjudge_refuse(const fjudge *J, const fgrid *g, int id, int view)
 {
     if (J->ambig)
-        *J->ambig |= 1;
+        *J->ambig = 1;
     if (J->amb)
         famb_set(&J->amb[1], g, J->k, id, view);
     return ACTAG_ERR_NO_MATCH;
@@ -984,7 +984,7 @@ static int fjudge_far(const fjudge *J)
             famb_set(&J->amb[1], &g, k, bid, bv);
         if (ffit(J->im, &g, k, J->mt, J->L, J->erase, 0, J->m, &rf, NULL)) {
             if (J->ambig)
-                *J->ambig |= 1;
+                *J->ambig = 1;
             return ACTAG_ERR_NO_MATCH;
         }
     }
@@ -1191,7 +1191,7 @@ static int fjudge_reading(fjudge *J, int recheck, float *margin)
  * check with the checks after it (fjudge_reading), as the manual in
  * decode.h describes. regrid: this is the quad's own grid read
  * after the fitted one read nothing (one more grid in the look-elsewhere
- * allowance). *ambig (if not NULL) gets bit 1 when the template check
+ * allowance). *ambig (if not NULL) is set to 1 when the template check
  * refused the reading because a rival template came within the margin, or
  * the bit lead's odds did (actag_fit_bit_lead; amb then holds the reading
  * and its nearest other view in bits, both on this grid).
@@ -1294,7 +1294,7 @@ static int fread_grid(const fimg *im, const fgrid *gr, const fgrid *g_quad, int 
                 famb_set(&amb[1], gr, k, ml.top[near].id, ml.top[near].view);
             }
             if (ambig)
-                *ambig |= 1;
+                *ambig = 1;
             return ACTAG_ERR_NO_MATCH;
         }
         /* Look-elsewhere allowance: the best of N hypotheses (8 views of
@@ -1553,13 +1553,13 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
     if (hopeless) {
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, qmax, fp, keep, q, 1, m,
                         out, &ambig, 0, amb ? amb->r : NULL);
-        if (amb && rc == ACTAG_ERR_NO_MATCH && (ambig & 1))
+        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig)
             amb->amb = 1;
         return rc;
     }
     rc = fread_grid(&im, &gr, &g_quad, k, family, max_corrections, fp, keep, q, 0, m, out,
                     &ambig, far, amb ? amb->r : NULL);
-    if (amb && rc == ACTAG_ERR_NO_MATCH && (ambig & 1))
+    if (amb && rc == ACTAG_ERR_NO_MATCH && ambig)
         amb->amb = 1;
     /* The code-agnostic fit can settle on a lattice where the tag does not
      * read while the quad's own grid does: read that grid too (one more
@@ -1571,7 +1571,7 @@ int actag__decode_quad_fit_grids(const uint8_t *grey, int rows, int cols, int st
         rc = fread_grid(&im, &g_quad, &g_quad, k, family, qmax, fp, keep, q, 1, m,
                         out, &ambig2, (ambig ? FIT_RECHECK : 0) | far,
                         amb ? (first ? amb->r2 : amb->r) : NULL);
-        if (amb && rc == ACTAG_ERR_NO_MATCH && (ambig2 & 1)) {
+        if (amb && rc == ACTAG_ERR_NO_MATCH && ambig2) {
             if (first)
                 amb->amb2 = 1;
             else

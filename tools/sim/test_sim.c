@@ -1325,34 +1325,33 @@ static void test_regression_seed314_frame920(void)
     check_limit_rule(314u, 920u, 6, 1, 0, 6, 0, "the wrong handedness of seed 314 frame 920");
 }
 
-/* Frame `frame` of `actag-eval --seed seed` (the paper's settings, default
- * appearance) holds tag `id` with the mirrored flag `mirrored`. With the
- * bit lead's odds off (tuning.fit.min_bit_odds 1) it is misread as tag
- * `wrong_id` with the flag `wrong_mirrored`, a reading of `hamming`
- * corrected bits that leads its runner-up by fewer bits than the default
- * odds ask (actag_fit_bit_lead); at the defaults whatever is read there is
- * right (check_scene_traced). */
-static void check_odds_rule(uint32_t seed, uint32_t frame, int id, int mirrored, int wrong_id,
-                            int wrong_mirrored, int hamming, const char *what)
+/* Frame `frame` of `actag-eval --family family --seed seed` (the paper's
+ * settings, default appearance) holds tag `id` with the mirrored flag
+ * `mirrored`. With the bit lead's odds off (tuning.fit.min_bit_odds 1)
+ * exactly one detection reads tag `off_id` with the flag `off_mirrored` and
+ * `hamming` corrected bits, a count whose lead the default odds ask more of
+ * than min_bit_margin (actag_fit_bit_lead); at the defaults whatever is read
+ * there is right (check_scene_traced). Returns the number of detections
+ * with the odds off. */
+static int check_odds_rule(const char *family, uint32_t seed, uint32_t frame, int id,
+                           int mirrored, int off_id, int off_mirrored, int hamming,
+                           const char *what)
 {
-    sim_sonar s;
-    sim_appearance a;
-    sim_tag t;
-    sim_scene sc;
+    sim_case c;
     actag_detection det[8];
-    int n, k, wrong = 0;
-    uint32_t fs = eval_frame(0, "AcTag24h10", seed, frame, id, &s, &a, &t, &sc);
-    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, 1, det,
-                     NULL, NULL);
+    int n, k, found = 0;
+    c.fs = eval_frame(0, family, seed, frame, id, &c.s, &c.a, &c.t, &c.sc);
+    n = detect_scene(&c.s, &c.sc, &c.a, c.fs, &c.t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
+                     1, det, NULL, NULL);
     for (k = 0; k < n; k++)
-        if (det[k].id == wrong_id && det[k].mirrored == wrong_mirrored &&
-            det[k].hamming == hamming)
-            wrong++;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(1, wrong, what);
+        if (det[k].id == off_id && det[k].mirrored == off_mirrored && det[k].hamming == hamming)
+            found++;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, found, what);
     TEST_ASSERT_TRUE_MESSAGE(actag_fit_bit_lead(hamming, 20, ACTAG_FIT_MIN_BIT_MARGIN,
                                                 ACTAG_FIT_MIN_BIT_ODDS) > ACTAG_FIT_MIN_BIT_MARGIN,
                              what);
-    check_scene_traced(&s, &sc, &a, fs, &t, id, mirrored, what, NULL, NULL);
+    check_scene_traced(&c.s, &c.sc, &c.a, c.fs, &c.t, id, mirrored, what, NULL, NULL);
+    return n;
 }
 
 /* The three wrong IDs of actag-eval --frames 1000 at seeds 101-111 (the
@@ -1366,35 +1365,25 @@ static void check_odds_rule(uint32_t seed, uint32_t frame, int id, int mirrored,
  * (decode.h ACTAG_FIT_MIN_BIT_ODDS) refuse them. */
 static void test_regression_bit_odds_paper_seeds(void)
 {
-    check_odds_rule(102u, 724u, 0, 1, 4, 0, 3, "the wrong ID of seed 102 frame 724");
-    check_odds_rule(110u, 250u, 1, 1, 4, 0, 2, "the wrong ID of seed 110 frame 250");
-    check_odds_rule(111u, 507u, 2, 0, 6, 1, 3, "the wrong ID of seed 111 frame 507");
+    check_odds_rule("AcTag24h10", 102u, 724u, 0, 1, 4, 0, 3, "the wrong ID of seed 102 frame 724");
+    check_odds_rule("AcTag24h10", 110u, 250u, 1, 1, 4, 0, 2, "the wrong ID of seed 110 frame 250");
+    check_odds_rule("AcTag24h10", 111u, 507u, 2, 0, 6, 1, 3, "the wrong ID of seed 111 frame 507");
 }
 
 /* actag-eval --family AcTag24m6 --seed 1, frame 522: an unmirrored tag 18 at
  * 2.18 m and 70 degrees, read right by a RANSAC quad with 2 corrected bits
- * and a lead of 2 (margin 12.8). The bit lead's odds refuse that reading;
- * when a refusal by the odds left nothing behind, the structure search's
- * tentative reading of tag 50 (hamming 1, margin 2.9) stood unopposed and
- * was reported. The refused reading and its nearest view are now held as a
- * pair too close to call, as a rival template's refusal is, and contest
- * the search's reading at their place: nothing wrong is read. */
+ * and a lead of 2 (margin 12.8), the only detection with the odds off. The
+ * bit lead's odds refuse that reading; when a refusal by the odds left
+ * nothing behind, the structure search's tentative reading of tag 50
+ * (hamming 1, margin 2.9) stood unopposed and was reported. The refused
+ * reading and its nearest view are now held as a pair too close to call, as
+ * a rival template's refusal is, and contest the search's reading at their
+ * place: nothing wrong is read. */
 static void test_regression_bit_odds_pair_contests(void)
 {
-    sim_sonar s;
-    sim_appearance a;
-    sim_tag t;
-    sim_scene sc;
-    actag_detection det[8];
-    uint32_t fs = eval_frame(0, "AcTag24m6", 1u, 522u, 18, &s, &a, &t, &sc);
-    int n = detect_scene(&s, &sc, &a, fs, &t, 0, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, 1, det,
-                         NULL, NULL);
-    /* with the odds off, the quad's right reading */
-    TEST_ASSERT_EQUAL_INT(1, n);
-    TEST_ASSERT_EQUAL_INT(18, det[0].id);
-    TEST_ASSERT_EQUAL_INT(2, det[0].hamming);
-    check_scene_traced(&s, &sc, &a, fs, &t, 18, 0,
-                       "the wrong ID of AcTag24m6 seed 1 frame 522 (bit-odds pair)", NULL, NULL);
+    TEST_ASSERT_EQUAL_INT(1, check_odds_rule("AcTag24m6", 1u, 522u, 18, 0, 18, 0, 2,
+                                             "the wrong ID of AcTag24m6 seed 1 frame 522 "
+                                             "(bit-odds pair)"));
 }
 
 /* Search readings refused at the end as contested (trace callback). */
