@@ -341,22 +341,84 @@ static void turn_box(const actag_point q[4], float c, float s, actag_point t[4])
     }
 }
 
+/* Start t read as a tentative wide reading against blind reading *dr
+ * (its rival form a; *own its polish at its own place, computed once):
+ * -1 when t reads nothing at dr's place, 0 when it reads the same tag,
+ * handedness and corner order, 1 when it reads another one whose template
+ * explains the cells at least as well (both polished over the full range
+ * at both places, as rival_explains judges), 2 when it reads another one
+ * that does not. */
+static int start_rival(const actag__reader *r, const actag_point t[4],
+                       const actag_decode_result *dr, const actag__fit_rival *a, float *own)
+{
+    const actag_params *params = r->params;
+    actag__fit_grids gg;
+    actag_decode_result tdr;
+    actag__fit_rival o;
+    float r1, r2;
+    memset(&gg, 0, sizeof gg); /* state 0: not read before */
+    gg.blind = 1;
+    if (actag__read_wide(r, t, 0, &gg, NULL, &tdr) != ACTAG_TRACE_ACCEPTED)
+        return -1;
+    o = actag__rival_of(&tdr);
+    if (!actag__same_place(dr->fit_corners, o.fit_corners))
+        return -1;
+    if (!readings_disagree(a, &o))
+        return 0;
+    return actag__fit_rival_explains_own(r->grey, r->rows, r->cols, r->cols, params->family,
+                                         &params->tuning.fit, a->id, a->fit_corners, o.id,
+                                         o.fit_corners, &r1, &r2, own) == 1
+               ? 1
+               : 2;
+}
+
+/* q with corner j moved to the parallelogram through the other three, into
+ * t; 0 when that moves it by less than a quarter of q's mean side (q is
+ * nearly a parallelogram there: a box's completions are the box). */
+static int complete_corner(const actag_point q[4], int j, actag_point t[4])
+{
+    float side2 = 0.0f, dx, dy;
+    int i;
+    for (i = 0; i < 4; i++) {
+        dx = q[(i + 1) & 3].x - q[i].x;
+        dy = q[(i + 1) & 3].y - q[i].y;
+        side2 += 0.25f * (dx * dx + dy * dy);
+    }
+    memcpy(t, q, 4 * sizeof *t);
+    t[j].x = q[(j + 3) & 3].x + q[(j + 1) & 3].x - q[(j + 2) & 3].x;
+    t[j].y = q[(j + 3) & 3].y + q[(j + 1) & 3].y - q[(j + 2) & 3].y;
+    dx = t[j].x - q[j].x;
+    dy = t[j].y - q[j].y;
+    return dx * dx + dy * dy >= 0.0625f * side2;
+}
+
 /* A blind reading *dr (a search position's or a contour guess's, box q:
  * a start that knows the tag's size but not its turn) against the readings
- * of q turned (blind_turns, each read as a tentative wide reading): when
- * one reads another tag, handedness or corner order at the same place and
- * its template explains the cells at least as well (both polished over
- * the full range at both places, as rival_explains judges), the place has
- * two readings and *dr is refused; the first turned start that reads the
- * same tag, handedness and corner order there ends the check (two starts
- * agree), one that reads nothing says nothing. The wide search picks its
- * start grid by a code-agnostic score, so over a tag turned 30-45 degrees
- * it can settle on a grid across the tag's cells whose reading is a chance
- * word; a turned start then finds the tag's own grid, which explains the
- * cells far better (docs/decoder.md, "Blind readings and turned starts":
- * with AcTag24m10, whose one code such grids read in the wrong handedness,
- * 7 mirrored-flag and corner-order errors in 12 held-out runs, 3 after).
- * Returns 1 to refuse. */
+ * of other starts at its place, each read as a tentative wide reading
+ * (start_rival): when one reads another tag, handedness or corner order
+ * whose template explains the cells at least as well, the place has two
+ * readings and *dr is refused.
+ *   1. q with one corner completed to the parallelogram through the other
+ *      three (complete_corner; each that moves a corner by a quarter side
+ *      or more, so only a contour guess's extreme points, never a box): a
+ *      white square whose contour lost a corner's part (merged with the
+ *      ring, or cut by speckle) gives extreme points with one corner
+ *      inside the tag, and the wide search from them can settle on a grid
+ *      across the tag's cells. Every completion is tried: one made from
+ *      the misplaced corner may read the same chance word.
+ *   2. q turned (blind_turns); the first turned start that reads the same
+ *      tag, handedness and corner order ends the check (two starts agree),
+ *      one that reads nothing says nothing. The wide search picks its
+ *      start grid by a code-agnostic score, so over a tag turned 30-45
+ *      degrees it can settle on a grid across the tag's cells whose
+ *      reading is a chance word; a turned start then finds the tag's own
+ *      grid, which explains the cells far better.
+ * (docs/decoder.md, "Blind readings and turned starts": with AcTag24m10,
+ * whose one code such grids read in the wrong handedness, 7 mirrored-flag
+ * and corner-order errors in 12 held-out runs, 3 after the turns; held-out
+ * run 15046 frame 412, a guess from a white square missing its far corner,
+ * read tag 0 in the wrong handedness at margin 16.9 past the turns, and
+ * the completion refuses it.) Returns 1 to refuse. */
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
@@ -366,28 +428,19 @@ int actag__turned_rival_refuses(const actag__reader *r, const actag_point q[4],
     const actag_params *params = r->params;
     actag__fit_rival a = actag__rival_of(dr);
     float own = -1.0f; /* the reading's polish at its own place, once */
-    int i;
+    actag_point t[4];
+    int i, v;
     if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
         return 0;
+    for (i = 0; i < 4; i++)
+        if (complete_corner(q, i, t) && start_rival(r, t, dr, &a, &own) == 1)
+            return 1;
     for (i = 0; i < (int)(sizeof blind_turns / sizeof blind_turns[0]); i++) {
-        actag_point t[4];
-        actag__fit_grids gg;
-        actag_decode_result tdr;
-        actag__fit_rival o;
-        float r1, r2;
         turn_box(q, blind_turns[i][0], blind_turns[i][1], t);
-        memset(&gg, 0, sizeof gg); /* state 0: not read before */
-        gg.blind = 1;
-        if (actag__read_wide(r, t, 0, &gg, NULL, &tdr) != ACTAG_TRACE_ACCEPTED)
-            continue;
-        o = actag__rival_of(&tdr);
-        if (!actag__same_place(dr->fit_corners, o.fit_corners))
-            continue;
-        if (!readings_disagree(&a, &o))
+        v = start_rival(r, t, dr, &a, &own);
+        if (v == 0)
             return 0; /* a second start reads the same: the reading stands */
-        if (actag__fit_rival_explains_own(r->grey, r->rows, r->cols, r->cols, params->family,
-                                          &params->tuning.fit, a.id, a.fit_corners, o.id,
-                                          o.fit_corners, &r1, &r2, &own) == 1)
+        if (v == 1)
             return 1;
     }
     return 0;

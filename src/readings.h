@@ -101,9 +101,10 @@ int actag__rival_explains(const actag__reader *r, const actag_decode_result *dr,
                           const actag_decode_result *sk, int nsk, const actag__fit_rival *amb,
                           int namb, const actag_point corners[4], int *contested);
 
-/* 1 to refuse blind reading *dr of box q: a reading of q turned +30, -30
- * or +45 degrees disagrees at its place and explains the cells at least
- * as well. */
+/* 1 to refuse blind reading *dr of box q: a reading of q with one corner
+ * completed to the parallelogram through the other three, or of q turned
+ * +30, -30 or +45 degrees, disagrees at its place and explains the cells
+ * at least as well. */
 int actag__turned_rival_refuses(const actag__reader *r, const actag_point q[4],
                                 const actag_decode_result *dr);
 

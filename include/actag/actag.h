@@ -185,9 +185,11 @@ typedef struct actag_limits {
                                    search candidate's second reading, with the template
                                    check, counts with its first (at most search_candidates);
                                    so do the checks of a reported search or guess reading
-                                   from its box turned +30, -30 and +45 degrees (at most 3
-                                   wide readings and 3 template polishes each, so at most
-                                   3 x (16 guesses + search_candidates) a frame; readings.c,
+                                   from its box turned +30, -30 and +45 degrees and, for a
+                                   contour's guess, from its extreme points with one corner
+                                   completed to a parallelogram (at most 7 wide readings and
+                                   7 template polishes each, so at most 7 x (16 guesses +
+                                   search_candidates) a frame; readings.c,
                                    actag__turned_rival_refuses) */
 } actag_limits;
 

@@ -31,7 +31,9 @@
  *     ACTAG_TRACE_GUESS    when no quad of a contour reads: the grid guess from
  *                          the contour's extreme points and what the fit
  *                          decoder's wide search made of it (judged like a
- *                          search position, its turned boxes included);
+ *                          search position, its turned boxes included,
+ *                          and its extreme points with one corner
+ *                          completed to a parallelogram);
  *                          also, right after a contour
  *                          refused by size (ACTAG_TRACE_SIZE) as too large
  *                          where cells are under 10 beams, the white
@@ -101,7 +103,10 @@ extern "C" {
                                      it is not reported either; and a search
                                      position's or guess's reading that a
                                      reading of its box turned +30, -30 or +45
-                                     degrees contests in the same way (another tag,
+                                     degrees, or (a guess's) of its extreme
+                                     points with one corner completed to the
+                                     parallelogram through the other three,
+                                     contests in the same way (another tag,
                                      handedness or corner order there whose
                                      template explains the cells at least as
                                      well: docs/decoder.md, "Blind readings
