@@ -348,7 +348,7 @@ static void turn_box(const actag_point q[4], float c, float s, actag_point t[4])
  * explains the cells at least as well (both polished over the full range
  * at both places, as rival_explains judges), 2 when it reads another one
  * that does not. */
-static int start_rival(const actag__reader *r, const actag_point t[4],
+static inline int start_rival(const actag__reader *r, const actag_point t[4],
                        const actag_decode_result *dr, const actag__fit_rival *a, float *own)
 {
     const actag_params *params = r->params;
