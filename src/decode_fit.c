@@ -494,7 +494,7 @@ int actag_fit_bit_lead(int hamming, int nbits, int min_bit_margin, int min_bit_o
     uint32_t lhs[ACTAG__BIG] = {0}, rhs[ACTAG__BIG] = {0};
     int b;
     if (nbits < 1 || nbits > 32 || hamming < 0 || hamming > nbits || min_bit_margin < 0 ||
-        min_bit_margin > 32 || min_bit_odds < 1 || min_bit_odds > 1000000)
+        min_bit_margin > 32 || min_bit_odds < 1 || min_bit_odds > ACTAG_FIT_MAX_BIT_ODDS)
         return 33;
     if (hamming == 0 || min_bit_odds == 1)
         return min_bit_margin;

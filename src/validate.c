@@ -124,9 +124,9 @@ static int fit_check(const actag_fit_params *f, int lv, actag_error_detail *d)
     if (f->min_bit_margin < 0 || f->min_bit_margin > 32)
         return fail(d, ACTAG_ERR_PARAM, FN(lv, "min_bit_margin"), f->min_bit_margin,
                     "must be an integer from 0 to 32 (bits)");
-    if (f->min_bit_odds < 1 || f->min_bit_odds > 1000000)
+    if (f->min_bit_odds < 1 || f->min_bit_odds > ACTAG_FIT_MAX_BIT_ODDS)
         return fail(d, ACTAG_ERR_PARAM, FN(lv, "min_bit_odds"), f->min_bit_odds,
-                    "must be an integer from 1 to 1000000 (1: the rule off)");
+                    "must be an integer from 1 to " STR(ACTAG_FIT_MAX_BIT_ODDS) " (1: the rule off)");
     if (f->many_corrections < 0 || f->many_corrections > 33)
         return fail(d, ACTAG_ERR_PARAM, FN(lv, "many_corrections"), f->many_corrections,
                     "must be an integer from 0 to 33 (bits; 33: never)");

@@ -235,6 +235,8 @@ int actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
  * read, for 4-6 % fewer right readings (docs/decoder.md, "Odds from the
  * corrected bits"). */
 #define ACTAG_FIT_MIN_BIT_ODDS 100
+/* The largest min_bit_odds accepted (actag_fit_bit_lead, the validator). */
+#define ACTAG_FIT_MAX_BIT_ODDS 1000000
 
 /* Defaults of the extra margin a reading at the correction limit needs
  * (actag_fit_params.many_corrections, .many_corrections_margin): with 3 or
@@ -264,7 +266,7 @@ typedef struct actag_fit_params {
     int min_bit_margin;  /* least lead in corrected bits over any other reading
                             (ACTAG_FIT_MIN_BIT_MARGIN, 2) */
     int min_bit_odds;    /* least odds of a reading with corrected bits over the runner-up
-                            from its hard bits alone (1..1000000; default
+                            from its hard bits alone (1..ACTAG_FIT_MAX_BIT_ODDS = 1000000; default
                             ACTAG_FIT_MIN_BIT_ODDS, 100; 1 turns the rule off). Lower it
                             (e.g. 10) for recall of far or blurred tags where a wrong ID
                             does little harm; raise it (1000) where none may happen */
