@@ -374,7 +374,8 @@ static inline int start_rival(const actag__reader *r, const actag_point t[4],
 
 /* q with corner j moved to the parallelogram through the other three, into
  * t; 0 when that moves it by less than a quarter of q's mean side (q is
- * nearly a parallelogram there: a box's completions are the box). */
+ * nearly a parallelogram there: a box's completions are the box; or q
+ * is a point). */
 static int complete_corner(const actag_point q[4], int j, actag_point t[4])
 {
     float side2 = 0.0f, dx, dy;
@@ -389,7 +390,7 @@ static int complete_corner(const actag_point q[4], int j, actag_point t[4])
     t[j].y = q[(j + 3) & 3].y + q[(j + 1) & 3].y - q[(j + 2) & 3].y;
     dx = t[j].x - q[j].x;
     dy = t[j].y - q[j].y;
-    return dx * dx + dy * dy >= 0.0625f * side2;
+    return side2 > 0.0f && dx * dx + dy * dy >= 0.0625f * side2;
 }
 
 /* A blind reading *dr (a search position's or a contour guess's, box q:
