@@ -376,7 +376,7 @@ static inline int start_rival(const actag__reader *r, const actag_point t[4],
  * t; 0 when that moves it by less than a quarter of q's mean side (q is
  * nearly a parallelogram there: a box's completions are the box; or q
  * is a point). */
-static int complete_corner(const actag_point q[4], int j, actag_point t[4])
+int actag__complete_corner(const actag_point q[4], int j, actag_point t[4])
 {
     float side2 = 0.0f, dx, dy;
     int i;
@@ -400,7 +400,7 @@ static int complete_corner(const actag_point q[4], int j, actag_point t[4])
  * whose template explains the cells at least as well, the place has two
  * readings and *dr is refused.
  *   1. q with one corner completed to the parallelogram through the other
- *      three (complete_corner; each that moves a corner by a quarter side
+ *      three (actag__complete_corner; each that moves a corner by a quarter side
  *      or more, so only a contour guess's extreme points, never a box): a
  *      white square whose contour lost a corner's part (merged with the
  *      ring, or cut by speckle) gives extreme points with one corner
@@ -434,7 +434,7 @@ int actag__turned_rival_refuses(const actag__reader *r, const actag_point q[4],
     if (params->tuning.decode_mode != ACTAG_DECODE_FIT)
         return 0;
     for (i = 0; i < 4; i++)
-        if (complete_corner(q, i, t) && start_rival(r, t, dr, &a, &own) == 1)
+        if (actag__complete_corner(q, i, t) && start_rival(r, t, dr, &a, &own) == 1)
             return 1;
     for (i = 0; i < (int)(sizeof blind_turns / sizeof blind_turns[0]); i++) {
         turn_box(q, blind_turns[i][0], blind_turns[i][1], t);

@@ -101,6 +101,13 @@ int actag__rival_explains(const actag__reader *r, const actag_decode_result *dr,
                           const actag_decode_result *sk, int nsk, const actag__fit_rival *amb,
                           int namb, const actag_point corners[4], int *contested);
 
+/* q with corner j (0..3) moved to the parallelogram through the other
+ * three (q[j-1] + q[j+1] - q[j+2], indices mod 4), into t (the other
+ * corners copied); returns 1 when that moves it by at least a quarter of
+ * q's mean side, else 0 (q nearly a parallelogram there, or a point): the
+ * starts actag__turned_rival_refuses reads besides the turns. */
+int actag__complete_corner(const actag_point q[4], int j, actag_point t[4]);
+
 /* 1 to refuse blind reading *dr of box q: a reading of q with one corner
  * completed to the parallelogram through the other three, or of q turned
  * +30, -30 or +45 degrees, disagrees at its place and explains the cells

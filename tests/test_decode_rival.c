@@ -7,12 +7,17 @@
  * rival); each residual, polished from the reading's own grid, is at most
  * the brute-force residual of that grid (cell means by the straightforward
  * sampler of decode_fit_test.h, a two-level least-squares fit written out
- * here); bad arguments are errors. */
+ * here); bad arguments are errors. And the corner completions of a blind
+ * guess (src/readings.c, actag__complete_corner) against the arithmetic
+ * written out in double on random quads and on boxes, points and kites
+ * either side of the quarter-side rule. */
 #include "../src/decode_fit_grids.h"
 #include "../src/decode_fit_test.h"
 #include "actag/render.h"
 #include "actag/tag_grid.h"
 #include "actag/family.h"
+#include "actag/rng.h"
+#include "../src/readings.h"
 
 #include "unity.h"
 #include "test_util.h"
@@ -264,6 +269,94 @@ static void test_errors(void)
     }
 }
 
+/* A random coordinate in [-50, 50) pixels, from one draw. */
+static float coord(actag_rng *g)
+{
+    uint32_t u = actag_rng_next(g);
+    return (float)((double)(u >> 8) / 16777216.0 * 100.0 - 50.0);
+}
+
+/* The completion of corner j of q in double: *moved2 the squared move,
+ * *side2 the mean squared side. */
+static void complete_ref(const actag_point q[4], int j, double t[2], double *moved2,
+                         double *side2)
+{
+    int i;
+    double s = 0.0;
+    for (i = 0; i < 4; i++) {
+        double dx = (double)q[(i + 1) & 3].x - (double)q[i].x;
+        double dy = (double)q[(i + 1) & 3].y - (double)q[i].y;
+        s += 0.25 * (dx * dx + dy * dy);
+    }
+    t[0] = (double)q[(j + 3) & 3].x + (double)q[(j + 1) & 3].x - (double)q[(j + 2) & 3].x;
+    t[1] = (double)q[(j + 3) & 3].y + (double)q[(j + 1) & 3].y - (double)q[(j + 2) & 3].y;
+    *moved2 = (t[0] - q[j].x) * (t[0] - q[j].x) + (t[1] - q[j].y) * (t[1] - q[j].y);
+    *side2 = s;
+}
+
+static void test_corner_completions_match_the_arithmetic(void)
+{
+    actag_rng g;
+    int n, j, c, decided = 0, completed = 0;
+    actag_rng_seed(&g, 2026120736u);
+    for (n = 0; n < 2000; n++) {
+        actag_point q[4], t[4];
+        for (c = 0; c < 4; c++) {
+            q[c].x = coord(&g);
+            q[c].y = coord(&g);
+        }
+        for (j = 0; j < 4; j++) {
+            double ref[2], moved2, side2;
+            int got = actag__complete_corner(q, j, t);
+            complete_ref(q, j, ref, &moved2, &side2);
+            for (c = 0; c < 4; c++)
+                if (c != j) {
+                    TEST_ASSERT_EQUAL_FLOAT(q[c].x, t[c].x);
+                    TEST_ASSERT_EQUAL_FLOAT(q[c].y, t[c].y);
+                }
+            TEST_ASSERT_FLOAT_WITHIN(1e-3f, (float)ref[0], t[j].x);
+            TEST_ASSERT_FLOAT_WITHIN(1e-3f, (float)ref[1], t[j].y);
+            /* the rule, away from its float boundary */
+            if (moved2 > 0.0626 * side2 || moved2 < 0.0624 * side2) {
+                TEST_ASSERT_EQUAL_INT(moved2 >= 0.0625 * side2, got);
+                decided++;
+                completed += got;
+            }
+        }
+    }
+    /* both outcomes met (random quads are mostly far from parallelograms) */
+    TEST_ASSERT_TRUE(decided > 7000);
+    TEST_ASSERT_TRUE(completed > 0 && completed < decided);
+}
+
+static void test_corner_completions_leave_boxes_and_points(void)
+{
+    /* a turned rectangle, a sheared parallelogram and a point: no completion */
+    static const actag_point box[4] = {{10.0f, 0.0f}, {40.0f, 20.0f}, {30.0f, 35.0f},
+                                       {0.0f, 15.0f}};
+    static const actag_point para[4] = {{0.0f, 0.0f}, {30.0f, 0.0f}, {42.0f, 20.0f},
+                                        {12.0f, 20.0f}};
+    static const actag_point point[4] = {{5.0f, 5.0f}, {5.0f, 5.0f}, {5.0f, 5.0f},
+                                         {5.0f, 5.0f}};
+    /* a square of side 40 with corner 2 pulled in by 12 px along x (a
+     * quarter of the mean side is about 9.5 px): completed; by 8 px: not */
+    static const actag_point kite12[4] = {{0.0f, 0.0f}, {40.0f, 0.0f}, {28.0f, 40.0f},
+                                          {0.0f, 40.0f}};
+    static const actag_point kite8[4] = {{0.0f, 0.0f}, {40.0f, 0.0f}, {32.0f, 40.0f},
+                                         {0.0f, 40.0f}};
+    actag_point t[4];
+    int j;
+    for (j = 0; j < 4; j++) {
+        TEST_ASSERT_EQUAL_INT(0, actag__complete_corner(box, j, t));
+        TEST_ASSERT_EQUAL_INT(0, actag__complete_corner(para, j, t));
+        TEST_ASSERT_EQUAL_INT(0, actag__complete_corner(point, j, t));
+    }
+    TEST_ASSERT_EQUAL_INT(1, actag__complete_corner(kite12, 2, t));
+    TEST_ASSERT_EQUAL_FLOAT(40.0f, t[2].x); /* the square's corner back */
+    TEST_ASSERT_EQUAL_FLOAT(40.0f, t[2].y);
+    TEST_ASSERT_EQUAL_INT(0, actag__complete_corner(kite8, 2, t));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -272,5 +365,7 @@ int main(void)
     RUN_TEST(test_layouts_match_cell_values);
     RUN_TEST(test_rss_llr_uses_the_template_floor);
     RUN_TEST(test_errors);
+    RUN_TEST(test_corner_completions_match_the_arithmetic);
+    RUN_TEST(test_corner_completions_leave_boxes_and_points);
     return UNITY_END();
 }
