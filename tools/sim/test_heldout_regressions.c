@@ -56,74 +56,62 @@ static int count(const char *s, const char *what)
     return n;
 }
 
-static void test_run_13004_frame_49_is_not_read_in_the_wrong_handedness(void)
+/* Frame `frame` of held-out run `seed` (sim_args: its settings) rendered by
+ * actag-sim; its truth must hold tag 0 with `truth` (the handedness and
+ * distance the run saw), and actag_detect (detect_args: its sonar) must
+ * read it right, tag 0 once without `wrong` (the other handedness's JSON
+ * member), or not at all. */
+static void expect_tag0_right_or_unread(int seed, int frame, const char *sim_args,
+                                        const char *truth, const char *detect_args,
+                                        const char *wrong)
 {
-    char cmd[2048], path[512], *truth, *out, *frame49;
+    char cmd[2048], path[512], at[32], *text, *line, *out;
     snprintf(cmd, sizeof cmd,
-             "rm -rf \"%s\" && \"%s\" --seed 13004 --random 50 " RUN_13004
-             " --out-dir \"%s\" > /dev/null",
-             FRAMES, ACTAG_SIM_PATH, FRAMES);
+             "rm -rf \"%s\" && \"%s\" --seed %d --random %d %s --out-dir \"%s\" > /dev/null",
+             FRAMES, ACTAG_SIM_PATH, seed, frame + 1, sim_args, FRAMES);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, hostio_run(cmd, NULL), cmd);
 
-    /* the frame is the one the run saw: a mirrored tag 0 */
+    /* the frame is the one the run saw */
     snprintf(path, sizeof path, "%s/truth.jsonl", FRAMES);
-    truth = (char *)hostio_slurp(path, NULL, NULL);
-    TEST_ASSERT_NOT_NULL(truth);
-    frame49 = strstr(truth, "\"frame\": 49,"); /* the last line */
-    TEST_ASSERT_NOT_NULL_MESSAGE(frame49, "no frame 49 in truth.jsonl");
-    TEST_ASSERT_NOT_NULL(strstr(frame49, "\"id\": 0, \"tag_size\""));
-    TEST_ASSERT_NOT_NULL(strstr(frame49, "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.117"));
-    free(truth);
+    text = (char *)hostio_slurp(path, NULL, NULL);
+    TEST_ASSERT_NOT_NULL(text);
+    snprintf(at, sizeof at, "\"frame\": %d,", frame);
+    line = strstr(text, at); /* the last line */
+    TEST_ASSERT_NOT_NULL_MESSAGE(line, at);
+    TEST_ASSERT_NOT_NULL(strstr(line, "\"id\": 0, \"tag_size\""));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, truth), truth);
+    free(text);
 
     snprintf(path, sizeof path, "%s/detect.json", FRAMES);
-    snprintf(cmd, sizeof cmd,
-             "\"%s\" --family AcTag24m10 --min-range 0.1 --max-range 3.5 --aperture-deg 60 "
-             "--json \"%s\"/sim_0049.pgm > \"%s\"",
-             ACTAG_DETECT_PATH, FRAMES, path);
+    snprintf(cmd, sizeof cmd, "\"%s\" --family AcTag24m10 %s --json \"%s\"/sim_%04d.pgm > \"%s\"",
+             ACTAG_DETECT_PATH, detect_args, FRAMES, frame, path);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, hostio_run(cmd, NULL), cmd);
     out = (char *)hostio_slurp(path, NULL, NULL);
     TEST_ASSERT_NOT_NULL(out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\"detections\": ["), out);
-    /* read right (tag 0 mirrored, once) or not at all */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, count(out, "\"mirrored\": false"), out);
+    /* read right (tag 0 in the true handedness, once) or not at all */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, count(out, wrong), out);
     TEST_ASSERT_TRUE_MESSAGE(count(out, "\"id\": ") <= 1, out);
     TEST_ASSERT_EQUAL_INT_MESSAGE(count(out, "\"id\": "), count(out, "\"id\": 0,"), out);
     free(out);
 }
 
+static void test_run_13004_frame_49_is_not_read_in_the_wrong_handedness(void)
+{
+    /* a mirrored tag 0 at 2.12 m */
+    expect_tag0_right_or_unread(13004, 49, RUN_13004,
+                                "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.117",
+                                "--min-range 0.1 --max-range 3.5 --aperture-deg 60",
+                                "\"mirrored\": false");
+}
+
 static void test_run_15046_frame_412_is_not_read_in_the_wrong_handedness(void)
 {
-    char cmd[2048], path[512], *truth, *out, *frame;
-    snprintf(cmd, sizeof cmd,
-             "rm -rf \"%s\" && \"%s\" --seed 15046 --random 413 " RUN_15046
-             " --out-dir \"%s\" > /dev/null",
-             FRAMES, ACTAG_SIM_PATH, FRAMES);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, hostio_run(cmd, NULL), cmd);
-
-    /* the frame is the one the run saw: an unmirrored tag 0 at 1.13 m */
-    snprintf(path, sizeof path, "%s/truth.jsonl", FRAMES);
-    truth = (char *)hostio_slurp(path, NULL, NULL);
-    TEST_ASSERT_NOT_NULL(truth);
-    frame = strstr(truth, "\"frame\": 412,"); /* the last line */
-    TEST_ASSERT_NOT_NULL_MESSAGE(frame, "no frame 412 in truth.jsonl");
-    TEST_ASSERT_NOT_NULL(strstr(frame, "\"id\": 0, \"tag_size\""));
-    TEST_ASSERT_NOT_NULL(strstr(frame, "\"mirrored\": 0, \"visible\": 1, \"distance\": 1.129"));
-    free(truth);
-
-    snprintf(path, sizeof path, "%s/detect.json", FRAMES);
-    snprintf(cmd, sizeof cmd,
-             "\"%s\" --family AcTag24m10 --min-range 0.1 --max-range 1.5 --aperture-deg 60 "
-             "--range-ascending --json \"%s\"/sim_0412.pgm > \"%s\"",
-             ACTAG_DETECT_PATH, FRAMES, path);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, hostio_run(cmd, NULL), cmd);
-    out = (char *)hostio_slurp(path, NULL, NULL);
-    TEST_ASSERT_NOT_NULL(out);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\"detections\": ["), out);
-    /* read right (tag 0 unmirrored, once) or not at all */
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, count(out, "\"mirrored\": true"), out);
-    TEST_ASSERT_TRUE_MESSAGE(count(out, "\"id\": ") <= 1, out);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(count(out, "\"id\": "), count(out, "\"id\": 0,"), out);
-    free(out);
+    /* an unmirrored tag 0 at 1.13 m */
+    expect_tag0_right_or_unread(15046, 412, RUN_15046,
+                                "\"mirrored\": 0, \"visible\": 1, \"distance\": 1.129",
+                                "--min-range 0.1 --max-range 1.5 --aperture-deg 60 --range-ascending",
+                                "\"mirrored\": true");
 }
 
 int main(void)
