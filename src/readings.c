@@ -343,13 +343,14 @@ static void turn_box(const actag_point q[4], float c, float s, actag_point t[4])
 
 /* Start t read as a tentative wide reading against blind reading *dr
  * (its rival form a; *own its polish at its own place, computed once):
- * -1 when t reads nothing at dr's place, 0 when it reads the same tag,
- * handedness and corner order, 1 when it reads another one whose template
- * explains the cells at least as well (both polished over the full range
- * at both places, as rival_explains judges), 2 when it reads another one
- * that does not. */
+ * 0 when it reads the same tag, handedness and corner order at dr's
+ * place, 1 when it reads another one there whose template explains the
+ * cells at least as well (both polished over the full range at both
+ * places, as rival_explains judges), -1 otherwise (nothing there, or a
+ * weaker other reading: it says nothing). */
 static inline int start_rival(const actag__reader *r, const actag_point t[4],
-                       const actag_decode_result *dr, const actag__fit_rival *a, float *own)
+                              const actag_decode_result *dr, const actag__fit_rival *a,
+                              float *own)
 {
     const actag_params *params = r->params;
     actag__fit_grids gg;
@@ -369,7 +370,7 @@ static inline int start_rival(const actag__reader *r, const actag_point t[4],
                                          &params->tuning.fit, a->id, a->fit_corners, o.id,
                                          o.fit_corners, &r1, &r2, own) == 1
                ? 1
-               : 2;
+               : -1;
 }
 
 /* q with corner j moved to the parallelogram through the other three, into
