@@ -89,6 +89,9 @@ static void usage(FILE *f)
             "  --inlier-distance F    pixels (default 2.5)  --ransac-iterations N (default 100)\n"
             "  --min-structure F      least fraction of ring / interior cells read right, 0..1\n"
             "                         (default 0: the corrections budget is the gate)\n"
+            "  --min-texture-contrast F  least ratio of a reading's white-minus-ring contrast to\n"
+            "                         the cell-to-cell variation of the texture around the\n"
+            "                         tag, 0..1e6 (default 5; 0: off; actag.h)\n"
             "  --min-side-fraction F  least quad side / tag size (default 0.5; 0.4 reads more\n"
             "                         grazing views and more clutter), at most\n"
             "                         --max-side-fraction\n"
@@ -166,6 +169,7 @@ static const hostio_optname option_names[] = {
     {"tuning.decode_mode", "--decode", 0},
     {"tuning.search_candidates", "--search", 0},
     {"tuning.min_structure", "--min-structure", 0},
+    {"tuning.min_texture_contrast", "--min-texture-contrast", 0},
     {"tuning.min_side_fraction", "--min-side-fraction", 0},
     {"tuning.max_side_fraction", "--max-side-fraction", 0},
     {"tuning.search_min_margin", "--search-min-margin", 0},
@@ -335,6 +339,9 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--min-structure") == 0) {
             NEEDV();
             o->params.tuning.min_structure = fnum(a, v);
+        } else if (strcmp(a, "--min-texture-contrast") == 0) {
+            NEEDV();
+            o->params.tuning.min_texture_contrast = fnum(a, v);
         } else if (strcmp(a, "--min-side-fraction") == 0) {
             NEEDV();
             o->params.tuning.min_side_fraction = fnum(a, v);

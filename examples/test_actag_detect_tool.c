@@ -833,6 +833,8 @@ static void test_bad_options(void)
                         "--search: must be an integer from 0 to ACTAG_SEARCH_MAX (8) (got 9)");
     expect_option_error(GEO " --min-structure 1.5 " EXAMPLE,
                         "--min-structure: must be a number from 0 to 1 (got 1.5)");
+    expect_option_error(GEO " --min-texture-contrast -1 " EXAMPLE,
+                        "--min-texture-contrast: must be a number from 0 to 1e6 (got -1)");
     expect_option_error(GEO " --many-corrections-margin -1 " EXAMPLE,
                         "--many-corrections-margin: must be a number from 0 to 1e6 (got -1)");
     expect_option_error(GEO " --min-bit-margin 33 " EXAMPLE,

@@ -137,6 +137,7 @@ void actag_tuning_default(actag_tuning *t)
     /* the structure budget alone (structure_ok): a speckled ring or
      * interior cell costs what a corrected bit costs, no gate besides */
     t->min_structure = 0.0f;
+    t->min_texture_contrast = ACTAG_MIN_TEXTURE_CONTRAST;
     t->min_side_fraction = 0.5f;
     t->max_side_fraction = 1.6f;
     t->search_candidates = 2;
@@ -746,6 +747,12 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
             !actag__structure_ok(dr, params, params->max_bit_corrections)) {
             trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_STRUCTURE, q.corners,
                        q.inlier_ratio, dr);
+            rc = ACTAG_ERR_NO_MATCH;
+            continue;
+        }
+        if (!actag__texture_ok(&f->rd, dr)) {
+            trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_TEXTURE, q.corners, q.inlier_ratio,
+                       dr);
             rc = ACTAG_ERR_NO_MATCH;
             continue;
         }

@@ -5,6 +5,7 @@
 #include "readings.h"
 
 #include "size_filter.h"
+#include "texture.h"
 
 #include <string.h>
 
@@ -37,6 +38,19 @@ int actag__structure_ok(const actag_decode_result *dr, const actag_params *p, in
                  (int)((1.0f - dr->interior_white) * in + 0.5f);
     return dr->ring_black >= p->tuning.min_structure && dr->interior_white >= p->tuning.min_structure &&
            misses + dr->hamming <= limit;
+}
+
+/* The texture test (texture.h) of a fit-decoder reading: 1 when its
+ * contrast reaches tuning.min_texture_contrast times the texture's
+ * cell-to-cell variation around it, or cannot be judged, or the test is
+ * off (0); the paper's binary decoder is not judged. */
+int actag__texture_ok(const actag__reader *r, const actag_decode_result *dr)
+{
+    const actag_params *p = r->params;
+    if (p->tuning.decode_mode != ACTAG_DECODE_FIT || !(p->tuning.min_texture_contrast > 0.0f))
+        return 1;
+    return actag__texture_contrast(r->grey, r->rows, r->cols, dr->fit_corners,
+                                   p->family->bits) >= p->tuning.min_texture_contrast;
 }
 
 /* The grid-fitting decoder with the pipeline's options (flags added, and
@@ -108,6 +122,8 @@ int actag__read_wide(const actag__reader *r, const actag_point quad[4], int veri
         return ACTAG_TRACE_STRUCTURE;
     if (!actag__sides_plausible(dr->fit_corners, r->geometry, params, r->rows, r->cols))
         return ACTAG_TRACE_SIDES;
+    if (!actag__texture_ok(r, dr))
+        return ACTAG_TRACE_TEXTURE;
     return ACTAG_TRACE_ACCEPTED;
 }
 

@@ -50,6 +50,10 @@ int actag__decode_budget(actag_stats *st, const actag_params *p);
 /* The structure budget (readings.c). */
 int actag__structure_ok(const actag_decode_result *dr, const actag_params *p, int limit);
 
+/* The texture test of a fit-decoder reading (readings.c, texture.h): 0
+ * when it is refused (ACTAG_TRACE_TEXTURE). */
+int actag__texture_ok(const actag__reader *r, const actag_decode_result *dr);
+
 /* The configured decoder (tuning.decode_mode) on one quad: ACTAG_OK with
  * *dr, or the decoder's error; amb (or NULL): the hypotheses the template
  * check refused as too close to call. */

@@ -190,6 +190,9 @@ static int tuning_check(const actag_tuning *t, int lv, actag_error_detail *d)
     if (!in_range(t->min_structure, 0.0f, 1.0f))
         return fail(d, ACTAG_ERR_PARAM, TN(lv, "min_structure"), t->min_structure,
                     "must be a number from 0 to 1");
+    if (!in_range(t->min_texture_contrast, 0.0f, 1.0e6f))
+        return fail(d, ACTAG_ERR_PARAM, TN(lv, "min_texture_contrast"), t->min_texture_contrast,
+                    "must be a number from 0 to 1e6");
     if (!in_range(t->min_side_fraction, 0.0f, 1.0e6f))
         return fail(d, ACTAG_ERR_PARAM, TN(lv, "min_side_fraction"), t->min_side_fraction,
                     "must be a number from 0 to 1e6");

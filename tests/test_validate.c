@@ -149,6 +149,8 @@ static const field_case param_cases[] = {
       ACTAG_FIT_DEFAULT_FLAGS | ACTAG_FIT_ONLY_MIRRORED}, 3},
     {"tuning.min_structure", K_FLOAT, P(tuning.min_structure), ACTAG_ERR_PARAM,
      {-0.01, 1.01, NAN_}, 3, {0, 1}, 2},
+    {"tuning.min_texture_contrast", K_FLOAT, P(tuning.min_texture_contrast), ACTAG_ERR_PARAM,
+     {-0.01, 1.1e6, NAN_, INF_}, 4, {0, 1e6}, 2},
     {"tuning.min_side_fraction", K_FLOAT, P(tuning.min_side_fraction), ACTAG_ERR_PARAM,
      {-0.01, 2e6, NAN_}, 3, {0, 1.6}, 2},
     {"tuning.max_side_fraction", K_FLOAT, P(tuning.max_side_fraction), ACTAG_ERR_PARAM,

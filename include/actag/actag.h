@@ -268,6 +268,16 @@ typedef struct actag_tuning {
                                    below 1 are charged to the corrections budget anyway, which
                                    is the gate by default (1.0 refuses any miss, as before
                                    issue 8). */
+    float min_texture_contrast; /* ratio, 0..1e6 (default ACTAG_MIN_TEXTURE_CONTRAST, 5): a fit-
+                                   decoder reading's white-interior-minus-black-ring contrast
+                                   must reach this many times the sd of a cell mean of the
+                                   texture around its tag, from neighbouring cells' differences
+                                   (src/texture.h; docs/decoder.md, "The texture test").
+                                   Readings of speckle blobs measured 1.9-4.2, tags 11 or more
+                                   on the real pool frames, 7.8 or more on simulated ones.
+                                   Lower it (0: off) only where tags lie on texture as bright
+                                   as their white squares; the paper's binary decoder
+                                   (decode_mode) is not judged. */
     float min_side_fraction;    /* fraction of tag_size, [0, 1e6] (default 0.5): each quad side,
                                    measured in metres, must reach this * tag_size. Lower it
                                    (0.4) only where recall at low incidence matters more than
@@ -346,6 +356,10 @@ typedef struct actag_params {
 #define ACTAG_CORRECTIONS_AUTO (-1)
 #define ACTAG_AUTO_CORRECTIONS 3
 
+/* tuning.min_texture_contrast's default (see there). */
+#ifndef ACTAG_MIN_TEXTURE_CONTRAST
+#define ACTAG_MIN_TEXTURE_CONTRAST 5.0f
+#endif
 /* Default least decision margin of structure-search readings. */
 #ifndef ACTAG_SEARCH_MIN_MARGIN
 #define ACTAG_SEARCH_MIN_MARGIN 1.0f

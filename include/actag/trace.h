@@ -114,6 +114,11 @@ extern "C" {
 #define ACTAG_TRACE_BORDER 8      /* a guess with a corner on the frame's
                                      border: not read (its tag's data cells
                                      would leave the frame) */
+#define ACTAG_TRACE_TEXTURE 9     /* decoded, but its white-minus-ring
+                                     contrast does not stand out from the
+                                     texture around the tag by
+                                     tuning.min_texture_contrast (a blob of
+                                     the texture; actag.h, src/texture.h) */
 
 typedef struct actag_trace_event {
     int kind;                           /* ACTAG_TRACE_SEARCH / _CONTOUR / _QUAD / _GUESS */

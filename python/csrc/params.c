@@ -61,6 +61,7 @@ static const field fields[] = {
     F("fit_many_corrections", K_INT, tuning.fit.many_corrections, 1),
     F("fit_many_corrections_margin", K_FLOAT, tuning.fit.many_corrections_margin, 1),
     F("min_structure", K_FLOAT, tuning.min_structure, 1),
+    F("min_texture_contrast", K_FLOAT, tuning.min_texture_contrast, 1),
     F("min_side_fraction", K_FLOAT, tuning.min_side_fraction, 1),
     F("max_side_fraction", K_FLOAT, tuning.max_side_fraction, 1),
     F("search_candidates", K_INT, tuning.search_candidates, 1),

@@ -111,6 +111,7 @@ def test_defaults_are_the_c_defaults():
                     min_area_fraction=0.175, max_area_fraction=1.0, quad_max_iterations=100,
                     quad_sample_fraction=0.1, quad_inlier_ratio=0.8, quad_inlier_distance=2.5,
                     quad_min_parallel_cos=0.9, quad_min_inlier_ratio=0.6, min_structure=0.0,
+                    min_texture_contrast=5.0,
                     min_side_fraction=0.5, max_side_fraction=1.6, search_candidates=2,
                     search_min_score=15, search_max_corrections=3, search_min_margin=1.0,
                     search_range_scale=0.75, refine_corners=1, fit_level=0.5, fit_min_contrast=5,

@@ -81,6 +81,8 @@ static void usage(FILE *f)
         "                         would know it (pose.h KNOWN PLANE): the true face plane,\n"
         "                         its offset and normal perturbed by these sds (default: none)\n"
         "  --min-structure F --min-side-fraction F  the pipeline's structure and side gates\n"
+        "  --min-texture-contrast F  the texture test's least contrast ratio (actag.h;\n"
+        "                         library default 5, 0: off)\n"
         "  --median-radius N --median-per-range 0|1  the tagged frames' median: largest\n"
         "                         radius, and whether it follows the cell width per range\n"
         "                         (library defaults 4, 1)\n"
@@ -232,6 +234,7 @@ typedef struct {
     float plane_sd, plane_tilt;          /* --plane-sd (m), --plane-tilt-deg (rad); 0: off */
     int handedness;                      /* actag_params.handedness (default any) */
     float min_structure, min_side;       /* < 0: the library's defaults */
+    float min_texture;                   /* < 0: the library's default */
     int median_radius, median_per_range; /* < 0: the library's defaults */
     actag_family free_fam[MAX_FAM];
     int nfree_fam;
@@ -405,6 +408,8 @@ static void tag_params(const eval_ctx *c, actag_params *p)
         p->tuning.fit.min_bit_odds = c->min_bit_odds;
     if (c->min_structure >= 0.0f)
         p->tuning.min_structure = c->min_structure;
+    if (c->min_texture >= 0.0f)
+        p->tuning.min_texture_contrast = c->min_texture;
     if (c->min_side >= 0.0f)
         p->tuning.min_side_fraction = c->min_side;
     if (c->median_radius >= 0)
@@ -1045,6 +1050,7 @@ int main(int argc, char **argv)
     c.min_bit_margin = -1;
     c.min_bit_odds = 0;
     c.min_structure = c.min_side = -1.0f;
+    c.min_texture = -1.0f;
     c.median_radius = c.median_per_range = -1;
     pool = simio_opt_defaults(argc, argv, &c.sonar, &c.view, &c.app); /* --pool first */
     for (i = 1; i < argc; i++) {
@@ -1081,6 +1087,10 @@ int main(int argc, char **argv)
             tagged_opt = o;
             NEED();
             c.min_structure = (float)num(o, v, 0.0, 1.0);
+        } else if (!strcmp(o, "--min-texture-contrast")) {
+            tagged_opt = o;
+            NEED();
+            c.min_texture = (float)num(o, v, 0.0, 1e6);
         } else if (!strcmp(o, "--min-side-fraction")) {
             tagged_opt = o;
             NEED();
@@ -1318,6 +1328,7 @@ int main(int argc, char **argv)
             {"tuning.fit.min_bit_margin", "--min-bit-margin", 0},
             {"tuning.fit.min_bit_odds", "--min-bit-odds", 0},
             {"tuning.min_structure", "--min-structure", 0},
+            {"tuning.min_texture_contrast", "--min-texture-contrast", 0},
             {"tuning.min_side_fraction", "--min-side-fraction", 0},
             {"tuning.median_radius", "--median-radius", 0},
             {"tuning.median_per_range", "--median-per-range", 0},

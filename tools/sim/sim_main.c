@@ -41,6 +41,8 @@ static void usage(FILE *f)
         "  --random N             N frames of one tag (--family, --id) at random views of the\n"
         "                         evaluation protocol (tag face toward the sonar, fully in view)\n"
         "  --tag-free N           N frames of seabed and clutter only\n"
+        "  --first F              with --random or --tag-free: write only frames F..N-1, each\n"
+        "                         as a run from frame 0 writes it (one frame of a long run)\n"
         "  --sequence N           N frames of a sonar moving past one tag (--family, --id):\n"
         "                         a straight pass at constant height (tracking tests)\n"
         "  --frames N             with --tag: N frames (new noise each), default 1\n"
@@ -216,6 +218,7 @@ int main(int argc, char **argv)
     sim_scene scene;
     static sim_tag tags[SIM_MAX_TAGS];
     int ntags = 0, i, nrandom = -1, nfree = -1, nseq = -1, frames = 1, raw = 0, depth = 8;
+    int first = 0;
     int quiet = 0, fixed_id = -1, seabed_mode = 1;
     /* options given, so that one the scene would ignore is refused */
     int frames_set = 0, seabed_set = 0, aperture_set = 0;
@@ -262,6 +265,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--random")) {
             NEED();
             nrandom = (int)inum(o, v, 1, 10000000);
+        } else if (!strcmp(o, "--first")) {
+            NEED();
+            first = (int)inum(o, v, 0, 10000000);
         } else if (!strcmp(o, "--tag-free")) {
             scene_opt = o;
             NEED();
@@ -439,6 +445,14 @@ int main(int argc, char **argv)
     if (frames_set && ntags == 0)
         die("--frames: applies only with --tag (--random, --tag-free and --sequence take "
             "their frame count)");
+    if (first > 0 && nrandom <= 0 && nfree <= 0)
+        die("--first: applies only with --random or --tag-free");
+    if (first > 0 && first >= (nrandom > 0 ? nrandom : nfree)) {
+        char m[200];
+        snprintf(m, sizeof m, "--first: must be below the frame count %d (got %d)",
+                 nrandom > 0 ? nrandom : nfree, first);
+        die(m);
+    }
     if (seabed_set && ntags == 0)
         die("--seabed: applies only with --tag (the other scenes draw their own seabed)");
     if (random_opt && (ntags > 0 || nfree > 0)) {
@@ -507,7 +521,7 @@ int main(int argc, char **argv)
         snprintf(truth_path, path_size, "%s/truth.jsonl", out_dir);
         if (hostio_out_open(&g_truth, truth_path, "w", err) != HOSTIO_OK)
             die(err); /* "PATH: cannot write: REASON" */
-        for (i = 0; i < total; i++) {
+        for (i = first; i < total; i++) { /* a frame depends on its seed alone */
             uint32_t fs = sim_frame_seed(seed, (uint32_t)i);
             int t;
             memset(&scene, 0, sizeof scene);

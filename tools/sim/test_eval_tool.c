@@ -227,6 +227,39 @@ static void test_sim_writes_frames_and_truth(void)
     TEST_ASSERT_NOT_NULL(t);
     TEST_ASSERT_NULL_MESSAGE(strstr(t, "warning"), t);
     free(t);
+    /* --first 2: frame 2 alone, the file and truth line the whole run wrote */
+    {
+        char *whole, *first, *line_whole, *line_first;
+        snprintf(path, sizeof path, "%s/sim_out/sim_0002.pgm", ACTAG_BINARY_DIR);
+        whole = slurp(path);
+        snprintf(path, sizeof path, "%s/sim_out/truth.jsonl", ACTAG_BINARY_DIR);
+        t = slurp(path);
+        snprintf(args, sizeof args,
+                 "--pool --random 3 --first 2 --quiet --out-dir \"%s/sim_out3\"", ACTAG_BINARY_DIR);
+        TEST_ASSERT_EQUAL_INT(0, run(ACTAG_SIM_PATH, args));
+        snprintf(path, sizeof path, "%s/sim_out3/sim_0002.pgm", ACTAG_BINARY_DIR);
+        first = slurp(path);
+        TEST_ASSERT_NOT_NULL(whole);
+        TEST_ASSERT_NOT_NULL(first);
+        TEST_ASSERT_EQUAL_MEMORY(whole, first, 15 + 512 * 530);
+        free(whole);
+        free(first);
+        snprintf(path, sizeof path, "%s/sim_out3/sim_0001.pgm", ACTAG_BINARY_DIR);
+        TEST_ASSERT_NULL(fopen(path, "rb")); /* frames 0 and 1 not written */
+        snprintf(path, sizeof path, "%s/sim_out3/truth.jsonl", ACTAG_BINARY_DIR);
+        first = slurp(path);
+        TEST_ASSERT_NOT_NULL(first);
+        TEST_ASSERT_NOT_NULL(t);
+        /* one line, the whole run's last one from its frame number on */
+        line_whole = strstr(t, "\"frame\": 2,");
+        line_first = strstr(first, "\"frame\": 2,");
+        TEST_ASSERT_NOT_NULL(line_whole);
+        TEST_ASSERT_NOT_NULL(line_first);
+        TEST_ASSERT_NULL(strstr(first, "\"frame\": 1,"));
+        TEST_ASSERT_EQUAL_STRING(line_whole, line_first);
+        free(first);
+        free(t);
+    }
 }
 
 static void expect_error(const char *tool, const char *args, const char *what)
@@ -274,6 +307,9 @@ static void test_bad_options(void)
                  "/nonexistent-dir/s.jsonl",
                  "/nonexistent-dir/s.jsonl");
     expect_error(ACTAG_SIM_PATH, "--random 2", "--out-dir");
+    expect_error_of(ACTAG_SIM_PATH, "--random 2 --first 2 --out-dir /tmp", "--first", "(got 2)");
+    expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0,0,0,0 --first 1 --out-dir /tmp",
+                 "--first: applies only with --random or --tag-free");
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:99:1,0,0,0,0,0 --out-dir /tmp", "99");
     expect_error(ACTAG_SIM_PATH, "--tag AcTag24h10:1:1,0,0 --out-dir /tmp", "--tag pose");
     expect_error(ACTAG_SIM_PATH, "--random 2 --aperture-deg 400 --out-dir /tmp", "--aperture-deg");

@@ -1,7 +1,8 @@
 /* Frames of held-out runs that once gave a wrong reading, rendered again by
  * actag-sim and detected by actag_detect: each must now be read right or not
  * at all. Frame F of an actag-eval run of seed S is frame F of `actag-sim
- * --seed S --random F+1` with the run's settings (actag-eval --help).
+ * --seed S --random F+1` with the run's settings (actag-eval --help);
+ * `--first F` writes that frame alone.
  *
  * Run 13004 frame 49 (bench/heldout_sweep.py --mix any, AcTag24m10; a
  * mirrored tag 0 at 2.12 m, turned about 40 degrees in the image): the
@@ -19,7 +20,16 @@
  * tag 0 mirrored, hamming 1, margin 16.9, past the turned starts. The
  * guess with that corner completed to the parallelogram through the other
  * three reads the tag's own grid (hamming 0), which refuses it; without
- * the completions the reading comes back (checked 2026-12-07). */
+ * the completions the reading comes back (checked 2026-12-07).
+ *
+ * Run 15076 frames 304 and 405 (the paper's sonar, gain 400, noise 0.002,
+ * one look: fully developed speckle; AcTag24h10): speckle blobs far from
+ * the tag read as tag 2 at hamming 0, margin 2.8 (a RANSAC quad of 13 px
+ * at 4.3 m) and as tag 1 at hamming 2, margin 13.4 (a contour's guess).
+ * Their white-minus-ring contrast is 1.9 and 2.2 times the texture's
+ * cell-to-cell variation around them, a tag's 8 or more: the texture
+ * test (tuning.min_texture_contrast, src/texture.h) refuses them; with it
+ * off (0) both come back. */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
 #include "hostio.h"
@@ -57,38 +67,56 @@ static int count(const char *s, const char *what)
 }
 
 /* Frame `frame` of held-out run `seed` (sim_args: its settings) rendered by
- * actag-sim; its truth must hold tag 0 with `truth` (the handedness and
- * distance the run saw), and actag_detect (detect_args: its sonar) must
- * read it right, tag 0 once without `wrong` (the other handedness's JSON
- * member), or not at all. */
-static void expect_tag0_right_or_unread(int seed, int frame, const char *sim_args,
-                                        const char *truth, const char *detect_args,
-                                        const char *wrong)
+ * actag-sim into FRAMES; its truth line must hold `tag` and `truth` (the
+ * tag, its handedness and distance as the run saw them). */
+static void render_frame(int seed, int frame, const char *sim_args, const char *tag,
+                         const char *truth)
 {
-    char cmd[2048], path[512], at[32], *text, *line, *out;
+    char cmd[2048], path[512], at[32], *text, *line;
     snprintf(cmd, sizeof cmd,
-             "rm -rf \"%s\" && \"%s\" --seed %d --random %d %s --out-dir \"%s\" > /dev/null",
-             FRAMES, ACTAG_SIM_PATH, seed, frame + 1, sim_args, FRAMES);
+             "rm -rf \"%s\" && \"%s\" --seed %d --random %d --first %d %s --out-dir \"%s\" "
+             "> /dev/null",
+             FRAMES, ACTAG_SIM_PATH, seed, frame + 1, frame, sim_args, FRAMES);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, hostio_run(cmd, NULL), cmd);
-
-    /* the frame is the one the run saw */
     snprintf(path, sizeof path, "%s/truth.jsonl", FRAMES);
     text = (char *)hostio_slurp(path, NULL, NULL);
     TEST_ASSERT_NOT_NULL(text);
     snprintf(at, sizeof at, "\"frame\": %d,", frame);
     line = strstr(text, at); /* the last line */
     TEST_ASSERT_NOT_NULL_MESSAGE(line, at);
-    TEST_ASSERT_NOT_NULL(strstr(line, "\"id\": 0, \"tag_size\""));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, tag), tag);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, truth), truth);
     free(text);
+}
 
+/* actag_detect (detect_args: the sonar, family and options) on the frame
+ * render_frame wrote: its JSON line (free it). */
+static char *detect_frame(int frame, const char *detect_args)
+{
+    char cmd[2048], path[512], *out;
     snprintf(path, sizeof path, "%s/detect.json", FRAMES);
-    snprintf(cmd, sizeof cmd, "\"%s\" --family AcTag24m10 %s --json \"%s\"/sim_%04d.pgm > \"%s\"",
-             ACTAG_DETECT_PATH, detect_args, FRAMES, frame, path);
+    snprintf(cmd, sizeof cmd, "\"%s\" %s --json \"%s\"/sim_%04d.pgm > \"%s\"", ACTAG_DETECT_PATH,
+             detect_args, FRAMES, frame, path);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, hostio_run(cmd, NULL), cmd);
     out = (char *)hostio_slurp(path, NULL, NULL);
     TEST_ASSERT_NOT_NULL(out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\"detections\": ["), out);
+    return out;
+}
+
+/* Frame `frame` of held-out run `seed` (AcTag24m10; sim_args: its
+ * settings), whose truth holds tag 0 with `truth` (the handedness and
+ * distance the run saw): actag_detect (detect_args: its sonar) must read
+ * it right, tag 0 once without `wrong` (the other handedness's JSON
+ * member), or not at all. */
+static void expect_tag0_right_or_unread(int seed, int frame, const char *sim_args,
+                                        const char *truth, const char *detect_args,
+                                        const char *wrong)
+{
+    char args[1024], *out;
+    render_frame(seed, frame, sim_args, "\"id\": 0, \"tag_size\"", truth);
+    snprintf(args, sizeof args, "--family AcTag24m10 %s", detect_args);
+    out = detect_frame(frame, args);
     /* read right (tag 0 in the true handedness, once) or not at all */
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, count(out, wrong), out);
     TEST_ASSERT_TRUE_MESSAGE(count(out, "\"id\": ") <= 1, out);
@@ -114,10 +142,50 @@ static void test_run_15046_frame_412_is_not_read_in_the_wrong_handedness(void)
                                 "\"mirrored\": true");
 }
 
+/* settings_any(15076): the paper's sonar (actag-sim's defaults) */
+#define RUN_15076                                                                            \
+    "--gain 400 --noise 0.002 --psf-azimuth 0.0035 --psf-range 0.0025 --looks 1 "            \
+    "--clutter 10 --foam 2 --metal-specular 8 --mirror-fraction 1 --bands 0 "               \
+    "--family AcTag24h10"
+#define PAPER_SONAR "--min-range 0.1 --max-range 5 --aperture-deg 60"
+
+/* The frame's false tag: nothing read at the defaults, the speckle blob's
+ * reading (`blob`, its JSON) with the texture test off. */
+static void expect_speckle_refused_by_texture(int frame, const char *tag, const char *truth,
+                                              const char *blob)
+{
+    char *out;
+    render_frame(15076, frame, RUN_15076, tag, truth);
+    out = detect_frame(frame, PAPER_SONAR);
+    TEST_ASSERT_NULL_MESSAGE(strstr(out, "\"id\": "), out);
+    free(out);
+    out = detect_frame(frame, PAPER_SONAR " --min-texture-contrast 0");
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, blob), out);
+    free(out);
+}
+
+static void test_run_15076_frame_304_speckle_is_not_a_tag(void)
+{
+    /* tag 4 at 4.06 m (not read); the blob read as tag 2, hamming 0 */
+    expect_speckle_refused_by_texture(304, "\"id\": 4, \"tag_size\"",
+                                      "\"mirrored\": 1, \"visible\": 1, \"distance\": 4.058",
+                                      "\"id\": 2, \"hamming\": 0");
+}
+
+static void test_run_15076_frame_405_speckle_is_not_a_tag(void)
+{
+    /* tag 6 at 3.33 m (not read); the blob read as tag 1, hamming 2 */
+    expect_speckle_refused_by_texture(405, "\"id\": 6, \"tag_size\"",
+                                      "\"mirrored\": 1, \"visible\": 1, \"distance\": 3.334",
+                                      "\"id\": 1, \"hamming\": 2");
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_run_13004_frame_49_is_not_read_in_the_wrong_handedness);
     RUN_TEST(test_run_15046_frame_412_is_not_read_in_the_wrong_handedness);
+    RUN_TEST(test_run_15076_frame_304_speckle_is_not_a_tag);
+    RUN_TEST(test_run_15076_frame_405_speckle_is_not_a_tag);
     return UNITY_END();
 }
