@@ -496,6 +496,11 @@ typedef struct actag_params {
  *     corrections limit (min_structure 0: no separate gate; 1.0 before
  *     issue 8 cost 6 + 5 of 1,000 simulated pool views, seeds 1 and 3,
  *     and pool frame 0311, with no error either way).
+ *     And its white interior must stand out from its black ring by
+ *     min_texture_contrast (5) times the sd of a cell mean of the texture
+ *     around the tag (src/texture.h): the margin's noise is estimated
+ *     from cells chosen because they look like a tag, so single-look or
+ *     beam-blurred speckle blobs reached margins of 13 (ACTAG_TRACE_TEXTURE).
  *     Measured with actag-eval (docs/evaluation.md): 0 wrong IDs, 0 wrong
  *     handednesses and 0 corner-order errors in 1,000 simulated views at
  *     the paper's settings and 1,000 at the pool's (9 wrong IDs and 3
