@@ -107,7 +107,7 @@ static void usage(FILE *f)
         "  --failures FILE        JSON lines of frames with a wrong ID, false tag, order or\n"
         "                         mirror error; frame F of run seed S is frame F of\n"
         "                         actag-sim --seed S --random F+1 with the same sonar, view\n"
-        "                         and appearance options\n"
+        "                         and appearance options (--first F: that frame alone)\n"
         "  --quiet                no progress on stderr\n"
         "Tracking (track.h; the tag frames' pose figures are always printed):\n"
         "  --sequences N          N simulated sonar passes (sim_sequence_view) through the\n"
