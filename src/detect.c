@@ -530,8 +530,9 @@ typedef struct {
  * verdict becomes ACTAG_TRACE_RIVAL when a rival at its place explains the
  * cells at least as well: the search readings (with_search: those in f,
  * marked contested when they win) or the held hypotheses amb (namb), then
- * the readings of q turned (turned_rival_refuses). Traced as kind; returns
- * the verdict. */
+ * the readings of q turned (turned_rival_refuses); and ACTAG_TRACE_TEXTURE
+ * when it does not stand out from the texture around it (texture.h).
+ * Traced as kind; returns the verdict. */
 static inline int judge_blind(frame_run *f, int kind, int verdict, const actag_decode_result *dr,
                               int with_search, const actag__fit_rival *amb, int namb,
                               const actag_point q[4])
@@ -544,6 +545,8 @@ static inline int judge_blind(frame_run *f, int kind, int verdict, const actag_d
     if (verdict == ACTAG_TRACE_ACCEPTED &&
         actag__turned_rival_refuses(&f->rd, q, dr))
         verdict = ACTAG_TRACE_RIVAL;
+    if (verdict == ACTAG_TRACE_ACCEPTED && !actag__texture_ok(&f->rd, dr))
+        verdict = ACTAG_TRACE_TEXTURE; /* last, as in read_quads */
     trace_quad(f->tr, kind, verdict, q, 0.0f, verdict == ACTAG_TRACE_NO_MATCH ? NULL : dr);
     return verdict;
 }
@@ -750,12 +753,6 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
             rc = ACTAG_ERR_NO_MATCH;
             continue;
         }
-        if (!actag__texture_ok(&f->rd, dr)) {
-            trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_TEXTURE, q.corners, q.inlier_ratio,
-                       dr);
-            rc = ACTAG_ERR_NO_MATCH;
-            continue;
-        }
         /* a search reading here that disagrees and explains the cells at
          * least as well: no reading (another quad may) */
         if (actag__rival_explains(&f->rd, dr, f->sk_dr, f->nsk, NULL, 0, dr->corners,
@@ -792,6 +789,14 @@ static int read_quads(frame_run *f, const actag_ipoint *pts, const actag_contour
                 c->guess_read = 2;
                 return ACTAG_ERR_NO_MATCH; /* the guess is read with the check */
             }
+        }
+        /* last: a blob of the texture (texture.h), after every check whose
+         * side effects (held pairs, the guess read) judge other readings */
+        if (!actag__texture_ok(&f->rd, dr)) {
+            trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_TEXTURE, q.corners, q.inlier_ratio,
+                       dr);
+            rc = ACTAG_ERR_NO_MATCH;
+            continue;
         }
         trace_quad(f->tr, ACTAG_TRACE_QUAD, ACTAG_TRACE_ACCEPTED, q.corners, q.inlier_ratio, dr);
         *ratio = q.inlier_ratio;

@@ -43,7 +43,11 @@ int actag__structure_ok(const actag_decode_result *dr, const actag_params *p, in
 /* The texture test (texture.h) of a fit-decoder reading: 1 when its
  * contrast reaches tuning.min_texture_contrast times the texture's
  * cell-to-cell variation around it, or cannot be judged, or the test is
- * off (0); the paper's binary decoder is not judged. */
+ * off (0); the paper's binary decoder is not judged. Asked last, of a
+ * reading about to be reported (detect.c: read_quads, judge_blind), never
+ * of the readings that only contest others (turned and completed starts,
+ * a quad's cross-check, tentative search readings): a rival keeps its
+ * veto whatever its contrast, as before the test. */
 int actag__texture_ok(const actag__reader *r, const actag_decode_result *dr)
 {
     const actag_params *p = r->params;
@@ -122,8 +126,6 @@ int actag__read_wide(const actag__reader *r, const actag_point quad[4], int veri
         return ACTAG_TRACE_STRUCTURE;
     if (!actag__sides_plausible(dr->fit_corners, r->geometry, params, r->rows, r->cols))
         return ACTAG_TRACE_SIDES;
-    if (!actag__texture_ok(r, dr))
-        return ACTAG_TRACE_TEXTURE;
     return ACTAG_TRACE_ACCEPTED;
 }
 

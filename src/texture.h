@@ -49,7 +49,7 @@
  * cols) for a family of `bits` bits (16..32, a multiple of 4). Returns
  * contrast / s as above; ACTAG__TEXTURE_UNJUDGED when fewer than
  * ACTAG__TEXTURE_MIN_PAIRS pairs lie in the frame, s is 0 (a flat
- * background: a synthetic render; half the pairs alike), a ring or
+ * background: a synthetic render; more than half the pairs alike), a ring or
  * interior cell leaves the frame, or the corners are not finite. Stack:
  * about 1.3 KB (the pairs' squared differences, at most 280). */
 #define ACTAG__TEXTURE_UNJUDGED 3.0e38f

@@ -288,43 +288,61 @@ static void test_unjudged_cases(void)
     }
 }
 
-/* Where the pairs run out: a tag in the top-left corner of frames 38
- * rows high (no background above or below it) and 36 to 60 columns wide,
- * so that its background grows column by column from nothing: judged
- * exactly when the reference counts at least ACTAG__TEXTURE_MIN_PAIRS
- * pairs, and frames with 1..15 pairs and with 16 or more are both met. */
+/* Where the pairs run out: a tag near the top-left corner of frames 37 to
+ * 64 rows high and 36 to 64 columns wide, so that its background grows
+ * from nothing, a row or column of cells at a time, below and to the
+ * right: judged exactly when the reference counts at least
+ * ACTAG__TEXTURE_MIN_PAIRS pairs. Those steps skip the boundary itself,
+ * so two 20-bit placements found by a search over offsets and frame
+ * sizes give exactly ACTAG__TEXTURE_MIN_PAIRS - 1 and
+ * ACTAG__TEXTURE_MIN_PAIRS pairs (an off-by-one in the rule fails). */
+static void check_placement(uint8_t *f, int rows, int cols, int x0, int y0, int bits, int *pairs)
+{
+    actag_point q[4];
+    int i, near;
+    double want;
+    float got;
+    for (i = 0; i < rows * cols; i++)
+        f[i] = (uint8_t)tu_range(0, 60);
+    for (i = 0; i < 12 * 12; i++) /* a bright white square */
+        f[(y0 + i / 12) * cols + x0 + i % 12] = 200;
+    square_of(x0, y0, 4, q);
+    ref_pairs = 0;
+    want = ref_contrast(f, rows, cols, q, bits, &near);
+    got = actag__texture_contrast(f, rows, cols, q, bits);
+    *pairs = near ? -1 : ref_pairs;
+    if (near)
+        return;
+    if (want == -1.0) {
+        TEST_ASSERT_EQUAL_FLOAT(ACTAG__TEXTURE_UNJUDGED, got);
+    } else {
+        TEST_ASSERT_TRUE(ref_pairs >= ACTAG__TEXTURE_MIN_PAIRS);
+        TEST_ASSERT_FLOAT_WITHIN(1e-3f + 1e-3f * (float)fabs(want), (float)want, got);
+    }
+}
+
 static void test_the_least_pairs_boundary(void)
 {
-    static uint8_t f[38 * 60];
-    actag_point q[4];
-    int cols, near, few = 0, enough = 0;
+    static uint8_t f[64 * 64];
+    int rows, cols, pairs, judged = 0, unjudged = 0;
     tu_seed(5);
-    for (cols = 36; cols <= 60; cols++) {
-        int i;
-        double want;
-        float got;
-        for (i = 0; i < 38 * cols; i++)
-            f[i] = (uint8_t)tu_range(0, 60);
-        for (i = 0; i < 12 * 12; i++) /* a bright white square, 3 cells of 4 px */
-            f[(12 + i / 12) * cols + 12 + i % 12] = 200;
-        square_of(12, 12, 4, q);
-        ref_pairs = 0;
-        want = ref_contrast(f, 38, cols, q, 24, &near);
-        got = actag__texture_contrast(f, 38, cols, q, 24);
-        if (near)
-            continue;
-        if (ref_pairs > 0 && ref_pairs < ACTAG__TEXTURE_MIN_PAIRS)
-            few = 1;
-        if (ref_pairs >= ACTAG__TEXTURE_MIN_PAIRS)
-            enough = 1;
-        if (want == -1.0) {
-            TEST_ASSERT_EQUAL_FLOAT(ACTAG__TEXTURE_UNJUDGED, got);
-        } else {
-            TEST_ASSERT_TRUE(ref_pairs >= ACTAG__TEXTURE_MIN_PAIRS);
-            TEST_ASSERT_FLOAT_WITHIN(1e-3f + 1e-3f * (float)fabs(want), (float)want, got);
+    for (rows = 37; rows <= 64; rows++)
+        for (cols = 36; cols <= 64; cols++) {
+            check_placement(f, rows, cols, 12, 12, 24, &pairs);
+            judged += pairs >= ACTAG__TEXTURE_MIN_PAIRS;
+            unjudged += pairs >= 0 && pairs < ACTAG__TEXTURE_MIN_PAIRS;
         }
+    TEST_ASSERT_TRUE(judged > 0 && unjudged > 0);
+    /* exactly at the boundary: 15 pairs unjudged, 16 judged */
+    check_placement(f, 54, 48, 12, 18, 20, &pairs);
+    TEST_ASSERT_EQUAL_INT(ACTAG__TEXTURE_MIN_PAIRS - 1, pairs);
+    check_placement(f, 38, 50, 8, 8, 20, &pairs);
+    TEST_ASSERT_EQUAL_INT(ACTAG__TEXTURE_MIN_PAIRS, pairs);
+    {
+        actag_point q[4];
+        square_of(8, 8, 4, q);
+        TEST_ASSERT_TRUE(actag__texture_contrast(f, 38, 50, q, 20) != ACTAG__TEXTURE_UNJUDGED);
     }
-    TEST_ASSERT_TRUE_MESSAGE(few && enough, "both sides of the least pairs");
 }
 
 int main(void)

@@ -30,7 +30,7 @@ typedef struct {
 } tally;
 
 /* Events seen over all frames checked so far, by kind and outcome. */
-#define N_OUTCOMES (ACTAG_TRACE_BORDER + 1)
+#define N_OUTCOMES (ACTAG_TRACE_TEXTURE + 1)
 static int g_seen[5][N_OUTCOMES];
 
 /* Reference for the border rule: a corner on the frame's first or last
