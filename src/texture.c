@@ -112,10 +112,10 @@ float actag__texture_contrast(const uint8_t *grey, int rows, int cols, const act
                 m = tex_cell(H, grey, rows, cols, cx, cy);
                 if (m < 0.0f)
                     return ACTAG__TEXTURE_UNJUDGED;
-                if (cx == 1 || cx == k - 1 || cy == 1 || cy == k - 1) {
+                if (actag_tag_cell_value(0u, bits, cx, cy) == 0) { /* the black ring */
                     sb += m;
                     nb++;
-                } else {
+                } else { /* the white interior */
                     sw += m;
                     nw++;
                 }
