@@ -305,8 +305,11 @@ typedef struct actag_tuning {
     int refine_corners;         /* 0 or 1 (default 1): each detection's corners refined by
                                    fitting its decoded template to the caller's frame (the
                                    filtered one in actag_detect_inplace; refine.h); the
-                                   corners move, nothing else changes. 0
-                                   reports the quad's or the fit decoder's corners. */
+                                   corners move, nothing else changes. The fit also
+                                   starts from the fit decoder's grid when that lies more
+                                   than half a cell from the quad (the smaller residual
+                                   wins; docs/pose.md). 0 reports the quad's or the fit
+                                   decoder's corners. */
     actag_limits limits;        /* work limits per call (see actag_limits above). Raise them
                                    only if stats report a limit reached on real frames. */
 } actag_tuning;
