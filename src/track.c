@@ -391,6 +391,73 @@ static void t_window_params(const actag_track *k, const actag_params *p, actag_p
     out->tuning.median_radius = t_window_radius(w, p->tuning.median_radius);
 }
 
+/* The verify's reading (t_verify) of the track's code on grey (the w x h
+ * window) from the prediction q (window coordinates) with the fit
+ * parameters fa (the track's handedness, the pipeline's margin, with or
+ * without ACTAG_FIT_WIDE), under the rules below: 1 with the reading in
+ * *dr, 0 for none. */
+static int t_read_at(const uint8_t *grey, int w, int h, const actag_point q[4],
+                     const actag_track *k, const actag_params *p, const actag_fit_params *fa,
+                     int limit, int flip, actag_decode_result *dr)
+{
+    int kk, misses;
+    float ring, in;
+    {
+        /* Only the track's own code is a hypothesis here: another ID at the
+         * prediction could not update the track anyway, so the reading is
+         * judged against "no tag" (the decision margin) and the rotations
+         * of this one code in the track's handedness, not against the
+         * family's other codes. */
+        actag_fit_params fp = *fa;
+        actag_family own = *p->family;
+        own.codes = p->family->codes + k->id;
+        own.ncodes = 1;
+        /* no other code is a hypothesis, so none can lie as near as the
+         * read one: the extra margin at the correction limit is moot */
+        fp.many_corrections_margin = 0.0f;
+        if (actag_decode_quad_fit(grey, h, w, w, q, &own, limit, &fp, dr) != ACTAG_OK)
+            return 0;
+        dr->id = k->id;
+    }
+    kk = p->family->bits / 4;
+    ring = (float)(4 * (kk - 2));
+    in = (float)((kk - 3) * (kk - 3));
+    misses = (int)((1.0f - dr->ring_black) * ring + 0.5f) +
+             (int)((1.0f - dr->interior_white) * in + 0.5f);
+    /* One template of bits + ring + interior cells (49 for 24-bit tags)
+     * instead of the family's codes: T_VERIFY_BUDGET(limit) cells may
+     * disagree in all (ring, interior and data together), where a whole-frame
+     * reading may have `limit`. By chance a pattern of random cells lies that
+     * close to one given 49-cell template with probability
+     * sum_{e<=6} C(49,e) / 2^49 < 1e-7 per verify. */
+    if ((dr->mirrored ^ flip) != k->mirrored || dr->ring_black < p->tuning.min_structure ||
+        dr->interior_white < p->tuning.min_structure || misses + dr->hamming > T_VERIFY_BUDGET(limit))
+        return 0;
+    /* A verify refines the prediction: its grid may move, but in one ping the
+     * tag's image keeps its shape to a few pixels. A grid whose corners,
+     * about their centre, moved by more than T_VERIFY_SHAPE of the predicted
+     * diagonal was sheared onto other structure (2026-12-05: a right ID at
+     * hamming 2 with two corners 35 px off, one diagonal; a corner-order
+     * error), not the tag read. */
+    if (!(t_shape_change(q, dr->fit_corners) <= T_VERIFY_SHAPE * t_diag(q))) /* NaN too */
+        return 0;
+    /* But another tag where the track is predicted (a neighbour the
+     * prediction drifted onto, a tag put in its place) can read as the
+     * track's code when that code is the only hypothesis: its template
+     * polish bends the grid toward it (simulated swaps of the tracked tag 5
+     * for tag 4: 2 of 96 passes read tag 5 there, hamming 3, margins 13 and
+     * 20). A reading with corrected bits is therefore read again from the
+     * prediction against the whole family, in the track's handedness,
+     * under the pipeline's rules: a reading of another ID there refuses it. */
+    if (dr->hamming > 0) {
+        actag_decode_result da;
+        if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, fa, &da) == ACTAG_OK &&
+            da.id != k->id)
+            return 0;
+    }
+    return 1;
+}
+
 /* The tracked tag read where it is predicted: the ROI median-filtered and
  * the grid-fitting decoder started on the predicted corners, with the
  * pipeline's trust rules (likelihood match, template check, margin,
@@ -406,8 +473,7 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     actag_decode_result dr;
     actag_fit_params fa;
     uint8_t *grey;
-    int x0, y0, x1, y1, w, h, c, limit, rc, flip, kk, misses;
-    float ring, in;
+    int x0, y0, x1, y1, w, h, c, limit, rc, flip;
     if (frame->depth != 8 || p->tuning.decode_mode != ACTAG_DECODE_FIT || !t->params.verify)
         return 0;
     /* the track's code is read from p's family (actag_tracker_update keeps
@@ -448,57 +514,22 @@ static int t_verify(actag_tracker *t, const actag_track *k, const actag_frame *f
     fa.min_margin = p->min_margin;
     fa.flags &= ~(ACTAG_FIT_ONLY_UNMIRRORED | ACTAG_FIT_ONLY_MIRRORED);
     fa.flags |= (k->mirrored ^ flip) ? ACTAG_FIT_ONLY_MIRRORED : ACTAG_FIT_ONLY_UNMIRRORED;
-    {
-        /* Only the track's own code is a hypothesis here: another ID at the
-         * prediction could not update the track anyway, so the reading is
-         * judged against "no tag" (the decision margin) and the rotations
-         * of this one code in the track's handedness, not against the
-         * family's other codes. */
-        actag_fit_params fp = fa;
-        actag_family own = *p->family;
-        own.codes = p->family->codes + k->id;
-        own.ncodes = 1;
-        /* no other code is a hypothesis, so none can lie as near as the
-         * read one: the extra margin at the correction limit is moot */
-        fp.many_corrections_margin = 0.0f;
-        if (actag_decode_quad_fit(grey, h, w, w, q, &own, limit, &fp, &dr) != ACTAG_OK)
+    /* A prediction without a velocity (one reading so far) or after a
+     * missed frame can lie a cell or more off: a sonar passing at a few
+     * knots moves a far tag's image about a cell a ping, and the track
+     * coasted where it was. When the reading in place fails there, the
+     * grid is searched +-1 cell about the prediction (ACTAG_FIT_WIDE), as
+     * a first guess of a tag's grid is (read in place first: the wide
+     * search picks its start by a code-agnostic score and can settle a
+     * cell off a tag that reads in place). docs/tracking.md, thirty-eighth
+     * session: simulated passes of the paper's sonar 815 -> 826 of 851
+     * frames, where the frame after a one-reading confirmation had been
+     * missed, and every frame of the coast after it. */
+    if (!t_read_at(grey, w, h, q, k, p, &fa, limit, flip, &dr)) {
+        if (!(k->hits < 2 || k->missed > 0))
             return 0;
-        dr.id = k->id;
-    }
-    kk = p->family->bits / 4;
-    ring = (float)(4 * (kk - 2));
-    in = (float)((kk - 3) * (kk - 3));
-    misses = (int)((1.0f - dr.ring_black) * ring + 0.5f) +
-             (int)((1.0f - dr.interior_white) * in + 0.5f);
-    /* One template of bits + ring + interior cells (49 for 24-bit tags)
-     * instead of the family's codes: T_VERIFY_BUDGET(limit) cells may
-     * disagree in all (ring, interior and data together), where a whole-frame
-     * reading may have `limit`. By chance a pattern of random cells lies that
-     * close to one given 49-cell template with probability
-     * sum_{e<=6} C(49,e) / 2^49 < 1e-7 per verify. */
-    if ((dr.mirrored ^ flip) != k->mirrored || dr.ring_black < p->tuning.min_structure ||
-        dr.interior_white < p->tuning.min_structure || misses + dr.hamming > T_VERIFY_BUDGET(limit))
-        return 0;
-    /* A verify refines the prediction: its grid may move, but in one ping the
-     * tag's image keeps its shape to a few pixels. A grid whose corners,
-     * about their centre, moved by more than T_VERIFY_SHAPE of the predicted
-     * diagonal was sheared onto other structure (2026-12-05: a right ID at
-     * hamming 2 with two corners 35 px off, one diagonal; a corner-order
-     * error), not the tag read. */
-    if (!(t_shape_change(q, dr.fit_corners) <= T_VERIFY_SHAPE * t_diag(q))) /* NaN too */
-        return 0;
-    /* But another tag where the track is predicted (a neighbour the
-     * prediction drifted onto, a tag put in its place) can read as the
-     * track's code when that code is the only hypothesis: its template
-     * polish bends the grid toward it (simulated swaps of the tracked tag 5
-     * for tag 4: 2 of 96 passes read tag 5 there, hamming 3, margins 13 and
-     * 20). A reading with corrected bits is therefore read again from the
-     * prediction against the whole family, in the track's handedness,
-     * under the pipeline's rules: a reading of another ID there refuses it. */
-    if (dr.hamming > 0) {
-        actag_decode_result da;
-        if (actag_decode_quad_fit(grey, h, w, w, q, p->family, limit, &fa, &da) == ACTAG_OK &&
-            da.id != k->id)
+        fa.flags |= ACTAG_FIT_WIDE;
+        if (!t_read_at(grey, w, h, q, k, p, &fa, limit, flip, &dr))
             return 0;
     }
     memset(&t->det[0], 0, sizeof t->det[0]);

@@ -6,7 +6,11 @@
  *   order; for each frame the tracker
  *     1. reads every confirmed track where it is predicted ("verify"): the
  *        window around the predicted tag is median-filtered and the
- *        grid-fitting decoder (decode.h) starts on the predicted corners.
+ *        grid-fitting decoder (decode.h) starts on the predicted corners;
+ *        when that reads nothing and the track has no velocity yet (one
+ *        reading) or missed the last frame (its prediction can then be a
+ *        cell or more off), the decoder tries once more, searching +-1
+ *        cell about the prediction (ACTAG_FIT_WIDE).
  *        The window's median radius is the parameters' or half the track's
  *        predicted cell width (pixels, at least 1), whichever is smaller:
  *        a median wider than a cell erases a far tag's cells (the paper's

@@ -1128,6 +1128,57 @@ static void test_a_fast_tag_is_confirmed_and_followed(void)
     free(empty);
 }
 
+/* A prediction without a velocity, or after a missed frame, is read with
+ * the +-1 cell search (track.c, t_verify): the still tag confirmed on one
+ * strong reading (or on confirm_frames readings and then missed once),
+ * then moved `cells` cells in range, is read by the verify step alone (no
+ * ROI detector call, no whole frame). Before the search (2026-12-07) the
+ * verify read only in place and the ROI detector had to find it. */
+static int verified_after_a_move(float cells, int miss_first)
+{
+    static actag_tracker tr;
+    actag_track_params tp;
+    actag_params p;
+    actag_track out[ACTAG_TRACK_MAX];
+    actag_track_stats st;
+    uint8_t *empty = render_empty(), *moved;
+    const sim_truth *t = &truth[STILL];
+    float side = 0.5f * (hypotf(t->px[1].x - t->px[0].x, t->px[1].y - t->px[0].y) +
+                         hypotf(t->px[3].x - t->px[0].x, t->px[3].y - t->px[0].y));
+    int dy = (int)lroundf(cells * side / (float)(fam.bits / 4 - 3)), i, n = 0, ok;
+    params_of(&p);
+    actag_track_params_default(&tp);
+    tp.full_every = 1000;
+    if (!miss_first)
+        tp.confirm_margin = 0.0f; /* confirmed on its first reading: no velocity */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag_tracker_init(&tr, &tp));
+    for (i = 0; i < (miss_first ? tp.confirm_frames : 1); i++)
+        n = feed(&tr, frames[STILL], &p, out, &st);
+    TEST_ASSERT_EQUAL_INT(1, n);
+    if (miss_first) {
+        TEST_ASSERT_EQUAL_INT(0, feed(&tr, empty, &p, out, &st));
+        TEST_ASSERT_EQUAL_INT(1, tr.tracks[0].missed);
+    }
+    TEST_ASSERT_EQUAL_INT(miss_first ? tp.confirm_frames : 1, tr.tracks[0].hits);
+    moved = shifted(frames[STILL], dy, empty);
+    n = feed(&tr, moved, &p, out, &st);
+    ok = n == 1 && out[0].measured && st.verified == 1 && st.rois == 0 && !st.full_frame;
+    if (n == 1) /* read where the tag is: the corners moved with it */
+        TEST_ASSERT_FLOAT_WITHIN(0.25f * side, t->px[0].y + (float)dy, out[0].last.corners[0].y);
+    free(moved);
+    free(empty);
+    return ok;
+}
+
+static void test_a_prediction_without_velocity_is_searched_a_cell_about(void)
+{
+    TEST_ASSERT_TRUE_MESSAGE(verified_after_a_move(0.8f, 0), "one reading, moved 0.8 cell");
+    TEST_ASSERT_TRUE_MESSAGE(verified_after_a_move(-0.8f, 0), "one reading, moved -0.8 cell");
+    TEST_ASSERT_TRUE_MESSAGE(verified_after_a_move(-0.8f, 1), "missed once, moved -0.8 cell");
+    /* read in place, as before, when the tag stays */
+    TEST_ASSERT_TRUE_MESSAGE(verified_after_a_move(0.0f, 0), "one reading, still");
+}
+
 static uint8_t *render_still_as(const sim_sonar *s2, sim_truth *tr2);
 
 /* A track of one reading whose second reading comes after the sonar's
@@ -2306,6 +2357,7 @@ int main(void)
     RUN_TEST(test_a_lost_tag_is_searched_then_coasts_exactly_max_missed_frames);
     RUN_TEST(test_a_track_coasting_off_the_near_edge_is_dropped_without_error);
     RUN_TEST(test_a_fast_tag_is_confirmed_and_followed);
+    RUN_TEST(test_a_prediction_without_velocity_is_searched_a_cell_about);
     RUN_TEST(test_a_second_reading_after_a_new_setting_starts_at_rest);
     RUN_TEST(test_coasting_corners_past_the_near_edge_report_range_0);
     RUN_TEST(test_a_track_of_one_reading_takes_no_other_tracks_tag);
