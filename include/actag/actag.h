@@ -328,8 +328,10 @@ typedef struct actag_params {
     uint32_t seed;              /* RANSAC seed (default 1); any value */
     float min_margin;           /* least decision margin of a fit-decoder reading (decode.h;
                                    default ACTAG_FIT_MIN_MARGIN, 2.0), -1e6..1e6: raise it
-                                   (e.g. 3) for fewer chance readings in clutter, lower it
-                                   (e.g. -2) for recall on clean scenes. This one wins over
+                                   (e.g. 3) for fewer chance readings in clutter (held-out
+                                   runs: 4 would refuse half the rare wrong IDs for 0.6-1.6 %
+                                   of right readings, docs/evaluation.md), lower it (e.g. -2)
+                                   for recall on clean scenes. This one wins over
                                    tuning.fit.min_margin. */
     int handedness;             /* which views the sonar's mounting can show: ACTAG_HANDEDNESS_ANY
                                    (0, default), _UNMIRRORED or _MIRRORED (detection's
