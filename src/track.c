@@ -400,25 +400,23 @@ static int t_read_at(const uint8_t *grey, int w, int h, const actag_point q[4],
                      const actag_track *k, const actag_params *p, const actag_fit_params *fa,
                      int limit, int flip, actag_decode_result *dr)
 {
+    /* Only the track's own code is a hypothesis here: another ID at the
+     * prediction could not update the track anyway, so the reading is
+     * judged against "no tag" (the decision margin) and the rotations of
+     * this one code in the track's handedness, not against the family's
+     * other codes. */
+    actag_fit_params fp = *fa;
+    actag_family own = *p->family;
     int kk, misses;
     float ring, in;
-    {
-        /* Only the track's own code is a hypothesis here: another ID at the
-         * prediction could not update the track anyway, so the reading is
-         * judged against "no tag" (the decision margin) and the rotations
-         * of this one code in the track's handedness, not against the
-         * family's other codes. */
-        actag_fit_params fp = *fa;
-        actag_family own = *p->family;
-        own.codes = p->family->codes + k->id;
-        own.ncodes = 1;
-        /* no other code is a hypothesis, so none can lie as near as the
-         * read one: the extra margin at the correction limit is moot */
-        fp.many_corrections_margin = 0.0f;
-        if (actag_decode_quad_fit(grey, h, w, w, q, &own, limit, &fp, dr) != ACTAG_OK)
-            return 0;
-        dr->id = k->id;
-    }
+    own.codes = p->family->codes + k->id;
+    own.ncodes = 1;
+    /* no other code is a hypothesis, so none can lie as near as the read
+     * one: the extra margin at the correction limit is moot */
+    fp.many_corrections_margin = 0.0f;
+    if (actag_decode_quad_fit(grey, h, w, w, q, &own, limit, &fp, dr) != ACTAG_OK)
+        return 0;
+    dr->id = k->id;
     kk = p->family->bits / 4;
     ring = (float)(4 * (kk - 2));
     in = (float)((kk - 3) * (kk - 3));

@@ -56,12 +56,16 @@ void tearDown(void) {}
 
 #define FRAMES ACTAG_BINARY_DIR "/heldout_regression_frames"
 
-/* settings_any(13004) of bench/heldout_sweep.py */
-#define RUN_13004                                                                           \
+/* bench/heldout_sweep.py's 530 x 512 sonar */
+#define SONAR_530                                                                           \
     "--rows 530 --cols 512 --min-range 0.1 --max-range 3.5 --min-distance 0.5 "            \
-    "--max-distance 3 --gain 260 --noise 0.0012 --psf-azimuth 0.0035 --psf-range 0.0025 " \
-    "--looks 3 --clutter 0 --foam 0.5 --metal-specular 8 --mirror-fraction 0.5 --bands 5 " \
-    "--family AcTag24m10"
+    "--max-distance 3 "
+
+/* settings_any(13004) of bench/heldout_sweep.py */
+#define RUN_13004                                                                          \
+    SONAR_530 "--gain 260 --noise 0.0012 --psf-azimuth 0.0035 --psf-range 0.0025 --looks 3 " \
+              "--clutter 0 --foam 0.5 --metal-specular 8 --mirror-fraction 0.5 --bands 5 "   \
+              "--family AcTag24m10"
 
 /* settings_any(15046) */
 #define RUN_15046                                                                            \
@@ -79,11 +83,25 @@ static int count(const char *s, const char *what)
     return n;
 }
 
+/* The first 4 ("x_col", "y_row") pairs in s: 1 when all were found. */
+static int four_corners(const char *s, double x[4], double y[4])
+{
+    int c;
+    for (c = 0; c < 4; c++) {
+        if ((s = strstr(s, "\"x_col\": ")) == NULL || sscanf(s, "\"x_col\": %lf", &x[c]) != 1)
+            return 0;
+        if ((s = strstr(s, "\"y_row\": ")) == NULL || sscanf(s, "\"y_row\": %lf", &y[c]) != 1)
+            return 0;
+    }
+    return 1;
+}
+
 /* Frame `frame` of held-out run `seed` (sim_args: its settings) rendered by
  * actag-sim into FRAMES; its truth line must hold `tag` and `truth` (the
- * tag, its handedness and distance as the run saw them). */
+ * tag, its handedness and distance as the run saw them). tx, ty (or NULL):
+ * the tag's 4 truth corners (pixels). */
 static void render_frame(int seed, int frame, const char *sim_args, const char *tag,
-                         const char *truth)
+                         const char *truth, double tx[4], double ty[4])
 {
     char cmd[2048], path[512], at[32], *text, *line;
     snprintf(cmd, sizeof cmd,
@@ -99,6 +117,8 @@ static void render_frame(int seed, int frame, const char *sim_args, const char *
     TEST_ASSERT_NOT_NULL_MESSAGE(line, at);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, tag), tag);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(line, truth), truth);
+    if (tx != NULL)
+        TEST_ASSERT_TRUE_MESSAGE(four_corners(line, tx, ty), line);
     free(text);
 }
 
@@ -127,7 +147,7 @@ static void expect_tag0_right_or_unread(int seed, int frame, const char *sim_arg
                                         const char *wrong)
 {
     char args[1024], *out;
-    render_frame(seed, frame, sim_args, "\"id\": 0, \"tag_size\"", truth);
+    render_frame(seed, frame, sim_args, "\"id\": 0, \"tag_size\"", truth, NULL, NULL);
     snprintf(args, sizeof args, "--family AcTag24m10 %s", detect_args);
     out = detect_frame(frame, args);
     /* read right (tag 0 in the true handedness, once) or not at all */
@@ -168,7 +188,7 @@ static void expect_speckle_refused_by_texture(int frame, const char *tag, const 
                                               const char *blob)
 {
     char *out;
-    render_frame(15076, frame, RUN_15076, tag, truth);
+    render_frame(15076, frame, RUN_15076, tag, truth, NULL, NULL);
     out = detect_frame(frame, PAPER_SONAR);
     TEST_ASSERT_NULL_MESSAGE(strstr(out, "\"id\": "), out);
     free(out);
@@ -194,9 +214,6 @@ static void test_run_15076_frame_405_speckle_is_not_a_tag(void)
 }
 
 /* settings_any(15101) and settings_any(15081) */
-#define SONAR_530                                                                           \
-    "--rows 530 --cols 512 --min-range 0.1 --max-range 3.5 --min-distance 0.5 "            \
-    "--max-distance 3 "
 #define RUN_15101                                                                            \
     SONAR_530 "--gain 520 --noise 0.0003 --psf-azimuth 0.0035 --psf-range 0.0015 --looks 2 " \
               "--clutter 0 --foam 2 --metal-specular 4 --mirror-fraction 1 --bands 2 "       \
@@ -206,19 +223,6 @@ static void test_run_15076_frame_405_speckle_is_not_a_tag(void)
               "--psf-azimuth 0.0035 --psf-range 0.004 --looks 1 --clutter 20 --foam 1 "   \
               "--metal-specular 4 --mirror-fraction 1 --bands 5 --family AcTag24h10"
 
-/* The first 4 ("x_col", "y_row") pairs in s: 1 when all were found. */
-static int four_corners(const char *s, double x[4], double y[4])
-{
-    int c;
-    for (c = 0; c < 4; c++) {
-        if ((s = strstr(s, "\"x_col\": ")) == NULL || sscanf(s, "\"x_col\": %lf", &x[c]) != 1)
-            return 0;
-        if ((s = strstr(s, "\"y_row\": ")) == NULL || sscanf(s, "\"y_row\": %lf", &y[c]) != 1)
-            return 0;
-    }
-    return 1;
-}
-
 /* Frame `frame` of held-out run `seed` (sim_args), whose truth holds `tag`
  * (its JSON, "id": N, "tag_size") with `truth`: actag_detect
  * (detect_args) reads that tag once, and each reported corner lies within
@@ -227,16 +231,10 @@ static void expect_corners_at_truth(int seed, int frame, const char *sim_args, c
                                     const char *truth, const char *detect_args,
                                     const char *read_as)
 {
-    char path[512], *text, *out, at[32];
+    char *out;
     double tx[4], ty[4], dx[4], dy[4], side = 1e30, cell;
     int c;
-    render_frame(seed, frame, sim_args, tag, truth);
-    snprintf(path, sizeof path, "%s/truth.jsonl", FRAMES);
-    text = (char *)hostio_slurp(path, NULL, NULL);
-    TEST_ASSERT_NOT_NULL(text);
-    snprintf(at, sizeof at, "\"frame\": %d,", frame);
-    TEST_ASSERT_TRUE_MESSAGE(four_corners(strstr(text, at), tx, ty), text);
-    free(text);
+    render_frame(seed, frame, sim_args, tag, truth, tx, ty);
     out = detect_frame(frame, detect_args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(1, count(out, "\"id\": "), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, read_as), out);
