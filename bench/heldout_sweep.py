@@ -4,7 +4,7 @@ nobody tuned on, each with its own random sonar, orientation, appearance and
 family, so a detector rule is judged on views it was not set on.
 
 usage: bench/heldout_sweep.py ACTAG_EVAL FIRST_SEED END_SEED [--mix any|c24h10]
-       [--jobs N] [--frames N]
+       [--jobs N] [--frames N] [--eval-args "ARGS"]
 
 --mix any (default): per seed one of the paper's sonar (1024 x 512, 0.1-5 m),
   a 530 x 512 sonar at 0.1-3.5 m with tags at 0.5-3 m, or the pool recording's
@@ -12,6 +12,10 @@ usage: bench/heldout_sweep.py ACTAG_EVAL FIRST_SEED END_SEED [--mix any|c24h10]
   foam, metal, mirror fraction and interference bands from the listed values;
   AcTag24h10 in 5 runs of 8, else AcTag24h8, AcTag24m10 or AcTag28m10.
 --mix c24h10: AcTag24h10 on the 530 x 512 sonar only, milder appearance.
+
+--eval-args: more actag-eval options for every run, split at spaces, so a
+  detector option is judged on the same frames (--eval-args=--separate-noise:
+  the = lets the value start with a dash).
 
 Each seed's settings come from Python's random.Random(seed) (c24h10:
 Random(7 seed + 1)), so a run is repeatable from its seed alone; every line
@@ -77,6 +81,7 @@ def main():
     ap.add_argument("--mix", choices=["any", "c24h10"], default="any")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--frames", type=int, default=1000)
+    ap.add_argument("--eval-args", default="")
     o = ap.parse_args()
     if o.end <= o.first or o.jobs < 1 or o.frames < 1:
         print("heldout_sweep: need FIRST_SEED < END_SEED, --jobs >= 1, --frames >= 1",
@@ -86,7 +91,7 @@ def main():
 
     def run(seed):
         args, prefix = pick(seed)
-        args = args + ["--seed", str(seed)]
+        args = args + ["--seed", str(seed)] + o.eval_args.split()
         cmd = [o.eval, "--frames", str(o.frames), "--threads", "1", "--quiet",
                "--failures", f"{prefix}{seed}.fail"] + args
         p = subprocess.run(cmd, capture_output=True, text=True)

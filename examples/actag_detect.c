@@ -78,6 +78,10 @@ static void usage(FILE *f)
             "  --min-bit-odds N       a reading with corrected bits must also lead by enough bits\n"
             "                         that, at its own bit-error rate, the next is at most 1/N\n"
             "                         as likely, 1..1000000 (default 100; 1: off; decode.h)\n"
+            "  --separate-noise       where a reading's cells are far from two levels, it must\n"
+            "                         also lead with white and black cells at their own noise\n"
+            "                         (ACTAG_FIT_SEPARATE_NOISE, decode.h): fewer wrong IDs on\n"
+            "                         blurred or grazing tags, at a few %% of the readings\n"
             "  --handedness any|unmirrored|mirrored  the views the sonar's mounting can show\n"
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4): the largest; --median-per-range 0|1 (default 1):\n"
@@ -363,6 +367,8 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--min-bit-odds") == 0) {
             NEEDV();
             o->params.tuning.fit.min_bit_odds = anyint(a, v);
+        } else if (strcmp(a, "--separate-noise") == 0) {
+            o->params.tuning.fit.flags |= ACTAG_FIT_SEPARATE_NOISE;
         } else if (strcmp(a, "--handedness") == 0) {
             NEEDV(); /* the words in ACTAG_HANDEDNESS_* order */
             o->params.handedness = hostio_opt_choice(PROG, a, v, handedness_words, 3);

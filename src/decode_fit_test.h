@@ -48,6 +48,17 @@ int actag__fit_layout(const struct actag_family *family, int id, int view, uint8
  * 8, max_corrections in 0..nbits; else ACTAG_ERR_PARAM. */
 int actag__fit_blind_corrections(int nbits, int ncodes, int views, int max_corrections);
 
+/* ACTAG_FIT_SEPARATE_NOISE's score of cells m ((k+1)^2 floats in row
+ * order) under template L (1 white, 0 black): the log-likelihood, up to a
+ * constant, with the white and the black cells each at their mean and
+ * their own maximum-likelihood variance, each at least floor2:
+ *     -(nw log vw + nb log vb) / 2
+ * over the cells template_rss counts (erase != 0: the 4 corner cells of
+ * the outer ring left out). ACTAG_OK; ACTAG_ERR_NULL; ACTAG_ERR_PARAM for
+ * k outside 4..8 or floor2 not > 0. */
+int actag__fit_ll_separate(const float *m, const uint8_t *L, int k, int erase, float floor2,
+                           float *ll);
+
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define ACTAG__FIT_SIMD 1
 /* The SSE2 cell reads against the portable ones, bit for bit: what 0: the

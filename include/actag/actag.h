@@ -262,7 +262,13 @@ typedef struct actag_tuning {
                                    corrected bits must lead the next view by in bits (3 for
                                    2 or 3 corrected bits of a 24-bit tag), 10 for 4-5 % more
                                    far or blurred readings where a wrong ID costs little,
-                                   1000 where none may happen. */
+                                   1000 where none may happen; and fit.flags |=
+                                   ACTAG_FIT_SEPARATE_NOISE (off by default) where a wrong
+                                   ID costs far more than a miss on blurred or grazing
+                                   tags: poorly fitting readings must also lead with white
+                                   and black cells at their own noise (held-out runs: the
+                                   known wrong IDs refused for 1 % of simulated and 6 % of
+                                   real pool readings, docs/evaluation.md). */
     float min_structure;        /* fraction, 0..1 (default 0): the fit decoder's black-ring
                                    and white-interior fractions must reach this; the misses
                                    below 1 are charged to the corrections budget anyway, which
@@ -330,7 +336,8 @@ typedef struct actag_params {
                                    default ACTAG_FIT_MIN_MARGIN, 2.0), -1e6..1e6: raise it
                                    (e.g. 3) for fewer chance readings in clutter (held-out
                                    runs: 4 would refuse half the rare wrong IDs for 0.6-1.6 %
-                                   of right readings, docs/evaluation.md), lower it (e.g. -2)
+                                   of right readings, docs/evaluation.md; see also
+                                   ACTAG_FIT_SEPARATE_NOISE in tuning.fit), lower it (e.g. -2)
                                    for recall on clean scenes. This one wins over
                                    tuning.fit.min_margin. */
     int handedness;             /* which views the sonar's mounting can show: ACTAG_HANDEDNESS_ANY

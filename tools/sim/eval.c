@@ -71,6 +71,8 @@ static void usage(FILE *f)
         "  --min-margin F --search-min-margin F  least decision margins (library defaults)\n"
         "  --many-corrections-margin F  extra margin of readings with 3 or more corrected\n"
         "                         bits (library default 1.5; 0: none)\n"
+        "  --separate-noise       set ACTAG_FIT_SEPARATE_NOISE (decode.h): poor fits must also\n"
+        "                         lead with separate white and black cell noise\n"
         "  --handedness any|unmirrored|mirrored  the views the decoder may read (actag_params\n"
         "                         handedness; default any). The tagged frames of a run with\n"
         "                         unmirrored want --mirror-fraction 0\n"
@@ -233,6 +235,7 @@ typedef struct {
     int min_bit_odds;                    /* < 1: the library's default */
     float plane_sd, plane_tilt;          /* --plane-sd (m), --plane-tilt-deg (rad); 0: off */
     int handedness;                      /* actag_params.handedness (default any) */
+    int separate_noise;                  /* --separate-noise: ACTAG_FIT_SEPARATE_NOISE */
     float min_structure, min_side;       /* < 0: the library's defaults */
     float min_texture;                   /* < 0: the library's default */
     int median_radius, median_per_range; /* < 0: the library's defaults */
@@ -421,6 +424,8 @@ static void tag_params(const eval_ctx *c, actag_params *p)
     if (c->many_margin >= 0.0f)
         p->tuning.fit.many_corrections_margin = c->many_margin;
     p->handedness = c->handedness;
+    if (c->separate_noise)
+        p->tuning.fit.flags |= ACTAG_FIT_SEPARATE_NOISE;
 }
 
 static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t wss)
@@ -1127,6 +1132,9 @@ int main(int argc, char **argv)
             tagged_opt = o;
             NEED();
             c.many_margin = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--separate-noise")) {
+            tagged_opt = o;
+            c.separate_noise = 1;
         } else if (!strcmp(o, "--handedness")) {
             static const char *const words[3] = {"any", "unmirrored", "mirrored"};
             NEED(); /* the words in ACTAG_HANDEDNESS_* order */
