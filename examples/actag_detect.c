@@ -78,10 +78,12 @@ static void usage(FILE *f)
             "  --min-bit-odds N       a reading with corrected bits must also lead by enough bits\n"
             "                         that, at its own bit-error rate, the next is at most 1/N\n"
             "                         as likely, 1..1000000 (default 100; 1: off; decode.h)\n"
-            "  --separate-noise       where a reading's cells are far from two levels, it must\n"
-            "                         also lead with white and black cells at their own noise\n"
-            "                         (ACTAG_FIT_SEPARATE_NOISE, decode.h): fewer wrong IDs on\n"
-            "                         blurred or grazing tags, at a few %% of the readings\n"
+            "  --level-noise 0|1      where a reading's cells are far from two levels, it must\n"
+            "                         also lead with black and white cells at their own noise\n"
+            "                         (ACTAG_FIT_LEVEL_NOISE, decode.h; default 1)\n"
+            "  --separate-noise       stricter: each template at its own black and white noise\n"
+            "                         (ACTAG_FIT_SEPARATE_NOISE): fewer wrong IDs on blurred or\n"
+            "                         grazing tags, at a few %% of the readings\n"
             "  --handedness any|unmirrored|mirrored  the views the sonar's mounting can show\n"
             "                         (default any; a sonar upright above seabed tags: unmirrored)\n"
             "  --median-radius N      (default 4): the largest; --median-per-range 0|1 (default 1):\n"
@@ -162,6 +164,8 @@ static void usage(FILE *f)
 
 /* --handedness: ACTAG_HANDEDNESS_ANY, _UNMIRRORED, _MIRRORED in order. */
 static const char *const handedness_words[3] = {"any", "unmirrored", "mirrored"};
+/* --level-noise: off, on */
+static const char *const zero_one_words[2] = {"0", "1"};
 
 /* The options that set library fields, for the library's error details. */
 static const hostio_optname option_names[] = {
@@ -367,6 +371,12 @@ static void parse_options(int argc, char **argv, options *o, const char **files,
         } else if (strcmp(a, "--min-bit-odds") == 0) {
             NEEDV();
             o->params.tuning.fit.min_bit_odds = anyint(a, v);
+        } else if (strcmp(a, "--level-noise") == 0) {
+            NEEDV();
+            if (hostio_opt_choice(PROG, a, v, zero_one_words, 2))
+                o->params.tuning.fit.flags |= ACTAG_FIT_LEVEL_NOISE;
+            else
+                o->params.tuning.fit.flags &= ~ACTAG_FIT_LEVEL_NOISE;
         } else if (strcmp(a, "--separate-noise") == 0) {
             o->params.tuning.fit.flags |= ACTAG_FIT_SEPARATE_NOISE;
         } else if (strcmp(a, "--handedness") == 0) {

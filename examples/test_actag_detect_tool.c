@@ -195,6 +195,24 @@ static void test_min_bit_odds_option(void)
     free(o);
 }
 
+/* --level-noise and --separate-noise: the example's tag 0 is read with
+ * cell noise well under a fifth of its contrast, so neither check applies
+ * and every setting gives the reference line (that they reach the decoder
+ * on poorly fitting tags: tools/sim/test_heldout_regressions.c). A value
+ * other than 0 or 1 is refused naming the option. */
+static void test_level_noise_options(void)
+{
+    char *o;
+    expect_default_with("--level-noise 0");
+    expect_default_with("--level-noise 1");
+    expect_default_with("--separate-noise");
+    expect_default_with("--level-noise 0 --separate-noise");
+    TEST_ASSERT_EQUAL_INT(2, run(GEO " --level-noise 2 " EXAMPLE));
+    o = err_text();
+    TEST_ASSERT_NOT_NULL(strstr(o, "--level-noise"));
+    free(o);
+}
+
 /* The first tag's pose line of text output o: its t and the sd of t_z. */
 static void pose_line(const char *o, float t[3], float *sd_z)
 {
@@ -1112,6 +1130,7 @@ int main(void)
     RUN_TEST(test_bad_options);
     RUN_TEST(test_min_bit_margin_option);
     RUN_TEST(test_min_bit_odds_option);
+    RUN_TEST(test_level_noise_options);
     RUN_TEST(test_pose_plane_options);
     RUN_TEST(test_options_that_need_others);
     RUN_TEST(test_report_coasting);

@@ -374,32 +374,30 @@ static float template_rss(const float *m, const uint8_t *L, int k, int erase, in
     return ss - (nw ? sw * sw / (float)nw : 0.0f) - (nb ? sb * sb / (float)nb : 0.0f);
 }
 
-/* ACTAG_FIT_SEPARATE_NOISE: the template check also scores each template
- * with the white and the black cells at their own level and their own
- * noise variance (speckle is multiplicative: bright cells vary more, and a
- * blurred or faded tag's white cells spread far more than its ring). It
- * applies when the reading's own template leaves cell noise above this
- * fraction of the contrast (the two-level model then explains the cells
- * poorly, and its equal-variance margin overstates the lead): at 0.2 a
- * cell misreads with probability 0.6 % (Phi(-0.5 / 0.2)). Measured
- * (docs/evaluation.md, thirty-ninth session): the seven wrong IDs of the
- * held-out sweeps had 0.24-0.32; a tenth of the paper seed's right
- * readings lie above 0.2. */
-#define FIT_SEPARATE_NOISE_GATE 0.2f
+/* The level-noise checks of the template check (ACTAG_FIT_LEVEL_NOISE,
+ * ACTAG_FIT_SEPARATE_NOISE) apply when the reading's own template leaves
+ * cell noise above this fraction of the contrast: the two-level model with
+ * one noise variance then explains the cells poorly, and speckle being
+ * multiplicative, a blurred or faded tag's white cells spread far more than
+ * its ring. At 0.2 a cell misreads with probability 0.6 % (Phi(-0.5 /
+ * 0.2)). Measured (docs/evaluation.md, thirty-ninth session): the seven
+ * wrong IDs of the held-out sweeps had 0.24-0.32; a tenth of the right
+ * readings at the paper's settings lie above 0.2; below it the checks
+ * refused only right readings. */
+#define FIT_LEVEL_NOISE_GATE 0.2f
 
-/* The log-likelihood (nats, up to a constant every template shares) of
- * cells m under template L when the white and the black cells each have
- * their own mean and their own noise variance, each variance at least
- * floor2 (maximum likelihood: the class's mean square about its mean).
- * Cells as template_rss counts them. */
-static float template_ll_separate(const float *m, const uint8_t *L, int k, int erase,
-                                  float floor2)
+/* The black (0) and white (1) cells of template L as template_rss counts
+ * them: how many (cnt) and their sum of squares about their own mean (ss),
+ * in two passes (means, then squares about them: one pass's sum of squares
+ * minus the squared sum loses the variance of bright cells). */
+static void template_class_ss(const float *m, const uint8_t *L, int k, int erase, int cnt[2],
+                              float ss[2])
 {
-    int n = k + 1, cx, cy, pass, cnt[2] = {0, 0};
-    float sum[2] = {0.0f, 0.0f}, mean[2] = {0.0f, 0.0f}, ss[2] = {0.0f, 0.0f}, ll = 0.0f;
-    /* two passes (means, then squares about them): one pass's sum of
-     * squares minus the squared sum loses the variance of bright cells */
-    for (pass = 0; pass < 2; pass++)
+    int n = k + 1, cx, cy, pass;
+    float sum[2] = {0.0f, 0.0f}, mean[2] = {0.0f, 0.0f};
+    cnt[0] = cnt[1] = 0;
+    ss[0] = ss[1] = 0.0f;
+    for (pass = 0; pass < 2; pass++) {
         for (cy = 0; cy < n; cy++) {
             int c0 = erase && (cy == 0 || cy == k);
             for (cx = c0; cx <= k - c0; cx++) {
@@ -411,27 +409,70 @@ static float template_ll_separate(const float *m, const uint8_t *L, int k, int e
                 } else
                     ss[w] += (v - mean[w]) * (v - mean[w]);
             }
-            if (pass == 0 && cy == k) {
-                mean[0] = cnt[0] ? sum[0] / (float)cnt[0] : 0.0f;
-                mean[1] = cnt[1] ? sum[1] / (float)cnt[1] : 0.0f;
-            }
         }
-    for (pass = 0; pass < 2; pass++)
-        if (cnt[pass]) {
-            float v = ss[pass] / (float)cnt[pass];
-            ll -= 0.5f * (float)cnt[pass] * actag_logf(v < floor2 ? floor2 : v);
-        }
-    return ll;
+        mean[0] = cnt[0] ? sum[0] / (float)cnt[0] : 0.0f;
+        mean[1] = cnt[1] ? sum[1] / (float)cnt[1] : 0.0f;
+    }
 }
 
-int actag__fit_ll_separate(const float *m, const uint8_t *L, int k, int erase, float floor2,
-                           float *ll)
+/* The level-noise model of one reading: its black and white cells' noise
+ * variances (unbiased, each at least the floor) and their logs. */
+typedef struct fnoise_lv {
+    float var[2], lvar[2];
+} fnoise_lv;
+
+static void fnoise_lv_of(const int cnt[2], const float ss[2], float floor2, fnoise_lv *F)
 {
-    if (!m || !L || !ll)
+    int w;
+    for (w = 0; w < 2; w++) {
+        float v = cnt[w] > 1 ? ss[w] / (float)(cnt[w] - 1) : floor2;
+        F->var[w] = v < floor2 ? floor2 : v;
+        F->lvar[w] = actag_logf(F->var[w]);
+    }
+}
+
+/* -2 log-likelihood (up to a constant every template shares) of a
+ * template's cells (cnt, ss as template_class_ss gives them): level noise
+ * (ACTAG_FIT_LEVEL_NOISE), the reading's variances F for every template,
+ * as s^2 is the reading's for the margin; separate noise
+ * (ACTAG_FIT_SEPARATE_NOISE), each template's own maximum-likelihood
+ * variances, floored (a generalised likelihood ratio: stricter). */
+static float fdev_level(const int cnt[2], const float ss[2], const fnoise_lv *F)
+{
+    return ss[0] / F->var[0] + ss[1] / F->var[1] + (float)cnt[0] * F->lvar[0] +
+           (float)cnt[1] * F->lvar[1];
+}
+
+static float fdev_separate(const int cnt[2], const float ss[2], float floor2)
+{
+    float d = 0.0f;
+    int w;
+    for (w = 0; w < 2; w++)
+        if (cnt[w]) {
+            float v = ss[w] / (float)cnt[w];
+            d += (float)cnt[w] * actag_logf(v < floor2 ? floor2 : v);
+        }
+    return d;
+}
+
+int actag__fit_level_devs(const float *m, const uint8_t *L, int k, int erase, float floor2,
+                          const float var[2], float *level, float *separate)
+{
+    int cnt[2];
+    float ss[2];
+    fnoise_lv F;
+    if (!m || !L || !var || !level || !separate)
         return ACTAG_ERR_NULL;
-    if (k < 4 || k > ACTAG_DECODE_MAX_K || !(floor2 > 0.0f))
+    if (k < 4 || k > ACTAG_DECODE_MAX_K || !(floor2 > 0.0f) || !(var[0] > 0.0f) ||
+        !(var[1] > 0.0f))
         return ACTAG_ERR_PARAM;
-    *ll = template_ll_separate(m, L, k, erase != 0, floor2);
+    template_class_ss(m, L, k, erase != 0, cnt, ss);
+    F.var[0] = var[0];
+    F.var[1] = var[1];
+    F.lvar[0] = actag_logf(var[0]);
+    F.lvar[1] = actag_logf(var[1]);
+    *level = fdev_level(cnt, ss, &F);
+    *separate = fdev_separate(cnt, ss, floor2);
     return ACTAG_OK;
 }
 
@@ -859,8 +900,9 @@ static const fgrid *fjudge_start(const fjudge *J, int jj)
 static int fjudge_templates(fjudge *J, float *margin)
 {
     const actag_soft_match *ml = J->ml;
-    float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, ll0 = 0.0f, lead_sep = 1e30f;
-    int jj, rc, separate = 0;
+    float rss0 = 0.0f, rss2 = 1e30f, s2 = 1.0f, lead_lv = 1e30f, dev0[2] = {0.0f, 0.0f}, ss[2];
+    int jj, rc, levels = 0, cnt[2];
+    fnoise_lv F = {{1.0f, 1.0f}, {0.0f, 0.0f}};
     J->ncand = 0;
     for (jj = 0; jj < ml->ntop; jj++) {
         J->cid[J->ncand] = ml->top[jj].id;
@@ -911,12 +953,17 @@ static int fjudge_templates(fjudge *J, float *margin)
             rss0 = r;
             J->floor2 = fnoise_floor2(J->contrast);
             s2 = fcell_noise2(rss0, J->nc, J->floor2);
-            separate = (J->flags & ACTAG_FIT_SEPARATE_NOISE) &&
-                       s2 > FIT_SEPARATE_NOISE_GATE * FIT_SEPARATE_NOISE_GATE * J->contrast *
-                                J->contrast;
-            if (separate) { /* the cells of the polished grid, not of its last trial */
+            /* the level-noise checks, for a poor fit (FIT_LEVEL_NOISE_GATE) */
+            levels = s2 > FIT_LEVEL_NOISE_GATE * FIT_LEVEL_NOISE_GATE * J->contrast *
+                              J->contrast
+                         ? J->flags & (ACTAG_FIT_LEVEL_NOISE | ACTAG_FIT_SEPARATE_NOISE)
+                         : 0;
+            if (levels) { /* the cells of the polished grid, not of its last trial */
                 actag__fit_cells(J->im, &g, J->k, J->mt, J->erase);
-                ll0 = template_ll_separate(J->mt, J->L, J->k, J->erase, J->floor2);
+                template_class_ss(J->mt, J->L, J->k, J->erase, cnt, ss);
+                fnoise_lv_of(cnt, ss, J->floor2, &F);
+                dev0[0] = fdev_level(cnt, ss, &F);
+                dev0[1] = fdev_separate(cnt, ss, J->floor2);
             }
             continue;
         }
@@ -927,14 +974,20 @@ static int fjudge_templates(fjudge *J, float *margin)
          * would. */
         if (r <= rss0 || 0.5f * (r - rss0) / s2 - J->look < J->fp->min_margin)
             return fjudge_refuse(J, fjudge_start(J, jj), J->cid[jj], J->cview[jj]);
-        if (separate) { /* the same lead under separate white and black noise */
-            float lead;
+        if (levels) { /* the same lead under each level's own noise */
+            float lead = 1e30f;
             actag__fit_cells(J->im, &g, J->k, J->mt, J->erase);
-            lead = ll0 - template_ll_separate(J->mt, J->L, J->k, J->erase, J->floor2);
+            template_class_ss(J->mt, J->L, J->k, J->erase, cnt, ss);
+            if (levels & ACTAG_FIT_LEVEL_NOISE)
+                lead = 0.5f * (fdev_level(cnt, ss, &F) - dev0[0]);
+            if (levels & ACTAG_FIT_SEPARATE_NOISE) {
+                float l2 = 0.5f * (fdev_separate(cnt, ss, J->floor2) - dev0[1]);
+                lead = l2 < lead ? l2 : lead;
+            }
             if (lead - J->look < J->fp->min_margin)
                 return fjudge_refuse(J, fjudge_start(J, jj), J->cid[jj], J->cview[jj]);
-            if (lead < lead_sep)
-                lead_sep = lead;
+            if (lead < lead_lv)
+                lead_lv = lead;
         }
         if (r < rss2)
             rss2 = r;
@@ -942,8 +995,8 @@ static int fjudge_templates(fjudge *J, float *margin)
     J->rss0 = rss0;
     J->s2 = s2;
     *margin = 0.5f * (rss2 - rss0) / s2;
-    if (lead_sep < *margin) /* the lead under the less favourable noise model */
-        *margin = lead_sep;
+    if (lead_lv < *margin) /* the lead under the least favourable noise model */
+        *margin = lead_lv;
     return ACTAG_OK;
 }
 

@@ -48,16 +48,17 @@ int actag__fit_layout(const struct actag_family *family, int id, int view, uint8
  * 8, max_corrections in 0..nbits; else ACTAG_ERR_PARAM. */
 int actag__fit_blind_corrections(int nbits, int ncodes, int views, int max_corrections);
 
-/* ACTAG_FIT_SEPARATE_NOISE's score of cells m ((k+1)^2 floats in row
- * order) under template L (1 white, 0 black): the log-likelihood, up to a
- * constant, with the white and the black cells each at their mean and
- * their own maximum-likelihood variance, each at least floor2:
- *     -(nw log vw + nb log vb) / 2
- * over the cells template_rss counts (erase != 0: the 4 corner cells of
- * the outer ring left out). ACTAG_OK; ACTAG_ERR_NULL; ACTAG_ERR_PARAM for
- * k outside 4..8 or floor2 not > 0. */
-int actag__fit_ll_separate(const float *m, const uint8_t *L, int k, int erase, float floor2,
-                           float *ll);
+/* The level-noise scores of the template check (ACTAG_FIT_LEVEL_NOISE,
+ * ACTAG_FIT_SEPARATE_NOISE) of cells m ((k+1)^2 floats in row order) under
+ * template L (1 white, 0 black), over the cells template_rss counts (erase
+ * != 0: the outer ring's 4 corner cells left out), with nb, nw the black
+ * and white cells and ssb, ssw their sums of squares about their own means:
+ *     *level    = ssb / var[0] + ssw / var[1] + nb ln var[0] + nw ln var[1]
+ *     *separate = nb ln max(ssb / nb, floor2) + nw ln max(ssw / nw, floor2)
+ * (an empty class adds nothing). ACTAG_OK; ACTAG_ERR_NULL; ACTAG_ERR_PARAM
+ * for k outside 4..8, floor2 or a variance not > 0. */
+int actag__fit_level_devs(const float *m, const uint8_t *L, int k, int erase, float floor2,
+                          const float var[2], float *level, float *separate);
 
 #if defined(__SSE2__) && !defined(ACTAG_NO_SIMD)
 #define ACTAG__FIT_SIMD 1

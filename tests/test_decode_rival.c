@@ -224,17 +224,21 @@ static void test_rss_llr_uses_the_template_floor(void)
     TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.05f, actag__fit_rss_llr(&fam, &fp, 10.0f, 20.0f, 100.0f));
 }
 
-/* ACTAG_FIT_SEPARATE_NOISE's score (decode_fit_test.h,
- * actag__fit_ll_separate) against the formula written out in double: the
- * white and the black cells each about their own mean, each variance at
- * least the floor, -(nw log vw + nb log vb) / 2. Random cells and layouts
- * at every grid size, with and without the erased corners; then the edges:
- * one class empty, a class of equal cells (the floor), bright cells of
- * small spread (a one-pass variance would lose it), and the errors. */
-static double ll_separate_ref(const float *m, const uint8_t *L, int k, int erase, double floor2)
+/* The level-noise scores (decode_fit_test.h, actag__fit_level_devs;
+ * ACTAG_FIT_LEVEL_NOISE and ACTAG_FIT_SEPARATE_NOISE) against the formulas
+ * written out in double: the black and the white cells each about their
+ * own mean; level: their sums of squares over the given variances plus
+ * their counts times the variances' logs; separate: their counts times the
+ * logs of their own variances, each at least the floor. Random cells,
+ * layouts and variances at every grid size, with and without the erased
+ * corners; then the edges: one class empty, a class of equal cells (the
+ * floor), bright cells of small spread (a one-pass variance would lose
+ * it), and the errors. */
+static void level_devs_ref(const float *m, const uint8_t *L, int k, int erase, double floor2,
+                           const float var[2], double *level, double *separate)
 {
     int n = k + 1, cx, cy, w, cnt[2] = {0, 0};
-    double sum[2] = {0.0, 0.0}, ss[2] = {0.0, 0.0}, ll = 0.0;
+    double sum[2] = {0.0, 0.0}, ss[2] = {0.0, 0.0};
     for (cy = 0; cy < n; cy++)
         for (cx = 0; cx < n; cx++) {
             if (erase && (cy == 0 || cy == k) && (cx == 0 || cx == k))
@@ -252,25 +256,31 @@ static double ll_separate_ref(const float *m, const uint8_t *L, int k, int erase
             d = m[cy * n + cx] - sum[w] / cnt[w];
             ss[w] += d * d;
         }
-    for (w = 0; w < 2; w++)
+    *level = *separate = 0.0;
+    for (w = 0; w < 2; w++) {
+        *level += ss[w] / var[w] + cnt[w] * log((double)var[w]);
         if (cnt[w]) {
             double v = ss[w] / cnt[w];
-            ll -= 0.5 * cnt[w] * log(v < floor2 ? floor2 : v);
+            *separate += cnt[w] * log(v < floor2 ? floor2 : v);
         }
-    return ll;
+    }
 }
 
-static void expect_ll_separate(const float *m, const uint8_t *L, int k, int erase, float floor2)
+static void expect_level_devs(const float *m, const uint8_t *L, int k, int erase, float floor2,
+                              const float var[2])
 {
-    float got = 0.0f;
-    double want = ll_separate_ref(m, L, k, erase, floor2);
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__fit_ll_separate(m, L, k, erase, floor2, &got));
-    TEST_ASSERT_FLOAT_WITHIN((float)(1e-5 * fabs(want) + 1e-3), (float)want, got);
+    float level = 0.0f, separate = 0.0f;
+    double want_l, want_s;
+    level_devs_ref(m, L, k, erase, floor2, var, &want_l, &want_s);
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                          actag__fit_level_devs(m, L, k, erase, floor2, var, &level, &separate));
+    TEST_ASSERT_FLOAT_WITHIN((float)(1e-5 * fabs(want_l) + 1e-3), (float)want_l, level);
+    TEST_ASSERT_FLOAT_WITHIN((float)(1e-5 * fabs(want_s) + 1e-3), (float)want_s, separate);
 }
 
-static void test_separate_noise_score_matches_the_formula(void)
+static void test_level_noise_scores_match_the_formulas(void)
 {
-    float m[81], got;
+    float m[81], var[2], level, separate;
     uint8_t L[81];
     int trial, k, i, erase;
     tu_seed(391);
@@ -279,41 +289,61 @@ static void test_separate_noise_score_matches_the_formula(void)
         float floor2 = (float)tu_uniform(0.01, 100.0);
         k = tu_range(4, 8);
         erase = trial & 1;
+        var[0] = (float)tu_uniform(0.5, 400.0);
+        var[1] = (float)tu_uniform(0.5, 400.0);
         for (i = 0; i < (k + 1) * (k + 1); i++) {
             L[i] = (uint8_t)(tu_rand() & 1u);
             m[i] = lo + (L[i] ? (float)tu_range(20, 120) : 0.0f) +
                    (float)tu_uniform(-1.0, 1.0) * spread;
         }
-        expect_ll_separate(m, L, k, erase, floor2);
+        expect_level_devs(m, L, k, erase, floor2, var);
     }
+    var[0] = 4.0f;
+    var[1] = 9.0f;
     /* one class empty: only the other counts */
     for (i = 0; i < 81; i++) {
         L[i] = 1;
         m[i] = (float)(i % 7) * 10.0f;
     }
-    expect_ll_separate(m, L, 8, 0, 1.0f);
+    expect_level_devs(m, L, 8, 0, 1.0f, var);
     memset(L, 0, sizeof L);
-    expect_ll_separate(m, L, 8, 1, 1.0f);
-    /* equal cells: the floor, exactly */
+    expect_level_devs(m, L, 8, 1, 1.0f, var);
+    /* equal cells: no squares, and the separate variances at the floor */
     for (i = 0; i < 49; i++) {
         L[i] = (uint8_t)(i & 1);
         m[i] = L[i] ? 200.0f : 30.0f;
     }
-    TEST_ASSERT_EQUAL_INT(ACTAG_OK, actag__fit_ll_separate(m, L, 6, 0, 4.0f, &got));
-    TEST_ASSERT_FLOAT_WITHIN(1e-3f, (float)(-0.5 * 49.0 * log(4.0)), got);
-    /* bright cells of small spread: 250 +- 0.5 over 45 cells */
+    TEST_ASSERT_EQUAL_INT(ACTAG_OK,
+                          actag__fit_level_devs(m, L, 6, 0, 4.0f, var, &level, &separate));
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, (float)(25.0 * log(4.0) + 24.0 * log(9.0)), level);
+    TEST_ASSERT_FLOAT_WITHIN(1e-3f, (float)(49.0 * log(4.0)), separate);
+    /* bright cells of small spread: 250 +- 0.5 */
     for (i = 0; i < 49; i++) {
         L[i] = (uint8_t)(i % 3 != 0);
         m[i] = L[i] ? 250.0f + (float)(i % 2) - 0.5f : 20.0f + (float)(i % 5);
     }
-    expect_ll_separate(m, L, 6, 1, 0.01f);
+    var[1] = 0.25f;
+    expect_level_devs(m, L, 6, 1, 0.01f, var);
     /* errors */
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_ll_separate(NULL, L, 6, 0, 1.0f, &got));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_ll_separate(m, NULL, 6, 0, 1.0f, &got));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL, actag__fit_ll_separate(m, L, 6, 0, 1.0f, NULL));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_ll_separate(m, L, 3, 0, 1.0f, &got));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_ll_separate(m, L, 9, 0, 1.0f, &got));
-    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM, actag__fit_ll_separate(m, L, 6, 0, 0.0f, &got));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag__fit_level_devs(NULL, L, 6, 0, 1.0f, var, &level, &separate));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag__fit_level_devs(m, NULL, 6, 0, 1.0f, var, &level, &separate));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag__fit_level_devs(m, L, 6, 0, 1.0f, NULL, &level, &separate));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag__fit_level_devs(m, L, 6, 0, 1.0f, var, NULL, &separate));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_NULL,
+                          actag__fit_level_devs(m, L, 6, 0, 1.0f, var, &level, NULL));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag__fit_level_devs(m, L, 3, 0, 1.0f, var, &level, &separate));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag__fit_level_devs(m, L, 9, 0, 1.0f, var, &level, &separate));
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag__fit_level_devs(m, L, 6, 0, 0.0f, var, &level, &separate));
+    var[0] = 0.0f;
+    TEST_ASSERT_EQUAL_INT(ACTAG_ERR_PARAM,
+                          actag__fit_level_devs(m, L, 6, 0, 1.0f, var, &level, &separate));
 }
 
 static void test_errors(void)
@@ -457,7 +487,7 @@ int main(void)
     RUN_TEST(test_right_reading_beats_rivals_other_sizes);
     RUN_TEST(test_layouts_match_cell_values);
     RUN_TEST(test_rss_llr_uses_the_template_floor);
-    RUN_TEST(test_separate_noise_score_matches_the_formula);
+    RUN_TEST(test_level_noise_scores_match_the_formulas);
     RUN_TEST(test_errors);
     RUN_TEST(test_corner_completions_match_the_arithmetic);
     RUN_TEST(test_corner_completions_leave_boxes_and_points);

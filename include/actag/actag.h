@@ -262,13 +262,14 @@ typedef struct actag_tuning {
                                    corrected bits must lead the next view by in bits (3 for
                                    2 or 3 corrected bits of a 24-bit tag), 10 for 4-5 % more
                                    far or blurred readings where a wrong ID costs little,
-                                   1000 where none may happen; and fit.flags |=
-                                   ACTAG_FIT_SEPARATE_NOISE (off by default) where a wrong
-                                   ID costs far more than a miss on blurred or grazing
-                                   tags: poorly fitting readings must also lead with white
-                                   and black cells at their own noise (held-out runs: the
-                                   known wrong IDs refused for 1 % of simulated and 6 % of
-                                   real pool readings, docs/evaluation.md). */
+                                   1000 where none may happen; and the level-noise
+                                   checks of poorly fitting readings (decode.h):
+                                   ACTAG_FIT_LEVEL_NOISE (on by default; clear it only to
+                                   compare with earlier builds), ACTAG_FIT_SEPARATE_NOISE
+                                   (off; set it where a wrong ID costs far more than a
+                                   miss on blurred or grazing tags: held-out runs, every
+                                   known wrong ID refused for 1-1.4 % of simulated and 6 %
+                                   of real pool readings, docs/evaluation.md). */
     float min_structure;        /* fraction, 0..1 (default 0): the fit decoder's black-ring
                                    and white-interior fractions must reach this; the misses
                                    below 1 are charged to the corrections budget anyway, which

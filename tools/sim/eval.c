@@ -71,8 +71,10 @@ static void usage(FILE *f)
         "  --min-margin F --search-min-margin F  least decision margins (library defaults)\n"
         "  --many-corrections-margin F  extra margin of readings with 3 or more corrected\n"
         "                         bits (library default 1.5; 0: none)\n"
-        "  --separate-noise       set ACTAG_FIT_SEPARATE_NOISE (decode.h): poor fits must also\n"
-        "                         lead with separate white and black cell noise\n"
+        "  --level-noise 0|1      ACTAG_FIT_LEVEL_NOISE (decode.h; default 1): poor fits must\n"
+        "                         also lead with black and white cells at their own noise\n"
+        "  --separate-noise       set ACTAG_FIT_SEPARATE_NOISE (decode.h): stricter, each\n"
+        "                         template at its own black and white noise\n"
         "  --handedness any|unmirrored|mirrored  the views the decoder may read (actag_params\n"
         "                         handedness; default any). The tagged frames of a run with\n"
         "                         unmirrored want --mirror-fraction 0\n"
@@ -236,6 +238,7 @@ typedef struct {
     float plane_sd, plane_tilt;          /* --plane-sd (m), --plane-tilt-deg (rad); 0: off */
     int handedness;                      /* actag_params.handedness (default any) */
     int separate_noise;                  /* --separate-noise: ACTAG_FIT_SEPARATE_NOISE */
+    int level_noise;                     /* --level-noise: < 0 the default, 0 off, 1 on */
     float min_structure, min_side;       /* < 0: the library's defaults */
     float min_texture;                   /* < 0: the library's default */
     int median_radius, median_per_range; /* < 0: the library's defaults */
@@ -426,6 +429,10 @@ static void tag_params(const eval_ctx *c, actag_params *p)
     p->handedness = c->handedness;
     if (c->separate_noise)
         p->tuning.fit.flags |= ACTAG_FIT_SEPARATE_NOISE;
+    if (c->level_noise == 0)
+        p->tuning.fit.flags &= ~ACTAG_FIT_LEVEL_NOISE;
+    else if (c->level_noise == 1)
+        p->tuning.fit.flags |= ACTAG_FIT_LEVEL_NOISE;
 }
 
 static void eval_tag_frame(eval_ctx *c, int i, uint8_t *img, void *ws, size_t wss)
@@ -1054,6 +1061,7 @@ int main(int argc, char **argv)
     c.many_margin = -1.0f;
     c.min_bit_margin = -1;
     c.min_bit_odds = 0;
+    c.level_noise = -1;
     c.min_structure = c.min_side = -1.0f;
     c.min_texture = -1.0f;
     c.median_radius = c.median_per_range = -1;
@@ -1132,6 +1140,10 @@ int main(int argc, char **argv)
             tagged_opt = o;
             NEED();
             c.many_margin = (float)num(o, v, 0.0, 1e6);
+        } else if (!strcmp(o, "--level-noise")) {
+            tagged_opt = o;
+            NEED();
+            c.level_noise = (int)inum(o, v, 0, 1);
         } else if (!strcmp(o, "--separate-noise")) {
             tagged_opt = o;
             c.separate_noise = 1;

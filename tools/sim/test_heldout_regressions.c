@@ -49,11 +49,16 @@
  * as an unmirrored tag 5 (hamming 3, margin 5.2), an AcTag24h8 tag 17 as
  * tag 37 (hamming 1, margin 2.0). The cells are far from two levels (cell
  * noise a quarter of the contrast and more), and the white cells spread
- * far more than the black ones. ACTAG_FIT_SEPARATE_NOISE (--separate-noise,
- * decode.h) scores the templates with separate white and black noise as
- * well: the first two are then not read, the third is read as tag 17. The
- * default still reads them (checked, so the test says when that changes:
- * docs/evaluation.md, thirty-ninth session, has the trade). */
+ * far more than the black ones. The level-noise check (decode.h,
+ * ACTAG_FIT_LEVEL_NOISE, default) scores the templates with the black and
+ * the white cells at their own noise: the first two are then not read,
+ * the third is read as tag 17; with it off (--level-noise 0) each wrong
+ * reading comes back. Runs 15104 frame 149 (tag 6 at 2.95 m and 62
+ * degrees, turned 40 degrees in the image, read as tag 5 from a search
+ * box) and 15137 frame 700 (the paper's sonar, tag 4 at 3.87 m, one look,
+ * read as an unmirrored tag 5): the default still reads them (margins 4.2
+ * and 3.8); the stricter ACTAG_FIT_SEPARATE_NOISE (--separate-noise)
+ * refuses them (docs/evaluation.md, thirty-ninth session) */
 #define _POSIX_C_SOURCE 200809L
 #include "unity.h"
 #include "hostio.h"
@@ -298,56 +303,91 @@ static void test_run_15081_frame_427_corners_are_the_tags(void)
               "--psf-range 0.0025 --looks 3 --clutter 4 --foam 2 --metal-specular 4 "         \
               "--mirror-fraction 1 --bands 0 --family AcTag24h8"
 
-/* Frame `frame` of held-out run `seed` (sim_args), whose truth holds `tag`
- * with `truth`: actag_detect (detect_args) at its defaults reads `wrong`;
- * with --separate-noise every reading is `right` (its JSON, e.g. "id": 4,
- * "hamming"), at most one, and `must` (when not NULL) is read. */
-static void expect_separate_noise_refuses(int seed, int frame, const char *sim_args,
-                                          const char *tag, const char *truth,
-                                          const char *detect_args, const char *wrong,
-                                          const char *right, const char *must)
+#define RUN_15104                                                                            \
+    SONAR_530 "--azimuth-ascending --gain 400 --noise 0.0012 --psf-azimuth 0.002 "            \
+              "--psf-range 0.0015 --looks 2 --clutter 4 --foam 2 --metal-specular 8 "         \
+              "--mirror-fraction 0 --bands 2 --family AcTag24h10"
+/* the paper's sonar */
+#define RUN_15137                                                                            \
+    "--gain 400 --noise 0.0006 --psf-azimuth 0.006 --psf-range 0.0015 --looks 1 "            \
+    "--clutter 4 --foam 2 --metal-specular 4 --mirror-fraction 0.5 --bands 5 "              \
+    "--family AcTag24h10"
+
+/* Every reading in out is `right` (its JSON, e.g. "id": 4, "hamming"), at
+ * most one, and `must` (when not NULL) is read. */
+static void expect_right_or_none(const char *out, const char *right, const char *must)
 {
-    char args[1024], *out;
-    render_frame(seed, frame, sim_args, tag, truth, NULL, NULL);
-    out = detect_frame(frame, detect_args);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, wrong), out);
-    free(out);
-    snprintf(args, sizeof args, "%s --separate-noise", detect_args);
-    out = detect_frame(frame, args);
     TEST_ASSERT_TRUE_MESSAGE(count(out, "\"id\": ") <= 1, out);
     TEST_ASSERT_EQUAL_INT_MESSAGE(count(out, "\"id\": "), count(out, right), out);
     if (must != NULL)
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, must), out);
+}
+
+/* Frame `frame` of held-out run `seed` (sim_args), whose truth holds `tag`
+ * with `truth`: actag_detect (detect_args) reads `wrong` with the
+ * level-noise check off; at its defaults (strict 0) or with
+ * --separate-noise (strict 1) every reading is `right`, and `must` (when
+ * not NULL) is read. */
+static void expect_level_noise_refuses(int seed, int frame, const char *sim_args,
+                                       const char *tag, const char *truth,
+                                       const char *detect_args, int strict, const char *wrong,
+                                       const char *right, const char *must)
+{
+    char args[1024], *out;
+    render_frame(seed, frame, sim_args, tag, truth, NULL, NULL);
+    snprintf(args, sizeof args, "%s --level-noise 0", detect_args);
+    out = detect_frame(frame, args);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, wrong), out);
+    free(out);
+    snprintf(args, sizeof args, "%s%s", detect_args, strict ? " --separate-noise" : "");
+    out = detect_frame(frame, args);
+    expect_right_or_none(out, right, must);
     free(out);
 }
 
-static void test_run_15129_frame_796_separate_noise_refuses_tag_5(void)
+#define DETECT_530 "--min-range 0.1 --max-range 3.5 --aperture-deg 60"
+
+static void test_run_15129_frame_796_level_noise_refuses_tag_5(void)
 {
-    expect_separate_noise_refuses(
-        15129, 796, RUN_15129, "\"id\": 4, \"tag_size\"",
-        "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.710",
-        "--family AcTag24h10 --min-range 0.1 --max-range 3.5 --aperture-deg 60",
-        "\"id\": 5, \"hamming\": 2", "\"id\": 4, \"hamming\"", NULL);
+    expect_level_noise_refuses(15129, 796, RUN_15129, "\"id\": 4, \"tag_size\"",
+                               "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.710",
+                               "--family AcTag24h10 " DETECT_530, 0, "\"id\": 5, \"hamming\": 2",
+                               "\"id\": 4, \"hamming\"", NULL);
 }
 
-static void test_run_15107_frame_586_separate_noise_refuses_tag_5(void)
+static void test_run_15107_frame_586_level_noise_refuses_tag_5(void)
 {
-    expect_separate_noise_refuses(
-        15107, 586, RUN_15107, "\"id\": 1, \"tag_size\"",
-        "\"mirrored\": 1, \"visible\": 1, \"distance\": 1.495",
-        "--family AcTag24h10 --min-range 0.1 --max-range 3.5 --aperture-deg 60 "
-        "--range-ascending --azimuth-ascending",
-        "\"id\": 5, \"hamming\": 3", "\"id\": 1, \"hamming\"", NULL);
+    expect_level_noise_refuses(15107, 586, RUN_15107, "\"id\": 1, \"tag_size\"",
+                               "\"mirrored\": 1, \"visible\": 1, \"distance\": 1.495",
+                               "--family AcTag24h10 " DETECT_530
+                               " --range-ascending --azimuth-ascending",
+                               0, "\"id\": 5, \"hamming\": 3", "\"id\": 1, \"hamming\"", NULL);
 }
 
-static void test_run_15123_frame_638_separate_noise_reads_tag_17(void)
+static void test_run_15123_frame_638_level_noise_reads_tag_17(void)
 {
-    expect_separate_noise_refuses(
-        15123, 638, RUN_15123, "\"id\": 17, \"tag_size\"",
-        "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.257",
-        "--family AcTag24h8 --min-range 0.1 --max-range 3.5 --aperture-deg 60 --azimuth-ascending",
-        "\"id\": 37, \"hamming\": 1", "\"id\": 17, \"hamming\"",
-        "\"id\": 17, \"hamming\": 0");
+    expect_level_noise_refuses(15123, 638, RUN_15123, "\"id\": 17, \"tag_size\"",
+                               "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.257",
+                               "--family AcTag24h8 " DETECT_530 " --azimuth-ascending", 0,
+                               "\"id\": 37, \"hamming\": 1", "\"id\": 17, \"hamming\"",
+                               "\"id\": 17, \"hamming\": 0");
+}
+
+static void test_run_15104_frame_149_separate_noise_refuses_tag_5(void)
+{
+    expect_level_noise_refuses(15104, 149, RUN_15104, "\"id\": 6, \"tag_size\"",
+                               "\"mirrored\": 0, \"visible\": 1, \"distance\": 2.950",
+                               "--family AcTag24h10 " DETECT_530 " --azimuth-ascending", 1,
+                               "\"id\": 5, \"hamming\": 1", "\"id\": 6, \"hamming\"", NULL);
+}
+
+static void test_run_15137_frame_700_separate_noise_refuses_tag_5(void)
+{
+    expect_level_noise_refuses(15137, 700, RUN_15137, "\"id\": 4, \"tag_size\"",
+                               "\"mirrored\": 1, \"visible\": 1, \"distance\": 3.867",
+                               "--family AcTag24h10 --min-range 0.1 --max-range 5 --aperture-deg 60",
+                               1, "\"id\": 5, \"hamming\": 1", "\"id\": 4, \"hamming\"",
+                               NULL);
 }
 
 int main(void)
@@ -359,8 +399,10 @@ int main(void)
     RUN_TEST(test_run_15076_frame_405_speckle_is_not_a_tag);
     RUN_TEST(test_run_15101_frame_201_corners_are_the_tags);
     RUN_TEST(test_run_15081_frame_427_corners_are_the_tags);
-    RUN_TEST(test_run_15129_frame_796_separate_noise_refuses_tag_5);
-    RUN_TEST(test_run_15107_frame_586_separate_noise_refuses_tag_5);
-    RUN_TEST(test_run_15123_frame_638_separate_noise_reads_tag_17);
+    RUN_TEST(test_run_15129_frame_796_level_noise_refuses_tag_5);
+    RUN_TEST(test_run_15107_frame_586_level_noise_refuses_tag_5);
+    RUN_TEST(test_run_15123_frame_638_level_noise_reads_tag_17);
+    RUN_TEST(test_run_15104_frame_149_separate_noise_refuses_tag_5);
+    RUN_TEST(test_run_15137_frame_700_separate_noise_refuses_tag_5);
     return UNITY_END();
 }

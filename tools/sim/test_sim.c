@@ -523,14 +523,16 @@ static void test_render_errors(void)
  * on every row, as the regression scenes were found before it), the bit
  * lead's odds `bit_odds` (tuning.fit.min_bit_odds: ACTAG_FIT_MIN_BIT_ODDS
  * the default, 1 the rule off, as the scenes were found before it, so that
- * the rules they pin are seen to fire); trace (may
+ * the rules they pin are seen to fire) and the level-noise check
+ * `level_noise` (ACTAG_FIT_LEVEL_NOISE, decode.h: 1 the default, 0 off, as
+ * the scenes were found before it); trace (may
  * be NULL) sees the candidates (actag_detect_traced). Returns the number of
  * detections. */
 static uint8_t scene_img[1024 * 1024]; /* the frame detect_scene rendered last */
 
 static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appearance *a,
                         uint32_t fs, const sim_tag *t, int mirrored, float limit_margin,
-                        int per_range, int bit_odds, actag_detection det[8],
+                        int per_range, int bit_odds, int level_noise, actag_detection det[8],
                         actag_trace_fn trace, void *user)
 {
     uint8_t *img = scene_img;
@@ -550,6 +552,8 @@ static int detect_scene(const sim_sonar *s, const sim_scene *sc, const sim_appea
     p.tuning.fit.many_corrections_margin = limit_margin;
     p.tuning.median_per_range = per_range;
     p.tuning.fit.min_bit_odds = bit_odds;
+    if (!level_noise)
+        p.tuning.fit.flags &= ~ACTAG_FIT_LEVEL_NOISE;
     f.data = img;
     f.rows = s->rows;
     f.cols = s->cols;
@@ -571,7 +575,7 @@ static void check_scene_traced(const sim_sonar *s, const sim_scene *sc, const si
     actag_detection det[8];
     int n, k;
     n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
-                     ACTAG_FIT_MIN_BIT_ODDS, det, trace,
+                     ACTAG_FIT_MIN_BIT_ODDS, 1, det, trace,
                      user);
     for (k = 0; k < n; k++) {
         TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
@@ -638,7 +642,7 @@ static const scene_run *check_scene(const sim_sonar *s, const sim_scene *sc,
         actag_detection det[8];
         float side = hypotf(r.tr.px[1].x - r.tr.px[0].x, r.tr.px[1].y - r.tr.px[0].y);
         int k, c, n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN,
-                                   1, ACTAG_FIT_MIN_BIT_ODDS, det, NULL, NULL);
+                                   1, ACTAG_FIT_MIN_BIT_ODDS, 1, det, NULL, NULL);
         for (k = 0; k < n; k++) {
             TEST_ASSERT_EQUAL_INT_MESSAGE(id, det[k].id, what);
             TEST_ASSERT_EQUAL_INT_MESSAGE(mirrored, det[k].mirrored, what);
@@ -649,9 +653,10 @@ static const scene_run *check_scene(const sim_sonar *s, const sim_scene *sc,
         }
     }
     /* the rules: as the scene was found, radius 4 on every row (redecode
-     * reads that filtered frame too) and no bit-lead odds */
-    r.n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 0, 1, r.det,
-                       log_candidate, &r);
+     * reads that filtered frame too), no bit-lead odds and no level-noise
+     * check */
+    r.n = detect_scene(s, sc, a, fs, t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 0, 1, 0,
+                       r.det, log_candidate, &r);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.overflow, what);
     /* check_scene_traced's checks on the same detections */
     {
@@ -1137,7 +1142,7 @@ static void test_regression_m10_heldout13004_frame49(void)
         r.what = "held-out AcTag24m10 run 13004 frame 49 at the defaults";
         r.flip = actag_geometry_mirrors(&c.s.geo, c.s.cols);
         r.n = detect_scene(&c.s, &c.sc, &c.a, c.fs, &c.t, 1, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
-                           ACTAG_FIT_MIN_BIT_ODDS, r.det, log_candidate, &r);
+                           ACTAG_FIT_MIN_BIT_ODDS, 0, r.det, log_candidate, &r);
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.overflow, r.what);
         /* at most the mirrored tag 0 (case_check: a reading there is the
          * right one), never the search's unmirrored reading */
@@ -1265,7 +1270,7 @@ static void test_regression_pool_h8_seed9609_frame435(void)
     {
         actag_detection det[8];
         int n = detect_scene(&c.s, &c.sc, &c.a, c.fs, &c.t, 1, ACTAG_FIT_MANY_CORRECTIONS_MARGIN,
-                             1, ACTAG_FIT_MIN_BIT_ODDS, det, NULL, NULL);
+                             1, ACTAG_FIT_MIN_BIT_ODDS, 1, det, NULL, NULL);
         TEST_ASSERT_EQUAL_INT(0, n);
     }
 }
@@ -1288,7 +1293,7 @@ static void check_limit_rule(uint32_t seed, uint32_t frame, int id, int mirrored
     actag_detection det[8];
     int n, k, wrong = 0;
     uint32_t fs = eval_frame(0, "AcTag24h10", seed, frame, id, &s, &a, &t, &sc);
-    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, 0, 1, det, NULL, NULL);
+    n = detect_scene(&s, &sc, &a, fs, &t, mirrored, 0.0f, 0, 1, 0, det, NULL, NULL);
     for (k = 0; k < n; k++)
         if (det[k].id != id || det[k].mirrored != mirrored) {
             TEST_ASSERT_TRUE(det[k].hamming >= ACTAG_FIT_MANY_CORRECTIONS);
@@ -1342,7 +1347,7 @@ static int check_odds_rule(const char *family, uint32_t seed, uint32_t frame, in
     int n, k, found = 0;
     c.fs = eval_frame(0, family, seed, frame, id, &c.s, &c.a, &c.t, &c.sc);
     n = detect_scene(&c.s, &c.sc, &c.a, c.fs, &c.t, mirrored, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
-                     1, det, NULL, NULL);
+                     1, 0, det, NULL, NULL);
     for (k = 0; k < n; k++)
         if (det[k].id == off_id && det[k].mirrored == off_mirrored && det[k].hamming == hamming)
             found++;
@@ -1424,7 +1429,7 @@ static void test_regression_h8_seed401_frame672(void)
     check_scene_traced(&s, &sc, &a, fs, &t, 5, 0, "the wrong ID of AcTag24h8 seed 401 frame 672",
                        NULL, NULL);
     n = detect_scene(&s, &sc, &a, fs, &t, 0, ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1,
-                     ACTAG_FIT_MIN_BIT_ODDS, det, log_contested, &log);
+                     ACTAG_FIT_MIN_BIT_ODDS, 1, det, log_contested, &log);
     /* the search box no longer reads tag 32 there (its own grid is read
      * with at most 1 corrected bit: decode_fit_grids.h, blind), so nothing
      * is contested and the quad's right reading is reported */
@@ -1534,9 +1539,12 @@ static void test_regression_seed12_frame759(void)
  *   (tag 5), both mirrored: the fit from the quad (16.6 and 18.3 px off at
  *   one corner) is refused, and the second start from the decoder's fitted
  *   grid (detect.c, refine_det) succeeds.
- * The views are read with the bit lead's odds off (min_bit_odds 1): this
- * tests the refinement, and at the default odds seed 931 frame 18 reads
- * nothing (its readings lead by too few bits for their corrections). */
+ * The views are read with the bit lead's odds off (min_bit_odds 1) and
+ * without the level-noise check (ACTAG_FIT_LEVEL_NOISE): this tests the
+ * refinement, and at the default odds seed 931 frame 18 reads nothing (its
+ * readings lead by too few bits for their corrections), with the
+ * level-noise check frame 24 (its cells are far from two levels, and
+ * under their own black and white noise a rival comes within the margin). */
 static void test_refined_corners_of_hard_views(void)
 {
     enum { PAPER, POOL, NEAR };
@@ -1558,6 +1566,7 @@ static void test_refined_corners_of_hard_views(void)
         actag_detection det[8];
         uint32_t fs = sim_frame_seed(cases[i].seed, cases[i].frame);
         int n, c;
+        char what[64];
         eval_settings(cases[i].sonar == POOL, "AcTag24h10", &s, &v, &a, &t);
         if (cases[i].sonar == NEAR) { /* the options above, as actag-sim sets them */
             s.rows = 530;
@@ -1569,9 +1578,11 @@ static void test_refined_corners_of_hard_views(void)
         }
         sample_frame(&s, &v, fs, cases[i].id, &t, &sc);
         n = detect_scene(&s, &sc, &a, fs, &t, cases[i].mirrored,
-                         ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, 1, det, NULL, NULL);
-        TEST_ASSERT_EQUAL_INT(1, n);
-        TEST_ASSERT_EQUAL_INT(cases[i].id, det[0].id);
+                         ACTAG_FIT_MANY_CORRECTIONS_MARGIN, 1, 1, 0, det, NULL, NULL);
+        snprintf(what, sizeof what, "seed %u frame %u", (unsigned)cases[i].seed,
+                 (unsigned)cases[i].frame);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, n, what);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(cases[i].id, det[0].id, what);
         sim_truth_of(&s, &t, &tr);
         for (c = 0; c < 4; c++) {
             float dx = det[0].corners[c].x - tr.px[c].x, dy = det[0].corners[c].y - tr.px[c].y;
