@@ -268,7 +268,7 @@ typedef struct actag_tuning {
                                    compare with earlier builds), ACTAG_FIT_SEPARATE_NOISE
                                    (off; set it where a wrong ID costs far more than a
                                    miss on blurred or grazing tags: held-out runs, every
-                                   known wrong ID refused for 1-1.4 % of simulated and 6 %
+                                   known wrong ID refused for 1-2.4 % of simulated and 6 %
                                    of real pool readings, docs/evaluation.md). */
     float min_structure;        /* fraction, 0..1 (default 0): the fit decoder's black-ring
                                    and white-interior fractions must reach this; the misses

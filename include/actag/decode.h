@@ -204,15 +204,16 @@ int actag_decode_quad_bitmap(const uint32_t *bitmap, int rows, int cols,
  * explains the cells poorly (cell noise above a fifth of the contrast),
  * the template check also scores each template with the black and the
  * white cells at their own noise variance (the reading's, as s^2 is), and
- * decision_margin is the smaller lead. On by default: it refused five of
- * the seven wrong IDs of 48,000 held-out simulated frames for 0.15 % of
- * the readings at the paper's settings and one real pool frame in three
- * of the four orientations (docs/evaluation.md, thirty-ninth session). */
+ * decision_margin is the smaller lead. On by default: it refused six of
+ * the nine wrong IDs known from held-out simulated frames (and lowered the
+ * others' margins to 2.7-4.2) for 0.15-0.9 % of the simulated readings
+ * and one real pool frame in three of the four orientations
+ * (docs/evaluation.md, thirty-ninth session). */
 #define ACTAG_FIT_LEVEL_NOISE 2048
 /* Stricter, off by default: each template is scored with its own black
  * and white variances (a generalised likelihood ratio). It refused all
- * seven, at 1 % of the simulated readings and 6 % of the real pool frame
- * readings. */
+ * nine, at 1-2.4 % of the simulated readings and 6 % of the real pool
+ * frame readings. */
 #define ACTAG_FIT_SEPARATE_NOISE 1024
 #define ACTAG_FIT_DEFAULT_FLAGS                                                              \
     (ACTAG_FIT_LOCAL | ACTAG_FIT_SPLIT | ACTAG_FIT_ERASE_CORNERS | ACTAG_FIT_VERIFY |         \

@@ -415,6 +415,8 @@ PyMODINIT_FUNC PyInit__core(void)
         PyModule_AddIntConstant(m, "FIT_WIDE", ACTAG_FIT_WIDE) != 0 ||
         PyModule_AddIntConstant(m, "FIT_ERASE_CORNERS", ACTAG_FIT_ERASE_CORNERS) != 0 ||
         PyModule_AddIntConstant(m, "FIT_VERIFY", ACTAG_FIT_VERIFY) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_LEVEL_NOISE", ACTAG_FIT_LEVEL_NOISE) != 0 ||
+        PyModule_AddIntConstant(m, "FIT_SEPARATE_NOISE", ACTAG_FIT_SEPARATE_NOISE) != 0 ||
         PyModule_AddIntConstant(m, "TRACK_MAX", ACTAG_TRACK_MAX) != 0 ||
         /* the pose's default corner noise (pose.h), as the library has it */
         add(m, "POSE_RANGE_SD", PyFloat_FromDouble((double)ACTAG_POSE_RANGE_SD)) != 0 ||

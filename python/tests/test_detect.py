@@ -123,7 +123,9 @@ def test_defaults_are_the_c_defaults():
         else:
             assert p[k] == v, k
     assert p["fit_flags"] == (pyactag._core.FIT_LOCAL | pyactag._core.FIT_SPLIT |
-                              pyactag._core.FIT_ERASE_CORNERS | pyactag._core.FIT_VERIFY)
+                              pyactag._core.FIT_ERASE_CORNERS | pyactag._core.FIT_VERIFY |
+                              pyactag._core.FIT_LEVEL_NOISE)
+    assert pyactag._core.FIT_SEPARATE_NOISE & p["fit_flags"] == 0
     assert pyactag.Detector(**GEOMETRY).params == p
     # actag_params: the user settings, then actag_tuning.
     user = {"tag_size", "max_bit_corrections", "seed", "min_margin", "handedness"}
