@@ -139,6 +139,16 @@ static void test_json_on_example(void)
     free(o);
 }
 
+/* actag_detect with args exits with status 2 and its message holds says. */
+static void expect_refused(const char *args, const char *says)
+{
+    char *e;
+    TEST_ASSERT_EQUAL_INT(2, run(args));
+    e = err_text();
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(e, says), e);
+    free(e);
+}
+
 /* The example read with the options opts (JSON) gives no tag. */
 static void expect_no_tag_with(const char *opts)
 {
@@ -185,14 +195,10 @@ static void test_min_bit_margin_option(void)
  * (the rule off) too. A value out of range is refused naming the option. */
 static void test_min_bit_odds_option(void)
 {
-    char *o;
     expect_no_tag_with("--min-bit-odds 1000000");
     expect_default_with("--min-bit-odds 1");
     expect_default_with("--min-bit-odds 100");
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --min-bit-odds 0 " EXAMPLE));
-    o = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(o, "--min-bit-odds"));
-    free(o);
+    expect_refused(GEO " --min-bit-odds 0 " EXAMPLE, "--min-bit-odds");
 }
 
 /* --level-noise and --separate-noise: the example's tag 0 is read with
@@ -202,15 +208,11 @@ static void test_min_bit_odds_option(void)
  * other than 0 or 1 is refused naming the option. */
 static void test_level_noise_options(void)
 {
-    char *o;
     expect_default_with("--level-noise 0");
     expect_default_with("--level-noise 1");
     expect_default_with("--separate-noise");
     expect_default_with("--level-noise 0 --separate-noise");
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --level-noise 2 " EXAMPLE));
-    o = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(o, "--level-noise"));
-    free(o);
+    expect_refused(GEO " --level-noise 2 " EXAMPLE, "--level-noise");
 }
 
 /* The first tag's pose line of text output o: its t and the sd of t_z. */
@@ -230,7 +232,7 @@ static void pose_line(const char *o, float t[3], float *sd_z)
  * plane's; bad plane options are refused with exit status 2 naming them. */
 static void test_pose_plane_options(void)
 {
-    char *o, *e;
+    char *o;
     float t0[3], t1[3], s0, s1;
     TEST_ASSERT_EQUAL_INT(0, run(GEO " --pose " EXAMPLE));
     o = out_text();
@@ -264,18 +266,11 @@ static void test_pose_plane_options(void)
             free(o);
         }
     }
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --pose --plane 0,0,1 --plane-sd 0.005 " EXAMPLE));
-    e = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(e, "--plane: expected 4 numbers"));
-    free(e);
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --pose --plane-tilt-deg 1 " EXAMPLE));
-    e = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(e, "need --plane NX,NY,NZ,D"));
-    free(e);
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --pose --plane 0,0,1,0 --plane-sd -1 " EXAMPLE));
-    e = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(e, "--plane-sd: must be from 0"));
-    free(e);
+    expect_refused(GEO " --pose --plane 0,0,1 --plane-sd 0.005 " EXAMPLE,
+                   "--plane: expected 4 numbers");
+    expect_refused(GEO " --pose --plane-tilt-deg 1 " EXAMPLE, "need --plane NX,NY,NZ,D");
+    expect_refused(GEO " --pose --plane 0,0,1,0 --plane-sd -1 " EXAMPLE,
+                   "--plane-sd: must be from 0");
 }
 
 /* The text output says its convention and lists x (column) first. */
@@ -415,14 +410,8 @@ static void test_stdin_gives_the_same_json(void)
     a = out_text();
     TEST_ASSERT_EQUAL_INT(0, strncmp(a, "-: AcTag24h10 id 0 ", 19));
     free(a);
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " - < /dev/null"));
-    a = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(a, "actag_detect: stdin: not a PGM file"));
-    free(a);
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " - - < " EXAMPLE));
-    a = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(a, "standard input can be read only once (two frames -)"));
-    free(a);
+    expect_refused(GEO " - < /dev/null", "actag_detect: stdin: not a PGM file");
+    expect_refused(GEO " - - < " EXAMPLE, "standard input can be read only once (two frames -)");
 }
 
 static void assert_header(const char *path, const char *magic, int w, int min_h)
@@ -513,10 +502,8 @@ static void test_overlay_never_overwrites_an_input(void)
     TEST_ASSERT_EQUAL_INT(0, system("cp \"" EXAMPLE "\" \"" OUT "/ovin/f.pgm\""));
     before = (uint8_t *)hostio_slurp(OUT "/ovin/f.pgm", &n0, NULL);
     TEST_ASSERT_NOT_NULL(before);
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --overlay " OUT "/ovin/./f.pgm " OUT "/ovin/f.pgm"));
-    s = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(s, "would overwrite an input file"));
-    free(s);
+    expect_refused(GEO " --overlay " OUT "/ovin/./f.pgm " OUT "/ovin/f.pgm",
+                   "would overwrite an input file");
     after = (uint8_t *)hostio_slurp(OUT "/ovin/f.pgm", &n1, NULL);
     TEST_ASSERT_NOT_NULL(after);
     TEST_ASSERT_EQUAL_size_t(n0, n1);
@@ -530,11 +517,9 @@ static void test_overlay_never_overwrites_an_input(void)
                  OUT "/ovin/b.txt");
         TEST_ASSERT_EQUAL_INT(0, system(cmd));
     }
-    TEST_ASSERT_EQUAL_INT(2, run("--min-range 0.1 --max-range 1.5 --bearings " OUT "/ovin/b.txt"
-                                 " --overlay " OUT "/ovin/b.txt " OUT "/ovin/f.pgm"));
-    s = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(s, "would overwrite an input file"));
-    free(s);
+    expect_refused("--min-range 0.1 --max-range 1.5 --bearings " OUT "/ovin/b.txt"
+                   " --overlay " OUT "/ovin/b.txt " OUT "/ovin/f.pgm",
+                   "would overwrite an input file");
     s = slurp(OUT "/ovin/b.txt");
     TEST_ASSERT_EQUAL_INT('0', s[0]); /* still the table's text */
     free(s);
@@ -559,10 +544,8 @@ static void test_overlay_never_overwrites_an_input(void)
         free(after);
     }
     /* standard output carries the detections: no picture there */
-    TEST_ASSERT_EQUAL_INT(2, run(GEO " --overlay - " OUT "/ovin/f.pgm"));
-    s = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(s, "--overlay -: standard output carries the detections"));
-    free(s);
+    expect_refused(GEO " --overlay - " OUT "/ovin/f.pgm",
+                   "--overlay -: standard output carries the detections");
     /* a tall, narrow frame: the picture is bounded */
     hdr = snprintf((char *)tall, sizeof tall, "P5\n2 8000\n255\n");
     for (i = 0; i < 2 * 8000; i++)
@@ -673,10 +656,7 @@ static void test_bad_files_are_reported_and_the_rest_processed(void)
     free(e);
     /* raw frame of the wrong size */
     snprintf(args, sizeof args, GEO " --rows 10 --cols 10 %s", p3);
-    TEST_ASSERT_EQUAL_INT(2, run(args));
-    e = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(e, "notanimage.bin: raw frame is 5 bytes, expected 100"));
-    free(e);
+    expect_refused(args, "notanimage.bin: raw frame is 5 bytes, expected 100");
 }
 
 /* A per-beam bearing table equal to the uniform 60-degree fan gives the
@@ -733,15 +713,10 @@ static void test_bearing_table_file(void)
     for (c = 0; c < 100; c++)
         fprintf(f, "%f\n", 0.5 - c * 0.01);
     fclose(f);
-    TEST_ASSERT_EQUAL_INT(2, run(args));
-    a = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(a, "bearings620.txt: bearing table has 100 values, the frame has 620 columns"));
-    free(a);
+    expect_refused(args,
+                   "bearings620.txt: bearing table has 100 values, the frame has 620 columns");
     write_file(path, "0.5 0.4 zebra\n", 14);
-    TEST_ASSERT_EQUAL_INT(2, run(args));
-    a = err_text();
-    TEST_ASSERT_NOT_NULL(strstr(a, "bearings620.txt: value 3 is not a finite number (got 'zebra')"));
-    free(a);
+    expect_refused(args, "bearings620.txt: value 3 is not a finite number (got 'zebra')");
     /* a table that turns back at value 301 (index 300): the library's
      * detail names the entry, per frame, exit status 2 */
     f = fopen(path, "w");

@@ -77,6 +77,8 @@ void tearDown(void) {}
 #define SONAR_530                                                                           \
     "--rows 530 --cols 512 --min-range 0.1 --max-range 3.5 --min-distance 0.5 "            \
     "--max-distance 3 "
+/* its geometry for actag_detect */
+#define DETECT_530 "--min-range 0.1 --max-range 3.5 --aperture-deg 60"
 
 /* settings_any(13004) of bench/heldout_sweep.py */
 #define RUN_13004                                                                          \
@@ -154,6 +156,16 @@ static char *detect_frame(int frame, const char *detect_args)
     return out;
 }
 
+/* Every reading in out is `right` (its JSON, e.g. "id": 4, "hamming"), at
+ * most one, and `must` (when not NULL) is read. */
+static void expect_right_or_none(const char *out, const char *right, const char *must)
+{
+    TEST_ASSERT_TRUE_MESSAGE(count(out, "\"id\": ") <= 1, out);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(count(out, "\"id\": "), count(out, right), out);
+    if (must != NULL)
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, must), out);
+}
+
 /* Frame `frame` of held-out run `seed` (AcTag24m10; sim_args: its
  * settings), whose truth holds tag 0 with `truth` (the handedness and
  * distance the run saw): actag_detect (detect_args: its sonar) must read
@@ -169,8 +181,7 @@ static void expect_tag0_right_or_unread(int seed, int frame, const char *sim_arg
     out = detect_frame(frame, args);
     /* read right (tag 0 in the true handedness, once) or not at all */
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, count(out, wrong), out);
-    TEST_ASSERT_TRUE_MESSAGE(count(out, "\"id\": ") <= 1, out);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(count(out, "\"id\": "), count(out, "\"id\": 0,"), out);
+    expect_right_or_none(out, "\"id\": 0,", NULL);
     free(out);
 }
 
@@ -179,7 +190,7 @@ static void test_run_13004_frame_49_is_not_read_in_the_wrong_handedness(void)
     /* a mirrored tag 0 at 2.12 m */
     expect_tag0_right_or_unread(13004, 49, RUN_13004,
                                 "\"mirrored\": 1, \"visible\": 1, \"distance\": 2.117",
-                                "--min-range 0.1 --max-range 3.5 --aperture-deg 60",
+                                DETECT_530,
                                 "\"mirrored\": false");
 }
 
@@ -276,7 +287,7 @@ static void test_run_15101_frame_201_corners_are_the_tags(void)
 {
     expect_corners_at_truth(15101, 201, RUN_15101, "\"id\": 0, \"tag_size\"",
                             "\"mirrored\": 1, \"visible\": 1, \"distance\": 1.686",
-                            "--family AcTag24h10 --min-range 0.1 --max-range 3.5 --aperture-deg 60",
+                            "--family AcTag24h10 " DETECT_530,
                             "\"id\": 0, \"hamming\": 0");
 }
 
@@ -284,7 +295,7 @@ static void test_run_15081_frame_427_corners_are_the_tags(void)
 {
     expect_corners_at_truth(15081, 427, RUN_15081, "\"id\": 6, \"tag_size\"",
                             "\"mirrored\": 1, \"visible\": 1, \"distance\": 1.967",
-                            "--family AcTag24h10 --min-range 0.1 --max-range 3.5 --aperture-deg 60 "
+                            "--family AcTag24h10 " DETECT_530 " "
                             "--range-ascending --azimuth-ascending",
                             "\"id\": 6, \"hamming\": 3");
 }
@@ -313,16 +324,6 @@ static void test_run_15081_frame_427_corners_are_the_tags(void)
     "--clutter 4 --foam 2 --metal-specular 4 --mirror-fraction 0.5 --bands 5 "              \
     "--family AcTag24h10"
 
-/* Every reading in out is `right` (its JSON, e.g. "id": 4, "hamming"), at
- * most one, and `must` (when not NULL) is read. */
-static void expect_right_or_none(const char *out, const char *right, const char *must)
-{
-    TEST_ASSERT_TRUE_MESSAGE(count(out, "\"id\": ") <= 1, out);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(count(out, "\"id\": "), count(out, right), out);
-    if (must != NULL)
-        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, must), out);
-}
-
 /* Frame `frame` of held-out run `seed` (sim_args), whose truth holds `tag`
  * with `truth`: actag_detect (detect_args) reads `wrong` with the
  * level-noise check off; at its defaults (strict 0) or with
@@ -344,8 +345,6 @@ static void expect_level_noise_refuses(int seed, int frame, const char *sim_args
     expect_right_or_none(out, right, must);
     free(out);
 }
-
-#define DETECT_530 "--min-range 0.1 --max-range 3.5 --aperture-deg 60"
 
 static void test_run_15129_frame_796_level_noise_refuses_tag_5(void)
 {
@@ -385,7 +384,7 @@ static void test_run_15137_frame_700_separate_noise_refuses_tag_5(void)
 {
     expect_level_noise_refuses(15137, 700, RUN_15137, "\"id\": 4, \"tag_size\"",
                                "\"mirrored\": 1, \"visible\": 1, \"distance\": 3.867",
-                               "--family AcTag24h10 --min-range 0.1 --max-range 5 --aperture-deg 60",
+                               "--family AcTag24h10 " PAPER_SONAR,
                                1, "\"id\": 5, \"hamming\": 1", "\"id\": 4, \"hamming\"",
                                NULL);
 }
